@@ -1,0 +1,331 @@
+/* clothvk — cloth simulation as Vulkan compute work.
+ *
+ * Step by step
+ * ------------
+ * 1. Make a context. Either the library creates a headless Vulkan instance and device
+ *    (the first device, or the one $CLOTHVK_DEVICE names by index or name substring):
+ *
+ *        cvk_error err;
+ *        cvk_context* ctx;
+ *        if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS)
+ *            fprintf(stderr, "%s\n", err.message);
+ *
+ *    or it adopts yours: fill instance, physical_device, device, queue_family and queue in
+ *    cvk_context_desc. The library never destroys what it adopted.
+ *
+ * 2. Describe a scene, in code or from a JSON file (format in README.md):
+ *
+ *        cvk_cloth_desc cloth = cvk_default_cloth_desc();
+ *        cloth.grid[0] = 64; cloth.grid[1] = 64;
+ *        cvk_scene_desc scene = cvk_default_scene_desc();
+ *        scene.cloths = &cloth; scene.cloth_count = 1;
+ *
+ *    or   cvk_scene* file; cvk_scene_load("hanging.json", NULL, 0, &file, &err);
+ *         const cvk_scene_desc* scene = cvk_scene_get_desc(file);
+ *
+ * 3. Create a simulation and advance it. Either record its frames into your own command
+ *    buffer (nothing is submitted and nothing waits inside), or call the blocking step:
+ *
+ *        cvk_sim* sim;
+ *        cvk_sim_create(ctx, &(cvk_sim_desc){ .scene = &scene }, &sim, &err);
+ *        cvk_sim_record(sim, my_cmd, 1, &err);   // one frame per submission of my_cmd
+ *        cvk_sim_step(sim, 10, &err);            // or: ten frames, submitted and waited for
+ *
+ * 4. Read the particles back (cloth by cloth, row-major grid order, i fastest) and ask for
+ *    statistics: residual, stretch, NaN count, GPU time per pass.
+ *
+ * 5. Destroy in reverse order: cvk_sim_destroy, cvk_scene_destroy, cvk_context_destroy.
+ *
+ * Rules that hold everywhere
+ * - Every fallible call returns a cvk_result; on failure the optional cvk_error receives the
+ *   same code and one sentence naming the cause (the JSON key path, the Vulkan call and its
+ *   VkResult, the device limit). The library never prints, exits or aborts.
+ * - No global state: objects are independent; one object must not be used from two threads
+ *   at once.
+ * - Descriptions are plain structs: start from cvk_default_*_desc() (or zero where the struct
+ *   says zero means default) and change what you need.
+ */
+#ifndef CLOTHVK_H
+#define CLOTHVK_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32) && defined(CLOTHVK_BUILD_SHARED)
+#define CVK_API __declspec(dllexport)
+#elif defined(__GNUC__)
+#define CVK_API __attribute__((visibility("default")))
+#else
+#define CVK_API
+#endif
+
+#define CLOTHVK_VERSION_MAJOR 0
+#define CLOTHVK_VERSION_MINOR 1
+#define CLOTHVK_VERSION_PATCH 0
+
+/* ----------------------------------------------------------------------------------------
+ * Results and errors
+ * ------------------------------------------------------------------------------------- */
+
+typedef enum cvk_result {
+    CVK_SUCCESS = 0,
+    CVK_ERROR_INVALID_ARGUMENT, /* a description or argument is wrong; the message names it */
+    CVK_ERROR_IO,               /* a file could not be read or written */
+    CVK_ERROR_PARSE,            /* scene text is not well-formed JSON (line and column given) */
+    CVK_ERROR_UNSUPPORTED,      /* the device or this configuration lacks what is needed */
+    CVK_ERROR_DEVICE_LIMIT,     /* the scene exceeds a limit of the device */
+    CVK_ERROR_OUT_OF_MEMORY,    /* host or device memory ran out */
+    CVK_ERROR_VULKAN,           /* a Vulkan call failed; the message names it and its VkResult */
+} cvk_result;
+
+/* One sentence that says why a call failed. Pass NULL where you do not want it. */
+typedef struct cvk_error {
+    cvk_result result;
+    char message[512];
+} cvk_error;
+
+/* "CVK_ERROR_PARSE" and so on. */
+CVK_API const char* cvk_result_name(cvk_result result);
+
+/* ----------------------------------------------------------------------------------------
+ * Context: the Vulkan instance, device and queue the library works with
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct cvk_context cvk_context;
+
+/* Receives each validation-layer message (warnings and errors) while validation is on. */
+typedef void (*cvk_log_fn)(void* user, const char* message);
+
+/* Zero means default for every field. */
+typedef struct cvk_context_desc {
+    /* Khronos validation layer: 0 = on when $CLOTHVK_VALIDATION is "1", 1 = on, -1 = off.
+       Ignored when adopting (enable the layer on your own instance). */
+    int validation;
+    /* Device to use: an index ("1") or a substring of the device name ("llvmpipe").
+       NULL: $CLOTHVK_DEVICE, else the first device. Ignored when adopting. */
+    const char* device_name;
+    /* Called for every validation message; may be NULL (messages are still counted). */
+    cvk_log_fn log;
+    void* log_user;
+
+    /* Adoption: set all five to use the application's objects. The queue family must
+       support compute; timestamps are used when it supports them. */
+    VkInstance instance;
+    VkPhysicalDevice physical_device;
+    VkDevice device;
+    uint32_t queue_family;
+    VkQueue queue;
+} cvk_context_desc;
+
+CVK_API cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
+                              cvk_error* error);
+CVK_API void cvk_context_destroy(cvk_context* context);
+
+/* What the library found out about its device. */
+typedef struct cvk_context_info {
+    const char* device_name;      /* e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" */
+    uint32_t api_version;         /* VK_MAKE_API_VERSION of the device */
+    bool adopted;                 /* true when the application's device is used */
+    bool validation;              /* true when the validation layer is on */
+    bool timestamps;              /* true when GPU pass times can be measured */
+    uint32_t subgroup_size;       /* informative only; the kernels do not depend on it */
+    uint64_t max_particles;       /* largest particle count the device's buffer limits allow */
+} cvk_context_info;
+
+CVK_API cvk_context_info cvk_context_get_info(const cvk_context* context);
+
+/* Validation messages (warnings and errors) received so far; tests fail when non-zero. */
+CVK_API uint32_t cvk_context_validation_message_count(const cvk_context* context);
+
+/* ----------------------------------------------------------------------------------------
+ * Scene description
+ * ------------------------------------------------------------------------------------- */
+
+typedef enum cvk_method {
+    CVK_METHOD_PD = 0, /* projective dynamics (Liu et al. 2013), Verlet prediction */
+} cvk_method;
+
+typedef enum cvk_linear_solver {
+    CVK_LINEAR_RBGS = 0,   /* multi-colour Gauss-Seidel on the GPU, SOR with omega */
+    CVK_LINEAR_JACOBI,     /* Jacobi on the GPU, relaxation omega */
+    CVK_LINEAR_CHEBYSHEV,  /* Jacobi with Chebyshev semi-iterative acceleration (Wang 2015) */
+    CVK_LINEAR_GS_CPU,     /* sequential double-precision Gauss-Seidel on the host (reference) */
+} cvk_linear_solver;
+
+typedef struct cvk_solver_desc {
+    cvk_method method;          /* CVK_METHOD_PD */
+    cvk_linear_solver linear;   /* usually CVK_LINEAR_RBGS */
+    uint32_t outer_iterations;  /* local/global alternations per substep, usually 4 */
+    uint32_t inner_iterations;  /* linear sweeps per outer iteration, usually 4 */
+    float omega;                /* SOR factor (rbgs, gs-cpu) or relaxation (jacobi, chebyshev), 0 < omega < 2, usually 1 */
+    float chebyshev_rho;        /* spectral radius for chebyshev; 0 = estimated at build time */
+    uint32_t chebyshev_delay;   /* plain sweeps before Chebyshev weights start, usually 2 */
+} cvk_solver_desc;
+
+typedef struct cvk_stiffness {
+    float structural; /* N/m between grid neighbours (i±1, j) and (i, j±1); 0 = absent; usually 1e6 */
+    float shear;      /* N/m across cell diagonals; 0 = absent */
+    float bend;       /* N/m to the second neighbours (i±2, j) and (i, j±2); 0 = absent */
+} cvk_stiffness;
+
+/* A rectangular grid of particles. Particle [i, j] sits at origin + i·du·u_axis + j·dv·v_axis,
+   du = size[0] / (grid[0] − 1), dv = size[1] / (grid[1] − 1). A 1×N grid is a rope. */
+typedef struct cvk_cloth_desc {
+    const char* name;            /* for messages and output; may be NULL */
+    uint32_t grid[2];            /* particles along u and v, each ≥ 1; usually [100, 100] */
+    float size[2];               /* metres along u and v; usually [1, 1] */
+    float origin[3];             /* position of particle [0, 0], m */
+    float u_axis[3];             /* direction of increasing i (normalised by the library) */
+    float v_axis[3];             /* direction of increasing j (normalised by the library) */
+    float rest_scale;            /* rest length = spacing · rest_scale; 0.2 stretches ×5 */
+    float mass;                  /* kg for the whole cloth, spread evenly; > 0, usually 0.1 */
+    cvk_stiffness stiffness;     /* N/m per spring kind */
+    const uint32_t (*pins)[2];   /* grid coordinates [i, j] held in place */
+    uint32_t pin_count;
+    float color[3];              /* linear RGB in [0, 1], for renderers */
+    uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
+} cvk_cloth_desc;
+
+typedef struct cvk_scene_desc {
+    const char* name;            /* for messages and output; may be NULL */
+    float dt;                    /* substep length, s; > 0, usually 0.002 */
+    uint32_t substeps;           /* substeps per frame (frame time = dt · substeps), usually 8 */
+    uint32_t frames;             /* default frame count for the tools, usually 240 */
+    bool integrate;              /* false: no inertia or gravity, only the solver moves particles */
+    float gravity[3];            /* m/s², usually [0, −9.81, 0] */
+    float damping;               /* fraction of velocity removed per substep, 0 ≤ damping < 1 */
+    cvk_solver_desc solver;
+    const cvk_cloth_desc* cloths;
+    uint32_t cloth_count;        /* ≥ 1 */
+    uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
+} cvk_scene_desc;
+
+/* Defaults: see the field comments and README.md. */
+CVK_API cvk_scene_desc cvk_default_scene_desc(void);
+CVK_API cvk_cloth_desc cvk_default_cloth_desc(void);
+
+/* Checks every field; on failure the message starts with the key path ("cloths.0.mass: ..."). */
+CVK_API cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error);
+
+/* "rbgs", "jacobi", "chebyshev", "gs-cpu"; NULL for an unknown value. */
+CVK_API const char* cvk_linear_solver_name(cvk_linear_solver linear);
+CVK_API const char* cvk_method_name(cvk_method method);
+
+/* A scene loaded from JSON: owns its description and everything it points to. */
+typedef struct cvk_scene cvk_scene;
+
+/* Reads a JSON scene file. Each override is "key.path=value": the value is parsed as JSON
+   (a bare word that is not JSON is taken as a string) and replaces or adds the key at that
+   dotted path (array elements by index: "cloths.0.grid=[32,32]") before validation.
+   Messages name the file and the key path: "scene.json: cloths.0.mass: must be > 0 (got -1)". */
+CVK_API cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32_t override_count,
+                          cvk_scene** out_scene, cvk_error* error);
+/* The same from text in memory; source_name stands in for the file name in messages. */
+CVK_API cvk_result cvk_scene_parse(const char* json_text, const char* source_name,
+                           const char* const* overrides, uint32_t override_count,
+                           cvk_scene** out_scene, cvk_error* error);
+CVK_API const cvk_scene_desc* cvk_scene_get_desc(const cvk_scene* scene);
+CVK_API void cvk_scene_destroy(cvk_scene* scene);
+
+/* ----------------------------------------------------------------------------------------
+ * Simulation
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct cvk_sim cvk_sim;
+
+/* Zero means default for every field but scene. */
+typedef struct cvk_sim_desc {
+    const cvk_scene_desc* scene; /* copied; need not outlive the call */
+    uint32_t workgroup_size;     /* compute workgroup size, 0 = the library's choice (64) */
+    uint32_t max_workgroups;     /* workgroups per dispatch, 0 = the library's choice: a few on
+                                    CPU devices, where each costs a thread hand-off, one per
+                                    workgroup_size particles elsewhere */
+    int timing;                  /* GPU timestamps per pass: 0 = on where supported, -1 = off */
+} cvk_sim_desc;
+
+CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
+                          cvk_error* error);
+CVK_API void cvk_sim_destroy(cvk_sim* sim);
+
+/* Records `frames` frames (each dt · substeps of simulated time) into `cmd`, which must be
+   in the recording state, outside a render pass, from a pool of the context's queue family.
+   Nothing is submitted and nothing waits. Each submission of `cmd` advances the simulation
+   by `frames` frames; `cmd` may be submitted again without re-recording.
+
+   Synchronisation contract:
+   - The library binds its own compute pipelines, descriptor sets and push constants: state
+     you bound for compute before the call is lost.
+   - It begins with a barrier that makes earlier compute-shader and transfer writes visible
+     to its compute shaders, records barriers between its own passes, and ends after its last
+     dispatch without a trailing barrier.
+   - Before another stage reads the particle positions you record a barrier from
+     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_WRITE_BIT to that stage.
+   - Fails with CVK_ERROR_UNSUPPORTED for the host solver "gs-cpu" (use cvk_sim_step). */
+CVK_API cvk_result cvk_sim_record(cvk_sim* sim, VkCommandBuffer cmd, uint32_t frames, cvk_error* error);
+
+/* Advances `frames` frames and waits until they are done: one submission of a command
+   buffer recorded once at creation, one host wait at the end. */
+CVK_API cvk_result cvk_sim_step(cvk_sim* sim, uint32_t frames, cvk_error* error);
+
+/* Number of particles over all cloths. */
+CVK_API uint64_t cvk_sim_particle_count(const cvk_sim* sim);
+
+/* Copies positions out (3 floats per particle, cloth by cloth, row-major grid order, i
+   fastest). Waits for the device to be idle on the context's queue; `count` is the number
+   of particles the array holds and must be cvk_sim_particle_count(). */
+CVK_API cvk_result cvk_sim_read_positions(cvk_sim* sim, float* xyz, uint64_t count, cvk_error* error);
+
+/* Replaces all positions (same order) and sets every velocity to zero. Pinned particles
+   are held at their new place. */
+CVK_API cvk_result cvk_sim_write_positions(cvk_sim* sim, const float* xyz, uint64_t count,
+                                   cvk_error* error);
+
+#define CVK_MAX_PASSES 8
+
+/* GPU time of one kind of pass over the last completed frame. */
+typedef struct cvk_pass_stats {
+    const char* name;          /* "predict", "solve" */
+    double gpu_ms;             /* summed over the frame's substeps; < 0 when not measured */
+    uint32_t dispatches;       /* per frame */
+} cvk_pass_stats;
+
+typedef struct cvk_sim_stats {
+    uint64_t particles;        /* all particles */
+    uint64_t pinned;           /* of which pinned */
+    uint64_t springs[3];       /* structural, shear, bend */
+    uint32_t colours;          /* particle colours of the Gauss-Seidel sweep */
+    uint64_t frames;           /* frames advanced with cvk_sim_step */
+    double residual;           /* Σ (|xa − xb| − L)² over structural springs (seed 002 eq. 4.1), m² */
+    double residual_per_type[3];/* the same sum for structural, shear and bend springs, m² */
+    double residual_normalized;/* residual / (structural springs · mean L²); dimensionless */
+    double max_stretch;        /* max over all springs of |xa − xb| / L − 1 */
+    uint64_t nan_count;        /* coordinates that are NaN or infinite; 0 in a healthy run */
+    double gpu_ms_per_frame;   /* GPU time of the last completed frame; < 0 when not measured */
+    uint32_t dispatches_per_frame;
+    uint32_t dispatches_per_substep;
+    uint32_t pass_count;
+    cvk_pass_stats passes[CVK_MAX_PASSES];
+} cvk_sim_stats;
+
+/* Reads positions back (as cvk_sim_read_positions) and computes the statistics. For frames
+   you recorded yourself, call it once their submission has completed. */
+CVK_API cvk_result cvk_sim_get_stats(cvk_sim* sim, cvk_sim_stats* out_stats, cvk_error* error);
+
+/* Fills only the counting and timing fields of `out_stats` (GPU time of the last completed
+   frame, per pass, dispatch counts) without reading anything back; cheap enough per frame. */
+CVK_API void cvk_sim_get_timing(const cvk_sim* sim, cvk_sim_stats* out_stats);
+
+/* Writes a human-readable description of the step plan (passes, dispatches, workgroups)
+   into `text`, truncated to `capacity` bytes; returns the length it needed. */
+CVK_API size_t cvk_sim_describe_plan(const cvk_sim* sim, char* text, size_t capacity);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* CLOTHVK_H */
