@@ -1,0 +1,343 @@
+/* Scene descriptions: defaults and validation with messages that name the key path. */
+#include "scene.h"
+
+#include "error.h"
+
+#include <inttypes.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+
+/* Arbitrary tags: a description whose cookie differs skipped cvk_default_*_desc(). */
+static const uint32_t scene_cookie = 0x53634e65u;
+static const uint32_t cloth_cookie = 0x436c5468u;
+
+cvk_scene_desc cvk_default_scene_desc(void)
+{
+    return (cvk_scene_desc){
+        .name = NULL,
+        .dt = 0.002f,
+        .substeps = 8,
+        .frames = 240,
+        .integrate = true,
+        .gravity = {0.0f, -9.81f, 0.0f},
+        .damping = 0.0f,
+        .solver = {
+            .method = CVK_METHOD_PD,
+            .linear = CVK_LINEAR_RBGS,
+            .outer_iterations = 4,
+            .inner_iterations = 4,
+            .omega = 1.0f,
+            .chebyshev_rho = 0.0f,
+            .chebyshev_delay = 2,
+        },
+        .cloths = NULL,
+        .cloth_count = 0,
+        .cookie_ = scene_cookie,
+    };
+}
+
+cvk_cloth_desc cvk_default_cloth_desc(void)
+{
+    return (cvk_cloth_desc){
+        .name = NULL,
+        .grid = {100, 100},
+        .size = {1.0f, 1.0f},
+        .origin = {-0.5f, 1.0f, 0.0f},
+        .u_axis = {1.0f, 0.0f, 0.0f},
+        .v_axis = {0.0f, 0.0f, 1.0f},
+        .rest_scale = 1.0f,
+        .mass = 0.1f,
+        .stiffness = {.structural = 1e6f, .shear = 0.0f, .bend = 0.0f},
+        .pins = NULL,
+        .pin_count = 0,
+        .color = {0.9f, 0.35f, 0.3f},
+        .cookie_ = cloth_cookie,
+    };
+}
+
+const char* cvk_linear_solver_name(cvk_linear_solver linear)
+{
+    switch (linear) {
+    case CVK_LINEAR_RBGS: return "rbgs";
+    case CVK_LINEAR_JACOBI: return "jacobi";
+    case CVK_LINEAR_CHEBYSHEV: return "chebyshev";
+    case CVK_LINEAR_GS_CPU: return "gs-cpu";
+    }
+    return NULL;
+}
+
+const char* cvk_method_name(cvk_method method)
+{
+    switch (method) {
+    case CVK_METHOD_PD: return "pd";
+    }
+    return NULL;
+}
+
+/* ---- small checks: each returns true when fine, else fills the issue and returns false ---- */
+
+__attribute__((format(printf, 3, 4)))
+static bool issue_at(cvk_scene_issue* issue, const char* path, const char* format, ...)
+{
+    cvk_key_path(issue->path, "%s", path);
+    va_list args;
+    va_start(args, format);
+    vsnprintf(issue->problem, sizeof issue->problem, format, args);
+    va_end(args);
+    return false;
+}
+
+void cvk_key_path(char out[CVK_KEY_PATH_MAX], const char* format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    vsnprintf(out, CVK_KEY_PATH_MAX, format, args);
+    va_end(args);
+}
+
+static const char* join(char out[CVK_KEY_PATH_MAX], const char* base, const char* key)
+{
+    cvk_key_path(out, "%s.%s", base, key);
+    return out;
+}
+
+static const char* join_index(char out[CVK_KEY_PATH_MAX], const char* base, uint32_t index)
+{
+    cvk_key_path(out, "%s.%" PRIu32, base, index);
+    return out;
+}
+
+static bool check_finite(cvk_scene_issue* issue, const char* path, double v)
+{
+    if (isfinite(v))
+        return true;
+    /* glibc prints a NaN with its sign bit set as "-nan"; the sign of a NaN means nothing. */
+    const char* text = isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
+    return issue_at(issue, path, "must be a finite number, got %s", text);
+}
+
+static bool check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n)
+{
+    char element[CVK_KEY_PATH_MAX];
+    for (uint32_t i = 0; i < n; i++) {
+        if (!check_finite(issue, join_index(element, path, i), v[i]))
+            return false;
+    }
+    return true;
+}
+
+static bool check_greater(cvk_scene_issue* issue, const char* path, double v, double low)
+{
+    if (!check_finite(issue, path, v))
+        return false;
+    return v > low || issue_at(issue, path, "must be greater than %g, got %g", low, v);
+}
+
+static bool check_at_least(cvk_scene_issue* issue, const char* path, double v, double low)
+{
+    if (!check_finite(issue, path, v))
+        return false;
+    return v >= low || issue_at(issue, path, "must be at least %g, got %g", low, v);
+}
+
+static bool check_count(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low)
+{
+    return v >= low || issue_at(issue, path, "must be at least %" PRIu32 ", got %" PRIu32, low, v);
+}
+
+/* low <= v < high */
+static bool check_half_open(cvk_scene_issue* issue, const char* path, double v, double low,
+                            double high)
+{
+    if (!check_finite(issue, path, v))
+        return false;
+    if (v >= low && v < high)
+        return true;
+    return issue_at(issue, path, "must be at least %g and less than %g, got %g", low, high, v);
+}
+
+/* low < v < high */
+static bool check_open(cvk_scene_issue* issue, const char* path, double v, double low, double high)
+{
+    if (!check_finite(issue, path, v))
+        return false;
+    if (v > low && v < high)
+        return true;
+    return issue_at(issue, path, "must be greater than %g and less than %g, got %g", low, high, v);
+}
+
+/* low <= v <= high, element by element */
+static bool check_closed_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n,
+                               double low, double high)
+{
+    char element[CVK_KEY_PATH_MAX];
+    for (uint32_t i = 0; i < n; i++) {
+        join_index(element, path, i);
+        if (!check_finite(issue, element, v[i]))
+            return false;
+        if (v[i] < low || v[i] > high)
+            return issue_at(issue, element, "must be between %g and %g, got %g", low, high, v[i]);
+    }
+    return true;
+}
+
+/* ---- the scene ---- */
+
+static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
+{
+    return check_greater(issue, "dt", d->dt, 0.0) && check_count(issue, "substeps", d->substeps, 1) &&
+           check_count(issue, "frames", d->frames, 1) &&
+           check_finite_array(issue, "gravity", d->gravity, 3) &&
+           check_half_open(issue, "damping", d->damping, 0.0, 1.0);
+}
+
+static bool check_solver(const cvk_solver_desc* s, cvk_scene_issue* issue)
+{
+    if (!cvk_method_name(s->method))
+        return issue_at(issue, "solver.method", "unknown method %d", (int)s->method);
+    if (!cvk_linear_solver_name(s->linear))
+        return issue_at(issue, "solver.linear", "unknown linear solver %d", (int)s->linear);
+    return check_count(issue, "solver.outer_iterations", s->outer_iterations, 1) &&
+           check_count(issue, "solver.inner_iterations", s->inner_iterations, 1) &&
+           check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
+           check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0);
+}
+
+/* ---- one cloth; base is "cloths.N" ---- */
+
+static bool check_grid(const cvk_cloth_desc* c, const char* base, uint64_t* total,
+                       cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    join(path, base, "grid");
+    if (c->grid[0] < 1 || c->grid[1] < 1)
+        return issue_at(issue, path, "each dimension must be at least 1, got [%" PRIu32 ", %" PRIu32 "]",
+                        c->grid[0], c->grid[1]);
+    /* Both factors are below 2^32 and the running total stays at most 2^30 before this add,
+       so the sum cannot wrap. */
+    *total += (uint64_t)c->grid[0] * c->grid[1];
+    if (*total > CVK_MAX_PARTICLES)
+        return issue_at(issue, path, "%" PRIu64 " particles in all is more than clothvk supports (%" PRIu64 ")",
+                        *total, CVK_MAX_PARTICLES);
+    return true;
+}
+
+/* A side with one particle has no spacing, so its length may be 0. */
+static bool check_size(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    char element[CVK_KEY_PATH_MAX];
+    join(path, base, "size");
+    for (uint32_t i = 0; i < 2; i++) {
+        join_index(element, path, i);
+        if (!check_finite(issue, element, c->size[i]))
+            return false;
+        if (c->grid[i] == 1 && c->size[i] < 0)
+            return issue_at(issue, element, "must be at least 0, got %g", c->size[i]);
+        if (c->grid[i] > 1 && c->size[i] <= 0)
+            return issue_at(issue, element,
+                            "must be greater than 0 (the grid has %" PRIu32 " particles along it), got %g",
+                            c->grid[i], c->size[i]);
+    }
+    return true;
+}
+
+static double dot3(const float* a, const float* b)
+{
+    return (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+}
+
+static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char u_path[CVK_KEY_PATH_MAX];
+    char v_path[CVK_KEY_PATH_MAX];
+    join(u_path, base, "u_axis");
+    join(v_path, base, "v_axis");
+    if (!check_finite_array(issue, u_path, c->u_axis, 3) || !check_finite_array(issue, v_path, c->v_axis, 3))
+        return false;
+    const float* u = c->u_axis;
+    const float* v = c->v_axis;
+    double uu = dot3(u, u);
+    double vv = dot3(v, v);
+    double uv = dot3(u, v);
+    if (!(uu > 0))
+        return issue_at(issue, u_path, "must not be zero, got [%g, %g, %g]", u[0], u[1], u[2]);
+    if (!(vv > 0))
+        return issue_at(issue, v_path, "must not be zero, got [%g, %g, %g]", v[0], v[1], v[2]);
+    /* |u × v|² = |u|²|v|² − (u·v)²; below 1e-12 of |u|²|v|² the sine of the angle is under 1e-6
+       and the grid collapses onto a line. */
+    if (uu * vv - uv * uv <= 1e-12 * uu * vv)
+        return issue_at(issue, v_path, "must not be parallel to u_axis, got [%g, %g, %g]", v[0], v[1], v[2]);
+    return true;
+}
+
+static bool check_material(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    return check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) &&
+           check_greater(issue, join(path, base, "mass"), c->mass, 0.0) &&
+           check_at_least(issue, join(path, base, "stiffness.structural"),
+                          c->stiffness.structural, 0.0) &&
+           check_at_least(issue, join(path, base, "stiffness.shear"), c->stiffness.shear, 0.0) &&
+           check_at_least(issue, join(path, base, "stiffness.bend"), c->stiffness.bend, 0.0);
+}
+
+static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    char element[CVK_KEY_PATH_MAX];
+    join(path, base, "pins");
+    if (c->pin_count > 0 && !c->pins)
+        return issue_at(issue, path, "is NULL but pin_count is %" PRIu32, c->pin_count);
+    for (uint32_t p = 0; p < c->pin_count; p++) {
+        const uint32_t* pin = c->pins[p];
+        if (pin[0] < c->grid[0] && pin[1] < c->grid[1])
+            continue;
+        return issue_at(issue, join_index(element, path, p),
+                        "[%" PRIu32 ", %" PRIu32 "] is outside the %" PRIu32 " x %" PRIu32 " grid", pin[0],
+                        pin[1], c->grid[0], c->grid[1]);
+    }
+    return true;
+}
+
+static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
+{
+    char base[CVK_KEY_PATH_MAX];
+    char path[CVK_KEY_PATH_MAX];
+    join_index(base, "cloths", index);
+    if (c->cookie_ != cloth_cookie)
+        return issue_at(issue, base, "cloth description was not made by cvk_default_cloth_desc()");
+    return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
+           check_finite_array(issue, join(path, base, "origin"), c->origin, 3) &&
+           check_axes(c, base, issue) && check_material(c, base, issue) && check_pins(c, base, issue) &&
+           check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0);
+}
+
+bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
+{
+    if (desc->cookie_ != scene_cookie)
+        return issue_at(issue, "", "scene description was not made by cvk_default_scene_desc()");
+    if (!check_timing(desc, issue) || !check_solver(&desc->solver, issue))
+        return false;
+    if (!desc->cloths || desc->cloth_count < 1)
+        return issue_at(issue, "cloths", "a scene needs at least one cloth");
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < desc->cloth_count; i++) {
+        if (!check_cloth(&desc->cloths[i], i, &total, issue))
+            return false;
+    }
+    return true;
+}
+
+cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error)
+{
+    if (!desc)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "scene description is NULL");
+    cvk_scene_issue issue;
+    if (cvk_scene_desc_check(desc, &issue))
+        return CVK_SUCCESS;
+    if (issue.path[0] == '\0')
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", issue.problem);
+    return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue.path, issue.problem);
+}

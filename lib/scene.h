@@ -1,0 +1,27 @@
+/* Private scene interface: validation that keeps the key path apart from the problem, so the
+   JSON loader can put the file name and "(from --set)" around the path. */
+#ifndef CVK_SCENE_H
+#define CVK_SCENE_H
+
+#include "clothvk.h"
+
+#define CVK_KEY_PATH_MAX 256
+
+/* One thing wrong with a description. path is the dotted key path ("cloths.0.mass",
+   "gravity.1"), empty for the scene as a whole; problem is the sentence after "path: ". */
+typedef struct cvk_scene_issue {
+    char path[CVK_KEY_PATH_MAX];
+    char problem[384];
+} cvk_scene_issue;
+
+/* Formats a key path ("cloths.0.mass") into out, cutting what does not fit: keys that users
+   write may be longer than any path clothvk makes itself. */
+void cvk_key_path(char out[CVK_KEY_PATH_MAX], const char* format, ...) __attribute__((format(printf, 2, 3)));
+
+/* true when desc is valid; otherwise fills issue with the first problem found. */
+bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
+
+/* Most particles one scene may hold, over all its cloths. */
+#define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
+
+#endif

@@ -1,0 +1,854 @@
+/* Scene descriptions and JSON scene files: defaults, every validation and loader message
+   (compared exactly), overrides, NaN handling and the shipped scene files. */
+#include "clothvk.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---- checking ---- */
+
+typedef struct tally {
+    int checks;
+    int failures;
+} tally;
+
+static tally T;
+
+static void check_true(bool ok, const char* fact, const char* file, int line)
+{
+    T.checks++;
+    if (ok)
+        return;
+    T.failures++;
+    printf("%s:%d: FAILED: %s\n", file, line, fact);
+}
+
+static void check_str(const char* actual, const char* expected, const char* fact, const char* file, int line)
+{
+    bool same = actual && expected ? strcmp(actual, expected) == 0 : actual == expected;
+    check_true(same, fact, file, line);
+    if (!same)
+        printf("    actual:   %s%s%s\n    expected: %s%s%s\n", actual ? "\"" : "", actual ? actual : "NULL",
+               actual ? "\"" : "", expected ? "\"" : "", expected ? expected : "NULL", expected ? "\"" : "");
+}
+
+static void check_int(long long actual, long long expected, const char* fact, const char* file, int line)
+{
+    check_true(actual == expected, fact, file, line);
+    if (actual != expected)
+        printf("    actual:   %lld\n    expected: %lld\n", actual, expected);
+}
+
+static void check_float(double actual, double expected, const char* fact, const char* file, int line)
+{
+    check_true(actual == expected, fact, file, line);
+    if (actual != expected)
+        printf("    actual:   %.9g\n    expected: %.9g\n", actual, expected);
+}
+
+#define CHECK(cond) check_true((cond), #cond, __FILE__, __LINE__)
+#define CHECK_STR(actual, expected) check_str((actual), (expected), #actual, __FILE__, __LINE__)
+#define CHECK_INT(actual, expected) check_int((long long)(actual), (long long)(expected), #actual, __FILE__, __LINE__)
+#define CHECK_FLOAT(actual, expected) check_float((actual), (expected), #actual, __FILE__, __LINE__)
+
+/* ---- helpers: JSON inputs are written with ' for " so they stay readable ---- */
+
+typedef struct text {
+    char data[2048];
+} text;
+
+static text json(const char* single_quoted)
+{
+    text t;
+    snprintf(t.data, sizeof t.data, "%s", single_quoted);
+    for (char* c = t.data; *c; c++) {
+        if (*c == '\'')
+            *c = '"';
+    }
+    return t;
+}
+
+/* Parses as "t.json"; on failure reports the message and returns NULL. */
+static cvk_scene* parse_ok_at(const char* file, int line, const char* single_quoted, const char* const* sets,
+                              uint32_t set_count)
+{
+    text t = json(single_quoted);
+    cvk_scene* scene = NULL;
+    cvk_error err = {0};
+    cvk_result r = cvk_scene_parse(t.data, "t.json", sets, set_count, &scene, &err);
+    check_true(r == CVK_SUCCESS && scene, single_quoted, file, line);
+    if (r != CVK_SUCCESS)
+        printf("    %s: %s\n", cvk_result_name(r), err.message);
+    return scene;
+}
+
+static void expect_error_at(const char* file, int line, const char* single_quoted, const char* const* sets,
+                            uint32_t set_count, cvk_result result, const char* message)
+{
+    text t = json(single_quoted);
+    cvk_scene* scene = (cvk_scene*)&t; /* must be reset to NULL on failure */
+    cvk_error err = {0};
+    cvk_result r = cvk_scene_parse(t.data, "t.json", sets, set_count, &scene, &err);
+    check_int(r, result, single_quoted, file, line);
+    check_int(err.result, result, "error.result", file, line);
+    check_str(err.message, message, single_quoted, file, line);
+    check_true(scene == NULL, "out_scene is NULL after a failure", file, line);
+    if (r == CVK_SUCCESS && scene != (cvk_scene*)&t)
+        cvk_scene_destroy(scene);
+}
+
+#define PARSE_OK(json_text) parse_ok_at(__FILE__, __LINE__, json_text, NULL, 0)
+#define PARSE_OK_SET(json_text, sets) parse_ok_at(__FILE__, __LINE__, json_text, sets, sizeof sets / sizeof sets[0])
+#define EXPECT_ERROR(json_text, result, message) \
+    expect_error_at(__FILE__, __LINE__, json_text, NULL, 0, result, message)
+#define EXPECT_SET_ERROR(json_text, set, message)                                                          \
+    expect_error_at(__FILE__, __LINE__, json_text, (const char* const[]){set}, 1, CVK_ERROR_INVALID_ARGUMENT, \
+                    message)
+#define EXPECT_INVALID(json_text, message) EXPECT_ERROR(json_text, CVK_ERROR_INVALID_ARGUMENT, message)
+
+/* A scene with one cloth, both from the defaults. */
+typedef struct fixture {
+    cvk_scene_desc scene;
+    cvk_cloth_desc cloths[3];
+} fixture;
+
+static void fixture_init(fixture* f)
+{
+    f->scene = cvk_default_scene_desc();
+    for (int i = 0; i < 3; i++)
+        f->cloths[i] = cvk_default_cloth_desc();
+    f->scene.cloths = f->cloths;
+    f->scene.cloth_count = 1;
+}
+
+static void expect_invalid_at(const char* file, int line, const cvk_scene_desc* desc, const char* message)
+{
+    cvk_error err = {0};
+    cvk_result r = cvk_scene_desc_validate(desc, &err);
+    check_int(r, CVK_ERROR_INVALID_ARGUMENT, message, file, line);
+    check_str(err.message, message, "validation message", file, line);
+}
+
+static void expect_valid_at(const char* file, int line, const cvk_scene_desc* desc)
+{
+    cvk_error err = {0};
+    cvk_result r = cvk_scene_desc_validate(desc, &err);
+    check_true(r == CVK_SUCCESS, "description is valid", file, line);
+    if (r != CVK_SUCCESS)
+        printf("    %s\n", err.message);
+}
+
+#define EXPECT_DESC_INVALID(desc, message) expect_invalid_at(__FILE__, __LINE__, desc, message)
+#define EXPECT_DESC_VALID(desc) expect_valid_at(__FILE__, __LINE__, desc)
+
+/* ---- defaults and names ---- */
+
+static void check_default_scene(const cvk_scene_desc* d)
+{
+    CHECK_FLOAT(d->dt, 0.002f);
+    CHECK_INT(d->substeps, 8);
+    CHECK_INT(d->frames, 240);
+    CHECK(d->integrate);
+    CHECK_FLOAT(d->gravity[0], 0.0f);
+    CHECK_FLOAT(d->gravity[1], -9.81f);
+    CHECK_FLOAT(d->gravity[2], 0.0f);
+    CHECK_FLOAT(d->damping, 0.0f);
+    CHECK_INT(d->solver.method, CVK_METHOD_PD);
+    CHECK_INT(d->solver.linear, CVK_LINEAR_RBGS);
+    CHECK_INT(d->solver.outer_iterations, 4);
+    CHECK_INT(d->solver.inner_iterations, 4);
+    CHECK_FLOAT(d->solver.omega, 1.0f);
+    CHECK_FLOAT(d->solver.chebyshev_rho, 0.0f);
+    CHECK_INT(d->solver.chebyshev_delay, 2);
+}
+
+static void check_default_cloth(const cvk_cloth_desc* c)
+{
+    CHECK_STR(c->name, NULL);
+    CHECK_INT(c->grid[0], 100);
+    CHECK_INT(c->grid[1], 100);
+    CHECK_FLOAT(c->size[0], 1.0f);
+    CHECK_FLOAT(c->size[1], 1.0f);
+    CHECK_FLOAT(c->origin[0], -0.5f);
+    CHECK_FLOAT(c->origin[1], 1.0f);
+    CHECK_FLOAT(c->origin[2], 0.0f);
+    CHECK_FLOAT(c->u_axis[0], 1.0f);
+    CHECK_FLOAT(c->u_axis[1], 0.0f);
+    CHECK_FLOAT(c->u_axis[2], 0.0f);
+    CHECK_FLOAT(c->v_axis[0], 0.0f);
+    CHECK_FLOAT(c->v_axis[1], 0.0f);
+    CHECK_FLOAT(c->v_axis[2], 1.0f);
+    CHECK_FLOAT(c->rest_scale, 1.0f);
+    CHECK_FLOAT(c->mass, 0.1f);
+    CHECK_FLOAT(c->stiffness.structural, 1e6f);
+    CHECK_FLOAT(c->stiffness.shear, 0.0f);
+    CHECK_FLOAT(c->stiffness.bend, 0.0f);
+    CHECK(c->pins == NULL);
+    CHECK_INT(c->pin_count, 0);
+    CHECK_FLOAT(c->color[0], 0.9f);
+    CHECK_FLOAT(c->color[1], 0.35f);
+    CHECK_FLOAT(c->color[2], 0.3f);
+}
+
+static void test_defaults(void)
+{
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    CHECK_STR(scene.name, NULL);
+    CHECK(scene.cloths == NULL);
+    CHECK_INT(scene.cloth_count, 0);
+    check_default_scene(&scene);
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    check_default_cloth(&cloth);
+    fixture f;
+    fixture_init(&f);
+    EXPECT_DESC_VALID(&f.scene);
+}
+
+static void test_names(void)
+{
+    CHECK_STR(cvk_method_name(CVK_METHOD_PD), "pd");
+    CHECK_STR(cvk_method_name((cvk_method)1), NULL);
+    CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_RBGS), "rbgs");
+    CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_JACOBI), "jacobi");
+    CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_CHEBYSHEV), "chebyshev");
+    CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_GS_CPU), "gs-cpu");
+    CHECK_STR(cvk_linear_solver_name((cvk_linear_solver)4), NULL);
+}
+
+/* ---- validation of programmatic descriptions ---- */
+
+static void test_validate_scene(void)
+{
+    fixture f;
+    cvk_scene_desc zero = {0};
+    EXPECT_DESC_INVALID(&zero, "scene description was not made by cvk_default_scene_desc()");
+    EXPECT_DESC_INVALID(NULL, "scene description is NULL");
+    CHECK_INT(cvk_scene_desc_validate(&zero, NULL), CVK_ERROR_INVALID_ARGUMENT);
+
+    fixture_init(&f);
+    f.scene.dt = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "dt: must be greater than 0, got 0");
+    f.scene.dt = -0.001f;
+    EXPECT_DESC_INVALID(&f.scene, "dt: must be greater than 0, got -0.001");
+    f.scene.dt = INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "dt: must be a finite number, got inf");
+    f.scene.dt = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "dt: must be a finite number, got nan");
+
+    fixture_init(&f);
+    f.scene.substeps = 0;
+    EXPECT_DESC_INVALID(&f.scene, "substeps: must be at least 1, got 0");
+    fixture_init(&f);
+    f.scene.frames = 0;
+    EXPECT_DESC_INVALID(&f.scene, "frames: must be at least 1, got 0");
+
+    fixture_init(&f);
+    f.scene.gravity[1] = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "gravity.1: must be a finite number, got nan");
+    f.scene.gravity[1] = -NAN; /* printf would say "-nan" */
+    EXPECT_DESC_INVALID(&f.scene, "gravity.1: must be a finite number, got nan");
+    f.scene.gravity[1] = 1000.0f; /* any finite gravity */
+    EXPECT_DESC_VALID(&f.scene);
+
+    fixture_init(&f);
+    f.scene.damping = 1.0f;
+    EXPECT_DESC_INVALID(&f.scene, "damping: must be at least 0 and less than 1, got 1");
+    f.scene.damping = -0.5f;
+    EXPECT_DESC_INVALID(&f.scene, "damping: must be at least 0 and less than 1, got -0.5");
+    f.scene.damping = 0.5f;
+    EXPECT_DESC_VALID(&f.scene);
+}
+
+static void test_validate_solver(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.scene.solver.method = (cvk_method)3;
+    EXPECT_DESC_INVALID(&f.scene, "solver.method: unknown method 3");
+    fixture_init(&f);
+    f.scene.solver.linear = (cvk_linear_solver)9;
+    EXPECT_DESC_INVALID(&f.scene, "solver.linear: unknown linear solver 9");
+    fixture_init(&f);
+    f.scene.solver.outer_iterations = 0;
+    EXPECT_DESC_INVALID(&f.scene, "solver.outer_iterations: must be at least 1, got 0");
+    fixture_init(&f);
+    f.scene.solver.inner_iterations = 0;
+    EXPECT_DESC_INVALID(&f.scene, "solver.inner_iterations: must be at least 1, got 0");
+    fixture_init(&f);
+    f.scene.solver.omega = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "solver.omega: must be greater than 0 and less than 2, got 0");
+    f.scene.solver.omega = 2.0f;
+    EXPECT_DESC_INVALID(&f.scene, "solver.omega: must be greater than 0 and less than 2, got 2");
+    f.scene.solver.omega = 1.9f;
+    EXPECT_DESC_VALID(&f.scene);
+    f.scene.solver.chebyshev_rho = 1.0f;
+    EXPECT_DESC_INVALID(&f.scene, "solver.chebyshev_rho: must be at least 0 and less than 1, got 1");
+    f.scene.solver.chebyshev_rho = -0.5f;
+    EXPECT_DESC_INVALID(&f.scene, "solver.chebyshev_rho: must be at least 0 and less than 1, got -0.5");
+    f.scene.solver.chebyshev_rho = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "solver.chebyshev_rho: must be a finite number, got nan");
+}
+
+static void test_validate_cloth_list(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.scene.cloths = NULL;
+    EXPECT_DESC_INVALID(&f.scene, "cloths: a scene needs at least one cloth");
+    fixture_init(&f);
+    f.scene.cloth_count = 0;
+    EXPECT_DESC_INVALID(&f.scene, "cloths: a scene needs at least one cloth");
+
+    fixture_init(&f);
+    f.scene.cloth_count = 2;
+    f.cloths[1] = (cvk_cloth_desc){0};
+    EXPECT_DESC_INVALID(&f.scene, "cloths.1: cloth description was not made by cvk_default_cloth_desc()");
+    f.cloths[1] = cvk_default_cloth_desc();
+    f.cloths[1].mass = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.1.mass: must be greater than 0, got 0");
+}
+
+static void test_validate_grid(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.cloths[0].grid[0] = 0;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.grid: each dimension must be at least 1, got [0, 100]");
+
+    /* 2^30 particles is the most; one more fails, and the total runs over all cloths. */
+    fixture_init(&f);
+    f.cloths[0].grid[0] = 32768;
+    f.cloths[0].grid[1] = 32768;
+    EXPECT_DESC_VALID(&f.scene);
+    f.cloths[0].grid[1] = 32769;
+    EXPECT_DESC_INVALID(&f.scene,
+                        "cloths.0.grid: 1073774592 particles in all is more than clothvk supports (1073741824)");
+    fixture_init(&f);
+    f.scene.cloth_count = 3;
+    for (int i = 0; i < 2; i++) {
+        f.cloths[i].grid[0] = 32768;
+        f.cloths[i].grid[1] = 16384;
+    }
+    f.cloths[2].grid[0] = 1;
+    f.cloths[2].grid[1] = 1;
+    EXPECT_DESC_INVALID(&f.scene,
+                        "cloths.2.grid: 1073741825 particles in all is more than clothvk supports (1073741824)");
+    fixture_init(&f);
+    f.cloths[0].grid[0] = UINT32_MAX;
+    f.cloths[0].grid[1] = UINT32_MAX;
+    EXPECT_DESC_INVALID(
+        &f.scene, "cloths.0.grid: 18446744065119617025 particles in all is more than clothvk supports (1073741824)");
+}
+
+static void test_validate_geometry(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.cloths[0].size[0] = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene,
+                        "cloths.0.size.0: must be greater than 0 (the grid has 100 particles along it), got 0");
+    /* A rope: one particle across, so no width is needed. */
+    f.cloths[0].grid[0] = 1;
+    f.cloths[0].grid[1] = 50;
+    EXPECT_DESC_VALID(&f.scene);
+    f.cloths[0].size[0] = -1.0f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.size.0: must be at least 0, got -1");
+    f.cloths[0].size[0] = INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.size.0: must be a finite number, got inf");
+
+    fixture_init(&f);
+    f.cloths[0].origin[2] = -INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.origin.2: must be a finite number, got -inf");
+
+    fixture_init(&f);
+    memset(f.cloths[0].u_axis, 0, sizeof f.cloths[0].u_axis);
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.u_axis: must not be zero, got [0, 0, 0]");
+    fixture_init(&f);
+    memset(f.cloths[0].v_axis, 0, sizeof f.cloths[0].v_axis);
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.v_axis: must not be zero, got [0, 0, 0]");
+    fixture_init(&f);
+    f.cloths[0].v_axis[0] = -2.0f;
+    f.cloths[0].v_axis[2] = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.v_axis: must not be parallel to u_axis, got [-2, 0, 0]");
+    f.cloths[0].v_axis[1] = 0.5f; /* not orthogonal, but spans a plane */
+    EXPECT_DESC_VALID(&f.scene);
+    fixture_init(&f);
+    f.cloths[0].u_axis[1] = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.u_axis.1: must be a finite number, got nan");
+}
+
+static void test_validate_material(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.cloths[0].rest_scale = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.rest_scale: must be greater than 0, got 0");
+    fixture_init(&f);
+    f.cloths[0].mass = -0.1f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.mass: must be greater than 0, got -0.1");
+    fixture_init(&f);
+    f.cloths[0].stiffness.shear = -1.0f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.stiffness.shear: must be at least 0, got -1");
+    fixture_init(&f);
+    f.cloths[0].stiffness.structural = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.stiffness.structural: must be a finite number, got nan");
+    fixture_init(&f);
+    f.cloths[0].stiffness.bend = -1e-3f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.stiffness.bend: must be at least 0, got -0.001");
+
+    fixture_init(&f);
+    f.cloths[0].color[1] = 1.5f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.color.1: must be between 0 and 1, got 1.5");
+    f.cloths[0].color[1] = -0.25f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.color.1: must be between 0 and 1, got -0.25");
+    f.cloths[0].color[1] = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.color.1: must be a finite number, got nan");
+}
+
+static void test_validate_pins(void)
+{
+    static const uint32_t inside[][2] = {{0, 0}, {99, 99}};
+    static const uint32_t outside[][2] = {{0, 0}, {100, 0}};
+    fixture f;
+    fixture_init(&f);
+    f.cloths[0].pins = inside;
+    f.cloths[0].pin_count = 2;
+    EXPECT_DESC_VALID(&f.scene);
+    f.cloths[0].pins = outside;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.pins.1: [100, 0] is outside the 100 x 100 grid");
+    f.cloths[0].pins = NULL;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.pins: is NULL but pin_count is 2");
+}
+
+/* ---- JSON ---- */
+
+static void test_minimal_json(void)
+{
+    cvk_scene* scene = PARSE_OK("{'cloths': [{}]}");
+    if (!scene)
+        return;
+    const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+    CHECK_STR(d->name, "t");
+    check_default_scene(d);
+    CHECK_INT(d->cloth_count, 1);
+    check_default_cloth(&d->cloths[0]);
+    cvk_scene_destroy(scene);
+
+    /* The default name is the source name without directory and extension. */
+    cvk_error err = {0};
+    CHECK_INT(cvk_scene_parse("{\"cloths\": [{}]}", "dir/sub/my.scene.json", NULL, 0, &scene, &err), CVK_SUCCESS);
+    CHECK_STR(cvk_scene_get_desc(scene)->name, "my.scene");
+    cvk_scene_destroy(scene);
+    CHECK_INT(cvk_scene_parse("{\"cloths\": [{}]}", NULL, NULL, 0, &scene, &err), CVK_SUCCESS);
+    CHECK_STR(cvk_scene_get_desc(scene)->name, NULL);
+    cvk_scene_destroy(scene);
+    CHECK_INT(cvk_scene_parse("[]", NULL, NULL, 0, &scene, &err), CVK_ERROR_INVALID_ARGUMENT);
+    CHECK_STR(err.message, "<string>: the top level must be an object, got an array of 0");
+
+    CHECK(cvk_scene_get_desc(NULL) == NULL);
+    cvk_scene_destroy(NULL);
+}
+
+static void test_full_json(void)
+{
+    cvk_scene* scene = PARSE_OK("{'name': 'full', 'dt': 0.001, 'substeps': 16, 'frames': 8.0, 'integrate': false,"
+                                " 'gravity': [1, 2, 3], 'damping': 0.01,"
+                                " 'solver': {'method': 'pd', 'linear': 'chebyshev', 'outer_iterations': 3,"
+                                "   'inner_iterations': 5, 'omega': 0.9, 'chebyshev_rho': 0.95, 'chebyshev_delay': 0},"
+                                " 'cloths': [{'name': 'a', 'grid': [3, 4], 'size': [2, 3], 'origin': [1, 2, 3],"
+                                "   'u_axis': [0, 1, 0], 'v_axis': [0, 0, -1], 'rest_scale': 0.5, 'mass': 2,"
+                                "   'stiffness': {'structural': 10, 'shear': 20, 'bend': 30},"
+                                "   'pins': [[0, 0], [2, 3]], 'color': [0, 0.5, 1]},"
+                                "  {'name': 'b'}]}");
+    if (!scene)
+        return;
+    const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+    CHECK_STR(d->name, "full");
+    CHECK_FLOAT(d->dt, 0.001f);
+    CHECK_INT(d->substeps, 16);
+    CHECK_INT(d->frames, 8);
+    CHECK(!d->integrate);
+    CHECK_FLOAT(d->gravity[0], 1.0f);
+    CHECK_FLOAT(d->gravity[2], 3.0f);
+    CHECK_FLOAT(d->damping, 0.01f);
+    CHECK_INT(d->solver.method, CVK_METHOD_PD);
+    CHECK_INT(d->solver.linear, CVK_LINEAR_CHEBYSHEV);
+    CHECK_INT(d->solver.outer_iterations, 3);
+    CHECK_INT(d->solver.inner_iterations, 5);
+    CHECK_FLOAT(d->solver.omega, 0.9f);
+    CHECK_FLOAT(d->solver.chebyshev_rho, 0.95f);
+    CHECK_INT(d->solver.chebyshev_delay, 0);
+    CHECK_INT(d->cloth_count, 2);
+    const cvk_cloth_desc* c = &d->cloths[0];
+    CHECK_STR(c->name, "a");
+    CHECK_INT(c->grid[0], 3);
+    CHECK_INT(c->grid[1], 4);
+    CHECK_FLOAT(c->size[1], 3.0f);
+    CHECK_FLOAT(c->origin[2], 3.0f);
+    CHECK_FLOAT(c->u_axis[1], 1.0f);
+    CHECK_FLOAT(c->v_axis[2], -1.0f);
+    CHECK_FLOAT(c->rest_scale, 0.5f);
+    CHECK_FLOAT(c->mass, 2.0f);
+    CHECK_FLOAT(c->stiffness.structural, 10.0f);
+    CHECK_FLOAT(c->stiffness.shear, 20.0f);
+    CHECK_FLOAT(c->stiffness.bend, 30.0f);
+    CHECK_INT(c->pin_count, 2);
+    CHECK_INT(c->pins[1][0], 2);
+    CHECK_INT(c->pins[1][1], 3);
+    CHECK_FLOAT(c->color[1], 0.5f);
+    CHECK_STR(d->cloths[1].name, "b");
+    CHECK_INT(d->cloths[1].grid[0], 100);
+    cvk_scene_destroy(scene);
+
+    scene = PARSE_OK("{'cloths': [{'grid': [1, 50], 'size': [0, 1]}]}");
+    if (scene)
+        CHECK_INT(cvk_scene_get_desc(scene)->cloths[0].grid[1], 50);
+    cvk_scene_destroy(scene);
+}
+
+static void test_malformed_json(void)
+{
+    EXPECT_ERROR("{\n'dt': 1,\n'b' 2}", CVK_ERROR_PARSE, "t.json:3:5: malformed JSON: ':' expected near '2'");
+    EXPECT_ERROR("{'dt': 1, 'dt': 2, 'cloths': [{}]}", CVK_ERROR_PARSE,
+                 "t.json:1:14: malformed JSON: duplicate object key near '\"dt\"'");
+    EXPECT_ERROR("{'cloths': [{'mass': 1, 'mass': 2}]}", CVK_ERROR_PARSE,
+                 "t.json:1:30: malformed JSON: duplicate object key near '\"mass\"'");
+    EXPECT_ERROR("", CVK_ERROR_PARSE, "t.json:1:0: malformed JSON: unexpected token near end of file");
+    EXPECT_ERROR("{'dt': 1e400}", CVK_ERROR_PARSE, "t.json:1:12: malformed JSON: real number overflow near '1e400'");
+    EXPECT_ERROR("{'cloths': [{}]} x", CVK_ERROR_PARSE, "t.json:1:18: malformed JSON: end of file expected near 'x'");
+}
+
+static void test_nonfinite_json(void)
+{
+    EXPECT_INVALID("{'dt': NaN, 'cloths': [{}]}", "t.json: dt: must be a finite number, got NaN");
+    EXPECT_INVALID("{'dt': nan, 'cloths': [{}]}", "t.json: dt: must be a finite number, got nan");
+    EXPECT_INVALID("{'dt': Infinity, 'cloths': [{}]}", "t.json: dt: must be a finite number, got Infinity");
+    EXPECT_INVALID("{'dt':-Infinity, 'cloths': [{}]}", "t.json: dt: must be a finite number, got -Infinity");
+    EXPECT_INVALID("{'gravity': [0, -INF, 0], 'cloths': [{}]}", "t.json: gravity.1: must be a finite number, got -INF");
+    EXPECT_INVALID("{'cloths': [{'mass': inf}]}", "t.json: cloths.0.mass: must be a finite number, got inf");
+    EXPECT_INVALID("{'substeps': NaN, 'cloths': [{}]}", "t.json: substeps: expected a whole number, got NaN");
+    EXPECT_INVALID("{'gravity': NaN, 'cloths': [{}]}", "t.json: gravity: expected an array of 3 numbers, got NaN");
+    /* Beyond float range: stored as infinity and caught as not finite. */
+    EXPECT_INVALID("{'dt': 1e39, 'cloths': [{}]}", "t.json: dt: must be a finite number, got inf");
+    EXPECT_INVALID("{'gravity': [0, -1e39, 0], 'cloths': [{}]}", "t.json: gravity.1: must be a finite number, got -inf");
+    /* Other bare words stay syntax errors. */
+    EXPECT_ERROR("{'dt': NaNx, 'cloths': [{}]}", CVK_ERROR_PARSE, "t.json:1:11: malformed JSON: invalid token near 'NaNx'");
+    EXPECT_ERROR("{'dt': Inf1}", CVK_ERROR_PARSE, "t.json:1:10: malformed JSON: invalid token near 'Inf'");
+    /* Columns after a rewritten word count the user's text, not the added quotes. */
+    EXPECT_ERROR("{'dt': NaN, 'x' 1}", CVK_ERROR_PARSE, "t.json:1:17: malformed JSON: ':' expected near '1'");
+    EXPECT_ERROR("{'dt': NaN, 'g': NaN, 'x' 1}", CVK_ERROR_PARSE, "t.json:1:27: malformed JSON: ':' expected near '1'");
+    EXPECT_ERROR("{'dt': NaN,\n 'x' 1}", CVK_ERROR_PARSE, "t.json:2:6: malformed JSON: ':' expected near '1'");
+    /* Inside a string a word is just text. */
+    cvk_scene* scene = PARSE_OK("{'name': 'NaN', 'cloths': [{}]}");
+    if (scene)
+        CHECK_STR(cvk_scene_get_desc(scene)->name, "NaN");
+    cvk_scene_destroy(scene);
+}
+
+static void test_unknown_keys(void)
+{
+    EXPECT_INVALID("{'iterationz': 3, 'cloths': [{}]}",
+                   "t.json: iterationz: unknown key (expected one of: name, dt, substeps, frames, integrate, "
+                   "gravity, damping, solver, cloths)");
+    EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
+                   "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
+                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay)");
+    EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
+                   "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
+                   "v_axis, rest_scale, mass, stiffness, pins, color)");
+    EXPECT_INVALID("{'cloths': [{'stiffness': {'bending': 1}}]}",
+                   "t.json: cloths.0.stiffness.bending: unknown key (expected one of: structural, shear, bend)");
+}
+
+static void test_wrong_types(void)
+{
+    EXPECT_INVALID("[{'cloths': [{}]}]", "t.json: the top level must be an object, got an array of 1");
+    EXPECT_INVALID("42", "t.json: the top level must be an object, got a number");
+    EXPECT_INVALID("{}", "t.json: cloths: missing; a scene needs at least one cloth");
+    EXPECT_INVALID("{'cloths': []}", "t.json: cloths: a scene needs at least one cloth");
+    EXPECT_INVALID("{'cloths': {}}", "t.json: cloths: expected an array of cloth objects, got an object");
+    EXPECT_INVALID("{'cloths': [3]}", "t.json: cloths.0: expected an object, got a number");
+    EXPECT_INVALID("{'name': 3, 'cloths': [{}]}", "t.json: name: expected a string, got a number");
+    EXPECT_INVALID("{'dt': '0.002', 'cloths': [{}]}", "t.json: dt: expected a number, got a string");
+    EXPECT_INVALID("{'dt': null, 'cloths': [{}]}", "t.json: dt: expected a number, got null");
+    EXPECT_INVALID("{'substeps': 2.5, 'cloths': [{}]}", "t.json: substeps: expected a whole number, got 2.5");
+    EXPECT_INVALID("{'substeps': -3, 'cloths': [{}]}", "t.json: substeps: must be at least 1, got -3");
+    EXPECT_INVALID("{'substeps': 0, 'cloths': [{}]}", "t.json: substeps: must be at least 1, got 0");
+    EXPECT_INVALID("{'frames': 1e10, 'cloths': [{}]}", "t.json: frames: must be at most 4294967295, got 1e+10");
+    EXPECT_INVALID("{'frames': true, 'cloths': [{}]}", "t.json: frames: expected a whole number, got true");
+    EXPECT_INVALID("{'integrate': 1, 'cloths': [{}]}", "t.json: integrate: expected true or false, got a number");
+    EXPECT_INVALID("{'gravity': [0, -9.81], 'cloths': [{}]}",
+                   "t.json: gravity: expected an array of 3 numbers, got an array of 2");
+    EXPECT_INVALID("{'gravity': -9.81, 'cloths': [{}]}", "t.json: gravity: expected an array of 3 numbers, got a number");
+    EXPECT_INVALID("{'gravity': [0, 'down', 0], 'cloths': [{}]}", "t.json: gravity.1: expected a number, got a string");
+    EXPECT_INVALID("{'solver': [], 'cloths': [{}]}", "t.json: solver: expected an object, got an array of 0");
+    EXPECT_INVALID("{'solver': {'linear': 'foo'}, 'cloths': [{}]}",
+                   "t.json: solver.linear: unknown linear solver \"foo\" (expected rbgs, jacobi, chebyshev or gs-cpu)");
+    EXPECT_INVALID("{'solver': {'method': 'implicit'}, 'cloths': [{}]}",
+                   "t.json: solver.method: unknown method \"implicit\" (expected pd)");
+    EXPECT_INVALID("{'solver': {'linear': 1}, 'cloths': [{}]}", "t.json: solver.linear: expected a string, got a number");
+    EXPECT_INVALID("{'solver': {'chebyshev_delay': -1}, 'cloths': [{}]}",
+                   "t.json: solver.chebyshev_delay: must be at least 0, got -1");
+    EXPECT_INVALID("{'cloths': [{'grid': [10, 10, 10]}]}",
+                   "t.json: cloths.0.grid: expected an array of 2 whole numbers, got an array of 3");
+    EXPECT_INVALID("{'cloths': [{'grid': [-1, 10]}]}", "t.json: cloths.0.grid.0: must be at least 1, got -1");
+    EXPECT_INVALID("{'cloths': [{'stiffness': 5}]}", "t.json: cloths.0.stiffness: expected an object, got a number");
+    EXPECT_INVALID("{'cloths': [{'pins': [0, 0]}]}",
+                   "t.json: cloths.0.pins.0: expected an array of 2 whole numbers, got a number");
+    EXPECT_INVALID("{'cloths': [{'pins': {}}]}", "t.json: cloths.0.pins: expected an array of [i, j] pairs, got an object");
+    EXPECT_INVALID("{'cloths': [{'pins': [[0, 0], [1, 2, 3]]}]}",
+                   "t.json: cloths.0.pins.1: expected an array of 2 whole numbers, got an array of 3");
+    EXPECT_INVALID("{'cloths': [{'pins': [[0, -1]]}]}", "t.json: cloths.0.pins.0.1: must be at least 0, got -1");
+}
+
+static void test_invalid_values_json(void)
+{
+    EXPECT_INVALID("{'cloths': [{'grid': [0, 100]}]}",
+                   "t.json: cloths.0.grid: each dimension must be at least 1, got [0, 100]");
+    EXPECT_INVALID("{'cloths': [{'mass': -0.1}]}", "t.json: cloths.0.mass: must be greater than 0, got -0.1");
+    EXPECT_INVALID("{'cloths': [{'pins': [[0, 0], [100, 0]]}]}",
+                   "t.json: cloths.0.pins.1: [100, 0] is outside the 100 x 100 grid");
+    EXPECT_INVALID("{'dt': 0, 'cloths': [{}]}", "t.json: dt: must be greater than 0, got 0");
+    EXPECT_INVALID("{'solver': {'omega': 2}, 'cloths': [{}]}",
+                   "t.json: solver.omega: must be greater than 0 and less than 2, got 2");
+    EXPECT_INVALID("{'cloths': [{}, {'color': [0, 0, 2]}]}", "t.json: cloths.1.color.2: must be between 0 and 1, got 2");
+}
+
+static void test_overrides(void)
+{
+    const char* const replace[] = {"dt=0.001", "solver.linear=jacobi", "name=sheet", "frames=10", "frames=12"};
+    cvk_scene* scene = PARSE_OK_SET("{'dt': 0.002, 'frames': 3, 'cloths': [{}]}", replace);
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK_FLOAT(d->dt, 0.001f);
+        CHECK_INT(d->solver.linear, CVK_LINEAR_JACOBI);
+        CHECK_STR(d->name, "sheet");
+        CHECK_INT(d->frames, 12);
+    }
+    cvk_scene_destroy(scene);
+
+    const char* const create[] = {"solver.omega=1.5", "cloths.0.stiffness.shear=5", "cloths.0.pins.0=[1, 2]",
+                                  "cloths.1={\"mass\": 0.2}", "cloths.2.mass=0.3"};
+    scene = PARSE_OK_SET("{'cloths': [{}]}", create);
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK_FLOAT(d->solver.omega, 1.5f);
+        CHECK_FLOAT(d->cloths[0].stiffness.shear, 5.0f);
+        CHECK_INT(d->cloths[0].pin_count, 1);
+        CHECK_INT(d->cloths[0].pins[0][1], 2);
+        CHECK_INT(d->cloth_count, 3);
+        CHECK_FLOAT(d->cloths[1].mass, 0.2f);
+        CHECK_INT(d->cloths[1].grid[0], 100);
+        CHECK_FLOAT(d->cloths[2].mass, 0.3f);
+    }
+    cvk_scene_destroy(scene);
+}
+
+static void test_override_errors(void)
+{
+    const char* base = "{'cloths': [{}]}";
+    const char* grid = "{'cloths': [{'grid': [100, 100]}]}";
+    EXPECT_SET_ERROR(base, "dt", "t.json: --set dt: expected key.path=value");
+    EXPECT_SET_ERROR(base, "=3", "t.json: --set =3: expected key.path=value");
+    EXPECT_SET_ERROR(base, "solver..omega=1", "t.json: --set solver..omega: the key path has an empty part");
+    EXPECT_SET_ERROR(base, "dt.=1", "t.json: --set dt.: the key path has an empty part");
+    EXPECT_SET_ERROR(base, "cloths.3.grid=[2, 2]",
+                     "t.json: --set cloths.3.grid: index 3 is out of range (cloths has 1 element)");
+    EXPECT_SET_ERROR("{'cloths': [{}, {}]}", "cloths.5=[2, 2]",
+                     "t.json: --set cloths.5: index 5 is out of range (cloths has 2 elements)");
+    EXPECT_SET_ERROR(base, "cloths.x=1", "t.json: --set cloths.x: cloths is an array, x is not an index");
+    EXPECT_SET_ERROR("{'dt': 0.002, 'cloths': [{}]}", "dt.x=1", "t.json: --set dt.x: dt is not an object or array");
+    EXPECT_SET_ERROR("{'cloths': [{'mass': 1}]}", "cloths.0.mass.x.y=1",
+                     "t.json: --set cloths.0.mass.x.y: cloths.0.mass is not an object or array");
+
+    /* A bad value that came from --set says so. */
+    EXPECT_SET_ERROR(base, "substeps=0", "t.json: substeps (from --set): must be at least 1, got 0");
+    EXPECT_SET_ERROR(base, "cloths.0.mass=-1", "t.json: cloths.0.mass (from --set): must be greater than 0, got -1");
+    EXPECT_SET_ERROR(base, "cloths.00.mass=-1", "t.json: cloths.0.mass (from --set): must be greater than 0, got -1");
+    EXPECT_SET_ERROR(base, "cloths.0={\"mass\": -1}",
+                     "t.json: cloths.0.mass (from --set): must be greater than 0, got -1");
+    EXPECT_SET_ERROR(grid, "cloths.0.grid.0=0",
+                     "t.json: cloths.0.grid (from --set): each dimension must be at least 1, got [0, 100]");
+    EXPECT_SET_ERROR(grid, "cloths.0.grid.2=5",
+                     "t.json: cloths.0.grid (from --set): expected an array of 2 whole numbers, got an array of 3");
+    /* Overrides edit the file's tree, not the defaults: a grid the file lacks starts empty. */
+    EXPECT_SET_ERROR(base, "cloths.0.grid.1=8",
+                     "t.json: --set cloths.0.grid.1: index 1 is out of range (cloths.0.grid has 0 elements)");
+    EXPECT_SET_ERROR(base, "cloths.0.grid.0=8",
+                     "t.json: cloths.0.grid (from --set): expected an array of 2 whole numbers, got an array of 1");
+    EXPECT_SET_ERROR(base, "dt=NaN", "t.json: dt (from --set): must be a finite number, got NaN");
+    EXPECT_SET_ERROR(base, "gravity=[0, NaN, 0]", "t.json: gravity.1 (from --set): must be a finite number, got NaN");
+    EXPECT_SET_ERROR(base, "dt=fast", "t.json: dt (from --set): expected a number, got a string");
+    EXPECT_SET_ERROR(base, "solver.linear=foo",
+                     "t.json: solver.linear (from --set): unknown linear solver \"foo\" (expected rbgs, jacobi, "
+                     "chebyshev or gs-cpu)");
+    EXPECT_SET_ERROR(base, "solver.iterationz=3",
+                     "t.json: solver.iterationz (from --set): unknown key (expected one of: method, linear, "
+                     "outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay)");
+    EXPECT_SET_ERROR(base, "cloths=[]", "t.json: cloths (from --set): a scene needs at least one cloth");
+    /* A bad value in the file does not, even when other keys were set. */
+    EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "frames=10", "t.json: cloths.0.mass: must be greater than 0, got -0.1");
+    EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "cloths.0.massive=1",
+                     "t.json: cloths.0.massive (from --set): unknown key (expected one of: name, grid, size, origin, "
+                     "u_axis, v_axis, rest_scale, mass, stiffness, pins, color)");
+
+    cvk_scene* scene = NULL;
+    cvk_error err = {0};
+    CHECK_INT(cvk_scene_parse("{}", "t.json", NULL, 1, &scene, &err), CVK_ERROR_INVALID_ARGUMENT);
+    CHECK_STR(err.message, "cvk_scene_parse: overrides is NULL but override_count is 1");
+    CHECK_INT(cvk_scene_parse(NULL, "t.json", NULL, 0, &scene, &err), CVK_ERROR_INVALID_ARGUMENT);
+    CHECK_STR(err.message, "cvk_scene_parse: json_text is NULL");
+    CHECK_INT(cvk_scene_load("x.json", NULL, 0, NULL, &err), CVK_ERROR_INVALID_ARGUMENT);
+    CHECK_STR(err.message, "cvk_scene_load: out_scene is NULL");
+}
+
+/* ---- files ---- */
+
+static bool write_file(const char* path, const char* contents)
+{
+    FILE* f = fopen(path, "wb");
+    if (!f)
+        return false;
+    bool ok = fputs(contents, f) >= 0;
+    return fclose(f) == 0 && ok;
+}
+
+static void expect_load_error_at(const char* file, int line, const char* path, const char* const* sets,
+                                 uint32_t set_count, cvk_result result, const char* message)
+{
+    cvk_scene* scene = NULL;
+    cvk_error err = {0};
+    cvk_result r = cvk_scene_load(path, sets, set_count, &scene, &err);
+    check_int(r, result, path, file, line);
+    check_str(err.message, message, path, file, line);
+    check_true(scene == NULL, "out_scene is NULL after a failure", file, line);
+}
+
+#define EXPECT_LOAD_ERROR(path, result, message) expect_load_error_at(__FILE__, __LINE__, path, NULL, 0, result, message)
+
+static void test_files(void)
+{
+    EXPECT_LOAD_ERROR("nope.json", CVK_ERROR_IO, "nope.json: cannot open: No such file or directory");
+
+    char dir[] = "/tmp/clothvk-test-scene-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(!"mkdtemp worked");
+        return;
+    }
+    char path[4][256];
+    char expected[512];
+    snprintf(path[0], sizeof path[0], "%s/bad.json", dir);
+    snprintf(path[1], sizeof path[1], "%s/nan.json", dir);
+    snprintf(path[2], sizeof path[2], "%s/my.scene.json", dir);
+    snprintf(path[3], sizeof path[3], "%s/empty.json", dir);
+    CHECK(write_file(path[0], "{\n  \"dt\": 0.002,\n  \"substeps\" 8,\n  \"cloths\": [{}]\n}\n"));
+    CHECK(write_file(path[1], "{\n  \"dt\": NaN,\n  \"cloths\": [{}]\n}\n"));
+    CHECK(write_file(path[2], "{ \"cloths\": [{ \"grid\": [4, 4] }] }\n"));
+    CHECK(write_file(path[3], ""));
+
+    snprintf(expected, sizeof expected, "%s:3:14: malformed JSON: ':' expected near '8'", path[0]);
+    EXPECT_LOAD_ERROR(path[0], CVK_ERROR_PARSE, expected);
+    snprintf(expected, sizeof expected, "%s: dt: must be a finite number, got NaN", path[1]);
+    EXPECT_LOAD_ERROR(path[1], CVK_ERROR_INVALID_ARGUMENT, expected);
+    snprintf(expected, sizeof expected, "%s:1:0: malformed JSON: unexpected token near end of file", path[3]);
+    EXPECT_LOAD_ERROR(path[3], CVK_ERROR_PARSE, expected);
+    snprintf(expected, sizeof expected, "%s: cannot read: Is a directory", dir);
+    EXPECT_LOAD_ERROR(dir, CVK_ERROR_IO, expected);
+
+    const char* const sets[] = {"cloths.0.grid.1=8"};
+    snprintf(expected, sizeof expected, "%s: --set cloths.3.grid: index 3 is out of range (cloths has 1 element)",
+             path[2]);
+    expect_load_error_at(__FILE__, __LINE__, path[2], (const char* const[]){"cloths.3.grid=[2, 2]"}, 1,
+                         CVK_ERROR_INVALID_ARGUMENT, expected);
+    cvk_scene* scene = NULL;
+    cvk_error err = {0};
+    CHECK_INT(cvk_scene_load(path[2], sets, 1, &scene, &err), CVK_SUCCESS);
+    if (scene) {
+        CHECK_STR(cvk_scene_get_desc(scene)->name, "my.scene");
+        CHECK_INT(cvk_scene_get_desc(scene)->cloths[0].grid[1], 8);
+    }
+    cvk_scene_destroy(scene);
+
+    for (int i = 0; i < 4; i++)
+        CHECK(remove(path[i]) == 0);
+    CHECK(rmdir(dir) == 0);
+}
+
+static cvk_scene* load_shipped(const char* root, const char* name)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/assets/scenes/%s", root, name);
+    if (access(path, R_OK) != 0) {
+        printf("note: %s is absent; not checked\n", path);
+        return NULL;
+    }
+    cvk_scene* scene = NULL;
+    cvk_error err = {0};
+    cvk_result r = cvk_scene_load(path, NULL, 0, &scene, &err);
+    CHECK_INT(r, CVK_SUCCESS);
+    if (r != CVK_SUCCESS)
+        printf("    %s\n", err.message);
+    return scene;
+}
+
+static void test_shipped_scenes(void)
+{
+    const char* root = getenv("CLOTHVK_SOURCE_ROOT");
+    if (!root) {
+        printf("note: CLOTHVK_SOURCE_ROOT is not set; shipped scenes not checked\n");
+        return;
+    }
+    cvk_scene* scene = load_shipped(root, "hanging.json");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK_STR(d->name, "hanging");
+        CHECK_INT(d->cloths[0].grid[0], 100);
+        CHECK_INT(d->cloths[0].pin_count, 2);
+        CHECK(d->integrate);
+    }
+    cvk_scene_destroy(scene);
+    scene = load_shipped(root, "enlarged.json");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK_FLOAT(d->cloths[0].rest_scale, 0.2f);
+        CHECK(!d->integrate);
+        CHECK_INT(d->cloths[0].pin_count, 0);
+    }
+    cvk_scene_destroy(scene);
+    scene = load_shipped(root, "hanging-stencil.json");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK_FLOAT(d->cloths[0].stiffness.shear, 1e6f);
+        CHECK_FLOAT(d->cloths[0].stiffness.bend, 1e5f);
+    }
+    cvk_scene_destroy(scene);
+}
+
+int main(void)
+{
+    test_defaults();
+    test_names();
+    test_validate_scene();
+    test_validate_solver();
+    test_validate_cloth_list();
+    test_validate_grid();
+    test_validate_geometry();
+    test_validate_material();
+    test_validate_pins();
+    test_minimal_json();
+    test_full_json();
+    test_malformed_json();
+    test_nonfinite_json();
+    test_unknown_keys();
+    test_wrong_types();
+    test_invalid_values_json();
+    test_overrides();
+    test_override_errors();
+    test_files();
+    test_shipped_scenes();
+    printf("%d checks, %d failed\n", T.checks, T.failures);
+    return T.failures ? 1 : 0;
+}
