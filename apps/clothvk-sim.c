@@ -1,0 +1,339 @@
+/* clothvk-sim: runs a scene headless and prints statistics. */
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "clothvk.h"
+#include "common.h"
+
+static const char tool[] = "clothvk-sim";
+
+static void usage(FILE* out)
+{
+    fprintf(out,
+            "usage: clothvk-sim SCENE [--frames N] [--set key.path=value]... [--json]\n"
+            "                   [--dump FILE.csv] [--plan]\n"
+            "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
+            "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
+            "  --json         print one JSON object of statistics\n"
+            "  --dump FILE    write final positions as x,y,z lines (cloth by cloth, row-major)\n"
+            "  --plan         print the step plan and exit\n"
+            "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
+            "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
+            "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
+}
+
+typedef struct options {
+    const char* scene;
+    bool frames_set;
+    uint32_t frames;
+    app_overrides overrides;
+    bool json;
+    const char* dump;
+    bool plan;
+    uint32_t workgroup_size;
+    uint32_t max_workgroups;
+} options;
+
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
+static int parse_args(int argc, char** argv, options* o, bool* done)
+{
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+        bool has_value = i + 1 < argc;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            *done = true;
+            return APP_EXIT_OK;
+        } else if (!strcmp(a, "--frames")) {
+            if (!has_value || !app_parse_u32(argv[i + 1], 0, 100000000, &o->frames)) {
+                app_error(tool, "--frames: expected a whole number from 0 to 100000000, got %s",
+                          has_value ? argv[i + 1] : "nothing");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->frames_set = true;
+            i++;
+        } else if (!strcmp(a, "--set")) {
+            if (!has_value) {
+                app_error(tool, "--set: expected key.path=value");
+                return APP_EXIT_BAD_INPUT;
+            }
+            if (!app_overrides_add(&o->overrides, argv[++i])) {
+                app_error(tool, "out of memory");
+                return APP_EXIT_FAILURE;
+            }
+        } else if (!strcmp(a, "--dump")) {
+            if (!has_value) {
+                app_error(tool, "--dump: expected a file name");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->dump = argv[++i];
+        } else if (!strcmp(a, "--workgroup-size")) {
+            if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->workgroup_size)) {
+                app_error(tool, "--workgroup-size: expected a whole number from 1 to 1024, got %s",
+                          has_value ? argv[i + 1] : "nothing");
+                return APP_EXIT_BAD_INPUT;
+            }
+            i++;
+        } else if (!strcmp(a, "--max-workgroups")) {
+            if (!has_value || !app_parse_u32(argv[i + 1], 1, UINT32_MAX, &o->max_workgroups)) {
+                app_error(tool, "--max-workgroups: expected a whole number of at least 1, got %s",
+                          has_value ? argv[i + 1] : "nothing");
+                return APP_EXIT_BAD_INPUT;
+            }
+            i++;
+        } else if (!strcmp(a, "--json")) {
+            o->json = true;
+        } else if (!strcmp(a, "--plan")) {
+            o->plan = true;
+        } else if (a[0] == '-' && a[1]) {
+            app_error(tool, "unknown option %s (see --help)", a);
+            return APP_EXIT_BAD_INPUT;
+        } else if (o->scene) {
+            app_error(tool, "one scene file expected, got %s and %s", o->scene, a);
+            return APP_EXIT_BAD_INPUT;
+        } else {
+            o->scene = a;
+        }
+    }
+    if (!o->scene) {
+        usage(stderr);
+        return APP_EXIT_BAD_INPUT;
+    }
+    return APP_EXIT_OK;
+}
+
+typedef struct run_totals {
+    uint32_t frames;
+    double wall_ms;
+    uint32_t timed_frames;
+    double gpu_ms;
+    double pass_ms[CVK_MAX_PASSES];
+} run_totals;
+
+static cvk_result run_frames(cvk_sim* sim, uint32_t frames, run_totals* t, cvk_error* err)
+{
+    for (uint32_t f = 0; f < frames; f++) {
+        double t0 = app_now_ms();
+        cvk_result r = cvk_sim_step(sim, 1, err);
+        if (r != CVK_SUCCESS)
+            return r;
+        t->wall_ms += app_now_ms() - t0;
+        t->frames++;
+        cvk_sim_stats timing;
+        cvk_sim_get_timing(sim, &timing);
+        if (timing.gpu_ms_per_frame < 0)
+            continue;
+        t->timed_frames++;
+        t->gpu_ms += timing.gpu_ms_per_frame;
+        for (uint32_t p = 0; p < timing.pass_count && p < CVK_MAX_PASSES; p++)
+            t->pass_ms[p] += timing.passes[p].gpu_ms;
+    }
+    return CVK_SUCCESS;
+}
+
+static json_t* real_or_null(double v, bool valid)
+{
+    return valid && isfinite(v) ? json_real(v) : json_null();
+}
+
+static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
+                       const cvk_sim_stats* st, const run_totals* t)
+{
+    bool timed = t->timed_frames > 0;
+    json_t* springs = json_pack("{sIsIsI}", "structural", (json_int_t)st->springs[0], "shear",
+                                (json_int_t)st->springs[1], "bend", (json_int_t)st->springs[2]);
+    json_t* residuals = json_pack("{sfsfsf}", "structural", st->residual_per_type[0], "shear",
+                                  st->residual_per_type[1], "bend", st->residual_per_type[2]);
+    json_t* solver = json_pack("{sssssisisf}", "method", cvk_method_name(scene->solver.method),
+                               "linear", cvk_linear_solver_name(scene->solver.linear),
+                               "outer_iterations", (json_int_t)scene->solver.outer_iterations,
+                               "inner_iterations", (json_int_t)scene->solver.inner_iterations,
+                               "omega", (double)scene->solver.omega);
+    json_t* passes = json_array();
+    for (uint32_t p = 0; p < st->pass_count; p++)
+        json_array_append_new(passes,
+                              json_pack("{ssso si}", "name", st->passes[p].name, "gpu_ms",
+                                        real_or_null(t->pass_ms[p] / t->timed_frames, timed),
+                                        "dispatches", (json_int_t)st->passes[p].dispatches));
+    json_t* root = json_object();
+    json_object_set_new(root, "scene", json_string(scene->name ? scene->name : "scene"));
+    json_object_set_new(root, "device", json_string(cvk_context_get_info(ctx).device_name));
+    json_object_set_new(root, "particles", json_integer((json_int_t)st->particles));
+    json_object_set_new(root, "pinned", json_integer((json_int_t)st->pinned));
+    json_object_set_new(root, "springs", springs);
+    json_object_set_new(root, "colours", json_integer(st->colours));
+    json_object_set_new(root, "frames", json_integer(t->frames));
+    json_object_set_new(root, "substeps", json_integer(scene->substeps));
+    json_object_set_new(root, "dt", json_real(scene->dt));
+    json_object_set_new(root, "solver", solver);
+    json_object_set_new(root, "residual", json_real(st->residual));
+    json_object_set_new(root, "residual_normalized", json_real(st->residual_normalized));
+    json_object_set_new(root, "residual_per_type", residuals);
+    json_object_set_new(root, "max_stretch", real_or_null(st->max_stretch, true));
+    json_object_set_new(root, "nan_count", json_integer((json_int_t)st->nan_count));
+    json_object_set_new(root, "gpu_ms_per_frame", real_or_null(t->gpu_ms / t->timed_frames, timed));
+    json_object_set_new(root, "wall_ms_per_frame",
+                        real_or_null(t->wall_ms / t->frames, t->frames > 0));
+    json_object_set_new(root, "dispatches_per_frame", json_integer(st->dispatches_per_frame));
+    json_object_set_new(root, "dispatches_per_substep", json_integer(st->dispatches_per_substep));
+    json_object_set_new(root, "passes", passes);
+    json_object_set_new(root, "validation_messages",
+                        json_integer(cvk_context_validation_message_count(ctx)));
+    char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
+    if (text)
+        printf("%s\n", text);
+    free(text);
+    json_decref(root);
+}
+
+static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
+                          const cvk_sim_stats* st, const run_totals* t)
+{
+    printf("%s: %u frames of %u substeps (dt %g s) on %s\n", scene->name ? scene->name : "scene",
+           t->frames, scene->substeps, scene->dt, cvk_context_get_info(ctx).device_name);
+    printf("  %llu particles (%llu pinned), %llu springs, %u colours, %s/%s %ux%u\n",
+           (unsigned long long)st->particles, (unsigned long long)st->pinned,
+           (unsigned long long)(st->springs[0] + st->springs[1] + st->springs[2]), st->colours,
+           cvk_method_name(scene->solver.method), cvk_linear_solver_name(scene->solver.linear),
+           scene->solver.outer_iterations, scene->solver.inner_iterations);
+    printf("  residual %.4g m^2, max stretch %.3g %%, NaN %llu\n", st->residual,
+           100.0 * st->max_stretch, (unsigned long long)st->nan_count);
+    if (t->frames == 0)
+        return;
+    printf("  %.3f ms per frame wall", t->wall_ms / t->frames);
+    if (t->timed_frames) {
+        printf(", %.3f ms %s (", t->gpu_ms / t->timed_frames,
+               scene->solver.linear == CVK_LINEAR_GS_CPU ? "host" : "GPU");
+        for (uint32_t p = 0; p < st->pass_count; p++)
+            printf("%s%s %.3f", p ? ", " : "", st->passes[p].name, t->pass_ms[p] / t->timed_frames);
+        printf(")");
+    }
+    printf(", %u dispatches per frame\n", st->dispatches_per_frame);
+}
+
+typedef struct dump_job {
+    const float* xyz;
+    uint64_t count;
+} dump_job;
+
+static bool write_dump(FILE* file, void* user)
+{
+    const dump_job* job = user;
+    for (uint64_t p = 0; p < job->count; p++)
+        if (fprintf(file, "%.9g,%.9g,%.9g\n", job->xyz[3 * p], job->xyz[3 * p + 1],
+                    job->xyz[3 * p + 2]) < 0)
+            return false;
+    return true;
+}
+
+static int dump_positions(cvk_sim* sim, const char* path)
+{
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* xyz = malloc(3 * n * sizeof(float));
+    if (!xyz) {
+        app_error(tool, "out of memory for %llu positions", (unsigned long long)n);
+        return APP_EXIT_FAILURE;
+    }
+    cvk_error err;
+    if (cvk_sim_read_positions(sim, xyz, n, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        free(xyz);
+        return APP_EXIT_FAILURE;
+    }
+    dump_job job = {xyz, n};
+    char message[512];
+    bool ok = app_write_atomic(path, write_dump, &job, message, sizeof message);
+    free(xyz);
+    if (!ok) {
+        app_error(tool, "%s", message);
+        return APP_EXIT_FAILURE;
+    }
+    return APP_EXIT_OK;
+}
+
+/* Scene problems found only when the device is known (too many particles) are bad input. */
+static int creation_status(cvk_result r)
+{
+    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
+                                                                          : APP_EXIT_FAILURE;
+}
+
+static int run(const options* o)
+{
+    cvk_error err;
+    cvk_scene* file = NULL;
+    if (cvk_scene_load(o->scene, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
+    }
+    const cvk_scene_desc* scene = cvk_scene_get_desc(file);
+    uint32_t frames = o->frames_set ? o->frames : scene->frames;
+
+    cvk_context* ctx = NULL;
+    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
+    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        cvk_scene_destroy(file);
+        return APP_EXIT_FAILURE;
+    }
+    int status = APP_EXIT_OK;
+    cvk_sim* sim = NULL;
+    cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .workgroup_size = o->workgroup_size,
+                                                      .max_workgroups = o->max_workgroups}, &sim, &err);
+    if (r != CVK_SUCCESS) {
+        app_error(tool, "%s: %s", o->scene, err.message);
+        status = creation_status(r);
+    } else if (o->plan) {
+        size_t need = cvk_sim_describe_plan(sim, NULL, 0) + 1;
+        char* text = malloc(need);
+        if (text) {
+            cvk_sim_describe_plan(sim, text, need);
+            fputs(text, stdout);
+            free(text);
+        }
+    } else {
+        run_totals totals = {0};
+        cvk_sim_stats st;
+        r = run_frames(sim, frames, &totals, &err);
+        if (r == CVK_SUCCESS)
+            r = cvk_sim_get_stats(sim, &st, &err);
+        if (r != CVK_SUCCESS) {
+            app_error(tool, "%s", err.message);
+            status = APP_EXIT_FAILURE;
+        } else {
+            if (o->json)
+                print_json(scene, ctx, &st, &totals);
+            else
+                print_summary(scene, ctx, &st, &totals);
+            if (st.nan_count) {
+                app_error(tool, "%s: the simulation produced %llu non-finite coordinates",
+                          o->scene, (unsigned long long)st.nan_count);
+                status = APP_EXIT_FAILURE;
+            } else if (o->dump) {
+                status = dump_positions(sim, o->dump);
+            }
+        }
+    }
+    cvk_sim_destroy(sim);
+    uint32_t messages = cvk_context_validation_message_count(ctx);
+    if (messages) {
+        app_error(tool, "%u validation messages", messages);
+        status = APP_EXIT_FAILURE;
+    }
+    cvk_context_destroy(ctx);
+    cvk_scene_destroy(file);
+    return status;
+}
+
+int main(int argc, char** argv)
+{
+    options o = {0};
+    bool done = false;
+    int status = parse_args(argc, argv, &o, &done);
+    if (status == APP_EXIT_OK && !done)
+        status = run(&o);
+    app_overrides_free(&o.overrides);
+    return status;
+}

@@ -1,0 +1,103 @@
+#include "common.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+void app_error(const char* tool, const char* format, ...)
+{
+    fprintf(stderr, "%s: ", tool);
+    va_list args;
+    va_start(args, format);
+    vfprintf(stderr, format, args);
+    va_end(args);
+    fputc('\n', stderr);
+}
+
+bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out)
+{
+    if (!text || !*text || *text == '-' || *text == '+')
+        return false;
+    errno = 0;
+    char* end = NULL;
+    unsigned long long v = strtoull(text, &end, 10);
+    if (errno || *end || v < min || v > max)
+        return false;
+    *out = (uint32_t)v;
+    return true;
+}
+
+bool app_overrides_add(app_overrides* o, const char* item)
+{
+    const char** grown = realloc(o->items, (o->count + 1) * sizeof *grown);
+    if (!grown)
+        return false;
+    grown[o->count++] = item;
+    o->items = grown;
+    return true;
+}
+
+void app_overrides_free(app_overrides* o)
+{
+    free(o->items);
+    o->items = NULL;
+    o->count = 0;
+}
+
+void app_log_validation(void* tool_name, const char* message)
+{
+    fprintf(stderr, "%s: validation: %s\n", (const char*)tool_name, message);
+}
+
+bool app_write_atomic(const char* path, app_writer write, void* user, char* message,
+                      size_t message_size)
+{
+    size_t len = strlen(path);
+    char* temp = malloc(len + 16);
+    if (!temp) {
+        snprintf(message, message_size, "%s: out of memory", path);
+        return false;
+    }
+    snprintf(temp, len + 16, "%s.tmp-XXXXXX", path);
+    int fd = mkstemp(temp);
+    if (fd < 0) {
+        snprintf(message, message_size, "%s: cannot create: %s", path, strerror(errno));
+        free(temp);
+        return false;
+    }
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask); /* mkstemp makes 0600; give the file the usual permissions */
+    FILE* file = fdopen(fd, "w");
+    if (!file) {
+        snprintf(message, message_size, "%s: cannot write: %s", path, strerror(errno));
+        close(fd);
+        unlink(temp);
+        free(temp);
+        return false;
+    }
+    bool ok = write(file, user) && fflush(file) == 0 && !ferror(file);
+    int saved = errno;
+    ok = (fclose(file) == 0) && ok;
+    if (ok && rename(temp, path) != 0) {
+        saved = errno;
+        ok = false;
+    }
+    if (!ok) {
+        snprintf(message, message_size, "%s: cannot write: %s", path, strerror(saved ? saved : EIO));
+        unlink(temp);
+    }
+    free(temp);
+    return ok;
+}
+
+double app_now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}

@@ -1,0 +1,48 @@
+/* What the command-line tools share: messages, number parsing, --set collection, atomic
+   file output and the validation-message hook. */
+#ifndef CVK_APP_COMMON_H
+#define CVK_APP_COMMON_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "clothvk.h"
+
+/* Exit statuses of every tool. */
+enum {
+    APP_EXIT_OK = 0,
+    APP_EXIT_FAILURE = 1,   /* the run failed (device error, NaN in the result, validation) */
+    APP_EXIT_BAD_INPUT = 2, /* bad arguments or scene; nothing was written */
+};
+
+/* Prints "tool: message" on stderr. */
+void app_error(const char* tool, const char* format, ...) __attribute__((format(printf, 2, 3)));
+
+/* Parses a whole decimal number in [min, max]; false on anything else. */
+bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out);
+
+/* Collected --set overrides. */
+typedef struct app_overrides {
+    const char** items;
+    uint32_t count;
+} app_overrides;
+
+/* Adds one override; false when out of memory. */
+bool app_overrides_add(app_overrides* o, const char* item);
+void app_overrides_free(app_overrides* o);
+
+/* Log callback for cvk_context_desc: prints validation messages as "tool: validation: ...". */
+void app_log_validation(void* tool_name, const char* message);
+
+/* Writes a file through a temporary name in the same folder and renames it into place, so
+   a reader never sees a partial file. `write` returns false on failure (errno set). On
+   failure nothing is left behind and the message says why. */
+typedef bool (*app_writer)(FILE* file, void* user);
+bool app_write_atomic(const char* path, app_writer write, void* user, char* message,
+                      size_t message_size);
+
+/* Milliseconds on a monotonic clock. */
+double app_now_ms(void);
+
+#endif

@@ -1,0 +1,75 @@
+/* Scene description -> particles, springs, colouring and adjacency, on the host, once.
+
+   Internal particle order: the free particles of colour 0, then colour 1, ..., then every
+   pinned particle. Inside a colour, particles keep grid order (cloth, j, i). The solver
+   dispatches one contiguous range per colour, and a neighbour's index tells its colour
+   range without a lookup. */
+#ifndef CVK_BUILD_H
+#define CVK_BUILD_H
+
+#include "clothvk.h"
+
+#define CVK_MAX_COLOURS 32
+
+typedef enum cvk_spring_type {
+    CVK_SPRING_STRUCTURAL = 0,
+    CVK_SPRING_SHEAR = 1,
+    CVK_SPRING_BEND = 2,
+} cvk_spring_type;
+
+typedef struct cvk_spring {
+    uint32_t a, b;  /* internal particle indices */
+    float rest;     /* rest length, m */
+    float k;        /* stiffness, N/m */
+    uint32_t type;  /* cvk_spring_type */
+} cvk_spring;
+
+typedef struct cvk_cloth_range {
+    uint32_t first_user;   /* index of particle [0,0] in user order */
+    uint32_t grid[2];
+} cvk_cloth_range;
+
+typedef struct cvk_build {
+    uint32_t particle_count;
+    uint32_t free_count;                          /* particles [0, free_count) move */
+    uint32_t colour_count;
+    uint32_t colour_start[CVK_MAX_COLOURS + 1];   /* colour c: [start[c], start[c+1]) */
+
+    float* position;          /* xyz per particle, internal order, initial state */
+    float* mass;              /* kg per particle, internal order */
+    uint32_t* user_of;        /* internal index -> user index */
+    uint32_t* internal_of;    /* user index -> internal index */
+
+    cvk_spring* springs;
+    uint32_t spring_count;
+    uint64_t springs_by_type[3];
+
+    /* Adjacency of the free particles, slot-major: entry s of particle p at s·free_count + p,
+       a spring for s < degree[p], padding (p itself, k = 0) up to max_degree. */
+    uint32_t max_degree;
+    uint32_t* degree;
+    uint32_t* adj_index;
+    float* adj_k;
+    float* adj_rest;
+
+    uint32_t cloth_count;
+    cvk_cloth_range* cloths;
+} cvk_build;
+
+/* The scene must have passed cvk_scene_desc_validate. */
+cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_error* error);
+void cvk_build_destroy(cvk_build* build);
+
+/* Colour of particle [i, j] of a cloth whose spring kinds are given, and the number of
+   colours that pattern uses. Exposed for the colouring test. */
+uint32_t cvk_grid_colour(uint32_t i, uint32_t j, bool shear, bool bend);
+uint32_t cvk_grid_colour_count(bool shear, bool bend);
+
+/* Returns the index of a spring whose two ends are free and share a colour, or -1 when the
+   colouring is valid. */
+int64_t cvk_build_find_colour_conflict(const cvk_build* build);
+
+/* Colour of an internal free particle index. */
+uint32_t cvk_build_colour_of(const cvk_build* build, uint32_t particle);
+
+#endif

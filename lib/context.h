@@ -1,0 +1,32 @@
+/* The Vulkan objects a context holds, created or adopted. */
+#ifndef CVK_CONTEXT_H
+#define CVK_CONTEXT_H
+
+#include <stdatomic.h>
+
+#include "clothvk.h"
+
+struct cvk_context {
+    VkInstance instance;
+    VkPhysicalDevice physical_device;
+    VkDevice device;
+    uint32_t queue_family;
+    VkQueue queue;
+    bool adopted;
+    bool validation;
+    VkDebugUtilsMessengerEXT messenger;
+
+    VkPhysicalDeviceProperties properties;
+    VkPhysicalDeviceMemoryProperties memory;
+    uint32_t timestamp_valid_bits; /* 0: the queue family cannot write timestamps */
+    uint32_t subgroup_size;
+
+    cvk_log_fn log;
+    void* log_user;
+    atomic_uint validation_messages;
+};
+
+/* Largest particle count whose per-particle arrays fit the device's buffer limits. */
+uint64_t cvk_context_max_particles(const cvk_context* context);
+
+#endif

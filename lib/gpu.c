@@ -1,0 +1,207 @@
+#include "gpu.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+
+static int find_memory_type(const cvk_context* context, uint32_t allowed, VkMemoryPropertyFlags want)
+{
+    const VkPhysicalDeviceMemoryProperties* m = &context->memory;
+    for (uint32_t i = 0; i < m->memoryTypeCount; i++)
+        if ((allowed & (1u << i)) && (m->memoryTypes[i].propertyFlags & want) == want)
+            return (int)i;
+    return -1;
+}
+
+cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUsageFlags usage,
+                             cvk_memory_kind kind, const char* what, cvk_buffer* out,
+                             cvk_error* error)
+{
+    memset(out, 0, sizeof *out);
+    out->size = size ? size : 16;
+    VkBufferCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+        .size = out->size,
+        .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+    };
+    VkResult vr = vkCreateBuffer(context->device, &info, NULL, &out->buffer);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateBuffer", vr);
+        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)out->size);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(context->device, out->buffer, &req);
+    int type = -1;
+    if (kind == CVK_MEMORY_HOST) {
+        type = find_memory_type(context, req.memoryTypeBits,
+                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                    VK_MEMORY_PROPERTY_HOST_COHERENT_BIT |
+                                    VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+        if (type < 0)
+            type = find_memory_type(context, req.memoryTypeBits,
+                                    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                        VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    } else {
+        type = find_memory_type(context, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (type < 0)
+            type = find_memory_type(context, req.memoryTypeBits, 0);
+    }
+    if (type < 0) {
+        cvk_buffer_destroy(context, out);
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
+    }
+    VkMemoryAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req.size,
+        .memoryTypeIndex = (uint32_t)type,
+    };
+    vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
+    if (vr == VK_SUCCESS)
+        vr = vkBindBufferMemory(context->device, out->buffer, out->memory, 0);
+    if (vr == VK_SUCCESS && kind == CVK_MEMORY_HOST)
+        vr = vkMapMemory(context->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
+    if (vr != VK_SUCCESS) {
+        cvk_buffer_destroy(context, out);
+        cvk_fail_vk(error, "allocating buffer memory", vr);
+        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)req.size);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+void cvk_buffer_destroy(cvk_context* context, cvk_buffer* buffer)
+{
+    if (buffer->buffer)
+        vkDestroyBuffer(context->device, buffer->buffer, NULL);
+    if (buffer->memory)
+        vkFreeMemory(context->device, buffer->memory, NULL);
+    memset(buffer, 0, sizeof *buffer);
+}
+
+cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spirv,
+                                       size_t spirv_bytes, VkPipelineLayout layout,
+                                       const cvk_spec* spec, const char* what,
+                                       VkPipeline* out, cvk_error* error)
+{
+    VkShaderModuleCreateInfo module_info = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = spirv_bytes,
+        .pCode = spirv,
+    };
+    VkShaderModule module;
+    VkResult vr = vkCreateShaderModule(context->device, &module_info, NULL, &module);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateShaderModule", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    VkSpecializationMapEntry entries[8];
+    for (uint32_t i = 0; i < spec->count; i++)
+        entries[i] = (VkSpecializationMapEntry){.constantID = i,
+                                                .offset = i * (uint32_t)sizeof(uint32_t),
+                                                .size = sizeof(uint32_t)};
+    VkSpecializationInfo spec_info = {
+        .mapEntryCount = spec->count,
+        .pMapEntries = entries,
+        .dataSize = spec->count * sizeof(uint32_t),
+        .pData = spec->values,
+    };
+    VkComputePipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+        .stage = {
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+            .stage = VK_SHADER_STAGE_COMPUTE_BIT,
+            .module = module,
+            .pName = "main",
+            .pSpecializationInfo = &spec_info,
+        },
+        .layout = layout,
+    };
+    vr = vkCreateComputePipelines(context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+    vkDestroyShaderModule(context->device, module, NULL);
+    if (vr != VK_SUCCESS) {
+        *out = VK_NULL_HANDLE;
+        cvk_fail_vk(error, "vkCreateComputePipelines", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_submitter_create(cvk_context* context, cvk_submitter* out, cvk_error* error)
+{
+    memset(out, 0, sizeof *out);
+    VkCommandPoolCreateInfo pool = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+        .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+        .queueFamilyIndex = context->queue_family,
+    };
+    VkResult vr = vkCreateCommandPool(context->device, &pool, NULL, &out->pool);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateCommandPool", vr);
+    VkFenceCreateInfo fence = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    vr = vkCreateFence(context->device, &fence, NULL, &out->fence);
+    if (vr != VK_SUCCESS) {
+        cvk_submitter_destroy(context, out);
+        return cvk_fail_vk(error, "vkCreateFence", vr);
+    }
+    return CVK_SUCCESS;
+}
+
+void cvk_submitter_destroy(cvk_context* context, cvk_submitter* submitter)
+{
+    if (submitter->fence)
+        vkDestroyFence(context->device, submitter->fence, NULL);
+    if (submitter->pool)
+        vkDestroyCommandPool(context->device, submitter->pool, NULL);
+    memset(submitter, 0, sizeof *submitter);
+}
+
+cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* submitter,
+                                       VkCommandBuffer* out, cvk_error* error)
+{
+    VkCommandBufferAllocateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+        .commandPool = submitter->pool,
+        .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+        .commandBufferCount = 1,
+    };
+    VkResult vr = vkAllocateCommandBuffers(context->device, &info, out);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkAllocateCommandBuffers", vr);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
+                               const VkCommandBuffer* cmds, uint32_t count, cvk_error* error)
+{
+    VkSubmitInfo submit = {
+        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+        .commandBufferCount = count,
+        .pCommandBuffers = cmds,
+    };
+    VkResult vr = vkQueueSubmit(context->queue, 1, &submit, submitter->fence);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkQueueSubmit", vr);
+    vr = vkWaitForFences(context->device, 1, &submitter->fence, VK_TRUE, UINT64_MAX);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkWaitForFences", vr);
+    vr = vkResetFences(context->device, 1, &submitter->fence);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkResetFences", vr);
+    return CVK_SUCCESS;
+}
+
+void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                     VkPipelineStageFlags dst_stage, VkAccessFlags dst_access)
+{
+    VkMemoryBarrier barrier = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = src_access,
+        .dstAccessMask = dst_access,
+    };
+    vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, NULL, 0, NULL);
+}

@@ -1,0 +1,54 @@
+/* Thin helpers over Vulkan: buffers, compute pipelines from embedded SPIR-V, one-off
+   submissions. Every function reports failure through cvk_error. */
+#ifndef CVK_GPU_H
+#define CVK_GPU_H
+
+#include "context.h"
+
+typedef struct cvk_buffer {
+    VkBuffer buffer;
+    VkDeviceMemory memory;
+    VkDeviceSize size;
+    void* mapped; /* non-NULL for host-visible buffers */
+} cvk_buffer;
+
+typedef enum cvk_memory_kind {
+    CVK_MEMORY_DEVICE,   /* fastest for the GPU; may not be mappable */
+    CVK_MEMORY_HOST,     /* host-visible and coherent, persistently mapped: staging, readback */
+} cvk_memory_kind;
+
+cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUsageFlags usage,
+                             cvk_memory_kind kind, const char* what, cvk_buffer* out,
+                             cvk_error* error);
+void cvk_buffer_destroy(cvk_context* context, cvk_buffer* buffer);
+
+/* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ... */
+typedef struct cvk_spec {
+    uint32_t values[8];
+    uint32_t count;
+} cvk_spec;
+
+cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spirv,
+                                       size_t spirv_bytes, VkPipelineLayout layout,
+                                       const cvk_spec* spec, const char* what,
+                                       VkPipeline* out, cvk_error* error);
+
+/* A command buffer and fence for blocking submissions of the library's own work. */
+typedef struct cvk_submitter {
+    VkCommandPool pool;
+    VkFence fence;
+} cvk_submitter;
+
+cvk_result cvk_submitter_create(cvk_context* context, cvk_submitter* out, cvk_error* error);
+void cvk_submitter_destroy(cvk_context* context, cvk_submitter* submitter);
+cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* submitter,
+                                       VkCommandBuffer* out, cvk_error* error);
+/* Submits `count` command buffers (one batch, in order) and waits for them. */
+cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
+                               const VkCommandBuffer* cmds, uint32_t count, cvk_error* error);
+
+/* One global memory barrier between two stages. */
+void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                     VkPipelineStageFlags dst_stage, VkAccessFlags dst_access);
+
+#endif

@@ -1,0 +1,103 @@
+#include "reference.h"
+
+#include <math.h>
+
+cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene)
+{
+    double h = scene->dt;
+    cvk_ref_params p = {.inv_h2 = 1.0 / (h * h)};
+    if (scene->integrate) {
+        p.keep = 1.0 - scene->damping;
+        for (int k = 0; k < 3; k++)
+            p.gravity_h2[k] = (double)scene->gravity[k] * h * h;
+    }
+    return p;
+}
+
+void cvk_ref_predict(const cvk_build* b, const cvk_ref_params* params, double* x, double* prev,
+                     double* y)
+{
+    for (size_t i = 0; i < 3 * (size_t)b->free_count; i++) {
+        double xi = x[i];
+        y[i] = xi + (xi - prev[i]) * params->keep + params->gravity_h2[i % 3];
+        prev[i] = xi;
+        x[i] = y[i];
+    }
+}
+
+void cvk_ref_rhs(const cvk_build* b, const cvk_ref_params* params, const double* t,
+                 const double* y, double* rhs)
+{
+    uint32_t nf = b->free_count;
+    for (uint32_t p = 0; p < nf; p++) {
+        double mh = b->mass[p] * params->inv_h2;
+        double sum[4] = {mh * y[3 * p], mh * y[3 * p + 1], mh * y[3 * p + 2], mh};
+        for (uint32_t s = 0; s < b->degree[p]; s++) {
+            size_t e = (size_t)s * nf + p;
+            const double* tp = &t[3 * (size_t)p];
+            const double* tn = &t[3 * (size_t)b->adj_index[e]];
+            double d[3] = {tp[0] - tn[0], tp[1] - tn[1], tp[2] - tn[2]};
+            double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            double k = b->adj_k[e];
+            if (len > 0.0)
+                for (int c = 0; c < 3; c++)
+                    sum[c] += k * b->adj_rest[e] / len * d[c];
+            sum[3] += k;
+        }
+        for (int c = 0; c < 3; c++)
+            rhs[4 * (size_t)p + c] = sum[c];
+        rhs[4 * (size_t)p + 3] = 1.0 / sum[3];
+    }
+}
+
+/* (b_p + Σ k x_c) / diag for particle p, reading neighbours from x. */
+static void solve_one(const cvk_build* b, const double* rhs, const double* x, uint32_t p,
+                      double out[3])
+{
+    uint32_t nf = b->free_count;
+    double acc[3] = {0, 0, 0};
+    for (uint32_t s = 0; s < b->degree[p]; s++) {
+        size_t e = (size_t)s * nf + p;
+        const double* xn = &x[3 * (size_t)b->adj_index[e]];
+        for (int c = 0; c < 3; c++)
+            acc[c] += b->adj_k[e] * xn[c];
+    }
+    for (int c = 0; c < 3; c++)
+        out[c] = (rhs[4 * (size_t)p + c] + acc[c]) * rhs[4 * (size_t)p + 3];
+}
+
+void cvk_ref_gauss_seidel_sweep(const cvk_build* b, const double* rhs, double omega, double* x)
+{
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        double gs[3];
+        solve_one(b, rhs, x, p, gs);
+        for (int c = 0; c < 3; c++)
+            x[3 * (size_t)p + c] += omega * (gs[c] - x[3 * (size_t)p + c]);
+    }
+}
+
+void cvk_ref_jacobi_sweep(const cvk_build* b, const double* rhs, double omega, double cheb,
+                          const double* src, double* dst)
+{
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        double jac[3];
+        solve_one(b, rhs, src, p, jac);
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            double z = src[i] + omega * (jac[c] - src[i]);
+            dst[i] = cheb != 1.0 ? cheb * (z - dst[i]) + dst[i] : z;
+        }
+    }
+}
+
+void cvk_ref_substep_gauss_seidel(const cvk_build* b, const cvk_ref_params* params,
+                                  const cvk_solver_desc* solver, double* x, double* prev,
+                                  double* y, double* scratch)
+{
+    cvk_ref_predict(b, params, x, prev, y);
+    for (uint32_t o = 0; o < solver->outer_iterations; o++) {
+        cvk_ref_rhs(b, params, x, y, scratch);
+        for (uint32_t i = 0; i < solver->inner_iterations; i++)
+            cvk_ref_gauss_seidel_sweep(b, scratch, solver->omega, x);
+    }
+}

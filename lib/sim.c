@@ -1,0 +1,1013 @@
+#include "sim.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "error.h"
+#include "metrics.h"
+#include "shaders.h"
+
+/* Mirrors the bindings of shaders/pd_common.glsl. */
+enum {
+    BINDING_SRC,
+    BINDING_DST_READ,
+    BINDING_DST,
+    BINDING_Y_READ,
+    BINDING_Y,
+    BINDING_PREV_READ,
+    BINDING_PREV,
+    BINDING_RHS_READ,
+    BINDING_RHS,
+    BINDING_ADJACENCY,
+    BINDING_ADJACENCY_KL,
+    BINDING_COUNT
+};
+
+#define DEFAULT_WORKGROUP_SIZE 64u
+/* Measured on lavapipe (2 cores): beyond a few workgroups per dispatch the thread hand-offs
+   cost more than they spread. */
+#define CPU_DEVICE_MAX_WORKGROUPS 4u
+#define MAX_FRAMES_PER_SUBMIT 256u
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+
+/* ---- limits, checked before anything large is allocated -------------------------------- */
+
+static uint32_t degree_bound(const cvk_scene_desc* scene)
+{
+    uint32_t bound = 0;
+    for (uint32_t c = 0; c < scene->cloth_count; c++) {
+        const cvk_stiffness* k = &scene->cloths[c].stiffness;
+        uint32_t d = (k->structural > 0 ? 4u : 0u) + (k->shear > 0 ? 4u : 0u) +
+                     (k->bend > 0 ? 4u : 0u);
+        if (d > bound)
+            bound = d;
+    }
+    return bound;
+}
+
+static cvk_result check_device_limits(const cvk_context* context, const cvk_scene_desc* scene,
+                                      uint32_t workgroup_size, cvk_error* error)
+{
+    const VkPhysicalDeviceLimits* limits = &context->properties.limits;
+    if (workgroup_size > limits->maxComputeWorkGroupSize[0] ||
+        workgroup_size > limits->maxComputeWorkGroupInvocations)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "workgroup size %u exceeds the device's limit of %u", workgroup_size,
+                        limits->maxComputeWorkGroupSize[0]);
+    uint64_t total = 0;
+    for (uint32_t c = 0; c < scene->cloth_count; c++)
+        total += (uint64_t)scene->cloths[c].grid[0] * scene->cloths[c].grid[1];
+    const char* where = scene->cloth_count == 1 ? "cloths.0.grid" : "cloths";
+    uint64_t max_particles = cvk_context_max_particles(context);
+    if (total > max_particles)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%s: %llu particles are too many for %s, which holds at most %llu "
+                        "(maxStorageBufferRange %u bytes, 16 bytes per particle)",
+                        where, (unsigned long long)total, context->properties.deviceName,
+                        (unsigned long long)max_particles, limits->maxStorageBufferRange);
+    uint64_t entries = total * degree_bound(scene);
+    if (total > limits->maxTexelBufferElements || entries > limits->maxTexelBufferElements)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%s: %llu particles with up to %u springs each need %llu adjacency "
+                        "entries; %s allows %u texel buffer elements (maxTexelBufferElements)",
+                        where, (unsigned long long)total, degree_bound(scene),
+                        (unsigned long long)entries, context->properties.deviceName,
+                        limits->maxTexelBufferElements);
+    return CVK_SUCCESS;
+}
+
+/* ---- buffers ----------------------------------------------------------------------------- */
+
+static cvk_result create_view(cvk_context* ctx, const cvk_buffer* buffer, VkFormat format,
+                              VkBufferView* out, cvk_error* error)
+{
+    VkBufferViewCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+        .buffer = buffer->buffer,
+        .format = format,
+        .range = VK_WHOLE_SIZE,
+    };
+    VkResult vr = vkCreateBufferView(ctx->device, &info, NULL, out);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateBufferView", vr);
+}
+
+static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
+{
+    cvk_context* ctx = s->context;
+    const cvk_build* b = &s->build;
+    VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
+    VkDeviceSize nf = b->free_count ? b->free_count : 1;
+    VkDeviceSize entries = (VkDeviceSize)(b->max_degree ? b->max_degree : 1) * nf;
+    VkBufferUsageFlags state = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VkBufferUsageFlags positions = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+    VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    struct {
+        cvk_buffer* buffer;
+        VkDeviceSize size;
+        VkBufferUsageFlags usage;
+        cvk_memory_kind kind;
+        const char* what;
+        VkBufferView* view;
+        VkFormat format;
+    } list[] = {
+        {&s->x[0], n16, positions, CVK_MEMORY_DEVICE, "positions", &s->view_x[0],
+         VK_FORMAT_R32G32B32A32_SFLOAT},
+        {&s->x[1], n16, positions, CVK_MEMORY_DEVICE, "positions (second iterate)", &s->view_x[1],
+         VK_FORMAT_R32G32B32A32_SFLOAT},
+        {&s->y, n16, state, CVK_MEMORY_DEVICE, "inertial positions", &s->view_y,
+         VK_FORMAT_R32G32B32A32_SFLOAT},
+        {&s->prev, n16, state, CVK_MEMORY_DEVICE, "previous positions", &s->view_prev,
+         VK_FORMAT_R32G32B32A32_SFLOAT},
+        {&s->rhs, nf * 16u, state, CVK_MEMORY_DEVICE, "right-hand side", &s->view_rhs,
+         VK_FORMAT_R32G32B32A32_SFLOAT},
+        {&s->adjacency, entries * 8u, table, CVK_MEMORY_DEVICE, "adjacency", &s->view_adjacency,
+         VK_FORMAT_R32G32_UINT},
+        {&s->adjacency_kl, entries * 4u, table, CVK_MEMORY_DEVICE, "adjacency k*L",
+         &s->view_adjacency_kl, VK_FORMAT_R32_SFLOAT},
+        {&s->staging, 2u * n16, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+         CVK_MEMORY_HOST, "staging", NULL, VK_FORMAT_UNDEFINED},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        cvk_result r = cvk_buffer_create(ctx, list[i].size, list[i].usage, list[i].kind,
+                                         list[i].what, list[i].buffer, error);
+        if (r == CVK_SUCCESS && list[i].view)
+            r = create_view(ctx, list[i].buffer, list[i].format, list[i].view, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+static cvk_result begin(VkCommandBuffer cmd, VkCommandBufferUsageFlags flags, cvk_error* error)
+{
+    VkCommandBufferBeginInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+        .flags = flags,
+    };
+    VkResult vr = vkBeginCommandBuffer(cmd, &info);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkBeginCommandBuffer", vr);
+}
+
+static cvk_result end(VkCommandBuffer cmd, cvk_error* error)
+{
+    VkResult vr = vkEndCommandBuffer(cmd);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkEndCommandBuffer", vr);
+}
+
+/* Copies one staging region into buffers; waits. Earlier GPU work on them finishes first. */
+typedef struct copy_job {
+    cvk_buffer* dst;
+    VkDeviceSize src_offset, dst_offset, size;
+} copy_job;
+
+static cvk_result run_copies(cvk_sim* s, const copy_job* jobs, uint32_t count, bool reset_queries,
+                             cvk_error* error)
+{
+    VkCommandBuffer cmd = s->transfer_cmd;
+    cvk_result r = begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    for (uint32_t i = 0; i < count; i++) {
+        VkBufferCopy region = {jobs[i].src_offset, jobs[i].dst_offset, jobs[i].size};
+        vkCmdCopyBuffer(cmd, s->staging.buffer, jobs[i].dst->buffer, 1, &region);
+    }
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                        VK_ACCESS_TRANSFER_READ_BIT);
+    if (reset_queries && s->queries)
+        vkCmdResetQueryPool(cmd, s->queries, 0, s->query_count);
+    r = end(cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return cvk_submit_and_wait(s->context, &s->submitter, &cmd, 1, error);
+}
+
+/* Uploads a host array into a device buffer through the staging buffer, in chunks. */
+static cvk_result upload(cvk_sim* s, cvk_buffer* dst, const void* data, VkDeviceSize size,
+                         cvk_error* error)
+{
+    for (VkDeviceSize at = 0; at < size;) {
+        VkDeviceSize chunk = size - at < s->staging.size ? size - at : s->staging.size;
+        memcpy(s->staging.mapped, (const char*)data + at, chunk);
+        copy_job job = {dst, 0, at, chunk};
+        cvk_result r = run_copies(s, &job, 1, false, error);
+        if (r != CVK_SUCCESS)
+            return r;
+        at += chunk;
+    }
+    return CVK_SUCCESS;
+}
+
+/* The adjacency as the GPU reads it: (neighbour, bits of k) pairs and k·L. */
+static cvk_result upload_static(cvk_sim* s, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    size_t entries = (size_t)b->max_degree * b->free_count;
+    if (entries == 0)
+        return CVK_SUCCESS;
+    uint32_t* pairs = malloc(entries * 2 * sizeof(uint32_t));
+    float* kl = malloc(entries * sizeof(float));
+    cvk_result r = CVK_SUCCESS;
+    if (!pairs || !kl)
+        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    for (size_t e = 0; r == CVK_SUCCESS && e < entries; e++) {
+        pairs[2 * e] = b->adj_index[e];
+        memcpy(&pairs[2 * e + 1], &b->adj_k[e], sizeof(float));
+        kl[e] = b->adj_k[e] * b->adj_rest[e];
+    }
+    if (r == CVK_SUCCESS)
+        r = upload(s, &s->adjacency, pairs, entries * 2 * sizeof(uint32_t), error);
+    if (r == CVK_SUCCESS)
+        r = upload(s, &s->adjacency_kl, kl, entries * sizeof(float), error);
+    free(pairs);
+    free(kl);
+    return r;
+}
+
+/* Sets the state to rest at `xyz` (internal order): zero velocity at this instant, so the
+   first Verlet step moves a free particle by ½ h² g, as x(t) = x0 + ½ g t² requires. */
+static cvk_result set_state(cvk_sim* s, const float* xyz, bool reset_queries, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    uint32_t n = b->particle_count;
+    float* x = s->staging.mapped;
+    float* prev = x + 4 * (size_t)n;
+    for (uint32_t p = 0; p < n; p++) {
+        for (int c = 0; c < 3; c++) {
+            double half_step = p < b->free_count ? 0.5 * s->ref.gravity_h2[c] : 0.0;
+            x[4 * p + c] = xyz[3 * p + c];
+            prev[4 * p + c] = (float)(xyz[3 * p + c] + half_step);
+            if (s->host_solver) {
+                s->hx[3 * (size_t)p + c] = xyz[3 * p + c];
+                s->hprev[3 * (size_t)p + c] = xyz[3 * p + c] + half_step;
+                s->hy[3 * (size_t)p + c] = xyz[3 * p + c];
+            }
+        }
+        x[4 * p + 3] = 0.0f;
+        prev[4 * p + 3] = (float)(b->mass[p] * s->ref.inv_h2); /* m/h², read by predict */
+    }
+    VkDeviceSize n16 = (VkDeviceSize)n * 16u;
+    copy_job jobs[] = {
+        {&s->x[0], 0, 0, n16},
+        {&s->x[1], 0, 0, n16},
+        {&s->y, n16, 0, n16},
+        {&s->prev, n16, 0, n16},
+    };
+    return run_copies(s, jobs, 4, reset_queries, error);
+}
+
+/* ---- pipelines and descriptors ----------------------------------------------------------- */
+
+static const VkDescriptorType binding_type[BINDING_COUNT] = {
+    [BINDING_SRC] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_DST_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_DST] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [BINDING_Y_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_Y] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [BINDING_PREV_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_PREV] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [BINDING_RHS_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_RHS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [BINDING_ADJACENCY] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_ADJACENCY_KL] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+};
+
+static void write_set(cvk_sim* s, VkDescriptorSet set, uint32_t src, uint32_t dst)
+{
+    const cvk_buffer* buffers[BINDING_COUNT] = {
+        [BINDING_DST] = &s->x[dst], [BINDING_Y] = &s->y, [BINDING_PREV] = &s->prev,
+        [BINDING_RHS] = &s->rhs,
+    };
+    const VkBufferView views[BINDING_COUNT] = {
+        [BINDING_SRC] = s->view_x[src],          [BINDING_DST_READ] = s->view_x[dst],
+        [BINDING_Y_READ] = s->view_y,            [BINDING_PREV_READ] = s->view_prev,
+        [BINDING_RHS_READ] = s->view_rhs,        [BINDING_ADJACENCY] = s->view_adjacency,
+        [BINDING_ADJACENCY_KL] = s->view_adjacency_kl,
+    };
+    VkDescriptorBufferInfo infos[BINDING_COUNT];
+    VkWriteDescriptorSet writes[BINDING_COUNT];
+    for (uint32_t i = 0; i < BINDING_COUNT; i++) {
+        writes[i] = (VkWriteDescriptorSet){
+            .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+            .dstSet = set,
+            .dstBinding = i,
+            .descriptorCount = 1,
+            .descriptorType = binding_type[i],
+        };
+        if (binding_type[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
+            infos[i] = (VkDescriptorBufferInfo){buffers[i]->buffer, 0, VK_WHOLE_SIZE};
+            writes[i].pBufferInfo = &infos[i];
+        } else {
+            writes[i].pTexelBufferView = &views[i];
+        }
+    }
+    vkUpdateDescriptorSets(s->context->device, BINDING_COUNT, writes, 0, NULL);
+}
+
+static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
+{
+    VkDevice dev = s->context->device;
+    VkDescriptorSetLayoutBinding bindings[BINDING_COUNT];
+    uint32_t storage = 0, texel = 0;
+    for (uint32_t i = 0; i < BINDING_COUNT; i++) {
+        bindings[i] = (VkDescriptorSetLayoutBinding){
+            .binding = i,
+            .descriptorType = binding_type[i],
+            .descriptorCount = 1,
+            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
+        };
+        if (binding_type[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+            storage++;
+        else
+            texel++;
+    }
+    VkDescriptorSetLayoutCreateInfo set_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = BINDING_COUNT,
+        .pBindings = bindings,
+    };
+    VkResult vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &s->set_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
+    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_push)};
+    VkPipelineLayoutCreateInfo layout_info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = 1,
+        .pSetLayouts = &s->set_layout,
+        .pushConstantRangeCount = 1,
+        .pPushConstantRanges = &push,
+    };
+    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &s->pipeline_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
+
+    VkDescriptorPoolSize sizes[] = {
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage * CVK_SET_COUNT},
+        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, texel * CVK_SET_COUNT},
+    };
+    VkDescriptorPoolCreateInfo pool_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .maxSets = CVK_SET_COUNT,
+        .poolSizeCount = 2,
+        .pPoolSizes = sizes,
+    };
+    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &s->descriptor_pool);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
+    VkDescriptorSetLayout layouts[CVK_SET_COUNT];
+    for (int i = 0; i < CVK_SET_COUNT; i++)
+        layouts[i] = s->set_layout;
+    VkDescriptorSetAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+        .descriptorPool = s->descriptor_pool,
+        .descriptorSetCount = CVK_SET_COUNT,
+        .pSetLayouts = layouts,
+    };
+    vr = vkAllocateDescriptorSets(dev, &alloc, s->sets);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
+    write_set(s, s->sets[CVK_SET_X0_TO_X1], 0, 1);
+    write_set(s, s->sets[CVK_SET_X1_TO_X0], 1, 0);
+    write_set(s, s->sets[CVK_SET_X0_TO_X0], 0, 0);
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_pipelines(cvk_sim* s, cvk_error* error)
+{
+    static const struct {
+        cvk_shader_id shader;
+        uint32_t first;
+    } recipe[CVK_PIPE_COUNT] = {
+        [CVK_PIPE_PREDICT] = {CVK_SHADER_PREDICT, 0},
+        [CVK_PIPE_GS_FIRST] = {CVK_SHADER_PD_GAUSS_SEIDEL, 1},
+        [CVK_PIPE_GS] = {CVK_SHADER_PD_GAUSS_SEIDEL, 0},
+        [CVK_PIPE_JACOBI_FIRST] = {CVK_SHADER_PD_JACOBI, 1},
+        [CVK_PIPE_JACOBI] = {CVK_SHADER_PD_JACOBI, 0},
+    };
+    for (int id = 0; id < CVK_PIPE_COUNT; id++) {
+        if (!s->plan.uses[id])
+            continue;
+        cvk_spirv spirv = cvk_shader(recipe[id].shader);
+        cvk_spec spec = {
+            .values = {s->plan.workgroup_size, s->build.max_degree, recipe[id].first},
+            .count = recipe[id].shader == CVK_SHADER_PREDICT ? 2 : 3,
+        };
+        cvk_result r = cvk_compute_pipeline_create(s->context, spirv.code, spirv.bytes,
+                                                   s->pipeline_layout, &spec, spirv.name,
+                                                   &s->pipelines[id], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+/* Lavapipe compiles a pipeline on its first dispatch (tens of ms with LLVM): dispatch each
+   one once with no particles, so no timed frame pays for it. */
+static cvk_result warm_up(cvk_sim* s, cvk_error* error)
+{
+    if (s->host_solver)
+        return CVK_SUCCESS;
+    VkCommandBuffer cmd = s->transfer_cmd;
+    cvk_result r = begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_push nothing = {0};
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipeline_layout, 0, 1,
+                            &s->sets[CVK_SET_X0_TO_X1], 0, NULL);
+    for (int id = 0; id < CVK_PIPE_COUNT; id++) {
+        if (!s->pipelines[id])
+            continue;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipelines[id]);
+        vkCmdPushConstants(cmd, s->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof nothing,
+                           &nothing);
+        vkCmdDispatch(cmd, 1, 1, 1);
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    }
+    r = end(cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return cvk_submit_and_wait(s->context, &s->submitter, &cmd, 1, error);
+}
+
+static cvk_result create_queries(cvk_sim* s, int timing, cvk_error* error)
+{
+    s->timing = timing >= 0 && s->context->timestamp_valid_bits != 0 && !s->host_solver;
+    if (!s->timing)
+        return CVK_SUCCESS;
+    uint32_t runs = 0;
+    for (uint32_t i = 0; i < s->plan.op_count; i++)
+        if (i + 1 == s->plan.op_count || s->plan.ops[i + 1].pass != s->plan.ops[i].pass)
+            runs++;
+    s->query_count = 1 + runs * s->plan.substeps;
+    s->query_pass = calloc(s->query_count, sizeof *s->query_pass);
+    if (!s->query_pass)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for queries");
+    uint32_t q = 1;
+    for (uint32_t sub = 0; sub < s->plan.substeps; sub++)
+        for (uint32_t i = 0; i < s->plan.op_count; i++)
+            if (i + 1 == s->plan.op_count || s->plan.ops[i + 1].pass != s->plan.ops[i].pass)
+                s->query_pass[q++] = s->plan.ops[i].pass;
+    VkQueryPoolCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+        .queryType = VK_QUERY_TYPE_TIMESTAMP,
+        .queryCount = s->query_count,
+    };
+    VkResult vr = vkCreateQueryPool(s->context->device, &info, NULL, &s->queries);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateQueryPool", vr);
+    return CVK_SUCCESS;
+}
+
+/* ---- recording ----------------------------------------------------------------------------- */
+
+static void record_frame(cvk_sim* s, VkCommandBuffer cmd, bool last_frame)
+{
+    const cvk_plan* plan = &s->plan;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    uint32_t query = 0;
+    if (s->timing) {
+        vkCmdResetQueryPool(cmd, s->queries, 0, s->query_count);
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s->queries, query++);
+    }
+    VkPipeline bound = VK_NULL_HANDLE;
+    int bound_set = -1;
+    for (uint32_t sub = 0; sub < plan->substeps; sub++) {
+        for (uint32_t i = 0; i < plan->op_count; i++) {
+            const cvk_op* op = &plan->ops[i];
+            if (s->pipelines[op->pipeline] != bound) {
+                bound = s->pipelines[op->pipeline];
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bound);
+            }
+            if ((int)op->set != bound_set) {
+                bound_set = (int)op->set;
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipeline_layout,
+                                        0, 1, &s->sets[op->set], 0, NULL);
+            }
+            vkCmdPushConstants(cmd, s->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                               sizeof op->push, &op->push);
+            vkCmdDispatch(cmd, op->groups, 1, 1);
+            bool pass_ends = i + 1 == plan->op_count || plan->ops[i + 1].pass != op->pass;
+            if (s->timing && pass_ends)
+                vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s->queries,
+                                    query++);
+            bool last = last_frame && sub + 1 == plan->substeps && i + 1 == plan->op_count;
+            if (!last)
+                cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        }
+    }
+}
+
+static cvk_result record_own_buffers(cvk_sim* s, cvk_error* error)
+{
+    cvk_result r = CVK_SUCCESS;
+    if (!s->host_solver) {
+        r = begin(s->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
+        if (r != CVK_SUCCESS)
+            return r;
+        record_frame(s, s->frame_cmd, true);
+        r = end(s->frame_cmd, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    r = begin(s->readback_cmd, 0, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferCopy region = {0, 0, (VkDeviceSize)s->build.particle_count * 16u};
+    vkCmdCopyBuffer(s->readback_cmd, s->x[0].buffer, s->staging.buffer, 1, &region);
+    cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    return end(s->readback_cmd, error);
+}
+
+/* ---- creation ------------------------------------------------------------------------------ */
+
+static cvk_result create_gpu_objects(cvk_sim* s, const cvk_sim_desc* desc, cvk_error* error)
+{
+    cvk_result r = create_buffers(s, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_submitter_create(s->context, &s->submitter, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(s->context, &s->submitter, &s->frame_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(s->context, &s->submitter, &s->readback_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(s->context, &s->submitter, &s->transfer_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = create_layouts(s, error);
+    if (r == CVK_SUCCESS)
+        r = create_pipelines(s, error);
+    if (r == CVK_SUCCESS)
+        r = warm_up(s, error);
+    if (r == CVK_SUCCESS)
+        r = create_queries(s, desc->timing, error);
+    if (r == CVK_SUCCESS)
+        r = upload_static(s, error);
+    if (r == CVK_SUCCESS)
+        r = set_state(s, s->build.position, true, error);
+    if (r == CVK_SUCCESS)
+        r = record_own_buffers(s, error);
+    return r;
+}
+
+static cvk_result alloc_host(cvk_sim* s, cvk_error* error)
+{
+    size_t n = s->build.particle_count;
+    s->scratch = malloc(3 * n * sizeof(float));
+    if (!s->scratch)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for positions");
+    if (!s->host_solver)
+        return CVK_SUCCESS;
+    s->hx = malloc(3 * n * sizeof(double));
+    s->hprev = malloc(3 * n * sizeof(double));
+    s->hy = malloc(3 * n * sizeof(double));
+    s->hrhs = malloc(4 * n * sizeof(double));
+    if (!s->hx || !s->hprev || !s->hy || !s->hrhs)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the gs-cpu solver state");
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
+                          cvk_error* error)
+{
+    if (!context || !desc || !desc->scene || !out_sim)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_create needs a context, a description with a scene, and an "
+                        "output pointer");
+    *out_sim = NULL;
+    const cvk_scene_desc* scene = desc->scene;
+    cvk_result r = cvk_scene_desc_validate(scene, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : DEFAULT_WORKGROUP_SIZE;
+    uint32_t max_groups = desc->max_workgroups;
+    if (max_groups == 0)
+        max_groups = context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
+                         ? CPU_DEVICE_MAX_WORKGROUPS
+                         : UINT32_MAX;
+    if (max_groups > context->properties.limits.maxComputeWorkGroupCount[0])
+        max_groups = context->properties.limits.maxComputeWorkGroupCount[0];
+    r = check_device_limits(context, scene, workgroup_size, error);
+    if (r != CVK_SUCCESS)
+        return r;
+
+    cvk_sim* s = calloc(1, sizeof *s);
+    if (!s)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the simulation");
+    s->context = context;
+    snprintf(s->name, sizeof s->name, "%s", scene->name ? scene->name : "scene");
+    s->dt = scene->dt;
+    s->solver = scene->solver;
+    s->ref = cvk_ref_params_of(scene);
+    s->host_solver = scene->solver.linear == CVK_LINEAR_GS_CPU;
+
+    r = cvk_build_create(scene, &s->build, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_plan_create(scene, &s->build, workgroup_size, max_groups, &s->plan, error);
+    if (r == CVK_SUCCESS)
+        r = alloc_host(s, error);
+    if (r == CVK_SUCCESS)
+        r = create_gpu_objects(s, desc, error);
+    if (r != CVK_SUCCESS) {
+        cvk_sim_destroy(s);
+        return r;
+    }
+    *out_sim = s;
+    return CVK_SUCCESS;
+}
+
+void cvk_sim_destroy(cvk_sim* s)
+{
+    if (!s)
+        return;
+    VkDevice dev = s->context->device;
+    if (s->submitter.pool)
+        vkQueueWaitIdle(s->context->queue);
+    for (int i = 0; i < CVK_PIPE_COUNT; i++)
+        if (s->pipelines[i])
+            vkDestroyPipeline(dev, s->pipelines[i], NULL);
+    if (s->queries)
+        vkDestroyQueryPool(dev, s->queries, NULL);
+    if (s->descriptor_pool)
+        vkDestroyDescriptorPool(dev, s->descriptor_pool, NULL);
+    if (s->pipeline_layout)
+        vkDestroyPipelineLayout(dev, s->pipeline_layout, NULL);
+    if (s->set_layout)
+        vkDestroyDescriptorSetLayout(dev, s->set_layout, NULL);
+    cvk_submitter_destroy(s->context, &s->submitter);
+    VkBufferView views[] = {s->view_x[0], s->view_x[1], s->view_y, s->view_prev, s->view_rhs,
+                            s->view_adjacency, s->view_adjacency_kl};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(dev, views[i], NULL);
+    cvk_buffer* buffers[] = {&s->x[0], &s->x[1], &s->y, &s->prev, &s->rhs, &s->adjacency,
+                             &s->adjacency_kl, &s->staging};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(s->context, buffers[i]);
+    cvk_plan_destroy(&s->plan);
+    cvk_build_destroy(&s->build);
+    free(s->query_pass);
+    free(s->batch);
+    free(s->hx);
+    free(s->hprev);
+    free(s->hy);
+    free(s->hrhs);
+    free(s->scratch);
+    free(s);
+}
+
+/* ---- running ------------------------------------------------------------------------------- */
+
+cvk_result cvk_sim_record(cvk_sim* s, VkCommandBuffer cmd, uint32_t frames, cvk_error* error)
+{
+    if (!s || !cmd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_record needs a simulation and a command buffer");
+    if (s->host_solver)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "the gs-cpu solver runs on the host and cannot be recorded into a command "
+                        "buffer; use cvk_sim_step");
+    for (uint32_t f = 0; f < frames; f++)
+        record_frame(s, cmd, f + 1 == frames);
+    return CVK_SUCCESS;
+}
+
+static cvk_result upload_host_positions(cvk_sim* s, cvk_error* error)
+{
+    float* x = s->staging.mapped;
+    for (size_t p = 0; p < s->build.particle_count; p++) {
+        for (int c = 0; c < 3; c++)
+            x[4 * p + c] = (float)s->hx[3 * p + c];
+        x[4 * p + 3] = 0.0f;
+    }
+    copy_job job = {&s->x[0], 0, 0, (VkDeviceSize)s->build.particle_count * 16u};
+    return run_copies(s, &job, 1, false, error);
+}
+
+static cvk_result step_host(cvk_sim* s, uint32_t frames, cvk_error* error)
+{
+    for (uint32_t f = 0; f < frames; f++) {
+        double predict_ms = 0.0, solve_ms = 0.0;
+        for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
+            double t0 = now_ms();
+            cvk_ref_predict(&s->build, &s->ref, s->hx, s->hprev, s->hy);
+            double t1 = now_ms();
+            for (uint32_t o = 0; o < s->solver.outer_iterations; o++) {
+                cvk_ref_rhs(&s->build, &s->ref, s->hx, s->hy, s->hrhs);
+                for (uint32_t i = 0; i < s->solver.inner_iterations; i++)
+                    cvk_ref_gauss_seidel_sweep(&s->build, s->hrhs, s->solver.omega, s->hx);
+            }
+            predict_ms += t1 - t0;
+            solve_ms += now_ms() - t1;
+        }
+        s->host_pass_ms[CVK_PASS_PREDICT] = predict_ms;
+        s->host_pass_ms[CVK_PASS_SOLVE] = solve_ms;
+        s->host_timed = true;
+    }
+    s->frames += frames;
+    return upload_host_positions(s, error);
+}
+
+cvk_result cvk_sim_step(cvk_sim* s, uint32_t frames, cvk_error* error)
+{
+    if (!s)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_sim_step needs a simulation");
+    if (frames == 0)
+        return CVK_SUCCESS;
+    if (s->host_solver)
+        return step_host(s, frames, error);
+
+    uint32_t per_submit = frames < MAX_FRAMES_PER_SUBMIT ? frames : MAX_FRAMES_PER_SUBMIT;
+    if (s->batch_capacity < per_submit) {
+        VkCommandBuffer* batch = realloc(s->batch, per_submit * sizeof *batch);
+        if (!batch)
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for a submission");
+        s->batch = batch;
+        s->batch_capacity = per_submit;
+    }
+    for (uint32_t i = 0; i < per_submit; i++)
+        s->batch[i] = s->frame_cmd;
+    /* Only the last submission carries the fence: the queue runs them in order. */
+    for (uint32_t done = 0; done < frames;) {
+        uint32_t count = frames - done < per_submit ? frames - done : per_submit;
+        if (done + count == frames) {
+            cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, s->batch, count, error);
+            if (r != CVK_SUCCESS)
+                return r;
+        } else {
+            VkSubmitInfo submit = {
+                .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+                .commandBufferCount = count,
+                .pCommandBuffers = s->batch,
+            };
+            VkResult vr = vkQueueSubmit(s->context->queue, 1, &submit, VK_NULL_HANDLE);
+            if (vr != VK_SUCCESS)
+                return cvk_fail_vk(error, "vkQueueSubmit", vr);
+        }
+        done += count;
+    }
+    s->frames += frames;
+    return CVK_SUCCESS;
+}
+
+uint64_t cvk_sim_particle_count(const cvk_sim* s)
+{
+    return s ? s->build.particle_count : 0;
+}
+
+cvk_result cvk_sim_read_internal(cvk_sim* s, cvk_error* error)
+{
+    size_t n = s->build.particle_count;
+    if (s->host_solver) {
+        for (size_t i = 0; i < 3 * n; i++)
+            s->scratch[i] = (float)s->hx[i];
+        return CVK_SUCCESS;
+    }
+    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &s->readback_cmd, 1, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    const float* x = s->staging.mapped;
+    for (size_t p = 0; p < n; p++)
+        for (int c = 0; c < 3; c++)
+            s->scratch[3 * p + c] = x[4 * p + c];
+    return CVK_SUCCESS;
+}
+
+static cvk_result check_count(const cvk_sim* s, const void* xyz, uint64_t count, const char* call,
+                              cvk_error* error)
+{
+    if (!xyz)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: the array is NULL", call);
+    if (count != s->build.particle_count)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%s: the array holds %llu particles; the simulation has %u", call,
+                        (unsigned long long)count, s->build.particle_count);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_read_positions(cvk_sim* s, float* xyz, uint64_t count, cvk_error* error)
+{
+    cvk_result r = check_count(s, xyz, count, "cvk_sim_read_positions", error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_read_internal(s, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    for (uint32_t p = 0; p < s->build.particle_count; p++)
+        memcpy(&xyz[3 * (size_t)s->build.user_of[p]], &s->scratch[3 * (size_t)p], 3 * sizeof(float));
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_write_positions(cvk_sim* s, const float* xyz, uint64_t count, cvk_error* error)
+{
+    cvk_result r = check_count(s, xyz, count, "cvk_sim_write_positions", error);
+    if (r != CVK_SUCCESS)
+        return r;
+    for (uint64_t i = 0; i < 3 * count; i++)
+        if (!isfinite(xyz[i]))
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "cvk_sim_write_positions: coordinate %llu of particle %llu is not a "
+                            "finite number",
+                            (unsigned long long)(i % 3), (unsigned long long)(i / 3));
+    for (uint32_t p = 0; p < s->build.particle_count; p++)
+        memcpy(&s->scratch[3 * (size_t)p], &xyz[3 * (size_t)s->build.user_of[p]], 3 * sizeof(float));
+    return set_state(s, s->scratch, false, error);
+}
+
+/* ---- statistics ---------------------------------------------------------------------------- */
+
+static void read_gpu_times(const cvk_sim* s, cvk_sim_stats* st)
+{
+    st->gpu_ms_per_frame = -1.0;
+    for (uint32_t p = 0; p < st->pass_count; p++)
+        st->passes[p].gpu_ms = -1.0;
+    if (s->host_solver) {
+        if (!s->host_timed)
+            return;
+        st->gpu_ms_per_frame = 0.0;
+        for (uint32_t p = 0; p < st->pass_count; p++) {
+            st->passes[p].gpu_ms = s->host_pass_ms[p];
+            st->gpu_ms_per_frame += s->host_pass_ms[p];
+        }
+        return;
+    }
+    if (!s->timing)
+        return;
+    uint64_t* data = calloc(2 * (size_t)s->query_count, sizeof(uint64_t));
+    if (!data)
+        return;
+    VkResult vr = vkGetQueryPoolResults(s->context->device, s->queries, 0, s->query_count,
+                                        2 * s->query_count * sizeof(uint64_t), data,
+                                        2 * sizeof(uint64_t),
+                                        VK_QUERY_RESULT_64_BIT |
+                                            VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
+    bool available = vr == VK_SUCCESS;
+    for (uint32_t q = 0; q < s->query_count && available; q++)
+        available = data[2 * q + 1] != 0;
+    if (available) {
+        uint32_t bits = s->context->timestamp_valid_bits;
+        uint64_t mask = bits >= 64 ? UINT64_MAX : ((uint64_t)1 << bits) - 1;
+        double period_ms = s->context->properties.limits.timestampPeriod * 1e-6;
+        double per_pass[CVK_PASS_COUNT] = {0};
+        for (uint32_t q = 1; q < s->query_count; q++)
+            per_pass[s->query_pass[q]] += (double)((data[2 * q] - data[2 * (q - 1)]) & mask) * period_ms;
+        st->gpu_ms_per_frame =
+            (double)((data[2 * (s->query_count - 1)] - data[0]) & mask) * period_ms;
+        for (uint32_t p = 0; p < st->pass_count; p++)
+            st->passes[p].gpu_ms = per_pass[p];
+    }
+    free(data);
+}
+
+void cvk_sim_get_timing(const cvk_sim* s, cvk_sim_stats* st)
+{
+    memset(st, 0, sizeof *st);
+    const cvk_build* b = &s->build;
+    st->particles = b->particle_count;
+    st->pinned = b->particle_count - b->free_count;
+    for (int t = 0; t < 3; t++)
+        st->springs[t] = b->springs_by_type[t];
+    st->colours = b->colour_count;
+    st->frames = s->frames;
+    st->pass_count = CVK_PASS_COUNT;
+    for (uint32_t p = 0; p < CVK_PASS_COUNT; p++) {
+        st->passes[p].name = cvk_pass_name((cvk_pass_id)p);
+        st->passes[p].dispatches = s->plan.pass_dispatches[p] * s->plan.substeps;
+    }
+    st->dispatches_per_substep = s->plan.op_count;
+    st->dispatches_per_frame = s->plan.op_count * s->plan.substeps;
+    read_gpu_times(s, st);
+}
+
+cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
+{
+    if (!s || !st)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_get_stats needs a simulation and an output struct");
+    cvk_sim_get_timing(s, st);
+    const cvk_build* b = &s->build;
+    cvk_result r = cvk_sim_read_internal(s, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_metrics m;
+    cvk_metrics_compute(b, s->scratch, &m);
+    st->residual = m.residual[CVK_SPRING_STRUCTURAL];
+    for (int t = 0; t < 3; t++)
+        st->residual_per_type[t] = m.residual[t];
+    st->residual_normalized = m.residual_normalized;
+    st->max_stretch = m.max_stretch;
+    st->nan_count = m.nan_count;
+    return CVK_SUCCESS;
+}
+
+/* ---- the printed plan ---------------------------------------------------------------------- */
+
+typedef struct text {
+    char* at;
+    size_t left;
+    size_t needed;
+} text;
+
+static void put(text* t, const char* format, ...) __attribute__((format(printf, 2, 3)));
+static void put(text* t, const char* format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    int n = vsnprintf(t->at, t->left, format, args);
+    va_end(args);
+    if (n < 0)
+        return;
+    t->needed += (size_t)n;
+    size_t used = (size_t)n < t->left ? (size_t)n : (t->left ? t->left - 1 : 0);
+    t->at += used;
+    t->left -= used;
+}
+
+static const char* pipeline_label(cvk_pipeline_id id)
+{
+    switch (id) {
+    case CVK_PIPE_PREDICT: return "predict (Verlet)";
+    case CVK_PIPE_GS_FIRST: return "gauss-seidel + local step";
+    case CVK_PIPE_GS: return "gauss-seidel";
+    case CVK_PIPE_JACOBI_FIRST: return "jacobi + local step";
+    case CVK_PIPE_JACOBI: return "jacobi";
+    case CVK_PIPE_COUNT: break;
+    }
+    return "?";
+}
+
+size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
+{
+    char dummy[1];
+    text t = {capacity ? out : dummy, capacity ? capacity : 1, 0};
+    const cvk_build* b = &s->build;
+    const cvk_plan* plan = &s->plan;
+    put(&t, "scene %s: %u particles (%u pinned), springs: %llu structural, %llu shear, %llu bend\n",
+        s->name, b->particle_count, b->particle_count - b->free_count,
+        (unsigned long long)b->springs_by_type[0], (unsigned long long)b->springs_by_type[1],
+        (unsigned long long)b->springs_by_type[2]);
+    put(&t, "colours: %u (%s), sizes", b->colour_count,
+        b->colour_count == 2 ? "red-black" : "multi-colour");
+    for (uint32_t c = 0; c < b->colour_count; c++)
+        put(&t, " %u", b->colour_start[c + 1] - b->colour_start[c]);
+    put(&t, "\nsolver: %s / %s, %u outer x %u inner, omega %g", cvk_method_name(s->solver.method),
+        cvk_linear_solver_name(s->solver.linear), s->solver.outer_iterations,
+        s->solver.inner_iterations, s->solver.omega);
+    if (s->solver.linear == CVK_LINEAR_CHEBYSHEV)
+        put(&t, ", rho %.6f, delay %u", plan->chebyshev_rho, s->solver.chebyshev_delay);
+    put(&t, "\n");
+    if (s->host_solver) {
+        put(&t, "per frame: %u substeps on the host (sequential double-precision Gauss-Seidel, "
+                "colour order), then one upload of the positions\n",
+            plan->substeps);
+        return t.needed;
+    }
+    put(&t, "per frame: %u substeps x %u dispatches = %u dispatches, workgroup size %u, at most "
+            "%u workgroups per dispatch%s\n",
+        plan->substeps, plan->op_count, plan->substeps * plan->op_count, plan->workgroup_size,
+        plan->max_groups,
+        s->timing ? ", timestamps per pass" : "");
+    put(&t, "per substep:\n");
+    for (uint32_t i = 0; i < plan->op_count; i++) {
+        const cvk_op* op = &plan->ops[i];
+        put(&t, "  %-7s %-26s", cvk_pass_name(op->pass), pipeline_label(op->pipeline));
+        if (op->pipeline != CVK_PIPE_PREDICT) {
+            put(&t, " outer %u inner %u", op->outer + 1, op->inner + 1);
+            if (op->pipeline == CVK_PIPE_GS_FIRST || op->pipeline == CVK_PIPE_GS)
+                put(&t, " colour %u", op->colour);
+            if (op->push.cheb != 1.0f)
+                put(&t, " cheb %.4f", op->push.cheb);
+        }
+        put(&t, "  particles %u..%u, %u groups, x%u -> x%u\n", op->push.first,
+            op->push.first + op->push.count - 1, op->groups,
+            op->set == CVK_SET_X1_TO_X0 ? 1 : 0, op->set == CVK_SET_X0_TO_X1 ? 1 : 0);
+    }
+    return t.needed;
+}

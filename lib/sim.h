@@ -1,0 +1,60 @@
+/* The simulation object; private so later passes (mesh generation, rendering) can reach its
+   buffers. */
+#ifndef CVK_SIM_H
+#define CVK_SIM_H
+
+#include "build.h"
+#include "gpu.h"
+#include "plan.h"
+#include "reference.h"
+
+struct cvk_sim {
+    cvk_context* context;
+    cvk_build build;
+    cvk_plan plan;
+    char name[64];
+    float dt;
+    cvk_solver_desc solver;
+    cvk_ref_params ref;
+    bool host_solver; /* gs-cpu: the state lives in the host arrays below */
+
+    /* Device state. x[0] always holds the positions between frames; y and prev carry m/h²
+       in w. Adjacency: uvec2 (neighbour, bits of k) and float k·L per slot. */
+    cvk_buffer x[2], y, prev, rhs;
+    cvk_buffer adjacency, adjacency_kl;
+    cvk_buffer staging; /* host-visible, 2 vec4 per particle: uploads and readback */
+    VkBufferView view_x[2], view_y, view_prev, view_rhs, view_adjacency, view_adjacency_kl;
+
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout pipeline_layout;
+    VkDescriptorPool descriptor_pool;
+    VkDescriptorSet sets[CVK_SET_COUNT];
+    VkPipeline pipelines[CVK_PIPE_COUNT];
+
+    bool timing;
+    VkQueryPool queries;
+    uint32_t query_count;   /* per frame: one at the start, one per pass run */
+    cvk_pass_id* query_pass; /* query q > 0 closes this pass */
+
+    cvk_submitter submitter;
+    VkCommandBuffer frame_cmd;    /* one frame, recorded once, submitted again and again */
+    VkCommandBuffer readback_cmd; /* x[0] -> staging, recorded once */
+    VkCommandBuffer transfer_cmd; /* re-recorded for each upload */
+    VkCommandBuffer* batch;       /* frame_cmd repeated, for one submission of many frames */
+    uint32_t batch_capacity;
+
+    uint64_t frames;
+    double host_pass_ms[CVK_PASS_COUNT]; /* gs-cpu: host time of the last frame */
+    bool host_timed;
+
+    double* hx;    /* gs-cpu state, 3 doubles per particle, internal order */
+    double* hprev;
+    double* hy;
+    double* hrhs;  /* 4 doubles per particle */
+    float* scratch; /* 3 floats per particle, internal order */
+};
+
+/* Reads x[0] back into sim->scratch (internal order, 3 floats per particle). */
+cvk_result cvk_sim_read_internal(cvk_sim* sim, cvk_error* error);
+
+#endif
