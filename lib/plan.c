@@ -11,15 +11,42 @@ const char* cvk_pass_name(cvk_pass_id pass)
     switch (pass) {
     case CVK_PASS_PREDICT: return "predict";
     case CVK_PASS_SOLVE: return "solve";
+    case CVK_PASS_FINALIZE: return "finalize";
     case CVK_PASS_COUNT: break;
     }
     return "?";
 }
 
+uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver)
+{
+    uint32_t sweeps = solver->outer_iterations * solver->inner_iterations;
+    if (solver->linear == CVK_LINEAR_CHEBYSHEV && solver->inner_iterations > 1)
+        return solver->inner_iterations;
+    return sweeps;
+}
+
+float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega)
+{
+    if (sweep == 0 && cycle % 2 == 1 && omega > CVK_STABLE_FIRST_OMEGA)
+        return CVK_STABLE_FIRST_OMEGA;
+    return omega;
+}
+
+double cvk_chebyshev_stable_rho(uint32_t m)
+{
+    if (m == 0)
+        return 0.0;
+    return 1.0 / cosh(acosh(3.0) / m);
+}
+
+static uint32_t effective_delay(uint32_t delay)
+{
+    return delay < 1 ? 1 : delay; /* the first Chebyshev step needs an older iterate */
+}
+
 double cvk_chebyshev_weight(uint32_t sweep, uint32_t delay, double rho)
 {
-    if (delay < 1)
-        delay = 1; /* the first Chebyshev step needs an older iterate */
+    delay = effective_delay(delay);
     if (sweep < delay)
         return 1.0;
     double w = 2.0 / (2.0 - rho * rho);
@@ -125,17 +152,24 @@ static void add_op(plan_builder* pb, cvk_pipeline_id pipeline, cvk_set_id set, c
     plan->pass_dispatches[pass]++;
 }
 
-/* Sets reading X[src] and writing X[dst]. */
+/* Sets reading U[src] and writing U[dst]. */
 static cvk_set_id set_for(uint32_t src, uint32_t dst)
 {
     if (src == 0 && dst == 0)
-        return CVK_SET_X0_TO_X0;
-    return src == 0 ? CVK_SET_X0_TO_X1 : CVK_SET_X1_TO_X0;
+        return CVK_SET_U0_TO_U0;
+    return src == 0 ? CVK_SET_U0_TO_U1 : CVK_SET_U1_TO_U0;
 }
 
-/* Gauss-Seidel: every outer iteration reads the previous iterate from one position buffer
+/* x += u: the substep's displacement, which the solve left in U0, moves the positions. */
+static void add_finalize(plan_builder* pb, const cvk_build* b)
+{
+    add_op(pb, CVK_PIPE_FINALIZE, CVK_SET_U0_TO_U0, CVK_PASS_FINALIZE, 0, b->free_count, 1.0f, 0,
+           0, 0);
+}
+
+/* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
    (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
-   writes X0, where the next substep (and every reader) finds the state. */
+   writes U0, where finalize and the next prediction find it. */
 static void plan_gauss_seidel(plan_builder* pb, const cvk_scene_desc* scene, const cvk_build* b)
 {
     uint32_t outer = scene->solver.outer_iterations;
@@ -150,6 +184,7 @@ static void plan_gauss_seidel(plan_builder* pb, const cvk_scene_desc* scene, con
                        CVK_PASS_SOLVE, b->colour_start[c],
                        b->colour_start[c + 1] - b->colour_start[c], 1.0f, o, i, c);
     }
+    add_finalize(pb, b);
 }
 
 /* Jacobi and Chebyshev: every sweep reads one buffer and writes the other. */
@@ -157,19 +192,23 @@ static void plan_jacobi(plan_builder* pb, const cvk_scene_desc* scene, const cvk
                         bool chebyshev)
 {
     uint32_t sweeps = scene->solver.outer_iterations * scene->solver.inner_iterations;
+    uint32_t cycle = cvk_sweep_cycle(&scene->solver);
     uint32_t start = sweeps % 2;
     add_op(pb, CVK_PIPE_PREDICT, set_for(0, start), CVK_PASS_PREDICT, 0, b->free_count, 1.0f,
            0, 0, 0);
     for (uint32_t s = 0; s < sweeps; s++) {
         uint32_t src = (sweeps - s) % 2, dst = 1 - src;
         uint32_t inner = s % scene->solver.inner_iterations;
-        double cheb = chebyshev ? cvk_chebyshev_weight(s, scene->solver.chebyshev_delay,
+        double cheb = chebyshev ? cvk_chebyshev_weight(s % cycle, scene->solver.chebyshev_delay,
                                                        pb->plan->chebyshev_rho)
                                 : 1.0;
         add_op(pb, inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI, set_for(src, dst),
                CVK_PASS_SOLVE, 0, b->free_count, (float)cheb,
                s / scene->solver.inner_iterations, inner, 0);
+        pb->plan->ops[pb->plan->op_count - 1].push.omega =
+            cvk_jacobi_sweep_omega(s % cycle, cycle, scene->solver.omega);
     }
+    add_finalize(pb, b);
 }
 
 cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* b,
@@ -178,7 +217,7 @@ cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* b,
 {
     memset(out, 0, sizeof *out);
     const cvk_solver_desc* solver = &scene->solver;
-    uint32_t capacity = 1 + solver->outer_iterations * solver->inner_iterations * b->colour_count;
+    uint32_t capacity = 2 + solver->outer_iterations * solver->inner_iterations * b->colour_count;
     out->ops = calloc(capacity, sizeof *out->ops);
     if (!out->ops)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the step plan");
@@ -199,12 +238,17 @@ cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* b,
     case CVK_LINEAR_RBGS:
         plan_gauss_seidel(&pb, scene, b);
         break;
-    case CVK_LINEAR_CHEBYSHEV:
-        out->chebyshev_rho = solver->chebyshev_rho > 0.0f
-                                 ? solver->chebyshev_rho
-                                 : cvk_estimate_jacobi_rho(b, 1.0 / (h * h), solver->omega);
+    case CVK_LINEAR_CHEBYSHEV: {
+        uint32_t cycle = cvk_sweep_cycle(solver);
+        uint32_t delay = effective_delay(solver->chebyshev_delay);
+        out->chebyshev_rho_estimated =
+            solver->chebyshev_rho > 0.0f ? solver->chebyshev_rho
+                                         : cvk_estimate_jacobi_rho(b, 1.0 / (h * h), solver->omega);
+        double cap = cvk_chebyshev_stable_rho(cycle > delay ? cycle - delay : 0);
+        out->chebyshev_rho = fmin(out->chebyshev_rho_estimated, cap);
         plan_jacobi(&pb, scene, b, true);
         break;
+    }
     case CVK_LINEAR_JACOBI:
         plan_jacobi(&pb, scene, b, false);
         break;

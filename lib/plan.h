@@ -7,6 +7,7 @@
 
 typedef enum cvk_pipeline_id {
     CVK_PIPE_PREDICT,
+    CVK_PIPE_FINALIZE,
     CVK_PIPE_GS_FIRST,     /* Gauss-Seidel colour sweep that also computes b */
     CVK_PIPE_GS,
     CVK_PIPE_JACOBI_FIRST, /* Jacobi / Chebyshev sweep that also computes b */
@@ -14,17 +15,18 @@ typedef enum cvk_pipeline_id {
     CVK_PIPE_COUNT
 } cvk_pipeline_id;
 
-/* Descriptor sets differ only in which position buffer is src and which is dst. */
+/* Descriptor sets differ only in which displacement buffer is src and which is dst. */
 typedef enum cvk_set_id {
-    CVK_SET_X0_TO_X1,
-    CVK_SET_X1_TO_X0,
-    CVK_SET_X0_TO_X0,
+    CVK_SET_U0_TO_U1,
+    CVK_SET_U1_TO_U0,
+    CVK_SET_U0_TO_U0,
     CVK_SET_COUNT
 } cvk_set_id;
 
 typedef enum cvk_pass_id {
     CVK_PASS_PREDICT,
     CVK_PASS_SOLVE,
+    CVK_PASS_FINALIZE,
     CVK_PASS_COUNT
 } cvk_pass_id;
 
@@ -58,7 +60,8 @@ typedef struct cvk_plan {
     uint32_t max_groups;
     bool uses[CVK_PIPE_COUNT];
     uint32_t pass_dispatches[CVK_PASS_COUNT]; /* per substep */
-    double chebyshev_rho;        /* used by the chebyshev plan; 0 otherwise */
+    double chebyshev_rho;        /* used by the chebyshev plan (after the stability cap) */
+    double chebyshev_rho_estimated; /* the spectral radius before the cap */
 } cvk_plan;
 
 /* max_groups caps the workgroups of one dispatch; the kernels loop over the rest. */
@@ -69,7 +72,33 @@ void cvk_plan_destroy(cvk_plan* plan);
 
 const char* cvk_pass_name(cvk_pass_id pass);
 
-/* Chebyshev weight of sweep s (0-based, counted over a whole substep): 1 for s < delay
+/* Stability of a truncated solve inside Verlet. Model one stiff mode: if the substep's
+   sweeps leave the error times P (the solver's error polynomial at that mode's eigenvalue),
+   the (velocity, constraint violation) pair evolves by [[2P, −1], [P, 0]], whose eigenvalues
+   P ± √(P² − P) leave the unit circle exactly when P < −1/3. Gauss-Seidel's spectrum is
+   non-negative; Jacobi's reaches −1 (the checkerboard mode), so an odd number of Jacobi
+   sweeps explodes (measured: hanging.json with 1 x 3 sweeps); Chebyshev's equi-oscillating
+   polynomial dips to −1/T_m(1/ρ), near −1 when sweeps are few. The plan therefore keeps P
+   above −1/3 by construction:
+   - with an odd number of sweeps per substep, the first sweep is relaxed to omega ≤ 0.6,
+     whose spectrum starts at −0.2;
+   - Chebyshev's ρ is capped so that T_m(1/ρ) ≥ 3 over its m accelerated sweeps. */
+#define CVK_STABLE_FIRST_OMEGA 0.6f
+
+/* Chebyshev runs in cycles: its recurrence assumes one fixed iteration map, so it restarts
+   with every outer iteration (whose local step changes the linear system) when an outer
+   iteration has several sweeps; with one sweep per outer iteration it runs across them, as
+   Wang 2015 does (local step and sweep then form one fixed nonlinear map). Plain Jacobi is
+   one cycle per substep. Returns the cycle length in sweeps. */
+uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver);
+
+/* Relaxation of sweep c (0-based) of a cycle of `cycle` sweeps. */
+float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega);
+
+/* Largest ρ whose Chebyshev polynomial over m sweeps stays above −1/3: T_m(1/ρ) = 3. */
+double cvk_chebyshev_stable_rho(uint32_t accelerated_sweeps);
+
+/* Chebyshev weight of sweep s (0-based, counted within its cycle): 1 for s < delay
    (at least one plain sweep), then Wang's recurrence w = 2/(2 − ρ²), w ← 4/(4 − ρ² w). */
 double cvk_chebyshev_weight(uint32_t sweep, uint32_t delay, double rho);
 

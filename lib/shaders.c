@@ -1,5 +1,6 @@
 #include "shaders.h"
 
+#include "finalize_comp.h"
 #include "pd_gauss_seidel_comp.h"
 #include "pd_jacobi_comp.h"
 #include "predict_comp.h"
@@ -10,6 +11,7 @@ cvk_spirv cvk_shader(cvk_shader_id id)
 {
     static const cvk_spirv table[CVK_SHADER_COUNT] = {
         [CVK_SHADER_PREDICT] = SPIRV(cvk_spv_predict_comp, "predict.comp"),
+        [CVK_SHADER_FINALIZE] = SPIRV(cvk_spv_finalize_comp, "finalize.comp"),
         [CVK_SHADER_PD_GAUSS_SEIDEL] = SPIRV(cvk_spv_pd_gauss_seidel_comp, "pd_gauss_seidel.comp"),
         [CVK_SHADER_PD_JACOBI] = SPIRV(cvk_spv_pd_jacobi_comp, "pd_jacobi.comp"),
     };

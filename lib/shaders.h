@@ -7,6 +7,7 @@
 
 typedef enum cvk_shader_id {
     CVK_SHADER_PREDICT,
+    CVK_SHADER_FINALIZE,
     CVK_SHADER_PD_GAUSS_SEIDEL,
     CVK_SHADER_PD_JACOBI,
     CVK_SHADER_COUNT

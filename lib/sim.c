@@ -18,8 +18,8 @@ enum {
     BINDING_DST,
     BINDING_Y_READ,
     BINDING_Y,
-    BINDING_PREV_READ,
-    BINDING_PREV,
+    BINDING_X_READ,
+    BINDING_X,
     BINDING_RHS_READ,
     BINDING_RHS,
     BINDING_ADJACENCY,
@@ -124,13 +124,13 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
         VkBufferView* view;
         VkFormat format;
     } list[] = {
-        {&s->x[0], n16, positions, CVK_MEMORY_DEVICE, "positions", &s->view_x[0],
+        {&s->positions, n16, positions, CVK_MEMORY_DEVICE, "positions", &s->view_positions,
          VK_FORMAT_R32G32B32A32_SFLOAT},
-        {&s->x[1], n16, positions, CVK_MEMORY_DEVICE, "positions (second iterate)", &s->view_x[1],
+        {&s->u[0], n16, state, CVK_MEMORY_DEVICE, "displacements", &s->view_u[0],
          VK_FORMAT_R32G32B32A32_SFLOAT},
-        {&s->y, n16, state, CVK_MEMORY_DEVICE, "inertial positions", &s->view_y,
+        {&s->u[1], n16, state, CVK_MEMORY_DEVICE, "displacements (second iterate)", &s->view_u[1],
          VK_FORMAT_R32G32B32A32_SFLOAT},
-        {&s->prev, n16, state, CVK_MEMORY_DEVICE, "previous positions", &s->view_prev,
+        {&s->y, n16, state, CVK_MEMORY_DEVICE, "predicted displacements", &s->view_y,
          VK_FORMAT_R32G32B32A32_SFLOAT},
         {&s->rhs, nf * 16u, state, CVK_MEMORY_DEVICE, "right-hand side", &s->view_rhs,
          VK_FORMAT_R32G32B32A32_SFLOAT},
@@ -243,33 +243,34 @@ static cvk_result upload_static(cvk_sim* s, cvk_error* error)
 }
 
 /* Sets the state to rest at `xyz` (internal order): zero velocity at this instant, so the
-   first Verlet step moves a free particle by ½ h² g, as x(t) = x0 + ½ g t² requires. */
+   first Verlet step moves a free particle by ½ h² g, as x(t) = x0 + ½ g t² requires. In
+   displacement form that is a last displacement of −½ h² g. */
 static cvk_result set_state(cvk_sim* s, const float* xyz, bool reset_queries, cvk_error* error)
 {
     const cvk_build* b = &s->build;
     uint32_t n = b->particle_count;
     float* x = s->staging.mapped;
-    float* prev = x + 4 * (size_t)n;
+    float* u = x + 4 * (size_t)n;
     for (uint32_t p = 0; p < n; p++) {
         for (int c = 0; c < 3; c++) {
             double half_step = p < b->free_count ? 0.5 * s->ref.gravity_h2[c] : 0.0;
             x[4 * p + c] = xyz[3 * p + c];
-            prev[4 * p + c] = (float)(xyz[3 * p + c] + half_step);
+            u[4 * p + c] = (float)-half_step;
             if (s->host_solver) {
                 s->hx[3 * (size_t)p + c] = xyz[3 * p + c];
                 s->hprev[3 * (size_t)p + c] = xyz[3 * p + c] + half_step;
                 s->hy[3 * (size_t)p + c] = xyz[3 * p + c];
             }
         }
-        x[4 * p + 3] = 0.0f;
-        prev[4 * p + 3] = (float)(b->mass[p] * s->ref.inv_h2); /* m/h², read by predict */
+        x[4 * p + 3] = (float)(b->mass[p] * s->ref.inv_h2); /* m/h², read by predict */
+        u[4 * p + 3] = 0.0f;
     }
     VkDeviceSize n16 = (VkDeviceSize)n * 16u;
     copy_job jobs[] = {
-        {&s->x[0], 0, 0, n16},
-        {&s->x[1], 0, 0, n16},
+        {&s->positions, 0, 0, n16},
+        {&s->u[0], n16, 0, n16},
+        {&s->u[1], n16, 0, n16},
         {&s->y, n16, 0, n16},
-        {&s->prev, n16, 0, n16},
     };
     return run_copies(s, jobs, 4, reset_queries, error);
 }
@@ -282,8 +283,8 @@ static const VkDescriptorType binding_type[BINDING_COUNT] = {
     [BINDING_DST] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
     [BINDING_Y_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
     [BINDING_Y] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [BINDING_PREV_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_PREV] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [BINDING_X_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_X] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
     [BINDING_RHS_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
     [BINDING_RHS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
     [BINDING_ADJACENCY] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
@@ -293,12 +294,12 @@ static const VkDescriptorType binding_type[BINDING_COUNT] = {
 static void write_set(cvk_sim* s, VkDescriptorSet set, uint32_t src, uint32_t dst)
 {
     const cvk_buffer* buffers[BINDING_COUNT] = {
-        [BINDING_DST] = &s->x[dst], [BINDING_Y] = &s->y, [BINDING_PREV] = &s->prev,
+        [BINDING_DST] = &s->u[dst], [BINDING_Y] = &s->y, [BINDING_X] = &s->positions,
         [BINDING_RHS] = &s->rhs,
     };
     const VkBufferView views[BINDING_COUNT] = {
-        [BINDING_SRC] = s->view_x[src],          [BINDING_DST_READ] = s->view_x[dst],
-        [BINDING_Y_READ] = s->view_y,            [BINDING_PREV_READ] = s->view_prev,
+        [BINDING_SRC] = s->view_u[src],          [BINDING_DST_READ] = s->view_u[dst],
+        [BINDING_Y_READ] = s->view_y,            [BINDING_X_READ] = s->view_positions,
         [BINDING_RHS_READ] = s->view_rhs,        [BINDING_ADJACENCY] = s->view_adjacency,
         [BINDING_ADJACENCY_KL] = s->view_adjacency_kl,
     };
@@ -384,9 +385,9 @@ static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
     vr = vkAllocateDescriptorSets(dev, &alloc, s->sets);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
-    write_set(s, s->sets[CVK_SET_X0_TO_X1], 0, 1);
-    write_set(s, s->sets[CVK_SET_X1_TO_X0], 1, 0);
-    write_set(s, s->sets[CVK_SET_X0_TO_X0], 0, 0);
+    write_set(s, s->sets[CVK_SET_U0_TO_U1], 0, 1);
+    write_set(s, s->sets[CVK_SET_U1_TO_U0], 1, 0);
+    write_set(s, s->sets[CVK_SET_U0_TO_U0], 0, 0);
     return CVK_SUCCESS;
 }
 
@@ -397,6 +398,7 @@ static cvk_result create_pipelines(cvk_sim* s, cvk_error* error)
         uint32_t first;
     } recipe[CVK_PIPE_COUNT] = {
         [CVK_PIPE_PREDICT] = {CVK_SHADER_PREDICT, 0},
+        [CVK_PIPE_FINALIZE] = {CVK_SHADER_FINALIZE, 0},
         [CVK_PIPE_GS_FIRST] = {CVK_SHADER_PD_GAUSS_SEIDEL, 1},
         [CVK_PIPE_GS] = {CVK_SHADER_PD_GAUSS_SEIDEL, 0},
         [CVK_PIPE_JACOBI_FIRST] = {CVK_SHADER_PD_JACOBI, 1},
@@ -408,7 +410,7 @@ static cvk_result create_pipelines(cvk_sim* s, cvk_error* error)
         cvk_spirv spirv = cvk_shader(recipe[id].shader);
         cvk_spec spec = {
             .values = {s->plan.workgroup_size, s->build.max_degree, recipe[id].first},
-            .count = recipe[id].shader == CVK_SHADER_PREDICT ? 2 : 3,
+            .count = recipe[id].first ? 3 : 2,
         };
         cvk_result r = cvk_compute_pipeline_create(s->context, spirv.code, spirv.bytes,
                                                    s->pipeline_layout, &spec, spirv.name,
@@ -431,7 +433,7 @@ static cvk_result warm_up(cvk_sim* s, cvk_error* error)
         return r;
     cvk_push nothing = {0};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipeline_layout, 0, 1,
-                            &s->sets[CVK_SET_X0_TO_X1], 0, NULL);
+                            &s->sets[CVK_SET_U0_TO_U1], 0, NULL);
     for (int id = 0; id < CVK_PIPE_COUNT; id++) {
         if (!s->pipelines[id])
             continue;
@@ -541,7 +543,7 @@ static cvk_result record_own_buffers(cvk_sim* s, cvk_error* error)
                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     VkBufferCopy region = {0, 0, (VkDeviceSize)s->build.particle_count * 16u};
-    vkCmdCopyBuffer(s->readback_cmd, s->x[0].buffer, s->staging.buffer, 1, &region);
+    vkCmdCopyBuffer(s->readback_cmd, s->positions.buffer, s->staging.buffer, 1, &region);
     cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     return end(s->readback_cmd, error);
@@ -663,12 +665,12 @@ void cvk_sim_destroy(cvk_sim* s)
     if (s->set_layout)
         vkDestroyDescriptorSetLayout(dev, s->set_layout, NULL);
     cvk_submitter_destroy(s->context, &s->submitter);
-    VkBufferView views[] = {s->view_x[0], s->view_x[1], s->view_y, s->view_prev, s->view_rhs,
-                            s->view_adjacency, s->view_adjacency_kl};
+    VkBufferView views[] = {s->view_positions, s->view_u[0], s->view_u[1], s->view_y,
+                            s->view_rhs, s->view_adjacency, s->view_adjacency_kl};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
-    cvk_buffer* buffers[] = {&s->x[0], &s->x[1], &s->y, &s->prev, &s->rhs, &s->adjacency,
+    cvk_buffer* buffers[] = {&s->positions, &s->u[0], &s->u[1], &s->y, &s->rhs, &s->adjacency,
                              &s->adjacency_kl, &s->staging};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
@@ -708,7 +710,7 @@ static cvk_result upload_host_positions(cvk_sim* s, cvk_error* error)
             x[4 * p + c] = (float)s->hx[3 * p + c];
         x[4 * p + 3] = 0.0f;
     }
-    copy_job job = {&s->x[0], 0, 0, (VkDeviceSize)s->build.particle_count * 16u};
+    copy_job job = {&s->positions, 0, 0, (VkDeviceSize)s->build.particle_count * 16u};
     return run_copies(s, &job, 1, false, error);
 }
 
@@ -954,6 +956,7 @@ static const char* pipeline_label(cvk_pipeline_id id)
 {
     switch (id) {
     case CVK_PIPE_PREDICT: return "predict (Verlet)";
+    case CVK_PIPE_FINALIZE: return "x += u";
     case CVK_PIPE_GS_FIRST: return "gauss-seidel + local step";
     case CVK_PIPE_GS: return "gauss-seidel";
     case CVK_PIPE_JACOBI_FIRST: return "jacobi + local step";
@@ -981,7 +984,8 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
         cvk_linear_solver_name(s->solver.linear), s->solver.outer_iterations,
         s->solver.inner_iterations, s->solver.omega);
     if (s->solver.linear == CVK_LINEAR_CHEBYSHEV)
-        put(&t, ", rho %.6f, delay %u", plan->chebyshev_rho, s->solver.chebyshev_delay);
+        put(&t, ", rho %.6f (estimated %.6f, capped for stability), delay %u", plan->chebyshev_rho,
+            plan->chebyshev_rho_estimated, s->solver.chebyshev_delay);
     put(&t, "\n");
     if (s->host_solver) {
         put(&t, "per frame: %u substeps on the host (sequential double-precision Gauss-Seidel, "
@@ -998,16 +1002,18 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
     for (uint32_t i = 0; i < plan->op_count; i++) {
         const cvk_op* op = &plan->ops[i];
         put(&t, "  %-7s %-26s", cvk_pass_name(op->pass), pipeline_label(op->pipeline));
-        if (op->pipeline != CVK_PIPE_PREDICT) {
+        if (op->pass == CVK_PASS_SOLVE) {
             put(&t, " outer %u inner %u", op->outer + 1, op->inner + 1);
             if (op->pipeline == CVK_PIPE_GS_FIRST || op->pipeline == CVK_PIPE_GS)
                 put(&t, " colour %u", op->colour);
             if (op->push.cheb != 1.0f)
                 put(&t, " cheb %.4f", op->push.cheb);
+            if (op->push.omega != s->solver.omega)
+                put(&t, " omega %g", op->push.omega);
         }
-        put(&t, "  particles %u..%u, %u groups, x%u -> x%u\n", op->push.first,
+        put(&t, "  particles %u..%u, %u groups, u%u -> u%u\n", op->push.first,
             op->push.first + op->push.count - 1, op->groups,
-            op->set == CVK_SET_X1_TO_X0 ? 1 : 0, op->set == CVK_SET_X0_TO_X1 ? 1 : 0);
+            op->set == CVK_SET_U1_TO_U0 ? 1 : 0, op->set == CVK_SET_U0_TO_U1 ? 1 : 0);
     }
     return t.needed;
 }

@@ -18,12 +18,13 @@ struct cvk_sim {
     cvk_ref_params ref;
     bool host_solver; /* gs-cpu: the state lives in the host arrays below */
 
-    /* Device state. x[0] always holds the positions between frames; y and prev carry m/h²
-       in w. Adjacency: uvec2 (neighbour, bits of k) and float k·L per slot. */
-    cvk_buffer x[2], y, prev, rhs;
+    /* Device state: positions (w: m/h²), two displacement iterates (u[0] holds the last
+       substep's displacement: the velocity times h), the predicted displacement, the
+       right-hand side. Adjacency: uvec2 (neighbour, bits of k) and float k·L per slot. */
+    cvk_buffer positions, u[2], y, rhs;
     cvk_buffer adjacency, adjacency_kl;
     cvk_buffer staging; /* host-visible, 2 vec4 per particle: uploads and readback */
-    VkBufferView view_x[2], view_y, view_prev, view_rhs, view_adjacency, view_adjacency_kl;
+    VkBufferView view_positions, view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
 
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout pipeline_layout;
@@ -54,7 +55,7 @@ struct cvk_sim {
     float* scratch; /* 3 floats per particle, internal order */
 };
 
-/* Reads x[0] back into sim->scratch (internal order, 3 floats per particle). */
+/* Reads the positions back into sim->scratch (internal order, 3 floats per particle). */
 cvk_result cvk_sim_read_internal(cvk_sim* sim, cvk_error* error);
 
 #endif

@@ -1,24 +1,30 @@
 // Particle state and projective-dynamics data shared by the solver passes.
 //
-// Positions are vec4 in internal order: free particles colour by colour, pinned last.
-// Reads go through uniform texel buffers and writes through storage buffers: on lavapipe a
-// texel fetch is a vectorised gather while a storage-buffer load is a per-lane loop (2x on a
-// 100x100 sweep), and GPUs serve both well.
+// The solver works on displacements: u = x - x_n, where x_n are the positions at the start of
+// the substep. Every quantity an iteration touches is then small (a fraction of a spring), so
+// float rounding is relative to the motion, not to the distance from the origin; absolute
+// positions are rounded once per substep, by the finalize pass, and the solved displacement is
+// kept as the velocity (times h). A cloth far from the origin moves as smoothly as one near it.
+//
+// Arrays are vec4 in internal order: free particles colour by colour, pinned last (their u
+// stays 0). Reads go through uniform texel buffers and writes through storage buffers: on
+// lavapipe a texel fetch is a vectorised gather while a storage-buffer load is a per-lane loop
+// (2x on a 100x100 sweep), and GPUs serve both well.
 //
 // Adjacency is slot-major and padded to MAX_DEGREE: entry s of particle p sits at
 // s * pc.stride + p, so neighbouring invocations read neighbouring texels; padding entries
-// point at p itself with zero stiffness and cost nothing but their fetch.
+// point at p itself with zero stiffness and contribute nothing.
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint MAX_DEGREE = 4;
 
-layout(set = 0, binding = 0) uniform samplerBuffer src;          // iterate read (xyz)
+layout(set = 0, binding = 0) uniform samplerBuffer src;          // displacement iterate read
 layout(set = 0, binding = 1) uniform samplerBuffer dst_read;     // iterate being written, read
 layout(std430, set = 0, binding = 2) writeonly buffer Dst { vec4 dst[]; };
-layout(set = 0, binding = 3) uniform samplerBuffer y_read;       // xyz: prediction, w: m/h^2
+layout(set = 0, binding = 3) uniform samplerBuffer y_read;       // xyz: predicted u, w: m/h^2
 layout(std430, set = 0, binding = 4) writeonly buffer Inertial { vec4 y[]; };
-layout(set = 0, binding = 5) uniform samplerBuffer prev_read;    // xyz: x at last substep, w: m/h^2
-layout(std430, set = 0, binding = 6) writeonly buffer Previous { vec4 prev[]; };
+layout(set = 0, binding = 5) uniform samplerBuffer x_read;       // xyz: x_n, w: m/h^2
+layout(std430, set = 0, binding = 6) writeonly buffer Positions { vec4 x[]; };
 layout(set = 0, binding = 7) uniform samplerBuffer rhs_read;     // xyz: b, w: 1/diag
 layout(std430, set = 0, binding = 8) writeonly buffer Rhs { vec4 rhs[]; };
 layout(set = 0, binding = 9) uniform usamplerBuffer adjacency;   // x: neighbour, y: bits of k
@@ -42,17 +48,17 @@ uint invocation_stride()
     return gl_NumWorkGroups.x * gl_WorkGroupSize.x;
 }
 
-vec3 fetch_position(samplerBuffer positions, uint index)
+vec3 fetch(samplerBuffer data, uint index)
 {
-    return texelFetch(positions, int(index)).xyz;
+    return texelFetch(data, int(index)).xyz;
 }
 
-// One spring's part of the local step, folded into the right-hand side:
-// k L (t_p - t_c) / |t_p - t_c| from the positions t at the start of the outer iteration.
-// Coincident particles give no direction and contribute nothing.
-vec3 projected(vec3 tp, vec3 tn, float kl)
+// One spring's part of the right-hand side in displacement form: k (L t/|t| - e), where
+// e = x_p - x_c at the start of the substep and t = e + u_p - u_c at the start of the outer
+// iteration (the local step: the spring's best direction, at rest length). Coincident
+// particles give no direction and only pull together.
+vec3 spring_rhs(vec3 e, vec3 t, float k, float kl)
 {
-    vec3 d = tp - tn;
-    float len = length(d);
-    return len > 0.0 ? (kl / len) * d : vec3(0.0);
+    float len = length(t);
+    return (len > 0.0 ? (kl / len) * t : vec3(0.0)) - k * e;
 }

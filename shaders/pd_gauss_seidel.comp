@@ -1,9 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // One colour of a multi-colour Gauss-Seidel sweep with SOR, in place on dst:
-//   x_p <- x_p + omega ((b_p + sum_c k_c x_c) / (m_p/h^2 + sum_c k_c) - x_p)
+//   u_p <- u_p + omega ((b_p + sum_c k_c u_c) / (m_p/h^2 + sum_c k_c) - u_p)
 // No two particles of one colour share a spring, so a colour updates in parallel.
-// FIRST (the first sweep of an outer iteration) also computes b_p from src, the positions at
+// FIRST (the first sweep of an outer iteration) also computes b_p from src, the iterate at
 // the start of the outer iteration, and reads neighbours of colours not yet swept from src:
 // those of lower colours (index < pc.first) were already written to dst in this sweep.
 #include "pd_common.glsl"
@@ -18,7 +18,8 @@ void main()
         vec4 b;
         vec3 cur;
         if (FIRST) {
-            cur = fetch_position(src, p);
+            cur = fetch(src, p);
+            vec3 xp = fetch(x_read, p);
             vec4 yp = texelFetch(y_read, int(p));
             vec3 sum = yp.w * yp.xyz;
             float diag = yp.w;
@@ -26,10 +27,11 @@ void main()
                 uint e = s * pc.stride + p;
                 uvec2 a = texelFetch(adjacency, int(e)).xy;
                 float k = uintBitsToFloat(a.y);
-                vec3 tn = fetch_position(src, a.x);
-                sum += projected(cur, tn, texelFetch(adjacency_kl, int(e)).x);
+                vec3 un = fetch(src, a.x);
+                vec3 edge = xp - fetch(x_read, a.x);
+                sum += spring_rhs(edge, edge + cur - un, k, texelFetch(adjacency_kl, int(e)).x);
                 diag += k;
-                acc += k * (a.x < pc.first ? fetch_position(dst_read, a.x) : tn);
+                acc += k * (a.x < pc.first ? fetch(dst_read, a.x) : un);
             }
             b = vec4(sum, 1.0 / diag);
             rhs[p] = b;
@@ -37,13 +39,13 @@ void main()
             b = texelFetch(rhs_read, int(p));
             for (uint s = 0; s < MAX_DEGREE; s++) {
                 uvec2 a = texelFetch(adjacency, int(s * pc.stride + p)).xy;
-                acc += uintBitsToFloat(a.y) * fetch_position(dst_read, a.x);
+                acc += uintBitsToFloat(a.y) * fetch(dst_read, a.x);
             }
-            cur = pc.omega != 1.0 ? fetch_position(dst_read, p) : vec3(0.0);
+            cur = pc.omega != 1.0 ? fetch(dst_read, p) : vec3(0.0);
         }
-        vec3 x = (b.xyz + acc) * b.w;
+        vec3 u = (b.xyz + acc) * b.w;
         if (pc.omega != 1.0)
-            x = cur + pc.omega * (x - cur);
-        dst[p].xyz = x;
+            u = cur + pc.omega * (u - cur);
+        dst[p].xyz = u;
     }
 }

@@ -2,9 +2,9 @@
 #extension GL_GOOGLE_include_directive : require
 // One Jacobi sweep from src into dst, with relaxation omega and, when pc.cheb != 1, the
 // Chebyshev semi-iterative step of Wang 2015:
-//   x^ = (b + sum_c k_c x_c) / diag,   z = x + omega (x^ - x),
-//   x_next = cheb (z - x_older) + x_older, where x_older (the iterate before src) is in dst.
-// FIRST computes b from src, the positions at the start of the outer iteration.
+//   u^ = (b + sum_c k_c u_c) / diag,   z = u + omega (u^ - u),
+//   u_next = cheb (z - u_older) + u_older, where u_older (the iterate before src) is in dst.
+// FIRST computes b from src, the iterate at the start of the outer iteration.
 #include "pd_common.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;
@@ -13,10 +13,11 @@ void main()
 {
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        vec3 cur = fetch_position(src, p);
+        vec3 cur = fetch(src, p);
         vec3 acc = vec3(0.0);
         vec4 b;
         if (FIRST) {
+            vec3 xp = fetch(x_read, p);
             vec4 yp = texelFetch(y_read, int(p));
             vec3 sum = yp.w * yp.xyz;
             float diag = yp.w;
@@ -24,10 +25,11 @@ void main()
                 uint e = s * pc.stride + p;
                 uvec2 a = texelFetch(adjacency, int(e)).xy;
                 float k = uintBitsToFloat(a.y);
-                vec3 tn = fetch_position(src, a.x);
-                sum += projected(cur, tn, texelFetch(adjacency_kl, int(e)).x);
+                vec3 un = fetch(src, a.x);
+                vec3 edge = xp - fetch(x_read, a.x);
+                sum += spring_rhs(edge, edge + cur - un, k, texelFetch(adjacency_kl, int(e)).x);
                 diag += k;
-                acc += k * tn;
+                acc += k * un;
             }
             b = vec4(sum, 1.0 / diag);
             rhs[p] = b;
@@ -35,15 +37,15 @@ void main()
             b = texelFetch(rhs_read, int(p));
             for (uint s = 0; s < MAX_DEGREE; s++) {
                 uvec2 a = texelFetch(adjacency, int(s * pc.stride + p)).xy;
-                acc += uintBitsToFloat(a.y) * fetch_position(src, a.x);
+                acc += uintBitsToFloat(a.y) * fetch(src, a.x);
             }
         }
-        vec3 x = (b.xyz + acc) * b.w;
-        x = cur + pc.omega * (x - cur);
+        vec3 u = (b.xyz + acc) * b.w;
+        u = cur + pc.omega * (u - cur);
         if (pc.cheb != 1.0) {
-            vec3 older = fetch_position(dst_read, p);
-            x = pc.cheb * (x - older) + older;
+            vec3 older = fetch(dst_read, p);
+            u = pc.cheb * (u - older) + older;
         }
-        dst[p].xyz = x;
+        dst[p].xyz = u;
     }
 }

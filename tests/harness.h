@@ -1,0 +1,115 @@
+/* A tiny test harness: CHECK prints which fact failed and by how much; every GPU test runs
+   with the validation layer on and fails on any message. Header-only, one per test program. */
+#ifndef CVK_TEST_HARNESS_H
+#define CVK_TEST_HARNESS_H
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "clothvk.h"
+
+static int harness_failures;
+static int harness_checks;
+
+#define CHECK(cond, ...)                                                                        \
+    do {                                                                                        \
+        harness_checks++;                                                                       \
+        if (!(cond)) {                                                                          \
+            harness_failures++;                                                                 \
+            fprintf(stderr, "%s:%d: FAILED: %s: ", __FILE__, __LINE__, #cond);                  \
+            fprintf(stderr, __VA_ARGS__);                                                       \
+            fputc('\n', stderr);                                                                \
+        }                                                                                       \
+    } while (0)
+
+/* Stops the program: for failures after which nothing else can be checked. */
+#define REQUIRE_OK(call, err)                                                                   \
+    do {                                                                                        \
+        cvk_result r_ = (call);                                                                 \
+        if (r_ != CVK_SUCCESS) {                                                                \
+            fprintf(stderr, "%s:%d: FAILED: %s returned %s: %s\n", __FILE__, __LINE__, #call,  \
+                    cvk_result_name(r_), (err).message);                                        \
+            exit(1);                                                                            \
+        }                                                                                       \
+    } while (0)
+
+static inline void harness_log(void* user, const char* message)
+{
+    (void)user;
+    fprintf(stderr, "validation: %s\n", message);
+}
+
+/* A library-made context with the validation layer on (tests always run with it). */
+static inline cvk_context* harness_context(void)
+{
+    cvk_error err;
+    cvk_context* ctx = NULL;
+    cvk_context_desc desc = {.validation = 1, .log = harness_log};
+    REQUIRE_OK(cvk_context_create(&desc, &ctx, &err), err);
+    cvk_context_info info = cvk_context_get_info(ctx);
+    CHECK(info.validation, "the validation layer is not on");
+    return ctx;
+}
+
+/* Destroys the context, checks it saw no validation message and prints the summary;
+   returns the exit status of the test program. */
+static inline int harness_finish(cvk_context* ctx)
+{
+    if (ctx) {
+        uint32_t messages = cvk_context_validation_message_count(ctx);
+        CHECK(messages == 0, "%u validation messages", messages);
+        cvk_context_destroy(ctx);
+    }
+    printf("%d checks, %d failed\n", harness_checks, harness_failures);
+    return harness_failures ? 1 : 0;
+}
+
+/* Deterministic pseudo-random numbers for test inputs (xorshift32). */
+typedef struct harness_rng {
+    uint32_t state;
+} harness_rng;
+
+static inline uint32_t harness_next(harness_rng* r)
+{
+    uint32_t x = r->state;
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    return r->state = x;
+}
+
+/* Uniform in [lo, hi). */
+static inline double harness_uniform(harness_rng* r, double lo, double hi)
+{
+    return lo + (hi - lo) * (harness_next(r) >> 8) / (double)(1u << 24);
+}
+
+static inline float* harness_read_all(cvk_sim* sim)
+{
+    cvk_error err;
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* xyz = malloc(3 * n * sizeof(float));
+    if (!xyz) {
+        fprintf(stderr, "out of memory\n");
+        exit(1);
+    }
+    REQUIRE_OK(cvk_sim_read_positions(sim, xyz, n, &err), err);
+    return xyz;
+}
+
+/* Largest |a − b| over n coordinates. */
+static inline double harness_max_diff(const float* a, const float* b, uint64_t n)
+{
+    double worst = 0.0;
+    for (uint64_t i = 0; i < n; i++) {
+        double d = fabs((double)a[i] - (double)b[i]);
+        if (d > worst || isnan(d))
+            worst = d;
+    }
+    return worst;
+}
+
+#endif
