@@ -55,8 +55,9 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
             o->frames_set = true;
             i++;
         } else if (!strcmp(a, "--set")) {
-            if (!has_value) {
-                app_error(tool, "--set: expected key.path=value");
+            const char* item = has_value ? argv[i + 1] : "";
+            if (!strchr(item, '=') || item[0] == '=') {
+                app_error(tool, "--set %s: expected key.path=value", item);
                 return APP_EXIT_BAD_INPUT;
             }
             if (!app_overrides_add(&o->overrides, argv[++i])) {
@@ -98,6 +99,7 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         }
     }
     if (!o->scene) {
+        app_error(tool, "no scene file given");
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
@@ -133,6 +135,22 @@ static cvk_result run_frames(cvk_sim* sim, uint32_t frames, run_totals* t, cvk_e
     return CVK_SUCCESS;
 }
 
+/* A float printed with the digits it has: 0.002, not 0.00200000009. */
+static json_t* float_json(float v)
+{
+    char text[32];
+    snprintf(text, sizeof text, "%.9g", (double)v);
+    double shortest = v;
+    for (int digits = 1; digits <= 9; digits++) {
+        snprintf(text, sizeof text, "%.*g", digits, (double)v);
+        if ((float)strtod(text, NULL) == v) {
+            shortest = strtod(text, NULL);
+            break;
+        }
+    }
+    return json_real(shortest);
+}
+
 static json_t* real_or_null(double v, bool valid)
 {
     return valid && isfinite(v) ? json_real(v) : json_null();
@@ -146,11 +164,11 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
                                 (json_int_t)st->springs[1], "bend", (json_int_t)st->springs[2]);
     json_t* residuals = json_pack("{sfsfsf}", "structural", st->residual_per_type[0], "shear",
                                   st->residual_per_type[1], "bend", st->residual_per_type[2]);
-    json_t* solver = json_pack("{sssssisisf}", "method", cvk_method_name(scene->solver.method),
+    json_t* solver = json_pack("{sssssisiso}", "method", cvk_method_name(scene->solver.method),
                                "linear", cvk_linear_solver_name(scene->solver.linear),
                                "outer_iterations", (json_int_t)scene->solver.outer_iterations,
                                "inner_iterations", (json_int_t)scene->solver.inner_iterations,
-                               "omega", (double)scene->solver.omega);
+                               "omega", float_json(scene->solver.omega));
     json_t* passes = json_array();
     for (uint32_t p = 0; p < st->pass_count; p++)
         json_array_append_new(passes,
@@ -166,7 +184,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "colours", json_integer(st->colours));
     json_object_set_new(root, "frames", json_integer(t->frames));
     json_object_set_new(root, "substeps", json_integer(scene->substeps));
-    json_object_set_new(root, "dt", json_real(scene->dt));
+    json_object_set_new(root, "dt", float_json(scene->dt));
     json_object_set_new(root, "solver", solver);
     json_object_set_new(root, "residual", json_real(st->residual));
     json_object_set_new(root, "residual_normalized", json_real(st->residual_normalized));

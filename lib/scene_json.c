@@ -147,9 +147,16 @@ static const char* describe(const json_t* value, char* buffer, size_t size)
         /* A quoted bare NaN or Infinity (see parse_json) is named as the user wrote it. */
         if (is_nonfinite_word(json_string_value(value), json_string_length(value)))
             return json_string_value(value);
-        return "a string";
+        /* The value itself helps find the mistake; a long one is cut. */
+        if (json_string_length(value) > 24)
+            snprintf(buffer, size, "the string \"%.21s...\"", json_string_value(value));
+        else
+            snprintf(buffer, size, "the string \"%s\"", json_string_value(value));
+        return buffer;
     case JSON_INTEGER:
-    case JSON_REAL: return "a number";
+    case JSON_REAL:
+        snprintf(buffer, size, "the number %g", json_number_value(value));
+        return buffer;
     case JSON_TRUE: return "true";
     case JSON_FALSE: return "false";
     case JSON_NULL: return "null";

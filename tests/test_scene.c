@@ -566,38 +566,40 @@ static void test_unknown_keys(void)
 static void test_wrong_types(void)
 {
     EXPECT_INVALID("[{'cloths': [{}]}]", "t.json: the top level must be an object, got an array of 1");
-    EXPECT_INVALID("42", "t.json: the top level must be an object, got a number");
+    EXPECT_INVALID("42", "t.json: the top level must be an object, got the number 42");
     EXPECT_INVALID("{}", "t.json: cloths: missing; a scene needs at least one cloth");
     EXPECT_INVALID("{'cloths': []}", "t.json: cloths: a scene needs at least one cloth");
     EXPECT_INVALID("{'cloths': {}}", "t.json: cloths: expected an array of cloth objects, got an object");
-    EXPECT_INVALID("{'cloths': [3]}", "t.json: cloths.0: expected an object, got a number");
-    EXPECT_INVALID("{'name': 3, 'cloths': [{}]}", "t.json: name: expected a string, got a number");
-    EXPECT_INVALID("{'dt': '0.002', 'cloths': [{}]}", "t.json: dt: expected a number, got a string");
+    EXPECT_INVALID("{'cloths': [3]}", "t.json: cloths.0: expected an object, got the number 3");
+    EXPECT_INVALID("{'name': 3, 'cloths': [{}]}", "t.json: name: expected a string, got the number 3");
+    EXPECT_INVALID("{'dt': '0.002', 'cloths': [{}]}", "t.json: dt: expected a number, got the string \"0.002\"");
     EXPECT_INVALID("{'dt': null, 'cloths': [{}]}", "t.json: dt: expected a number, got null");
+    EXPECT_INVALID("{'dt': 'abcdefghijklmnopqrstuvwxyz', 'cloths': [{}]}",
+                   "t.json: dt: expected a number, got the string \"abcdefghijklmnopqrstu...\"");
     EXPECT_INVALID("{'substeps': 2.5, 'cloths': [{}]}", "t.json: substeps: expected a whole number, got 2.5");
     EXPECT_INVALID("{'substeps': -3, 'cloths': [{}]}", "t.json: substeps: must be at least 1, got -3");
     EXPECT_INVALID("{'substeps': 0, 'cloths': [{}]}", "t.json: substeps: must be at least 1, got 0");
     EXPECT_INVALID("{'frames': 1e10, 'cloths': [{}]}", "t.json: frames: must be at most 4294967295, got 1e+10");
     EXPECT_INVALID("{'frames': true, 'cloths': [{}]}", "t.json: frames: expected a whole number, got true");
-    EXPECT_INVALID("{'integrate': 1, 'cloths': [{}]}", "t.json: integrate: expected true or false, got a number");
+    EXPECT_INVALID("{'integrate': 1, 'cloths': [{}]}", "t.json: integrate: expected true or false, got the number 1");
     EXPECT_INVALID("{'gravity': [0, -9.81], 'cloths': [{}]}",
                    "t.json: gravity: expected an array of 3 numbers, got an array of 2");
-    EXPECT_INVALID("{'gravity': -9.81, 'cloths': [{}]}", "t.json: gravity: expected an array of 3 numbers, got a number");
-    EXPECT_INVALID("{'gravity': [0, 'down', 0], 'cloths': [{}]}", "t.json: gravity.1: expected a number, got a string");
+    EXPECT_INVALID("{'gravity': -9.81, 'cloths': [{}]}", "t.json: gravity: expected an array of 3 numbers, got the number -9.81");
+    EXPECT_INVALID("{'gravity': [0, 'down', 0], 'cloths': [{}]}", "t.json: gravity.1: expected a number, got the string \"down\"");
     EXPECT_INVALID("{'solver': [], 'cloths': [{}]}", "t.json: solver: expected an object, got an array of 0");
     EXPECT_INVALID("{'solver': {'linear': 'foo'}, 'cloths': [{}]}",
                    "t.json: solver.linear: unknown linear solver \"foo\" (expected rbgs, jacobi, chebyshev or gs-cpu)");
     EXPECT_INVALID("{'solver': {'method': 'implicit'}, 'cloths': [{}]}",
                    "t.json: solver.method: unknown method \"implicit\" (expected pd)");
-    EXPECT_INVALID("{'solver': {'linear': 1}, 'cloths': [{}]}", "t.json: solver.linear: expected a string, got a number");
+    EXPECT_INVALID("{'solver': {'linear': 1}, 'cloths': [{}]}", "t.json: solver.linear: expected a string, got the number 1");
     EXPECT_INVALID("{'solver': {'chebyshev_delay': -1}, 'cloths': [{}]}",
                    "t.json: solver.chebyshev_delay: must be at least 0, got -1");
     EXPECT_INVALID("{'cloths': [{'grid': [10, 10, 10]}]}",
                    "t.json: cloths.0.grid: expected an array of 2 whole numbers, got an array of 3");
     EXPECT_INVALID("{'cloths': [{'grid': [-1, 10]}]}", "t.json: cloths.0.grid.0: must be at least 1, got -1");
-    EXPECT_INVALID("{'cloths': [{'stiffness': 5}]}", "t.json: cloths.0.stiffness: expected an object, got a number");
+    EXPECT_INVALID("{'cloths': [{'stiffness': 5}]}", "t.json: cloths.0.stiffness: expected an object, got the number 5");
     EXPECT_INVALID("{'cloths': [{'pins': [0, 0]}]}",
-                   "t.json: cloths.0.pins.0: expected an array of 2 whole numbers, got a number");
+                   "t.json: cloths.0.pins.0: expected an array of 2 whole numbers, got the number 0");
     EXPECT_INVALID("{'cloths': [{'pins': {}}]}", "t.json: cloths.0.pins: expected an array of [i, j] pairs, got an object");
     EXPECT_INVALID("{'cloths': [{'pins': [[0, 0], [1, 2, 3]]}]}",
                    "t.json: cloths.0.pins.1: expected an array of 2 whole numbers, got an array of 3");
@@ -681,7 +683,7 @@ static void test_override_errors(void)
                      "t.json: cloths.0.grid (from --set): expected an array of 2 whole numbers, got an array of 1");
     EXPECT_SET_ERROR(base, "dt=NaN", "t.json: dt (from --set): must be a finite number, got NaN");
     EXPECT_SET_ERROR(base, "gravity=[0, NaN, 0]", "t.json: gravity.1 (from --set): must be a finite number, got NaN");
-    EXPECT_SET_ERROR(base, "dt=fast", "t.json: dt (from --set): expected a number, got a string");
+    EXPECT_SET_ERROR(base, "dt=fast", "t.json: dt (from --set): expected a number, got the string \"fast\"");
     EXPECT_SET_ERROR(base, "solver.linear=foo",
                      "t.json: solver.linear (from --set): unknown linear solver \"foo\" (expected rbgs, jacobi, "
                      "chebyshev or gs-cpu)");

@@ -114,8 +114,12 @@ typedef struct cvk_context_desc {
     cvk_log_fn log;
     void* log_user;
 
-    /* Adoption: set all five to use the application's objects. The queue family must
-       support compute; timestamps are used when it supports them. */
+    /* Adoption: set instance, physical_device, device and queue (queue_family is read only
+       then; 0 is a valid family) to use the application's objects. The queue family must
+       support compute; timestamps are used when it supports them. The library submits to
+       that queue in cvk_sim_step, cvk_sim_read_positions, cvk_sim_write_positions and
+       cvk_sim_destroy: like any Vulkan queue it must not be used from another thread at the
+       same time. */
     VkInstance instance;
     VkPhysicalDevice physical_device;
     VkDevice device;
@@ -223,7 +227,8 @@ typedef struct cvk_scene cvk_scene;
 /* Reads a JSON scene file. Each override is "key.path=value": the value is parsed as JSON
    (a bare word that is not JSON is taken as a string) and replaces or adds the key at that
    dotted path (array elements by index: "cloths.0.grid=[32,32]") before validation.
-   Messages name the file and the key path: "scene.json: cloths.0.mass: must be > 0 (got -1)". */
+   Messages name the file and the key path:
+   "scene.json: cloths.0.mass: must be greater than 0, got -1". */
 CVK_API cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32_t override_count,
                           cvk_scene** out_scene, cvk_error* error);
 /* The same from text in memory; source_name stands in for the file name in messages. */

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs the Debian/Ubuntu packages clothvk needs, only those missing. Run as root, or as a
+# user with sudo.
+set -euo pipefail
+
+packages=(
+    gcc pkg-config python3 meson ninja-build   # build
+    glslang-tools                              # GLSL -> SPIR-V at build time
+    libvulkan-dev                              # the Vulkan loader and headers
+    mesa-vulkan-drivers                        # lavapipe: Vulkan on the CPU
+    vulkan-validationlayers                    # every test runs with validation on
+    libjansson-dev                             # scene files (JSON)
+    libstb-dev                                 # PNG output (stb_image_write)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "setup: installing ${missing[*]}" >&2
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,14 @@
+#!/bin/sh
+# Test wrapper for the sanitizer build: keeps the Vulkan driver and validation layer loaded
+# until exit (instead of being dlclose'd) so LeakSanitizer can name their allocations and the
+# suppressions in lsan.supp can match them; a leak from clothvk still fails the test.
+here=$(cd "$(dirname "$0")" && pwd)
+preload="$(gcc -print-file-name=libasan.so)"
+for lib in /usr/lib/*/libvulkan_lvp.so /usr/lib/*/libVkLayer_khronos_validation.so; do
+    [ -e "$lib" ] && preload="$preload $lib"
+done
+export LD_PRELOAD="$preload"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
+export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+exec "$@"

@@ -1,0 +1,336 @@
+#!/usr/bin/env python3
+"""clothvk-sim as a person meets it: exact messages and exit statuses for bad input, and the
+output of --plan, --json and --dump for good input.
+
+    python3 tests/test_cli.py PATH/TO/clothvk-sim
+
+Every run has a fresh temporary directory as its working directory. A bad-input case is run
+with "--dump out.csv" added; it must exit with status 2, print exactly one line on stderr
+(compared whole), print nothing on stdout, and leave the directory empty (no out.csv, no
+out.csv.tmp-XXXXXX). A good case must exit with status 0, print nothing on stderr (validation
+messages included) and pass its own check of stdout and of the files it wrote.
+
+The scene files the cases need are in tests/scenes/, one problem each. Messages start with the
+scene path exactly as it was passed, so the expected lines are built from that path plus the
+literal text of the message.
+"""
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+if len(sys.argv) != 2:
+    sys.exit("usage: test_cli.py PATH/TO/clothvk-sim")
+SIM = os.path.abspath(sys.argv[1])
+ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# meson sets this; set it too when the test is run by hand, so that it checks the same things.
+os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+
+
+def scene(name):
+    return os.path.join(ROOT, "tests", "scenes", name)
+
+
+def asset(name):
+    return os.path.join(ROOT, "assets", "scenes", name)
+
+
+def error(path, message):
+    """The line clothvk-sim prints for a problem in the scene at path."""
+    return f"clothvk-sim: {path}: {message}"
+
+
+SMALL = scene("small.json")  # valid: 4 x 3 grid, pins [0,0] and [3,0], u_axis [0,0,2]
+ROPE = scene("rope.json")    # valid: 1 x 20 grid, pinned at [0,0]
+HANGING = asset("hanging.json")
+STENCIL = asset("hanging-stencil.json")
+DUMP = "out.csv"
+
+# The one part of a message that depends on the machine: lavapipe's device name, which carries
+# the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+LLVMPIPE = "{llvmpipe}"
+LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+
+# ---- checks of the good cases' output: each returns a list of problems ----
+
+
+def output_lines(stdout):
+    return stdout.splitlines()
+
+
+def plan_has(*starts):
+    def check(stdout, workdir):
+        lines = output_lines(stdout)
+        return [f"no line of the plan starts with {s!r}" for s in starts
+                if not any(line.startswith(s) for line in lines)]
+    return check
+
+
+def is_int(v):
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
+def is_number(v):
+    return (isinstance(v, (int, float)) and not isinstance(v, bool)) and math.isfinite(v)
+
+
+def is_time(v):
+    """GPU times are null on a device without timestamp queries."""
+    return v is None or is_number(v)
+
+
+def check_types(where, obj, types, problems):
+    if not isinstance(obj, dict):
+        problems.append(f"{where or 'the output'} is not a JSON object")
+        return
+    for key, kind in types.items():
+        name = f"{where}.{key}" if where else key
+        if key not in obj:
+            problems.append(f"{name} is missing")
+        elif not kind(obj[key]):
+            problems.append(f"{name} has the wrong type: {obj[key]!r}")
+
+
+def parse_json(stdout, problems):
+    try:
+        return json.loads(stdout)
+    except ValueError as e:
+        problems.append(f"stdout is not one JSON object: {e}")
+        return None
+
+
+def json_stats(particles, structural, frames, linear=None):
+    def check(stdout, workdir):
+        problems = []
+        stats = parse_json(stdout, problems)
+        if stats is None:
+            return problems
+        check_types("", stats, {
+            "scene": lambda v: isinstance(v, str), "particles": is_int, "springs": lambda v: True,
+            "frames": is_int, "substeps": is_int, "solver": lambda v: True, "residual": is_number,
+            "max_stretch": is_number, "nan_count": is_int, "gpu_ms_per_frame": is_time,
+            "wall_ms_per_frame": is_number, "dispatches_per_frame": is_int,
+            "passes": lambda v: isinstance(v, list) and len(v) > 0}, problems)
+        if problems:
+            return problems
+        check_types("springs", stats["springs"], {"structural": is_int, "shear": is_int, "bend": is_int},
+                    problems)
+        check_types("solver", stats["solver"], {
+            "method": lambda v: isinstance(v, str), "linear": lambda v: isinstance(v, str),
+            "outer_iterations": is_int, "inner_iterations": is_int, "omega": is_number}, problems)
+        for i, p in enumerate(stats["passes"]):
+            check_types(f"passes.{i}", p, {"name": lambda v: isinstance(v, str), "gpu_ms": is_time}, problems)
+        if problems:
+            return problems
+        expected = {"particles": (stats["particles"], particles),
+                    "springs.structural": (stats["springs"]["structural"], structural),
+                    "frames": (stats["frames"], frames), "nan_count": (stats["nan_count"], 0)}
+        if linear:
+            expected["solver.linear"] = (stats["solver"]["linear"], linear)
+        for key, (got, want) in expected.items():
+            if got != want:
+                problems.append(f"{key}: expected {want!r}, got {got!r}")
+        return problems
+    return check
+
+
+def read_dump(workdir, problems):
+    """The dump's rows as float triples; problems for anything else in workdir or in the file."""
+    names = sorted(os.listdir(workdir))
+    if names != [DUMP]:
+        problems.append(f"expected only {DUMP} in the working directory, found {names}")
+    path = os.path.join(workdir, DUMP)
+    if not os.path.exists(path):
+        return []
+    rows = []
+    with open(path) as f:
+        for n, line in enumerate(f.read().splitlines(), 1):
+            try:
+                row = [float(x) for x in line.split(",")]
+            except ValueError:
+                row = []
+            if len(row) != 3 or not all(math.isfinite(x) for x in row):
+                problems.append(f"{DUMP} line {n} is not three finite numbers: {line!r}")
+            rows.append(row)
+    return rows
+
+
+def close(a, b):
+    return len(a) == len(b) and all(abs(x - y) <= 1e-5 * (1 + abs(y)) for x, y in zip(a, b))
+
+
+def dump_grid(scene_path, first_two_at_rest):
+    """--dump of a one-cloth scene: one row per particle in grid order (i along u fastest). The
+    first row is particle [0,0]: at the origin before any step, and also later when it is pinned.
+    With first_two_at_rest, the second row is particle [1,0], one spacing along u from it."""
+    with open(scene_path) as f:
+        cloth = json.load(f)["cloths"][0]
+    grid, size, origin, u = cloth["grid"], cloth["size"], cloth["origin"], cloth.get("u_axis", [1, 0, 0])
+    length = math.sqrt(sum(c * c for c in u))
+    spacing = size[0] / (grid[0] - 1) if grid[0] > 1 else 0.0
+    second = [o + spacing * c / length for o, c in zip(origin, u)]
+
+    def check(stdout, workdir):
+        problems = []
+        rows = read_dump(workdir, problems)
+        if len(rows) != grid[0] * grid[1]:
+            problems.append(f"{DUMP}: expected {grid[0] * grid[1]} lines, got {len(rows)}")
+        if rows and not close(rows[0], origin):
+            problems.append(f"{DUMP} line 1: expected the origin {origin}, got {rows[0]}")
+        if first_two_at_rest and len(rows) > 1 and not close(rows[1], second):
+            problems.append(f"{DUMP} line 2: expected {second} (one spacing along u), got {rows[1]}")
+        return problems
+    return check
+
+
+# ---- the cases ----
+# status 2: stderr is the exact line; the runner adds --dump out.csv and checks nothing is written.
+# status 0: stderr must be empty; check (if any) looks at stdout and the working directory.
+
+CASES = [
+    # The scene file itself.
+    {"name": "missing file", "argv": [scene("no-such-file.json")], "status": 2,
+     "stderr": error(scene("no-such-file.json"), "cannot open: No such file or directory")},
+    {"name": "malformed JSON", "argv": [scene("malformed.json")], "status": 2,
+     # line 4, column 10: the end of the token after which jansson gave up
+     "stderr": "clothvk-sim: " + scene("malformed.json") + ":4:10: malformed JSON: '}' expected near '\"cloths\"'"},
+    {"name": "unknown top-level key", "argv": [scene("unknown-key.json")], "status": 2,
+     "stderr": error(scene("unknown-key.json"), "gravityy: unknown key (expected one of: name, dt, substeps, "
+                     "frames, integrate, gravity, damping, solver, cloths)")},
+    {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
+     "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay)")},
+    {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
+     "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay)")},
+    {"name": "wrong type", "argv": [scene("wrong-type.json")], "status": 2,
+     "stderr": error(scene("wrong-type.json"), "dt: expected a number, got the string \"fast\"")},
+    {"name": "negative mass", "argv": [scene("negative-mass.json")], "status": 2,
+     "stderr": error(scene("negative-mass.json"), "cloths.0.mass: must be greater than 0, got -0.1")},
+    {"name": "zero mass", "argv": [scene("zero-mass.json")], "status": 2,
+     "stderr": error(scene("zero-mass.json"), "cloths.0.mass: must be greater than 0, got 0")},
+    {"name": "zero mass via --set", "argv": [SMALL, "--set", "cloths.0.mass=0"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.mass (from --set): must be greater than 0, got 0")},
+    {"name": "grid with a 0 dimension", "argv": [scene("zero-grid.json")], "status": 2,
+     "stderr": error(scene("zero-grid.json"), "cloths.0.grid: each dimension must be at least 1, got [0, 10]")},
+    {"name": "too many particles for the device",
+     "argv": [SMALL, "--set", "cloths.0.grid=[20000,20000]"], "status": 2,
+     # lavapipe: maxStorageBufferRange 134217728 bytes / 16 bytes per particle = 8388608.
+     "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(SMALL, f"cloths.0.grid: 400000000 particles are too many for {LLVMPIPE}, which holds at "
+                     "most 8388608 (maxStorageBufferRange 134217728 bytes, 16 bytes per particle)")},
+    {"name": "pin outside the grid", "argv": [scene("bad-pin.json")], "status": 2,
+     "stderr": error(scene("bad-pin.json"), "cloths.0.pins.1: [4, 0] is outside the 4 x 4 grid")},
+    {"name": "dt = 0", "argv": [scene("zero-dt.json")], "status": 2,
+     "stderr": error(scene("zero-dt.json"), "dt: must be greater than 0, got 0")},
+    {"name": "dt < 0", "argv": [scene("negative-dt.json")], "status": 2,
+     "stderr": error(scene("negative-dt.json"), "dt: must be greater than 0, got -0.002")},
+    {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
+     "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
+    {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,
+     "stderr": error(SMALL, "dt (from --set): must be a finite number, got NaN")},
+    {"name": "unknown solver in the file", "argv": [scene("unknown-solver.json")], "status": 2,
+     "stderr": error(scene("unknown-solver.json"),
+                     "solver.linear: unknown linear solver \"sor\" (expected rbgs, jacobi, chebyshev or gs-cpu)")},
+    {"name": "unknown solver via --set", "argv": [SMALL, "--set", "solver.linear=foo"], "status": 2,
+     "stderr": error(SMALL, "solver.linear (from --set): unknown linear solver \"foo\" "
+                     "(expected rbgs, jacobi, chebyshev or gs-cpu)")},
+
+    # The command line. With no scene the program says so and prints its usage: only the first
+    # line is compared.
+    {"name": "no scene", "argv": [], "status": 2, "usage": True,
+     "stderr": "clothvk-sim: no scene file given"},
+    {"name": "unknown option", "argv": [SMALL, "--bogus"], "status": 2,
+     "stderr": "clothvk-sim: unknown option --bogus (see --help)"},
+    {"name": "--frames not a number", "argv": [SMALL, "--frames", "abc"], "status": 2,
+     "stderr": "clothvk-sim: --frames: expected a whole number from 0 to 100000000, got abc"},
+    {"name": "--frames negative", "argv": [SMALL, "--frames", "-3"], "status": 2,
+     "stderr": "clothvk-sim: --frames: expected a whole number from 0 to 100000000, got -3"},
+    {"name": "--set without =", "argv": [SMALL, "--set", "dt"], "status": 2,
+     "stderr": "clothvk-sim: --set dt: expected key.path=value"},
+
+    # Good input.
+    {"name": "--plan red-black", "argv": [HANGING, "--plan"], "status": 0,
+     "check": plan_has("colours: 2 (red-black)", "per frame: 8 substeps x 34 dispatches")},
+    {"name": "--plan full stencil", "argv": [STENCIL, "--plan"], "status": 0,
+     "check": plan_has("colours: 5")},
+    {"name": "--json", "argv": [SMALL, "--set", "cloths.0.grid=[10,10]", "--frames", "3", "--json"], "status": 0,
+     "check": json_stats(particles=100, structural=180, frames=3)},
+    {"name": "--dump before any step", "argv": [SMALL, "--frames", "0", "--dump", DUMP], "status": 0,
+     "check": dump_grid(SMALL, first_two_at_rest=True)},
+    {"name": "1 x N rope", "argv": [ROPE, "--frames", "10", "--dump", DUMP], "status": 0,
+     "check": dump_grid(ROPE, first_two_at_rest=False)},
+] + [
+    {"name": f"--set solver.linear={linear}",
+     "argv": [SMALL, "--set", f"solver.linear={linear}", "--frames", "5", "--json"], "status": 0,
+     "check": json_stats(particles=12, structural=17, frames=5, linear=linear)}
+    for linear in ["rbgs", "jacobi", "chebyshev", "gs-cpu"]
+]
+
+
+def line_matches(got, expected):
+    if LLVMPIPE not in expected:
+        return got == expected
+    pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
+    return re.fullmatch(pattern, got) is not None
+
+
+def case_argv(case):
+    """A bad-input case also asks for a dump, which must not be written."""
+    return case["argv"] + (["--dump", DUMP] if case["status"] != 0 else [])
+
+
+def run_case(case):
+    """Runs one case in a fresh directory; returns a list of problems."""
+    argv = case_argv(case)
+    bad_input = case["status"] != 0
+    env = dict(os.environ, **case.get("env", {}))
+    with tempfile.TemporaryDirectory(prefix="clothvk-cli-") as workdir:
+        try:
+            p = subprocess.run([SIM] + argv, cwd=workdir, env=env, capture_output=True, text=True, timeout=120)
+        except subprocess.TimeoutExpired:
+            return ["timed out after 120 s"]
+        problems = []
+        if p.returncode != case["status"]:
+            problems.append(f"expected exit status {case['status']}, got {p.returncode}")
+        lines = p.stderr.splitlines()
+        if bad_input:
+            expected = case["stderr"]
+            one_line = len(lines) == 1 or case.get("usage")
+            if not lines or not one_line or not line_matches(lines[0], expected):
+                problems.append(f"expected stderr: {expected}")
+                problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
+            if p.stdout:
+                problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
+            left = sorted(os.listdir(workdir))
+            if left:
+                problems.append(f"expected nothing written, found {left}")
+        else:
+            if p.stderr:
+                problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(lines))
+            if "check" in case and p.returncode == 0:
+                problems += case["check"](p.stdout, workdir)
+        return problems
+
+
+def main():
+    start = time.monotonic()
+    failed = 0
+    for case in CASES:
+        problems = run_case(case)
+        if problems:
+            failed += 1
+            print(f"FAIL {case['name']}: clothvk-sim {' '.join(case_argv(case))}")
+            for problem in problems:
+                print(f"    {problem}")
+    seconds = time.monotonic() - start
+    print(f"cli: {len(CASES) - failed} of {len(CASES)} cases passed ({failed} failed) in {seconds:.1f} s")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,25 @@
+"""clothvk builds as a meson subproject: a small consumer project with subprojects/clothvk
+pointing at this source tree configures, builds and runs."""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+source_root = os.environ["CLOTHVK_SOURCE_ROOT"]
+
+with tempfile.TemporaryDirectory() as work:
+    project = os.path.join(work, "consumer")
+    shutil.copytree(os.path.join(source_root, "tests", "subproject"), project)
+    os.makedirs(os.path.join(project, "subprojects"))
+    os.symlink(source_root, os.path.join(project, "subprojects", "clothvk"))
+    for command in (["meson", "setup", "build"], ["meson", "compile", "-C", "build"],
+                    [os.path.join("build", "consumer")]):
+        run = subprocess.run(command, cwd=project, capture_output=True, text=True)
+        if run.returncode != 0:
+            print(f"FAILED: {' '.join(command)} exited {run.returncode}\n{run.stdout}\n{run.stderr}")
+            sys.exit(1)
+    if "consumer: 64 particles, 1 frame" not in run.stdout:
+        print(f"FAILED: unexpected consumer output: {run.stdout!r}")
+        sys.exit(1)
+    print("clothvk builds and runs as a meson subproject")
