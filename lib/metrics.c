@@ -3,22 +3,22 @@
 #include <math.h>
 #include <string.h>
 
-void cvk_metrics_compute(const cvk_build* b, const float* xyz, cvk_metrics* out)
+static double distance(const float* pa, const float* pb)
 {
-    memset(out, 0, sizeof *out);
-    for (size_t i = 0; i < 3 * (size_t)b->particle_count; i++)
-        if (!isfinite(xyz[i]))
-            out->nan_count++;
+    double d[3] = {(double)pa[0] - pb[0], (double)pa[1] - pb[1], (double)pa[2] - pb[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+static void spring_metrics(const cvk_build* b, const float* xyz, cvk_metrics* out)
+{
     double rest2 = 0.0;
     out->max_stretch = b->spring_count ? -INFINITY : 0.0;
     for (uint32_t s = 0; s < b->spring_count; s++) {
         const cvk_spring* sp = &b->springs[s];
-        const float* pa = &xyz[3 * (size_t)sp->a];
-        const float* pb = &xyz[3 * (size_t)sp->b];
-        double d[3] = {(double)pa[0] - pb[0], (double)pa[1] - pb[1], (double)pa[2] - pb[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        double len = distance(&xyz[3 * (size_t)sp->a], &xyz[3 * (size_t)sp->b]);
         double e = len - sp->rest;
         out->residual[sp->type] += e * e;
+        out->elastic += 0.5 * sp->k * e * e;
         if (sp->rest > 0.0f) {
             double stretch = len / sp->rest - 1.0;
             if (stretch > out->max_stretch || isnan(stretch))
@@ -29,4 +29,57 @@ void cvk_metrics_compute(const cvk_build* b, const float* xyz, cvk_metrics* out)
     }
     if (rest2 > 0.0)
         out->residual_normalized = out->residual[CVK_SPRING_STRUCTURAL] / rest2;
+}
+
+static void particle_energy(const cvk_build* b, const float* xyz, const float* velocity,
+                            const float gravity[3], cvk_metrics* out)
+{
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        double m = b->mass[p];
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            if (velocity)
+                out->kinetic += 0.5 * m * (double)velocity[i] * velocity[i];
+            if (gravity)
+                out->gravitational -= m * (double)gravity[c] * xyz[i];
+        }
+    }
+}
+
+void cvk_metrics_compute(const cvk_build* b, const float* xyz, const float* velocity,
+                         const float gravity[3], cvk_metrics* out)
+{
+    memset(out, 0, sizeof *out);
+    for (size_t i = 0; i < 3 * (size_t)b->particle_count; i++)
+        if (!isfinite(xyz[i]))
+            out->nan_count++;
+    spring_metrics(b, xyz, out);
+    particle_energy(b, xyz, velocity, gravity, out);
+}
+
+double cvk_metrics_solve_error(const float* x, const double* x_star, const float* x0,
+                               uint64_t count)
+{
+    double off = 0.0, motion = 0.0;
+    for (uint64_t i = 0; i < 3 * count; i++) {
+        double d = (double)x[i] - x_star[i];
+        double m = x_star[i] - (double)x0[i];
+        off += d * d;
+        motion += m * m;
+    }
+    if (motion == 0.0)
+        return off == 0.0 ? 0.0 : INFINITY;
+    return sqrt(off / motion);
+}
+
+double cvk_metrics_rms_distance(const float* a, const float* b, uint64_t count)
+{
+    if (count == 0)
+        return 0.0;
+    double sum = 0.0;
+    for (uint64_t p = 0; p < count; p++) {
+        double d = distance(&a[3 * p], &b[3 * p]);
+        sum += d * d;
+    }
+    return sqrt(sum / (double)count);
 }

@@ -215,6 +215,13 @@ cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* b,
                            uint32_t workgroup_size, uint32_t max_groups, cvk_plan* out,
                            cvk_error* error)
 {
+    return cvk_plan_create_with_rho(scene, b, workgroup_size, max_groups, -1.0, out, error);
+}
+
+cvk_result cvk_plan_create_with_rho(const cvk_scene_desc* scene, const cvk_build* b,
+                                    uint32_t workgroup_size, uint32_t max_groups,
+                                    double estimated_rho, cvk_plan* out, cvk_error* error)
+{
     memset(out, 0, sizeof *out);
     const cvk_solver_desc* solver = &scene->solver;
     uint32_t capacity = 2 + solver->outer_iterations * solver->inner_iterations * b->colour_count;
@@ -241,9 +248,12 @@ cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* b,
     case CVK_LINEAR_CHEBYSHEV: {
         uint32_t cycle = cvk_sweep_cycle(solver);
         uint32_t delay = effective_delay(solver->chebyshev_delay);
-        out->chebyshev_rho_estimated =
-            solver->chebyshev_rho > 0.0f ? solver->chebyshev_rho
-                                         : cvk_estimate_jacobi_rho(b, 1.0 / (h * h), solver->omega);
+        if (solver->chebyshev_rho > 0.0f)
+            out->chebyshev_rho_estimated = solver->chebyshev_rho;
+        else if (estimated_rho >= 0.0)
+            out->chebyshev_rho_estimated = estimated_rho;
+        else
+            out->chebyshev_rho_estimated = cvk_estimate_jacobi_rho(b, 1.0 / (h * h), solver->omega);
         double cap = cvk_chebyshev_stable_rho(cycle > delay ? cycle - delay : 0);
         out->chebyshev_rho = fmin(out->chebyshev_rho_estimated, cap);
         plan_jacobi(&pb, scene, b, true);

@@ -68,6 +68,13 @@ typedef struct cvk_plan {
 cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* build,
                            uint32_t workgroup_size, uint32_t max_groups, cvk_plan* out,
                            cvk_error* error);
+
+/* The same with Chebyshev's spectral-radius estimate given (estimated_rho ≥ 0), so a caller
+   that changes the solver often estimates it once; estimated_rho < 0 estimates it here. A
+   nonzero solver.chebyshev_rho still takes precedence. */
+cvk_result cvk_plan_create_with_rho(const cvk_scene_desc* scene, const cvk_build* build,
+                                    uint32_t workgroup_size, uint32_t max_groups,
+                                    double estimated_rho, cvk_plan* out, cvk_error* error);
 void cvk_plan_destroy(cvk_plan* plan);
 
 const char* cvk_pass_name(cvk_pass_id pass);

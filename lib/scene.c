@@ -192,7 +192,7 @@ static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
            check_half_open(issue, "damping", d->damping, 0.0, 1.0);
 }
 
-static bool check_solver(const cvk_solver_desc* s, cvk_scene_issue* issue)
+bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     if (!cvk_method_name(s->method))
         return issue_at(issue, "solver.method", "unknown method %d", (int)s->method);
@@ -318,7 +318,7 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
 {
     if (desc->cookie_ != scene_cookie)
         return issue_at(issue, "", "scene description was not made by cvk_default_scene_desc()");
-    if (!check_timing(desc, issue) || !check_solver(&desc->solver, issue))
+    if (!check_timing(desc, issue) || !cvk_solver_desc_check(&desc->solver, issue))
         return false;
     if (!desc->cloths || desc->cloth_count < 1)
         return issue_at(issue, "cloths", "a scene needs at least one cloth");

@@ -21,6 +21,9 @@ void cvk_key_path(char out[CVK_KEY_PATH_MAX], const char* format, ...) __attribu
 /* true when desc is valid; otherwise fills issue with the first problem found. */
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 
+/* The solver part of cvk_scene_desc_check, for cvk_sim_set_solver; paths start "solver.". */
+bool cvk_solver_desc_check(const cvk_solver_desc* solver, cvk_scene_issue* issue);
+
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
 

@@ -9,6 +9,7 @@
 
 #include "error.h"
 #include "metrics.h"
+#include "scene.h"
 #include "shaders.h"
 
 /* Mirrors the bindings of shaders/pd_common.glsl. */
@@ -113,6 +114,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     VkBufferUsageFlags positions = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                    VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+    VkBufferUsageFlags motion = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT; /* read for velocities */
     VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     struct {
@@ -126,7 +128,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
     } list[] = {
         {&s->positions, n16, positions, CVK_MEMORY_DEVICE, "positions", &s->view_positions,
          VK_FORMAT_R32G32B32A32_SFLOAT},
-        {&s->u[0], n16, state, CVK_MEMORY_DEVICE, "displacements", &s->view_u[0],
+        {&s->u[0], n16, motion, CVK_MEMORY_DEVICE, "displacements", &s->view_u[0],
          VK_FORMAT_R32G32B32A32_SFLOAT},
         {&s->u[1], n16, state, CVK_MEMORY_DEVICE, "displacements (second iterate)", &s->view_u[1],
          VK_FORMAT_R32G32B32A32_SFLOAT},
@@ -242,10 +244,12 @@ static cvk_result upload_static(cvk_sim* s, cvk_error* error)
     return r;
 }
 
-/* Sets the state to rest at `xyz` (internal order): zero velocity at this instant, so the
-   first Verlet step moves a free particle by ½ h² g, as x(t) = x0 + ½ g t² requires. In
-   displacement form that is a last displacement of −½ h² g. */
-static cvk_result set_state(cvk_sim* s, const float* xyz, bool reset_queries, cvk_error* error)
+/* Sets positions `xyz` and last displacements `disp` (internal order, 3 floats each; disp NULL
+   means at rest). At rest is zero velocity at this instant, so the first Verlet step moves a
+   free particle by ½ h² g, as x(t) = x0 + ½ g t² requires: in displacement form a last
+   displacement of −½ h² g. Pinned particles never move: their displacement is 0. */
+static cvk_result set_state(cvk_sim* s, const float* xyz, const float* disp, bool reset_queries,
+                            cvk_error* error)
 {
     const cvk_build* b = &s->build;
     uint32_t n = b->particle_count;
@@ -253,13 +257,16 @@ static cvk_result set_state(cvk_sim* s, const float* xyz, bool reset_queries, cv
     float* u = x + 4 * (size_t)n;
     for (uint32_t p = 0; p < n; p++) {
         for (int c = 0; c < 3; c++) {
-            double half_step = p < b->free_count ? 0.5 * s->ref.gravity_h2[c] : 0.0;
-            x[4 * p + c] = xyz[3 * p + c];
-            u[4 * p + c] = (float)-half_step;
+            size_t i = 3 * (size_t)p + c;
+            double last = 0.0;
+            if (p < b->free_count)
+                last = disp ? (double)disp[i] : -0.5 * s->ref.gravity_h2[c];
+            x[4 * p + c] = xyz[i];
+            u[4 * p + c] = (float)last;
             if (s->host_solver) {
-                s->hx[3 * (size_t)p + c] = xyz[3 * p + c];
-                s->hprev[3 * (size_t)p + c] = xyz[3 * p + c] + half_step;
-                s->hy[3 * (size_t)p + c] = xyz[3 * p + c];
+                s->hx[i] = xyz[i];
+                s->hprev[i] = xyz[i] - last;
+                s->hy[i] = xyz[i];
             }
         }
         x[4 * p + 3] = (float)(b->mass[p] * s->ref.inv_h2); /* m/h², read by predict */
@@ -273,6 +280,33 @@ static cvk_result set_state(cvk_sim* s, const float* xyz, bool reset_queries, cv
         {&s->y, n16, 0, n16},
     };
     return run_copies(s, jobs, 4, reset_queries, error);
+}
+
+/* Verlet's velocity at the end of a substep from its displacement u = x_n − x_{n−1}:
+   v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: 0. */
+static void velocities_of(const cvk_sim* s, const float* u, float* v)
+{
+    double h = s->dt;
+    const cvk_build* b = &s->build;
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            v[i] = p < b->free_count ? (float)(((double)u[i] + 0.5 * s->ref.gravity_h2[c]) / h)
+                                     : 0.0f;
+        }
+}
+
+/* The inverse of velocities_of: u = v h − ½ h² g. */
+static void displacements_of(const cvk_sim* s, const float* v, float* u)
+{
+    double h = s->dt;
+    const cvk_build* b = &s->build;
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            u[i] = p < b->free_count ? (float)((double)v[i] * h - 0.5 * s->ref.gravity_h2[c])
+                                     : 0.0f;
+        }
 }
 
 /* ---- pipelines and descriptors ----------------------------------------------------------- */
@@ -391,7 +425,9 @@ static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
     return CVK_SUCCESS;
 }
 
-static cvk_result create_pipelines(cvk_sim* s, cvk_error* error)
+/* Creates the pipelines `plan` uses that do not exist yet; *created tells whether any did. */
+static cvk_result create_pipelines(cvk_sim* s, const cvk_plan* plan, bool* created,
+                                   cvk_error* error)
 {
     static const struct {
         cvk_shader_id shader;
@@ -404,12 +440,13 @@ static cvk_result create_pipelines(cvk_sim* s, cvk_error* error)
         [CVK_PIPE_JACOBI_FIRST] = {CVK_SHADER_PD_JACOBI, 1},
         [CVK_PIPE_JACOBI] = {CVK_SHADER_PD_JACOBI, 0},
     };
+    *created = false;
     for (int id = 0; id < CVK_PIPE_COUNT; id++) {
-        if (!s->plan.uses[id])
+        if (!plan->uses[id] || s->pipelines[id])
             continue;
         cvk_spirv spirv = cvk_shader(recipe[id].shader);
         cvk_spec spec = {
-            .values = {s->plan.workgroup_size, s->build.max_degree, recipe[id].first},
+            .values = {plan->workgroup_size, s->build.max_degree, recipe[id].first},
             .count = recipe[id].first ? 3 : 2,
         };
         cvk_result r = cvk_compute_pipeline_create(s->context, spirv.code, spirv.bytes,
@@ -417,6 +454,7 @@ static cvk_result create_pipelines(cvk_sim* s, cvk_error* error)
                                                    &s->pipelines[id], error);
         if (r != CVK_SUCCESS)
             return r;
+        *created = true;
     }
     return CVK_SUCCESS;
 }
@@ -451,33 +489,65 @@ static cvk_result warm_up(cvk_sim* s, cvk_error* error)
     return cvk_submit_and_wait(s->context, &s->submitter, &cmd, 1, error);
 }
 
-static cvk_result create_queries(cvk_sim* s, int timing, cvk_error* error)
+/* Timestamp queries for one frame of `plan`: one at the start and one after each run of
+   dispatches of one pass. None for the host solver or when timing is off or unsupported. */
+typedef struct query_set {
+    VkQueryPool pool;
+    uint32_t count;
+    cvk_pass_id* pass; /* query q > 0 closes this pass */
+} query_set;
+
+static void destroy_queries(cvk_sim* s, query_set* q)
 {
-    s->timing = timing >= 0 && s->context->timestamp_valid_bits != 0 && !s->host_solver;
-    if (!s->timing)
+    if (q->pool)
+        vkDestroyQueryPool(s->context->device, q->pool, NULL);
+    free(q->pass);
+    *q = (query_set){0};
+}
+
+static cvk_result create_queries(cvk_sim* s, const cvk_plan* plan, bool host, query_set* out,
+                                 cvk_error* error)
+{
+    *out = (query_set){0};
+    if (s->timing_request < 0 || s->context->timestamp_valid_bits == 0 || host)
         return CVK_SUCCESS;
     uint32_t runs = 0;
-    for (uint32_t i = 0; i < s->plan.op_count; i++)
-        if (i + 1 == s->plan.op_count || s->plan.ops[i + 1].pass != s->plan.ops[i].pass)
+    for (uint32_t i = 0; i < plan->op_count; i++)
+        if (i + 1 == plan->op_count || plan->ops[i + 1].pass != plan->ops[i].pass)
             runs++;
-    s->query_count = 1 + runs * s->plan.substeps;
-    s->query_pass = calloc(s->query_count, sizeof *s->query_pass);
-    if (!s->query_pass)
+    out->count = 1 + runs * plan->substeps;
+    out->pass = calloc(out->count, sizeof *out->pass);
+    if (!out->pass)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for queries");
     uint32_t q = 1;
-    for (uint32_t sub = 0; sub < s->plan.substeps; sub++)
-        for (uint32_t i = 0; i < s->plan.op_count; i++)
-            if (i + 1 == s->plan.op_count || s->plan.ops[i + 1].pass != s->plan.ops[i].pass)
-                s->query_pass[q++] = s->plan.ops[i].pass;
+    for (uint32_t sub = 0; sub < plan->substeps; sub++)
+        for (uint32_t i = 0; i < plan->op_count; i++)
+            if (i + 1 == plan->op_count || plan->ops[i + 1].pass != plan->ops[i].pass)
+                out->pass[q++] = plan->ops[i].pass;
     VkQueryPoolCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
         .queryType = VK_QUERY_TYPE_TIMESTAMP,
-        .queryCount = s->query_count,
+        .queryCount = out->count,
     };
-    VkResult vr = vkCreateQueryPool(s->context->device, &info, NULL, &s->queries);
-    if (vr != VK_SUCCESS)
+    VkResult vr = vkCreateQueryPool(s->context->device, &info, NULL, &out->pool);
+    if (vr != VK_SUCCESS) {
+        out->pool = VK_NULL_HANDLE;
+        destroy_queries(s, out);
         return cvk_fail_vk(error, "vkCreateQueryPool", vr);
+    }
     return CVK_SUCCESS;
+}
+
+static void use_queries(cvk_sim* s, query_set* q)
+{
+    if (s->queries)
+        vkDestroyQueryPool(s->context->device, s->queries, NULL);
+    free(s->query_pass);
+    s->queries = q->pool;
+    s->query_count = q->count;
+    s->query_pass = q->pass;
+    s->timing = q->pool != VK_NULL_HANDLE;
+    *q = (query_set){0};
 }
 
 /* ---- recording ----------------------------------------------------------------------------- */
@@ -524,34 +594,60 @@ static void record_frame(cvk_sim* s, VkCommandBuffer cmd, bool last_frame)
     }
 }
 
-static cvk_result record_own_buffers(cvk_sim* s, cvk_error* error)
+/* frame_cmd holds one frame of the plan; the host solver records nothing. */
+static cvk_result record_frame_cmd(cvk_sim* s, cvk_error* error)
 {
-    cvk_result r = CVK_SUCCESS;
-    if (!s->host_solver) {
-        r = begin(s->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
-        if (r != CVK_SUCCESS)
-            return r;
-        record_frame(s, s->frame_cmd, true);
-        r = end(s->frame_cmd, error);
-        if (r != CVK_SUCCESS)
-            return r;
+    if (s->host_solver) {
+        VkResult vr = vkResetCommandBuffer(s->frame_cmd, 0);
+        return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkResetCommandBuffer", vr);
     }
-    r = begin(s->readback_cmd, 0, error);
+    cvk_result r = begin(s->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    record_frame(s, s->frame_cmd, true);
+    return end(s->frame_cmd, error);
+}
+
+/* readback_cmd copies positions and last displacements into the staging buffer. */
+static cvk_result record_readback_cmd(cvk_sim* s, cvk_error* error)
+{
+    cvk_result r = begin(s->readback_cmd, 0, error);
     if (r != CVK_SUCCESS)
         return r;
     cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                     VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region = {0, 0, (VkDeviceSize)s->build.particle_count * 16u};
-    vkCmdCopyBuffer(s->readback_cmd, s->positions.buffer, s->staging.buffer, 1, &region);
+    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
+    VkBufferCopy positions = {0, 0, n16}, displacements = {0, n16, n16};
+    vkCmdCopyBuffer(s->readback_cmd, s->positions.buffer, s->staging.buffer, 1, &positions);
+    vkCmdCopyBuffer(s->readback_cmd, s->u[0].buffer, s->staging.buffer, 1, &displacements);
     cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     return end(s->readback_cmd, error);
 }
 
+/* A plan for `solver` on this simulation's scene. Chebyshev's spectral radius is estimated
+   once per omega: it depends only on the scene, h and omega, and costs a power iteration. */
+static cvk_result make_plan(cvk_sim* s, const cvk_solver_desc* solver, uint32_t workgroup_size,
+                            uint32_t max_groups, cvk_plan* out, cvk_error* error)
+{
+    cvk_scene_desc scene = s->params;
+    scene.solver = *solver;
+    double rho = -1.0;
+    if (solver->linear == CVK_LINEAR_CHEBYSHEV && solver->chebyshev_rho <= 0.0f) {
+        if (s->rho_estimate < 0.0 || s->rho_omega != solver->omega) {
+            s->rho_estimate = cvk_estimate_jacobi_rho(&s->build, s->ref.inv_h2, solver->omega);
+            s->rho_omega = solver->omega;
+        }
+        rho = s->rho_estimate;
+    }
+    return cvk_plan_create_with_rho(&scene, &s->build, workgroup_size, max_groups, rho, out,
+                                    error);
+}
+
 /* ---- creation ------------------------------------------------------------------------------ */
 
-static cvk_result create_gpu_objects(cvk_sim* s, const cvk_sim_desc* desc, cvk_error* error)
+static cvk_result create_gpu_objects(cvk_sim* s, cvk_error* error)
 {
     cvk_result r = create_buffers(s, error);
     if (r == CVK_SUCCESS)
@@ -564,29 +660,46 @@ static cvk_result create_gpu_objects(cvk_sim* s, const cvk_sim_desc* desc, cvk_e
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &s->transfer_cmd, error);
     if (r == CVK_SUCCESS)
         r = create_layouts(s, error);
+    bool created = false;
     if (r == CVK_SUCCESS)
-        r = create_pipelines(s, error);
+        r = create_pipelines(s, &s->plan, &created, error);
     if (r == CVK_SUCCESS)
         r = warm_up(s, error);
+    query_set queries;
     if (r == CVK_SUCCESS)
-        r = create_queries(s, desc->timing, error);
+        r = create_queries(s, &s->plan, s->host_solver, &queries, error);
+    if (r == CVK_SUCCESS)
+        use_queries(s, &queries);
     if (r == CVK_SUCCESS)
         r = upload_static(s, error);
     if (r == CVK_SUCCESS)
-        r = set_state(s, s->build.position, true, error);
+        r = set_state(s, s->build.position, NULL, true, error);
     if (r == CVK_SUCCESS)
-        r = record_own_buffers(s, error);
+        r = record_frame_cmd(s, error);
+    if (r == CVK_SUCCESS)
+        r = record_readback_cmd(s, error);
     return r;
 }
+
+static cvk_result alloc_host_solver(cvk_sim* s, cvk_error* error);
 
 static cvk_result alloc_host(cvk_sim* s, cvk_error* error)
 {
     size_t n = s->build.particle_count;
     s->scratch = malloc(3 * n * sizeof(float));
-    if (!s->scratch)
+    s->scratch_u = malloc(3 * n * sizeof(float));
+    s->scratch_v = malloc(3 * n * sizeof(float));
+    if (!s->scratch || !s->scratch_u || !s->scratch_v)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for positions");
-    if (!s->host_solver)
+    return s->host_solver ? alloc_host_solver(s, error) : CVK_SUCCESS;
+}
+
+/* The gs-cpu state; allocated once, also when a simulation switches to gs-cpu later. */
+static cvk_result alloc_host_solver(cvk_sim* s, cvk_error* error)
+{
+    if (s->hx)
         return CVK_SUCCESS;
+    size_t n = s->build.particle_count;
     s->hx = malloc(3 * n * sizeof(double));
     s->hprev = malloc(3 * n * sizeof(double));
     s->hy = malloc(3 * n * sizeof(double));
@@ -628,16 +741,22 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     snprintf(s->name, sizeof s->name, "%s", scene->name ? scene->name : "scene");
     s->dt = scene->dt;
     s->solver = scene->solver;
+    s->params = *scene;
+    s->params.name = NULL;
+    s->params.cloths = NULL;
+    s->params.cloth_count = 0;
+    s->timing_request = desc->timing;
+    s->rho_estimate = -1.0;
     s->ref = cvk_ref_params_of(scene);
     s->host_solver = scene->solver.linear == CVK_LINEAR_GS_CPU;
 
     r = cvk_build_create(scene, &s->build, error);
     if (r == CVK_SUCCESS)
-        r = cvk_plan_create(scene, &s->build, workgroup_size, max_groups, &s->plan, error);
+        r = make_plan(s, &scene->solver, workgroup_size, max_groups, &s->plan, error);
     if (r == CVK_SUCCESS)
         r = alloc_host(s, error);
     if (r == CVK_SUCCESS)
-        r = create_gpu_objects(s, desc, error);
+        r = create_gpu_objects(s, error);
     if (r != CVK_SUCCESS) {
         cvk_sim_destroy(s);
         return r;
@@ -683,6 +802,8 @@ void cvk_sim_destroy(cvk_sim* s)
     free(s->hy);
     free(s->hrhs);
     free(s->scratch);
+    free(s->scratch_u);
+    free(s->scratch_v);
     free(s);
 }
 
@@ -789,25 +910,27 @@ cvk_result cvk_sim_read_internal(cvk_sim* s, cvk_error* error)
 {
     size_t n = s->build.particle_count;
     if (s->host_solver) {
-        for (size_t i = 0; i < 3 * n; i++)
+        for (size_t i = 0; i < 3 * n; i++) {
             s->scratch[i] = (float)s->hx[i];
+            s->scratch_u[i] = (float)(s->hx[i] - s->hprev[i]);
+        }
         return CVK_SUCCESS;
     }
     cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &s->readback_cmd, 1, error);
     if (r != CVK_SUCCESS)
         return r;
     const float* x = s->staging.mapped;
+    const float* u = x + 4 * n;
     for (size_t p = 0; p < n; p++)
-        for (int c = 0; c < 3; c++)
+        for (int c = 0; c < 3; c++) {
             s->scratch[3 * p + c] = x[4 * p + c];
+            s->scratch_u[3 * p + c] = u[4 * p + c];
+        }
     return CVK_SUCCESS;
 }
 
-static cvk_result check_count(const cvk_sim* s, const void* xyz, uint64_t count, const char* call,
-                              cvk_error* error)
+static cvk_result check_count(const cvk_sim* s, uint64_t count, const char* call, cvk_error* error)
 {
-    if (!xyz)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: the array is NULL", call);
     if (count != s->build.particle_count)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "%s: the array holds %llu particles; the simulation has %u", call,
@@ -815,32 +938,133 @@ static cvk_result check_count(const cvk_sim* s, const void* xyz, uint64_t count,
     return CVK_SUCCESS;
 }
 
-cvk_result cvk_sim_read_positions(cvk_sim* s, float* xyz, uint64_t count, cvk_error* error)
+static cvk_result check_finite(const float* v, uint64_t count, const char* call, const char* what,
+                               cvk_error* error)
 {
-    cvk_result r = check_count(s, xyz, count, "cvk_sim_read_positions", error);
+    for (uint64_t i = 0; v && i < 3 * count; i++)
+        if (!isfinite(v[i]))
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "%s: %s coordinate %llu of particle %llu is not a finite number", call,
+                            what, (unsigned long long)(i % 3), (unsigned long long)(i / 3));
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_read_state(cvk_sim* s, float* xyz, float* velocity, uint64_t count,
+                              cvk_error* error)
+{
+    if (!s || (!xyz && !velocity))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_read_state needs a simulation and a position or velocity array");
+    cvk_result r = check_count(s, count, "cvk_sim_read_state", error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_read_internal(s, error);
     if (r != CVK_SUCCESS)
         return r;
-    for (uint32_t p = 0; p < s->build.particle_count; p++)
-        memcpy(&xyz[3 * (size_t)s->build.user_of[p]], &s->scratch[3 * (size_t)p], 3 * sizeof(float));
+    if (velocity)
+        velocities_of(s, s->scratch_u, s->scratch_v);
+    for (uint32_t p = 0; p < s->build.particle_count; p++) {
+        size_t user = 3 * (size_t)s->build.user_of[p];
+        if (xyz)
+            memcpy(&xyz[user], &s->scratch[3 * (size_t)p], 3 * sizeof(float));
+        if (velocity)
+            memcpy(&velocity[user], &s->scratch_v[3 * (size_t)p], 3 * sizeof(float));
+    }
     return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_read_positions(cvk_sim* s, float* xyz, uint64_t count, cvk_error* error)
+{
+    if (!s || !xyz)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_read_positions needs a simulation and an array");
+    return cvk_sim_read_state(s, xyz, NULL, count, error);
+}
+
+/* cvk_sim_write_state and cvk_sim_write_positions; `call` names the function in messages. */
+static cvk_result write_state(cvk_sim* s, const float* xyz, const float* velocity, uint64_t count,
+                              const char* call, cvk_error* error)
+{
+    if (!s || !xyz)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%s needs a simulation and a position array", call);
+    cvk_result r = check_count(s, count, call, error);
+    if (r == CVK_SUCCESS)
+        r = check_finite(xyz, count, call, "position", error);
+    if (r == CVK_SUCCESS)
+        r = check_finite(velocity, count, call, "velocity", error);
+    if (r != CVK_SUCCESS)
+        return r;
+    for (uint32_t p = 0; p < s->build.particle_count; p++) {
+        size_t user = 3 * (size_t)s->build.user_of[p];
+        memcpy(&s->scratch[3 * (size_t)p], &xyz[user], 3 * sizeof(float));
+        if (velocity)
+            memcpy(&s->scratch_v[3 * (size_t)p], &velocity[user], 3 * sizeof(float));
+    }
+    if (velocity)
+        displacements_of(s, s->scratch_v, s->scratch_u);
+    return set_state(s, s->scratch, velocity ? s->scratch_u : NULL, false, error);
+}
+
+cvk_result cvk_sim_write_state(cvk_sim* s, const float* xyz, const float* velocity,
+                               uint64_t count, cvk_error* error)
+{
+    return write_state(s, xyz, velocity, count, "cvk_sim_write_state", error);
 }
 
 cvk_result cvk_sim_write_positions(cvk_sim* s, const float* xyz, uint64_t count, cvk_error* error)
 {
-    cvk_result r = check_count(s, xyz, count, "cvk_sim_write_positions", error);
+    return write_state(s, xyz, NULL, count, "cvk_sim_write_positions", error);
+}
+
+/* ---- changing the solver ------------------------------------------------------------------ */
+
+cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_error* error)
+{
+    if (!s || !solver)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_set_solver needs a simulation and a solver description");
+    cvk_scene_issue issue;
+    if (!cvk_solver_desc_check(solver, &issue))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue.path, issue.problem);
+    bool host = solver->linear == CVK_LINEAR_GS_CPU;
+
+    /* Everything that can fail on a valid description comes before the switch, so a failure
+       leaves the old solver running; only added pipelines (harmless) stay behind. */
+    cvk_plan plan;
+    cvk_result r = make_plan(s, solver, s->plan.workgroup_size, s->plan.max_groups, &plan, error);
     if (r != CVK_SUCCESS)
         return r;
-    for (uint64_t i = 0; i < 3 * count; i++)
-        if (!isfinite(xyz[i]))
-            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                            "cvk_sim_write_positions: coordinate %llu of particle %llu is not a "
-                            "finite number",
-                            (unsigned long long)(i % 3), (unsigned long long)(i / 3));
-    for (uint32_t p = 0; p < s->build.particle_count; p++)
-        memcpy(&s->scratch[3 * (size_t)p], &xyz[3 * (size_t)s->build.user_of[p]], 3 * sizeof(float));
-    return set_state(s, s->scratch, false, error);
+    query_set queries = {0};
+    bool created = false;
+    r = cvk_sim_read_internal(s, error); /* the state, from whichever solver holds it */
+    if (r == CVK_SUCCESS && host)
+        r = alloc_host_solver(s, error);
+    if (r == CVK_SUCCESS && !host)
+        r = create_pipelines(s, &plan, &created, error);
+    if (r == CVK_SUCCESS && created)
+        r = warm_up(s, error);
+    if (r == CVK_SUCCESS)
+        r = create_queries(s, &plan, host, &queries, error);
+    if (r != CVK_SUCCESS) {
+        cvk_plan_destroy(&plan);
+        return r;
+    }
+
+    cvk_plan_destroy(&s->plan);
+    s->plan = plan;
+    s->solver = *solver;
+    s->host_solver = host;
+    s->host_timed = false;
+    use_queries(s, &queries);
+    r = record_frame_cmd(s, error);
+    if (r == CVK_SUCCESS)
+        r = set_state(s, s->scratch, s->scratch_u, true, error);
+    return r;
+}
+
+cvk_solver_desc cvk_sim_get_solver(const cvk_sim* s)
+{
+    return s ? s->solver : (cvk_solver_desc){0};
 }
 
 /* ---- statistics ---------------------------------------------------------------------------- */
@@ -918,14 +1142,20 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     cvk_result r = cvk_sim_read_internal(s, error);
     if (r != CVK_SUCCESS)
         return r;
+    velocities_of(s, s->scratch_u, s->scratch_v);
     cvk_metrics m;
-    cvk_metrics_compute(b, s->scratch, &m);
+    cvk_metrics_compute(b, s->scratch, s->scratch_v, s->params.integrate ? s->params.gravity : NULL,
+                        &m);
     st->residual = m.residual[CVK_SPRING_STRUCTURAL];
     for (int t = 0; t < 3; t++)
         st->residual_per_type[t] = m.residual[t];
     st->residual_normalized = m.residual_normalized;
     st->max_stretch = m.max_stretch;
     st->nan_count = m.nan_count;
+    st->kinetic_energy = m.kinetic;
+    st->gravitational_energy = m.gravitational;
+    st->elastic_energy = m.elastic;
+    st->energy = m.kinetic + m.gravitational + m.elastic;
     return CVK_SUCCESS;
 }
 

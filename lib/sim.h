@@ -15,6 +15,10 @@ struct cvk_sim {
     char name[64];
     float dt;
     cvk_solver_desc solver;
+    cvk_scene_desc params;  /* the scene's step, gravity and damping (no cloths): plan input */
+    int timing_request;     /* cvk_sim_desc.timing */
+    double rho_estimate;    /* Chebyshev's spectral radius estimated for rho_omega; < 0: none */
+    float rho_omega;
     cvk_ref_params ref;
     bool host_solver; /* gs-cpu: the state lives in the host arrays below */
 
@@ -52,10 +56,13 @@ struct cvk_sim {
     double* hprev;
     double* hy;
     double* hrhs;  /* 4 doubles per particle */
-    float* scratch; /* 3 floats per particle, internal order */
+    float* scratch;   /* positions, 3 floats per particle, internal order */
+    float* scratch_u; /* last displacements x_n − x_{n−1}, same layout */
+    float* scratch_v; /* velocities, same layout */
 };
 
-/* Reads the positions back into sim->scratch (internal order, 3 floats per particle). */
+/* Reads the state back: positions into sim->scratch, last displacements into
+   sim->scratch_u (internal order, 3 floats per particle). */
 cvk_result cvk_sim_read_internal(cvk_sim* sim, cvk_error* error);
 
 #endif

@@ -117,7 +117,7 @@ typedef struct cvk_context_desc {
     /* Adoption: set instance, physical_device, device and queue (queue_family is read only
        then; 0 is a valid family) to use the application's objects. The queue family must
        support compute; timestamps are used when it supports them. The library submits to
-       that queue in cvk_sim_step, cvk_sim_read_positions, cvk_sim_write_positions and
+       that queue in cvk_sim_step, cvk_sim_get_stats, the read, write and set calls and
        cvk_sim_destroy: like any Vulkan queue it must not be used from another thread at the
        same time. */
     VkInstance instance;
@@ -291,6 +291,31 @@ CVK_API cvk_result cvk_sim_read_positions(cvk_sim* sim, float* xyz, uint64_t cou
 CVK_API cvk_result cvk_sim_write_positions(cvk_sim* sim, const float* xyz, uint64_t count,
                                    cvk_error* error);
 
+/* The full state, for snapshots: positions (m) and velocities (m/s), 3 floats per particle in
+   the order of cvk_sim_read_positions. The velocity is Verlet's at the end of the last
+   substep, (x_n − x_{n−1}) / h + h g / 2 (0 for pinned particles and for a cloth at rest).
+   Either array may be NULL; waits like cvk_sim_read_positions. */
+CVK_API cvk_result cvk_sim_read_state(cvk_sim* sim, float* xyz, float* velocity, uint64_t count,
+                              cvk_error* error);
+
+/* Replaces positions and velocities (velocity NULL: at rest). Writing back what
+   cvk_sim_read_state returned continues the same motion, to float rounding of the velocity.
+   Pinned particles are held at their new place and keep no velocity. Non-finite values are
+   rejected with CVK_ERROR_INVALID_ARGUMENT and change nothing. */
+CVK_API cvk_result cvk_sim_write_state(cvk_sim* sim, const float* xyz, const float* velocity,
+                               uint64_t count, cvk_error* error);
+
+/* Changes the solver (linear solver, iterations, omega, Chebyshev parameters) at run time,
+   without rebuilding the scene; positions and velocities are kept, so the next step continues
+   the same motion with the new solver. The description is checked as in a scene ("solver.omega:
+   must be between 0 and 2, got 2.5"); a bad one, or a failure before the switch, leaves the
+   old solver in place. Waits for the simulation's earlier work. Command buffers recorded with
+   cvk_sim_record before the call still hold the old plan: record them again. */
+CVK_API cvk_result cvk_sim_set_solver(cvk_sim* sim, const cvk_solver_desc* solver, cvk_error* error);
+
+/* The solver settings in use. */
+CVK_API cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
+
 #define CVK_MAX_PASSES 8
 
 /* GPU time of one kind of pass over the last completed frame. */
@@ -311,6 +336,12 @@ typedef struct cvk_sim_stats {
     double residual_normalized;/* residual / (structural springs · mean L²); dimensionless */
     double max_stretch;        /* max over all springs of |xa − xb| / L − 1 */
     uint64_t nan_count;        /* coordinates that are NaN or infinite; 0 in a healthy run */
+    double kinetic_energy;     /* Σ ½ m |v|² over free particles, J */
+    double gravitational_energy;/* −Σ m g·x over free particles (0 at the origin; 0 without
+                                  integration), J */
+    double elastic_energy;     /* Σ ½ k (|xa − xb| − L)² over all springs, J */
+    double energy;             /* the sum, J: for stability studies (pinned particles moved
+                                  by a write add or remove energy from outside) */
     double gpu_ms_per_frame;   /* GPU time of the last completed frame; < 0 when not measured */
     uint32_t dispatches_per_frame;
     uint32_t dispatches_per_substep;
