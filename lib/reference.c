@@ -101,3 +101,38 @@ void cvk_ref_substep_gauss_seidel(const cvk_build* b, const cvk_ref_params* para
             cvk_ref_gauss_seidel_sweep(b, scratch, solver->omega, x);
     }
 }
+
+/* A Gauss-Seidel sweep that also returns the largest change of a coordinate. */
+static double sweep_with_change(const cvk_build* b, const double* rhs, double omega, double* x)
+{
+    double largest = 0.0;
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        double gs[3];
+        solve_one(b, rhs, x, p, gs);
+        for (int c = 0; c < 3; c++) {
+            double change = omega * (gs[c] - x[3 * (size_t)p + c]);
+            x[3 * (size_t)p + c] += change;
+            largest = fmax(largest, fabs(change));
+        }
+    }
+    return largest;
+}
+
+uint64_t cvk_ref_solve_converged(const cvk_build* b, const cvk_ref_params* params,
+                                 const double* y, double omega, double tolerance,
+                                 uint64_t max_iterations, double* x, double* scratch,
+                                 double* last_change)
+{
+    double change = INFINITY;
+    uint64_t it = 0;
+    while (it < max_iterations && !(change <= tolerance)) {
+        cvk_ref_rhs(b, params, x, y, scratch);
+        change = sweep_with_change(b, scratch, omega, x);
+        it++;
+        if (isnan(change))
+            break;
+    }
+    if (last_change)
+        *last_change = change;
+    return it;
+}

@@ -2,7 +2,8 @@
    - rbgs on the GPU equals gs-cpu (sequential double-precision Gauss-Seidel in the same colour
      order) to float rounding, on random small grids, stencils, pins, omega and iteration counts;
    - GPU jacobi and chebyshev equal the host Jacobi / Chebyshev iteration;
-   - the residual falls monotonically with iterations on enlarged.json, for rbgs and gs-cpu. */
+   - the residual falls monotonically with iterations on enlarged.json, for rbgs and gs-cpu;
+   - the converged solution of a substep by Newton's method equals Gauss-Seidel's fixed point. */
 #include "build.h"
 #include "harness.h"
 #include "plan.h"
@@ -241,6 +242,65 @@ static void residual_falls(cvk_context* ctx, cvk_linear_solver linear)
     cvk_scene_destroy(file);
 }
 
+/* The converged solution of a substep: Newton on the substep energy and Gauss-Seidel run
+   until it stops moving find the same point (PD's fixed points are E's stationary points). */
+static void newton_equals_gauss_seidel(const char* name, const char* const* overrides,
+                                       uint32_t override_count, uint32_t warm_substeps)
+{
+    const char* root = getenv("CLOTHVK_SOURCE_ROOT");
+    char path[1024];
+    snprintf(path, sizeof path, "%s/assets/scenes/%s", root ? root : ".", name);
+    cvk_error err;
+    cvk_scene* file;
+    REQUIRE_OK(cvk_scene_load(path, overrides, override_count, &file, &err), err);
+    const cvk_scene_desc* scene = cvk_scene_get_desc(file);
+    cvk_build b;
+    REQUIRE_OK(cvk_build_create(scene, &b, &err), err);
+    size_t n = b.particle_count;
+    double* x = malloc(3 * n * sizeof(double));
+    double* prev = malloc(3 * n * sizeof(double));
+    double* y = malloc(3 * n * sizeof(double));
+    double* scratch = malloc(4 * n * sizeof(double));
+    double* newton = malloc(3 * n * sizeof(double));
+    cvk_ref_params params = cvk_ref_params_of(scene);
+    for (size_t i = 0; i < 3 * n; i++) {
+        x[i] = b.position[i];
+        prev[i] = x[i] + (i / 3 < b.free_count ? 0.5 * params.gravity_h2[i % 3] : 0.0);
+    }
+    /* some motion first: substeps with the scene's own (truncated) solver */
+    for (uint32_t s = 0; s < warm_substeps; s++)
+        cvk_ref_substep_gauss_seidel(&b, &params, &scene->solver, x, prev, y, scratch);
+    cvk_ref_predict(&b, &params, x, prev, y);
+    memcpy(newton, x, 3 * n * sizeof(double));
+    cvk_ref_newton_report report;
+    CHECK(cvk_ref_solve_newton(&b, &params, y, 1e-12, 200, 5, newton, &report), "out of memory");
+    double change = 0.0;
+    uint64_t sweeps = cvk_ref_solve_converged(&b, &params, y, 1.0, 1e-14, 4000000, x, scratch, &change);
+    double apart = 0.0, travel = 0.0;
+    for (size_t i = 0; i < 3 * n; i++)
+        apart = fmax(apart, fabs(newton[i] - x[i]));
+    for (size_t i = 0; i < 3 * (size_t)b.free_count; i++) /* y holds free particles only */
+        travel = fmax(travel, fabs(x[i] - y[i]));
+    CHECK(change <= 1e-14, "%s: Gauss-Seidel still moves %g m after %llu iterations", name, change,
+          (unsigned long long)sweeps);
+    CHECK(report.last_step <= 1e-12, "%s: Newton's last step (of %u) is %g m", name, report.steps,
+          report.last_step);
+    CHECK(apart < 1e-9, "%s: Newton and Gauss-Seidel converge %g m apart", name, apart);
+    CHECK(report.gs_change < 1e-12, "%s: Gauss-Seidel moves %g m from Newton's x*", name,
+          report.gs_change);
+    CHECK(travel > 1e-4, "%s: the solve moves only %g m: nothing was tested", name, travel);
+    printf("%s: Newton (%u steps, %llu CG iterations) and Gauss-Seidel (%llu iterations) agree "
+           "within %.3g m; the solve moves %.3g m\n", name, report.steps,
+           (unsigned long long)report.cg_iterations, (unsigned long long)sweeps, apart, travel);
+    free(x);
+    free(prev);
+    free(y);
+    free(scratch);
+    free(newton);
+    cvk_build_destroy(&b);
+    cvk_scene_destroy(file);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -249,5 +309,9 @@ int main(void)
     jacobi_equals_reference(ctx, CVK_LINEAR_CHEBYSHEV);
     residual_falls(ctx, CVK_LINEAR_RBGS);
     residual_falls(ctx, CVK_LINEAR_GS_CPU);
+    const char* enlarged[] = {"cloths.0.grid=[12,12]"};
+    newton_equals_gauss_seidel("enlarged.json", enlarged, 1, 0);
+    const char* hanging[] = {"cloths.0.grid=[14,14]", "cloths.0.pins=[[0,0],[13,0]]"};
+    newton_equals_gauss_seidel("hanging.json", hanging, 2, 40);
     return harness_finish(ctx);
 }
