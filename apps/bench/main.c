@@ -1,0 +1,671 @@
+/* clothvk-bench: run time against error, convergence, stability and scaling experiments.
+   Every argument, the scene and the output folder are checked before anything runs, so bad
+   input gets one line and exit status 2 with nothing written. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "bench.h"
+#include "plot.h"
+
+static const char tool[] = "clothvk-bench";
+
+enum {
+    CONVERGENCE = 1 << 0,
+    BUDGET = 1 << 1,
+    PARETO = 1 << 2,
+    STABILITY = 1 << 3,
+    SCALING = 1 << 4,
+    ALL = 0x1f,
+};
+
+typedef struct experiment {
+    const char* name;
+    unsigned bit;
+    bool needs_scene;
+    int (*run)(bench* b);
+    int width, height; /* of the plot, pixels */
+} experiment;
+
+static const experiment experiments[] = {
+    {"convergence", CONVERGENCE, true, bench_convergence, 1500, 500},
+    {"budget", BUDGET, true, bench_budget, 1000, 500},
+    {"pareto", PARETO, true, bench_pareto, 1400, 550},
+    {"stability", STABILITY, true, bench_stability, 1500, 560},
+    {"scaling", SCALING, false, bench_scaling, 1200, 550},
+};
+
+static void usage(FILE* out)
+{
+    fprintf(out,
+        "usage: clothvk-bench EXPERIMENT [SCENE] [options] [-o DIR]\n"
+        "Writes DIR/EXPERIMENT.csv, DIR/EXPERIMENT.png (and the gnuplot script EXPERIMENT.gp)\n"
+        "and prints a summary with the device it ran on.\n"
+        "experiments:\n"
+        "  convergence SCENE  residual and solve error against iterations on one frozen substep\n"
+        "  budget SCENE       iterations, residual and solve error within GPU-time budgets\n"
+        "  pareto SCENE       error against GPU time per frame over solver x iterations x substeps\n"
+        "  stability SCENE    stable region over h x stiffness (x damping), largest stable h, extremes\n"
+        "  scaling [SCENE]    ms per frame and per pass against particle and iteration counts\n"
+        "options (all experiments):\n"
+        "  -o DIR              output folder, created if missing (default: .)\n"
+        "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
+        "  --solvers LIST      NAME[:OMEGA],... of jacobi, chebyshev, rbgs, gs-cpu\n"
+        "  --inner N           linear sweeps per local step (default 1); iterations count sweeps\n"
+        "  --repeat R          timed runs per point: median and min-max (default 3)\n"
+        "  --warmup W          untimed runs before them (default 1)\n"
+        "  --no-plot           write the CSV only\n"
+        "convergence, budget:\n"
+        "  --frame F           freeze the first substep of frame F (default 0 without integration,\n"
+        "                      5 with), reached with the scene's own solver\n"
+        "  --max-iterations K  convergence: iterations up to K (default 1000)\n"
+        "  --ms LIST           budget: budgets in ms (default 1,2,4,8)\n"
+        "  --reference-tolerance M, --reference-max-iterations K\n"
+        "                      x*, the converged solution of the substep, by Newton's method:\n"
+        "                      until a step is below M m (default 1e-10), K steps at most (200)\n"
+        "pareto:\n"
+        "  --iterations LIST   sweeps per substep (default 1,2,4,8,16,32)\n"
+        "  --substeps LIST     substeps per frame (default 2,4,8); h = frame time / substeps\n"
+        "  --time T            simulated seconds before the errors are taken (default 0.25)\n"
+        "  --target E          name the cheapest setting within E m of the reference (default 1e-3)\n"
+        "  --target-residual R the same for the residual, m^2 (default: twice the reference's)\n"
+        "  --reference-tolerance M, --reference-max-iterations K  as for convergence; the\n"
+        "                      reference trajectory is the converged solve at h / 4\n"
+        "  --stretch-bound S   settings that stretch a spring by more than S are unstable and on\n"
+        "                      no front (default 10 = 1000%%)\n"
+        "stability:\n"
+        "  --dt LIST           time steps, s (default 0.0005,0.001,0.002,0.004,0.008,0.016,0.0333333)\n"
+        "  --stiffness LIST    structural N/m (default 1e3,1e4,1e5,1e6,1e7,1e8)\n"
+        "  --damping LIST      (default 0)\n"
+        "  --iterations LIST   sweeps per substep (default: the scene's outer x inner)\n"
+        "  --time T            simulated seconds per run (default 0.5), at least --min-steps\n"
+        "                      steps (default 50)\n"
+        "  --energy-bound G    unstable when the energy grows by G energy scales (default 1)\n"
+        "  --stretch-bound S   unstable when a spring stretches by S (default 10 = 1000%%)\n"
+        "  --limit-ratio Q     bisection precision of the largest stable h (default 1.05)\n"
+        "scaling:\n"
+        "  --grids LIST        N for N x N grids (default 32,64,...,2048 and the largest that fits)\n"
+        "  --iterations LIST   sweeps per substep (default 10,30,50,70)\n"
+        "environment: CLOTHVK_DEVICE, CLOTHVK_VALIDATION=1, CLOTHVK_GNUPLOT, LP_NUM_THREADS (lavapipe)\n");
+}
+
+/* ---- value parsing: each prints the one line and returns false -------------------------- */
+
+static bool bad_value(const char* option, const char* expected, const char* got)
+{
+    app_error(tool, "%s: expected %s, got %s", option, expected, got ? got : "nothing");
+    return false;
+}
+
+static bool parse_double(const char* option, const char* text, double low, double high,
+                         bool open_low, const char* expected, double* out)
+{
+    if (!text || !*text)
+        return bad_value(option, expected, text);
+    errno = 0;
+    char* end;
+    double v = strtod(text, &end);
+    bool in_range = (open_low ? v > low : v >= low) && v <= high;
+    if (errno || *end || !isfinite(v) || !in_range)
+        return bad_value(option, expected, text);
+    *out = v;
+    return true;
+}
+
+static bool parse_double_list(const char* option, const char* text, double low, double high,
+                              bool open_low, const char* expected, double* out, uint32_t* count)
+{
+    *count = 0;
+    if (!text || !*text)
+        return bad_value(option, expected, text);
+    char item[64];
+    for (const char* at = text;; at++) {
+        size_t n = strcspn(at, ",");
+        if (n == 0 || n >= sizeof item || *count == BENCH_MAX_LIST)
+            return bad_value(option, expected, text);
+        memcpy(item, at, n);
+        item[n] = '\0';
+        double v;
+        errno = 0;
+        char* end;
+        v = strtod(item, &end);
+        if (errno || *end || !isfinite(v) || !((open_low ? v > low : v >= low) && v <= high))
+            return bad_value(option, expected, text);
+        out[(*count)++] = v;
+        at += n;
+        if (!*at)
+            return true;
+    }
+}
+
+static bool parse_u32_list(const char* option, const char* text, uint32_t low, uint32_t high,
+                           uint32_t* out, uint32_t* count)
+{
+    char expected[128];
+    snprintf(expected, sizeof expected, "a comma-separated list of whole numbers from %u to %u",
+             low, high);
+    double values[BENCH_MAX_LIST];
+    if (!parse_double_list(option, text, low, high, false, expected, values, count))
+        return false;
+    for (uint32_t i = 0; i < *count; i++) {
+        if (values[i] != floor(values[i]) || strpbrk(text, ".eE"))
+            return bad_value(option, expected, text);
+        out[i] = (uint32_t)values[i];
+    }
+    return true;
+}
+
+static bool parse_solver(const char* item, bench_solver* out)
+{
+    static const cvk_linear_solver all[] = {CVK_LINEAR_RBGS, CVK_LINEAR_JACOBI,
+                                            CVK_LINEAR_CHEBYSHEV, CVK_LINEAR_GS_CPU};
+    size_t n = strcspn(item, ":");
+    *out = (bench_solver){0};
+    bool known = false;
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
+        const char* name = cvk_linear_solver_name(all[i]);
+        if (strlen(name) == n && !strncmp(item, name, n)) {
+            out->linear = all[i];
+            known = true;
+        }
+    }
+    if (!known || strlen(item) >= sizeof out->label)
+        return false;
+    if (item[n] == ':') {
+        char* end;
+        errno = 0;
+        double omega = strtod(item + n + 1, &end);
+        if (errno || *end || item[n + 1] == '\0' || !(omega > 0.0 && omega < 2.0))
+            return false;
+        out->omega = (float)omega;
+        snprintf(out->title, sizeof out->title, "%.*s ω=%g", (int)n, item, omega);
+    } else {
+        snprintf(out->title, sizeof out->title, "%s", item);
+    }
+    snprintf(out->label, sizeof out->label, "%s", item);
+    return true;
+}
+
+static bool parse_solvers(const char* text, bench_options* o)
+{
+    const char* expected = "a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each "
+                           "optionally with :OMEGA (0 < OMEGA < 2)";
+    o->solver_count = 0;
+    if (!text || !*text)
+        return bad_value("--solvers", expected, text);
+    char item[64];
+    for (const char* at = text;; at++) {
+        size_t n = strcspn(at, ",");
+        if (n == 0 || n >= sizeof item || o->solver_count == BENCH_MAX_LIST)
+            return bad_value("--solvers", expected, text);
+        memcpy(item, at, n);
+        item[n] = '\0';
+        if (!parse_solver(item, &o->solvers[o->solver_count]))
+            return bad_value("--solvers", expected, text);
+        for (uint32_t i = 0; i < o->solver_count; i++)
+            if (!strcmp(o->solvers[i].label, item)) {
+                app_error(tool, "--solvers: %s is listed twice", item);
+                return false;
+            }
+        o->solver_count++;
+        at += n;
+        if (!*at)
+            return true;
+    }
+}
+
+/* ---- the options ---------------------------------------------------------------------------- */
+
+typedef struct option_spec {
+    const char* name;
+    unsigned experiments;
+    bool has_value;
+} option_spec;
+
+static const option_spec option_specs[] = {
+    {"-o", ALL, true},
+    {"--set", ALL, true},
+    {"--solvers", ALL, true},
+    {"--inner", ALL, true},
+    {"--repeat", ALL, true},
+    {"--warmup", ALL, true},
+    {"--no-plot", ALL, false},
+    {"--frame", CONVERGENCE | BUDGET, true},
+    {"--max-iterations", CONVERGENCE, true},
+    {"--ms", BUDGET, true},
+    {"--reference-tolerance", CONVERGENCE | BUDGET | PARETO, true},
+    {"--reference-max-iterations", CONVERGENCE | BUDGET | PARETO, true},
+    {"--iterations", PARETO | STABILITY | SCALING, true},
+    {"--substeps", PARETO, true},
+    {"--time", PARETO | STABILITY, true},
+    {"--target", PARETO, true},
+    {"--target-residual", PARETO, true},
+    {"--dt", STABILITY, true},
+    {"--stiffness", STABILITY, true},
+    {"--damping", STABILITY, true},
+    {"--energy-bound", STABILITY, true},
+    {"--stretch-bound", STABILITY | PARETO, true},
+    {"--limit-ratio", STABILITY, true},
+    {"--min-steps", STABILITY, true},
+    {"--grids", SCALING, true},
+};
+
+static const option_spec* find_option(const char* name)
+{
+    for (size_t i = 0; i < sizeof option_specs / sizeof option_specs[0]; i++)
+        if (!strcmp(option_specs[i].name, name))
+            return &option_specs[i];
+    return NULL;
+}
+
+static bool parse_u32(const char* option, const char* text, uint32_t low, uint32_t high,
+                      uint32_t* out)
+{
+    if (app_parse_u32(text, low, high, out))
+        return true;
+    char expected[96];
+    snprintf(expected, sizeof expected, "a whole number from %u to %u", low, high);
+    return bad_value(option, expected, text);
+}
+
+/* Applies one option with its value; false after printing why. */
+static bool apply_option(bench_options* o, const char* name, const char* v)
+{
+    const char* positive = "a number greater than 0";
+    const char* positive_list = "a comma-separated list of numbers greater than 0";
+    if (!strcmp(name, "-o")) {
+        o->out_dir = v;
+        return true;
+    }
+    if (!strcmp(name, "--set")) {
+        if (!strchr(v, '=') || v[0] == '=') {
+            app_error(tool, "--set %s: expected key.path=value", v);
+            return false;
+        }
+        if (!app_overrides_add(&o->overrides, v)) {
+            app_error(tool, "out of memory");
+            return false;
+        }
+        return true;
+    }
+    if (!strcmp(name, "--solvers"))
+        return parse_solvers(v, o);
+    if (!strcmp(name, "--inner"))
+        return parse_u32(name, v, 1, 1000, &o->inner);
+    if (!strcmp(name, "--repeat"))
+        return parse_u32(name, v, 1, 1000, &o->repeat);
+    if (!strcmp(name, "--warmup"))
+        return parse_u32(name, v, 0, 1000, &o->warmup);
+    if (!strcmp(name, "--frame")) {
+        o->frame_set = true;
+        return parse_u32(name, v, 0, 1000000, &o->frame);
+    }
+    if (!strcmp(name, "--max-iterations"))
+        return parse_u32(name, v, 1, 100000, &o->max_iterations);
+    if (!strcmp(name, "--ms"))
+        return parse_double_list(name, v, 0.0, 1e6, true, positive_list, o->budgets,
+                                 &o->budget_count);
+    if (!strcmp(name, "--reference-tolerance"))
+        return parse_double(name, v, 0.0, 1.0, true, "a number greater than 0 and at most 1",
+                            &o->reference_tolerance);
+    if (!strcmp(name, "--reference-max-iterations"))
+        return parse_u32(name, v, 1, 100000, &o->reference_max);
+    if (!strcmp(name, "--iterations"))
+        return parse_u32_list(name, v, 1, 100000, o->iterations, &o->iteration_count);
+    if (!strcmp(name, "--substeps"))
+        return parse_u32_list(name, v, 1, 1000, o->substeps, &o->substep_count);
+    if (!strcmp(name, "--time"))
+        return parse_double(name, v, 0.0, 1e4, true, positive, &o->time);
+    if (!strcmp(name, "--target"))
+        return parse_double(name, v, 0.0, 1e6, true, positive, &o->target_error);
+    if (!strcmp(name, "--target-residual"))
+        return parse_double(name, v, 0.0, 1e12, true, positive, &o->target_residual);
+    if (!strcmp(name, "--dt"))
+        return parse_double_list(name, v, 0.0, 10.0, true, "a comma-separated list of time steps "
+                                 "greater than 0 and at most 10 s", o->dts, &o->dt_count);
+    if (!strcmp(name, "--stiffness"))
+        return parse_double_list(name, v, 0.0, 1e12, true, positive_list, o->stiffness,
+                                 &o->stiffness_count);
+    if (!strcmp(name, "--damping"))
+        return parse_double_list(name, v, 0.0, 0.999, false, "a comma-separated list of numbers "
+                                 "from 0 to 0.999", o->damping, &o->damping_count);
+    if (!strcmp(name, "--energy-bound"))
+        return parse_double(name, v, 0.0, 1e12, true, positive, &o->energy_bound);
+    if (!strcmp(name, "--stretch-bound"))
+        return parse_double(name, v, 0.0, 1e12, true, positive, &o->stretch_bound);
+    if (!strcmp(name, "--limit-ratio"))
+        return parse_double(name, v, 1.0, 10.0, true, "a number greater than 1 and at most 10",
+                            &o->limit_ratio);
+    if (!strcmp(name, "--min-steps"))
+        return parse_u32(name, v, 1, 10000000, &o->min_steps);
+    if (!strcmp(name, "--grids"))
+        return parse_u32_list(name, v, 2, 65535, o->grids, &o->grid_count);
+    if (!strcmp(name, "--no-plot")) {
+        o->plot = false;
+        return true;
+    }
+    return false;
+}
+
+static const experiment* find_experiment(const char* name)
+{
+    for (size_t i = 0; i < sizeof experiments / sizeof experiments[0]; i++)
+        if (!strcmp(experiments[i].name, name))
+            return &experiments[i];
+    return NULL;
+}
+
+static void set_defaults(bench_options* o, const experiment* e)
+{
+    static const char* const solvers_for[] = {"jacobi,chebyshev,rbgs,rbgs:1.7,gs-cpu",
+                                              "jacobi,chebyshev,rbgs,rbgs:1.7", "rbgs,chebyshev"};
+    if (o->solver_count == 0) {
+        const char* list = e->bit == STABILITY ? solvers_for[1]
+                           : e->bit == SCALING ? solvers_for[2]
+                                               : solvers_for[0];
+        parse_solvers(list, o);
+    }
+    if (o->budget_count == 0) {
+        const double ms[] = {1, 2, 4, 8};
+        memcpy(o->budgets, ms, sizeof ms);
+        o->budget_count = 4;
+    }
+    if (o->iteration_count == 0 && e->bit != STABILITY) {
+        const uint32_t pareto[] = {1, 2, 4, 8, 16, 32}, scaling[] = {10, 30, 50, 70};
+        bool is_pareto = e->bit == PARETO;
+        memcpy(o->iterations, is_pareto ? pareto : scaling, is_pareto ? sizeof pareto : sizeof scaling);
+        o->iteration_count = is_pareto ? 6 : 4;
+    }
+    if (o->substep_count == 0) {
+        const uint32_t substeps[] = {2, 4, 8};
+        memcpy(o->substeps, substeps, sizeof substeps);
+        o->substep_count = 3;
+    }
+    if (o->time == 0.0)
+        o->time = e->bit == STABILITY ? 0.5 : 0.25;
+    if (o->dt_count == 0) {
+        const double dts[] = {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 1.0 / 30.0};
+        memcpy(o->dts, dts, sizeof dts);
+        o->dt_count = 7;
+    }
+    if (o->stiffness_count == 0) {
+        const double k[] = {1e3, 1e4, 1e5, 1e6, 1e7, 1e8};
+        memcpy(o->stiffness, k, sizeof k);
+        o->stiffness_count = 6;
+    }
+    if (o->damping_count == 0)
+        o->damping_count = 1; /* damping[0] = 0 */
+}
+
+typedef struct parsed {
+    bench_options o;
+    const experiment* e;
+    bool done; /* --help */
+} parsed;
+
+static int parse_args(int argc, char** argv, parsed* p)
+{
+    bench_options* o = &p->o;
+    *o = (bench_options){
+        .out_dir = ".", .repeat = 3, .warmup = 1, .inner = 1, .plot = true,
+        .max_iterations = 1000, .reference_tolerance = 1e-10, .reference_max = 200,
+        .target_error = 1e-3,
+        .energy_bound = 1.0, .stretch_bound = 10.0, .limit_ratio = 1.05, .min_steps = 50,
+    };
+    const char* positional[2] = {NULL, NULL};
+    uint32_t positionals = 0;
+    struct {
+        const char* name;
+        const char* value;
+    } given[64];
+    uint32_t given_count = 0;
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            p->done = true;
+            return APP_EXIT_OK;
+        }
+        if (a[0] == '-' && a[1]) {
+            const option_spec* spec = find_option(a);
+            if (!spec) {
+                app_error(tool, "unknown option %s (see --help)", a);
+                return APP_EXIT_BAD_INPUT;
+            }
+            if (spec->has_value && i + 1 >= argc) {
+                app_error(tool, "%s: expected a value", a);
+                return APP_EXIT_BAD_INPUT;
+            }
+            if (given_count == 64) {
+                app_error(tool, "too many options");
+                return APP_EXIT_BAD_INPUT;
+            }
+            given[given_count].name = a;
+            given[given_count++].value = spec->has_value ? argv[++i] : NULL;
+        } else if (positionals == 2) {
+            app_error(tool, "unexpected argument %s (an experiment and one scene at most)", a);
+            return APP_EXIT_BAD_INPUT;
+        } else {
+            positional[positionals++] = a;
+        }
+    }
+    if (!positional[0]) {
+        app_error(tool, "no experiment given");
+        usage(stderr);
+        return APP_EXIT_BAD_INPUT;
+    }
+    p->e = find_experiment(positional[0]);
+    if (!p->e) {
+        app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
+                  "stability or scaling)", positional[0]);
+        return APP_EXIT_BAD_INPUT;
+    }
+    o->experiment = p->e->name;
+    o->scene_path = positional[1];
+    if (p->e->needs_scene && !o->scene_path) {
+        app_error(tool, "%s needs a scene file", p->e->name);
+        return APP_EXIT_BAD_INPUT;
+    }
+    for (uint32_t g = 0; g < given_count; g++) {
+        const option_spec* spec = find_option(given[g].name);
+        if (!(spec->experiments & p->e->bit)) {
+            app_error(tool, "%s is not an option of %s (see --help)", given[g].name, p->e->name);
+            return APP_EXIT_BAD_INPUT;
+        }
+        if (!apply_option(o, given[g].name, given[g].value))
+            return APP_EXIT_BAD_INPUT;
+    }
+    set_defaults(o, p->e);
+    return APP_EXIT_OK;
+}
+
+/* ---- the output folder ------------------------------------------------------------------------ */
+
+/* Can files be created in dir? Tries, and removes what it made. */
+static bool probe_writable(const char* dir, char* why, size_t why_size)
+{
+    char probe[4096];
+    snprintf(probe, sizeof probe, "%s/.clothvk-bench-XXXXXX", dir);
+    int fd = mkstemp(probe);
+    if (fd < 0) {
+        snprintf(why, why_size, "%s", strerror(errno));
+        return false;
+    }
+    close(fd);
+    unlink(probe);
+    return true;
+}
+
+/* The folder exists and takes files, or its parent does (then it is made when results are
+   written). Nothing is left behind either way. */
+static bool check_out_dir(const char* dir, bool* create)
+{
+    char why[256];
+    struct stat st;
+    *create = false;
+    if (strlen(dir) > 3000) {
+        app_error(tool, "-o: the folder name is too long");
+        return false;
+    }
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode)) {
+            app_error(tool, "-o %s: not a folder", dir);
+            return false;
+        }
+        if (!probe_writable(dir, why, sizeof why)) {
+            app_error(tool, "-o %s: cannot write there: %s", dir, why);
+            return false;
+        }
+        return true;
+    }
+    if (errno != ENOENT) {
+        app_error(tool, "-o %s: cannot use it as a folder: %s", dir, strerror(errno));
+        return false;
+    }
+    char parent[4096];
+    snprintf(parent, sizeof parent, "%s", dir);
+    size_t n = strlen(parent);
+    while (n > 1 && parent[n - 1] == '/')
+        parent[--n] = '\0';
+    char* slash = strrchr(parent, '/');
+    if (!slash)
+        snprintf(parent, sizeof parent, ".");
+    else if (slash == parent)
+        parent[1] = '\0';
+    else
+        *slash = '\0';
+    if (stat(parent, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        app_error(tool, "-o %s: cannot create the folder: %s is not a folder", dir, parent);
+        return false;
+    }
+    if (!probe_writable(parent, why, sizeof why)) {
+        app_error(tool, "-o %s: cannot create the folder: %s", dir, why);
+        return false;
+    }
+    *create = true;
+    return true;
+}
+
+/* ---- running --------------------------------------------------------------------------------- */
+
+static void describe_device(bench* b)
+{
+    const char* threads = getenv("LP_NUM_THREADS");
+    snprintf(b->device, sizeof b->device, "%s%s%s", cvk_context_get_info(b->ctx).device_name,
+             threads ? ", LP_NUM_THREADS=" : "", threads ? threads : "");
+}
+
+static const char* base_name(const char* path)
+{
+    const char* slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+/* A scene too large for the device is bad input, found before anything runs. */
+static int check_scene_fits(bench* b)
+{
+    cvk_error err;
+    cvk_sim* sim = NULL;
+    cvk_result r = cvk_sim_create(b->ctx, &(cvk_sim_desc){.scene = b->scene, .timing = -1}, &sim,
+                                  &err);
+    cvk_sim_destroy(sim);
+    if (r == CVK_SUCCESS)
+        return APP_EXIT_OK;
+    app_error(tool, "%s: %s", b->o->scene_path, err.message);
+    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
+                                                                          : APP_EXIT_FAILURE;
+}
+
+static int write_results(bench* b, const experiment* e, bool create)
+{
+    const char* dir = b->o->out_dir;
+    if (create && mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        app_error(tool, "-o %s: cannot create the folder: %s", dir, strerror(errno));
+        return APP_EXIT_FAILURE;
+    }
+    char path[4096], message[512];
+    snprintf(path, sizeof path, "%s/%s.csv", dir, e->name);
+    b->table.device = b->device;
+    if (b->table.failed) {
+        app_error(tool, "out of memory for the results");
+        return APP_EXIT_FAILURE;
+    }
+    if (!app_write_atomic(path, bench_table_write, &b->table, message, sizeof message)) {
+        app_error(tool, "%s", message);
+        return APP_EXIT_FAILURE;
+    }
+    printf("wrote %s", path);
+    if (b->o->plot) {
+        int height = b->plot_height ? b->plot_height : e->height;
+        if (bench_plot(dir, e->name, e->width, height, &b->plot, message, sizeof message))
+            printf(", %s/%s.png (gnuplot script %s.gp)", dir, e->name, e->name);
+        else
+            fprintf(stderr, "%s: no plot: %s; the CSV is complete\n", tool, message);
+    }
+    printf("\n");
+    return APP_EXIT_OK;
+}
+
+static int run(const parsed* p)
+{
+    const bench_options* o = &p->o;
+    cvk_error err;
+    cvk_scene* file = NULL;
+    if (o->scene_path &&
+        cvk_scene_load(o->scene_path, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
+    }
+    if (!o->scene_path && o->overrides.count) {
+        app_error(tool, "--set needs a scene file (scaling's built-in scene has none)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    bool create = false;
+    if (!check_out_dir(o->out_dir, &create)) {
+        cvk_scene_destroy(file);
+        return APP_EXIT_BAD_INPUT;
+    }
+    bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
+               .scene_name = o->scene_path ? base_name(o->scene_path) : "built-in"};
+    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
+    if (cvk_context_create(&ctx_desc, &b.ctx, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        cvk_scene_destroy(file);
+        return APP_EXIT_FAILURE;
+    }
+    int status = b.scene ? check_scene_fits(&b) : APP_EXIT_OK;
+    if (status != APP_EXIT_OK) {
+        cvk_context_destroy(b.ctx);
+        cvk_scene_destroy(file);
+        return status;
+    }
+    describe_device(&b);
+    printf("%s %s on %s\n", p->e->name, b.scene_name, b.device);
+    status = p->e->run(&b);
+    uint32_t messages = cvk_context_validation_message_count(b.ctx);
+    if (messages) {
+        app_error(tool, "%u validation messages", messages);
+        status = APP_EXIT_FAILURE;
+    }
+    if (status == APP_EXIT_OK)
+        status = write_results(&b, p->e, create);
+    bench_table_free(&b.table);
+    bench_text_free(&b.plot);
+    cvk_context_destroy(b.ctx);
+    cvk_scene_destroy(file);
+    return status;
+}
+
+int main(int argc, char** argv)
+{
+    parsed p = {0};
+    int status = parse_args(argc, argv, &p);
+    if (status == APP_EXIT_OK && !p.done)
+        status = run(&p);
+    app_overrides_free(&p.o.overrides);
+    return status;
+}

@@ -1,0 +1,341 @@
+#!/usr/bin/env python3
+"""clothvk-bench as a person meets it: every experiment on a tiny grid, and bad input.
+
+    python3 tests/test_bench.py PATH/TO/clothvk-bench
+
+Each run has a fresh temporary directory as its working directory and writes into -o out
+(created by the tool). A good case must exit with status 0, say on its first line which
+device it ran on, write out/EXPERIMENT.csv with exactly the expected columns and finite
+numbers where numbers belong, and (when gnuplot is installed) out/EXPERIMENT.png, a PNG, and
+the gnuplot script out/EXPERIMENT.gp. A bad-input case must exit with status 2, print exactly
+one line on stderr (compared whole), nothing on stdout, and leave the directory as it was.
+"""
+import csv
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+if len(sys.argv) != 2:
+    sys.exit("usage: test_bench.py PATH/TO/clothvk-bench")
+BENCH = os.path.abspath(sys.argv[1])
+ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+HAS_GNUPLOT = shutil.which("gnuplot") is not None
+
+
+def asset(name):
+    return os.path.join(ROOT, "assets", "scenes", name)
+
+
+HANGING = asset("hanging.json")
+ENLARGED = asset("enlarged.json")
+# Tiny versions of the seed's two scenes; hanging keeps its two pinned corners.
+TINY_ENLARGED = [ENLARGED, "--set", "cloths.0.grid=[8,8]"]
+TINY_HANGING = [HANGING, "--set", "cloths.0.grid=[8,8]", "--set", "cloths.0.pins=[[0,0],[7,0]]"]
+QUICK = ["--repeat", "1", "--warmup", "0"]
+
+COLUMNS = {
+    "convergence": ["label", "solver", "omega", "iterations", "outer", "inner", "residual",
+                    "residual_relative", "solve_error", "distance_rms", "nan_count", "solve_ms",
+                    "solve_ms_min", "solve_ms_max", "ms_per_iteration", "device"],
+    "budget": ["label", "solver", "omega", "budget_ms", "iterations", "outer", "inner", "solve_ms",
+               "solve_ms_min", "solve_ms_max", "fits", "residual", "residual_relative",
+               "solve_error", "ms_per_iteration", "overhead_ms", "seed_002_gtx970", "device"],
+    "pareto": ["label", "solver", "omega", "substeps", "dt", "iterations", "outer", "inner",
+               "frames", "time_s", "frame_ms", "frame_ms_min", "frame_ms_max", "residual",
+               "trajectory_error", "max_stretch", "nan_count", "stable", "front_residual",
+               "front_trajectory", "device"],
+    "stability": ["kind", "case", "label", "solver", "omega", "iterations", "outer", "inner", "dt",
+                  "dt_unstable", "substeps", "stiffness", "damping", "steps", "stable", "reason",
+                  "failed_at_step", "max_stretch", "energy_growth", "nan_count", "device"],
+    "scaling": ["label", "solver", "omega", "grid", "particles", "iterations", "outer", "inner",
+                "substeps", "frame_ms", "frame_ms_min", "frame_ms_max", "predict_ms", "solve_ms",
+                "finalize_ms", "ms_per_iteration", "ns_per_particle_iteration", "fps", "wall_ms",
+                "dispatches_per_frame", "device"],
+}
+TEXT = {"label", "solver", "kind", "case", "reason", "device"}
+
+
+def may_be_empty(experiment, row, column):
+    """Cells that are empty or not a number by design."""
+    if experiment == "budget" and column == "seed_002_gtx970":
+        return True  # the seed measured RBGS, GS and Jacobi only, at 1, 2, 4 and 8 ms
+    if experiment == "stability":
+        if row["kind"] == "limit":
+            # the largest stable h and the smallest unstable one, where the sweep found them
+            return column in ("dt", "dt_unstable", "steps", "stable", "failed_at_step",
+                              "max_stretch", "energy_growth", "nan_count")
+        if column == "dt_unstable" or (column == "failed_at_step" and row["stable"] == "1"):
+            return True
+        if row["stable"] == "0" and column in ("max_stretch", "energy_growth"):
+            return True  # an exploded run may end in inf or NaN
+    return False
+
+
+def check_csv(workdir, experiment):
+    """Problems with out/EXPERIMENT.csv; also returns its rows."""
+    path = os.path.join(workdir, "out", experiment + ".csv")
+    if not os.path.exists(path):
+        return [f"{experiment}.csv was not written"], []
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader, [])
+        rows = [dict(zip(header, r)) for r in reader]
+    problems = []
+    if header != COLUMNS[experiment]:
+        problems.append(f"{experiment}.csv columns: expected {COLUMNS[experiment]}, got {header}")
+        return problems, rows
+    if not rows:
+        problems.append(f"{experiment}.csv has no rows")
+    for n, row in enumerate(rows, 2):
+        if not row.get("device"):
+            problems.append(f"{experiment}.csv line {n}: no device")
+        for column, value in row.items():
+            if column in TEXT:
+                continue
+            try:
+                number = float(value)
+            except ValueError:
+                number = None
+            if (number is None or not math.isfinite(number)) and not may_be_empty(experiment, row, column):
+                problems.append(f"{experiment}.csv line {n}: {column} is {value!r}, not a finite number")
+    return problems[:10], rows
+
+
+def check_plot(workdir, experiment):
+    if not HAS_GNUPLOT:
+        return []
+    problems = []
+    png = os.path.join(workdir, "out", experiment + ".png")
+    if not os.path.exists(png):
+        problems.append(f"{experiment}.png was not written")
+    else:
+        with open(png, "rb") as f:
+            if f.read(8) != b"\x89PNG\r\n\x1a\n":
+                problems.append(f"{experiment}.png is not a PNG")
+    if not os.path.exists(os.path.join(workdir, "out", experiment + ".gp")):
+        problems.append(f"{experiment}.gp was not written")
+    left = [n for n in os.listdir(os.path.join(workdir, "out")) if ".tmp" in n]
+    if left:
+        problems.append(f"temporary files left: {left}")
+    return problems
+
+
+def rbgs_equals_gs_cpu(rows):
+    """Seed 002's claim on the tool's own output: per iteration, rbgs and gs-cpu reach the same
+    residual, to float rounding (positions within 5e-7 m move a residual of this size by far
+    less than 1e-3 of itself)."""
+    by = {}
+    for r in rows:
+        by.setdefault(r["label"], {})[int(r["iterations"])] = float(r["residual"])
+    rbgs, gs = by.get("rbgs", {}), by.get("gs-cpu", {})
+    common = sorted(set(rbgs) & set(gs))
+    if len(common) < 5:
+        return [f"only {len(common)} iteration counts of rbgs and gs-cpu to compare"]
+    return [f"iteration {k}: residual {rbgs[k]} (rbgs) vs {gs[k]} (gs-cpu)" for k in common
+            if abs(rbgs[k] - gs[k]) > 1e-3 * gs[k]][:3]
+
+
+def fronts_hold_stable_settings(rows):
+    """Some setting is on each Pareto front, and only stable ones are."""
+    problems = []
+    for front in ("front_residual", "front_trajectory"):
+        on = [r for r in rows if r[front] == "1"]
+        if not on:
+            problems.append(f"no setting is on the {front} front")
+        if any(r["stable"] != "1" for r in on):
+            problems.append(f"an unstable setting is on the {front} front")
+    return problems
+
+
+def stability_kinds(rows):
+    kinds = {r["kind"] for r in rows}
+    cases = {r["case"] for r in rows if r["kind"] == "extreme"}
+    problems = [f"no {k} rows" for k in ("grid", "limit", "extreme") if k not in kinds]
+    expected = {"h = 1/30 s, 1 substep", "stiffness 1e8", "pin 1 m off its rest position",
+                "coincident rows", "collapsed to a point"}
+    if cases != expected:
+        problems.append(f"extreme cases: expected {sorted(expected)}, got {sorted(cases)}")
+    return problems
+
+
+GOOD = [
+    {"name": "convergence on enlarged.json",
+     "argv": ["convergence"] + TINY_ENLARGED + ["--max-iterations", "30"] + QUICK,
+     "experiment": "convergence", "check": rbgs_equals_gs_cpu},
+    {"name": "convergence on hanging.json, frame 2",
+     "argv": ["convergence"] + TINY_HANGING + ["--frame", "2", "--max-iterations", "12",
+                                               "--solvers", "jacobi,chebyshev,rbgs:1.5"] + QUICK,
+     "experiment": "convergence"},
+    {"name": "budget",
+     "argv": ["budget"] + TINY_ENLARGED + ["--ms", "0.2,0.4"] + QUICK, "experiment": "budget"},
+    {"name": "pareto",
+     "argv": ["pareto"] + TINY_HANGING + ["--iterations", "1,4", "--substeps", "1,2",
+                                          "--time", "0.05", "--solvers", "jacobi,rbgs"] + QUICK,
+     "experiment": "pareto", "check": fronts_hold_stable_settings},
+    {"name": "stability",
+     "argv": ["stability"] + TINY_HANGING + ["--dt", "0.002,0.0333", "--stiffness", "1e4,1e6",
+                                             "--time", "0.04", "--min-steps", "4",
+                                             "--solvers", "rbgs,jacobi", "--limit-ratio", "2"] + QUICK,
+     "experiment": "stability", "check": stability_kinds},
+    {"name": "scaling, built-in scene",
+     "argv": ["scaling", "--grids", "4,8", "--iterations", "2,3"] + QUICK, "experiment": "scaling"},
+    {"name": "scaling, a scene as template",
+     "argv": ["scaling", HANGING, "--grids", "6", "--iterations", "2", "--solvers", "jacobi"] + QUICK,
+     "experiment": "scaling"},
+]
+
+BAD = [
+    {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
+    {"name": "unknown experiment", "argv": ["speed", HANGING],
+     "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
+               'stability or scaling)'},
+    {"name": "missing scene", "argv": ["convergence"],
+     "stderr": "clothvk-bench: convergence needs a scene file"},
+    {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],
+     "stderr": "clothvk-bench: " + os.path.join(ROOT, "tests", "scenes", "nope.json") +
+               ": cannot open: No such file or directory"},
+    {"name": "malformed scene", "argv": ["stability", os.path.join(ROOT, "tests", "scenes", "malformed.json")],
+     "stderr": "clothvk-bench: " + os.path.join(ROOT, "tests", "scenes", "malformed.json") +
+               ":4:10: malformed JSON: '}' expected near '\"cloths\"'"},
+    {"name": "bad scene via --set", "argv": ["pareto", HANGING, "--set", "cloths.0.mass=-1"],
+     "stderr": f"clothvk-bench: {HANGING}: cloths.0.mass (from --set): must be greater than 0, got -1"},
+    {"name": "scene too large for the device", "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "argv": ["convergence", HANGING, "--set", "cloths.0.grid=[20000,20000]"],
+     "stderr_start": f"clothvk-bench: {HANGING}: cloths.0.grid: 400000000 particles are too many for llvmpipe"},
+    {"name": "unknown option", "argv": ["budget", HANGING, "--fast"],
+     "stderr": "clothvk-bench: unknown option --fast (see --help)"},
+    {"name": "option of another experiment", "argv": ["convergence", HANGING, "--ms", "1"],
+     "stderr": "clothvk-bench: --ms is not an option of convergence (see --help)"},
+    {"name": "budget of 0 ms", "argv": ["budget", HANGING, "--ms", "1,0"],
+     "stderr": "clothvk-bench: --ms: expected a comma-separated list of numbers greater than 0, got 1,0"},
+    {"name": "budget not a number", "argv": ["budget", HANGING, "--ms", "fast"],
+     "stderr": "clothvk-bench: --ms: expected a comma-separated list of numbers greater than 0, got fast"},
+    {"name": "--repeat 0", "argv": ["scaling", "--repeat", "0"],
+     "stderr": "clothvk-bench: --repeat: expected a whole number from 1 to 1000, got 0"},
+    {"name": "iterations not whole", "argv": ["pareto", HANGING, "--iterations", "1,2.5"],
+     "stderr": "clothvk-bench: --iterations: expected a comma-separated list of whole numbers from 1 to 100000, got 1,2.5"},
+    {"name": "negative time step", "argv": ["stability", HANGING, "--dt", "0.001,-0.002"],
+     "stderr": "clothvk-bench: --dt: expected a comma-separated list of time steps greater than 0 and at most 10 s, got 0.001,-0.002"},
+    {"name": "unknown solver", "argv": ["convergence", HANGING, "--solvers", "rbgs,sor"],
+     "stderr": "clothvk-bench: --solvers: expected a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with :OMEGA (0 < OMEGA < 2), got rbgs,sor"},
+    {"name": "omega out of range", "argv": ["convergence", HANGING, "--solvers", "rbgs:2"],
+     "stderr": "clothvk-bench: --solvers: expected a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with :OMEGA (0 < OMEGA < 2), got rbgs:2"},
+    {"name": "grid of 1", "argv": ["scaling", "--grids", "1"],
+     "stderr": "clothvk-bench: --grids: expected a comma-separated list of whole numbers from 2 to 65535, got 1"},
+    {"name": "-o is a file", "argv": ["scaling", "-o", "afile"], "files": ["afile"],
+     "stderr": "clothvk-bench: -o afile: not a folder"},
+    {"name": "-o inside a file", "argv": ["scaling", "-o", "afile/out"], "files": ["afile"],
+     "stderr": "clothvk-bench: -o afile/out: cannot use it as a folder: Not a directory"},
+    {"name": "-o under a missing folder", "argv": ["scaling", "-o", "missing/out"],
+     "stderr": "clothvk-bench: -o missing/out: cannot create the folder: missing is not a folder"},
+    {"name": "-o without a value", "argv": ["scaling", "-o"], "stderr": "clothvk-bench: -o: expected a value"},
+]
+
+if os.geteuid() != 0:  # root writes anywhere
+    BAD.append({"name": "-o read-only", "argv": ["scaling", "-o", "locked/out"], "locked": "locked",
+                "stderr": "clothvk-bench: -o locked/out: cannot create the folder: Permission denied"})
+
+
+def run(argv, workdir, env=None):
+    e = dict(os.environ, **(env or {}))
+    return subprocess.run([BENCH] + argv, cwd=workdir, env=e, capture_output=True, text=True, timeout=300)
+
+
+def good_case(case):
+    with tempfile.TemporaryDirectory(prefix="clothvk-bench-") as workdir:
+        p = run(case["argv"] + ["-o", "out"], workdir)
+        problems = []
+        if p.returncode != 0:
+            problems.append(f"exit status {p.returncode}; stderr: {p.stderr.strip()[:500]}")
+            return problems
+        if p.stderr:
+            problems.append(f"expected nothing on stderr, got: {p.stderr.strip()[:500]}")
+        first = p.stdout.splitlines()[0] if p.stdout else ""
+        if " on " not in first:
+            problems.append(f"the first line does not name the device: {first!r}")
+        csv_problems, rows = check_csv(workdir, case["experiment"])
+        problems += csv_problems + check_plot(workdir, case["experiment"])
+        if "check" in case and rows and not csv_problems:
+            problems += case["check"](rows)
+        return problems
+
+
+def bad_case(case):
+    with tempfile.TemporaryDirectory(prefix="clothvk-bench-") as workdir:
+        for name in case.get("files", []):
+            open(os.path.join(workdir, name), "w").close()
+        if "locked" in case:
+            os.mkdir(os.path.join(workdir, case["locked"]), 0o500)
+        before = sorted(os.listdir(workdir))
+        p = run(case["argv"], workdir, case.get("env"))
+        problems = []
+        if p.returncode != 2:
+            problems.append(f"expected exit status 2, got {p.returncode}")
+        lines = p.stderr.splitlines()
+        got = lines[0] if lines else "(nothing)"
+        if "stderr_start" in case:
+            ok = got.startswith(case["stderr_start"]) and len(lines) == 1
+            expected = case["stderr_start"] + "..."
+        else:
+            ok = got == case["stderr"] and (len(lines) == 1 or case.get("usage"))
+            expected = case["stderr"]
+        if not ok:
+            problems.append(f"expected stderr: {expected}")
+            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
+        if p.stdout:
+            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
+        after = sorted(os.listdir(workdir))
+        if after != before:
+            problems.append(f"expected nothing written: the directory held {before}, now {after}")
+        if "locked" in case:
+            os.chmod(os.path.join(workdir, case["locked"]), 0o700)
+        return problems
+
+
+def no_gnuplot():
+    """Without gnuplot the CSV is still written, the run succeeds, and stderr says why there
+    is no plot."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-bench-") as workdir:
+        p = run(["scaling", "--grids", "4", "--iterations", "2", "-o", "out"] + QUICK, workdir,
+                {"CLOTHVK_GNUPLOT": os.path.join(workdir, "no-gnuplot-here")})
+        problems = []
+        if p.returncode != 0:
+            problems.append(f"exit status {p.returncode}")
+        expected = "clothvk-bench: no plot: gnuplot could not be run (install gnuplot-nox); the CSV is complete"
+        if p.stderr.strip() != expected:
+            problems.append(f"expected stderr: {expected}\n    got: {p.stderr.strip()}")
+        csv_problems, _ = check_csv(workdir, "scaling")
+        problems += csv_problems
+        if os.path.exists(os.path.join(workdir, "out", "scaling.png")):
+            problems.append("a PNG was written without gnuplot")
+        return problems
+
+
+def main():
+    start = time.monotonic()
+    failed = total = 0
+    cases = [(c["name"], lambda c=c: good_case(c)) for c in GOOD]
+    cases += [(c["name"], lambda c=c: bad_case(c)) for c in BAD]
+    cases.append(("no gnuplot", no_gnuplot))
+    for name, check in cases:
+        total += 1
+        problems = check()
+        if problems:
+            failed += 1
+            print(f"FAIL {name}")
+            for problem in problems:
+                print(f"    {problem}")
+    seconds = time.monotonic() - start
+    if not HAS_GNUPLOT:
+        print("gnuplot is not installed: plots were not checked")
+    print(f"bench: {total - failed} of {total} cases passed ({failed} failed) in {seconds:.1f} s")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
