@@ -297,8 +297,9 @@ bool cvk_ref_solve_newton(const cvk_build* b, const cvk_ref_params* params, cons
             report->last_step = 0.0;
             break;
         }
-        /* inexact Newton: solve loosely far from x*, tightly near it */
-        double reduction = fmax(CG_MIN_REDUCTION, fmin(1e-2, g / fmax(g0, 1e-300)));
+        /* inexact Newton (Eisenstat-Walker style): solve loosely far from x*, more tightly
+           near it; superlinear convergence without solving every step to rounding */
+        double reduction = fmax(CG_MIN_REDUCTION, fmin(0.1, sqrt(g / fmax(g0, 1e-300))));
         preconditioner(&w);
         report->cg_iterations += conjugate_gradients(&w, reduction);
         double t = line_search(&w, x, tolerance);

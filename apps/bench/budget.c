@@ -167,6 +167,18 @@ static void print_tables(bench* b, const bench_frozen* f)
             printf("\n");
         }
     }
+    printf("solve ms measured, median [min-max] of %u\n", b->o->repeat);
+    for (uint32_t i = 0; i < nb; i++) {
+        printf("%6g ms ", b->o->budgets[i]);
+        for (uint32_t s = 0; s < ns; s++) {
+            char cell[48];
+            snprintf(cell, sizeof cell, "%.2f [%.2f-%.2f]", bench_table_get(t, s * nb + i, "solve_ms"),
+                     bench_table_get(t, s * nb + i, "solve_ms_min"),
+                     bench_table_get(t, s * nb + i, "solve_ms_max"));
+            printf(" %18s", cell);
+        }
+        printf("\n");
+    }
     printf("%-9s", "ms/iter");
     for (uint32_t s = 0; s < ns; s++)
         printf(" %11.4g", bench_table_get(t, s * nb, "ms_per_iteration"));

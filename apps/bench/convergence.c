@@ -212,24 +212,31 @@ static const series* find(const bench* b, const series* all, cvk_linear_solver l
     return NULL;
 }
 
-/* Seed 002's claim: RBGS converges per iteration exactly as sequential GS does. */
+/* Seed 002's claim: RBGS converges per iteration exactly as sequential GS does. The float
+   solver's rounding shows once the residual has fallen far, so the agreement is given up to
+   each power of ten. */
 static void print_rbgs_claim(const bench* b, const series* all)
 {
     const series* rbgs = find(b, all, CVK_LINEAR_RBGS, 0.0f);
     const series* gs = find(b, all, CVK_LINEAR_GS_CPU, 0.0f);
     if (!rbgs || !gs)
         return;
-    double worst = 0.0;
-    uint32_t compared = 0;
-    for (uint32_t i = 0; i < rbgs->count; i++) {
-        const bench_point* p = point_at(gs, rbgs->points[i].sweeps);
-        if (!p || p->residual <= 0.0)
-            continue;
-        worst = fmax(worst, fabs(rbgs->points[i].residual - p->residual) / p->residual);
-        compared++;
+    printf("rbgs vs gs-cpu, largest relative difference of the residual per iteration:");
+    uint32_t most = b->o->max_iterations;
+    for (uint32_t limit = 10;; limit *= 10) {
+        uint32_t upto = limit < most ? limit : most;
+        double worst = 0.0;
+        for (uint32_t i = 0; i < rbgs->count; i++) {
+            const bench_point* p = point_at(gs, rbgs->points[i].sweeps);
+            if (p && p->residual > 0.0 && p->sweeps <= upto)
+                worst = fmax(worst, fabs(rbgs->points[i].residual - p->residual) / p->residual);
+        }
+        printf(" %.2g up to %u", worst, upto);
+        if (upto == most)
+            break;
+        printf(",");
     }
-    printf("rbgs vs gs-cpu: residuals at %u iteration counts agree within %.2g (relative)\n",
-           compared, worst);
+    printf("\n");
 }
 
 /* Wang 2015: Chebyshev needs at least 10x fewer iterations than Jacobi. */

@@ -208,9 +208,13 @@ static void print_front(const bench_table* t, const char* error, const char* mar
         if (best < 0)
             return;
         printed = bench_table_get(t, (uint32_t)best, "frame_ms");
+        char range[48];
+        snprintf(range, sizeof range, "[%.3f-%.3f]", bench_table_get(t, (uint32_t)best, "frame_ms_min"),
+                 bench_table_get(t, (uint32_t)best, "frame_ms_max"));
         printf("  ");
         print_setting(t, (uint32_t)best);
-        printf("  %9.3f ms  %10.4g %s\n", printed, bench_table_get(t, (uint32_t)best, error), unit);
+        printf("  %9.3f ms %-17s %10.4g %s\n", printed, range,
+               bench_table_get(t, (uint32_t)best, error), unit);
     }
 }
 
@@ -323,7 +327,8 @@ static void print_summary(bench* b, const setup* su)
            su->frames, su->frame_time, su->frames * su->frame_time, su->reference_substeps,
            su->frame_time / su->reference_substeps, su->reference_steps, su->reference_last_step,
            su->reference_residual);
-    printf("Pareto front, trajectory error (time per frame: median of %u):\n", b->o->repeat);
+    printf("Pareto front, trajectory error (time per frame: median [min-max] of %u):\n",
+           b->o->repeat);
     print_front(t, "trajectory_error", "front_trajectory", "m");
     printf("Pareto front, residual:\n");
     print_front(t, "residual", "front_residual", "m^2");

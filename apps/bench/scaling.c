@@ -223,16 +223,17 @@ static int find_row(const bench_table* t, const char* label, uint32_t grid, uint
     return -1;
 }
 
-/* Seed 000's table shape: particles down, iterations across, frames per second. */
+/* Seed 000's table shape: particles down, iterations across, frames per second; the GPU
+   time per frame with its min-max follows. */
 static void print_tables(const bench* b, const uint32_t* grids, uint32_t grid_count)
 {
     const bench_table* t = &b->table;
     for (uint32_t s = 0; s < b->o->solver_count; s++) {
         const char* label = b->o->solvers[s].label;
-        printf("%s: frames per second (GPU ms per frame), by sweeps per substep\n%12s", label,
-               "particles");
+        printf("%s: frames per second (GPU ms per frame: median [min-max] of %u), by sweeps per "
+               "substep\n%12s", label, b->o->repeat, "particles");
         for (uint32_t k = 0; k < b->o->iteration_count; k++)
-            printf(" %19u", b->o->iterations[k]);
+            printf(" %32u", b->o->iterations[k]);
         printf("\n");
         for (uint32_t g = 0; g < grid_count; g++) {
             if (find_row(t, label, grids[g], b->o->iterations[0]) < 0)
@@ -240,11 +241,14 @@ static void print_tables(const bench* b, const uint32_t* grids, uint32_t grid_co
             printf("%12llu", (unsigned long long)grids[g] * grids[g]);
             for (uint32_t k = 0; k < b->o->iteration_count; k++) {
                 int r = find_row(t, label, grids[g], b->o->iterations[k]);
-                char cell[40] = "-";
+                char cell[64] = "-";
                 if (r >= 0)
-                    snprintf(cell, sizeof cell, "%.3g (%.4g)", bench_table_get(t, (uint32_t)r, "fps"),
-                             bench_table_get(t, (uint32_t)r, "frame_ms"));
-                printf(" %19s", cell);
+                    snprintf(cell, sizeof cell, "%.3g (%.4g [%.4g-%.4g])",
+                             bench_table_get(t, (uint32_t)r, "fps"),
+                             bench_table_get(t, (uint32_t)r, "frame_ms"),
+                             bench_table_get(t, (uint32_t)r, "frame_ms_min"),
+                             bench_table_get(t, (uint32_t)r, "frame_ms_max"));
+                printf(" %32s", cell);
             }
             printf("\n");
         }
