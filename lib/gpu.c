@@ -1,9 +1,28 @@
 #include "gpu.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "error.h"
+
+/* A failed Vulkan call, with what it was for in front: "positions (160000 bytes): ...". */
+static cvk_result fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
+    __attribute__((format(printf, 4, 5)));
+static cvk_result fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
+{
+    cvk_result r = cvk_fail_vk(error, call, vr);
+    if (error) {
+        char what[256];
+        va_list args;
+        va_start(args, format);
+        vsnprintf(what, sizeof what, format, args);
+        va_end(args);
+        cvk_error_prefix(error, "%s", what);
+    }
+    return r;
+}
 
 static int find_memory_type(const cvk_context* context, uint32_t allowed, VkMemoryPropertyFlags want)
 {
@@ -27,11 +46,9 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
     };
     VkResult vr = vkCreateBuffer(context->device, &info, NULL, &out->buffer);
-    if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateBuffer", vr);
-        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)out->size);
-        return error ? error->result : CVK_ERROR_VULKAN;
-    }
+    if (vr != VK_SUCCESS)
+        return fail_vk_for(error, "vkCreateBuffer", vr, "%s (%llu bytes)", what,
+                           (unsigned long long)out->size);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(context->device, out->buffer, &req);
     int type = -1;
@@ -65,9 +82,8 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
         vr = vkMapMemory(context->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
     if (vr != VK_SUCCESS) {
         cvk_buffer_destroy(context, out);
-        cvk_fail_vk(error, "allocating buffer memory", vr);
-        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)req.size);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return fail_vk_for(error, "allocating buffer memory", vr, "%s (%llu bytes)", what,
+                           (unsigned long long)req.size);
     }
     return CVK_SUCCESS;
 }
@@ -94,9 +110,7 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
     VkShaderModule module;
     VkResult vr = vkCreateShaderModule(context->device, &module_info, NULL, &module);
     if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateShaderModule", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return fail_vk_for(error, "vkCreateShaderModule", vr, "%s", what);
     }
     VkSpecializationMapEntry entries[8];
     for (uint32_t i = 0; i < spec->count; i++)
@@ -124,9 +138,7 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
     vkDestroyShaderModule(context->device, module, NULL);
     if (vr != VK_SUCCESS) {
         *out = VK_NULL_HANDLE;
-        cvk_fail_vk(error, "vkCreateComputePipelines", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return fail_vk_for(error, "vkCreateComputePipelines", vr, "%s", what);
     }
     return CVK_SUCCESS;
 }

@@ -256,6 +256,8 @@ typedef struct cvk_sim_desc {
 
 CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
                           cvk_error* error);
+/* Waits until the context's queue is idle (work you recorded may still use the simulation's
+   buffers), then frees everything the simulation made. */
 CVK_API void cvk_sim_destroy(cvk_sim* sim);
 
 /* Records `frames` frames (each dt · substeps of simulated time) into `cmd`, which must be
