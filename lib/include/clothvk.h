@@ -196,6 +196,37 @@ typedef struct cvk_cloth_desc {
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 
+/* A directional light: parallel rays, like the sun. */
+typedef struct cvk_light {
+    float direction[3];          /* from the scene towards the light (normalised by the library) */
+    float color[3];              /* linear RGB intensity; [1, 1, 1] is full white */
+} cvk_light;
+
+/* How the renderer sees the scene: the "render" block of a scene file. The defaults frame the
+   scene's reach (where its cloths can go: their starting box and, below their pins, how far
+   they can hang) from the front, above and to the right, lit by a key light from above. */
+typedef struct cvk_render_desc {
+    uint32_t size[2];            /* image width and height in pixels; usually [1280, 720] */
+    bool auto_eye;               /* true: the eye is placed so that the reach and its shadow fill
+                                    the view; false: eye below. Usually true */
+    float eye[3];                /* camera position, m */
+    bool auto_target;            /* true: the camera looks at the middle of the reach; usually true */
+    float target[3];             /* point the camera looks at, m */
+    float up[3];                 /* camera up and ground normal (normalised); usually [0, 1, 0] */
+    float fov_y;                 /* vertical field of view, degrees, in (0, 180); usually 35 */
+    cvk_light key;               /* casts the shadows */
+    cvk_light fill;              /* softer, no shadows: keeps the key light's dark side readable */
+    float ambient[3];            /* linear RGB light from everywhere */
+    float background[3];         /* linear RGB of the sky behind the scene */
+    bool ground;                 /* draw a ground plane that receives shadows; usually true */
+    bool auto_ground_height;     /* true: just below the reach; usually true */
+    float ground_height;         /* m along up (the plane is {x : x · up = ground_height}) */
+    float ground_color[3];       /* linear RGB */
+    uint32_t shadow_map_size;    /* texels per side of the key light's depth map, 16 to 16384;
+                                    usually 2048 */
+    uint32_t samples;            /* multisampling: 1, 2, 4 or 8 samples per pixel, usually 4 */
+} cvk_render_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;            /* for messages and output; may be NULL */
     float dt;                    /* substep length, s; > 0, usually 0.002 */
@@ -207,12 +238,14 @@ typedef struct cvk_scene_desc {
     cvk_solver_desc solver;
     const cvk_cloth_desc* cloths;
     uint32_t cloth_count;        /* ≥ 1 */
+    cvk_render_desc render;      /* read by the renderer only */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 
 /* Defaults: see the field comments and README.md. */
 CVK_API cvk_scene_desc cvk_default_scene_desc(void);
 CVK_API cvk_cloth_desc cvk_default_cloth_desc(void);
+CVK_API cvk_render_desc cvk_default_render_desc(void); /* the same as cvk_default_scene_desc().render */
 
 /* Checks every field; on failure the message starts with the key path ("cloths.0.mass: ..."). */
 CVK_API cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error);
