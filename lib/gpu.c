@@ -205,3 +205,58 @@ void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAcce
     };
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, NULL, 0, NULL);
 }
+
+cvk_result cvk_command_buffer_begin(VkCommandBuffer cmd, VkCommandBufferUsageFlags flags,
+                                    cvk_error* error)
+{
+    VkCommandBufferBeginInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+        .flags = flags,
+    };
+    VkResult vr = vkBeginCommandBuffer(cmd, &info);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkBeginCommandBuffer", vr);
+}
+
+cvk_result cvk_command_buffer_end(VkCommandBuffer cmd, cvk_error* error)
+{
+    VkResult vr = vkEndCommandBuffer(cmd);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkEndCommandBuffer", vr);
+}
+
+cvk_result cvk_buffer_view_create(cvk_context* context, const cvk_buffer* buffer, VkFormat format,
+                                  VkBufferView* out, cvk_error* error)
+{
+    VkBufferViewCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+        .buffer = buffer->buffer,
+        .format = format,
+        .range = VK_WHOLE_SIZE,
+    };
+    VkResult vr = vkCreateBufferView(context->device, &info, NULL, out);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateBufferView", vr);
+}
+
+cvk_result cvk_buffer_upload(cvk_context* context, cvk_submitter* submitter, VkCommandBuffer cmd,
+                             cvk_buffer* dst, const void* data, VkDeviceSize size, cvk_error* error)
+{
+    if (size == 0)
+        return CVK_SUCCESS;
+    cvk_buffer staging;
+    cvk_result r = cvk_buffer_create(context, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, CVK_MEMORY_HOST,
+                                     "staging", &staging, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    memcpy(staging.mapped, data, size);
+    r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r == CVK_SUCCESS) {
+        VkBufferCopy region = {0, 0, size};
+        vkCmdCopyBuffer(cmd, staging.buffer, dst->buffer, 1, &region);
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+        r = cvk_command_buffer_end(cmd, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_submit_and_wait(context, submitter, &cmd, 1, error);
+    cvk_buffer_destroy(context, &staging);
+    return r;
+}

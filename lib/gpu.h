@@ -47,6 +47,20 @@ cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* subm
 cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
                                const VkCommandBuffer* cmds, uint32_t count, cvk_error* error);
 
+/* Copies `size` bytes from the host into `dst` through a temporary staging buffer and waits;
+   compute shaders may read them afterwards. For tables written once at creation. */
+cvk_result cvk_buffer_upload(cvk_context* context, cvk_submitter* submitter, VkCommandBuffer cmd,
+                             cvk_buffer* dst, const void* data, VkDeviceSize size, cvk_error* error);
+
+/* A buffer view over a whole buffer (texel buffers). */
+cvk_result cvk_buffer_view_create(cvk_context* context, const cvk_buffer* buffer, VkFormat format,
+                                  VkBufferView* out, cvk_error* error);
+
+/* vkBeginCommandBuffer and vkEndCommandBuffer, reporting failure through cvk_error. */
+cvk_result cvk_command_buffer_begin(VkCommandBuffer cmd, VkCommandBufferUsageFlags flags,
+                                    cvk_error* error);
+cvk_result cvk_command_buffer_end(VkCommandBuffer cmd, cvk_error* error);
+
 /* One global memory barrier between two stages. */
 void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
                      VkPipelineStageFlags dst_stage, VkAccessFlags dst_access);

@@ -1,6 +1,7 @@
 #include "shaders.h"
 
 #include "finalize_comp.h"
+#include "mesh_comp.h"
 #include "pd_gauss_seidel_comp.h"
 #include "pd_jacobi_comp.h"
 #include "predict_comp.h"
@@ -14,6 +15,7 @@ cvk_spirv cvk_shader(cvk_shader_id id)
         [CVK_SHADER_FINALIZE] = SPIRV(cvk_spv_finalize_comp, "finalize.comp"),
         [CVK_SHADER_PD_GAUSS_SEIDEL] = SPIRV(cvk_spv_pd_gauss_seidel_comp, "pd_gauss_seidel.comp"),
         [CVK_SHADER_PD_JACOBI] = SPIRV(cvk_spv_pd_jacobi_comp, "pd_jacobi.comp"),
+        [CVK_SHADER_MESH] = SPIRV(cvk_spv_mesh_comp, "mesh.comp"),
     };
     return table[id];
 }

@@ -10,6 +10,7 @@ typedef enum cvk_shader_id {
     CVK_SHADER_FINALIZE,
     CVK_SHADER_PD_GAUSS_SEIDEL,
     CVK_SHADER_PD_JACOBI,
+    CVK_SHADER_MESH,
     CVK_SHADER_COUNT
 } cvk_shader_id;
 

@@ -140,6 +140,8 @@ typedef struct cvk_context_info {
     bool timestamps;              /* true when GPU pass times can be measured */
     uint32_t subgroup_size;       /* informative only; the kernels do not depend on it */
     uint64_t max_particles;       /* largest particle count the device's buffer limits allow */
+    bool graphics;                /* true when the queue can draw: the renderer needs it */
+    uint32_t max_image_size;      /* largest image width and height the renderer can make */
 } cvk_context_info;
 
 CVK_API cvk_context_info cvk_context_get_info(const cvk_context* context);
@@ -362,6 +364,76 @@ CVK_API void cvk_sim_get_timing(const cvk_sim* sim, cvk_sim_stats* out_stats);
 /* Writes a human-readable description of the step plan (passes, dispatches, workgroups)
    into `text`, truncated to `capacity` bytes; returns the length it needed. */
 CVK_API size_t cvk_sim_describe_plan(const cvk_sim* sim, char* text, size_t capacity);
+
+/* ----------------------------------------------------------------------------------------
+ * Mesh: triangles and vertex normals of the cloths, generated on the device
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct cvk_mesh cvk_mesh;
+
+/* Zero means default for every field. */
+typedef struct cvk_mesh_desc {
+    VkBufferUsageFlags vertex_usage; /* usage added to the vertex buffer's (vertex, storage,
+                                        transfer source), e.g. for your own compute pass */
+    VkBufferUsageFlags index_usage;  /* usage added to the index buffer's (index, storage,
+                                        transfer source) */
+} cvk_mesh_desc;
+
+/* Every cloth's triangles, in the vertex and index buffers the mesh owns. desc may be NULL.
+   The mesh reads the simulation's particles and must be destroyed before it. Works on a
+   compute-only queue (drawing is then up to you, on a queue that can). */
+CVK_API cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
+                                   cvk_error* error);
+CVK_API void cvk_mesh_destroy(cvk_mesh* mesh);
+
+/* The triangles of one cloth: a range of the index buffer, for one draw call. */
+typedef struct cvk_mesh_range {
+    uint32_t first_index;
+    uint32_t index_count;        /* 3 per triangle: 6 (grid[0] − 1)(grid[1] − 1) */
+} cvk_mesh_range;
+
+/* What to bind to draw the mesh. The buffers live until cvk_mesh_destroy. */
+typedef struct cvk_mesh_buffers {
+    VkBuffer vertex_buffer;      /* one vertex per particle, in the order of cvk_sim_read_positions
+                                    (cloth by cloth, row-major grid order, i fastest) */
+    uint32_t vertex_count;
+    uint32_t vertex_stride;      /* bytes from one vertex to the next: 32 */
+    uint32_t position_offset;    /* 0: position, 3 floats (VK_FORMAT_R32G32B32_SFLOAT), m; a 4th
+                                    float, 1, follows */
+    uint32_t normal_offset;      /* 16: unit normal, 3 floats, on the side of u_axis × v_axis;
+                                    zero at a vertex with no triangle; a 4th float, 0, follows */
+    VkBuffer index_buffer;       /* triangle lists; a triangle whose constraints are gone (torn)
+                                    has three equal indices, so it draws nothing */
+    VkIndexType index_type;      /* VK_INDEX_TYPE_UINT32 */
+    uint32_t index_count;        /* all cloths */
+    uint32_t cloth_count;
+    const cvk_mesh_range* cloths; /* one range per cloth, in scene order; owned by the mesh */
+} cvk_mesh_buffers;
+
+CVK_API cvk_mesh_buffers cvk_mesh_get_buffers(const cvk_mesh* mesh);
+
+/* Records the mesh generation — one compute dispatch that writes every vertex (position and
+   area-weighted normal) and every triangle from the current particles — into `cmd`, which is
+   recording, outside a render pass, from a pool of the context's queue family. Nothing is
+   submitted and nothing waits; record it after cvk_sim_record in the same command buffer (or
+   a later submission) and before your draw.
+
+   Synchronisation contract (the VkFFT model: the library records its own barriers, you record
+   the one into your stage):
+   - The library begins with one barrier from COMPUTE_SHADER (shader writes: the simulation's
+     positions) and, on a queue with graphics, VERTEX_INPUT (your earlier draws from these
+     buffers, a write-after-read hazard) to COMPUTE_SHADER (shader reads and writes).
+   - Its compute shader writes the vertex and index buffers (VK_ACCESS_SHADER_WRITE_BIT). It
+     binds its own compute pipeline, descriptor set and push constants: compute state you bound
+     before is lost. It ends without a trailing barrier.
+   - Before you draw, record a barrier from VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT /
+     VK_ACCESS_SHADER_WRITE_BIT to VK_PIPELINE_STAGE_VERTEX_INPUT_BIT /
+     VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT (or to whatever stage
+     reads the buffers).
+   - If a stage other than vertex input or a compute shader reads the buffers, make it finish
+     before the next cvk_mesh_record (an execution barrier from that stage to
+     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT). */
+CVK_API cvk_result cvk_mesh_record(cvk_mesh* mesh, VkCommandBuffer cmd, cvk_error* error);
 
 #ifdef __cplusplus
 }
