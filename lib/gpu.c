@@ -260,3 +260,79 @@ cvk_result cvk_buffer_upload(cvk_context* context, cvk_submitter* submitter, VkC
     cvk_buffer_destroy(context, &staging);
     return r;
 }
+
+cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
+                                VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                                VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
+                                cvk_error* error)
+{
+    memset(out, 0, sizeof *out);
+    VkImageCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
+        .imageType = VK_IMAGE_TYPE_2D,
+        .format = format,
+        .extent = {width, height, 1},
+        .mipLevels = 1,
+        .arrayLayers = 1,
+        .samples = samples,
+        .tiling = VK_IMAGE_TILING_OPTIMAL,
+        .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+    };
+    VkResult vr = vkCreateImage(context->device, &info, NULL, &out->image);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateImage", vr);
+        cvk_error_prefix(error, "%s (%u x %u)", what, width, height);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(context->device, out->image, &req);
+    int type = find_memory_type(context, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (type < 0)
+        type = find_memory_type(context, req.memoryTypeBits, 0);
+    if (type < 0) {
+        cvk_gpu_image_destroy(context, out);
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
+    }
+    VkMemoryAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req.size,
+        .memoryTypeIndex = (uint32_t)type,
+    };
+    vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
+    if (vr == VK_SUCCESS)
+        vr = vkBindImageMemory(context->device, out->image, out->memory, 0);
+    if (vr != VK_SUCCESS) {
+        cvk_gpu_image_destroy(context, out);
+        cvk_fail_vk(error, "allocating image memory", vr);
+        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)req.size);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    VkImageViewCreateInfo view = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+        .image = out->image,
+        .viewType = VK_IMAGE_VIEW_TYPE_2D,
+        .format = format,
+        .subresourceRange = {aspect, 0, 1, 0, 1},
+    };
+    vr = vkCreateImageView(context->device, &view, NULL, &out->view);
+    if (vr != VK_SUCCESS) {
+        cvk_gpu_image_destroy(context, out);
+        cvk_fail_vk(error, "vkCreateImageView", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image)
+{
+    if (image->view)
+        vkDestroyImageView(context->device, image->view, NULL);
+    if (image->image)
+        vkDestroyImage(context->device, image->image, NULL);
+    if (image->memory)
+        vkFreeMemory(context->device, image->memory, NULL);
+    memset(image, 0, sizeof *image);
+}

@@ -22,6 +22,19 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
                              cvk_error* error);
 void cvk_buffer_destroy(cvk_context* context, cvk_buffer* buffer);
 
+/* A device-local image with one view over all of it. */
+typedef struct cvk_gpu_image {
+    VkImage image;
+    VkDeviceMemory memory;
+    VkImageView view;
+} cvk_gpu_image;
+
+cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
+                                VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                                VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
+                                cvk_error* error);
+void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image);
+
 /* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ... */
 typedef struct cvk_spec {
     uint32_t values[8];

@@ -1,10 +1,15 @@
 #include "shaders.h"
 
 #include "finalize_comp.h"
+#include "lit_cloth_frag.h"
+#include "lit_cloth_vert.h"
+#include "lit_ground_frag.h"
+#include "lit_ground_vert.h"
 #include "mesh_comp.h"
 #include "pd_gauss_seidel_comp.h"
 #include "pd_jacobi_comp.h"
 #include "predict_comp.h"
+#include "shadow_vert.h"
 
 #define SPIRV(array, file) {array, sizeof array, file}
 
@@ -16,6 +21,11 @@ cvk_spirv cvk_shader(cvk_shader_id id)
         [CVK_SHADER_PD_GAUSS_SEIDEL] = SPIRV(cvk_spv_pd_gauss_seidel_comp, "pd_gauss_seidel.comp"),
         [CVK_SHADER_PD_JACOBI] = SPIRV(cvk_spv_pd_jacobi_comp, "pd_jacobi.comp"),
         [CVK_SHADER_MESH] = SPIRV(cvk_spv_mesh_comp, "mesh.comp"),
+        [CVK_SHADER_SHADOW_VERT] = SPIRV(cvk_spv_shadow_vert, "shadow.vert"),
+        [CVK_SHADER_LIT_CLOTH_VERT] = SPIRV(cvk_spv_lit_cloth_vert, "lit_cloth.vert"),
+        [CVK_SHADER_LIT_CLOTH_FRAG] = SPIRV(cvk_spv_lit_cloth_frag, "lit_cloth.frag"),
+        [CVK_SHADER_LIT_GROUND_VERT] = SPIRV(cvk_spv_lit_ground_vert, "lit_ground.vert"),
+        [CVK_SHADER_LIT_GROUND_FRAG] = SPIRV(cvk_spv_lit_ground_frag, "lit_ground.frag"),
     };
     return table[id];
 }

@@ -435,6 +435,76 @@ CVK_API cvk_mesh_buffers cvk_mesh_get_buffers(const cvk_mesh* mesh);
      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT). */
 CVK_API cvk_result cvk_mesh_record(cvk_mesh* mesh, VkCommandBuffer cmd, cvk_error* error);
 
+/* ----------------------------------------------------------------------------------------
+ * Renderer: offscreen images of the mesh, shadow-mapped, no window system
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct cvk_renderer cvk_renderer;
+
+/* Draws `mesh` as its render description says (usually &scene->render): a shadow pass from
+   the key light into a depth map, then a lit pass with multisampling resolved into an sRGB
+   image that is copied into a host-visible buffer. Needs a queue family with graphics:
+   on a compute-only queue it fails with CVK_ERROR_UNSUPPORTED. Fails with
+   CVK_ERROR_DEVICE_LIMIT when the image, the shadow map or the sample count is more than the
+   device allows. desc is copied; the mesh must outlive the renderer. Everything is created
+   here, pipelines compiled and one frame drawn: no frame creates anything. */
+CVK_API cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc,
+                                       cvk_renderer** out_renderer, cvk_error* error);
+CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);
+
+/* Records one frame into `cmd` (recording, outside a render pass, from a pool of the
+   context's queue family): the mesh generation (cvk_mesh_record and its barrier), a barrier
+   from the compute shader to vertex input, the shadow pass, the lit pass, a copy of the image
+   into the renderer's host-visible buffer and a barrier from that copy to HOST reads. Record
+   it after cvk_sim_record to draw the frame just simulated. The renderer's images, buffers and
+   timestamp queries are its own; the render passes order every access to them, frame after
+   frame. One submission of a renderer's frame may be in flight at a time. Graphics and compute
+   state you bound before the call is lost. */
+CVK_API cvk_result cvk_renderer_record(cvk_renderer* renderer, VkCommandBuffer cmd, cvk_error* error);
+
+/* Draws one frame of the current particles and waits: a command buffer recorded once, one
+   submission, one host wait. */
+CVK_API cvk_result cvk_renderer_draw(cvk_renderer* renderer, cvk_error* error);
+
+/* Pixels in memory: RGBA, 8 bits per channel, sRGB-encoded, rows top to bottom. */
+typedef struct cvk_image {
+    const uint8_t* pixels;
+    uint32_t width, height;
+    uint32_t row_bytes;          /* bytes from one row to the next, at least 4 · width */
+} cvk_image;
+
+/* The last frame drawn, in the renderer's host-visible buffer: valid until the next
+   submission of one of its frames (read it after cvk_renderer_draw returns, or after the
+   submission you recorded with cvk_renderer_record has completed). Alpha is 255. */
+CVK_API cvk_image cvk_renderer_get_image(const cvk_renderer* renderer);
+
+/* Device time of the last completed frame, per pass; < 0 where not measured. */
+typedef struct cvk_render_timing {
+    double mesh_ms;              /* mesh generation */
+    double shadow_ms;            /* shadow pass */
+    double lit_ms;               /* lit pass and multisample resolve */
+    double readback_ms;          /* copy of the image into the host-visible buffer */
+    double total_ms;
+} cvk_render_timing;
+
+CVK_API cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* renderer);
+
+/* Where the camera ended up once the automatic placement was done. */
+typedef struct cvk_render_view {
+    float eye[3], target[3], up[3];
+    float fov_y;                 /* degrees */
+    float view_proj[16];         /* world -> Vulkan clip space, column-major (x right, y down,
+                                    depth 1 at the near plane and 0 at the far one) */
+    float ground_height;         /* m along up */
+    float reach_min[3], reach_max[3]; /* the box the camera frames: where the cloths can go */
+} cvk_render_view;
+
+CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
+
+/* Writes an image as a PNG file: to a temporary name in the same folder, then renamed, so the
+   file is complete or absent. Compression is fast (zlib level 2), not smallest. */
+CVK_API cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error);
+
 #ifdef __cplusplus
 }
 #endif
