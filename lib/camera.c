@@ -191,21 +191,21 @@ static void default_view_direction(const double up[3], double out[3])
     normalize(out);
 }
 
-/* The points the view must hold: the reach's corners and, on the ground, their shadows. */
+/* The points the view must hold: the reach's corners and, on the ground, the footprint
+   below them, where the shadow falls when the light is high. */
 static int framing_points(const cvk_view* v, bool ground, double points[16][3])
 {
     int count = 0;
     for (int c = 0; c < 8; c++)
         box_corner(&v->reach, c, points[count++]);
-    double elevation = dot(v->key_direction, v->up);
-    if (!ground || elevation < 0.25)
+    if (!ground)
         return count;
     for (int c = 0; c < 8; c++) {
         double* p = points[count++];
         box_corner(&v->reach, c, p);
         double above = dot(p, v->up) - v->ground_height;
         for (int k = 0; k < 3; k++)
-            p[k] -= v->key_direction[k] * above / elevation;
+            p[k] -= v->up[k] * above;
     }
     return count;
 }
@@ -283,6 +283,14 @@ static void camera_matrix(cvk_view* v)
     from_rows(view, b);
     multiply(a, b, m);
     to_float(m, v->view_proj);
+
+    /* Pixel rays, for the ground: forward + x tan(fov_x / 2) right − y tan(fov_y / 2) up. */
+    double ty = 1.0 / f, tx = ty * v->aspect;
+    for (int k = 0; k < 3; k++) {
+        v->ray_base[k] = -back[k] - tx * right[k] + ty * cam_up[k];
+        v->ray_dx[k] = 2.0 * tx * right[k] / v->width;
+        v->ray_dy[k] = -2.0 * ty * cam_up[k] / v->height;
+    }
 }
 
 static void depth_range(cvk_view* v)
@@ -301,8 +309,12 @@ static void depth_range(cvk_view* v)
     double to_target = sqrt((v->eye[0] - v->target[0]) * (v->eye[0] - v->target[0]) +
                             (v->eye[1] - v->target[1]) * (v->eye[1] - v->target[1]) +
                             (v->eye[2] - v->target[2]) * (v->eye[2] - v->target[2]));
-    v->far = fmax(farthest, to_target) + 2.0 * v->ground_radius;
-    v->near = fmax(0.5 * nearest, 1e-5 * v->far);
+    /* The ground is drawn per pixel from its plane, not rasterised: only the reach needs to
+       fit between the planes. */
+    v->far = 1.5 * fmax(farthest, to_target) + 1e-3;
+    v->near = fmax(0.5 * nearest, 1e-4 * v->far);
+    v->fog_start = 1.5 * to_target;
+    v->fog_end = 5.0 * to_target;
 }
 
 /* ---- the key light's shadow frustum: orthographic, fitted to the reach ---- */
@@ -348,6 +360,20 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size)
     from_rows(rows, m);
     to_float(m, v->light_view_proj);
     v->shadow_texel = 2.0 * half / shadow_map_size;
+
+    /* The map's square, sent along the light onto the ground. */
+    double elevation = dot(l, v->up);
+    v->patch_visible = elevation > 0.02;
+    static const double corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+    for (int i = 0; v->patch_visible && i < 4; i++) {
+        double x = cx + corners[i][0] * half, y = cy + corners[i][1] * half;
+        double p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = x * right[k] + y * up[k] + top * l[k];
+        double above = dot(p, v->up) - v->ground_height;
+        for (int k = 0; k < 3; k++)
+            v->patch[i][k] = p[k] - l[k] * above / elevation;
+    }
 }
 
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
@@ -361,6 +387,8 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
     to_double(desc->fill.direction, v->fill_direction);
     normalize(v->fill_direction);
     v->fov_y = desc->fov_y;
+    v->width = desc->size[0];
+    v->height = desc->size[1];
     v->aspect = (double)desc->size[0] / desc->size[1];
     cvk_reach_box(build, gravity, &v->reach);
 
@@ -376,13 +404,6 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
     v->ground_height = desc->auto_ground_height ? lowest - 0.05 * size : desc->ground_height;
 
     place_camera(desc, v);
-    double above = dot(v->target, v->up) - v->ground_height;
-    for (int k = 0; k < 3; k++)
-        v->ground_center[k] = v->target[k] - above * v->up[k];
-    double to_target = 0.0;
-    for (int k = 0; k < 3; k++)
-        to_target += (v->eye[k] - v->target[k]) * (v->eye[k] - v->target[k]);
-    v->ground_radius = 4.0 * fmax(size, sqrt(to_target));
     depth_range(v);
     camera_matrix(v);
     light_matrix(v, shadow_map_size);

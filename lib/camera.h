@@ -12,18 +12,25 @@ typedef struct cvk_box {
 typedef struct cvk_view {
     double eye[3], target[3], up[3];   /* up: unit, the ground's normal */
     double fov_y;                      /* degrees */
+    double width, height;              /* image size, pixels */
     double aspect;                     /* width / height */
     double near, far;                  /* m, along the view direction */
     float view_proj[16];               /* world -> Vulkan clip space, column-major, depth 1 at
                                           near and 0 at far (reversed for float precision) */
+    double ray_base[3];                /* the ray through the corner of pixel (0, 0), with a
+                                          component of 1 along the view direction */
+    double ray_dx[3], ray_dy[3];       /* its change per pixel right and down */
     float light_view_proj[16];         /* world -> the key light's orthographic clip space, depth
                                           0 nearest the light */
     double key_direction[3];           /* unit, towards the key light */
     double fill_direction[3];          /* unit, towards the fill light */
     double shadow_texel;               /* m covered by one shadow-map texel */
     double ground_height;              /* m along up */
-    double ground_center[3];           /* on the ground, under the target */
-    double ground_radius;              /* m; the ground fades into the background towards it */
+    double fog_start, fog_end;         /* depth along the view where the ground fades into the
+                                          background, m */
+    bool patch_visible;                /* the key light is above the ground */
+    double patch[4][3];                /* the ground under the shadow map (triangle strip order):
+                                          the only ground a shadow can fall on */
     cvk_box reach;                     /* where the cloths can go */
 } cvk_view;
 

@@ -1,6 +1,13 @@
-/* The offscreen renderer (seed 002 §5.4): a shadow pass from the key light, a lit pass with
-   multisampling resolved into an sRGB image, and a copy into a host-visible buffer. Every
-   object is made once at creation; a frame is one command buffer recorded once. */
+/* The offscreen renderer (seed 002 §5.4). A frame is, after the mesh generation:
+   - the shadow pass: the cloth's depth from the key light;
+   - the lit pass, in two render passes: the cloth, lit and shadowed, multisampled over a
+     transparent background; then one sample per pixel, the ground and sky found from each
+     pixel's ray (shadowed only on the patch of ground under the shadow map) with the cloth's
+     samples averaged over them in linear light (the resolve), into an sRGB image;
+   - a copy of that image into a host-visible buffer.
+   Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
+   tests and writes every sample) to the part of the image that has edges to smooth.
+   Every object is made once at creation; a frame is one command buffer recorded once. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,8 +45,15 @@ typedef struct cvk_frame_uniforms {
     float background[4];
     float ground_color[4];
     float ground_plane[4];
-    float ground_center[4];
+    float ground_unlit[4];
+    float ground_key[4];
+    float ray_base[4];
+    float ray_dx[4];
+    float ray_dy[4];
+    float fog[4];
     float shadow[4];
+    float image[4];
+    float patch_corners[4][4];
 } cvk_frame_uniforms;
 
 struct cvk_renderer {
@@ -49,10 +63,10 @@ struct cvk_renderer {
     cvk_view view;
     VkSampleCountFlagBits samples;
 
-    cvk_gpu_image shadow_map, color, depth, resolved;
-    VkRenderPass shadow_pass, lit_pass;
-    VkFramebuffer shadow_framebuffer, lit_framebuffer;
-    VkSampler shadow_sampler;
+    cvk_gpu_image shadow_map, cloth, cloth_depth, image;
+    VkRenderPass shadow_pass, cloth_pass, composite_pass;
+    VkFramebuffer shadow_framebuffer, cloth_framebuffer, composite_framebuffer;
+    VkSampler shadow_sampler, cloth_sampler;
     cvk_buffer uniforms;
     cvk_buffer readback;
 
@@ -60,7 +74,7 @@ struct cvk_renderer {
     VkPipelineLayout pipeline_layout;
     VkDescriptorPool descriptor_pool;
     VkDescriptorSet set;
-    VkPipeline shadow_pipeline, cloth_pipeline, ground_pipeline;
+    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
 
     VkQueryPool queries;
     cvk_submitter submitter;
@@ -123,10 +137,18 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
                         ctx->properties.deviceName, counts, d->samples);
     }
     VkSampleCountFlagBits samples = (VkSampleCountFlagBits)d->samples;
-    cvk_result r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, samples, "colour", error);
+    if (!(limits->sampledImageColorSampleCounts & samples)) {
+        char counts[64];
+        sample_counts(limits->sampledImageColorSampleCounts, counts, sizeof counts);
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.samples: %s reads back %s samples per pixel, not %u",
+                        ctx->properties.deviceName, counts, d->samples);
+    }
+    cvk_result r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                samples, "cloth", error);
     if (r == CVK_SUCCESS)
         r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                         VK_SAMPLE_COUNT_1_BIT, "resolved colour", error);
+                         VK_SAMPLE_COUNT_1_BIT, "final", error);
     if (r == CVK_SUCCESS)
         r = check_format(ctx, DEPTH_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, samples, "depth", error);
     if (r == CVK_SUCCESS)
@@ -146,18 +168,18 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
                                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                         VK_IMAGE_ASPECT_DEPTH_BIT, "shadow map", &rd->shadow_map, error);
     if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, rd->samples,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "cloth image", &rd->cloth, error);
+    if (r == CVK_SUCCESS)
         r = cvk_gpu_image_create(ctx, DEPTH_FORMAT, w, h, rd->samples,
                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
                                      VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
-                                 VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->depth, error);
+                                 VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->cloth_depth, error);
     if (r == CVK_SUCCESS)
         r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                                 VK_IMAGE_ASPECT_COLOR_BIT, "image", &rd->resolved, error);
-    if (r == CVK_SUCCESS && rd->samples != VK_SAMPLE_COUNT_1_BIT)
-        r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, rd->samples,
-                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
-                                 VK_IMAGE_ASPECT_COLOR_BIT, "multisampled image", &rd->color, error);
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "image", &rd->image, error);
     return r;
 }
 
@@ -212,21 +234,40 @@ static cvk_result create_shadow_pass(cvk_renderer* rd, cvk_error* error)
     return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (shadow pass)", vr);
 }
 
-/* Attachments: the colour image (multisampled, or the final one with one sample), depth, and
-   with multisampling the single-sample image it resolves into. */
-static cvk_result create_lit_pass(cvk_renderer* rd, cvk_error* error)
+static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const VkImageView* views, uint32_t count,
+                                     VkFramebuffer* out, const char* what, cvk_error* error)
 {
-    bool msaa = rd->samples != VK_SAMPLE_COUNT_1_BIT;
-    VkAttachmentDescription attachments[3] = {
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = pass,
+        .attachmentCount = count,
+        .pAttachments = views,
+        .width = rd->desc.size[0],
+        .height = rd->desc.size[1],
+        .layers = 1,
+    };
+    VkResult vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, out);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateFramebuffer", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+/* The cloth, multisampled, over transparent black: the composite pass reads every sample. */
+static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachments[2] = {
         {
             .format = COLOR_FORMAT,
             .samples = rd->samples,
             .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = msaa ? VK_ATTACHMENT_STORE_OP_DONT_CARE : VK_ATTACHMENT_STORE_OP_STORE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
             .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
             .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
             .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = msaa ? VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+            .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
         },
         {
             .format = DEPTH_FORMAT,
@@ -238,25 +279,13 @@ static cvk_result create_lit_pass(cvk_renderer* rd, cvk_error* error)
             .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
             .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         },
-        {
-            .format = COLOR_FORMAT,
-            .samples = VK_SAMPLE_COUNT_1_BIT,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-        },
     };
     VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkAttachmentReference depth = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkAttachmentReference resolve = {2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass = {
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
         .colorAttachmentCount = 1,
         .pColorAttachments = &color,
-        .pResolveAttachments = msaa ? &resolve : NULL,
         .pDepthStencilAttachment = &depth,
     };
     VkPipelineStageFlags output = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
@@ -264,37 +293,71 @@ static cvk_result create_lit_pass(cvk_renderer* rd, cvk_error* error)
                                   VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
     VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
     VkSubpassDependency dependencies[] = {
-        /* The previous frame's attachment writes and its copy out of the image come first. */
-        {VK_SUBPASS_EXTERNAL, 0, output | VK_PIPELINE_STAGE_TRANSFER_BIT, output, writes,
+        /* The previous frame's writes, and its composite pass's reads of the cloth image. */
+        {VK_SUBPASS_EXTERNAL, 0, output | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, output, writes,
          writes | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
-        /* The image is copied out afterwards. */
-        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0},
+        /* The composite pass reads the cloth image. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
     VkRenderPassCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .attachmentCount = msaa ? 3 : 2,
+        .attachmentCount = 2,
         .pAttachments = attachments,
         .subpassCount = 1,
         .pSubpasses = &subpass,
         .dependencyCount = 2,
         .pDependencies = dependencies,
     };
-    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->lit_pass);
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->cloth_pass);
     if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateRenderPass (lit pass)", vr);
-    VkImageView views[3] = {msaa ? rd->color.view : rd->resolved.view, rd->depth.view, rd->resolved.view};
-    VkFramebufferCreateInfo fb = {
-        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
-        .renderPass = rd->lit_pass,
-        .attachmentCount = msaa ? 3 : 2,
-        .pAttachments = views,
-        .width = rd->desc.size[0],
-        .height = rd->desc.size[1],
-        .layers = 1,
+        return cvk_fail_vk(error, "vkCreateRenderPass (cloth pass)", vr);
+    VkImageView views[2] = {rd->cloth.view, rd->cloth_depth.view};
+    return create_framebuffer(rd, rd->cloth_pass, views, 2, &rd->cloth_framebuffer, "cloth pass", error);
+}
+
+/* One sample per pixel: every pixel is drawn, so nothing is cleared. */
+static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachment = {
+        .format = COLOR_FORMAT,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
     };
-    vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, &rd->lit_framebuffer);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (lit pass)", vr);
+    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .colorAttachmentCount = 1,
+        .pColorAttachments = &color,
+    };
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's copy out of the image, and its writes. */
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, 0},
+        /* The image is copied out afterwards. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0},
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 1,
+        .pAttachments = &attachment,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->composite_pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateRenderPass (composite pass)", vr);
+    return create_framebuffer(rd, rd->composite_pass, &rd->image.view, 1, &rd->composite_framebuffer,
+                              "composite pass", error);
 }
 
 /* ---- uniforms, descriptors ----------------------------------------------------------------- */
@@ -331,9 +394,27 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     put_color(u->background, d->background);
     put_color(u->ground_color, d->ground_color);
     put3(u->ground_plane, v->up, (float)v->ground_height);
-    put3(u->ground_center, v->ground_center, (float)v->ground_radius);
+    /* The ground's shading, as shaders/lighting.glsl computes it for a normal of up. */
+    double key = fmax(0.0, v->key_direction[0] * v->up[0] + v->key_direction[1] * v->up[1] +
+                               v->key_direction[2] * v->up[2]);
+    double fill = fmax(0.0, v->fill_direction[0] * v->up[0] + v->fill_direction[1] * v->up[1] +
+                                v->fill_direction[2] * v->up[2]);
+    for (int k = 0; k < 3; k++) {
+        u->ground_unlit[k] = (float)(d->ground_color[k] * (d->ambient[k] + fill * d->fill.color[k]));
+        u->ground_key[k] = (float)(d->ground_color[k] * key * d->key.color[k]);
+    }
+    put3(u->ray_base, v->ray_base, 0.0f);
+    put3(u->ray_dx, v->ray_dx, 0.0f);
+    put3(u->ray_dy, v->ray_dy, 0.0f);
+    u->fog[0] = (float)v->fog_start;
+    u->fog[1] = (float)v->fog_end;
+    u->fog[2] = d->ground ? 1.0f : 0.0f;
     u->shadow[0] = (float)d->shadow_map_size;
     u->shadow[1] = (float)v->shadow_texel;
+    u->image[0] = (float)d->size[0];
+    u->image[1] = (float)d->size[1];
+    for (int i = 0; i < 4; i++)
+        put3(u->patch_corners[i], v->patch[i], 1.0f);
 }
 
 static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
@@ -363,14 +444,28 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     VkResult vr = vkCreateSampler(dev, &sampler, NULL, &rd->shadow_sampler);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
+    /* The cloth image is read with texelFetch: the sampler only has to exist. */
+    VkSamplerCreateInfo texel = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_NEAREST,
+        .minFilter = VK_FILTER_NEAREST,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+    };
+    vr = vkCreateSampler(dev, &texel, NULL, &rd->cloth_sampler);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateSampler", vr);
 
     VkDescriptorSetLayoutBinding bindings[] = {
         {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
     };
     VkDescriptorSetLayoutCreateInfo set_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = 2,
+        .bindingCount = 3,
         .pBindings = bindings,
     };
     vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &rd->set_layout);
@@ -389,7 +484,7 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
         return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
     VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
     };
     VkDescriptorPoolCreateInfo pool_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
@@ -410,14 +505,17 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
     VkDescriptorBufferInfo buffer = {rd->uniforms.buffer, 0, VK_WHOLE_SIZE};
-    VkDescriptorImageInfo image = {rd->shadow_sampler, rd->shadow_map.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkDescriptorImageInfo shadow = {rd->shadow_sampler, rd->shadow_map.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkDescriptorImageInfo cloth = {rd->cloth_sampler, rd->cloth.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     VkWriteDescriptorSet writes[] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 0, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &buffer},
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &image},
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 2, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &cloth},
     };
-    vkUpdateDescriptorSets(dev, 2, writes, 0, NULL);
+    vkUpdateDescriptorSets(dev, 3, writes, 0, NULL);
     return CVK_SUCCESS;
 }
 
@@ -431,8 +529,10 @@ typedef struct pipeline_recipe {
     VkRenderPass pass;
     uint32_t width, height;
     VkSampleCountFlagBits samples;
+    bool depth_test;
     VkCompareOp depth_compare;
     bool depth_bias;
+    uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
 } pipeline_recipe;
 
 static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
@@ -464,11 +564,15 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
             vkDestroyShaderModule(rd->context->device, modules[0], NULL);
         return r;
     }
+    VkSpecializationMapEntry entries[3];
+    for (uint32_t i = 0; i < 3; i++)
+        entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+    VkSpecializationInfo spec = {3, entries, sizeof p->spec, p->spec};
     VkPipelineShaderStageCreateInfo stages[2] = {
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
-         .module = modules[0], .pName = "main"},
+         .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
-         .module = modules[1], .pName = "main"},
+         .module = modules[1], .pName = "main", .pSpecializationInfo = &spec},
     };
     cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
     VkVertexInputBindingDescription binding = {0, mesh.vertex_stride, VK_VERTEX_INPUT_RATE_VERTEX};
@@ -513,8 +617,8 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
     };
     VkPipelineDepthStencilStateCreateInfo depth = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
-        .depthTestEnable = VK_TRUE,
-        .depthWriteEnable = VK_TRUE,
+        .depthTestEnable = p->depth_test,
+        .depthWriteEnable = p->depth_test,
         .depthCompareOp = p->depth_compare,
     };
     VkPipelineColorBlendAttachmentState blend_attachment = {
@@ -556,18 +660,22 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
 static cvk_result create_pipelines(cvk_renderer* rd, cvk_error* error)
 {
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
+    bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
+    cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, VK_COMPARE_OP_LESS_OR_EQUAL, true},
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, {0}},
         /* Reversed depth: nearer is greater. */
-        {"lit pass (cloth)", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2,
-         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->lit_pass, w, h, rd->samples, VK_COMPARE_OP_GREATER_OR_EQUAL,
-         false},
-        {"lit pass (ground)", CVK_SHADER_LIT_GROUND_VERT, CVK_SHADER_LIT_GROUND_FRAG, 0,
-         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->lit_pass, w, h, rd->samples, VK_COMPARE_OP_GREATER_OR_EQUAL,
-         false},
+        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, {rd->desc.ground}},
+        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false,
+         {false, false, rd->desc.samples}},
+        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
+         VK_COMPARE_OP_ALWAYS, false, {true, true, rd->desc.samples}},
     };
-    VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->ground_pipeline};
+    VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->background_pipeline, &rd->patch_pipeline};
     for (size_t i = 0; i < sizeof recipes / sizeof recipes[0]; i++) {
         cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
         if (r != CVK_SUCCESS)
@@ -620,29 +728,35 @@ static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     vkCmdEndRenderPass(cmd);
 }
 
-static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+static void begin_pass(const cvk_renderer* rd, VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer,
+                       const VkClearValue* clears, uint32_t clear_count)
 {
-    const float* bg = rd->desc.background;
-    VkClearValue clears[3] = {
-        {.color = {{bg[0], bg[1], bg[2], 1.0f}}},
-        {.depthStencil = {0.0f, 0}},
-        {.color = {{bg[0], bg[1], bg[2], 1.0f}}},
-    };
     VkRenderPassBeginInfo begin = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
-        .renderPass = rd->lit_pass,
-        .framebuffer = rd->lit_framebuffer,
+        .renderPass = pass,
+        .framebuffer = framebuffer,
         .renderArea = {{0, 0}, {rd->desc.size[0], rd->desc.size[1]}},
-        .clearValueCount = rd->samples != VK_SAMPLE_COUNT_1_BIT ? 3 : 2,
+        .clearValueCount = clear_count,
         .pClearValues = clears,
     };
     vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
-    /* Cloth first: where it covers the ground, depth testing skips the ground's shading. */
+}
+
+static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
+    begin_pass(rd, cmd, rd->cloth_pass, rd->cloth_framebuffer, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
     draw_cloths(rd, cmd, true);
-    if (rd->desc.ground) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->ground_pipeline);
+    vkCmdEndRenderPass(cmd);
+
+    begin_pass(rd, cmd, rd->composite_pass, rd->composite_framebuffer, NULL, 0);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    /* Drawn again where a shadow can fall, this time reading the shadow map. */
+    if (rd->desc.ground && rd->view.patch_visible) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->patch_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);
     }
     vkCmdEndRenderPass(cmd);
@@ -654,7 +768,7 @@ static void record_readback(const cvk_renderer* rd, VkCommandBuffer cmd)
         .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
         .imageExtent = {rd->desc.size[0], rd->desc.size[1], 1},
     };
-    vkCmdCopyImageToBuffer(cmd, rd->resolved.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rd->readback.buffer, 1,
+    vkCmdCopyImageToBuffer(cmd, rd->image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rd->readback.buffer, 1,
                            &region);
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                     VK_ACCESS_HOST_READ_BIT);
@@ -748,7 +862,9 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     if (r == CVK_SUCCESS)
         r = create_shadow_pass(rd, error);
     if (r == CVK_SUCCESS)
-        r = create_lit_pass(rd, error);
+        r = create_cloth_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_composite_pass(rd, error);
     if (r == CVK_SUCCESS)
         r = create_descriptors(rd, error);
     if (r == CVK_SUCCESS)
@@ -773,7 +889,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     VkDevice dev = rd->context->device;
     if (rd->submitter.pool)
         vkQueueWaitIdle(rd->context->queue);
-    VkPipeline pipelines[] = {rd->shadow_pipeline, rd->cloth_pipeline, rd->ground_pipeline};
+    VkPipeline pipelines[] = {rd->shadow_pipeline, rd->cloth_pipeline, rd->background_pipeline, rd->patch_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);
@@ -785,17 +901,19 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         vkDestroyPipelineLayout(dev, rd->pipeline_layout, NULL);
     if (rd->set_layout)
         vkDestroyDescriptorSetLayout(dev, rd->set_layout, NULL);
-    if (rd->shadow_sampler)
-        vkDestroySampler(dev, rd->shadow_sampler, NULL);
-    if (rd->shadow_framebuffer)
-        vkDestroyFramebuffer(dev, rd->shadow_framebuffer, NULL);
-    if (rd->lit_framebuffer)
-        vkDestroyFramebuffer(dev, rd->lit_framebuffer, NULL);
-    if (rd->shadow_pass)
-        vkDestroyRenderPass(dev, rd->shadow_pass, NULL);
-    if (rd->lit_pass)
-        vkDestroyRenderPass(dev, rd->lit_pass, NULL);
-    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->color, &rd->depth, &rd->resolved};
+    VkSampler samplers[] = {rd->shadow_sampler, rd->cloth_sampler};
+    for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
+        if (samplers[i])
+            vkDestroySampler(dev, samplers[i], NULL);
+    VkFramebuffer framebuffers[] = {rd->shadow_framebuffer, rd->cloth_framebuffer, rd->composite_framebuffer};
+    for (size_t i = 0; i < sizeof framebuffers / sizeof framebuffers[0]; i++)
+        if (framebuffers[i])
+            vkDestroyFramebuffer(dev, framebuffers[i], NULL);
+    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->composite_pass};
+    for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
+        if (passes[i])
+            vkDestroyRenderPass(dev, passes[i], NULL);
+    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->image};
     for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
         cvk_gpu_image_destroy(rd->context, images[i]);
     cvk_buffer_destroy(rd->context, &rd->uniforms);

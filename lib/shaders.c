@@ -1,10 +1,11 @@
 #include "shaders.h"
 
+#include "composite_1x_frag.h"
+#include "composite_frag.h"
+#include "composite_vert.h"
 #include "finalize_comp.h"
 #include "lit_cloth_frag.h"
 #include "lit_cloth_vert.h"
-#include "lit_ground_frag.h"
-#include "lit_ground_vert.h"
 #include "mesh_comp.h"
 #include "pd_gauss_seidel_comp.h"
 #include "pd_jacobi_comp.h"
@@ -24,8 +25,9 @@ cvk_spirv cvk_shader(cvk_shader_id id)
         [CVK_SHADER_SHADOW_VERT] = SPIRV(cvk_spv_shadow_vert, "shadow.vert"),
         [CVK_SHADER_LIT_CLOTH_VERT] = SPIRV(cvk_spv_lit_cloth_vert, "lit_cloth.vert"),
         [CVK_SHADER_LIT_CLOTH_FRAG] = SPIRV(cvk_spv_lit_cloth_frag, "lit_cloth.frag"),
-        [CVK_SHADER_LIT_GROUND_VERT] = SPIRV(cvk_spv_lit_ground_vert, "lit_ground.vert"),
-        [CVK_SHADER_LIT_GROUND_FRAG] = SPIRV(cvk_spv_lit_ground_frag, "lit_ground.frag"),
+        [CVK_SHADER_COMPOSITE_VERT] = SPIRV(cvk_spv_composite_vert, "composite.vert"),
+        [CVK_SHADER_COMPOSITE_FRAG] = SPIRV(cvk_spv_composite_frag, "composite.frag"),
+        [CVK_SHADER_COMPOSITE_1X_FRAG] = SPIRV(cvk_spv_composite_1x_frag, "composite.frag (one sample)"),
     };
     return table[id];
 }

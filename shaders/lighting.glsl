@@ -1,14 +1,17 @@
-// Lit pass: ambient + Lambert diffuse + Blinn-Phong specular from the key light (shadowed) and
-// the fill light (seed 002 §5.4.2 used two lights and Phong; Blinn's half vector keeps the
+// Ambient + Lambert diffuse + Blinn-Phong specular from the key light (shadowed) and the fill
+// light (seed 002 §5.4.2 used two lights and Phong; Blinn's half vector keeps the
 // highlight round at grazing angles).
 layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
 
-// Fraction of the key light that reaches `world`: percentage-closer filtering over a 4 x 4
-// texel footprint read with four gathers, each texel weighted by how much of a 3-texel box
-// around the sample point covers it. The box slides with the point, so shadow edges are soft
-// and smooth instead of stepped. The point first moves off the surface along its normal by
-// about a texel (normal offset) so that a lit face never shadows itself.
-float key_visibility(vec3 world, vec3 n)
+// Fraction of the key light that reaches `world`, by percentage-closer filtering: depth
+// comparisons around the point's place in the shadow map, weighted so the result varies
+// smoothly as the point moves (soft edges instead of stepped texels). WIDE reads a 4 x 4 texel
+// footprint with four gathers, each texel weighted by how much of a 3-texel box around the
+// point covers it; otherwise one gather, bilinear over 2 x 2 texels (a CPU device pays for
+// every gather, and the cloth is shaded once per sample). The point first moves off the
+// surface along its normal by about a texel (normal offset), so a lit face never shadows
+// itself.
+float key_visibility(vec3 world, vec3 n, bool wide)
 {
     float texel = frame.shadow.y;
     vec4 c = frame.light_view_proj * vec4(world + n * (1.5 * texel), 1.0);
@@ -20,10 +23,14 @@ float key_visibility(vec3 world, vec3 n)
     vec2 base = floor(t);
     vec2 f = t - base;
     vec2 inv = vec2(1.0 / size);
+    // Gather order: (i0, j1), (i1, j1), (i1, j0), (i0, j0).
+    if (!wide) {
+        vec4 g = textureGather(shadow_map, (base + 1.0) * inv, depth);
+        return mix(mix(g.w, g.z, f.x), mix(g.x, g.y, f.x), f.y);
+    }
     // Per column (and row) of the footprint base - 1 .. base + 2: 1 - f, 1, 1, f.
     vec4 wx = vec4(1.0 - f.x, 1.0, 1.0, f.x);
     vec4 wy = vec4(1.0 - f.y, 1.0, 1.0, f.y);
-    // Gather order: (i0, j1), (i1, j1), (i1, j0), (i0, j0).
     vec4 a = textureGather(shadow_map, base * inv, depth);
     vec4 b = textureGather(shadow_map, (base + vec2(2.0, 0.0)) * inv, depth);
     vec4 c2 = textureGather(shadow_map, (base + vec2(0.0, 2.0)) * inv, depth);
@@ -41,19 +48,23 @@ vec3 light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, float specul
     if (nl <= 0.0)
         return vec3(0.0);
     vec3 h = normalize(direction + v);
-    float highlight = specular * pow(max(dot(n, h), 0.0), 40.0);
+    // Shininess 32 by squaring: pow() is exp(log()) on a CPU device.
+    float x = max(dot(n, h), 0.0);
+    x *= x;
+    x *= x;
+    x *= x;
+    x *= x;
+    float highlight = specular * x * x;
     return color * visible * nl * (albedo + highlight);
 }
 
-// n faces the viewer's side of the surface.
-vec3 shade(vec3 world, vec3 n, vec3 albedo, float specular)
+// n faces the viewer's side of the surface; key_visible is key_visibility() or 1.
+vec3 shade(vec3 world, vec3 n, vec3 albedo, float specular, float key_visible)
 {
     vec3 v = normalize(frame.eye.xyz - world);
     // A little more ambient from the sky than from the ground.
     vec3 result = frame.ambient.rgb * albedo * (0.8 + 0.2 * dot(n, frame.ground_plane.xyz));
-    vec3 key = frame.key_direction.xyz;
-    if (dot(n, key) > 0.0)
-        result += light(key, frame.key_color.rgb, n, v, albedo, specular, key_visibility(world, n));
+    result += light(frame.key_direction.xyz, frame.key_color.rgb, n, v, albedo, specular, key_visible);
     result += light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, albedo, specular, 1.0);
     return result;
 }

@@ -1,10 +1,14 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Lit pass, cloth. Both faces are drawn; a back face is lit with the flipped normal, so the
-// side away from the light is dark and the side towards it lit, whichever way the cloth turns
-// (seed 002 lit both faces alike, its §9).
+// Cloth pass: lit and shadowed cloth over a transparent background, multisampled; the
+// composite pass puts it over the ground and sky. Both faces are drawn; a back face is lit
+// with the flipped normal, so the side away from the light is dark and the side towards it
+// lit, whichever way the cloth turns (seed 002 lit both faces alike, its §9).
 #include "frame.glsl"
 #include "lighting.glsl"
+
+// The ground hides what is below it (a cloth without a collider falls through).
+layout(constant_id = 0) const bool CLIP_BELOW_GROUND = true;
 
 layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth
@@ -16,9 +20,12 @@ layout(location = 0) out vec4 color;
 
 void main()
 {
+    if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
+        discard;
     float len = length(world_normal);
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
     if (!gl_FrontFacing)
         n = -n;
-    color = vec4(shade(world, n, material.albedo.rgb, 0.12), 1.0);
+    float visible = dot(n, frame.key_direction.xyz) > 0.0 ? key_visibility(world, n, false) : 0.0;
+    color = vec4(shade(world, n, material.albedo.rgb, 0.12, visible), 1.0);
 }

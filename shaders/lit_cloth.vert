@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Lit pass, cloth: straight from the mesh's vertex buffer.
+// Cloth pass: straight from the mesh's vertex buffer.
 #include "frame.glsl"
 
 layout(location = 0) in vec3 position;

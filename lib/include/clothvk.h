@@ -442,8 +442,9 @@ CVK_API cvk_result cvk_mesh_record(cvk_mesh* mesh, VkCommandBuffer cmd, cvk_erro
 typedef struct cvk_renderer cvk_renderer;
 
 /* Draws `mesh` as its render description says (usually &scene->render): a shadow pass from
-   the key light into a depth map, then a lit pass with multisampling resolved into an sRGB
-   image that is copied into a host-visible buffer. Needs a queue family with graphics:
+   the key light into a depth map, then the lit pass — the cloth lit, shadowed and
+   multisampled, then resolved in linear light over the ground and sky (one sample per pixel:
+   they have no edges to smooth) into an sRGB image — copied into a host-visible buffer. Needs a queue family with graphics:
    on a compute-only queue it fails with CVK_ERROR_UNSUPPORTED. Fails with
    CVK_ERROR_DEVICE_LIMIT when the image, the shadow map or the sample count is more than the
    device allows. desc is copied; the mesh must outlive the renderer. Everything is created
@@ -482,7 +483,8 @@ CVK_API cvk_image cvk_renderer_get_image(const cvk_renderer* renderer);
 typedef struct cvk_render_timing {
     double mesh_ms;              /* mesh generation */
     double shadow_ms;            /* shadow pass */
-    double lit_ms;               /* lit pass and multisample resolve */
+    double lit_ms;               /* lit pass: the multisampled cloth, then its resolve over the
+                                    ground and sky */
     double readback_ms;          /* copy of the image into the host-visible buffer */
     double total_ms;
 } cvk_render_timing;
