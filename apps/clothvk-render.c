@@ -528,13 +528,13 @@ static int run(const options* o)
         cvk_scene_destroy(file);
         return APP_EXIT_FAILURE;
     }
-    /* Everything the input can get wrong is checked before the folder is made or anything is
-       simulated. */
+    /* Everything the input can get wrong (the device's limits included) is checked before the
+       folder is made or any frame simulated. */
     int status = check_size(&s, &render);
-    if (status == APP_EXIT_OK && !make_output_folder(o->out))
-        status = APP_EXIT_BAD_INPUT;
     if (status == APP_EXIT_OK)
         status = create_objects(&s, &render);
+    if (status == APP_EXIT_OK && !make_output_folder(o->out))
+        status = APP_EXIT_BAD_INPUT;
     if (status == APP_EXIT_OK)
         status = render_all(&s, frames);
     if (status == APP_EXIT_OK)
