@@ -191,23 +191,12 @@ static void default_view_direction(const double up[3], double out[3])
     normalize(out);
 }
 
-/* The points the view must hold: the reach's corners and, on the ground, the footprint
-   below them, where the shadow falls when the light is high. */
-static int framing_points(const cvk_view* v, bool ground, double points[16][3])
+/* The points the view must hold: the reach's corners. */
+static int framing_points(const cvk_view* v, double points[8][3])
 {
-    int count = 0;
     for (int c = 0; c < 8; c++)
-        box_corner(&v->reach, c, points[count++]);
-    if (!ground)
-        return count;
-    for (int c = 0; c < 8; c++) {
-        double* p = points[count++];
-        box_corner(&v->reach, c, p);
-        double above = dot(p, v->up) - v->ground_height;
-        for (int k = 0; k < 3; k++)
-            p[k] -= v->up[k] * above;
-    }
-    return count;
+        box_corner(&v->reach, c, points[c]);
+    return 8;
 }
 
 /* Distance from target along `back` at which every point fits in the field of view. */
@@ -231,8 +220,8 @@ static double fit_distance(const cvk_view* v, const double back[3], double point
 
 static void place_camera(const cvk_render_desc* desc, cvk_view* v)
 {
-    double points[16][3];
-    int count = framing_points(v, desc->ground, points);
+    double points[8][3];
+    int count = framing_points(v, points);
     if (desc->auto_target) {
         cvk_box all;
         box_empty(&all);
@@ -402,6 +391,8 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
         size = fmax(size, v->reach.hi[k] - v->reach.lo[k]);
     size = fmax(size, 1e-3);
     v->ground_height = desc->auto_ground_height ? lowest - 0.05 * size : desc->ground_height;
+    /* A quarter of the power of ten nearest the scene's size: 25 cm squares for a 1 m cloth. */
+    v->ground_tile = 0.25 * pow(10.0, round(log10(size)));
 
     place_camera(desc, v);
     depth_range(v);

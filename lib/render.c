@@ -409,6 +409,7 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->fog[0] = (float)v->fog_start;
     u->fog[1] = (float)v->fog_end;
     u->fog[2] = d->ground ? 1.0f : 0.0f;
+    u->fog[3] = (float)v->ground_tile;
     u->shadow[0] = (float)d->shadow_map_size;
     u->shadow[1] = (float)v->shadow_texel;
     u->image[0] = (float)d->size[0];

@@ -38,8 +38,9 @@ cvk_scene_desc cvk_default_scene_desc(void)
     };
 }
 
-/* A warm key light high in front and to the right, a cool dim fill from the other side: the
-   lit side reads warm, the shaded side cool, and neither goes black. */
+/* A warm key light high in front and to the right, a cool dim fill from the front left (the
+   camera's side, so what the camera sees of the key light's dark side is lit too): the lit
+   side reads warm, the shaded side cool, and neither goes black. */
 cvk_render_desc cvk_default_render_desc(void)
 {
     return (cvk_render_desc){
@@ -51,8 +52,8 @@ cvk_render_desc cvk_default_render_desc(void)
         .up = {0.0f, 1.0f, 0.0f},
         .fov_y = 35.0f,
         .key = {.direction = {0.45f, 1.0f, 0.6f}, .color = {1.0f, 0.95f, 0.85f}},
-        .fill = {.direction = {-0.7f, 0.35f, -0.3f}, .color = {0.25f, 0.3f, 0.4f}},
-        .ambient = {0.06f, 0.065f, 0.08f},
+        .fill = {.direction = {-0.8f, 0.3f, 0.5f}, .color = {0.28f, 0.32f, 0.4f}},
+        .ambient = {0.1f, 0.105f, 0.12f},
         .background = {0.55f, 0.62f, 0.72f},
         .ground = true,
         .auto_ground_height = true,

@@ -19,6 +19,18 @@ layout(set = 0, binding = 2) uniform sampler2DMS cloth;
 
 layout(location = 0) out vec4 color;
 
+// A faint checkerboard of frame.fog.w-sized tiles, for a sense of scale and distance: the
+// squares' share of the pixel's footprint (a box filter of the pattern), so it fades to grey
+// far away instead of shimmering.
+float checker(vec3 ground, vec3 up)
+{
+    vec3 t = normalize(cross(up, abs(up.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
+    vec2 uv = vec2(dot(ground, t), dot(ground, cross(up, t))) / frame.fog.w;
+    vec2 w = fwidth(uv) + 1e-4;
+    vec2 i = 2.0 * (abs(fract((uv - 0.5 * w) * 0.5) - 0.5) - abs(fract((uv + 0.5 * w) * 0.5) - 0.5)) / w;
+    return 1.0 + 0.035 * i.x * i.y;
+}
+
 // The ground is flat and its lights directional, so its colour is two constants: only the
 // shadow and the fade vary over it.
 vec3 background(vec2 pixel)
@@ -32,12 +44,13 @@ vec3 background(vec2 pixel)
         return frame.background.rgb;
     // The ray's component along the view is 1: t is the hit's depth.
     float t = height / -toward;
+    vec3 ground = frame.eye.xyz + t * ray;
     vec3 lit = frame.ground_unlit.rgb;
     if (SHADOWED)
-        lit += frame.ground_key.rgb * key_visibility(frame.eye.xyz + t * ray, up, true);
+        lit += frame.ground_key.rgb * key_visibility(ground, up, true);
     else
         lit += frame.ground_key.rgb;
-    return mix(lit, frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
+    return mix(lit * checker(ground, up), frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
 }
 
 void main()

@@ -18,7 +18,8 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 ray_dx;           // xyz: its change per pixel to the right
     vec4 ray_dy;           // xyz: its change per pixel down
     vec4 fog;              // x, y: depth (along the view) where the ground starts and ends
-                           // fading into the background; z: 1 = draw the ground
+                           // fading into the background; z: 1 = draw the ground; w: the
+                           // side of its checkerboard's squares
     vec4 shadow;           // x: texels per side; y: m per texel
     vec4 image;            // xy: image size in pixels
     vec4 patch_corners[4]; // xyz: the ground under the shadow map, a quad (strip order)

@@ -34,7 +34,24 @@
  * 4. Read the particles back (cloth by cloth, row-major grid order, i fastest) and ask for
  *    statistics: residual, stretch, NaN count, GPU time per pass.
  *
- * 5. Destroy in reverse order: cvk_sim_destroy, cvk_scene_destroy, cvk_context_destroy.
+ * 5. See it. A mesh turns the particles into triangles and normals on the device, every
+ *    frame, with no trip through the host. Either clothvk draws it (shadow-mapped, two lights,
+ *    multisampled, sRGB) and hands you the pixels:
+ *
+ *        cvk_mesh* mesh;
+ *        cvk_mesh_create(sim, NULL, &mesh, &err);
+ *        cvk_renderer* renderer;
+ *        cvk_renderer_create(mesh, &scene.render, &renderer, &err);
+ *        cvk_renderer_draw(renderer, &err);     // or cvk_renderer_record into your buffer
+ *        cvk_image image = cvk_renderer_get_image(renderer);
+ *        cvk_image_write_png(&image, "frame.png", &err);
+ *
+ *    or you draw it with your own pipeline: cvk_mesh_record into your command buffer, one
+ *    barrier (see cvk_mesh_record), then bind the buffers of cvk_mesh_get_buffers.
+ *    examples/embed.c is a complete program that does that.
+ *
+ * 6. Destroy in reverse order: cvk_renderer_destroy, cvk_mesh_destroy, cvk_sim_destroy,
+ *    cvk_scene_destroy, cvk_context_destroy.
  *
  * Rules that hold everywhere
  * - Every fallible call returns a cvk_result; on failure the optional cvk_error receives the
