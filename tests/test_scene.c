@@ -938,6 +938,15 @@ static void test_shipped_scenes(void)
         CHECK_INT(d->cloths[0].pin_count, 0);
     }
     cvk_scene_destroy(scene);
+    scene = load_shipped(root, "demo.json");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK(!d->render.auto_eye && !d->render.auto_target && !d->render.auto_ground_height);
+        CHECK_INT(d->render.samples, 4);
+        CHECK_INT(d->render.size[0], 1280);
+        CHECK_INT(d->cloths[0].pin_count, 2);
+    }
+    cvk_scene_destroy(scene);
     scene = load_shipped(root, "hanging-stencil.json");
     if (scene) {
         const cvk_scene_desc* d = cvk_scene_get_desc(scene);
