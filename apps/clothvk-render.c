@@ -19,12 +19,13 @@ static void usage(FILE* out)
 {
     fprintf(out,
             "usage: clothvk-render SCENE -o DIR [--frames N] [--size WxH] [--every K]\n"
-            "                      [--set key.path=value]... [--quiet]\n"
+            "                      [--set key.path=value]... [--serial] [--quiet]\n"
             "  -o DIR         folder for frame_0000.png, frame_0001.png, ... (created if missing)\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
             "  --every K      write every K-th simulated frame, starting with frame 0 (default 1)\n"
             "  --size WxH     image size in pixels (default: the scene's render.size, 1280x720)\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
+            "  --serial       write each image before simulating the next (for timing)\n"
             "  --quiet        no progress line and no summary\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
@@ -39,6 +40,7 @@ typedef struct options {
     uint32_t size[2];
     const char* size_text;
     app_overrides overrides;
+    bool serial;
     bool quiet;
 } options;
 
@@ -105,6 +107,8 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 app_error(tool, "out of memory");
                 return APP_EXIT_FAILURE;
             }
+        } else if (!strcmp(a, "--serial")) {
+            o->serial = true;
         } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
             o->quiet = true;
         } else if (a[0] == '-' && a[1]) {
@@ -286,6 +290,16 @@ static bool writer_push(writer* w, const cvk_image* image, uint32_t frame)
     return true;
 }
 
+/* Waits until every queued image is written. */
+static void writer_drain(writer* w)
+{
+    pthread_mutex_lock(&w->lock);
+    for (int i = 0; i < SLOTS; i++)
+        while (w->full[i] && !w->failed)
+            pthread_cond_wait(&w->changed, &w->lock);
+    pthread_mutex_unlock(&w->lock);
+}
+
 /* Writes what is queued and stops the thread; returns false if any image failed. */
 static bool writer_finish(writer* w)
 {
@@ -434,6 +448,8 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
         cvk_image image = cvk_renderer_get_image(s->renderer);
         if (!writer_push(w, &image, i))
             break;
+        if (s->o->serial)
+            writer_drain(w);
         t->images++;
         t->sim_ms += t1 - t0;
         t->render_ms += t2 - t1;
@@ -458,8 +474,8 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
     if (t->timed)
         printf(" (mesh %.1f, shadow %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
                t->shadow_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
-    printf(", png %.1f ms (beside the next image's work); %.1f ms wall\n",
-           w->png_ms / (w->written ? w->written : 1), wall_ms / t->images);
+    printf(", png %.1f ms (%s); %.1f ms wall\n", w->png_ms / (w->written ? w->written : 1),
+           s->o->serial ? "alone" : "beside the next image's work", wall_ms / t->images);
 }
 
 static int render_all(run_state* s, uint32_t frames)
