@@ -8,10 +8,11 @@
    (seed 002's 4 x 4 iterations, 160 to 200 % stretch at the pins) hangs 1.30 times its rest
    distance below them. */
 #define REACH_STRETCH 1.35
-#define PI 3.14159265358979323846
 
 /* Pins a particle is checked against: any subset gives a box that still holds it. */
 #define REACH_MAX_PINS 64u
+
+#define PI 3.14159265358979323846
 
 /* ---- small vector helpers ---- */
 
@@ -166,6 +167,11 @@ static void camera_basis(const double eye[3], const double target[3], const doub
         back[k] = eye[k] - target[k];
     normalize(back);
     cross(up, back, right);
+    /* Looking straight along up (an automatic target below a given eye): any sideways will do. */
+    if (dot(right, right) < 1e-12) {
+        double other[3] = {fabs(back[0]) < 0.9 ? 1.0 : 0.0, fabs(back[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+        cross(other, back, right);
+    }
     normalize(right);
     cross(back, right, cam_up);
 }
@@ -398,17 +404,4 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
     depth_range(v);
     camera_matrix(v);
     light_matrix(v, shadow_map_size);
-}
-
-bool cvk_view_project(const cvk_view* v, const double p[3], double width, double height, double out[2])
-{
-    const float* m = v->view_proj;
-    double clip[4];
-    for (int r = 0; r < 4; r++)
-        clip[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
-    if (clip[3] <= 0.0)
-        return false;
-    out[0] = (clip[0] / clip[3] * 0.5 + 0.5) * width;
-    out[1] = (clip[1] / clip[3] * 0.5 + 0.5) * height;
-    return true;
 }

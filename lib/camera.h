@@ -45,9 +45,4 @@ void cvk_reach_box(const cvk_build* build, const double gravity[3], cvk_box* out
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
                       uint32_t shadow_map_size, cvk_view* out);
 
-/* Projects a world point with a view_proj matrix; returns false behind the camera. Pixel
-   coordinates: x right, y down, (0, 0) the top-left corner of the image. */
-bool cvk_view_project(const cvk_view* view, const double point[3], double width, double height,
-                      double out_pixel[2]);
-
 #endif
