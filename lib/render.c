@@ -52,7 +52,6 @@ typedef struct cvk_frame_uniforms {
     float ray_dy[4];
     float fog[4];
     float shadow[4];
-    float image[4];
     float patch_corners[4][4];
 } cvk_frame_uniforms;
 
@@ -412,8 +411,6 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->fog[3] = (float)v->ground_tile;
     u->shadow[0] = (float)d->shadow_map_size;
     u->shadow[1] = (float)v->shadow_texel;
-    u->image[0] = (float)d->size[0];
-    u->image[1] = (float)d->size[1];
     for (int i = 0; i < 4; i++)
         put3(u->patch_corners[i], v->patch[i], 1.0f);
 }

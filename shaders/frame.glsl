@@ -21,6 +21,5 @@ layout(std140, set = 0, binding = 0) uniform Frame {
                            // fading into the background; z: 1 = draw the ground; w: the
                            // side of its checkerboard's squares
     vec4 shadow;           // x: texels per side; y: m per texel
-    vec4 image;            // xy: image size in pixels
     vec4 patch_corners[4]; // xyz: the ground under the shadow map, a quad (strip order)
 } frame;
