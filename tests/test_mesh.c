@@ -2,8 +2,8 @@
    - a w x h grid has 2 (w − 1)(h − 1) triangles, every index names a vertex, each cloth's
      range follows the previous one, and a 1 x N rope has none;
    - vertex positions are the particles' positions bit for bit, in user order;
-   - on a flat cloth every normal is unit length and equals u_axis × v_axis normalised: the side
-     a key light from above lights when u × v points up;
+   - on a flat cloth every normal is unit length and equals u_axis × v_axis normalised; lying
+     flat with u × v up, they point to the side the default key light (from above) lights;
    - on a bumpy cloth normals are the area-weighted averages of the adjacent face normals
      (compared with a double-precision host computation);
    - a torn spring (its flag cleared, as tearing will do) turns exactly the triangles along it
@@ -172,6 +172,17 @@ static void flat_normals(cvk_context* ctx, const float u[3], const float v[3])
     }
     CHECK(worst < 1e-5, "u = [%g %g %g], v = [%g %g %g]: normals differ from u x v normalised by up to %g",
           u[0], u[1], u[2], v[0], v[1], v[2], worst);
+    /* Lying flat with u x v up, the cloth's normals face the default key light, which shines
+       from above: the side they point to is the lit side. */
+    if (n[1] > 0.99 * len) {
+        const float* key = cvk_default_render_desc().key.direction;
+        uint32_t away = 0;
+        for (uint32_t i = 0; i < d.info.vertex_count; i++) {
+            const float* normal = &d.vertices[8 * i + 4];
+            away += normal[0] * key[0] + normal[1] * key[1] + normal[2] * key[2] <= 0.0f;
+        }
+        CHECK(away == 0, "%u normals of a flat cloth face away from the key light above it", away);
+    }
     free_mesh(&d);
     cvk_mesh_destroy(mesh);
     cvk_sim_destroy(sim);
