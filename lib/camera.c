@@ -399,6 +399,13 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
     v->ground_height = desc->auto_ground_height ? lowest - 0.05 * size : desc->ground_height;
     /* A quarter of the power of ten nearest the scene's size: 25 cm squares for a 1 m cloth. */
     v->ground_tile = 0.25 * pow(10.0, round(log10(size)));
+    double reference[3] = {fabs(v->up[0]) < 0.9 ? 1.0 : 0.0, fabs(v->up[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+    cross(v->up, reference, v->ground_axes[0]);
+    normalize(v->ground_axes[0]);
+    cross(v->up, v->ground_axes[0], v->ground_axes[1]);
+    for (int a = 0; a < 2; a++)
+        for (int k = 0; k < 3; k++)
+            v->ground_axes[a][k] /= v->ground_tile;
 
     place_camera(desc, v);
     depth_range(v);

@@ -27,6 +27,7 @@ typedef struct cvk_view {
     double shadow_texel;               /* m covered by one shadow-map texel */
     double ground_height;              /* m along up */
     double ground_tile;                /* side of the ground's checkerboard squares, m */
+    double ground_axes[2][3];          /* along the ground, 1 / ground_tile long: checker space */
     double fog_start, fog_end;         /* depth along the view where the ground fades into the
                                           background, m */
     bool patch_visible;                /* the key light is above the ground */

@@ -20,7 +20,13 @@
 #include "shaders.h"
 
 #define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
+/* The cloth pass stores the square root of its linear colour (see lit_cloth.frag): about as
+   fine as sRGB in the dark, and the composite pass decodes a sample with one multiply instead
+   of an sRGB curve, four samples per pixel. */
+#define CLOTH_FORMAT VK_FORMAT_R8G8B8A8_UNORM
 #define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
+/* Marks the ground patch under the shadow map, so the rest of the ground skips those pixels. */
+#define STENCIL_FORMAT VK_FORMAT_S8_UINT
 /* 16 bits cover a few metres of light depth in 0.1 mm steps, and the constant depth bias
    means a fixed distance, unlike with a float format. */
 #define SHADOW_FORMAT VK_FORMAT_D16_UNORM
@@ -47,6 +53,7 @@ typedef struct cvk_frame_uniforms {
     float ground_plane[4];
     float ground_unlit[4];
     float ground_key[4];
+    float ground_axes[2][4];
     float ray_base[4];
     float ray_dx[4];
     float ray_dy[4];
@@ -62,7 +69,7 @@ struct cvk_renderer {
     cvk_view view;
     VkSampleCountFlagBits samples;
 
-    cvk_gpu_image shadow_map, cloth, cloth_depth, image;
+    cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
     VkRenderPass shadow_pass, cloth_pass, composite_pass;
     VkFramebuffer shadow_framebuffer, cloth_framebuffer, composite_framebuffer;
     VkSampler shadow_sampler, cloth_sampler;
@@ -143,8 +150,11 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
                         "render.samples: %s reads back %s samples per pixel, not %u",
                         ctx->properties.deviceName, counts, d->samples);
     }
-    cvk_result r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+    cvk_result r = check_format(ctx, CLOTH_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                 samples, "cloth", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, STENCIL_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_SAMPLE_COUNT_1_BIT,
+                         "stencil", error);
     if (r == CVK_SUCCESS)
         r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_SAMPLE_COUNT_1_BIT, "final", error);
@@ -167,7 +177,7 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
                                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                         VK_IMAGE_ASPECT_DEPTH_BIT, "shadow map", &rd->shadow_map, error);
     if (r == CVK_SUCCESS)
-        r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, rd->samples,
+        r = cvk_gpu_image_create(ctx, CLOTH_FORMAT, w, h, rd->samples,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                  VK_IMAGE_ASPECT_COLOR_BIT, "cloth image", &rd->cloth, error);
     if (r == CVK_SUCCESS)
@@ -179,6 +189,11 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
         r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                  VK_IMAGE_ASPECT_COLOR_BIT, "image", &rd->image, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, STENCIL_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                                 VK_IMAGE_ASPECT_STENCIL_BIT, "stencil", &rd->stencil, error);
     return r;
 }
 
@@ -259,7 +274,7 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
 {
     VkAttachmentDescription attachments[2] = {
         {
-            .format = COLOR_FORMAT,
+            .format = CLOTH_FORMAT,
             .samples = rd->samples,
             .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
             .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
@@ -315,38 +330,55 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
     return create_framebuffer(rd, rd->cloth_pass, views, 2, &rd->cloth_framebuffer, "cloth pass", error);
 }
 
-/* One sample per pixel: every pixel is drawn, so nothing is cleared. */
+/* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
 static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
 {
-    VkAttachmentDescription attachment = {
-        .format = COLOR_FORMAT,
-        .samples = VK_SAMPLE_COUNT_1_BIT,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-        .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    VkAttachmentDescription attachments[2] = {
+        {
+            .format = COLOR_FORMAT,
+            .samples = VK_SAMPLE_COUNT_1_BIT,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        },
+        {
+            .format = STENCIL_FORMAT,
+            .samples = VK_SAMPLE_COUNT_1_BIT,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        },
     };
     VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference stencil = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass = {
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
         .colorAttachmentCount = 1,
         .pColorAttachments = &color,
+        .pDepthStencilAttachment = &stencil,
     };
+    VkPipelineStageFlags output = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
     VkSubpassDependency dependencies[] = {
         /* The previous frame's copy out of the image, and its writes. */
-        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, 0},
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_TRANSFER_BIT | output, output, writes,
+         writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
         /* The image is copied out afterwards. */
         {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0},
     };
     VkRenderPassCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .attachmentCount = 1,
-        .pAttachments = &attachment,
+        .attachmentCount = 2,
+        .pAttachments = attachments,
         .subpassCount = 1,
         .pSubpasses = &subpass,
         .dependencyCount = 2,
@@ -355,8 +387,9 @@ static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
     VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->composite_pass);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateRenderPass (composite pass)", vr);
-    return create_framebuffer(rd, rd->composite_pass, &rd->image.view, 1, &rd->composite_framebuffer,
-                              "composite pass", error);
+    VkImageView views[2] = {rd->image.view, rd->stencil.view};
+    return create_framebuffer(rd, rd->composite_pass, views, 2, &rd->composite_framebuffer, "composite pass",
+                              error);
 }
 
 /* ---- uniforms, descriptors ----------------------------------------------------------------- */
@@ -402,6 +435,8 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
         u->ground_unlit[k] = (float)(d->ground_color[k] * (d->ambient[k] + fill * d->fill.color[k]));
         u->ground_key[k] = (float)(d->ground_color[k] * key * d->key.color[k]);
     }
+    put3(u->ground_axes[0], v->ground_axes[0], 0.0f);
+    put3(u->ground_axes[1], v->ground_axes[1], 0.0f);
     put3(u->ray_base, v->ray_base, 0.0f);
     put3(u->ray_dx, v->ray_dx, 0.0f);
     put3(u->ray_dy, v->ray_dy, 0.0f);
@@ -530,6 +565,7 @@ typedef struct pipeline_recipe {
     bool depth_test;
     VkCompareOp depth_compare;
     bool depth_bias;
+    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
     uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
 } pipeline_recipe;
 
@@ -613,11 +649,23 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
         .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
         .rasterizationSamples = p->samples,
     };
+    VkStencilOpState stencil = {
+        .failOp = VK_STENCIL_OP_KEEP,
+        .passOp = p->stencil > 0 ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
+        .depthFailOp = VK_STENCIL_OP_KEEP,
+        .compareOp = p->stencil > 0 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
+        .compareMask = 0xff,
+        .writeMask = 0xff,
+        .reference = p->stencil > 0 ? 1u : 0u,
+    };
     VkPipelineDepthStencilStateCreateInfo depth = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
         .depthTestEnable = p->depth_test,
         .depthWriteEnable = p->depth_test,
         .depthCompareOp = p->depth_compare,
+        .stencilTestEnable = p->stencil != 0,
+        .front = stencil,
+        .back = stencil,
     };
     VkPipelineColorBlendAttachmentState blend_attachment = {
         .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
@@ -662,16 +710,16 @@ static cvk_result create_pipelines(cvk_renderer* rd, cvk_error* error)
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, {0}},
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
         /* Reversed depth: nearer is greater. */
         {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, {rd->desc.ground}},
+         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false,
+         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
          {false, false, rd->desc.samples}},
         {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, {true, true, rd->desc.samples}},
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}},
     };
     VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->background_pipeline, &rd->patch_pipeline};
     for (size_t i = 0; i < sizeof recipes / sizeof recipes[0]; i++) {
@@ -749,14 +797,16 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     draw_cloths(rd, cmd, true);
     vkCmdEndRenderPass(cmd);
 
-    begin_pass(rd, cmd, rd->composite_pass, rd->composite_framebuffer, NULL, 0);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
-    /* Drawn again where a shadow can fall, this time reading the shadow map. */
+    VkClearValue stencil[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
+    begin_pass(rd, cmd, rd->composite_pass, rd->composite_framebuffer, stencil, 2);
+    /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
+       then everything else, which skips them. */
     if (rd->desc.ground && rd->view.patch_visible) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->patch_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);
     }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRenderPass(cmd);
 }
 
@@ -911,7 +961,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
         if (passes[i])
             vkDestroyRenderPass(dev, passes[i], NULL);
-    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->image};
+    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->image, &rd->stencil};
     for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
         cvk_gpu_image_destroy(rd->context, images[i]);
     cvk_buffer_destroy(rd->context, &rd->uniforms);

@@ -19,13 +19,12 @@ layout(set = 0, binding = 2) uniform sampler2DMS cloth;
 
 layout(location = 0) out vec4 color;
 
-// A faint checkerboard of frame.fog.w-sized tiles, for a sense of scale and distance: the
-// squares' share of the pixel's footprint (a box filter of the pattern), so it fades to grey
-// far away instead of shimmering.
-float checker(vec3 ground, vec3 up)
+// A faint checkerboard, for a sense of scale and distance: the squares' share of the pixel's
+// footprint (a box filter of the pattern), so it fades to grey far away instead of
+// shimmering.
+float checker(vec3 ground)
 {
-    vec3 t = normalize(cross(up, abs(up.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
-    vec2 uv = vec2(dot(ground, t), dot(ground, cross(up, t))) / frame.fog.w;
+    vec2 uv = vec2(dot(ground, frame.ground_axes[0].xyz), dot(ground, frame.ground_axes[1].xyz));
     vec2 w = fwidth(uv) + 1e-4;
     vec2 i = 2.0 * (abs(fract((uv - 0.5 * w) * 0.5) - 0.5) - abs(fract((uv + 0.5 * w) * 0.5) - 0.5)) / w;
     return 1.0 + 0.035 * i.x * i.y;
@@ -50,18 +49,22 @@ vec3 background(vec2 pixel)
         lit += frame.ground_key.rgb * key_visibility(ground, up, true);
     else
         lit += frame.ground_key.rgb;
-    return mix(lit * checker(ground, up), frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
+    return mix(lit * checker(ground), frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
 }
 
 void main()
 {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
+    // Samples hold the square root of linear light (lit_cloth.frag): squared, then averaged.
 #ifdef SINGLE_SAMPLE
     vec4 over = texelFetch(cloth, pixel, 0);
+    over.rgb *= over.rgb;
 #else
     vec4 over = vec4(0.0);
-    for (int s = 0; s < SAMPLES; s++)
-        over += texelFetch(cloth, pixel, s);
+    for (int s = 0; s < SAMPLES; s++) {
+        vec4 c = texelFetch(cloth, pixel, s);
+        over += vec4(c.rgb * c.rgb, c.a);
+    }
     over /= float(SAMPLES);
 #endif
     // The cloth pass cleared to transparent: `over` is premultiplied by its coverage.

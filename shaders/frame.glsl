@@ -14,12 +14,12 @@ layout(std140, set = 0, binding = 0) uniform Frame {
     vec4 ground_plane;     // xyz: up, the ground's unit normal; w: its height along up
     vec4 ground_unlit;     // rgb: the ground's colour without the key light (ambient, fill)
     vec4 ground_key;       // rgb: what the key light adds where nothing shadows it
+    vec4 ground_axes[2];   // xyz: along the ground, one checkerboard square long
     vec4 ray_base;         // xyz: the ray through pixel (0, 0), its component along the view 1
     vec4 ray_dx;           // xyz: its change per pixel to the right
     vec4 ray_dy;           // xyz: its change per pixel down
     vec4 fog;              // x, y: depth (along the view) where the ground starts and ends
-                           // fading into the background; z: 1 = draw the ground; w: the
-                           // side of its checkerboard's squares
+                           // fading into the background; z: 1 = draw the ground
     vec4 shadow;           // x: texels per side; y: m per texel
     vec4 patch_corners[4]; // xyz: the ground under the shadow map, a quad (strip order)
 } frame;
