@@ -46,7 +46,7 @@ vec3 background(vec2 pixel)
     vec3 ground = frame.eye.xyz + t * ray;
     vec3 lit = frame.ground_unlit.rgb;
     if (SHADOWED)
-        lit += frame.ground_key.rgb * key_visibility(ground, up, true);
+        lit += frame.ground_key.rgb * key_visibility(ground, up);
     else
         lit += frame.ground_key.rgb;
     return mix(lit * checker(ground), frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));

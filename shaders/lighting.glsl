@@ -4,14 +4,12 @@
 layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
 
 // Fraction of the key light that reaches `world`, by percentage-closer filtering: depth
-// comparisons around the point's place in the shadow map, weighted so the result varies
-// smoothly as the point moves (soft edges instead of stepped texels). WIDE reads a 4 x 4 texel
-// footprint with four gathers, each texel weighted by how much of a 3-texel box around the
-// point covers it; otherwise one gather, bilinear over 2 x 2 texels (a CPU device pays for
-// every gather, and the cloth is shaded once per sample). The point first moves off the
-// surface along its normal by about a texel (normal offset), so a lit face never shadows
-// itself.
-float key_visibility(vec3 world, vec3 n, bool wide)
+// comparisons over a 4 x 4 texel footprint read with four gathers, each texel weighted by how
+// much of a 3-texel box around the point covers it. The box slides with the point, so the
+// result varies smoothly as the point moves: soft edges instead of stepped texels. The point
+// first moves off the surface along its normal by about a texel (normal offset), so a lit
+// face never shadows itself.
+float key_visibility(vec3 world, vec3 n)
 {
     float texel = frame.shadow.y;
     vec4 c = frame.light_view_proj * vec4(world + n * (1.5 * texel), 1.0);
@@ -23,14 +21,10 @@ float key_visibility(vec3 world, vec3 n, bool wide)
     vec2 base = floor(t);
     vec2 f = t - base;
     vec2 inv = vec2(1.0 / size);
-    // Gather order: (i0, j1), (i1, j1), (i1, j0), (i0, j0).
-    if (!wide) {
-        vec4 g = textureGather(shadow_map, (base + 1.0) * inv, depth);
-        return mix(mix(g.w, g.z, f.x), mix(g.x, g.y, f.x), f.y);
-    }
     // Per column (and row) of the footprint base - 1 .. base + 2: 1 - f, 1, 1, f.
     vec4 wx = vec4(1.0 - f.x, 1.0, 1.0, f.x);
     vec4 wy = vec4(1.0 - f.y, 1.0, 1.0, f.y);
+    // Gather order: (i0, j1), (i1, j1), (i1, j0), (i0, j0).
     vec4 a = textureGather(shadow_map, base * inv, depth);
     vec4 b = textureGather(shadow_map, (base + vec2(2.0, 0.0)) * inv, depth);
     vec4 c2 = textureGather(shadow_map, (base + vec2(0.0, 2.0)) * inv, depth);

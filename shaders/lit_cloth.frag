@@ -26,7 +26,7 @@ void main()
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
     if (!gl_FrontFacing)
         n = -n;
-    float visible = dot(n, frame.key_direction.xyz) > 0.0 ? key_visibility(world, n, false) : 0.0;
+    float visible = dot(n, frame.key_direction.xyz) > 0.0 ? key_visibility(world, n) : 0.0;
     // Stored as the square root of linear light: the composite pass squares it back before
     // averaging the samples, and 8 bits of it are about as fine in the dark as sRGB.
     color = vec4(sqrt(clamp(shade(world, n, material.albedo.rgb, 0.12, visible), 0.0, 1.0)), 1.0);
