@@ -461,11 +461,12 @@ typedef struct cvk_renderer cvk_renderer;
 /* Draws `mesh` as its render description says (usually &scene->render): a shadow pass from
    the key light into a depth map, then the lit pass — the cloth lit, shadowed and
    multisampled, then resolved in linear light over the ground and sky (one sample per pixel:
-   they have no edges to smooth) into an sRGB image — copied into a host-visible buffer. Needs a queue family with graphics:
-   on a compute-only queue it fails with CVK_ERROR_UNSUPPORTED. Fails with
-   CVK_ERROR_DEVICE_LIMIT when the image, the shadow map or the sample count is more than the
-   device allows. desc is copied; the mesh must outlive the renderer. Everything is created
-   here, pipelines compiled and one frame drawn: no frame creates anything. */
+   they have no edges to smooth) into an sRGB image — copied into a host-visible buffer.
+   Needs a queue family with graphics: on a compute-only queue it fails with
+   CVK_ERROR_UNSUPPORTED. Fails with CVK_ERROR_DEVICE_LIMIT when the image, the shadow map or
+   the sample count is more than the device allows. desc is copied; the mesh must outlive the
+   renderer. Everything is created here, pipelines compiled and one frame drawn: no frame
+   creates anything. */
 CVK_API cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc,
                                        cvk_renderer** out_renderer, cvk_error* error);
 CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);
@@ -473,8 +474,9 @@ CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);
 /* Records one frame into `cmd` (recording, outside a render pass, from a pool of the
    context's queue family): the mesh generation (cvk_mesh_record and its barrier), a barrier
    from the compute shader to vertex input, the shadow pass, the lit pass, a copy of the image
-   into the renderer's host-visible buffer and a barrier from that copy to HOST reads. Record
-   it after cvk_sim_record to draw the frame just simulated. The renderer's images, buffers and
+   into the renderer's host-visible buffer and a barrier from that copy to HOST reads (so do
+   not record cvk_mesh_record for it yourself). Record it after cvk_sim_record to draw the
+   frame just simulated. The renderer's images, buffers and
    timestamp queries are its own; the render passes order every access to them, frame after
    frame. One submission of a renderer's frame may be in flight at a time. Graphics and compute
    state you bound before the call is lost. */
@@ -521,7 +523,8 @@ typedef struct cvk_render_view {
 CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
 
 /* Writes an image as a PNG file: to a temporary name in the same folder, then renamed, so the
-   file is complete or absent. Compression is fast (zlib level 2), not smallest. */
+   file is complete or absent. An opaque image (every alpha 255) is written as RGB.
+   Compression is fast (zlib level 2), not smallest. */
 CVK_API cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error);
 
 #ifdef __cplusplus
