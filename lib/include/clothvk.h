@@ -226,8 +226,8 @@ typedef struct cvk_light {
    they can hang) from the front, above and to the right, lit by a key light from above. */
 typedef struct cvk_render_desc {
     uint32_t size[2];            /* image width and height in pixels; usually [1280, 720] */
-    bool auto_eye;               /* true: the eye is placed so that the reach and its shadow fill
-                                    the view; false: eye below. Usually true */
+    bool auto_eye;               /* true: the eye is placed so that the reach fills the view;
+                                    false: eye below. Usually true */
     float eye[3];                /* camera position, m */
     bool auto_target;            /* true: the camera looks at the middle of the reach; usually true */
     float target[3];             /* point the camera looks at, m */
