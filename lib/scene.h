@@ -21,6 +21,9 @@ void cvk_key_path(char out[CVK_KEY_PATH_MAX], const char* format, ...) __attribu
 /* true when desc is valid; otherwise fills issue with the first problem found. */
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 
+/* The same for a render description alone; paths start with "render.". */
+bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
+
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
 
