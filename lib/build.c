@@ -276,7 +276,8 @@ cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_err
         uint32_t colours = cvk_grid_colour_count(g->shear, g->bend);
         if (colours > b->colour_count)
             b->colour_count = colours;
-        b->cloths[c] = (cvk_cloth_range){first, {cloth->grid[0], cloth->grid[1]}};
+        b->cloths[c] = (cvk_cloth_range){first, {cloth->grid[0], cloth->grid[1]}, cloth->rest_scale,
+                                         {cloth->color[0], cloth->color[1], cloth->color[2]}};
         first += (uint32_t)cloth_particles(cloth);
     }
 

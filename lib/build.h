@@ -27,6 +27,8 @@ typedef struct cvk_spring {
 typedef struct cvk_cloth_range {
     uint32_t first_user;   /* index of particle [0,0] in user order */
     uint32_t grid[2];
+    float rest_scale;      /* for the renderer: how far the cloth can reach */
+    float color[3];        /* linear RGB, for the renderer */
 } cvk_cloth_range;
 
 typedef struct cvk_build {

@@ -285,6 +285,7 @@ static cvk_result read_device_facts(cvk_context* context, cvk_error* error)
                         "queue family %u does not support compute", context->queue_family);
     context->timestamp_valid_bits =
         context->properties.limits.timestampComputeAndGraphics ? family.timestampValidBits : 0;
+    context->graphics = (family.queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0;
     return CVK_SUCCESS;
 }
 
@@ -379,10 +380,23 @@ cvk_context_info cvk_context_get_info(const cvk_context* context)
         .timestamps = context->timestamp_valid_bits != 0,
         .subgroup_size = context->subgroup_size,
         .max_particles = cvk_context_max_particles(context),
+        .graphics = context->graphics,
+        .max_image_size = cvk_context_max_image_size(context),
     };
 }
 
 uint32_t cvk_context_validation_message_count(const cvk_context* context)
 {
     return atomic_load(&context->validation_messages);
+}
+
+uint32_t cvk_context_max_image_size(const cvk_context* context)
+{
+    const VkPhysicalDeviceLimits* limits = &context->properties.limits;
+    uint32_t size = limits->maxImageDimension2D;
+    if (limits->maxFramebufferWidth < size)
+        size = limits->maxFramebufferWidth;
+    if (limits->maxFramebufferHeight < size)
+        size = limits->maxFramebufferHeight;
+    return size;
 }

@@ -19,6 +19,7 @@ struct cvk_context {
     VkPhysicalDeviceProperties properties;
     VkPhysicalDeviceMemoryProperties memory;
     uint32_t timestamp_valid_bits; /* 0: the queue family cannot write timestamps */
+    bool graphics;                 /* the queue family can draw (the renderer needs it) */
     uint32_t subgroup_size;
 
     cvk_log_fn log;
@@ -28,5 +29,9 @@ struct cvk_context {
 
 /* Largest particle count whose per-particle arrays fit the device's buffer limits. */
 uint64_t cvk_context_max_particles(const cvk_context* context);
+
+/* Largest image width and height the renderer can draw: the smaller of maxImageDimension2D
+   and the framebuffer limits. */
+uint32_t cvk_context_max_image_size(const cvk_context* context);
 
 #endif

@@ -1,9 +1,28 @@
 #include "gpu.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "error.h"
+
+/* A failed Vulkan call, with what it was for in front: "positions (160000 bytes): ...". */
+static cvk_result fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
+    __attribute__((format(printf, 4, 5)));
+static cvk_result fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
+{
+    cvk_result r = cvk_fail_vk(error, call, vr);
+    if (error) {
+        char what[256];
+        va_list args;
+        va_start(args, format);
+        vsnprintf(what, sizeof what, format, args);
+        va_end(args);
+        cvk_error_prefix(error, "%s", what);
+    }
+    return r;
+}
 
 static int find_memory_type(const cvk_context* context, uint32_t allowed, VkMemoryPropertyFlags want)
 {
@@ -27,11 +46,9 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
     };
     VkResult vr = vkCreateBuffer(context->device, &info, NULL, &out->buffer);
-    if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateBuffer", vr);
-        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)out->size);
-        return error ? error->result : CVK_ERROR_VULKAN;
-    }
+    if (vr != VK_SUCCESS)
+        return fail_vk_for(error, "vkCreateBuffer", vr, "%s (%llu bytes)", what,
+                           (unsigned long long)out->size);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(context->device, out->buffer, &req);
     int type = -1;
@@ -65,9 +82,8 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
         vr = vkMapMemory(context->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
     if (vr != VK_SUCCESS) {
         cvk_buffer_destroy(context, out);
-        cvk_fail_vk(error, "allocating buffer memory", vr);
-        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)req.size);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return fail_vk_for(error, "allocating buffer memory", vr, "%s (%llu bytes)", what,
+                           (unsigned long long)req.size);
     }
     return CVK_SUCCESS;
 }
@@ -94,9 +110,7 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
     VkShaderModule module;
     VkResult vr = vkCreateShaderModule(context->device, &module_info, NULL, &module);
     if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateShaderModule", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return fail_vk_for(error, "vkCreateShaderModule", vr, "%s", what);
     }
     VkSpecializationMapEntry entries[8];
     for (uint32_t i = 0; i < spec->count; i++)
@@ -124,9 +138,7 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
     vkDestroyShaderModule(context->device, module, NULL);
     if (vr != VK_SUCCESS) {
         *out = VK_NULL_HANDLE;
-        cvk_fail_vk(error, "vkCreateComputePipelines", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return fail_vk_for(error, "vkCreateComputePipelines", vr, "%s", what);
     }
     return CVK_SUCCESS;
 }
@@ -204,4 +216,135 @@ void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAcce
         .dstAccessMask = dst_access,
     };
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 1, &barrier, 0, NULL, 0, NULL);
+}
+
+cvk_result cvk_command_buffer_begin(VkCommandBuffer cmd, VkCommandBufferUsageFlags flags,
+                                    cvk_error* error)
+{
+    VkCommandBufferBeginInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+        .flags = flags,
+    };
+    VkResult vr = vkBeginCommandBuffer(cmd, &info);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkBeginCommandBuffer", vr);
+}
+
+cvk_result cvk_command_buffer_end(VkCommandBuffer cmd, cvk_error* error)
+{
+    VkResult vr = vkEndCommandBuffer(cmd);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkEndCommandBuffer", vr);
+}
+
+cvk_result cvk_buffer_view_create(cvk_context* context, const cvk_buffer* buffer, VkFormat format,
+                                  VkBufferView* out, cvk_error* error)
+{
+    VkBufferViewCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+        .buffer = buffer->buffer,
+        .format = format,
+        .range = VK_WHOLE_SIZE,
+    };
+    VkResult vr = vkCreateBufferView(context->device, &info, NULL, out);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateBufferView", vr);
+}
+
+cvk_result cvk_buffer_upload(cvk_context* context, cvk_submitter* submitter, VkCommandBuffer cmd,
+                             cvk_buffer* dst, const void* data, VkDeviceSize size, cvk_error* error)
+{
+    if (size == 0)
+        return CVK_SUCCESS;
+    cvk_buffer staging;
+    cvk_result r = cvk_buffer_create(context, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, CVK_MEMORY_HOST,
+                                     "staging", &staging, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    memcpy(staging.mapped, data, size);
+    r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r == CVK_SUCCESS) {
+        VkBufferCopy region = {0, 0, size};
+        vkCmdCopyBuffer(cmd, staging.buffer, dst->buffer, 1, &region);
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+        r = cvk_command_buffer_end(cmd, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_submit_and_wait(context, submitter, &cmd, 1, error);
+    cvk_buffer_destroy(context, &staging);
+    return r;
+}
+
+cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
+                                VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                                VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
+                                cvk_error* error)
+{
+    memset(out, 0, sizeof *out);
+    VkImageCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
+        .imageType = VK_IMAGE_TYPE_2D,
+        .format = format,
+        .extent = {width, height, 1},
+        .mipLevels = 1,
+        .arrayLayers = 1,
+        .samples = samples,
+        .tiling = VK_IMAGE_TILING_OPTIMAL,
+        .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+    };
+    VkResult vr = vkCreateImage(context->device, &info, NULL, &out->image);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateImage", vr);
+        cvk_error_prefix(error, "%s (%u x %u)", what, width, height);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(context->device, out->image, &req);
+    int type = find_memory_type(context, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (type < 0)
+        type = find_memory_type(context, req.memoryTypeBits, 0);
+    if (type < 0) {
+        cvk_gpu_image_destroy(context, out);
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
+    }
+    VkMemoryAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req.size,
+        .memoryTypeIndex = (uint32_t)type,
+    };
+    vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
+    if (vr == VK_SUCCESS)
+        vr = vkBindImageMemory(context->device, out->image, out->memory, 0);
+    if (vr != VK_SUCCESS) {
+        cvk_gpu_image_destroy(context, out);
+        cvk_fail_vk(error, "allocating image memory", vr);
+        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)req.size);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    VkImageViewCreateInfo view = {
+        .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
+        .image = out->image,
+        .viewType = VK_IMAGE_VIEW_TYPE_2D,
+        .format = format,
+        .subresourceRange = {aspect, 0, 1, 0, 1},
+    };
+    vr = vkCreateImageView(context->device, &view, NULL, &out->view);
+    if (vr != VK_SUCCESS) {
+        cvk_gpu_image_destroy(context, out);
+        cvk_fail_vk(error, "vkCreateImageView", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image)
+{
+    if (image->view)
+        vkDestroyImageView(context->device, image->view, NULL);
+    if (image->image)
+        vkDestroyImage(context->device, image->image, NULL);
+    if (image->memory)
+        vkFreeMemory(context->device, image->memory, NULL);
+    memset(image, 0, sizeof *image);
 }

@@ -22,6 +22,19 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
                              cvk_error* error);
 void cvk_buffer_destroy(cvk_context* context, cvk_buffer* buffer);
 
+/* A device-local image with one view over all of it. */
+typedef struct cvk_gpu_image {
+    VkImage image;
+    VkDeviceMemory memory;
+    VkImageView view;
+} cvk_gpu_image;
+
+cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
+                                VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                                VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
+                                cvk_error* error);
+void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image);
+
 /* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ... */
 typedef struct cvk_spec {
     uint32_t values[8];
@@ -46,6 +59,20 @@ cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* subm
 /* Submits `count` command buffers (one batch, in order) and waits for them. */
 cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
                                const VkCommandBuffer* cmds, uint32_t count, cvk_error* error);
+
+/* Copies `size` bytes from the host into `dst` through a temporary staging buffer and waits;
+   compute shaders may read them afterwards. For tables written once at creation. */
+cvk_result cvk_buffer_upload(cvk_context* context, cvk_submitter* submitter, VkCommandBuffer cmd,
+                             cvk_buffer* dst, const void* data, VkDeviceSize size, cvk_error* error);
+
+/* A buffer view over a whole buffer (texel buffers). */
+cvk_result cvk_buffer_view_create(cvk_context* context, const cvk_buffer* buffer, VkFormat format,
+                                  VkBufferView* out, cvk_error* error);
+
+/* vkBeginCommandBuffer and vkEndCommandBuffer, reporting failure through cvk_error. */
+cvk_result cvk_command_buffer_begin(VkCommandBuffer cmd, VkCommandBufferUsageFlags flags,
+                                    cvk_error* error);
+cvk_result cvk_command_buffer_end(VkCommandBuffer cmd, cvk_error* error);
 
 /* One global memory barrier between two stages. */
 void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src_access,

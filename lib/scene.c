@@ -33,7 +33,34 @@ cvk_scene_desc cvk_default_scene_desc(void)
         },
         .cloths = NULL,
         .cloth_count = 0,
+        .render = cvk_default_render_desc(),
         .cookie_ = scene_cookie,
+    };
+}
+
+/* A warm key light high in front and to the right, a cool dim fill from the front left (the
+   camera's side, so what the camera sees of the key light's dark side is lit too): the lit
+   side reads warm, the shaded side cool, and neither goes black. */
+cvk_render_desc cvk_default_render_desc(void)
+{
+    return (cvk_render_desc){
+        .size = {1280, 720},
+        .auto_eye = true,
+        .eye = {0.0f, 0.0f, 0.0f},
+        .auto_target = true,
+        .target = {0.0f, 0.0f, 0.0f},
+        .up = {0.0f, 1.0f, 0.0f},
+        .fov_y = 35.0f,
+        .key = {.direction = {0.45f, 1.0f, 0.6f}, .color = {1.0f, 0.95f, 0.85f}},
+        .fill = {.direction = {-0.8f, 0.3f, 0.5f}, .color = {0.28f, 0.32f, 0.4f}},
+        .ambient = {0.1f, 0.105f, 0.12f},
+        .background = {0.55f, 0.62f, 0.72f},
+        .ground = true,
+        .auto_ground_height = true,
+        .ground_height = 0.0f,
+        .ground_color = {0.6f, 0.6f, 0.58f},
+        .shadow_map_size = 2048,
+        .samples = 4,
     };
 }
 
@@ -314,6 +341,74 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0);
 }
 
+/* ---- the render block ---- */
+
+static bool check_direction(cvk_scene_issue* issue, const char* path, const float v[3])
+{
+    if (!check_finite_array(issue, path, v, 3))
+        return false;
+    if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
+        return issue_at(issue, path, "must not be zero, got [0, 0, 0]");
+    return true;
+}
+
+static bool check_light(const cvk_light* light, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    return check_direction(issue, join(path, base, "direction"), light->direction) &&
+           check_closed_array(issue, join(path, base, "color"), light->color, 3, 0.0, 100.0);
+}
+
+static bool check_render_size(const cvk_render_desc* r, cvk_scene_issue* issue)
+{
+    if (r->size[0] < 1 || r->size[1] < 1)
+        return issue_at(issue, "render.size", "each dimension must be at least 1, got [%" PRIu32 ", %" PRIu32 "]",
+                        r->size[0], r->size[1]);
+    if (r->shadow_map_size < 16 || r->shadow_map_size > 16384)
+        return issue_at(issue, "render.shadow_map_size", "must be from 16 to 16384, got %" PRIu32,
+                        r->shadow_map_size);
+    if (r->samples != 1 && r->samples != 2 && r->samples != 4 && r->samples != 8)
+        return issue_at(issue, "render.samples", "must be 1, 2, 4 or 8, got %" PRIu32, r->samples);
+    return true;
+}
+
+static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
+{
+    if (!check_finite_array(issue, "render.eye", r->eye, 3) ||
+        !check_finite_array(issue, "render.target", r->target, 3) ||
+        !check_direction(issue, "render.up", r->up) || !check_open(issue, "render.fov_y", r->fov_y, 0.0, 180.0))
+        return false;
+    if (r->auto_eye || r->auto_target)
+        return true;
+    float view[3] = {r->target[0] - r->eye[0], r->target[1] - r->eye[1], r->target[2] - r->eye[2]};
+    double vv = dot3(view, view);
+    double uu = dot3(r->up, r->up);
+    double vu = dot3(view, r->up);
+    if (!(vv > 0))
+        return issue_at(issue, "render.target", "must differ from render.eye, got [%g, %g, %g] for both",
+                        r->target[0], r->target[1], r->target[2]);
+    /* As for the cloth axes: the camera needs a sideways direction, up × view. */
+    if (vv * uu - vu * vu <= 1e-12 * vv * uu)
+        return issue_at(issue, "render.up", "must not be parallel to the view direction (target - eye), got "
+                        "[%g, %g, %g]", r->up[0], r->up[1], r->up[2]);
+    return true;
+}
+
+static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
+{
+    return check_render_size(r, issue) && check_camera(r, issue) && check_light(&r->key, "render.key", issue) &&
+           check_light(&r->fill, "render.fill", issue) &&
+           check_closed_array(issue, "render.ambient", r->ambient, 3, 0.0, 1.0) &&
+           check_closed_array(issue, "render.background", r->background, 3, 0.0, 1.0) &&
+           check_finite(issue, "render.ground_height", r->ground_height) &&
+           check_closed_array(issue, "render.ground_color", r->ground_color, 3, 0.0, 1.0);
+}
+
+bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)
+{
+    return check_render(desc, issue);
+}
+
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
 {
     if (desc->cookie_ != scene_cookie)
@@ -327,7 +422,7 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
         if (!check_cloth(&desc->cloths[i], i, &total, issue))
             return false;
     }
-    return true;
+    return check_render(&desc->render, issue);
 }
 
 cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error)

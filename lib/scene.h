@@ -23,6 +23,8 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 
 /* The solver part of cvk_scene_desc_check, for cvk_sim_set_solver; paths start "solver.". */
 bool cvk_solver_desc_check(const cvk_solver_desc* solver, cvk_scene_issue* issue);
+/* The same for a render description alone; paths start with "render.". */
+bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)

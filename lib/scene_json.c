@@ -502,6 +502,53 @@ static const field solver_fields[] = {
 };
 static const table solver_table = FIELDS(solver_fields);
 
+/* dest is the whole render description: an explicit eye, target or ground height replaces the
+   automatic one. */
+static cvk_result read_eye(reader* rd, const field* f, json_t* value, const char* path, void* dest)
+{
+    cvk_render_desc* render = dest;
+    render->auto_eye = false;
+    return read_floats(rd, f, value, path, render->eye);
+}
+
+static cvk_result read_target(reader* rd, const field* f, json_t* value, const char* path, void* dest)
+{
+    cvk_render_desc* render = dest;
+    render->auto_target = false;
+    return read_floats(rd, f, value, path, render->target);
+}
+
+static cvk_result read_ground_height(reader* rd, const field* f, json_t* value, const char* path, void* dest)
+{
+    cvk_render_desc* render = dest;
+    render->auto_ground_height = false;
+    return read_float(rd, f, value, path, &render->ground_height);
+}
+
+static const field light_fields[] = {
+    {.key = "direction", .read = read_floats, .offset = offsetof(cvk_light, direction), .count = 3},
+    {.key = "color", .read = read_floats, .offset = offsetof(cvk_light, color), .count = 3},
+};
+static const table light_table = FIELDS(light_fields);
+
+static const field render_fields[] = {
+    {.key = "size", .read = read_uints, .offset = offsetof(cvk_render_desc, size), .count = 2, .min = 1},
+    {.key = "eye", .read = read_eye, .offset = 0, .count = 3},
+    {.key = "target", .read = read_target, .offset = 0, .count = 3},
+    {.key = "up", .read = read_floats, .offset = offsetof(cvk_render_desc, up), .count = 3},
+    {.key = "fov_y", .read = read_float, .offset = offsetof(cvk_render_desc, fov_y)},
+    {.key = "key", .read = read_nested, .offset = offsetof(cvk_render_desc, key), .nested = &light_table},
+    {.key = "fill", .read = read_nested, .offset = offsetof(cvk_render_desc, fill), .nested = &light_table},
+    {.key = "ambient", .read = read_floats, .offset = offsetof(cvk_render_desc, ambient), .count = 3},
+    {.key = "background", .read = read_floats, .offset = offsetof(cvk_render_desc, background), .count = 3},
+    {.key = "ground", .read = read_bool, .offset = offsetof(cvk_render_desc, ground)},
+    {.key = "ground_height", .read = read_ground_height, .offset = 0},
+    {.key = "ground_color", .read = read_floats, .offset = offsetof(cvk_render_desc, ground_color), .count = 3},
+    {.key = "shadow_map_size", .read = read_uint, .offset = offsetof(cvk_render_desc, shadow_map_size), .min = 16},
+    {.key = "samples", .read = read_uint, .offset = offsetof(cvk_render_desc, samples), .min = 1},
+};
+static const table render_table = FIELDS(render_fields);
+
 static const field scene_fields[] = {
     {.key = "name", .read = read_string, .offset = offsetof(cvk_scene_desc, name)},
     {.key = "dt", .read = read_float, .offset = offsetof(cvk_scene_desc, dt)},
@@ -512,6 +559,7 @@ static const field scene_fields[] = {
     {.key = "damping", .read = read_float, .offset = offsetof(cvk_scene_desc, damping)},
     {.key = "solver", .read = read_nested, .offset = offsetof(cvk_scene_desc, solver), .nested = &solver_table},
     {.key = "cloths", .read = read_cloths, .offset = 0, .required = "a scene needs at least one cloth"},
+    {.key = "render", .read = read_nested, .offset = offsetof(cvk_scene_desc, render), .nested = &render_table},
 };
 static const table scene_table = FIELDS(scene_fields);
 

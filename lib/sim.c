@@ -140,6 +140,8 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
          VK_FORMAT_R32G32_UINT},
         {&s->adjacency_kl, entries * 4u, table, CVK_MEMORY_DEVICE, "adjacency k*L",
          &s->view_adjacency_kl, VK_FORMAT_R32_SFLOAT},
+        {&s->spring_alive, (VkDeviceSize)b->spring_count * 4u, table, CVK_MEMORY_DEVICE, "spring flags",
+         &s->view_spring_alive, VK_FORMAT_R32_UINT},
         {&s->staging, 2u * n16, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
          CVK_MEMORY_HOST, "staging", NULL, VK_FORMAT_UNDEFINED},
     };
@@ -222,6 +224,17 @@ static cvk_result upload(cvk_sim* s, cvk_buffer* dst, const void* data, VkDevice
 static cvk_result upload_static(cvk_sim* s, cvk_error* error)
 {
     const cvk_build* b = &s->build;
+    if (b->spring_count > 0) {
+        uint32_t* alive = malloc((size_t)b->spring_count * sizeof(uint32_t));
+        if (!alive)
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
+        for (uint32_t i = 0; i < b->spring_count; i++)
+            alive[i] = 1;
+        cvk_result r = upload(s, &s->spring_alive, alive, (size_t)b->spring_count * sizeof(uint32_t), error);
+        free(alive);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
     size_t entries = (size_t)b->max_degree * b->free_count;
     if (entries == 0)
         return CVK_SUCCESS;
@@ -785,12 +798,13 @@ void cvk_sim_destroy(cvk_sim* s)
         vkDestroyDescriptorSetLayout(dev, s->set_layout, NULL);
     cvk_submitter_destroy(s->context, &s->submitter);
     VkBufferView views[] = {s->view_positions, s->view_u[0], s->view_u[1], s->view_y,
-                            s->view_rhs, s->view_adjacency, s->view_adjacency_kl};
+                            s->view_rhs, s->view_adjacency, s->view_adjacency_kl,
+                            s->view_spring_alive};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&s->positions, &s->u[0], &s->u[1], &s->y, &s->rhs, &s->adjacency,
-                             &s->adjacency_kl, &s->staging};
+                             &s->adjacency_kl, &s->spring_alive, &s->staging};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     cvk_plan_destroy(&s->plan);

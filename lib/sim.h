@@ -27,8 +27,10 @@ struct cvk_sim {
        right-hand side. Adjacency: uvec2 (neighbour, bits of k) and float k·L per slot. */
     cvk_buffer positions, u[2], y, rhs;
     cvk_buffer adjacency, adjacency_kl;
+    cvk_buffer spring_alive; /* uint per spring of build.springs: 1, 0 once torn; the mesh reads it */
     cvk_buffer staging; /* host-visible, 2 vec4 per particle: uploads and readback */
     VkBufferView view_positions, view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
+    VkBufferView view_spring_alive;
 
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout pipeline_layout;

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The main job for a newcomer: set up, build, and simulate the default scene.
+# The main job for a newcomer: set up, build, and render the demo scene as a PNG sequence.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
-./build/apps/clothvk-sim assets/scenes/hanging.json "$@"
+./build/apps/clothvk-render assets/scenes/demo.json -o demo-frames --every 2 "$@"
+echo "demo: frames in demo-frames/; as a video:" \
+     "ffmpeg -framerate 30 -i demo-frames/frame_%04d.png -pix_fmt yuv420p demo.mp4"

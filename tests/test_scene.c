@@ -193,6 +193,22 @@ static void check_default_cloth(const cvk_cloth_desc* c)
     CHECK_FLOAT(c->color[2], 0.3f);
 }
 
+static void check_default_render(const cvk_render_desc* r)
+{
+    CHECK_INT(r->size[0], 1280);
+    CHECK_INT(r->size[1], 720);
+    CHECK(r->auto_eye);
+    CHECK(r->auto_target);
+    CHECK_FLOAT(r->up[1], 1.0f);
+    CHECK_FLOAT(r->fov_y, 35.0f);
+    CHECK(r->ground);
+    CHECK(r->auto_ground_height);
+    CHECK_INT(r->shadow_map_size, 2048);
+    CHECK_INT(r->samples, 4);
+    CHECK(r->key.direction[1] > 0.0f);
+    CHECK(r->key.color[0] > r->fill.color[0]);
+}
+
 static void test_defaults(void)
 {
     cvk_scene_desc scene = cvk_default_scene_desc();
@@ -202,6 +218,9 @@ static void test_defaults(void)
     check_default_scene(&scene);
     cvk_cloth_desc cloth = cvk_default_cloth_desc();
     check_default_cloth(&cloth);
+    check_default_render(&scene.render);
+    cvk_render_desc render = cvk_default_render_desc();
+    check_default_render(&render);
     fixture f;
     fixture_init(&f);
     EXPECT_DESC_VALID(&f.scene);
@@ -425,6 +444,105 @@ static void test_validate_pins(void)
 
 /* ---- JSON ---- */
 
+static void test_validate_render(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.scene.render.size[0] = 0;
+    EXPECT_DESC_INVALID(&f.scene, "render.size: each dimension must be at least 1, got [0, 720]");
+    fixture_init(&f);
+    f.scene.render.shadow_map_size = 8;
+    EXPECT_DESC_INVALID(&f.scene, "render.shadow_map_size: must be from 16 to 16384, got 8");
+    fixture_init(&f);
+    f.scene.render.samples = 3;
+    EXPECT_DESC_INVALID(&f.scene, "render.samples: must be 1, 2, 4 or 8, got 3");
+    fixture_init(&f);
+    f.scene.render.fov_y = 180.0f;
+    EXPECT_DESC_INVALID(&f.scene, "render.fov_y: must be greater than 0 and less than 180, got 180");
+    fixture_init(&f);
+    f.scene.render.up[0] = f.scene.render.up[1] = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "render.up: must not be zero, got [0, 0, 0]");
+    fixture_init(&f);
+    f.scene.render.eye[1] = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "render.eye.1: must be a finite number, got nan");
+    fixture_init(&f);
+    f.scene.render.key.direction[0] = f.scene.render.key.direction[1] = f.scene.render.key.direction[2] = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "render.key.direction: must not be zero, got [0, 0, 0]");
+    fixture_init(&f);
+    f.scene.render.fill.color[2] = -1.0f;
+    EXPECT_DESC_INVALID(&f.scene, "render.fill.color.2: must be between 0 and 100, got -1");
+    fixture_init(&f);
+    f.scene.render.background[0] = 1.5f;
+    EXPECT_DESC_INVALID(&f.scene, "render.background.0: must be between 0 and 1, got 1.5");
+    fixture_init(&f);
+    f.scene.render.ground_height = INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "render.ground_height: must be a finite number, got inf");
+
+    /* An explicit camera must see something: eye and target apart, up not along the view. */
+    fixture_init(&f);
+    f.scene.render.auto_eye = f.scene.render.auto_target = false;
+    f.scene.render.eye[1] = f.scene.render.target[1] = 1.0f;
+    EXPECT_DESC_INVALID(&f.scene, "render.target: must differ from render.eye, got [0, 1, 0] for both");
+    f.scene.render.eye[1] = 3.0f;
+    EXPECT_DESC_INVALID(&f.scene, "render.up: must not be parallel to the view direction (target - eye), got [0, 1, 0]");
+    f.scene.render.eye[2] = 3.0f;
+    EXPECT_DESC_VALID(&f.scene);
+}
+
+static void test_render_json(void)
+{
+    cvk_scene* scene = PARSE_OK("{'cloths': [{}], 'render': {'size': [320, 200], 'eye': [1, 2, 3], 'fov_y': 50,"
+                                " 'key': {'direction': [0, 1, 0], 'color': [2, 2, 2]}, 'fill': {'color': [0, 0, 0]},"
+                                " 'ambient': [0.1, 0.1, 0.1], 'background': [0, 0, 0], 'ground': false,"
+                                " 'ground_height': -1, 'ground_color': [1, 1, 1], 'shadow_map_size': 512,"
+                                " 'samples': 1, 'up': [0, 0, 1]}}");
+    if (scene) {
+        const cvk_render_desc* r = &cvk_scene_get_desc(scene)->render;
+        CHECK_INT(r->size[0], 320);
+        CHECK_INT(r->size[1], 200);
+        CHECK(!r->auto_eye);
+        CHECK(r->auto_target);
+        CHECK_FLOAT(r->eye[2], 3.0f);
+        CHECK_FLOAT(r->fov_y, 50.0f);
+        CHECK_FLOAT(r->key.color[1], 2.0f);
+        CHECK_FLOAT(r->fill.color[0], 0.0f);
+        CHECK_FLOAT(r->fill.direction[0], cvk_default_render_desc().fill.direction[0]);
+        CHECK(!r->ground);
+        CHECK(!r->auto_ground_height);
+        CHECK_FLOAT(r->ground_height, -1.0f);
+        CHECK_INT(r->shadow_map_size, 512);
+        CHECK_INT(r->samples, 1);
+        CHECK_FLOAT(r->up[2], 1.0f);
+    }
+    cvk_scene_destroy(scene);
+
+    const char* const size[] = {"render.size=[64, 48]", "render.target=[0, 1, 0]"};
+    scene = PARSE_OK_SET("{'cloths': [{}]}", size);
+    if (scene) {
+        const cvk_render_desc* r = &cvk_scene_get_desc(scene)->render;
+        CHECK_INT(r->size[0], 64);
+        CHECK(r->auto_eye);
+        CHECK(!r->auto_target);
+        CHECK_FLOAT(r->target[1], 1.0f);
+    }
+    cvk_scene_destroy(scene);
+
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'fov': 40}}",
+                   "t.json: render.fov: unknown key (expected one of: size, eye, target, up, fov_y, key, fill, "
+                   "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples)");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'key': {'colour': [1, 1, 1]}}}",
+                   "t.json: render.key.colour: unknown key (expected one of: direction, color)");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'size': [0, 10]}}",
+                   "t.json: render.size: each dimension must be at least 1, got [0, 10]");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'size': [-640, 480]}}",
+                   "t.json: render.size.0: must be at least 1, got -640");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'ground': 'yes'}}",
+                   "t.json: render.ground: expected true or false, got the string \"yes\"");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'eye': [0, 1, 0], 'target': [0, 1, 0]}}",
+                   "t.json: render.target: must differ from render.eye, got [0, 1, 0] for both");
+    EXPECT_SET_ERROR("{'cloths': [{}]}", "render.samples=16", "t.json: render.samples (from --set): must be 1, 2, 4 or 8, got 16");
+}
+
 static void test_minimal_json(void)
 {
     cvk_scene* scene = PARSE_OK("{'cloths': [{}]}");
@@ -552,7 +670,7 @@ static void test_unknown_keys(void)
 {
     EXPECT_INVALID("{'iterationz': 3, 'cloths': [{}]}",
                    "t.json: iterationz: unknown key (expected one of: name, dt, substeps, frames, integrate, "
-                   "gravity, damping, solver, cloths)");
+                   "gravity, damping, solver, cloths, render)");
     EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
                    "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay)");
@@ -820,6 +938,15 @@ static void test_shipped_scenes(void)
         CHECK_INT(d->cloths[0].pin_count, 0);
     }
     cvk_scene_destroy(scene);
+    scene = load_shipped(root, "demo.json");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK(!d->render.auto_eye && !d->render.auto_target && !d->render.auto_ground_height);
+        CHECK_INT(d->render.samples, 4);
+        CHECK_INT(d->render.size[0], 1280);
+        CHECK_INT(d->cloths[0].pin_count, 2);
+    }
+    cvk_scene_destroy(scene);
     scene = load_shipped(root, "hanging-stencil.json");
     if (scene) {
         const cvk_scene_desc* d = cvk_scene_get_desc(scene);
@@ -840,7 +967,9 @@ int main(void)
     test_validate_geometry();
     test_validate_material();
     test_validate_pins();
+    test_validate_render();
     test_minimal_json();
+    test_render_json();
     test_full_json();
     test_malformed_json();
     test_nonfinite_json();

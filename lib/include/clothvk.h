@@ -34,7 +34,24 @@
  * 4. Read the particles back (cloth by cloth, row-major grid order, i fastest) and ask for
  *    statistics: residual, stretch, NaN count, GPU time per pass.
  *
- * 5. Destroy in reverse order: cvk_sim_destroy, cvk_scene_destroy, cvk_context_destroy.
+ * 5. See it. A mesh turns the particles into triangles and normals on the device, every
+ *    frame, with no trip through the host. Either clothvk draws it (shadow-mapped, two lights,
+ *    multisampled, sRGB) and hands you the pixels:
+ *
+ *        cvk_mesh* mesh;
+ *        cvk_mesh_create(sim, NULL, &mesh, &err);
+ *        cvk_renderer* renderer;
+ *        cvk_renderer_create(mesh, &scene.render, &renderer, &err);
+ *        cvk_renderer_draw(renderer, &err);     // or cvk_renderer_record into your buffer
+ *        cvk_image image = cvk_renderer_get_image(renderer);
+ *        cvk_image_write_png(&image, "frame.png", &err);
+ *
+ *    or you draw it with your own pipeline: cvk_mesh_record into your command buffer, one
+ *    barrier (see cvk_mesh_record), then bind the buffers of cvk_mesh_get_buffers.
+ *    examples/embed.c is a complete program that does that.
+ *
+ * 6. Destroy in reverse order: cvk_renderer_destroy, cvk_mesh_destroy, cvk_sim_destroy,
+ *    cvk_scene_destroy, cvk_context_destroy.
  *
  * Rules that hold everywhere
  * - Every fallible call returns a cvk_result; on failure the optional cvk_error receives the
@@ -140,6 +157,8 @@ typedef struct cvk_context_info {
     bool timestamps;              /* true when GPU pass times can be measured */
     uint32_t subgroup_size;       /* informative only; the kernels do not depend on it */
     uint64_t max_particles;       /* largest particle count the device's buffer limits allow */
+    bool graphics;                /* true when the queue can draw: the renderer needs it */
+    uint32_t max_image_size;      /* largest image width and height the renderer can make */
 } cvk_context_info;
 
 CVK_API cvk_context_info cvk_context_get_info(const cvk_context* context);
@@ -196,6 +215,37 @@ typedef struct cvk_cloth_desc {
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 
+/* A directional light: parallel rays, like the sun. */
+typedef struct cvk_light {
+    float direction[3];          /* from the scene towards the light (normalised by the library) */
+    float color[3];              /* linear RGB intensity; [1, 1, 1] is full white */
+} cvk_light;
+
+/* How the renderer sees the scene: the "render" block of a scene file. The defaults frame the
+   scene's reach (where its cloths can go: their starting box and, below their pins, how far
+   they can hang) from the front, above and to the right, lit by a key light from above. */
+typedef struct cvk_render_desc {
+    uint32_t size[2];            /* image width and height in pixels; usually [1280, 720] */
+    bool auto_eye;               /* true: the eye is placed so that the reach fills the view;
+                                    false: eye below. Usually true */
+    float eye[3];                /* camera position, m */
+    bool auto_target;            /* true: the camera looks at the middle of the reach; usually true */
+    float target[3];             /* point the camera looks at, m */
+    float up[3];                 /* camera up and ground normal (normalised); usually [0, 1, 0] */
+    float fov_y;                 /* vertical field of view, degrees, in (0, 180); usually 35 */
+    cvk_light key;               /* casts the shadows */
+    cvk_light fill;              /* softer, no shadows: keeps the key light's dark side readable */
+    float ambient[3];            /* linear RGB light from everywhere */
+    float background[3];         /* linear RGB of the sky behind the scene */
+    bool ground;                 /* draw a ground plane that receives shadows; usually true */
+    bool auto_ground_height;     /* true: just below the reach; usually true */
+    float ground_height;         /* m along up (the plane is {x : x · up = ground_height}) */
+    float ground_color[3];       /* linear RGB */
+    uint32_t shadow_map_size;    /* texels per side of the key light's depth map, 16 to 16384;
+                                    usually 2048 */
+    uint32_t samples;            /* multisampling: 1, 2, 4 or 8 samples per pixel, usually 4 */
+} cvk_render_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;            /* for messages and output; may be NULL */
     float dt;                    /* substep length, s; > 0, usually 0.002 */
@@ -207,12 +257,14 @@ typedef struct cvk_scene_desc {
     cvk_solver_desc solver;
     const cvk_cloth_desc* cloths;
     uint32_t cloth_count;        /* ≥ 1 */
+    cvk_render_desc render;      /* read by the renderer only */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 
 /* Defaults: see the field comments and README.md. */
 CVK_API cvk_scene_desc cvk_default_scene_desc(void);
 CVK_API cvk_cloth_desc cvk_default_cloth_desc(void);
+CVK_API cvk_render_desc cvk_default_render_desc(void); /* the same as cvk_default_scene_desc().render */
 
 /* Checks every field; on failure the message starts with the key path ("cloths.0.mass: ..."). */
 CVK_API cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error);
@@ -256,6 +308,8 @@ typedef struct cvk_sim_desc {
 
 CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
                           cvk_error* error);
+/* Waits until the context's queue is idle (work you recorded may still use the simulation's
+   buffers), then frees everything the simulation made. */
 CVK_API void cvk_sim_destroy(cvk_sim* sim);
 
 /* Records `frames` frames (each dt · substeps of simulated time) into `cmd`, which must be
@@ -360,6 +414,151 @@ CVK_API void cvk_sim_get_timing(const cvk_sim* sim, cvk_sim_stats* out_stats);
 /* Writes a human-readable description of the step plan (passes, dispatches, workgroups)
    into `text`, truncated to `capacity` bytes; returns the length it needed. */
 CVK_API size_t cvk_sim_describe_plan(const cvk_sim* sim, char* text, size_t capacity);
+
+/* ----------------------------------------------------------------------------------------
+ * Mesh: triangles and vertex normals of the cloths, generated on the device
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct cvk_mesh cvk_mesh;
+
+/* Zero means default for every field. */
+typedef struct cvk_mesh_desc {
+    VkBufferUsageFlags vertex_usage; /* usage added to the vertex buffer's (vertex, storage,
+                                        transfer source), e.g. for your own compute pass */
+    VkBufferUsageFlags index_usage;  /* usage added to the index buffer's (index, storage,
+                                        transfer source) */
+} cvk_mesh_desc;
+
+/* Every cloth's triangles, in the vertex and index buffers the mesh owns. desc may be NULL.
+   The mesh reads the simulation's particles and must be destroyed before it. Works on a
+   compute-only queue (drawing is then up to you, on a queue that can). */
+CVK_API cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
+                                   cvk_error* error);
+CVK_API void cvk_mesh_destroy(cvk_mesh* mesh);
+
+/* The triangles of one cloth: a range of the index buffer, for one draw call. */
+typedef struct cvk_mesh_range {
+    uint32_t first_index;
+    uint32_t index_count;        /* 3 per triangle: 6 (grid[0] − 1)(grid[1] − 1) */
+} cvk_mesh_range;
+
+/* What to bind to draw the mesh. The buffers live until cvk_mesh_destroy. */
+typedef struct cvk_mesh_buffers {
+    VkBuffer vertex_buffer;      /* one vertex per particle, in the order of cvk_sim_read_positions
+                                    (cloth by cloth, row-major grid order, i fastest) */
+    uint32_t vertex_count;
+    uint32_t vertex_stride;      /* bytes from one vertex to the next: 32 */
+    uint32_t position_offset;    /* 0: position, 3 floats (VK_FORMAT_R32G32B32_SFLOAT), m; a 4th
+                                    float, 1, follows */
+    uint32_t normal_offset;      /* 16: unit normal, 3 floats, on the side of u_axis × v_axis;
+                                    zero at a vertex with no triangle; a 4th float, 0, follows */
+    VkBuffer index_buffer;       /* triangle lists; a triangle whose constraints are gone (torn)
+                                    has three equal indices, so it draws nothing */
+    VkIndexType index_type;      /* VK_INDEX_TYPE_UINT32 */
+    uint32_t index_count;        /* all cloths */
+    uint32_t cloth_count;
+    const cvk_mesh_range* cloths; /* one range per cloth, in scene order; owned by the mesh */
+} cvk_mesh_buffers;
+
+CVK_API cvk_mesh_buffers cvk_mesh_get_buffers(const cvk_mesh* mesh);
+
+/* Records the mesh generation — one compute dispatch that writes every vertex (position and
+   area-weighted normal) and every triangle from the current particles — into `cmd`, which is
+   recording, outside a render pass, from a pool of the context's queue family. Nothing is
+   submitted and nothing waits; record it after cvk_sim_record in the same command buffer (or
+   a later submission) and before your draw.
+
+   Synchronisation contract (the VkFFT model: the library records its own barriers, you record
+   the one into your stage):
+   - The library begins with one barrier from COMPUTE_SHADER (shader writes: the simulation's
+     positions) and, on a queue with graphics, VERTEX_INPUT (your earlier draws from these
+     buffers, a write-after-read hazard) to COMPUTE_SHADER (shader reads and writes).
+   - Its compute shader writes the vertex and index buffers (VK_ACCESS_SHADER_WRITE_BIT). It
+     binds its own compute pipeline, descriptor set and push constants: compute state you bound
+     before is lost. It ends without a trailing barrier.
+   - Before you draw, record a barrier from VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT /
+     VK_ACCESS_SHADER_WRITE_BIT to VK_PIPELINE_STAGE_VERTEX_INPUT_BIT /
+     VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT (or to whatever stage
+     reads the buffers).
+   - If a stage other than vertex input or a compute shader reads the buffers, make it finish
+     before the next cvk_mesh_record (an execution barrier from that stage to
+     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT). */
+CVK_API cvk_result cvk_mesh_record(cvk_mesh* mesh, VkCommandBuffer cmd, cvk_error* error);
+
+/* ----------------------------------------------------------------------------------------
+ * Renderer: offscreen images of the mesh, shadow-mapped, no window system
+ * ------------------------------------------------------------------------------------- */
+
+typedef struct cvk_renderer cvk_renderer;
+
+/* Draws `mesh` as its render description says (usually &scene->render): a shadow pass from
+   the key light into a depth map, then the lit pass — the cloth lit, shadowed and
+   multisampled, then resolved in linear light over the ground and sky (one sample per pixel:
+   they have no edges to smooth) into an sRGB image — copied into a host-visible buffer.
+   Needs a queue family with graphics: on a compute-only queue it fails with
+   CVK_ERROR_UNSUPPORTED. Fails with CVK_ERROR_DEVICE_LIMIT when the image, the shadow map or
+   the sample count is more than the device allows. desc is copied; the mesh must outlive the
+   renderer. Everything is created here, pipelines compiled and one frame drawn: no frame
+   creates anything. */
+CVK_API cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc,
+                                       cvk_renderer** out_renderer, cvk_error* error);
+CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);
+
+/* Records one frame into `cmd` (recording, outside a render pass, from a pool of the
+   context's queue family): the mesh generation (cvk_mesh_record and its barrier), a barrier
+   from the compute shader to vertex input, the shadow pass, the lit pass, a copy of the image
+   into the renderer's host-visible buffer and a barrier from that copy to HOST reads (so do
+   not record cvk_mesh_record for it yourself). Record it after cvk_sim_record to draw the
+   frame just simulated. The renderer's images, buffers and
+   timestamp queries are its own; the render passes order every access to them, frame after
+   frame. One submission of a renderer's frame may be in flight at a time. Graphics and compute
+   state you bound before the call is lost. */
+CVK_API cvk_result cvk_renderer_record(cvk_renderer* renderer, VkCommandBuffer cmd, cvk_error* error);
+
+/* Draws one frame of the current particles and waits: a command buffer recorded once, one
+   submission, one host wait. */
+CVK_API cvk_result cvk_renderer_draw(cvk_renderer* renderer, cvk_error* error);
+
+/* Pixels in memory: RGBA, 8 bits per channel, sRGB-encoded, rows top to bottom. */
+typedef struct cvk_image {
+    const uint8_t* pixels;
+    uint32_t width, height;
+    uint32_t row_bytes;          /* bytes from one row to the next, at least 4 · width */
+} cvk_image;
+
+/* The last frame drawn, in the renderer's host-visible buffer: valid until the next
+   submission of one of its frames (read it after cvk_renderer_draw returns, or after the
+   submission you recorded with cvk_renderer_record has completed). Alpha is 255. */
+CVK_API cvk_image cvk_renderer_get_image(const cvk_renderer* renderer);
+
+/* Device time of the last completed frame, per pass; < 0 where not measured. */
+typedef struct cvk_render_timing {
+    double mesh_ms;              /* mesh generation */
+    double shadow_ms;            /* shadow pass */
+    double lit_ms;               /* lit pass: the multisampled cloth, then its resolve over the
+                                    ground and sky */
+    double readback_ms;          /* copy of the image into the host-visible buffer */
+    double total_ms;
+} cvk_render_timing;
+
+CVK_API cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* renderer);
+
+/* Where the camera ended up once the automatic placement was done. */
+typedef struct cvk_render_view {
+    float eye[3], target[3], up[3];
+    float fov_y;                 /* degrees */
+    float view_proj[16];         /* world -> Vulkan clip space, column-major (x right, y down,
+                                    depth 1 at the near plane and 0 at the far one) */
+    float ground_height;         /* m along up */
+    float reach_min[3], reach_max[3]; /* the box the camera frames: where the cloths can go */
+} cvk_render_view;
+
+CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
+
+/* Writes an image as a PNG file: to a temporary name in the same folder, then renamed, so the
+   file is complete or absent. An opaque image (every alpha 255) is written as RGB.
+   Compression is fast (zlib level 2), not smallest. */
+CVK_API cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,583 @@
+/* clothvk-render: simulates a scene and writes every K-th frame as a PNG image. While the
+   device simulates and draws the next image, a second thread encodes and writes the last one,
+   so PNG encoding costs little wall time where a core is free. */
+#include <errno.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "clothvk.h"
+#include "common.h"
+
+static const char tool[] = "clothvk-render";
+
+static void usage(FILE* out)
+{
+    fprintf(out,
+            "usage: clothvk-render SCENE -o DIR [--frames N] [--size WxH] [--every K]\n"
+            "                      [--set key.path=value]... [--serial] [--quiet]\n"
+            "  -o DIR         folder for frame_0000.png, frame_0001.png, ... (created if missing)\n"
+            "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
+            "  --every K      write every K-th simulated frame, starting with frame 0 (default 1)\n"
+            "  --size WxH     image size in pixels (default: the scene's render.size, 1280x720)\n"
+            "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
+            "  --serial       write each image before simulating the next (for timing)\n"
+            "  --quiet        no progress line and no summary\n"
+            "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
+}
+
+typedef struct options {
+    const char* scene;
+    const char* out;
+    bool frames_set;
+    uint32_t frames;
+    uint32_t every;
+    bool size_set;
+    uint32_t size[2];
+    const char* size_text;
+    app_overrides overrides;
+    bool serial;
+    bool quiet;
+} options;
+
+/* "1280x720": two whole numbers of at least 1. The upper limit is the device's. */
+static bool parse_size(const char* text, uint32_t out[2])
+{
+    const char* x = strchr(text, 'x');
+    if (!x || x == text || strchr(x + 1, 'x'))
+        return false;
+    char width[16];
+    size_t n = (size_t)(x - text);
+    if (n >= sizeof width)
+        return false;
+    memcpy(width, text, n);
+    width[n] = '\0';
+    return app_parse_u32(width, 1, UINT32_MAX, &out[0]) && app_parse_u32(x + 1, 1, UINT32_MAX, &out[1]);
+}
+
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
+static int parse_args(int argc, char** argv, options* o, bool* done)
+{
+    o->every = 1;
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+        bool has_value = i + 1 < argc;
+        const char* value = has_value ? argv[i + 1] : "nothing";
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            *done = true;
+            return APP_EXIT_OK;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "%s: expected an output folder", a);
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->out = argv[++i];
+        } else if (!strcmp(a, "--frames")) {
+            if (!has_value || !app_parse_u32(value, 1, 100000000, &o->frames)) {
+                app_error(tool, "--frames: expected a whole number from 1 to 100000000, got %s", value);
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->frames_set = true;
+            i++;
+        } else if (!strcmp(a, "--every")) {
+            if (!has_value || !app_parse_u32(value, 1, 100000000, &o->every)) {
+                app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s", value);
+                return APP_EXIT_BAD_INPUT;
+            }
+            i++;
+        } else if (!strcmp(a, "--size")) {
+            if (!has_value || !parse_size(value, o->size)) {
+                app_error(tool, "--size: expected WIDTHxHEIGHT in pixels, each at least 1, got %s", value);
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->size_set = true;
+            o->size_text = argv[++i];
+        } else if (!strcmp(a, "--set")) {
+            const char* item = has_value ? argv[i + 1] : "";
+            if (!strchr(item, '=') || item[0] == '=') {
+                app_error(tool, "--set %s: expected key.path=value", item);
+                return APP_EXIT_BAD_INPUT;
+            }
+            if (!app_overrides_add(&o->overrides, argv[++i])) {
+                app_error(tool, "out of memory");
+                return APP_EXIT_FAILURE;
+            }
+        } else if (!strcmp(a, "--serial")) {
+            o->serial = true;
+        } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
+            o->quiet = true;
+        } else if (a[0] == '-' && a[1]) {
+            app_error(tool, "unknown option %s (see --help)", a);
+            return APP_EXIT_BAD_INPUT;
+        } else if (o->scene) {
+            app_error(tool, "one scene file expected, got %s and %s", o->scene, a);
+            return APP_EXIT_BAD_INPUT;
+        } else {
+            o->scene = a;
+        }
+    }
+    if (!o->scene) {
+        app_error(tool, "no scene file given");
+        usage(stderr);
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (!o->out) {
+        app_error(tool, "no output folder given (-o DIR)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    return APP_EXIT_OK;
+}
+
+/* ---- the output folder ---------------------------------------------------------------- */
+
+/* mkdir -p, then a probe file: the folder must take new files, whoever runs the tool. */
+static bool make_output_folder(const char* path)
+{
+    char* copy = strdup(path);
+    if (!copy) {
+        app_error(tool, "out of memory");
+        return false;
+    }
+    for (char* p = copy + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(copy, 0777) != 0 && errno != EEXIST) {
+            app_error(tool, "%s: cannot create the output folder: %s", path, strerror(errno));
+            free(copy);
+            return false;
+        }
+        *p = '/';
+    }
+    free(copy);
+    if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+        app_error(tool, "%s: cannot create the output folder: %s", path, strerror(errno));
+        return false;
+    }
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        app_error(tool, "%s: exists and is not a folder", path);
+        return false;
+    }
+    size_t len = strlen(path);
+    char* probe = malloc(len + 32);
+    if (!probe) {
+        app_error(tool, "out of memory");
+        return false;
+    }
+    snprintf(probe, len + 32, "%s/.clothvk-render-XXXXXX", path);
+    int fd = mkstemp(probe);
+    if (fd < 0) {
+        app_error(tool, "%s: cannot write into the output folder: %s", path, strerror(errno));
+        free(probe);
+        return false;
+    }
+    close(fd);
+    unlink(probe);
+    free(probe);
+    return true;
+}
+
+/* ---- the writer thread: encodes and writes images while the device works on the next ---- */
+
+#define SLOTS 2
+
+typedef struct writer {
+    pthread_t thread;
+    pthread_mutex_t lock;
+    pthread_cond_t changed;
+    const char* folder;
+    uint32_t width, height;
+    uint8_t* pixels[SLOTS];
+    uint32_t frame[SLOTS];     /* image number of each queued slot */
+    bool full[SLOTS];
+    uint32_t next_in, next_out;
+    bool closing;
+    bool failed;
+    char message[600];
+    double png_ms;             /* summed over written images */
+    uint32_t written;
+} writer;
+
+static void* writer_main(void* user)
+{
+    writer* w = user;
+    size_t len = strlen(w->folder) + 32;
+    char* path = malloc(len);
+    pthread_mutex_lock(&w->lock);
+    for (;;) {
+        while (!w->full[w->next_out] && !w->closing)
+            pthread_cond_wait(&w->changed, &w->lock);
+        if (!w->full[w->next_out])
+            break;
+        uint32_t slot = w->next_out;
+        pthread_mutex_unlock(&w->lock);
+
+        cvk_image image = {w->pixels[slot], w->width, w->height, 4 * w->width};
+        cvk_error err;
+        double t0 = app_now_ms();
+        cvk_result r = CVK_ERROR_OUT_OF_MEMORY;
+        if (path) {
+            snprintf(path, len, "%s/frame_%04u.png", w->folder, w->frame[slot]);
+            r = cvk_image_write_png(&image, path, &err);
+        } else {
+            snprintf(err.message, sizeof err.message, "out of memory");
+        }
+        double ms = app_now_ms() - t0;
+
+        pthread_mutex_lock(&w->lock);
+        if (r != CVK_SUCCESS && !w->failed) {
+            w->failed = true;
+            snprintf(w->message, sizeof w->message, "%s", err.message);
+        }
+        w->png_ms += ms;
+        w->written += r == CVK_SUCCESS;
+        w->full[slot] = false;
+        w->next_out = (slot + 1) % SLOTS;
+        pthread_cond_broadcast(&w->changed);
+    }
+    pthread_mutex_unlock(&w->lock);
+    free(path);
+    return NULL;
+}
+
+static bool writer_start(writer* w, const char* folder, uint32_t width, uint32_t height)
+{
+    memset(w, 0, sizeof *w);
+    w->folder = folder;
+    w->width = width;
+    w->height = height;
+    for (int i = 0; i < SLOTS; i++) {
+        w->pixels[i] = malloc((size_t)width * height * 4);
+        if (!w->pixels[i])
+            return false;
+    }
+    pthread_mutex_init(&w->lock, NULL);
+    pthread_cond_init(&w->changed, NULL);
+    if (pthread_create(&w->thread, NULL, writer_main, w) != 0) {
+        pthread_cond_destroy(&w->changed);
+        pthread_mutex_destroy(&w->lock);
+        return false;
+    }
+    return true;
+}
+
+/* Copies the image into a free slot (waiting for one) and queues it; false once writing failed. */
+static bool writer_push(writer* w, const cvk_image* image, uint32_t frame)
+{
+    pthread_mutex_lock(&w->lock);
+    while (w->full[w->next_in] && !w->failed)
+        pthread_cond_wait(&w->changed, &w->lock);
+    bool ok = !w->failed;
+    uint32_t slot = w->next_in;
+    pthread_mutex_unlock(&w->lock);
+    if (!ok)
+        return false;
+    for (uint32_t y = 0; y < image->height; y++)
+        memcpy(w->pixels[slot] + (size_t)y * 4 * w->width, image->pixels + (size_t)y * image->row_bytes,
+               (size_t)4 * w->width);
+    pthread_mutex_lock(&w->lock);
+    w->frame[slot] = frame;
+    w->full[slot] = true;
+    w->next_in = (slot + 1) % SLOTS;
+    pthread_cond_broadcast(&w->changed);
+    pthread_mutex_unlock(&w->lock);
+    return true;
+}
+
+/* Waits until every queued image is written. */
+static void writer_drain(writer* w)
+{
+    pthread_mutex_lock(&w->lock);
+    for (int i = 0; i < SLOTS; i++)
+        while (w->full[i] && !w->failed)
+            pthread_cond_wait(&w->changed, &w->lock);
+    pthread_mutex_unlock(&w->lock);
+}
+
+/* Writes what is queued and stops the thread; returns false if any image failed. */
+static bool writer_finish(writer* w)
+{
+    pthread_mutex_lock(&w->lock);
+    w->closing = true;
+    pthread_cond_broadcast(&w->changed);
+    pthread_mutex_unlock(&w->lock);
+    pthread_join(w->thread, NULL);
+    pthread_cond_destroy(&w->changed);
+    pthread_mutex_destroy(&w->lock);
+    return !w->failed;
+}
+
+static void writer_free(writer* w)
+{
+    for (int i = 0; i < SLOTS; i++)
+        free(w->pixels[i]);
+}
+
+/* ---- progress ------------------------------------------------------------------------- */
+
+/* Ctrl-C stops after the image being written is complete: no image is left half-written. */
+static volatile sig_atomic_t interrupted;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
+typedef struct totals {
+    uint32_t images;
+    double sim_ms, render_ms, wall_ms;
+    double mesh_ms, shadow_ms, lit_ms, readback_ms;
+    uint32_t timed;
+} totals;
+
+static void format_time(double seconds, char* out, size_t size)
+{
+    long s = (long)(seconds + 0.5);
+    if (s >= 3600)
+        snprintf(out, size, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    else
+        snprintf(out, size, "%ld:%02ld", s / 60, s % 60);
+}
+
+static void progress(const totals* t, uint32_t count, bool tty, double* last_print)
+{
+    double now = app_now_ms();
+    bool last = t->images == count;
+    /* A terminal gets one line rewritten in place; a log gets a line every few seconds. */
+    if (!tty && !last && now - *last_print < 5000.0)
+        return;
+    if (!tty && last)
+        return;
+    *last_print = now;
+    char left[32];
+    format_time(t->wall_ms / t->images * (count - t->images) * 1e-3, left, sizeof left);
+    fprintf(stderr, "%sframe %u/%u: simulation %.1f ms, render %.1f ms per image, %s left%s", tty ? "\r" : "",
+            t->images, count, t->sim_ms / t->images, t->render_ms / t->images, left, tty ? "\033[K" : "\n");
+    if (tty && last)
+        fputc('\n', stderr);
+    fflush(stderr);
+}
+
+/* ---- the run -------------------------------------------------------------------------- */
+
+typedef struct run_state {
+    const options* o;
+    const cvk_scene_desc* scene;
+    cvk_context* ctx;
+    cvk_sim* sim;
+    cvk_mesh* mesh;
+    cvk_renderer* renderer;
+} run_state;
+
+/* Scene problems found only when the device is known (too many particles) are bad input. */
+static int creation_status(cvk_result r)
+{
+    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
+                                                                          : APP_EXIT_FAILURE;
+}
+
+static int check_size(const run_state* s, const cvk_render_desc* render)
+{
+    cvk_context_info info = cvk_context_get_info(s->ctx);
+    if (!info.graphics) {
+        app_error(tool, "%s cannot draw: its queue has no graphics", info.device_name);
+        return APP_EXIT_FAILURE;
+    }
+    if (render->size[0] <= info.max_image_size && render->size[1] <= info.max_image_size)
+        return APP_EXIT_OK;
+    if (s->o->size_set)
+        app_error(tool, "--size %s: %s draws at most %u x %u pixels", s->o->size_text, info.device_name,
+                  info.max_image_size, info.max_image_size);
+    else
+        app_error(tool, "%s: render.size: %u x %u pixels is more than %s allows (%u x %u)", s->o->scene,
+                  render->size[0], render->size[1], info.device_name, info.max_image_size, info.max_image_size);
+    return APP_EXIT_BAD_INPUT;
+}
+
+static int create_objects(run_state* s, const cvk_render_desc* render)
+{
+    cvk_error err;
+    cvk_result r = cvk_sim_create(s->ctx, &(cvk_sim_desc){.scene = s->scene}, &s->sim, &err);
+    if (r == CVK_SUCCESS)
+        r = cvk_mesh_create(s->sim, NULL, &s->mesh, &err);
+    if (r == CVK_SUCCESS)
+        r = cvk_renderer_create(s->mesh, render, &s->renderer, &err);
+    if (r != CVK_SUCCESS) {
+        app_error(tool, "%s: %s", s->o->scene, err.message);
+        return creation_status(r);
+    }
+    return APP_EXIT_OK;
+}
+
+static void add_timing(const cvk_renderer* renderer, totals* t)
+{
+    cvk_render_timing rt = cvk_renderer_get_timing(renderer);
+    if (rt.total_ms < 0)
+        return;
+    t->timed++;
+    t->mesh_ms += rt.mesh_ms;
+    t->shadow_ms += rt.shadow_ms;
+    t->lit_ms += rt.lit_ms;
+    t->readback_ms += rt.readback_ms;
+}
+
+static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
+{
+    cvk_error err;
+    bool tty = !s->o->quiet && isatty(STDERR_FILENO);
+    double last_print = app_now_ms();
+    for (uint32_t i = 0; i < count && !interrupted; i++) {
+        double t0 = app_now_ms();
+        if (i > 0 && cvk_sim_step(s->sim, s->o->every, &err) != CVK_SUCCESS) {
+            app_error(tool, "%s", err.message);
+            return APP_EXIT_FAILURE;
+        }
+        double t1 = app_now_ms();
+        if (cvk_renderer_draw(s->renderer, &err) != CVK_SUCCESS) {
+            app_error(tool, "%s", err.message);
+            return APP_EXIT_FAILURE;
+        }
+        double t2 = app_now_ms();
+        cvk_image image = cvk_renderer_get_image(s->renderer);
+        if (!writer_push(w, &image, i))
+            break;
+        if (s->o->serial)
+            writer_drain(w);
+        t->images++;
+        t->sim_ms += t1 - t0;
+        t->render_ms += t2 - t1;
+        t->wall_ms += app_now_ms() - t0;
+        add_timing(s->renderer, t);
+        if (!s->o->quiet)
+            progress(t, count, tty, &last_print);
+    }
+    return APP_EXIT_OK;
+}
+
+static void print_summary(const run_state* s, const totals* t, const writer* w, uint32_t frames, double wall_ms)
+{
+    const cvk_render_desc* r = &s->scene->render;
+    uint32_t width = s->o->size_set ? s->o->size[0] : r->size[0];
+    uint32_t height = s->o->size_set ? s->o->size[1] : r->size[1];
+    uint32_t last = (t->images - 1) * s->o->every;
+    printf("%s: %u images of %ux%u in %s (frames 0 to %u of %u, every %u), %.1f s; per image: simulation "
+           "%.1f ms, render %.1f ms",
+           s->scene->name ? s->scene->name : "scene", w->written, width, height, s->o->out, last, frames,
+           s->o->every, wall_ms * 1e-3, t->sim_ms / t->images, t->render_ms / t->images);
+    if (t->timed)
+        printf(" (mesh %.1f, shadow %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
+               t->shadow_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
+    printf(", png %.1f ms (%s); %.1f ms wall\n", w->png_ms / (w->written ? w->written : 1),
+           s->o->serial ? "alone" : "beside the next image's work", wall_ms / t->images);
+}
+
+static int render_all(run_state* s, uint32_t frames)
+{
+    uint32_t count = (frames + s->o->every - 1) / s->o->every;
+    cvk_image first = cvk_renderer_get_image(s->renderer);
+    writer w;
+    if (!writer_start(&w, s->o->out, first.width, first.height)) {
+        app_error(tool, "out of memory for %u x %u images", first.width, first.height);
+        writer_free(&w);
+        return APP_EXIT_FAILURE;
+    }
+    totals t = {0};
+    double start = app_now_ms();
+    int status = render_frames(s, &w, count, &t);
+    bool written = writer_finish(&w);
+    double wall = app_now_ms() - start;
+    if (!written) {
+        app_error(tool, "%s", w.message);
+        status = APP_EXIT_FAILURE;
+    } else if (interrupted) {
+        app_error(tool, "interrupted after %u of %u images", w.written, count);
+        status = APP_EXIT_FAILURE;
+    } else if (status == APP_EXIT_OK && !s->o->quiet && t.images) {
+        print_summary(s, &t, &w, frames, wall);
+    }
+    writer_free(&w);
+    return status;
+}
+
+static int check_result(run_state* s)
+{
+    cvk_sim_stats st;
+    cvk_error err;
+    if (cvk_sim_get_stats(s->sim, &st, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return APP_EXIT_FAILURE;
+    }
+    if (st.nan_count) {
+        app_error(tool, "%s: the simulation produced %llu non-finite coordinates", s->o->scene,
+                  (unsigned long long)st.nan_count);
+        return APP_EXIT_FAILURE;
+    }
+    return APP_EXIT_OK;
+}
+
+static int run(const options* o)
+{
+    cvk_error err;
+    cvk_scene* file = NULL;
+    if (cvk_scene_load(o->scene, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
+    }
+    run_state s = {.o = o, .scene = cvk_scene_get_desc(file)};
+    cvk_render_desc render = s.scene->render;
+    if (o->size_set) {
+        render.size[0] = o->size[0];
+        render.size[1] = o->size[1];
+    }
+    uint32_t frames = o->frames_set ? o->frames : s.scene->frames;
+
+    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
+    if (cvk_context_create(&ctx_desc, &s.ctx, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        cvk_scene_destroy(file);
+        return APP_EXIT_FAILURE;
+    }
+    /* Everything the input can get wrong (the device's limits included) is checked before the
+       folder is made or any frame simulated. */
+    int status = check_size(&s, &render);
+    if (status == APP_EXIT_OK)
+        status = create_objects(&s, &render);
+    if (status == APP_EXIT_OK && !make_output_folder(o->out))
+        status = APP_EXIT_BAD_INPUT;
+    if (status == APP_EXIT_OK)
+        status = render_all(&s, frames);
+    if (status == APP_EXIT_OK)
+        status = check_result(&s);
+    cvk_renderer_destroy(s.renderer);
+    cvk_mesh_destroy(s.mesh);
+    cvk_sim_destroy(s.sim);
+    uint32_t messages = cvk_context_validation_message_count(s.ctx);
+    if (messages) {
+        app_error(tool, "%u validation messages", messages);
+        status = APP_EXIT_FAILURE;
+    }
+    cvk_context_destroy(s.ctx);
+    cvk_scene_destroy(file);
+    return status;
+}
+
+int main(int argc, char** argv)
+{
+    options o = {0};
+    bool done = false;
+    int status = parse_args(argc, argv, &o, &done);
+    if (status == APP_EXIT_OK && !done) {
+        signal(SIGINT, on_signal);
+        signal(SIGTERM, on_signal);
+        status = run(&o);
+    }
+    app_overrides_free(&o.overrides);
+    return status;
+}

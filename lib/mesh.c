@@ -1,0 +1,475 @@
+/* Mesh generation: the triangle and adjacency tables are built once on the host; every frame
+   one compute dispatch (shaders/mesh.comp) writes positions, normals and indices from the
+   particles, straight into the buffers that are drawn. */
+#include "mesh.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "shaders.h"
+
+#define NONE UINT32_MAX
+
+/* Mirrors the bindings of shaders/mesh.comp. */
+enum {
+    BINDING_POSITIONS,
+    BINDING_SPRING_ALIVE,
+    BINDING_TRIANGLE_VERTICES,
+    BINDING_TRIANGLE_PARTICLES,
+    BINDING_TRIANGLE_SPRINGS,
+    BINDING_PARTICLE_OF,
+    BINDING_VERTEX_TRIANGLES,
+    BINDING_VERTICES,
+    BINDING_INDICES,
+    BINDING_COUNT
+};
+
+#define VERTEX_STRIDE 32u
+
+/* ---- tables, on the host ----------------------------------------------------------------- */
+
+typedef struct tables {
+    uint32_t* triangle_vertices;  /* 4 per triangle */
+    uint32_t* triangle_particles; /* 4 per triangle */
+    uint32_t* triangle_springs;   /* 4 per triangle */
+    uint32_t* vertex_triangles;   /* max_adjacent per vertex, slot-major */
+    /* Springs by grid direction, indexed by the user index of their [i, j] end. */
+    uint32_t* right;              /* to [i + 1, j] */
+    uint32_t* down;               /* to [i, j + 1] */
+    uint32_t* anti;               /* to [i + 1, j − 1] */
+} tables;
+
+static void tables_free(tables* t)
+{
+    free(t->triangle_vertices);
+    free(t->triangle_particles);
+    free(t->triangle_springs);
+    free(t->vertex_triangles);
+    free(t->right);
+    free(t->down);
+    free(t->anti);
+}
+
+static const cvk_cloth_range* cloth_of(const cvk_build* b, uint32_t user)
+{
+    uint32_t c = 0;
+    while (c + 1 < b->cloth_count && b->cloths[c + 1].first_user <= user)
+        c++;
+    return &b->cloths[c];
+}
+
+/* Files every structural spring and every shear spring along [i, j + 1] - [i + 1, j] (the
+   diagonal the triangulation uses) under its [i, j] end. */
+static void index_springs(const cvk_build* b, tables* t)
+{
+    for (uint32_t s = 0; s < b->spring_count; s++) {
+        const cvk_spring* sp = &b->springs[s];
+        uint32_t ua = b->user_of[sp->a], ub = b->user_of[sp->b];
+        const cvk_cloth_range* c = cloth_of(b, ua);
+        int64_t ia = (ua - c->first_user) % c->grid[0], ja = (ua - c->first_user) / c->grid[0];
+        int64_t ib = (ub - c->first_user) % c->grid[0], jb = (ub - c->first_user) / c->grid[0];
+        if (ib < ia || (ib == ia && jb < ja)) {
+            uint32_t swap = ua;
+            ua = ub;
+            ub = swap;
+            int64_t i = ia, j = ja;
+            ia = ib, ja = jb, ib = i, jb = j;
+        }
+        int64_t di = ib - ia, dj = jb - ja;
+        if (sp->type == CVK_SPRING_STRUCTURAL && di == 1 && dj == 0)
+            t->right[ua] = s;
+        else if (sp->type == CVK_SPRING_STRUCTURAL && di == 0 && dj == 1)
+            t->down[ua] = s;
+        else if (sp->type == CVK_SPRING_SHEAR && di == 1 && dj == -1)
+            t->anti[ua] = s;
+    }
+}
+
+/* Each grid cell [i, j]..[i + 1, j + 1] is split along its [i + 1, j] - [i, j + 1] diagonal into
+   (a, b, c) and (b, d, c), both wound so their normal is u_axis × v_axis. */
+static void make_triangles(const cvk_build* b, tables* t, cvk_mesh_range* ranges)
+{
+    uint32_t tri = 0;
+    for (uint32_t ci = 0; ci < b->cloth_count; ci++) {
+        const cvk_cloth_range* c = &b->cloths[ci];
+        ranges[ci].first_index = 3u * tri;
+        for (uint32_t j = 0; j + 1 < c->grid[1]; j++)
+            for (uint32_t i = 0; i + 1 < c->grid[0]; i++) {
+                uint32_t a = c->first_user + j * c->grid[0] + i;
+                uint32_t bb = a + 1, cc = a + c->grid[0], d = cc + 1;
+                uint32_t corners[2][3] = {{a, bb, cc}, {bb, d, cc}};
+                uint32_t edges[2][3] = {{t->right[a], t->anti[cc], t->down[a]},
+                                        {t->down[bb], t->right[cc], t->anti[cc]}};
+                for (int k = 0; k < 2; k++, tri++)
+                    for (int e = 0; e < 3; e++) {
+                        t->triangle_vertices[4 * tri + e] = corners[k][e];
+                        t->triangle_particles[4 * tri + e] = b->internal_of[corners[k][e]];
+                        t->triangle_springs[4 * tri + e] = edges[k][e];
+                    }
+            }
+        ranges[ci].index_count = 3u * tri - ranges[ci].first_index;
+    }
+}
+
+static uint32_t count_triangles(const cvk_build* b)
+{
+    uint64_t count = 0;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        if (b->cloths[c].grid[0] > 1 && b->cloths[c].grid[1] > 1)
+            count += 2ull * (b->cloths[c].grid[0] - 1) * (b->cloths[c].grid[1] - 1);
+    return (uint32_t)count;
+}
+
+static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
+{
+    uint32_t* degree = calloc(m->vertex_count, sizeof *degree);
+    if (!degree)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh adjacency");
+    for (uint32_t tri = 0; tri < m->triangle_count; tri++)
+        for (int e = 0; e < 3; e++)
+            degree[t->triangle_vertices[4 * tri + e]]++;
+    m->max_adjacent = 1;
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        if (degree[v] > m->max_adjacent)
+            m->max_adjacent = degree[v];
+    size_t entries = (size_t)m->max_adjacent * m->vertex_count;
+    t->vertex_triangles = malloc(entries * sizeof(uint32_t));
+    if (!t->vertex_triangles) {
+        free(degree);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh adjacency");
+    }
+    memset(t->vertex_triangles, 0xff, entries * sizeof(uint32_t));
+    memset(degree, 0, m->vertex_count * sizeof *degree);
+    for (uint32_t tri = 0; tri < m->triangle_count; tri++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t v = t->triangle_vertices[4 * tri + e];
+            t->vertex_triangles[(size_t)degree[v]++ * m->vertex_count + v] = tri;
+        }
+    free(degree);
+    return CVK_SUCCESS;
+}
+
+static cvk_result make_tables(cvk_mesh* m, tables* t, cvk_error* error)
+{
+    const cvk_build* b = &m->sim->build;
+    size_t n = b->particle_count, tris = m->triangle_count ? m->triangle_count : 1;
+    t->triangle_vertices = calloc(4 * tris, sizeof(uint32_t));
+    t->triangle_particles = calloc(4 * tris, sizeof(uint32_t));
+    t->triangle_springs = calloc(4 * tris, sizeof(uint32_t));
+    t->right = malloc(n * sizeof(uint32_t));
+    t->down = malloc(n * sizeof(uint32_t));
+    t->anti = malloc(n * sizeof(uint32_t));
+    m->cloths = calloc(b->cloth_count, sizeof *m->cloths);
+    if (!t->triangle_vertices || !t->triangle_particles || !t->triangle_springs || !t->right ||
+        !t->down || !t->anti || !m->cloths)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u triangles",
+                        m->triangle_count);
+    memset(t->right, 0xff, n * sizeof(uint32_t));
+    memset(t->down, 0xff, n * sizeof(uint32_t));
+    memset(t->anti, 0xff, n * sizeof(uint32_t));
+    index_springs(b, t);
+    make_triangles(b, t, m->cloths);
+    return make_adjacency(m, t, error);
+}
+
+/* ---- device objects ---------------------------------------------------------------------- */
+
+static cvk_result check_limits(const cvk_mesh* m, cvk_error* error)
+{
+    const VkPhysicalDeviceLimits* limits = &m->context->properties.limits;
+    uint64_t entries = (uint64_t)m->max_adjacent * m->vertex_count;
+    if (m->triangle_count > limits->maxTexelBufferElements || entries > limits->maxTexelBufferElements)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%u triangles with up to %u around a vertex need %llu table entries; %s "
+                        "allows %u texel buffer elements (maxTexelBufferElements)",
+                        m->triangle_count, m->max_adjacent, (unsigned long long)entries,
+                        m->context->properties.deviceName, limits->maxTexelBufferElements);
+    uint64_t index_bytes = 12ull * m->triangle_count;
+    if (index_bytes > limits->maxStorageBufferRange)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%u triangles need a %llu-byte index buffer; %s allows %u bytes "
+                        "(maxStorageBufferRange)",
+                        m->triangle_count, (unsigned long long)index_bytes,
+                        m->context->properties.deviceName, limits->maxStorageBufferRange);
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_buffers(cvk_mesh* m, const cvk_mesh_desc* desc, const tables* t,
+                                 VkCommandBuffer cmd, cvk_error* error)
+{
+    cvk_context* ctx = m->context;
+    VkDeviceSize tris = m->triangle_count;
+    VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    struct {
+        cvk_buffer* buffer;
+        VkDeviceSize size;
+        VkBufferUsageFlags usage;
+        const char* what;
+        const void* data;
+        VkBufferView* view;
+        VkFormat format;
+    } list[] = {
+        {&m->vertices, (VkDeviceSize)m->vertex_count * VERTEX_STRIDE,
+         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | desc->vertex_usage,
+         "mesh vertices", NULL, NULL, VK_FORMAT_UNDEFINED},
+        {&m->indices, tris * 12u,
+         VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | desc->index_usage,
+         "mesh indices", NULL, NULL, VK_FORMAT_UNDEFINED},
+        {&m->triangle_vertices, tris * 16u, table, "triangle vertices", t->triangle_vertices,
+         &m->view_triangle_vertices, VK_FORMAT_R32G32B32A32_UINT},
+        {&m->triangle_particles, tris * 16u, table, "triangle particles", t->triangle_particles,
+         &m->view_triangle_particles, VK_FORMAT_R32G32B32A32_UINT},
+        {&m->triangle_springs, tris * 16u, table, "triangle springs", t->triangle_springs,
+         &m->view_triangle_springs, VK_FORMAT_R32G32B32A32_UINT},
+        {&m->particle_of, (VkDeviceSize)m->vertex_count * 4u, table, "vertex particles",
+         m->sim->build.internal_of, &m->view_particle_of, VK_FORMAT_R32_UINT},
+        {&m->vertex_triangles, (VkDeviceSize)m->max_adjacent * m->vertex_count * 4u, table,
+         "vertex triangles", t->vertex_triangles, &m->view_vertex_triangles, VK_FORMAT_R32_UINT},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        cvk_result r = cvk_buffer_create(ctx, list[i].size, list[i].usage, CVK_MEMORY_DEVICE,
+                                         list[i].what, list[i].buffer, error);
+        if (r == CVK_SUCCESS && list[i].data)
+            r = cvk_buffer_upload(ctx, &m->submitter, cmd, list[i].buffer, list[i].data, list[i].size,
+                                  error);
+        if (r == CVK_SUCCESS && list[i].view)
+            r = cvk_buffer_view_create(ctx, list[i].buffer, list[i].format, list[i].view, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+static const VkDescriptorType binding_type[BINDING_COUNT] = {
+    [BINDING_POSITIONS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_SPRING_ALIVE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_TRIANGLE_VERTICES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_TRIANGLE_PARTICLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_TRIANGLE_SPRINGS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_PARTICLE_OF] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_VERTEX_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [BINDING_VERTICES] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [BINDING_INDICES] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+};
+
+static void write_set(cvk_mesh* m)
+{
+    const VkBufferView views[BINDING_COUNT] = {
+        [BINDING_POSITIONS] = m->sim->view_positions,
+        [BINDING_SPRING_ALIVE] = m->sim->view_spring_alive,
+        [BINDING_TRIANGLE_VERTICES] = m->view_triangle_vertices,
+        [BINDING_TRIANGLE_PARTICLES] = m->view_triangle_particles,
+        [BINDING_TRIANGLE_SPRINGS] = m->view_triangle_springs,
+        [BINDING_PARTICLE_OF] = m->view_particle_of,
+        [BINDING_VERTEX_TRIANGLES] = m->view_vertex_triangles,
+    };
+    VkDescriptorBufferInfo infos[BINDING_COUNT] = {
+        [BINDING_VERTICES] = {m->vertices.buffer, 0, VK_WHOLE_SIZE},
+        [BINDING_INDICES] = {m->indices.buffer, 0, VK_WHOLE_SIZE},
+    };
+    VkWriteDescriptorSet writes[BINDING_COUNT];
+    for (uint32_t i = 0; i < BINDING_COUNT; i++) {
+        writes[i] = (VkWriteDescriptorSet){
+            .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+            .dstSet = m->set,
+            .dstBinding = i,
+            .descriptorCount = 1,
+            .descriptorType = binding_type[i],
+        };
+        if (binding_type[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+            writes[i].pBufferInfo = &infos[i];
+        else
+            writes[i].pTexelBufferView = &views[i];
+    }
+    vkUpdateDescriptorSets(m->context->device, BINDING_COUNT, writes, 0, NULL);
+}
+
+static cvk_result create_pipeline(cvk_mesh* m, cvk_error* error)
+{
+    VkDevice dev = m->context->device;
+    VkDescriptorSetLayoutBinding bindings[BINDING_COUNT];
+    for (uint32_t i = 0; i < BINDING_COUNT; i++)
+        bindings[i] = (VkDescriptorSetLayoutBinding){
+            .binding = i,
+            .descriptorType = binding_type[i],
+            .descriptorCount = 1,
+            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
+        };
+    VkDescriptorSetLayoutCreateInfo set_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = BINDING_COUNT,
+        .pBindings = bindings,
+    };
+    VkResult vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &m->set_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
+    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_mesh_push)};
+    VkPipelineLayoutCreateInfo layout_info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = 1,
+        .pSetLayouts = &m->set_layout,
+        .pushConstantRangeCount = 1,
+        .pPushConstantRanges = &push,
+    };
+    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &m->pipeline_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
+    VkDescriptorPoolSize sizes[] = {
+        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 7},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
+    };
+    VkDescriptorPoolCreateInfo pool_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .maxSets = 1,
+        .poolSizeCount = 2,
+        .pPoolSizes = sizes,
+    };
+    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &m->descriptor_pool);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
+    VkDescriptorSetAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+        .descriptorPool = m->descriptor_pool,
+        .descriptorSetCount = 1,
+        .pSetLayouts = &m->set_layout,
+    };
+    vr = vkAllocateDescriptorSets(dev, &alloc, &m->set);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
+    write_set(m);
+    cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH);
+    cvk_spec spec = {.values = {m->sim->plan.workgroup_size, m->max_adjacent}, .count = 2};
+    return cvk_compute_pipeline_create(m->context, spirv.code, spirv.bytes, m->pipeline_layout, &spec,
+                                       spirv.name, &m->pipeline, error);
+}
+
+/* Generates the mesh once, so its buffers hold the starting cloth from the beginning; on
+   lavapipe this also compiles the pipeline outside any timed frame. */
+static cvk_result generate_once(cvk_mesh* m, VkCommandBuffer cmd, cvk_error* error)
+{
+    cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_mesh_record(m, cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    /* Whoever draws next records its own barrier; this one covers anything that reads first. */
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT);
+    r = cvk_command_buffer_end(cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return cvk_submit_and_wait(m->context, &m->submitter, &cmd, 1, error);
+}
+
+cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
+                           cvk_error* error)
+{
+    if (!sim || !out_mesh)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_mesh_create needs a simulation and an output pointer");
+    *out_mesh = NULL;
+    cvk_mesh_desc defaults = {0};
+    if (!desc)
+        desc = &defaults;
+    cvk_mesh* m = calloc(1, sizeof *m);
+    if (!m)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh");
+    m->sim = sim;
+    m->context = sim->context;
+    m->graphics_queue = sim->context->graphics;
+    m->vertex_count = sim->build.particle_count;
+    m->triangle_count = count_triangles(&sim->build);
+    uint32_t items = m->vertex_count > m->triangle_count ? m->vertex_count : m->triangle_count;
+    uint32_t wg = sim->plan.workgroup_size;
+    m->groups = (items + wg - 1) / wg;
+    if (m->groups > sim->plan.max_groups)
+        m->groups = sim->plan.max_groups;
+
+    tables t = {0};
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    cvk_result r = make_tables(m, &t, error);
+    if (r == CVK_SUCCESS)
+        r = check_limits(m, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_submitter_create(m->context, &m->submitter, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(m->context, &m->submitter, &cmd, error);
+    if (r == CVK_SUCCESS)
+        r = create_buffers(m, desc, &t, cmd, error);
+    tables_free(&t);
+    if (r == CVK_SUCCESS)
+        r = create_pipeline(m, error);
+    if (r == CVK_SUCCESS)
+        r = generate_once(m, cmd, error);
+    if (r != CVK_SUCCESS) {
+        cvk_mesh_destroy(m);
+        return r;
+    }
+    *out_mesh = m;
+    return CVK_SUCCESS;
+}
+
+void cvk_mesh_destroy(cvk_mesh* m)
+{
+    if (!m)
+        return;
+    VkDevice dev = m->context->device;
+    if (m->pipeline)
+        vkDestroyPipeline(dev, m->pipeline, NULL);
+    if (m->descriptor_pool)
+        vkDestroyDescriptorPool(dev, m->descriptor_pool, NULL);
+    if (m->pipeline_layout)
+        vkDestroyPipelineLayout(dev, m->pipeline_layout, NULL);
+    if (m->set_layout)
+        vkDestroyDescriptorSetLayout(dev, m->set_layout, NULL);
+    VkBufferView views[] = {m->view_triangle_vertices, m->view_triangle_particles,
+                            m->view_triangle_springs, m->view_particle_of, m->view_vertex_triangles};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(dev, views[i], NULL);
+    cvk_buffer* buffers[] = {&m->vertices, &m->indices, &m->triangle_vertices, &m->triangle_particles,
+                             &m->triangle_springs, &m->particle_of, &m->vertex_triangles};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(m->context, buffers[i]);
+    cvk_submitter_destroy(m->context, &m->submitter);
+    free(m->cloths);
+    free(m);
+}
+
+cvk_mesh_buffers cvk_mesh_get_buffers(const cvk_mesh* m)
+{
+    return (cvk_mesh_buffers){
+        .vertex_buffer = m->vertices.buffer,
+        .vertex_count = m->vertex_count,
+        .vertex_stride = VERTEX_STRIDE,
+        .position_offset = 0,
+        .normal_offset = 16,
+        .index_buffer = m->indices.buffer,
+        .index_type = VK_INDEX_TYPE_UINT32,
+        .index_count = 3u * m->triangle_count,
+        .cloth_count = m->sim->build.cloth_count,
+        .cloths = m->cloths,
+    };
+}
+
+cvk_result cvk_mesh_record(cvk_mesh* m, VkCommandBuffer cmd, cvk_error* error)
+{
+    if (!m || !cmd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_mesh_record needs a mesh and a command buffer");
+    VkPipelineStageFlags after = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    if (m->graphics_queue)
+        after |= VK_PIPELINE_STAGE_VERTEX_INPUT_BIT;
+    cvk_cmd_barrier(cmd, after, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    cvk_mesh_push push = {m->vertex_count, m->triangle_count};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipeline_layout, 0, 1, &m->set, 0,
+                            NULL);
+    vkCmdPushConstants(cmd, m->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdDispatch(cmd, m->groups, 1, 1);
+    return CVK_SUCCESS;
+}

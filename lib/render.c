@@ -1,0 +1,1033 @@
+/* The offscreen renderer (seed 002 §5.4). A frame is, after the mesh generation:
+   - the shadow pass: the cloth's depth from the key light;
+   - the lit pass, in two render passes: the cloth, lit and shadowed, multisampled over a
+     transparent background; then one sample per pixel, the ground and sky found from each
+     pixel's ray (shadowed only on the patch of ground under the shadow map) with the cloth's
+     samples averaged over them in linear light (the resolve), into an sRGB image;
+   - a copy of that image into a host-visible buffer.
+   Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
+   tests and writes every sample) to the part of the image that has edges to smooth.
+   Every object is made once at creation; a frame is one command buffer recorded once. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera.h"
+#include "error.h"
+#include "mesh.h"
+#include "scene.h"
+#include "shaders.h"
+
+#define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
+/* The cloth pass stores the square root of its linear colour (see lit_cloth.frag): about as
+   fine as sRGB in the dark, and the composite pass decodes a sample with one multiply instead
+   of an sRGB curve, four samples per pixel. */
+#define CLOTH_FORMAT VK_FORMAT_R8G8B8A8_UNORM
+#define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
+/* Marks the ground patch under the shadow map, so the rest of the ground skips those pixels. */
+#define STENCIL_FORMAT VK_FORMAT_S8_UINT
+/* 16 bits cover a few metres of light depth in 0.1 mm steps, and the constant depth bias
+   means a fixed distance, unlike with a float format. */
+#define SHADOW_FORMAT VK_FORMAT_D16_UNORM
+
+/* Slope-scaled depth bias of the shadow pass (in units of the depth format's step). */
+#define SHADOW_BIAS_CONSTANT 2.0f
+#define SHADOW_BIAS_SLOPE 2.5f
+
+/* Timestamps: start, after the mesh, the shadow pass, the lit pass and the copy. */
+enum { QUERY_COUNT = 5 };
+
+/* Mirrors the Frame block of shaders/frame.glsl. */
+typedef struct cvk_frame_uniforms {
+    float view_proj[16];
+    float light_view_proj[16];
+    float eye[4];
+    float key_direction[4];
+    float key_color[4];
+    float fill_direction[4];
+    float fill_color[4];
+    float ambient[4];
+    float background[4];
+    float ground_color[4];
+    float ground_plane[4];
+    float ground_unlit[4];
+    float ground_key[4];
+    float ground_axes[2][4];
+    float ray_base[4];
+    float ray_dx[4];
+    float ray_dy[4];
+    float fog[4];
+    float shadow[4];
+    float patch_corners[4][4];
+} cvk_frame_uniforms;
+
+struct cvk_renderer {
+    cvk_context* context;
+    cvk_mesh* mesh;
+    cvk_render_desc desc;
+    cvk_view view;
+    VkSampleCountFlagBits samples;
+
+    cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
+    VkRenderPass shadow_pass, cloth_pass, composite_pass;
+    VkFramebuffer shadow_framebuffer, cloth_framebuffer, composite_framebuffer;
+    VkSampler shadow_sampler, cloth_sampler;
+    cvk_buffer uniforms;
+    cvk_buffer readback;
+
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout pipeline_layout;
+    VkDescriptorPool descriptor_pool;
+    VkDescriptorSet set;
+    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
+
+    VkQueryPool queries;
+    cvk_submitter submitter;
+    VkCommandBuffer frame_cmd;
+};
+
+/* ---- checks before anything is made ------------------------------------------------------ */
+
+static void sample_counts(VkSampleCountFlags flags, char* out, size_t size)
+{
+    int count = 0;
+    for (uint32_t s = 1; s <= 64; s *= 2)
+        count += (flags & s) != 0;
+    size_t used = 0;
+    out[0] = '\0';
+    int listed = 0;
+    for (uint32_t s = 1; s <= 64 && used < size; s *= 2) {
+        if (!(flags & s))
+            continue;
+        const char* separator = listed == 0 ? "" : listed == count - 1 ? " or " : ", ";
+        used += (size_t)snprintf(out + used, size - used, "%s%u", separator, s);
+        listed++;
+    }
+}
+
+static cvk_result check_format(const cvk_context* ctx, VkFormat format, VkImageUsageFlags usage,
+                               VkSampleCountFlagBits samples, const char* what, cvk_error* error)
+{
+    VkImageFormatProperties properties;
+    VkResult vr = vkGetPhysicalDeviceImageFormatProperties(ctx->physical_device, format, VK_IMAGE_TYPE_2D,
+                                                           VK_IMAGE_TILING_OPTIMAL, usage, 0, &properties);
+    if (vr != VK_SUCCESS || !(properties.sampleCounts & samples))
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s cannot make the %s image it needs (format %d, %u samples)",
+                        ctx->properties.deviceName, what, (int)format, (unsigned)samples);
+    return CVK_SUCCESS;
+}
+
+static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d, cvk_error* error)
+{
+    if (!ctx->graphics)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "rendering needs a queue that can draw; queue family %u of %s supports compute "
+                        "only (cvk_mesh works there: draw its buffers on a graphics queue)",
+                        ctx->queue_family, ctx->properties.deviceName);
+    uint32_t max = cvk_context_max_image_size(ctx);
+    if (d->size[0] > max || d->size[1] > max)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.size: %u x %u pixels is more than %s allows (%u x %u)", d->size[0], d->size[1],
+                        ctx->properties.deviceName, max, max);
+    if (d->shadow_map_size > max)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.shadow_map_size: %u texels is more than %s allows (%u)", d->shadow_map_size,
+                        ctx->properties.deviceName, max);
+    const VkPhysicalDeviceLimits* limits = &ctx->properties.limits;
+    VkSampleCountFlags supported = limits->framebufferColorSampleCounts & limits->framebufferDepthSampleCounts;
+    if (!(supported & d->samples)) {
+        char counts[64];
+        sample_counts(supported, counts, sizeof counts);
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT, "render.samples: %s draws %s samples per pixel, not %u",
+                        ctx->properties.deviceName, counts, d->samples);
+    }
+    VkSampleCountFlagBits samples = (VkSampleCountFlagBits)d->samples;
+    if (!(limits->sampledImageColorSampleCounts & samples)) {
+        char counts[64];
+        sample_counts(limits->sampledImageColorSampleCounts, counts, sizeof counts);
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.samples: %s reads back %s samples per pixel, not %u",
+                        ctx->properties.deviceName, counts, d->samples);
+    }
+    cvk_result r = check_format(ctx, CLOTH_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                samples, "cloth", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, STENCIL_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_SAMPLE_COUNT_1_BIT,
+                         "stencil", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_SAMPLE_COUNT_1_BIT, "final", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, DEPTH_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, samples, "depth", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, SHADOW_FORMAT,
+                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                         VK_SAMPLE_COUNT_1_BIT, "shadow map", error);
+    return r;
+}
+
+/* ---- images, render passes, framebuffers ---------------------------------------------- */
+
+static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
+{
+    cvk_context* ctx = rd->context;
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
+    cvk_result r = cvk_gpu_image_create(ctx, SHADOW_FORMAT, s, s, VK_SAMPLE_COUNT_1_BIT,
+                                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                        VK_IMAGE_ASPECT_DEPTH_BIT, "shadow map", &rd->shadow_map, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, CLOTH_FORMAT, w, h, rd->samples,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "cloth image", &rd->cloth, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, DEPTH_FORMAT, w, h, rd->samples,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                                 VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->cloth_depth, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "image", &rd->image, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, STENCIL_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                                 VK_IMAGE_ASPECT_STENCIL_BIT, "stencil", &rd->stencil, error);
+    return r;
+}
+
+static cvk_result create_shadow_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription depth = {
+        .format = SHADOW_FORMAT,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+    };
+    VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .pDepthStencilAttachment = &ref,
+    };
+    VkPipelineStageFlags tests = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's lit pass has read the map before it is cleared again. */
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, tests, 0,
+         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, 0},
+        /* The lit pass samples it. */
+        {0, VK_SUBPASS_EXTERNAL, tests, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 1,
+        .pAttachments = &depth,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->shadow_pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateRenderPass (shadow pass)", vr);
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = rd->shadow_pass,
+        .attachmentCount = 1,
+        .pAttachments = &rd->shadow_map.view,
+        .width = rd->desc.shadow_map_size,
+        .height = rd->desc.shadow_map_size,
+        .layers = 1,
+    };
+    vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, &rd->shadow_framebuffer);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (shadow pass)", vr);
+}
+
+static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const VkImageView* views, uint32_t count,
+                                     VkFramebuffer* out, const char* what, cvk_error* error)
+{
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = pass,
+        .attachmentCount = count,
+        .pAttachments = views,
+        .width = rd->desc.size[0],
+        .height = rd->desc.size[1],
+        .layers = 1,
+    };
+    VkResult vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, out);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateFramebuffer", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+/* The cloth, multisampled, over transparent black: the composite pass reads every sample. */
+static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachments[2] = {
+        {
+            .format = CLOTH_FORMAT,
+            .samples = rd->samples,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+        },
+        {
+            .format = DEPTH_FORMAT,
+            .samples = rd->samples,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        },
+    };
+    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference depth = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .colorAttachmentCount = 1,
+        .pColorAttachments = &color,
+        .pDepthStencilAttachment = &depth,
+    };
+    VkPipelineStageFlags output = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's writes, and its composite pass's reads of the cloth image. */
+        {VK_SUBPASS_EXTERNAL, 0, output | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, output, writes,
+         writes | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
+        /* The composite pass reads the cloth image. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 2,
+        .pAttachments = attachments,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->cloth_pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateRenderPass (cloth pass)", vr);
+    VkImageView views[2] = {rd->cloth.view, rd->cloth_depth.view};
+    return create_framebuffer(rd, rd->cloth_pass, views, 2, &rd->cloth_framebuffer, "cloth pass", error);
+}
+
+/* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
+static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachments[2] = {
+        {
+            .format = COLOR_FORMAT,
+            .samples = VK_SAMPLE_COUNT_1_BIT,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        },
+        {
+            .format = STENCIL_FORMAT,
+            .samples = VK_SAMPLE_COUNT_1_BIT,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        },
+    };
+    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference stencil = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .colorAttachmentCount = 1,
+        .pColorAttachments = &color,
+        .pDepthStencilAttachment = &stencil,
+    };
+    VkPipelineStageFlags output = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's copy out of the image, and its writes. */
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_TRANSFER_BIT | output, output, writes,
+         writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
+        /* The image is copied out afterwards. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0},
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 2,
+        .pAttachments = attachments,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->composite_pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateRenderPass (composite pass)", vr);
+    VkImageView views[2] = {rd->image.view, rd->stencil.view};
+    return create_framebuffer(rd, rd->composite_pass, views, 2, &rd->composite_framebuffer, "composite pass",
+                              error);
+}
+
+/* ---- uniforms, descriptors ----------------------------------------------------------------- */
+
+static void put3(float out[4], const double v[3], float w)
+{
+    out[0] = (float)v[0];
+    out[1] = (float)v[1];
+    out[2] = (float)v[2];
+    out[3] = w;
+}
+
+static void put_color(float out[4], const float c[3])
+{
+    out[0] = c[0];
+    out[1] = c[1];
+    out[2] = c[2];
+    out[3] = 1.0f;
+}
+
+static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
+{
+    const cvk_view* v = &rd->view;
+    const cvk_render_desc* d = &rd->desc;
+    memset(u, 0, sizeof *u);
+    memcpy(u->view_proj, v->view_proj, sizeof u->view_proj);
+    memcpy(u->light_view_proj, v->light_view_proj, sizeof u->light_view_proj);
+    put3(u->eye, v->eye, 1.0f);
+    put3(u->key_direction, v->key_direction, 0.0f);
+    put_color(u->key_color, d->key.color);
+    put3(u->fill_direction, v->fill_direction, 0.0f);
+    put_color(u->fill_color, d->fill.color);
+    put_color(u->ambient, d->ambient);
+    put_color(u->background, d->background);
+    put_color(u->ground_color, d->ground_color);
+    put3(u->ground_plane, v->up, (float)v->ground_height);
+    /* The ground's shading, as shaders/lighting.glsl computes it for a normal of up. */
+    double key = fmax(0.0, v->key_direction[0] * v->up[0] + v->key_direction[1] * v->up[1] +
+                               v->key_direction[2] * v->up[2]);
+    double fill = fmax(0.0, v->fill_direction[0] * v->up[0] + v->fill_direction[1] * v->up[1] +
+                                v->fill_direction[2] * v->up[2]);
+    for (int k = 0; k < 3; k++) {
+        u->ground_unlit[k] = (float)(d->ground_color[k] * (d->ambient[k] + fill * d->fill.color[k]));
+        u->ground_key[k] = (float)(d->ground_color[k] * key * d->key.color[k]);
+    }
+    put3(u->ground_axes[0], v->ground_axes[0], 0.0f);
+    put3(u->ground_axes[1], v->ground_axes[1], 0.0f);
+    put3(u->ray_base, v->ray_base, 0.0f);
+    put3(u->ray_dx, v->ray_dx, 0.0f);
+    put3(u->ray_dy, v->ray_dy, 0.0f);
+    u->fog[0] = (float)v->fog_start;
+    u->fog[1] = (float)v->fog_end;
+    u->fog[2] = d->ground ? 1.0f : 0.0f;
+    u->fog[3] = (float)v->ground_tile;
+    u->shadow[0] = (float)d->shadow_map_size;
+    u->shadow[1] = (float)v->shadow_texel;
+    for (int i = 0; i < 4; i++)
+        put3(u->patch_corners[i], v->patch[i], 1.0f);
+}
+
+static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
+{
+    VkDevice dev = rd->context->device;
+    cvk_result r = cvk_buffer_create(rd->context, sizeof(cvk_frame_uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                     CVK_MEMORY_HOST, "frame constants", &rd->uniforms, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_frame_uniforms u;
+    fill_uniforms(rd, &u);
+    memcpy(rd->uniforms.mapped, &u, sizeof u);
+
+    /* Outside the map (clamped to a border of depth 1) nothing casts a shadow. */
+    VkSamplerCreateInfo sampler = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_NEAREST,
+        .minFilter = VK_FILTER_NEAREST,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+        .compareEnable = VK_TRUE,
+        .compareOp = VK_COMPARE_OP_LESS_OR_EQUAL,
+        .borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE,
+    };
+    VkResult vr = vkCreateSampler(dev, &sampler, NULL, &rd->shadow_sampler);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateSampler", vr);
+    /* The cloth image is read with texelFetch: the sampler only has to exist. */
+    VkSamplerCreateInfo texel = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_NEAREST,
+        .minFilter = VK_FILTER_NEAREST,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+    };
+    vr = vkCreateSampler(dev, &texel, NULL, &rd->cloth_sampler);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateSampler", vr);
+
+    VkDescriptorSetLayoutBinding bindings[] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    };
+    VkDescriptorSetLayoutCreateInfo set_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = 3,
+        .pBindings = bindings,
+    };
+    vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &rd->set_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
+    VkPushConstantRange push = {VK_SHADER_STAGE_FRAGMENT_BIT, 0, 4 * sizeof(float)};
+    VkPipelineLayoutCreateInfo layout_info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = 1,
+        .pSetLayouts = &rd->set_layout,
+        .pushConstantRangeCount = 1,
+        .pPushConstantRanges = &push,
+    };
+    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &rd->pipeline_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
+    VkDescriptorPoolSize sizes[] = {
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
+    };
+    VkDescriptorPoolCreateInfo pool_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .maxSets = 1,
+        .poolSizeCount = 2,
+        .pPoolSizes = sizes,
+    };
+    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &rd->descriptor_pool);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
+    VkDescriptorSetAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+        .descriptorPool = rd->descriptor_pool,
+        .descriptorSetCount = 1,
+        .pSetLayouts = &rd->set_layout,
+    };
+    vr = vkAllocateDescriptorSets(dev, &alloc, &rd->set);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
+    VkDescriptorBufferInfo buffer = {rd->uniforms.buffer, 0, VK_WHOLE_SIZE};
+    VkDescriptorImageInfo shadow = {rd->shadow_sampler, rd->shadow_map.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkDescriptorImageInfo cloth = {rd->cloth_sampler, rd->cloth.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkWriteDescriptorSet writes[] = {
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 0, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &buffer},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 1, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 2, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &cloth},
+    };
+    vkUpdateDescriptorSets(dev, 3, writes, 0, NULL);
+    return CVK_SUCCESS;
+}
+
+/* ---- pipelines ----------------------------------------------------------------------------- */
+
+typedef struct pipeline_recipe {
+    const char* what;
+    cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
+    uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal */
+    VkPrimitiveTopology topology;
+    VkRenderPass pass;
+    uint32_t width, height;
+    VkSampleCountFlagBits samples;
+    bool depth_test;
+    VkCompareOp depth_compare;
+    bool depth_bias;
+    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
+    uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
+} pipeline_recipe;
+
+static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
+{
+    cvk_spirv spirv = cvk_shader(id);
+    VkShaderModuleCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = spirv.bytes,
+        .pCode = spirv.code,
+    };
+    VkResult vr = vkCreateShaderModule(ctx->device, &info, NULL, out);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateShaderModule", vr);
+        cvk_error_prefix(error, "%s", spirv.name);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
+{
+    VkShaderModule modules[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    bool has_fragment = p->fragment != CVK_SHADER_COUNT;
+    cvk_result r = create_module(rd->context, p->vertex, &modules[0], error);
+    if (r == CVK_SUCCESS && has_fragment)
+        r = create_module(rd->context, p->fragment, &modules[1], error);
+    if (r != CVK_SUCCESS) {
+        if (modules[0])
+            vkDestroyShaderModule(rd->context->device, modules[0], NULL);
+        return r;
+    }
+    VkSpecializationMapEntry entries[3];
+    for (uint32_t i = 0; i < 3; i++)
+        entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+    VkSpecializationInfo spec = {3, entries, sizeof p->spec, p->spec};
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
+         .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+         .module = modules[1], .pName = "main", .pSpecializationInfo = &spec},
+    };
+    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
+    VkVertexInputBindingDescription binding = {0, mesh.vertex_stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.position_offset},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.normal_offset},
+    };
+    VkPipelineVertexInputStateCreateInfo vertex_input = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+        .vertexBindingDescriptionCount = p->attributes ? 1 : 0,
+        .pVertexBindingDescriptions = &binding,
+        .vertexAttributeDescriptionCount = p->attributes,
+        .pVertexAttributeDescriptions = attributes,
+    };
+    VkPipelineInputAssemblyStateCreateInfo assembly = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+        .topology = p->topology,
+    };
+    VkViewport viewport = {0.0f, 0.0f, (float)p->width, (float)p->height, 0.0f, 1.0f};
+    VkRect2D scissor = {{0, 0}, {p->width, p->height}};
+    VkPipelineViewportStateCreateInfo viewport_state = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+        .viewportCount = 1,
+        .pViewports = &viewport,
+        .scissorCount = 1,
+        .pScissors = &scissor,
+    };
+    /* No culling: both faces of the cloth are drawn, and both cast shadows. */
+    VkPipelineRasterizationStateCreateInfo raster = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+        .polygonMode = VK_POLYGON_MODE_FILL,
+        .cullMode = VK_CULL_MODE_NONE,
+        .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
+        .depthBiasEnable = p->depth_bias,
+        .depthBiasConstantFactor = p->depth_bias ? SHADOW_BIAS_CONSTANT : 0.0f,
+        .depthBiasSlopeFactor = p->depth_bias ? SHADOW_BIAS_SLOPE : 0.0f,
+        .lineWidth = 1.0f,
+    };
+    VkPipelineMultisampleStateCreateInfo multisample = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+        .rasterizationSamples = p->samples,
+    };
+    VkStencilOpState stencil = {
+        .failOp = VK_STENCIL_OP_KEEP,
+        .passOp = p->stencil > 0 ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
+        .depthFailOp = VK_STENCIL_OP_KEEP,
+        .compareOp = p->stencil > 0 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
+        .compareMask = 0xff,
+        .writeMask = 0xff,
+        .reference = p->stencil > 0 ? 1u : 0u,
+    };
+    VkPipelineDepthStencilStateCreateInfo depth = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+        .depthTestEnable = p->depth_test,
+        .depthWriteEnable = p->depth_test,
+        .depthCompareOp = p->depth_compare,
+        .stencilTestEnable = p->stencil != 0,
+        .front = stencil,
+        .back = stencil,
+    };
+    VkPipelineColorBlendAttachmentState blend_attachment = {
+        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                          VK_COLOR_COMPONENT_A_BIT,
+    };
+    VkPipelineColorBlendStateCreateInfo blend = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+        .attachmentCount = has_fragment ? 1 : 0,
+        .pAttachments = &blend_attachment,
+    };
+    VkGraphicsPipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+        .stageCount = has_fragment ? 2 : 1,
+        .pStages = stages,
+        .pVertexInputState = &vertex_input,
+        .pInputAssemblyState = &assembly,
+        .pViewportState = &viewport_state,
+        .pRasterizationState = &raster,
+        .pMultisampleState = &multisample,
+        .pDepthStencilState = &depth,
+        .pColorBlendState = &blend,
+        .layout = rd->pipeline_layout,
+        .renderPass = p->pass,
+    };
+    VkResult vr = vkCreateGraphicsPipelines(rd->context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+    for (int i = 0; i < 2; i++)
+        if (modules[i])
+            vkDestroyShaderModule(rd->context->device, modules[i], NULL);
+    if (vr != VK_SUCCESS) {
+        *out = VK_NULL_HANDLE;
+        cvk_fail_vk(error, "vkCreateGraphicsPipelines", vr);
+        cvk_error_prefix(error, "%s", p->what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_pipelines(cvk_renderer* rd, cvk_error* error)
+{
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
+    bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
+    cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
+    const pipeline_recipe recipes[] = {
+        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
+        /* Reversed depth: nearer is greater. */
+        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
+        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
+         {false, false, rd->desc.samples}},
+        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}},
+    };
+    VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->background_pipeline, &rd->patch_pipeline};
+    for (size_t i = 0; i < sizeof recipes / sizeof recipes[0]; i++) {
+        cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+/* ---- recording ----------------------------------------------------------------------------- */
+
+static void timestamp(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t query)
+{
+    if (rd->queries)
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, rd->queries, query);
+}
+
+static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored)
+{
+    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
+    VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &mesh.vertex_buffer, &offset);
+    vkCmdBindIndexBuffer(cmd, mesh.index_buffer, 0, mesh.index_type);
+    const cvk_build* b = &rd->mesh->sim->build;
+    for (uint32_t c = 0; c < mesh.cloth_count; c++) {
+        if (mesh.cloths[c].index_count == 0)
+            continue;
+        if (colored) {
+            float albedo[4] = {b->cloths[c].color[0], b->cloths[c].color[1], b->cloths[c].color[2], 1.0f};
+            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof albedo, albedo);
+        }
+        vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
+    }
+}
+
+static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkClearValue clear = {.depthStencil = {1.0f, 0}};
+    VkRenderPassBeginInfo begin = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
+        .renderPass = rd->shadow_pass,
+        .framebuffer = rd->shadow_framebuffer,
+        .renderArea = {{0, 0}, {rd->desc.shadow_map_size, rd->desc.shadow_map_size}},
+        .clearValueCount = 1,
+        .pClearValues = &clear,
+    };
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+    draw_cloths(rd, cmd, false);
+    vkCmdEndRenderPass(cmd);
+}
+
+static void begin_pass(const cvk_renderer* rd, VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer,
+                       const VkClearValue* clears, uint32_t clear_count)
+{
+    VkRenderPassBeginInfo begin = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
+        .renderPass = pass,
+        .framebuffer = framebuffer,
+        .renderArea = {{0, 0}, {rd->desc.size[0], rd->desc.size[1]}},
+        .clearValueCount = clear_count,
+        .pClearValues = clears,
+    };
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+}
+
+static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
+    begin_pass(rd, cmd, rd->cloth_pass, rd->cloth_framebuffer, clears, 2);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
+    draw_cloths(rd, cmd, true);
+    vkCmdEndRenderPass(cmd);
+
+    VkClearValue stencil[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
+    begin_pass(rd, cmd, rd->composite_pass, rd->composite_framebuffer, stencil, 2);
+    /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
+       then everything else, which skips them. */
+    if (rd->desc.ground && rd->view.patch_visible) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->patch_pipeline);
+        vkCmdDraw(cmd, 4, 1, 0, 0);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRenderPass(cmd);
+}
+
+static void record_readback(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkBufferImageCopy region = {
+        .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+        .imageExtent = {rd->desc.size[0], rd->desc.size[1], 1},
+    };
+    vkCmdCopyImageToBuffer(cmd, rd->image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rd->readback.buffer, 1,
+                           &region);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                    VK_ACCESS_HOST_READ_BIT);
+}
+
+cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error* error)
+{
+    if (!rd || !cmd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_renderer_record needs a renderer and a command buffer");
+    if (rd->queries)
+        vkCmdResetQueryPool(cmd, rd->queries, 0, QUERY_COUNT);
+    timestamp(rd, cmd, 0);
+    cvk_result r = cvk_mesh_record(rd->mesh, cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    timestamp(rd, cmd, 1);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT,
+                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT);
+    record_shadow_pass(rd, cmd);
+    timestamp(rd, cmd, 2);
+    record_lit_pass(rd, cmd);
+    timestamp(rd, cmd, 3);
+    record_readback(rd, cmd);
+    timestamp(rd, cmd, 4);
+    return CVK_SUCCESS;
+}
+
+/* ---- creation ------------------------------------------------------------------------------ */
+
+static cvk_result create_frame_objects(cvk_renderer* rd, cvk_error* error)
+{
+    VkDeviceSize bytes = (VkDeviceSize)rd->desc.size[0] * rd->desc.size[1] * 4u;
+    cvk_result r = cvk_buffer_create(rd->context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, CVK_MEMORY_HOST,
+                                     "image readback", &rd->readback, error);
+    if (r == CVK_SUCCESS && rd->context->timestamp_valid_bits) {
+        VkQueryPoolCreateInfo info = {
+            .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+            .queryType = VK_QUERY_TYPE_TIMESTAMP,
+            .queryCount = QUERY_COUNT,
+        };
+        VkResult vr = vkCreateQueryPool(rd->context->device, &info, NULL, &rd->queries);
+        if (vr != VK_SUCCESS)
+            r = cvk_fail_vk(error, "vkCreateQueryPool", vr);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_submitter_create(rd->context, &rd->submitter, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(rd->context, &rd->submitter, &rd->frame_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_begin(rd->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_renderer_record(rd, rd->frame_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_end(rd->frame_cmd, error);
+    return r;
+}
+
+static void gravity_of(const cvk_sim* sim, double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = sim->ref.gravity_h2[k];
+}
+
+cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_renderer** out_renderer,
+                               cvk_error* error)
+{
+    if (!mesh || !desc || !out_renderer)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_renderer_create needs a mesh, a render description and an output pointer");
+    *out_renderer = NULL;
+    cvk_scene_issue issue;
+    if (!cvk_render_desc_check(desc, &issue))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue.path, issue.problem);
+    cvk_result r = check_device(mesh->context, desc, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_renderer* rd = calloc(1, sizeof *rd);
+    if (!rd)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the renderer");
+    rd->context = mesh->context;
+    rd->mesh = mesh;
+    rd->desc = *desc;
+    rd->samples = (VkSampleCountFlagBits)desc->samples;
+    double gravity[3];
+    gravity_of(mesh->sim, gravity);
+    cvk_view_resolve(desc, &mesh->sim->build, gravity, desc->shadow_map_size, &rd->view);
+
+    r = create_images(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_shadow_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_cloth_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_composite_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_descriptors(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_pipelines(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_frame_objects(rd, error);
+    /* Lavapipe compiles pipelines on first use: one frame now, so no timed frame pays. */
+    if (r == CVK_SUCCESS)
+        r = cvk_renderer_draw(rd, error);
+    if (r != CVK_SUCCESS) {
+        cvk_renderer_destroy(rd);
+        return r;
+    }
+    *out_renderer = rd;
+    return CVK_SUCCESS;
+}
+
+void cvk_renderer_destroy(cvk_renderer* rd)
+{
+    if (!rd)
+        return;
+    VkDevice dev = rd->context->device;
+    if (rd->submitter.pool)
+        vkQueueWaitIdle(rd->context->queue);
+    VkPipeline pipelines[] = {rd->shadow_pipeline, rd->cloth_pipeline, rd->background_pipeline, rd->patch_pipeline};
+    for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
+        if (pipelines[i])
+            vkDestroyPipeline(dev, pipelines[i], NULL);
+    if (rd->queries)
+        vkDestroyQueryPool(dev, rd->queries, NULL);
+    if (rd->descriptor_pool)
+        vkDestroyDescriptorPool(dev, rd->descriptor_pool, NULL);
+    if (rd->pipeline_layout)
+        vkDestroyPipelineLayout(dev, rd->pipeline_layout, NULL);
+    if (rd->set_layout)
+        vkDestroyDescriptorSetLayout(dev, rd->set_layout, NULL);
+    VkSampler samplers[] = {rd->shadow_sampler, rd->cloth_sampler};
+    for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
+        if (samplers[i])
+            vkDestroySampler(dev, samplers[i], NULL);
+    VkFramebuffer framebuffers[] = {rd->shadow_framebuffer, rd->cloth_framebuffer, rd->composite_framebuffer};
+    for (size_t i = 0; i < sizeof framebuffers / sizeof framebuffers[0]; i++)
+        if (framebuffers[i])
+            vkDestroyFramebuffer(dev, framebuffers[i], NULL);
+    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->composite_pass};
+    for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
+        if (passes[i])
+            vkDestroyRenderPass(dev, passes[i], NULL);
+    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->image, &rd->stencil};
+    for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
+        cvk_gpu_image_destroy(rd->context, images[i]);
+    cvk_buffer_destroy(rd->context, &rd->uniforms);
+    cvk_buffer_destroy(rd->context, &rd->readback);
+    cvk_submitter_destroy(rd->context, &rd->submitter);
+    free(rd);
+}
+
+/* ---- frames -------------------------------------------------------------------------------- */
+
+cvk_result cvk_renderer_draw(cvk_renderer* rd, cvk_error* error)
+{
+    if (!rd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_draw needs a renderer");
+    return cvk_submit_and_wait(rd->context, &rd->submitter, &rd->frame_cmd, 1, error);
+}
+
+cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
+{
+    return (cvk_image){
+        .pixels = rd->readback.mapped,
+        .width = rd->desc.size[0],
+        .height = rd->desc.size[1],
+        .row_bytes = 4u * rd->desc.size[0],
+    };
+}
+
+cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
+{
+    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0};
+    if (!rd->queries)
+        return t;
+    uint64_t data[2 * QUERY_COUNT];
+    VkResult vr = vkGetQueryPoolResults(rd->context->device, rd->queries, 0, QUERY_COUNT, sizeof data, data,
+                                        2 * sizeof(uint64_t),
+                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
+    if (vr != VK_SUCCESS)
+        return t;
+    for (int q = 0; q < QUERY_COUNT; q++)
+        if (!data[2 * q + 1])
+            return t;
+    uint32_t bits = rd->context->timestamp_valid_bits;
+    uint64_t mask = bits >= 64 ? UINT64_MAX : ((uint64_t)1 << bits) - 1;
+    double period_ms = rd->context->properties.limits.timestampPeriod * 1e-6;
+    double ms[QUERY_COUNT - 1];
+    for (int q = 1; q < QUERY_COUNT; q++)
+        ms[q - 1] = (double)((data[2 * q] - data[2 * (q - 1)]) & mask) * period_ms;
+    t.mesh_ms = ms[0];
+    t.shadow_ms = ms[1];
+    t.lit_ms = ms[2];
+    t.readback_ms = ms[3];
+    t.total_ms = (double)((data[2 * (QUERY_COUNT - 1)] - data[0]) & mask) * period_ms;
+    return t;
+}
+
+cvk_render_view cvk_renderer_get_view(const cvk_renderer* rd)
+{
+    const cvk_view* v = &rd->view;
+    cvk_render_view out = {.fov_y = (float)v->fov_y, .ground_height = (float)v->ground_height};
+    for (int k = 0; k < 3; k++) {
+        out.eye[k] = (float)v->eye[k];
+        out.target[k] = (float)v->target[k];
+        out.up[k] = (float)v->up[k];
+        out.reach_min[k] = (float)v->reach.lo[k];
+        out.reach_max[k] = (float)v->reach.hi[k];
+    }
+    memcpy(out.view_proj, v->view_proj, sizeof out.view_proj);
+    return out;
+}

@@ -1,0 +1,297 @@
+#!/usr/bin/env python3
+"""clothvk-render as a person meets it: exact messages and exit statuses for bad arguments, a
+bad scene and an unusable output folder; the images and the summary for good input; the same
+scene rendered twice gives the same PNG bytes.
+
+    python3 tests/test_render_cli.py PATH/TO/clothvk-render
+
+Every run has a fresh temporary directory as its working directory. A bad-input case must exit
+with status 2, print exactly one line on stderr (compared whole), print nothing on stdout and
+leave the directory as it found it (no output folder, no image, no temporary file). A good
+case must exit with status 0 and print nothing on stderr (validation messages included).
+"""
+import os
+import re
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+
+if len(sys.argv) != 2:
+    sys.exit("usage: test_render_cli.py PATH/TO/clothvk-render")
+RENDER = os.path.abspath(sys.argv[1])
+ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+
+SMALL = os.path.join(ROOT, "tests", "scenes", "small.json")
+HANGING = os.path.join(ROOT, "assets", "scenes", "hanging.json")
+# hanging.json made small enough for a test: 24 x 24 particles, 160 x 90 pixels.
+TINY = [HANGING, "--set", "cloths.0.grid=[24,24]", "--set", "cloths.0.pins=[[0,0],[23,0]]", "--size", "160x90"]
+
+LLVMPIPE = "{llvmpipe}"
+LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+
+
+def error(message):
+    return f"clothvk-render: {message}"
+
+
+def png_info(path):
+    """(width, height, colour type) of a complete PNG file; raises ValueError otherwise."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError("no PNG signature")
+    at, header, idat, ended = 8, None, b"", False
+    while at < len(data):
+        length, kind = struct.unpack(">I4s", data[at:at + 8])
+        body = data[at + 8:at + 8 + length]
+        crc = struct.unpack(">I", data[at + 8 + length:at + 12 + length])[0]
+        if zlib.crc32(kind + body) != crc:
+            raise ValueError(f"bad CRC in chunk {kind!r}")
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            ended = True
+        at += 12 + length
+    if not header or not ended:
+        raise ValueError("no IHDR or no IEND: truncated")
+    width, height, depth, colour = header
+    channels = {2: 3, 6: 4}[colour]
+    if len(zlib.decompress(idat)) != height * (1 + width * channels):
+        raise ValueError("the image data has the wrong size")
+    return width, height, colour
+
+
+def images(folder):
+    return sorted(n for n in os.listdir(folder) if n.endswith(".png"))
+
+
+def expect_images(folder, names, width, height):
+    problems = []
+    if not os.path.isdir(folder):
+        return [f"{folder} was not created"]
+    found = sorted(os.listdir(folder))
+    if found != names:
+        problems.append(f"{folder} holds {found}, expected {names}")
+    for name in names:
+        try:
+            w, h, _ = png_info(os.path.join(folder, name))
+            if (w, h) != (width, height):
+                problems.append(f"{name} is {w}x{h}, expected {width}x{height}")
+        except (OSError, ValueError) as e:
+            problems.append(f"{name}: {e}")
+    return problems
+
+
+def summary_check(pattern):
+    def check(stdout, workdir):
+        line = stdout.strip()
+        return [] if re.fullmatch(pattern, line) else [f"summary {line!r} does not match {pattern!r}"]
+    return check
+
+
+def folder_check(folder, names, width, height, also=None):
+    def check(stdout, workdir):
+        problems = expect_images(os.path.join(workdir, folder), names, width, height)
+        if also:
+            problems += also(stdout, workdir)
+        return problems
+    return check
+
+
+def quiet_check(stdout, workdir):
+    return ([f"--quiet printed {stdout!r}"] if stdout else []) + \
+        expect_images(os.path.join(workdir, "q"), ["frame_0000.png", "frame_0001.png"], 64, 48)
+
+
+FRAMES = [f"frame_{i:04d}.png" for i in range(4)]
+NUMBER = r"[0-9]+\.[0-9]"
+
+CASES = [
+    # Arguments.
+    {"name": "no output folder", "argv": [SMALL], "status": 2,
+     "stderr": error("no output folder given (-o DIR)")},
+    {"name": "size 0", "argv": [SMALL, "-o", "out", "--size", "0x720"], "status": 2,
+     "stderr": error("--size: expected WIDTHxHEIGHT in pixels, each at least 1, got 0x720")},
+    {"name": "negative size", "argv": [SMALL, "-o", "out", "--size", "-640x480"], "status": 2,
+     "stderr": error("--size: expected WIDTHxHEIGHT in pixels, each at least 1, got -640x480")},
+    {"name": "size without height", "argv": [SMALL, "-o", "out", "--size", "640"], "status": 2,
+     "stderr": error("--size: expected WIDTHxHEIGHT in pixels, each at least 1, got 640")},
+    {"name": "size above the device's limit", "argv": [SMALL, "-o", "out", "--size", "20000x720"], "status": 2,
+     "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(f"--size 20000x720: {LLVMPIPE} draws at most 16384 x 16384 pixels")},
+    {"name": "scene size above the device's limit", "argv": [SMALL, "-o", "out", "--set", "render.size=[100,20000]"],
+     "status": 2, "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(f"{SMALL}: render.size: 100 x 20000 pixels is more than {LLVMPIPE} allows (16384 x 16384)")},
+    {"name": "samples the device lacks", "argv": [SMALL, "-o", "out", "--set", "render.samples=8"], "status": 2,
+     "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(f"{SMALL}: render.samples: {LLVMPIPE} draws 1 or 4 samples per pixel, not 8")},
+    {"name": "every 0", "argv": [SMALL, "-o", "out", "--every", "0"], "status": 2,
+     "stderr": error("--every: expected a whole number from 1 to 100000000, got 0")},
+    {"name": "frames 0", "argv": [SMALL, "-o", "out", "--frames", "0"], "status": 2,
+     "stderr": error("--frames: expected a whole number from 1 to 100000000, got 0")},
+    {"name": "unknown option", "argv": [SMALL, "-o", "out", "--fps", "30"], "status": 2,
+     "stderr": error("unknown option --fps (see --help)")},
+    # The scene.
+    {"name": "unknown render key", "argv": [SMALL, "-o", "out", "--set", "render.fov=40"], "status": 2,
+     "stderr": error(f"{SMALL}: render.fov (from --set): unknown key (expected one of: size, eye, target, up, "
+                     "fov_y, key, fill, ambient, background, ground, ground_height, ground_color, "
+                     "shadow_map_size, samples)")},
+    {"name": "bad render value", "argv": [SMALL, "-o", "out", "--set", "render.key.direction=[0,0,0]"],
+     "status": 2, "stderr": error(f"{SMALL}: render.key.direction (from --set): must not be zero, got [0, 0, 0]")},
+    {"name": "missing scene", "argv": ["no-such.json", "-o", "out"], "status": 2,
+     "stderr": error("no-such.json: cannot open: No such file or directory")},
+    # The output folder: an existing file in the way, under it, or a folder that takes no file.
+    {"name": "output is a file", "argv": [SMALL, "-o", "taken"], "status": 2, "files": ["taken"],
+     "stderr": error("taken: exists and is not a folder")},
+    {"name": "output under a file", "argv": [SMALL, "-o", "taken/frames"], "status": 2, "files": ["taken"],
+     "stderr": error("taken/frames: cannot create the output folder: Not a directory")},
+    {"name": "output folder not writable", "argv": [SMALL, "-o", "locked"], "status": 2, "locked": "locked",
+     "stderr": error("locked: cannot write into the output folder: Permission denied")},
+
+    # Good input.
+    {"name": "four images, every 3rd frame", "argv": TINY + ["-o", "a/b", "--frames", "10", "--every", "3"],
+     "status": 0,
+     "check": folder_check("a/b", FRAMES, 160, 90, summary_check(
+         rf"hanging: 4 images of 160x90 in a/b \(frames 0 to 9 of 10, every 3\), {NUMBER} s; per image: "
+         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, lit {NUMBER}, "
+         rf"readback {NUMBER}\), png {NUMBER} ms \(beside the next image's work\); {NUMBER} ms wall"))},
+    {"name": "--quiet", "argv": [SMALL, "-o", "q", "--frames", "2", "--size", "64x48", "--quiet"], "status": 0,
+     "check": quiet_check},
+    {"name": "existing folder, images replaced", "argv": [SMALL, "-o", "f", "--frames", "1", "--size", "64x48"],
+     "status": 0, "folders": ["f"], "files": ["f/frame_0000.png"],
+     "check": folder_check("f", ["frame_0000.png"], 64, 48)},
+]
+
+
+def line_matches(got, expected):
+    if LLVMPIPE not in expected:
+        return got == expected
+    pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
+    return re.fullmatch(pattern, got) is not None
+
+
+def listing(workdir):
+    found = []
+    for base, dirs, files in os.walk(workdir):
+        for name in dirs + files:
+            found.append(os.path.relpath(os.path.join(base, name), workdir))
+    return sorted(found)
+
+
+def unwritable_folder():
+    """A folder that takes no new file, and the reason, for a user who may be root (who writes into
+    any folder whatever its mode): /sys refuses even root. None when there is none."""
+    if os.geteuid() != 0:
+        return None
+    try:
+        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
+    except OSError as e:
+        return "/sys", os.strerror(e.errno)
+    os.close(fd)
+    os.unlink("/sys/clothvk-probe")
+    return None
+
+
+def run_case(case):
+    """Runs one case in a fresh directory; returns a list of problems (or None: skipped)."""
+    if case.get("locked") and os.geteuid() == 0:
+        found = unwritable_folder()
+        if not found:
+            return None
+        folder, reason = found
+        case = dict(case, locked=None, argv=[SMALL, "-o", folder],
+                    stderr=error(f"{folder}: cannot write into the output folder: {reason}"))
+    env = dict(os.environ, **case.get("env", {}))
+    with tempfile.TemporaryDirectory(prefix="clothvk-render-cli-") as workdir:
+        for folder in case.get("folders", []):
+            os.makedirs(os.path.join(workdir, folder))
+        for name in case.get("files", []):
+            with open(os.path.join(workdir, name), "w") as f:
+                f.write("not an image\n")
+        if case.get("locked"):
+            os.makedirs(os.path.join(workdir, case["locked"]))
+            os.chmod(os.path.join(workdir, case["locked"]), 0o555)
+        before = listing(workdir)
+        try:
+            p = subprocess.run([RENDER] + case["argv"], cwd=workdir, env=env, capture_output=True, text=True,
+                               timeout=180)
+        except subprocess.TimeoutExpired:
+            return ["timed out after 180 s"]
+        problems = []
+        if p.returncode != case["status"]:
+            problems.append(f"expected exit status {case['status']}, got {p.returncode}")
+        lines = p.stderr.splitlines()
+        if case["status"] != 0:
+            if len(lines) != 1 or not line_matches(lines[0], case["stderr"]):
+                problems.append(f"expected stderr: {case['stderr']}")
+                problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
+            if p.stdout:
+                problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
+            after = listing(workdir)
+            if after != before:
+                problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
+        else:
+            if p.stderr:
+                problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(lines))
+            if "check" in case and p.returncode == 0:
+                problems += case["check"](p.stdout, workdir)
+        return problems
+
+
+def determinism():
+    """The same scene rendered twice: the same PNG bytes, image for image."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-render-cli-") as workdir:
+        for out in ("one", "two"):
+            p = subprocess.run([RENDER] + TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"],
+                               cwd=workdir, capture_output=True, text=True, timeout=180)
+            if p.returncode != 0 or p.stderr:
+                return [f"run into {out} failed ({p.returncode}): {p.stderr.strip()}"]
+        names = images(os.path.join(workdir, "one"))
+        if names != ["frame_0000.png", "frame_0001.png"] or names != images(os.path.join(workdir, "two")):
+            return [f"unexpected images: {names}"]
+        problems = []
+        for name in names:
+            with open(os.path.join(workdir, "one", name), "rb") as a, open(os.path.join(workdir, "two", name), "rb") as b:
+                if a.read() != b.read():
+                    problems.append(f"{name} differs between two runs of the same scene")
+        with open(os.path.join(workdir, "one", names[0]), "rb") as a, \
+                open(os.path.join(workdir, "one", names[1]), "rb") as b:
+            if a.read() == b.read():
+                problems.append("frames 0 and 4 of a falling cloth are the same image")
+        return problems
+
+
+def main():
+    start = time.monotonic()
+    failed = skipped = 0
+    for case in CASES:
+        problems = run_case(case)
+        if problems is None:
+            skipped += 1
+            print(f"skip {case['name']}: running as root, which writes into any folder, and /sys takes files")
+            continue
+        if problems:
+            failed += 1
+            print(f"FAIL {case['name']}: clothvk-render {' '.join(case['argv'])}")
+            for problem in problems:
+                print(f"    {problem}")
+    problems = determinism()
+    if problems:
+        failed += 1
+        print("FAIL determinism")
+        for problem in problems:
+            print(f"    {problem}")
+    total = len(CASES) + 1 - skipped
+    seconds = time.monotonic() - start
+    print(f"render cli: {total - failed} of {total} cases passed ({failed} failed, {skipped} skipped) in {seconds:.1f} s")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
