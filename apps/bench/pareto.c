@@ -193,18 +193,25 @@ static void print_setting(const bench_table* t, uint32_t r)
            bench_table_get(t, r, "substeps"), bench_table_get(t, r, "iterations"));
 }
 
+/* The cheapest row on the front `mark` that costs more than `after` ms, or -1: walking it
+ * from after = -1 lists the front ordered by time. */
+static int next_on_front(const bench_table* t, const char* mark, double after)
+{
+    int best = -1;
+    for (uint32_t r = 0; r < t->rows; r++) {
+        double time = bench_table_get(t, r, "frame_ms");
+        if (bench_table_get(t, r, mark) == 1.0 && time > after &&
+            (best < 0 || time < bench_table_get(t, (uint32_t)best, "frame_ms")))
+            best = (int)r;
+    }
+    return best;
+}
+
 static void print_front(const bench_table* t, const char* error, const char* mark, const char* unit)
 {
-    /* the front ordered by time: repeatedly the cheapest row not yet printed */
     double printed = -1.0;
     for (;;) {
-        int best = -1;
-        for (uint32_t r = 0; r < t->rows; r++) {
-            double time = bench_table_get(t, r, "frame_ms");
-            if (bench_table_get(t, r, mark) == 1.0 && time > printed &&
-                (best < 0 || time < bench_table_get(t, (uint32_t)best, "frame_ms")))
-                best = (int)r;
-        }
+        int best = next_on_front(t, mark, printed);
         if (best < 0)
             return;
         printed = bench_table_get(t, (uint32_t)best, "frame_ms");
@@ -244,13 +251,7 @@ static void front_block(bench* b, const char* name, const char* error, const cha
     bench_text_add(&b->plot, "$%s << EOD\n", name);
     double printed = -1.0;
     for (;;) {
-        int best = -1;
-        for (uint32_t r = 0; r < t->rows; r++) {
-            double time = bench_table_get(t, r, "frame_ms");
-            if (bench_table_get(t, r, mark) == 1.0 && time > printed &&
-                (best < 0 || time < bench_table_get(t, (uint32_t)best, "frame_ms")))
-                best = (int)r;
-        }
+        int best = next_on_front(t, mark, printed);
         if (best < 0)
             break;
         printed = bench_table_get(t, (uint32_t)best, "frame_ms");
