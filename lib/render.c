@@ -269,6 +269,45 @@ static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const 
     return CVK_SUCCESS;
 }
 
+/* A pass of one subpass over a colour attachment (0) and a depth/stencil attachment (1), two
+ * external dependencies, and its framebuffer on `views`. */
+static cvk_result create_color_depth_pass(cvk_renderer* rd, const VkAttachmentDescription attachments[2],
+                                          const VkSubpassDependency dependencies[2], const VkImageView views[2],
+                                          VkRenderPass* pass, VkFramebuffer* framebuffer, const char* what,
+                                          cvk_error* error)
+{
+    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference depth = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .colorAttachmentCount = 1,
+        .pColorAttachments = &color,
+        .pDepthStencilAttachment = &depth,
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 2,
+        .pAttachments = attachments,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, pass);
+    if (vr != VK_SUCCESS) {
+        cvk_fail_vk(error, "vkCreateRenderPass", vr);
+        cvk_error_prefix(error, "%s", what);
+        return error ? error->result : CVK_ERROR_VULKAN;
+    }
+    return create_framebuffer(rd, *pass, views, 2, framebuffer, what, error);
+}
+
+/* Stages and accesses of a pass that writes colour and depth/stencil. */
+#define PASS_OUTPUT_STAGES                                                                          \
+    (VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |   \
+     VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT)
+#define PASS_WRITES (VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT)
+
 /* The cloth, multisampled, over transparent black: the composite pass reads every sample. */
 static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
 {
@@ -294,18 +333,8 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
             .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         },
     };
-    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    VkAttachmentReference depth = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription subpass = {
-        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
-        .colorAttachmentCount = 1,
-        .pColorAttachments = &color,
-        .pDepthStencilAttachment = &depth,
-    };
-    VkPipelineStageFlags output = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
+    VkAccessFlags writes = PASS_WRITES;
     VkSubpassDependency dependencies[] = {
         /* The previous frame's writes, and its composite pass's reads of the cloth image. */
         {VK_SUBPASS_EXTERNAL, 0, output | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, output, writes,
@@ -314,20 +343,9 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
         {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
-    VkRenderPassCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .attachmentCount = 2,
-        .pAttachments = attachments,
-        .subpassCount = 1,
-        .pSubpasses = &subpass,
-        .dependencyCount = 2,
-        .pDependencies = dependencies,
-    };
-    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->cloth_pass);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateRenderPass (cloth pass)", vr);
     VkImageView views[2] = {rd->cloth.view, rd->cloth_depth.view};
-    return create_framebuffer(rd, rd->cloth_pass, views, 2, &rd->cloth_framebuffer, "cloth pass", error);
+    return create_color_depth_pass(rd, attachments, dependencies, views, &rd->cloth_pass, &rd->cloth_framebuffer,
+                                   "cloth pass", error);
 }
 
 /* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
@@ -355,18 +373,8 @@ static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
             .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         },
     };
-    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    VkAttachmentReference stencil = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription subpass = {
-        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
-        .colorAttachmentCount = 1,
-        .pColorAttachments = &color,
-        .pDepthStencilAttachment = &stencil,
-    };
-    VkPipelineStageFlags output = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                  VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                                  VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    VkAccessFlags writes = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
+    VkAccessFlags writes = PASS_WRITES;
     VkSubpassDependency dependencies[] = {
         /* The previous frame's copy out of the image, and its writes. */
         {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_TRANSFER_BIT | output, output, writes,
@@ -375,21 +383,9 @@ static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
         {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0},
     };
-    VkRenderPassCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .attachmentCount = 2,
-        .pAttachments = attachments,
-        .subpassCount = 1,
-        .pSubpasses = &subpass,
-        .dependencyCount = 2,
-        .pDependencies = dependencies,
-    };
-    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->composite_pass);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateRenderPass (composite pass)", vr);
     VkImageView views[2] = {rd->image.view, rd->stencil.view};
-    return create_framebuffer(rd, rd->composite_pass, views, 2, &rd->composite_framebuffer, "composite pass",
-                              error);
+    return create_color_depth_pass(rd, attachments, dependencies, views, &rd->composite_pass,
+                                   &rd->composite_framebuffer, "composite pass", error);
 }
 
 /* ---- uniforms, descriptors ----------------------------------------------------------------- */
