@@ -111,14 +111,10 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
             o->serial = true;
         } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
             o->quiet = true;
-        } else if (a[0] == '-' && a[1]) {
-            app_error(tool, "unknown option %s (see --help)", a);
-            return APP_EXIT_BAD_INPUT;
-        } else if (o->scene) {
-            app_error(tool, "one scene file expected, got %s and %s", o->scene, a);
-            return APP_EXIT_BAD_INPUT;
         } else {
-            o->scene = a;
+            int status = app_take_scene_argument(tool, a, &o->scene);
+            if (status != APP_EXIT_OK)
+                return status;
         }
     }
     if (!o->scene) {

@@ -18,6 +18,20 @@ void app_error(const char* tool, const char* format, ...)
     fputc('\n', stderr);
 }
 
+int app_take_scene_argument(const char* tool, const char* arg, const char** scene)
+{
+    if (arg[0] == '-' && arg[1]) {
+        app_error(tool, "unknown option %s (see --help)", arg);
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (*scene) {
+        app_error(tool, "one scene file expected, got %s and %s", *scene, arg);
+        return APP_EXIT_BAD_INPUT;
+    }
+    *scene = arg;
+    return APP_EXIT_OK;
+}
+
 bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out)
 {
     if (!text || !*text || *text == '-' || *text == '+')

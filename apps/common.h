@@ -19,6 +19,10 @@ enum {
 /* Prints "tool: message" on stderr. */
 void app_error(const char* tool, const char* format, ...) __attribute__((format(printf, 2, 3)));
 
+/* An argument no option of the tool took: the scene file when it is the first such argument
+ * and not an option; otherwise one line on stderr and APP_EXIT_BAD_INPUT. */
+int app_take_scene_argument(const char* tool, const char* arg, const char** scene);
+
 /* Parses a whole decimal number in [min, max]; false on anything else. */
 bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out);
 
