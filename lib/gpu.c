@@ -33,6 +33,13 @@ static int find_memory_type(const cvk_context* context, uint32_t allowed, VkMemo
     return -1;
 }
 
+/* Device-local memory where the device has it (a CPU device may not), else any allowed type. */
+static int device_memory_type(const cvk_context* context, uint32_t allowed)
+{
+    int type = find_memory_type(context, allowed, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    return type >= 0 ? type : find_memory_type(context, allowed, 0);
+}
+
 cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUsageFlags usage,
                              cvk_memory_kind kind, const char* what, cvk_buffer* out,
                              cvk_error* error)
@@ -62,9 +69,7 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
                                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
                                         VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     } else {
-        type = find_memory_type(context, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-        if (type < 0)
-            type = find_memory_type(context, req.memoryTypeBits, 0);
+        type = device_memory_type(context, req.memoryTypeBits);
     }
     if (type < 0) {
         cvk_buffer_destroy(context, out);
@@ -300,9 +305,7 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
     }
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(context->device, out->image, &req);
-    int type = find_memory_type(context, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (type < 0)
-        type = find_memory_type(context, req.memoryTypeBits, 0);
+    int type = device_memory_type(context, req.memoryTypeBits);
     if (type < 0) {
         cvk_gpu_image_destroy(context, out);
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);

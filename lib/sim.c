@@ -89,19 +89,6 @@ static cvk_result check_device_limits(const cvk_context* context, const cvk_scen
 
 /* ---- buffers ----------------------------------------------------------------------------- */
 
-static cvk_result create_view(cvk_context* ctx, const cvk_buffer* buffer, VkFormat format,
-                              VkBufferView* out, cvk_error* error)
-{
-    VkBufferViewCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
-        .buffer = buffer->buffer,
-        .format = format,
-        .range = VK_WHOLE_SIZE,
-    };
-    VkResult vr = vkCreateBufferView(ctx->device, &info, NULL, out);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateBufferView", vr);
-}
-
 static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
 {
     cvk_context* ctx = s->context;
@@ -149,7 +136,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
         cvk_result r = cvk_buffer_create(ctx, list[i].size, list[i].usage, list[i].kind,
                                          list[i].what, list[i].buffer, error);
         if (r == CVK_SUCCESS && list[i].view)
-            r = create_view(ctx, list[i].buffer, list[i].format, list[i].view, error);
+            r = cvk_buffer_view_create(ctx, list[i].buffer, list[i].format, list[i].view, error);
         if (r != CVK_SUCCESS)
             return r;
     }
