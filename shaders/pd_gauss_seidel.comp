@@ -46,6 +46,6 @@ void main()
         vec3 u = (b.xyz + acc) * b.w;
         if (pc.omega != 1.0)
             u = cur + pc.omega * (u - cur);
-        dst[p].xyz = u;
+        dst[p] = vec4(u, 0.0);
     }
 }

@@ -46,6 +46,6 @@ void main()
             vec3 older = fetch(dst_read, p);
             u = pc.cheb * (u - older) + older;
         }
-        dst[p].xyz = u;
+        dst[p] = vec4(u, 0.0);
     }
 }
