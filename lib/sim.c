@@ -43,6 +43,20 @@ static double now_ms(void)
 
 /* ---- limits, checked before anything large is allocated -------------------------------- */
 
+/* The GPU adjacency packs a particle's springs four to a texel: per quad of slots one
+ * rgba32ui texel of neighbours and one of the bits of their k (both in `adjacency`), and one
+ * rgba32f texel of k·L (`adjacency_kl`). A sweep then gathers two texels for four springs
+ * instead of four; on lavapipe a gather costs the same for one component as for four. */
+static uint32_t adjacency_quads(uint32_t max_degree)
+{
+    return max_degree ? (max_degree + 3u) / 4u : 1u;
+}
+
+static uint32_t adjacency_texels_per_particle(uint32_t max_degree)
+{
+    return 2u * adjacency_quads(max_degree);
+}
+
 static uint32_t degree_bound(const cvk_scene_desc* scene)
 {
     uint32_t bound = 0;
@@ -76,13 +90,13 @@ static cvk_result check_device_limits(const cvk_context* context, const cvk_scen
                         "(maxStorageBufferRange %u bytes, 16 bytes per particle)",
                         where, (unsigned long long)total, context->properties.deviceName,
                         (unsigned long long)max_particles, limits->maxStorageBufferRange);
-    uint64_t entries = total * degree_bound(scene);
-    if (total > limits->maxTexelBufferElements || entries > limits->maxTexelBufferElements)
+    uint64_t texels = total * adjacency_texels_per_particle(degree_bound(scene));
+    if (total > limits->maxTexelBufferElements || texels > limits->maxTexelBufferElements)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
                         "%s: %llu particles with up to %u springs each need %llu adjacency "
-                        "entries; %s allows %u texel buffer elements (maxTexelBufferElements)",
+                        "texels; %s allows %u texel buffer elements (maxTexelBufferElements)",
                         where, (unsigned long long)total, degree_bound(scene),
-                        (unsigned long long)entries, context->properties.deviceName,
+                        (unsigned long long)texels, context->properties.deviceName,
                         limits->maxTexelBufferElements);
     return CVK_SUCCESS;
 }
@@ -95,7 +109,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
     const cvk_build* b = &s->build;
     VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
     VkDeviceSize nf = b->free_count ? b->free_count : 1;
-    VkDeviceSize entries = (VkDeviceSize)(b->max_degree ? b->max_degree : 1) * nf;
+    VkDeviceSize quads = (VkDeviceSize)adjacency_quads(b->max_degree) * nf;
     VkBufferUsageFlags state = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -123,10 +137,10 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
          VK_FORMAT_R32G32B32A32_SFLOAT},
         {&s->rhs, nf * 16u, state, CVK_MEMORY_DEVICE, "right-hand side", &s->view_rhs,
          VK_FORMAT_R32G32B32A32_SFLOAT},
-        {&s->adjacency, entries * 8u, table, CVK_MEMORY_DEVICE, "adjacency", &s->view_adjacency,
-         VK_FORMAT_R32G32_UINT},
-        {&s->adjacency_kl, entries * 4u, table, CVK_MEMORY_DEVICE, "adjacency k*L",
-         &s->view_adjacency_kl, VK_FORMAT_R32_SFLOAT},
+        {&s->adjacency, quads * 32u, table, CVK_MEMORY_DEVICE, "adjacency", &s->view_adjacency,
+         VK_FORMAT_R32G32B32A32_UINT},
+        {&s->adjacency_kl, quads * 16u, table, CVK_MEMORY_DEVICE, "adjacency k*L",
+         &s->view_adjacency_kl, VK_FORMAT_R32G32B32A32_SFLOAT},
         {&s->spring_alive, (VkDeviceSize)b->spring_count * 4u, table, CVK_MEMORY_DEVICE, "spring flags",
          &s->view_spring_alive, VK_FORMAT_R32_UINT},
         {&s->staging, 2u * n16, VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
@@ -207,7 +221,7 @@ static cvk_result upload(cvk_sim* s, cvk_buffer* dst, const void* data, VkDevice
     return CVK_SUCCESS;
 }
 
-/* The adjacency as the GPU reads it: (neighbour, bits of k) pairs and k·L. */
+/* The adjacency as the GPU reads it (see adjacency_quads). */
 static cvk_result upload_static(cvk_sim* s, cvk_error* error)
 {
     const cvk_build* b = &s->build;
@@ -222,23 +236,35 @@ static cvk_result upload_static(cvk_sim* s, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
-    size_t entries = (size_t)b->max_degree * b->free_count;
-    if (entries == 0)
+    size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
+    if (nf == 0 || b->max_degree == 0)
         return CVK_SUCCESS;
-    uint32_t* pairs = malloc(entries * 2 * sizeof(uint32_t));
-    float* kl = malloc(entries * sizeof(float));
+    /* texel (2q) * nf + p: neighbours of slots 4q..4q+3, texel (2q + 1) * nf + p: bits of their
+       k; k·L at texel q * nf + p. Slots past max_degree point at p itself with k = 0. */
+    uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
+    float* kl = malloc(quads * nf * 4 * sizeof(float));
     cvk_result r = CVK_SUCCESS;
     if (!pairs || !kl)
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
-    for (size_t e = 0; r == CVK_SUCCESS && e < entries; e++) {
-        pairs[2 * e] = b->adj_index[e];
-        memcpy(&pairs[2 * e + 1], &b->adj_k[e], sizeof(float));
-        kl[e] = b->adj_k[e] * b->adj_rest[e];
+    for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
+        for (size_t p = 0; p < nf; p++) {
+            uint32_t* neighbours = &pairs[4 * ((2 * q) * nf + p)];
+            uint32_t* k_bits = &pairs[4 * ((2 * q + 1) * nf + p)];
+            float* k_rest = &kl[4 * (q * nf + p)];
+            for (size_t j = 0; j < 4; j++) {
+                size_t slot = 4 * q + j, e = slot * nf + p;
+                bool real = slot < b->max_degree;
+                float k = real ? b->adj_k[e] : 0.0f;
+                neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
+                memcpy(&k_bits[j], &k, sizeof k);
+                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f;
+            }
+        }
     }
     if (r == CVK_SUCCESS)
-        r = upload(s, &s->adjacency, pairs, entries * 2 * sizeof(uint32_t), error);
+        r = upload(s, &s->adjacency, pairs, quads * nf * 8 * sizeof(uint32_t), error);
     if (r == CVK_SUCCESS)
-        r = upload(s, &s->adjacency_kl, kl, entries * sizeof(float), error);
+        r = upload(s, &s->adjacency_kl, kl, quads * nf * 4 * sizeof(float), error);
     free(pairs);
     free(kl);
     return r;

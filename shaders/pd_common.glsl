@@ -11,12 +11,16 @@
 // lavapipe a texel fetch is a vectorised gather while a storage-buffer load is a per-lane loop
 // (2x on a 100x100 sweep), and GPUs serve both well.
 //
-// Adjacency is slot-major and padded to MAX_DEGREE: entry s of particle p sits at
-// s * pc.stride + p, so neighbouring invocations read neighbouring texels; padding entries
-// point at p itself with zero stiffness and contribute nothing.
+// Adjacency comes in quads of slots, padded to a multiple of four: for quad q of particle p,
+// texel (2q) * pc.stride + p of `adjacency` holds four neighbours and texel (2q + 1) * pc.stride
+// + p the bits of their k; texel q * pc.stride + p of `adjacency_kl` holds their k * L. So
+// neighbouring invocations read neighbouring texels, and four springs cost two gathers (a
+// gather costs the same for one component as for four on lavapipe). Padding slots point at p
+// itself with zero stiffness and contribute nothing.
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint MAX_DEGREE = 4;
+const uint QUADS = (MAX_DEGREE + 3u) / 4u;
 
 layout(set = 0, binding = 0) uniform samplerBuffer src;          // displacement iterate read
 layout(set = 0, binding = 1) uniform samplerBuffer dst_read;     // iterate being written, read
@@ -27,8 +31,8 @@ layout(set = 0, binding = 5) uniform samplerBuffer x_read;       // xyz: x_n, w:
 layout(std430, set = 0, binding = 6) writeonly buffer Positions { vec4 x[]; };
 layout(set = 0, binding = 7) uniform samplerBuffer rhs_read;     // xyz: b, w: 1/diag
 layout(std430, set = 0, binding = 8) writeonly buffer Rhs { vec4 rhs[]; };
-layout(set = 0, binding = 9) uniform usamplerBuffer adjacency;   // x: neighbour, y: bits of k
-layout(set = 0, binding = 10) uniform samplerBuffer adjacency_kl; // k * rest length
+layout(set = 0, binding = 9) uniform usamplerBuffer adjacency;   // neighbours, bits of k: by quad
+layout(set = 0, binding = 10) uniform samplerBuffer adjacency_kl; // k * rest length, by quad
 
 layout(push_constant) uniform Push {
     uint first;       // first particle of this dispatch
@@ -41,6 +45,17 @@ layout(push_constant) uniform Push {
     float keep;       // 1 - damping (0 when integration is off)
     vec4 gravity_h2;  // h^2 g (0 when integration is off)
 } pc;
+
+// The neighbours and stiffnesses of quad q of particle p.
+uvec4 quad_neighbours(uint q, uint p)
+{
+    return texelFetch(adjacency, int(2u * q * pc.stride + p));
+}
+
+vec4 quad_k(uint q, uint p)
+{
+    return uintBitsToFloat(texelFetch(adjacency, int((2u * q + 1u) * pc.stride + p)));
+}
 
 // Invocations stride over the dispatch, so a few workgroups can cover many particles.
 uint invocation_stride()

@@ -21,23 +21,27 @@ void main()
             vec4 yp = texelFetch(y_read, int(p));
             vec3 sum = yp.w * yp.xyz;
             float diag = yp.w;
-            for (uint s = 0; s < MAX_DEGREE; s++) {
-                uint e = s * pc.stride + p;
-                uvec2 a = texelFetch(adjacency, int(e)).xy;
-                float k = uintBitsToFloat(a.y);
-                vec3 un = fetch(src, a.x);
-                vec3 edge = xp - fetch(x_read, a.x);
-                sum += spring_rhs(edge, edge + cur - un, k, texelFetch(adjacency_kl, int(e)).x);
-                diag += k;
-                acc += k * un;
+            for (uint q = 0; q < QUADS; q++) {
+                uvec4 n = quad_neighbours(q, p);
+                vec4 k = quad_k(q, p);
+                vec4 kl = texelFetch(adjacency_kl, int(q * pc.stride + p));
+                for (uint j = 0; j < 4u; j++) {
+                    vec3 un = fetch(src, n[j]);
+                    vec3 edge = xp - fetch(x_read, n[j]);
+                    sum += spring_rhs(edge, edge + cur - un, k[j], kl[j]);
+                    diag += k[j];
+                    acc += k[j] * un;
+                }
             }
             b = vec4(sum, 1.0 / diag);
             rhs[p] = b;
         } else {
             b = texelFetch(rhs_read, int(p));
-            for (uint s = 0; s < MAX_DEGREE; s++) {
-                uvec2 a = texelFetch(adjacency, int(s * pc.stride + p)).xy;
-                acc += uintBitsToFloat(a.y) * fetch(src, a.x);
+            for (uint q = 0; q < QUADS; q++) {
+                uvec4 n = quad_neighbours(q, p);
+                vec4 k = quad_k(q, p);
+                for (uint j = 0; j < 4u; j++)
+                    acc += k[j] * fetch(src, n[j]);
             }
         }
         vec3 u = (b.xyz + acc) * b.w;
