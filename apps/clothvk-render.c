@@ -98,15 +98,9 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
             o->size_set = true;
             o->size_text = argv[++i];
         } else if (!strcmp(a, "--set")) {
-            const char* item = has_value ? argv[i + 1] : "";
-            if (!strchr(item, '=') || item[0] == '=') {
-                app_error(tool, "--set %s: expected key.path=value", item);
-                return APP_EXIT_BAD_INPUT;
-            }
-            if (!app_overrides_add(&o->overrides, argv[++i])) {
-                app_error(tool, "out of memory");
-                return APP_EXIT_FAILURE;
-            }
+            int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
+            if (status != APP_EXIT_OK)
+                return status;
         } else if (!strcmp(a, "--serial")) {
             o->serial = true;
         } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {

@@ -55,15 +55,9 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
             o->frames_set = true;
             i++;
         } else if (!strcmp(a, "--set")) {
-            const char* item = has_value ? argv[i + 1] : "";
-            if (!strchr(item, '=') || item[0] == '=') {
-                app_error(tool, "--set %s: expected key.path=value", item);
-                return APP_EXIT_BAD_INPUT;
-            }
-            if (!app_overrides_add(&o->overrides, argv[++i])) {
-                app_error(tool, "out of memory");
-                return APP_EXIT_FAILURE;
-            }
+            int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
+            if (status != APP_EXIT_OK)
+                return status;
         } else if (!strcmp(a, "--dump")) {
             if (!has_value) {
                 app_error(tool, "--dump: expected a file name");

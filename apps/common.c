@@ -45,14 +45,20 @@ bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out)
     return true;
 }
 
-bool app_overrides_add(app_overrides* o, const char* item)
+int app_overrides_add(app_overrides* o, const char* tool, const char* item)
 {
+    if (!strchr(item, '=') || item[0] == '=') {
+        app_error(tool, "--set %s: expected key.path=value", item);
+        return APP_EXIT_BAD_INPUT;
+    }
     const char** grown = realloc(o->items, (o->count + 1) * sizeof *grown);
-    if (!grown)
-        return false;
+    if (!grown) {
+        app_error(tool, "out of memory");
+        return APP_EXIT_FAILURE;
+    }
     grown[o->count++] = item;
     o->items = grown;
-    return true;
+    return APP_EXIT_OK;
 }
 
 void app_overrides_free(app_overrides* o)

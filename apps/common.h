@@ -33,7 +33,9 @@ typedef struct app_overrides {
 } app_overrides;
 
 /* Adds one override; false when out of memory. */
-bool app_overrides_add(app_overrides* o, const char* item);
+/* Adds one --set item; an item without "key.path=" or no memory for it prints one line and
+ * returns APP_EXIT_BAD_INPUT or APP_EXIT_FAILURE. */
+int app_overrides_add(app_overrides* o, const char* tool, const char* item);
 void app_overrides_free(app_overrides* o);
 
 /* Log callback for cvk_context_desc: prints validation messages as "tool: validation: ...". */

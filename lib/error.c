@@ -83,3 +83,17 @@ const char* cvk_vk_result_name(VkResult vr)
     default: return "VkResult (unnamed)";
     }
 }
+
+cvk_result cvk_fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
+{
+    cvk_result r = cvk_fail_vk(error, call, vr);
+    if (error) {
+        char what[256];
+        va_list args;
+        va_start(args, format);
+        vsnprintf(what, sizeof what, format, args);
+        va_end(args);
+        cvk_error_prefix(error, "%s", what);
+    }
+    return r;
+}

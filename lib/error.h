@@ -12,6 +12,11 @@ cvk_result cvk_fail(cvk_error* error, cvk_result result, const char* format, ...
    CVK_ERROR_OUT_OF_MEMORY and the rest to CVK_ERROR_VULKAN. */
 cvk_result cvk_fail_vk(cvk_error* error, const char* call, VkResult vr);
 
+/* cvk_fail_vk with "what: " in front, what formatted from `format`: the object the call was
+   making ("positions (160000 bytes): vkCreateBuffer failed: ..."). */
+cvk_result cvk_fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
+    __attribute__((format(printf, 4, 5)));
+
 /* Puts "prefix: " in front of an existing message (for callers that add context). */
 void cvk_error_prefix(cvk_error* error, const char* format, ...) __attribute__((format(printf, 2, 3)));
 

@@ -8,22 +8,6 @@
 #include "error.h"
 
 /* A failed Vulkan call, with what it was for in front: "positions (160000 bytes): ...". */
-static cvk_result fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
-    __attribute__((format(printf, 4, 5)));
-static cvk_result fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
-{
-    cvk_result r = cvk_fail_vk(error, call, vr);
-    if (error) {
-        char what[256];
-        va_list args;
-        va_start(args, format);
-        vsnprintf(what, sizeof what, format, args);
-        va_end(args);
-        cvk_error_prefix(error, "%s", what);
-    }
-    return r;
-}
-
 static int find_memory_type(const cvk_context* context, uint32_t allowed, VkMemoryPropertyFlags want)
 {
     const VkPhysicalDeviceMemoryProperties* m = &context->memory;
@@ -54,7 +38,7 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
     };
     VkResult vr = vkCreateBuffer(context->device, &info, NULL, &out->buffer);
     if (vr != VK_SUCCESS)
-        return fail_vk_for(error, "vkCreateBuffer", vr, "%s (%llu bytes)", what,
+        return cvk_fail_vk_for(error, "vkCreateBuffer", vr, "%s (%llu bytes)", what,
                            (unsigned long long)out->size);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(context->device, out->buffer, &req);
@@ -87,7 +71,7 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
         vr = vkMapMemory(context->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
     if (vr != VK_SUCCESS) {
         cvk_buffer_destroy(context, out);
-        return fail_vk_for(error, "allocating buffer memory", vr, "%s (%llu bytes)", what,
+        return cvk_fail_vk_for(error, "allocating buffer memory", vr, "%s (%llu bytes)", what,
                            (unsigned long long)req.size);
     }
     return CVK_SUCCESS;
@@ -102,21 +86,27 @@ void cvk_buffer_destroy(cvk_context* context, cvk_buffer* buffer)
     memset(buffer, 0, sizeof *buffer);
 }
 
+cvk_result cvk_shader_module_create(cvk_context* context, const uint32_t* spirv, size_t spirv_bytes,
+                                    const char* what, VkShaderModule* out, cvk_error* error)
+{
+    VkShaderModuleCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = spirv_bytes,
+        .pCode = spirv,
+    };
+    VkResult vr = vkCreateShaderModule(context->device, &info, NULL, out);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk_for(error, "vkCreateShaderModule", vr, "%s", what);
+}
+
 cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spirv,
                                        size_t spirv_bytes, VkPipelineLayout layout,
                                        const cvk_spec* spec, const char* what,
                                        VkPipeline* out, cvk_error* error)
 {
-    VkShaderModuleCreateInfo module_info = {
-        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-        .codeSize = spirv_bytes,
-        .pCode = spirv,
-    };
     VkShaderModule module;
-    VkResult vr = vkCreateShaderModule(context->device, &module_info, NULL, &module);
-    if (vr != VK_SUCCESS) {
-        return fail_vk_for(error, "vkCreateShaderModule", vr, "%s", what);
-    }
+    cvk_result r = cvk_shader_module_create(context, spirv, spirv_bytes, what, &module, error);
+    if (r != CVK_SUCCESS)
+        return r;
     VkSpecializationMapEntry entries[8];
     for (uint32_t i = 0; i < spec->count; i++)
         entries[i] = (VkSpecializationMapEntry){.constantID = i,
@@ -139,11 +129,11 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
         },
         .layout = layout,
     };
-    vr = vkCreateComputePipelines(context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+    VkResult vr = vkCreateComputePipelines(context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
     vkDestroyShaderModule(context->device, module, NULL);
     if (vr != VK_SUCCESS) {
         *out = VK_NULL_HANDLE;
-        return fail_vk_for(error, "vkCreateComputePipelines", vr, "%s", what);
+        return cvk_fail_vk_for(error, "vkCreateComputePipelines", vr, "%s", what);
     }
     return CVK_SUCCESS;
 }
@@ -299,9 +289,7 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
     };
     VkResult vr = vkCreateImage(context->device, &info, NULL, &out->image);
     if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateImage", vr);
-        cvk_error_prefix(error, "%s (%u x %u)", what, width, height);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return cvk_fail_vk_for(error, "vkCreateImage", vr, "%s (%u x %u)", what, width, height);
     }
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(context->device, out->image, &req);
@@ -320,9 +308,8 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
         vr = vkBindImageMemory(context->device, out->image, out->memory, 0);
     if (vr != VK_SUCCESS) {
         cvk_gpu_image_destroy(context, out);
-        cvk_fail_vk(error, "allocating image memory", vr);
-        cvk_error_prefix(error, "%s (%llu bytes)", what, (unsigned long long)req.size);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return cvk_fail_vk_for(error, "allocating image memory", vr, "%s (%llu bytes)", what,
+                               (unsigned long long)req.size);
     }
     VkImageViewCreateInfo view = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO,
@@ -334,9 +321,7 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
     vr = vkCreateImageView(context->device, &view, NULL, &out->view);
     if (vr != VK_SUCCESS) {
         cvk_gpu_image_destroy(context, out);
-        cvk_fail_vk(error, "vkCreateImageView", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return cvk_fail_vk_for(error, "vkCreateImageView", vr, "%s", what);
     }
     return CVK_SUCCESS;
 }

@@ -41,6 +41,10 @@ typedef struct cvk_spec {
     uint32_t count;
 } cvk_spec;
 
+/* A shader module from SPIR-V; `what` names it in the error. */
+cvk_result cvk_shader_module_create(cvk_context* context, const uint32_t* spirv, size_t spirv_bytes,
+                                    const char* what, VkShaderModule* out, cvk_error* error);
+
 cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spirv,
                                        size_t spirv_bytes, VkPipelineLayout layout,
                                        const cvk_spec* spec, const char* what,

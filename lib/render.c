@@ -262,9 +262,7 @@ static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const 
     };
     VkResult vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, out);
     if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateFramebuffer", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return cvk_fail_vk_for(error, "vkCreateFramebuffer", vr, "%s", what);
     }
     return CVK_SUCCESS;
 }
@@ -295,9 +293,7 @@ static cvk_result create_color_depth_pass(cvk_renderer* rd, const VkAttachmentDe
     };
     VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, pass);
     if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateRenderPass", vr);
-        cvk_error_prefix(error, "%s", what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return cvk_fail_vk_for(error, "vkCreateRenderPass", vr, "%s", what);
     }
     return create_framebuffer(rd, *pass, views, 2, framebuffer, what, error);
 }
@@ -568,18 +564,7 @@ typedef struct pipeline_recipe {
 static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
 {
     cvk_spirv spirv = cvk_shader(id);
-    VkShaderModuleCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-        .codeSize = spirv.bytes,
-        .pCode = spirv.code,
-    };
-    VkResult vr = vkCreateShaderModule(ctx->device, &info, NULL, out);
-    if (vr != VK_SUCCESS) {
-        cvk_fail_vk(error, "vkCreateShaderModule", vr);
-        cvk_error_prefix(error, "%s", spirv.name);
-        return error ? error->result : CVK_ERROR_VULKAN;
-    }
-    return CVK_SUCCESS;
+    return cvk_shader_module_create(ctx, spirv.code, spirv.bytes, spirv.name, out, error);
 }
 
 static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
@@ -692,9 +677,7 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
             vkDestroyShaderModule(rd->context->device, modules[i], NULL);
     if (vr != VK_SUCCESS) {
         *out = VK_NULL_HANDLE;
-        cvk_fail_vk(error, "vkCreateGraphicsPipelines", vr);
-        cvk_error_prefix(error, "%s", p->what);
-        return error ? error->result : CVK_ERROR_VULKAN;
+        return cvk_fail_vk_for(error, "vkCreateGraphicsPipelines", vr, "%s", p->what);
     }
     return CVK_SUCCESS;
 }

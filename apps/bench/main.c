@@ -281,17 +281,8 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         o->out_dir = v;
         return true;
     }
-    if (!strcmp(name, "--set")) {
-        if (!strchr(v, '=') || v[0] == '=') {
-            app_error(tool, "--set %s: expected key.path=value", v);
-            return false;
-        }
-        if (!app_overrides_add(&o->overrides, v)) {
-            app_error(tool, "out of memory");
-            return false;
-        }
-        return true;
-    }
+    if (!strcmp(name, "--set"))
+        return app_overrides_add(&o->overrides, tool, v) == APP_EXIT_OK;
     if (!strcmp(name, "--solvers"))
         return parse_solvers(v, o);
     if (!strcmp(name, "--inner"))
