@@ -97,3 +97,11 @@ cvk_result cvk_fail_vk_for(cvk_error* error, const char* call, VkResult vr, cons
     }
     return r;
 }
+
+cvk_result cvk_fail_errno(cvk_error* error, const char* path, const char* action, int code)
+{
+    char reason[128];
+    if (strerror_r(code, reason, sizeof reason) != 0)
+        snprintf(reason, sizeof reason, "error %d", code);
+    return cvk_fail(error, CVK_ERROR_IO, "%s: %s: %s", path, action, reason);
+}

@@ -17,6 +17,9 @@ cvk_result cvk_fail_vk(cvk_error* error, const char* call, VkResult vr);
 cvk_result cvk_fail_vk_for(cvk_error* error, const char* call, VkResult vr, const char* format, ...)
     __attribute__((format(printf, 4, 5)));
 
+/* CVK_ERROR_IO with "path: action: strerror(code)". */
+cvk_result cvk_fail_errno(cvk_error* error, const char* path, const char* action, int code);
+
 /* Puts "prefix: " in front of an existing message (for callers that add context). */
 void cvk_error_prefix(cvk_error* error, const char* format, ...) __attribute__((format(printf, 2, 3)));
 

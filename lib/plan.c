@@ -120,16 +120,17 @@ double cvk_estimate_jacobi_rho(const cvk_build* b, double inv_h2, double omega)
 
 typedef struct plan_builder {
     cvk_plan* plan;
-    uint32_t capacity;
     cvk_push base;
 } plan_builder;
 
-static void add_op(plan_builder* pb, cvk_pipeline_id pipeline, cvk_set_id set, cvk_pass_id pass,
+/* Appends a dispatch over particles [first, first + count); none when count is 0 (a scene
+   whose particles are all pinned has nothing to solve). Returns the op, or NULL. */
+static cvk_op* add_op(plan_builder* pb, cvk_pipeline_id pipeline, cvk_set_id set, cvk_pass_id pass,
                    uint32_t first, uint32_t count, float cheb, uint32_t outer, uint32_t inner,
                    uint32_t colour)
 {
     if (count == 0)
-        return;
+        return NULL;
     cvk_plan* plan = pb->plan;
     uint32_t groups = (count + plan->workgroup_size - 1) / plan->workgroup_size;
     if (groups > plan->max_groups)
@@ -150,6 +151,7 @@ static void add_op(plan_builder* pb, cvk_pipeline_id pipeline, cvk_set_id set, c
     op->push.cheb = cheb;
     plan->uses[pipeline] = true;
     plan->pass_dispatches[pass]++;
+    return op;
 }
 
 /* Sets reading U[src] and writing U[dst]. */
@@ -202,11 +204,11 @@ static void plan_jacobi(plan_builder* pb, const cvk_scene_desc* scene, const cvk
         double cheb = chebyshev ? cvk_chebyshev_weight(s % cycle, scene->solver.chebyshev_delay,
                                                        pb->plan->chebyshev_rho)
                                 : 1.0;
-        add_op(pb, inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI, set_for(src, dst),
-               CVK_PASS_SOLVE, 0, b->free_count, (float)cheb,
-               s / scene->solver.inner_iterations, inner, 0);
-        pb->plan->ops[pb->plan->op_count - 1].push.omega =
-            cvk_jacobi_sweep_omega(s % cycle, cycle, scene->solver.omega);
+        cvk_op* op = add_op(pb, inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
+                            set_for(src, dst), CVK_PASS_SOLVE, 0, b->free_count, (float)cheb,
+                            s / scene->solver.inner_iterations, inner, 0);
+        if (op)
+            op->push.omega = cvk_jacobi_sweep_omega(s % cycle, cycle, scene->solver.omega);
     }
     add_finalize(pb, b);
 }
@@ -233,7 +235,7 @@ cvk_result cvk_plan_create_with_rho(const cvk_scene_desc* scene, const cvk_build
     out->max_groups = max_groups ? max_groups : 1;
 
     double h = scene->dt;
-    plan_builder pb = {.plan = out, .capacity = capacity};
+    plan_builder pb = {.plan = out};
     pb.base.stride = b->free_count;
     pb.base.inv_h2 = (float)(1.0 / (h * h));
     pb.base.omega = solver->omega;

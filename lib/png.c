@@ -45,14 +45,6 @@ static unsigned char* zlib_compress(unsigned char* data, int size, int* out_size
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
 
-static cvk_result fail_errno(cvk_error* error, const char* path, const char* action, int code)
-{
-    char reason[128];
-    if (strerror_r(code, reason, sizeof reason) != 0)
-        snprintf(reason, sizeof reason, "error %d", code);
-    return cvk_fail(error, CVK_ERROR_IO, "%s: %s: %s", path, action, reason);
-}
-
 /* Writes the encoded bytes to a temporary file beside `path` and renames it into place. */
 static cvk_result write_atomic(const char* path, const unsigned char* bytes, size_t size, cvk_error* error)
 {
@@ -65,7 +57,7 @@ static cvk_result write_atomic(const char* path, const unsigned char* bytes, siz
     if (fd < 0) {
         int code = errno;
         free(temp);
-        return fail_errno(error, path, "cannot create", code);
+        return cvk_fail_errno(error, path, "cannot create", code);
     }
     /* mkstemp makes 0600; give the file the permissions any new file gets. */
     mode_t mask = umask(0);
@@ -86,7 +78,7 @@ static cvk_result write_atomic(const char* path, const unsigned char* bytes, siz
     if (code)
         unlink(temp);
     free(temp);
-    return code ? fail_errno(error, path, "cannot write", code) : CVK_SUCCESS;
+    return code ? cvk_fail_errno(error, path, "cannot write", code) : CVK_SUCCESS;
 }
 
 cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error)

@@ -66,14 +66,19 @@ static void solve_one(const cvk_build* b, const double* rhs, const double* x, ui
         out[c] = (rhs[4 * (size_t)p + c] + acc[c]) * rhs[4 * (size_t)p + 3];
 }
 
-void cvk_ref_gauss_seidel_sweep(const cvk_build* b, const double* rhs, double omega, double* x)
+double cvk_ref_gauss_seidel_sweep(const cvk_build* b, const double* rhs, double omega, double* x)
 {
+    double largest = 0.0;
     for (uint32_t p = 0; p < b->free_count; p++) {
         double gs[3];
         solve_one(b, rhs, x, p, gs);
-        for (int c = 0; c < 3; c++)
-            x[3 * (size_t)p + c] += omega * (gs[c] - x[3 * (size_t)p + c]);
+        for (int c = 0; c < 3; c++) {
+            double change = omega * (gs[c] - x[3 * (size_t)p + c]);
+            x[3 * (size_t)p + c] += change;
+            largest = fmax(largest, fabs(change));
+        }
     }
+    return largest;
 }
 
 void cvk_ref_jacobi_sweep(const cvk_build* b, const double* rhs, double omega, double cheb,
@@ -90,11 +95,10 @@ void cvk_ref_jacobi_sweep(const cvk_build* b, const double* rhs, double omega, d
     }
 }
 
-void cvk_ref_substep_gauss_seidel(const cvk_build* b, const cvk_ref_params* params,
-                                  const cvk_solver_desc* solver, double* x, double* prev,
-                                  double* y, double* scratch)
+void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params,
+                                const cvk_solver_desc* solver, const double* y, double* x,
+                                double* scratch)
 {
-    cvk_ref_predict(b, params, x, prev, y);
     for (uint32_t o = 0; o < solver->outer_iterations; o++) {
         cvk_ref_rhs(b, params, x, y, scratch);
         for (uint32_t i = 0; i < solver->inner_iterations; i++)
@@ -102,20 +106,12 @@ void cvk_ref_substep_gauss_seidel(const cvk_build* b, const cvk_ref_params* para
     }
 }
 
-/* A Gauss-Seidel sweep that also returns the largest change of a coordinate. */
-static double sweep_with_change(const cvk_build* b, const double* rhs, double omega, double* x)
+void cvk_ref_substep_gauss_seidel(const cvk_build* b, const cvk_ref_params* params,
+                                  const cvk_solver_desc* solver, double* x, double* prev,
+                                  double* y, double* scratch)
 {
-    double largest = 0.0;
-    for (uint32_t p = 0; p < b->free_count; p++) {
-        double gs[3];
-        solve_one(b, rhs, x, p, gs);
-        for (int c = 0; c < 3; c++) {
-            double change = omega * (gs[c] - x[3 * (size_t)p + c]);
-            x[3 * (size_t)p + c] += change;
-            largest = fmax(largest, fabs(change));
-        }
-    }
-    return largest;
+    cvk_ref_predict(b, params, x, prev, y);
+    cvk_ref_solve_gauss_seidel(b, params, solver, y, x, scratch);
 }
 
 uint64_t cvk_ref_solve_converged(const cvk_build* b, const cvk_ref_params* params,
@@ -127,7 +123,7 @@ uint64_t cvk_ref_solve_converged(const cvk_build* b, const cvk_ref_params* param
     uint64_t it = 0;
     while (it < max_iterations && !(change <= tolerance)) {
         cvk_ref_rhs(b, params, x, y, scratch);
-        change = sweep_with_change(b, scratch, omega, x);
+        change = cvk_ref_gauss_seidel_sweep(b, scratch, omega, x);
         it++;
         if (isnan(change))
             break;

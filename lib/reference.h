@@ -23,16 +23,23 @@ void cvk_ref_predict(const cvk_build* build, const cvk_ref_params* params, doubl
 void cvk_ref_rhs(const cvk_build* build, const cvk_ref_params* params, const double* t,
                  const double* y, double* b);
 
-/* One Gauss-Seidel sweep with SOR, colour by colour, in place. */
-void cvk_ref_gauss_seidel_sweep(const cvk_build* build, const double* b, double omega, double* x);
+/* One Gauss-Seidel sweep with SOR, colour by colour, in place; returns the largest change of
+   a coordinate. */
+double cvk_ref_gauss_seidel_sweep(const cvk_build* build, const double* b, double omega, double* x);
 
 /* One Jacobi sweep from src into dst with relaxation omega; when cheb != 1, dst holds the
    iterate before src on entry and receives the Chebyshev combination. */
 void cvk_ref_jacobi_sweep(const cvk_build* build, const double* b, double omega, double cheb,
                           const double* src, double* dst);
 
-/* One projective-dynamics substep with the sequential Gauss-Seidel solver; `scratch` holds
-   4 doubles per particle (b). */
+/* The solve of one substep with the sequential Gauss-Seidel solver (the "gs-cpu" solver):
+   outer iterations of local step + inner sweeps, from x towards the prediction y; `scratch`
+   holds 4 doubles per particle (b). */
+void cvk_ref_solve_gauss_seidel(const cvk_build* build, const cvk_ref_params* params,
+                                const cvk_solver_desc* solver, const double* y, double* x,
+                                double* scratch);
+
+/* One projective-dynamics substep with it: predict, then cvk_ref_solve_gauss_seidel. */
 void cvk_ref_substep_gauss_seidel(const cvk_build* build, const cvk_ref_params* params,
                                   const cvk_solver_desc* solver, double* x, double* prev,
                                   double* y, double* scratch);

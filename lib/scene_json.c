@@ -982,14 +982,6 @@ static cvk_result check_arguments(const char* call, const void* input, const cha
 
 /* ---- files ---- */
 
-static cvk_result fail_errno(cvk_error* error, const char* path, const char* action, int code)
-{
-    char reason[128];
-    if (strerror_r(code, reason, sizeof reason) != 0)
-        snprintf(reason, sizeof reason, "error %d", code);
-    return cvk_fail(error, CVK_ERROR_IO, "%s: %s: %s", path, action, reason);
-}
-
 /* Reads to the end rather than trusting a size from fseek, so pipes and /dev/stdin work. */
 static cvk_result read_stream(FILE* file, const char* path, char** out_text, size_t* out_size, cvk_error* error)
 {
@@ -1014,7 +1006,7 @@ static cvk_result read_stream(FILE* file, const char* path, char** out_text, siz
             break;
         int code = errno;
         free(text);
-        return fail_errno(error, path, "cannot read", code);
+        return cvk_fail_errno(error, path, "cannot read", code);
     }
     *out_text = text;
     *out_size = size;
@@ -1029,7 +1021,7 @@ cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32
         return r;
     FILE* file = fopen(path, "rb");
     if (!file)
-        return fail_errno(error, path, "cannot open", errno);
+        return cvk_fail_errno(error, path, "cannot open", errno);
     char* text = NULL;
     size_t size = 0;
     r = read_stream(file, path, &text, &size, error);

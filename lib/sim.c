@@ -870,11 +870,7 @@ static cvk_result step_host(cvk_sim* s, uint32_t frames, cvk_error* error)
             double t0 = now_ms();
             cvk_ref_predict(&s->build, &s->ref, s->hx, s->hprev, s->hy);
             double t1 = now_ms();
-            for (uint32_t o = 0; o < s->solver.outer_iterations; o++) {
-                cvk_ref_rhs(&s->build, &s->ref, s->hx, s->hy, s->hrhs);
-                for (uint32_t i = 0; i < s->solver.inner_iterations; i++)
-                    cvk_ref_gauss_seidel_sweep(&s->build, s->hrhs, s->solver.omega, s->hx);
-            }
+            cvk_ref_solve_gauss_seidel(&s->build, &s->ref, &s->solver, s->hy, s->hx, s->hrhs);
             predict_ms += t1 - t0;
             solve_ms += now_ms() - t1;
         }

@@ -301,12 +301,49 @@ static void newton_equals_gauss_seidel(const char* name, const char* const* over
     cvk_scene_destroy(file);
 }
 
+/* A scene whose particles are all pinned has nothing to solve: every solver plans no sweep,
+   steps, and leaves the particles where they are. */
+static void all_pinned(cvk_context* ctx)
+{
+    const cvk_linear_solver solvers[] = {CVK_LINEAR_RBGS, CVK_LINEAR_JACOBI, CVK_LINEAR_CHEBYSHEV,
+                                         CVK_LINEAR_GS_CPU};
+    const uint32_t pins[4][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    const uint32_t grids[2][2] = {{1, 1}, {2, 2}};
+    for (size_t g = 0; g < 2; g++) {
+        for (size_t i = 0; i < sizeof solvers / sizeof solvers[0]; i++) {
+            cvk_cloth_desc cloth = cvk_default_cloth_desc();
+            cloth.grid[0] = grids[g][0];
+            cloth.grid[1] = grids[g][1];
+            cloth.pins = pins;
+            cloth.pin_count = grids[g][0] * grids[g][1];
+            cvk_scene_desc scene = cvk_default_scene_desc();
+            scene.cloths = &cloth;
+            scene.cloth_count = 1;
+            scene.solver.linear = solvers[i];
+            cvk_error err;
+            cvk_sim* sim;
+            REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+            float* before = harness_read_all(sim);
+            REQUIRE_OK(cvk_sim_step(sim, 3, &err), err);
+            float* after = harness_read_all(sim);
+            for (uint64_t k = 0; k < 3 * cvk_sim_particle_count(sim); k++)
+                CHECK(after[k] == before[k], "%ux%u all pinned, solver %d: coordinate %llu moved "
+                      "from %g to %g", grids[g][0], grids[g][1], (int)solvers[i],
+                      (unsigned long long)k, before[k], after[k]);
+            free(before);
+            free(after);
+            cvk_sim_destroy(sim);
+        }
+    }
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     rbgs_equals_gs_cpu(ctx);
     jacobi_equals_reference(ctx, CVK_LINEAR_JACOBI);
     jacobi_equals_reference(ctx, CVK_LINEAR_CHEBYSHEV);
+    all_pinned(ctx);
     residual_falls(ctx, CVK_LINEAR_RBGS);
     residual_falls(ctx, CVK_LINEAR_GS_CPU);
     const char* enlarged[] = {"cloths.0.grid=[12,12]"};
