@@ -157,22 +157,6 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
     return CVK_SUCCESS;
 }
 
-static cvk_result begin(VkCommandBuffer cmd, VkCommandBufferUsageFlags flags, cvk_error* error)
-{
-    VkCommandBufferBeginInfo info = {
-        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
-        .flags = flags,
-    };
-    VkResult vr = vkBeginCommandBuffer(cmd, &info);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkBeginCommandBuffer", vr);
-}
-
-static cvk_result end(VkCommandBuffer cmd, cvk_error* error)
-{
-    VkResult vr = vkEndCommandBuffer(cmd);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkEndCommandBuffer", vr);
-}
-
 /* Copies one staging region into buffers; waits. Earlier GPU work on them finishes first. */
 typedef struct copy_job {
     cvk_buffer* dst;
@@ -183,7 +167,7 @@ static cvk_result run_copies(cvk_sim* s, const copy_job* jobs, uint32_t count, b
                              cvk_error* error)
 {
     VkCommandBuffer cmd = s->transfer_cmd;
-    cvk_result r = begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
     if (r != CVK_SUCCESS)
         return r;
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -199,7 +183,7 @@ static cvk_result run_copies(cvk_sim* s, const copy_job* jobs, uint32_t count, b
                         VK_ACCESS_TRANSFER_READ_BIT);
     if (reset_queries && s->queries)
         vkCmdResetQueryPool(cmd, s->queries, 0, s->query_count);
-    r = end(cmd, error);
+    r = cvk_command_buffer_end(cmd, error);
     if (r != CVK_SUCCESS)
         return r;
     return cvk_submit_and_wait(s->context, &s->submitter, &cmd, 1, error);
@@ -489,10 +473,8 @@ static cvk_result create_pipelines(cvk_sim* s, const cvk_plan* plan, bool* creat
    one once with no particles, so no timed frame pays for it. */
 static cvk_result warm_up(cvk_sim* s, cvk_error* error)
 {
-    if (s->host_solver)
-        return CVK_SUCCESS;
     VkCommandBuffer cmd = s->transfer_cmd;
-    cvk_result r = begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
     if (r != CVK_SUCCESS)
         return r;
     cvk_push nothing = {0};
@@ -509,7 +491,7 @@ static cvk_result warm_up(cvk_sim* s, cvk_error* error)
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     }
-    r = end(cmd, error);
+    r = cvk_command_buffer_end(cmd, error);
     if (r != CVK_SUCCESS)
         return r;
     return cvk_submit_and_wait(s->context, &s->submitter, &cmd, 1, error);
@@ -578,7 +560,9 @@ static void use_queries(cvk_sim* s, query_set* q)
 
 /* ---- recording ----------------------------------------------------------------------------- */
 
-static void record_frame(cvk_sim* s, VkCommandBuffer cmd, bool last_frame)
+/* One frame: an opening barrier (earlier compute and transfer writes), the plan's dispatches
+   with barriers between them, and none after the last (the next frame opens with its own). */
+static void record_frame(cvk_sim* s, VkCommandBuffer cmd)
 {
     const cvk_plan* plan = &s->plan;
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -611,7 +595,7 @@ static void record_frame(cvk_sim* s, VkCommandBuffer cmd, bool last_frame)
             if (s->timing && pass_ends)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s->queries,
                                     query++);
-            bool last = last_frame && sub + 1 == plan->substeps && i + 1 == plan->op_count;
+            bool last = sub + 1 == plan->substeps && i + 1 == plan->op_count;
             if (!last)
                 cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                                 VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
@@ -627,17 +611,17 @@ static cvk_result record_frame_cmd(cvk_sim* s, cvk_error* error)
         VkResult vr = vkResetCommandBuffer(s->frame_cmd, 0);
         return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkResetCommandBuffer", vr);
     }
-    cvk_result r = begin(s->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
+    cvk_result r = cvk_command_buffer_begin(s->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
     if (r != CVK_SUCCESS)
         return r;
-    record_frame(s, s->frame_cmd, true);
-    return end(s->frame_cmd, error);
+    record_frame(s, s->frame_cmd);
+    return cvk_command_buffer_end(s->frame_cmd, error);
 }
 
 /* readback_cmd copies positions and last displacements into the staging buffer. */
 static cvk_result record_readback_cmd(cvk_sim* s, cvk_error* error)
 {
-    cvk_result r = begin(s->readback_cmd, 0, error);
+    cvk_result r = cvk_command_buffer_begin(s->readback_cmd, 0, error);
     if (r != CVK_SUCCESS)
         return r;
     cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -649,7 +633,7 @@ static cvk_result record_readback_cmd(cvk_sim* s, cvk_error* error)
     vkCmdCopyBuffer(s->readback_cmd, s->u[0].buffer, s->staging.buffer, 1, &displacements);
     cvk_cmd_barrier(s->readback_cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    return end(s->readback_cmd, error);
+    return cvk_command_buffer_end(s->readback_cmd, error);
 }
 
 /* A plan for `solver` on this simulation's scene. Chebyshev's spectral radius is estimated
@@ -689,7 +673,7 @@ static cvk_result create_gpu_objects(cvk_sim* s, cvk_error* error)
     bool created = false;
     if (r == CVK_SUCCESS)
         r = create_pipelines(s, &s->plan, &created, error);
-    if (r == CVK_SUCCESS)
+    if (r == CVK_SUCCESS && created)
         r = warm_up(s, error);
     query_set queries;
     if (r == CVK_SUCCESS)
@@ -846,7 +830,7 @@ cvk_result cvk_sim_record(cvk_sim* s, VkCommandBuffer cmd, uint32_t frames, cvk_
                         "the gs-cpu solver runs on the host and cannot be recorded into a command "
                         "buffer; use cvk_sim_step");
     for (uint32_t f = 0; f < frames; f++)
-        record_frame(s, cmd, f + 1 == frames);
+        record_frame(s, cmd);
     return CVK_SUCCESS;
 }
 
@@ -1059,11 +1043,15 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
         return r;
     query_set queries = {0};
     bool created = false;
-    r = cvk_sim_read_internal(s, error); /* the state, from whichever solver holds it */
-    if (r == CVK_SUCCESS && host)
+    if (host)
         r = alloc_host_solver(s, error);
-    if (r == CVK_SUCCESS && !host)
+    else
         r = create_pipelines(s, &plan, &created, error);
+    /* The state moves between host and device only when the solver does, or when warming up
+       new pipelines runs them over the device buffers; otherwise it stays where it is. */
+    bool move_state = host != s->host_solver || created;
+    if (r == CVK_SUCCESS && move_state)
+        r = cvk_sim_read_internal(s, error); /* the state, from whichever solver holds it */
     if (r == CVK_SUCCESS && created)
         r = warm_up(s, error);
     if (r == CVK_SUCCESS)
@@ -1080,8 +1068,10 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     s->host_timed = false;
     use_queries(s, &queries);
     r = record_frame_cmd(s, error);
-    if (r == CVK_SUCCESS)
+    if (r == CVK_SUCCESS && move_state)
         r = set_state(s, s->scratch, s->scratch_u, true, error);
+    else if (r == CVK_SUCCESS && !host)
+        r = run_copies(s, NULL, 0, true, error); /* resets the new queries */
     return r;
 }
 
