@@ -185,12 +185,20 @@ static cvk_result check_limits(const cvk_mesh* m, cvk_error* error)
                         "allows %u texel buffer elements (maxTexelBufferElements)",
                         m->triangle_count, m->max_adjacent, (unsigned long long)entries,
                         m->context->properties.deviceName, limits->maxTexelBufferElements);
+    /* Both buffers the generation writes are bound whole as storage buffers. */
     uint64_t index_bytes = 12ull * m->triangle_count;
+    uint64_t vertex_bytes = (uint64_t)VERTEX_STRIDE * m->vertex_count;
     if (index_bytes > limits->maxStorageBufferRange)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
                         "%u triangles need a %llu-byte index buffer; %s allows %u bytes "
                         "(maxStorageBufferRange)",
                         m->triangle_count, (unsigned long long)index_bytes,
+                        m->context->properties.deviceName, limits->maxStorageBufferRange);
+    if (vertex_bytes > limits->maxStorageBufferRange)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%u vertices need a %llu-byte vertex buffer; %s allows %u bytes "
+                        "(maxStorageBufferRange)",
+                        m->vertex_count, (unsigned long long)vertex_bytes,
                         m->context->properties.deviceName, limits->maxStorageBufferRange);
     return CVK_SUCCESS;
 }
@@ -417,6 +425,8 @@ void cvk_mesh_destroy(cvk_mesh* m)
     if (!m)
         return;
     VkDevice dev = m->context->device;
+    if (m->submitter.pool) /* work recorded by cvk_mesh_record may still use the buffers */
+        vkQueueWaitIdle(m->context->queue);
     if (m->pipeline)
         vkDestroyPipeline(dev, m->pipeline, NULL);
     if (m->descriptor_pool)

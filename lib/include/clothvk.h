@@ -134,9 +134,10 @@ typedef struct cvk_context_desc {
     /* Adoption: set instance, physical_device, device and queue (queue_family is read only
        then; 0 is a valid family) to use the application's objects. The queue family must
        support compute; timestamps are used when it supports them. The library submits to
-       that queue in cvk_sim_step, cvk_sim_get_stats, the read, write and set calls and
-       cvk_sim_destroy: like any Vulkan queue it must not be used from another thread at the
-       same time. */
+       that queue (and waits for it) in cvk_sim_step, cvk_sim_get_stats, the read, write and
+       set calls, cvk_mesh_create, cvk_renderer_create and cvk_renderer_draw, and waits for it
+       in every destroy call: like any Vulkan queue it must not be used from another thread
+       at the same time. */
     VkInstance instance;
     VkPhysicalDevice physical_device;
     VkDevice device;
