@@ -128,6 +128,9 @@ typedef struct bench_timing {
 /* Median, min and max of n samples (sorted in place). */
 bench_timing bench_timing_of(double* samples, uint32_t n);
 
+/* qsort order for doubles, ascending. */
+int bench_compare_doubles(const void* a, const void* b);
+
 /* ---- solver settings ------------------------------------------------------------------------ */
 
 /* The scene's solver with `s` applied and `sweeps` linear sweeps per substep arranged as

@@ -68,6 +68,14 @@ static bool add_point(series* s, const bench_point* p)
     return true;
 }
 
+static const bench_point* point_at(const series* s, uint32_t sweeps)
+{
+    for (uint32_t i = 0; i < s->count; i++)
+        if (s->points[i].sweeps == sweeps)
+            return &s->points[i];
+    return NULL;
+}
+
 typedef bool (*reached_fn)(const bench_point* p, const bench_frozen* f);
 
 static bool residual_reached(const bench_point* p, const bench_frozen* f)
@@ -95,7 +103,10 @@ static bool bisect(bench* b, bench_frozen* f, const bench_solver* solver, series
     while (hi - lo > 1) {
         uint32_t mid = lo + (hi - lo) / 2;
         bench_point p;
-        if (!measure(b, f, solver, mid, &p) || !add_point(s, &p))
+        const bench_point* known = point_at(s, mid * b->o->inner); /* from the other target */
+        if (known)
+            p = *known;
+        else if (!measure(b, f, solver, mid, &p) || !add_point(s, &p))
             return false;
         if (reached(&p, f))
             hi = mid;
@@ -140,8 +151,6 @@ static void add_rows(bench* b, const bench_solver* solver, const bench_frozen* f
     cvk_solver_desc any = bench_solver_desc(&f->scene.solver, solver, 1, 1);
     for (uint32_t i = 0; i < s->count; i++) {
         const bench_point* p = &s->points[i];
-        if (i > 0 && p->sweeps == s->points[i - 1].sweeps)
-            continue; /* a bisection probe that was also a sample */
         bench_table* t = &b->table;
         bench_table_row(t);
         bench_table_str(t, "label", solver->label);
@@ -162,21 +171,15 @@ static void add_rows(bench* b, const bench_solver* solver, const bench_frozen* f
     }
 }
 
-static const bench_point* point_at(const series* s, uint32_t sweeps)
-{
-    for (uint32_t i = 0; i < s->count; i++)
-        if (s->points[i].sweeps == sweeps)
-            return &s->points[i];
-    return NULL;
-}
-
 static void print_block(bench* b, const series* all, const char* what, bool error)
 {
+    /* Sweeps at powers of ten of outer iterations (as sampled) and at the last sample. */
+    uint32_t inner = b->o->inner, last = b->o->max_iterations / inner ? b->o->max_iterations / inner : 1;
     uint32_t columns_at[8], n = 0;
-    for (uint32_t k = 1; k <= b->o->max_iterations && n < 7; k *= 10)
-        columns_at[n++] = k;
-    if (columns_at[n - 1] != b->o->max_iterations)
-        columns_at[n++] = b->o->max_iterations;
+    for (uint32_t k = 1; k <= last && n < 7; k *= 10)
+        columns_at[n++] = k * inner;
+    if (columns_at[n - 1] != last * inner)
+        columns_at[n++] = last * inner;
     printf("%-14s", what);
     for (uint32_t c = 0; c < n; c++)
         printf(" %11s%-6u", "k=", columns_at[c]);

@@ -116,6 +116,8 @@ static bool parse_double(const char* option, const char* text, double low, doubl
     return true;
 }
 
+/* A comma-separated list of numbers in range, sorted ascending (the experiments step through
+   budgets, time steps and stiffnesses in order, and bisect between neighbours). */
 static bool parse_double_list(const char* option, const char* text, double low, double high,
                               bool open_low, const char* expected, double* out, uint32_t* count)
 {
@@ -137,8 +139,10 @@ static bool parse_double_list(const char* option, const char* text, double low, 
             return bad_value(option, expected, text);
         out[(*count)++] = v;
         at += n;
-        if (!*at)
+        if (!*at) {
+            qsort(out, *count, sizeof *out, bench_compare_doubles);
             return true;
+        }
     }
 }
 
@@ -148,14 +152,13 @@ static bool parse_u32_list(const char* option, const char* text, uint32_t low, u
     char expected[128];
     snprintf(expected, sizeof expected, "a comma-separated list of whole numbers from %u to %u",
              low, high);
+    if (text && text[strspn(text, "0123456789,")] != '\0') /* digits only, as app_parse_u32 */
+        return bad_value(option, expected, text);
     double values[BENCH_MAX_LIST];
     if (!parse_double_list(option, text, low, high, false, expected, values, count))
         return false;
-    for (uint32_t i = 0; i < *count; i++) {
-        if (values[i] != floor(values[i]) || strpbrk(text, ".eE"))
-            return bad_value(option, expected, text);
+    for (uint32_t i = 0; i < *count; i++)
         out[i] = (uint32_t)values[i];
-    }
     return true;
 }
 

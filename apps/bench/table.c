@@ -180,7 +180,7 @@ bool bench_table_write(FILE* file, void* user)
     return true;
 }
 
-static int compare_doubles(const void* a, const void* b)
+int bench_compare_doubles(const void* a, const void* b)
 {
     double x = *(const double*)a, y = *(const double*)b;
     return (x > y) - (x < y);
@@ -190,7 +190,7 @@ bench_timing bench_timing_of(double* samples, uint32_t n)
 {
     if (n == 0)
         return (bench_timing){NAN, NAN, NAN};
-    qsort(samples, n, sizeof *samples, compare_doubles);
+    qsort(samples, n, sizeof *samples, bench_compare_doubles);
     double median = n % 2 ? samples[n / 2] : 0.5 * (samples[n / 2 - 1] + samples[n / 2]);
     return (bench_timing){median, samples[0], samples[n - 1]};
 }
