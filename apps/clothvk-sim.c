@@ -129,7 +129,6 @@ static cvk_result run_frames(cvk_sim* sim, uint32_t frames, run_totals* t, cvk_e
 static json_t* float_json(float v)
 {
     char text[32];
-    snprintf(text, sizeof text, "%.9g", (double)v);
     double shortest = v;
     for (int digits = 1; digits <= 9; digits++) {
         snprintf(text, sizeof text, "%.*g", digits, (double)v);

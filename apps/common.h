@@ -32,7 +32,6 @@ typedef struct app_overrides {
     uint32_t count;
 } app_overrides;
 
-/* Adds one override; false when out of memory. */
 /* Adds one --set item; an item without "key.path=" or no memory for it prints one line and
  * returns APP_EXIT_BAD_INPUT or APP_EXIT_FAILURE. */
 int app_overrides_add(app_overrides* o, const char* tool, const char* item);
