@@ -77,3 +77,44 @@ vec3 spring_rhs(vec3 e, vec3 t, float k, float kl)
     float len = length(t);
     return (len > 0.0 ? (kl / len) * t : vec3(0.0)) - k * e;
 }
+
+// The local step of particle p at the start of an outer iteration, from the iterate in src
+// (cur is its own): writes and returns b = (b_p, 1/diag_p), and sets acc to sum_c k_c u_c of the
+// first linear sweep. Neighbours below `swept_below` were already updated in this sweep
+// (Gauss-Seidel colours before this one) and are read from dst_read; the rest from src.
+vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
+{
+    vec3 xp = fetch(x_read, p);
+    vec4 yp = texelFetch(y_read, int(p));
+    vec3 sum = yp.w * yp.xyz;
+    float diag = yp.w;
+    acc = vec3(0.0);
+    for (uint q = 0; q < QUADS; q++) {
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
+        vec4 kl = texelFetch(adjacency_kl, int(q * pc.stride + p));
+        for (uint j = 0; j < 4u; j++) {
+            vec3 un = fetch(src, n[j]);
+            vec3 edge = xp - fetch(x_read, n[j]);
+            sum += spring_rhs(edge, edge + cur - un, k[j], kl[j]);
+            diag += k[j];
+            acc += k[j] * (n[j] < swept_below ? fetch(dst_read, n[j]) : un);
+        }
+    }
+    vec4 b = vec4(sum, 1.0 / diag);
+    rhs[p] = b;
+    return b;
+}
+
+// sum_c k_c u_c over the springs of p, the neighbours' displacements read from `from`.
+vec3 neighbour_sum(samplerBuffer from, uint p)
+{
+    vec3 acc = vec3(0.0);
+    for (uint q = 0; q < QUADS; q++) {
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
+        for (uint j = 0; j < 4u; j++)
+            acc += k[j] * fetch(from, n[j]);
+    }
+    return acc;
+}

@@ -14,37 +14,15 @@ void main()
 {
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        vec3 acc = vec3(0.0);
+        vec3 acc;
         vec4 b;
         vec3 cur;
         if (FIRST) {
             cur = fetch(src, p);
-            vec3 xp = fetch(x_read, p);
-            vec4 yp = texelFetch(y_read, int(p));
-            vec3 sum = yp.w * yp.xyz;
-            float diag = yp.w;
-            for (uint q = 0; q < QUADS; q++) {
-                uvec4 n = quad_neighbours(q, p);
-                vec4 k = quad_k(q, p);
-                vec4 kl = texelFetch(adjacency_kl, int(q * pc.stride + p));
-                for (uint j = 0; j < 4u; j++) {
-                    vec3 un = fetch(src, n[j]);
-                    vec3 edge = xp - fetch(x_read, n[j]);
-                    sum += spring_rhs(edge, edge + cur - un, k[j], kl[j]);
-                    diag += k[j];
-                    acc += k[j] * (n[j] < pc.first ? fetch(dst_read, n[j]) : un);
-                }
-            }
-            b = vec4(sum, 1.0 / diag);
-            rhs[p] = b;
+            b = local_step(p, cur, pc.first, acc);
         } else {
             b = texelFetch(rhs_read, int(p));
-            for (uint q = 0; q < QUADS; q++) {
-                uvec4 n = quad_neighbours(q, p);
-                vec4 k = quad_k(q, p);
-                for (uint j = 0; j < 4u; j++)
-                    acc += k[j] * fetch(dst_read, n[j]);
-            }
+            acc = neighbour_sum(dst_read, p);
             cur = pc.omega != 1.0 ? fetch(dst_read, p) : vec3(0.0);
         }
         vec3 u = (b.xyz + acc) * b.w;
