@@ -366,13 +366,6 @@ typedef struct run_state {
     cvk_renderer* renderer;
 } run_state;
 
-/* Scene problems found only when the device is known (too many particles) are bad input. */
-static int creation_status(cvk_result r)
-{
-    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
-                                                                          : APP_EXIT_FAILURE;
-}
-
 static int check_size(const run_state* s, const cvk_render_desc* render)
 {
     cvk_context_info info = cvk_context_get_info(s->ctx);
@@ -401,7 +394,7 @@ static int create_objects(run_state* s, const cvk_render_desc* render)
         r = cvk_renderer_create(s->mesh, render, &s->renderer, &err);
     if (r != CVK_SUCCESS) {
         app_error(tool, "%s: %s", s->o->scene, err.message);
-        return creation_status(r);
+        return app_creation_status(r);
     }
     return APP_EXIT_OK;
 }

@@ -260,13 +260,6 @@ static int dump_positions(cvk_sim* sim, const char* path)
     return APP_EXIT_OK;
 }
 
-/* Scene problems found only when the device is known (too many particles) are bad input. */
-static int creation_status(cvk_result r)
-{
-    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
-                                                                          : APP_EXIT_FAILURE;
-}
-
 static int run(const options* o)
 {
     cvk_error err;
@@ -291,7 +284,7 @@ static int run(const options* o)
                                                       .max_workgroups = o->max_workgroups}, &sim, &err);
     if (r != CVK_SUCCESS) {
         app_error(tool, "%s: %s", o->scene, err.message);
-        status = creation_status(r);
+        status = app_creation_status(r);
     } else if (o->plan) {
         size_t need = cvk_sim_describe_plan(sim, NULL, 0) + 1;
         char* text = malloc(need);

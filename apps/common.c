@@ -121,3 +121,9 @@ double app_now_ms(void)
     clock_gettime(CLOCK_MONOTONIC, &t);
     return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
+
+int app_creation_status(cvk_result r)
+{
+    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
+                                                                          : APP_EXIT_FAILURE;
+}

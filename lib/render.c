@@ -870,7 +870,7 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     *out_renderer = NULL;
     cvk_scene_issue issue;
     if (!cvk_render_desc_check(desc, &issue))
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue.path, issue.problem);
+        return cvk_fail_issue(error, &issue);
     cvk_result r = check_device(mesh->context, desc, error);
     if (r != CVK_SUCCESS)
         return r;

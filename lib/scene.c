@@ -430,9 +430,12 @@ cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error)
     if (!desc)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "scene description is NULL");
     cvk_scene_issue issue;
-    if (cvk_scene_desc_check(desc, &issue))
-        return CVK_SUCCESS;
-    if (issue.path[0] == '\0')
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", issue.problem);
-    return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue.path, issue.problem);
+    return cvk_scene_desc_check(desc, &issue) ? CVK_SUCCESS : cvk_fail_issue(error, &issue);
+}
+
+cvk_result cvk_fail_issue(cvk_error* error, const cvk_scene_issue* issue)
+{
+    if (issue->path[0] == '\0')
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", issue->problem);
+    return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue->path, issue->problem);
 }

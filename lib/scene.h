@@ -21,6 +21,9 @@ void cvk_key_path(char out[CVK_KEY_PATH_MAX], const char* format, ...) __attribu
 /* true when desc is valid; otherwise fills issue with the first problem found. */
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 
+/* CVK_ERROR_INVALID_ARGUMENT with "path: problem" (or the problem alone without a path). */
+cvk_result cvk_fail_issue(cvk_error* error, const cvk_scene_issue* issue);
+
 /* The solver part of cvk_scene_desc_check, for cvk_sim_set_solver; paths start "solver.". */
 bool cvk_solver_desc_check(const cvk_solver_desc* solver, cvk_scene_issue* issue);
 /* The same for a render description alone; paths start with "render.". */

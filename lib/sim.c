@@ -1032,7 +1032,7 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
                         "cvk_sim_set_solver needs a simulation and a solver description");
     cvk_scene_issue issue;
     if (!cvk_solver_desc_check(solver, &issue))
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue.path, issue.problem);
+        return cvk_fail_issue(error, &issue);
     bool host = solver->linear == CVK_LINEAR_GS_CPU;
 
     /* Everything that can fail on a valid description comes before the switch, so a failure
