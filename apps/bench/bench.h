@@ -9,6 +9,7 @@
 
 #include "clothvk.h"
 #include "common.h"
+#include "build.h"
 #include "reference.h"
 
 #define BENCH_MAX_LIST 32
@@ -144,6 +145,29 @@ uint32_t bench_sweeps(const cvk_solver_desc* solver);
 cvk_sim* bench_sim_create(bench* b, const cvk_scene_desc* scene);
 /* Prints a library error as the tool's one line. */
 void bench_fail(const cvk_error* err);
+
+/* ---- the host reference (double precision, internal particle order) -------------------------- */
+
+/* A scene's particles on the host for the reference solvers: positions x, the previous
+   positions prev that Verlet needs, the prediction y, and a float copy for the metrics. */
+typedef struct bench_host {
+    cvk_build build;
+    cvk_ref_params params;
+    double* x;
+    double* prev;
+    double* y;
+    float* xf;
+} bench_host;
+
+/* Builds the scene and sets the state from user-order positions x0 and velocities v0 as
+   cvk_sim_write_state does (x0 NULL: the built grid; v0 NULL: at rest). On failure prints the
+   message and returns false (bench_host_destroy is still safe). */
+bool bench_host_create(const cvk_scene_desc* scene, const float* x0, const float* v0, bench_host* h);
+/* The structural residual of x, from its float rounding (as the GPU state would have it). */
+double bench_host_residual(bench_host* h);
+/* x rounded to float, in user order (out holds 3 floats per particle). */
+void bench_host_to_user(bench_host* h, float* out);
+void bench_host_destroy(bench_host* h);
 
 /* ---- frozen substeps (convergence, budget) -------------------------------------------------- */
 

@@ -93,71 +93,88 @@ static bool frozen_state(bench* b, bench_frozen* f, uint32_t frame)
     return r == CVK_SUCCESS;
 }
 
-static double residual_of(const cvk_build* build, const double* x, float* scratch)
+bool bench_host_create(const cvk_scene_desc* scene, const float* x0, const float* v0, bench_host* h)
 {
-    for (size_t i = 0; i < 3 * (size_t)build->particle_count; i++)
-        scratch[i] = (float)x[i];
+    memset(h, 0, sizeof *h);
+    cvk_error err;
+    if (cvk_build_create(scene, &h->build, &err) != CVK_SUCCESS) {
+        bench_fail(&err);
+        return false;
+    }
+    size_t n = h->build.particle_count;
+    h->x = malloc(3 * n * sizeof(double));
+    h->prev = malloc(3 * n * sizeof(double));
+    h->y = malloc(3 * n * sizeof(double));
+    h->xf = malloc(3 * n * sizeof(float));
+    if (!h->x || !h->prev || !h->y || !h->xf) {
+        app_error("clothvk-bench", "out of memory for the host reference");
+        return false;
+    }
+    h->params = cvk_ref_params_of(scene);
+    for (uint32_t p = 0; p < n; p++) {
+        size_t user = 3 * (size_t)h->build.user_of[p];
+        for (int c = 0; c < 3; c++) {
+            /* the last displacement from Verlet's velocity, as cvk_sim_write_state makes it:
+               at rest it is -1/2 h^2 g, so the first step falls as x0 + 1/2 g t^2 */
+            double v = v0 ? v0[user + c] : 0.0;
+            double u = p < h->build.free_count ? v * scene->dt - 0.5 * h->params.gravity_h2[c] : 0.0;
+            h->x[3 * p + c] = x0 ? x0[user + c] : h->build.position[3 * p + c];
+            h->prev[3 * p + c] = h->x[3 * p + c] - u;
+        }
+    }
+    return true;
+}
+
+double bench_host_residual(bench_host* h)
+{
+    for (size_t i = 0; i < 3 * (size_t)h->build.particle_count; i++)
+        h->xf[i] = (float)h->x[i];
     cvk_metrics m;
-    cvk_metrics_compute(build, scratch, NULL, NULL, &m);
+    cvk_metrics_compute(&h->build, h->xf, NULL, NULL, &m);
     return m.residual[CVK_SPRING_STRUCTURAL];
+}
+
+void bench_host_to_user(bench_host* h, float* out)
+{
+    for (uint32_t p = 0; p < h->build.particle_count; p++)
+        for (int c = 0; c < 3; c++)
+            out[3 * (size_t)h->build.user_of[p] + c] = (float)h->x[3 * (size_t)p + c];
+}
+
+void bench_host_destroy(bench_host* h)
+{
+    free(h->x);
+    free(h->prev);
+    free(h->y);
+    free(h->xf);
+    cvk_build_destroy(&h->build);
+    memset(h, 0, sizeof *h);
 }
 
 /* x*: predict from the frozen state as the GPU does, then the host solver to convergence. */
 static bool converged_solution(bench* b, bench_frozen* f)
 {
-    cvk_error err;
-    cvk_build build;
-    if (cvk_build_create(&f->scene, &build, &err) != CVK_SUCCESS) {
-        bench_fail(&err);
-        return false;
-    }
-    size_t n = build.particle_count;
-    double* x = malloc(3 * n * sizeof(double));
-    double* prev = malloc(3 * n * sizeof(double));
-    double* y = malloc(3 * n * sizeof(double));
-    float* xf = malloc(3 * n * sizeof(float));
-    bool ok = x && prev && y && xf;
-    if (!ok)
-        app_error("clothvk-bench", "out of memory for the converged solution");
-    cvk_ref_params params = cvk_ref_params_of(&f->scene);
-    double h = f->scene.dt;
-    for (uint32_t p = 0; ok && p < n; p++) {
-        size_t user = 3 * (size_t)build.user_of[p];
-        for (int c = 0; c < 3; c++) {
-            /* the last displacement from Verlet's velocity, as cvk_sim_write_state makes it */
-            double u = p < build.free_count
-                           ? (double)f->v0[user + c] * h - 0.5 * params.gravity_h2[c]
-                           : 0.0;
-            x[3 * p + c] = f->x0[user + c];
-            prev[3 * p + c] = f->x0[user + c] - u;
-        }
-    }
+    bench_host h;
+    bool ok = bench_host_create(&f->scene, f->x0, f->v0, &h);
     if (ok) {
-        cvk_ref_predict(&build, &params, x, prev, y);
-        f->residual0 = residual_of(&build, x, xf);
-        for (uint32_t p = 0; p < n; p++)
-            memcpy(&f->out[3 * (size_t)build.user_of[p]], &xf[3 * (size_t)p], 3 * sizeof(float));
+        cvk_ref_predict(&h.build, &h.params, h.x, h.prev, h.y);
+        f->residual0 = bench_host_residual(&h);
+        bench_host_to_user(&h, f->out);
         /* predict left x = y for the free particles, the start of the solve */
-        ok = cvk_ref_solve_newton(&build, &params, y, b->o->reference_tolerance,
-                                  b->o->reference_max, STAR_CHECK_SWEEPS, x, &f->star);
+        ok = cvk_ref_solve_newton(&h.build, &h.params, h.y, b->o->reference_tolerance,
+                                  b->o->reference_max, STAR_CHECK_SWEEPS, h.x, &f->star);
         if (!ok)
             app_error("clothvk-bench", "out of memory for the converged solution");
     }
     if (ok) {
-        f->residual_star = residual_of(&build, x, xf);
-        for (uint32_t p = 0; p < n; p++)
-            for (int c = 0; c < 3; c++) {
-                size_t user = 3 * (size_t)build.user_of[p] + c;
-                f->x_star[user] = x[3 * p + c];
-                f->x_star_f[user] = (float)x[3 * p + c];
-            }
+        f->residual_star = bench_host_residual(&h);
+        bench_host_to_user(&h, f->x_star_f);
+        for (uint32_t p = 0; p < h.build.particle_count; p++)
+            for (int c = 0; c < 3; c++)
+                f->x_star[3 * (size_t)h.build.user_of[p] + c] = h.x[3 * (size_t)p + c];
         f->error0 = cvk_metrics_solve_error(f->out, f->x_star, f->x0, f->n);
     }
-    free(x);
-    free(prev);
-    free(y);
-    free(xf);
-    cvk_build_destroy(&build);
+    bench_host_destroy(&h);
     return ok;
 }
 

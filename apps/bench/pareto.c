@@ -71,51 +71,24 @@ static bool reference(bench* b, setup* su, uint32_t finest)
 {
     su->reference_substeps = REFERENCE_FACTOR * finest;
     cvk_scene_desc scene = scene_with_substeps(b->scene, su->frame_time, su->reference_substeps);
-    cvk_error err;
-    cvk_build build;
-    if (cvk_build_create(&scene, &build, &err) != CVK_SUCCESS) {
-        bench_fail(&err);
-        return false;
-    }
-    size_t n = build.particle_count;
-    double* x = malloc(3 * n * sizeof(double));
-    double* prev = malloc(3 * n * sizeof(double));
-    double* y = malloc(3 * n * sizeof(double));
-    float* xf = malloc(3 * n * sizeof(float));
-    bool ok = x && prev && y && xf;
-    cvk_ref_params params = cvk_ref_params_of(&scene);
-    for (size_t i = 0; ok && i < 3 * n; i++) {
-        /* at rest, as cvk_sim_write_positions leaves the simulations */
-        double half_step = i / 3 < build.free_count ? 0.5 * params.gravity_h2[i % 3] : 0.0;
-        x[i] = build.position[i];
-        prev[i] = x[i] + half_step;
-    }
+    bench_host h;
+    bool ok = bench_host_create(&scene, NULL, NULL, &h); /* at rest, as the simulations start */
     uint64_t steps = (uint64_t)su->frames * su->reference_substeps;
     for (uint64_t s = 0; ok && s < steps; s++) {
-        cvk_ref_predict(&build, &params, x, prev, y);
+        cvk_ref_predict(&h.build, &h.params, h.x, h.prev, h.y);
         cvk_ref_newton_report report;
-        ok = cvk_ref_solve_newton(&build, &params, y, b->o->reference_tolerance,
-                                  b->o->reference_max, 0, x, &report);
+        ok = cvk_ref_solve_newton(&h.build, &h.params, h.y, b->o->reference_tolerance,
+                                  b->o->reference_max, 0, h.x, &report);
+        if (!ok)
+            app_error("clothvk-bench", "out of memory for the reference trajectory");
         su->reference_steps = report.steps > su->reference_steps ? report.steps : su->reference_steps;
         su->reference_last_step = fmax(su->reference_last_step, report.last_step);
     }
-    if (!ok)
-        app_error("clothvk-bench", "out of memory for the reference trajectory");
-    for (size_t i = 0; ok && i < 3 * n; i++)
-        xf[i] = (float)x[i];
     if (ok) {
-        cvk_metrics m;
-        cvk_metrics_compute(&build, xf, NULL, NULL, &m);
-        su->reference_residual = m.residual[CVK_SPRING_STRUCTURAL];
-        for (uint32_t p = 0; p < n; p++)
-            memcpy(&su->reference[3 * (size_t)build.user_of[p]], &xf[3 * (size_t)p],
-                   3 * sizeof(float));
+        su->reference_residual = bench_host_residual(&h);
+        bench_host_to_user(&h, su->reference);
     }
-    free(x);
-    free(prev);
-    free(y);
-    free(xf);
-    cvk_build_destroy(&build);
+    bench_host_destroy(&h);
     return ok;
 }
 
