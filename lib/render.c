@@ -735,49 +735,41 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
     }
 }
 
-static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
-{
-    VkClearValue clear = {.depthStencil = {1.0f, 0}};
-    VkRenderPassBeginInfo begin = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
-        .renderPass = rd->shadow_pass,
-        .framebuffer = rd->shadow_framebuffer,
-        .renderArea = {{0, 0}, {rd->desc.shadow_map_size, rd->desc.shadow_map_size}},
-        .clearValueCount = 1,
-        .pClearValues = &clear,
-    };
-    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
-    draw_cloths(rd, cmd, false);
-    vkCmdEndRenderPass(cmd);
-}
-
-static void begin_pass(const cvk_renderer* rd, VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer,
-                       const VkClearValue* clears, uint32_t clear_count)
+static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer, uint32_t width,
+                       uint32_t height, const VkClearValue* clears, uint32_t clear_count)
 {
     VkRenderPassBeginInfo begin = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
         .renderPass = pass,
         .framebuffer = framebuffer,
-        .renderArea = {{0, 0}, {rd->desc.size[0], rd->desc.size[1]}},
+        .renderArea = {{0, 0}, {width, height}},
         .clearValueCount = clear_count,
         .pClearValues = clears,
     };
     vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+}
+
+static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkClearValue clear = {.depthStencil = {1.0f, 0}};
+    begin_pass(cmd, rd->shadow_pass, rd->shadow_framebuffer, rd->desc.shadow_map_size,
+               rd->desc.shadow_map_size, &clear, 1);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
+    draw_cloths(rd, cmd, false);
+    vkCmdEndRenderPass(cmd);
 }
 
 static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
 {
+    /* transparent black and the far depth (reversed z); the composite pass clears its stencil */
     VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
-    begin_pass(rd, cmd, rd->cloth_pass, rd->cloth_framebuffer, clears, 2);
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1];
+    begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
     draw_cloths(rd, cmd, true);
     vkCmdEndRenderPass(cmd);
 
-    VkClearValue stencil[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
-    begin_pass(rd, cmd, rd->composite_pass, rd->composite_framebuffer, stencil, 2);
+    begin_pass(cmd, rd->composite_pass, rd->composite_framebuffer, w, h, clears, 2);
     /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
        then everything else, which skips them. */
     if (rd->desc.ground && rd->view.patch_visible) {
@@ -816,6 +808,8 @@ cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error*
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                     VK_PIPELINE_STAGE_VERTEX_INPUT_BIT,
                     VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT);
+    /* one set for every graphics pipeline of the frame; bindings outlive render passes */
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
     record_shadow_pass(rd, cmd);
     timestamp(rd, cmd, 2);
     record_lit_pass(rd, cmd);
