@@ -276,8 +276,13 @@ cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_err
         uint32_t colours = cvk_grid_colour_count(g->shear, g->bend);
         if (colours > b->colour_count)
             b->colour_count = colours;
-        b->cloths[c] = (cvk_cloth_range){first, {cloth->grid[0], cloth->grid[1]}, cloth->rest_scale,
-                                         {cloth->color[0], cloth->color[1], cloth->color[2]}};
+        b->cloths[c] = (cvk_cloth_range){
+            .first_user = first,
+            .particle_count = (uint32_t)cloth_particles(cloth),
+            .grid = {cloth->grid[0], cloth->grid[1]},
+            .rest_scale = cloth->rest_scale,
+            .color = {cloth->color[0], cloth->color[1], cloth->color[2]},
+        };
         first += (uint32_t)cloth_particles(cloth);
     }
 

@@ -1,9 +1,12 @@
-/* Scene description -> particles, springs, colouring and adjacency, on the host, once.
+/* Scene description -> particles, springs, triangles, colouring and adjacency, on the host,
+   once. Every cloth comes through one path: its topology (lib/topology.h: a grid generator or
+   a mesh file) gives positions, masses, pins, triangles and typed springs.
 
-   Internal particle order: the free particles of colour 0, then colour 1, ..., then every
-   pinned particle. Inside a colour, particles keep grid order (cloth, j, i). The solver
-   dispatches one contiguous range per colour, and a neighbour's index tells its colour
-   range without a lookup. */
+   User order: cloth by cloth, each in its topology's order (grids row by row, meshes in file
+   order). Internal particle order: the free particles of colour 0, then colour 1, ..., then
+   every pinned particle. Inside a colour, particles keep user order. The solver dispatches one
+   contiguous range per colour, and a neighbour's index tells its colour range without a
+   lookup. */
 #ifndef CVK_BUILD_H
 #define CVK_BUILD_H
 
@@ -25,10 +28,15 @@ typedef struct cvk_spring {
 } cvk_spring;
 
 typedef struct cvk_cloth_range {
-    uint32_t first_user;   /* index of particle [0,0] in user order */
-    uint32_t grid[2];
-    float rest_scale;      /* for the renderer: how far the cloth can reach */
-    float color[3];        /* linear RGB, for the renderer */
+    char name[64];             /* the scene's name, or "cloth<N>" */
+    uint32_t first_user;       /* its first particle in user order */
+    uint32_t particle_count;
+    uint32_t first_triangle;   /* its triangles in build.triangles */
+    uint32_t triangle_count;
+    bool mesh;                 /* read from a file; false: a grid */
+    uint32_t grid[2];          /* a grid's particles along u and v; 0 for a mesh */
+    float rest_scale;          /* for the renderer: how far the cloth can reach */
+    float color[3];            /* linear RGB, for the renderer */
 } cvk_cloth_range;
 
 typedef struct cvk_build {
@@ -54,15 +62,24 @@ typedef struct cvk_build {
     float* adj_k;
     float* adj_rest;
 
+    /* Triangles of every cloth, cloth by cloth: 3 user indices each, counter-clockwise seen
+       from the front, and the spring index (into springs) along edges (v0,v1), (v1,v2),
+       (v2,v0), or UINT32_MAX where the edge has no spring. Wind, collisions and the mesh
+       generation read them. */
+    uint32_t triangle_count;
+    uint32_t* triangles;
+    uint32_t* triangle_springs;
+
     uint32_t cloth_count;
     cvk_cloth_range* cloths;
 } cvk_build;
 
-/* The scene must have passed cvk_scene_desc_validate. */
+/* The scene must have passed cvk_scene_desc_validate. Mesh files are read here: their errors
+   name the key path (see cvk_topology_create). */
 cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_error* error);
 void cvk_build_destroy(cvk_build* build);
 
-/* Colour of particle [i, j] of a cloth whose spring kinds are given, and the number of
+/* Colour of particle [i, j] of a grid cloth whose spring kinds are given, and the number of
    colours that pattern uses. Exposed for the colouring test. */
 uint32_t cvk_grid_colour(uint32_t i, uint32_t j, bool shear, bool bend);
 uint32_t cvk_grid_colour_count(bool shear, bool bend);

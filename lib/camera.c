@@ -68,7 +68,7 @@ static void box_corner(const cvk_box* b, int corner, double out[3])
 /* Grows `box` by where the free particles of one cloth can hang from its pins. */
 static void add_hanging(const cvk_build* b, const cvk_cloth_range* c, const double gravity[3], cvk_box* box)
 {
-    uint32_t n = c->grid[0] * c->grid[1];
+    uint32_t n = c->particle_count;
     uint32_t pins = 0;
     for (uint32_t i = 0; i < n; i++)
         pins += b->internal_of[c->first_user + i] >= b->free_count;

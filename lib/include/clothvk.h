@@ -31,8 +31,9 @@
  *        cvk_sim_record(sim, my_cmd, 1, &err);   // one frame per submission of my_cmd
  *        cvk_sim_step(sim, 10, &err);            // or: ten frames, submitted and waited for
  *
- * 4. Read the particles back (cloth by cloth, row-major grid order, i fastest) and ask for
- *    statistics: residual, stretch, NaN count, GPU time per pass.
+ * 4. Read the particles back (cloth by cloth: grids row by row, meshes in file order), or
+ *    the whole mesh with cvk_sim_read_mesh, and ask for statistics: residual, stretch, NaN
+ *    count, GPU time per pass.
  *
  * 5. See it. A mesh turns the particles into triangles and normals on the device, every
  *    frame, with no trip through the host. Either clothvk draws it (shadow-mapped, two lights,
@@ -193,13 +194,38 @@ typedef struct cvk_solver_desc {
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
-    float structural; /* N/m between grid neighbours (i±1, j) and (i, j±1); 0 = absent; usually 1e6 */
-    float shear;      /* N/m across cell diagonals; 0 = absent */
-    float bend;       /* N/m to the second neighbours (i±2, j) and (i, j±2); 0 = absent */
+    float structural; /* N/m along grid rows and columns, or mesh edges; 0 = absent; usually 1e6 */
+    float shear;      /* N/m across grid cells and quad faces (both diagonals); 0 = absent */
+    float bend;       /* N/m to grid second neighbours (i±2, j), (i, j±2), or across mesh edges;
+                         0 = absent */
 } cvk_stiffness;
 
-/* A rectangular grid of particles. Particle [i, j] sits at origin + i·du·u_axis + j·dv·v_axis,
-   du = size[0] / (grid[0] − 1), dv = size[1] / (grid[1] − 1). A 1×N grid is a rope. */
+/* Scale, then rotation, then translation: x' = translation + rotation (scale ⊙ x). */
+typedef struct cvk_transform {
+    float scale[3];              /* per axis; usually [1, 1, 1] */
+    float rotation[4];           /* quaternion [w, x, y, z], normalised by the library; usually
+                                    [1, 0, 0, 0] */
+    float translation[3];        /* m; usually [0, 0, 0] */
+} cvk_transform;
+
+/* An axis-aligned box, min then max corner, m. */
+typedef struct cvk_box3 {
+    float min[3];
+    float max[3];
+} cvk_box3;
+
+/* One cloth: a rectangular grid of particles (the default) or a triangle mesh read from a file.
+
+   Grid: particle [i, j] sits at origin + i·du·u_axis + j·dv·v_axis, du = size[0] / (grid[0] − 1),
+   dv = size[1] / (grid[1] − 1). A 1×N grid is a rope. Structural springs join (i±1, j) and
+   (i, j±1), shear springs the cell diagonals, bend springs (i±2, j) and (i, j±2).
+
+   Mesh (mesh != NULL): every vertex of the file is a particle; vertices the file repeats only
+   for UVs or normals are welded by position. Structural springs lie on every edge of the file's
+   faces, shear springs across both diagonals of every quad face, bend springs across every
+   interior edge between the two vertices opposite it (in the triangles the faces are split
+   into). Rest lengths come from the file (after the transform), times rest_scale. Particles
+   are in file order: welded vertices once, in order of first appearance. */
 typedef struct cvk_cloth_desc {
     const char* name;            /* for messages and output; may be NULL */
     uint32_t grid[2];            /* particles along u and v, each ≥ 1; usually [100, 100] */
@@ -207,11 +233,24 @@ typedef struct cvk_cloth_desc {
     float origin[3];             /* position of particle [0, 0], m */
     float u_axis[3];             /* direction of increasing i (normalised by the library) */
     float v_axis[3];             /* direction of increasing j (normalised by the library) */
+    const char* mesh;            /* triangle or quad mesh file (OBJ, glTF 2, PLY, STL), read
+                                    through Assimp; NULL = a grid. A scene file's relative path
+                                    is relative to the scene file; in code, to the working
+                                    directory. grid, size, origin and the axes are then unused */
+    cvk_transform transform;     /* applied to the mesh's vertices; unused for grids */
     float rest_scale;            /* rest length = spacing · rest_scale; 0.2 stretches ×5 */
-    float mass;                  /* kg for the whole cloth, spread evenly; > 0, usually 0.1 */
+    float mass;                  /* kg for the whole cloth; > 0, usually 0.1. A grid spreads it
+                                    evenly, a mesh by the area around each vertex */
+    float density;               /* kg/m², areal density; > 0 replaces mass: each particle gets
+                                    a third of the area of its triangles times density. 0 = use
+                                    mass (the default) */
     cvk_stiffness stiffness;     /* N/m per spring kind */
-    const uint32_t (*pins)[2];   /* grid coordinates [i, j] held in place */
+    const uint32_t (*pins)[2];   /* grids: grid coordinates [i, j] held in place */
     uint32_t pin_count;
+    const uint32_t* pin_vertices;/* meshes: vertex indices (particle order, above) held in place */
+    uint32_t pin_vertex_count;
+    bool use_pin_box;            /* true: also pin every particle inside pin_box */
+    cvk_box3 pin_box;            /* m, after the transform; min ≤ max on every axis */
     float color[3];              /* linear RGB in [0, 1], for renderers */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
@@ -336,8 +375,8 @@ CVK_API cvk_result cvk_sim_step(cvk_sim* sim, uint32_t frames, cvk_error* error)
 /* Number of particles over all cloths. */
 CVK_API uint64_t cvk_sim_particle_count(const cvk_sim* sim);
 
-/* Copies positions out (3 floats per particle, cloth by cloth, row-major grid order, i
-   fastest). Waits for the device to be idle on the context's queue; `count` is the number
+/* Copies positions out (3 floats per particle, cloth by cloth; a grid in row-major order, i
+   fastest; a mesh in file order, see cvk_cloth_desc). Waits for the device to be idle on the context's queue; `count` is the number
    of particles the array holds and must be cvk_sim_particle_count(). */
 CVK_API cvk_result cvk_sim_read_positions(cvk_sim* sim, float* xyz, uint64_t count, cvk_error* error);
 
@@ -359,6 +398,34 @@ CVK_API cvk_result cvk_sim_read_state(cvk_sim* sim, float* xyz, float* velocity,
    rejected with CVK_ERROR_INVALID_ARGUMENT and change nothing. */
 CVK_API cvk_result cvk_sim_write_state(cvk_sim* sim, const float* xyz, const float* velocity,
                                uint64_t count, cvk_error* error);
+
+/* The cloths as the simulation sees them: particle and triangle ranges, in scene order. */
+typedef struct cvk_cloth_info {
+    const char* name;            /* the scene's name for the cloth; "cloth<N>" when it has none */
+    uint32_t first_particle;     /* range in the order of cvk_sim_read_positions */
+    uint32_t particle_count;
+    uint32_t first_triangle;     /* range in cvk_sim_read_mesh's triangles */
+    uint32_t triangle_count;
+    bool mesh;                   /* true: read from a mesh file; false: a grid */
+} cvk_cloth_info;
+
+CVK_API uint32_t cvk_sim_cloth_count(const cvk_sim* sim);
+/* Zeroes for a cloth index out of range. */
+CVK_API cvk_cloth_info cvk_sim_get_cloth(const cvk_sim* sim, uint32_t cloth);
+/* Triangles over all cloths, torn ones included. */
+CVK_API uint64_t cvk_sim_triangle_count(const cvk_sim* sim);
+
+/* The cloths as triangles, for export through your own pipeline (clothvk-sim --obj uses it):
+   positions (m) and unit vertex normals (the area-weighted average of the live triangles'
+   normals, on the side the triangles wind counter-clockwise; zero at a vertex with none),
+   3 floats per particle in the order of cvk_sim_read_positions, and 3 particle indices per
+   triangle, cloth by cloth (cvk_cloth_info ranges). A triangle whose springs are gone (torn)
+   has three equal indices: skip it. Any array may be NULL; vertex_count must be
+   cvk_sim_particle_count() and triangle_count cvk_sim_triangle_count(). Waits like
+   cvk_sim_read_positions. */
+CVK_API cvk_result cvk_sim_read_mesh(cvk_sim* sim, float* xyz, float* normals, uint32_t* triangles,
+                                     uint64_t vertex_count, uint64_t triangle_count,
+                                     cvk_error* error);
 
 /* Changes the solver (linear solver, iterations, omega, Chebyshev parameters) at run time,
    without rebuilding the scene; positions and velocities are kept, so the next step continues
@@ -440,18 +507,19 @@ CVK_API void cvk_mesh_destroy(cvk_mesh* mesh);
 /* The triangles of one cloth: a range of the index buffer, for one draw call. */
 typedef struct cvk_mesh_range {
     uint32_t first_index;
-    uint32_t index_count;        /* 3 per triangle: 6 (grid[0] − 1)(grid[1] − 1) */
+    uint32_t index_count;        /* 3 per triangle: 6 (grid[0] − 1)(grid[1] − 1) for a grid */
 } cvk_mesh_range;
 
 /* What to bind to draw the mesh. The buffers live until cvk_mesh_destroy. */
 typedef struct cvk_mesh_buffers {
-    VkBuffer vertex_buffer;      /* one vertex per particle, in the order of cvk_sim_read_positions
-                                    (cloth by cloth, row-major grid order, i fastest) */
+    VkBuffer vertex_buffer;      /* one vertex per particle, in the order of
+                                    cvk_sim_read_positions */
     uint32_t vertex_count;
     uint32_t vertex_stride;      /* bytes from one vertex to the next: 32 */
     uint32_t position_offset;    /* 0: position, 3 floats (VK_FORMAT_R32G32B32_SFLOAT), m; a 4th
                                     float, 1, follows */
-    uint32_t normal_offset;      /* 16: unit normal, 3 floats, on the side of u_axis × v_axis;
+    uint32_t normal_offset;      /* 16: unit normal, 3 floats, on the side the triangles wind
+                                    counter-clockwise (a grid: u_axis × v_axis);
                                     zero at a vertex with no triangle; a 4th float, 0, follows */
     VkBuffer index_buffer;       /* triangle lists; a triangle whose constraints are gone (torn)
                                     has three equal indices, so it draws nothing */

@@ -1,0 +1,49 @@
+/* The shape of one cloth, whatever it came from: positions, triangles and typed springs.
+   The grid generator and the mesh-file reader both produce it; lib/build.c turns the
+   topologies of a scene into particles, colours and adjacency, one path for every cloth.
+
+   Indices here are local to the cloth (0 .. vertex_count − 1) and in user order: a grid row
+   by row (i fastest), a mesh in file order (welded vertices once, in order of first
+   appearance). */
+#ifndef CVK_TOPOLOGY_H
+#define CVK_TOPOLOGY_H
+
+#include "build.h"
+#include "scene.h"
+
+#define CVK_NO_SPRING UINT32_MAX
+
+typedef struct cvk_topo_spring {
+    uint32_t a, b;        /* local vertex indices, a != b */
+    uint32_t type;        /* cvk_spring_type */
+} cvk_topo_spring;
+
+typedef struct cvk_topology {
+    uint32_t vertex_count;
+    float* position;             /* xyz per vertex, m, after any transform */
+    float* mass;                 /* kg per vertex */
+    uint8_t* pinned;             /* 1 per pinned vertex (pins, pin_vertices, pin_box) */
+
+    uint32_t triangle_count;
+    uint32_t* triangles;         /* 3 vertices per triangle, counter-clockwise from the front */
+    uint32_t* triangle_springs;  /* 3 per triangle: the spring along edge (v0,v1), (v1,v2),
+                                    (v2,v0), or CVK_NO_SPRING when that edge has none */
+
+    uint32_t spring_count;       /* only springs of non-zero stiffness */
+    cvk_topo_spring* springs;    /* rest length = |x_a − x_b| · rest_scale, computed by build */
+
+    /* A closed-form colouring when the generator knows one (grids: cvk_grid_colour), else
+       NULL and build colours the spring graph greedily. */
+    uint32_t* colour;
+    uint32_t colour_count;
+} cvk_topology;
+
+/* The topology of cloth `index` of a validated scene: a grid from its keys, or a mesh read
+   from its file. Errors name the key path ("cloths.2.mesh: poncho.obj: ...") and return
+   CVK_ERROR_IO (file missing or unreadable) or CVK_ERROR_INVALID_ARGUMENT (no triangles,
+   degenerate or non-manifold faces, NaN coordinates, a pin out of range). */
+cvk_result cvk_topology_create(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,
+                               cvk_error* error);
+void cvk_topology_destroy(cvk_topology* topology);
+
+#endif
