@@ -46,4 +46,20 @@ cvk_result cvk_topology_create(const cvk_cloth_desc* cloth, uint32_t index, cvk_
                                cvk_error* error);
 void cvk_topology_destroy(cvk_topology* topology);
 
+/* The two generators behind cvk_topology_create. Each fills position, triangles,
+   triangle_springs, springs (of non-zero stiffness only) and, for grids, colour; mass and
+   pinned are filled afterwards by cvk_topology_create for both. lib/topology.c holds the grid,
+   lib/topology_mesh.c the mesh reader (Assimp). */
+cvk_result cvk_topology_grid(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,
+                             cvk_error* error);
+cvk_result cvk_topology_mesh(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,
+                             cvk_error* error);
+
+/* Lumped masses from the triangles: each vertex gets a third of the area of its triangles
+   times density, or, with density 0, that area's share of total_mass. Every vertex must lie
+   in a triangle of non-zero area (the mesh reader drops vertices no face uses; scene
+   validation keeps density off ropes). */
+cvk_result cvk_topology_area_mass(cvk_topology* topology, double density, double total_mass,
+                                  cvk_error* error);
+
 #endif
