@@ -124,6 +124,6 @@ double app_now_ms(void)
 
 int app_creation_status(cvk_result r)
 {
-    return r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT ? APP_EXIT_BAD_INPUT
-                                                                          : APP_EXIT_FAILURE;
+    bool bad = r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT || r == CVK_ERROR_IO;
+    return bad ? APP_EXIT_BAD_INPUT : APP_EXIT_FAILURE;
 }

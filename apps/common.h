@@ -23,8 +23,9 @@ void app_error(const char* tool, const char* format, ...) __attribute__((format(
  * and not an option; otherwise one line on stderr and APP_EXIT_BAD_INPUT. */
 int app_take_scene_argument(const char* tool, const char* arg, const char** scene);
 
-/* The exit status for a failed creation: scene problems found only when the device is known
- * (too many particles, a size above its limit) are bad input, the rest a failure. */
+/* The exit status for a failed creation: scene problems found only when the scene is built
+ * (a mesh file missing or malformed, too many particles for the device, a size above its
+ * limit) are bad input, the rest a failure. */
 int app_creation_status(cvk_result r);
 
 /* Parses a whole decimal number in [min, max]; false on anything else. */
