@@ -27,10 +27,10 @@ static void make_scene(two_cloths* t)
     t->cloths[0].name = "a";
     t->cloths[0].grid[0] = 5;
     t->cloths[0].grid[1] = 4;
-    t->cloths[0].v_axis[0] = 0, t->cloths[0].v_axis[1] = 0, t->cloths[0].v_axis[2] = 1;
+    memcpy(t->cloths[0].v_axis, (const float[3]){0, 0, 1}, sizeof(float[3]));
     t->cloths[1].grid[0] = t->cloths[1].grid[1] = 3;
     t->cloths[1].origin[0] = 1.0f;
-    t->cloths[1].v_axis[0] = 0, t->cloths[1].v_axis[1] = 1, t->cloths[1].v_axis[2] = 0;
+    memcpy(t->cloths[1].v_axis, (const float[3]){0, 1, 0}, sizeof(float[3]));
     t->scene = cvk_default_scene_desc();
     t->scene.substeps = 2;
     t->scene.cloths = t->cloths;
