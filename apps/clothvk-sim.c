@@ -309,10 +309,12 @@ static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_con
                     cvk_sim* sim, uint32_t frames)
 {
     app_obj_frames out = {0};
-    if (o->obj && !app_make_output_folder(tool, o->obj))
-        return APP_EXIT_BAD_INPUT;
     if (o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
         return APP_EXIT_FAILURE;
+    if (o->obj && !app_make_output_folder(tool, o->obj)) {
+        app_obj_frames_free(&out);
+        return APP_EXIT_BAD_INPUT;
+    }
     run_totals totals = {0};
     int status = run_frames(sim, frames, o->obj ? &out : NULL, o->every, &totals);
     app_obj_frames_free(&out);

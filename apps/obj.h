@@ -28,8 +28,8 @@ typedef struct app_obj_frames {
     uint32_t written;            /* files written so far */
 } app_obj_frames;
 
-/* Prepares to write frames of `sim` into `folder` (which must exist). False, with one line
-   printed, when memory runs out. */
+/* Prepares to write frames of `sim` into `folder` (made before the first frame is written).
+   False, with one line printed, when memory runs out. */
 bool app_obj_frames_init(app_obj_frames* f, const char* tool, cvk_sim* sim, const char* folder,
                          const cvk_scene_desc* scene);
 
