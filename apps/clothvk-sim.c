@@ -6,6 +6,7 @@
 
 #include "clothvk.h"
 #include "common.h"
+#include "obj.h"
 
 static const char tool[] = "clothvk-sim";
 
@@ -13,11 +14,16 @@ static void usage(FILE* out)
 {
     fprintf(out,
             "usage: clothvk-sim SCENE [--frames N] [--set key.path=value]... [--json]\n"
-            "                   [--dump FILE.csv] [--plan]\n"
+            "                   [--dump FILE.csv] [--obj DIR [--every K]] [--plan]\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --json         print one JSON object of statistics\n"
             "  --dump FILE    write final positions as x,y,z lines (cloth by cloth, row-major)\n"
+            "  --obj DIR      write frames as Wavefront OBJ files DIR/frame_0000.obj, ... (the\n"
+            "                 folder is created if missing): every cloth an object with vertex\n"
+            "                 positions (m), normals and its triangles\n"
+            "  --every K      with --obj: file i holds the state after i*K frames, for every\n"
+            "                 i*K < N (frame_0000.obj: before the first step); default 1\n"
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
@@ -31,6 +37,8 @@ typedef struct options {
     app_overrides overrides;
     bool json;
     const char* dump;
+    const char* obj;
+    uint32_t every; /* 0: not given (1) */
     bool plan;
     uint32_t workgroup_size;
     uint32_t max_workgroups;
@@ -64,6 +72,19 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 return APP_EXIT_BAD_INPUT;
             }
             o->dump = argv[++i];
+        } else if (!strcmp(a, "--obj")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "--obj: expected an output folder");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->obj = argv[++i];
+        } else if (!strcmp(a, "--every")) {
+            if (!has_value || !app_parse_u32(argv[i + 1], 1, 100000000, &o->every)) {
+                app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s",
+                          has_value ? argv[i + 1] : "nothing");
+                return APP_EXIT_BAD_INPUT;
+            }
+            i++;
         } else if (!strcmp(a, "--workgroup-size")) {
             if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->workgroup_size)) {
                 app_error(tool, "--workgroup-size: expected a whole number from 1 to 1024, got %s",
@@ -93,6 +114,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
+    if (o->every && !o->obj) {
+        app_error(tool, "--every needs --obj DIR (it says which frames go out as OBJ files)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (!o->every)
+        o->every = 1;
     return APP_EXIT_OK;
 }
 
@@ -104,13 +131,20 @@ typedef struct run_totals {
     double pass_ms[CVK_MAX_PASSES];
 } run_totals;
 
-static cvk_result run_frames(cvk_sim* sim, uint32_t frames, run_totals* t, cvk_error* err)
+/* Steps `frames` frames. With OBJ output, file i holds the state after i·every frames, for
+   every i·every < frames (clothvk-render's rule for its images); writing is not timed. */
+static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, uint32_t every,
+                      run_totals* t)
 {
+    cvk_error err;
     for (uint32_t f = 0; f < frames; f++) {
+        if (out && f % every == 0 && !app_obj_frames_write(out, f / every, f))
+            return APP_EXIT_FAILURE;
         double t0 = app_now_ms();
-        cvk_result r = cvk_sim_step(sim, 1, err);
-        if (r != CVK_SUCCESS)
-            return r;
+        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS) {
+            app_error(tool, "%s", err.message);
+            return APP_EXIT_FAILURE;
+        }
         t->wall_ms += app_now_ms() - t0;
         t->frames++;
         cvk_sim_stats timing;
@@ -122,7 +156,7 @@ static cvk_result run_frames(cvk_sim* sim, uint32_t frames, run_totals* t, cvk_e
         for (uint32_t p = 0; p < timing.pass_count && p < CVK_MAX_PASSES; p++)
             t->pass_ms[p] += timing.passes[p].gpu_ms;
     }
-    return CVK_SUCCESS;
+    return APP_EXIT_OK;
 }
 
 /* A float printed with the digits it has: 0.002, not 0.00200000009. */
@@ -260,6 +294,52 @@ static int dump_positions(cvk_sim* sim, const char* path)
     return APP_EXIT_OK;
 }
 
+static void print_obj_summary(const options* o, const app_obj_frames* out, uint32_t frames)
+{
+    if (out->written == 0)
+        printf("  no OBJ file in %s: no frame simulated\n", o->obj);
+    else
+        printf("  %u OBJ files in %s (frames 0 to %u of %u, every %u)\n", out->written, o->obj,
+               (out->written - 1) * o->every, frames, o->every);
+}
+
+/* The frames (and OBJ files), then statistics and the dump. The output folder is made once
+   the scene has been built, so that bad input leaves nothing behind. */
+static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+                    cvk_sim* sim, uint32_t frames)
+{
+    app_obj_frames out = {0};
+    if (o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
+        return APP_EXIT_FAILURE;
+    if (o->obj && !app_make_output_folder(tool, o->obj)) {
+        app_obj_frames_free(&out);
+        return APP_EXIT_BAD_INPUT;
+    }
+    run_totals totals = {0};
+    int status = run_frames(sim, frames, o->obj ? &out : NULL, o->every, &totals);
+    app_obj_frames_free(&out);
+    if (status != APP_EXIT_OK)
+        return status;
+    cvk_sim_stats st;
+    cvk_error err;
+    if (cvk_sim_get_stats(sim, &st, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return APP_EXIT_FAILURE;
+    }
+    if (o->json)
+        print_json(scene, ctx, &st, &totals);
+    else
+        print_summary(scene, ctx, &st, &totals);
+    if (o->obj && !o->json)
+        print_obj_summary(o, &out, frames);
+    if (st.nan_count) {
+        app_error(tool, "%s: the simulation produced %llu non-finite coordinates", o->scene,
+                  (unsigned long long)st.nan_count);
+        return APP_EXIT_FAILURE;
+    }
+    return o->dump ? dump_positions(sim, o->dump) : APP_EXIT_OK;
+}
+
 static int run(const options* o)
 {
     cvk_error err;
@@ -294,27 +374,7 @@ static int run(const options* o)
             free(text);
         }
     } else {
-        run_totals totals = {0};
-        cvk_sim_stats st;
-        r = run_frames(sim, frames, &totals, &err);
-        if (r == CVK_SUCCESS)
-            r = cvk_sim_get_stats(sim, &st, &err);
-        if (r != CVK_SUCCESS) {
-            app_error(tool, "%s", err.message);
-            status = APP_EXIT_FAILURE;
-        } else {
-            if (o->json)
-                print_json(scene, ctx, &st, &totals);
-            else
-                print_summary(scene, ctx, &st, &totals);
-            if (st.nan_count) {
-                app_error(tool, "%s: the simulation produced %llu non-finite coordinates",
-                          o->scene, (unsigned long long)st.nan_count);
-                status = APP_EXIT_FAILURE;
-            } else if (o->dump) {
-                status = dump_positions(sim, o->dump);
-            }
-        }
+        status = simulate(o, scene, ctx, sim, frames);
     }
     cvk_sim_destroy(sim);
     uint32_t messages = cvk_context_validation_message_count(ctx);

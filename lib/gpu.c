@@ -336,3 +336,37 @@ void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image)
         vkFreeMemory(context->device, image->memory, NULL);
     memset(image, 0, sizeof *image);
 }
+
+cvk_result cvk_buffer_download(cvk_context* context, cvk_submitter* submitter, VkCommandBuffer cmd,
+                               const cvk_buffer* src, void* data, VkDeviceSize size,
+                               cvk_error* error)
+{
+    if (size == 0)
+        return CVK_SUCCESS;
+    if (size > src->size)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cannot read %llu bytes back from a buffer of %llu bytes",
+                        (unsigned long long)size, (unsigned long long)src->size);
+    cvk_buffer readback;
+    cvk_result r = cvk_buffer_create(context, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     CVK_MEMORY_HOST, "readback", &readback, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r == CVK_SUCCESS) {
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                        VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        VkBufferCopy region = {0, 0, size};
+        vkCmdCopyBuffer(cmd, src->buffer, readback.buffer, 1, &region);
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+        r = cvk_command_buffer_end(cmd, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_submit_and_wait(context, submitter, &cmd, 1, error);
+    if (r == CVK_SUCCESS)
+        memcpy(data, readback.mapped, size);
+    cvk_buffer_destroy(context, &readback);
+    return r;
+}

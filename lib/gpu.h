@@ -82,4 +82,13 @@ cvk_result cvk_command_buffer_end(VkCommandBuffer cmd, cvk_error* error);
 void cvk_cmd_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
                      VkPipelineStageFlags dst_stage, VkAccessFlags dst_access);
 
+/* Copies `size` bytes of `src` (which needs VK_BUFFER_USAGE_TRANSFER_SRC_BIT) into host
+   memory through a temporary host-visible buffer and waits. Earlier compute-shader and
+   transfer writes to `src` are made visible to the copy first. `cmd` is a command buffer of
+   `submitter`'s pool that is not in use. For occasional reads of what the device keeps, such
+   as the spring flags an export needs; the per-frame state has its own readback. */
+cvk_result cvk_buffer_download(cvk_context* context, cvk_submitter* submitter, VkCommandBuffer cmd,
+                               const cvk_buffer* src, void* data, VkDeviceSize size,
+                               cvk_error* error);
+
 #endif

@@ -1,0 +1,259 @@
+/* Determinism as a promise, in the manner of Box2D's determinism test: a grid cloth and an
+   irregular mesh cloth are stepped for a fixed number of frames under several compute shapes
+   (workgroup sizes × workgroups per dispatch) with each GPU solver, and one hash of the final
+   positions (FNV-1a 64 over the float bytes of cvk_sim_read_positions) must be the same for
+   every shape and again on a second run of the first shape.
+
+   Why it should hold: every pass is a loop over particles in which each particle's result
+   depends only on the data, never on which invocation or workgroup computes it; no pass
+   reduces across invocations (no atomics, no shared memory), so the dispatch shape cannot
+   reorder a floating-point sum. A shape that changes the hash breaks that rule. */
+#include <stdint.h>
+#include <unistd.h>
+
+#include "harness.h"
+
+#define FRAMES 6
+
+typedef struct shape {
+    uint32_t workgroup_size;
+    uint32_t max_workgroups; /* 0: the library's choice */
+} shape;
+
+/* The first shape is the library's default; it also runs a second time. */
+static const shape shapes[] = {
+    {0, 0},  {8, 1},   {8, 3},   {8, 0},   {32, 1},  {32, 3},  {32, 0},
+    {64, 1}, {64, 3},  {256, 1}, {256, 3}, {256, 0},
+};
+#define SHAPE_COUNT (sizeof shapes / sizeof shapes[0])
+
+static const cvk_linear_solver solvers[] = {CVK_LINEAR_RBGS, CVK_LINEAR_JACOBI, CVK_LINEAR_CHEBYSHEV};
+
+static uint64_t fnv1a64(const void* data, size_t bytes)
+{
+    const unsigned char* p = data;
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < bytes; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+/* ---- the two scenes ------------------------------------------------------------------------ */
+
+/* 24 × 24, every spring kind, pinned at the two top corners: it falls and swings. */
+static cvk_cloth_desc grid_cloth(void)
+{
+    static const uint32_t pins[2][2] = {{0, 0}, {23, 0}};
+    cvk_cloth_desc c = cvk_default_cloth_desc();
+    c.name = "grid";
+    c.grid[0] = c.grid[1] = 24;
+    c.size[0] = c.size[1] = 0.6f;
+    c.stiffness.structural = 1e5f;
+    c.stiffness.shear = 1e4f;
+    c.stiffness.bend = 1e2f;
+    c.pins = pins;
+    c.pin_count = 2;
+    return c;
+}
+
+#define MESH_SIDE 8 /* vertices along each side of the jittered lattice */
+
+/* An irregular triangle mesh, 0.4 m square in the x-y plane: a jittered lattice whose cells
+   are split along a random diagonal or, one in four, into a fan around an added centre vertex
+   (valences from 3 to 8: the colouring is greedy, not a grid's). Written as OBJ to `path`;
+   returns the number of vertices, or 0 when the file cannot be written. */
+static uint32_t write_mesh(const char* path)
+{
+    FILE* f = fopen(path, "w");
+    if (!f)
+        return 0;
+    harness_rng rng = {12345};
+    const double d = 0.4 / (MESH_SIDE - 1);
+    fprintf(f, "# irregular test cloth\n");
+    for (int j = 0; j < MESH_SIDE; j++)
+        for (int i = 0; i < MESH_SIDE; i++) {
+            bool edge = i == 0 || j == 0 || i == MESH_SIDE - 1 || j == MESH_SIDE - 1;
+            double jx = edge ? 0.0 : harness_uniform(&rng, -0.2, 0.2) * d;
+            double jy = edge ? 0.0 : harness_uniform(&rng, -0.2, 0.2) * d;
+            fprintf(f, "v %.6f %.6f 0\n", i * d + jx, 1.0 - j * d + jy);
+        }
+    int next = MESH_SIDE * MESH_SIDE + 1; /* OBJ numbers from 1 */
+    for (int j = 0; j + 1 < MESH_SIDE; j++)
+        for (int i = 0; i + 1 < MESH_SIDE; i++) {
+            /* a b / c e: a = [i, j], b = [i+1, j], c = [i, j+1], e = [i+1, j+1]; counter-
+               clockwise seen from +z, since j runs down. */
+            int a = j * MESH_SIDE + i + 1, b = a + 1, c = a + MESH_SIDE, e = c + 1;
+            uint32_t pick = harness_next(&rng) % 4;
+            if (pick == 0) {
+                fprintf(f, "v %.6f %.6f 0\n", (i + 0.5) * d, 1.0 - (j + 0.5) * d);
+                int m = next++;
+                fprintf(f, "f %d %d %d\nf %d %d %d\nf %d %d %d\nf %d %d %d\n", a, c, m, c, e, m, e,
+                        b, m, b, a, m);
+            } else if (pick == 1) {
+                fprintf(f, "f %d %d %d\nf %d %d %d\n", a, c, b, b, c, e);
+            } else {
+                fprintf(f, "f %d %d %d\nf %d %d %d\n", a, c, e, a, e, b);
+            }
+        }
+    return fclose(f) == 0 ? (uint32_t)next - 1 : 0;
+}
+
+static cvk_cloth_desc mesh_cloth(const char* path)
+{
+    cvk_cloth_desc c = cvk_default_cloth_desc();
+    c.name = "mesh";
+    c.mesh = path;
+    c.stiffness.structural = 1e5f;
+    c.stiffness.shear = 0.0f;
+    c.stiffness.bend = 1e2f;
+    /* The top edge, whose vertices are not jittered: a box says which ones without relying
+       on the particle order of a mesh. */
+    c.use_pin_box = true;
+    c.pin_box = (cvk_box3){{-0.01f, 0.99f, -0.01f}, {0.41f, 1.01f, 0.01f}};
+    return c;
+}
+
+/* ---- runs ---------------------------------------------------------------------------------- */
+
+typedef struct outcome {
+    bool ok;
+    uint64_t hash;
+    float* xyz; /* final positions, for the size of a difference */
+    uint64_t count;
+} outcome;
+
+static outcome run(cvk_context* ctx, const cvk_scene_desc* scene, shape sh, cvk_error* err)
+{
+    outcome o = {0};
+    cvk_sim* sim = NULL;
+    cvk_sim_desc desc = {.scene = scene, .workgroup_size = sh.workgroup_size,
+                         .max_workgroups = sh.max_workgroups, .timing = -1};
+    if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
+        return o;
+    if (cvk_sim_step(sim, FRAMES, err) == CVK_SUCCESS) {
+        o.count = cvk_sim_particle_count(sim);
+        o.xyz = harness_read_all(sim);
+        o.hash = fnv1a64(o.xyz, 3 * o.count * sizeof(float));
+        o.ok = true;
+    }
+    cvk_sim_destroy(sim);
+    return o;
+}
+
+static const char* shape_text(shape sh, char* text, size_t size)
+{
+    char wg[16], mw[16];
+    snprintf(wg, sizeof wg, "%u", sh.workgroup_size);
+    snprintf(mw, sizeof mw, "%u", sh.max_workgroups);
+    snprintf(text, size, "workgroup size %s, max workgroups %s", sh.workgroup_size ? wg : "default",
+             sh.max_workgroups ? mw : "default");
+    return text;
+}
+
+/* Everything moved and stayed finite: a hash of a cloth at rest would prove little. */
+static void check_moved(const char* what, const outcome* o, const float* start)
+{
+    uint64_t bad = 0;
+    for (uint64_t i = 0; i < 3 * o->count; i++)
+        bad += !isfinite(o->xyz[i]);
+    CHECK(bad == 0, "%s: %llu coordinates are not finite", what, (unsigned long long)bad);
+    double moved = harness_max_diff(o->xyz, start, 3 * o->count);
+    CHECK(moved > 1e-3, "%s: the cloth moved only %g m in %d frames", what, moved, FRAMES);
+}
+
+/* One scene and solver under every shape, then the first shape again. */
+static void check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scene,
+                         cvk_linear_solver linear, const float* start)
+{
+    scene.solver.linear = linear;
+    char what[96], text[64];
+    snprintf(what, sizeof what, "%s, %s", name, cvk_linear_solver_name(linear));
+    cvk_error err;
+    outcome first = run(ctx, &scene, shapes[0], &err);
+    CHECK(first.ok, "%s: %s", what, err.message);
+    if (!first.ok)
+        return;
+    check_moved(what, &first, start);
+    uint32_t same = 0;
+    for (size_t s = 0; s <= SHAPE_COUNT; s++) {
+        shape sh = shapes[s % SHAPE_COUNT]; /* the last is the second run of the first shape */
+        outcome o = run(ctx, &scene, sh, &err);
+        shape_text(sh, text, sizeof text);
+        CHECK(o.ok, "%s, %s: %s", what, text, err.message);
+        if (o.ok) {
+            CHECK(o.hash == first.hash,
+                  "%s, %s%s: hash %016llx, the default shape gave %016llx; positions differ by "
+                  "up to %g m", what, text, s == SHAPE_COUNT ? " (second run)" : "",
+                  (unsigned long long)o.hash, (unsigned long long)first.hash,
+                  harness_max_diff(o.xyz, first.xyz, 3 * o.count));
+            same += o.hash == first.hash;
+        }
+        free(o.xyz);
+    }
+    printf("%s: hash %016llx after %d frames, the same for %u of %zu shapes and runs\n", what,
+           (unsigned long long)first.hash, FRAMES, same, SHAPE_COUNT + 1);
+    free(first.xyz);
+}
+
+/* Initial positions of a scene (a simulation that has not stepped), or NULL with the reason. */
+static float* initial_positions(cvk_context* ctx, const cvk_scene_desc* scene, uint64_t* count,
+                                cvk_error* err)
+{
+    cvk_sim* sim = NULL;
+    if (cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .timing = -1}, &sim, err) != CVK_SUCCESS)
+        return NULL;
+    *count = cvk_sim_particle_count(sim);
+    float* xyz = harness_read_all(sim);
+    cvk_sim_destroy(sim);
+    return xyz;
+}
+
+/* `particles`: how many the scene must have (the mesh file's vertices). */
+static void check_scene(cvk_context* ctx, const char* name, const cvk_scene_desc* scene,
+                        uint64_t particles)
+{
+    cvk_error err;
+    uint64_t count = 0;
+    float* start = initial_positions(ctx, scene, &count, &err);
+    CHECK(start != NULL, "%s: %s", name, err.message);
+    if (!start)
+        return;
+    CHECK(count == particles, "%s: %llu particles, expected %llu", name, (unsigned long long)count,
+          (unsigned long long)particles);
+    for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; k++)
+        check_solver(ctx, name, *scene, solvers[k], start);
+    free(start);
+}
+
+int main(void)
+{
+    cvk_context* ctx = harness_context();
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.substeps = 4;
+    scene.solver.outer_iterations = 2;
+    scene.solver.inner_iterations = 4;
+
+    cvk_cloth_desc grid = grid_cloth();
+    scene.cloths = &grid;
+    scene.cloth_count = 1;
+    check_scene(ctx, "grid 24 x 24", &scene, 24 * 24);
+
+    char dir[] = "/tmp/clothvk-determinism-XXXXXX";
+    char path[64] = "";
+    if (mkdtemp(dir)) {
+        snprintf(path, sizeof path, "%s/irregular.obj", dir);
+        uint32_t vertices = write_mesh(path);
+        CHECK(vertices > 0, "cannot write %s", path);
+        cvk_cloth_desc mesh = mesh_cloth(path);
+        scene.cloths = &mesh;
+        if (vertices > 0)
+            check_scene(ctx, "irregular mesh", &scene, vertices);
+        unlink(path);
+        rmdir(dir);
+    } else {
+        CHECK(!"mkdtemp worked", "cannot make a folder under /tmp for the mesh file");
+    }
+    return harness_finish(ctx);
+}
