@@ -125,54 +125,6 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
 
 /* ---- the output folder ---------------------------------------------------------------- */
 
-/* mkdir -p, then a probe file: the folder must take new files, whoever runs the tool. */
-static bool make_output_folder(const char* path)
-{
-    char* copy = strdup(path);
-    if (!copy) {
-        app_error(tool, "out of memory");
-        return false;
-    }
-    for (char* p = copy + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(copy, 0777) != 0 && errno != EEXIST) {
-            app_error(tool, "%s: cannot create the output folder: %s", path, strerror(errno));
-            free(copy);
-            return false;
-        }
-        *p = '/';
-    }
-    free(copy);
-    if (mkdir(path, 0777) != 0 && errno != EEXIST) {
-        app_error(tool, "%s: cannot create the output folder: %s", path, strerror(errno));
-        return false;
-    }
-    struct stat st;
-    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        app_error(tool, "%s: exists and is not a folder", path);
-        return false;
-    }
-    size_t len = strlen(path);
-    char* probe = malloc(len + 32);
-    if (!probe) {
-        app_error(tool, "out of memory");
-        return false;
-    }
-    snprintf(probe, len + 32, "%s/.clothvk-render-XXXXXX", path);
-    int fd = mkstemp(probe);
-    if (fd < 0) {
-        app_error(tool, "%s: cannot write into the output folder: %s", path, strerror(errno));
-        free(probe);
-        return false;
-    }
-    close(fd);
-    unlink(probe);
-    free(probe);
-    return true;
-}
-
 /* ---- the writer thread: encodes and writes images while the device works on the next ---- */
 
 #define SLOTS 2
@@ -532,7 +484,7 @@ static int run(const options* o)
     int status = check_size(&s, &render);
     if (status == APP_EXIT_OK)
         status = create_objects(&s, &render);
-    if (status == APP_EXIT_OK && !make_output_folder(o->out))
+    if (status == APP_EXIT_OK && !app_make_output_folder(tool, o->out))
         status = APP_EXIT_BAD_INPUT;
     if (status == APP_EXIT_OK)
         status = render_all(&s, frames);

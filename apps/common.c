@@ -127,3 +127,58 @@ int app_creation_status(cvk_result r)
     bool bad = r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT || r == CVK_ERROR_IO;
     return bad ? APP_EXIT_BAD_INPUT : APP_EXIT_FAILURE;
 }
+
+/* mkdir -p: every parent of `path` that is missing. */
+static bool make_parents(const char* tool, const char* path)
+{
+    char* copy = strdup(path);
+    if (!copy) {
+        app_error(tool, "out of memory");
+        return false;
+    }
+    for (char* p = copy + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(copy, 0777) != 0 && errno != EEXIST) {
+            app_error(tool, "%s: cannot create the output folder: %s", path, strerror(errno));
+            free(copy);
+            return false;
+        }
+        *p = '/';
+    }
+    free(copy);
+    return true;
+}
+
+bool app_make_output_folder(const char* tool, const char* path)
+{
+    if (!make_parents(tool, path))
+        return false;
+    if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+        app_error(tool, "%s: cannot create the output folder: %s", path, strerror(errno));
+        return false;
+    }
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        app_error(tool, "%s: exists and is not a folder", path);
+        return false;
+    }
+    size_t len = strlen(path) + strlen(tool) + 16;
+    char* probe = malloc(len);
+    if (!probe) {
+        app_error(tool, "out of memory");
+        return false;
+    }
+    snprintf(probe, len, "%s/.%s-XXXXXX", path, tool);
+    int fd = mkstemp(probe);
+    if (fd < 0) {
+        app_error(tool, "%s: cannot write into the output folder: %s", path, strerror(errno));
+        free(probe);
+        return false;
+    }
+    close(fd);
+    unlink(probe);
+    free(probe);
+    return true;
+}

@@ -52,6 +52,11 @@ typedef bool (*app_writer)(FILE* file, void* user);
 bool app_write_atomic(const char* path, app_writer write, void* user, char* message,
                       size_t message_size);
 
+/* Makes `path` and its parents where missing, then checks that the folder takes new files
+   (whoever runs the tool: a probe file is made and removed). On failure prints one line,
+   "tool: PATH: why", and returns false; nothing is left behind but the folders made. */
+bool app_make_output_folder(const char* tool, const char* path);
+
 /* Milliseconds on a monotonic clock. */
 double app_now_ms(void);
 

@@ -8,11 +8,6 @@
 
 #include "clothvk.h"
 
-/* Makes `path` and its parents where missing, then checks that the folder takes new files
-   (whoever runs the tool: a probe file is made and removed). On failure prints one line,
-   "tool: PATH: why", and returns false; nothing is left behind but the folders made. */
-bool app_make_output_folder(const char* tool, const char* path);
-
 /* What the frames need, allocated once for the whole run. */
 typedef struct app_obj_frames {
     const char* tool;
