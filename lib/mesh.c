@@ -348,7 +348,7 @@ static cvk_result create_pipeline(cvk_mesh* m, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
     write_set(m);
-    cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH);
+    cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH_COMP);
     cvk_spec spec = {.values = {m->sim->plan.workgroup_size, m->max_adjacent}, .count = 2};
     return cvk_compute_pipeline_create(m->context, spirv.code, spirv.bytes, m->pipeline_layout, &spec,
                                        spirv.name, &m->pipeline, error);

@@ -120,7 +120,7 @@ double cvk_estimate_jacobi_rho(const cvk_build* b, double inv_h2, double omega)
 
 typedef struct plan_builder {
     cvk_plan* plan;
-    cvk_push base;
+    cvk_pd_push base;
 } plan_builder;
 
 /* Appends a dispatch over particles [first, first + count); none when count is 0 (a scene

@@ -4,16 +4,8 @@
 #define CVK_PLAN_H
 
 #include "build.h"
-
-typedef enum cvk_pipeline_id {
-    CVK_PIPE_PREDICT,
-    CVK_PIPE_FINALIZE,
-    CVK_PIPE_GS_FIRST,     /* Gauss-Seidel colour sweep that also computes b */
-    CVK_PIPE_GS,
-    CVK_PIPE_JACOBI_FIRST, /* Jacobi / Chebyshev sweep that also computes b */
-    CVK_PIPE_JACOBI,
-    CVK_PIPE_COUNT
-} cvk_pipeline_id;
+#include "pipelines.h"
+#include "shared/layout.h"
 
 /* Descriptor sets differ only in which displacement buffer is src and which is dst. */
 typedef enum cvk_set_id {
@@ -30,25 +22,12 @@ typedef enum cvk_pass_id {
     CVK_PASS_COUNT
 } cvk_pass_id;
 
-/* Mirrors the push_constant block of shaders/pd_common.glsl. */
-typedef struct cvk_push {
-    uint32_t first;
-    uint32_t count;
-    uint32_t stride;
-    uint32_t pad0;
-    float inv_h2;
-    float omega;
-    float cheb;
-    float keep;
-    float gravity_h2[4];
-} cvk_push;
-
 typedef struct cvk_op {
     cvk_pipeline_id pipeline;
     cvk_set_id set;
     cvk_pass_id pass;
     uint32_t groups;             /* invocations stride over the rest */
-    cvk_push push;
+    cvk_pd_push push;
     uint32_t outer, inner, colour; /* for the printed plan */
 } cvk_op;
 

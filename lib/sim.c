@@ -12,21 +12,6 @@
 #include "scene.h"
 #include "shaders.h"
 
-/* Mirrors the bindings of shaders/pd_common.glsl. */
-enum {
-    BINDING_SRC,
-    BINDING_DST_READ,
-    BINDING_DST,
-    BINDING_Y_READ,
-    BINDING_Y,
-    BINDING_X_READ,
-    BINDING_X,
-    BINDING_RHS_READ,
-    BINDING_RHS,
-    BINDING_ADJACENCY,
-    BINDING_ADJACENCY_KL,
-    BINDING_COUNT
-};
 
 #define DEFAULT_WORKGROUP_SIZE 64u
 /* Measured on lavapipe (2 cores): beyond a few workgroups per dispatch the thread hand-offs
@@ -321,35 +306,35 @@ static void displacements_of(const cvk_sim* s, const float* v, float* u)
 
 /* ---- pipelines and descriptors ----------------------------------------------------------- */
 
-static const VkDescriptorType binding_type[BINDING_COUNT] = {
-    [BINDING_SRC] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_DST_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_DST] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [BINDING_Y_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_Y] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [BINDING_X_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_X] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [BINDING_RHS_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_RHS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [BINDING_ADJACENCY] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_ADJACENCY_KL] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+static const VkDescriptorType binding_type[CVK_PD_BINDING_COUNT] = {
+    [CVK_PD_BINDING_SRC] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [CVK_PD_BINDING_DST_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [CVK_PD_BINDING_DST] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [CVK_PD_BINDING_Y_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [CVK_PD_BINDING_Y] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [CVK_PD_BINDING_X_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [CVK_PD_BINDING_X] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [CVK_PD_BINDING_RHS_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [CVK_PD_BINDING_RHS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    [CVK_PD_BINDING_ADJACENCY] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+    [CVK_PD_BINDING_ADJACENCY_KL] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
 };
 
 static void write_set(cvk_sim* s, VkDescriptorSet set, uint32_t src, uint32_t dst)
 {
-    const cvk_buffer* buffers[BINDING_COUNT] = {
-        [BINDING_DST] = &s->u[dst], [BINDING_Y] = &s->y, [BINDING_X] = &s->positions,
-        [BINDING_RHS] = &s->rhs,
+    const cvk_buffer* buffers[CVK_PD_BINDING_COUNT] = {
+        [CVK_PD_BINDING_DST] = &s->u[dst], [CVK_PD_BINDING_Y] = &s->y, [CVK_PD_BINDING_X] = &s->positions,
+        [CVK_PD_BINDING_RHS] = &s->rhs,
     };
-    const VkBufferView views[BINDING_COUNT] = {
-        [BINDING_SRC] = s->view_u[src],          [BINDING_DST_READ] = s->view_u[dst],
-        [BINDING_Y_READ] = s->view_y,            [BINDING_X_READ] = s->view_positions,
-        [BINDING_RHS_READ] = s->view_rhs,        [BINDING_ADJACENCY] = s->view_adjacency,
-        [BINDING_ADJACENCY_KL] = s->view_adjacency_kl,
+    const VkBufferView views[CVK_PD_BINDING_COUNT] = {
+        [CVK_PD_BINDING_SRC] = s->view_u[src],          [CVK_PD_BINDING_DST_READ] = s->view_u[dst],
+        [CVK_PD_BINDING_Y_READ] = s->view_y,            [CVK_PD_BINDING_X_READ] = s->view_positions,
+        [CVK_PD_BINDING_RHS_READ] = s->view_rhs,        [CVK_PD_BINDING_ADJACENCY] = s->view_adjacency,
+        [CVK_PD_BINDING_ADJACENCY_KL] = s->view_adjacency_kl,
     };
-    VkDescriptorBufferInfo infos[BINDING_COUNT];
-    VkWriteDescriptorSet writes[BINDING_COUNT];
-    for (uint32_t i = 0; i < BINDING_COUNT; i++) {
+    VkDescriptorBufferInfo infos[CVK_PD_BINDING_COUNT];
+    VkWriteDescriptorSet writes[CVK_PD_BINDING_COUNT];
+    for (uint32_t i = 0; i < CVK_PD_BINDING_COUNT; i++) {
         writes[i] = (VkWriteDescriptorSet){
             .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
             .dstSet = set,
@@ -364,15 +349,15 @@ static void write_set(cvk_sim* s, VkDescriptorSet set, uint32_t src, uint32_t ds
             writes[i].pTexelBufferView = &views[i];
         }
     }
-    vkUpdateDescriptorSets(s->context->device, BINDING_COUNT, writes, 0, NULL);
+    vkUpdateDescriptorSets(s->context->device, CVK_PD_BINDING_COUNT, writes, 0, NULL);
 }
 
 static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
 {
     VkDevice dev = s->context->device;
-    VkDescriptorSetLayoutBinding bindings[BINDING_COUNT];
+    VkDescriptorSetLayoutBinding bindings[CVK_PD_BINDING_COUNT];
     uint32_t storage = 0, texel = 0;
-    for (uint32_t i = 0; i < BINDING_COUNT; i++) {
+    for (uint32_t i = 0; i < CVK_PD_BINDING_COUNT; i++) {
         bindings[i] = (VkDescriptorSetLayoutBinding){
             .binding = i,
             .descriptorType = binding_type[i],
@@ -386,13 +371,13 @@ static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
     }
     VkDescriptorSetLayoutCreateInfo set_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = BINDING_COUNT,
+        .bindingCount = CVK_PD_BINDING_COUNT,
         .pBindings = bindings,
     };
     VkResult vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &s->set_layout);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
-    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_push)};
+    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_pd_push)};
     VkPipelineLayoutCreateInfo layout_info = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
         .setLayoutCount = 1,
@@ -439,29 +424,13 @@ static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
 static cvk_result create_pipelines(cvk_sim* s, const cvk_plan* plan, bool* created,
                                    cvk_error* error)
 {
-    static const struct {
-        cvk_shader_id shader;
-        uint32_t first;
-    } recipe[CVK_PIPE_COUNT] = {
-        [CVK_PIPE_PREDICT] = {CVK_SHADER_PREDICT, 0},
-        [CVK_PIPE_FINALIZE] = {CVK_SHADER_FINALIZE, 0},
-        [CVK_PIPE_GS_FIRST] = {CVK_SHADER_PD_GAUSS_SEIDEL, 1},
-        [CVK_PIPE_GS] = {CVK_SHADER_PD_GAUSS_SEIDEL, 0},
-        [CVK_PIPE_JACOBI_FIRST] = {CVK_SHADER_PD_JACOBI, 1},
-        [CVK_PIPE_JACOBI] = {CVK_SHADER_PD_JACOBI, 0},
-    };
+    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree};
     *created = false;
     for (int id = 0; id < CVK_PIPE_COUNT; id++) {
-        if (!plan->uses[id] || s->pipelines[id])
+        if (!plan->uses[id] || s->pipelines.pipeline[id])
             continue;
-        cvk_spirv spirv = cvk_shader(recipe[id].shader);
-        cvk_spec spec = {
-            .values = {plan->workgroup_size, s->build.max_degree, recipe[id].first},
-            .count = recipe[id].first ? 3 : 2,
-        };
-        cvk_result r = cvk_compute_pipeline_create(s->context, spirv.code, spirv.bytes,
-                                                   s->pipeline_layout, &spec, spirv.name,
-                                                   &s->pipelines[id], error);
+        cvk_result r = cvk_pipelines_require(s->context, &s->pipelines, (cvk_pipeline_id)id,
+                                             s->pipeline_layout, &inputs, error);
         if (r != CVK_SUCCESS)
             return r;
         *created = true;
@@ -477,13 +446,13 @@ static cvk_result warm_up(cvk_sim* s, cvk_error* error)
     cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
     if (r != CVK_SUCCESS)
         return r;
-    cvk_push nothing = {0};
+    cvk_pd_push nothing = {0};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipeline_layout, 0, 1,
                             &s->sets[CVK_SET_U0_TO_U1], 0, NULL);
     for (int id = 0; id < CVK_PIPE_COUNT; id++) {
-        if (!s->pipelines[id])
+        if (!s->pipelines.pipeline[id])
             continue;
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipelines[id]);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipelines.pipeline[id]);
         vkCmdPushConstants(cmd, s->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof nothing,
                            &nothing);
         vkCmdDispatch(cmd, 1, 1, 1);
@@ -579,8 +548,8 @@ static void record_frame(cvk_sim* s, VkCommandBuffer cmd)
     for (uint32_t sub = 0; sub < plan->substeps; sub++) {
         for (uint32_t i = 0; i < plan->op_count; i++) {
             const cvk_op* op = &plan->ops[i];
-            if (s->pipelines[op->pipeline] != bound) {
-                bound = s->pipelines[op->pipeline];
+            if (s->pipelines.pipeline[op->pipeline] != bound) {
+                bound = s->pipelines.pipeline[op->pipeline];
                 vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, bound);
             }
             if ((int)op->set != bound_set) {
@@ -782,9 +751,7 @@ void cvk_sim_destroy(cvk_sim* s)
     VkDevice dev = s->context->device;
     if (s->submitter.pool)
         vkQueueWaitIdle(s->context->queue);
-    for (int i = 0; i < CVK_PIPE_COUNT; i++)
-        if (s->pipelines[i])
-            vkDestroyPipeline(dev, s->pipelines[i], NULL);
+    cvk_pipelines_destroy(s->context, &s->pipelines);
     if (s->queries)
         vkDestroyQueryPool(dev, s->queries, NULL);
     if (s->descriptor_pool)
@@ -1195,20 +1162,6 @@ static void put(text* t, const char* format, ...)
     t->left -= used;
 }
 
-static const char* pipeline_label(cvk_pipeline_id id)
-{
-    switch (id) {
-    case CVK_PIPE_PREDICT: return "predict (Verlet)";
-    case CVK_PIPE_FINALIZE: return "x += u";
-    case CVK_PIPE_GS_FIRST: return "gauss-seidel + local step";
-    case CVK_PIPE_GS: return "gauss-seidel";
-    case CVK_PIPE_JACOBI_FIRST: return "jacobi + local step";
-    case CVK_PIPE_JACOBI: return "jacobi";
-    case CVK_PIPE_COUNT: break;
-    }
-    return "?";
-}
-
 size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
 {
     char dummy[1];
@@ -1244,7 +1197,7 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
     put(&t, "per substep:\n");
     for (uint32_t i = 0; i < plan->op_count; i++) {
         const cvk_op* op = &plan->ops[i];
-        put(&t, "  %-7s %-26s", cvk_pass_name(op->pass), pipeline_label(op->pipeline));
+        put(&t, "  %-7s %-26s", cvk_pass_name(op->pass), cvk_pipeline_label(op->pipeline));
         if (op->pass == CVK_PASS_SOLVE) {
             put(&t, " outer %u inner %u", op->outer + 1, op->inner + 1);
             if (op->pipeline == CVK_PIPE_GS_FIRST || op->pipeline == CVK_PIPE_GS)

@@ -36,7 +36,7 @@ struct cvk_sim {
     VkPipelineLayout pipeline_layout;
     VkDescriptorPool descriptor_pool;
     VkDescriptorSet sets[CVK_SET_COUNT];
-    VkPipeline pipelines[CVK_PIPE_COUNT];
+    cvk_pipelines pipelines;
 
     bool timing;
     VkQueryPool queries;
