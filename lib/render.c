@@ -76,9 +76,8 @@ struct cvk_renderer {
     cvk_buffer uniforms;
     cvk_buffer readback;
 
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout pipeline_layout;
-    VkDescriptorPool descriptor_pool;
+    VkPipelineLayout pipeline_layout; /* descriptors.pipeline_layout */
+    cvk_descriptors descriptors;     /* the one graphics set and its pipeline layout */
     VkDescriptorSet set;
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
 
@@ -483,64 +482,23 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
 
-    VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    static const cvk_binding bindings[] = {
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
     };
-    VkDescriptorSetLayoutCreateInfo set_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = 3,
-        .pBindings = bindings,
+    r = cvk_descriptors_create(rd->context, bindings, 3, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+                               4 * sizeof(float), &rd->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    rd->pipeline_layout = rd->descriptors.pipeline_layout;
+    rd->set = rd->descriptors.sets[0];
+    const cvk_resource res[] = {
+        {.buffer = &rd->uniforms},
+        {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
+        {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
     };
-    vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &rd->set_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
-    VkPushConstantRange push = {VK_SHADER_STAGE_FRAGMENT_BIT, 0, 4 * sizeof(float)};
-    VkPipelineLayoutCreateInfo layout_info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1,
-        .pSetLayouts = &rd->set_layout,
-        .pushConstantRangeCount = 1,
-        .pPushConstantRanges = &push,
-    };
-    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &rd->pipeline_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
-    VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
-    };
-    VkDescriptorPoolCreateInfo pool_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-        .maxSets = 1,
-        .poolSizeCount = 2,
-        .pPoolSizes = sizes,
-    };
-    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &rd->descriptor_pool);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
-    VkDescriptorSetAllocateInfo alloc = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-        .descriptorPool = rd->descriptor_pool,
-        .descriptorSetCount = 1,
-        .pSetLayouts = &rd->set_layout,
-    };
-    vr = vkAllocateDescriptorSets(dev, &alloc, &rd->set);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
-    VkDescriptorBufferInfo buffer = {rd->uniforms.buffer, 0, VK_WHOLE_SIZE};
-    VkDescriptorImageInfo shadow = {rd->shadow_sampler, rd->shadow_map.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkDescriptorImageInfo cloth = {rd->cloth_sampler, rd->cloth.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet writes[] = {
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 0, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &buffer},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 2, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &cloth},
-    };
-    vkUpdateDescriptorSets(dev, 3, writes, 0, NULL);
+    cvk_descriptors_write(rd->context, &rd->descriptors, 0, res);
     return CVK_SUCCESS;
 }
 
@@ -916,12 +874,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
             vkDestroyPipeline(dev, pipelines[i], NULL);
     if (rd->queries)
         vkDestroyQueryPool(dev, rd->queries, NULL);
-    if (rd->descriptor_pool)
-        vkDestroyDescriptorPool(dev, rd->descriptor_pool, NULL);
-    if (rd->pipeline_layout)
-        vkDestroyPipelineLayout(dev, rd->pipeline_layout, NULL);
-    if (rd->set_layout)
-        vkDestroyDescriptorSetLayout(dev, rd->set_layout, NULL);
+    cvk_descriptors_destroy(rd->context, &rd->descriptors);
     VkSampler samplers[] = {rd->shadow_sampler, rd->cloth_sampler};
     for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
         if (samplers[i])

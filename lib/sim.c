@@ -306,117 +306,49 @@ static void displacements_of(const cvk_sim* s, const float* v, float* u)
 
 /* ---- pipelines and descriptors ----------------------------------------------------------- */
 
-static const VkDescriptorType binding_type[CVK_PD_BINDING_COUNT] = {
-    [CVK_PD_BINDING_SRC] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [CVK_PD_BINDING_DST_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [CVK_PD_BINDING_DST] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [CVK_PD_BINDING_Y_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [CVK_PD_BINDING_Y] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [CVK_PD_BINDING_X_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [CVK_PD_BINDING_X] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [CVK_PD_BINDING_RHS_READ] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [CVK_PD_BINDING_RHS] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [CVK_PD_BINDING_ADJACENCY] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [CVK_PD_BINDING_ADJACENCY_KL] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
+    [CVK_PD_BINDING_SRC] = TEXEL,      [CVK_PD_BINDING_DST_READ] = TEXEL,
+    [CVK_PD_BINDING_DST] = STORAGE,    [CVK_PD_BINDING_Y_READ] = TEXEL,
+    [CVK_PD_BINDING_Y] = STORAGE,      [CVK_PD_BINDING_X_READ] = TEXEL,
+    [CVK_PD_BINDING_X] = STORAGE,      [CVK_PD_BINDING_RHS_READ] = TEXEL,
+    [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
+    [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL,
 };
+#undef TEXEL
+#undef STORAGE
 
-static void write_set(cvk_sim* s, VkDescriptorSet set, uint32_t src, uint32_t dst)
+/* Set `set` reads U[src] and writes U[dst]. */
+static void write_set(cvk_sim* s, uint32_t set, uint32_t src, uint32_t dst)
 {
-    const cvk_buffer* buffers[CVK_PD_BINDING_COUNT] = {
-        [CVK_PD_BINDING_DST] = &s->u[dst], [CVK_PD_BINDING_Y] = &s->y, [CVK_PD_BINDING_X] = &s->positions,
-        [CVK_PD_BINDING_RHS] = &s->rhs,
+    const cvk_resource res[CVK_PD_BINDING_COUNT] = {
+        [CVK_PD_BINDING_SRC] = {.view = s->view_u[src]},
+        [CVK_PD_BINDING_DST_READ] = {.view = s->view_u[dst]},
+        [CVK_PD_BINDING_DST] = {.buffer = &s->u[dst]},
+        [CVK_PD_BINDING_Y_READ] = {.view = s->view_y},
+        [CVK_PD_BINDING_Y] = {.buffer = &s->y},
+        [CVK_PD_BINDING_X_READ] = {.view = s->view_positions},
+        [CVK_PD_BINDING_X] = {.buffer = &s->positions},
+        [CVK_PD_BINDING_RHS_READ] = {.view = s->view_rhs},
+        [CVK_PD_BINDING_RHS] = {.buffer = &s->rhs},
+        [CVK_PD_BINDING_ADJACENCY] = {.view = s->view_adjacency},
+        [CVK_PD_BINDING_ADJACENCY_KL] = {.view = s->view_adjacency_kl},
     };
-    const VkBufferView views[CVK_PD_BINDING_COUNT] = {
-        [CVK_PD_BINDING_SRC] = s->view_u[src],          [CVK_PD_BINDING_DST_READ] = s->view_u[dst],
-        [CVK_PD_BINDING_Y_READ] = s->view_y,            [CVK_PD_BINDING_X_READ] = s->view_positions,
-        [CVK_PD_BINDING_RHS_READ] = s->view_rhs,        [CVK_PD_BINDING_ADJACENCY] = s->view_adjacency,
-        [CVK_PD_BINDING_ADJACENCY_KL] = s->view_adjacency_kl,
-    };
-    VkDescriptorBufferInfo infos[CVK_PD_BINDING_COUNT];
-    VkWriteDescriptorSet writes[CVK_PD_BINDING_COUNT];
-    for (uint32_t i = 0; i < CVK_PD_BINDING_COUNT; i++) {
-        writes[i] = (VkWriteDescriptorSet){
-            .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-            .dstSet = set,
-            .dstBinding = i,
-            .descriptorCount = 1,
-            .descriptorType = binding_type[i],
-        };
-        if (binding_type[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
-            infos[i] = (VkDescriptorBufferInfo){buffers[i]->buffer, 0, VK_WHOLE_SIZE};
-            writes[i].pBufferInfo = &infos[i];
-        } else {
-            writes[i].pTexelBufferView = &views[i];
-        }
-    }
-    vkUpdateDescriptorSets(s->context->device, CVK_PD_BINDING_COUNT, writes, 0, NULL);
+    cvk_descriptors_write(s->context, &s->descriptors, set, res);
 }
 
 static cvk_result create_layouts(cvk_sim* s, cvk_error* error)
 {
-    VkDevice dev = s->context->device;
-    VkDescriptorSetLayoutBinding bindings[CVK_PD_BINDING_COUNT];
-    uint32_t storage = 0, texel = 0;
-    for (uint32_t i = 0; i < CVK_PD_BINDING_COUNT; i++) {
-        bindings[i] = (VkDescriptorSetLayoutBinding){
-            .binding = i,
-            .descriptorType = binding_type[i],
-            .descriptorCount = 1,
-            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
-        };
-        if (binding_type[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
-            storage++;
-        else
-            texel++;
-    }
-    VkDescriptorSetLayoutCreateInfo set_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = CVK_PD_BINDING_COUNT,
-        .pBindings = bindings,
-    };
-    VkResult vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &s->set_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
-    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_pd_push)};
-    VkPipelineLayoutCreateInfo layout_info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1,
-        .pSetLayouts = &s->set_layout,
-        .pushConstantRangeCount = 1,
-        .pPushConstantRanges = &push,
-    };
-    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &s->pipeline_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
-
-    VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage * CVK_SET_COUNT},
-        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, texel * CVK_SET_COUNT},
-    };
-    VkDescriptorPoolCreateInfo pool_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-        .maxSets = CVK_SET_COUNT,
-        .poolSizeCount = 2,
-        .pPoolSizes = sizes,
-    };
-    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &s->descriptor_pool);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
-    VkDescriptorSetLayout layouts[CVK_SET_COUNT];
-    for (int i = 0; i < CVK_SET_COUNT; i++)
-        layouts[i] = s->set_layout;
-    VkDescriptorSetAllocateInfo alloc = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-        .descriptorPool = s->descriptor_pool,
-        .descriptorSetCount = CVK_SET_COUNT,
-        .pSetLayouts = layouts,
-    };
-    vr = vkAllocateDescriptorSets(dev, &alloc, s->sets);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
-    write_set(s, s->sets[CVK_SET_U0_TO_U1], 0, 1);
-    write_set(s, s->sets[CVK_SET_U1_TO_U0], 1, 0);
-    write_set(s, s->sets[CVK_SET_U0_TO_U0], 0, 0);
+    cvk_result r = cvk_descriptors_create(s->context, pd_bindings, CVK_PD_BINDING_COUNT,
+                                          CVK_SET_COUNT, VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_pd_push), &s->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    s->pipeline_layout = s->descriptors.pipeline_layout;
+    write_set(s, CVK_SET_U0_TO_U1, 0, 1);
+    write_set(s, CVK_SET_U1_TO_U0, 1, 0);
+    write_set(s, CVK_SET_U0_TO_U0, 0, 0);
     return CVK_SUCCESS;
 }
 
@@ -448,7 +380,7 @@ static cvk_result warm_up(cvk_sim* s, cvk_error* error)
         return r;
     cvk_pd_push nothing = {0};
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipeline_layout, 0, 1,
-                            &s->sets[CVK_SET_U0_TO_U1], 0, NULL);
+                            &s->descriptors.sets[CVK_SET_U0_TO_U1], 0, NULL);
     for (int id = 0; id < CVK_PIPE_COUNT; id++) {
         if (!s->pipelines.pipeline[id])
             continue;
@@ -555,7 +487,7 @@ static void record_frame(cvk_sim* s, VkCommandBuffer cmd)
             if ((int)op->set != bound_set) {
                 bound_set = (int)op->set;
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, s->pipeline_layout,
-                                        0, 1, &s->sets[op->set], 0, NULL);
+                                        0, 1, &s->descriptors.sets[op->set], 0, NULL);
             }
             vkCmdPushConstants(cmd, s->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                sizeof op->push, &op->push);
@@ -754,12 +686,7 @@ void cvk_sim_destroy(cvk_sim* s)
     cvk_pipelines_destroy(s->context, &s->pipelines);
     if (s->queries)
         vkDestroyQueryPool(dev, s->queries, NULL);
-    if (s->descriptor_pool)
-        vkDestroyDescriptorPool(dev, s->descriptor_pool, NULL);
-    if (s->pipeline_layout)
-        vkDestroyPipelineLayout(dev, s->pipeline_layout, NULL);
-    if (s->set_layout)
-        vkDestroyDescriptorSetLayout(dev, s->set_layout, NULL);
+    cvk_descriptors_destroy(s->context, &s->descriptors);
     cvk_submitter_destroy(s->context, &s->submitter);
     VkBufferView views[] = {s->view_positions, s->view_u[0], s->view_u[1], s->view_y,
                             s->view_rhs, s->view_adjacency, s->view_adjacency_kl,

@@ -32,10 +32,8 @@ struct cvk_sim {
     VkBufferView view_positions, view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
     VkBufferView view_spring_alive;
 
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout pipeline_layout;
-    VkDescriptorPool descriptor_pool;
-    VkDescriptorSet sets[CVK_SET_COUNT];
+    cvk_descriptors descriptors;     /* the PD set layout and its CVK_SET_COUNT sets */
+    VkPipelineLayout pipeline_layout; /* descriptors.pipeline_layout */
     cvk_pipelines pipelines;
 
     bool timing;
