@@ -100,14 +100,15 @@ cvk_result cvk_sim_write_positions(cvk_sim* s, const float* xyz, uint64_t count,
 
 /* ---- changing the solver ------------------------------------------------------------ */
 
-/* Everything that can fail on a valid description, before the switch: a failure leaves the
-   old solver running; only added pipelines (harmless) stay behind. */
-static cvk_result prepare_switch(cvk_sim* s, const cvk_solver_desc* solver, cvk_plan* plan,
+/* Everything that can fail on a valid description comes before the switch: a failure leaves
+   the old solver running; only added pipelines (harmless) stay behind. */
+static cvk_result prepare_switch(cvk_sim* s, const cvk_family_api* family, void* self,
+                                 const cvk_solver_desc* solver, cvk_plan* plan,
                                  cvk_sim_queries* queries, cvk_error* error)
 {
-    cvk_result r = s->family->prepare(s, s->family_state, solver, error);
+    cvk_result r = family->prepare(s, self, solver, error);
     if (r == CVK_SUCCESS)
-        r = cvk_sim_make_plan(s, s->family, s->family_state, solver, s->plan.workgroup_size,
+        r = cvk_sim_make_plan(s, family, self, solver, s->plan.workgroup_size,
                               s->plan.max_groups, plan, error);
     if (r != CVK_SUCCESS)
         return r;
@@ -119,6 +120,33 @@ static cvk_result prepare_switch(cvk_sim* s, const cvk_solver_desc* solver, cvk_
     return r;
 }
 
+/* The switch itself: the new family (if any) takes the place of the old one and receives the
+   state as positions and velocities; within a family, the family moves its own state. */
+static cvk_result commit_switch(cvk_sim* s, const cvk_family_api* family, void* self,
+                                const cvk_solver_desc* solver, cvk_plan* plan,
+                                cvk_sim_queries* queries, cvk_error* error)
+{
+    bool new_family = family != s->family;
+    cvk_solver_desc from = s->solver;
+    if (new_family) {
+        s->family->destroy(s, s->family_state);
+        s->family = family;
+        s->family_state = self;
+    }
+    cvk_plan_destroy(&s->plan);
+    s->plan = *plan;
+    s->solver = *solver;
+    s->host_timed = false;
+    cvk_sim_use_queries(s, queries);
+    cvk_result r = cvk_sim_record_frame_cmd(s, error);
+    if (r == CVK_SUCCESS)
+        r = new_family ? family->write_state(s, self, s->scratch, s->scratch_v, error)
+                       : family->switch_solver(s, self, &from, solver, error);
+    if (r == CVK_SUCCESS && s->queries_unreset)
+        r = cvk_sim_copy_from_staging(s, NULL, 0, error); /* resets the new queries */
+    return r;
+}
+
 cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_error* error)
 {
     if (!s || !solver)
@@ -127,27 +155,31 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     cvk_scene_issue issue;
     if (!cvk_solver_desc_check(solver, &issue))
         return cvk_fail_issue(error, &issue);
-    if (cvk_family_for(solver) != s->family)
-        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
-                        "cvk_sim_set_solver: the simulation solves with %s and cannot switch to "
-                        "%s", s->family->name, cvk_method_name(solver->method));
-    cvk_plan plan;
-    cvk_sim_queries queries = {0};
-    cvk_result r = prepare_switch(s, solver, &plan, &queries, error);
+    const cvk_family_api* family = cvk_family_for(solver);
+    if (!family)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",
+                        cvk_method_name(solver->method));
+    bool new_family = family != s->family;
+    void* self = s->family_state;
+    cvk_result r = new_family ? family->create(s, solver, &self, error) : CVK_SUCCESS;
     if (r != CVK_SUCCESS)
         return r;
-    cvk_solver_desc from = s->solver;
-    cvk_plan_destroy(&s->plan);
-    s->plan = plan;
-    s->solver = *solver;
-    s->host_timed = false;
-    cvk_sim_use_queries(s, &queries);
-    r = cvk_sim_record_frame_cmd(s, error);
-    if (r == CVK_SUCCESS)
-        r = s->family->switch_solver(s, s->family_state, &from, solver, error);
-    if (r == CVK_SUCCESS && s->queries_unreset)
-        r = cvk_sim_copy_from_staging(s, NULL, 0, error); /* resets the new queries */
-    return r;
+    cvk_plan plan;
+    cvk_sim_queries queries = {0};
+    r = prepare_switch(s, family, self, solver, &plan, &queries, error);
+    if (r == CVK_SUCCESS && new_family) {
+        r = cvk_sim_read_internal(s, error); /* the state, for the new family */
+        if (r != CVK_SUCCESS) {
+            cvk_plan_destroy(&plan);
+            cvk_sim_destroy_queries(s, &queries);
+        }
+    }
+    if (r != CVK_SUCCESS) {
+        if (new_family)
+            family->destroy(s, self);
+        return r;
+    }
+    return commit_switch(s, family, self, solver, &plan, &queries, error);
 }
 
 cvk_solver_desc cvk_sim_get_solver(const cvk_sim* s)
