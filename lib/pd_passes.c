@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "error.h"
 #include "solve_pd.h"
@@ -165,7 +166,9 @@ static void solve_note(pd_builder* pb, cvk_op* op, uint32_t outer, uint32_t inne
 {
     if (!op)
         return;
-    const cvk_pd_push* push = (const cvk_pd_push*)op->push;
+    cvk_pd_push pushed;
+    memcpy(&pushed, op->push, sizeof pushed);
+    const cvk_pd_push* push = &pushed;
     int n = snprintf(op->note, sizeof op->note, "outer %u inner %u", outer + 1, inner + 1);
     if (colour >= 0 && n > 0 && (size_t)n < sizeof op->note)
         n += snprintf(op->note + n, sizeof op->note - n, " colour %d", colour);
