@@ -50,6 +50,47 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
                                        const cvk_spec* spec, const char* what,
                                        VkPipeline* out, cvk_error* error);
 
+/* Descriptor boilerplate from one binding table (lib/descriptors.c): binding i of the set has
+   bindings[i].type and is read by bindings[i].stages (0: the compute stage). */
+typedef struct cvk_binding {
+    VkDescriptorType type;
+    VkShaderStageFlags stages;
+} cvk_binding;
+
+/* What one binding points at: a whole buffer (storage, uniform), a texel view, or an image
+   in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL with its sampler. */
+typedef struct cvk_resource {
+    const cvk_buffer* buffer;
+    VkBufferView view;
+    VkImageView image;
+    VkSampler sampler;
+} cvk_resource;
+
+#define CVK_MAX_SETS 8
+#define CVK_MAX_BINDINGS 16
+
+/* A set layout, a pipeline layout over it with one push-constant range, a pool and
+   `set_count` sets of that layout. */
+typedef struct cvk_descriptors {
+    const cvk_binding* bindings; /* the table it was made from; must outlive it */
+    uint32_t binding_count;
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout pipeline_layout;
+    VkDescriptorPool pool;
+    VkDescriptorSet sets[CVK_MAX_SETS];
+    uint32_t set_count;
+} cvk_descriptors;
+
+/* push_bytes 0: no push constants. On failure nothing is left to destroy. */
+cvk_result cvk_descriptors_create(cvk_context* context, const cvk_binding* bindings,
+                                  uint32_t binding_count, uint32_t set_count,
+                                  VkShaderStageFlags push_stages, uint32_t push_bytes,
+                                  cvk_descriptors* out, cvk_error* error);
+/* Points every binding of set `set` at resources[binding]. */
+void cvk_descriptors_write(cvk_context* context, const cvk_descriptors* descriptors, uint32_t set,
+                           const cvk_resource* resources);
+void cvk_descriptors_destroy(cvk_context* context, cvk_descriptors* descriptors);
+
 /* A command buffer and fence for blocking submissions of the library's own work. */
 typedef struct cvk_submitter {
     VkCommandPool pool;

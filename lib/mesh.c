@@ -251,104 +251,43 @@ static cvk_result create_buffers(cvk_mesh* m, const cvk_mesh_desc* desc, const t
     return CVK_SUCCESS;
 }
 
-static const VkDescriptorType binding_type[BINDING_COUNT] = {
-    [BINDING_POSITIONS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_SPRING_ALIVE] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_TRIANGLE_VERTICES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_TRIANGLE_PARTICLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_TRIANGLE_SPRINGS] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_PARTICLE_OF] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_VERTEX_TRIANGLES] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-    [BINDING_VERTICES] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-    [BINDING_INDICES] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding mesh_bindings[BINDING_COUNT] = {
+    [BINDING_POSITIONS] = TEXEL,          [BINDING_SPRING_ALIVE] = TEXEL,
+    [BINDING_TRIANGLE_VERTICES] = TEXEL,  [BINDING_TRIANGLE_PARTICLES] = TEXEL,
+    [BINDING_TRIANGLE_SPRINGS] = TEXEL,   [BINDING_PARTICLE_OF] = TEXEL,
+    [BINDING_VERTEX_TRIANGLES] = TEXEL,   [BINDING_VERTICES] = STORAGE,
+    [BINDING_INDICES] = STORAGE,
 };
-
-static void write_set(cvk_mesh* m)
-{
-    const VkBufferView views[BINDING_COUNT] = {
-        [BINDING_POSITIONS] = m->sim->view_positions,
-        [BINDING_SPRING_ALIVE] = m->sim->view_spring_alive,
-        [BINDING_TRIANGLE_VERTICES] = m->view_triangle_vertices,
-        [BINDING_TRIANGLE_PARTICLES] = m->view_triangle_particles,
-        [BINDING_TRIANGLE_SPRINGS] = m->view_triangle_springs,
-        [BINDING_PARTICLE_OF] = m->view_particle_of,
-        [BINDING_VERTEX_TRIANGLES] = m->view_vertex_triangles,
-    };
-    VkDescriptorBufferInfo infos[BINDING_COUNT] = {
-        [BINDING_VERTICES] = {m->vertices.buffer, 0, VK_WHOLE_SIZE},
-        [BINDING_INDICES] = {m->indices.buffer, 0, VK_WHOLE_SIZE},
-    };
-    VkWriteDescriptorSet writes[BINDING_COUNT];
-    for (uint32_t i = 0; i < BINDING_COUNT; i++) {
-        writes[i] = (VkWriteDescriptorSet){
-            .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-            .dstSet = m->set,
-            .dstBinding = i,
-            .descriptorCount = 1,
-            .descriptorType = binding_type[i],
-        };
-        if (binding_type[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
-            writes[i].pBufferInfo = &infos[i];
-        else
-            writes[i].pTexelBufferView = &views[i];
-    }
-    vkUpdateDescriptorSets(m->context->device, BINDING_COUNT, writes, 0, NULL);
-}
+#undef TEXEL
+#undef STORAGE
 
 static cvk_result create_pipeline(cvk_mesh* m, cvk_error* error)
 {
-    VkDevice dev = m->context->device;
-    VkDescriptorSetLayoutBinding bindings[BINDING_COUNT];
-    for (uint32_t i = 0; i < BINDING_COUNT; i++)
-        bindings[i] = (VkDescriptorSetLayoutBinding){
-            .binding = i,
-            .descriptorType = binding_type[i],
-            .descriptorCount = 1,
-            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
-        };
-    VkDescriptorSetLayoutCreateInfo set_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = BINDING_COUNT,
-        .pBindings = bindings,
+    cvk_descriptors d;
+    cvk_result r = cvk_descriptors_create(m->context, mesh_bindings, BINDING_COUNT, 1,
+                                          VK_SHADER_STAGE_COMPUTE_BIT, sizeof(cvk_mesh_push), &d,
+                                          error);
+    if (r != CVK_SUCCESS)
+        return r;
+    m->set_layout = d.set_layout;
+    m->pipeline_layout = d.pipeline_layout;
+    m->descriptor_pool = d.pool;
+    m->set = d.sets[0];
+    const cvk_resource res[BINDING_COUNT] = {
+        [BINDING_POSITIONS] = {.view = m->sim->view_positions},
+        [BINDING_SPRING_ALIVE] = {.view = m->sim->view_spring_alive},
+        [BINDING_TRIANGLE_VERTICES] = {.view = m->view_triangle_vertices},
+        [BINDING_TRIANGLE_PARTICLES] = {.view = m->view_triangle_particles},
+        [BINDING_TRIANGLE_SPRINGS] = {.view = m->view_triangle_springs},
+        [BINDING_PARTICLE_OF] = {.view = m->view_particle_of},
+        [BINDING_VERTEX_TRIANGLES] = {.view = m->view_vertex_triangles},
+        [BINDING_VERTICES] = {.buffer = &m->vertices},
+        [BINDING_INDICES] = {.buffer = &m->indices},
     };
-    VkResult vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &m->set_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
-    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_mesh_push)};
-    VkPipelineLayoutCreateInfo layout_info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1,
-        .pSetLayouts = &m->set_layout,
-        .pushConstantRangeCount = 1,
-        .pPushConstantRanges = &push,
-    };
-    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &m->pipeline_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
-    VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 7},
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
-    };
-    VkDescriptorPoolCreateInfo pool_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-        .maxSets = 1,
-        .poolSizeCount = 2,
-        .pPoolSizes = sizes,
-    };
-    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &m->descriptor_pool);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
-    VkDescriptorSetAllocateInfo alloc = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-        .descriptorPool = m->descriptor_pool,
-        .descriptorSetCount = 1,
-        .pSetLayouts = &m->set_layout,
-    };
-    vr = vkAllocateDescriptorSets(dev, &alloc, &m->set);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
-    write_set(m);
-    cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH);
+    cvk_descriptors_write(m->context, &d, 0, res);
+    cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH_COMP);
     cvk_spec spec = {.values = {m->sim->plan.workgroup_size, m->max_adjacent}, .count = 2};
     return cvk_compute_pipeline_create(m->context, spirv.code, spirv.bytes, m->pipeline_layout, &spec,
                                        spirv.name, &m->pipeline, error);

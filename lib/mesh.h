@@ -5,11 +5,7 @@
 #include "gpu.h"
 #include "sim.h"
 
-/* Mirrors the push_constant block of shaders/mesh.comp. */
-typedef struct cvk_mesh_push {
-    uint32_t vertex_count;
-    uint32_t triangle_count;
-} cvk_mesh_push;
+#include "shared/layout.h" /* cvk_mesh_push, shared with shaders/mesh.comp */
 
 struct cvk_mesh {
     cvk_sim* sim;

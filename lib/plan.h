@@ -1,116 +1,130 @@
-/* The step plan: the dispatches of one substep, derived once from the scene. Only the
-   passes a scene needs appear; recording walks this list. */
+/* The step plan: the operations of one substep, made once from the scene by the solver family
+   and the features a scene uses, recorded by walking the list. An operation is a dispatch over
+   a domain, an indirect dispatch whose size the device computed, a fill or a copy; each names
+   its pipeline (from the one table in pipelines.h), its descriptor set, its push data and the
+   barrier after it. Passes are named groups of operations (timed together, shown by --plan);
+   any module may add its own. A scene without a feature records none of its passes. */
 #ifndef CVK_PLAN_H
 #define CVK_PLAN_H
 
-#include "build.h"
+#include "gpu.h"
+#include "pipelines.h"
 
-typedef enum cvk_pipeline_id {
-    CVK_PIPE_PREDICT,
-    CVK_PIPE_FINALIZE,
-    CVK_PIPE_GS_FIRST,     /* Gauss-Seidel colour sweep that also computes b */
-    CVK_PIPE_GS,
-    CVK_PIPE_JACOBI_FIRST, /* Jacobi / Chebyshev sweep that also computes b */
-    CVK_PIPE_JACOBI,
-    CVK_PIPE_COUNT
-} cvk_pipeline_id;
+typedef enum cvk_op_kind {
+    CVK_OP_DISPATCH,          /* vkCmdDispatch over `count` items of a domain */
+    CVK_OP_DISPATCH_INDIRECT, /* vkCmdDispatchIndirect: group count at buffer + offset */
+    CVK_OP_FILL,              /* vkCmdFillBuffer: size bytes at buffer + offset = value */
+    CVK_OP_COPY,              /* vkCmdCopyBuffer: size bytes src + src_offset -> buffer + offset */
+} cvk_op_kind;
 
-/* Descriptor sets differ only in which displacement buffer is src and which is dst. */
-typedef enum cvk_set_id {
-    CVK_SET_U0_TO_U1,
-    CVK_SET_U1_TO_U0,
-    CVK_SET_U0_TO_U0,
-    CVK_SET_COUNT
-} cvk_set_id;
+/* What one invocation of a dispatch works on. */
+typedef enum cvk_domain {
+    CVK_DOMAIN_PARTICLES,
+    CVK_DOMAIN_SPRINGS,
+    CVK_DOMAIN_TRIANGLES,
+    CVK_DOMAIN_CELLS, /* of a spatial grid */
+} cvk_domain;
 
-typedef enum cvk_pass_id {
-    CVK_PASS_PREDICT,
-    CVK_PASS_SOLVE,
-    CVK_PASS_FINALIZE,
-    CVK_PASS_COUNT
-} cvk_pass_id;
+/* The barrier after an operation: what it wrote -> who reads next. */
+typedef enum cvk_barrier {
+    CVK_BARRIER_NONE,
+    CVK_BARRIER_COMPUTE_TO_COMPUTE,
+    CVK_BARRIER_COMPUTE_TO_INDIRECT, /* a dispatch wrote the size of an indirect one */
+    CVK_BARRIER_COMPUTE_TO_TRANSFER,
+    CVK_BARRIER_TRANSFER_TO_COMPUTE,
+    CVK_BARRIER_TRANSFER_TO_TRANSFER,
+} cvk_barrier;
 
-/* Mirrors the push_constant block of shaders/pd_common.glsl. */
-typedef struct cvk_push {
-    uint32_t first;
-    uint32_t count;
-    uint32_t stride;
-    uint32_t pad0;
-    float inv_h2;
-    float omega;
-    float cheb;
-    float keep;
-    float gravity_h2[4];
-} cvk_push;
+#define CVK_PUSH_MAX_BYTES 128u /* Vulkan's guaranteed maxPushConstantsSize */
 
 typedef struct cvk_op {
+    cvk_op_kind kind;
+    uint32_t pass;              /* index into cvk_plan.pass_names */
+    cvk_barrier barrier;
+    /* dispatches */
     cvk_pipeline_id pipeline;
-    cvk_set_id set;
-    cvk_pass_id pass;
-    uint32_t groups;             /* invocations stride over the rest */
-    cvk_push push;
-    uint32_t outer, inner, colour; /* for the printed plan */
+    VkPipelineLayout layout;
+    VkDescriptorSet set;
+    cvk_domain domain;
+    uint32_t first, count;      /* the items covered, for --plan */
+    uint32_t groups;            /* direct dispatches; invocations stride over the rest */
+    uint32_t push_bytes;
+    _Alignas(16) unsigned char push[CVK_PUSH_MAX_BYTES];
+    /* indirect dispatches, fills and copies */
+    VkBuffer buffer, src;
+    VkDeviceSize offset, src_offset, size;
+    uint32_t value;
+    char note[64];              /* the family's details for --plan (iteration, buffers) */
 } cvk_op;
 
 typedef struct cvk_plan {
-    cvk_op* ops;                 /* one substep */
-    uint32_t op_count;
+    cvk_op* ops;                /* one substep */
+    uint32_t op_count, op_capacity;
+    const char** pass_names;    /* static strings, in order of first registration */
+    uint32_t* pass_dispatches;  /* per substep, by pass */
+    uint32_t pass_count, pass_capacity;
     uint32_t substeps;
     uint32_t workgroup_size;
     uint32_t max_groups;
     bool uses[CVK_PIPE_COUNT];
-    uint32_t pass_dispatches[CVK_PASS_COUNT]; /* per substep */
-    double chebyshev_rho;        /* used by the chebyshev plan (after the stability cap) */
-    double chebyshev_rho_estimated; /* the spectral radius before the cap */
+    bool has_transfer;          /* some op fills, copies or dispatches indirectly */
+    bool host;                  /* the family steps on the host: no operations are recorded */
+    bool out_of_memory;         /* an append failed; cvk_plan_check reports it */
+    char solver_note[128];      /* appended to the solver line of --plan */
+    char host_note[160];        /* --plan's per-frame line when `host` */
 } cvk_plan;
 
-/* max_groups caps the workgroups of one dispatch; the kernels loop over the rest. */
-cvk_result cvk_plan_create(const cvk_scene_desc* scene, const cvk_build* build,
-                           uint32_t workgroup_size, uint32_t max_groups, cvk_plan* out,
-                           cvk_error* error);
-
-/* The same with Chebyshev's spectral-radius estimate given (estimated_rho ≥ 0), so a caller
-   that changes the solver often estimates it once; estimated_rho < 0 estimates it here. A
-   nonzero solver.chebyshev_rho still takes precedence. */
-cvk_result cvk_plan_create_with_rho(const cvk_scene_desc* scene, const cvk_build* build,
-                                    uint32_t workgroup_size, uint32_t max_groups,
-                                    double estimated_rho, cvk_plan* out, cvk_error* error);
+void cvk_plan_init(cvk_plan* plan, uint32_t substeps, uint32_t workgroup_size, uint32_t max_groups);
 void cvk_plan_destroy(cvk_plan* plan);
+/* CVK_ERROR_OUT_OF_MEMORY if an append failed while the plan was made. */
+cvk_result cvk_plan_check(const cvk_plan* plan, cvk_error* error);
 
-const char* cvk_pass_name(cvk_pass_id pass);
+/* The index of pass `name` (a static string), registered on first use. */
+uint32_t cvk_plan_pass(cvk_plan* plan, const char* name);
+/* The index of pass `name`, or UINT32_MAX. */
+uint32_t cvk_plan_find_pass(const cvk_plan* plan, const char* name);
 
-/* Stability of a truncated solve inside Verlet. Model one stiff mode: if the substep's
-   sweeps leave the error times P (the solver's error polynomial at that mode's eigenvalue),
-   the (velocity, constraint violation) pair evolves by [[2P, −1], [P, 0]], whose eigenvalues
-   P ± √(P² − P) leave the unit circle exactly when P < −1/3. Gauss-Seidel's spectrum is
-   non-negative; Jacobi's reaches −1 (the checkerboard mode), so an odd number of Jacobi
-   sweeps explodes (measured: hanging.json with 1 x 3 sweeps); Chebyshev's equi-oscillating
-   polynomial dips to −1/T_m(1/ρ), near −1 when sweeps are few. The plan therefore keeps P
-   above −1/3 by construction:
-   - with an odd number of sweeps per substep, the first sweep is relaxed to omega ≤ 0.6,
-     whose spectrum starts at −0.2;
-   - Chebyshev's ρ is capped so that T_m(1/ρ) ≥ 3 over its m accelerated sweeps. */
-#define CVK_STABLE_FIRST_OMEGA 0.6f
+/* Appenders; each returns the op (barrier: what its kind usually needs), or NULL when there
+   is nothing to do (count 0) or no memory (then cvk_plan_check fails). */
+cvk_op* cvk_plan_dispatch(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,
+                          VkPipelineLayout layout, VkDescriptorSet set, cvk_domain domain,
+                          uint32_t first, uint32_t count, const void* push, uint32_t push_bytes);
+cvk_op* cvk_plan_dispatch_indirect(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,
+                                   VkPipelineLayout layout, VkDescriptorSet set,
+                                   cvk_domain domain, VkBuffer buffer, VkDeviceSize offset,
+                                   const void* push, uint32_t push_bytes);
+cvk_op* cvk_plan_fill(cvk_plan* plan, uint32_t pass, VkBuffer buffer, VkDeviceSize offset,
+                      VkDeviceSize size, uint32_t value);
+cvk_op* cvk_plan_copy(cvk_plan* plan, uint32_t pass, VkBuffer src, VkDeviceSize src_offset,
+                      VkBuffer dst, VkDeviceSize dst_offset, VkDeviceSize size);
 
-/* Chebyshev runs in cycles: its recurrence assumes one fixed iteration map, so it restarts
-   with every outer iteration (whose local step changes the linear system) when an outer
-   iteration has several sweeps; with one sweep per outer iteration it runs across them, as
-   Wang 2015 does (local step and sweep then form one fixed nonlinear map). Plain Jacobi is
-   one cycle per substep. Returns the cycle length in sweeps. */
-uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver);
+/* Creates every pipeline the plan uses, with the layout of its first op; *created tells
+   whether any is new (fresh pipelines then want cvk_plan_record_warm_up). */
+cvk_result cvk_plan_require_pipelines(const cvk_plan* plan, cvk_context* context,
+                                      cvk_pipelines* pipelines, const cvk_spec_inputs* inputs,
+                                      bool* created, cvk_error* error);
 
-/* Relaxation of sweep c (0-based) of a cycle of `cycle` sweeps. */
-float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega);
+/* Timestamps of a recorded frame: one at the start, one after each run of ops of one pass. */
+typedef struct cvk_plan_queries {
+    VkQueryPool pool;           /* VK_NULL_HANDLE: untimed */
+    uint32_t count;
+} cvk_plan_queries;
 
-/* Largest ρ whose Chebyshev polynomial over m sweeps stays above −1/3: T_m(1/ρ) = 3. */
-double cvk_chebyshev_stable_rho(uint32_t accelerated_sweeps);
+/* Queries per frame of `plan`, and fills pass_of[q] (q ≥ 1) with the pass query q closes when
+   pass_of is not NULL. */
+uint32_t cvk_plan_query_count(const cvk_plan* plan, uint32_t* pass_of);
 
-/* Chebyshev weight of sweep s (0-based, counted within its cycle): 1 for s < delay
-   (at least one plain sweep), then Wang's recurrence w = 2/(2 − ρ²), w ← 4/(4 − ρ² w). */
-double cvk_chebyshev_weight(uint32_t sweep, uint32_t delay, double rho);
+/* One frame: an opening barrier (earlier compute and transfer writes), every substep's ops
+   with their barriers, none after the last (the next frame opens with its own). */
+void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,
+                           const cvk_plan_queries* queries, VkCommandBuffer cmd);
 
-/* Spectral radius of the relaxed Jacobi iteration matrix I − omega D⁻¹A of the PD system
-   (A = M/h² + spring Laplacian over free particles), by power iteration on its square. */
-double cvk_estimate_jacobi_rho(const cvk_build* build, double inv_h2, double omega);
+/* Dispatches every fresh pipeline once with zero push data (no items): lavapipe compiles a
+   pipeline on its first dispatch, so no timed frame pays for it. Clears the fresh flags. */
+void cvk_plan_record_warm_up(const cvk_plan* plan, cvk_pipelines* pipelines, VkCommandBuffer cmd);
+
+const char* cvk_op_kind_name(cvk_op_kind kind);
+const char* cvk_domain_name(cvk_domain domain);
+const char* cvk_barrier_name(cvk_barrier barrier);
 
 #endif

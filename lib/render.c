@@ -13,11 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "camera.h"
 #include "error.h"
-#include "mesh.h"
+#include "render_internal.h"
 #include "scene.h"
-#include "shaders.h"
 
 #define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
 /* The cloth pass stores the square root of its linear colour (see lit_cloth.frag): about as
@@ -31,61 +29,8 @@
    means a fixed distance, unlike with a float format. */
 #define SHADOW_FORMAT VK_FORMAT_D16_UNORM
 
-/* Slope-scaled depth bias of the shadow pass (in units of the depth format's step). */
-#define SHADOW_BIAS_CONSTANT 2.0f
-#define SHADOW_BIAS_SLOPE 2.5f
-
 /* Timestamps: start, after the mesh, the shadow pass, the lit pass and the copy. */
 enum { QUERY_COUNT = 5 };
-
-/* Mirrors the Frame block of shaders/frame.glsl. */
-typedef struct cvk_frame_uniforms {
-    float view_proj[16];
-    float light_view_proj[16];
-    float eye[4];
-    float key_direction[4];
-    float key_color[4];
-    float fill_direction[4];
-    float fill_color[4];
-    float ambient[4];
-    float background[4];
-    float ground_color[4];
-    float ground_plane[4];
-    float ground_unlit[4];
-    float ground_key[4];
-    float ground_axes[2][4];
-    float ray_base[4];
-    float ray_dx[4];
-    float ray_dy[4];
-    float fog[4];
-    float shadow[4];
-    float patch_corners[4][4];
-} cvk_frame_uniforms;
-
-struct cvk_renderer {
-    cvk_context* context;
-    cvk_mesh* mesh;
-    cvk_render_desc desc;
-    cvk_view view;
-    VkSampleCountFlagBits samples;
-
-    cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
-    VkRenderPass shadow_pass, cloth_pass, composite_pass;
-    VkFramebuffer shadow_framebuffer, cloth_framebuffer, composite_framebuffer;
-    VkSampler shadow_sampler, cloth_sampler;
-    cvk_buffer uniforms;
-    cvk_buffer readback;
-
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout pipeline_layout;
-    VkDescriptorPool descriptor_pool;
-    VkDescriptorSet set;
-    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
-
-    VkQueryPool queries;
-    cvk_submitter submitter;
-    VkCommandBuffer frame_cmd;
-};
 
 /* ---- checks before anything is made ------------------------------------------------------ */
 
@@ -483,229 +428,23 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
 
-    VkDescriptorSetLayoutBinding bindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, NULL},
+    static const cvk_binding bindings[] = {
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
     };
-    VkDescriptorSetLayoutCreateInfo set_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = 3,
-        .pBindings = bindings,
-    };
-    vr = vkCreateDescriptorSetLayout(dev, &set_info, NULL, &rd->set_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
-    VkPushConstantRange push = {VK_SHADER_STAGE_FRAGMENT_BIT, 0, 4 * sizeof(float)};
-    VkPipelineLayoutCreateInfo layout_info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1,
-        .pSetLayouts = &rd->set_layout,
-        .pushConstantRangeCount = 1,
-        .pPushConstantRanges = &push,
-    };
-    vr = vkCreatePipelineLayout(dev, &layout_info, NULL, &rd->pipeline_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
-    VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2},
-    };
-    VkDescriptorPoolCreateInfo pool_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
-        .maxSets = 1,
-        .poolSizeCount = 2,
-        .pPoolSizes = sizes,
-    };
-    vr = vkCreateDescriptorPool(dev, &pool_info, NULL, &rd->descriptor_pool);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorPool", vr);
-    VkDescriptorSetAllocateInfo alloc = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
-        .descriptorPool = rd->descriptor_pool,
-        .descriptorSetCount = 1,
-        .pSetLayouts = &rd->set_layout,
-    };
-    vr = vkAllocateDescriptorSets(dev, &alloc, &rd->set);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
-    VkDescriptorBufferInfo buffer = {rd->uniforms.buffer, 0, VK_WHOLE_SIZE};
-    VkDescriptorImageInfo shadow = {rd->shadow_sampler, rd->shadow_map.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkDescriptorImageInfo cloth = {rd->cloth_sampler, rd->cloth.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-    VkWriteDescriptorSet writes[] = {
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 0, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, .pBufferInfo = &buffer},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 1, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &shadow},
-        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = rd->set, .dstBinding = 2, .descriptorCount = 1,
-         .descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, .pImageInfo = &cloth},
-    };
-    vkUpdateDescriptorSets(dev, 3, writes, 0, NULL);
-    return CVK_SUCCESS;
-}
-
-/* ---- pipelines ----------------------------------------------------------------------------- */
-
-typedef struct pipeline_recipe {
-    const char* what;
-    cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
-    uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal */
-    VkPrimitiveTopology topology;
-    VkRenderPass pass;
-    uint32_t width, height;
-    VkSampleCountFlagBits samples;
-    bool depth_test;
-    VkCompareOp depth_compare;
-    bool depth_bias;
-    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
-    uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
-} pipeline_recipe;
-
-static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
-{
-    cvk_spirv spirv = cvk_shader(id);
-    return cvk_shader_module_create(ctx, spirv.code, spirv.bytes, spirv.name, out, error);
-}
-
-static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
-{
-    VkShaderModule modules[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
-    bool has_fragment = p->fragment != CVK_SHADER_COUNT;
-    cvk_result r = create_module(rd->context, p->vertex, &modules[0], error);
-    if (r == CVK_SUCCESS && has_fragment)
-        r = create_module(rd->context, p->fragment, &modules[1], error);
-    if (r != CVK_SUCCESS) {
-        if (modules[0])
-            vkDestroyShaderModule(rd->context->device, modules[0], NULL);
+    r = cvk_descriptors_create(rd->context, bindings, 3, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+                               4 * sizeof(float), &rd->descriptors, error);
+    if (r != CVK_SUCCESS)
         return r;
-    }
-    VkSpecializationMapEntry entries[3];
-    for (uint32_t i = 0; i < 3; i++)
-        entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
-    VkSpecializationInfo spec = {3, entries, sizeof p->spec, p->spec};
-    VkPipelineShaderStageCreateInfo stages[2] = {
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
-         .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
-         .module = modules[1], .pName = "main", .pSpecializationInfo = &spec},
+    rd->pipeline_layout = rd->descriptors.pipeline_layout;
+    rd->set = rd->descriptors.sets[0];
+    const cvk_resource res[] = {
+        {.buffer = &rd->uniforms},
+        {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
+        {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
     };
-    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
-    VkVertexInputBindingDescription binding = {0, mesh.vertex_stride, VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription attributes[2] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.position_offset},
-        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.normal_offset},
-    };
-    VkPipelineVertexInputStateCreateInfo vertex_input = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-        .vertexBindingDescriptionCount = p->attributes ? 1 : 0,
-        .pVertexBindingDescriptions = &binding,
-        .vertexAttributeDescriptionCount = p->attributes,
-        .pVertexAttributeDescriptions = attributes,
-    };
-    VkPipelineInputAssemblyStateCreateInfo assembly = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
-        .topology = p->topology,
-    };
-    VkViewport viewport = {0.0f, 0.0f, (float)p->width, (float)p->height, 0.0f, 1.0f};
-    VkRect2D scissor = {{0, 0}, {p->width, p->height}};
-    VkPipelineViewportStateCreateInfo viewport_state = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
-        .viewportCount = 1,
-        .pViewports = &viewport,
-        .scissorCount = 1,
-        .pScissors = &scissor,
-    };
-    /* No culling: both faces of the cloth are drawn, and both cast shadows. */
-    VkPipelineRasterizationStateCreateInfo raster = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
-        .polygonMode = VK_POLYGON_MODE_FILL,
-        .cullMode = VK_CULL_MODE_NONE,
-        .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
-        .depthBiasEnable = p->depth_bias,
-        .depthBiasConstantFactor = p->depth_bias ? SHADOW_BIAS_CONSTANT : 0.0f,
-        .depthBiasSlopeFactor = p->depth_bias ? SHADOW_BIAS_SLOPE : 0.0f,
-        .lineWidth = 1.0f,
-    };
-    VkPipelineMultisampleStateCreateInfo multisample = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
-        .rasterizationSamples = p->samples,
-    };
-    VkStencilOpState stencil = {
-        .failOp = VK_STENCIL_OP_KEEP,
-        .passOp = p->stencil > 0 ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
-        .depthFailOp = VK_STENCIL_OP_KEEP,
-        .compareOp = p->stencil > 0 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
-        .compareMask = 0xff,
-        .writeMask = 0xff,
-        .reference = p->stencil > 0 ? 1u : 0u,
-    };
-    VkPipelineDepthStencilStateCreateInfo depth = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
-        .depthTestEnable = p->depth_test,
-        .depthWriteEnable = p->depth_test,
-        .depthCompareOp = p->depth_compare,
-        .stencilTestEnable = p->stencil != 0,
-        .front = stencil,
-        .back = stencil,
-    };
-    VkPipelineColorBlendAttachmentState blend_attachment = {
-        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                          VK_COLOR_COMPONENT_A_BIT,
-    };
-    VkPipelineColorBlendStateCreateInfo blend = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
-        .attachmentCount = has_fragment ? 1 : 0,
-        .pAttachments = &blend_attachment,
-    };
-    VkGraphicsPipelineCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
-        .stageCount = has_fragment ? 2 : 1,
-        .pStages = stages,
-        .pVertexInputState = &vertex_input,
-        .pInputAssemblyState = &assembly,
-        .pViewportState = &viewport_state,
-        .pRasterizationState = &raster,
-        .pMultisampleState = &multisample,
-        .pDepthStencilState = &depth,
-        .pColorBlendState = &blend,
-        .layout = rd->pipeline_layout,
-        .renderPass = p->pass,
-    };
-    VkResult vr = vkCreateGraphicsPipelines(rd->context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
-    for (int i = 0; i < 2; i++)
-        if (modules[i])
-            vkDestroyShaderModule(rd->context->device, modules[i], NULL);
-    if (vr != VK_SUCCESS) {
-        *out = VK_NULL_HANDLE;
-        return cvk_fail_vk_for(error, "vkCreateGraphicsPipelines", vr, "%s", p->what);
-    }
-    return CVK_SUCCESS;
-}
-
-static cvk_result create_pipelines(cvk_renderer* rd, cvk_error* error)
-{
-    uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
-    bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
-    cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
-    const pipeline_recipe recipes[] = {
-        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
-        /* Reversed depth: nearer is greater. */
-        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
-        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
-         {false, false, rd->desc.samples}},
-        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0,
-         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}},
-    };
-    VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->background_pipeline, &rd->patch_pipeline};
-    for (size_t i = 0; i < sizeof recipes / sizeof recipes[0]; i++) {
-        cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
+    cvk_descriptors_write(rd->context, &rd->descriptors, 0, res);
     return CVK_SUCCESS;
 }
 
@@ -889,7 +628,7 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     if (r == CVK_SUCCESS)
         r = create_descriptors(rd, error);
     if (r == CVK_SUCCESS)
-        r = create_pipelines(rd, error);
+        r = cvk_renderer_create_pipelines(rd, error);
     if (r == CVK_SUCCESS)
         r = create_frame_objects(rd, error);
     /* Lavapipe compiles pipelines on first use: one frame now, so no timed frame pays. */
@@ -916,12 +655,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
             vkDestroyPipeline(dev, pipelines[i], NULL);
     if (rd->queries)
         vkDestroyQueryPool(dev, rd->queries, NULL);
-    if (rd->descriptor_pool)
-        vkDestroyDescriptorPool(dev, rd->descriptor_pool, NULL);
-    if (rd->pipeline_layout)
-        vkDestroyPipelineLayout(dev, rd->pipeline_layout, NULL);
-    if (rd->set_layout)
-        vkDestroyDescriptorSetLayout(dev, rd->set_layout, NULL);
+    cvk_descriptors_destroy(rd->context, &rd->descriptors);
     VkSampler samplers[] = {rd->shadow_sampler, rd->cloth_sampler};
     for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
         if (samplers[i])

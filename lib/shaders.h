@@ -1,22 +1,17 @@
-/* SPIR-V of every shader, compiled by glslang at build time and embedded. */
+/* SPIR-V of every shader, compiled by glslang at build time and embedded. The ids come from
+   the one list in shaders/meson.build (CVK_SHADER_<NAME> for each entry). */
 #ifndef CVK_SHADERS_H
 #define CVK_SHADERS_H
 
 #include <stddef.h>
 #include <stdint.h>
 
+#include "shader_list.h"
+
 typedef enum cvk_shader_id {
-    CVK_SHADER_PREDICT,
-    CVK_SHADER_FINALIZE,
-    CVK_SHADER_PD_GAUSS_SEIDEL,
-    CVK_SHADER_PD_JACOBI,
-    CVK_SHADER_MESH,
-    CVK_SHADER_SHADOW_VERT,
-    CVK_SHADER_LIT_CLOTH_VERT,
-    CVK_SHADER_LIT_CLOTH_FRAG,
-    CVK_SHADER_COMPOSITE_VERT,
-    CVK_SHADER_COMPOSITE_FRAG,
-    CVK_SHADER_COMPOSITE_1X_FRAG,
+#define CVK_SHADER_ID(id, array, label) CVK_SHADER_##id,
+    CVK_SHADER_LIST(CVK_SHADER_ID)
+#undef CVK_SHADER_ID
     CVK_SHADER_COUNT
 } cvk_shader_id;
 

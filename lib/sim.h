@@ -1,5 +1,6 @@
-/* The simulation object; private so later passes (mesh generation, rendering) can reach its
-   buffers. */
+/* The simulation object; private so solver families, mesh generation, export and rendering
+   can reach its buffers. It owns what every family shares (positions, spring flags, staging,
+   the plan and its recording, timing); the solver family owns the rest (solver.h). */
 #ifndef CVK_SIM_H
 #define CVK_SIM_H
 
@@ -7,6 +8,8 @@
 #include "gpu.h"
 #include "plan.h"
 #include "reference.h"
+
+struct cvk_family_api;
 
 struct cvk_sim {
     cvk_context* context;
@@ -17,54 +20,81 @@ struct cvk_sim {
     cvk_solver_desc solver;
     cvk_scene_desc params;  /* the scene's step, gravity and damping (no cloths): plan input */
     int timing_request;     /* cvk_sim_desc.timing */
-    double rho_estimate;    /* Chebyshev's spectral radius estimated for rho_omega; < 0: none */
-    float rho_omega;
     cvk_ref_params ref;
-    bool host_solver; /* gs-cpu: the state lives in the host arrays below */
 
-    /* Device state: positions (w: m/h²), two displacement iterates (u[0] holds the last
-       substep's displacement: the velocity times h), the predicted displacement, the
-       right-hand side. Adjacency: uvec2 (neighbour, bits of k) and float k·L per slot. */
-    cvk_buffer positions, u[2], y, rhs;
-    cvk_buffer adjacency, adjacency_kl;
+    const struct cvk_family_api* family; /* the family that solves `solver` */
+    void* family_state;
+
+    /* Positions (internal order, vec4; the family may use w: PD keeps m/h² there). */
+    cvk_buffer positions;
     cvk_buffer spring_alive; /* uint per spring of build.springs: 1, 0 once torn; the mesh reads it */
     cvk_buffer staging; /* host-visible, 2 vec4 per particle: uploads and readback */
-    VkBufferView view_positions, view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
-    VkBufferView view_spring_alive;
-
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout pipeline_layout;
-    VkDescriptorPool descriptor_pool;
-    VkDescriptorSet sets[CVK_SET_COUNT];
-    VkPipeline pipelines[CVK_PIPE_COUNT];
+    VkBufferView view_positions, view_spring_alive;
+    cvk_pipelines pipelines; /* the table's pipelines, created on first use */
 
     bool timing;
     VkQueryPool queries;
-    uint32_t query_count;   /* per frame: one at the start, one per pass run */
-    cvk_pass_id* query_pass; /* query q > 0 closes this pass */
+    uint32_t query_count;    /* per frame: one at the start, one per pass run */
+    uint32_t* query_pass;    /* query q > 0 closes this pass */
+    bool queries_unreset;    /* a new pool: the next upload resets it */
 
     cvk_submitter submitter;
     VkCommandBuffer frame_cmd;    /* one frame, recorded once, submitted again and again */
-    VkCommandBuffer readback_cmd; /* x[0] -> staging, recorded once */
     VkCommandBuffer transfer_cmd; /* re-recorded for each upload */
     VkCommandBuffer* batch;       /* frame_cmd repeated, for one submission of many frames */
     uint32_t batch_capacity;
 
     uint64_t frames;
-    double host_pass_ms[CVK_PASS_COUNT]; /* gs-cpu: host time of the last frame */
+    double host_pass_ms[CVK_MAX_PASSES]; /* host plans: host time of the last frame, by pass */
     bool host_timed;
 
-    double* hx;    /* gs-cpu state, 3 doubles per particle, internal order */
-    double* hprev;
-    double* hy;
-    double* hrhs;  /* 4 doubles per particle */
     float* scratch;   /* positions, 3 floats per particle, internal order */
-    float* scratch_u; /* last displacements x_n − x_{n−1}, same layout */
     float* scratch_v; /* velocities, same layout */
 };
 
-/* Reads the state back: positions into sim->scratch, last displacements into
-   sim->scratch_u (internal order, 3 floats per particle). */
+/* Reads the state back through the family: positions into sim->scratch, velocities into
+   sim->scratch_v (internal order, 3 floats per particle). */
 cvk_result cvk_sim_read_internal(cvk_sim* sim, cvk_error* error);
+
+/* One region of the staging buffer into a device buffer. */
+typedef struct cvk_staging_copy {
+    cvk_buffer* dst;
+    VkDeviceSize src_offset, dst_offset, size;
+} cvk_staging_copy;
+
+/* Copies staging regions into buffers and waits; earlier GPU work on them finishes first, and
+   compute and transfer work after sees them. */
+cvk_result cvk_sim_copy_from_staging(cvk_sim* sim, const cvk_staging_copy* jobs, uint32_t count,
+                                     cvk_error* error);
+
+/* Uploads a host array into a device buffer through the staging buffer, in chunks. */
+cvk_result cvk_sim_upload(cvk_sim* sim, cvk_buffer* dst, const void* data, VkDeviceSize size,
+                          cvk_error* error);
+
+/* ---- shared by sim.c and sim_state.c ---- */
+
+/* Timestamp queries of one frame; pass[q] (q ≥ 1) is the pass query q closes. */
+typedef struct cvk_sim_queries {
+    VkQueryPool pool;
+    uint32_t count;
+    uint32_t* pass;
+} cvk_sim_queries;
+
+/* A plan for `solver` by `family` (state `self`) on this simulation's scene. */
+cvk_result cvk_sim_make_plan(cvk_sim* sim, const struct cvk_family_api* family, void* self,
+                             const cvk_solver_desc* solver, uint32_t workgroup_size,
+                             uint32_t max_groups, cvk_plan* out, cvk_error* error);
+/* Creates the pipelines `plan` uses and dispatches the new ones once (warm-up). */
+cvk_result cvk_sim_ready_pipelines(cvk_sim* sim, const cvk_plan* plan, cvk_error* error);
+cvk_result cvk_sim_create_queries(cvk_sim* sim, const cvk_plan* plan, cvk_sim_queries* out,
+                                  cvk_error* error);
+void cvk_sim_destroy_queries(cvk_sim* sim, cvk_sim_queries* queries);
+/* Makes `queries` the simulation's (taking them over) and marks them for a reset. */
+void cvk_sim_use_queries(cvk_sim* sim, cvk_sim_queries* queries);
+/* Records frame_cmd from the current plan. */
+cvk_result cvk_sim_record_frame_cmd(cvk_sim* sim, cvk_error* error);
+
+/* Milliseconds of a monotonic clock. */
+double cvk_now_ms(void);
 
 #endif

@@ -1,4 +1,6 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
+#include "shared/layout.h"
 // Mesh generation (seed 002 §5.4.1) in one dispatch over max(vertices, triangles):
 // - triangle t is drawn where the springs along its edges are alive; a torn one becomes three
 //   equal indices, so the index count, and every draw call, stays the same;
@@ -23,10 +25,8 @@ layout(set = 0, binding = 6) uniform usamplerBuffer vertex_triangles;  // slot-m
 layout(std430, set = 0, binding = 7) writeonly buffer Vertices { vec4 vertices[]; }; // position, normal
 layout(std430, set = 0, binding = 8) writeonly buffer Indices { uint indices[]; };
 
-layout(push_constant) uniform Push {
-    uint vertex_count;
-    uint triangle_count;
-} pc;
+// The push constants: cvk_mesh_push, declared with the C side in shared/layout.h.
+CVK_DECLARE_PUSH(CVK_MESH_PUSH_FIELDS)
 
 bool spring_intact(uint s)
 {

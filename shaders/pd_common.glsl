@@ -22,29 +22,22 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint MAX_DEGREE = 4;
 const uint QUADS = (MAX_DEGREE + 3u) / 4u;
 
-layout(set = 0, binding = 0) uniform samplerBuffer src;          // displacement iterate read
-layout(set = 0, binding = 1) uniform samplerBuffer dst_read;     // iterate being written, read
-layout(std430, set = 0, binding = 2) writeonly buffer Dst { vec4 dst[]; };
-layout(set = 0, binding = 3) uniform samplerBuffer y_read;       // xyz: predicted u, w: m/h^2
-layout(std430, set = 0, binding = 4) writeonly buffer Inertial { vec4 y[]; };
-layout(set = 0, binding = 5) uniform samplerBuffer x_read;       // xyz: x_n, w: m/h^2
-layout(std430, set = 0, binding = 6) writeonly buffer Positions { vec4 x[]; };
-layout(set = 0, binding = 7) uniform samplerBuffer rhs_read;     // xyz: b, w: 1/diag
-layout(std430, set = 0, binding = 8) writeonly buffer Rhs { vec4 rhs[]; };
-layout(set = 0, binding = 9) uniform usamplerBuffer adjacency;   // neighbours, bits of k: by quad
-layout(set = 0, binding = 10) uniform samplerBuffer adjacency_kl; // k * rest length, by quad
+#include "shared/layout.h"
 
-layout(push_constant) uniform Push {
-    uint first;       // first particle of this dispatch
-    uint count;       // particles in this dispatch
-    uint stride;      // free particle count: adjacency slot stride
-    uint pad0;
-    float inv_h2;     // 1 / h^2
-    float omega;      // SOR factor (Gauss-Seidel) or relaxation (Jacobi)
-    float cheb;       // Chebyshev weight of this sweep; 1 = plain sweep
-    float keep;       // 1 - damping (0 when integration is off)
-    vec4 gravity_h2;  // h^2 g (0 when integration is off)
-} pc;
+layout(set = 0, binding = CVK_PD_BINDING_SRC) uniform samplerBuffer src;
+layout(set = 0, binding = CVK_PD_BINDING_DST_READ) uniform samplerBuffer dst_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
+layout(set = 0, binding = CVK_PD_BINDING_Y_READ) uniform samplerBuffer y_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };
+layout(set = 0, binding = CVK_PD_BINDING_X_READ) uniform samplerBuffer x_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_X) writeonly buffer Positions { vec4 x[]; };
+layout(set = 0, binding = CVK_PD_BINDING_RHS_READ) uniform samplerBuffer rhs_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec4 rhs[]; };
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adjacency_kl;
+
+// The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
+CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
 
 // The neighbours and stiffnesses of quad q of particle p.
 uvec4 quad_neighbours(uint q, uint p)

@@ -1,0 +1,307 @@
+/* The passes of projective dynamics: Verlet prediction, the solve (Gauss-Seidel colour
+   sweeps, or Jacobi / Chebyshev sweeps between two iterates), x += u; and the schedule
+   that keeps a truncated solve stable (see solve_pd.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "solve_pd.h"
+
+uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver)
+{
+    uint32_t sweeps = solver->outer_iterations * solver->inner_iterations;
+    if (solver->linear == CVK_LINEAR_CHEBYSHEV && solver->inner_iterations > 1)
+        return solver->inner_iterations;
+    return sweeps;
+}
+
+float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega)
+{
+    if (sweep == 0 && cycle % 2 == 1 && omega > CVK_STABLE_FIRST_OMEGA)
+        return CVK_STABLE_FIRST_OMEGA;
+    return omega;
+}
+
+double cvk_chebyshev_stable_rho(uint32_t m)
+{
+    if (m == 0)
+        return 0.0;
+    return 1.0 / cosh(acosh(3.0) / m);
+}
+
+static uint32_t effective_delay(uint32_t delay)
+{
+    return delay < 1 ? 1 : delay; /* the first Chebyshev step needs an older iterate */
+}
+
+double cvk_chebyshev_weight(uint32_t sweep, uint32_t delay, double rho)
+{
+    delay = effective_delay(delay);
+    if (sweep < delay)
+        return 1.0;
+    double w = 2.0 / (2.0 - rho * rho);
+    for (uint32_t s = delay; s < sweep; s++)
+        w = 4.0 / (4.0 - rho * rho * w);
+    return w;
+}
+
+double cvk_estimate_jacobi_rho(const cvk_build* b, double inv_h2, double omega)
+{
+    uint32_t nf = b->free_count;
+    if (nf == 0)
+        return 0.0;
+    double* diag = malloc(nf * sizeof(double));
+    double* v = malloc(nf * sizeof(double));
+    double* w = malloc(nf * sizeof(double));
+    if (!diag || !v || !w) {
+        free(diag);
+        free(v);
+        free(w);
+        return 0.0;
+    }
+    for (uint32_t p = 0; p < nf; p++) {
+        diag[p] = b->mass[p] * inv_h2;
+        for (uint32_t s = 0; s < b->degree[p]; s++)
+            diag[p] += b->adj_k[(size_t)s * nf + p];
+    }
+    /* A deterministic start vector with components along every mode. */
+    uint32_t seed = 12345u;
+    for (uint32_t p = 0; p < nf; p++) {
+        seed = seed * 1664525u + 1013904223u;
+        v[p] = (double)(seed >> 8) / (double)(1u << 24) - 0.5;
+    }
+    /* G v = (1 − ω) v + ω D⁻¹ Σ k v_c over free neighbours. The spectrum of G can be
+       symmetric (bipartite grids), so iterate on G² and take the square root. */
+    double rho = 0.0;
+    uint32_t iterations = (uint32_t)fmin(400.0, fmax(50.0, 2e8 / ((double)nf * (b->max_degree + 1))));
+    for (uint32_t it = 0; it < iterations; it++) {
+        double norm_before = 0.0, norm_after = 0.0;
+        for (uint32_t p = 0; p < nf; p++)
+            norm_before += v[p] * v[p];
+        for (int twice = 0; twice < 2; twice++) {
+            for (uint32_t p = 0; p < nf; p++) {
+                double sum = 0.0;
+                for (uint32_t s = 0; s < b->degree[p]; s++) {
+                    size_t e = (size_t)s * nf + p;
+                    uint32_t n = b->adj_index[e];
+                    if (n < nf)
+                        sum += b->adj_k[e] * v[n];
+                }
+                w[p] = (1.0 - omega) * v[p] + omega * sum / diag[p];
+            }
+            double* t = v;
+            v = w;
+            w = t;
+        }
+        for (uint32_t p = 0; p < nf; p++)
+            norm_after += v[p] * v[p];
+        if (norm_before <= 0.0 || norm_after <= 0.0)
+            break;
+        rho = pow(norm_after / norm_before, 0.25);
+        double scale = 1.0 / sqrt(norm_after);
+        for (uint32_t p = 0; p < nf; p++)
+            v[p] *= scale;
+    }
+    free(diag);
+    free(v);
+    free(w);
+    return rho < 1.0 ? rho : 0.999999;
+}
+
+double cvk_pd_chebyshev_rho(const cvk_solver_desc* solver, double h, const cvk_build* b,
+                            double estimated, double* estimated_out)
+{
+    uint32_t cycle = cvk_sweep_cycle(solver);
+    uint32_t delay = effective_delay(solver->chebyshev_delay);
+    double rho;
+    if (solver->chebyshev_rho > 0.0f)
+        rho = solver->chebyshev_rho;
+    else if (estimated >= 0.0)
+        rho = estimated;
+    else
+        rho = cvk_estimate_jacobi_rho(b, 1.0 / (h * h), solver->omega);
+    if (estimated_out)
+        *estimated_out = rho;
+    double cap = cvk_chebyshev_stable_rho(cycle > delay ? cycle - delay : 0);
+    return fmin(rho, cap);
+}
+
+typedef struct pd_builder {
+    cvk_plan* plan;
+    const cvk_pd* pd;
+    const cvk_solver_desc* solver;
+    cvk_pd_push base;
+    uint32_t predict, solve, finalize; /* pass indices */
+} pd_builder;
+
+static const char* const set_note[CVK_PD_SET_COUNT] = {
+    [CVK_PD_SET_U0_TO_U1] = "u0 -> u1",
+    [CVK_PD_SET_U1_TO_U0] = "u1 -> u0",
+    [CVK_PD_SET_U0_TO_U0] = "u0 -> u0",
+};
+
+/* Appends a dispatch over particles [first, first + count); none when count is 0 (a scene
+   whose particles are all pinned has nothing to solve). Returns the op, or NULL. */
+static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, uint32_t pass,
+                      uint32_t first, uint32_t count, float cheb, float omega)
+{
+    cvk_pd_push push = pb->base;
+    push.first = first;
+    push.count = count;
+    push.cheb = cheb;
+    push.omega = omega;
+    cvk_op* op = cvk_plan_dispatch(pb->plan, pass, pipeline, pb->pd->descriptors.pipeline_layout,
+                                   pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES, first,
+                                   count, &push, sizeof push);
+    if (op)
+        snprintf(op->note, sizeof op->note, "%s", set_note[set]);
+    return op;
+}
+
+/* The solve's details for --plan: iteration, colour, weights that differ from the plain. */
+static void solve_note(pd_builder* pb, cvk_op* op, uint32_t outer, uint32_t inner, int colour,
+                       cvk_pd_set set)
+{
+    if (!op)
+        return;
+    cvk_pd_push pushed;
+    memcpy(&pushed, op->push, sizeof pushed);
+    const cvk_pd_push* push = &pushed;
+    int n = snprintf(op->note, sizeof op->note, "outer %u inner %u", outer + 1, inner + 1);
+    if (colour >= 0 && n > 0 && (size_t)n < sizeof op->note)
+        n += snprintf(op->note + n, sizeof op->note - n, " colour %d", colour);
+    if (push->cheb != 1.0f && n > 0 && (size_t)n < sizeof op->note)
+        n += snprintf(op->note + n, sizeof op->note - n, " cheb %.4f", push->cheb);
+    if (push->omega != pb->solver->omega && n > 0 && (size_t)n < sizeof op->note)
+        n += snprintf(op->note + n, sizeof op->note - n, " omega %g", push->omega);
+    if (n > 0 && (size_t)n < sizeof op->note)
+        snprintf(op->note + n, sizeof op->note - n, ", %s", set_note[set]);
+}
+
+/* Sets reading U[src] and writing U[dst]. */
+static cvk_pd_set set_for(uint32_t src, uint32_t dst)
+{
+    if (src == 0 && dst == 0)
+        return CVK_PD_SET_U0_TO_U0;
+    return src == 0 ? CVK_PD_SET_U0_TO_U1 : CVK_PD_SET_U1_TO_U0;
+}
+
+/* y = u (1 - damping) + h² g into the buffer holding the first iterate. */
+static void add_predict(pd_builder* pb, const cvk_build* b, uint32_t start)
+{
+    add_op(pb, CVK_PIPE_PREDICT, set_for(0, start), pb->predict, 0, b->free_count, 1.0f,
+           pb->base.omega);
+}
+
+/* x += u: the substep's displacement, which the solve left in U0, moves the positions. */
+static void add_finalize(pd_builder* pb, const cvk_build* b)
+{
+    add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, b->free_count, 1.0f,
+           pb->base.omega);
+}
+
+/* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
+   (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
+   writes U0, where finalize and the next prediction find it. */
+static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
+{
+    uint32_t outer = pb->solver->outer_iterations;
+    add_predict(pb, b, outer % 2);
+    for (uint32_t o = 0; o < outer; o++) {
+        uint32_t t = (outer - o) % 2, w = 1 - t;
+        for (uint32_t i = 0; i < pb->solver->inner_iterations; i++)
+            for (uint32_t c = 0; c < b->colour_count; c++) {
+                cvk_op* op = add_op(pb, i == 0 ? CVK_PIPE_GS_FIRST : CVK_PIPE_GS, set_for(t, w),
+                                    pb->solve, b->colour_start[c],
+                                    b->colour_start[c + 1] - b->colour_start[c], 1.0f,
+                                    pb->base.omega);
+                solve_note(pb, op, o, i, (int)c, set_for(t, w));
+            }
+    }
+    add_finalize(pb, b);
+}
+
+/* Jacobi and Chebyshev: every sweep reads one buffer and writes the other. */
+static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool chebyshev)
+{
+    const cvk_solver_desc* solver = pb->solver;
+    uint32_t sweeps = solver->outer_iterations * solver->inner_iterations;
+    uint32_t cycle = cvk_sweep_cycle(solver);
+    add_predict(pb, b, sweeps % 2);
+    for (uint32_t s = 0; s < sweeps; s++) {
+        uint32_t src = (sweeps - s) % 2, dst = 1 - src;
+        uint32_t inner = s % solver->inner_iterations;
+        double cheb = chebyshev ? cvk_chebyshev_weight(s % cycle, solver->chebyshev_delay, rho)
+                                : 1.0;
+        float omega = cvk_jacobi_sweep_omega(s % cycle, cycle, solver->omega);
+        cvk_op* op = add_op(pb, inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
+                            set_for(src, dst), pb->solve, 0, b->free_count, (float)cheb, omega);
+        solve_note(pb, op, s / solver->inner_iterations, inner, -1, set_for(src, dst));
+    }
+    add_finalize(pb, b);
+}
+
+/* Chebyshev's spectral radius is estimated once per omega: it depends only on the scene, h
+   and omega, and costs a power iteration. */
+static double chebyshev_rho(cvk_sim* s, cvk_pd* pd, const cvk_solver_desc* solver)
+{
+    double estimated = -1.0;
+    if (solver->chebyshev_rho <= 0.0f) {
+        if (pd->rho_estimate < 0.0 || pd->rho_omega != solver->omega) {
+            pd->rho_estimate = cvk_estimate_jacobi_rho(&s->build, s->ref.inv_h2, solver->omega);
+            pd->rho_omega = solver->omega;
+        }
+        estimated = pd->rho_estimate;
+    }
+    return cvk_pd_chebyshev_rho(solver, s->params.dt, &s->build, estimated,
+                                &pd->chebyshev_rho_estimated);
+}
+
+static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
+{
+    const cvk_scene_desc* scene = &s->params;
+    double h = scene->dt;
+    cvk_pd_push base = {0};
+    base.stride = s->build.free_count;
+    base.inv_h2 = (float)(1.0 / (h * h));
+    base.omega = solver->omega;
+    base.keep = scene->integrate ? 1.0f - scene->damping : 0.0f;
+    for (int k = 0; k < 3; k++)
+        base.gravity_h2[k] = scene->integrate ? (float)(scene->gravity[k] * h * h) : 0.0f;
+    return base;
+}
+
+cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solver,
+                             cvk_plan* plan, cvk_error* error)
+{
+    cvk_pd* pd = self;
+    pd_builder pb = {.plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver)};
+    pb.predict = cvk_plan_pass(plan, "predict");
+    pb.solve = cvk_plan_pass(plan, "solve");
+    pb.finalize = cvk_plan_pass(plan, "finalize");
+    pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
+    switch (solver->linear) {
+    case CVK_LINEAR_RBGS:
+        plan_gauss_seidel(&pb, &s->build);
+        break;
+    case CVK_LINEAR_CHEBYSHEV:
+        pd->chebyshev_rho = chebyshev_rho(s, pd, solver);
+        snprintf(plan->solver_note, sizeof plan->solver_note,
+                 ", rho %.6f (estimated %.6f, capped for stability), delay %u", pd->chebyshev_rho,
+                 pd->chebyshev_rho_estimated, solver->chebyshev_delay);
+        plan_jacobi(&pb, &s->build, pd->chebyshev_rho, true);
+        break;
+    case CVK_LINEAR_JACOBI:
+        plan_jacobi(&pb, &s->build, 0.0, false);
+        break;
+    case CVK_LINEAR_GS_CPU:
+        plan->host = true; /* no dispatches */
+        snprintf(plan->host_note, sizeof plan->host_note,
+                 "%u substeps on the host (sequential double-precision Gauss-Seidel, colour "
+                 "order), then one upload of the positions", plan->substeps);
+        break;
+    }
+    return cvk_plan_check(plan, error);
+}

@@ -1,0 +1,68 @@
+#include "pipelines.h"
+
+#include <stddef.h>
+
+#include "shared/layout.h"
+
+/* The C mirror of every shared block must have the layout GLSL gives it. */
+_Static_assert(sizeof(cvk_pd_push) == 48, "cvk_pd_push: 48 bytes in GLSL");
+_Static_assert(offsetof(cvk_pd_push, inv_h2) == 16, "cvk_pd_push.inv_h2 at 16");
+_Static_assert(offsetof(cvk_pd_push, keep) == 28, "cvk_pd_push.keep at 28");
+_Static_assert(offsetof(cvk_pd_push, gravity_h2) == 32, "cvk_pd_push.gravity_h2: a vec4 at 32");
+_Static_assert(sizeof(cvk_mesh_push) == 8, "cvk_mesh_push: 8 bytes in GLSL");
+_Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.triangle_count at 4");
+
+typedef struct pipeline_recipe {
+    cvk_shader_id shader;
+    cvk_spec_recipe spec;
+    const char* label;
+} pipeline_recipe;
+
+static const pipeline_recipe recipes[CVK_PIPE_COUNT] = {
+#define CVK_PIPE_RECIPE(id, shader, spec, label) [CVK_PIPE_##id] = {CVK_SHADER_##shader, spec, label},
+    CVK_PIPELINE_LIST(CVK_PIPE_RECIPE)
+#undef CVK_PIPE_RECIPE
+};
+
+const char* cvk_pipeline_label(cvk_pipeline_id id)
+{
+    return id < CVK_PIPE_COUNT ? recipes[id].label : "?";
+}
+
+static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs)
+{
+    switch (source) {
+    case CVK_SPEC_WORKGROUP_SIZE: return inputs->workgroup_size;
+    case CVK_SPEC_MAX_DEGREE: return inputs->max_degree;
+    case CVK_SPEC_TRUE: return 1;
+    }
+    return 0;
+}
+
+cvk_result cvk_pipelines_require(cvk_context* context, cvk_pipelines* p, cvk_pipeline_id id,
+                                 VkPipelineLayout layout, const cvk_spec_inputs* inputs,
+                                 cvk_error* error)
+{
+    if (p->pipeline[id])
+        return CVK_SUCCESS;
+    const pipeline_recipe* recipe = &recipes[id];
+    cvk_spec spec = {.count = recipe->spec.count};
+    for (uint32_t i = 0; i < spec.count; i++)
+        spec.values[i] = spec_value(recipe->spec.source[i], inputs);
+    cvk_spirv spirv = cvk_shader(recipe->shader);
+    cvk_result r = cvk_compute_pipeline_create(context, spirv.code, spirv.bytes, layout, &spec,
+                                               spirv.name, &p->pipeline[id], error);
+    if (r != CVK_SUCCESS)
+        return r;
+    p->layout[id] = layout;
+    p->fresh[id] = true;
+    return CVK_SUCCESS;
+}
+
+void cvk_pipelines_destroy(cvk_context* context, cvk_pipelines* p)
+{
+    for (int id = 0; id < CVK_PIPE_COUNT; id++)
+        if (p->pipeline[id])
+            vkDestroyPipeline(context->device, p->pipeline[id], NULL);
+    *p = (cvk_pipelines){0};
+}

@@ -1,0 +1,61 @@
+/* The one table of compute pipelines of the step: pipeline id -> shader, specialisation
+   constants, label (for --plan). A family or feature that needs a pipeline adds one line to
+   CVK_PIPELINE_LIST; pipelines are created on first use and kept for the simulation's life. */
+#ifndef CVK_PIPELINES_H
+#define CVK_PIPELINES_H
+
+#include "gpu.h"
+#include "shaders.h"
+
+/* Where each specialisation constant (ids 0, 1, 2, ...) takes its value from. */
+typedef enum cvk_spec_source {
+    CVK_SPEC_WORKGROUP_SIZE, /* local_size_x_id = 0 */
+    CVK_SPEC_MAX_DEGREE,     /* springs per particle, at most (build) */
+    CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
+} cvk_spec_source;
+
+typedef struct cvk_spec_recipe {
+    uint32_t count;
+    cvk_spec_source source[4];
+} cvk_spec_recipe;
+
+#define CVK_SPEC_PD {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
+#define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+
+/* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
+#define CVK_PIPELINE_LIST(X)                                                    \
+    X(PREDICT, PREDICT_COMP, CVK_SPEC_PD, "predict (Verlet)")                   \
+    X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
+    X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
+    X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
+    X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
+    X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")
+
+typedef enum cvk_pipeline_id {
+#define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,
+    CVK_PIPELINE_LIST(CVK_PIPE_ID)
+#undef CVK_PIPE_ID
+    CVK_PIPE_COUNT
+} cvk_pipeline_id;
+
+const char* cvk_pipeline_label(cvk_pipeline_id id);
+
+/* The values the recipes draw from. */
+typedef struct cvk_spec_inputs {
+    uint32_t workgroup_size;
+    uint32_t max_degree;
+} cvk_spec_inputs;
+
+typedef struct cvk_pipelines {
+    VkPipeline pipeline[CVK_PIPE_COUNT];
+    VkPipelineLayout layout[CVK_PIPE_COUNT]; /* the layout each was created with */
+    bool fresh[CVK_PIPE_COUNT];              /* created since the last warm-up */
+} cvk_pipelines;
+
+/* Creates pipeline `id` with `layout` unless it exists. */
+cvk_result cvk_pipelines_require(cvk_context* context, cvk_pipelines* pipelines,
+                                 cvk_pipeline_id id, VkPipelineLayout layout,
+                                 const cvk_spec_inputs* inputs, cvk_error* error);
+void cvk_pipelines_destroy(cvk_context* context, cvk_pipelines* pipelines);
+
+#endif

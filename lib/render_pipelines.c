@@ -1,0 +1,200 @@
+/* The renderer's graphics pipelines, each from a recipe: shaders, vertex input, target pass
+   and size, depth, stencil and bias. */
+#include "error.h"
+#include "render_internal.h"
+#include "shaders.h"
+
+/* Slope-scaled depth bias of the shadow pass (in units of the depth format's step). */
+#define SHADOW_BIAS_CONSTANT 2.0f
+#define SHADOW_BIAS_SLOPE 2.5f
+
+typedef struct pipeline_recipe {
+    const char* what;
+    cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
+    uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal */
+    VkPrimitiveTopology topology;
+    VkRenderPass pass;
+    uint32_t width, height;
+    VkSampleCountFlagBits samples;
+    bool depth_test;
+    VkCompareOp depth_compare;
+    bool depth_bias;
+    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
+    uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
+} pipeline_recipe;
+
+static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
+{
+    cvk_spirv spirv = cvk_shader(id);
+    return cvk_shader_module_create(ctx, spirv.code, spirv.bytes, spirv.name, out, error);
+}
+
+/* The fixed-function state of one recipe; pointers inside point into the struct itself. */
+typedef struct fixed_state {
+    VkVertexInputBindingDescription binding;
+    VkVertexInputAttributeDescription attributes[2];
+    VkPipelineVertexInputStateCreateInfo vertex_input;
+    VkPipelineInputAssemblyStateCreateInfo assembly;
+    VkViewport viewport;
+    VkRect2D scissor;
+    VkPipelineViewportStateCreateInfo viewport_state;
+    VkPipelineRasterizationStateCreateInfo raster;
+    VkPipelineMultisampleStateCreateInfo multisample;
+    VkPipelineDepthStencilStateCreateInfo depth;
+    VkPipelineColorBlendAttachmentState blend_attachment;
+    VkPipelineColorBlendStateCreateInfo blend;
+} fixed_state;
+
+/* Vertex input, assembly, viewport and scissor over the whole target. */
+static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fixed_state* f)
+{
+    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
+    f->binding = (VkVertexInputBindingDescription){0, mesh.vertex_stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    f->attributes[0] = (VkVertexInputAttributeDescription){0, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.position_offset};
+    f->attributes[1] = (VkVertexInputAttributeDescription){1, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.normal_offset};
+    f->vertex_input = (VkPipelineVertexInputStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+        .vertexBindingDescriptionCount = p->attributes ? 1 : 0,
+        .pVertexBindingDescriptions = &f->binding,
+        .vertexAttributeDescriptionCount = p->attributes,
+        .pVertexAttributeDescriptions = f->attributes,
+    };
+    f->assembly = (VkPipelineInputAssemblyStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+        .topology = p->topology,
+    };
+    f->viewport = (VkViewport){0.0f, 0.0f, (float)p->width, (float)p->height, 0.0f, 1.0f};
+    f->scissor = (VkRect2D){{0, 0}, {p->width, p->height}};
+    f->viewport_state = (VkPipelineViewportStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+        .viewportCount = 1,
+        .pViewports = &f->viewport,
+        .scissorCount = 1,
+        .pScissors = &f->scissor,
+    };
+}
+
+/* Rasterisation, multisampling, depth, stencil and blending. */
+static void raster_state(const pipeline_recipe* p, bool has_fragment, fixed_state* f)
+{
+    /* No culling: both faces of the cloth are drawn, and both cast shadows. */
+    f->raster = (VkPipelineRasterizationStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+        .polygonMode = VK_POLYGON_MODE_FILL,
+        .cullMode = VK_CULL_MODE_NONE,
+        .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
+        .depthBiasEnable = p->depth_bias,
+        .depthBiasConstantFactor = p->depth_bias ? SHADOW_BIAS_CONSTANT : 0.0f,
+        .depthBiasSlopeFactor = p->depth_bias ? SHADOW_BIAS_SLOPE : 0.0f,
+        .lineWidth = 1.0f,
+    };
+    f->multisample = (VkPipelineMultisampleStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+        .rasterizationSamples = p->samples,
+    };
+    VkStencilOpState stencil = {
+        .failOp = VK_STENCIL_OP_KEEP,
+        .passOp = p->stencil > 0 ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
+        .depthFailOp = VK_STENCIL_OP_KEEP,
+        .compareOp = p->stencil > 0 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
+        .compareMask = 0xff,
+        .writeMask = 0xff,
+        .reference = p->stencil > 0 ? 1u : 0u,
+    };
+    f->depth = (VkPipelineDepthStencilStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+        .depthTestEnable = p->depth_test,
+        .depthWriteEnable = p->depth_test,
+        .depthCompareOp = p->depth_compare,
+        .stencilTestEnable = p->stencil != 0,
+        .front = stencil,
+        .back = stencil,
+    };
+    f->blend_attachment = (VkPipelineColorBlendAttachmentState){
+        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                          VK_COLOR_COMPONENT_A_BIT,
+    };
+    f->blend = (VkPipelineColorBlendStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+        .attachmentCount = has_fragment ? 1 : 0,
+        .pAttachments = &f->blend_attachment,
+    };
+}
+
+static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
+{
+    VkShaderModule modules[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    bool has_fragment = p->fragment != CVK_SHADER_COUNT;
+    cvk_result r = create_module(rd->context, p->vertex, &modules[0], error);
+    if (r == CVK_SUCCESS && has_fragment)
+        r = create_module(rd->context, p->fragment, &modules[1], error);
+    if (r != CVK_SUCCESS) {
+        if (modules[0])
+            vkDestroyShaderModule(rd->context->device, modules[0], NULL);
+        return r;
+    }
+    VkSpecializationMapEntry entries[3];
+    for (uint32_t i = 0; i < 3; i++)
+        entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+    VkSpecializationInfo spec = {3, entries, sizeof p->spec, p->spec};
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
+         .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+         .module = modules[1], .pName = "main", .pSpecializationInfo = &spec},
+    };
+    fixed_state f;
+    geometry_state(rd, p, &f);
+    raster_state(p, has_fragment, &f);
+    VkGraphicsPipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+        .stageCount = has_fragment ? 2 : 1,
+        .pStages = stages,
+        .pVertexInputState = &f.vertex_input,
+        .pInputAssemblyState = &f.assembly,
+        .pViewportState = &f.viewport_state,
+        .pRasterizationState = &f.raster,
+        .pMultisampleState = &f.multisample,
+        .pDepthStencilState = &f.depth,
+        .pColorBlendState = &f.blend,
+        .layout = rd->pipeline_layout,
+        .renderPass = p->pass,
+    };
+    VkResult vr = vkCreateGraphicsPipelines(rd->context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+    for (int i = 0; i < 2; i++)
+        if (modules[i])
+            vkDestroyShaderModule(rd->context->device, modules[i], NULL);
+    if (vr != VK_SUCCESS) {
+        *out = VK_NULL_HANDLE;
+        return cvk_fail_vk_for(error, "vkCreateGraphicsPipelines", vr, "%s", p->what);
+    }
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
+{
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
+    bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
+    cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
+    const pipeline_recipe recipes[] = {
+        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
+        /* Reversed depth: nearer is greater. */
+        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
+        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
+         {false, false, rd->desc.samples}},
+        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}},
+    };
+    VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->background_pipeline, &rd->patch_pipeline};
+    for (size_t i = 0; i < sizeof recipes / sizeof recipes[0]; i++) {
+        cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+

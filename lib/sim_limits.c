@@ -1,0 +1,73 @@
+/* Device limits a scene must fit: checked from the scene before anything is built (grid
+   sizes are known from their keys, so a 20000 x 20000 grid fails at once), and from the
+   build before anything large is allocated on the device (mesh cloths, exact degrees). */
+#include "sim_limits.h"
+
+#include "error.h"
+
+/* The adjacency takes two texels per quad of spring slots (see solve_pd.c). */
+static uint64_t adjacency_texels(uint64_t particles, uint32_t max_degree)
+{
+    uint32_t quads = max_degree ? (max_degree + 3u) / 4u : 1u;
+    return particles * 2u * quads;
+}
+
+static cvk_result check_counts(const cvk_context* context, const char* where, uint64_t total,
+                               uint32_t degree, cvk_error* error)
+{
+    const VkPhysicalDeviceLimits* limits = &context->properties.limits;
+    uint64_t max_particles = cvk_context_max_particles(context);
+    if (total > max_particles)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%s: %llu particles are too many for %s, which holds at most %llu "
+                        "(maxStorageBufferRange %u bytes, 16 bytes per particle)",
+                        where, (unsigned long long)total, context->properties.deviceName,
+                        (unsigned long long)max_particles, limits->maxStorageBufferRange);
+    uint64_t texels = adjacency_texels(total, degree);
+    if (total > limits->maxTexelBufferElements || texels > limits->maxTexelBufferElements)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%s: %llu particles with up to %u springs each need %llu adjacency "
+                        "texels; %s allows %u texel buffer elements (maxTexelBufferElements)",
+                        where, (unsigned long long)total, degree, (unsigned long long)texels,
+                        context->properties.deviceName, limits->maxTexelBufferElements);
+    return CVK_SUCCESS;
+}
+
+/* Springs per grid particle, at most, from the stiffnesses present. */
+static uint32_t grid_degree_bound(const cvk_cloth_desc* cloth)
+{
+    const cvk_stiffness* k = &cloth->stiffness;
+    return (k->structural > 0 ? 4u : 0u) + (k->shear > 0 ? 4u : 0u) + (k->bend > 0 ? 4u : 0u);
+}
+
+cvk_result cvk_check_scene_limits(const cvk_context* context, const cvk_scene_desc* scene,
+                                  uint32_t workgroup_size, cvk_error* error)
+{
+    const VkPhysicalDeviceLimits* limits = &context->properties.limits;
+    if (workgroup_size > limits->maxComputeWorkGroupSize[0] ||
+        workgroup_size > limits->maxComputeWorkGroupInvocations)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "workgroup size %u exceeds the device's limit of %u", workgroup_size,
+                        limits->maxComputeWorkGroupSize[0]);
+    uint64_t total = 0;
+    uint32_t degree = 0;
+    for (uint32_t c = 0; c < scene->cloth_count; c++) {
+        const cvk_cloth_desc* cloth = &scene->cloths[c];
+        if (cloth->mesh)
+            continue; /* known after reading the file: checked from the build */
+        total += (uint64_t)cloth->grid[0] * cloth->grid[1];
+        uint32_t d = grid_degree_bound(cloth);
+        degree = d > degree ? d : degree;
+    }
+    const char* where = scene->cloth_count == 1 ? "cloths.0.grid" : "cloths";
+    return check_counts(context, where, total, degree, error);
+}
+
+cvk_result cvk_check_build_limits(const cvk_context* context, const cvk_scene_desc* scene,
+                                  const cvk_build* build, cvk_error* error)
+{
+    const char* where = "cloths";
+    if (scene->cloth_count == 1)
+        where = scene->cloths[0].mesh ? "cloths.0.mesh" : "cloths.0.grid";
+    return check_counts(context, where, build->particle_count, build->max_degree, error);
+}

@@ -1,0 +1,188 @@
+/* Reading and writing the state (user order at the API, internal order inside), and
+   switching solvers at run time; both go through the solver family. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "scene.h"
+#include "sim.h"
+#include "solver.h"
+
+cvk_result cvk_sim_read_internal(cvk_sim* s, cvk_error* error)
+{
+    return s->family->read_state(s, s->family_state, s->scratch, s->scratch_v, error);
+}
+
+static cvk_result check_count(const cvk_sim* s, uint64_t count, const char* call, cvk_error* error)
+{
+    if (count != s->build.particle_count)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%s: the array holds %llu particles; the simulation has %u", call,
+                        (unsigned long long)count, s->build.particle_count);
+    return CVK_SUCCESS;
+}
+
+static cvk_result check_finite(const float* v, uint64_t count, const char* call, const char* what,
+                               cvk_error* error)
+{
+    for (uint64_t i = 0; v && i < 3 * count; i++)
+        if (!isfinite(v[i]))
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "%s: %s coordinate %llu of particle %llu is not a finite number", call,
+                            what, (unsigned long long)(i % 3), (unsigned long long)(i / 3));
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_read_state(cvk_sim* s, float* xyz, float* velocity, uint64_t count,
+                              cvk_error* error)
+{
+    if (!s || (!xyz && !velocity))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_read_state needs a simulation and a position or velocity array");
+    cvk_result r = check_count(s, count, "cvk_sim_read_state", error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_read_internal(s, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    for (uint32_t p = 0; p < s->build.particle_count; p++) {
+        size_t user = 3 * (size_t)s->build.user_of[p];
+        if (xyz)
+            memcpy(&xyz[user], &s->scratch[3 * (size_t)p], 3 * sizeof(float));
+        if (velocity)
+            memcpy(&velocity[user], &s->scratch_v[3 * (size_t)p], 3 * sizeof(float));
+    }
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_sim_read_positions(cvk_sim* s, float* xyz, uint64_t count, cvk_error* error)
+{
+    if (!s || !xyz)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_read_positions needs a simulation and an array");
+    return cvk_sim_read_state(s, xyz, NULL, count, error);
+}
+
+/* cvk_sim_write_state and cvk_sim_write_positions; `call` names the function in messages. */
+static cvk_result write_state(cvk_sim* s, const float* xyz, const float* velocity, uint64_t count,
+                              const char* call, cvk_error* error)
+{
+    if (!s || !xyz)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%s needs a simulation and a position array", call);
+    cvk_result r = check_count(s, count, call, error);
+    if (r == CVK_SUCCESS)
+        r = check_finite(xyz, count, call, "position", error);
+    if (r == CVK_SUCCESS)
+        r = check_finite(velocity, count, call, "velocity", error);
+    if (r != CVK_SUCCESS)
+        return r;
+    for (uint32_t p = 0; p < s->build.particle_count; p++) {
+        size_t user = 3 * (size_t)s->build.user_of[p];
+        memcpy(&s->scratch[3 * (size_t)p], &xyz[user], 3 * sizeof(float));
+        if (velocity)
+            memcpy(&s->scratch_v[3 * (size_t)p], &velocity[user], 3 * sizeof(float));
+    }
+    return s->family->write_state(s, s->family_state, s->scratch, velocity ? s->scratch_v : NULL,
+                                  error);
+}
+
+cvk_result cvk_sim_write_state(cvk_sim* s, const float* xyz, const float* velocity,
+                               uint64_t count, cvk_error* error)
+{
+    return write_state(s, xyz, velocity, count, "cvk_sim_write_state", error);
+}
+
+cvk_result cvk_sim_write_positions(cvk_sim* s, const float* xyz, uint64_t count, cvk_error* error)
+{
+    return write_state(s, xyz, NULL, count, "cvk_sim_write_positions", error);
+}
+
+/* ---- changing the solver ------------------------------------------------------------ */
+
+/* Everything that can fail on a valid description comes before the switch: a failure leaves
+   the old solver running; only added pipelines (harmless) stay behind. */
+static cvk_result prepare_switch(cvk_sim* s, const cvk_family_api* family, void* self,
+                                 const cvk_solver_desc* solver, cvk_plan* plan,
+                                 cvk_sim_queries* queries, cvk_error* error)
+{
+    cvk_result r = family->prepare(s, self, solver, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_make_plan(s, family, self, solver, s->plan.workgroup_size,
+                              s->plan.max_groups, plan, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    r = cvk_sim_ready_pipelines(s, plan, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_create_queries(s, plan, queries, error);
+    if (r != CVK_SUCCESS)
+        cvk_plan_destroy(plan);
+    return r;
+}
+
+/* The switch itself: the new family (if any) takes the place of the old one and receives the
+   state as positions and velocities; within a family, the family moves its own state. */
+static cvk_result commit_switch(cvk_sim* s, const cvk_family_api* family, void* self,
+                                const cvk_solver_desc* solver, cvk_plan* plan,
+                                cvk_sim_queries* queries, cvk_error* error)
+{
+    bool new_family = family != s->family;
+    cvk_solver_desc from = s->solver;
+    if (new_family) {
+        s->family->destroy(s, s->family_state);
+        s->family = family;
+        s->family_state = self;
+    }
+    cvk_plan_destroy(&s->plan);
+    s->plan = *plan;
+    s->solver = *solver;
+    s->host_timed = false;
+    cvk_sim_use_queries(s, queries);
+    cvk_result r = cvk_sim_record_frame_cmd(s, error);
+    if (r == CVK_SUCCESS)
+        r = new_family ? family->write_state(s, self, s->scratch, s->scratch_v, error)
+                       : family->switch_solver(s, self, &from, solver, error);
+    if (r == CVK_SUCCESS && s->queries_unreset)
+        r = cvk_sim_copy_from_staging(s, NULL, 0, error); /* resets the new queries */
+    return r;
+}
+
+cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_error* error)
+{
+    if (!s || !solver)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_set_solver needs a simulation and a solver description");
+    cvk_scene_issue issue;
+    if (!cvk_solver_desc_check(solver, &issue))
+        return cvk_fail_issue(error, &issue);
+    const cvk_family_api* family = cvk_family_for(solver);
+    if (!family)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",
+                        cvk_method_name(solver->method));
+    bool new_family = family != s->family;
+    void* self = s->family_state;
+    cvk_result r = new_family ? family->create(s, solver, &self, error) : CVK_SUCCESS;
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_plan plan;
+    cvk_sim_queries queries = {0};
+    r = prepare_switch(s, family, self, solver, &plan, &queries, error);
+    if (r == CVK_SUCCESS && new_family) {
+        r = cvk_sim_read_internal(s, error); /* the state, for the new family */
+        if (r != CVK_SUCCESS) {
+            cvk_plan_destroy(&plan);
+            cvk_sim_destroy_queries(s, &queries);
+        }
+    }
+    if (r != CVK_SUCCESS) {
+        if (new_family)
+            family->destroy(s, self);
+        return r;
+    }
+    return commit_switch(s, family, self, solver, &plan, &queries, error);
+}
+
+cvk_solver_desc cvk_sim_get_solver(const cvk_sim* s)
+{
+    return s ? s->solver : (cvk_solver_desc){0};
+}

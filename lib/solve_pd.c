@@ -1,0 +1,431 @@
+/* The projective-dynamics family: its device objects (displacement iterates, adjacency,
+   descriptor sets), its state in displacement form on the device or, for gs-cpu, on the
+   host, and the host reference step. Its passes are in pd_passes.c. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "solve_pd.h"
+
+/* ---- device objects ------------------------------------------------------------------- */
+
+/* The GPU adjacency packs a particle's springs four to a texel: per quad of slots one rgba32ui
+   texel of neighbours and one of the bits of their k (both in `adjacency`), and one rgba32f
+   texel of k·L (`adjacency_kl`). A sweep then gathers two texels for four springs instead of
+   four; on lavapipe a gather costs the same for one component as for four. */
+static uint32_t adjacency_quads(uint32_t max_degree)
+{
+    return max_degree ? (max_degree + 3u) / 4u : 1u;
+}
+
+static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
+    VkDeviceSize nf = b->free_count ? b->free_count : 1;
+    VkDeviceSize quads = (VkDeviceSize)adjacency_quads(b->max_degree) * nf;
+    VkBufferUsageFlags state = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VkBufferUsageFlags motion = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT; /* read for velocities */
+    VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT;
+    struct {
+        cvk_buffer* buffer;
+        VkDeviceSize size;
+        VkBufferUsageFlags usage;
+        const char* what;
+        VkBufferView* view;
+        VkFormat format;
+    } list[] = {
+        {&pd->u[0], n16, motion, "displacements", &pd->view_u[0], vec4},
+        {&pd->u[1], n16, state, "displacements (second iterate)", &pd->view_u[1], vec4},
+        {&pd->y, n16, state, "predicted displacements", &pd->view_y, vec4},
+        {&pd->rhs, nf * 16u, state, "right-hand side", &pd->view_rhs, vec4},
+        {&pd->adjacency, quads * 32u, table, "adjacency", &pd->view_adjacency,
+         VK_FORMAT_R32G32B32A32_UINT},
+        {&pd->adjacency_kl, quads * 16u, table, "adjacency k*L", &pd->view_adjacency_kl, vec4},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        cvk_result r = cvk_buffer_create(s->context, list[i].size, list[i].usage,
+                                         CVK_MEMORY_DEVICE, list[i].what, list[i].buffer, error);
+        if (r == CVK_SUCCESS)
+            r = cvk_buffer_view_create(s->context, list[i].buffer, list[i].format, list[i].view,
+                                       error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+/* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
+   texel (2q + 1) * nf + p: bits of their k; k·L at texel q * nf + p. Slots past max_degree
+   point at p itself with k = 0. */
+static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
+    if (nf == 0 || b->max_degree == 0)
+        return CVK_SUCCESS;
+    uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
+    float* kl = malloc(quads * nf * 4 * sizeof(float));
+    cvk_result r = CVK_SUCCESS;
+    if (!pairs || !kl)
+        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
+        for (size_t p = 0; p < nf; p++) {
+            uint32_t* neighbours = &pairs[4 * ((2 * q) * nf + p)];
+            uint32_t* k_bits = &pairs[4 * ((2 * q + 1) * nf + p)];
+            float* k_rest = &kl[4 * (q * nf + p)];
+            for (size_t j = 0; j < 4; j++) {
+                size_t slot = 4 * q + j, e = slot * nf + p;
+                bool real = slot < b->max_degree;
+                float k = real ? b->adj_k[e] : 0.0f;
+                neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
+                memcpy(&k_bits[j], &k, sizeof k);
+                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f;
+            }
+        }
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_upload(s, &pd->adjacency, pairs, quads * nf * 8 * sizeof(uint32_t), error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_upload(s, &pd->adjacency_kl, kl, quads * nf * 4 * sizeof(float), error);
+    free(pairs);
+    free(kl);
+    return r;
+}
+
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
+    [CVK_PD_BINDING_SRC] = TEXEL,      [CVK_PD_BINDING_DST_READ] = TEXEL,
+    [CVK_PD_BINDING_DST] = STORAGE,    [CVK_PD_BINDING_Y_READ] = TEXEL,
+    [CVK_PD_BINDING_Y] = STORAGE,      [CVK_PD_BINDING_X_READ] = TEXEL,
+    [CVK_PD_BINDING_X] = STORAGE,      [CVK_PD_BINDING_RHS_READ] = TEXEL,
+    [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
+    [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL,
+};
+#undef TEXEL
+#undef STORAGE
+
+/* Set `set` reads U[src] and writes U[dst]. */
+static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint32_t dst)
+{
+    const cvk_resource res[CVK_PD_BINDING_COUNT] = {
+        [CVK_PD_BINDING_SRC] = {.view = pd->view_u[src]},
+        [CVK_PD_BINDING_DST_READ] = {.view = pd->view_u[dst]},
+        [CVK_PD_BINDING_DST] = {.buffer = &pd->u[dst]},
+        [CVK_PD_BINDING_Y_READ] = {.view = pd->view_y},
+        [CVK_PD_BINDING_Y] = {.buffer = &pd->y},
+        [CVK_PD_BINDING_X_READ] = {.view = s->view_positions},
+        [CVK_PD_BINDING_X] = {.buffer = &s->positions},
+        [CVK_PD_BINDING_RHS_READ] = {.view = pd->view_rhs},
+        [CVK_PD_BINDING_RHS] = {.buffer = &pd->rhs},
+        [CVK_PD_BINDING_ADJACENCY] = {.view = pd->view_adjacency},
+        [CVK_PD_BINDING_ADJACENCY_KL] = {.view = pd->view_adjacency_kl},
+    };
+    cvk_descriptors_write(s->context, &pd->descriptors, set, res);
+}
+
+static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    cvk_result r = cvk_descriptors_create(s->context, pd_bindings, CVK_PD_BINDING_COUNT,
+                                          CVK_PD_SET_COUNT, VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_pd_push), &pd->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    write_set(s, pd, CVK_PD_SET_U0_TO_U1, 0, 1);
+    write_set(s, pd, CVK_PD_SET_U1_TO_U0, 1, 0);
+    write_set(s, pd, CVK_PD_SET_U0_TO_U0, 0, 0);
+    return CVK_SUCCESS;
+}
+
+/* readback_cmd copies positions and last displacements into the staging buffer. */
+static cvk_result record_readback(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    VkCommandBuffer cmd = pd->readback_cmd;
+    cvk_result r = cvk_command_buffer_begin(cmd, 0, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
+    VkBufferCopy positions = {0, 0, n16}, displacements = {0, n16, n16};
+    vkCmdCopyBuffer(cmd, s->positions.buffer, s->staging.buffer, 1, &positions);
+    vkCmdCopyBuffer(cmd, pd->u[0].buffer, s->staging.buffer, 1, &displacements);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    return cvk_command_buffer_end(cmd, error);
+}
+
+/* ---- state --------------------------------------------------------------------------- */
+
+/* The gs-cpu state; allocated once, also when a simulation switches to gs-cpu later. */
+static cvk_result pd_prepare(cvk_sim* s, void* self, const cvk_solver_desc* solver,
+                             cvk_error* error)
+{
+    cvk_pd* pd = self;
+    if (pd->hx || solver->linear != CVK_LINEAR_GS_CPU)
+        return CVK_SUCCESS;
+    size_t n = s->build.particle_count;
+    pd->hx = malloc(3 * n * sizeof(double));
+    pd->hprev = malloc(3 * n * sizeof(double));
+    pd->hy = malloc(3 * n * sizeof(double));
+    pd->hrhs = malloc(4 * n * sizeof(double));
+    if (!pd->hx || !pd->hprev || !pd->hy || !pd->hrhs)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the gs-cpu solver state");
+    return CVK_SUCCESS;
+}
+
+/* Sets positions `xyz` and last displacements `disp` (internal order, 3 floats each; disp NULL
+   means at rest). At rest is zero velocity at this instant, so the first Verlet step moves a
+   free particle by ½ h² g, as x(t) = x0 + ½ g t² requires: in displacement form a last
+   displacement of −½ h² g. Pinned particles never move: their displacement is 0. */
+static cvk_result set_state(cvk_sim* s, cvk_pd* pd, const float* xyz, const float* disp,
+                            cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    uint32_t n = b->particle_count;
+    float* x = s->staging.mapped;
+    float* u = x + 4 * (size_t)n;
+    for (uint32_t p = 0; p < n; p++) {
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            double last = 0.0;
+            if (p < b->free_count)
+                last = disp ? (double)disp[i] : -0.5 * s->ref.gravity_h2[c];
+            x[4 * p + c] = xyz[i];
+            u[4 * p + c] = (float)last;
+            if (pd->host) {
+                pd->hx[i] = xyz[i];
+                pd->hprev[i] = xyz[i] - last;
+                pd->hy[i] = xyz[i];
+            }
+        }
+        x[4 * p + 3] = (float)(b->mass[p] * s->ref.inv_h2); /* m/h², read by predict */
+        u[4 * p + 3] = 0.0f;
+    }
+    VkDeviceSize n16 = (VkDeviceSize)n * 16u;
+    cvk_staging_copy jobs[] = {
+        {&s->positions, 0, 0, n16},
+        {&pd->u[0], n16, 0, n16},
+        {&pd->u[1], n16, 0, n16},
+        {&pd->y, n16, 0, n16},
+    };
+    return cvk_sim_copy_from_staging(s, jobs, 4, error);
+}
+
+/* Positions and last displacements, from whichever side holds the state. */
+static cvk_result read_displacement_state(cvk_sim* s, cvk_pd* pd, float* xyz, float* disp,
+                                          cvk_error* error)
+{
+    size_t n = s->build.particle_count;
+    if (pd->host) {
+        for (size_t i = 0; i < 3 * n; i++) {
+            xyz[i] = (float)pd->hx[i];
+            disp[i] = (float)(pd->hx[i] - pd->hprev[i]);
+        }
+        return CVK_SUCCESS;
+    }
+    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &pd->readback_cmd, 1, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    const float* x = s->staging.mapped;
+    const float* u = x + 4 * n;
+    for (size_t p = 0; p < n; p++)
+        for (int c = 0; c < 3; c++) {
+            xyz[3 * p + c] = x[4 * p + c];
+            disp[3 * p + c] = u[4 * p + c];
+        }
+    return CVK_SUCCESS;
+}
+
+/* Verlet's velocity at the end of a substep from its displacement u = x_n − x_{n−1}:
+   v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: 0. */
+static void velocities_of(const cvk_sim* s, const float* u, float* v)
+{
+    double h = s->dt;
+    const cvk_build* b = &s->build;
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            v[i] = p < b->free_count ? (float)(((double)u[i] + 0.5 * s->ref.gravity_h2[c]) / h)
+                                     : 0.0f;
+        }
+}
+
+/* The inverse of velocities_of: u = v h − ½ h² g. */
+static void displacements_of(const cvk_sim* s, const float* v, float* u)
+{
+    double h = s->dt;
+    const cvk_build* b = &s->build;
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        for (int c = 0; c < 3; c++) {
+            size_t i = 3 * (size_t)p + c;
+            u[i] = p < b->free_count ? (float)((double)v[i] * h - 0.5 * s->ref.gravity_h2[c])
+                                     : 0.0f;
+        }
+}
+
+static cvk_result pd_read_state(cvk_sim* s, void* self, float* xyz, float* velocity,
+                                cvk_error* error)
+{
+    cvk_pd* pd = self;
+    size_t n = s->build.particle_count;
+    float* x = xyz ? xyz : malloc(3 * n * sizeof(float));
+    if (!x)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for positions");
+    cvk_result r = read_displacement_state(s, pd, x, pd->scratch_u, error);
+    if (r == CVK_SUCCESS && velocity)
+        velocities_of(s, pd->scratch_u, velocity);
+    if (x != xyz)
+        free(x);
+    return r;
+}
+
+static cvk_result pd_write_state(cvk_sim* s, void* self, const float* xyz, const float* velocity,
+                                 cvk_error* error)
+{
+    cvk_pd* pd = self;
+    if (velocity)
+        displacements_of(s, velocity, pd->scratch_u);
+    return set_state(s, pd, xyz, velocity ? pd->scratch_u : NULL, error);
+}
+
+/* The state moves between host and device only when the solver does. */
+static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc* from,
+                                   const cvk_solver_desc* to, cvk_error* error)
+{
+    cvk_pd* pd = self;
+    bool host = to->linear == CVK_LINEAR_GS_CPU;
+    if (host == (from->linear == CVK_LINEAR_GS_CPU))
+        return CVK_SUCCESS;
+    cvk_result r = read_displacement_state(s, pd, s->scratch, pd->scratch_u, error);
+    pd->host = host;
+    if (r == CVK_SUCCESS)
+        r = set_state(s, pd, s->scratch, pd->scratch_u, error);
+    return r;
+}
+
+/* ---- the host reference step ---------------------------------------------------------- */
+
+static cvk_result upload_host_positions(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    float* x = s->staging.mapped;
+    for (size_t p = 0; p < s->build.particle_count; p++) {
+        for (int c = 0; c < 3; c++)
+            x[4 * p + c] = (float)pd->hx[3 * p + c];
+        x[4 * p + 3] = 0.0f;
+    }
+    cvk_staging_copy job = {&s->positions, 0, 0, (VkDeviceSize)s->build.particle_count * 16u};
+    return cvk_sim_copy_from_staging(s, &job, 1, error);
+}
+
+static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_error* error)
+{
+    cvk_pd* pd = self;
+    uint32_t predict = cvk_plan_find_pass(&s->plan, "predict");
+    uint32_t solve = cvk_plan_find_pass(&s->plan, "solve");
+    for (uint32_t f = 0; f < frames; f++) {
+        double predict_ms = 0.0, solve_ms = 0.0;
+        for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
+            double t0 = cvk_now_ms();
+            cvk_ref_predict(&s->build, &s->ref, pd->hx, pd->hprev, pd->hy);
+            double t1 = cvk_now_ms();
+            cvk_ref_solve_gauss_seidel(&s->build, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            predict_ms += t1 - t0;
+            solve_ms += cvk_now_ms() - t1;
+        }
+        if (predict < CVK_MAX_PASSES)
+            s->host_pass_ms[predict] = predict_ms;
+        if (solve < CVK_MAX_PASSES)
+            s->host_pass_ms[solve] = solve_ms;
+        s->host_timed = true;
+    }
+    return upload_host_positions(s, pd, error);
+}
+
+/* ---- the family ------------------------------------------------------------------------ */
+
+static bool pd_accepts(const cvk_solver_desc* solver)
+{
+    return solver->method == CVK_METHOD_PD;
+}
+
+static void pd_destroy(cvk_sim* s, void* self)
+{
+    cvk_pd* pd = self;
+    if (!pd)
+        return;
+    VkDevice dev = s->context->device;
+    cvk_descriptors_destroy(s->context, &pd->descriptors);
+    VkBufferView views[] = {pd->view_u[0], pd->view_u[1], pd->view_y, pd->view_rhs,
+                            pd->view_adjacency, pd->view_adjacency_kl};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(dev, views[i], NULL);
+    cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
+                             &pd->adjacency_kl};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(s->context, buffers[i]);
+    if (pd->readback_cmd)
+        vkFreeCommandBuffers(dev, s->submitter.pool, 1, &pd->readback_cmd);
+    free(pd->hx);
+    free(pd->hprev);
+    free(pd->hy);
+    free(pd->hrhs);
+    free(pd->scratch_u);
+    free(pd);
+}
+
+static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
+                            cvk_error* error)
+{
+    *self = NULL;
+    cvk_pd* pd = calloc(1, sizeof *pd);
+    if (!pd)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
+    pd->rho_estimate = -1.0;
+    pd->host = solver->linear == CVK_LINEAR_GS_CPU;
+    pd->scratch_u = malloc(3 * (size_t)s->build.particle_count * sizeof(float));
+    cvk_result r = pd->scratch_u ? CVK_SUCCESS
+                                 : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                                            "out of host memory for positions");
+    if (r == CVK_SUCCESS)
+        r = pd_prepare(s, pd, solver, error);
+    if (r == CVK_SUCCESS)
+        r = create_buffers(s, pd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->readback_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = create_sets(s, pd, error);
+    if (r == CVK_SUCCESS)
+        r = upload_adjacency(s, pd, error);
+    if (r == CVK_SUCCESS)
+        r = set_state(s, pd, s->build.position, NULL, error);
+    if (r == CVK_SUCCESS)
+        r = record_readback(s, pd, error);
+    if (r != CVK_SUCCESS) {
+        pd_destroy(s, pd);
+        return r;
+    }
+    *self = pd;
+    return CVK_SUCCESS;
+}
+
+const cvk_family_api cvk_family_pd = {
+    .name = "pd",
+    .accepts = pd_accepts,
+    .create = pd_create,
+    .destroy = pd_destroy,
+    .add_passes = cvk_pd_add_passes,
+    .prepare = pd_prepare,
+    .switch_solver = pd_switch_solver,
+    .read_state = pd_read_state,
+    .write_state = pd_write_state,
+    .step_host = pd_step_host,
+};

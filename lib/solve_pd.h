@@ -1,0 +1,85 @@
+/* Projective dynamics (Liu et al. 2013) with Verlet prediction in displacement form: the one
+   solver family today. Its linear solvers: rbgs (multi-colour Gauss-Seidel), jacobi and
+   chebyshev on the device; gs-cpu, the sequential double-precision host reference. */
+#ifndef CVK_SOLVE_PD_H
+#define CVK_SOLVE_PD_H
+
+#include "shared/layout.h"
+#include "sim.h"
+#include "solver.h"
+
+/* Descriptor sets differ only in which displacement buffer is src and which is dst. */
+typedef enum cvk_pd_set {
+    CVK_PD_SET_U0_TO_U1,
+    CVK_PD_SET_U1_TO_U0,
+    CVK_PD_SET_U0_TO_U0,
+    CVK_PD_SET_COUNT
+} cvk_pd_set;
+
+typedef struct cvk_pd {
+    /* Two displacement iterates (u[0] holds the last substep's displacement: the velocity
+       times h), the predicted displacement, the right-hand side; adjacency in quads of slots:
+       uvec4 neighbours and bits of k, and vec4 k·L (see pd_common.glsl). */
+    cvk_buffer u[2], y, rhs, adjacency, adjacency_kl;
+    VkBufferView view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
+    cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */
+    VkCommandBuffer readback_cmd; /* positions and u[0] -> staging, recorded once */
+
+    double rho_estimate;  /* Chebyshev's spectral radius estimated for rho_omega; < 0: none */
+    float rho_omega;
+    double chebyshev_rho; /* of the current plan, after the stability cap */
+    double chebyshev_rho_estimated;
+
+    bool host;            /* gs-cpu: the state lives in the host arrays below */
+    double* hx;           /* 3 doubles per particle, internal order */
+    double* hprev;
+    double* hy;
+    double* hrhs;         /* 4 doubles per particle */
+    float* scratch_u;     /* last displacements x_n − x_{n−1}, 3 floats per particle */
+} cvk_pd;
+
+/* The passes of one substep of `solver` (pd_passes.c). */
+cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
+                             cvk_plan* plan, cvk_error* error);
+
+/* Chebyshev's ρ for `solver` at step h: solver->chebyshev_rho when set, else `estimated`
+   when ≥ 0, else estimated here; capped for stability. *estimated_out (if not NULL) gets ρ
+   before the cap. */
+double cvk_pd_chebyshev_rho(const cvk_solver_desc* solver, double h, const cvk_build* build,
+                            double estimated, double* estimated_out);
+
+/* Stability of a truncated solve inside Verlet. Model one stiff mode: if the substep's
+   sweeps leave the error times P (the solver's error polynomial at that mode's eigenvalue),
+   the (velocity, constraint violation) pair evolves by [[2P, −1], [P, 0]], whose eigenvalues
+   P ± √(P² − P) leave the unit circle exactly when P < −1/3. Gauss-Seidel's spectrum is
+   non-negative; Jacobi's reaches −1 (the checkerboard mode), so an odd number of Jacobi
+   sweeps explodes (measured: hanging.json with 1 x 3 sweeps); Chebyshev's equi-oscillating
+   polynomial dips to −1/T_m(1/ρ), near −1 when sweeps are few. The plan therefore keeps P
+   above −1/3 by construction:
+   - with an odd number of sweeps per substep, the first sweep is relaxed to omega ≤ 0.6,
+     whose spectrum starts at −0.2;
+   - Chebyshev's ρ is capped so that T_m(1/ρ) ≥ 3 over its m accelerated sweeps. */
+#define CVK_STABLE_FIRST_OMEGA 0.6f
+
+/* Chebyshev runs in cycles: its recurrence assumes one fixed iteration map, so it restarts
+   with every outer iteration (whose local step changes the linear system) when an outer
+   iteration has several sweeps; with one sweep per outer iteration it runs across them, as
+   Wang 2015 does (local step and sweep then form one fixed nonlinear map). Plain Jacobi is
+   one cycle per substep. Returns the cycle length in sweeps. */
+uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver);
+
+/* Relaxation of sweep c (0-based) of a cycle of `cycle` sweeps. */
+float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega);
+
+/* Largest ρ whose Chebyshev polynomial over m sweeps stays above −1/3: T_m(1/ρ) = 3. */
+double cvk_chebyshev_stable_rho(uint32_t accelerated_sweeps);
+
+/* Chebyshev weight of sweep s (0-based, counted within its cycle): 1 for s < delay
+   (at least one plain sweep), then Wang's recurrence w = 2/(2 − ρ²), w ← 4/(4 − ρ² w). */
+double cvk_chebyshev_weight(uint32_t sweep, uint32_t delay, double rho);
+
+/* Spectral radius of the relaxed Jacobi iteration matrix I − omega D⁻¹A of the PD system
+   (A = M/h² + spring Laplacian over free particles), by power iteration on its square. */
+double cvk_estimate_jacobi_rho(const cvk_build* build, double inv_h2, double omega);
+
+#endif

@@ -1,0 +1,46 @@
+/* Solver families behind one interface (Box2D's solver stages, sokol's function tables): a
+   family owns the device objects and host state of one way of solving a substep, adds its
+   passes to the plan, converts its state to and from positions and velocities, and may step
+   on the host. The simulation (sim.c) knows families only through this table, so a new one
+   (implicit Euler, explicit integrators) is a new file and one line in cvk_families. */
+#ifndef CVK_SOLVER_H
+#define CVK_SOLVER_H
+
+#include "plan.h"
+
+typedef struct cvk_family_api {
+    const char* name;
+    /* Whether this family solves `solver` (by its method and linear solver). */
+    bool (*accepts)(const cvk_solver_desc* solver);
+    /* Creates what the family needs on `sim` (buffers, descriptor sets, host arrays for
+       `solver`) and returns its state in *self; the state is at rest at the build's
+       positions. On failure it leaves nothing to destroy. */
+    cvk_result (*create)(cvk_sim* sim, const cvk_solver_desc* solver, void** self,
+                         cvk_error* error);
+    void (*destroy)(cvk_sim* sim, void* self);
+    /* Adds one substep's passes for `solver` to `plan` (registering its pass names even when
+       it adds no op, so timings keep their names), or marks the plan as a host plan. */
+    cvk_result (*add_passes)(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
+                             cvk_plan* plan, cvk_error* error);
+    /* Readies `solver` before a switch to it (host arrays); may fail, changing nothing. */
+    cvk_result (*prepare)(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
+                          cvk_error* error);
+    /* Moves the family's state from where `from` keeps it to where `to` does (host or
+       device) when a switch needs it; `to` is already the simulation's solver. */
+    cvk_result (*switch_solver)(cvk_sim* sim, void* self, const cvk_solver_desc* from,
+                                const cvk_solver_desc* to, cvk_error* error);
+    /* The state as positions and velocities (internal order, 3 floats per particle, either
+       may be NULL), and back (velocity NULL: at rest). */
+    cvk_result (*read_state)(cvk_sim* sim, void* self, float* xyz, float* velocity,
+                             cvk_error* error);
+    cvk_result (*write_state)(cvk_sim* sim, void* self, const float* xyz, const float* velocity,
+                              cvk_error* error);
+    /* Steps `frames` frames on the host (plan->host), then uploads the positions. */
+    cvk_result (*step_host)(cvk_sim* sim, void* self, uint32_t frames, cvk_error* error);
+} cvk_family_api;
+
+/* Every family, and the one that solves `solver` (NULL: none). */
+extern const cvk_family_api cvk_family_pd;
+const cvk_family_api* cvk_family_for(const cvk_solver_desc* solver);
+
+#endif

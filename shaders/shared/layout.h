@@ -1,0 +1,60 @@
+/* Structs and binding numbers that C and GLSL both read, declared once. A shader includes this
+   file (GL_GOOGLE_include_directive) and gets GLSL blocks; C gets structs with the same layout,
+   checked by static asserts in lib/pipelines.c. Push constants use std430-like packing: scalars
+   at 4 bytes, vec4 at 16; keep vec4 members on 16-byte offsets. */
+#ifndef CVK_SHARED_LAYOUT_H
+#define CVK_SHARED_LAYOUT_H
+
+#ifdef GL_core_profile
+#define CVK_UINT(name) uint name;
+#define CVK_FLOAT(name) float name;
+#define CVK_VEC4(name) vec4 name;
+/* A shader declares its one push block itself: CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS). */
+#define CVK_PUSH_BLOCK(type, fields)
+#define CVK_DECLARE_PUSH(fields) layout(push_constant) uniform Push { fields } pc;
+#else
+#include <stdint.h>
+#define CVK_UINT(name) uint32_t name;
+#define CVK_FLOAT(name) float name;
+#define CVK_VEC4(name) float name[4];
+#define CVK_PUSH_BLOCK(type, fields) typedef struct type { fields } type;
+#endif
+
+/* ---- projective dynamics: predict, finalize, pd_gauss_seidel, pd_jacobi ------------------ */
+
+#define CVK_PD_PUSH_FIELDS                                                              \
+    CVK_UINT(first)        /* first particle of this dispatch */                         \
+    CVK_UINT(count)        /* particles in this dispatch */                              \
+    CVK_UINT(stride)       /* free particle count: adjacency slot stride */              \
+    CVK_UINT(pad0)                                                                      \
+    CVK_FLOAT(inv_h2)      /* 1 / h^2, 1/s^2 */                                          \
+    CVK_FLOAT(omega)       /* SOR factor (Gauss-Seidel) or relaxation (Jacobi) */        \
+    CVK_FLOAT(cheb)        /* Chebyshev weight of this sweep; 1 = plain sweep */         \
+    CVK_FLOAT(keep)        /* 1 - damping (0 when integration is off) */                 \
+    CVK_VEC4(gravity_h2)   /* h^2 g, m (0 when integration is off) */
+
+CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
+
+/* Bindings of the projective-dynamics set (shaders/pd_common.glsl). */
+#define CVK_PD_BINDING_SRC 0           /* texel: displacement iterate read */
+#define CVK_PD_BINDING_DST_READ 1      /* texel: iterate being written, read */
+#define CVK_PD_BINDING_DST 2           /* storage: iterate written */
+#define CVK_PD_BINDING_Y_READ 3        /* texel: predicted u, w: m/h^2 */
+#define CVK_PD_BINDING_Y 4             /* storage */
+#define CVK_PD_BINDING_X_READ 5        /* texel: x_n, w: m/h^2 */
+#define CVK_PD_BINDING_X 6             /* storage */
+#define CVK_PD_BINDING_RHS_READ 7      /* texel: b, w: 1/diag */
+#define CVK_PD_BINDING_RHS 8           /* storage */
+#define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
+#define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
+#define CVK_PD_BINDING_COUNT 11
+
+/* ---- mesh generation: mesh.comp ------------------------------------------------------------ */
+
+#define CVK_MESH_PUSH_FIELDS \
+    CVK_UINT(vertex_count)   \
+    CVK_UINT(triangle_count)
+
+CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
+
+#endif

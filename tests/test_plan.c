@@ -1,0 +1,138 @@
+/* The step plan's operation kinds, recorded on the device with validation on:
+   - a plan of a fill (the group counts of an indirect dispatch), a fill and a copy (a
+     displacement of 1 m in every component into u0, copied to u1) and an indirect dispatch
+     of the finalize pipeline (x += u, reading u1) moves every free particle by exactly 1 m per component
+     and leaves the pinned ones where they were: each kind did its part, in order;
+   - the operation list grows past any initial capacity, and pass names are registered once,
+     in order, with their operation counts. */
+#include <string.h>
+
+#include "harness.h"
+
+#include "solve_pd.h"
+
+static cvk_sim* make_sim(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = 9;
+    cloth.grid[1] = 7;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = &cloth;
+    scene.cloth_count = 1;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    return sim;
+}
+
+/* Fill, fill, copy, indirect dispatch: one substep, recorded and run once. */
+static void run_transfer_plan(cvk_context* ctx, cvk_sim* sim, cvk_buffer* indirect)
+{
+    cvk_error err;
+    cvk_pd* pd = sim->family_state;
+    uint32_t free_count = sim->build.free_count;
+    VkDeviceSize n16 = (VkDeviceSize)sim->build.particle_count * 16u;
+    float one = 1.0f;
+    uint32_t one_bits;
+    memcpy(&one_bits, &one, sizeof one_bits);
+
+    cvk_plan plan;
+    cvk_plan_init(&plan, 1, sim->plan.workgroup_size, sim->plan.max_groups);
+    uint32_t pass = cvk_plan_pass(&plan, "test");
+    cvk_plan_fill(&plan, pass, indirect->buffer, 0, 12, 1); /* one group in x, y, z */
+    cvk_op* fill = cvk_plan_fill(&plan, pass, pd->u[0].buffer, 0, n16, one_bits);
+    if (fill)
+        fill->barrier = CVK_BARRIER_TRANSFER_TO_TRANSFER; /* the copy reads it next */
+    cvk_plan_copy(&plan, pass, pd->u[0].buffer, 0, pd->u[1].buffer, 0, n16);
+    cvk_pd_push push = {.first = 0, .count = free_count};
+    cvk_plan_dispatch_indirect(&plan, pass, CVK_PIPE_FINALIZE, pd->descriptors.pipeline_layout,
+                               pd->descriptors.sets[CVK_PD_SET_U1_TO_U0], CVK_DOMAIN_PARTICLES,
+                               indirect->buffer, 0, &push, sizeof push);
+    REQUIRE_OK(cvk_plan_check(&plan, &err), err);
+    CHECK(plan.op_count == 4 && plan.has_transfer, "the plan holds %u ops (expected 4)",
+          plan.op_count);
+    cvk_spec_inputs inputs = {plan.workgroup_size, sim->build.max_degree};
+    bool created;
+    REQUIRE_OK(cvk_plan_require_pipelines(&plan, ctx, &sim->pipelines, &inputs, &created, &err),
+               err);
+
+    VkCommandBuffer cmd;
+    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sim->submitter, &cmd, &err), err);
+    REQUIRE_OK(cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, &err), err);
+    cvk_plan_record_frame(&plan, &sim->pipelines, NULL, cmd);
+    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
+    REQUIRE_OK(cvk_submit_and_wait(ctx, &sim->submitter, &cmd, 1, &err), err);
+    vkFreeCommandBuffers(ctx->device, sim->submitter.pool, 1, &cmd);
+    cvk_plan_destroy(&plan);
+}
+
+static void test_transfer_kinds(cvk_context* ctx)
+{
+    cvk_error err;
+    cvk_sim* sim = make_sim(ctx);
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* before = harness_read_all(sim);
+    cvk_buffer indirect;
+    REQUIRE_OK(cvk_buffer_create(ctx, 12,
+                                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 CVK_MEMORY_DEVICE, "indirect groups", &indirect, &err), err);
+    run_transfer_plan(ctx, sim, &indirect);
+    float* after = harness_read_all(sim);
+    double worst_free = 0.0, worst_pinned = 0.0;
+    for (uint32_t p = 0; p < n; p++) {
+        bool pinned = sim->build.internal_of[p] >= sim->build.free_count;
+        for (int c = 0; c < 3; c++) {
+            double moved = (double)after[3 * p + c] - before[3 * p + c];
+            double off = pinned ? fabs(moved) : fabs(moved - 1.0);
+            if (pinned && (off > worst_pinned || isnan(off)))
+                worst_pinned = off;
+            if (!pinned && (off > worst_free || isnan(off)))
+                worst_free = off;
+        }
+    }
+    CHECK(worst_free < 1e-6, "free particles moved by 1 m per component up to %g m", worst_free);
+    CHECK(worst_pinned == 0.0, "pinned particles moved by %g m", worst_pinned);
+    cvk_buffer_destroy(ctx, &indirect);
+    free(before);
+    free(after);
+    cvk_sim_destroy(sim);
+}
+
+static void test_growth(void)
+{
+    cvk_plan plan;
+    cvk_plan_init(&plan, 2, 64, 4);
+    const char* names[] = {"predict", "collide", "solve"};
+    for (uint32_t i = 0; i < 1000; i++) {
+        uint32_t pass = cvk_plan_pass(&plan, names[i % 3]);
+        cvk_plan_dispatch(&plan, pass, CVK_PIPE_JACOBI, VK_NULL_HANDLE, VK_NULL_HANDLE,
+                          CVK_DOMAIN_SPRINGS, 0, 1 + i, NULL, 0);
+    }
+    cvk_plan_dispatch(&plan, 0, CVK_PIPE_JACOBI, VK_NULL_HANDLE, VK_NULL_HANDLE,
+                      CVK_DOMAIN_SPRINGS, 0, 0, NULL, 0); /* nothing to do: no op */
+    cvk_error err;
+    CHECK(cvk_plan_check(&plan, &err) == CVK_SUCCESS, "growing the plan failed: %s", err.message);
+    CHECK(plan.op_count == 1000, "the plan holds %u ops (expected 1000)", plan.op_count);
+    CHECK(plan.pass_count == 3 && strcmp(plan.pass_names[1], "collide") == 0,
+          "%u passes, the second named %s (expected 3, collide)", plan.pass_count,
+          plan.pass_count > 1 ? plan.pass_names[1] : "-");
+    CHECK(plan.pass_count == 3 && plan.pass_dispatches[0] == 334 && plan.pass_dispatches[2] == 333,
+          "pass op counts %u, %u (expected 334, 333)", plan.pass_dispatches[0],
+          plan.pass_count == 3 ? plan.pass_dispatches[2] : 0);
+    CHECK(plan.ops[999].groups == 4 && plan.ops[0].groups == 1,
+          "groups of the first and last op: %u and %u (expected 1 and 4, the cap)",
+          plan.ops[0].groups, plan.ops[999].groups);
+    CHECK(cvk_plan_query_count(&plan, NULL) == 1 + 2 * 1000,
+          "%u queries for 2 substeps of 1000 ops in alternating passes (expected 2001)",
+          cvk_plan_query_count(&plan, NULL));
+    cvk_plan_destroy(&plan);
+}
+
+int main(void)
+{
+    cvk_context* ctx = harness_context();
+    test_growth();
+    test_transfer_kinds(ctx);
+    return harness_finish(ctx);
+}
