@@ -49,8 +49,9 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                    VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+    /* Spring flags: read back by cvk_sim_read_mesh to leave torn triangles out. */
     VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                               VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     cvk_result r = cvk_buffer_create(ctx, n16, positions, CVK_MEMORY_DEVICE, "positions",
                                      &s->positions, error);
     if (r == CVK_SUCCESS)
