@@ -217,6 +217,11 @@ static cvk_result open_scene(mesh_reader* r)
         return cannot_read(r, strerror(errno));
     if (S_ISDIR(st.st_mode))
         return cannot_read(r, "it is a directory");
+    /* Assimp says only "Unable to open file" where the system says why (permissions). */
+    FILE* file = fopen(r->path, "rb");
+    if (!file)
+        return cannot_read(r, strerror(errno));
+    fclose(file);
     r->scene = aiImportFile(r->path, 0);
     if (!r->scene)
         return cannot_read(r, aiGetErrorString());
