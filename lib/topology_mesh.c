@@ -4,8 +4,8 @@
    Everything is decided in file order, so one file always gives the same particles, triangles
    and springs in the same order: particles are the welded vertices once, in order of first
    appearance (meshes in the order Assimp yields them, each mesh's vertices in order, vertices
-   no face uses skipped); faces are numbered 0, 1, ... over the faces of three or more corners
-   in the same walk. Welding and the degenerate-face checks work in file coordinates; the
+   no face uses skipped) — for OBJ files, in the order of their "v" lines (obj_vertex_order);
+   faces are numbered 0, 1, ... over the faces of three or more corners in the same walk. Welding and the degenerate-face checks work in file coordinates; the
    transform is applied last. */
 #include "topology.h"
 
@@ -349,6 +349,97 @@ static cvk_result weld_walk(mesh_reader* r, weld_grid* g)
     return CVK_SUCCESS;
 }
 
+/* True when the file is Wavefront OBJ (by its name, as Assimp chooses its reader). */
+static bool is_obj(const char* path)
+{
+    size_t n = strlen(path);
+    if (n < 4)
+        return false;
+    const char* ext = path + n - 4;
+    return ext[0] == '.' && (ext[1] | 0x20) == 'o' && (ext[2] | 0x20) == 'b' &&
+           (ext[3] | 0x20) == 'j';
+}
+
+/* Renumbers the particles so that new_of[old] is each one's place in the order of `rank`
+   (lower first; UINT32_MAX last, keeping their order). */
+static cvk_result renumber_particles(mesh_reader* r, const uint32_t* rank, size_t rank_limit)
+{
+    uint32_t* at = malloc((rank_limit ? rank_limit : 1) * sizeof *at);
+    uint32_t* new_of = malloc((r->vertex_count ? r->vertex_count : 1) * sizeof *new_of);
+    float* position = malloc(3 * (size_t)(r->vertex_count ? r->vertex_count : 1) * sizeof *position);
+    if (!at || !new_of || !position) {
+        free(at);
+        free(new_of);
+        free(position);
+        return out_of_memory(r, "the file's vertex order");
+    }
+    memset(at, 0xff, (rank_limit ? rank_limit : 1) * sizeof *at);
+    for (uint32_t q = 0; q < r->vertex_count; q++)
+        if (rank[q] != UINT32_MAX)
+            at[rank[q]] = q;
+    uint32_t next = 0;
+    for (size_t i = 0; i < rank_limit; i++)
+        if (at[i] != UINT32_MAX)
+            new_of[at[i]] = next++;
+    for (uint32_t q = 0; q < r->vertex_count; q++)
+        if (rank[q] == UINT32_MAX)
+            new_of[q] = next++;
+    for (uint32_t q = 0; q < r->vertex_count; q++)
+        memcpy(&position[3 * (size_t)new_of[q]], &r->position[3 * (size_t)q], 3 * sizeof(float));
+    for (size_t i = 0; i < r->file_vertex_count; i++)
+        if (r->particle_of[i] != UNUSED_VERTEX)
+            r->particle_of[i] = new_of[r->particle_of[i]];
+    free(r->position);
+    r->position = position;
+    free(at);
+    free(new_of);
+    return CVK_SUCCESS;
+}
+
+/* Assimp's OBJ reader yields one vertex per face corner, in face order, so "first appearance"
+   would be the order in which faces first use each vertex. What a person means by an OBJ
+   file's vertex order — what Blender and every viewer number — is the order of its "v" lines:
+   each particle takes the place of the first "v" line at its position. Only the "v" lines are
+   read here (x y z, the first three numbers); Assimp has parsed the file already. */
+static cvk_result obj_vertex_order(mesh_reader* r, const weld_grid* g)
+{
+    FILE* file = fopen(r->path, "r");
+    if (!file)
+        return cannot_read(r, strerror(errno));
+    uint32_t* rank = malloc((r->vertex_count ? r->vertex_count : 1) * sizeof *rank);
+    if (!rank) {
+        fclose(file);
+        return out_of_memory(r, "the file's vertex order");
+    }
+    memset(rank, 0xff, (r->vertex_count ? r->vertex_count : 1) * sizeof *rank);
+    char line[512];
+    size_t lines = 0;
+    while (fgets(line, sizeof line, file)) {
+        bool whole = strchr(line, '\n') || feof(file);
+        if (line[0] == 'v' && (line[1] == ' ' || line[1] == '\t')) {
+            char* at = line + 2;
+            float p[3];
+            int k = 0;
+            for (char* end; k < 3; k++, at = end) {
+                p[k] = strtof(at, &end);
+                if (end == at)
+                    break;
+            }
+            uint32_t q = k == 3 ? weld_find(g, r->position, p) : UNUSED_VERTEX;
+            if (q != UNUSED_VERTEX && rank[q] == UINT32_MAX)
+                rank[q] = (uint32_t)lines;
+            lines++;
+        }
+        /* The rest of an overlong line is not a new line. */
+        while (!whole && fgets(line, sizeof line, file))
+            whole = strchr(line, '\n') != NULL;
+    }
+    fclose(file);
+    cvk_result result = lines <= UINT32_MAX ? renumber_particles(r, rank, lines) : CVK_SUCCESS;
+    free(rank);
+    return result;
+}
+
 static cvk_result weld(mesh_reader* r)
 {
     unsigned meshes = r->scene->mNumMeshes;
@@ -382,6 +473,8 @@ static cvk_result weld(mesh_reader* r)
         memset(g.head, 0xff, buckets * sizeof *g.head);
         result = weld_walk(r, &g);
     }
+    if (result == CVK_SUCCESS && is_obj(r->path))
+        result = obj_vertex_order(r, &g);
     free(g.head);
     free(g.next);
     return result;

@@ -115,7 +115,7 @@ static void check_consistent(const char* label, const cvk_topology* t)
 /* ---- the example meshes ---------------------------------------------------------------------- */
 
 /* Counts from scripts/make_meshes.py (the header line of each file), and the particle order:
-   the files list vertices in order of first use, so particle i is vertex line i + 1. */
+   particle i is vertex line i + 1. */
 static void check_example(const char* name, uint32_t v, uint32_t e, uint32_t f, int holes)
 {
     const char* root = getenv("CLOTHVK_SOURCE_ROOT");
@@ -227,6 +227,22 @@ static void check_two_objects(void)
     CHECK(t.vertex_count == 6 && t.position[0] == 0.0f && t.position[9] == 5.0f &&
           t.position[15] == 5.0f && t.position[16] == 1.0f,
           "two.obj: particles 0, 3 and 5 are not (0,0,0), (5,0,0), (5,1,0)");
+    free_topology(&t);
+}
+
+/* OBJ particles follow the "v" lines, not the order faces use them: a quad whose face lists
+   its corners 3 1 2 4, with an unused vertex line between and a seam copy of line 1. */
+static void check_obj_vertex_order(void)
+{
+    char path[512];
+    write_file("order.obj", "v 0 0 0\nv 1 0 0\nv 7 7 7\nv 0 1 0\nv 1 1 0\nv 0 0 0\n"
+               "f 4 1 2 5\nf 2 6 4\n", 0, path);
+    cvk_cloth_desc c = mesh_desc(path, 1e6f, 0.0f, 0.0f);
+    cvk_topology t = read_ok("order.obj", &c);
+    static const float want[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+    double worst = t.vertex_count == 4 ? harness_max_diff(t.position, &want[0][0], 12) : INFINITY;
+    CHECK(worst == 0.0, "order.obj: %u particles not in the order of the v lines (off by %g)",
+          t.vertex_count, worst);
     free_topology(&t);
 }
 
@@ -538,6 +554,7 @@ int main(void)
     check_stl_welding();
     check_seam_welding();
     check_two_objects();
+    check_obj_vertex_order();
     check_transform();
     check_quads();
     check_pentagon();
