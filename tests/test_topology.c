@@ -1,6 +1,7 @@
 /* The grid generator and what cvk_topology_create adds for every generator: counts, triangles
    whose edge springs join their own corners and whose winding faces u_axis × v_axis, masses,
    and pins by grid coordinate, by vertex index and by box, with their exact errors. */
+#include "build.h"
 #include "harness.h"
 #include "topology.h"
 
@@ -159,6 +160,24 @@ static void check_pin_errors(void)
           "empty pin_box: %s \"%s\", expected \"%s\"", cvk_result_name(r), err.message, expected);
 }
 
+/* A topology's error comes out of cvk_build_create unchanged, and nothing is left built. */
+static void check_build_error(void)
+{
+    cvk_cloth_desc cloths[2] = {grid_cloth(6, 6, true, true, true), grid_cloth(7, 5, true, false, false)};
+    cloths[1].use_pin_box = true;
+    cloths[1].pin_box = (cvk_box3){{5.0f, 5.0f, 5.0f}, {6.0f, 6.0f, 6.0f}};
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    cvk_build b;
+    cvk_error err = {0};
+    cvk_result r = cvk_build_create(&scene, &b, &err);
+    const char* expected = "cloths.1.pin_box: holds none of the cloth's 35 vertices";
+    CHECK(r == CVK_ERROR_INVALID_ARGUMENT && strcmp(err.message, expected) == 0,
+          "build with an empty pin_box: %s \"%s\", expected \"%s\"", cvk_result_name(r), err.message, expected);
+    CHECK(b.position == NULL && b.springs == NULL && b.cloths == NULL, "failed build: arrays left behind");
+}
+
 int main(void)
 {
     const uint32_t sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 2}, {3, 3}, {7, 5}, {16, 11}};
@@ -168,6 +187,7 @@ int main(void)
     check_density();
     check_pins();
     check_pin_errors();
+    check_build_error();
     printf("%d checks, %d failed\n", harness_checks, harness_failures);
     return harness_failures ? 1 : 0;
 }
