@@ -61,7 +61,8 @@ static const grid_offset grid_offsets[] = {
 };
 #define GRID_OFFSETS (sizeof grid_offsets / sizeof grid_offsets[0])
 
-enum { RIGHT, DOWN, DIAGONAL, ANTI };  /* indices into grid_offsets used by triangles */
+/* The first four entries of grid_offsets by name; triangles use all but DIAGONAL. */
+enum { RIGHT, DOWN, DIAGONAL, ANTI };
 
 typedef struct grid_layout {
     uint32_t w, h;
@@ -80,7 +81,8 @@ static float grid_stiffness(const cvk_cloth_desc* c, cvk_spring_type type)
     return 0.0f;
 }
 
-/* The rows and columns where an offset's spring starts: i in [i0, i0 + iw), j likewise. */
+/* Where an offset's springs start: span = {i0, iw, j0, jh}, i in [i0, i0 + iw) and j in
+   [j0, j0 + jh). */
 static void offset_span(const grid_layout* g, const grid_offset* o, uint32_t span[4])
 {
     uint32_t adi = (uint32_t)abs(o->di), adj = (uint32_t)abs(o->dj);
