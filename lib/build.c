@@ -1,10 +1,15 @@
+/* One build path for every cloth: topologies (lib/topology.h) in, particles in solver order,
+   springs, adjacency and triangles out. */
 #include "build.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "colour.h"
 #include "error.h"
+#include "topology.h"
 
 /* Colour patterns for the grid stencils. Each maps a spring offset (di, dj) to a non-zero
    colour difference, so no spring joins two particles of one colour:
@@ -34,101 +39,134 @@ uint32_t cvk_grid_colour_count(bool shear, bool bend)
     return 2;
 }
 
-static void normalize3(const float in[3], double out[3])
-{
-    double len = sqrt((double)in[0] * in[0] + (double)in[1] * in[1] + (double)in[2] * in[2]);
-    for (int k = 0; k < 3; k++)
-        out[k] = in[k] / len;
-}
-
-typedef struct grid_info {
-    const cvk_cloth_desc* desc;
+/* A cloth's topology and where its parts land in the build. */
+typedef struct cloth_part {
+    cvk_topology topology;
     uint32_t first_user;
-    double u[3], v[3];
-    double du, dv;
-    bool shear, bend;
-} grid_info;
+    uint32_t first_spring;
+    uint32_t first_triangle;
+} cloth_part;
 
-static void grid_position(const grid_info* g, uint32_t i, uint32_t j, float out[3])
+static void parts_destroy(cloth_part* parts, uint32_t count)
 {
-    for (int k = 0; k < 3; k++)
-        out[k] = (float)(g->desc->origin[k] + i * g->du * g->u[k] + j * g->dv * g->v[k]);
+    for (uint32_t c = 0; parts && c < count; c++)
+        cvk_topology_destroy(&parts[c].topology);
+    free(parts);
 }
 
-static uint64_t cloth_particles(const cvk_cloth_desc* c)
+/* A topology without a closed-form colouring (a mesh) is coloured from its springs. Cloths
+   share no springs, so each is coloured alone and all of them share the colour ranges. */
+static cvk_result colour_topology(cvk_topology* t, uint32_t index, cvk_error* error)
 {
-    return (uint64_t)c->grid[0] * c->grid[1];
+    if (t->colour)
+        return CVK_SUCCESS;
+    t->colour = malloc((t->vertex_count ? t->vertex_count : 1) * sizeof *t->colour);
+    if (!t->colour)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory to colour %u particles",
+                        t->vertex_count);
+    cvk_result r = cvk_colour_graph(t->vertex_count, t->springs, t->spring_count, t->pinned,
+                                    t->colour, &t->colour_count, error);
+    if (r != CVK_SUCCESS)
+        cvk_error_prefix(error, "cloths.%u", index);
+    return r;
+}
+
+static cvk_result make_parts(const cvk_scene_desc* scene, cloth_part* parts, cvk_error* error)
+{
+    for (uint32_t c = 0; c < scene->cloth_count; c++) {
+        cvk_result r = cvk_topology_create(&scene->cloths[c], c, &parts[c].topology, error);
+        if (r == CVK_SUCCESS)
+            r = colour_topology(&parts[c].topology, c, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+/* Places each cloth's particles, springs and triangles after the previous cloth's. */
+static cvk_result lay_out(cvk_build* b, cloth_part* parts, cvk_error* error)
+{
+    uint64_t particles = 0, springs = 0, triangles = 0;
+    b->colour_count = 1;
+    for (uint32_t c = 0; c < b->cloth_count; c++) {
+        const cvk_topology* t = &parts[c].topology;
+        parts[c].first_user = (uint32_t)particles;
+        parts[c].first_spring = (uint32_t)springs;
+        parts[c].first_triangle = (uint32_t)triangles;
+        particles += t->vertex_count;
+        springs += t->spring_count;
+        triangles += t->triangle_count;
+        if (t->colour_count > b->colour_count)
+            b->colour_count = t->colour_count;
+        /* Stop before the offsets above can wrap. */
+        if (particles > UINT32_MAX / 4)
+            break;
+    }
+    if (particles == 0 || particles > UINT32_MAX / 4)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cloths: %llu particles cannot be built",
+                        (unsigned long long)particles);
+    if (springs > UINT32_MAX)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT, "cloths: %llu springs are too many",
+                        (unsigned long long)springs);
+    /* Index counts (3 per triangle) are 32-bit for the renderer and the mesh readback. */
+    if (triangles > UINT32_MAX / 3)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT, "cloths: %llu triangles are too many",
+                        (unsigned long long)triangles);
+    b->particle_count = (uint32_t)particles;
+    b->spring_count = (uint32_t)springs;
+    b->triangle_count = (uint32_t)triangles;
+    return CVK_SUCCESS;
 }
 
 static cvk_result alloc_all(cvk_build* b, cvk_error* error)
 {
-    uint32_t n = b->particle_count;
-    b->position = malloc((size_t)n * 3 * sizeof(float));
-    b->mass = malloc((size_t)n * sizeof(float));
-    b->user_of = malloc((size_t)n * sizeof(uint32_t));
-    b->internal_of = malloc((size_t)n * sizeof(uint32_t));
+    size_t n = b->particle_count, s = b->spring_count ? b->spring_count : 1;
+    size_t tris = b->triangle_count ? b->triangle_count : 1;
+    b->position = malloc(n * 3 * sizeof(float));
+    b->mass = malloc(n * sizeof(float));
+    b->user_of = malloc(n * sizeof(uint32_t));
+    b->internal_of = malloc(n * sizeof(uint32_t));
+    b->springs = malloc(s * sizeof *b->springs);
+    b->triangles = malloc(3 * tris * sizeof(uint32_t));
+    b->triangle_springs = malloc(3 * tris * sizeof(uint32_t));
     b->cloths = calloc(b->cloth_count, sizeof *b->cloths);
-    if (!b->position || !b->mass || !b->user_of || !b->internal_of || !b->cloths)
+    if (!b->position || !b->mass || !b->user_of || !b->internal_of || !b->springs ||
+        !b->triangles || !b->triangle_springs || !b->cloths)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "out of host memory for %u particles", n);
+                        "out of host memory for %u particles, %u springs and %u triangles",
+                        b->particle_count, b->spring_count, b->triangle_count);
     return CVK_SUCCESS;
 }
 
-/* Marks pinned particles (user order). */
-static uint8_t* pin_map(const cvk_scene_desc* scene, const grid_info* grids, uint32_t n)
+/* Assigns internal indices: colour by colour, user order inside a colour, pinned last. A
+   counting sort, so it costs one pass whatever the colour count. */
+static void renumber(cvk_build* b, const cloth_part* parts)
 {
-    uint8_t* pinned = calloc(n ? n : 1, 1);
-    if (!pinned)
-        return NULL;
-    for (uint32_t c = 0; c < scene->cloth_count; c++) {
-        const cvk_cloth_desc* cloth = &scene->cloths[c];
-        for (uint32_t p = 0; p < cloth->pin_count; p++) {
-            uint32_t i = cloth->pins[p][0], j = cloth->pins[p][1];
-            pinned[grids[c].first_user + j * cloth->grid[0] + i] = 1;
-        }
+    uint32_t at[CVK_MAX_COLOURS] = {0};
+    for (uint32_t c = 0; c < b->cloth_count; c++) {
+        const cvk_topology* t = &parts[c].topology;
+        for (uint32_t v = 0; v < t->vertex_count; v++)
+            if (!t->pinned[v])
+                at[t->colour[v]]++;
     }
-    return pinned;
-}
-
-/* Assigns internal indices: colour by colour, grid order inside a colour, pinned last. */
-static void renumber(cvk_build* b, const cvk_scene_desc* scene, const grid_info* grids,
-                     const uint8_t* pinned)
-{
     uint32_t next = 0;
     for (uint32_t colour = 0; colour < b->colour_count; colour++) {
-        b->colour_start[colour] = next;
-        for (uint32_t c = 0; c < scene->cloth_count; c++) {
-            const grid_info* g = &grids[c];
-            for (uint32_t j = 0; j < g->desc->grid[1]; j++)
-                for (uint32_t i = 0; i < g->desc->grid[0]; i++) {
-                    uint32_t user = g->first_user + j * g->desc->grid[0] + i;
-                    if (pinned[user] || cvk_grid_colour(i, j, g->shear, g->bend) != colour)
-                        continue;
-                    b->internal_of[user] = next;
-                    b->user_of[next++] = user;
-                }
-        }
+        uint32_t size = at[colour];
+        b->colour_start[colour] = at[colour] = next;
+        next += size;
     }
     b->colour_start[b->colour_count] = next;
     b->free_count = next;
-    for (uint32_t user = 0; user < b->particle_count; user++)
-        if (pinned[user]) {
-            b->internal_of[user] = next;
-            b->user_of[next++] = user;
+    for (uint32_t c = 0; c < b->cloth_count; c++) {
+        const cvk_topology* t = &parts[c].topology;
+        for (uint32_t v = 0; v < t->vertex_count; v++) {
+            uint32_t user = parts[c].first_user + v;
+            uint32_t internal = t->pinned[v] ? next++ : at[t->colour[v]]++;
+            b->internal_of[user] = internal;
+            b->user_of[internal] = user;
         }
+    }
 }
-
-typedef struct offset {
-    int di, dj;
-    cvk_spring_type type;
-} offset;
-
-/* Forward offsets: each spring is listed once, from its lower-index end. */
-static const offset spring_offsets[] = {
-    {1, 0, CVK_SPRING_STRUCTURAL}, {0, 1, CVK_SPRING_STRUCTURAL},
-    {1, 1, CVK_SPRING_SHEAR},      {1, -1, CVK_SPRING_SHEAR},
-    {2, 0, CVK_SPRING_BEND},       {0, 2, CVK_SPRING_BEND},
-};
 
 static float stiffness_of(const cvk_cloth_desc* c, cvk_spring_type type)
 {
@@ -140,57 +178,63 @@ static float stiffness_of(const cvk_cloth_desc* c, cvk_spring_type type)
     return 0.0f;
 }
 
-/* Writes every spring of a cloth to `out` (when not NULL); returns how many there are. */
-static uint64_t for_each_spring(cvk_build* b, const grid_info* g, cvk_spring* out)
+/* Positions, masses and springs of one cloth in internal order. A rest length is the
+   distance between the float positions, taken in double and scaled once. */
+static void add_particles(cvk_build* b, const cvk_cloth_desc* desc, const cloth_part* part)
 {
-    const cvk_cloth_desc* c = g->desc;
-    uint64_t count = 0;
-    for (size_t o = 0; o < sizeof spring_offsets / sizeof spring_offsets[0]; o++) {
-        const offset* off = &spring_offsets[o];
-        float k = stiffness_of(c, off->type);
-        if (k <= 0.0f)
-            continue;
-        for (uint32_t j = 0; j < c->grid[1]; j++)
-            for (uint32_t i = 0; i < c->grid[0]; i++) {
-                int64_t i2 = (int64_t)i + off->di, j2 = (int64_t)j + off->dj;
-                if (i2 < 0 || j2 < 0 || i2 >= c->grid[0] || j2 >= c->grid[1])
-                    continue;
-                if (out) {
-                    uint32_t ua = g->first_user + j * c->grid[0] + i;
-                    uint32_t ub = g->first_user + (uint32_t)j2 * c->grid[0] + (uint32_t)i2;
-                    uint32_t a = b->internal_of[ua], bb = b->internal_of[ub];
-                    const float* pa = &b->position[3 * (size_t)a];
-                    const float* pb = &b->position[3 * (size_t)bb];
-                    double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
-                    double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-                    out[count] = (cvk_spring){a, bb, (float)(len * c->rest_scale), k, off->type};
-                }
-                count++;
-            }
+    const cvk_topology* t = &part->topology;
+    for (uint32_t v = 0; v < t->vertex_count; v++) {
+        uint32_t p = b->internal_of[part->first_user + v];
+        memcpy(&b->position[3 * (size_t)p], &t->position[3 * (size_t)v], 3 * sizeof(float));
+        b->mass[p] = t->mass[v];
     }
-    return count;
+    for (uint32_t s = 0; s < t->spring_count; s++) {
+        const cvk_topo_spring* ts = &t->springs[s];
+        uint32_t a = b->internal_of[part->first_user + ts->a];
+        uint32_t bb = b->internal_of[part->first_user + ts->b];
+        const float* pa = &b->position[3 * (size_t)a];
+        const float* pb = &b->position[3 * (size_t)bb];
+        double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
+        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        b->springs[part->first_spring + s] = (cvk_spring){
+            a, bb, (float)(len * desc->rest_scale), stiffness_of(desc, ts->type), ts->type};
+        b->springs_by_type[ts->type]++;
+    }
 }
 
-static cvk_result build_springs(cvk_build* b, const cvk_scene_desc* scene, const grid_info* grids,
-                                cvk_error* error)
+static void add_triangles(cvk_build* b, const cloth_part* part)
 {
-    uint64_t total = 0;
-    for (uint32_t c = 0; c < scene->cloth_count; c++)
-        total += for_each_spring(b, &grids[c], NULL);
-    if (total > UINT32_MAX)
-        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT, "cloths: %llu springs are too many",
-                        (unsigned long long)total);
-    b->springs = malloc((size_t)(total ? total : 1) * sizeof *b->springs);
-    if (!b->springs)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %llu springs",
-                        (unsigned long long)total);
-    uint64_t at = 0;
-    for (uint32_t c = 0; c < scene->cloth_count; c++)
-        at += for_each_spring(b, &grids[c], b->springs + at);
-    b->spring_count = (uint32_t)total;
-    for (uint32_t s = 0; s < b->spring_count; s++)
-        b->springs_by_type[b->springs[s].type]++;
-    return CVK_SUCCESS;
+    const cvk_topology* t = &part->topology;
+    size_t first = 3 * (size_t)part->first_triangle;
+    for (size_t e = 0; e < 3 * (size_t)t->triangle_count; e++) {
+        uint32_t spring = t->triangle_springs[e];
+        b->triangles[first + e] = part->first_user + t->triangles[e];
+        b->triangle_springs[first + e] =
+            spring == CVK_NO_SPRING ? UINT32_MAX : part->first_spring + spring;
+    }
+}
+
+static void describe_cloth(cvk_build* b, const cvk_cloth_desc* desc, uint32_t index,
+                           const cloth_part* part)
+{
+    cvk_cloth_range* r = &b->cloths[index];
+    *r = (cvk_cloth_range){
+        .first_user = part->first_user,
+        .particle_count = part->topology.vertex_count,
+        .first_triangle = part->first_triangle,
+        .triangle_count = part->topology.triangle_count,
+        .mesh = desc->mesh != NULL,
+        .rest_scale = desc->rest_scale,
+        .color = {desc->color[0], desc->color[1], desc->color[2]},
+    };
+    if (!desc->mesh) {
+        r->grid[0] = desc->grid[0];
+        r->grid[1] = desc->grid[1];
+    }
+    if (desc->name)
+        snprintf(r->name, sizeof r->name, "%s", desc->name);
+    else
+        snprintf(r->name, sizeof r->name, "cloth%u", index);
 }
 
 static cvk_result build_adjacency(cvk_build* b, cvk_error* error)
@@ -245,68 +289,27 @@ static cvk_result build_adjacency(cvk_build* b, cvk_error* error)
 cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_error* error)
 {
     memset(out, 0, sizeof *out);
-    uint64_t total = 0;
-    for (uint32_t c = 0; c < scene->cloth_count; c++)
-        total += cloth_particles(&scene->cloths[c]);
-    if (total == 0 || total > UINT32_MAX / 4)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "cloths: %llu particles cannot be built", (unsigned long long)total);
-
     cvk_build* b = out;
-    b->particle_count = (uint32_t)total;
     b->cloth_count = scene->cloth_count;
-    grid_info* grids = calloc(scene->cloth_count, sizeof *grids);
-    if (!grids)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for cloths");
-    cvk_result r = alloc_all(b, error);
-
-    uint32_t first = 0;
-    b->colour_count = 1;
-    for (uint32_t c = 0; c < scene->cloth_count && r == CVK_SUCCESS; c++) {
-        const cvk_cloth_desc* cloth = &scene->cloths[c];
-        grid_info* g = &grids[c];
-        g->desc = cloth;
-        g->first_user = first;
-        normalize3(cloth->u_axis, g->u);
-        normalize3(cloth->v_axis, g->v);
-        g->du = cloth->grid[0] > 1 ? cloth->size[0] / (double)(cloth->grid[0] - 1) : 0.0;
-        g->dv = cloth->grid[1] > 1 ? cloth->size[1] / (double)(cloth->grid[1] - 1) : 0.0;
-        g->shear = cloth->stiffness.shear > 0.0f;
-        g->bend = cloth->stiffness.bend > 0.0f;
-        uint32_t colours = cvk_grid_colour_count(g->shear, g->bend);
-        if (colours > b->colour_count)
-            b->colour_count = colours;
-        b->cloths[c] = (cvk_cloth_range){
-            .first_user = first,
-            .particle_count = (uint32_t)cloth_particles(cloth),
-            .grid = {cloth->grid[0], cloth->grid[1]},
-            .rest_scale = cloth->rest_scale,
-            .color = {cloth->color[0], cloth->color[1], cloth->color[2]},
-        };
-        first += (uint32_t)cloth_particles(cloth);
-    }
-
-    uint8_t* pinned = r == CVK_SUCCESS ? pin_map(scene, grids, b->particle_count) : NULL;
-    if (r == CVK_SUCCESS && !pinned)
-        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for pins");
-    if (r == CVK_SUCCESS) {
-        renumber(b, scene, grids, pinned);
-        for (uint32_t c = 0; c < scene->cloth_count; c++) {
-            const grid_info* g = &grids[c];
-            float m = g->desc->mass / (float)cloth_particles(g->desc);
-            for (uint32_t j = 0; j < g->desc->grid[1]; j++)
-                for (uint32_t i = 0; i < g->desc->grid[0]; i++) {
-                    uint32_t p = b->internal_of[g->first_user + j * g->desc->grid[0] + i];
-                    grid_position(g, i, j, &b->position[3 * (size_t)p]);
-                    b->mass[p] = m;
-                }
-        }
-        r = build_springs(b, scene, grids, error);
-    }
+    cloth_part* parts = calloc(scene->cloth_count ? scene->cloth_count : 1, sizeof *parts);
+    if (!parts)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u cloths",
+                        scene->cloth_count);
+    cvk_result r = make_parts(scene, parts, error);
     if (r == CVK_SUCCESS)
+        r = lay_out(b, parts, error);
+    if (r == CVK_SUCCESS)
+        r = alloc_all(b, error);
+    if (r == CVK_SUCCESS) {
+        renumber(b, parts);
+        for (uint32_t c = 0; c < scene->cloth_count; c++) {
+            add_particles(b, &scene->cloths[c], &parts[c]);
+            add_triangles(b, &parts[c]);
+            describe_cloth(b, &scene->cloths[c], c, &parts[c]);
+        }
         r = build_adjacency(b, error);
-    free(pinned);
-    free(grids);
+    }
+    parts_destroy(parts, scene->cloth_count);
     if (r != CVK_SUCCESS)
         cvk_build_destroy(b);
     return r;
@@ -323,6 +326,8 @@ void cvk_build_destroy(cvk_build* b)
     free(b->adj_index);
     free(b->adj_k);
     free(b->adj_rest);
+    free(b->triangles);
+    free(b->triangle_springs);
     free(b->cloths);
     memset(b, 0, sizeof *b);
 }

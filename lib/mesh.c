@@ -9,8 +9,6 @@
 #include "error.h"
 #include "shaders.h"
 
-#define NONE UINT32_MAX
-
 /* Mirrors the bindings of shaders/mesh.comp. */
 enum {
     BINDING_POSITIONS,
@@ -34,10 +32,6 @@ typedef struct tables {
     uint32_t* triangle_particles; /* 4 per triangle */
     uint32_t* triangle_springs;   /* 4 per triangle */
     uint32_t* vertex_triangles;   /* max_adjacent per vertex, slot-major */
-    /* Springs by grid direction, indexed by the user index of their [i, j] end. */
-    uint32_t* right;              /* to [i + 1, j] */
-    uint32_t* down;               /* to [i, j + 1] */
-    uint32_t* anti;               /* to [i + 1, j − 1] */
 } tables;
 
 static void tables_free(tables* t)
@@ -46,79 +40,28 @@ static void tables_free(tables* t)
     free(t->triangle_particles);
     free(t->triangle_springs);
     free(t->vertex_triangles);
-    free(t->right);
-    free(t->down);
-    free(t->anti);
 }
 
-static const cvk_cloth_range* cloth_of(const cvk_build* b, uint32_t user)
-{
-    uint32_t c = 0;
-    while (c + 1 < b->cloth_count && b->cloths[c + 1].first_user <= user)
-        c++;
-    return &b->cloths[c];
-}
-
-/* Files every structural spring and every shear spring along [i, j + 1] - [i + 1, j] (the
-   diagonal the triangulation uses) under its [i, j] end. */
-static void index_springs(const cvk_build* b, tables* t)
-{
-    for (uint32_t s = 0; s < b->spring_count; s++) {
-        const cvk_spring* sp = &b->springs[s];
-        uint32_t ua = b->user_of[sp->a], ub = b->user_of[sp->b];
-        const cvk_cloth_range* c = cloth_of(b, ua);
-        int64_t ia = (ua - c->first_user) % c->grid[0], ja = (ua - c->first_user) / c->grid[0];
-        int64_t ib = (ub - c->first_user) % c->grid[0], jb = (ub - c->first_user) / c->grid[0];
-        if (ib < ia || (ib == ia && jb < ja)) {
-            uint32_t swap = ua;
-            ua = ub;
-            ub = swap;
-            int64_t i = ia, j = ja;
-            ia = ib, ja = jb, ib = i, jb = j;
-        }
-        int64_t di = ib - ia, dj = jb - ja;
-        if (sp->type == CVK_SPRING_STRUCTURAL && di == 1 && dj == 0)
-            t->right[ua] = s;
-        else if (sp->type == CVK_SPRING_STRUCTURAL && di == 0 && dj == 1)
-            t->down[ua] = s;
-        else if (sp->type == CVK_SPRING_SHEAR && di == 1 && dj == -1)
-            t->anti[ua] = s;
-    }
-}
-
-/* Each grid cell [i, j]..[i + 1, j + 1] is split along its [i + 1, j] - [i, j + 1] diagonal into
-   (a, b, c) and (b, d, c), both wound so their normal is u_axis × v_axis. */
+/* The build's triangles, whatever topology they came from, padded to 4 entries for the
+   shader: vertices in user order, their particles, the spring along each edge. */
 static void make_triangles(const cvk_build* b, tables* t, cvk_mesh_range* ranges)
 {
-    uint32_t tri = 0;
-    for (uint32_t ci = 0; ci < b->cloth_count; ci++) {
-        const cvk_cloth_range* c = &b->cloths[ci];
-        ranges[ci].first_index = 3u * tri;
-        for (uint32_t j = 0; j + 1 < c->grid[1]; j++)
-            for (uint32_t i = 0; i + 1 < c->grid[0]; i++) {
-                uint32_t a = c->first_user + j * c->grid[0] + i;
-                uint32_t bb = a + 1, cc = a + c->grid[0], d = cc + 1;
-                uint32_t corners[2][3] = {{a, bb, cc}, {bb, d, cc}};
-                uint32_t edges[2][3] = {{t->right[a], t->anti[cc], t->down[a]},
-                                        {t->down[bb], t->right[cc], t->anti[cc]}};
-                for (int k = 0; k < 2; k++, tri++)
-                    for (int e = 0; e < 3; e++) {
-                        t->triangle_vertices[4 * tri + e] = corners[k][e];
-                        t->triangle_particles[4 * tri + e] = b->internal_of[corners[k][e]];
-                        t->triangle_springs[4 * tri + e] = edges[k][e];
-                    }
-            }
-        ranges[ci].index_count = 3u * tri - ranges[ci].first_index;
+    for (uint32_t tri = 0; tri < b->triangle_count; tri++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t user = b->triangles[3 * (size_t)tri + e];
+            t->triangle_vertices[4 * (size_t)tri + e] = user;
+            t->triangle_particles[4 * (size_t)tri + e] = b->internal_of[user];
+            t->triangle_springs[4 * (size_t)tri + e] = b->triangle_springs[3 * (size_t)tri + e];
+        }
+    for (uint32_t c = 0; c < b->cloth_count; c++) {
+        ranges[c].first_index = 3u * b->cloths[c].first_triangle;
+        ranges[c].index_count = 3u * b->cloths[c].triangle_count;
     }
 }
 
 static uint32_t count_triangles(const cvk_build* b)
 {
-    uint64_t count = 0;
-    for (uint32_t c = 0; c < b->cloth_count; c++)
-        if (b->cloths[c].grid[0] > 1 && b->cloths[c].grid[1] > 1)
-            count += 2ull * (b->cloths[c].grid[0] - 1) * (b->cloths[c].grid[1] - 1);
-    return (uint32_t)count;
+    return b->triangle_count;
 }
 
 static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
@@ -153,22 +96,14 @@ static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
 static cvk_result make_tables(cvk_mesh* m, tables* t, cvk_error* error)
 {
     const cvk_build* b = &m->sim->build;
-    size_t n = b->particle_count, tris = m->triangle_count ? m->triangle_count : 1;
+    size_t tris = m->triangle_count ? m->triangle_count : 1;
     t->triangle_vertices = calloc(4 * tris, sizeof(uint32_t));
     t->triangle_particles = calloc(4 * tris, sizeof(uint32_t));
     t->triangle_springs = calloc(4 * tris, sizeof(uint32_t));
-    t->right = malloc(n * sizeof(uint32_t));
-    t->down = malloc(n * sizeof(uint32_t));
-    t->anti = malloc(n * sizeof(uint32_t));
     m->cloths = calloc(b->cloth_count, sizeof *m->cloths);
-    if (!t->triangle_vertices || !t->triangle_particles || !t->triangle_springs || !t->right ||
-        !t->down || !t->anti || !m->cloths)
+    if (!t->triangle_vertices || !t->triangle_particles || !t->triangle_springs || !m->cloths)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u triangles",
                         m->triangle_count);
-    memset(t->right, 0xff, n * sizeof(uint32_t));
-    memset(t->down, 0xff, n * sizeof(uint32_t));
-    memset(t->anti, 0xff, n * sizeof(uint32_t));
-    index_springs(b, t);
     make_triangles(b, t, m->cloths);
     return make_adjacency(m, t, error);
 }
