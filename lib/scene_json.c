@@ -62,35 +62,108 @@ static cvk_result read_linear(cvk_reader* rd, const cvk_field* f, json_t* value,
     return r;
 }
 
-static const cvk_field pin_field = {.key = "pins", .read = cvk_read_uints, .count = 2, .min = 0};
+/* ---- a cloth's pins: [i, j] pairs on a grid, vertex indices on a mesh, and a box for either ---- */
 
-/* dest is the whole cloth: pins and pin_count go together. */
-static cvk_result read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+static const cvk_field pin_pair_field = {.key = "pins", .read = cvk_read_uints, .count = 2, .min = 0};
+static const cvk_field pin_vertex_field = {.key = "pins", .read = cvk_read_uint, .min = 0};
+
+static cvk_result read_pin_pairs(cvk_reader* rd, json_t* value, size_t count, const char* path,
+                                 cvk_cloth_desc* cloth)
 {
-    (void)f;
-    cvk_cloth_desc* cloth = dest;
-    if (!json_is_array(value))
-        return cvk_reader_fail_type(rd, path, "an array of [i, j] pairs", value);
-    size_t count = json_array_size(value);
-    cloth->pins = NULL;
-    cloth->pin_count = 0;
-    if (count == 0)
-        return CVK_SUCCESS;
-    if (count > UINT32_MAX)
-        return cvk_reader_fail_at(rd, path, "more than %" PRIu32 " pins", UINT32_MAX);
     uint32_t (*pins)[2] = cvk_blocks_alloc(rd->blocks, count, sizeof *pins);
     if (!pins)
         return cvk_reader_fail_memory(rd);
     char element[CVK_KEY_PATH_MAX];
     for (size_t i = 0; i < count; i++) {
         cvk_json_join_index(element, path, i);
-        cvk_result r = cvk_read_uints(rd, &pin_field, json_array_get(value, i), element, pins[i]);
+        cvk_result r = cvk_read_uints(rd, &pin_pair_field, json_array_get(value, i), element, pins[i]);
         if (r != CVK_SUCCESS)
             return r;
     }
     cloth->pins = (const uint32_t(*)[2])pins;
     cloth->pin_count = (uint32_t)count;
     return CVK_SUCCESS;
+}
+
+static cvk_result read_pin_vertices(cvk_reader* rd, json_t* value, size_t count, const char* path,
+                                    cvk_cloth_desc* cloth)
+{
+    uint32_t* vertices = cvk_blocks_alloc(rd->blocks, count, sizeof *vertices);
+    if (!vertices)
+        return cvk_reader_fail_memory(rd);
+    char element[CVK_KEY_PATH_MAX];
+    for (size_t i = 0; i < count; i++) {
+        json_t* pin = json_array_get(value, i);
+        cvk_json_join_index(element, path, i);
+        /* A pair among indices: say what element 0 made the reader expect. */
+        if (json_is_array(pin))
+            return cvk_reader_fail_type(rd, element, "a vertex index (a whole number, like element 0)", pin);
+        cvk_result r = cvk_read_uint(rd, &pin_vertex_field, pin, element, &vertices[i]);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    cloth->pin_vertices = vertices;
+    cloth->pin_vertex_count = (uint32_t)count;
+    return CVK_SUCCESS;
+}
+
+/* dest is the whole cloth. The first element says which form the array is: a pair ([i, j],
+   for grids) or a vertex index (for meshes); validation then checks that the form fits the
+   cloth. */
+static cvk_result read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    (void)f;
+    cvk_cloth_desc* cloth = dest;
+    if (!json_is_array(value))
+        return cvk_reader_fail_type(rd, path, "an array of [i, j] pairs or of vertex indices", value);
+    size_t count = json_array_size(value);
+    cloth->pins = NULL;
+    cloth->pin_count = 0;
+    cloth->pin_vertices = NULL;
+    cloth->pin_vertex_count = 0;
+    if (count == 0)
+        return CVK_SUCCESS;
+    if (count > UINT32_MAX)
+        return cvk_reader_fail_at(rd, path, "more than %" PRIu32 " pins", UINT32_MAX);
+    if (json_is_array(json_array_get(value, 0)))
+        return read_pin_pairs(rd, value, count, path, cloth);
+    return read_pin_vertices(rd, value, count, path, cloth);
+}
+
+static const cvk_field corner_field = {.key = "pin_box", .read = cvk_read_floats, .count = 3};
+
+/* dest is the whole cloth: a box turns use_pin_box on. */
+static cvk_result read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    (void)f;
+    cvk_cloth_desc* cloth = dest;
+    if (!json_is_array(value) || json_array_size(value) != 2)
+        return cvk_reader_fail_type(rd, path, "[[xmin, ymin, zmin], [xmax, ymax, zmax]]", value);
+    float* corners[2] = {cloth->pin_box.min, cloth->pin_box.max};
+    char element[CVK_KEY_PATH_MAX];
+    for (size_t i = 0; i < 2; i++) {
+        cvk_json_join_index(element, path, i);
+        cvk_result r = cvk_read_floats(rd, &corner_field, json_array_get(value, i), element, corners[i]);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    cloth->use_pin_box = true;
+    return CVK_SUCCESS;
+}
+
+/* ---- a mesh cloth's transform ---- */
+
+/* One number scales every axis alike. */
+static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    float* scale = dest;
+    if (json_is_array(value))
+        return cvk_read_floats(rd, f, value, path, dest);
+    if (!json_is_number(value) && !cvk_json_is_nonfinite(value))
+        return cvk_reader_fail_type(rd, path, "a number or an array of 3 numbers", value);
+    cvk_result r = cvk_read_float(rd, f, value, path, &scale[0]);
+    scale[1] = scale[2] = scale[0];
+    return r;
 }
 
 #define FIELDS(array) {array, sizeof array / sizeof array[0]}
@@ -102,6 +175,13 @@ static const cvk_field stiffness_fields[] = {
 };
 static const cvk_table stiffness_table = FIELDS(stiffness_fields);
 
+static const cvk_field transform_fields[] = {
+    {.key = "scale", .read = read_scale, .offset = offsetof(cvk_transform, scale), .count = 3},
+    {.key = "rotation", .read = cvk_read_floats, .offset = offsetof(cvk_transform, rotation), .count = 4},
+    {.key = "translation", .read = cvk_read_floats, .offset = offsetof(cvk_transform, translation), .count = 3},
+};
+static const cvk_table transform_table = FIELDS(transform_fields);
+
 static const cvk_field cloth_fields[] = {
     {.key = "name", .read = cvk_read_string, .offset = offsetof(cvk_cloth_desc, name)},
     {.key = "grid", .read = cvk_read_uints, .offset = offsetof(cvk_cloth_desc, grid), .count = 2, .min = 1},
@@ -109,11 +189,16 @@ static const cvk_field cloth_fields[] = {
     {.key = "origin", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, origin), .count = 3},
     {.key = "u_axis", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, u_axis), .count = 3},
     {.key = "v_axis", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, v_axis), .count = 3},
+    {.key = "mesh", .read = cvk_read_path, .offset = offsetof(cvk_cloth_desc, mesh)},
+    {.key = "transform", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, transform),
+     .nested = &transform_table},
     {.key = "rest_scale", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, rest_scale)},
     {.key = "mass", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, mass)},
+    {.key = "density", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, density)},
     {.key = "stiffness", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, stiffness),
      .nested = &stiffness_table},
     {.key = "pins", .read = read_pins, .offset = 0},
+    {.key = "pin_box", .read = read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
@@ -289,13 +374,29 @@ static cvk_result build_scene(cvk_reader* rd, const char* text, size_t size, cvk
     return r;
 }
 
-static cvk_result parse_scene(const char* text, size_t size, const char* source, bool name_from_source,
+/* What the text came from, and so what its source name means. */
+typedef enum source_kind {
+    SOURCE_TEXT,  /* text in memory without a name ("<string>" in messages) */
+    SOURCE_NAMED, /* text in memory with a name: a scene without a name takes it */
+    SOURCE_FILE,  /* a file: the same, and relative paths in it are relative to its folder */
+} source_kind;
+
+/* "scenes/hanging.json" → 7, the length of "scenes/"; 0 for "hanging.json". */
+static size_t folder_length(const char* path)
+{
+    const char* slash = strrchr(path, '/');
+    return slash ? (size_t)(slash - path) + 1 : 0;
+}
+
+static cvk_result parse_scene(const char* text, size_t size, const char* source, source_kind kind,
                               const char* const* overrides, uint32_t override_count, cvk_scene** out_scene,
                               cvk_error* error)
 {
     cvk_scene* scene = calloc(1, sizeof *scene);
     char (*set_paths)[CVK_KEY_PATH_MAX] = calloc(override_count ? override_count : 1, sizeof *set_paths);
-    cvk_reader rd = {.source = source, .set_paths = set_paths, .error = error};
+    cvk_reader rd = {.source = source, .folder_length = kind == SOURCE_FILE ? folder_length(source) : 0,
+                     .set_paths = set_paths, .error = error};
+    bool name_from_source = kind != SOURCE_TEXT;
     cvk_result r = CVK_ERROR_OUT_OF_MEMORY;
     if (!scene || !set_paths) {
         cvk_fail(error, r, "%s: out of memory", source);
@@ -380,7 +481,7 @@ cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32
     fclose(file);
     if (r != CVK_SUCCESS)
         return r;
-    r = parse_scene(text, size, path, true, overrides, override_count, out_scene, error);
+    r = parse_scene(text, size, path, SOURCE_FILE, overrides, override_count, out_scene, error);
     free(text);
     return r;
 }
@@ -393,6 +494,6 @@ cvk_result cvk_scene_parse(const char* json_text, const char* source_name, const
     if (r != CVK_SUCCESS)
         return r;
     const char* source = source_name ? source_name : "<string>";
-    return parse_scene(json_text, strlen(json_text), source, source_name != NULL, overrides, override_count,
-                       out_scene, error);
+    return parse_scene(json_text, strlen(json_text), source, source_name ? SOURCE_NAMED : SOURCE_TEXT, overrides,
+                       override_count, out_scene, error);
 }

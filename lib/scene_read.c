@@ -138,6 +138,11 @@ const char* cvk_json_describe(const json_t* value, char* buffer, size_t size)
     return "an unknown value";
 }
 
+bool cvk_json_is_nonfinite(const json_t* value)
+{
+    return json_is_string(value) && is_nonfinite_word(json_string_value(value), json_string_length(value));
+}
+
 cvk_result cvk_reader_fail_type(cvk_reader* rd, const char* path, const char* expected, const json_t* value)
 {
     char buffer[48];
@@ -166,6 +171,24 @@ cvk_result cvk_read_string(cvk_reader* rd, const cvk_field* f, json_t* value, co
     if (!text)
         return cvk_reader_fail_memory(rd);
     *(const char**)dest = text;
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_read_path(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    if (!json_is_string(value))
+        return cvk_reader_fail_type(rd, path, "a string", value);
+    const char* text = json_string_value(value);
+    /* An empty path stays empty, for validation to name it. */
+    if (rd->folder_length == 0 || text[0] == '/' || text[0] == '\0')
+        return cvk_read_string(rd, f, value, path, dest);
+    size_t length = strlen(text);
+    char* joined = cvk_blocks_keep(rd->blocks, malloc(rd->folder_length + length + 1));
+    if (!joined)
+        return cvk_reader_fail_memory(rd);
+    memcpy(joined, rd->source, rd->folder_length);
+    memcpy(joined + rd->folder_length, text, length + 1);
+    *(const char**)dest = joined;
     return CVK_SUCCESS;
 }
 

@@ -28,6 +28,8 @@ void cvk_blocks_free(cvk_blocks* blocks);
 typedef struct cvk_reader {
     cvk_blocks* blocks;                  /* strings and arrays the description points to */
     const char* source;                  /* file name (or source_name) that starts every message */
+    size_t folder_length;                /* source[0, folder_length) is the folder, '/' included, that
+                                            relative paths are relative to; 0: paths kept as written */
     char (*set_paths)[CVK_KEY_PATH_MAX]; /* key paths the overrides wrote, indices normalised */
     uint32_t set_count;
     cvk_error* error;
@@ -43,6 +45,8 @@ cvk_result cvk_reader_fail_type(cvk_reader* rd, const char* path, const char* ex
 cvk_result cvk_reader_fail_memory(cvk_reader* rd);
 /* What a reader found where it expected something else: "a string", "an array of 2", "NaN". */
 const char* cvk_json_describe(const json_t* value, char* buffer, size_t size);
+/* true for a string that stands for a bare NaN or Infinity of the text (see cvk_json_parse). */
+bool cvk_json_is_nonfinite(const json_t* value);
 
 /* "path.key" ("key" when path is empty) and "path.index". */
 void cvk_json_join_key(char out[CVK_KEY_PATH_MAX], const char* path, const char* key);
@@ -75,6 +79,10 @@ struct cvk_table {
 /* ---- value readers: one per kind of key ---- */
 
 cvk_result cvk_read_string(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+/* A file's path: a relative one is joined to the reader's folder (the scene file's), so that it
+   names the same file from any working directory; an absolute one, or one read without a
+   folder, is kept as written. */
+cvk_result cvk_read_path(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
 cvk_result cvk_read_bool(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
 /* A float; out of float range becomes ±inf, which validation reports as not finite. */
 cvk_result cvk_read_float(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
