@@ -73,11 +73,19 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .origin = {-0.5f, 1.0f, 0.0f},
         .u_axis = {1.0f, 0.0f, 0.0f},
         .v_axis = {0.0f, 0.0f, 1.0f},
+        .mesh = NULL,
+        .transform = {.scale = {1.0f, 1.0f, 1.0f}, .rotation = {1.0f, 0.0f, 0.0f, 0.0f},
+                      .translation = {0.0f, 0.0f, 0.0f}},
         .rest_scale = 1.0f,
         .mass = 0.1f,
+        .density = 0.0f,
         .stiffness = {.structural = 1e6f, .shear = 0.0f, .bend = 0.0f},
         .pins = NULL,
         .pin_count = 0,
+        .pin_vertices = NULL,
+        .pin_vertex_count = 0,
+        .use_pin_box = false,
+        .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
         .color = {0.9f, 0.35f, 0.3f},
         .cookie_ = cloth_cookie,
     };
@@ -299,15 +307,40 @@ static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     return true;
 }
 
+/* A density gives each particle a third of the area of its triangles; a rope has none. Mass
+   counts only without a density. */
+static bool check_mass(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    if (!check_at_least(issue, join(path, base, "density"), c->density, 0.0))
+        return false;
+    if (c->density == 0.0f)
+        return check_greater(issue, join(path, base, "mass"), c->mass, 0.0);
+    if (!c->mesh && (c->grid[0] == 1 || c->grid[1] == 1))
+        return issue_at(issue, path, "a %" PRIu32 " x %" PRIu32 " grid is a rope, with no area for a density; "
+                        "give its mass instead", c->grid[0], c->grid[1]);
+    return true;
+}
+
 static bool check_material(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    return check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) &&
-           check_greater(issue, join(path, base, "mass"), c->mass, 0.0) &&
+    return check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) && check_mass(c, base, issue) &&
            check_at_least(issue, join(path, base, "stiffness.structural"),
                           c->stiffness.structural, 0.0) &&
            check_at_least(issue, join(path, base, "stiffness.shear"), c->stiffness.shear, 0.0) &&
            check_at_least(issue, join(path, base, "stiffness.bend"), c->stiffness.bend, 0.0);
+}
+
+/* Vertex indices are checked against the mesh when it is read: its vertex count is not known
+   here. */
+static bool check_mesh_pins(const cvk_cloth_desc* c, const char* path, cvk_scene_issue* issue)
+{
+    if (c->pin_count > 0)
+        return issue_at(issue, path, "a mesh cloth takes vertex indices (file order), not [i, j] pairs");
+    if (c->pin_vertex_count > 0 && !c->pin_vertices)
+        return issue_at(issue, path, "pin_vertices is NULL but pin_vertex_count is %" PRIu32, c->pin_vertex_count);
+    return true;
 }
 
 static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
@@ -315,6 +348,10 @@ static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     char path[CVK_KEY_PATH_MAX];
     char element[CVK_KEY_PATH_MAX];
     join(path, base, "pins");
+    if (c->mesh)
+        return check_mesh_pins(c, path, issue);
+    if (c->pin_vertex_count > 0)
+        return issue_at(issue, path, "a grid cloth takes [i, j] pairs, not vertex indices");
     if (c->pin_count > 0 && !c->pins)
         return issue_at(issue, path, "is NULL but pin_count is %" PRIu32, c->pin_count);
     for (uint32_t p = 0; p < c->pin_count; p++) {
@@ -328,6 +365,61 @@ static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     return true;
 }
 
+/* The JSON path of a corner is pin_box.0 (min) or pin_box.1 (max). */
+static bool check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    static const char axis_names[3] = {'x', 'y', 'z'};
+    char path[CVK_KEY_PATH_MAX];
+    char corner[CVK_KEY_PATH_MAX];
+    if (!c->use_pin_box)
+        return true;
+    join(path, base, "pin_box");
+    if (!check_finite_array(issue, join_index(corner, path, 0), c->pin_box.min, 3) ||
+        !check_finite_array(issue, join_index(corner, path, 1), c->pin_box.max, 3))
+        return false;
+    for (int k = 0; k < 3; k++) {
+        if (c->pin_box.min[k] > c->pin_box.max[k])
+            return issue_at(issue, path, "min %g is above max %g on axis %c", c->pin_box.min[k], c->pin_box.max[k],
+                            axis_names[k]);
+    }
+    return true;
+}
+
+/* Every axis scaled by a finite non-zero factor (negative mirrors); a rotation of any length,
+   normalised when the mesh is read, but not zero. */
+static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    char element[CVK_KEY_PATH_MAX];
+    join(path, base, "transform.scale");
+    for (uint32_t i = 0; i < 3; i++) {
+        join_index(element, path, i);
+        if (!check_finite(issue, element, t->scale[i]))
+            return false;
+        if (t->scale[i] == 0.0f)
+            return issue_at(issue, element, "must not be zero, got 0");
+    }
+    const float* q = t->rotation;
+    if (!check_finite_array(issue, join(path, base, "transform.rotation"), q, 4))
+        return false;
+    if (q[0] == 0.0f && q[1] == 0.0f && q[2] == 0.0f && q[3] == 0.0f)
+        return issue_at(issue, path, "must not be zero, got [0, 0, 0, 0]");
+    return check_finite_array(issue, join(path, base, "transform.translation"), t->translation, 3);
+}
+
+/* A mesh cloth's shape comes from its file, so the grid keys are not looked at; its particle
+   count is known only once the file is read. */
+static bool check_shape(const cvk_cloth_desc* c, const char* base, uint64_t* total, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    if (c->mesh) {
+        join(path, base, "mesh");
+        return c->mesh[0] != '\0' || issue_at(issue, path, "must name a mesh file, got an empty string");
+    }
+    return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
+           check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
+}
+
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
 {
     char base[CVK_KEY_PATH_MAX];
@@ -335,9 +427,8 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
     join_index(base, "cloths", index);
     if (c->cookie_ != cloth_cookie)
         return issue_at(issue, base, "cloth description was not made by cvk_default_cloth_desc()");
-    return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
-           check_finite_array(issue, join(path, base, "origin"), c->origin, 3) &&
-           check_axes(c, base, issue) && check_material(c, base, issue) && check_pins(c, base, issue) &&
+    return check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
+           check_material(c, base, issue) && check_pins(c, base, issue) && check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0);
 }
 

@@ -240,6 +240,23 @@ CASES = [
      "stderr": error(SMALL, "solver.linear (from --set): unknown linear solver \"foo\" "
                      "(expected rbgs, jacobi, chebyshev or gs-cpu)")},
 
+    # The mesh keys: mistakes found before any mesh file is read.
+    {"name": "unknown key in transform", "argv": [SMALL, "--set", "cloths.0.transform.shear=1"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.transform.shear (from --set): unknown key (expected one of: scale, "
+                     "rotation, translation)")},
+    {"name": "zero scale", "argv": [SMALL, "--set", "cloths.0.transform.scale=0"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.transform.scale.0 (from --set): must not be zero, got 0")},
+    {"name": "density on a rope", "argv": [ROPE, "--set", "cloths.0.density=0.2"], "status": 2,
+     "stderr": error(ROPE, "cloths.0.density (from --set): a 1 x 20 grid is a rope, with no area for a "
+                     "density; give its mass instead")},
+    {"name": "vertex indices on a grid", "argv": [SMALL, "--set", "cloths.0.pins=[0, 3]"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.pins (from --set): a grid cloth takes [i, j] pairs, not vertex indices")},
+    # small.json's [i, j] pins stay in the file: the message names them, not the mesh that was set.
+    {"name": "grid pins on a mesh", "argv": [SMALL, "--set", "cloths.0.mesh=cloth.obj"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.pins: a mesh cloth takes vertex indices (file order), not [i, j] pairs")},
+    {"name": "pin_box upside down", "argv": [SMALL, "--set", "cloths.0.pin_box=[[0, 0.5, 0], [1, 0.2, 1]]"],
+     "status": 2, "stderr": error(SMALL, "cloths.0.pin_box (from --set): min 0.5 is above max 0.2 on axis y")},
+
     # The command line. With no scene the program says so and prints its usage: only the first
     # line is compared.
     {"name": "no scene", "argv": [], "status": 2, "usage": True,

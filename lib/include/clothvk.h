@@ -323,7 +323,9 @@ typedef struct cvk_scene cvk_scene;
    "scene.json: cloths.0.mass: must be greater than 0, got -1". */
 CVK_API cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32_t override_count,
                           cvk_scene** out_scene, cvk_error* error);
-/* The same from text in memory; source_name stands in for the file name in messages. */
+/* The same from text in memory; source_name stands in for the file name in messages. A
+   relative "mesh" path is kept as written, so it is relative to the working directory
+   (cvk_scene_load joins it to the scene file's folder, in the scene's own memory). */
 CVK_API cvk_result cvk_scene_parse(const char* json_text, const char* source_name,
                            const char* const* overrides, uint32_t override_count,
                            cvk_scene** out_scene, cvk_error* error);
