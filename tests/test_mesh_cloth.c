@@ -44,6 +44,7 @@ static cvk_cloth_desc grid_cloth(void)
     cvk_cloth_desc c = cvk_default_cloth_desc();
     c.grid[0] = NU;
     c.grid[1] = NV;
+    c.origin[0] = 0.0f;
     c.origin[1] = 1.0f;
     c.stiffness.structural = 1e4f;
     c.stiffness.shear = 1e3f;
