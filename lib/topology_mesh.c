@@ -794,18 +794,6 @@ static cvk_result fill_output(mesh_reader* r, cvk_topology* out)
     return CVK_SUCCESS;
 }
 
-static void free_output(cvk_topology* out)
-{
-    free(out->position);
-    free(out->mass);
-    free(out->pinned);
-    free(out->triangles);
-    free(out->triangle_springs);
-    free(out->springs);
-    free(out->colour);
-    memset(out, 0, sizeof *out);
-}
-
 static cvk_result read_mesh(mesh_reader* r, cvk_topology* out)
 {
     cvk_result result = open_scene(r);
@@ -837,6 +825,6 @@ cvk_result cvk_topology_mesh(const cvk_cloth_desc* cloth, uint32_t index, cvk_to
     cvk_result result = read_mesh(&r, out);
     reader_free(&r);
     if (result != CVK_SUCCESS)
-        free_output(out);
+        cvk_topology_destroy(out);
     return result;
 }

@@ -36,18 +36,6 @@ static cvk_cloth_desc mesh_desc(const char* path, float structural, float shear,
     return c;
 }
 
-static void free_topology(cvk_topology* t)
-{
-    free(t->position);
-    free(t->mass);
-    free(t->pinned);
-    free(t->triangles);
-    free(t->triangle_springs);
-    free(t->springs);
-    free(t->colour);
-    memset(t, 0, sizeof *t);
-}
-
 static cvk_topology read_ok(const char* label, const cvk_cloth_desc* c)
 {
     cvk_topology t;
@@ -145,7 +133,7 @@ static void check_example(const char* name, uint32_t v, uint32_t e, uint32_t f, 
         fclose(file);
     CHECK(n == v && mismatches == 0, "%s: %u of %u vertex lines are not the particle of the same "
           "index", name, mismatches, n);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* ---- welding and file order ------------------------------------------------------------------ */
@@ -183,7 +171,7 @@ static void check_stl_welding(void)
         wrong += particle_at(&t, order[v][0], order[v][1], 0.0f) != v;
     CHECK(wrong == 0, "grid.stl: %u particles out of first-appearance order", wrong);
     check_consistent("grid.stl", &t);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* A square whose two triangles use their own copies of the shared corners (a UV seam), one copy
@@ -203,7 +191,7 @@ static void check_seam_welding(void)
     CHECK(count_type(&t, CVK_SPRING_STRUCTURAL) == 5 && count_type(&t, CVK_SPRING_BEND) == 1,
           "seam.obj: %u structural and %u bend springs, expected 5 and 1",
           count_type(&t, CVK_SPRING_STRUCTURAL), count_type(&t, CVK_SPRING_BEND));
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 
     write_file("apart.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0.0001 0\nv 1 1 0\nv 0 1 0\n"
                "f 1 2 3\nf 4 5 6\n", 0, path);
@@ -211,7 +199,7 @@ static void check_seam_welding(void)
     t = read_ok("apart.obj", &c);
     CHECK(t.vertex_count == 5, "apart.obj: %u particles, expected 5 (1e-4 is beyond the weld "
           "tolerance)", t.vertex_count);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* Two objects of one OBJ file are one cloth, in file order. */
@@ -227,7 +215,7 @@ static void check_two_objects(void)
     CHECK(t.vertex_count == 6 && t.position[0] == 0.0f && t.position[9] == 5.0f &&
           t.position[15] == 5.0f && t.position[16] == 1.0f,
           "two.obj: particles 0, 3 and 5 are not (0,0,0), (5,0,0), (5,1,0)");
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* OBJ particles follow the "v" lines, not the order faces use them: a quad whose face lists
@@ -243,7 +231,7 @@ static void check_obj_vertex_order(void)
     double worst = t.vertex_count == 4 ? harness_max_diff(t.position, &want[0][0], 12) : INFINITY;
     CHECK(worst == 0.0, "order.obj: %u particles not in the order of the v lines (off by %g)",
           t.vertex_count, worst);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* ---- transform ------------------------------------------------------------------------------- */
@@ -261,7 +249,7 @@ static void check_transform(void)
     static const float want[3][3] = {{7, 22, 34}, {10, 24, 30}, {7, 20, 26}};
     double worst = t.vertex_count == 3 ? harness_max_diff(t.position, &want[0][0], 9) : INFINITY;
     CHECK(worst < 1e-5, "transform: positions off by %g m from scale, rotate, translate", worst);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* ---- quads ----------------------------------------------------------------------------------- */
@@ -312,7 +300,7 @@ static void check_quads(void)
         missing += s == UINT32_MAX || t.springs[s].type != CVK_SPRING_BEND;
     }
     CHECK(missing == 0, "quads: %u of the 4 expected bend springs missing", missing);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 
     /* Without shear the split diagonals carry no spring at all. */
     c = mesh_desc(path, 1e6f, 0.0f, 0.0f);
@@ -322,7 +310,7 @@ static void check_quads(void)
         none += t.triangle_springs[3 * k + (k % 2 ? 2 : 1)] == CVK_NO_SPRING;
     CHECK(t.spring_count == 12 && none == 8, "quads without shear: %u springs (expected 12), %u of "
           "8 split diagonals without a spring", t.spring_count, none);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* A convex pentagon is fanned from its first corner: 3 triangles, 5 structural springs, no
@@ -340,7 +328,7 @@ static void check_pentagon(void)
           t.triangle_springs[3] == CVK_NO_SPRING && t.triangle_springs[5] == CVK_NO_SPRING &&
           t.triangle_springs[6] == CVK_NO_SPRING, "pentagon: %u springs (expected 5), or a spring "
           "on a fan diagonal", t.spring_count);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* ---- bend springs ---------------------------------------------------------------------------- */
@@ -367,7 +355,7 @@ static void check_bend(void)
     }
     CHECK(wrong == 0, "strip: %u of 9 springs differ from the expected list (got %u springs)",
           wrong, t.spring_count);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 
     /* A closed tetrahedron: every edge interior, and every bend pair is already an edge, so it
        keeps its structural spring and no second one. */
@@ -379,7 +367,7 @@ static void check_bend(void)
           "tetrahedron: %u springs, %u structural; expected 6 structural only", t.spring_count,
           count_type(&t, CVK_SPRING_STRUCTURAL));
     check_consistent("tetrahedron", &t);
-    free_topology(&t);
+    cvk_topology_destroy(&t);
 }
 
 /* ---- other formats --------------------------------------------------------------------------- */
@@ -449,7 +437,7 @@ static void check_formats(void)
                "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 0.5 0\n3 0 1 2\n3 1 3 2\n3 1 4 3\n", 0, path);
     cvk_topology ply = read_ok("strip.ply", &c);
     CHECK(same_topology(&obj, &ply), "strip.ply reads differently from strip.obj");
-    free_topology(&ply);
+    cvk_topology_destroy(&ply);
 
     write_file("strip.stl", "solid strip\n"
                "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
@@ -458,13 +446,13 @@ static void check_formats(void)
                "endsolid strip\n", 0, path);
     cvk_topology stl = read_ok("strip.stl", &c);
     CHECK(same_topology(&obj, &stl), "strip.stl reads differently from strip.obj");
-    free_topology(&stl);
+    cvk_topology_destroy(&stl);
 
     write_gltf(path);
     cvk_topology gltf = read_ok("strip.gltf", &c);
     CHECK(same_topology(&obj, &gltf), "strip.gltf reads differently from strip.obj");
-    free_topology(&gltf);
-    free_topology(&obj);
+    cvk_topology_destroy(&gltf);
+    cvk_topology_destroy(&obj);
 }
 
 /* ---- bad input ------------------------------------------------------------------------------- */
@@ -489,7 +477,7 @@ static void expect_error(const char* path, cvk_result want, const char* want_mes
     CHECK(t.position == NULL && t.springs == NULL && t.triangles == NULL && t.vertex_count == 0,
           "%s: the topology is not left empty on failure", path);
     if (r == CVK_SUCCESS)
-        free_topology(&t);
+        cvk_topology_destroy(&t);
 }
 
 static void expect_invalid(const char* name, const char* text, const char* problem)
