@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 
 #include "error.h"
+#include "u64_map.h"
 
 /* Vertices closer than this fraction of the bounding-box diagonal are one particle. It is about
    16 float ulps at the diagonal's scale (2^-24 ≈ 6e-8): far above the rounding an exporter adds
@@ -41,58 +42,9 @@
 #define CONVEX_TOLERANCE 1e-6
 
 #define UNUSED_VERTEX UINT32_MAX
-#define EMPTY_KEY UINT64_MAX
-
 /* Why a triangle edge is there: an edge of the file's face, a quad's split diagonal (its shear
    spring), or a diagonal added to fan a larger face (no spring). */
 enum { EDGE_FACE = 0, EDGE_QUAD_DIAGONAL = 1, EDGE_FAN_DIAGONAL = 2 };
-
-/* ---- an open-addressing map from a 64-bit key to a 32-bit value ---------------------------- */
-
-typedef struct u64_map {
-    uint64_t* key;   /* EMPTY_KEY where free */
-    uint32_t* value;
-    size_t mask;     /* slot count − 1, a power of two at least twice the entries */
-} u64_map;
-
-static size_t hash_u64(uint64_t k)
-{
-    k ^= k >> 33;
-    k *= UINT64_C(0xff51afd7ed558ccd);
-    k ^= k >> 33;
-    k *= UINT64_C(0xc4ceb9fe1a85ec53);
-    k ^= k >> 33;
-    return (size_t)k;
-}
-
-static bool u64_map_init(u64_map* m, size_t entries)
-{
-    size_t slots = 16;
-    while (slots < 2 * entries)
-        slots *= 2;
-    m->key = malloc(slots * sizeof *m->key);
-    m->value = malloc(slots * sizeof *m->value);
-    m->mask = slots - 1;
-    if (!m->key || !m->value)
-        return false;
-    memset(m->key, 0xff, slots * sizeof *m->key);
-    return true;
-}
-
-static void u64_map_free(u64_map* m)
-{
-    free(m->key);
-    free(m->value);
-}
-
-/* The slot that holds key, or the free slot where it would go. */
-static size_t u64_map_slot(const u64_map* m, uint64_t key)
-{
-    size_t i = hash_u64(key) & m->mask;
-    while (m->key[i] != key && m->key[i] != EMPTY_KEY)
-        i = (i + 1) & m->mask;
-    return i;
-}
 
 /* An unordered pair of particles as one key. */
 static uint64_t pair_key(uint32_t a, uint32_t b)
@@ -125,13 +77,13 @@ typedef struct mesh_reader {
     uint32_t* triangles;          /* 3 particles per triangle, the file's winding */
     uint8_t* edge_kind;           /* 3 per triangle: EDGE_FACE ... for (v0,v1), (v1,v2), (v2,v0) */
 
-    u64_map edge_map;             /* pair -> edge, for the faces' own edges */
+    cvk_u64_map edge_map;             /* pair -> edge, for the faces' own edges */
     uint32_t edge_count;
     uint32_t* edge_ends;          /* 2 per edge, as first met */
     uint32_t* edge_faces;         /* per edge: how many faces have it */
     uint32_t* edge_opposite;      /* 2 per edge: the corner opposite it in the triangle on each side */
 
-    u64_map spring_map;           /* pair -> spring */
+    cvk_u64_map spring_map;           /* pair -> spring */
 } mesh_reader;
 
 static void reader_free(mesh_reader* r)
@@ -145,11 +97,11 @@ static void reader_free(mesh_reader* r)
     free(r->corner);
     free(r->triangles);
     free(r->edge_kind);
-    u64_map_free(&r->edge_map);
+    cvk_u64_map_free(&r->edge_map);
     free(r->edge_ends);
     free(r->edge_faces);
     free(r->edge_opposite);
-    u64_map_free(&r->spring_map);
+    cvk_u64_map_free(&r->spring_map);
 }
 
 static cvk_result out_of_memory(mesh_reader* r, const char* what)
@@ -296,7 +248,7 @@ static uint32_t weld_find(const weld_grid* g, const float* position, const float
     for (int dz = -1; dz <= 1; dz++)
         for (int dy = -1; dy <= 1; dy++)
             for (int dx = -1; dx <= 1; dx++) {
-                size_t b = hash_u64(cell_key(c[0] + dx, c[1] + dy, c[2] + dz)) & g->mask;
+                size_t b = cvk_hash_u64(cell_key(c[0] + dx, c[1] + dy, c[2] + dz)) & g->mask;
                 for (uint32_t q = g->head[b]; q != UNUSED_VERTEX; q = g->next[q]) {
                     const float* o = &position[3 * (size_t)q];
                     double d[3] = {(double)p[0] - o[0], (double)p[1] - o[1], (double)p[2] - o[2]};
@@ -312,7 +264,7 @@ static void weld_insert(weld_grid* g, const float p[3], uint32_t particle)
 {
     int64_t c[3];
     cell_of(g, p, c);
-    size_t b = hash_u64(cell_key(c[0], c[1], c[2])) & g->mask;
+    size_t b = cvk_hash_u64(cell_key(c[0], c[1], c[2])) & g->mask;
     g->next[particle] = g->head[b];
     g->head[b] = particle;
 }
@@ -650,15 +602,15 @@ static cvk_result find_edges(mesh_reader* r)
     r->edge_faces = calloc(r->corner_count, sizeof *r->edge_faces);
     r->edge_opposite = malloc(2 * r->corner_count * sizeof *r->edge_opposite);
     if (!r->edge_ends || !r->edge_faces || !r->edge_opposite ||
-        !u64_map_init(&r->edge_map, r->corner_count))
+        !cvk_u64_map_init(&r->edge_map, r->corner_count))
         return out_of_memory(r, "the edges");
     for (size_t f = 0; f < r->face_count; f++) {
         const uint32_t* c = &r->corner[r->face_start[f]];
         size_t n = r->face_start[f + 1] - r->face_start[f];
         for (size_t i = 0; i < n; i++) {
             uint32_t a = c[i], b = c[(i + 1) % n];
-            size_t slot = u64_map_slot(&r->edge_map, pair_key(a, b));
-            if (r->edge_map.key[slot] == EMPTY_KEY) {
+            size_t slot = cvk_u64_map_slot(&r->edge_map, pair_key(a, b));
+            if (r->edge_map.key[slot] == CVK_U64_MAP_EMPTY) {
                 r->edge_map.key[slot] = pair_key(a, b);
                 r->edge_map.value[slot] = r->edge_count;
                 r->edge_ends[2 * (size_t)r->edge_count] = a;
@@ -689,7 +641,7 @@ static void find_opposites(mesh_reader* r)
         for (int k = 0; k < 3; k++) {
             if (r->edge_kind[3 * (size_t)t + k] != EDGE_FACE)
                 continue;
-            size_t slot = u64_map_slot(&r->edge_map, pair_key(v[k], v[(k + 1) % 3]));
+            size_t slot = cvk_u64_map_slot(&r->edge_map, pair_key(v[k], v[(k + 1) % 3]));
             uint32_t e = r->edge_map.value[slot];
             r->edge_opposite[2 * (size_t)e + seen[e]++] = v[(k + 2) % 3];
         }
@@ -701,8 +653,8 @@ static void add_spring(mesh_reader* r, cvk_topology* out, uint32_t a, uint32_t b
 {
     if (a == b)
         return;
-    size_t slot = u64_map_slot(&r->spring_map, pair_key(a, b));
-    if (r->spring_map.key[slot] != EMPTY_KEY)
+    size_t slot = cvk_u64_map_slot(&r->spring_map, pair_key(a, b));
+    if (r->spring_map.key[slot] != CVK_U64_MAP_EMPTY)
         return;
     r->spring_map.key[slot] = pair_key(a, b);
     r->spring_map.value[slot] = out->spring_count;
@@ -715,7 +667,7 @@ static cvk_result lay_springs(mesh_reader* r, cvk_topology* out)
 {
     size_t most = 2 * (size_t)r->edge_count + r->corner_count;
     out->springs = malloc(most * sizeof *out->springs);
-    if (!out->springs || !u64_map_init(&r->spring_map, most))
+    if (!out->springs || !cvk_u64_map_init(&r->spring_map, most))
         return out_of_memory(r, "the springs");
     const cvk_stiffness* k = &r->cloth->stiffness;
     for (uint32_t e = 0; k->structural > 0.0f && e < r->edge_count; e++)
@@ -749,9 +701,9 @@ static cvk_result link_triangle_springs(mesh_reader* r, cvk_topology* out)
             uint8_t kind = r->edge_kind[3 * (size_t)t + e];
             bool has = (kind == EDGE_FACE && k->structural > 0.0f) ||
                        (kind == EDGE_QUAD_DIAGONAL && k->shear > 0.0f);
-            size_t slot = u64_map_slot(&r->spring_map, pair_key(v[e], v[(e + 1) % 3]));
+            size_t slot = cvk_u64_map_slot(&r->spring_map, pair_key(v[e], v[(e + 1) % 3]));
             out->triangle_springs[3 * (size_t)t + e] =
-                has && r->spring_map.key[slot] != EMPTY_KEY ? r->spring_map.value[slot] : CVK_NO_SPRING;
+                has && r->spring_map.key[slot] != CVK_U64_MAP_EMPTY ? r->spring_map.value[slot] : CVK_NO_SPRING;
         }
     }
     return CVK_SUCCESS;
