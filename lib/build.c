@@ -237,7 +237,8 @@ static void describe_cloth(cvk_build* b, const cvk_cloth_desc* desc, uint32_t in
         snprintf(r->name, sizeof r->name, "cloth%u", index);
 }
 
-static cvk_result build_adjacency(cvk_build* b, cvk_error* error)
+static cvk_result build_adjacency(cvk_build* b, cvk_build_check check, void* check_user,
+                                  cvk_error* error)
 {
     uint32_t nf = b->free_count;
     b->degree = calloc(nf ? nf : 1, sizeof(uint32_t));
@@ -253,6 +254,10 @@ static cvk_result build_adjacency(cvk_build* b, cvk_error* error)
     for (uint32_t p = 0; p < nf; p++)
         if (b->degree[p] > b->max_degree)
             b->max_degree = b->degree[p];
+    cvk_result r = check ? check(check_user, b->particle_count, b->max_degree, error)
+                         : CVK_SUCCESS;
+    if (r != CVK_SUCCESS)
+        return r;
     size_t entries = (size_t)b->max_degree * nf;
     if (entries == 0)
         entries = 1;
@@ -288,6 +293,12 @@ static cvk_result build_adjacency(cvk_build* b, cvk_error* error)
 
 cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_error* error)
 {
+    return cvk_build_create_checked(scene, NULL, NULL, out, error);
+}
+
+cvk_result cvk_build_create_checked(const cvk_scene_desc* scene, cvk_build_check check,
+                                    void* check_user, cvk_build* out, cvk_error* error)
+{
     memset(out, 0, sizeof *out);
     cvk_build* b = out;
     b->cloth_count = scene->cloth_count;
@@ -307,7 +318,7 @@ cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_err
             add_triangles(b, &parts[c]);
             describe_cloth(b, &scene->cloths[c], c, &parts[c]);
         }
-        r = build_adjacency(b, error);
+        r = build_adjacency(b, check, check_user, error);
     }
     parts_destroy(parts, scene->cloth_count);
     if (r != CVK_SUCCESS)

@@ -74,6 +74,17 @@ typedef struct cvk_build {
     cvk_cloth_range* cloths;
 } cvk_build;
 
+/* Called once the particle count and the largest number of springs on one particle are known,
+   before the adjacency tables (max_degree × free particles entries) are allocated: a scene
+   too large for the device fails here instead of after gigabytes of host memory. A result
+   other than CVK_SUCCESS stops the build with it. */
+typedef cvk_result (*cvk_build_check)(void* user, uint32_t particle_count, uint32_t max_degree,
+                                      cvk_error* error);
+
+/* cvk_build_create with a check (may be NULL). */
+cvk_result cvk_build_create_checked(const cvk_scene_desc* scene, cvk_build_check check,
+                                    void* check_user, cvk_build* out, cvk_error* error);
+
 /* The scene must have passed cvk_scene_desc_validate. Mesh files are read here: their errors
    name the key path (see cvk_topology_create). */
 cvk_result cvk_build_create(const cvk_scene_desc* scene, cvk_build* out, cvk_error* error);

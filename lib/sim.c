@@ -324,9 +324,8 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     if (!s)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the simulation");
     init_fields(s, context, desc);
-    r = cvk_build_create(scene, &s->build, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_check_build_limits(context, scene, &s->build, error);
+    cvk_build_limits limits = {context, scene};
+    r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)
         r = create_objects(s, workgroup_size, max_workgroups(context, desc), error);
     if (r != CVK_SUCCESS) {

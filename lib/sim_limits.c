@@ -63,11 +63,12 @@ cvk_result cvk_check_scene_limits(const cvk_context* context, const cvk_scene_de
     return check_counts(context, where, total, degree, error);
 }
 
-cvk_result cvk_check_build_limits(const cvk_context* context, const cvk_scene_desc* scene,
-                                  const cvk_build* build, cvk_error* error)
+cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_t max_degree,
+                                  cvk_error* error)
 {
+    const cvk_build_limits* l = limits;
     const char* where = "cloths";
-    if (scene->cloth_count == 1)
-        where = scene->cloths[0].mesh ? "cloths.0.mesh" : "cloths.0.grid";
-    return check_counts(context, where, build->particle_count, build->max_degree, error);
+    if (l->scene->cloth_count == 1)
+        where = l->scene->cloths[0].mesh ? "cloths.0.mesh" : "cloths.0.grid";
+    return check_counts(l->context, where, particle_count, max_degree, error);
 }

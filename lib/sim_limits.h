@@ -9,8 +9,15 @@
 cvk_result cvk_check_scene_limits(const cvk_context* context, const cvk_scene_desc* scene,
                                   uint32_t workgroup_size, cvk_error* error);
 
-/* From the build, before device allocation: every cloth's particles and springs. */
-cvk_result cvk_check_build_limits(const cvk_context* context, const cvk_scene_desc* scene,
-                                  const cvk_build* build, cvk_error* error);
+/* From the build, before its adjacency tables and any device allocation: every cloth's
+   particles and springs. A cvk_build_check for cvk_build_create_checked, whose user data is a
+   cvk_build_limits. */
+typedef struct cvk_build_limits {
+    const cvk_context* context;
+    const cvk_scene_desc* scene;
+} cvk_build_limits;
+
+cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_t max_degree,
+                                  cvk_error* error);
 
 #endif
