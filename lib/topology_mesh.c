@@ -631,8 +631,10 @@ static cvk_result find_edges(mesh_reader* r)
 }
 
 /* For each face edge, the corner opposite it in the triangle that holds it: the two ends of a
-   bend spring across an interior edge. */
-static void find_opposites(mesh_reader* r)
+   bend spring across an interior edge. Two triangles on one edge with the same opposite
+   corner are one triangle twice (a face the file repeats): each of its edges then has two
+   faces, which the non-manifold check cannot see, and it would count its mass twice. */
+static cvk_result find_opposites(mesh_reader* r)
 {
     uint32_t* seen = r->edge_faces; /* reused as a count of sides filled */
     memset(seen, 0, r->edge_count * sizeof *seen);
@@ -646,6 +648,15 @@ static void find_opposites(mesh_reader* r)
             r->edge_opposite[2 * (size_t)e + seen[e]++] = v[(k + 2) % 3];
         }
     }
+    for (uint32_t e = 0; e < r->edge_count; e++) {
+        const uint32_t* o = &r->edge_opposite[2 * (size_t)e];
+        if (seen[e] < 2 || o[0] != o[1])
+            continue;
+        uint32_t a = r->edge_ends[2 * (size_t)e], b = r->edge_ends[2 * (size_t)e + 1];
+        return bad_mesh(r, "the faces on the edge between vertices %u and %u both have corner "
+                        "%u (a face repeated)", a < b ? a : b, a < b ? b : a, o[0]);
+    }
+    return CVK_SUCCESS;
 }
 
 /* Adds spring (a, b) unless the pair already has one. */
@@ -731,6 +742,35 @@ static void transform_positions(const cvk_transform* t, const float* in, float* 
     }
 }
 
+/* The simulation works in metres in single precision: positions beyond MAX_COORDINATE are
+   resolved to worse than 0.1 mm (2^-24 · 1e6 m ≈ 0.06 m at 1e6 m; spring lengths, squared,
+   overflow far sooner at 1e30), and a cloth smaller than MIN_EXTENT has springs whose squared
+   lengths approach float's smallest numbers. Either gives garbage, not a simulation. */
+#define MAX_COORDINATE 1e5
+#define MIN_EXTENT 1e-4
+
+static cvk_result check_extent(mesh_reader* r, const float* position)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t v = 0; v < r->vertex_count; v++)
+        for (int k = 0; k < 3; k++) {
+            double x = position[3 * (size_t)v + k];
+            if (!(fabs(x) <= MAX_COORDINATE))
+                return bad_mesh(r, "vertex %u lies %g m from the origin on axis %c (after the "
+                                "transform); positions are single-precision metres, at most "
+                                "%g m", v, fabs(x), "xyz"[k], MAX_COORDINATE);
+            lo[k] = fmin(lo[k], x);
+            hi[k] = fmax(hi[k], x);
+        }
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++)
+        d2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    if (sqrt(d2) < MIN_EXTENT)
+        return bad_mesh(r, "the mesh is %g m across (after the transform); positions are "
+                        "single-precision metres, at least %g m across", sqrt(d2), MIN_EXTENT);
+    return CVK_SUCCESS;
+}
+
 static cvk_result fill_output(mesh_reader* r, cvk_topology* out)
 {
     out->vertex_count = r->vertex_count;
@@ -740,6 +780,9 @@ static cvk_result fill_output(mesh_reader* r, cvk_topology* out)
     if (!out->position || !out->mass || !out->pinned)
         return out_of_memory(r, "the particles");
     transform_positions(&r->cloth->transform, r->position, out->position, r->vertex_count);
+    cvk_result result = check_extent(r, out->position);
+    if (result != CVK_SUCCESS)
+        return result;
     out->triangle_count = r->triangle_count;
     out->triangles = r->triangles;
     r->triangles = NULL;
@@ -757,10 +800,10 @@ static cvk_result read_mesh(mesh_reader* r, cvk_topology* out)
         result = split_faces(r);
     if (result == CVK_SUCCESS)
         result = find_edges(r);
-    if (result != CVK_SUCCESS)
-        return result;
-    find_opposites(r);
-    result = lay_springs(r, out);
+    if (result == CVK_SUCCESS)
+        result = find_opposites(r);
+    if (result == CVK_SUCCESS)
+        result = lay_springs(r, out);
     if (result == CVK_SUCCESS)
         result = link_triangle_springs(r, out);
     if (result == CVK_SUCCESS)

@@ -520,6 +520,15 @@ static void check_bad_input(void)
     expect_invalid("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
                    "f 1 2 3\nf 2 1 4\nf 1 2 5\n",
                    ": the edge between vertices 0 and 1 is shared by 3 faces (non-manifold)");
+    expect_invalid("twice.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 3\n",
+                   ": the faces on the edge between vertices 0 and 1 both have corner 2 (a face "
+                   "repeated)");
+    expect_invalid("far.obj", "v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n",
+                   ": vertex 1 lies 1e+30 m from the origin on axis x (after the transform); "
+                   "positions are single-precision metres, at most 100000 m");
+    expect_invalid("tiny.obj", "v 0 0 0\nv 1e-30 0 0\nv 0 1e-30 0\nf 1 2 3\n",
+                   ": the mesh is 1.41421e-30 m across (after the transform); positions are "
+                   "single-precision metres, at least 0.0001 m across");
     expect_invalid("concave.obj", "v 0 0 0\nv 2 0 0\nv 1 0.5 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4 5\n",
                    ": face 0 has 5 corners and is not planar and convex, so it cannot be split "
                    "into triangles; triangulate it");
