@@ -260,14 +260,38 @@ bool app_bake_frame(app_bake* b, uint32_t frame)
     return true;
 }
 
+static bool holds(const app_bake* b, uint32_t frame)
+{
+    if (frame % b->every == 0 && frame < b->frames)
+        return true;
+    if (b->frames == 0)
+        app_error(b->tool, "%s: frame %u is not in the bake (it holds none)", b->folder, frame);
+    else
+        app_error(b->tool, "%s: frame %u is not in the bake (it holds frames 0 to %u, every %u)",
+                  b->folder, frame, (b->frames - 1) / b->every * b->every, b->every);
+    return false;
+}
+
+int app_bake_check_frames(app_bake* b, uint32_t first, uint32_t last, uint32_t step)
+{
+    struct stat st;
+    for (uint64_t f = first; f <= last; f += step) {
+        if (!holds(b, (uint32_t)f))
+            return APP_EXIT_BAD_INPUT;
+        const char* path = frame_path(b, (uint32_t)f / b->every);
+        if (stat(path, &st) != 0) {
+            app_error(b->tool, "%s: frame %llu is missing (%s: %s)", b->folder,
+                      (unsigned long long)f, path, strerror(errno));
+            return APP_EXIT_BAD_INPUT;
+        }
+    }
+    return APP_EXIT_OK;
+}
+
 int app_bake_load(app_bake* b, uint32_t frame)
 {
-    if (frame % b->every != 0 || frame >= (b->frames ? b->frames : 1)) {
-        app_error(b->tool, "%s: frame %u is not in the bake (it holds frames 0 to %u, every %u)",
-                  b->folder, frame, b->frames ? (b->frames - 1) / b->every * b->every : 0,
-                  b->every);
+    if (!holds(b, frame))
         return APP_EXIT_BAD_INPUT;
-    }
     unsigned char* data;
     uint64_t size;
     const char* path = frame_path(b, frame / b->every);

@@ -82,6 +82,11 @@ int app_bake_open(app_bake* b, const char* tool, cvk_sim* sim, const char* folde
    one line printed, when saving or writing fails. */
 bool app_bake_frame(app_bake* b, uint32_t frame);
 
+/* Checks, before any work, that the bake holds frames first, first + step, ..., last (each
+   a multiple of K, below its frames, its file present). Bad input: one line,
+   APP_EXIT_BAD_INPUT. */
+int app_bake_check_frames(app_bake* b, uint32_t first, uint32_t last, uint32_t step);
+
 /* Loads the state after `frame` frames from the bake into its simulation. A frame the bake
    does not hold (not a multiple of K, beyond its frames, its file missing or not a
    snapshot of this scene): one line, APP_EXIT_BAD_INPUT. */
