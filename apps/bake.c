@@ -85,6 +85,18 @@ static bool write_json(FILE* file, void* user)
                0 && fputc('\n', file) != EOF;
 }
 
+/* A float as the shortest decimal that reads back as it: 0.002, not 0.00200000009. */
+static double shortest(float v)
+{
+    char text[32];
+    for (int digits = 1; digits < 9; digits++) {
+        snprintf(text, sizeof text, "%.*g", digits, (double)v);
+        if ((float)strtod(text, NULL) == v)
+            return strtod(text, NULL);
+    }
+    return v;
+}
+
 static int write_cache(app_bake* b, const app_bake_desc* desc)
 {
     json_t* overrides = json_array();
@@ -94,7 +106,7 @@ static int write_cache(app_bake* b, const app_bake_desc* desc)
         "{ss si ss ss ss so si si sf si si sI}", "format", APP_BAKE_FORMAT, "version",
         APP_BAKE_VERSION, "clothvk_version", CLOTHVK_VERSION_TEXT, "scene", b->scene_text,
         "scene_file", desc->scene_path, "overrides", overrides, "frames", (int)b->frames, "every",
-        (int)b->every, "dt", (double)desc->scene->dt, "substeps", (int)desc->scene->substeps,
+        (int)b->every, "dt", shortest(desc->scene->dt), "substeps", (int)desc->scene->substeps,
         "particles", (int)cvk_sim_particle_count(b->sim), "snapshot_bytes", (json_int_t)b->size);
     char message[512];
     snprintf(b->path, strlen(b->folder) + 32, "%s/cache.json", b->folder);
