@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "bake.h"
 #include "clothvk.h"
 #include "common.h"
 
@@ -20,8 +21,12 @@ static void usage(FILE* out)
     fprintf(out,
             "usage: clothvk-render SCENE -o DIR [--frames N] [--size WxH] [--every K]\n"
             "                      [--set key.path=value]... [--serial] [--quiet]\n"
+            "       clothvk-render SCENE -o DIR --from BAKE [--frames A:B] [--size WxH] ...\n"
             "  -o DIR         folder for frame_0000.png, frame_0001.png, ... (created if missing)\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
+            "  --from BAKE    draw frames from a bake (clothvk-sim --bake) without simulating:\n"
+            "                 --frames A:B draws frames A to B, each named as a direct render\n"
+            "                 with --every 1 names it (default: every frame the bake holds)\n"
             "  --every K      write every K-th simulated frame, starting with frame 0 (default 1)\n"
             "  --size WxH     image size in pixels (default: the scene's render.size, 1280x720)\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
@@ -42,7 +47,25 @@ typedef struct options {
     app_overrides overrides;
     bool serial;
     bool quiet;
+    const char* from;   /* --from BAKE */
+    bool range_set;     /* --frames A:B */
+    uint32_t range[2];
+    bool every_set;
 } options;
+
+/* "A:B", whole numbers with A <= B. */
+static bool parse_range(const char* text, uint32_t out[2])
+{
+    const char* colon = strchr(text, ':');
+    char first[16];
+    size_t n = colon ? (size_t)(colon - text) : 0;
+    if (!colon || n == 0 || n >= sizeof first)
+        return false;
+    memcpy(first, text, n);
+    first[n] = '\0';
+    return app_parse_u32(first, 0, 100000000, &out[0]) &&
+           app_parse_u32(colon + 1, 0, 100000000, &out[1]) && out[0] <= out[1];
+}
 
 /* "1280x720": two whole numbers of at least 1. The upper limit is the device's. */
 static bool parse_size(const char* text, uint32_t out[2])
@@ -57,6 +80,22 @@ static bool parse_size(const char* text, uint32_t out[2])
     memcpy(width, text, n);
     width[n] = '\0';
     return app_parse_u32(width, 1, UINT32_MAX, &out[0]) && app_parse_u32(x + 1, 1, UINT32_MAX, &out[1]);
+}
+
+/* --from draws the frames a bake holds: --frames A:B picks them, a count or --every has no
+   meaning there. */
+static int check_from(const options* o)
+{
+    if (o->range_set && !o->from) {
+        app_error(tool, "--frames A:B needs --from BAKE (without it --frames is a count)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (o->from && (o->frames_set || o->every_set)) {
+        app_error(tool, "--from: give the frames as --frames A:B (%s has no meaning here)",
+                  o->frames_set ? "--frames N" : "--every");
+        return APP_EXIT_BAD_INPUT;
+    }
+    return APP_EXIT_OK;
 }
 
 /* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
@@ -77,6 +116,19 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 return APP_EXIT_BAD_INPUT;
             }
             o->out = argv[++i];
+        } else if (!strcmp(a, "--frames") && has_value && strchr(value, ':')) {
+            if (!parse_range(value, o->range)) {
+                app_error(tool, "--frames: expected A:B, whole numbers with A <= B, got %s", value);
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->range_set = true;
+            i++;
+        } else if (!strcmp(a, "--from")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "--from: expected a bake folder");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->from = argv[++i];
         } else if (!strcmp(a, "--frames")) {
             if (!has_value || !app_parse_u32(value, 1, 100000000, &o->frames)) {
                 app_error(tool, "--frames: expected a whole number from 1 to 100000000, got %s", value);
@@ -89,6 +141,7 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s", value);
                 return APP_EXIT_BAD_INPUT;
             }
+            o->every_set = true;
             i++;
         } else if (!strcmp(a, "--size")) {
             if (!has_value || !parse_size(value, o->size)) {
@@ -120,7 +173,7 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         app_error(tool, "no output folder given (-o DIR)");
         return APP_EXIT_BAD_INPUT;
     }
-    return APP_EXIT_OK;
+    return check_from(o);
 }
 
 /* ---- the output folder ---------------------------------------------------------------- */
@@ -316,6 +369,8 @@ typedef struct run_state {
     cvk_sim* sim;
     cvk_mesh* mesh;
     cvk_renderer* renderer;
+    app_bake* bake;         /* --from: frames come from here */
+    uint32_t first, step;   /* image i is frame first + i * step */
 } run_state;
 
 static int check_size(const run_state* s, const cvk_render_desc* render)
@@ -370,7 +425,12 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
     double last_print = app_now_ms();
     for (uint32_t i = 0; i < count && !interrupted; i++) {
         double t0 = app_now_ms();
-        if (i > 0 && cvk_sim_step(s->sim, s->o->every, &err) != CVK_SUCCESS) {
+        uint32_t frame = s->first + i * s->step;
+        if (s->bake) {
+            int status = app_bake_load(s->bake, frame);
+            if (status != APP_EXIT_OK)
+                return status;
+        } else if (i > 0 && cvk_sim_step(s->sim, s->o->every, &err) != CVK_SUCCESS) {
             app_error(tool, "%s", err.message);
             return APP_EXIT_FAILURE;
         }
@@ -381,7 +441,7 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
         }
         double t2 = app_now_ms();
         cvk_image image = cvk_renderer_get_image(s->renderer);
-        if (!writer_push(w, &image, i))
+        if (!writer_push(w, &image, s->bake ? frame : i))
             break;
         if (s->o->serial)
             writer_drain(w);
@@ -402,10 +462,17 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
     uint32_t width = s->o->size_set ? s->o->size[0] : r->size[0];
     uint32_t height = s->o->size_set ? s->o->size[1] : r->size[1];
     uint32_t last = (t->images - 1) * s->o->every;
-    printf("%s: %u images of %ux%u in %s (frames 0 to %u of %u, every %u), %.1f s; per image: simulation "
-           "%.1f ms, render %.1f ms",
-           s->scene->name ? s->scene->name : "scene", w->written, width, height, s->o->out, last, frames,
-           s->o->every, wall_ms * 1e-3, t->sim_ms / t->images, t->render_ms / t->images);
+    const char* name = s->scene->name ? s->scene->name : "scene";
+    if (s->bake)
+        printf("%s: %u images of %ux%u in %s (frames %u to %u from %s), %.1f s; per image: load "
+               "%.1f ms, render %.1f ms", name, w->written, width, height, s->o->out, s->first,
+               s->first + (t->images - 1) * s->step, s->o->from, wall_ms * 1e-3,
+               t->sim_ms / t->images, t->render_ms / t->images);
+    else
+        printf("%s: %u images of %ux%u in %s (frames 0 to %u of %u, every %u), %.1f s; per image: "
+               "simulation %.1f ms, render %.1f ms", name, w->written, width, height, s->o->out,
+               last, frames, s->o->every, wall_ms * 1e-3, t->sim_ms / t->images,
+               t->render_ms / t->images);
     if (t->timed)
         printf(" (mesh %.1f, shadow %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
                t->shadow_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
@@ -415,7 +482,7 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
 
 static int render_all(run_state* s, uint32_t frames)
 {
-    uint32_t count = (frames + s->o->every - 1) / s->o->every;
+    uint32_t count = s->bake ? frames : (frames + s->o->every - 1) / s->o->every;
     cvk_image first = cvk_renderer_get_image(s->renderer);
     writer w;
     if (!writer_start(&w, s->o->out, first.width, first.height)) {
@@ -457,6 +524,24 @@ static int check_result(run_state* s)
     return APP_EXIT_OK;
 }
 
+/* --from: the bake, checked against the scene and for every frame asked for; *frames
+   becomes the number of images. */
+static int open_bake(run_state* s, app_bake* bake, uint32_t* frames)
+{
+    const options* o = s->o;
+    app_bake_desc desc = {o->scene, &o->overrides, s->scene, 0, 0};
+    int status = app_bake_open(bake, tool, s->sim, o->from, &desc);
+    if (status != APP_EXIT_OK)
+        return status;
+    s->bake = bake;
+    s->first = o->range_set ? o->range[0] : 0;
+    s->step = o->range_set ? 1 : bake->every;
+    uint32_t last = o->range_set ? o->range[1]
+                                 : bake->frames ? (bake->frames - 1) / bake->every * bake->every : 0;
+    *frames = (last - s->first) / s->step + 1;
+    return app_bake_check_frames(bake, s->first, last, s->step);
+}
+
 static int run(const options* o)
 {
     cvk_error err;
@@ -465,7 +550,7 @@ static int run(const options* o)
         app_error(tool, "%s", err.message);
         return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
     }
-    run_state s = {.o = o, .scene = cvk_scene_get_desc(file)};
+    run_state s = {.o = o, .scene = cvk_scene_get_desc(file), .step = 1};
     cvk_render_desc render = s.scene->render;
     if (o->size_set) {
         render.size[0] = o->size[0];
@@ -484,12 +569,16 @@ static int run(const options* o)
     int status = check_size(&s, &render);
     if (status == APP_EXIT_OK)
         status = create_objects(&s, &render);
+    app_bake bake = {0};
+    if (status == APP_EXIT_OK && o->from)
+        status = open_bake(&s, &bake, &frames);
     if (status == APP_EXIT_OK && !app_make_output_folder(tool, o->out))
         status = APP_EXIT_BAD_INPUT;
     if (status == APP_EXIT_OK)
         status = render_all(&s, frames);
     if (status == APP_EXIT_OK)
         status = check_result(&s);
+    app_bake_free(&bake);
     cvk_renderer_destroy(s.renderer);
     cvk_mesh_destroy(s.mesh);
     cvk_sim_destroy(s.sim);

@@ -6,6 +6,7 @@
 
 #include "clothvk.h"
 #include "common.h"
+#include "bake.h"
 #include "obj.h"
 
 static const char tool[] = "clothvk-sim";
@@ -14,7 +15,8 @@ static void usage(FILE* out)
 {
     fprintf(out,
             "usage: clothvk-sim SCENE [--frames N] [--set key.path=value]... [--json]\n"
-            "                   [--dump FILE.csv] [--obj DIR [--every K]] [--plan]\n"
+            "                   [--dump FILE.csv] [--obj DIR] [--bake DIR | --resume DIR]\n"
+            "                   [--every K] [--plan]\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --json         print one JSON object of statistics\n"
@@ -22,8 +24,12 @@ static void usage(FILE* out)
             "  --obj DIR      write frames as Wavefront OBJ files DIR/frame_0000.obj, ... (the\n"
             "                 folder is created if missing): every cloth an object with vertex\n"
             "                 positions (m), normals and its triangles\n"
-            "  --every K      with --obj: file i holds the state after i*K frames, for every\n"
-            "                 i*K < N (frame_0000.obj: before the first step); default 1\n"
+            "  --bake DIR     write the exact state as DIR/frame_0000.snap, ... (numbered as\n"
+            "                 --obj) after DIR/cache.json, which holds the scene (see README)\n"
+            "  --resume DIR   continue the bake in DIR from its last complete frame to N frames\n"
+            "                 (default: the bake's), bit for bit as an uninterrupted bake\n"
+            "  --every K      with --obj or --bake: file i holds the state after i*K frames, for\n"
+            "                 every i*K < N (frame_0000: before the first step); default 1\n"
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
@@ -39,6 +45,9 @@ typedef struct options {
     const char* dump;
     const char* obj;
     uint32_t every; /* 0: not given (1) */
+    uint32_t every_given; /* 0: not given */
+    const char* bake;
+    const char* resume;
     bool plan;
     uint32_t workgroup_size;
     uint32_t max_workgroups;
@@ -78,6 +87,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 return APP_EXIT_BAD_INPUT;
             }
             o->obj = argv[++i];
+        } else if (!strcmp(a, "--bake") || !strcmp(a, "--resume")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "%s: expected a bake folder", a);
+                return APP_EXIT_BAD_INPUT;
+            }
+            *(!strcmp(a, "--bake") ? &o->bake : &o->resume) = argv[++i];
         } else if (!strcmp(a, "--every")) {
             if (!has_value || !app_parse_u32(argv[i + 1], 1, 100000000, &o->every)) {
                 app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s",
@@ -114,10 +129,16 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
-    if (o->every && !o->obj) {
-        app_error(tool, "--every needs --obj DIR (it says which frames go out as OBJ files)");
+    if (o->every && !o->obj && !o->bake && !o->resume) {
+        app_error(tool, "--every needs --obj DIR or --bake DIR (it says which frames go out as "
+                  "files)");
         return APP_EXIT_BAD_INPUT;
     }
+    if (o->bake && o->resume) {
+        app_error(tool, "--bake and --resume: give one (--resume continues a bake)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    o->every_given = o->every;
     if (!o->every)
         o->every = 1;
     return APP_EXIT_OK;
@@ -134,11 +155,13 @@ typedef struct run_totals {
 /* Steps `frames` frames. With OBJ output, file i holds the state after i·every frames, for
    every i·every < frames (clothvk-render's rule for its images); writing is not timed. */
 static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, uint32_t every,
-                      run_totals* t)
+                      app_bake* bake, run_totals* t)
 {
     cvk_error err;
-    for (uint32_t f = 0; f < frames; f++) {
+    for (uint32_t f = bake ? bake->first : 0; f < frames; f++) {
         if (out && f % every == 0 && !app_obj_frames_write(out, f / every, f))
+            return APP_EXIT_FAILURE;
+        if (bake && !app_bake_frame(bake, f))
             return APP_EXIT_FAILURE;
         double t0 = app_now_ms();
         if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS) {
@@ -303,21 +326,47 @@ static void print_obj_summary(const options* o, const app_obj_frames* out, uint3
                (out->written - 1) * o->every, frames, o->every);
 }
 
+/* --bake: a new cache; --resume: the simulation at the bake's last complete frame, and the
+   frame count the bake's unless given. */
+static int open_bake(const options* o, const cvk_scene_desc* scene, cvk_sim* sim,
+                     uint32_t* frames, app_bake* bake)
+{
+    app_bake_desc desc = {o->scene, &o->overrides, scene, *frames, o->every_given};
+    if (o->bake)
+        return app_bake_start(bake, tool, sim, o->bake, &desc);
+    desc.frames = o->frames_set ? *frames : 0;
+    int status = app_bake_resume(bake, tool, sim, o->resume, &desc);
+    *frames = bake->frames;
+    return status;
+}
+
+static void print_bake_summary(const app_bake* b)
+{
+    printf("  %u snapshots written in %s (the bake: frames 0 to %u of %u, every %u)\n",
+           b->written, b->folder, b->frames ? (b->frames - 1) / b->every * b->every : 0,
+           b->frames, b->every);
+}
+
 /* The frames (and OBJ files), then statistics and the dump. The output folder is made once
    the scene has been built, so that bad input leaves nothing behind. */
 static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
                     cvk_sim* sim, uint32_t frames)
 {
+    app_bake bake = {0};
+    bool baking = o->bake || o->resume;
+    int status = baking ? open_bake(o, scene, sim, &frames, &bake) : APP_EXIT_OK;
     app_obj_frames out = {0};
-    if (o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
-        return APP_EXIT_FAILURE;
-    if (o->obj && !app_make_output_folder(tool, o->obj)) {
-        app_obj_frames_free(&out);
-        return APP_EXIT_BAD_INPUT;
-    }
+    if (status == APP_EXIT_OK && o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
+        status = APP_EXIT_FAILURE;
+    if (status == APP_EXIT_OK && o->obj && !app_make_output_folder(tool, o->obj))
+        status = APP_EXIT_BAD_INPUT;
     run_totals totals = {0};
-    int status = run_frames(sim, frames, o->obj ? &out : NULL, o->every, &totals);
+    if (status == APP_EXIT_OK)
+        status = run_frames(sim, frames, o->obj ? &out : NULL, o->every, baking ? &bake : NULL,
+                            &totals);
     app_obj_frames_free(&out);
+    app_bake done = bake; /* its counts, for the summary */
+    app_bake_free(&bake);
     if (status != APP_EXIT_OK)
         return status;
     cvk_sim_stats st;
@@ -332,6 +381,8 @@ static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_con
         print_summary(scene, ctx, &st, &totals);
     if (o->obj && !o->json)
         print_obj_summary(o, &out, frames);
+    if (baking && !o->json)
+        print_bake_summary(&done);
     if (st.nan_count) {
         app_error(tool, "%s: the simulation produced %llu non-finite coordinates", o->scene,
                   (unsigned long long)st.nan_count);

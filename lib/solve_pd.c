@@ -313,7 +313,7 @@ static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc
 
 /* ---- the host reference step ---------------------------------------------------------- */
 
-static cvk_result upload_host_positions(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+cvk_result cvk_pd_upload_host_positions(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 {
     float* x = s->staging.mapped;
     for (size_t p = 0; p < s->build.particle_count; p++) {
@@ -346,7 +346,7 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
             s->host_pass_ms[solve] = solve_ms;
         s->host_timed = true;
     }
-    return upload_host_positions(s, pd, error);
+    return cvk_pd_upload_host_positions(s, pd, error);
 }
 
 /* ---- the family ------------------------------------------------------------------------ */
@@ -428,4 +428,7 @@ const cvk_family_api cvk_family_pd = {
     .read_state = pd_read_state,
     .write_state = pd_write_state,
     .step_host = pd_step_host,
+    .snapshot_size = cvk_pd_snapshot_size,
+    .save_snapshot = cvk_pd_save_snapshot,
+    .load_snapshot = cvk_pd_load_snapshot,
 };

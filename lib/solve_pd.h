@@ -38,6 +38,15 @@ typedef struct cvk_pd {
     float* scratch_u;     /* last displacements x_n − x_{n−1}, 3 floats per particle */
 } cvk_pd;
 
+/* Uploads the gs-cpu positions (hx) into the positions buffer, for drawing and reading. */
+cvk_result cvk_pd_upload_host_positions(cvk_sim* sim, cvk_pd* pd, cvk_error* error);
+
+/* Exact snapshots of the family's state (solve_pd_snapshot.c; see cvk_family_api). */
+uint64_t cvk_pd_snapshot_size(const cvk_sim* sim, const void* self);
+cvk_result cvk_pd_save_snapshot(cvk_sim* sim, void* self, void* data, cvk_error* error);
+cvk_result cvk_pd_load_snapshot(cvk_sim* sim, void* self, const void* data, uint64_t size,
+                                cvk_error* error);
+
 /* The passes of one substep of `solver` (pd_passes.c). */
 cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
                              cvk_plan* plan, cvk_error* error);

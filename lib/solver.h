@@ -37,6 +37,15 @@ typedef struct cvk_family_api {
                               cvk_error* error);
     /* Steps `frames` frames on the host (plan->host), then uploads the positions. */
     cvk_result (*step_host)(cvk_sim* sim, void* self, uint32_t frames, cvk_error* error);
+    /* The family's raw state for exact snapshots (snapshot.c adds the header): its size in
+       bytes under the current solver, a copy of it into `data` (that many bytes), and back.
+       The bytes are the state as the family holds it, so stepping on from a loaded copy gives
+       the same bits; load refuses bytes it cannot take (another layout, another size) with a
+       sentence naming cvk_sim_load_snapshot, changing nothing. */
+    uint64_t (*snapshot_size)(const cvk_sim* sim, const void* self);
+    cvk_result (*save_snapshot)(cvk_sim* sim, void* self, void* data, cvk_error* error);
+    cvk_result (*load_snapshot)(cvk_sim* sim, void* self, const void* data, uint64_t size,
+                                cvk_error* error);
 } cvk_family_api;
 
 /* Every family, and the one that solves `solver` (NULL: none). */

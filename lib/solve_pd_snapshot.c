@@ -1,0 +1,105 @@
+/* Exact snapshots of the projective-dynamics state. Between substeps the family's state is
+   the positions and the last displacement u[0]: every other buffer (u[1], y, rhs) is
+   written by a substep before it reads it, and pinned entries never change. So a snapshot
+   is those two arrays exactly as they are held: on the device vec4 floats (w included) in
+   internal order, for gs-cpu the host's doubles x and x_prev. Converting between the two
+   would not be exact, so a snapshot loads only where the state lives on the same side;
+   among the device solvers (rbgs, jacobi, chebyshev) the state is the same and loads across.
+
+   Layout (native byte order): uint32 storage (PD_DEVICE or PD_HOST), uint32 0, then
+   device: positions[n] vec4, u0[n] vec4; host: x[3n] doubles, x_prev[3n] doubles. */
+#include <string.h>
+
+#include "error.h"
+#include "solve_pd.h"
+
+enum { PD_DEVICE = 1, PD_HOST = 2 };
+#define PD_PREFIX 8u
+
+static uint64_t payload_size(uint32_t storage, uint64_t n)
+{
+    return PD_PREFIX + (storage == PD_HOST ? 6u * sizeof(double) * n : 32u * n);
+}
+
+uint64_t cvk_pd_snapshot_size(const cvk_sim* s, const void* self)
+{
+    const cvk_pd* pd = self;
+    return payload_size(pd->host ? PD_HOST : PD_DEVICE, s->build.particle_count);
+}
+
+cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* error)
+{
+    cvk_pd* pd = self;
+    uint64_t n = s->build.particle_count;
+    uint32_t prefix[2] = {pd->host ? PD_HOST : PD_DEVICE, 0};
+    unsigned char* out = data;
+    memcpy(out, prefix, sizeof prefix);
+    out += PD_PREFIX;
+    if (pd->host) {
+        memcpy(out, pd->hx, 3 * n * sizeof(double));
+        memcpy(out + 3 * n * sizeof(double), pd->hprev, 3 * n * sizeof(double));
+        return CVK_SUCCESS;
+    }
+    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &pd->readback_cmd, 1, error);
+    if (r == CVK_SUCCESS)
+        memcpy(out, s->staging.mapped, 32u * n); /* positions, then u[0] (record_readback) */
+    return r;
+}
+
+static const char* side_name(uint32_t storage)
+{
+    return storage == PD_HOST ? "the gs-cpu solver's host state"
+                              : "a device solver's state (rbgs, jacobi or chebyshev)";
+}
+
+/* Refuses bytes of another layout or size, before anything changes. */
+static cvk_result check_payload(const cvk_sim* s, const cvk_pd* pd, const void* data,
+                                uint64_t size, cvk_error* error)
+{
+    uint32_t prefix[2] = {0, 0};
+    if (size >= PD_PREFIX)
+        memcpy(prefix, data, sizeof prefix);
+    if (prefix[0] != PD_DEVICE && prefix[0] != PD_HOST)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_load_snapshot: the projective-dynamics state is malformed "
+                        "(unknown storage %u)", prefix[0]);
+    uint32_t here = pd->host ? PD_HOST : PD_DEVICE;
+    if (prefix[0] != here)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_load_snapshot: the snapshot holds %s; this simulation solves "
+                        "with %s: set that kind of solver first (cvk_sim_set_solver)",
+                        side_name(prefix[0]), cvk_linear_solver_name(s->solver.linear));
+    uint64_t want = payload_size(here, s->build.particle_count);
+    if (size != want)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_load_snapshot: the projective-dynamics state is %llu bytes; "
+                        "%llu expected", (unsigned long long)size, (unsigned long long)want);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_pd_load_snapshot(cvk_sim* s, void* self, const void* data, uint64_t size,
+                                cvk_error* error)
+{
+    cvk_pd* pd = self;
+    cvk_result r = check_payload(s, pd, data, size, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    uint64_t n = s->build.particle_count;
+    const unsigned char* in = (const unsigned char*)data + PD_PREFIX;
+    if (pd->host) {
+        memcpy(pd->hx, in, 3 * n * sizeof(double));
+        memcpy(pd->hprev, in + 3 * n * sizeof(double), 3 * n * sizeof(double));
+        memcpy(pd->hy, pd->hx, 3 * n * sizeof(double)); /* pinned entries: where they are held */
+        return cvk_pd_upload_host_positions(s, pd, error);
+    }
+    /* As set_state: u[1] and y start equal to u[0]; each substep overwrites them first. */
+    memcpy(s->staging.mapped, in, 32u * n);
+    VkDeviceSize n16 = (VkDeviceSize)n * 16u;
+    cvk_staging_copy jobs[] = {
+        {&s->positions, 0, 0, n16},
+        {&pd->u[0], n16, 0, n16},
+        {&pd->u[1], n16, 0, n16},
+        {&pd->y, n16, 0, n16},
+    };
+    return cvk_sim_copy_from_staging(s, jobs, 4, error);
+}

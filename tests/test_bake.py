@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""clothvk-sim --bake DIR / --resume DIR: a bake resumed gives the bits of an uninterrupted one.
+
+    python3 tests/test_bake.py PATH/TO/clothvk-sim
+
+Good input, on a small swinging cloth:
+- a bake of F frames holds cache.json (format, version, the scene text copied whole, frames, every,
+  particles, snapshot size) and frame_0000.snap ... frame_{F-1}.snap, nothing else;
+- a bake of F/2 frames resumed to F gives the same files, byte for byte (cache.json included), and
+  the same --dump as the uninterrupted bake;
+- a full bake whose last frame file is deleted (an interrupted bake) and then resumed: the same;
+- the same two with --every 3 (files 0, 1, 2 for 8 frames) and with a --set item.
+Bad input: exit status 2, exactly one line on stderr (compared whole) and the bake folder as it was:
+no folder, another scene's bake, a frame file cut short, other --set items, another --every,
+--bake with --resume.
+"""
+import filecmp
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+if len(sys.argv) != 2:
+    sys.exit("usage: test_bake.py PATH/TO/clothvk-sim")
+SIM = os.path.abspath(sys.argv[1])
+os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+
+FRAMES = 8
+CLOTH = {"name": "flag", "grid": [8, 6], "size": [0.5, 0.4], "origin": [0.0, 1.0, 0.0],
+         "u_axis": [1, 0, 0], "v_axis": [0, -1, 0], "mass": 0.1,
+         "stiffness": {"structural": 1e4, "shear": 1e3, "bend": 10}, "pins": [[0, 0], [7, 0]]}
+SCENE = {"name": "flag", "dt": 0.002, "substeps": 4, "frames": FRAMES,
+         "solver": {"linear": "rbgs", "outer_iterations": 2, "inner_iterations": 2},
+         "cloths": [CLOTH]}
+SCENE_TEXT = json.dumps(SCENE, indent=2) + "\n"
+OTHER_TEXT = json.dumps(dict(SCENE, dt=0.001), indent=2) + "\n"
+
+failures = []
+
+
+def check(cond, message):
+    if not cond:
+        failures.append(message)
+        print("FAILED:", message, file=sys.stderr)
+
+
+def run(args):
+    return subprocess.run([SIM] + args, capture_output=True, text=True)
+
+
+def ok(args, what):
+    r = run(args)
+    check(r.returncode == 0, f"{what}: exit {r.returncode}: {r.stderr.strip()}")
+    return r
+
+
+def contents(folder):
+    """{name: bytes} of every file in `folder` ({} when it does not exist)."""
+    if not os.path.isdir(folder):
+        return {}
+    out = {}
+    for name in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, name), "rb") as f:
+            out[name] = f.read()
+    return out
+
+
+def same_bake(a, b, what):
+    ca, cb = contents(a), contents(b)
+    check(sorted(ca) == sorted(cb), f"{what}: files {sorted(cb)}, expected {sorted(ca)}")
+    for name in ca:
+        if name in cb and ca[name] != cb[name]:
+            differ = sum(x != y for x, y in zip(ca[name], cb[name])) + abs(len(ca[name]) - len(cb[name]))
+            check(False, f"{what}: {name} differs from the uninterrupted bake's in {differ} bytes")
+
+
+def check_layout(folder, scene_text, frames, every, extra):
+    files = contents(folder)
+    count = (frames + every - 1) // every
+    expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(count)]
+    check(sorted(files) == expected, f"{folder}: files {sorted(files)}, expected {expected}")
+    cache = json.loads(files.get("cache.json", b"{}"))
+    want = {"format": "clothvk-bake", "version": 1, "scene": scene_text, "frames": frames,
+            "every": every, "substeps": 4, "particles": 48, "overrides": extra}
+    for key, value in want.items():
+        check(cache.get(key) == value, f"{folder}/cache.json: {key} is {cache.get(key)!r}, expected {value!r}")
+    size = cache.get("snapshot_bytes")
+    for name, data in files.items():
+        if name.endswith(".snap"):
+            check(len(data) == size and data[:7] == b"CVKSNAP",
+                  f"{folder}/{name}: {len(data)} bytes starting {data[:8]!r}; expected {size} starting CVKSNAP")
+
+
+def resumes(tmp, scene, every, sets):
+    """Full bake; half bake resumed; full bake without its last frame resumed: all the same."""
+    tag = f"every{every}{'-set' if sets else ''}"
+    extra = sum((["--set", s] for s in sets), [])
+    opts = ["--every", str(every)] if every != 1 else []
+    full, half, cut = (os.path.join(tmp, f"{tag}-{n}") for n in ("full", "half", "cut"))
+    ok([scene, "--frames", str(FRAMES), "--bake", full, "--dump", full + ".csv"] + opts + extra, f"{tag}: bake")
+    check_layout(full, SCENE_TEXT, FRAMES, every, sets)
+    ok([scene, "--frames", str(FRAMES // 2), "--bake", half] + opts + extra, f"{tag}: half bake")
+    ok([scene, "--frames", str(FRAMES), "--resume", half, "--dump", half + ".csv"] + extra, f"{tag}: resume")
+    same_bake(full, half, f"{tag}: half bake resumed")
+    check(filecmp.cmp(full + ".csv", half + ".csv", shallow=False),
+          f"{tag}: the resumed --dump differs from the uninterrupted bake's")
+    shutil.copytree(full, cut)
+    last = sorted(n for n in os.listdir(cut) if n.endswith(".snap"))[-1]
+    os.remove(os.path.join(cut, last))
+    ok([scene, "--resume", cut, "--dump", cut + ".csv"] + extra, f"{tag}: resume after {last} deleted")
+    same_bake(full, cut, f"{tag}: interrupted bake resumed")
+    check(filecmp.cmp(full + ".csv", cut + ".csv", shallow=False),
+          f"{tag}: the --dump after resuming an interrupted bake differs")
+    return full
+
+
+def refused(args, line, folder, what):
+    before = contents(folder)
+    r = run(args)
+    check(r.returncode == 2, f"{what}: exit {r.returncode}, expected 2 ({r.stderr.strip()})")
+    check(r.stderr == line + "\n", f"{what}: stderr {r.stderr!r}, expected {line!r}")
+    check(r.stdout == "", f"{what}: printed {r.stdout!r}")
+    check(contents(folder) == before, f"{what}: the bake folder changed")
+
+
+def bad_inputs(tmp, scene, other, full):
+    missing = os.path.join(tmp, "nothing")
+    refused([scene, "--resume", missing],
+            f"clothvk-sim: {missing}: no bake here ({missing}/cache.json: No such file or directory)",
+            missing, "no bake folder")
+    other_bake = os.path.join(tmp, "other")
+    ok([other, "--frames", "2", "--bake", other_bake], "another scene's bake")
+    refused([scene, "--resume", other_bake],
+            f"clothvk-sim: {other_bake}: baked from another scene (the scene text in its cache.json "
+            f"differs from {scene})", other_bake, "another scene's bake")
+    corrupt = os.path.join(tmp, "corrupt")
+    shutil.copytree(full, corrupt)
+    last = os.path.join(corrupt, f"frame_{FRAMES - 1:04d}.snap")
+    size = os.path.getsize(last)
+    with open(last, "r+b") as f:
+        f.truncate(size - 100)
+    refused([scene, "--resume", corrupt],
+            f"clothvk-sim: {last}: cvk_sim_load_snapshot: the snapshot is {size - 100} bytes; its "
+            f"header says {size} (truncated or padded)", corrupt, "a frame file cut short")
+    refused([scene, "--resume", full, "--set", "damping=0.01"],
+            f"clothvk-sim: {full}: baked with other --set items than given here (see its cache.json)",
+            full, "other --set items")
+    refused([scene, "--resume", full, "--every", "2"],
+            f"clothvk-sim: --every 2: {full} was baked with --every 1", full, "another --every")
+    refused([scene, "--bake", full, "--resume", full],
+            "clothvk-sim: --bake and --resume: give one (--resume continues a bake)", full,
+            "--bake with --resume")
+
+
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = os.path.join(tmp, "flag.json")
+        other = os.path.join(tmp, "other.json")
+        with open(scene, "w") as f:
+            f.write(SCENE_TEXT)
+        with open(other, "w") as f:
+            f.write(OTHER_TEXT)
+        full = resumes(tmp, scene, 1, [])
+        resumes(tmp, scene, 3, [])
+        resumes(tmp, scene, 1, ["solver.linear=\"jacobi\""])
+        bad_inputs(tmp, scene, other, full)
+    if failures:
+        print(f"{len(failures)} checks failed", file=sys.stderr)
+        return 1
+    print("bake: resumed bakes equal uninterrupted ones; bad input refused")
+    return 0
+
+
+sys.exit(main())

@@ -1,0 +1,138 @@
+#!/usr/bin/env python3
+"""clothvk-render --from BAKE --frames A:B: images from a bake equal a direct render's, byte for byte.
+
+    python3 tests/test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
+
+A small scene is baked for F frames (every 1 and every 2) and rendered directly with --frames F
+(--every 1: frame_0000.png ... frame_{F-1}.png). Then:
+- --from the bake with --frames 1:4 writes exactly frame_0001.png ... frame_0004.png, each equal
+  byte for byte to the direct render's image of that frame; --frames 5:5 and 0:0, run separately,
+  give frame_0005.png and frame_0000.png equal to theirs;
+- without --frames, every frame the bake holds (all of them; 0, 2, 4 for the --every 2 bake);
+- a frame the bake does not hold (frame 1 of the --every 2 bake, frame F of either) is refused:
+  exit 2, one line, no output folder made; so are --frames A:B without --from, --every with
+  --from, a missing bake and another scene's bake.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+if len(sys.argv) != 3:
+    sys.exit("usage: test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render")
+SIM, RENDER = (os.path.abspath(p) for p in sys.argv[1:])
+os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+
+FRAMES = 6
+CLOTH = {"name": "flag", "grid": [8, 6], "size": [0.5, 0.4], "origin": [-0.25, 1.0, 0.0],
+         "u_axis": [1, 0, 0], "v_axis": [0, -1, 0], "mass": 0.1,
+         "stiffness": {"structural": 1e4, "shear": 1e3, "bend": 10}, "pins": [[0, 0], [7, 0]]}
+SCENE = {"name": "flag", "dt": 0.004, "substeps": 4, "frames": FRAMES,
+         "solver": {"linear": "rbgs", "outer_iterations": 2, "inner_iterations": 2},
+         "render": {"size": [96, 64]}, "cloths": [CLOTH]}
+
+failures = []
+
+
+def check(cond, message):
+    if not cond:
+        failures.append(message)
+        print("FAILED:", message, file=sys.stderr)
+
+
+def run(tool, args, what, status=0):
+    r = subprocess.run([tool] + args, capture_output=True, text=True)
+    check(r.returncode == status, f"{what}: exit {r.returncode}, expected {status}: {r.stderr.strip()}")
+    return r
+
+
+def images(folder):
+    if not os.path.isdir(folder):
+        return {}
+    out = {}
+    for name in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, name), "rb") as f:
+            out[name] = f.read()
+    return out
+
+
+def from_bake(tmp, scene, bake, frames, direct, what):
+    """Renders `frames` (a list) from `bake` with the given --frames argument and compares."""
+    out = os.path.join(tmp, what.replace(" ", "-").replace(":", "-"))
+    args = [scene, "-o", out, "--from", bake, "--quiet"]
+    if what.startswith("--frames"):
+        args += ["--frames", what.split()[1]]
+    run(RENDER, args, what)
+    got = images(out)
+    want = [f"frame_{f:04d}.png" for f in frames]
+    check(sorted(got) == want, f"{what}: images {sorted(got)}, expected {want}")
+    for name, data in got.items():
+        ref = direct.get(name)
+        check(ref is not None and data == ref,
+              f"{what}: {name} differs from the direct render's ({len(data)} bytes against "
+              f"{len(ref) if ref else 0})")
+
+
+def refused(tmp, args, line, what):
+    out = os.path.join(tmp, "refused")
+    r = run(RENDER, args + ["-o", out], what, status=2)
+    check(r.stderr == line + "\n", f"{what}: stderr {r.stderr!r}, expected {line!r}")
+    check(not os.path.exists(out), f"{what}: the output folder was made")
+
+
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        scene, other = os.path.join(tmp, "flag.json"), os.path.join(tmp, "other.json")
+        with open(scene, "w") as f:
+            json.dump(SCENE, f, indent=2)
+        with open(other, "w") as f:
+            json.dump(dict(SCENE, dt=0.002), f, indent=2)
+        bake, bake2, other_bake = (os.path.join(tmp, n) for n in ("bake", "bake2", "other-bake"))
+        run(SIM, [scene, "--bake", bake], "bake")
+        run(SIM, [scene, "--bake", bake2, "--every", "2"], "bake --every 2")
+        run(SIM, [other, "--bake", other_bake, "--frames", "2"], "another scene's bake")
+        direct_dir = os.path.join(tmp, "direct")
+        run(RENDER, [scene, "-o", direct_dir, "--quiet"], "direct render")
+        direct = images(direct_dir)
+        check(len(direct) == FRAMES, f"the direct render wrote {len(direct)} images, not {FRAMES}")
+        check(len(set(direct.values())) == FRAMES, "the direct render's images are not all "
+              "different: the cloth does not move, nothing is tested")
+
+        from_bake(tmp, scene, bake, [1, 2, 3, 4], direct, "--frames 1:4")
+        from_bake(tmp, scene, bake, [5], direct, "--frames 5:5")
+        from_bake(tmp, scene, bake, [0], direct, "--frames 0:0")
+        from_bake(tmp, scene, bake, list(range(FRAMES)), direct, "all frames")
+        from_bake(tmp, scene, bake2, [0, 2, 4], direct, "all frames every 2")
+        from_bake(tmp, scene, bake2, [2], direct, "--frames 2:2 every 2")
+
+        refused(tmp, [scene, "--from", bake2, "--frames", "1:3"],
+                f"clothvk-render: {bake2}: frame 1 is not in the bake (it holds frames 0 to 4, every 2)",
+                "a frame an every-2 bake does not hold")
+        refused(tmp, [scene, "--from", bake, "--frames", f"4:{FRAMES}"],
+                f"clothvk-render: {bake}: frame {FRAMES} is not in the bake (it holds frames 0 to "
+                f"{FRAMES - 1}, every 1)", "a frame past the bake")
+        refused(tmp, [scene, "--frames", "1:4"],
+                "clothvk-render: --frames A:B needs --from BAKE (without it --frames is a count)",
+                "--frames A:B without --from")
+        refused(tmp, [scene, "--from", bake, "--every", "2"],
+                "clothvk-render: --from: give the frames as --frames A:B (--every has no meaning here)",
+                "--every with --from")
+        refused(tmp, [scene, "--from", bake, "--frames", "4:2"],
+                "clothvk-render: --frames: expected A:B, whole numbers with A <= B, got 4:2",
+                "--frames 4:2")
+        missing = os.path.join(tmp, "nothing")
+        refused(tmp, [scene, "--from", missing],
+                f"clothvk-render: {missing}: no bake here ({missing}/cache.json: No such file or "
+                "directory)", "a missing bake")
+        refused(tmp, [scene, "--from", other_bake],
+                f"clothvk-render: {other_bake}: baked from another scene (the scene text in its "
+                f"cache.json differs from {scene})", "another scene's bake")
+    if failures:
+        print(f"{len(failures)} checks failed", file=sys.stderr)
+        return 1
+    print("bake-render: images from bakes equal the direct render's; bad input refused")
+    return 0
+
+
+sys.exit(main())
