@@ -27,6 +27,7 @@ static void usage(FILE* out)
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --serial       write each image before simulating the next (for timing)\n"
             "  --quiet        no progress line and no summary\n"
+            "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
 
@@ -59,7 +60,7 @@ static bool parse_size(const char* text, uint32_t out[2])
     return app_parse_u32(width, 1, UINT32_MAX, &out[0]) && app_parse_u32(x + 1, 1, UINT32_MAX, &out[1]);
 }
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
 static int parse_args(int argc, char** argv, options* o, bool* done)
 {
     o->every = 1;
@@ -69,6 +70,10 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         const char* value = has_value ? argv[i + 1] : "nothing";
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
+            *done = true;
+            return APP_EXIT_OK;
+        } else if (!strcmp(a, "--version")) {
+            printf("%s %s\n", tool, cvk_version());
             *done = true;
             return APP_EXIT_OK;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {

@@ -27,6 +27,7 @@ static void usage(FILE* out)
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
+            "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
 
@@ -44,7 +45,7 @@ typedef struct options {
     uint32_t max_workgroups;
 } options;
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
 static int parse_args(int argc, char** argv, options* o, bool* done)
 {
     for (int i = 1; i < argc; i++) {
@@ -52,6 +53,10 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         bool has_value = i + 1 < argc;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
+            *done = true;
+            return APP_EXIT_OK;
+        } else if (!strcmp(a, "--version")) {
+            printf("%s %s\n", tool, cvk_version());
             *done = true;
             return APP_EXIT_OK;
         } else if (!strcmp(a, "--frames")) {
