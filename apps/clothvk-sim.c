@@ -7,6 +7,7 @@
 #include "clothvk.h"
 #include "common.h"
 #include "obj.h"
+#include "pc2.h"
 
 static const char tool[] = "clothvk-sim";
 
@@ -14,7 +15,8 @@ static void usage(FILE* out)
 {
     fprintf(out,
             "usage: clothvk-sim SCENE [--frames N] [--set key.path=value]... [--json]\n"
-            "                   [--dump FILE.csv] [--obj DIR [--every K]] [--plan]\n"
+            "                   [--dump FILE.csv] [--obj DIR] [--pc2 FILE.pc2] [--every K]\n"
+            "                   [--plan]\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --json         print one JSON object of statistics\n"
@@ -22,8 +24,12 @@ static void usage(FILE* out)
             "  --obj DIR      write frames as Wavefront OBJ files DIR/frame_0000.obj, ... (the\n"
             "                 folder is created if missing): every cloth an object with vertex\n"
             "                 positions (m), normals and its triangles\n"
-            "  --every K      with --obj: file i holds the state after i*K frames, for every\n"
-            "                 i*K < N (frame_0000.obj: before the first step); default 1\n"
+            "  --pc2 FILE     write the frames as one PC2 point cache (Blender's Mesh Cache\n"
+            "                 modifier, 3ds Max and Maya read it), and beside it the rest mesh\n"
+            "                 as an OBJ with the same vertex order: FILE with its extension\n"
+            "                 replaced by .obj\n"
+            "  --every K      with --obj or --pc2: file or sample i holds the state after i*K\n"
+            "                 frames, for every i*K < N (i = 0: before the first step); default 1\n"
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
@@ -39,6 +45,7 @@ typedef struct options {
     bool json;
     const char* dump;
     const char* obj;
+    const char* pc2;
     uint32_t every; /* 0: not given (1) */
     bool plan;
     uint32_t workgroup_size;
@@ -83,6 +90,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 return APP_EXIT_BAD_INPUT;
             }
             o->obj = argv[++i];
+        } else if (!strcmp(a, "--pc2")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "--pc2: expected a file name");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->pc2 = argv[++i];
         } else if (!strcmp(a, "--every")) {
             if (!has_value || !app_parse_u32(argv[i + 1], 1, 100000000, &o->every)) {
                 app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s",
@@ -119,8 +132,8 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
-    if (o->every && !o->obj) {
-        app_error(tool, "--every needs --obj DIR (it says which frames go out as OBJ files)");
+    if (o->every && !o->obj && !o->pc2) {
+        app_error(tool, "--every needs --obj DIR or --pc2 FILE (it says which frames go out)");
         return APP_EXIT_BAD_INPUT;
     }
     if (!o->every)
@@ -136,14 +149,17 @@ typedef struct run_totals {
     double pass_ms[CVK_MAX_PASSES];
 } run_totals;
 
-/* Steps `frames` frames. With OBJ output, file i holds the state after i·every frames, for
-   every i·every < frames (clothvk-render's rule for its images); writing is not timed. */
-static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, uint32_t every,
-                      run_totals* t)
+/* Steps `frames` frames. With OBJ or PC2 output, file or sample i holds the state after
+   i·every frames, for every i·every < frames (clothvk-render's rule for its images); writing
+   is not timed. */
+static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc2* pc2,
+                      uint32_t every, run_totals* t)
 {
     cvk_error err;
     for (uint32_t f = 0; f < frames; f++) {
         if (out && f % every == 0 && !app_obj_frames_write(out, f / every, f))
+            return APP_EXIT_FAILURE;
+        if (pc2 && f % every == 0 && !app_pc2_write(pc2))
             return APP_EXIT_FAILURE;
         double t0 = app_now_ms();
         if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS) {
@@ -308,23 +324,11 @@ static void print_obj_summary(const options* o, const app_obj_frames* out, uint3
                (out->written - 1) * o->every, frames, o->every);
 }
 
-/* The frames (and OBJ files), then statistics and the dump. The output folder is made once
-   the scene has been built, so that bad input leaves nothing behind. */
-static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
-                    cvk_sim* sim, uint32_t frames)
+/* Statistics after the frames, and the failure a non-finite coordinate makes. */
+static int report(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+                  cvk_sim* sim, uint32_t frames, const run_totals* totals,
+                  const app_obj_frames* out)
 {
-    app_obj_frames out = {0};
-    if (o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
-        return APP_EXIT_FAILURE;
-    if (o->obj && !app_make_output_folder(tool, o->obj)) {
-        app_obj_frames_free(&out);
-        return APP_EXIT_BAD_INPUT;
-    }
-    run_totals totals = {0};
-    int status = run_frames(sim, frames, o->obj ? &out : NULL, o->every, &totals);
-    app_obj_frames_free(&out);
-    if (status != APP_EXIT_OK)
-        return status;
     cvk_sim_stats st;
     cvk_error err;
     if (cvk_sim_get_stats(sim, &st, &err) != CVK_SUCCESS) {
@@ -332,17 +336,45 @@ static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_con
         return APP_EXIT_FAILURE;
     }
     if (o->json)
-        print_json(scene, ctx, &st, &totals);
+        print_json(scene, ctx, &st, totals);
     else
-        print_summary(scene, ctx, &st, &totals);
+        print_summary(scene, ctx, &st, totals);
     if (o->obj && !o->json)
-        print_obj_summary(o, &out, frames);
+        print_obj_summary(o, out, frames);
     if (st.nan_count) {
         app_error(tool, "%s: the simulation produced %llu non-finite coordinates", o->scene,
                   (unsigned long long)st.nan_count);
         return APP_EXIT_FAILURE;
     }
-    return o->dump ? dump_positions(sim, o->dump) : APP_EXIT_OK;
+    return APP_EXIT_OK;
+}
+
+/* The frames (OBJ files, point cache), then statistics and the dump. Output folders are made
+   once the scene has been built, so that bad input leaves nothing behind; the point cache is
+   renamed into place only when the run succeeded. */
+static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+                    cvk_sim* sim, uint32_t frames)
+{
+    app_obj_frames out = {0};
+    app_pc2 pc2 = {0};
+    int status = o->pc2 ? app_pc2_open(&pc2, tool, sim, o->pc2, scene, o->every) : APP_EXIT_OK;
+    if (status == APP_EXIT_OK && o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
+        status = APP_EXIT_FAILURE;
+    else if (status == APP_EXIT_OK && o->obj && !app_make_output_folder(tool, o->obj))
+        status = APP_EXIT_BAD_INPUT;
+    run_totals totals = {0};
+    if (status == APP_EXIT_OK)
+        status = run_frames(sim, frames, o->obj ? &out : NULL, o->pc2 ? &pc2 : NULL, o->every,
+                            &totals);
+    app_obj_frames_free(&out);
+    if (status == APP_EXIT_OK)
+        status = report(o, scene, ctx, sim, frames, &totals, &out);
+    if (status == APP_EXIT_OK && o->pc2)
+        status = app_pc2_finish(&pc2, frames, !o->json);
+    app_pc2_free(&pc2);
+    if (status == APP_EXIT_OK && o->dump)
+        status = dump_positions(sim, o->dump);
+    return status;
 }
 
 static int run(const options* o)
