@@ -12,6 +12,7 @@
 
 #include "clothvk.h"
 #include "common.h"
+#include "video.h"
 
 static const char tool[] = "clothvk-render";
 
@@ -25,6 +26,8 @@ static void usage(FILE* out)
             "  --every K      write every K-th simulated frame, starting with frame 0 (default 1)\n"
             "  --size WxH     image size in pixels (default: the scene's render.size, 1280x720)\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
+            "  --video FILE   also encode the images into a video with ffmpeg (FILE.mp4, at the\n"
+            "                 scene's frame rate over K); -o may then be left out\n"
             "  --serial       write each image before simulating the next (for timing)\n"
             "  --quiet        no progress line and no summary\n"
             "  --version      print the version and exit\n"
@@ -43,6 +46,7 @@ typedef struct options {
     app_overrides overrides;
     bool serial;
     bool quiet;
+    const char* video;
 } options;
 
 /* "1280x720": two whole numbers of at least 1. The upper limit is the device's. */
@@ -106,6 +110,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
             int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
             if (status != APP_EXIT_OK)
                 return status;
+        } else if (!strcmp(a, "--video")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "--video: expected a file name such as clip.mp4");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->video = argv[++i];
         } else if (!strcmp(a, "--serial")) {
             o->serial = true;
         } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
@@ -121,10 +131,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
-    if (!o->out) {
+    if (!o->out && !o->video) {
         app_error(tool, "no output folder given (-o DIR)");
         return APP_EXIT_BAD_INPUT;
     }
+    if (o->video && !app_video_available(tool))
+        return APP_EXIT_BAD_INPUT;
     return APP_EXIT_OK;
 }
 
@@ -321,6 +333,7 @@ typedef struct run_state {
     cvk_sim* sim;
     cvk_mesh* mesh;
     cvk_renderer* renderer;
+    app_video* video; /* NULL without --video */
 } run_state;
 
 static int check_size(const run_state* s, const cvk_render_desc* render)
@@ -386,7 +399,9 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
         }
         double t2 = app_now_ms();
         cvk_image image = cvk_renderer_get_image(s->renderer);
-        if (!writer_push(w, &image, i))
+        if (s->video && !app_video_write(s->video, &image))
+            return APP_EXIT_FAILURE;
+        if (s->o->out && !writer_push(w, &image, i))
             break;
         if (s->o->serial)
             writer_drain(w);
@@ -423,7 +438,8 @@ static int render_all(run_state* s, uint32_t frames)
     uint32_t count = (frames + s->o->every - 1) / s->o->every;
     cvk_image first = cvk_renderer_get_image(s->renderer);
     writer w;
-    if (!writer_start(&w, s->o->out, first.width, first.height)) {
+    /* Without -o (a video only) the writer is given no image; its folder is never used. */
+    if (!writer_start(&w, s->o->out ? s->o->out : ".", first.width, first.height)) {
         app_error(tool, "out of memory for %u x %u images", first.width, first.height);
         writer_free(&w);
         return APP_EXIT_FAILURE;
@@ -439,9 +455,14 @@ static int render_all(run_state* s, uint32_t frames)
     } else if (interrupted) {
         app_error(tool, "interrupted after %u of %u images", w.written, count);
         status = APP_EXIT_FAILURE;
-    } else if (status == APP_EXIT_OK && !s->o->quiet && t.images) {
-        print_summary(s, &t, &w, frames, wall);
+    } else if (status == APP_EXIT_OK && s->video) {
+        status = app_video_finish(s->video);
     }
+    if (status == APP_EXIT_OK && !s->o->quiet && t.images && s->o->out)
+        print_summary(s, &t, &w, frames, wall);
+    if (status == APP_EXIT_OK && !s->o->quiet && s->video)
+        printf("%s: video %s, %u frames of %ux%u\n", s->scene->name ? s->scene->name : "scene",
+               s->o->video, s->video->frames, first.width, first.height);
     writer_free(&w);
     return status;
 }
@@ -489,10 +510,18 @@ static int run(const options* o)
     int status = check_size(&s, &render);
     if (status == APP_EXIT_OK)
         status = create_objects(&s, &render);
-    if (status == APP_EXIT_OK && !app_make_output_folder(tool, o->out))
+    if (status == APP_EXIT_OK && o->out && !app_make_output_folder(tool, o->out))
         status = APP_EXIT_BAD_INPUT;
+    app_video video = {.fd = -1};
+    if (status == APP_EXIT_OK && o->video) {
+        cvk_image first = cvk_renderer_get_image(s.renderer);
+        double fps = 1.0 / ((double)s.scene->dt * s.scene->substeps * o->every);
+        status = app_video_open(&video, tool, o->video, first.width, first.height, fps);
+        s.video = &video;
+    }
     if (status == APP_EXIT_OK)
         status = render_all(&s, frames);
+    app_video_free(&video);
     if (status == APP_EXIT_OK)
         status = check_result(&s);
     cvk_renderer_destroy(s.renderer);
