@@ -13,6 +13,7 @@
 #include "bake.h"
 #include "clothvk.h"
 #include "common.h"
+#include "video.h"
 
 static const char tool[] = "clothvk-render";
 
@@ -30,8 +31,11 @@ static void usage(FILE* out)
             "  --every K      write every K-th simulated frame, starting with frame 0 (default 1)\n"
             "  --size WxH     image size in pixels (default: the scene's render.size, 1280x720)\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
+            "  --video FILE   also encode the images into a video with ffmpeg (FILE.mp4, at the\n"
+            "                 scene's frame rate over K); -o may then be left out\n"
             "  --serial       write each image before simulating the next (for timing)\n"
             "  --quiet        no progress line and no summary\n"
+            "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
 
@@ -51,6 +55,7 @@ typedef struct options {
     bool range_set;     /* --frames A:B */
     uint32_t range[2];
     bool every_set;
+    const char* video;
 } options;
 
 /* "A:B", whole numbers with A <= B. */
@@ -98,7 +103,7 @@ static int check_from(const options* o)
     return APP_EXIT_OK;
 }
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
 static int parse_args(int argc, char** argv, options* o, bool* done)
 {
     o->every = 1;
@@ -108,6 +113,10 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         const char* value = has_value ? argv[i + 1] : "nothing";
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
+            *done = true;
+            return APP_EXIT_OK;
+        } else if (!strcmp(a, "--version")) {
+            printf("%s %s\n", tool, cvk_version());
             *done = true;
             return APP_EXIT_OK;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
@@ -154,6 +163,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
             int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
             if (status != APP_EXIT_OK)
                 return status;
+        } else if (!strcmp(a, "--video")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "--video: expected a file name such as clip.mp4");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->video = argv[++i];
         } else if (!strcmp(a, "--serial")) {
             o->serial = true;
         } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
@@ -169,11 +184,21 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
-    if (!o->out) {
+    if (!o->out && !o->video) {
         app_error(tool, "no output folder given (-o DIR)");
         return APP_EXIT_BAD_INPUT;
     }
-    return check_from(o);
+    int status = check_from(o);
+    if (status != APP_EXIT_OK)
+        return status;
+    if (o->video && o->from) {
+        app_error(tool, "--video and --from: a video is made while simulating; render the bake's "
+                  "frames to PNGs and encode those");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (o->video && !app_video_available(tool))
+        return APP_EXIT_BAD_INPUT;
+    return APP_EXIT_OK;
 }
 
 /* ---- the output folder ---------------------------------------------------------------- */
@@ -371,6 +396,7 @@ typedef struct run_state {
     cvk_renderer* renderer;
     app_bake* bake;         /* --from: frames come from here */
     uint32_t first, step;   /* image i is frame first + i * step */
+    app_video* video; /* NULL without --video */
 } run_state;
 
 static int check_size(const run_state* s, const cvk_render_desc* render)
@@ -441,7 +467,9 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
         }
         double t2 = app_now_ms();
         cvk_image image = cvk_renderer_get_image(s->renderer);
-        if (!writer_push(w, &image, s->bake ? frame : i))
+        if (s->video && !app_video_write(s->video, &image))
+            return APP_EXIT_FAILURE;
+        if (s->o->out && !writer_push(w, &image, s->bake ? frame : i))
             break;
         if (s->o->serial)
             writer_drain(w);
@@ -485,7 +513,8 @@ static int render_all(run_state* s, uint32_t frames)
     uint32_t count = s->bake ? frames : (frames + s->o->every - 1) / s->o->every;
     cvk_image first = cvk_renderer_get_image(s->renderer);
     writer w;
-    if (!writer_start(&w, s->o->out, first.width, first.height)) {
+    /* Without -o (a video only) the writer is given no image; its folder is never used. */
+    if (!writer_start(&w, s->o->out ? s->o->out : ".", first.width, first.height)) {
         app_error(tool, "out of memory for %u x %u images", first.width, first.height);
         writer_free(&w);
         return APP_EXIT_FAILURE;
@@ -501,9 +530,14 @@ static int render_all(run_state* s, uint32_t frames)
     } else if (interrupted) {
         app_error(tool, "interrupted after %u of %u images", w.written, count);
         status = APP_EXIT_FAILURE;
-    } else if (status == APP_EXIT_OK && !s->o->quiet && t.images) {
-        print_summary(s, &t, &w, frames, wall);
+    } else if (status == APP_EXIT_OK && s->video) {
+        status = app_video_finish(s->video);
     }
+    if (status == APP_EXIT_OK && !s->o->quiet && t.images && s->o->out)
+        print_summary(s, &t, &w, frames, wall);
+    if (status == APP_EXIT_OK && !s->o->quiet && s->video)
+        printf("%s: video %s, %u frames of %ux%u\n", s->scene->name ? s->scene->name : "scene",
+               s->o->video, s->video->frames, first.width, first.height);
     writer_free(&w);
     return status;
 }
@@ -572,10 +606,18 @@ static int run(const options* o)
     app_bake bake = {0};
     if (status == APP_EXIT_OK && o->from)
         status = open_bake(&s, &bake, &frames);
-    if (status == APP_EXIT_OK && !app_make_output_folder(tool, o->out))
+    if (status == APP_EXIT_OK && o->out && !app_make_output_folder(tool, o->out))
         status = APP_EXIT_BAD_INPUT;
+    app_video video = {.fd = -1};
+    if (status == APP_EXIT_OK && o->video) {
+        cvk_image first = cvk_renderer_get_image(s.renderer);
+        double fps = 1.0 / ((double)s.scene->dt * s.scene->substeps * o->every);
+        status = app_video_open(&video, tool, o->video, first.width, first.height, fps);
+        s.video = &video;
+    }
     if (status == APP_EXIT_OK)
         status = render_all(&s, frames);
+    app_video_free(&video);
     if (status == APP_EXIT_OK)
         status = check_result(&s);
     app_bake_free(&bake);

@@ -8,6 +8,7 @@
 #include "common.h"
 #include "bake.h"
 #include "obj.h"
+#include "pc2.h"
 
 static const char tool[] = "clothvk-sim";
 
@@ -15,8 +16,8 @@ static void usage(FILE* out)
 {
     fprintf(out,
             "usage: clothvk-sim SCENE [--frames N] [--set key.path=value]... [--json]\n"
-            "                   [--dump FILE.csv] [--obj DIR] [--bake DIR | --resume DIR]\n"
-            "                   [--every K] [--plan]\n"
+            "                   [--dump FILE.csv] [--obj DIR] [--pc2 FILE.pc2]\n"
+            "                   [--bake DIR | --resume DIR] [--every K] [--plan]\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --json         print one JSON object of statistics\n"
@@ -24,15 +25,21 @@ static void usage(FILE* out)
             "  --obj DIR      write frames as Wavefront OBJ files DIR/frame_0000.obj, ... (the\n"
             "                 folder is created if missing): every cloth an object with vertex\n"
             "                 positions (m), normals and its triangles\n"
+            "  --pc2 FILE     write the frames as one PC2 point cache (Blender's Mesh Cache\n"
+            "                 modifier, 3ds Max and Maya read it), and beside it the rest mesh\n"
+            "                 as an OBJ with the same vertex order: FILE with its extension\n"
+            "                 replaced by .obj\n"
             "  --bake DIR     write the exact state as DIR/frame_0000.snap, ... (numbered as\n"
             "                 --obj) after DIR/cache.json, which holds the scene (see README)\n"
             "  --resume DIR   continue the bake in DIR from its last complete frame to N frames\n"
             "                 (default: the bake's), bit for bit as an uninterrupted bake\n"
-            "  --every K      with --obj or --bake: file i holds the state after i*K frames, for\n"
-            "                 every i*K < N (frame_0000: before the first step); default 1\n"
+            "  --every K      with --obj, --pc2 or --bake: file or sample i holds the state after\n"
+            "                 i*K frames, for every i*K < N (i = 0: before the first step);\n"
+            "                 default 1\n"
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
+            "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
 
@@ -44,6 +51,7 @@ typedef struct options {
     bool json;
     const char* dump;
     const char* obj;
+    const char* pc2;
     uint32_t every; /* 0: not given (1) */
     uint32_t every_given; /* 0: not given */
     const char* bake;
@@ -53,7 +61,7 @@ typedef struct options {
     uint32_t max_workgroups;
 } options;
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help. */
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
 static int parse_args(int argc, char** argv, options* o, bool* done)
 {
     for (int i = 1; i < argc; i++) {
@@ -61,6 +69,10 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         bool has_value = i + 1 < argc;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
+            *done = true;
+            return APP_EXIT_OK;
+        } else if (!strcmp(a, "--version")) {
+            printf("%s %s\n", tool, cvk_version());
             *done = true;
             return APP_EXIT_OK;
         } else if (!strcmp(a, "--frames")) {
@@ -87,6 +99,12 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                 return APP_EXIT_BAD_INPUT;
             }
             o->obj = argv[++i];
+        } else if (!strcmp(a, "--pc2")) {
+            if (!has_value || !argv[i + 1][0]) {
+                app_error(tool, "--pc2: expected a file name");
+                return APP_EXIT_BAD_INPUT;
+            }
+            o->pc2 = argv[++i];
         } else if (!strcmp(a, "--bake") || !strcmp(a, "--resume")) {
             if (!has_value || !argv[i + 1][0]) {
                 app_error(tool, "%s: expected a bake folder", a);
@@ -129,13 +147,18 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
-    if (o->every && !o->obj && !o->bake && !o->resume) {
-        app_error(tool, "--every needs --obj DIR or --bake DIR (it says which frames go out as "
-                  "files)");
+    if (o->every && !o->obj && !o->pc2 && !o->bake && !o->resume) {
+        app_error(tool, "--every needs --obj DIR, --pc2 FILE or --bake DIR (it says which frames "
+                  "go out)");
         return APP_EXIT_BAD_INPUT;
     }
     if (o->bake && o->resume) {
         app_error(tool, "--bake and --resume: give one (--resume continues a bake)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (o->pc2 && o->resume) {
+        app_error(tool, "--pc2 and --resume: a point cache holds a whole run; write it with "
+                  "--bake or a plain run");
         return APP_EXIT_BAD_INPUT;
     }
     o->every_given = o->every;
@@ -152,14 +175,17 @@ typedef struct run_totals {
     double pass_ms[CVK_MAX_PASSES];
 } run_totals;
 
-/* Steps `frames` frames. With OBJ output, file i holds the state after i·every frames, for
-   every i·every < frames (clothvk-render's rule for its images); writing is not timed. */
-static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, uint32_t every,
-                      app_bake* bake, run_totals* t)
+/* Steps `frames` frames. With OBJ or PC2 output, file or sample i holds the state after
+   i·every frames, for every i·every < frames (clothvk-render's rule for its images); a bake
+   starts at its first missing frame and writes its own frames; writing is not timed. */
+static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc2* pc2,
+                      uint32_t every, app_bake* bake, run_totals* t)
 {
     cvk_error err;
     for (uint32_t f = bake ? bake->first : 0; f < frames; f++) {
         if (out && f % every == 0 && !app_obj_frames_write(out, f / every, f))
+            return APP_EXIT_FAILURE;
+        if (pc2 && f % every == 0 && !app_pc2_write(pc2))
             return APP_EXIT_FAILURE;
         if (bake && !app_bake_frame(bake, f))
             return APP_EXIT_FAILURE;
@@ -347,28 +373,11 @@ static void print_bake_summary(const app_bake* b)
            b->frames, b->every);
 }
 
-/* The frames (and OBJ files), then statistics and the dump. The output folder is made once
-   the scene has been built, so that bad input leaves nothing behind. */
-static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
-                    cvk_sim* sim, uint32_t frames)
+/* Statistics after the frames, and the failure a non-finite coordinate makes. */
+static int report(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+                  cvk_sim* sim, uint32_t frames, const run_totals* totals,
+                  const app_obj_frames* out, const app_bake* bake)
 {
-    app_bake bake = {0};
-    bool baking = o->bake || o->resume;
-    int status = baking ? open_bake(o, scene, sim, &frames, &bake) : APP_EXIT_OK;
-    app_obj_frames out = {0};
-    if (status == APP_EXIT_OK && o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
-        status = APP_EXIT_FAILURE;
-    if (status == APP_EXIT_OK && o->obj && !app_make_output_folder(tool, o->obj))
-        status = APP_EXIT_BAD_INPUT;
-    run_totals totals = {0};
-    if (status == APP_EXIT_OK)
-        status = run_frames(sim, frames, o->obj ? &out : NULL, o->every, baking ? &bake : NULL,
-                            &totals);
-    app_obj_frames_free(&out);
-    app_bake done = bake; /* its counts, for the summary */
-    app_bake_free(&bake);
-    if (status != APP_EXIT_OK)
-        return status;
     cvk_sim_stats st;
     cvk_error err;
     if (cvk_sim_get_stats(sim, &st, &err) != CVK_SUCCESS) {
@@ -376,19 +385,53 @@ static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_con
         return APP_EXIT_FAILURE;
     }
     if (o->json)
-        print_json(scene, ctx, &st, &totals);
+        print_json(scene, ctx, &st, totals);
     else
-        print_summary(scene, ctx, &st, &totals);
+        print_summary(scene, ctx, &st, totals);
     if (o->obj && !o->json)
-        print_obj_summary(o, &out, frames);
-    if (baking && !o->json)
-        print_bake_summary(&done);
+        print_obj_summary(o, out, frames);
+    if (bake && !o->json)
+        print_bake_summary(bake);
     if (st.nan_count) {
         app_error(tool, "%s: the simulation produced %llu non-finite coordinates", o->scene,
                   (unsigned long long)st.nan_count);
         return APP_EXIT_FAILURE;
     }
-    return o->dump ? dump_positions(sim, o->dump) : APP_EXIT_OK;
+    return APP_EXIT_OK;
+}
+
+/* The frames (OBJ files, point cache), then statistics and the dump. Output folders are made
+   once the scene has been built, so that bad input leaves nothing behind; the point cache is
+   renamed into place only when the run succeeded. */
+static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+                    cvk_sim* sim, uint32_t frames)
+{
+    app_bake bake = {0};
+    bool baking = o->bake || o->resume;
+    int status = baking ? open_bake(o, scene, sim, &frames, &bake) : APP_EXIT_OK;
+    app_obj_frames out = {0};
+    app_pc2 pc2 = {0};
+    if (status == APP_EXIT_OK && o->pc2)
+        status = app_pc2_open(&pc2, tool, sim, o->pc2, scene, o->every);
+    if (status == APP_EXIT_OK && o->obj && !app_obj_frames_init(&out, tool, sim, o->obj, scene))
+        status = APP_EXIT_FAILURE;
+    else if (status == APP_EXIT_OK && o->obj && !app_make_output_folder(tool, o->obj))
+        status = APP_EXIT_BAD_INPUT;
+    run_totals totals = {0};
+    if (status == APP_EXIT_OK)
+        status = run_frames(sim, frames, o->obj ? &out : NULL, o->pc2 ? &pc2 : NULL, o->every,
+                            baking ? &bake : NULL, &totals);
+    app_obj_frames_free(&out);
+    app_bake done = bake; /* its counts, for the summary */
+    app_bake_free(&bake);
+    if (status == APP_EXIT_OK)
+        status = report(o, scene, ctx, sim, frames, &totals, &out, baking ? &done : NULL);
+    if (status == APP_EXIT_OK && o->pc2)
+        status = app_pc2_finish(&pc2, frames, !o->json);
+    app_pc2_free(&pc2);
+    if (status == APP_EXIT_OK && o->dump)
+        status = dump_positions(sim, o->dump);
+    return status;
 }
 
 static int run(const options* o)

@@ -108,7 +108,7 @@ static bool write_obj(FILE* file, void* user)
     return true;
 }
 
-bool app_obj_frames_write(app_obj_frames* f, uint32_t number, uint32_t frame)
+bool app_obj_frames_read(app_obj_frames* f)
 {
     cvk_error err;
     if (cvk_sim_read_mesh(f->sim, f->xyz, f->normals, f->triangles, f->vertex_count,
@@ -116,13 +116,27 @@ bool app_obj_frames_write(app_obj_frames* f, uint32_t number, uint32_t frame)
         app_error(f->tool, "%s", err.message);
         return false;
     }
-    snprintf(f->path, strlen(f->folder) + 32, "%s/frame_%04u.obj", f->folder, number);
+    return true;
+}
+
+bool app_obj_write_file(const app_obj_frames* f, const char* path, uint32_t frame)
+{
     obj_job job = {f, frame};
     char message[600];
-    if (!app_write_atomic(f->path, write_obj, &job, message, sizeof message)) {
+    if (!app_write_atomic(path, write_obj, &job, message, sizeof message)) {
         app_error(f->tool, "%s", message);
         return false;
     }
+    return true;
+}
+
+bool app_obj_frames_write(app_obj_frames* f, uint32_t number, uint32_t frame)
+{
+    if (!app_obj_frames_read(f))
+        return false;
+    snprintf(f->path, strlen(f->folder) + 32, "%s/frame_%04u.obj", f->folder, number);
+    if (!app_obj_write_file(f, f->path, frame))
+        return false;
     f->written++;
     return true;
 }

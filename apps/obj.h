@@ -33,6 +33,13 @@ bool app_obj_frames_init(app_obj_frames* f, const char* tool, cvk_sim* sim, cons
    False, with one line printed, when reading the mesh or writing the file fails. */
 bool app_obj_frames_write(app_obj_frames* f, uint32_t number, uint32_t frame);
 
+/* The two halves of app_obj_frames_write, for one file at a path of the caller's choosing
+   (the rest mesh beside a point cache): reads the simulation's current mesh into `f`, then
+   writes what was read to `path` through a temporary file renamed into place, its header
+   naming `frame`. False, with one line printed, on failure. */
+bool app_obj_frames_read(app_obj_frames* f);
+bool app_obj_write_file(const app_obj_frames* f, const char* path, uint32_t frame);
+
 void app_obj_frames_free(app_obj_frames* f);
 
 #endif

@@ -287,7 +287,7 @@ def bad_cases(scene):
         ("--every negative", [scene, "--obj", "out", "--every", "-2"], [], error(EVERY_MESSAGE + "-2")),
         ("--every without a value", [scene, "--obj", "out", "--every"], [], error(EVERY_MESSAGE + "nothing")),
         ("--every without --obj", [scene, "--every", "2"], [],
-         error("--every needs --obj DIR or --bake DIR (it says which frames go out as files)")),
+         error("--every needs --obj DIR, --pc2 FILE or --bake DIR (it says which frames go out)")),
         ("folder is a file", [scene, "--obj", "taken"], ["taken"], error("taken: exists and is not a folder")),
         ("folder under a file", [scene, "--obj", "taken/frames"], ["taken"],
          error("taken/frames: cannot create the output folder: Not a directory")),

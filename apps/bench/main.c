@@ -44,7 +44,7 @@ static void usage(FILE* out)
     fprintf(out,
         "usage: clothvk-bench EXPERIMENT [SCENE] [options] [-o DIR]\n"
         "Writes DIR/EXPERIMENT.csv, DIR/EXPERIMENT.png (and the gnuplot script EXPERIMENT.gp)\n"
-        "and prints a summary with the device it ran on.\n"
+        "and prints a summary with the device it ran on. --version prints the version.\n"
         "experiments:\n"
         "  convergence SCENE  residual and solve error against iterations on one frozen substep\n"
         "  budget SCENE       iterations, residual and solve error within GPU-time budgets\n"
@@ -402,7 +402,7 @@ static void set_defaults(bench_options* o, const experiment* e)
 typedef struct parsed {
     bench_options o;
     const experiment* e;
-    bool done; /* --help */
+    bool done; /* --help or --version */
 } parsed;
 
 static int parse_args(int argc, char** argv, parsed* p)
@@ -425,6 +425,11 @@ static int parse_args(int argc, char** argv, parsed* p)
         const char* a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
+            p->done = true;
+            return APP_EXIT_OK;
+        }
+        if (!strcmp(a, "--version")) {
+            printf("%s %s\n", tool, cvk_version());
             p->done = true;
             return APP_EXIT_OK;
         }

@@ -111,6 +111,9 @@ typedef struct cvk_error {
 /* "CVK_ERROR_PARSE" and so on. */
 CVK_API const char* cvk_result_name(cvk_result result);
 
+/* The library's version, "MAJOR.MINOR.PATCH" as in CLOTHVK_VERSION_*: the one it was built as. */
+CVK_API const char* cvk_version(void);
+
 /* ----------------------------------------------------------------------------------------
  * Context: the Vulkan instance, device and queue the library works with
  * ------------------------------------------------------------------------------------- */

@@ -1,0 +1,291 @@
+#!/usr/bin/env python3
+"""clothvk-sim --pc2 FILE [--every K]: the point cache a user hands to Blender, 3ds Max or Maya.
+
+    python3 tests/test_pc2.py PATH/TO/clothvk-sim
+
+Good input: a scene of two grid cloths is run with --frames 7 --every 3 --pc2 out/anim.pc2. The
+folder must then hold exactly anim.pc2 and anim.obj (no temporary file). The PC2 file is read
+back with struct: header "POINTCACHE2\\0", version 1, numPoints = every particle of both cloths,
+startFrame 0, sampleRate 3, numSamples 3 (frames 0, 3 and 6: every 3·i < 7, the rule of --obj),
+and its size must be the header plus exactly those samples.
+
+Sample 0 must equal the rest OBJ's v lines and the scene's initial grids; the last sample holds
+the state after 6 frames, so it is compared with the --dump of a second run of 6 frames. The
+cache holds float32 and the text files print float32 with "%.9g", which round-trips exactly: each
+text number is rounded to float32 and the comparison is exact equality, not a tolerance. A run
+with both --obj and --pc2 must give sample i equal to frame_000i.obj, for every i.
+
+Bad input: exit status 2, exactly one line on stderr (compared whole), nothing on stdout, and the
+working directory as it was (no folder, no cache, no OBJ, no --dump file, no temporary file).
+"""
+import json
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+
+if len(sys.argv) != 2:
+    sys.exit("usage: test_pc2.py PATH/TO/clothvk-sim")
+SIM = os.path.abspath(sys.argv[1])
+os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+
+# The scene of test_obj.py: "flag" hangs from two corners, the second cloth lies flat.
+CLOTHS = [
+    {"name": "flag", "grid": [6, 5], "size": [0.5, 0.4], "origin": [0.0, 1.0, 0.0],
+     "u_axis": [1, 0, 0], "v_axis": [0, -1, 0], "mass": 0.1,
+     "stiffness": {"structural": 1e4, "shear": 1e3, "bend": 10}, "pins": [[0, 0], [5, 0]]},
+    {"grid": [4, 3], "size": [0.3, 0.2], "origin": [1.0, 1.0, 0.0],
+     "u_axis": [0, 0, 1], "v_axis": [1, 0, 0], "mass": 0.05,
+     "stiffness": {"structural": 1e4, "shear": 0, "bend": 0}, "pins": [[0, 0]]},
+]
+POINTS = sum(c["grid"][0] * c["grid"][1] for c in CLOTHS)
+SCENE_TEXT = json.dumps({"name": "two-cloths", "dt": 0.002, "substeps": 4, "frames": 10,
+                         "solver": {"linear": "rbgs", "outer_iterations": 2, "inner_iterations": 2},
+                         "cloths": CLOTHS}, indent=2)
+HEADER = struct.Struct("<12siiffi")
+DUMP = "out.csv"
+
+
+def error(message):
+    return f"clothvk-sim: {message}"
+
+
+def f32(x):
+    return struct.unpack("<f", struct.pack("<f", x))[0]
+
+
+def grid_positions(cloth):
+    """Particle [i, j] at origin + i·du·u + j·dv·v, row by row (i fastest)."""
+    (nu, nv), (su, sv) = cloth["grid"], cloth["size"]
+    du, dv = su / (nu - 1), sv / (nv - 1)
+    return [[o + i * du * a + j * dv * b for o, a, b in zip(cloth["origin"], cloth["u_axis"], cloth["v_axis"])]
+            for j in range(nv) for i in range(nu)]
+
+
+def worst(a, b):
+    return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
+
+
+# ---- reading the files ----
+
+
+def read_pc2(path):
+    """(header fields, samples as lists of [x, y, z], problems)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if len(data) < HEADER.size:
+        return None, [], [f"{path}: {len(data)} bytes, shorter than the {HEADER.size}-byte header"]
+    magic, version, points, start, rate, count = HEADER.unpack_from(data)
+    problems = []
+    expected_size = HEADER.size + count * points * 12
+    if len(data) != expected_size:
+        problems.append(f"{os.path.basename(path)}: {len(data)} bytes, expected {expected_size} "
+                        f"for {count} samples of {points} points")
+        return (magic, version, points, start, rate, count), [], problems
+    values = struct.unpack_from(f"<{count * points * 3}f", data, HEADER.size)
+    samples = [[list(values[3 * (s * points + p):3 * (s * points + p) + 3]) for p in range(points)]
+               for s in range(count)]
+    return (magic, version, points, start, rate, count), samples, problems
+
+
+def obj_positions(path):
+    with open(path) as f:
+        return [[f32(float(x)) for x in line.split()[1:]] for line in f if line.startswith("v ")]
+
+
+def read_csv(path):
+    with open(path) as f:
+        return [[f32(float(x)) for x in line.split(",")] for line in f.read().splitlines()]
+
+
+def check_header(header, samples, rate):
+    expected = (b"POINTCACHE2\0", 1, POINTS, 0.0, float(rate), samples)
+    return [] if header == expected else [f"header {header}, expected {expected}"]
+
+
+# ---- runs ----
+
+
+def run(argv, cwd):
+    return subprocess.run([SIM] + argv, cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def listing(workdir):
+    found = []
+    for base, dirs, files in os.walk(workdir):
+        for name in dirs + files:
+            found.append(os.path.relpath(os.path.join(base, name), workdir))
+    return sorted(found)
+
+
+def good_run(scene):
+    """--frames 7 --every 3: samples 0, 3 and 6; the last compared with a 6-frame --dump."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
+        p = run([scene, "--frames", "7", "--every", "3", "--pc2", "out/anim.pc2", "--dump", DUMP], workdir)
+        if p.returncode != 0 or p.stderr:
+            return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
+        problems = []
+        summary = (f"  PC2 out/anim.pc2: 3 samples of {POINTS} points (frames 0 to 6 of 7, every 3), "
+                   "rest mesh out/anim.obj")
+        if summary not in p.stdout.splitlines():
+            problems.append(f"no summary line {summary!r} in:\n{p.stdout}")
+        found = sorted(os.listdir(os.path.join(workdir, "out")))
+        if found != ["anim.obj", "anim.pc2"]:
+            return problems + [f"out holds {found}, expected anim.obj and anim.pc2"]
+        header, samples, more = read_pc2(os.path.join(workdir, "out", "anim.pc2"))
+        problems += more + check_header(header, 3, 3)
+        if problems:
+            return problems
+        rest = obj_positions(os.path.join(workdir, "out", "anim.obj"))
+        if rest != samples[0]:
+            problems.append(f"sample 0 differs from anim.obj's v lines by {worst(rest, samples[0]):.3g} m "
+                            f"({len(samples[0])} and {len(rest)} positions)")
+        gap = worst(samples[0], [p for c in CLOTHS for p in grid_positions(c)])
+        if gap > 1e-6:
+            problems.append(f"sample 0 differs from the initial grids by {gap:.3g} m")
+        if samples[0] == samples[2]:
+            problems.append("samples 0 and 2 are equal: the cloths did not move")
+        p = run([scene, "--frames", "6", "--dump", "six.csv"], workdir)
+        if p.returncode != 0 or p.stderr:
+            return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
+        dumped = read_csv(os.path.join(workdir, "six.csv"))
+        if dumped != samples[2]:
+            problems.append(f"sample 2 differs from the --dump of 6 frames by {worst(dumped, samples[2]):.3g} m "
+                            f"({len(samples[2])} and {len(dumped)} positions)")
+        if read_csv(os.path.join(workdir, DUMP)) == samples[2]:
+            problems.append("the 7-frame --dump equals sample 2: --pc2 changed how far the run went")
+        return problems
+
+
+def with_obj(scene):
+    """--frames 4 with --obj and --pc2, --every left out: sample i equals frame_000i.obj."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
+        p = run([scene, "--frames", "4", "--obj", "frames", "--pc2", "anim.pc2"], workdir)
+        if p.returncode != 0 or p.stderr:
+            return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
+        header, samples, problems = read_pc2(os.path.join(workdir, "anim.pc2"))
+        problems += check_header(header, 4, 1)
+        for i, sample in enumerate(samples):
+            frame = obj_positions(os.path.join(workdir, "frames", f"frame_{i:04d}.obj"))
+            if frame != sample:
+                problems.append(f"sample {i} differs from frame_{i:04d}.obj by {worst(frame, sample):.3g} m")
+        return problems
+
+
+def no_frames(scene):
+    """--frames 0 and a name without an extension: a cache of no sample, and NAME.obj."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
+        p = run([scene, "--frames", "0", "--pc2", "cache"], workdir)
+        if p.returncode != 0 or p.stderr:
+            return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
+        found = listing(workdir)
+        if found != ["cache", "cache.obj"]:
+            return [f"expected cache and cache.obj, found {found}"]
+        header, samples, problems = read_pc2(os.path.join(workdir, "cache"))
+        problems += check_header(header, 0, 1)
+        line = "  PC2 cache: no sample (no frame simulated), rest mesh cache.obj"
+        return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
+
+
+def unwritable_folder():
+    """A folder that takes no new file for a user who may be root: /sys refuses even root."""
+    try:
+        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
+    except OSError as e:
+        return "/sys", os.strerror(e.errno)
+    os.close(fd)
+    os.unlink("/sys/clothvk-probe")
+    return None
+
+
+def bad_cases(scene):
+    cases = [
+        ("--pc2 without a name", [scene, "--pc2"], [], error("--pc2: expected a file name")),
+        ("--pc2 with an empty name", [scene, "--pc2", ""], [], error("--pc2: expected a file name")),
+        ("--every without --obj or --pc2", [scene, "--every", "2"], [],
+         error("--every needs --obj DIR, --pc2 FILE or --bake DIR (it says which frames go out)")),
+        ("--every 0", [scene, "--pc2", "a.pc2", "--every", "0"], [],
+         error("--every: expected a whole number from 1 to 100000000, got 0")),
+        ("name ending in .obj", [scene, "--pc2", "anim.obj"], [],
+         error("--pc2 anim.obj: the rest mesh goes to the same name with .obj, so the cache needs "
+               "another extension (.pc2)")),
+        ("name of a folder", [scene, "--pc2", "taken"], ["taken/"],
+         error("--pc2 taken: is a folder; expected a file name (FILE.pc2)")),
+        ("name ending in /", [scene, "--pc2", "out/"], [],
+         error("--pc2 out/: is a folder; expected a file name (FILE.pc2)")),
+        ("rest mesh name of a folder", [scene, "--pc2", "anim.pc2"], ["anim.obj/"],
+         error("--pc2 anim.pc2: the rest mesh anim.obj is a folder")),
+        ("folder is a file", [scene, "--pc2", "taken/anim.pc2"], ["taken"],
+         error("taken: exists and is not a folder")),
+        ("bad scene", [scene, "--pc2", "out/anim.pc2", "--set", "cloths.0.mass=0"], [],
+         error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
+    ]
+    if os.geteuid() != 0:
+        cases.append(("folder not writable", [scene, "--pc2", "locked/anim.pc2"], ["locked/!"],
+                      error("locked: cannot write into the output folder: Permission denied")))
+    else:
+        found = unwritable_folder()
+        if found:
+            cases.append(("folder not writable", [scene, "--pc2", f"{found[0]}/anim.pc2"], [],
+                          error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
+    return cases
+
+
+def run_bad(argv, files, expected):
+    """files: "NAME" a file, "NAME/" a folder, "NAME/!" a folder nobody may write into."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
+        for name in files:
+            if "/" in name:
+                folder = os.path.join(workdir, name.split("/")[0])
+                os.makedirs(folder)
+                if name.endswith("!"):
+                    os.chmod(folder, 0o555)
+            else:
+                with open(os.path.join(workdir, name), "w") as f:
+                    f.write("not a folder\n")
+        before = listing(workdir)
+        # --dump goes before the options under test: some of them take the last argument.
+        p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
+        problems = []
+        if p.returncode != 2:
+            problems.append(f"expected exit status 2, got {p.returncode}")
+        lines = p.stderr.splitlines()
+        if lines != [expected]:
+            problems.append(f"expected stderr: {expected}")
+            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
+        if p.stdout:
+            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
+        after = listing(workdir)
+        if after != before:
+            problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
+        return problems
+
+
+def main():
+    start = time.monotonic()
+    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-scene-") as scene_dir:
+        scene = os.path.join(scene_dir, "two-cloths.json")
+        with open(scene, "w") as f:
+            f.write(SCENE_TEXT)
+        checks = [("samples 0, 3 and 6 of 7, every 3", lambda: good_run(scene)),
+                  ("--obj and --pc2 together", lambda: with_obj(scene)),
+                  ("--frames 0", lambda: no_frames(scene))]
+        checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
+                   for name, argv, files, expected in bad_cases(scene)]
+        failed = 0
+        for name, check in checks:
+            problems = check()
+            if problems:
+                failed += 1
+                print(f"FAIL {name}")
+                for problem in problems:
+                    print(f"    {problem}")
+    seconds = time.monotonic() - start
+    print(f"pc2: {len(checks) - failed} of {len(checks)} cases passed ({failed} failed) in {seconds:.1f} s")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
