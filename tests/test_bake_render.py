@@ -118,6 +118,10 @@ def main():
         refused(tmp, [scene, "--from", bake, "--every", "2"],
                 "clothvk-render: --from: give the frames as --frames A:B (--every has no meaning here)",
                 "--every with --from")
+        refused(tmp, [scene, "--from", bake, "--video", os.path.join(tmp, "v.mp4")],
+                "clothvk-render: --video and --from: a video is made while simulating; render "
+                "the bake's frames to PNGs and encode those",
+                "--video with --from")
         refused(tmp, [scene, "--from", bake, "--frames", "4:2"],
                 "clothvk-render: --frames: expected A:B, whole numbers with A <= B, got 4:2",
                 "--frames 4:2")

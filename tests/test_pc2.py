@@ -219,6 +219,9 @@ def bad_cases(scene):
          error("--pc2 anim.pc2: the rest mesh anim.obj is a folder")),
         ("folder is a file", [scene, "--pc2", "taken/anim.pc2"], ["taken"],
          error("taken: exists and is not a folder")),
+        ("--pc2 with --resume", [scene, "--pc2", "a.pc2", "--resume", "bake"], [],
+         error("--pc2 and --resume: a point cache holds a whole run; write it with --bake or a "
+               "plain run")),
         ("bad scene", [scene, "--pc2", "out/anim.pc2", "--set", "cloths.0.mass=0"], [],
          error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
     ]
