@@ -6,13 +6,15 @@ import pathlib
 
 import pytest
 
-# Before the package creates any context: validation on, as tests/meson.build sets it.
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BUILD = pathlib.Path(os.environ.get("CLOTHVK_BUILD_DIR", ROOT / "build")).resolve()
+
+# Before the package loads the library and creates any context: the library of the build whose
+# tools the tests compare against, and validation on, as tests/meson.build sets it.
+os.environ.setdefault("CLOTHVK_LIBRARY", str(BUILD / "lib" / "libclothvk.so"))
 os.environ.setdefault("CLOTHVK_VALIDATION", "1")
 
 import clothvk  # noqa: E402
-
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-BUILD = pathlib.Path(os.environ.get("CLOTHVK_BUILD_DIR", ROOT / "build"))
 SCENES = ROOT / "assets" / "scenes"
 
 # hanging.json cut down to 16 x 16 particles so that a test takes well under a second.
