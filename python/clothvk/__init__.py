@@ -19,8 +19,6 @@ the library needs. Failures raise clothvk.Error with the library's sentence.
 """
 
 import json
-import weakref
-
 import numpy as np
 
 from ._ffi import ffi, lib
@@ -49,26 +47,52 @@ def _text(pointer):
     return ffi.string(pointer).decode(errors="replace") if pointer != ffi.NULL else None
 
 
+class _Handle:
+    """One library object and how to destroy it, with the handles that must go before it
+    (a context's simulations, a simulation's renderers). Plain data without __del__: when the
+    garbage collector finalizes a cycle, its weak references are already cleared and the
+    wrappers' finalizers run in any order, so the order lives here instead — releasing a
+    handle releases its children first, and a handle already released does nothing."""
+
+    __slots__ = ("ptr", "destroy", "parent", "children")
+
+    def __init__(self, ptr, destroy, parent=None):
+        self.ptr = ptr
+        self.destroy = destroy
+        self.parent = parent
+        self.children = []
+        if parent is not None:
+            parent.children.append(self)
+
+    def release(self):
+        while self.children:
+            self.children[-1].release()
+        if self.ptr != ffi.NULL:
+            ptr, self.ptr = self.ptr, ffi.NULL
+            self.destroy(ptr)
+        if self.parent is not None:
+            self.parent.children.remove(self)
+            self.parent = None
+
+
 class _Owner:
-    """Owns one library object; children (weakly referenced) are closed before it."""
+    """A wrapper that owns one _Handle; close() (or the end of a with block, or collection)
+    releases it."""
 
-    _handle = ffi.NULL
-
-    def _init_children(self):
-        self._children = weakref.WeakSet()
-
-    def _close_children(self):
-        for child in list(getattr(self, "_children", ())):
-            child.close()
+    _h = None
 
     def _live(self):
-        if self._handle == ffi.NULL:
+        if self._h is None or self._h.ptr == ffi.NULL:
             raise ValueError(f"{type(self).__name__} is closed")
-        return self._handle
+        return self._h.ptr
 
     @property
     def closed(self):
-        return self._handle == ffi.NULL
+        return self._h is None or self._h.ptr == ffi.NULL
+
+    def close(self):
+        if self._h is not None:
+            self._h.release()
 
     def __enter__(self):
         return self
@@ -79,7 +103,7 @@ class _Owner:
     def __del__(self):
         try:
             self.close()
-        except Exception:  # interpreter shutdown: the library may already be gone
+        except Exception:  # interpreter shutdown: module globals may already be gone
             pass
 
 
@@ -90,7 +114,6 @@ class Context(_Owner):
     Validation messages are collected in .messages."""
 
     def __init__(self, validation=None, device=None):
-        self._init_children()
         self.messages = []
         messages = self.messages  # the callback must not keep the context alive
 
@@ -98,7 +121,6 @@ class Context(_Owner):
         def log(user, message):
             messages.append(ffi.string(message).decode(errors="replace"))
 
-        self._log = log
         self._device = ffi.new("char[]", str(device).encode()) if device is not None else None
         desc = ffi.new("cvk_context_desc*")
         desc.validation = {None: 0, True: 1, False: -1}[validation]
@@ -107,7 +129,12 @@ class Context(_Owner):
         out = ffi.new("cvk_context**")
         err = ffi.new("cvk_error*")
         _check(lib.cvk_context_create(desc, out, err), err)
-        self._handle = out[0]
+
+        # The callback must outlive the context: destroying its children can still log.
+        def destroy(context, callback=log, destroy_context=lib.cvk_context_destroy):
+            destroy_context(context)
+
+        self._h = _Handle(out[0], destroy)
 
     def info(self):
         i = lib.cvk_context_get_info(self._live())
@@ -121,12 +148,6 @@ class Context(_Owner):
 
     def validation_message_count(self):
         return lib.cvk_context_validation_message_count(self._live())
-
-    def close(self):
-        self._close_children()
-        if self._handle != ffi.NULL:
-            lib.cvk_context_destroy(self._handle)
-            self._handle = ffi.NULL
 
 
 def _override_strings(overrides):
@@ -142,8 +163,8 @@ def _override_strings(overrides):
 class Scene(_Owner):
     """A scene read from JSON (the format in README.md); it owns its description."""
 
-    def __init__(self, handle):
-        self._handle = handle
+    def __init__(self, ptr):
+        self._h = _Handle(ptr, lib.cvk_scene_destroy)
 
     @classmethod
     def _make(cls, call, overrides):
@@ -197,11 +218,6 @@ class Scene(_Owner):
     def render_size(self):
         return tuple(self._desc.render.size)
 
-    def close(self):
-        if self._handle != ffi.NULL:
-            lib.cvk_scene_destroy(self._handle)
-            self._handle = ffi.NULL
-
 
 def _float3(array, count, what):
     """A C-contiguous float32 (count, 3) array: the one given when it already is one."""
@@ -229,7 +245,6 @@ class Simulation(_Owner):
     """A simulation of a scene on a context (the scene is copied; it may be closed after)."""
 
     def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True):
-        self._init_children()
         self.context = context
         desc = ffi.new("cvk_sim_desc*")
         desc.scene = scene._desc
@@ -239,8 +254,7 @@ class Simulation(_Owner):
         out = ffi.new("cvk_sim**")
         err = ffi.new("cvk_error*")
         _check(lib.cvk_sim_create(context._live(), desc, out, err), err)
-        self._handle = out[0]
-        context._children.add(self)
+        self._h = _Handle(out[0], lib.cvk_sim_destroy, parent=context._h)
 
     def step(self, frames=1):
         """Advances `frames` frames and waits until they are done."""
@@ -344,12 +358,6 @@ class Simulation(_Owner):
                 return ffi.string(text).decode(errors="replace")
             capacity = needed + 1
 
-    def close(self):
-        self._close_children()
-        if self._handle != ffi.NULL:
-            lib.cvk_sim_destroy(self._handle)
-            self._handle = ffi.NULL
-
 
 class Renderer(_Owner):
     """Offscreen images of a simulation, as the scene's "render" block says (scene None:
@@ -364,15 +372,21 @@ class Renderer(_Owner):
         err = ffi.new("cvk_error*")
         mesh = ffi.new("cvk_mesh**")
         _check(lib.cvk_mesh_create(sim._live(), ffi.NULL, mesh, err), err)
-        self._mesh = mesh[0]
+        mesh = mesh[0]
         out = ffi.new("cvk_renderer**")
-        code = lib.cvk_renderer_create(self._mesh, desc, out, err)
+        code = lib.cvk_renderer_create(mesh, desc, out, err)
         if code != lib.CVK_SUCCESS:
-            lib.cvk_mesh_destroy(self._mesh)
-            self._mesh = ffi.NULL
+            lib.cvk_mesh_destroy(mesh)
             _check(code, err)
-        self._handle = out[0]
-        sim._children.add(self)
+
+        # The renderer, then the mesh it draws (the functions bound now: at interpreter
+        # shutdown the module's globals may be gone before this runs).
+        def destroy(renderer, mesh=mesh, destroy_renderer=lib.cvk_renderer_destroy,
+                    destroy_mesh=lib.cvk_mesh_destroy):
+            destroy_renderer(renderer)
+            destroy_mesh(mesh)
+
+        self._h = _Handle(out[0], destroy, parent=sim._h)
 
     def draw(self):
         """Draws the current particles; returns the image, uint8 (height, width, 4) RGBA,
@@ -393,11 +407,3 @@ class Renderer(_Owner):
         im = ffi.new("cvk_image*", lib.cvk_renderer_get_image(self._live()))
         err = ffi.new("cvk_error*")
         _check(lib.cvk_image_write_png(im, str(path).encode(), err), err)
-
-    def close(self):
-        if self._handle != ffi.NULL:
-            lib.cvk_renderer_destroy(self._handle)
-            self._handle = ffi.NULL
-        if getattr(self, "_mesh", ffi.NULL) != ffi.NULL:
-            lib.cvk_mesh_destroy(self._mesh)
-            self._mesh = ffi.NULL
