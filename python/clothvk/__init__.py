@@ -19,6 +19,7 @@ the library needs. Failures raise clothvk.Error with the library's sentence.
 """
 
 import json
+
 import numpy as np
 
 from ._ffi import ffi, lib
@@ -52,7 +53,8 @@ class _Handle:
     (a context's simulations, a simulation's renderers). Plain data without __del__: when the
     garbage collector finalizes a cycle, its weak references are already cleared and the
     wrappers' finalizers run in any order, so the order lives here instead — releasing a
-    handle releases its children first, and a handle already released does nothing."""
+    handle releases its children first, and a handle already released (ptr None) does nothing.
+    Nothing here reads module globals, which the interpreter's exit may already have cleared."""
 
     __slots__ = ("ptr", "destroy", "parent", "children")
 
@@ -67,8 +69,8 @@ class _Handle:
     def release(self):
         while self.children:
             self.children[-1].release()
-        if self.ptr != ffi.NULL:
-            ptr, self.ptr = self.ptr, ffi.NULL
+        if self.ptr is not None:
+            ptr, self.ptr = self.ptr, None
             self.destroy(ptr)
         if self.parent is not None:
             self.parent.children.remove(self)
@@ -82,13 +84,13 @@ class _Owner:
     _h = None
 
     def _live(self):
-        if self._h is None or self._h.ptr == ffi.NULL:
+        if self._h is None or self._h.ptr is None:
             raise ValueError(f"{type(self).__name__} is closed")
         return self._h.ptr
 
     @property
     def closed(self):
-        return self._h is None or self._h.ptr == ffi.NULL
+        return self._h is None or self._h.ptr is None
 
     def close(self):
         if self._h is not None:
