@@ -42,3 +42,16 @@ def test_wrong_state_shape(ctx, small_scene):
             bad[3, 1] = float("nan")
             sim.write_state(bad)
         assert caught.value.result == "CVK_ERROR_INVALID_ARGUMENT"
+
+
+def test_scene_text_errors_name_the_source():
+    with pytest.raises(clothvk.Error) as caught:
+        clothvk.Scene.parse('{"cloths": [{"mass": -1}]}', "inline")
+    assert caught.value.message == "inline: cloths.0.mass: must be greater than 0, got -1"
+    with pytest.raises(clothvk.Error) as caught:
+        clothvk.Scene.parse('{"cloths": [{"mass": }]}', "inline")
+    assert (caught.value.message, caught.value.result) == \
+        ("inline:1:22: malformed JSON: unexpected token near '}'", "CVK_ERROR_PARSE")
+    with clothvk.Scene.parse('{"cloths": [{"grid": [4, 4]}]}', "inline",
+                             overrides=["frames=12"]) as scene:
+        assert (scene.frames, scene.cloth_count) == (12, 1)
