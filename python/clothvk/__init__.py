@@ -3,7 +3,7 @@
     import clothvk
     with clothvk.Context() as ctx:
         scene = clothvk.Scene.load("assets/scenes/hanging.json",
-                                   overrides={"cloths.0.grid": [32, 32]})
+                                   overrides={"render.size": [640, 360]})
         sim = clothvk.Simulation(ctx, scene)
         sim.step(60)
         xyz = sim.positions()            # numpy float32, shape (particles, 3), m
