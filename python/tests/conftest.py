@@ -24,6 +24,7 @@ SMALL = {"cloths.0.grid": [16, 16], "cloths.0.pins": [[0, 0], [15, 0]]}
 @pytest.fixture(scope="module")
 def module_context():
     ctx = clothvk.Context()
+    assert ctx.info()["validation"], "the validation layer is off: the message checks would be empty"
     yield ctx
     ctx.close()
 
