@@ -15,6 +15,8 @@ packages=(
     libassimp-dev                              # mesh files for cloths (OBJ, glTF 2, PLY, STL)
     gnuplot-nox                                # clothvk-bench's plots (optional at run time:
                                                # the CSV is always written)
+    python3-cffi python3-numpy                 # the Python package (python/)
+    python3-pytest                             # its tests
 )
 
 missing=()

@@ -1,0 +1,411 @@
+"""clothvk: cloth simulation as Vulkan compute work, from Python.
+
+    import clothvk
+    with clothvk.Context() as ctx:
+        scene = clothvk.Scene.load("assets/scenes/hanging.json",
+                                   overrides={"render.size": [640, 360]})
+        sim = clothvk.Simulation(ctx, scene)
+        sim.step(60)
+        xyz = sim.positions()            # numpy float32, shape (particles, 3), m
+        print(sim.stats()["max_stretch"])
+        renderer = clothvk.Renderer(sim, scene)
+        image = renderer.draw()          # numpy uint8, shape (height, width, 4), sRGB
+        renderer.write_png("frame.png")
+
+A thin layer over libclothvk (cffi, ABI mode): every object owns one library object and
+destroys it in close() (or at the end of a with block, or when collected); closing a
+context closes its simulations, and closing a simulation closes its renderers, in the order
+the library needs. Failures raise clothvk.Error with the library's sentence.
+"""
+
+import json
+
+import numpy as np
+
+from ._ffi import ffi, lib
+
+__all__ = ["Error", "Context", "Scene", "Simulation", "Renderer"]
+
+
+class Error(RuntimeError):
+    """A failed library call: message is the library's sentence, result the name of its
+    cvk_result ("CVK_ERROR_INVALID_ARGUMENT"), code its number."""
+
+    def __init__(self, message, result, code):
+        super().__init__(message)
+        self.message = message
+        self.result = result
+        self.code = code
+
+
+def _check(code, err):
+    if code != lib.CVK_SUCCESS:
+        name = ffi.string(lib.cvk_result_name(code)).decode()
+        raise Error(ffi.string(err.message).decode(errors="replace"), name, int(code))
+
+
+def _text(pointer):
+    return ffi.string(pointer).decode(errors="replace") if pointer != ffi.NULL else None
+
+
+class _Handle:
+    """One library object and how to destroy it, with the handles that must go before it
+    (a context's simulations, a simulation's renderers). Plain data without __del__: when the
+    garbage collector finalizes a cycle, its weak references are already cleared and the
+    wrappers' finalizers run in any order, so the order lives here instead — releasing a
+    handle releases its children first, and a handle already released (ptr None) does nothing.
+    Nothing here reads module globals, which the interpreter's exit may already have cleared."""
+
+    __slots__ = ("ptr", "destroy", "parent", "children")
+
+    def __init__(self, ptr, destroy, parent=None):
+        self.ptr = ptr
+        self.destroy = destroy
+        self.parent = parent
+        self.children = []
+        if parent is not None:
+            parent.children.append(self)
+
+    def release(self):
+        while self.children:
+            self.children[-1].release()
+        if self.ptr is not None:
+            ptr, self.ptr = self.ptr, None
+            self.destroy(ptr)
+        if self.parent is not None:
+            self.parent.children.remove(self)
+            self.parent = None
+
+
+class _Owner:
+    """A wrapper that owns one _Handle; close() (or the end of a with block, or collection)
+    releases it."""
+
+    _h = None
+
+    def _live(self):
+        if self._h is None or self._h.ptr is None:
+            raise ValueError(f"{type(self).__name__} is closed")
+        return self._h.ptr
+
+    @property
+    def closed(self):
+        return self._h is None or self._h.ptr is None
+
+    def close(self):
+        if self._h is not None:
+            self._h.release()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: module globals may already be gone
+            pass
+
+
+class Context(_Owner):
+    """The Vulkan instance, device and queue. validation: None = on when
+    $CLOTHVK_VALIDATION is "1" (as in C), True = on, False = off. device: an index or a
+    substring of the device name; None = $CLOTHVK_DEVICE, else the first device.
+    Validation messages are collected in .messages."""
+
+    def __init__(self, validation=None, device=None):
+        self.messages = []
+        messages = self.messages  # the callback must not keep the context alive
+
+        @ffi.callback("void(void*, const char*)")
+        def log(user, message):
+            messages.append(ffi.string(message).decode(errors="replace"))
+
+        self._device = ffi.new("char[]", str(device).encode()) if device is not None else None
+        desc = ffi.new("cvk_context_desc*")
+        desc.validation = {None: 0, True: 1, False: -1}[validation]
+        desc.device_name = self._device if self._device is not None else ffi.NULL
+        desc.log = log
+        out = ffi.new("cvk_context**")
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_context_create(desc, out, err), err)
+
+        # The callback must outlive the context: destroying its children can still log.
+        def destroy(context, callback=log, destroy_context=lib.cvk_context_destroy):
+            destroy_context(context)
+
+        self._h = _Handle(out[0], destroy)
+
+    def info(self):
+        i = lib.cvk_context_get_info(self._live())
+        return {
+            "device_name": _text(i.device_name), "api_version": i.api_version,
+            "adopted": bool(i.adopted), "validation": bool(i.validation),
+            "timestamps": bool(i.timestamps), "subgroup_size": i.subgroup_size,
+            "max_particles": i.max_particles, "graphics": bool(i.graphics),
+            "max_image_size": i.max_image_size,
+        }
+
+    def validation_message_count(self):
+        return lib.cvk_context_validation_message_count(self._live())
+
+
+def _override_strings(overrides):
+    """{"solver.linear": "jacobi", "render.size": [64, 48]} or ["key=value", ...] ->
+    "key=value" strings; a value that is not a string is written as JSON."""
+    if overrides is None:
+        return []
+    if isinstance(overrides, dict):
+        return [f"{k}={v if isinstance(v, str) else json.dumps(v)}" for k, v in overrides.items()]
+    return [str(o) for o in overrides]
+
+
+class Scene(_Owner):
+    """A scene read from JSON (the format in README.md); it owns its description."""
+
+    def __init__(self, ptr):
+        self._h = _Handle(ptr, lib.cvk_scene_destroy)
+
+    @classmethod
+    def _make(cls, call, overrides):
+        strings = [ffi.new("char[]", s.encode()) for s in _override_strings(overrides)]
+        array = ffi.new("const char*[]", strings) if strings else ffi.NULL
+        out = ffi.new("cvk_scene**")
+        err = ffi.new("cvk_error*")
+        _check(call(array, len(strings), out, err), err)
+        return cls(out[0])
+
+    @classmethod
+    def load(cls, path, overrides=None):
+        """Reads a scene file; overrides replace keys by dotted path before validation."""
+        p = ffi.new("char[]", str(path).encode())
+        return cls._make(lambda a, n, out, err: lib.cvk_scene_load(p, a, n, out, err), overrides)
+
+    @classmethod
+    def parse(cls, text, source_name="scene", overrides=None):
+        """The same from JSON text; source_name stands in for the file name in messages."""
+        t = ffi.new("char[]", text.encode())
+        s = ffi.new("char[]", source_name.encode())
+        return cls._make(lambda a, n, out, err: lib.cvk_scene_parse(t, s, a, n, out, err),
+                         overrides)
+
+    @property
+    def _desc(self):
+        return lib.cvk_scene_get_desc(self._live())
+
+    @property
+    def name(self):
+        return _text(self._desc.name)
+
+    @property
+    def frames(self):
+        """The scene's default frame count for the tools."""
+        return self._desc.frames
+
+    @property
+    def dt(self):
+        return self._desc.dt
+
+    @property
+    def substeps(self):
+        return self._desc.substeps
+
+    @property
+    def cloth_count(self):
+        return self._desc.cloth_count
+
+    @property
+    def render_size(self):
+        return tuple(self._desc.render.size)
+
+
+def _float3(array, count, what):
+    """A C-contiguous float32 (count, 3) array: the one given when it already is one."""
+    a = np.ascontiguousarray(array, dtype=np.float32)
+    if a.shape != (count, 3):
+        raise ValueError(f"{what}: expected shape ({count}, 3), got {a.shape}")
+    return a
+
+
+def _out_float3(out, count, what):
+    if out is None:
+        return np.empty((count, 3), dtype=np.float32)
+    if (out.dtype != np.float32 or out.shape != (count, 3) or not out.flags.c_contiguous
+            or not out.flags.writeable):
+        raise ValueError(f"{what}: expected a writable C-contiguous float32 array of shape "
+                         f"({count}, 3), got {out.dtype} {out.shape}")
+    return out
+
+
+def _ptr(cdecl, array):
+    return ffi.from_buffer(cdecl, array) if array is not None else ffi.NULL
+
+
+class Simulation(_Owner):
+    """A simulation of a scene on a context (the scene is copied; it may be closed after)."""
+
+    def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True):
+        self.context = context
+        desc = ffi.new("cvk_sim_desc*")
+        desc.scene = scene._desc
+        desc.workgroup_size = workgroup_size
+        desc.max_workgroups = max_workgroups
+        desc.timing = 0 if timing else -1
+        out = ffi.new("cvk_sim**")
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_create(context._live(), desc, out, err), err)
+        self._h = _Handle(out[0], lib.cvk_sim_destroy, parent=context._h)
+
+    def step(self, frames=1):
+        """Advances `frames` frames and waits until they are done."""
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_step(self._live(), frames, err), err)
+
+    @property
+    def particle_count(self):
+        return lib.cvk_sim_particle_count(self._live())
+
+    @property
+    def triangle_count(self):
+        return lib.cvk_sim_triangle_count(self._live())
+
+    def positions(self, out=None):
+        """Positions (m), float32 (particles, 3), cloth by cloth, read straight into the
+        array (out, when given, is filled and returned)."""
+        n = self.particle_count
+        xyz = _out_float3(out, n, "positions")
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_read_positions(self._live(), _ptr("float[]", xyz), n, err), err)
+        return xyz
+
+    def state(self):
+        """(positions (m), velocities (m/s)), each float32 (particles, 3)."""
+        n = self.particle_count
+        xyz = np.empty((n, 3), dtype=np.float32)
+        vel = np.empty((n, 3), dtype=np.float32)
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_read_state(self._live(), _ptr("float[]", xyz), _ptr("float[]", vel),
+                                      n, err), err)
+        return xyz, vel
+
+    def write_state(self, positions, velocities=None):
+        """Replaces positions and velocities (None: at rest)."""
+        n = self.particle_count
+        xyz = _float3(positions, n, "positions")
+        vel = _float3(velocities, n, "velocities") if velocities is not None else None
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_write_state(self._live(), _ptr("float[]", xyz), _ptr("float[]", vel),
+                                       n, err), err)
+
+    def write_positions(self, positions):
+        """Replaces positions and sets every velocity to zero."""
+        n = self.particle_count
+        xyz = _float3(positions, n, "positions")
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_write_positions(self._live(), _ptr("float[]", xyz), n, err), err)
+
+    def mesh(self):
+        """(positions (particles, 3) float32, unit normals (particles, 3) float32, triangles
+        (triangles, 3) uint32 particle indices; a torn triangle has three equal indices)."""
+        n, t = self.particle_count, self.triangle_count
+        xyz = np.empty((n, 3), dtype=np.float32)
+        normals = np.empty((n, 3), dtype=np.float32)
+        triangles = np.empty((t, 3), dtype=np.uint32)
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_read_mesh(self._live(), _ptr("float[]", xyz),
+                                     _ptr("float[]", normals), _ptr("uint32_t[]", triangles),
+                                     n, t, err), err)
+        return xyz, normals, triangles
+
+    def cloths(self):
+        """One dict per cloth, in scene order: name, particle and triangle ranges, mesh."""
+        sim = self._live()
+        result = []
+        for c in range(lib.cvk_sim_cloth_count(sim)):
+            i = lib.cvk_sim_get_cloth(sim, c)
+            result.append({
+                "name": _text(i.name), "first_particle": i.first_particle,
+                "particle_count": i.particle_count, "first_triangle": i.first_triangle,
+                "triangle_count": i.triangle_count, "mesh": bool(i.mesh),
+            })
+        return result
+
+    def stats(self):
+        """The fields of cvk_sim_stats as a dict (passes: a list of dicts)."""
+        st = ffi.new("cvk_sim_stats*")
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_get_stats(self._live(), st, err), err)
+        result = {}
+        for name, _ in ffi.typeof("cvk_sim_stats").fields:
+            if name == "passes":
+                continue
+            value = getattr(st, name)
+            result[name] = list(value) if isinstance(value, ffi.CData) else value
+        result["passes"] = [
+            {"name": _text(p.name), "gpu_ms": p.gpu_ms, "dispatches": p.dispatches}
+            for p in st.passes[0:min(st.pass_count, len(st.passes))]
+        ]
+        return result
+
+    def plan(self):
+        """The step plan (passes, dispatches, workgroups) as text."""
+        sim = self._live()
+        capacity = 4096
+        while True:
+            text = ffi.new("char[]", capacity)
+            needed = lib.cvk_sim_describe_plan(sim, text, capacity)
+            if needed < capacity:
+                return ffi.string(text).decode(errors="replace")
+            capacity = needed + 1
+
+
+class Renderer(_Owner):
+    """Offscreen images of a simulation, as the scene's "render" block says (scene None:
+    the library's defaults). Creating it draws the first frame."""
+
+    def __init__(self, sim, scene=None):
+        self.sim = sim
+        if scene is not None:
+            desc = ffi.addressof(scene._desc.render)
+        else:
+            desc = ffi.new("cvk_render_desc*", lib.cvk_default_render_desc())
+        err = ffi.new("cvk_error*")
+        mesh = ffi.new("cvk_mesh**")
+        _check(lib.cvk_mesh_create(sim._live(), ffi.NULL, mesh, err), err)
+        mesh = mesh[0]
+        out = ffi.new("cvk_renderer**")
+        code = lib.cvk_renderer_create(mesh, desc, out, err)
+        if code != lib.CVK_SUCCESS:
+            lib.cvk_mesh_destroy(mesh)
+            _check(code, err)
+
+        # The renderer, then the mesh it draws (the functions bound now: at interpreter
+        # shutdown the module's globals may be gone before this runs).
+        def destroy(renderer, mesh=mesh, destroy_renderer=lib.cvk_renderer_destroy,
+                    destroy_mesh=lib.cvk_mesh_destroy):
+            destroy_renderer(renderer)
+            destroy_mesh(mesh)
+
+        self._h = _Handle(out[0], destroy, parent=sim._h)
+
+    def draw(self):
+        """Draws the current particles; returns the image, uint8 (height, width, 4) RGBA,
+        sRGB, rows top to bottom (a copy: the library's buffer is reused by the next draw)."""
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_renderer_draw(self._live(), err), err)
+        return self.image()
+
+    def image(self):
+        """A copy of the last frame drawn, as draw() returns it."""
+        im = lib.cvk_renderer_get_image(self._live())
+        rows = np.frombuffer(ffi.buffer(im.pixels, im.row_bytes * im.height), dtype=np.uint8)
+        rows = rows.reshape(im.height, im.row_bytes)
+        return rows[:, :4 * im.width].reshape(im.height, im.width, 4).copy()
+
+    def write_png(self, path):
+        """Writes the last frame drawn as a PNG (complete or absent: written, then renamed)."""
+        im = ffi.new("cvk_image*", lib.cvk_renderer_get_image(self._live()))
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_image_write_png(im, str(path).encode(), err), err)

@@ -1,0 +1,309 @@
+"""The C declarations clothvk's Python layer calls, and where libclothvk is found.
+
+cffi's ABI mode: nothing is compiled when the package is installed, so the struct layouts
+below must match lib/include/clothvk.h field for field (python/tests/test_layout.py compiles
+a C program that prints every declared struct's size and field offsets and compares them).
+Vulkan handles are pointers here; the Python layer never passes or reads them.
+"""
+
+import ctypes.util
+import os
+import pathlib
+
+import cffi
+
+CDEF = r"""
+typedef void* VkInstance;
+typedef void* VkPhysicalDevice;
+typedef void* VkDevice;
+typedef void* VkQueue;
+
+typedef enum cvk_result {
+    CVK_SUCCESS = 0,
+    CVK_ERROR_INVALID_ARGUMENT = 1,
+    CVK_ERROR_IO = 2,
+    CVK_ERROR_PARSE = 3,
+    CVK_ERROR_UNSUPPORTED = 4,
+    CVK_ERROR_DEVICE_LIMIT = 5,
+    CVK_ERROR_OUT_OF_MEMORY = 6,
+    CVK_ERROR_VULKAN = 7,
+} cvk_result;
+
+typedef struct cvk_error {
+    cvk_result result;
+    char message[512];
+} cvk_error;
+
+const char* cvk_result_name(cvk_result result);
+
+typedef struct cvk_context cvk_context;
+typedef void (*cvk_log_fn)(void* user, const char* message);
+
+typedef struct cvk_context_desc {
+    int validation;
+    const char* device_name;
+    cvk_log_fn log;
+    void* log_user;
+    VkInstance instance;
+    VkPhysicalDevice physical_device;
+    VkDevice device;
+    uint32_t queue_family;
+    VkQueue queue;
+} cvk_context_desc;
+
+cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
+                              cvk_error* error);
+void cvk_context_destroy(cvk_context* context);
+
+typedef struct cvk_context_info {
+    const char* device_name;
+    uint32_t api_version;
+    bool adopted;
+    bool validation;
+    bool timestamps;
+    uint32_t subgroup_size;
+    uint64_t max_particles;
+    bool graphics;
+    uint32_t max_image_size;
+} cvk_context_info;
+
+cvk_context_info cvk_context_get_info(const cvk_context* context);
+uint32_t cvk_context_validation_message_count(const cvk_context* context);
+
+typedef enum cvk_method { CVK_METHOD_PD = 0 } cvk_method;
+typedef enum cvk_linear_solver {
+    CVK_LINEAR_RBGS = 0,
+    CVK_LINEAR_JACOBI = 1,
+    CVK_LINEAR_CHEBYSHEV = 2,
+    CVK_LINEAR_GS_CPU = 3,
+} cvk_linear_solver;
+
+typedef struct cvk_solver_desc {
+    cvk_method method;
+    cvk_linear_solver linear;
+    uint32_t outer_iterations;
+    uint32_t inner_iterations;
+    float omega;
+    float chebyshev_rho;
+    uint32_t chebyshev_delay;
+} cvk_solver_desc;
+
+typedef struct cvk_stiffness {
+    float structural;
+    float shear;
+    float bend;
+} cvk_stiffness;
+
+typedef struct cvk_transform {
+    float scale[3];
+    float rotation[4];
+    float translation[3];
+} cvk_transform;
+
+typedef struct cvk_box3 {
+    float min[3];
+    float max[3];
+} cvk_box3;
+
+typedef struct cvk_cloth_desc {
+    const char* name;
+    uint32_t grid[2];
+    float size[2];
+    float origin[3];
+    float u_axis[3];
+    float v_axis[3];
+    const char* mesh;
+    cvk_transform transform;
+    float rest_scale;
+    float mass;
+    float density;
+    cvk_stiffness stiffness;
+    const uint32_t (*pins)[2];
+    uint32_t pin_count;
+    const uint32_t* pin_vertices;
+    uint32_t pin_vertex_count;
+    bool use_pin_box;
+    cvk_box3 pin_box;
+    float color[3];
+    uint32_t cookie_;
+} cvk_cloth_desc;
+
+typedef struct cvk_light {
+    float direction[3];
+    float color[3];
+} cvk_light;
+
+typedef struct cvk_render_desc {
+    uint32_t size[2];
+    bool auto_eye;
+    float eye[3];
+    bool auto_target;
+    float target[3];
+    float up[3];
+    float fov_y;
+    cvk_light key;
+    cvk_light fill;
+    float ambient[3];
+    float background[3];
+    bool ground;
+    bool auto_ground_height;
+    float ground_height;
+    float ground_color[3];
+    uint32_t shadow_map_size;
+    uint32_t samples;
+} cvk_render_desc;
+
+typedef struct cvk_scene_desc {
+    const char* name;
+    float dt;
+    uint32_t substeps;
+    uint32_t frames;
+    bool integrate;
+    float gravity[3];
+    float damping;
+    cvk_solver_desc solver;
+    const cvk_cloth_desc* cloths;
+    uint32_t cloth_count;
+    cvk_render_desc render;
+    uint32_t cookie_;
+} cvk_scene_desc;
+
+cvk_render_desc cvk_default_render_desc(void);
+const char* cvk_linear_solver_name(cvk_linear_solver linear);
+
+typedef struct cvk_scene cvk_scene;
+cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32_t override_count,
+                          cvk_scene** out_scene, cvk_error* error);
+cvk_result cvk_scene_parse(const char* json_text, const char* source_name,
+                           const char* const* overrides, uint32_t override_count,
+                           cvk_scene** out_scene, cvk_error* error);
+const cvk_scene_desc* cvk_scene_get_desc(const cvk_scene* scene);
+void cvk_scene_destroy(cvk_scene* scene);
+
+typedef struct cvk_sim cvk_sim;
+typedef struct cvk_sim_desc {
+    const cvk_scene_desc* scene;
+    uint32_t workgroup_size;
+    uint32_t max_workgroups;
+    int timing;
+} cvk_sim_desc;
+
+cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
+                          cvk_error* error);
+void cvk_sim_destroy(cvk_sim* sim);
+cvk_result cvk_sim_step(cvk_sim* sim, uint32_t frames, cvk_error* error);
+uint64_t cvk_sim_particle_count(const cvk_sim* sim);
+cvk_result cvk_sim_read_positions(cvk_sim* sim, float* xyz, uint64_t count, cvk_error* error);
+cvk_result cvk_sim_write_positions(cvk_sim* sim, const float* xyz, uint64_t count,
+                                   cvk_error* error);
+cvk_result cvk_sim_read_state(cvk_sim* sim, float* xyz, float* velocity, uint64_t count,
+                              cvk_error* error);
+cvk_result cvk_sim_write_state(cvk_sim* sim, const float* xyz, const float* velocity,
+                               uint64_t count, cvk_error* error);
+
+typedef struct cvk_cloth_info {
+    const char* name;
+    uint32_t first_particle;
+    uint32_t particle_count;
+    uint32_t first_triangle;
+    uint32_t triangle_count;
+    bool mesh;
+} cvk_cloth_info;
+
+uint32_t cvk_sim_cloth_count(const cvk_sim* sim);
+cvk_cloth_info cvk_sim_get_cloth(const cvk_sim* sim, uint32_t cloth);
+uint64_t cvk_sim_triangle_count(const cvk_sim* sim);
+cvk_result cvk_sim_read_mesh(cvk_sim* sim, float* xyz, float* normals, uint32_t* triangles,
+                             uint64_t vertex_count, uint64_t triangle_count, cvk_error* error);
+cvk_result cvk_sim_set_solver(cvk_sim* sim, const cvk_solver_desc* solver, cvk_error* error);
+cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
+
+typedef struct cvk_pass_stats {
+    const char* name;
+    double gpu_ms;
+    uint32_t dispatches;
+} cvk_pass_stats;
+
+typedef struct cvk_sim_stats {
+    uint64_t particles;
+    uint64_t pinned;
+    uint64_t springs[3];
+    uint32_t colours;
+    uint64_t frames;
+    double residual;
+    double residual_per_type[3];
+    double residual_normalized;
+    double max_stretch;
+    uint64_t nan_count;
+    double kinetic_energy;
+    double gravitational_energy;
+    double elastic_energy;
+    double energy;
+    double gpu_ms_per_frame;
+    uint32_t dispatches_per_frame;
+    uint32_t dispatches_per_substep;
+    uint32_t pass_count;
+    cvk_pass_stats passes[8];
+} cvk_sim_stats;
+
+cvk_result cvk_sim_get_stats(cvk_sim* sim, cvk_sim_stats* out_stats, cvk_error* error);
+size_t cvk_sim_describe_plan(const cvk_sim* sim, char* text, size_t capacity);
+
+typedef struct cvk_mesh cvk_mesh;
+cvk_result cvk_mesh_create(cvk_sim* sim, const void* desc, cvk_mesh** out_mesh,
+                           cvk_error* error);
+void cvk_mesh_destroy(cvk_mesh* mesh);
+
+typedef struct cvk_renderer cvk_renderer;
+cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc,
+                               cvk_renderer** out_renderer, cvk_error* error);
+void cvk_renderer_destroy(cvk_renderer* renderer);
+cvk_result cvk_renderer_draw(cvk_renderer* renderer, cvk_error* error);
+
+typedef struct cvk_image {
+    const uint8_t* pixels;
+    uint32_t width, height;
+    uint32_t row_bytes;
+} cvk_image;
+
+cvk_image cvk_renderer_get_image(const cvk_renderer* renderer);
+cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error);
+"""
+
+# Structs declared above, for the layout test.
+STRUCTS = (
+    "cvk_error", "cvk_context_desc", "cvk_context_info", "cvk_solver_desc", "cvk_stiffness",
+    "cvk_transform", "cvk_box3", "cvk_cloth_desc", "cvk_light", "cvk_render_desc",
+    "cvk_scene_desc", "cvk_sim_desc", "cvk_cloth_info", "cvk_pass_stats", "cvk_sim_stats",
+    "cvk_image",
+)
+
+ffi = cffi.FFI()
+ffi.cdef(CDEF)
+
+
+def library_candidates():
+    """Where libclothvk is looked for, in order: $CLOTHVK_LIBRARY, the build tree of the
+    repository this package sits in (build/lib), then the system's library path."""
+    found = []
+    explicit = os.environ.get("CLOTHVK_LIBRARY")
+    if explicit:
+        return [explicit]
+    build_lib = pathlib.Path(__file__).resolve().parents[2] / "build" / "lib" / "libclothvk.so"
+    if build_lib.exists():
+        found.append(str(build_lib))
+    system = ctypes.util.find_library("clothvk")
+    if system:
+        found.append(system)
+    return found
+
+
+def open_library():
+    candidates = library_candidates()
+    if not candidates:
+        raise OSError("libclothvk not found: build it (meson setup build && meson compile -C "
+                      "build), install it, or set CLOTHVK_LIBRARY to its path")
+    return ffi.dlopen(candidates[0])
+
+
+lib = open_library()

@@ -1,0 +1,27 @@
+"""The renderer's image as a numpy array and as a PNG file."""
+
+import struct
+
+import numpy as np
+
+import clothvk
+from conftest import SCENES, SMALL
+
+
+def test_render_small_image(ctx, tmp_path):
+    overrides = {**SMALL, "render.size": [64, 48], "render.shadow_map_size": 256}
+    with clothvk.Scene.load(SCENES / "hanging.json", overrides=overrides) as scene, \
+            clothvk.Simulation(ctx, scene) as sim, clothvk.Renderer(sim, scene) as renderer:
+        first = renderer.image()
+        sim.step(10)
+        image = renderer.draw()
+        assert image.shape == (48, 64, 4) and image.dtype == np.uint8, image.shape
+        assert (image[..., 3] == 255).all(), "alpha is not 255 everywhere"
+        colours = np.unique(image.reshape(-1, 4), axis=0)
+        assert len(colours) > 10, f"only {len(colours)} colours: the image is (nearly) uniform"
+        assert not np.array_equal(first, image), "the image did not change after 10 frames"
+        png = tmp_path / "frame.png"
+        renderer.write_png(png)
+        data = png.read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n"
+        assert struct.unpack(">II", data[16:24]) == (64, 48)

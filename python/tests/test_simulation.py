@@ -1,0 +1,88 @@
+"""Scene load, step, positions against clothvk-sim --dump, state, cloths, statistics, plan."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import clothvk
+from conftest import BUILD, SCENES, SMALL
+
+FRAMES = 5
+
+
+def read_dump(path):
+    """clothvk-sim --dump: one "x,y,z" line per particle, each %.9g (round-trips a float)."""
+    rows = [line.split(",") for line in path.read_text().splitlines()]
+    return np.array(rows, dtype=np.float64).astype(np.float32)
+
+
+def test_positions_equal_clothvk_sim_dump(ctx, small_scene, tmp_path):
+    with clothvk.Simulation(ctx, small_scene) as sim:
+        sim.step(FRAMES)
+        xyz = sim.positions()
+    assert xyz.shape == (256, 3) and xyz.dtype == np.float32
+    dump = tmp_path / "dump.csv"
+    sets = [a for k, v in SMALL.items() for a in ("--set", f"{k}={v}".replace(" ", ""))]
+    subprocess.run([str(BUILD / "apps" / "clothvk-sim"), str(SCENES / "hanging.json"), *sets,
+                    "--frames", str(FRAMES), "--dump", str(dump)],
+                   check=True, stdout=subprocess.DEVNULL)
+    expected = read_dump(dump)
+    assert expected.shape == xyz.shape
+    differ = np.argwhere(xyz != expected)
+    assert differ.size == 0, (f"{len(differ)} coordinates differ from --dump, first at "
+                              f"{differ[0]}: {xyz[tuple(differ[0])]!r} vs "
+                              f"{expected[tuple(differ[0])]!r}")
+    assert not np.array_equal(xyz[2], [-0.5 + 2 / 15, 1.0, -0.5]), "the cloth did not move"
+
+
+def test_positions_fill_the_given_array(ctx, small_scene):
+    with clothvk.Simulation(ctx, small_scene) as sim:
+        out = np.zeros((256, 3), dtype=np.float32)
+        assert sim.positions(out) is out
+        assert out[15].tolist() == [0.5, 1.0, -0.5], f"particle [15, 0] at {out[15]}"
+        with pytest.raises(ValueError):
+            sim.positions(np.zeros((256, 3), dtype=np.float64))
+
+
+def test_state_written_back_continues_the_same_motion(ctx, small_scene):
+    with clothvk.Simulation(ctx, small_scene) as a, clothvk.Simulation(ctx, small_scene) as b:
+        a.step(3)
+        xyz, vel = a.state()
+        assert np.abs(vel).max() > 0, "velocities are all zero after 3 frames of falling"
+        b.write_state(xyz, vel)
+        got_xyz, got_vel = b.state()
+        assert np.array_equal(got_xyz, xyz)
+        assert np.allclose(got_vel, vel, rtol=0, atol=1e-5), \
+            f"velocities differ by up to {np.abs(got_vel - vel).max()} m/s"
+
+
+def test_cloths_stats_and_plan(ctx, small_scene):
+    with clothvk.Simulation(ctx, small_scene) as sim:
+        sim.step(2)
+        assert sim.cloths() == [{"name": "sheet", "first_particle": 0, "particle_count": 256,
+                                 "first_triangle": 0, "triangle_count": 2 * 15 * 15,
+                                 "mesh": False}]
+        st = sim.stats()
+        assert (st["particles"], st["pinned"], st["frames"]) == (256, 2, 2)
+        assert st["springs"] == [2 * 15 * 16, 0, 0]
+        assert st["nan_count"] == 0
+        assert [p["name"] for p in st["passes"]][:2] == ["predict", "solve"], st["passes"]
+        assert "solver: pd / rbgs" in sim.plan()
+
+
+def test_override_reaches_the_solver(ctx):
+    scene = clothvk.Scene.load(SCENES / "hanging.json",
+                               overrides={**SMALL, "solver.linear": "jacobi"})
+    with clothvk.Simulation(ctx, scene) as sim:
+        assert "solver: pd / jacobi" in sim.plan(), sim.plan()
+
+
+def test_close_order_and_use_after_close(ctx, small_scene):
+    with clothvk.Context() as own:
+        sim = clothvk.Simulation(own, small_scene)
+    assert own.closed and sim.closed, "closing the context leaves its simulation open"
+    with pytest.raises(ValueError, match="Simulation is closed"):
+        sim.step(1)
+    sim = clothvk.Simulation(ctx, small_scene)
+    del sim  # collected without close(): __del__ destroys it
