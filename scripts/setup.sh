@@ -17,6 +17,8 @@ packages=(
                                                # the CSV is always written)
     python3-cffi python3-numpy                 # the Python package (python/)
     python3-pytest                             # its tests
+    ffmpeg                                     # clothvk-render --video (a separate process;
+                                               # optional at run time)
 )
 
 missing=()
