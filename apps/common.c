@@ -182,3 +182,18 @@ bool app_make_output_folder(const char* tool, const char* path)
     free(probe);
     return true;
 }
+
+/* The folder part of `path`: "." for a bare name, "/" for a name in the root. */
+char* app_folder_of(const char* path)
+{
+    const char* slash = strrchr(path, '/');
+    if (!slash)
+        return strdup(".");
+    size_t len = slash == path ? 1 : (size_t)(slash - path);
+    char* out = malloc(len + 1);
+    if (out) {
+        memcpy(out, path, len);
+        out[len] = '\0';
+    }
+    return out;
+}

@@ -57,6 +57,10 @@ bool app_write_atomic(const char* path, app_writer write, void* user, char* mess
    "tool: PATH: why", and returns false; nothing is left behind but the folders made. */
 bool app_make_output_folder(const char* tool, const char* path);
 
+/* The folder part of `path`, newly allocated: "." for a bare name, "/" for a name in the root;
+   NULL when memory runs out. */
+char* app_folder_of(const char* path);
+
 /* Milliseconds on a monotonic clock. */
 double app_now_ms(void);
 

@@ -31,21 +31,6 @@ static char* rest_mesh_path(const char* path)
     return out;
 }
 
-/* The folder part of `path`: "." for a bare name, "/" for a name in the root. */
-static char* folder_of(const char* path)
-{
-    const char* slash = strrchr(path, '/');
-    if (!slash)
-        return strdup(".");
-    size_t len = slash == path ? 1 : (size_t)(slash - path);
-    char* out = malloc(len + 1);
-    if (out) {
-        memcpy(out, path, len);
-        out[len] = '\0';
-    }
-    return out;
-}
-
 static bool is_folder(const char* path)
 {
     struct stat st;
@@ -143,7 +128,7 @@ int app_pc2_open(app_pc2* p, const char* tool, cvk_sim* sim, const char* path,
     p->every = every;
     p->points = cvk_sim_particle_count(sim);
     p->obj_path = rest_mesh_path(path);
-    p->folder = folder_of(path);
+    p->folder = app_folder_of(path);
     if (!p->obj_path || !p->folder) {
         app_error(tool, "out of memory");
         return APP_EXIT_FAILURE;

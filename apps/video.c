@@ -59,20 +59,6 @@ static char* temp_name(const char* path)
     return out;
 }
 
-static char* folder_of(const char* path)
-{
-    const char* slash = strrchr(path, '/');
-    if (!slash)
-        return strdup(".");
-    size_t len = slash == path ? 1 : (size_t)(slash - path);
-    char* out = malloc(len + 1);
-    if (out) {
-        memcpy(out, path, len);
-        out[len] = '\0';
-    }
-    return out;
-}
-
 static int check_name(const char* tool, const char* path)
 {
     struct stat st;
@@ -85,7 +71,7 @@ static int check_name(const char* tool, const char* path)
         app_error(tool, "--video %s: is a folder; expected a file name such as clip.mp4", path);
         return APP_EXIT_BAD_INPUT;
     }
-    char* folder = folder_of(path);
+    char* folder = app_folder_of(path);
     if (!folder) {
         app_error(tool, "out of memory");
         return APP_EXIT_FAILURE;

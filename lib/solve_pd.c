@@ -209,7 +209,12 @@ static cvk_result set_state(cvk_sim* s, cvk_pd* pd, const float* xyz, const floa
         x[4 * p + 3] = (float)(b->mass[p] * s->ref.inv_h2); /* m/h², read by predict */
         u[4 * p + 3] = 0.0f;
     }
-    VkDeviceSize n16 = (VkDeviceSize)n * 16u;
+    return cvk_pd_upload_staged_state(s, pd, error);
+}
+
+cvk_result cvk_pd_upload_staged_state(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
     cvk_staging_copy jobs[] = {
         {&s->positions, 0, 0, n16},
         {&pd->u[0], n16, 0, n16},

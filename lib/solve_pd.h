@@ -41,6 +41,11 @@ typedef struct cvk_pd {
 /* Uploads the gs-cpu positions (hx) into the positions buffer, for drawing and reading. */
 cvk_result cvk_pd_upload_host_positions(cvk_sim* sim, cvk_pd* pd, cvk_error* error);
 
+/* Copies the staging buffer's positions (first n vec4) and last displacements (next n vec4)
+   into the device state: positions, u[0], and u[1] and y, which start equal to u[0] (each
+   substep overwrites them first). */
+cvk_result cvk_pd_upload_staged_state(cvk_sim* sim, cvk_pd* pd, cvk_error* error);
+
 /* Exact snapshots of the family's state (solve_pd_snapshot.c; see cvk_family_api). */
 uint64_t cvk_pd_snapshot_size(const cvk_sim* sim, const void* self);
 cvk_result cvk_pd_save_snapshot(cvk_sim* sim, void* self, void* data, cvk_error* error);

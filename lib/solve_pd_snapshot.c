@@ -94,12 +94,5 @@ cvk_result cvk_pd_load_snapshot(cvk_sim* s, void* self, const void* data, uint64
     }
     /* As set_state: u[1] and y start equal to u[0]; each substep overwrites them first. */
     memcpy(s->staging.mapped, in, 32u * n);
-    VkDeviceSize n16 = (VkDeviceSize)n * 16u;
-    cvk_staging_copy jobs[] = {
-        {&s->positions, 0, 0, n16},
-        {&pd->u[0], n16, 0, n16},
-        {&pd->u[1], n16, 0, n16},
-        {&pd->y, n16, 0, n16},
-    };
-    return cvk_sim_copy_from_staging(s, jobs, 4, error);
+    return cvk_pd_upload_staged_state(s, pd, error);
 }
