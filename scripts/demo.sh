@@ -6,4 +6,4 @@ bash scripts/setup.sh
 bash scripts/build.sh
 ./build/apps/clothvk-render assets/scenes/demo.json -o demo-frames --every 2 "$@"
 echo "demo: frames in demo-frames/; as a video:" \
-     "ffmpeg -framerate 30 -i demo-frames/frame_%04d.png -pix_fmt yuv420p demo.mp4"
+     "./build/apps/clothvk-render assets/scenes/demo.json --every 2 --video demo.mp4"
