@@ -6,7 +6,8 @@
 The test starts munged, slurmctld and slurmd (Debian's munge and slurm-wlm) on localhost, with a
 generated key and slurm.conf and every socket, pid, log and state file in a temporary folder
 (SLURM_CONF points sbatch and the daemons at it; the controller and the node are 127.0.0.1, on
-free ports). It bakes a small scene for 6 frames twice (--every 1 and --every 2), submits each
+free ports; slurmd listens on 127.0.0.1 only, slurmctld on every address since Slurm 22.05 has no
+bind address for it, but every message needs this run's random munge key). It bakes a small scene for 6 frames twice (--every 1 and --every 2), submits each
 bake with slurm-render.sh --chunk 2 (3 and 2 array tasks), waits for the arrays, and checks that
 every task COMPLETED and that the images are exactly the frames each bake holds, each equal byte
 for byte to the one a local `clothvk-render SCENE --frames 6` writes. Then it stops every daemon
