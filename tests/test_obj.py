@@ -24,10 +24,10 @@ import json
 import math
 import os
 import re
-import subprocess
 import sys
 import tempfile
-import time
+
+import tooltest
 
 if len(sys.argv) != 2:
     sys.exit("usage: test_obj.py PATH/TO/clothvk-sim")
@@ -55,7 +55,7 @@ EVERY_MESSAGE = "--every: expected a whole number from 1 to 100000000, got "
 
 
 def error(message):
-    return f"clothvk-sim: {message}"
+    return tooltest.tool_line("clothvk-sim", message)
 
 
 # ---- what the scene should give ----
@@ -142,11 +142,6 @@ def parse_obj(path):
     return header, objects, positions, normals, problems
 
 
-def read_csv(path):
-    with open(path) as f:
-        return [[float(x) for x in line.split(",")] for line in f.read().splitlines()]
-
-
 def worst(a, b):
     return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
 
@@ -206,15 +201,7 @@ def check_frame_zero(positions, normals_path):
 
 
 def run(argv, cwd):
-    return subprocess.run([SIM] + argv, cwd=cwd, capture_output=True, text=True, timeout=120)
-
-
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
+    return tooltest.run_tool(SIM, argv, cwd, timeout=120)
 
 
 def good_run(scene):
@@ -245,11 +232,11 @@ def good_run(scene):
         p = run([scene, "--frames", "6", "--dump", "six.csv"], workdir)
         if p.returncode != 0 or p.stderr:
             return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
-        dumped = read_csv(os.path.join(workdir, "six.csv"))
+        dumped = tooltest.read_csv(os.path.join(workdir, "six.csv"))
         if dumped != frames[2]:
             problems.append(f"frame_0002.obj differs from the --dump of 6 frames by {worst(dumped, frames[2]):.3g} m "
                             f"({len(frames[2])} and {len(dumped)} positions)")
-        if read_csv(os.path.join(workdir, DUMP)) == frames[2]:
+        if tooltest.read_csv(os.path.join(workdir, DUMP)) == frames[2]:
             problems.append("the 7-frame --dump equals frame 6: --obj changed how far the run went")
         return problems
 
@@ -260,22 +247,10 @@ def no_frames(scene):
         p = run([scene, "--frames", "0", "--obj", "none"], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
-        found = listing(workdir)
+        found = tooltest.listing(workdir)
         line = "  no OBJ file in none: no frame simulated"
         problems = [] if found == ["none"] else [f"expected only the empty folder none, found {found}"]
         return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
-
-
-def unwritable_folder():
-    """A folder that takes no new file for a user who may be root (who writes into any folder
-    whatever its mode): /sys refuses even root. None when there is none."""
-    try:
-        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
-    except OSError as e:
-        return "/sys", os.strerror(e.errno)
-    os.close(fd)
-    os.unlink("/sys/clothvk-probe")
-    return None
 
 
 def bad_cases(scene):
@@ -298,7 +273,7 @@ def bad_cases(scene):
         cases.append(("folder not writable", [scene, "--obj", "locked"], ["locked/"],
                       error("locked: cannot write into the output folder: Permission denied")))
     else:
-        found = unwritable_folder()
+        found = tooltest.unwritable_folder()
         if found:
             cases.append(("folder not writable", [scene, "--obj", found[0]], [],
                           error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
@@ -314,26 +289,14 @@ def run_bad(argv, files, expected):
             else:
                 with open(os.path.join(workdir, name), "w") as f:
                     f.write("not a folder\n")
-        before = listing(workdir)
+        before = tooltest.listing(workdir)
         # --dump goes before the options under test: some of them take the last argument.
         p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
-        problems = []
-        if p.returncode != 2:
-            problems.append(f"expected exit status 2, got {p.returncode}")
-        lines = p.stderr.splitlines()
-        if lines != [expected]:
-            problems.append(f"expected stderr: {expected}")
-            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-        if p.stdout:
-            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-        after = listing(workdir)
-        if after != before:
-            problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
-        return problems
+        return tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir))
 
 
 def main():
-    start = time.monotonic()
+    cases = tooltest.Cases("obj")
     with tempfile.TemporaryDirectory(prefix="clothvk-obj-scene-") as scene_dir:
         scene = os.path.join(scene_dir, "two-cloths.json")
         with open(scene, "w") as f:
@@ -342,17 +305,9 @@ def main():
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]
-        failed = 0
         for name, check in checks:
-            problems = check()
-            if problems:
-                failed += 1
-                print(f"FAIL {name}")
-                for problem in problems:
-                    print(f"    {problem}")
-    seconds = time.monotonic() - start
-    print(f"obj: {len(checks) - failed} of {len(checks)} cases passed ({failed} failed) in {seconds:.1f} s")
-    return 1 if failed else 0
+            cases.add(name, check())
+    return cases.finish()
 
 
 if __name__ == "__main__":

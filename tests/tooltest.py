@@ -1,0 +1,151 @@
+"""What the scripts that test the command-line tools share: running a tool, the one stderr line
+of bad input, "nothing written", --dump CSVs, and the closing "N of M cases passed" line.
+
+The scripts run as `python3 tests/test_x.py TOOL...`, so this folder is on sys.path and
+`import tooltest` finds this file. Plain standard library, like the scripts.
+
+A case is a function that returns a list of problems, each a sentence saying what was expected
+and what came instead; an empty list is a pass. The scripts that collect failures as they go
+instead use Checks.
+"""
+import os
+import re
+import subprocess
+import sys
+import time
+
+# The one part of a tool's message that depends on the machine: lavapipe's device name, which
+# carries the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+LLVMPIPE = "{llvmpipe}"
+LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+
+
+def tool_line(tool, message):
+    """The line a tool prints on stderr for bad input: its name, a colon, the message."""
+    return f"{tool}: {message}"
+
+
+def run_tool(tool, argv, cwd=None, env=None, timeout=None):
+    """Runs `tool argv` and captures its stdout and stderr as text. env: a whole environment
+    (None: this one)."""
+    return subprocess.run([tool] + list(argv), cwd=cwd, env=env, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def line_matches(got, expected):
+    """Whether a line equals `expected`, where LLVMPIPE in `expected` stands for any lavapipe
+    device name."""
+    if LLVMPIPE not in expected:
+        return got == expected
+    pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
+    return re.fullmatch(pattern, got) is not None
+
+
+def listing(folder):
+    """Every file and folder under `folder`, as sorted paths relative to it."""
+    found = []
+    for base, dirs, files in os.walk(folder):
+        for name in dirs + files:
+            found.append(os.path.relpath(os.path.join(base, name), folder))
+    return sorted(found)
+
+
+def nothing_written(before, after):
+    """Problems when the listing `after` a refused run differs from the one `before` it."""
+    if after == before:
+        return []
+    return [f"expected nothing written, found {sorted(set(after) - set(before))}"]
+
+
+def stderr_mismatch(expected, lines):
+    """The two problem lines for a stderr that is not the expected one: expected, then got."""
+    return [f"expected stderr: {expected}",
+            "got stderr:      " + "\n                 ".join(lines or ["(nothing)"])]
+
+
+def refusal_problems(p, expected, before, after, status=2, stderr_ok=None):
+    """Problems with a run `p` that must refuse bad input: exit `status`, stderr the one line
+    `expected` (or lines that stderr_ok accepts), nothing on stdout, and the working folder's
+    listing `after` the run as it was `before`."""
+    problems = []
+    if p.returncode != status:
+        problems.append(f"expected exit status {status}, got {p.returncode}")
+    lines = p.stderr.splitlines()
+    if not (stderr_ok(lines) if stderr_ok else lines == [expected]):
+        problems += stderr_mismatch(expected, lines)
+    if p.stdout:
+        problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
+    return problems + nothing_written(before, after)
+
+
+def read_csv(path, number=float):
+    """The rows of a --dump CSV (one particle's "x,y,z" a line), each value through `number`."""
+    with open(path) as f:
+        return [[number(float(x)) for x in line.split(",")] for line in f.read().splitlines()]
+
+
+def unwritable_folder():
+    """A folder that takes no new file, and the reason, for a user who may be root (who writes
+    into any folder whatever its mode): /sys refuses even root. None when there is none."""
+    try:
+        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
+    except OSError as e:
+        return "/sys", os.strerror(e.errno)
+    os.close(fd)
+    os.unlink("/sys/clothvk-probe")
+    return None
+
+
+class Cases:
+    """Counts cases as they are run, prints each failure with its problems, and ends with the
+    closing line "LABEL: N of M cases passed (F failed) in S s"."""
+
+    def __init__(self, label):
+        self.label = label
+        self.start = time.monotonic()
+        self.total = self.failed = self.skipped = 0
+
+    def add(self, heading, problems):
+        """One case's problems; none is a pass."""
+        self.total += 1
+        if problems:
+            self.failed += 1
+            print(f"FAIL {heading}")
+            for problem in problems:
+                print(f"    {problem}")
+
+    def skip(self, line):
+        """A case that cannot be run here: said, and counted apart."""
+        self.skipped += 1
+        print(f"skip {line}")
+
+    def finish(self, note="", count_skipped=False, before_closing=None):
+        """Prints the closing line (with the skipped count when asked; `note` after it, and the
+        line `before_closing` before it); returns the exit status."""
+        seconds = time.monotonic() - self.start
+        if before_closing:
+            print(before_closing)
+        skipped = f", {self.skipped} skipped" if count_skipped else ""
+        print(f"{self.label}: {self.total - self.failed} of {self.total} cases passed "
+              f"({self.failed} failed{skipped}) in {seconds:.1f} s{note}")
+        return 1 if self.failed else 0
+
+
+class Checks:
+    """check(cond, message) for scripts that check as they go: each failed message is printed
+    on stderr at once and counted; finish says how many failed, or prints the pass line."""
+
+    def __init__(self):
+        self.failures = []
+
+    def check(self, cond, message):
+        if not cond:
+            self.failures.append(message)
+            print("FAILED:", message, file=sys.stderr)
+
+    def finish(self, passed_line):
+        if self.failures:
+            print(f"{len(self.failures)} checks failed", file=sys.stderr)
+            return 1
+        print(passed_line)
+        return 0
