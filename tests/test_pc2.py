@@ -21,10 +21,10 @@ working directory as it was (no folder, no cache, no OBJ, no --dump file, no tem
 import json
 import os
 import struct
-import subprocess
 import sys
 import tempfile
-import time
+
+import tooltest
 
 if len(sys.argv) != 2:
     sys.exit("usage: test_pc2.py PATH/TO/clothvk-sim")
@@ -49,7 +49,7 @@ DUMP = "out.csv"
 
 
 def error(message):
-    return f"clothvk-sim: {message}"
+    return tooltest.tool_line("clothvk-sim", message)
 
 
 def f32(x):
@@ -96,8 +96,7 @@ def obj_positions(path):
 
 
 def read_csv(path):
-    with open(path) as f:
-        return [[f32(float(x)) for x in line.split(",")] for line in f.read().splitlines()]
+    return tooltest.read_csv(path, f32)
 
 
 def check_header(header, samples, rate):
@@ -109,15 +108,7 @@ def check_header(header, samples, rate):
 
 
 def run(argv, cwd):
-    return subprocess.run([SIM] + argv, cwd=cwd, capture_output=True, text=True, timeout=120)
-
-
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
+    return tooltest.run_tool(SIM, argv, cwd, timeout=120)
 
 
 def good_run(scene):
@@ -180,24 +171,13 @@ def no_frames(scene):
         p = run([scene, "--frames", "0", "--pc2", "cache"], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
-        found = listing(workdir)
+        found = tooltest.listing(workdir)
         if found != ["cache", "cache.obj"]:
             return [f"expected cache and cache.obj, found {found}"]
         header, samples, problems = read_pc2(os.path.join(workdir, "cache"))
         problems += check_header(header, 0, 1)
         line = "  PC2 cache: no sample (no frame simulated), rest mesh cache.obj"
         return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
-
-
-def unwritable_folder():
-    """A folder that takes no new file for a user who may be root: /sys refuses even root."""
-    try:
-        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
-    except OSError as e:
-        return "/sys", os.strerror(e.errno)
-    os.close(fd)
-    os.unlink("/sys/clothvk-probe")
-    return None
 
 
 def bad_cases(scene):
@@ -229,7 +209,7 @@ def bad_cases(scene):
         cases.append(("folder not writable", [scene, "--pc2", "locked/anim.pc2"], ["locked/!"],
                       error("locked: cannot write into the output folder: Permission denied")))
     else:
-        found = unwritable_folder()
+        found = tooltest.unwritable_folder()
         if found:
             cases.append(("folder not writable", [scene, "--pc2", f"{found[0]}/anim.pc2"], [],
                           error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
@@ -248,26 +228,14 @@ def run_bad(argv, files, expected):
             else:
                 with open(os.path.join(workdir, name), "w") as f:
                     f.write("not a folder\n")
-        before = listing(workdir)
+        before = tooltest.listing(workdir)
         # --dump goes before the options under test: some of them take the last argument.
         p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
-        problems = []
-        if p.returncode != 2:
-            problems.append(f"expected exit status 2, got {p.returncode}")
-        lines = p.stderr.splitlines()
-        if lines != [expected]:
-            problems.append(f"expected stderr: {expected}")
-            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-        if p.stdout:
-            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-        after = listing(workdir)
-        if after != before:
-            problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
-        return problems
+        return tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir))
 
 
 def main():
-    start = time.monotonic()
+    cases = tooltest.Cases("pc2")
     with tempfile.TemporaryDirectory(prefix="clothvk-pc2-scene-") as scene_dir:
         scene = os.path.join(scene_dir, "two-cloths.json")
         with open(scene, "w") as f:
@@ -277,17 +245,9 @@ def main():
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]
-        failed = 0
         for name, check in checks:
-            problems = check()
-            if problems:
-                failed += 1
-                print(f"FAIL {name}")
-                for problem in problems:
-                    print(f"    {problem}")
-    seconds = time.monotonic() - start
-    print(f"pc2: {len(checks) - failed} of {len(checks)} cases passed ({failed} failed) in {seconds:.1f} s")
-    return 1 if failed else 0
+            cases.add(name, check())
+    return cases.finish()
 
 
 if __name__ == "__main__":
