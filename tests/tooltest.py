@@ -50,6 +50,18 @@ def listing(folder):
     return sorted(found)
 
 
+def contents(folder):
+    """{name: bytes} of every file in `folder` ({} when it does not exist): a folder's state, to
+    compare byte for byte before and after."""
+    if not os.path.isdir(folder):
+        return {}
+    out = {}
+    for name in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, name), "rb") as f:
+            out[name] = f.read()
+    return out
+
+
 def nothing_written(before, after):
     """Problems when the listing `after` a refused run differs from the one `before` it."""
     if after == before:
