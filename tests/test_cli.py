@@ -309,14 +309,7 @@ def run_case(case):
                 return lines and one_line and tooltest.line_matches(lines[0], case["stderr"])
             return tooltest.refusal_problems(p, case["stderr"], [], tooltest.listing(workdir),
                                              case["status"], stderr_ok)
-        problems = []
-        if p.returncode != case["status"]:
-            problems.append(f"expected exit status {case['status']}, got {p.returncode}")
-        if p.stderr:
-            problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(p.stderr.splitlines()))
-        if "check" in case and p.returncode == 0:
-            problems += case["check"](p.stdout, workdir)
-        return problems
+        return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
 
 
 def main():

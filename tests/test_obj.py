@@ -270,7 +270,7 @@ def bad_cases(scene):
          error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
     ]
     if os.geteuid() != 0:
-        cases.append(("folder not writable", [scene, "--obj", "locked"], ["locked/"],
+        cases.append(("folder not writable", [scene, "--obj", "locked"], ["locked/!"],
                       error("locked: cannot write into the output folder: Permission denied")))
     else:
         found = tooltest.unwritable_folder()
@@ -281,18 +281,9 @@ def bad_cases(scene):
 
 
 def run_bad(argv, files, expected):
-    with tempfile.TemporaryDirectory(prefix="clothvk-obj-") as workdir:
-        for name in files:
-            if name.endswith("/"):
-                os.makedirs(os.path.join(workdir, name))
-                os.chmod(os.path.join(workdir, name), 0o555)
-            else:
-                with open(os.path.join(workdir, name), "w") as f:
-                    f.write("not a folder\n")
-        before = tooltest.listing(workdir)
-        # --dump goes before the options under test: some of them take the last argument.
-        p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
-        return tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir))
+    """files: see tooltest.make_files."""
+    # --dump goes before the options under test: some of them take the last argument.
+    return tooltest.refused_run(SIM, argv[:1] + ["--dump", DUMP] + argv[1:], expected, files, "clothvk-obj-")
 
 
 def main():
@@ -305,9 +296,7 @@ def main():
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]
-        for name, check in checks:
-            cases.add(name, check())
-    return cases.finish()
+        return cases.run(checks)
 
 
 if __name__ == "__main__":

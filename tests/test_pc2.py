@@ -217,21 +217,9 @@ def bad_cases(scene):
 
 
 def run_bad(argv, files, expected):
-    """files: "NAME" a file, "NAME/" a folder, "NAME/!" a folder nobody may write into."""
-    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
-        for name in files:
-            if "/" in name:
-                folder = os.path.join(workdir, name.split("/")[0])
-                os.makedirs(folder)
-                if name.endswith("!"):
-                    os.chmod(folder, 0o555)
-            else:
-                with open(os.path.join(workdir, name), "w") as f:
-                    f.write("not a folder\n")
-        before = tooltest.listing(workdir)
-        # --dump goes before the options under test: some of them take the last argument.
-        p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
-        return tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir))
+    """files: see tooltest.make_files."""
+    # --dump goes before the options under test: some of them take the last argument.
+    return tooltest.refused_run(SIM, argv[:1] + ["--dump", DUMP] + argv[1:], expected, files, "clothvk-pc2-")
 
 
 def main():
@@ -245,9 +233,7 @@ def main():
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]
-        for name, check in checks:
-            cases.add(name, check())
-    return cases.finish()
+        return cases.run(checks)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import time
 
 # The one part of a tool's message that depends on the machine: lavapipe's device name, which
@@ -90,6 +91,43 @@ def refusal_problems(p, expected, before, after, status=2, stderr_ok=None):
     return problems + nothing_written(before, after)
 
 
+def make_files(folder, names):
+    """Puts into a case's working folder what it names: "NAME" a file, "NAME/" a folder,
+    "NAME/!" a folder nobody may write into."""
+    for name in names:
+        if "/" in name:
+            path = os.path.join(folder, name.split("/")[0])
+            os.makedirs(path)
+            if name.endswith("!"):
+                os.chmod(path, 0o555)
+        else:
+            with open(os.path.join(folder, name), "w") as f:
+                f.write("not a folder\n")
+
+
+def refused_run(tool, argv, expected, files=(), prefix="clothvk-"):
+    """Runs `tool argv` in a fresh folder holding `files` (see make_files): the problems with it
+    as a run that must refuse bad input (see refusal_problems)."""
+    with tempfile.TemporaryDirectory(prefix=prefix) as workdir:
+        make_files(workdir, files)
+        before = listing(workdir)
+        p = run_tool(tool, argv, workdir, timeout=120)
+        return refusal_problems(p, expected, before, listing(workdir))
+
+
+def accepted_problems(p, status, workdir, check=None):
+    """Problems with a run `p` of good input: exit `status`, nothing on stderr, and what
+    check(stdout, workdir) finds when the run exited with 0."""
+    problems = []
+    if p.returncode != status:
+        problems.append(f"expected exit status {status}, got {p.returncode}")
+    if p.stderr:
+        problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(p.stderr.splitlines()))
+    if check and p.returncode == 0:
+        problems += check(p.stdout, workdir)
+    return problems
+
+
 def read_csv(path, number=float):
     """The rows of a --dump CSV (one particle's "x,y,z" a line), each value through `number`."""
     with open(path) as f:
@@ -130,6 +168,12 @@ class Cases:
         """A case that cannot be run here: said, and counted apart."""
         self.skipped += 1
         print(f"skip {line}")
+
+    def run(self, checks):
+        """Runs (heading, function returning problems) pairs in order, then finishes."""
+        for heading, check in checks:
+            self.add(heading, check())
+        return self.finish()
 
     def finish(self, note="", count_skipped=False, before_closing=None):
         """Prints the closing line (with the skipped count when asked; `note` after it, and the
