@@ -269,14 +269,11 @@ def bad_cases(scene):
         ("bad scene", [scene, "--obj", "out", "--set", "cloths.0.mass=0"], [],
          error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
     ]
-    if os.geteuid() != 0:
-        cases.append(("folder not writable", [scene, "--obj", "locked"], ["locked/!"],
-                      error("locked: cannot write into the output folder: Permission denied")))
-    else:
-        found = tooltest.unwritable_folder()
-        if found:
-            cases.append(("folder not writable", [scene, "--obj", found[0]], [],
-                          error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
+    locked = tooltest.locked_folder()
+    if locked:
+        folder, files, reason = locked
+        cases.append(("folder not writable", [scene, "--obj", folder], files,
+                      error(f"{folder}: cannot write into the output folder: {reason}")))
     return cases
 
 

@@ -205,14 +205,11 @@ def bad_cases(scene):
         ("bad scene", [scene, "--pc2", "out/anim.pc2", "--set", "cloths.0.mass=0"], [],
          error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
     ]
-    if os.geteuid() != 0:
-        cases.append(("folder not writable", [scene, "--pc2", "locked/anim.pc2"], ["locked/!"],
-                      error("locked: cannot write into the output folder: Permission denied")))
-    else:
-        found = tooltest.unwritable_folder()
-        if found:
-            cases.append(("folder not writable", [scene, "--pc2", f"{found[0]}/anim.pc2"], [],
-                          error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
+    locked = tooltest.locked_folder()
+    if locked:
+        folder, files, reason = locked
+        cases.append(("folder not writable", [scene, "--pc2", f"{folder}/anim.pc2"], files,
+                      error(f"{folder}: cannot write into the output folder: {reason}")))
     return cases
 
 

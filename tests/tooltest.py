@@ -146,6 +146,16 @@ def unwritable_folder():
     return None
 
 
+def locked_folder():
+    """(folder, files for make_files, reason) for a case whose output folder takes no new file:
+    a folder made read-only, or for root (who writes into any folder whatever its mode) /sys;
+    None when there is none."""
+    if os.geteuid() != 0:
+        return "locked", ["locked/!"], "Permission denied"
+    found = unwritable_folder()
+    return (found[0], [], found[1]) if found else None
+
+
 class Cases:
     """Counts cases as they are run, prints each failure with its problems, and ends with the
     closing line "LABEL: N of M cases passed (F failed) in S s"."""
