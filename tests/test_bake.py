@@ -23,10 +23,7 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_bake.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[SIM] = tooltest.tool_paths("clothvk-sim")
 
 FRAMES = 8
 CLOTH = {"name": "flag", "grid": [8, 6], "size": [0.5, 0.4], "origin": [0.0, 1.0, 0.0],

@@ -20,10 +20,7 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 3:
-    sys.exit("usage: test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render")
-SIM, RENDER = (os.path.abspath(p) for p in sys.argv[1:])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+SIM, RENDER = tooltest.tool_paths("clothvk-sim", "clothvk-render")
 
 FRAMES = 6
 CLOTH = {"name": "flag", "grid": [8, 6], "size": [0.5, 0.4], "origin": [-0.25, 1.0, 0.0],

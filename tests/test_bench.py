@@ -19,11 +19,8 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_bench.py PATH/TO/clothvk-bench")
-BENCH = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[BENCH] = tooltest.tool_paths("clothvk-bench")
+ROOT = tooltest.ROOT
 HAS_GNUPLOT = shutil.which("gnuplot") is not None
 
 

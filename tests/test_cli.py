@@ -23,12 +23,8 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_cli.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-# meson sets this; set it too when the test is run by hand, so that it checks the same things.
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[SIM] = tooltest.tool_paths("clothvk-sim")
+ROOT = tooltest.ROOT
 
 
 def scene(name):

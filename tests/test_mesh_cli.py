@@ -21,11 +21,8 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 3:
-    sys.exit("usage: test_mesh_cli.py PATH/TO/clothvk-sim PATH/TO/clothvk-render")
-TOOLS = {"clothvk-sim": os.path.abspath(sys.argv[1]), "clothvk-render": os.path.abspath(sys.argv[2])}
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+TOOLS = dict(zip(["clothvk-sim", "clothvk-render"], tooltest.tool_paths("clothvk-sim", "clothvk-render")))
+ROOT = tooltest.ROOT
 
 SCENE = os.path.join("in", "scene.json")
 OUTPUTS = {"clothvk-sim": ["--dump", "out.csv", "--obj", "frames"], "clothvk-render": ["-o", "out"]}

@@ -29,10 +29,7 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_obj.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[SIM] = tooltest.tool_paths("clothvk-sim")
 
 # Two grid cloths: "flag" hangs from two corners in the x-y plane (its front, u × v, faces −z);
 # the second has no name ("cloth1") and lies flat, pinned at one corner (its front faces +y).

@@ -26,10 +26,7 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_pc2.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[SIM] = tooltest.tool_paths("clothvk-sim")
 
 # The scene of test_obj.py: "flag" hangs from two corners, the second cloth lies flat.
 CLOTHS = [

@@ -20,11 +20,8 @@ import zlib
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_render_cli.py PATH/TO/clothvk-render")
-RENDER = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[RENDER] = tooltest.tool_paths("clothvk-render")
+ROOT = tooltest.ROOT
 
 SMALL = os.path.join(ROOT, "tests", "scenes", "small.json")
 HANGING = os.path.join(ROOT, "assets", "scenes", "hanging.json")

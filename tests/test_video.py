@@ -25,11 +25,8 @@ import tempfile
 
 import tooltest
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_video.py PATH/TO/clothvk-render")
-RENDER = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+[RENDER] = tooltest.tool_paths("clothvk-render")
+ROOT = tooltest.ROOT
 
 HANGING = os.path.join(ROOT, "assets", "scenes", "hanging.json")
 TINY = [HANGING, "--set", "cloths.0.grid=[24,24]", "--set", "cloths.0.pins=[[0,0],[23,0]]"]

@@ -15,10 +15,23 @@ import sys
 import tempfile
 import time
 
+# The source tree, for its scenes and assets: meson says where; by hand, the folder above this one.
+ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
 # The one part of a tool's message that depends on the machine: lavapipe's device name, which
 # carries the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
 LLVMPIPE = "{llvmpipe}"
 LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+
+
+def tool_paths(*names):
+    """The absolute paths of the tools a script is given on its command line, one per name (it
+    exits with its usage line otherwise). Turns the validation layer on, as meson does, when the
+    script is run by hand, so that it checks the same things."""
+    if len(sys.argv) != len(names) + 1:
+        sys.exit(f"usage: {os.path.basename(sys.argv[0])} " + " ".join(f"PATH/TO/{n}" for n in names))
+    os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+    return [os.path.abspath(path) for path in sys.argv[1:]]
 
 
 def tool_line(tool, message):
