@@ -139,10 +139,6 @@ def parse_obj(path):
     return header, objects, positions, normals, problems
 
 
-def worst(a, b):
-    return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
-
-
 def check_frame(path, frame):
     """Problems with one OBJ file of the two-cloth scene at `frame` frames."""
     name = os.path.basename(path)
@@ -173,7 +169,7 @@ def check_frame(path, frame):
     off = max(abs(x - 1.0) for x in lengths)
     if off > 1e-6:
         problems.append(f"{name}: a normal's length is off 1 by {off:.3g}")
-    gap = worst(normals, area_weighted_normals(positions, faces))
+    gap = tooltest.worst(normals, area_weighted_normals(positions, faces))
     if gap > 1e-5:
         problems.append(f"{name}: normals differ from the area-weighted triangle normals by {gap:.3g}")
     return problems, positions
@@ -183,12 +179,12 @@ def check_frame_zero(positions, normals_path):
     """Frame 0 is the scene's grid, its normals the grids' front sides."""
     problems = []
     expected = [p for c in CLOTHS for p in grid_positions(c)]
-    gap = worst(positions, expected)
+    gap = tooltest.worst(positions, expected)
     if len(positions) != len(expected) or gap > 1e-6:
         problems.append(f"frame_0000.obj: positions differ from the initial grids by {gap:.3g} m")
     _, _, _, normals, _ = parse_obj(normals_path)
     fronts = [FRONTS[k] for k, c in enumerate(CLOTHS) for _ in range(c["grid"][0] * c["grid"][1])]
-    gap = worst(normals, fronts)
+    gap = tooltest.worst(normals, fronts)
     if gap > 1e-6:
         problems.append(f"frame_0000.obj: normals differ from the cloths' front sides u × v by {gap:.3g}")
     return problems
@@ -231,7 +227,8 @@ def good_run(scene):
             return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
         dumped = tooltest.read_csv(os.path.join(workdir, "six.csv"))
         if dumped != frames[2]:
-            problems.append(f"frame_0002.obj differs from the --dump of 6 frames by {worst(dumped, frames[2]):.3g} m "
+            gap = tooltest.worst(dumped, frames[2])
+            problems.append(f"frame_0002.obj differs from the --dump of 6 frames by {gap:.3g} m "
                             f"({len(frames[2])} and {len(dumped)} positions)")
         if tooltest.read_csv(os.path.join(workdir, DUMP)) == frames[2]:
             problems.append("the 7-frame --dump equals frame 6: --obj changed how far the run went")

@@ -61,10 +61,6 @@ def grid_positions(cloth):
             for j in range(nv) for i in range(nu)]
 
 
-def worst(a, b):
-    return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
-
-
 # ---- reading the files ----
 
 
@@ -128,9 +124,9 @@ def good_run(scene):
             return problems
         rest = obj_positions(os.path.join(workdir, "out", "anim.obj"))
         if rest != samples[0]:
-            problems.append(f"sample 0 differs from anim.obj's v lines by {worst(rest, samples[0]):.3g} m "
+            problems.append(f"sample 0 differs from anim.obj's v lines by {tooltest.worst(rest, samples[0]):.3g} m "
                             f"({len(samples[0])} and {len(rest)} positions)")
-        gap = worst(samples[0], [p for c in CLOTHS for p in grid_positions(c)])
+        gap = tooltest.worst(samples[0], [p for c in CLOTHS for p in grid_positions(c)])
         if gap > 1e-6:
             problems.append(f"sample 0 differs from the initial grids by {gap:.3g} m")
         if samples[0] == samples[2]:
@@ -140,7 +136,8 @@ def good_run(scene):
             return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
         dumped = read_csv(os.path.join(workdir, "six.csv"))
         if dumped != samples[2]:
-            problems.append(f"sample 2 differs from the --dump of 6 frames by {worst(dumped, samples[2]):.3g} m "
+            gap = tooltest.worst(dumped, samples[2])
+            problems.append(f"sample 2 differs from the --dump of 6 frames by {gap:.3g} m "
                             f"({len(samples[2])} and {len(dumped)} positions)")
         if read_csv(os.path.join(workdir, DUMP)) == samples[2]:
             problems.append("the 7-frame --dump equals sample 2: --pc2 changed how far the run went")
@@ -158,7 +155,7 @@ def with_obj(scene):
         for i, sample in enumerate(samples):
             frame = obj_positions(os.path.join(workdir, "frames", f"frame_{i:04d}.obj"))
             if frame != sample:
-                problems.append(f"sample {i} differs from frame_{i:04d}.obj by {worst(frame, sample):.3g} m")
+                problems.append(f"sample {i} differs from frame_{i:04d}.obj by {tooltest.worst(frame, sample):.3g} m")
         return problems
 
 

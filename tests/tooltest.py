@@ -147,6 +147,11 @@ def read_csv(path, number=float):
         return [[number(float(x)) for x in line.split(",")] for line in f.read().splitlines()]
 
 
+def worst(a, b):
+    """The largest difference between matching coordinates of two lists of points (0 for none)."""
+    return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
+
+
 def unwritable_folder():
     """A folder that takes no new file, and the reason, for a user who may be root (who writes
     into any folder whatever its mode): /sys refuses even root. None when there is none."""
