@@ -18,14 +18,12 @@ import filecmp
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_bake.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[SIM] = tooltest.tool_paths("clothvk-sim")
 
 FRAMES = 8
 CLOTH = {"name": "flag", "grid": [8, 6], "size": [0.5, 0.4], "origin": [0.0, 1.0, 0.0],
@@ -37,17 +35,12 @@ SCENE = {"name": "flag", "dt": 0.002, "substeps": 4, "frames": FRAMES,
 SCENE_TEXT = json.dumps(SCENE, indent=2) + "\n"
 OTHER_TEXT = json.dumps(dict(SCENE, dt=0.001), indent=2) + "\n"
 
-failures = []
-
-
-def check(cond, message):
-    if not cond:
-        failures.append(message)
-        print("FAILED:", message, file=sys.stderr)
+CHECKS = tooltest.Checks()
+check = CHECKS.check
 
 
 def run(args):
-    return subprocess.run([SIM] + args, capture_output=True, text=True)
+    return tooltest.run_tool(SIM, args)
 
 
 def ok(args, what):
@@ -56,19 +49,8 @@ def ok(args, what):
     return r
 
 
-def contents(folder):
-    """{name: bytes} of every file in `folder` ({} when it does not exist)."""
-    if not os.path.isdir(folder):
-        return {}
-    out = {}
-    for name in sorted(os.listdir(folder)):
-        with open(os.path.join(folder, name), "rb") as f:
-            out[name] = f.read()
-    return out
-
-
 def same_bake(a, b, what):
-    ca, cb = contents(a), contents(b)
+    ca, cb = tooltest.contents(a), tooltest.contents(b)
     check(sorted(ca) == sorted(cb), f"{what}: files {sorted(cb)}, expected {sorted(ca)}")
     for name in ca:
         if name in cb and ca[name] != cb[name]:
@@ -77,7 +59,7 @@ def same_bake(a, b, what):
 
 
 def check_layout(folder, scene_text, frames, every, extra):
-    files = contents(folder)
+    files = tooltest.contents(folder)
     count = (frames + every - 1) // every
     expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(count)]
     check(sorted(files) == expected, f"{folder}: files {sorted(files)}, expected {expected}")
@@ -117,12 +99,12 @@ def resumes(tmp, scene, every, sets):
 
 
 def refused(args, line, folder, what):
-    before = contents(folder)
+    before = tooltest.contents(folder)
     r = run(args)
     check(r.returncode == 2, f"{what}: exit {r.returncode}, expected 2 ({r.stderr.strip()})")
     check(r.stderr == line + "\n", f"{what}: stderr {r.stderr!r}, expected {line!r}")
     check(r.stdout == "", f"{what}: printed {r.stdout!r}")
-    check(contents(folder) == before, f"{what}: the bake folder changed")
+    check(tooltest.contents(folder) == before, f"{what}: the bake folder changed")
 
 
 def bad_inputs(tmp, scene, other, full):
@@ -166,11 +148,7 @@ def main():
         resumes(tmp, scene, 3, [])
         resumes(tmp, scene, 1, ["solver.linear=\"jacobi\""])
         bad_inputs(tmp, scene, other, full)
-    if failures:
-        print(f"{len(failures)} checks failed", file=sys.stderr)
-        return 1
-    print("bake: resumed bakes equal uninterrupted ones; bad input refused")
-    return 0
+    return CHECKS.finish("bake: resumed bakes equal uninterrupted ones; bad input refused")
 
 
 sys.exit(main())

@@ -15,14 +15,12 @@ A small scene is baked for F frames (every 1 and every 2) and rendered directly 
 """
 import json
 import os
-import subprocess
 import sys
 import tempfile
 
-if len(sys.argv) != 3:
-    sys.exit("usage: test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render")
-SIM, RENDER = (os.path.abspath(p) for p in sys.argv[1:])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+SIM, RENDER = tooltest.tool_paths("clothvk-sim", "clothvk-render")
 
 FRAMES = 6
 CLOTH = {"name": "flag", "grid": [8, 6], "size": [0.5, 0.4], "origin": [-0.25, 1.0, 0.0],
@@ -32,29 +30,14 @@ SCENE = {"name": "flag", "dt": 0.004, "substeps": 4, "frames": FRAMES,
          "solver": {"linear": "rbgs", "outer_iterations": 2, "inner_iterations": 2},
          "render": {"size": [96, 64]}, "cloths": [CLOTH]}
 
-failures = []
-
-
-def check(cond, message):
-    if not cond:
-        failures.append(message)
-        print("FAILED:", message, file=sys.stderr)
+CHECKS = tooltest.Checks()
+check = CHECKS.check
 
 
 def run(tool, args, what, status=0):
-    r = subprocess.run([tool] + args, capture_output=True, text=True)
+    r = tooltest.run_tool(tool, args)
     check(r.returncode == status, f"{what}: exit {r.returncode}, expected {status}: {r.stderr.strip()}")
     return r
-
-
-def images(folder):
-    if not os.path.isdir(folder):
-        return {}
-    out = {}
-    for name in sorted(os.listdir(folder)):
-        with open(os.path.join(folder, name), "rb") as f:
-            out[name] = f.read()
-    return out
 
 
 def from_bake(tmp, scene, bake, frames, direct, what):
@@ -64,7 +47,7 @@ def from_bake(tmp, scene, bake, frames, direct, what):
     if what.startswith("--frames"):
         args += ["--frames", what.split()[1]]
     run(RENDER, args, what)
-    got = images(out)
+    got = tooltest.contents(out)
     want = [f"frame_{f:04d}.png" for f in frames]
     check(sorted(got) == want, f"{what}: images {sorted(got)}, expected {want}")
     for name, data in got.items():
@@ -94,7 +77,7 @@ def main():
         run(SIM, [other, "--bake", other_bake, "--frames", "2"], "another scene's bake")
         direct_dir = os.path.join(tmp, "direct")
         run(RENDER, [scene, "-o", direct_dir, "--quiet"], "direct render")
-        direct = images(direct_dir)
+        direct = tooltest.contents(direct_dir)
         check(len(direct) == FRAMES, f"the direct render wrote {len(direct)} images, not {FRAMES}")
         check(len(set(direct.values())) == FRAMES, "the direct render's images are not all "
               "different: the cloth does not move, nothing is tested")
@@ -132,11 +115,7 @@ def main():
         refused(tmp, [scene, "--from", other_bake],
                 f"clothvk-render: {other_bake}: baked from another scene (the scene text in its "
                 f"cache.json differs from {scene})", "another scene's bake")
-    if failures:
-        print(f"{len(failures)} checks failed", file=sys.stderr)
-        return 1
-    print("bake-render: images from bakes equal the direct render's; bad input refused")
-    return 0
+    return CHECKS.finish("bake-render: images from bakes equal the direct render's; bad input refused")
 
 
 sys.exit(main())

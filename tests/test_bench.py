@@ -14,16 +14,13 @@ import csv
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_bench.py PATH/TO/clothvk-bench")
-BENCH = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[BENCH] = tooltest.tool_paths("clothvk-bench")
+ROOT = tooltest.ROOT
 HAS_GNUPLOT = shutil.which("gnuplot") is not None
 
 
@@ -243,7 +240,7 @@ if os.geteuid() != 0:  # root writes anywhere
 
 def run(argv, workdir, env=None):
     e = dict(os.environ, **(env or {}))
-    return subprocess.run([BENCH] + argv, cwd=workdir, env=e, capture_output=True, text=True, timeout=300)
+    return tooltest.run_tool(BENCH, argv, workdir, e, timeout=300)
 
 
 def good_case(case):
@@ -265,6 +262,16 @@ def good_case(case):
         return problems
 
 
+def bad_stderr_ok(case):
+    """The test of a bad case's stderr: one line starting with stderr_start, or the line stderr
+    (followed by the usage text where the case says so)."""
+    def ok(lines):
+        if "stderr_start" in case:
+            return len(lines) == 1 and lines[0].startswith(case["stderr_start"])
+        return bool(lines) and lines[0] == case["stderr"] and (len(lines) == 1 or bool(case.get("usage")))
+    return ok
+
+
 def bad_case(case):
     with tempfile.TemporaryDirectory(prefix="clothvk-bench-") as workdir:
         for name in case.get("files", []):
@@ -273,25 +280,9 @@ def bad_case(case):
             os.mkdir(os.path.join(workdir, case["locked"]), 0o500)
         before = sorted(os.listdir(workdir))
         p = run(case["argv"], workdir, case.get("env"))
-        problems = []
-        if p.returncode != 2:
-            problems.append(f"expected exit status 2, got {p.returncode}")
-        lines = p.stderr.splitlines()
-        got = lines[0] if lines else "(nothing)"
-        if "stderr_start" in case:
-            ok = got.startswith(case["stderr_start"]) and len(lines) == 1
-            expected = case["stderr_start"] + "..."
-        else:
-            ok = got == case["stderr"] and (len(lines) == 1 or case.get("usage"))
-            expected = case["stderr"]
-        if not ok:
-            problems.append(f"expected stderr: {expected}")
-            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-        if p.stdout:
-            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-        after = sorted(os.listdir(workdir))
-        if after != before:
-            problems.append(f"expected nothing written: the directory held {before}, now {after}")
+        expected = case["stderr_start"] + "..." if "stderr_start" in case else case["stderr"]
+        problems = tooltest.refusal_problems(p, expected, before, sorted(os.listdir(workdir)), 2,
+                                             bad_stderr_ok(case))
         if "locked" in case:
             os.chmod(os.path.join(workdir, case["locked"]), 0o700)
         return problems
@@ -317,24 +308,13 @@ def no_gnuplot():
 
 
 def main():
-    start = time.monotonic()
-    failed = total = 0
+    report = tooltest.Cases("bench")
     cases = [(c["name"], lambda c=c: good_case(c)) for c in GOOD]
     cases += [(c["name"], lambda c=c: bad_case(c)) for c in BAD]
     cases.append(("no gnuplot", no_gnuplot))
     for name, check in cases:
-        total += 1
-        problems = check()
-        if problems:
-            failed += 1
-            print(f"FAIL {name}")
-            for problem in problems:
-                print(f"    {problem}")
-    seconds = time.monotonic() - start
-    if not HAS_GNUPLOT:
-        print("gnuplot is not installed: plots were not checked")
-    print(f"bench: {total - failed} of {total} cases passed ({failed} failed) in {seconds:.1f} s")
-    return 1 if failed else 0
+        report.add(name, check())
+    return report.finish(before_closing=None if HAS_GNUPLOT else "gnuplot is not installed: plots were not checked")
 
 
 if __name__ == "__main__":

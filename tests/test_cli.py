@@ -17,18 +17,14 @@ literal text of the message.
 import json
 import math
 import os
-import re
 import subprocess
 import sys
 import tempfile
-import time
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_cli.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-# meson sets this; set it too when the test is run by hand, so that it checks the same things.
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[SIM] = tooltest.tool_paths("clothvk-sim")
+ROOT = tooltest.ROOT
 
 
 def scene(name):
@@ -41,7 +37,7 @@ def asset(name):
 
 def error(path, message):
     """The line clothvk-sim prints for a problem in the scene at path."""
-    return f"clothvk-sim: {path}: {message}"
+    return tooltest.tool_line("clothvk-sim", f"{path}: {message}")
 
 
 SMALL = scene("small.json")  # valid: 4 x 3 grid, pins [0,0] and [3,0], u_axis [0,0,2]
@@ -50,10 +46,8 @@ HANGING = asset("hanging.json")
 STENCIL = asset("hanging-stencil.json")
 DUMP = "out.csv"
 
-# The one part of a message that depends on the machine: lavapipe's device name, which carries
-# the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
-LLVMPIPE = "{llvmpipe}"
-LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+# Stands for lavapipe's device name in an expected line (see tooltest.line_matches).
+LLVMPIPE = tooltest.LLVMPIPE
 
 # ---- checks of the good cases' output: each returns a list of problems ----
 
@@ -289,13 +283,6 @@ CASES = [
 ]
 
 
-def line_matches(got, expected):
-    if LLVMPIPE not in expected:
-        return got == expected
-    pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
-    return re.fullmatch(pattern, got) is not None
-
-
 def case_argv(case):
     """A bad-input case also asks for a dump, which must not be written."""
     return case["argv"] + (["--dump", DUMP] if case["status"] != 0 else [])
@@ -308,45 +295,24 @@ def run_case(case):
     env = dict(os.environ, **case.get("env", {}))
     with tempfile.TemporaryDirectory(prefix="clothvk-cli-") as workdir:
         try:
-            p = subprocess.run([SIM] + argv, cwd=workdir, env=env, capture_output=True, text=True, timeout=120)
+            p = tooltest.run_tool(SIM, argv, workdir, env, timeout=120)
         except subprocess.TimeoutExpired:
             return ["timed out after 120 s"]
-        problems = []
-        if p.returncode != case["status"]:
-            problems.append(f"expected exit status {case['status']}, got {p.returncode}")
-        lines = p.stderr.splitlines()
         if bad_input:
-            expected = case["stderr"]
-            one_line = len(lines) == 1 or case.get("usage")
-            if not lines or not one_line or not line_matches(lines[0], expected):
-                problems.append(f"expected stderr: {expected}")
-                problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-            if p.stdout:
-                problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-            left = sorted(os.listdir(workdir))
-            if left:
-                problems.append(f"expected nothing written, found {left}")
-        else:
-            if p.stderr:
-                problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(lines))
-            if "check" in case and p.returncode == 0:
-                problems += case["check"](p.stdout, workdir)
-        return problems
+            # A usage message follows its first line with the usage text.
+            def stderr_ok(lines):
+                one_line = len(lines) == 1 or case.get("usage")
+                return lines and one_line and tooltest.line_matches(lines[0], case["stderr"])
+            return tooltest.refusal_problems(p, case["stderr"], [], tooltest.listing(workdir),
+                                             case["status"], stderr_ok)
+        return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
 
 
 def main():
-    start = time.monotonic()
-    failed = 0
+    cases = tooltest.Cases("cli")
     for case in CASES:
-        problems = run_case(case)
-        if problems:
-            failed += 1
-            print(f"FAIL {case['name']}: clothvk-sim {' '.join(case_argv(case))}")
-            for problem in problems:
-                print(f"    {problem}")
-    seconds = time.monotonic() - start
-    print(f"cli: {len(CASES) - failed} of {len(CASES)} cases passed ({failed} failed) in {seconds:.1f} s")
-    return 1 if failed else 0
+        cases.add(f"{case['name']}: clothvk-sim {' '.join(case_argv(case))}", run_case(case))
+    return cases.finish()
 
 
 if __name__ == "__main__":

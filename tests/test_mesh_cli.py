@@ -15,17 +15,14 @@ exactly what it held before the run (no output, no temporary file beside the inp
 import json
 import math
 import os
-import re
 import subprocess
 import sys
 import tempfile
-import time
 
-if len(sys.argv) != 3:
-    sys.exit("usage: test_mesh_cli.py PATH/TO/clothvk-sim PATH/TO/clothvk-render")
-TOOLS = {"clothvk-sim": os.path.abspath(sys.argv[1]), "clothvk-render": os.path.abspath(sys.argv[2])}
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+TOOLS = dict(zip(["clothvk-sim", "clothvk-render"], tooltest.tool_paths("clothvk-sim", "clothvk-render")))
+ROOT = tooltest.ROOT
 
 SCENE = os.path.join("in", "scene.json")
 OUTPUTS = {"clothvk-sim": ["--dump", "out.csv", "--obj", "frames"], "clothvk-render": ["-o", "out"]}
@@ -67,20 +64,11 @@ def resolved(name):
 
 
 def error(tool, message):
-    return f"{tool}: {SCENE}: {message}"
+    return tooltest.tool_line(tool, f"{SCENE}: {message}")
 
 
-# The one part of a message that depends on the machine: lavapipe's device name, which carries
-# the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
-LLVMPIPE = "{llvmpipe}"
-LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
-
-
-def line_matches(got, expected):
-    if LLVMPIPE not in expected:
-        return got == expected
-    pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
-    return re.fullmatch(pattern, got) is not None
+# Stands for lavapipe's device name in an expected line (see tooltest.line_matches).
+LLVMPIPE = tooltest.LLVMPIPE
 
 
 GRID = {"grid": [4, 4], "size": [0.3, 0.3], "pins": [[0, 0]]}
@@ -127,14 +115,6 @@ BAD = [
 ]
 
 
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
-
-
 def write_inputs(workdir, case):
     os.makedirs(os.path.join(workdir, "in", "meshes"))
     with open(os.path.join(workdir, SCENE), "w") as f:
@@ -152,43 +132,31 @@ def write_inputs(workdir, case):
 
 def run(tool, argv, workdir, env=None):
     try:
-        return subprocess.run([TOOLS[tool]] + argv, cwd=workdir, env=dict(os.environ, **(env or {})),
-                              capture_output=True, text=True, timeout=180)
+        return tooltest.run_tool(TOOLS[tool], argv, workdir, dict(os.environ, **(env or {})), timeout=180)
     except subprocess.TimeoutExpired:
         return None
 
 
-def stderr_problems(tool, case, lines):
+def expected_stderr(tool, case):
+    """The line a bad case must print, as shown when it does not, and the test of stderr's lines."""
     if "prefix" in case:
         start = error(tool, case["prefix"])
-        ok = len(lines) == 1 and lines[0].startswith(start) and len(lines[0]) > len(start)
-        expected = start + "<the reader's reason>"
-    else:
-        expected = error(tool, case["message"])
-        ok = len(lines) == 1 and line_matches(lines[0], expected)
-    if ok:
-        return []
-    return [f"expected stderr: {expected}",
-            "got stderr:      " + "\n                 ".join(lines or ["(nothing)"])]
+        return (start + "<the reader's reason>",
+                lambda lines: len(lines) == 1 and lines[0].startswith(start) and len(lines[0]) > len(start))
+    expected = error(tool, case["message"])
+    return expected, lambda lines: len(lines) == 1 and tooltest.line_matches(lines[0], expected)
 
 
 def run_bad(tool, case):
     """Runs one bad case with one tool in a fresh directory; returns a list of problems."""
     with tempfile.TemporaryDirectory(prefix="clothvk-mesh-cli-") as workdir:
         write_inputs(workdir, case)
-        before = listing(workdir)
+        before = tooltest.listing(workdir)
         p = run(tool, [SCENE] + OUTPUTS[tool], workdir, case.get("env"))
         if p is None:
             return ["timed out after 180 s"]
-        problems = []
-        if p.returncode != 2:
-            problems.append(f"expected exit status 2, got {p.returncode}")
-        problems += stderr_problems(tool, case, p.stderr.splitlines())
-        if p.stdout:
-            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-        after = listing(workdir)
-        if after != before:
-            problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
+        expected, stderr_ok = expected_stderr(tool, case)
+        problems = tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir), 2, stderr_ok)
         for base, dirs, files in os.walk(workdir):  # let the temporary directory go
             for name in files:
                 os.chmod(os.path.join(base, name), 0o600)
@@ -207,7 +175,7 @@ def good_square():
         problems = []
         if p.returncode != 0 or p.stderr:
             problems.append(f"exit status {p.returncode}, stderr: {p.stderr.strip() or '(nothing)'}")
-        made = sorted(set(listing(workdir)) - {"in", SCENE, "in/meshes", "in/meshes/cloth.obj"})
+        made = sorted(set(tooltest.listing(workdir)) - {"in", SCENE, "in/meshes", "in/meshes/cloth.obj"})
         expected = ["frames", "frames/frame_0000.obj", "frames/frame_0001.obj", "out.csv"]
         if made != expected:
             problems.append(f"expected {expected} written, found {made}")
@@ -238,31 +206,17 @@ def good_poncho():
 
 
 def main():
-    start = time.monotonic()
-    results = []  # (label, problems or None when skipped)
+    cases = tooltest.Cases("mesh cli")
     for case in BAD:
         for tool in case.get("tools", ["clothvk-sim"]):
             label = f"{tool}: {case['name']}"
             if case.get("mode") is not None and os.geteuid() == 0:
-                results.append((label, None))
-                continue
-            results.append((label, run_bad(tool, case)))
-    results.append(("clothvk-sim: a good square mesh writes its outputs", good_square()))
-    results.append(("clothvk-sim: poncho.json, 2 frames", good_poncho()))
-    failed = skipped = 0
-    for label, problems in results:
-        if problems is None:
-            skipped += 1
-            print(f"skip {label}: running as root, which reads any file whatever its mode")
-        elif problems:
-            failed += 1
-            print(f"FAIL {label}")
-            for problem in problems:
-                print(f"    {problem}")
-    total = len(results) - skipped
-    seconds = time.monotonic() - start
-    print(f"mesh cli: {total - failed} of {total} cases passed ({failed} failed, {skipped} skipped) in {seconds:.1f} s")
-    return 1 if failed else 0
+                cases.skip(f"{label}: running as root, which reads any file whatever its mode")
+            else:
+                cases.add(label, run_bad(tool, case))
+    cases.add("clothvk-sim: a good square mesh writes its outputs", good_square())
+    cases.add("clothvk-sim: poncho.json, 2 frames", good_poncho())
+    return cases.finish(count_skipped=True)
 
 
 if __name__ == "__main__":

@@ -24,15 +24,12 @@ import json
 import math
 import os
 import re
-import subprocess
 import sys
 import tempfile
-import time
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_obj.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[SIM] = tooltest.tool_paths("clothvk-sim")
 
 # Two grid cloths: "flag" hangs from two corners in the x-y plane (its front, u × v, faces −z);
 # the second has no name ("cloth1") and lies flat, pinned at one corner (its front faces +y).
@@ -55,7 +52,7 @@ EVERY_MESSAGE = "--every: expected a whole number from 1 to 100000000, got "
 
 
 def error(message):
-    return f"clothvk-sim: {message}"
+    return tooltest.tool_line("clothvk-sim", message)
 
 
 # ---- what the scene should give ----
@@ -142,15 +139,6 @@ def parse_obj(path):
     return header, objects, positions, normals, problems
 
 
-def read_csv(path):
-    with open(path) as f:
-        return [[float(x) for x in line.split(",")] for line in f.read().splitlines()]
-
-
-def worst(a, b):
-    return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
-
-
 def check_frame(path, frame):
     """Problems with one OBJ file of the two-cloth scene at `frame` frames."""
     name = os.path.basename(path)
@@ -181,7 +169,7 @@ def check_frame(path, frame):
     off = max(abs(x - 1.0) for x in lengths)
     if off > 1e-6:
         problems.append(f"{name}: a normal's length is off 1 by {off:.3g}")
-    gap = worst(normals, area_weighted_normals(positions, faces))
+    gap = tooltest.worst(normals, area_weighted_normals(positions, faces))
     if gap > 1e-5:
         problems.append(f"{name}: normals differ from the area-weighted triangle normals by {gap:.3g}")
     return problems, positions
@@ -191,12 +179,12 @@ def check_frame_zero(positions, normals_path):
     """Frame 0 is the scene's grid, its normals the grids' front sides."""
     problems = []
     expected = [p for c in CLOTHS for p in grid_positions(c)]
-    gap = worst(positions, expected)
+    gap = tooltest.worst(positions, expected)
     if len(positions) != len(expected) or gap > 1e-6:
         problems.append(f"frame_0000.obj: positions differ from the initial grids by {gap:.3g} m")
     _, _, _, normals, _ = parse_obj(normals_path)
     fronts = [FRONTS[k] for k, c in enumerate(CLOTHS) for _ in range(c["grid"][0] * c["grid"][1])]
-    gap = worst(normals, fronts)
+    gap = tooltest.worst(normals, fronts)
     if gap > 1e-6:
         problems.append(f"frame_0000.obj: normals differ from the cloths' front sides u × v by {gap:.3g}")
     return problems
@@ -206,15 +194,7 @@ def check_frame_zero(positions, normals_path):
 
 
 def run(argv, cwd):
-    return subprocess.run([SIM] + argv, cwd=cwd, capture_output=True, text=True, timeout=120)
-
-
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
+    return tooltest.run_tool(SIM, argv, cwd, timeout=120)
 
 
 def good_run(scene):
@@ -245,11 +225,12 @@ def good_run(scene):
         p = run([scene, "--frames", "6", "--dump", "six.csv"], workdir)
         if p.returncode != 0 or p.stderr:
             return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
-        dumped = read_csv(os.path.join(workdir, "six.csv"))
+        dumped = tooltest.read_csv(os.path.join(workdir, "six.csv"))
         if dumped != frames[2]:
-            problems.append(f"frame_0002.obj differs from the --dump of 6 frames by {worst(dumped, frames[2]):.3g} m "
+            gap = tooltest.worst(dumped, frames[2])
+            problems.append(f"frame_0002.obj differs from the --dump of 6 frames by {gap:.3g} m "
                             f"({len(frames[2])} and {len(dumped)} positions)")
-        if read_csv(os.path.join(workdir, DUMP)) == frames[2]:
+        if tooltest.read_csv(os.path.join(workdir, DUMP)) == frames[2]:
             problems.append("the 7-frame --dump equals frame 6: --obj changed how far the run went")
         return problems
 
@@ -260,22 +241,10 @@ def no_frames(scene):
         p = run([scene, "--frames", "0", "--obj", "none"], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
-        found = listing(workdir)
+        found = tooltest.listing(workdir)
         line = "  no OBJ file in none: no frame simulated"
         problems = [] if found == ["none"] else [f"expected only the empty folder none, found {found}"]
         return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
-
-
-def unwritable_folder():
-    """A folder that takes no new file for a user who may be root (who writes into any folder
-    whatever its mode): /sys refuses even root. None when there is none."""
-    try:
-        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
-    except OSError as e:
-        return "/sys", os.strerror(e.errno)
-    os.close(fd)
-    os.unlink("/sys/clothvk-probe")
-    return None
 
 
 def bad_cases(scene):
@@ -294,46 +263,22 @@ def bad_cases(scene):
         ("bad scene", [scene, "--obj", "out", "--set", "cloths.0.mass=0"], [],
          error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
     ]
-    if os.geteuid() != 0:
-        cases.append(("folder not writable", [scene, "--obj", "locked"], ["locked/"],
-                      error("locked: cannot write into the output folder: Permission denied")))
-    else:
-        found = unwritable_folder()
-        if found:
-            cases.append(("folder not writable", [scene, "--obj", found[0]], [],
-                          error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
+    locked = tooltest.locked_folder()
+    if locked:
+        folder, files, reason = locked
+        cases.append(("folder not writable", [scene, "--obj", folder], files,
+                      error(f"{folder}: cannot write into the output folder: {reason}")))
     return cases
 
 
 def run_bad(argv, files, expected):
-    with tempfile.TemporaryDirectory(prefix="clothvk-obj-") as workdir:
-        for name in files:
-            if name.endswith("/"):
-                os.makedirs(os.path.join(workdir, name))
-                os.chmod(os.path.join(workdir, name), 0o555)
-            else:
-                with open(os.path.join(workdir, name), "w") as f:
-                    f.write("not a folder\n")
-        before = listing(workdir)
-        # --dump goes before the options under test: some of them take the last argument.
-        p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
-        problems = []
-        if p.returncode != 2:
-            problems.append(f"expected exit status 2, got {p.returncode}")
-        lines = p.stderr.splitlines()
-        if lines != [expected]:
-            problems.append(f"expected stderr: {expected}")
-            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-        if p.stdout:
-            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-        after = listing(workdir)
-        if after != before:
-            problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
-        return problems
+    """files: see tooltest.make_files."""
+    # --dump goes before the options under test: some of them take the last argument.
+    return tooltest.refused_run(SIM, argv[:1] + ["--dump", DUMP] + argv[1:], expected, files, "clothvk-obj-")
 
 
 def main():
-    start = time.monotonic()
+    cases = tooltest.Cases("obj")
     with tempfile.TemporaryDirectory(prefix="clothvk-obj-scene-") as scene_dir:
         scene = os.path.join(scene_dir, "two-cloths.json")
         with open(scene, "w") as f:
@@ -342,17 +287,7 @@ def main():
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]
-        failed = 0
-        for name, check in checks:
-            problems = check()
-            if problems:
-                failed += 1
-                print(f"FAIL {name}")
-                for problem in problems:
-                    print(f"    {problem}")
-    seconds = time.monotonic() - start
-    print(f"obj: {len(checks) - failed} of {len(checks)} cases passed ({failed} failed) in {seconds:.1f} s")
-    return 1 if failed else 0
+        return cases.run(checks)
 
 
 if __name__ == "__main__":

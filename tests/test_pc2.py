@@ -21,15 +21,12 @@ working directory as it was (no folder, no cache, no OBJ, no --dump file, no tem
 import json
 import os
 import struct
-import subprocess
 import sys
 import tempfile
-import time
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_pc2.py PATH/TO/clothvk-sim")
-SIM = os.path.abspath(sys.argv[1])
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[SIM] = tooltest.tool_paths("clothvk-sim")
 
 # The scene of test_obj.py: "flag" hangs from two corners, the second cloth lies flat.
 CLOTHS = [
@@ -49,7 +46,7 @@ DUMP = "out.csv"
 
 
 def error(message):
-    return f"clothvk-sim: {message}"
+    return tooltest.tool_line("clothvk-sim", message)
 
 
 def f32(x):
@@ -62,10 +59,6 @@ def grid_positions(cloth):
     du, dv = su / (nu - 1), sv / (nv - 1)
     return [[o + i * du * a + j * dv * b for o, a, b in zip(cloth["origin"], cloth["u_axis"], cloth["v_axis"])]
             for j in range(nv) for i in range(nu)]
-
-
-def worst(a, b):
-    return max((abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)), default=0.0)
 
 
 # ---- reading the files ----
@@ -96,8 +89,7 @@ def obj_positions(path):
 
 
 def read_csv(path):
-    with open(path) as f:
-        return [[f32(float(x)) for x in line.split(",")] for line in f.read().splitlines()]
+    return tooltest.read_csv(path, f32)
 
 
 def check_header(header, samples, rate):
@@ -109,15 +101,7 @@ def check_header(header, samples, rate):
 
 
 def run(argv, cwd):
-    return subprocess.run([SIM] + argv, cwd=cwd, capture_output=True, text=True, timeout=120)
-
-
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
+    return tooltest.run_tool(SIM, argv, cwd, timeout=120)
 
 
 def good_run(scene):
@@ -140,9 +124,9 @@ def good_run(scene):
             return problems
         rest = obj_positions(os.path.join(workdir, "out", "anim.obj"))
         if rest != samples[0]:
-            problems.append(f"sample 0 differs from anim.obj's v lines by {worst(rest, samples[0]):.3g} m "
+            problems.append(f"sample 0 differs from anim.obj's v lines by {tooltest.worst(rest, samples[0]):.3g} m "
                             f"({len(samples[0])} and {len(rest)} positions)")
-        gap = worst(samples[0], [p for c in CLOTHS for p in grid_positions(c)])
+        gap = tooltest.worst(samples[0], [p for c in CLOTHS for p in grid_positions(c)])
         if gap > 1e-6:
             problems.append(f"sample 0 differs from the initial grids by {gap:.3g} m")
         if samples[0] == samples[2]:
@@ -152,7 +136,8 @@ def good_run(scene):
             return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
         dumped = read_csv(os.path.join(workdir, "six.csv"))
         if dumped != samples[2]:
-            problems.append(f"sample 2 differs from the --dump of 6 frames by {worst(dumped, samples[2]):.3g} m "
+            gap = tooltest.worst(dumped, samples[2])
+            problems.append(f"sample 2 differs from the --dump of 6 frames by {gap:.3g} m "
                             f"({len(samples[2])} and {len(dumped)} positions)")
         if read_csv(os.path.join(workdir, DUMP)) == samples[2]:
             problems.append("the 7-frame --dump equals sample 2: --pc2 changed how far the run went")
@@ -170,7 +155,7 @@ def with_obj(scene):
         for i, sample in enumerate(samples):
             frame = obj_positions(os.path.join(workdir, "frames", f"frame_{i:04d}.obj"))
             if frame != sample:
-                problems.append(f"sample {i} differs from frame_{i:04d}.obj by {worst(frame, sample):.3g} m")
+                problems.append(f"sample {i} differs from frame_{i:04d}.obj by {tooltest.worst(frame, sample):.3g} m")
         return problems
 
 
@@ -180,24 +165,13 @@ def no_frames(scene):
         p = run([scene, "--frames", "0", "--pc2", "cache"], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
-        found = listing(workdir)
+        found = tooltest.listing(workdir)
         if found != ["cache", "cache.obj"]:
             return [f"expected cache and cache.obj, found {found}"]
         header, samples, problems = read_pc2(os.path.join(workdir, "cache"))
         problems += check_header(header, 0, 1)
         line = "  PC2 cache: no sample (no frame simulated), rest mesh cache.obj"
         return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
-
-
-def unwritable_folder():
-    """A folder that takes no new file for a user who may be root: /sys refuses even root."""
-    try:
-        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
-    except OSError as e:
-        return "/sys", os.strerror(e.errno)
-    os.close(fd)
-    os.unlink("/sys/clothvk-probe")
-    return None
 
 
 def bad_cases(scene):
@@ -225,49 +199,22 @@ def bad_cases(scene):
         ("bad scene", [scene, "--pc2", "out/anim.pc2", "--set", "cloths.0.mass=0"], [],
          error(f"{scene}: cloths.0.mass (from --set): must be greater than 0, got 0")),
     ]
-    if os.geteuid() != 0:
-        cases.append(("folder not writable", [scene, "--pc2", "locked/anim.pc2"], ["locked/!"],
-                      error("locked: cannot write into the output folder: Permission denied")))
-    else:
-        found = unwritable_folder()
-        if found:
-            cases.append(("folder not writable", [scene, "--pc2", f"{found[0]}/anim.pc2"], [],
-                          error(f"{found[0]}: cannot write into the output folder: {found[1]}")))
+    locked = tooltest.locked_folder()
+    if locked:
+        folder, files, reason = locked
+        cases.append(("folder not writable", [scene, "--pc2", f"{folder}/anim.pc2"], files,
+                      error(f"{folder}: cannot write into the output folder: {reason}")))
     return cases
 
 
 def run_bad(argv, files, expected):
-    """files: "NAME" a file, "NAME/" a folder, "NAME/!" a folder nobody may write into."""
-    with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
-        for name in files:
-            if "/" in name:
-                folder = os.path.join(workdir, name.split("/")[0])
-                os.makedirs(folder)
-                if name.endswith("!"):
-                    os.chmod(folder, 0o555)
-            else:
-                with open(os.path.join(workdir, name), "w") as f:
-                    f.write("not a folder\n")
-        before = listing(workdir)
-        # --dump goes before the options under test: some of them take the last argument.
-        p = run(argv[:1] + ["--dump", DUMP] + argv[1:], workdir)
-        problems = []
-        if p.returncode != 2:
-            problems.append(f"expected exit status 2, got {p.returncode}")
-        lines = p.stderr.splitlines()
-        if lines != [expected]:
-            problems.append(f"expected stderr: {expected}")
-            problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-        if p.stdout:
-            problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-        after = listing(workdir)
-        if after != before:
-            problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
-        return problems
+    """files: see tooltest.make_files."""
+    # --dump goes before the options under test: some of them take the last argument.
+    return tooltest.refused_run(SIM, argv[:1] + ["--dump", DUMP] + argv[1:], expected, files, "clothvk-pc2-")
 
 
 def main():
-    start = time.monotonic()
+    cases = tooltest.Cases("pc2")
     with tempfile.TemporaryDirectory(prefix="clothvk-pc2-scene-") as scene_dir:
         scene = os.path.join(scene_dir, "two-cloths.json")
         with open(scene, "w") as f:
@@ -277,17 +224,7 @@ def main():
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]
-        failed = 0
-        for name, check in checks:
-            problems = check()
-            if problems:
-                failed += 1
-                print(f"FAIL {name}")
-                for problem in problems:
-                    print(f"    {problem}")
-    seconds = time.monotonic() - start
-    print(f"pc2: {len(checks) - failed} of {len(checks)} cases passed ({failed} failed) in {seconds:.1f} s")
-    return 1 if failed else 0
+        return cases.run(checks)
 
 
 if __name__ == "__main__":

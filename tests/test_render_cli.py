@@ -16,26 +16,24 @@ import struct
 import subprocess
 import sys
 import tempfile
-import time
 import zlib
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_render_cli.py PATH/TO/clothvk-render")
-RENDER = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[RENDER] = tooltest.tool_paths("clothvk-render")
+ROOT = tooltest.ROOT
 
 SMALL = os.path.join(ROOT, "tests", "scenes", "small.json")
 HANGING = os.path.join(ROOT, "assets", "scenes", "hanging.json")
 # hanging.json made small enough for a test: 24 x 24 particles, 160 x 90 pixels.
 TINY = [HANGING, "--set", "cloths.0.grid=[24,24]", "--set", "cloths.0.pins=[[0,0],[23,0]]", "--size", "160x90"]
 
-LLVMPIPE = "{llvmpipe}"
-LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+# Stands for lavapipe's device name in an expected line (see tooltest.line_matches).
+LLVMPIPE = tooltest.LLVMPIPE
 
 
 def error(message):
-    return f"clothvk-render: {message}"
+    return tooltest.tool_line("clothvk-render", message)
 
 
 def png_info(path):
@@ -169,39 +167,10 @@ CASES = [
 ]
 
 
-def line_matches(got, expected):
-    if LLVMPIPE not in expected:
-        return got == expected
-    pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
-    return re.fullmatch(pattern, got) is not None
-
-
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
-
-
-def unwritable_folder():
-    """A folder that takes no new file, and the reason, for a user who may be root (who writes into
-    any folder whatever its mode): /sys refuses even root. None when there is none."""
-    if os.geteuid() != 0:
-        return None
-    try:
-        fd = os.open("/sys/clothvk-probe", os.O_CREAT | os.O_WRONLY, 0o600)
-    except OSError as e:
-        return "/sys", os.strerror(e.errno)
-    os.close(fd)
-    os.unlink("/sys/clothvk-probe")
-    return None
-
-
 def run_case(case):
     """Runs one case in a fresh directory; returns a list of problems (or None: skipped)."""
     if case.get("locked") and os.geteuid() == 0:
-        found = unwritable_folder()
+        found = tooltest.unwritable_folder()
         if not found:
             return None
         folder, reason = found
@@ -217,39 +186,24 @@ def run_case(case):
         if case.get("locked"):
             os.makedirs(os.path.join(workdir, case["locked"]))
             os.chmod(os.path.join(workdir, case["locked"]), 0o555)
-        before = listing(workdir)
+        before = tooltest.listing(workdir)
         try:
-            p = subprocess.run([RENDER] + case["argv"], cwd=workdir, env=env, capture_output=True, text=True,
-                               timeout=180)
+            p = tooltest.run_tool(RENDER, case["argv"], workdir, env, timeout=180)
         except subprocess.TimeoutExpired:
             return ["timed out after 180 s"]
-        problems = []
-        if p.returncode != case["status"]:
-            problems.append(f"expected exit status {case['status']}, got {p.returncode}")
-        lines = p.stderr.splitlines()
         if case["status"] != 0:
-            if len(lines) != 1 or not line_matches(lines[0], case["stderr"]):
-                problems.append(f"expected stderr: {case['stderr']}")
-                problems.append("got stderr:      " + "\n                 ".join(lines or ["(nothing)"]))
-            if p.stdout:
-                problems.append(f"expected nothing on stdout, got: {p.stdout.strip()[:300]}")
-            after = listing(workdir)
-            if after != before:
-                problems.append(f"expected nothing written, found {sorted(set(after) - set(before))}")
-        else:
-            if p.stderr:
-                problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(lines))
-            if "check" in case and p.returncode == 0:
-                problems += case["check"](p.stdout, workdir)
-        return problems
+            return tooltest.refusal_problems(
+                p, case["stderr"], before, tooltest.listing(workdir), case["status"],
+                lambda lines: len(lines) == 1 and tooltest.line_matches(lines[0], case["stderr"]))
+        return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
 
 
 def determinism():
     """The same scene rendered twice: the same PNG bytes, image for image."""
     with tempfile.TemporaryDirectory(prefix="clothvk-render-cli-") as workdir:
         for out in ("one", "two"):
-            p = subprocess.run([RENDER] + TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"],
-                               cwd=workdir, capture_output=True, text=True, timeout=180)
+            p = tooltest.run_tool(RENDER, TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"],
+                                  workdir, timeout=180)
             if p.returncode != 0 or p.stderr:
                 return [f"run into {out} failed ({p.returncode}): {p.stderr.strip()}"]
         names = images(os.path.join(workdir, "one"))
@@ -268,29 +222,15 @@ def determinism():
 
 
 def main():
-    start = time.monotonic()
-    failed = skipped = 0
+    cases = tooltest.Cases("render cli")
     for case in CASES:
         problems = run_case(case)
         if problems is None:
-            skipped += 1
-            print(f"skip {case['name']}: running as root, which writes into any folder, and /sys takes files")
-            continue
-        if problems:
-            failed += 1
-            print(f"FAIL {case['name']}: clothvk-render {' '.join(case['argv'])}")
-            for problem in problems:
-                print(f"    {problem}")
-    problems = determinism()
-    if problems:
-        failed += 1
-        print("FAIL determinism")
-        for problem in problems:
-            print(f"    {problem}")
-    total = len(CASES) + 1 - skipped
-    seconds = time.monotonic() - start
-    print(f"render cli: {total - failed} of {total} cases passed ({failed} failed, {skipped} skipped) in {seconds:.1f} s")
-    return 1 if failed else 0
+            cases.skip(f"{case['name']}: running as root, which writes into any folder, and /sys takes files")
+        else:
+            cases.add(f"{case['name']}: clothvk-render {' '.join(case['argv'])}", problems)
+    cases.add("determinism", determinism())
+    return cases.finish(count_skipped=True)
 
 
 if __name__ == "__main__":

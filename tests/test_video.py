@@ -22,13 +22,11 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 
-if len(sys.argv) != 2:
-    sys.exit("usage: test_video.py PATH/TO/clothvk-render")
-RENDER = os.path.abspath(sys.argv[1])
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-os.environ.setdefault("CLOTHVK_VALIDATION", "1")
+import tooltest
+
+[RENDER] = tooltest.tool_paths("clothvk-render")
+ROOT = tooltest.ROOT
 
 HANGING = os.path.join(ROOT, "assets", "scenes", "hanging.json")
 TINY = [HANGING, "--set", "cloths.0.grid=[24,24]", "--set", "cloths.0.pins=[[0,0],[23,0]]"]
@@ -37,19 +35,11 @@ FFPROBE = shutil.which("ffprobe")
 
 
 def error(message):
-    return f"clothvk-render: {message}"
+    return tooltest.tool_line("clothvk-render", message)
 
 
 def run(argv, cwd, env=None):
-    return subprocess.run([RENDER] + argv, cwd=cwd, capture_output=True, text=True, timeout=300, env=env)
-
-
-def listing(workdir):
-    found = []
-    for base, dirs, files in os.walk(workdir):
-        for name in dirs + files:
-            found.append(os.path.relpath(os.path.join(base, name), workdir))
-    return sorted(found)
+    return tooltest.run_tool(RENDER, argv, cwd, env, timeout=300)
 
 
 def frame_rate():
@@ -95,18 +85,9 @@ def without_ffmpeg():
 
 
 def expect_refusal(argv, workdir, env, expected):
-    before = listing(workdir)
+    before = tooltest.listing(workdir)
     p = run(argv, workdir, env)
-    problems = []
-    if p.returncode != 2:
-        problems.append(f"expected exit status 2, got {p.returncode}")
-    if p.stderr.splitlines() != [expected]:
-        problems.append(f"expected stderr {expected!r}, got {p.stderr.strip()!r}")
-    if p.stdout:
-        problems.append(f"expected nothing on stdout, got {p.stdout.strip()[:300]!r}")
-    if listing(workdir) != before:
-        problems.append(f"expected nothing written, found {sorted(set(listing(workdir)) - set(before))}")
-    return problems
+    return tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir))
 
 
 def bad_name(argv, files, expected):
@@ -126,8 +107,8 @@ def with_pngs():
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
         expected = ["frames", "frames/frame_0000.png", "frames/frame_0001.png", "frames/frame_0002.png",
                     "out", "out/clip.mp4"]
-        if listing(workdir) != expected:
-            return [f"found {listing(workdir)}, expected {expected}"]
+        if tooltest.listing(workdir) != expected:
+            return [f"found {tooltest.listing(workdir)}, expected {expected}"]
         problems = []
         clip = os.path.join(workdir, "out", "clip.mp4")
         frames, width, height, rate = probe(clip)
@@ -149,8 +130,8 @@ def video_only_odd_size():
         p = run(TINY + ["--size", "161x91", "--frames", "2", "--video", "clip.mkv", "--quiet"], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
-        if listing(workdir) != ["clip.mkv"]:
-            return [f"found {listing(workdir)}, expected clip.mkv alone"]
+        if tooltest.listing(workdir) != ["clip.mkv"]:
+            return [f"found {tooltest.listing(workdir)}, expected clip.mkv alone"]
         frames, width, height, _ = probe(os.path.join(workdir, "clip.mkv"))
         if (frames, width, height) != (2, 162, 92):
             return [f"the video has {frames} frames of {width} x {height}, expected 2 of 162 x 92"]
@@ -166,13 +147,13 @@ def unknown_format():
         last = error("clip.notaformat: ffmpeg failed (exit status 1)")
         if not p.stderr.splitlines() or p.stderr.splitlines()[-1] != last:
             problems.append(f"expected the last line of stderr {last!r}, got {p.stderr.strip()!r}")
-        if listing(workdir):
-            problems.append(f"expected nothing left, found {listing(workdir)}")
+        if tooltest.listing(workdir):
+            problems.append(f"expected nothing left, found {tooltest.listing(workdir)}")
         return problems
 
 
 def main():
-    start = time.monotonic()
+    cases = tooltest.Cases("video")
     checks = [("without ffmpeg", without_ffmpeg),
               ("--video without a name", bad_name(["--video"], [], error("--video: expected a file name such as clip.mp4"))),
 ]
@@ -187,17 +168,9 @@ def main():
                    ("a format ffmpeg does not know", unknown_format)]
     else:
         skipped = " (skipped the encoding cases: ffmpeg or ffprobe is not on PATH; apt-get install ffmpeg)"
-    failed = 0
     for name, check in checks:
-        problems = check()
-        if problems:
-            failed += 1
-            print(f"FAIL {name}")
-            for problem in problems:
-                print(f"    {problem}")
-    seconds = time.monotonic() - start
-    print(f"video: {len(checks) - failed} of {len(checks)} cases passed ({failed} failed) in {seconds:.1f} s{skipped}")
-    return 1 if failed else 0
+        cases.add(name, check())
+    return cases.finish(skipped)
 
 
 if __name__ == "__main__":
