@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "error.h"
+#include "scene.h"
 
 void cvk_plan_init(cvk_plan* plan, uint32_t substeps, uint32_t workgroup_size, uint32_t max_groups)
 {
@@ -26,6 +27,13 @@ cvk_result cvk_plan_check(const cvk_plan* plan, cvk_error* error)
 {
     if (plan->out_of_memory)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the step plan");
+    uint64_t per_frame = (uint64_t)plan->substeps * plan->op_count;
+    if (per_frame > CVK_MAX_FRAME_DISPATCHES)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "substeps: %u substeps × %u operations per substep are %llu operations "
+                        "per frame; a frame records at most %u (fewer substeps, sweeps or colours)",
+                        plan->substeps, plan->op_count, (unsigned long long)per_frame,
+                        CVK_MAX_FRAME_DISPATCHES);
     return CVK_SUCCESS;
 }
 

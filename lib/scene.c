@@ -181,6 +181,15 @@ static bool check_count(cvk_scene_issue* issue, const char* path, uint32_t v, ui
     return v >= low || issue_at(issue, path, "must be at least %" PRIu32 ", got %" PRIu32, low, v);
 }
 
+/* low <= v <= high, for counts whose products size the plan and the recorded frame. */
+static bool check_count_range(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low,
+                              uint32_t high)
+{
+    if (v > high)
+        return issue_at(issue, path, "must be at most %" PRIu32 ", got %" PRIu32, high, v);
+    return check_count(issue, path, v, low);
+}
+
 /* low <= v < high */
 static bool check_half_open(cvk_scene_issue* issue, const char* path, double v, double low,
                             double high)
@@ -221,7 +230,12 @@ static bool check_closed_array(cvk_scene_issue* issue, const char* path, const f
 
 static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
 {
-    return check_greater(issue, "dt", d->dt, 0.0) && check_count(issue, "substeps", d->substeps, 1) &&
+    if (!check_greater(issue, "dt", d->dt, 0.0))
+        return false;
+    if (d->dt < CVK_MIN_DT)
+        return issue_at(issue, "dt", "must be at least %g s (1/dt² must fit single precision "
+                        "with room for masses and stiffnesses), got %g", CVK_MIN_DT, d->dt);
+    return check_count_range(issue, "substeps", d->substeps, 1, CVK_MAX_SUBSTEPS) &&
            check_count(issue, "frames", d->frames, 1) &&
            check_finite_array(issue, "gravity", d->gravity, 3) &&
            check_half_open(issue, "damping", d->damping, 0.0, 1.0);
@@ -233,9 +247,17 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
         return issue_at(issue, "solver.method", "unknown method %d", (int)s->method);
     if (!cvk_linear_solver_name(s->linear))
         return issue_at(issue, "solver.linear", "unknown linear solver %d", (int)s->linear);
-    return check_count(issue, "solver.outer_iterations", s->outer_iterations, 1) &&
-           check_count(issue, "solver.inner_iterations", s->inner_iterations, 1) &&
-           check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
+    if (!check_count_range(issue, "solver.outer_iterations", s->outer_iterations, 1,
+                           CVK_MAX_SWEEPS) ||
+        !check_count_range(issue, "solver.inner_iterations", s->inner_iterations, 1,
+                           CVK_MAX_SWEEPS))
+        return false;
+    uint64_t sweeps = (uint64_t)s->outer_iterations * s->inner_iterations;
+    if (sweeps > CVK_MAX_SWEEPS)
+        return issue_at(issue, "solver", "%" PRIu32 " outer × %" PRIu32 " inner iterations are "
+                        "%" PRIu64 " sweeps per substep; at most %u", s->outer_iterations,
+                        s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
+    return check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
            check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0);
 }
 

@@ -29,6 +29,14 @@ bool cvk_solver_desc_check(const cvk_solver_desc* solver, cvk_scene_issue* issue
 /* The same for a render description alone; paths start with "render.". */
 bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 
+/* Bounds on the counts whose products size the step plan and the frame a command buffer
+   records (a typo such as "substeps": 4294967295 must be refused, not recorded until memory
+   runs out), and on dt, whose 1/dt² must fit single precision. */
+#define CVK_MAX_SUBSTEPS 10000u
+#define CVK_MAX_SWEEPS 10000u          /* outer × inner iterations per substep */
+#define CVK_MAX_FRAME_DISPATCHES 1000000u
+#define CVK_MIN_DT 1e-6
+
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
 

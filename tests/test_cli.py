@@ -223,6 +223,28 @@ CASES = [
      "stderr": error(scene("zero-dt.json"), "dt: must be greater than 0, got 0")},
     {"name": "dt < 0", "argv": [scene("negative-dt.json")], "status": 2,
      "stderr": error(scene("negative-dt.json"), "dt: must be greater than 0, got -0.002")},
+    # Counts whose products size the plan and the recorded frame, and a dt whose 1/dt² would
+    # overflow: refused up front (substeps=1431655765 once overflowed the query count: SIGSEGV).
+    {"name": "dt too small", "argv": [SMALL, "--set", "dt=1e-30"], "status": 2,
+     "stderr": error(SMALL, "dt (from --set): must be at least 1e-06 s (1/dt² must fit single "
+                            "precision with room for masses and stiffnesses), got 1e-30")},
+    {"name": "substeps past the bound", "argv": [SMALL, "--set", "substeps=1431655765"], "status": 2,
+     "stderr": error(SMALL, "substeps (from --set): must be at most 10000, got 1431655765")},
+    {"name": "outer iterations past the bound",
+     "argv": [SMALL, "--set", "solver.outer_iterations=4294967295"], "status": 2,
+     "stderr": error(SMALL, "solver.outer_iterations (from --set): must be at most 10000, got "
+                            "4294967295")},
+    {"name": "sweeps past the bound",
+     "argv": [SMALL, "--set", "solver.outer_iterations=200", "--set", "solver.inner_iterations=100"],
+     "status": 2,
+     "stderr": error(SMALL, "solver (from --set): 200 outer × 100 inner iterations are 20000 sweeps "
+                            "per substep; at most 10000")},
+    {"name": "operations per frame past the bound",
+     "argv": [SMALL, "--set", "substeps=10000", "--set", "solver.outer_iterations=100",
+              "--set", "solver.inner_iterations=100"], "status": 2,
+     "stderr": error(SMALL, "substeps: 10000 substeps × 20002 operations per substep are 200020000 "
+                            "operations per frame; a frame records at most 1000000 (fewer "
+                            "substeps, sweeps or colours)")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,
