@@ -36,6 +36,7 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 #define CVK_MAX_SWEEPS 10000u          /* outer × inner iterations per substep */
 #define CVK_MAX_FRAME_DISPATCHES 1000000u
 #define CVK_MIN_DT 1e-6
+#define CVK_MAX_SCENE_BYTES (64u << 20) /* a scene file's size */
 
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)

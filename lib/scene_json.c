@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 struct cvk_scene {
     cvk_scene_desc desc;
@@ -472,6 +473,18 @@ cvk_result cvk_scene_load(const char* path, const char* const* overrides, uint32
     cvk_result r = check_arguments("cvk_scene_load", path, "path", overrides, override_count, out_scene, error);
     if (r != CVK_SUCCESS)
         return r;
+    /* A device or a FIFO would be read forever or block (clothvk-sim /dev/zero); a scene is a
+       file, and no scene needs more than CVK_MAX_SCENE_BYTES. */
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return cvk_fail_errno(error, path, "cannot open", errno);
+    if (S_ISDIR(st.st_mode))
+        return cvk_fail_errno(error, path, "cannot read", EISDIR);
+    if (!S_ISREG(st.st_mode))
+        return cvk_fail(error, CVK_ERROR_IO, "%s: cannot read: it is not a regular file", path);
+    if ((uint64_t)st.st_size > CVK_MAX_SCENE_BYTES)
+        return cvk_fail(error, CVK_ERROR_IO, "%s: %llu bytes; a scene file is at most %u", path,
+                        (unsigned long long)st.st_size, CVK_MAX_SCENE_BYTES);
     FILE* file = fopen(path, "rb");
     if (!file)
         return cvk_fail_errno(error, path, "cannot open", errno);

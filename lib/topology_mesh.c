@@ -169,6 +169,8 @@ static cvk_result open_scene(mesh_reader* r)
         return cannot_read(r, strerror(errno));
     if (S_ISDIR(st.st_mode))
         return cannot_read(r, "it is a directory");
+    if (!S_ISREG(st.st_mode)) /* a FIFO would block, a device be read forever */
+        return cannot_read(r, "it is not a regular file");
     /* Assimp says only "Unable to open file" where the system says why (permissions). */
     FILE* file = fopen(r->path, "rb");
     if (!file)

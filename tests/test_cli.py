@@ -225,6 +225,9 @@ CASES = [
      "stderr": error(scene("negative-dt.json"), "dt: must be greater than 0, got -0.002")},
     # Counts whose products size the plan and the recorded frame, and a dt whose 1/dt² would
     # overflow: refused up front (substeps=1431655765 once overflowed the query count: SIGSEGV).
+    # A device or a FIFO would be read forever or block: only regular files are scenes.
+    {"name": "a device as the scene", "argv": ["/dev/zero"], "status": 2,
+     "stderr": error("/dev/zero", "cannot read: it is not a regular file")},
     {"name": "dt too small", "argv": [SMALL, "--set", "dt=1e-30"], "status": 2,
      "stderr": error(SMALL, "dt (from --set): must be at least 1e-06 s (1/dt² must fit single "
                             "precision with room for masses and stiffnesses), got 1e-30")},

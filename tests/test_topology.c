@@ -495,6 +495,14 @@ static void check_bad_input(void)
     snprintf(want, sizeof want, "cloths.3.mesh: cannot read %s: No such file or directory", path);
     expect_error(path, CVK_ERROR_IO, want, false);
 
+    snprintf(path, sizeof path, "%s/fifo.obj", temp_dir);
+    if (mkfifo(path, 0600) == 0) { /* reading it would block: refused before opening */
+        snprintf(want, sizeof want, "cloths.3.mesh: cannot read %s: it is not a regular file",
+                 path);
+        expect_error(path, CVK_ERROR_IO, want, false);
+        remove(path);
+    }
+
     snprintf(path, sizeof path, "%s/folder.obj", temp_dir);
     mkdir(path, 0700);
     snprintf(want, sizeof want, "cloths.3.mesh: cannot read %s: it is a directory", path);
