@@ -161,6 +161,8 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
                   "--bake or a plain run");
         return APP_EXIT_BAD_INPUT;
     }
+    if (o->dump && !app_output_option_ok(tool, "--dump", o->dump))
+        return APP_EXIT_BAD_INPUT;
     o->every_given = o->every;
     if (!o->every)
         o->every = 1;

@@ -73,9 +73,31 @@ void app_log_validation(void* tool_name, const char* message)
     fprintf(stderr, "%s: validation: %s\n", (const char*)tool_name, message);
 }
 
+bool app_output_replaceable(const char* path, char* message, size_t message_size)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0 || S_ISREG(st.st_mode))
+        return true;
+    snprintf(message, message_size, "%s: exists and is not a regular file (a %s); it is not "
+             "replaced", path, S_ISDIR(st.st_mode) ? "folder" : S_ISLNK(st.st_mode) ? "link"
+             : S_ISFIFO(st.st_mode) ? "FIFO" : "device or socket");
+    return false;
+}
+
+bool app_output_option_ok(const char* tool, const char* option, const char* path)
+{
+    char message[512];
+    if (app_output_replaceable(path, message, sizeof message))
+        return true;
+    app_error(tool, "%s %s", option, message);
+    return false;
+}
+
 bool app_write_atomic(const char* path, app_writer write, void* user, char* message,
                       size_t message_size)
 {
+    if (!app_output_replaceable(path, message, message_size))
+        return false;
     size_t len = strlen(path);
     char* temp = malloc(len + 16);
     if (!temp) {

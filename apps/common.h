@@ -57,6 +57,17 @@ bool app_write_atomic(const char* path, app_writer write, void* user, char* mess
    "tool: PATH: why", and returns false; nothing is left behind but the folders made. */
 bool app_make_output_folder(const char* tool, const char* path);
 
+/* Output files are written to a temporary name and renamed over the target, which would
+   replace a device node, a FIFO or a symbolic link with a plain file (as root, --dump /dev/full
+   did). Such a target is refused instead: false when `path` exists and is not a regular file
+   (not following links), with the reason in `message` ("PATH: exists and is not a regular
+   file ..."). */
+bool app_output_replaceable(const char* path, char* message, size_t message_size);
+
+/* The same for an option's file, checked before any work: one line "tool: OPTION PATH: ..." and
+   false when it is refused. */
+bool app_output_option_ok(const char* tool, const char* option, const char* path);
+
 /* The folder part of `path`, newly allocated: "." for a bare name, "/" for a name in the root;
    NULL when memory runs out. */
 char* app_folder_of(const char* path);

@@ -54,7 +54,8 @@ static bool names_usable(const app_pc2* p)
         app_error(p->tool, "--pc2 %s: the rest mesh %s is a folder", p->path, p->obj_path);
         return false;
     }
-    return true;
+    return app_output_option_ok(p->tool, "--pc2", p->path) &&
+           app_output_option_ok(p->tool, "--pc2 (rest mesh)", p->obj_path);
 }
 
 /* ---- the file -------------------------------------------------------------------------- */

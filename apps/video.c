@@ -71,6 +71,8 @@ static int check_name(const char* tool, const char* path)
         app_error(tool, "--video %s: is a folder; expected a file name such as clip.mp4", path);
         return APP_EXIT_BAD_INPUT;
     }
+    if (!app_output_option_ok(tool, "--video", path))
+        return APP_EXIT_BAD_INPUT;
     char* folder = app_folder_of(path);
     if (!folder) {
         app_error(tool, "out of memory");

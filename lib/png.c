@@ -89,6 +89,12 @@ cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_err
         image->row_bytes < 4u * image->width || image->row_bytes > INT32_MAX)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: cannot encode a %u x %u image with %u bytes per row",
                         path, image->width, image->height, image->row_bytes);
+    /* The file is renamed over the target: a device node, FIFO, folder or link there would be
+       replaced by a plain file, so such a target is refused. */
+    struct stat st;
+    if (lstat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return cvk_fail(error, CVK_ERROR_IO, "%s: exists and is not a regular file; it is not "
+                        "replaced", path);
     /* An opaque image (every alpha 255, as the renderer makes them) is written as RGB: a
        quarter less to filter and compress. */
     size_t w = image->width, h = image->height;

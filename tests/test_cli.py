@@ -228,6 +228,12 @@ CASES = [
     # A device or a FIFO would be read forever or block: only regular files are scenes.
     {"name": "a device as the scene", "argv": ["/dev/zero"], "status": 2,
      "stderr": error("/dev/zero", "cannot read: it is not a regular file")},
+    # Outputs are renamed over their target: a device node (or FIFO, folder, link) is refused.
+    # (--dump is checked the same way before any work; this table adds its own --dump to
+    # every case, so --pc2 stands for both here.)
+    {"name": "--pc2 to a device", "argv": [SMALL, "--pc2", "/dev/null"], "status": 2,
+     "stderr": tooltest.tool_line("clothvk-sim", "--pc2 /dev/null: exists and is not a regular "
+                                  "file (a device or socket); it is not replaced")},
     {"name": "dt too small", "argv": [SMALL, "--set", "dt=1e-30"], "status": 2,
      "stderr": error(SMALL, "dt (from --set): must be at least 1e-06 s (1/dt² must fit single "
                             "precision with room for masses and stiffnesses), got 1e-30")},

@@ -193,6 +193,9 @@ def bad_cases(scene):
          error("--pc2 anim.pc2: the rest mesh anim.obj is a folder")),
         ("folder is a file", [scene, "--pc2", "taken/anim.pc2"], ["taken"],
          error("taken: exists and is not a folder")),
+        ("--dump to a device", [scene, "--dump", "/dev/null"], [],
+         error("--dump /dev/null: exists and is not a regular file (a device or socket); it is "
+               "not replaced")),
         ("--pc2 with --resume", [scene, "--pc2", "a.pc2", "--resume", "bake"], [],
          error("--pc2 and --resume: a point cache holds a whole run; write it with --bake or a "
                "plain run")),

@@ -12,6 +12,7 @@
    - a PNG written and read back holds the same pixels; bad arguments get their messages. */
 #include "harness.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -416,6 +417,19 @@ static void png_round_trip(cvk_context* ctx)
     snprintf(expected, sizeof expected, "%s: cannot create: No such file or directory", missing);
     CHECK(res == CVK_ERROR_IO && strcmp(bad.message, expected) == 0, "writing into a missing folder: %s: %s",
           cvk_result_name(res), bad.message);
+    /* A FIFO (or device, folder, link) at the path is refused, not replaced by a file. */
+    char fifo[160];
+    snprintf(fifo, sizeof fifo, "%s/fifo.png", dir);
+    if (mkfifo(fifo, 0600) == 0) {
+        res = cvk_image_write_png(&im, fifo, &bad);
+        snprintf(expected, sizeof expected, "%s: exists and is not a regular file; it is not "
+                 "replaced", fifo);
+        struct stat st;
+        CHECK(res == CVK_ERROR_IO && strcmp(bad.message, expected) == 0 && stat(fifo, &st) == 0 &&
+                  S_ISFIFO(st.st_mode),
+              "writing over a FIFO: %s: %s", cvk_result_name(res), bad.message);
+        unlink(fifo);
+    }
     cvk_image empty = im;
     empty.row_bytes = 3;
     res = cvk_image_write_png(&empty, path, &bad);

@@ -649,7 +649,9 @@ typedef struct cvk_render_view {
 CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
 
 /* Writes an image as a PNG file: to a temporary name in the same folder, then renamed, so the
-   file is complete or absent. An opaque image (every alpha 255) is written as RGB.
+   file is complete or absent; a path that exists and is not a regular file (a device, FIFO,
+   folder or link) is refused with CVK_ERROR_IO rather than replaced. An opaque image (every
+   alpha 255) is written as RGB.
    Compression is fast (zlib level 2), not smallest. */
 CVK_API cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error);
 
