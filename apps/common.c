@@ -8,13 +8,25 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+void app_put_escaped(FILE* out, const char* text)
+{
+    for (const unsigned char* c = (const unsigned char*)text; *c; c++) {
+        if (*c < 0x20 || *c == 0x7f)
+            fprintf(out, "\\x%02x", *c);
+        else
+            fputc(*c, out);
+    }
+}
+
 void app_error(const char* tool, const char* format, ...)
 {
-    fprintf(stderr, "%s: ", tool);
+    char line[2048];
     va_list args;
     va_start(args, format);
-    vfprintf(stderr, format, args);
+    vsnprintf(line, sizeof line, format, args);
     va_end(args);
+    fprintf(stderr, "%s: ", tool);
+    app_put_escaped(stderr, line);
     fputc('\n', stderr);
 }
 

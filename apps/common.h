@@ -16,8 +16,13 @@ enum {
     APP_EXIT_BAD_INPUT = 2, /* bad arguments or scene; nothing was written */
 };
 
-/* Prints "tool: message" on stderr. */
+/* Prints "tool: message" on stderr, one line: control characters in the message (from file
+   names, keys or scene names a user wrote: an ESC sequence, a CR or LF forging a line) are
+   written as \xNN. */
 void app_error(const char* tool, const char* format, ...) __attribute__((format(printf, 2, 3)));
+
+/* Writes text with control characters as \xNN, as app_error does. */
+void app_put_escaped(FILE* out, const char* text);
 
 /* An argument no option of the tool took: the scene file when it is the first such argument
  * and not an option; otherwise one line on stderr and APP_EXIT_BAD_INPUT. */

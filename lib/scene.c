@@ -442,6 +442,17 @@ static bool check_shape(const cvk_cloth_desc* c, const char* base, uint64_t* tot
            check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
 }
 
+/* Names are printed by the tools and written into OBJ files (an "o" line): a control
+   character (an ESC sequence, a CR or LF forging a line) has no place in one. */
+static bool check_name(cvk_scene_issue* issue, const char* path, const char* name)
+{
+    for (const unsigned char* c = (const unsigned char*)name; c && *c; c++)
+        if (*c < 0x20 || *c == 0x7f)
+            return issue_at(issue, path, "contains the control character \\x%02x at byte %u",
+                            *c, (unsigned)(c - (const unsigned char*)name));
+    return true;
+}
+
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
 {
     char base[CVK_KEY_PATH_MAX];
@@ -449,7 +460,8 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
     join_index(base, "cloths", index);
     if (c->cookie_ != cloth_cookie)
         return issue_at(issue, base, "cloth description was not made by cvk_default_cloth_desc()");
-    return check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
+    return check_name(issue, join(path, base, "name"), c->name) &&
+           check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && check_pins(c, base, issue) && check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0);
 }
@@ -526,7 +538,8 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
 {
     if (desc->cookie_ != scene_cookie)
         return issue_at(issue, "", "scene description was not made by cvk_default_scene_desc()");
-    if (!check_timing(desc, issue) || !cvk_solver_desc_check(&desc->solver, issue))
+    if (!check_name(issue, "name", desc->name) || !check_timing(desc, issue) ||
+        !cvk_solver_desc_check(&desc->solver, issue))
         return false;
     if (!desc->cloths || desc->cloth_count < 1)
         return issue_at(issue, "cloths", "a scene needs at least one cloth");

@@ -225,6 +225,20 @@ CASES = [
      "stderr": error(scene("negative-dt.json"), "dt: must be greater than 0, got -0.002")},
     # Counts whose products size the plan and the recorded frame, and a dt whose 1/dt² would
     # overflow: refused up front (substeps=1431655765 once overflowed the query count: SIGSEGV).
+    # Control characters a user wrote never reach the terminal raw: names refuse them, and
+    # messages print them as \xNN (an ESC sequence or a line break forging a line).
+    {"name": "control character in the scene name", "argv": [SMALL, "--set", "name=ab\x1b[2Jc"],
+     "status": 2,
+     "stderr": error(SMALL, "name (from --set): contains the control character \\x1b at byte 2")},
+    {"name": "line break in a cloth name", "argv": [SMALL, "--set", "cloths.0.name=x\ny"],
+     "status": 2,
+     "stderr": error(SMALL, "cloths.0.name (from --set): contains the control character \\x0a "
+                            "at byte 1")},
+    {"name": "control character in an unknown key",
+     "argv": [SMALL, "--set", "cloths.0.\x1b[31mbad=1"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.\\x1b[31mbad (from --set): unknown key (expected one of: "
+                            "name, grid, size, origin, u_axis, v_axis, mesh, transform, rest_scale, "
+                            "mass, density, stiffness, pins, pin_box, color)")},
     # A device or a FIFO would be read forever or block: only regular files are scenes.
     {"name": "a device as the scene", "argv": ["/dev/zero"], "status": 2,
      "stderr": error("/dev/zero", "cannot read: it is not a regular file")},
