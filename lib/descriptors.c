@@ -9,7 +9,8 @@ static VkShaderStageFlags stages_of(const cvk_binding* b)
 }
 
 static cvk_result create_layouts(cvk_context* ctx, cvk_descriptors* d, VkShaderStageFlags push_stages,
-                                 uint32_t push_bytes, cvk_error* error)
+                                 uint32_t push_bytes, const VkDescriptorSetLayout* extra,
+                                 uint32_t extra_count, cvk_error* error)
 {
     VkDescriptorSetLayoutBinding bindings[CVK_MAX_BINDINGS];
     for (uint32_t i = 0; i < d->binding_count; i++)
@@ -28,10 +29,14 @@ static cvk_result create_layouts(cvk_context* ctx, cvk_descriptors* d, VkShaderS
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
     VkPushConstantRange push = {push_stages, 0, push_bytes};
+    VkDescriptorSetLayout layouts[1 + CVK_MAX_EXTRA_SETS];
+    layouts[0] = d->set_layout;
+    for (uint32_t i = 0; i < extra_count; i++)
+        layouts[1 + i] = extra[i];
     VkPipelineLayoutCreateInfo layout_info = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1,
-        .pSetLayouts = &d->set_layout,
+        .setLayoutCount = 1 + extra_count,
+        .pSetLayouts = layouts,
         .pushConstantRangeCount = push_bytes ? 1 : 0,
         .pPushConstantRanges = push_bytes ? &push : NULL,
     };
@@ -84,14 +89,26 @@ cvk_result cvk_descriptors_create(cvk_context* ctx, const cvk_binding* bindings,
                                   VkShaderStageFlags push_stages, uint32_t push_bytes,
                                   cvk_descriptors* out, cvk_error* error)
 {
+    return cvk_descriptors_create_with(ctx, bindings, binding_count, set_count, push_stages,
+                                       push_bytes, NULL, 0, out, error);
+}
+
+cvk_result cvk_descriptors_create_with(cvk_context* ctx, const cvk_binding* bindings,
+                                       uint32_t binding_count, uint32_t set_count,
+                                       VkShaderStageFlags push_stages, uint32_t push_bytes,
+                                       const VkDescriptorSetLayout* extra_layouts,
+                                       uint32_t extra_count, cvk_descriptors* out,
+                                       cvk_error* error)
+{
     *out = (cvk_descriptors){.bindings = bindings, .binding_count = binding_count,
                              .set_count = set_count};
     if (set_count == 0 || set_count > CVK_MAX_SETS || binding_count == 0 ||
-        binding_count > CVK_MAX_BINDINGS)
+        binding_count > CVK_MAX_BINDINGS || extra_count > CVK_MAX_EXTRA_SETS)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "a descriptor table needs 1 to %u sets and 1 to %u bindings", CVK_MAX_SETS,
-                        CVK_MAX_BINDINGS);
-    cvk_result r = create_layouts(ctx, out, push_stages, push_bytes, error);
+                        "a descriptor table needs 1 to %u sets, 1 to %u bindings and at most %u "
+                        "other set layouts", CVK_MAX_SETS, CVK_MAX_BINDINGS, CVK_MAX_EXTRA_SETS);
+    cvk_result r = create_layouts(ctx, out, push_stages, push_bytes, extra_layouts, extra_count,
+                                  error);
     if (r == CVK_SUCCESS)
         r = create_sets(ctx, out, error);
     if (r != CVK_SUCCESS)

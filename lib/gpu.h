@@ -68,6 +68,7 @@ typedef struct cvk_resource {
 
 #define CVK_MAX_SETS 8
 #define CVK_MAX_BINDINGS 16
+#define CVK_MAX_EXTRA_SETS 2 /* other modules' set layouts after a table's own (set 0) */
 
 /* A set layout, a pipeline layout over it with one push-constant range, a pool and
    `set_count` sets of that layout. */
@@ -86,6 +87,15 @@ cvk_result cvk_descriptors_create(cvk_context* context, const cvk_binding* bindi
                                   uint32_t binding_count, uint32_t set_count,
                                   VkShaderStageFlags push_stages, uint32_t push_bytes,
                                   cvk_descriptors* out, cvk_error* error);
+/* The same, with a pipeline layout of set 0 = this table's layout followed by extra_layouts
+   (sets 1, 2, ...: another module's sets that its shaders also read, such as the contact set
+   of lib/collide.h). The caller keeps the extra layouts alive. */
+cvk_result cvk_descriptors_create_with(cvk_context* context, const cvk_binding* bindings,
+                                       uint32_t binding_count, uint32_t set_count,
+                                       VkShaderStageFlags push_stages, uint32_t push_bytes,
+                                       const VkDescriptorSetLayout* extra_layouts,
+                                       uint32_t extra_count, cvk_descriptors* out,
+                                       cvk_error* error);
 /* Points every binding of set `set` at resources[binding]. */
 void cvk_descriptors_write(cvk_context* context, const cvk_descriptors* descriptors, uint32_t set,
                            const cvk_resource* resources);

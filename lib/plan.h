@@ -45,6 +45,8 @@ typedef struct cvk_op {
     cvk_pipeline_id pipeline;
     VkPipelineLayout layout;
     VkDescriptorSet set;
+    VkDescriptorSet set1;       /* bound as set 1 when not VK_NULL_HANDLE (another module's
+                                   set the pipeline also reads, e.g. the contact set) */
     cvk_domain domain;
     uint32_t first, count;      /* the items covered, for --plan */
     uint32_t groups;            /* direct dispatches; invocations stride over the rest */

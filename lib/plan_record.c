@@ -52,7 +52,7 @@ static void record_opening(const cvk_plan* plan, VkCommandBuffer cmd)
 /* The binding state of a recording, so unchanged pipelines and sets are not bound again. */
 typedef struct binder {
     VkPipeline pipeline;
-    VkDescriptorSet set;
+    VkDescriptorSet set, set1;
 } binder;
 
 static void record_op(const cvk_op* op, const cvk_pipelines* pipelines, binder* bound,
@@ -78,8 +78,14 @@ static void record_op(const cvk_op* op, const cvk_pipelines* pipelines, binder* 
     }
     if (op->set != bound->set) {
         bound->set = op->set;
+        bound->set1 = VK_NULL_HANDLE; /* another layout may have disturbed set 1: bind it again */
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 0, 1, &op->set, 0,
                                 NULL);
+    }
+    if (op->set1 && op->set1 != bound->set1) {
+        bound->set1 = op->set1;
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 1, 1, &op->set1,
+                                0, NULL);
     }
     if (op->push_bytes)
         vkCmdPushConstants(cmd, op->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, op->push_bytes,
@@ -113,7 +119,7 @@ void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,
         vkCmdResetQueryPool(cmd, queries->pool, 0, queries->count);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries->pool, query++);
     }
-    binder bound = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    binder bound = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     for (uint32_t sub = 0; sub < plan->substeps; sub++) {
         for (uint32_t i = 0; i < plan->op_count; i++) {
             const cvk_op* op = &plan->ops[i];
@@ -142,6 +148,9 @@ void cvk_plan_record_warm_up(const cvk_plan* plan, cvk_pipelines* pipelines, VkC
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines->pipeline[op->pipeline]);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 0, 1, &op->set, 0,
                                 NULL);
+        if (op->set1)
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 1, 1,
+                                    &op->set1, 0, NULL);
         if (op->push_bytes)
             vkCmdPushConstants(cmd, op->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, op->push_bytes,
                                zeros);

@@ -255,8 +255,87 @@ typedef struct cvk_cloth_desc {
     bool use_pin_box;            /* true: also pin every particle inside pin_box */
     cvk_box3 pin_box;            /* m, after the transform; min ≤ max on every axis */
     float color[3];              /* linear RGB in [0, 1], for renderers */
+    float velocity[3];           /* initial velocity of every free particle, m/s; usually 0 */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
+
+/* ----------------------------------------------------------------------------------------
+ * Motion over time: keyframes (colliders now; attachments and cameras use the same format)
+ * ------------------------------------------------------------------------------------- */
+
+/* A rigid pose at a time: a point p of the object as described moves to
+   translation + rotation · p (rotation about the world origin, then translation). */
+typedef struct cvk_keyframe {
+    float time;                  /* s, ≥ 0; strictly increasing along the list */
+    float translation[3];        /* m; usually [0, 0, 0] */
+    float rotation[4];           /* quaternion [w, x, y, z], normalised by the library; usually
+                                    [1, 0, 0, 0] */
+} cvk_keyframe;
+
+/* Keyframed motion: translation interpolated linearly, rotation by slerp (the shorter way),
+   held at the first keyframe before it and at the last after it; with loop the motion repeats
+   with period last.time − first.time (time before the first keyframe is still held). No
+   keyframes: the identity pose at every time. */
+typedef struct cvk_motion {
+    const cvk_keyframe* keyframes;
+    uint32_t keyframe_count;
+    bool loop;
+} cvk_motion;
+
+/* ----------------------------------------------------------------------------------------
+ * Collisions
+ * ------------------------------------------------------------------------------------- */
+
+/* Contact between cloths (self- and cloth-cloth) and the defaults of every collider. */
+typedef struct cvk_collision_desc {
+    bool self;                   /* particle–triangle contact between and within cloths;
+                                    usually false */
+    float thickness;             /* m: the distance kept between a particle and any surface
+                                    (collider or cloth); 0 = half the shortest rest length of
+                                    any structural spring (the default) */
+    float friction;              /* Coulomb kinetic coefficient, ≥ 0; usually 0.3 */
+    float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
+} cvk_collision_desc;
+
+typedef enum cvk_collider_type {
+    CVK_COLLIDER_PLANE = 0,      /* point, normal: everything below the plane is solid */
+    CVK_COLLIDER_SPHERE,         /* center, radius */
+    CVK_COLLIDER_BOX,            /* center, half_extents, rotation */
+    CVK_COLLIDER_CAPSULE,        /* a, b, radius: the points within radius of segment ab */
+    CVK_COLLIDER_FUNNEL,         /* apex, funnel_a, height: a thin surface of revolution */
+    CVK_COLLIDER_MESH,           /* file, transform: a closed triangle mesh (signed distance) */
+    CVK_COLLIDER_TYPE_COUNT
+} cvk_collider_type;
+
+/* One rigid collider. Shape fields are in scene coordinates at rest; motion moves the whole
+   shape rigidly (a point p of it is at translation(t) + rotation(t) · p at time t), and the
+   surface's velocity enters friction.
+
+   Funnel: seed 002's parametric surface x = u cos v, y = a ln u, z = u sin v around the world
+   up axis (+y) with its origin at apex (where the radius is 1 m), from apex down to `height`
+   below it: radius e^(y/a) for −height ≤ y ≤ 0 (relative to apex). Cloth keeps to the side
+   of the surface it is on. */
+typedef struct cvk_collider_desc {
+    cvk_collider_type type;
+    const char* name;            /* for messages and output; may be NULL */
+    float point[3];              /* plane: a point on it, m */
+    float normal[3];             /* plane: towards the free side (normalised by the library) */
+    float center[3];             /* sphere, box: m */
+    float radius;                /* sphere, capsule: m, > 0 */
+    float half_extents[3];       /* box: m, each > 0 */
+    float rotation[4];           /* box: quaternion [w, x, y, z]; usually [1, 0, 0, 0] */
+    float a[3], b[3];            /* capsule: segment ends, m */
+    float apex[3];               /* funnel: m */
+    float funnel_a;              /* funnel: growth length a, m, > 0 */
+    float height;                /* funnel: m, > 0 */
+    const char* file;            /* mesh: triangle mesh file (as cvk_cloth_desc.mesh), closed */
+    cvk_transform transform;     /* mesh: applied to the file's vertices */
+    float friction;              /* < 0: collision.friction (the default) */
+    float static_friction;       /* < 0: collision.static_friction (the default) */
+    cvk_motion motion;           /* no keyframes: static */
+    float color[3];              /* linear RGB for renderers; usually [0.55, 0.55, 0.6] */
+    uint32_t cookie_;            /* set by cvk_default_collider_desc; do not touch */
+} cvk_collider_desc;
 
 /* A directional light: parallel rays, like the sun. */
 typedef struct cvk_light {
@@ -301,6 +380,10 @@ typedef struct cvk_scene_desc {
     const cvk_cloth_desc* cloths;
     uint32_t cloth_count;        /* ≥ 1 */
     cvk_render_desc render;      /* read by the renderer only */
+    cvk_collision_desc collision;
+    const cvk_collider_desc* colliders;
+    uint32_t collider_count;     /* 0: nothing to collide with (no collision work is recorded
+                                    unless collision.self) */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 
@@ -308,6 +391,10 @@ typedef struct cvk_scene_desc {
 CVK_API cvk_scene_desc cvk_default_scene_desc(void);
 CVK_API cvk_cloth_desc cvk_default_cloth_desc(void);
 CVK_API cvk_render_desc cvk_default_render_desc(void); /* the same as cvk_default_scene_desc().render */
+CVK_API cvk_collider_desc cvk_default_collider_desc(void); /* a plane through the origin, +y up */
+
+/* "plane", "sphere", "box", "capsule", "funnel", "mesh"; NULL for an unknown value. */
+CVK_API const char* cvk_collider_type_name(cvk_collider_type type);
 
 /* Checks every field; on failure the message starts with the key path ("cloths.0.mass: ..."). */
 CVK_API cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error);
@@ -462,7 +549,7 @@ CVK_API cvk_result cvk_sim_set_solver(cvk_sim* sim, const cvk_solver_desc* solve
 /* The solver settings in use. */
 CVK_API cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
 
-#define CVK_MAX_PASSES 8
+#define CVK_MAX_PASSES 12
 
 /* GPU time of one kind of pass over the last completed frame. */
 typedef struct cvk_pass_stats {
@@ -493,7 +580,20 @@ typedef struct cvk_sim_stats {
     uint32_t dispatches_per_substep;
     uint32_t pass_count;
     cvk_pass_stats passes[CVK_MAX_PASSES];
+    /* Contact, at the end of the last frame (0 in a scene without collision). */
+    uint64_t collider_contacts;  /* free particles within the thickness of a collider's surface */
+    uint64_t self_contacts;      /* particle–triangle pairs of the cloths within the thickness
+                                    (pairs skipped as close in the rest mesh not counted) */
+    double max_penetration;      /* m: deepest a particle is inside any collider's surface
+                                    (0 when none is; thickness not counted) */
+    uint64_t intersecting_pairs; /* non-adjacent cloth triangle pairs that intersect
+                                    (cvk_sim_count_intersections); 0 without collision */
 } cvk_sim_stats;
+
+/* The number of pairs of cloth triangles that share no particle and intersect, computed exactly
+   on the host from the current positions (waits like cvk_sim_read_positions). Torn triangles
+   are skipped. A cloth that does not pass through itself or another has 0. */
+CVK_API cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
 
 /* Reads positions back (as cvk_sim_read_positions) and computes the statistics. For frames
    you recorded yourself, call it once their submission has completed. */

@@ -12,12 +12,15 @@
 /* A shader declares its one push block itself: CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS). */
 #define CVK_PUSH_BLOCK(type, fields)
 #define CVK_DECLARE_PUSH(fields) layout(push_constant) uniform Push { fields } pc;
+/* A struct both sides use as an array element of a storage buffer (std430). */
+#define CVK_STRUCT(type, fields) struct type { fields };
 #else
 #include <stdint.h>
 #define CVK_UINT(name) uint32_t name;
 #define CVK_FLOAT(name) float name;
 #define CVK_VEC4(name) float name[4];
 #define CVK_PUSH_BLOCK(type, fields) typedef struct type { fields } type;
+#define CVK_STRUCT(type, fields) typedef struct type { fields } type;
 #endif
 
 /* ---- projective dynamics: predict, finalize, pd_gauss_seidel, pd_jacobi ------------------ */
@@ -56,5 +59,28 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
     CVK_UINT(triangle_count)
 
 CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
+
+/* ---- collisions: the contact set (lib/collide.h, shaders/collide.glsl) ------------------- */
+
+/* The frame state the recorded work advances itself: substeps simulated so far. Simulated
+   time at the start of substep n is n · dt. */
+#define CVK_GPU_FRAME_FIELDS \
+    CVK_UINT(step)           \
+    CVK_UINT(pad0)           \
+    CVK_UINT(pad1)           \
+    CVK_UINT(pad2)
+CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
+
+/* A collider's rigid pose at the start (0) and end (1) of the current substep: a point p of the
+   collider at rest is at translation + rotate(rotation, p). Quaternions as (x, y, z, w). After
+   a frame, pose 1 is the pose at the frame's end (what a renderer draws). */
+#define CVK_GPU_POSE_FIELDS  \
+    CVK_VEC4(rotation0)      \
+    CVK_VEC4(translation0)   \
+    CVK_VEC4(rotation1)      \
+    CVK_VEC4(translation1)
+CVK_STRUCT(cvk_gpu_pose, CVK_GPU_POSE_FIELDS)
+
+/* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
 #endif

@@ -1,0 +1,61 @@
+/* Collisions on the device: the colliders' keyframed poses advanced by the recorded work itself
+   (one frame buffer, no host writes per frame), contact with colliders projected inside every
+   solver sweep (continuous: a particle's path over the substep, in the collider's moving frame,
+   is traced against the collider thickened by the cloth thickness, so nothing tunnels), Coulomb
+   friction against the surface's own motion, and particle–triangle contact between cloths
+   found through the spatial hash (hash.h) once per substep and resolved in the same sweeps.
+
+   The module owns one descriptor set, the contact set, which every solver family's pipelines
+   bind as set 1 (shaders/collide.glsl declares it); a scene without colliders and without
+   self-contact still gets a small set (so layouts stay one shape) but records no collision
+   pass and compiles no contact code (specialisation constant CONTACT). */
+#ifndef CVK_COLLIDE_H
+#define CVK_COLLIDE_H
+
+#include "hash.h"
+#include "motion.h"
+#include "sdf.h"
+
+struct cvk_sim;
+
+typedef struct cvk_collide {
+    bool colliding;              /* colliders or self-contact: contact passes are recorded */
+    bool self;                   /* particle–triangle contact between cloths */
+    float thickness;             /* m, resolved (collision.thickness or its default) */
+    float friction, static_friction;
+
+    uint32_t collider_count;
+    cvk_collider_desc* colliders;/* deep copies (keyframes, names and files owned here) */
+    cvk_sdf* sdfs;               /* per collider; all zero but for CVK_COLLIDER_MESH */
+
+    cvk_buffer frame;            /* cvk_gpu_frame */
+    cvk_buffer poses;            /* cvk_gpu_pose per collider (at least one element) */
+    cvk_buffer shapes;           /* cvk_gpu_collider per collider */
+    cvk_buffer keyframes;        /* 2 vec4 per keyframe: (time, translation), rotation (x, y, z, w) */
+    cvk_buffer sdf_values;       /* every mesh collider's field, back to back */
+    cvk_buffer params;           /* cvk_gpu_contact_params */
+    cvk_buffer triangles;        /* uvec4 per cloth triangle (internal particle indices) */
+    cvk_buffer owned;            /* per particle + 1 then triangle ids: triangles by lowest vertex */
+    cvk_buffer points;           /* vec4 per particle: predicted positions, hashed */
+    cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
+    cvk_hash hash;               /* only with self-contact */
+
+    VkDescriptorSetLayout set_layout;
+    VkDescriptorPool pool;
+    VkDescriptorSet set;
+} cvk_collide;
+
+/* Resolves the scene's collision settings, reads mesh colliders into fields, makes the buffers
+   and the contact set. Messages name the key ("colliders.1.file: ..."). */
+cvk_result cvk_collide_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk_error* error);
+void cvk_collide_destroy(struct cvk_sim* sim);
+
+/* The pose of collider `index` at simulated time t (s), as the device computes it. */
+cvk_pose cvk_collide_pose(const cvk_collide* collide, uint32_t index, double t);
+
+/* Signed distance (m, negative inside) from p to collider `index` posed at time t, and the
+   outward unit normal there (may be NULL). The funnel's is unsigned. */
+float cvk_collide_distance(const cvk_collide* collide, uint32_t index, double t, const float p[3],
+                           float normal[3]);
+
+#endif
