@@ -36,19 +36,31 @@ typedef struct cvk_collide {
     cvk_buffer params;           /* cvk_gpu_contact_params */
     cvk_buffer triangles;        /* uvec4 per cloth triangle (internal particle indices) */
     cvk_buffer owned;            /* per particle + 1 then triangle ids: triangles by lowest vertex */
-    cvk_buffer points;           /* vec4 per particle: predicted positions, hashed */
+    cvk_buffer near;             /* per particle + 1 then particle ids: joined by a spring */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_hash hash;               /* only with self-contact */
 
-    VkDescriptorSetLayout set_layout;
-    VkDescriptorPool pool;
-    VkDescriptorSet set;
+    cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
+    VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */
+    VkDescriptorSet set;              /* = descriptors.sets[0] */
+    VkPipelineLayout detect_layout;   /* contact set, then the hash's set */
 } cvk_collide;
 
 /* Resolves the scene's collision settings, reads mesh colliders into fields, makes the buffers
    and the contact set. Messages name the key ("colliders.1.file: ..."). */
 cvk_result cvk_collide_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk_error* error);
 void cvk_collide_destroy(struct cvk_sim* sim);
+
+/* The collision passes at the start of every substep, before the family's: the colliders'
+   poses ("colliders"), and with self-contact the hash of the positions ("hash") and the
+   particle–triangle candidates ("contacts"). Nothing when the scene does not collide. */
+cvk_result cvk_collide_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);
+
+/* The hash and the detection pass's layout (self-contact only); called by cvk_collide_create. */
+cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
+
+/* Puts the device's substep counter at `step` (after a snapshot is loaded). */
+cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* error);
 
 /* The pose of collider `index` at simulated time t (s), as the device computes it. */
 cvk_pose cvk_collide_pose(const cvk_collide* collide, uint32_t index, double t);

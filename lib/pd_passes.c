@@ -133,6 +133,7 @@ typedef struct pd_builder {
     const cvk_pd* pd;
     const cvk_solver_desc* solver;
     cvk_pd_push base;
+    VkDescriptorSet contact_set;       /* set 1 of every dispatch */
     uint32_t predict, solve, finalize; /* pass indices */
 } pd_builder;
 
@@ -155,8 +156,10 @@ static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, 
     cvk_op* op = cvk_plan_dispatch(pb->plan, pass, pipeline, pb->pd->descriptors.pipeline_layout,
                                    pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES, first,
                                    count, &push, sizeof push);
-    if (op)
+    if (op) {
+        op->set1 = pb->contact_set;
         snprintf(op->note, sizeof op->note, "%s", set_note[set]);
+    }
     return op;
 }
 
@@ -277,7 +280,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
                              cvk_plan* plan, cvk_error* error)
 {
     cvk_pd* pd = self;
-    pd_builder pb = {.plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver)};
+    pd_builder pb = {.plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver),
+                     .contact_set = s->collide.set};
     pb.predict = cvk_plan_pass(plan, "predict");
     pb.solve = cvk_plan_pass(plan, "solve");
     pb.finalize = cvk_plan_pass(plan, "finalize");

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "collide.h"
 #include "error.h"
 #include "scene.h"
 #include "sim_limits.h"
@@ -138,7 +139,9 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
                              uint32_t max_groups, cvk_plan* out, cvk_error* error)
 {
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
-    cvk_result r = family->add_passes(s, self, solver, out, error);
+    cvk_result r = cvk_collide_add_passes(s, out, error);
+    if (r == CVK_SUCCESS)
+        r = family->add_passes(s, self, solver, out, error);
     if (r == CVK_SUCCESS)
         r = cvk_plan_check(out, error);
     if (r != CVK_SUCCESS)
@@ -149,7 +152,8 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
 /* Creates the pipelines `plan` uses and dispatches the new ones once. */
 cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* error)
 {
-    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree};
+    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree,
+                              s->collide.collider_count > 0, s->collide.self};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);
@@ -236,8 +240,31 @@ cvk_result cvk_sim_record_frame_cmd(cvk_sim* s, cvk_error* error)
 
 /* ---- creation ------------------------------------------------------------------------ */
 
-static cvk_result create_objects(cvk_sim* s, uint32_t workgroup_size, uint32_t max_groups,
-                                 cvk_error* error)
+/* A cloth's "velocity": every free particle starts with its cloth's, through the family. */
+static cvk_result set_initial_velocity(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* error)
+{
+    bool moving = false;
+    for (uint32_t c = 0; c < scene->cloth_count; c++)
+        for (int k = 0; k < 3; k++)
+            moving = moving || scene->cloths[c].velocity[k] != 0.0f;
+    if (!moving)
+        return CVK_SUCCESS;
+    const cvk_build* b = &s->build;
+    for (uint32_t p = 0; p < b->particle_count; p++) {
+        uint32_t user = b->user_of[p], cloth = 0;
+        while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
+            cloth++;
+        for (int k = 0; k < 3; k++) {
+            s->scratch[3 * (size_t)p + k] = b->position[3 * (size_t)p + k];
+            s->scratch_v[3 * (size_t)p + k] =
+                p < b->free_count ? scene->cloths[cloth].velocity[k] : 0.0f;
+        }
+    }
+    return s->family->write_state(s, s->family_state, s->scratch, s->scratch_v, error);
+}
+
+static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32_t workgroup_size,
+                                 uint32_t max_groups, cvk_error* error)
 {
     size_t n = s->build.particle_count;
     s->scratch = malloc(3 * n * sizeof(float));
@@ -254,7 +281,11 @@ static cvk_result create_objects(cvk_sim* s, uint32_t workgroup_size, uint32_t m
     if (r == CVK_SUCCESS)
         r = upload_spring_flags(s, error);
     if (r == CVK_SUCCESS)
+        r = cvk_collide_create(s, scene, error);
+    if (r == CVK_SUCCESS)
         r = s->family->create(s, &s->solver, &s->family_state, error);
+    if (r == CVK_SUCCESS)
+        r = set_initial_velocity(s, scene, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_plan(s, s->family, s->family_state, &s->solver, workgroup_size,
                               max_groups, &s->plan, error);
@@ -295,6 +326,8 @@ static void init_fields(cvk_sim* s, cvk_context* context, const cvk_sim_desc* de
     s->params.name = NULL;
     s->params.cloths = NULL;
     s->params.cloth_count = 0;
+    s->params.colliders = NULL; /* the contact module keeps its own copies */
+    s->params.collider_count = 0;
     s->timing_request = desc->timing;
     s->ref = cvk_ref_params_of(scene);
     s->family = cvk_family_for(&scene->solver);
@@ -319,6 +352,11 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     if (!cvk_family_for(&scene->solver))
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",
                         cvk_method_name(scene->solver.method));
+    if (scene->solver.linear == CVK_LINEAR_GS_CPU &&
+        (scene->collider_count > 0 || scene->collision.self))
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "solver.linear: gs-cpu (the host reference) does not handle contact; "
+                        "use rbgs, jacobi or chebyshev in a scene with colliders or self-contact");
 
     cvk_sim* s = calloc(1, sizeof *s);
     if (!s)
@@ -327,7 +365,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)
-        r = create_objects(s, workgroup_size, max_workgroups(context, desc), error);
+        r = create_objects(s, scene, workgroup_size, max_workgroups(context, desc), error);
     if (r != CVK_SUCCESS) {
         cvk_sim_destroy(s);
         return r;
@@ -345,6 +383,7 @@ void cvk_sim_destroy(cvk_sim* s)
         vkQueueWaitIdle(s->context->queue);
     if (s->family && s->family_state)
         s->family->destroy(s, s->family_state);
+    cvk_collide_destroy(s);
     cvk_pipelines_destroy(s->context, &s->pipelines);
     if (s->queries)
         vkDestroyQueryPool(dev, s->queries, NULL);

@@ -5,6 +5,7 @@
 #define CVK_SIM_H
 
 #include "build.h"
+#include "collide.h"
 #include "gpu.h"
 #include "plan.h"
 #include "reference.h"
@@ -21,6 +22,8 @@ struct cvk_sim {
     cvk_scene_desc params;  /* the scene's step, gravity and damping (no cloths): plan input */
     int timing_request;     /* cvk_sim_desc.timing */
     cvk_ref_params ref;
+
+    cvk_collide collide;    /* colliders, self-contact, the frame state (collide.h) */
 
     const struct cvk_family_api* family; /* the family that solves `solver` */
     void* family_state;

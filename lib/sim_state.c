@@ -159,6 +159,10 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     if (!family)
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",
                         cvk_method_name(solver->method));
+    if (solver->linear == CVK_LINEAR_GS_CPU && s->collide.colliding)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "solver.linear: gs-cpu (the host reference) does not handle contact; "
+                        "use rbgs, jacobi or chebyshev in a scene with colliders or self-contact");
     bool new_family = family != s->family;
     void* self = s->family_state;
     cvk_result r = new_family ? family->create(s, solver, &self, error) : CVK_SUCCESS;

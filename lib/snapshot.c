@@ -153,6 +153,8 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
     if (r == CVK_SUCCESS)
         r = s->family->load_snapshot(s, s->family_state, (const unsigned char*)data + HEADER_SIZE,
                                      h.state_size, error);
+    if (r == CVK_SUCCESS && s->collide.collider_count > 0) /* the colliders' clock */
+        r = cvk_collide_set_step(s, h.frames * s->params.substeps, error);
     if (r == CVK_SUCCESS)
         s->frames = h.frames;
     return r;

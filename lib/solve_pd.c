@@ -131,9 +131,11 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
 
 static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 {
-    cvk_result r = cvk_descriptors_create(s->context, pd_bindings, CVK_PD_BINDING_COUNT,
-                                          CVK_PD_SET_COUNT, VK_SHADER_STAGE_COMPUTE_BIT,
-                                          sizeof(cvk_pd_push), &pd->descriptors, error);
+    /* Set 1 is the contact set: the sweeps resolve contact (shaders/pd_contact.glsl). */
+    cvk_result r = cvk_descriptors_create_with(s->context, pd_bindings, CVK_PD_BINDING_COUNT,
+                                               CVK_PD_SET_COUNT, VK_SHADER_STAGE_COMPUTE_BIT,
+                                               sizeof(cvk_pd_push), &s->collide.set_layout, 1,
+                                               &pd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;
     write_set(s, pd, CVK_PD_SET_U0_TO_U1, 0, 1);

@@ -81,6 +81,72 @@ CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
     CVK_VEC4(translation1)
 CVK_STRUCT(cvk_gpu_pose, CVK_GPU_POSE_FIELDS)
 
+/* One collider's shape at rest (scene coordinates before its motion). */
+#define CVK_COLLIDER_PLANE_ID 0
+#define CVK_COLLIDER_SPHERE_ID 1
+#define CVK_COLLIDER_BOX_ID 2
+#define CVK_COLLIDER_CAPSULE_ID 3
+#define CVK_COLLIDER_FUNNEL_ID 4
+#define CVK_COLLIDER_MESH_ID 5
+#define CVK_GPU_COLLIDER_FIELDS                                                            \
+    CVK_UINT(type)            /* CVK_COLLIDER_*_ID */                                       \
+    CVK_UINT(keyframe_first)  /* into the keyframe buffer */                                \
+    CVK_UINT(keyframe_count)                                                                \
+    CVK_UINT(loop)                                                                          \
+    CVK_FLOAT(friction)       /* kinetic */                                                 \
+    CVK_FLOAT(static_friction)                                                              \
+    CVK_UINT(sdf_first)       /* mesh: first value in the field buffer */                   \
+    CVK_UINT(pad0)                                                                          \
+    CVK_VEC4(a)  /* plane point | sphere centre, radius | box centre | capsule a, radius |   \
+                    funnel apex, growth length | mesh field origin, voxel */                \
+    CVK_VEC4(b)  /* plane unit normal | box half extents | capsule b | funnel height |       \
+                    mesh field dims (as floats) */                                          \
+    CVK_VEC4(c)  /* box rotation (x, y, z, w) */
+CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
+
+/* Particle–triangle contacts kept per particle per substep. */
+#define CVK_CONTACTS_PER_PARTICLE 8
+#define CVK_NO_CONTACT 0xffffffffu
+
+#define CVK_GPU_CONTACT_PARAMS_FIELDS                                                       \
+    CVK_UINT(collider_count)                                                                \
+    CVK_UINT(particle_count)                                                                \
+    CVK_UINT(free_count)                                                                    \
+    CVK_UINT(triangle_count)                                                                \
+    CVK_FLOAT(thickness)      /* m */                                                       \
+    CVK_FLOAT(friction)       /* between cloths */                                          \
+    CVK_FLOAT(static_friction)                                                              \
+    CVK_FLOAT(dt)             /* s per substep */                                           \
+    CVK_FLOAT(detect_radius)  /* m: particle–triangle pairs nearer than this are kept */    \
+    CVK_UINT(pad0)                                                                          \
+    CVK_UINT(pad1)                                                                          \
+    CVK_UINT(pad2)
+CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
+
+/* Push data of the contact passes (collider_poses, contact_detect): items [first, first +
+   count). A dispatch with count 0 (the pipelines' warm-up) does nothing, not even advance
+   the frame state. */
+#define CVK_CONTACT_PUSH_FIELDS \
+    CVK_UINT(first)             \
+    CVK_UINT(count)             \
+    CVK_UINT(pad0)              \
+    CVK_UINT(pad1)
+CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
+
+/* Bindings of the contact set (set 1 of the solver pipelines, set 0 of the contact passes). */
+#define CVK_CONTACT_BINDING_FRAME 0
+#define CVK_CONTACT_BINDING_PARAMS 1
+#define CVK_CONTACT_BINDING_SHAPES 2
+#define CVK_CONTACT_BINDING_KEYFRAMES 3
+#define CVK_CONTACT_BINDING_POSES 4
+#define CVK_CONTACT_BINDING_SDF 5
+#define CVK_CONTACT_BINDING_TRIANGLES 6
+#define CVK_CONTACT_BINDING_OWNED 7
+#define CVK_CONTACT_BINDING_NEAR 8
+#define CVK_CONTACT_BINDING_CONTACTS 9
+#define CVK_CONTACT_BINDING_POSITIONS 10
+#define CVK_CONTACT_BINDING_COUNT 11
+
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
 #endif

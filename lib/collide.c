@@ -1,0 +1,480 @@
+/* The contact module's objects: the scene's collision settings resolved, colliders copied,
+   mesh colliders turned into fields, the contact set's buffers filled once. Its passes are in
+   collide_passes.c, the host's view of the shapes in collide_host.c. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "collide.h"
+#include "error.h"
+#include "scene.h"
+#include "shared/layout.h"
+#include "sim.h"
+
+/* Half the shortest structural rest length (any spring's when a cloth has no structural
+   ones): particles then keep a spacing's distance from each other across layers. */
+static float default_thickness(const cvk_build* b)
+{
+    float shortest = INFINITY, any = INFINITY;
+    for (uint32_t i = 0; i < b->spring_count; i++) {
+        float rest = b->springs[i].rest;
+        if (!(rest > 0.0f))
+            continue;
+        any = fminf(any, rest);
+        if (b->springs[i].type == CVK_SPRING_STRUCTURAL)
+            shortest = fminf(shortest, rest);
+    }
+    float length = isfinite(shortest) ? shortest : any;
+    return isfinite(length) ? 0.5f * length : 0.005f;
+}
+
+static char* copy_string(const char* s)
+{
+    if (!s)
+        return NULL;
+    size_t n = strlen(s) + 1;
+    char* c = malloc(n);
+    if (c)
+        memcpy(c, s, n);
+    return c;
+}
+
+static void free_colliders(cvk_collide* c)
+{
+    for (uint32_t i = 0; c->colliders && i < c->collider_count; i++) {
+        free((char*)c->colliders[i].name);
+        free((char*)c->colliders[i].file);
+        free((cvk_keyframe*)c->colliders[i].motion.keyframes);
+        if (c->sdfs)
+            cvk_sdf_destroy(&c->sdfs[i]);
+    }
+    free(c->colliders);
+    free(c->sdfs);
+    c->colliders = NULL;
+    c->sdfs = NULL;
+}
+
+/* Deep copies: the scene's strings and keyframes need not outlive the simulation. */
+static cvk_result copy_colliders(cvk_collide* c, const cvk_scene_desc* scene, cvk_error* error)
+{
+    uint32_t n = scene->collider_count;
+    c->colliders = calloc(n ? n : 1, sizeof *c->colliders);
+    c->sdfs = calloc(n ? n : 1, sizeof *c->sdfs);
+    if (!c->colliders || !c->sdfs)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the colliders");
+    for (uint32_t i = 0; i < n; i++) {
+        const cvk_collider_desc* in = &scene->colliders[i];
+        cvk_collider_desc* out = &c->colliders[i];
+        *out = *in;
+        out->name = NULL;
+        out->file = NULL;
+        out->motion.keyframes = NULL;
+        c->collider_count = i + 1; /* from here on, free_colliders frees this one's copies */
+        out->name = copy_string(in->name);
+        out->file = copy_string(in->file);
+        size_t kf = in->motion.keyframe_count * sizeof(cvk_keyframe);
+        cvk_keyframe* keyframes = kf ? malloc(kf) : NULL;
+        if (kf && keyframes)
+            memcpy(keyframes, in->motion.keyframes, kf);
+        out->motion.keyframes = keyframes;
+        if ((in->name && !out->name) || (in->file && !out->file) || (kf && !keyframes))
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                            "out of host memory for the colliders");
+        if (out->friction < 0.0f)
+            out->friction = c->friction;
+        if (out->static_friction < 0.0f)
+            out->static_friction = fmaxf(c->static_friction, out->friction);
+    }
+    c->collider_count = n;
+    return CVK_SUCCESS;
+}
+
+/* Signed distance fields of the mesh colliders, fine enough for the cloth's thickness. */
+static cvk_result read_meshes(cvk_collide* c, cvk_error* error)
+{
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        const cvk_collider_desc* d = &c->colliders[i];
+        if (d->type != CVK_COLLIDER_MESH)
+            continue;
+        char key[CVK_KEY_PATH_MAX];
+        cvk_key_path(key, "colliders.%u.file", i);
+        cvk_result r = cvk_sdf_from_mesh_file(d->file, &d->transform, 96, 0.5f * c->thickness,
+                                              key, &c->sdfs[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+static void quat_xyzw(const float wxyz[4], float out[4])
+{
+    float q[4];
+    cvk_quat_normalize(wxyz, q);
+    out[0] = q[1];
+    out[1] = q[2];
+    out[2] = q[3];
+    out[3] = q[0];
+}
+
+static void set3(float out[4], const float v[3], float w)
+{
+    out[0] = v[0];
+    out[1] = v[1];
+    out[2] = v[2];
+    out[3] = w;
+}
+
+/* The shape of one collider as the device reads it. */
+static cvk_gpu_collider gpu_shape(const cvk_collide* c, uint32_t i, uint32_t keyframe_first,
+                                  uint32_t sdf_first)
+{
+    const cvk_collider_desc* d = &c->colliders[i];
+    cvk_gpu_collider g = {0};
+    g.type = (uint32_t)d->type;
+    g.keyframe_first = keyframe_first;
+    g.keyframe_count = d->motion.keyframe_count;
+    g.loop = d->motion.loop ? 1u : 0u;
+    g.friction = d->friction;
+    g.static_friction = d->static_friction;
+    g.sdf_first = sdf_first;
+    g.c[3] = 1.0f;
+    switch (d->type) {
+    case CVK_COLLIDER_PLANE: {
+        float n[3] = {d->normal[0], d->normal[1], d->normal[2]};
+        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; k++)
+            n[k] = len > 0.0f ? n[k] / len : (k == 1 ? 1.0f : 0.0f);
+        set3(g.a, d->point, 0.0f);
+        set3(g.b, n, 0.0f);
+        break;
+    }
+    case CVK_COLLIDER_SPHERE:
+        set3(g.a, d->center, d->radius);
+        break;
+    case CVK_COLLIDER_BOX:
+        set3(g.a, d->center, 0.0f);
+        set3(g.b, d->half_extents, 0.0f);
+        quat_xyzw(d->rotation, g.c);
+        break;
+    case CVK_COLLIDER_CAPSULE:
+        set3(g.a, d->a, d->radius);
+        set3(g.b, d->b, 0.0f);
+        break;
+    case CVK_COLLIDER_FUNNEL:
+        set3(g.a, d->apex, d->funnel_a);
+        g.b[0] = d->height;
+        break;
+    case CVK_COLLIDER_MESH:
+    case CVK_COLLIDER_TYPE_COUNT: {
+        const cvk_sdf* f = &c->sdfs[i];
+        set3(g.a, f->origin, f->voxel);
+        for (int k = 0; k < 3; k++)
+            g.b[k] = (float)f->dims[k];
+        break;
+    }
+    }
+    return g;
+}
+
+typedef struct contact_tables {
+    cvk_gpu_collider* shapes;
+    float* keyframes; /* 8 floats per keyframe */
+    float* sdf;
+    uint32_t keyframe_count;
+    uint64_t sdf_count;
+} contact_tables;
+
+static cvk_result make_collider_tables(const cvk_collide* c, contact_tables* t, cvk_error* error)
+{
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        t->keyframe_count += c->colliders[i].motion.keyframe_count;
+        const cvk_sdf* f = &c->sdfs[i];
+        t->sdf_count += (uint64_t)f->dims[0] * f->dims[1] * f->dims[2];
+    }
+    t->shapes = calloc(c->collider_count ? c->collider_count : 1, sizeof *t->shapes);
+    t->keyframes = calloc(8 * (size_t)(t->keyframe_count ? t->keyframe_count : 1), sizeof(float));
+    t->sdf = calloc(t->sdf_count ? t->sdf_count : 1, sizeof(float));
+    if (!t->shapes || !t->keyframes || !t->sdf)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the colliders");
+    uint32_t k = 0;
+    uint64_t v = 0;
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        const cvk_collider_desc* d = &c->colliders[i];
+        const cvk_sdf* f = &c->sdfs[i];
+        t->shapes[i] = gpu_shape(c, i, k, (uint32_t)v);
+        for (uint32_t j = 0; j < d->motion.keyframe_count; j++, k++) {
+            const cvk_keyframe* kf = &d->motion.keyframes[j];
+            float* out = &t->keyframes[8 * (size_t)k];
+            set3(out, (float[3]){kf->time, kf->translation[0], kf->translation[1]},
+                 kf->translation[2]);
+            quat_xyzw(kf->rotation, out + 4);
+        }
+        uint64_t n = (uint64_t)f->dims[0] * f->dims[1] * f->dims[2];
+        if (n)
+            memcpy(&t->sdf[v], f->values, n * sizeof(float));
+        v += n;
+    }
+    return CVK_SUCCESS;
+}
+
+static void free_tables(contact_tables* t)
+{
+    free(t->shapes);
+    free(t->keyframes);
+    free(t->sdf);
+}
+
+/* The poses at time 0, so the renderer draws the colliders before the first step. */
+static void initial_poses(const cvk_collide* c, cvk_gpu_pose* poses)
+{
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        cvk_pose p = cvk_collide_pose(c, i, 0.0);
+        quat_xyzw(p.rotation, poses[i].rotation0);
+        set3(poses[i].translation0, p.translation, 0.0f);
+        memcpy(poses[i].rotation1, poses[i].rotation0, sizeof poses[i].rotation1);
+        memcpy(poses[i].translation1, poses[i].translation0, sizeof poses[i].translation1);
+    }
+}
+
+/* ---- cloth tables for particle–triangle contact ---------------------------------------- */
+
+typedef struct cloth_tables {
+    uint32_t* triangles; /* 4 per triangle: internal indices, 0 */
+    uint32_t* owned;     /* particle_count + 1 offsets, then triangle ids */
+    uint32_t* near;      /* particle_count + 1 offsets, then particle ids */
+    size_t owned_count, near_count;
+} cloth_tables;
+
+static void free_cloth_tables(cloth_tables* t)
+{
+    free(t->triangles);
+    free(t->owned);
+    free(t->near);
+}
+
+/* Offsets from counts (in place, out[0..n]), then the lists placed by a cursor. */
+static void prefix(uint32_t* table, uint32_t n)
+{
+    uint32_t sum = 0;
+    for (uint32_t p = 0; p <= n; p++) {
+        uint32_t count = table[p];
+        table[p] = sum;
+        sum += count;
+    }
+}
+
+static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_error* error)
+{
+    uint32_t n = b->particle_count, tc = b->triangle_count;
+    t->owned_count = (size_t)n + 1 + tc;
+    t->near_count = (size_t)n + 1 + 2 * (size_t)b->spring_count;
+    t->triangles = calloc(4 * (size_t)(tc ? tc : 1), sizeof(uint32_t));
+    t->owned = calloc(t->owned_count, sizeof(uint32_t));
+    t->near = calloc(t->near_count, sizeof(uint32_t));
+    uint32_t* cursor = calloc((size_t)n + 1, sizeof(uint32_t));
+    if (!t->triangles || !t->owned || !t->near || !cursor) {
+        free(cursor);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the contact tables");
+    }
+    /* A triangle belongs to its lowest-index corner: visiting each particle's own triangles
+       visits every triangle once. */
+    for (uint32_t i = 0; i < tc; i++) {
+        uint32_t lowest = UINT32_MAX;
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = b->internal_of[b->triangles[3 * (size_t)i + k]];
+            t->triangles[4 * (size_t)i + k] = v;
+            lowest = v < lowest ? v : lowest;
+        }
+        t->owned[lowest]++;
+    }
+    prefix(t->owned, n);
+    memcpy(cursor, t->owned, ((size_t)n + 1) * sizeof(uint32_t));
+    for (uint32_t i = 0; i < tc; i++) {
+        const uint32_t* v = &t->triangles[4 * (size_t)i];
+        uint32_t lowest = v[0] < v[1] ? (v[0] < v[2] ? v[0] : v[2]) : (v[1] < v[2] ? v[1] : v[2]);
+        t->owned[n + 1 + cursor[lowest]++] = i;
+    }
+    for (uint32_t i = 0; i < b->spring_count; i++) {
+        t->near[b->springs[i].a]++;
+        t->near[b->springs[i].b]++;
+    }
+    prefix(t->near, n);
+    memcpy(cursor, t->near, ((size_t)n + 1) * sizeof(uint32_t));
+    for (uint32_t i = 0; i < b->spring_count; i++) {
+        const cvk_spring* s = &b->springs[i];
+        t->near[n + 1 + cursor[s->a]++] = s->b;
+        t->near[n + 1 + cursor[s->b]++] = s->a;
+    }
+    free(cursor);
+    return CVK_SUCCESS;
+}
+
+/* ---- buffers and the contact set -------------------------------------------------------- */
+
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+};
+#undef STORAGE
+
+static cvk_result make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
+                              const void* data, cvk_error* error)
+{
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    if (size < 16)
+        size = 16;
+    cvk_result r = cvk_buffer_create(s->context, size, usage, CVK_MEMORY_DEVICE, what, buffer,
+                                     error);
+    if (r == CVK_SUCCESS && data)
+        r = cvk_sim_upload(s, buffer, data, size, error);
+    return r;
+}
+
+static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    contact_tables t = {0};
+    uint32_t n = c->collider_count ? c->collider_count : 1;
+    cvk_gpu_pose* poses = calloc(n, sizeof *poses);
+    cvk_result r = poses ? make_collider_tables(c, &t, error)
+                         : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                                    "out of host memory for the colliders");
+    if (r == CVK_SUCCESS) {
+        initial_poses(c, poses);
+        r = make_buffer(s, &c->poses, n * sizeof(cvk_gpu_pose), "collider poses", poses, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->shapes, n * sizeof(cvk_gpu_collider), "collider shapes", t.shapes,
+                        error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->keyframes, 32u * (VkDeviceSize)(t.keyframe_count ? t.keyframe_count : 1),
+                        "collider keyframes", t.keyframes, error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->sdf_values, 4u * (VkDeviceSize)(t.sdf_count ? t.sdf_count : 1),
+                        "collider distance fields", t.sdf, error);
+    free_tables(&t);
+    free(poses);
+    return r;
+}
+
+static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cloth_tables t = {0};
+    cvk_result r = CVK_SUCCESS;
+    if (c->self)
+        r = make_cloth_tables(b, &t, error);
+    VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
+    VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->triangles, c->self ? 16u * tc : 16u, "contact triangles",
+                        t.triangles, error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->owned, c->self ? 4u * t.owned_count : 16u, "triangles by corner",
+                        t.owned, error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->near, c->self ? 4u * t.near_count : 16u, "spring neighbours",
+                        t.near, error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
+    free_cloth_tables(&t);
+    return r;
+}
+
+static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cvk_gpu_contact_params p = {
+        .collider_count = c->collider_count,
+        .particle_count = b->particle_count,
+        .free_count = b->free_count,
+        .triangle_count = b->triangle_count,
+        .thickness = c->thickness,
+        .friction = c->friction,
+        .static_friction = c->static_friction,
+        .dt = s->params.dt,
+        .detect_radius = 2.0f * c->thickness,
+    };
+    cvk_gpu_frame frame = {0};
+    cvk_result r = make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->frame, sizeof frame, "frame state", &frame, error);
+    return r;
+}
+
+static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    cvk_result r = cvk_descriptors_create(s->context, contact_bindings, CVK_CONTACT_BINDING_COUNT,
+                                          1, VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_contact_push), &c->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    c->set_layout = c->descriptors.set_layout;
+    c->set = c->descriptors.sets[0];
+    const cvk_resource res[CVK_CONTACT_BINDING_COUNT] = {
+        [CVK_CONTACT_BINDING_FRAME] = {.buffer = &c->frame},
+        [CVK_CONTACT_BINDING_PARAMS] = {.buffer = &c->params},
+        [CVK_CONTACT_BINDING_SHAPES] = {.buffer = &c->shapes},
+        [CVK_CONTACT_BINDING_KEYFRAMES] = {.buffer = &c->keyframes},
+        [CVK_CONTACT_BINDING_POSES] = {.buffer = &c->poses},
+        [CVK_CONTACT_BINDING_SDF] = {.buffer = &c->sdf_values},
+        [CVK_CONTACT_BINDING_TRIANGLES] = {.buffer = &c->triangles},
+        [CVK_CONTACT_BINDING_OWNED] = {.buffer = &c->owned},
+        [CVK_CONTACT_BINDING_NEAR] = {.buffer = &c->near},
+        [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
+        [CVK_CONTACT_BINDING_POSITIONS] = {.buffer = &s->positions},
+    };
+    cvk_descriptors_write(s->context, &c->descriptors, 0, res);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* error)
+{
+    cvk_collide* c = &s->collide;
+    *c = (cvk_collide){0};
+    c->self = scene->collision.self;
+    c->colliding = c->self || scene->collider_count > 0;
+    c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
+                                                     : default_thickness(&s->build);
+    c->friction = scene->collision.friction;
+    c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
+    cvk_result r = copy_colliders(c, scene, error);
+    if (r == CVK_SUCCESS)
+        r = read_meshes(c, error);
+    if (r == CVK_SUCCESS)
+        r = create_collider_buffers(s, c, error);
+    if (r == CVK_SUCCESS)
+        r = create_cloth_buffers(s, c, error);
+    if (r == CVK_SUCCESS)
+        r = create_params(s, c, error);
+    if (r == CVK_SUCCESS)
+        r = create_set(s, c, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = cvk_collide_create_detection(s, error);
+    return r;
+}
+
+void cvk_collide_destroy(cvk_sim* s)
+{
+    cvk_collide* c = &s->collide;
+    cvk_context* ctx = s->context;
+    if (c->detect_layout)
+        vkDestroyPipelineLayout(ctx->device, c->detect_layout, NULL);
+    if (c->hash.capacity)
+        cvk_hash_destroy(ctx, &c->hash);
+    cvk_descriptors_destroy(ctx, &c->descriptors);
+    cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
+                             &c->params, &c->triangles, &c->owned, &c->near, &c->contacts};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(ctx, buffers[i]);
+    free_colliders(c);
+    *c = (cvk_collide){0};
+}
+
+cvk_result cvk_collide_set_step(cvk_sim* s, uint64_t step, cvk_error* error)
+{
+    cvk_gpu_frame frame = {.step = (uint32_t)step};
+    return cvk_sim_upload(s, &s->collide.frame, &frame, sizeof frame, error);
+}

@@ -1,0 +1,358 @@
+// The contact set and the contact responses every solver family calls inside its sweeps
+// (lib/collide.h). Include after shared/layout.h; define CONTACT_SET first to bind the set
+// elsewhere than set 1.
+//
+// Colliders are handled in each collider's own frame, where a particle's motion over the
+// substep is the segment from its start position (in the frame at the substep's start) to its
+// end position (in the frame at the substep's end): the segment is traced against the shape
+// thickened by the cloth thickness (sphere tracing on the signed distance, exact for the
+// analytic shapes and a bound for the sampled mesh fields), so a particle that would cross a
+// thin box or be overtaken by a fast sphere within the substep is stopped at the first touch,
+// not only when it ends inside. The end position is then projected onto the tangent plane at
+// the touch, and Coulomb friction takes the tangential part of the relative motion away
+// (all of it while it is within mu_s times the normal correction, mu_k times it otherwise;
+// Macklin et al. 2014 §6.1). Relative motion is measured in the collider's frame, so a moving
+// surface carries the cloth along.
+
+#ifndef CONTACT_SET
+#define CONTACT_SET 1
+#endif
+
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
+    cvk_gpu_frame frame;
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS) readonly buffer ContactParams {
+    cvk_gpu_contact_params contact;
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SHAPES) readonly buffer Shapes {
+    cvk_gpu_collider shapes[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_KEYFRAMES) readonly buffer Keyframes {
+    vec4 keyframes[]; // 2 per keyframe: (time, translation), rotation (x, y, z, w)
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES) buffer Poses {
+    cvk_gpu_pose poses[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly buffer Fields {
+    float sdf_values[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) readonly buffer Triangles {
+    uvec4 triangles[]; // internal particle indices
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_OWNED) readonly buffer Owned {
+    uint owned[]; // [p] .. [p + 1]: offsets (from particle_count + 1) of the triangles p owns
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAR) readonly buffer Near {
+    uint near_list[]; // the same layout: particles joined to p by a spring
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) buffer Contacts {
+    uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: triangle << 1 | side
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) readonly buffer ContactPositions {
+    vec4 contact_x[]; // x_n, internal order
+};
+
+// ---- quaternions (x, y, z, w) ----------------------------------------------------------------
+
+vec3 quat_rotate(vec4 q, vec3 v)
+{
+    vec3 c = cross(q.xyz, v);
+    return v + 2.0 * (q.w * c + cross(q.xyz, c));
+}
+
+vec3 quat_rotate_inverse(vec4 q, vec3 v)
+{
+    return quat_rotate(vec4(-q.xyz, q.w), v);
+}
+
+// ---- signed distances of the shapes at rest ------------------------------------------------
+
+float box_distance(cvk_gpu_collider c, vec3 l)
+{
+    vec3 b = quat_rotate_inverse(c.c, l - c.a.xyz);
+    vec3 q = abs(b) - c.b.xyz;
+    return length(max(q, 0.0)) + min(max(q.x, max(q.y, q.z)), 0.0);
+}
+
+vec3 box_normal(cvk_gpu_collider c, vec3 l)
+{
+    vec3 b = quat_rotate_inverse(c.c, l - c.a.xyz);
+    vec3 q = abs(b) - c.b.xyz;
+    vec3 n;
+    if (max(q.x, max(q.y, q.z)) > 0.0) {
+        n = max(q, 0.0) * sign(b);
+    } else { // inside: out through the nearest face
+        if (q.x >= q.y && q.x >= q.z)
+            n = vec3(b.x >= 0.0 ? 1.0 : -1.0, 0.0, 0.0);
+        else if (q.y >= q.z)
+            n = vec3(0.0, b.y >= 0.0 ? 1.0 : -1.0, 0.0);
+        else
+            n = vec3(0.0, 0.0, b.z >= 0.0 ? 1.0 : -1.0);
+    }
+    return quat_rotate(c.c, normalize(n));
+}
+
+vec3 capsule_closest(cvk_gpu_collider c, vec3 l)
+{
+    vec3 ab = c.b.xyz - c.a.xyz;
+    float len2 = dot(ab, ab);
+    float t = len2 > 0.0 ? clamp(dot(l - c.a.xyz, ab) / len2, 0.0, 1.0) : 0.0;
+    return c.a.xyz + t * ab;
+}
+
+// The funnel: radius e^(y/a) for -height <= y <= 0 around the vertical axis through the apex.
+// The nearest point of the profile curve in the particle's half-plane, by Gauss-Newton on the
+// curve's height (clamped to the funnel's range, so the rims are handled too).
+vec2 funnel_closest(cvk_gpu_collider c, vec3 l, out vec3 radial)
+{
+    vec3 d = l - c.a.xyz;
+    float rho = length(d.xz);
+    radial = rho > 0.0 ? vec3(d.x / rho, 0.0, d.z / rho) : vec3(1.0, 0.0, 0.0);
+    float a = c.a.w, h = c.b.x;
+    float s = clamp(d.y, -h, 0.0);
+    for (int i = 0; i < 8; i++) {
+        float r = exp(s / a), dr = r / a;
+        float g = (r - rho) * dr + (s - d.y);
+        s = clamp(s - g / (dr * dr + 1.0), -h, 0.0);
+    }
+    return vec2(exp(s / a), s) - vec2(rho, d.y); // curve point minus particle, in (rho, y)
+}
+
+float mesh_value(cvk_gpu_collider c, ivec3 i)
+{
+    ivec3 dims = ivec3(c.b.xyz);
+    i = clamp(i, ivec3(0), dims - 1);
+    return sdf_values[c.sdf_first + uint(i.x + dims.x * (i.y + dims.y * i.z))];
+}
+
+float mesh_distance(cvk_gpu_collider c, vec3 l)
+{
+    vec3 dims = c.b.xyz;
+    vec3 g = (l - c.a.xyz) / c.a.w;
+    vec3 inside = clamp(g, vec3(0.0), dims - 1.0);
+    float outside = length(g - inside) * c.a.w; // beyond the grid: distance to it, added
+    vec3 base = min(floor(inside), dims - 2.0);
+    vec3 f = inside - base;
+    ivec3 i = ivec3(base);
+    float v00 = mix(mesh_value(c, i), mesh_value(c, i + ivec3(1, 0, 0)), f.x);
+    float v10 = mix(mesh_value(c, i + ivec3(0, 1, 0)), mesh_value(c, i + ivec3(1, 1, 0)), f.x);
+    float v01 = mix(mesh_value(c, i + ivec3(0, 0, 1)), mesh_value(c, i + ivec3(1, 0, 1)), f.x);
+    float v11 = mix(mesh_value(c, i + ivec3(0, 1, 1)), mesh_value(c, i + ivec3(1, 1, 1)), f.x);
+    return mix(mix(v00, v10, f.y), mix(v01, v11, f.y), f.z) + outside;
+}
+
+float shape_distance(cvk_gpu_collider c, vec3 l)
+{
+    switch (c.type) {
+    case CVK_COLLIDER_PLANE_ID:
+        return dot(c.b.xyz, l - c.a.xyz);
+    case CVK_COLLIDER_SPHERE_ID:
+        return length(l - c.a.xyz) - c.a.w;
+    case CVK_COLLIDER_BOX_ID:
+        return box_distance(c, l);
+    case CVK_COLLIDER_CAPSULE_ID:
+        return length(l - capsule_closest(c, l)) - c.a.w;
+    case CVK_COLLIDER_FUNNEL_ID: {
+        vec3 radial;
+        return length(funnel_closest(c, l, radial));
+    }
+    default:
+        return mesh_distance(c, l);
+    }
+}
+
+vec3 safe_normalize(vec3 v, vec3 fallback)
+{
+    float len = length(v);
+    return len > 1e-12 ? v / len : fallback;
+}
+
+// The outward unit normal at l (for the funnel: towards l's side of the surface).
+vec3 shape_normal(cvk_gpu_collider c, vec3 l)
+{
+    switch (c.type) {
+    case CVK_COLLIDER_PLANE_ID:
+        return c.b.xyz;
+    case CVK_COLLIDER_SPHERE_ID:
+        return safe_normalize(l - c.a.xyz, vec3(0.0, 1.0, 0.0));
+    case CVK_COLLIDER_BOX_ID:
+        return box_normal(c, l);
+    case CVK_COLLIDER_CAPSULE_ID:
+        return safe_normalize(l - capsule_closest(c, l), vec3(0.0, 1.0, 0.0));
+    case CVK_COLLIDER_FUNNEL_ID: {
+        vec3 radial;
+        vec2 to_curve = funnel_closest(c, l, radial);
+        vec3 away = -(to_curve.x * radial + vec3(0.0, to_curve.y, 0.0));
+        // On the surface itself: the curve's outward normal (away from the axis).
+        float r = exp(clamp(l.y - c.a.y, -c.b.x, 0.0) / c.a.w);
+        return safe_normalize(away, normalize(radial - vec3(0.0, r / c.a.w, 0.0)));
+    }
+    default: {
+        float e = 0.5 * c.a.w;
+        vec3 grad = vec3(mesh_distance(c, l + vec3(e, 0, 0)) - mesh_distance(c, l - vec3(e, 0, 0)),
+                         mesh_distance(c, l + vec3(0, e, 0)) - mesh_distance(c, l - vec3(0, e, 0)),
+                         mesh_distance(c, l + vec3(0, 0, e)) - mesh_distance(c, l - vec3(0, 0, e)));
+        return safe_normalize(grad, vec3(0.0, 1.0, 0.0));
+    }
+    }
+}
+
+// The first point of the segment l0 -> l1 within distance r of the shape (sphere tracing), and
+// the normal there; a start already within r is pushed out to r along its normal.
+bool trace_segment(cvk_gpu_collider c, vec3 l0, vec3 l1, float r, out vec3 hit, out vec3 n)
+{
+    vec3 d = l1 - l0;
+    float len = length(d);
+    float s = 0.0;
+    hit = l1;
+    n = vec3(0.0, 1.0, 0.0);
+    for (int i = 0; i < 32; i++) {
+        vec3 l = l0 + s * d;
+        float dist = shape_distance(c, l) - r;
+        if (dist < 1e-3 * r) {
+            n = shape_normal(c, l);
+            hit = dist < 0.0 ? l - dist * n : l;
+            return true;
+        }
+        if (len <= 0.0)
+            return false;
+        float next = s + dist / len;
+        if (next >= 1.0)
+            return false; // the ball of radius dist around l covers the rest of the segment
+        s = next;
+    }
+    float dist = shape_distance(c, l1) - r; // a grazing path: decide by the end alone
+    if (dist >= 0.0)
+        return false;
+    n = shape_normal(c, l1);
+    hit = l1 - dist * n;
+    return true;
+}
+
+// Friction on the end point l1 after a normal correction of `depth` along n: the tangential
+// part of the motion relative to the surface (l1 - l0 in the collider's frame) is removed
+// while it is within mu_s depth (static), shortened by mu_k depth otherwise (kinetic).
+vec3 apply_friction(vec3 l0, vec3 l1, vec3 n, float depth, float mu, float mu_s)
+{
+    vec3 rel = l1 - l0;
+    vec3 tangential = rel - dot(rel, n) * n;
+    float t = length(tangential);
+    if (t <= mu_s * depth)
+        return l1 - tangential;
+    return l1 - tangential * min(1.0, mu * depth / t);
+}
+
+// Collider contact for a particle that starts the substep at x0 and would end it at x0 + u:
+// returns the displacement that keeps it out of every collider.
+vec3 collide_colliders(vec3 x0, vec3 u)
+{
+    float r = contact.thickness;
+    for (uint k = 0; k < contact.collider_count; k++) {
+        cvk_gpu_collider c = shapes[k];
+        cvk_gpu_pose pose = poses[k];
+        vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
+        vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+        vec3 hit, n;
+        bool touch;
+        if (c.type == CVK_COLLIDER_PLANE_ID) { // a half-space: the projection needs no trace
+            n = c.b.xyz;
+            hit = l1 + (r - dot(n, l1 - c.a.xyz)) * n;
+            touch = dot(n, l1 - c.a.xyz) < r;
+        } else {
+            touch = trace_segment(c, l0, l1, r, hit, n);
+        }
+        if (!touch)
+            continue;
+        float depth = dot(n, hit - l1);
+        if (depth <= 0.0)
+            continue;
+        l1 += depth * n;
+        l1 = apply_friction(l0, l1, n, depth, c.friction, c.static_friction);
+        u = quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
+    }
+    return u;
+}
+
+// ---- cloth against cloth -------------------------------------------------------------------
+
+// The point of triangle (a, b, c) nearest p and its barycentric weights (Ericson 2005, 5.1.5).
+vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
+{
+    vec3 ab = b - a, ac = c - a, ap = p - a;
+    float d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0) { w = vec3(1, 0, 0); return a; }
+    vec3 bp = p - b;
+    float d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0.0 && d4 <= d3) { w = vec3(0, 1, 0); return b; }
+    float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        float v = d1 / (d1 - d3);
+        w = vec3(1.0 - v, v, 0.0);
+        return a + v * ab;
+    }
+    vec3 cp = p - c;
+    float d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6) { w = vec3(0, 0, 1); return c; }
+    float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        float v = d2 / (d2 - d6);
+        w = vec3(1.0 - v, 0.0, v);
+        return a + v * ac;
+    }
+    float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        float v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        w = vec3(0.0, 1.0 - v, v);
+        return b + v * (c - b);
+    }
+    float denom = 1.0 / (va + vb + vc);
+    float v = vb * denom, t = vc * denom;
+    w = vec3(1.0 - v - t, v, t);
+    return a + v * ab + t * ac;
+}
+
+// One particle–triangle contact: p (start x0p, now xp) kept at the thickness on the side of
+// the triangle it started on; the triangle's corners at the start (a0..c0) and now (a..c).
+// Returns the corrected xp.
+vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
+                      float side)
+{
+    float r = contact.thickness;
+    vec3 n = cross(b - a, c - a);
+    float area2 = length(n);
+    if (area2 <= 0.0)
+        return xp;
+    n = side * n / area2;
+    vec3 w;
+    vec3 q = closest_on_triangle(xp, a, b, c, w);
+    vec3 d = xp - q;
+    float along = dot(d, n);
+    bool inner = w.x > 0.0 && w.y > 0.0 && w.z > 0.0;
+    vec3 dir;
+    float dist;
+    if (inner) { // over the face: keep to the starting side of its plane
+        dir = n;
+        dist = along;
+    } else { // beside an edge or corner: away from it, on the starting side
+        dist = length(d);
+        dir = dist > 0.0 ? d / dist : n;
+        if (dot(dir, n) < 0.0) {
+            dir = n;
+            dist = along;
+        }
+    }
+    float depth = r - dist;
+    if (depth <= 0.0)
+        return xp;
+    xp += depth * dir;
+    // Friction relative to the triangle's own motion at the contact point.
+    vec3 q0 = w.x * a0 + w.y * b0 + w.z * c0;
+    vec3 rel = (xp - x0p) - (q - q0);
+    vec3 tangential = rel - dot(rel, dir) * dir;
+    float t = length(tangential);
+    if (t <= contact.static_friction * depth)
+        xp -= tangential;
+    else
+        xp -= tangential * min(1.0, contact.friction * depth / t);
+    return xp;
+}

@@ -1,0 +1,31 @@
+// Contact inside the projective-dynamics sweeps: after a particle's new displacement is
+// solved, it is kept off the other cloths' triangles found for it this substep and out of
+// every collider (collide.glsl). Triangle corners are read from src, the iterate every
+// invocation of the sweep reads, so the result does not depend on the order of invocations.
+// Specialised away (COLLIDERS, SELF false) in scenes without contact.
+#include "collide.glsl"
+
+layout(constant_id = 3) const bool COLLIDERS = false;
+layout(constant_id = 4) const bool SELF = false;
+
+vec3 pd_contact(uint p, vec3 u)
+{
+    vec3 x0 = fetch(x_read, p);
+    if (SELF) {
+        vec3 xp = x0 + u;
+        for (uint k = 0u; k < uint(CVK_CONTACTS_PER_PARTICLE); k++) {
+            uint e = contacts[p * uint(CVK_CONTACTS_PER_PARTICLE) + k];
+            if (e == CVK_NO_CONTACT)
+                break;
+            uvec4 t = triangles[e >> 1u];
+            float side = (e & 1u) != 0u ? -1.0 : 1.0;
+            vec3 a0 = fetch(x_read, t.x), b0 = fetch(x_read, t.y), c0 = fetch(x_read, t.z);
+            xp = collide_triangle(x0, xp, a0, b0, c0, a0 + fetch(src, t.x), b0 + fetch(src, t.y),
+                                  c0 + fetch(src, t.z), side);
+        }
+        u = xp - x0;
+    }
+    if (COLLIDERS)
+        u = collide_colliders(x0, u);
+    return u;
+}
