@@ -1,0 +1,251 @@
+/* Contact with colliders as physics: nothing inside any collider after any substep (static and
+   moving, a fast sphere through a cloth), Coulomb friction on an incline against
+   g (sin θ − μ cos θ), the device's poses against the host's keyframes, and the clock kept by
+   snapshots. */
+#include "collide.h"
+#include "harness.h"
+#include "shared/layout.h"
+#include "sim.h"
+
+#define PI 3.14159265358979323846
+
+#define TOLERANCE 1e-4f /* m: how far inside the thickness a particle may end a substep */
+
+static cvk_collider_desc collider(cvk_collider_type type)
+{
+    cvk_collider_desc c = cvk_default_collider_desc();
+    c.type = type;
+    return c;
+}
+
+/* A cloth of n × n particles, `size` m, horizontal at height y, centred on x = z = 0. */
+static cvk_cloth_desc flat_cloth(uint32_t n, float size, float y)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = cloth.grid[1] = n;
+    cloth.size[0] = cloth.size[1] = size;
+    cloth.origin[0] = -0.5f * size;
+    cloth.origin[1] = y;
+    cloth.origin[2] = -0.5f * size;
+    return cloth;
+}
+
+/* The deepest any free particle is inside collider k's thickened surface (m, > 0 inside). */
+static float deepest(cvk_sim* sim, uint32_t k, double t, cvk_error* err)
+{
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* xyz = malloc(3 * n * sizeof(float));
+    REQUIRE_OK(cvk_sim_read_positions(sim, xyz, n, err), *err);
+    float worst = -INFINITY;
+    for (uint32_t c = 0; c < cvk_sim_cloth_count(sim); c++) {
+        cvk_cloth_info info = cvk_sim_get_cloth(sim, c);
+        for (uint32_t i = 0; i < info.particle_count; i++) {
+            uint32_t user = info.first_particle + i;
+            if (sim->build.internal_of[user] >= sim->build.free_count)
+                continue;
+            float d = cvk_collide_distance(&sim->collide, k, t, &xyz[3 * (size_t)user], NULL);
+            worst = fmaxf(worst, sim->collide.thickness - d);
+        }
+    }
+    free(xyz);
+    return worst;
+}
+
+/* Steps `substeps` single-substep frames and returns the deepest penetration seen. */
+static float run_and_watch(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t substeps)
+{
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    float worst = -INFINITY;
+    for (uint32_t step = 1; step <= substeps; step++) {
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        for (uint32_t k = 0; k < scene->collider_count; k++)
+            worst = fmaxf(worst, deepest(sim, k, step * (double)scene->dt, &err));
+    }
+    cvk_sim_stats st;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+    CHECK(st.nan_count == 0, "%llu NaN coordinates", (unsigned long long)st.nan_count);
+    cvk_sim_destroy(sim);
+    return worst;
+}
+
+static cvk_scene_desc one_substep_scene(const cvk_cloth_desc* cloth, const cvk_collider_desc* c)
+{
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.substeps = 1;
+    scene.cloths = cloth;
+    scene.cloth_count = 1;
+    scene.colliders = c;
+    scene.collider_count = 1;
+    return scene;
+}
+
+/* A cloth dropped on each static shape: never inside it after any substep. */
+static void test_static_shapes(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth = flat_cloth(24, 1.0f, 0.45f);
+    cvk_collider_desc shapes[5];
+    shapes[0] = collider(CVK_COLLIDER_PLANE);
+    shapes[1] = collider(CVK_COLLIDER_SPHERE);
+    shapes[1].radius = 0.3f;
+    shapes[2] = collider(CVK_COLLIDER_BOX);
+    shapes[2].half_extents[0] = 0.3f;
+    shapes[2].half_extents[1] = 0.1f;
+    shapes[2].half_extents[2] = 0.2f;
+    shapes[2].rotation[0] = 0.92388f; /* 45° about y */
+    shapes[2].rotation[2] = 0.38268f;
+    shapes[3] = collider(CVK_COLLIDER_CAPSULE);
+    shapes[3].a[0] = -0.3f;
+    shapes[3].b[0] = 0.3f;
+    shapes[3].radius = 0.15f;
+    shapes[4] = collider(CVK_COLLIDER_FUNNEL); /* the cloth falls into its mouth */
+    shapes[4].apex[1] = 0.3f;
+    shapes[4].funnel_a = 0.4f;
+    shapes[4].height = 1.0f;
+    for (int i = 0; i < 5; i++) {
+        cvk_scene_desc scene = one_substep_scene(&cloth, &shapes[i]);
+        float worst = run_and_watch(ctx, &scene, 250);
+        CHECK(worst <= TOLERANCE, "a cloth dropped on a %s ends a substep %.3g m inside its "
+              "thickness (tolerance %.0e m)", cvk_collider_type_name(shapes[i].type), worst,
+              TOLERANCE);
+    }
+}
+
+/* A sphere of radius 0.1 m crossing a hanging cloth at 20 m/s with h = 2 ms (4 cm per
+   substep, 40 % of its radius): no particle is ever inside it. */
+static void test_fast_sphere(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = cloth.grid[1] = 32;
+    cloth.origin[0] = -0.5f;
+    cloth.origin[1] = 1.0f;
+    cloth.origin[2] = 0.0f;
+    cloth.v_axis[1] = -1.0f; /* hanging in the x-y plane */
+    cloth.v_axis[2] = 0.0f;
+    static const uint32_t pins[2][2] = {{0, 0}, {31, 0}};
+    cloth.pins = pins;
+    cloth.pin_count = 2;
+    cvk_collider_desc ball = collider(CVK_COLLIDER_SPHERE);
+    ball.radius = 0.1f;
+    ball.center[1] = 0.5f;
+    cvk_keyframe keys[2] = {
+        {.time = 0.0f, .translation = {0.0f, 0.0f, -0.5f}, .rotation = {1, 0, 0, 0}},
+        {.time = 0.1f, .translation = {0.0f, 0.0f, 1.5f}, .rotation = {1, 0, 0, 0}},
+    };
+    ball.motion.keyframes = keys;
+    ball.motion.keyframe_count = 2;
+    cvk_scene_desc scene = one_substep_scene(&cloth, &ball);
+    float worst = run_and_watch(ctx, &scene, 60);
+    CHECK(worst <= TOLERANCE, "a sphere at 20 m/s has a particle %.3g m inside its thickness "
+          "after a substep (tolerance %.0e m)", worst, TOLERANCE);
+}
+
+/* A small stiff cloth on a 30° incline: static friction above tan 30° holds it, kinetic
+   friction below lets it slide with a = g (sin θ − μ cos θ). */
+static double incline_acceleration(cvk_context* ctx, float mu, float mu_static)
+{
+    double theta = 30.0 * PI / 180.0;
+    float down[3] = {(float)cos(theta), (float)-sin(theta), 0.0f};
+    float normal[3] = {(float)sin(theta), (float)cos(theta), 0.0f};
+    float thickness = 0.0125f;
+    cvk_cloth_desc cloth = flat_cloth(5, 0.1f, 0.0f);
+    for (int k = 0; k < 3; k++) {
+        cloth.u_axis[k] = down[k];
+        cloth.origin[k] = normal[k] * thickness;
+    }
+    cloth.stiffness.shear = 1e6f;
+    cvk_collider_desc plane = collider(CVK_COLLIDER_PLANE);
+    for (int k = 0; k < 3; k++)
+        plane.normal[k] = normal[k];
+    plane.friction = mu;
+    plane.static_friction = mu_static;
+    cvk_scene_desc scene = one_substep_scene(&cloth, &plane);
+    scene.substeps = 8;
+    scene.collision.thickness = thickness;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    float before[75], after[75];
+    REQUIRE_OK(cvk_sim_read_positions(sim, before, 25, &err), err);
+    uint32_t frames = 30;
+    REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, after, 25, &err), err);
+    cvk_sim_destroy(sim);
+    double along = 0.0;
+    for (int i = 0; i < 25; i++)
+        for (int k = 0; k < 3; k++)
+            along += (after[3 * i + k] - before[3 * i + k]) * down[k] / 25.0;
+    double t = frames * scene.substeps * (double)scene.dt;
+    return 2.0 * along / (t * t);
+}
+
+static void test_friction(cvk_context* ctx)
+{
+    double g = 9.81, theta = 30.0 * PI / 180.0;
+    double held = incline_acceleration(ctx, 0.5f, 0.65f); /* μs 0.65 > tan 30° = 0.577 */
+    CHECK(fabs(held) < 1e-3, "static friction 0.65 on a 30° incline: the cloth accelerates at "
+          "%.4g m/s² (expected 0)", held);
+    const float mus[] = {0.0f, 0.3f, 0.5f};
+    for (int i = 0; i < 3; i++) {
+        double expected = g * (sin(theta) - mus[i] * cos(theta));
+        double a = incline_acceleration(ctx, mus[i], mus[i]);
+        CHECK(fabs(a - expected) <= 0.1 * expected, "friction %.1f on a 30° incline: a = %.4f "
+              "m/s², expected g (sin θ − μ cos θ) = %.4f within 10 %%", mus[i], a, expected);
+    }
+}
+
+/* The device's poses after some frames equal the host's keyframe interpolation, and a
+   snapshot puts the colliders' clock back with the state. */
+static void test_poses_and_snapshot(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth = flat_cloth(8, 0.5f, 1.0f);
+    cvk_collider_desc box = collider(CVK_COLLIDER_BOX);
+    box.center[1] = -2.0f;
+    cvk_keyframe keys[3] = {
+        {.time = 0.0f, .translation = {0, 0, 0}, .rotation = {1, 0, 0, 0}},
+        {.time = 0.05f, .translation = {0.3f, 0.1f, 0}, .rotation = {0.7071068f, 0, 0.7071068f, 0}},
+        {.time = 0.12f, .translation = {-0.2f, 0, 0.4f}, .rotation = {0, 0, 1, 0}},
+    };
+    box.motion.keyframes = keys;
+    box.motion.keyframe_count = 3;
+    box.motion.loop = true;
+    cvk_scene_desc scene = one_substep_scene(&cloth, &box);
+    scene.substeps = 4;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 5, &err), err);
+    uint64_t size = cvk_sim_snapshot_size(sim);
+    void* snap = malloc(size);
+    REQUIRE_OK(cvk_sim_save_snapshot(sim, snap, size, &err), err);
+    for (int round = 0; round < 2; round++) {
+        REQUIRE_OK(cvk_sim_step(sim, 7, &err), err); /* 12 frames, 48 substeps: 0.096 s, t1 */
+        cvk_gpu_pose pose;
+        REQUIRE_OK(cvk_buffer_download(ctx, &sim->submitter, sim->transfer_cmd,
+                                       &sim->collide.poses, &pose, sizeof pose, &err), err);
+        cvk_pose host = cvk_collide_pose(&sim->collide, 0, 48 * (double)scene.dt);
+        float worst = 0.0f;
+        for (int k = 0; k < 3; k++)
+            worst = fmaxf(worst, fabsf(pose.translation1[k] - host.translation[k]));
+        float dot = pose.rotation1[0] * host.rotation[1] + pose.rotation1[1] * host.rotation[2] +
+                    pose.rotation1[2] * host.rotation[3] + pose.rotation1[3] * host.rotation[0];
+        CHECK(worst < 1e-5f && fabsf(fabsf(dot) - 1.0f) < 1e-5f,
+              "round %d: the device's pose at t = 0.096 s differs from the keyframes' by %.3g m "
+              "(rotation dot %.7f)", round, worst, dot);
+        if (round == 0)
+            REQUIRE_OK(cvk_sim_load_snapshot(sim, snap, size, &err), err);
+    }
+    free(snap);
+    cvk_sim_destroy(sim);
+}
+
+int main(void)
+{
+    cvk_context* ctx = harness_context();
+    test_friction(ctx);
+    test_poses_and_snapshot(ctx);
+    test_fast_sphere(ctx);
+    test_static_shapes(ctx);
+    return harness_finish(ctx);
+}
