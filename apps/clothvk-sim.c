@@ -265,6 +265,15 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "residual_per_type", residuals);
     json_object_set_new(root, "max_stretch", real_or_null(st->max_stretch, true));
     json_object_set_new(root, "nan_count", json_integer((json_int_t)st->nan_count));
+    if (scene->collider_count > 0 || scene->collision.self) {
+        json_t* contacts = json_object();
+        json_object_set_new(contacts, "colliders", json_integer((json_int_t)st->collider_contacts));
+        json_object_set_new(contacts, "self", json_integer((json_int_t)st->self_contacts));
+        json_object_set_new(contacts, "max_penetration", json_real(st->max_penetration));
+        json_object_set_new(contacts, "intersecting_pairs",
+                            json_integer((json_int_t)st->intersecting_pairs));
+        json_object_set_new(root, "contacts", contacts);
+    }
     json_object_set_new(root, "gpu_ms_per_frame", real_or_null(t->gpu_ms / t->timed_frames, timed));
     json_object_set_new(root, "wall_ms_per_frame",
                         real_or_null(t->wall_ms / t->frames, t->frames > 0));
@@ -292,6 +301,11 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
            scene->solver.outer_iterations, scene->solver.inner_iterations);
     printf("  residual %.4g m^2, max stretch %.3g %%, NaN %llu\n", st->residual,
            100.0 * st->max_stretch, (unsigned long long)st->nan_count);
+    if (scene->collider_count > 0 || scene->collision.self)
+        printf("  contacts: %llu with colliders, %llu between cloths; deepest penetration %.3g mm, "
+               "%llu intersecting triangle pairs\n",
+               (unsigned long long)st->collider_contacts, (unsigned long long)st->self_contacts,
+               1e3 * st->max_penetration, (unsigned long long)st->intersecting_pairs);
     if (t->frames == 0)
         return;
     printf("  %.3f ms per frame wall", t->wall_ms / t->frames);

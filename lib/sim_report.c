@@ -99,7 +99,7 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     st->gravitational_energy = m.gravitational;
     st->elastic_energy = m.elastic;
     st->energy = m.kinetic + m.gravitational + m.elastic;
-    return CVK_SUCCESS;
+    return cvk_sim_contact_stats(s, s->scratch, st, error);
 }
 
 /* ---- the printed plan ------------------------------------------------------------------ */
@@ -166,6 +166,16 @@ static void put_header(text* t, const cvk_sim* s)
     put(t, "\nsolver: %s / %s, %u outer x %u inner, omega %g%s\n", cvk_method_name(s->solver.method),
         cvk_linear_solver_name(s->solver.linear), s->solver.outer_iterations,
         s->solver.inner_iterations, s->solver.omega, s->plan.solver_note);
+    const cvk_collide* c = &s->collide;
+    if (c->colliding) {
+        put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s, %u colliders",
+            c->thickness, c->friction, c->static_friction, c->self ? "on" : "off",
+            c->collider_count);
+        for (uint32_t i = 0; i < c->collider_count; i++)
+            put(t, "%s%s%s", i ? ", " : ": ", cvk_collider_type_name(c->colliders[i].type),
+                c->colliders[i].motion.keyframe_count ? " (moving)" : "");
+        put(t, "\n");
+    }
 }
 
 size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
