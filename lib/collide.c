@@ -313,16 +313,19 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
 /* ---- buffers and the contact set -------------------------------------------------------- */
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+#define UNIFORM {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0}
 static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, UNIFORM, UNIFORM, UNIFORM,
 };
 #undef STORAGE
+#undef UNIFORM
 
 static cvk_result make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
                               const void* data, cvk_error* error)
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     if (size < 16)
         size = 16;
@@ -336,7 +339,10 @@ static cvk_result make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size,
 static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     contact_tables t = {0};
-    uint32_t n = c->collider_count ? c->collider_count : 1;
+    uint32_t n = CVK_MAX_COLLIDERS; /* the uniform arrays' size (shaders/collide.glsl) */
+    if (c->collider_count > CVK_MAX_COLLIDERS)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "colliders: at most %u, got %u",
+                        CVK_MAX_COLLIDERS, c->collider_count);
     cvk_gpu_pose* poses = calloc(n, sizeof *poses);
     cvk_result r = poses ? make_collider_tables(c, &t, error)
                          : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
@@ -346,8 +352,11 @@ static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error*
         r = make_buffer(s, &c->poses, n * sizeof(cvk_gpu_pose), "collider poses", poses, error);
     }
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->shapes, n * sizeof(cvk_gpu_collider), "collider shapes", t.shapes,
+        r = make_buffer(s, &c->shapes, n * sizeof(cvk_gpu_collider), "collider shapes", NULL,
                         error);
+    if (r == CVK_SUCCESS && c->collider_count)
+        r = cvk_sim_upload(s, &c->shapes, t.shapes, c->collider_count * sizeof(cvk_gpu_collider),
+                           error);
     if (r == CVK_SUCCESS)
         r = make_buffer(s, &c->keyframes, 32u * (VkDeviceSize)(t.keyframe_count ? t.keyframe_count : 1),
                         "collider keyframes", t.keyframes, error);
@@ -425,6 +434,9 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_NEAR] = {.buffer = &c->near},
         [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
         [CVK_CONTACT_BINDING_POSITIONS] = {.buffer = &s->positions},
+        [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = {.buffer = &c->params},
+        [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = {.buffer = &c->shapes},
+        [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
     };
     cvk_descriptors_write(s->context, &c->descriptors, 0, res);
     return CVK_SUCCESS;

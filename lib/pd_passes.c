@@ -134,7 +134,8 @@ typedef struct pd_builder {
     const cvk_solver_desc* solver;
     cvk_pd_push base;
     VkDescriptorSet contact_set;       /* set 1 of every dispatch */
-    uint32_t predict, solve, finalize; /* pass indices */
+    bool contact;                      /* the scene collides: a contact op per outer iteration */
+    uint32_t predict, solve, contact_pass, finalize; /* pass indices */
 } pd_builder;
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {
@@ -205,6 +206,19 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
            pb->base.omega);
 }
 
+/* Contact after the last sweep of an outer iteration, in place on what it wrote (set: the
+   same as that sweep's, so triangle corners come from its src). */
+static void add_contact(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint32_t outer)
+{
+    if (!pb->contact)
+        return;
+    cvk_op* op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
+                        pb->base.omega);
+    if (op)
+        snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
+                 set_note[set]);
+}
+
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
    (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
    writes U0, where finalize and the next prediction find it. */
@@ -222,6 +236,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                                     pb->base.omega);
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
             }
+        add_contact(pb, b, set_for(t, w), o);
     }
     add_finalize(pb, b);
 }
@@ -242,6 +257,8 @@ static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool che
         cvk_op* op = add_op(pb, inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
                             set_for(src, dst), pb->solve, 0, b->free_count, (float)cheb, omega);
         solve_note(pb, op, s / solver->inner_iterations, inner, -1, set_for(src, dst));
+        if (inner + 1 == solver->inner_iterations)
+            add_contact(pb, b, set_for(src, dst), s / solver->inner_iterations);
     }
     add_finalize(pb, b);
 }
@@ -281,9 +298,11 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
 {
     cvk_pd* pd = self;
     pd_builder pb = {.plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver),
-                     .contact_set = s->collide.set};
+                     .contact_set = s->collide.set, .contact = s->collide.colliding};
     pb.predict = cvk_plan_pass(plan, "predict");
     pb.solve = cvk_plan_pass(plan, "solve");
+    if (pb.contact)
+        pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");
     pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
     switch (solver->linear) {

@@ -36,7 +36,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_MAX_DEGREE: return inputs->max_degree;
     case CVK_SPEC_TRUE: return 1;
     case CVK_SPEC_FALSE: return 0;
-    case CVK_SPEC_COLLIDERS: return inputs->colliders ? 1 : 0;
+    case CVK_SPEC_COLLIDER_TYPES: return inputs->collider_types;
     case CVK_SPEC_SELF_CONTACT: return inputs->self_contact ? 1 : 0;
     }
     return 0;

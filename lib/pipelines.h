@@ -13,7 +13,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_MAX_DEGREE,     /* springs per particle, at most (build) */
     CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
     CVK_SPEC_FALSE,          /* a boolean switch left false */
-    CVK_SPEC_COLLIDERS,      /* the scene has colliders */
+    CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
 } cvk_spec_source;
 
@@ -23,11 +23,10 @@ typedef struct cvk_spec_recipe {
 } cvk_spec_recipe;
 
 #define CVK_SPEC_PD {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
-/* Solver sweeps: FIRST (id 2), then the contact switches (ids 3, 4; shaders/pd_contact.glsl). */
-#define CVK_SPEC_PD_SWEEP {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
-                           CVK_SPEC_COLLIDERS, CVK_SPEC_SELF_CONTACT}}
-#define CVK_SPEC_PD_FIRST {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
-                           CVK_SPEC_COLLIDERS, CVK_SPEC_SELF_CONTACT}}
+#define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+/* The contact pass (ids 3, 4 of shaders/pd_contact.glsl; id 2 unused). */
+#define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                             CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WG {1, {CVK_SPEC_WORKGROUP_SIZE}}
 
@@ -36,9 +35,10 @@ typedef struct cvk_spec_recipe {
     X(PREDICT, PREDICT_COMP, CVK_SPEC_PD, "predict (Verlet)")                   \
     X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
-    X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_SWEEP, "gauss-seidel")              \
+    X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
-    X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD_SWEEP, "jacobi")                      \
+    X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
+    X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WG, "particle-triangle candidates")
 
@@ -55,7 +55,7 @@ const char* cvk_pipeline_label(cvk_pipeline_id id);
 typedef struct cvk_spec_inputs {
     uint32_t workgroup_size;
     uint32_t max_degree;
-    bool colliders;
+    uint32_t collider_types; /* bit t: colliders of type t */
     bool self_contact;
 } cvk_spec_inputs;
 

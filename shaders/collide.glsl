@@ -17,7 +17,23 @@
 #ifndef CONTACT_SET
 #define CONTACT_SET 1
 #endif
+#ifndef CONTACT_TYPES_ID
+#define CONTACT_TYPES_ID 7
+#endif
+// Bit t set: the scene has colliders of type t (CVK_COLLIDER_*_ID); the others' code is
+// specialised away.
+layout(constant_id = CONTACT_TYPES_ID) const uint COLLIDER_TYPES = 63u;
+#define HAS_TYPE(t) ((COLLIDER_TYPES & (1u << (t))) != 0u)
 
+layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS_UNIFORM) uniform ContactParamsU {
+    cvk_gpu_contact_params contact_u;
+};
+layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SHAPES_UNIFORM) uniform ShapesU {
+    cvk_gpu_collider shapes_u[CVK_MAX_COLLIDERS];
+};
+layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES_UNIFORM) uniform PosesU {
+    cvk_gpu_pose poses_u[CVK_MAX_COLLIDERS];
+};
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
     cvk_gpu_frame frame;
 };
@@ -143,22 +159,21 @@ float mesh_distance(cvk_gpu_collider c, vec3 l)
 
 float shape_distance(cvk_gpu_collider c, vec3 l)
 {
-    switch (c.type) {
-    case CVK_COLLIDER_PLANE_ID:
+    if (HAS_TYPE(CVK_COLLIDER_PLANE_ID) && c.type == CVK_COLLIDER_PLANE_ID)
         return dot(c.b.xyz, l - c.a.xyz);
-    case CVK_COLLIDER_SPHERE_ID:
+    if (HAS_TYPE(CVK_COLLIDER_SPHERE_ID) && c.type == CVK_COLLIDER_SPHERE_ID)
         return length(l - c.a.xyz) - c.a.w;
-    case CVK_COLLIDER_BOX_ID:
+    if (HAS_TYPE(CVK_COLLIDER_BOX_ID) && c.type == CVK_COLLIDER_BOX_ID)
         return box_distance(c, l);
-    case CVK_COLLIDER_CAPSULE_ID:
+    if (HAS_TYPE(CVK_COLLIDER_CAPSULE_ID) && c.type == CVK_COLLIDER_CAPSULE_ID)
         return length(l - capsule_closest(c, l)) - c.a.w;
-    case CVK_COLLIDER_FUNNEL_ID: {
+    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && c.type == CVK_COLLIDER_FUNNEL_ID) {
         vec3 radial;
         return length(funnel_closest(c, l, radial));
     }
-    default:
+    if (HAS_TYPE(CVK_COLLIDER_MESH_ID))
         return mesh_distance(c, l);
-    }
+    return 1e30;
 }
 
 vec3 safe_normalize(vec3 v, vec3 fallback)
@@ -170,16 +185,15 @@ vec3 safe_normalize(vec3 v, vec3 fallback)
 // The outward unit normal at l (for the funnel: towards l's side of the surface).
 vec3 shape_normal(cvk_gpu_collider c, vec3 l)
 {
-    switch (c.type) {
-    case CVK_COLLIDER_PLANE_ID:
+    if (HAS_TYPE(CVK_COLLIDER_PLANE_ID) && c.type == CVK_COLLIDER_PLANE_ID)
         return c.b.xyz;
-    case CVK_COLLIDER_SPHERE_ID:
+    if (HAS_TYPE(CVK_COLLIDER_SPHERE_ID) && c.type == CVK_COLLIDER_SPHERE_ID)
         return safe_normalize(l - c.a.xyz, vec3(0.0, 1.0, 0.0));
-    case CVK_COLLIDER_BOX_ID:
+    if (HAS_TYPE(CVK_COLLIDER_BOX_ID) && c.type == CVK_COLLIDER_BOX_ID)
         return box_normal(c, l);
-    case CVK_COLLIDER_CAPSULE_ID:
+    if (HAS_TYPE(CVK_COLLIDER_CAPSULE_ID) && c.type == CVK_COLLIDER_CAPSULE_ID)
         return safe_normalize(l - capsule_closest(c, l), vec3(0.0, 1.0, 0.0));
-    case CVK_COLLIDER_FUNNEL_ID: {
+    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && c.type == CVK_COLLIDER_FUNNEL_ID) {
         vec3 radial;
         vec2 to_curve = funnel_closest(c, l, radial);
         vec3 away = -(to_curve.x * radial + vec3(0.0, to_curve.y, 0.0));
@@ -187,14 +201,14 @@ vec3 shape_normal(cvk_gpu_collider c, vec3 l)
         float r = exp(clamp(l.y - c.a.y, -c.b.x, 0.0) / c.a.w);
         return safe_normalize(away, normalize(radial - vec3(0.0, r / c.a.w, 0.0)));
     }
-    default: {
+    if (HAS_TYPE(CVK_COLLIDER_MESH_ID)) {
         float e = 0.5 * c.a.w;
         vec3 grad = vec3(mesh_distance(c, l + vec3(e, 0, 0)) - mesh_distance(c, l - vec3(e, 0, 0)),
                          mesh_distance(c, l + vec3(0, e, 0)) - mesh_distance(c, l - vec3(0, e, 0)),
                          mesh_distance(c, l + vec3(0, 0, e)) - mesh_distance(c, l - vec3(0, 0, e)));
         return safe_normalize(grad, vec3(0.0, 1.0, 0.0));
     }
-    }
+    return vec3(0.0, 1.0, 0.0);
 }
 
 // The first point of the segment l0 -> l1 within distance r of the shape (sphere tracing), and
@@ -246,15 +260,16 @@ vec3 apply_friction(vec3 l0, vec3 l1, vec3 n, float depth, float mu, float mu_s)
 // returns the displacement that keeps it out of every collider.
 vec3 collide_colliders(vec3 x0, vec3 u)
 {
-    float r = contact.thickness;
-    for (uint k = 0; k < contact.collider_count; k++) {
-        cvk_gpu_collider c = shapes[k];
-        cvk_gpu_pose pose = poses[k];
+    float r = contact_u.thickness;
+    for (uint k = 0; k < contact_u.collider_count; k++) {
+        cvk_gpu_collider c = shapes_u[k];
+        cvk_gpu_pose pose = poses_u[k];
         vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
         vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
         vec3 hit, n;
         bool touch;
-        if (c.type == CVK_COLLIDER_PLANE_ID) { // a half-space: the projection needs no trace
+        if (COLLIDER_TYPES == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {
+            // a half-space: the projection needs no trace
             n = c.b.xyz;
             hit = l1 + (r - dot(n, l1 - c.a.xyz)) * n;
             touch = dot(n, l1 - c.a.xyz) < r;
@@ -317,7 +332,7 @@ vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
 vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
                       float side)
 {
-    float r = contact.thickness;
+    float r = contact_u.thickness;
     vec3 n = cross(b - a, c - a);
     float area2 = length(n);
     if (area2 <= 0.0)
@@ -350,9 +365,9 @@ vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3
     vec3 rel = (xp - x0p) - (q - q0);
     vec3 tangential = rel - dot(rel, dir) * dir;
     float t = length(tangential);
-    if (t <= contact.static_friction * depth)
+    if (t <= contact_u.static_friction * depth)
         xp -= tangential;
     else
-        xp -= tangential * min(1.0, contact.friction * depth / t);
+        xp -= tangential * min(1.0, contact_u.friction * depth / t);
     return xp;
 }

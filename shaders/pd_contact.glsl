@@ -1,12 +1,14 @@
-// Contact inside the projective-dynamics sweeps: after a particle's new displacement is
-// solved, it is kept off the other cloths' triangles found for it this substep and out of
-// every collider (collide.glsl). Triangle corners are read from src, the iterate every
-// invocation of the sweep reads, so the result does not depend on the order of invocations.
-// Specialised away (COLLIDERS, SELF false) in scenes without contact.
+// Contact between the projective-dynamics iterations: a particle's displacement is kept off
+// the other cloths' triangles found for it this substep and out of every collider
+// (collide.glsl). Triangle corners are read from src (the iterate before), never from the
+// buffer being written, so the result does not depend on the order of invocations.
+// Specialised: collider types the scene lacks (COLLIDER_TYPES, id 3) and self-contact
+// (SELF, id 4) compile to nothing — on lavapipe both sides of a branch run.
+#define CONTACT_TYPES_ID 3
 #include "collide.glsl"
 
-layout(constant_id = 3) const bool COLLIDERS = false;
 layout(constant_id = 4) const bool SELF = false;
+const bool COLLIDERS = COLLIDER_TYPES != 0u;
 
 vec3 pd_contact(uint p, vec3 u)
 {

@@ -7,7 +7,6 @@
 // the start of the outer iteration, and reads neighbours of colours not yet swept from src:
 // those of lower colours (index < pc.first) were already written to dst in this sweep.
 #include "pd_common.glsl"
-#include "pd_contact.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;
 
@@ -29,8 +28,6 @@ void main()
         vec3 u = (b.xyz + acc) * b.w;
         if (pc.omega != 1.0)
             u = cur + pc.omega * (u - cur);
-        if (COLLIDERS || SELF)
-            u = pd_contact(p, u);
         dst[p] = vec4(u, 0.0);
     }
 }

@@ -6,7 +6,6 @@
 //   u_next = cheb (z - u_older) + u_older, where u_older (the iterate before src) is in dst.
 // FIRST computes b from src, the iterate at the start of the outer iteration.
 #include "pd_common.glsl"
-#include "pd_contact.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;
 
@@ -29,8 +28,6 @@ void main()
             vec3 older = fetch(dst_read, p);
             u = pc.cheb * (u - older) + older;
         }
-        if (COLLIDERS || SELF)
-            u = pd_contact(p, u);
         dst[p] = vec4(u, 0.0);
     }
 }

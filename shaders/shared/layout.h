@@ -145,7 +145,16 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_NEAR 8
 #define CVK_CONTACT_BINDING_CONTACTS 9
 #define CVK_CONTACT_BINDING_POSITIONS 10
-#define CVK_CONTACT_BINDING_COUNT 11
+/* The same params, shapes and poses as uniform buffers, for the solver sweeps: on lavapipe a
+   storage-buffer load is a loop over the lanes while a uniform load is one load, and every
+   lane of a sweep reads the same collider (3.4x on a 100x100 sweep with one plane). */
+#define CVK_CONTACT_BINDING_PARAMS_UNIFORM 11
+#define CVK_CONTACT_BINDING_SHAPES_UNIFORM 12
+#define CVK_CONTACT_BINDING_POSES_UNIFORM 13
+#define CVK_CONTACT_BINDING_COUNT 14
+
+/* Colliders per scene at most: the uniform arrays above hold this many. */
+#define CVK_MAX_COLLIDERS 64
 
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 

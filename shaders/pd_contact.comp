@@ -1,0 +1,16 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Contact after the last sweep of every outer iteration, in place on the iterate that sweep
+// wrote (dst): u <- the displacement that keeps the particle out of colliders and off other
+// cloths (pd_contact.glsl). The next outer iteration's local step starts from it, and the last
+// one leaves the substep's displacement free of penetration.
+#include "pd_common.glsl"
+#include "pd_contact.glsl"
+
+void main()
+{
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
+        uint p = pc.first + i;
+        dst[p] = vec4(pd_contact(p, fetch(dst_read, p)), 0.0);
+    }
+}
