@@ -327,12 +327,13 @@ static cvk_result make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size,
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    VkDeviceSize bytes = size; /* what `data` holds; the buffer is never empty */
     if (size < 16)
         size = 16;
     cvk_result r = cvk_buffer_create(s->context, size, usage, CVK_MEMORY_DEVICE, what, buffer,
                                      error);
     if (r == CVK_SUCCESS && data)
-        r = cvk_sim_upload(s, buffer, data, size, error);
+        r = cvk_sim_upload(s, buffer, data, bytes, error);
     return r;
 }
 
