@@ -53,9 +53,9 @@ static int sign_of(double det, double bound)
     return 0;
 }
 
-/* Sign of det[a − d, b − d, c − d]: positive when d is below the plane of (a, b, c) seen from
-   the side its counter-clockwise order faces, i.e. negative on the front. We use the
-   opposite, side(a, b, c, d) = −that: positive when d is in front of (a, b, c). */
+/* Which side of the plane of (a, b, c) d is on: 1 in front (where (b − a) × (c − a) points),
+   −1 behind, 0 on it to within rounding. It is −orient3d(a, b, c, d) in Shewchuk's terms
+   (det[a − d, b − d, c − d]), evaluated and bounded as he does. */
 static int side(const double* a, const double* b, const double* c, const double* d)
 {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
@@ -365,8 +365,8 @@ static int32_t cell_index(float x, float origin, float cell)
 }
 
 /* Cell ranges for the current cell size; the number of entries they make, or SIZE_MAX when a
-   range leaves the grid's index space. */
-static size_t assign_cells(soup* s)
+   range leaves the grid's index space or the entries would be more than `limit`. */
+static size_t assign_cells(soup* s, size_t limit)
 {
     size_t total = 0;
     for (uint32_t i = 0; i < s->count; i++) {
@@ -381,6 +381,8 @@ static size_t assign_cells(soup* s)
             n *= (size_t)(cells[3 + c] - cells[c] + 1);
         }
         total += n;
+        if (total > limit)
+            return SIZE_MAX;
     }
     return total;
 }
@@ -403,8 +405,8 @@ static int compare_entries(const void* a, const void* b)
    (a few huge triangles must not fill memory), then lists and sorts the entries. */
 static bool fill_grid(soup* s)
 {
-    size_t total;
-    while ((total = assign_cells(s)) > (size_t)ENTRIES_PER_TRIANGLE * s->count)
+    size_t total, limit = (size_t)ENTRIES_PER_TRIANGLE * s->count;
+    while ((total = assign_cells(s, limit)) == SIZE_MAX)
         s->cell *= 2.0f;
     s->entries = malloc((total ? total : 1) * sizeof *s->entries);
     if (!s->entries)
