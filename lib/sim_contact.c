@@ -144,8 +144,10 @@ static double mean_triangle_size(const float* xyz, const uint32_t* tri, uint32_t
     return live ? sum / live : 0.0;
 }
 
-/* Cell size: twice the thickness, but no finer than the triangles (a triangle's box then
-   spans a few cells), and coarse enough that every index fits in GRID_BITS. */
+/* Cell size: the thickness (a triangle's box is grown by it, so finer cells would only add
+   lookups; twice the thickness tested 2.7 times as many particles: 367 against 134 ms for two
+   100 × 100 cloths 3 mm apart at 1 cm), but no finer than the triangles (a box then spans a few
+   cells), and coarse enough that every index fits in GRID_BITS. */
 static bool make_point_grid(const cvk_build* b, const float* xyz, const uint32_t* tri,
                             double thickness, point_grid* g)
 {
@@ -164,7 +166,7 @@ static bool make_point_grid(const cvk_build* b, const float* xyz, const uint32_t
     double span = 0.0;
     for (int c = 0; c < 3; c++)
         span = fmax(span, hi[c] - g->origin[c]);
-    g->cell = fmax(2.0 * thickness, mean_triangle_size(xyz, tri, b->triangle_count));
+    g->cell = fmax(thickness, mean_triangle_size(xyz, tri, b->triangle_count));
     g->cell = fmax(g->cell, span / (GRID_MAX - 1));
     if (!(g->cell > 0.0))
         g->cell = 1.0;
