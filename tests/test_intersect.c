@@ -74,10 +74,11 @@ static void check_case(const tri_case* c, const char* suffix, const float a[9], 
           c->expected ? "apart" : "intersecting");
 }
 
-/* Every case as given, and rotated by a rotation that makes no coordinate plane special
-   (its coordinates are then rounded to float, so coplanar cases are coplanar only to float
-   precision, as in a simulated cloth; touching survives only where the triangles touch at
-   coordinates they share, which round alike). */
+/* Every case as given, and rotated by a rotation that makes no coordinate plane special.
+   Its coordinates are then rounded to float, as in a simulated cloth: the coplanar cases
+   become pairs tilted by about 1e-8 against each other (orientations of ±1e-8, measured in
+   exact arithmetic), so the predicate must find their grazing crossings; touching survives
+   only where the triangles touch at coordinates they share, which round alike. */
 static void hand_made_cases(void)
 {
     const double ax[3] = {0.36, 0.48, 0.8}; /* unit */
