@@ -59,6 +59,13 @@ struct cvk_sim {
    sim->scratch_v (internal order, 3 floats per particle). */
 cvk_result cvk_sim_read_internal(cvk_sim* sim, cvk_error* error);
 
+/* The contact figures of `st` (collider_contacts, self_contacts, max_penetration,
+   intersecting_pairs) from positions in internal order (3 floats per particle), at the
+   simulated time the simulation has reached; all 0 when the scene does not collide. Reads the
+   spring flags back (torn triangles are left out), so it waits like cvk_sim_read_mesh. */
+cvk_result cvk_sim_contact_stats(cvk_sim* sim, const float* xyz_internal, cvk_sim_stats* st,
+                                 cvk_error* error);
+
 /* One region of the staging buffer into a device buffer. */
 typedef struct cvk_staging_copy {
     cvk_buffer* dst;
