@@ -32,12 +32,3 @@ const char* cvk_collider_type_name(cvk_collider_type type)
     static const char* const names[] = {"plane", "sphere", "box", "capsule", "funnel", "mesh"};
     return (unsigned)type < 6 ? names[type] : NULL;
 }
-#include "sim.h"
-cvk_result cvk_sim_contact_stats(cvk_sim* sim, const float* xyz_internal, cvk_sim_stats* st,
-                                 cvk_error* error)
-{
-    (void)sim; (void)xyz_internal; (void)error;
-    st->collider_contacts = st->self_contacts = st->intersecting_pairs = 0;
-    st->max_penetration = 0.0;
-    return CVK_SUCCESS;
-}

@@ -104,11 +104,6 @@ void cvk_sim_use_queries(cvk_sim* sim, cvk_sim_queries* queries);
 /* Records frame_cmd from the current plan. */
 cvk_result cvk_sim_record_frame_cmd(cvk_sim* sim, cvk_error* error);
 
-/* The contact statistics (collider_contacts, self_contacts, max_penetration,
-   intersecting_pairs) from positions in internal order; all 0 without collision. */
-cvk_result cvk_sim_contact_stats(cvk_sim* sim, const float* xyz_internal, cvk_sim_stats* st,
-                                 cvk_error* error);
-
 /* Milliseconds of a monotonic clock. */
 double cvk_now_ms(void);
 
