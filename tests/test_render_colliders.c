@@ -270,7 +270,8 @@ static void moving_sphere(cvk_context* ctx)
 static cvk_render_view framed(cvk_context* ctx, const cvk_collider_desc* colliders, uint32_t count)
 {
     setup s = {.cloth = flat_cloth(0.0f, 1.0f, 0.0f), .collider_count = count};
-    memcpy(s.colliders, colliders, count * sizeof *colliders);
+    if (count)
+        memcpy(s.colliders, colliders, count * sizeof *colliders);
     cvk_render_desc r = cvk_default_render_desc();
     r.size[0] = 64;
     r.size[1] = 48;
