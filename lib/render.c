@@ -1,9 +1,10 @@
 /* The offscreen renderer (seed 002 §5.4). A frame is, after the mesh generation:
-   - the shadow pass: the cloth's depth from the key light;
-   - the lit pass, in two render passes: the cloth, lit and shadowed, multisampled over a
-     transparent background; then one sample per pixel, the ground and sky found from each
-     pixel's ray (shadowed only on the patch of ground under the shadow map) with the cloth's
-     samples averaged over them in linear light (the resolve), into an sRGB image;
+   - the shadow pass: the cloth's and the colliders' depth from the key light;
+   - the lit pass, in two render passes: the cloth and the colliders (render_colliders.c),
+     lit and shadowed, multisampled over a transparent background; then one sample per pixel,
+     the ground and sky found from each pixel's ray (shadowed only on the patch of ground
+     under the shadow map) with the cloth pass's samples averaged over them in linear light
+     (the resolve), into an sRGB image;
    - a copy of that image into a host-visible buffer.
    Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
    tests and writes every sample) to the part of the image that has edges to smooth.
