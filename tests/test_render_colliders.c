@@ -2,14 +2,19 @@
    - a sphere under a cloth shows its own colour, its side towards the key light brighter than
      its side away from it, and its shadow darkens the ground on the side away from the light
      (and not the side towards it);
-   - the cloth above the sphere shadows it when the light comes from above;
+   - the cloth above the sphere shadows it, and a sphere above a cloth shadows the cloth,
+     when the light comes from above;
    - a rotated box shows its colour, its top face (towards the light) brighter than a side face;
-   - a keyframed sphere is drawn where the simulation's own recorded work moved it;
+   - a keyframed sphere is drawn where the simulation's own recorded work moved it, by one
+     command buffer (a simulated frame and its image) recorded once and submitted again and
+     again;
    - a static plane facing up becomes the ground (its height), and the automatic camera frames
      a collider near the cloths but not a far box or a 100 m plane.
    Scenes without colliders are covered by test_render (their images are unchanged). Set
    CLOTHVK_TEST_IMAGES to a folder to keep the images. */
 #include "harness.h"
+
+#include "gpu.h"
 
 enum { W = 240, H = 180 };
 
@@ -212,6 +217,22 @@ static void cloth_shadows_sphere(cvk_context* ctx)
     printf("sphere top: under the cloth %.1f, cloth away %.1f\n", under, open);
 }
 
+/* A sphere above a cloth, lit from above: the cloth under it is in its shadow. */
+static void sphere_shadows_cloth(cvk_context* ctx)
+{
+    setup s = {.cloth = flat_cloth(0.0f, 0.5f, 0.0f), .collider_count = 1};
+    s.colliders[0] = sphere(0.0f, 1.2f, 0.0f, 0.2f);
+    cvk_render_desc r = view(sphere_eye, (const float[3]){0.0f, 0.5f, 0.0f}, (const float[3]){0.05f, 1.0f, 0.05f});
+    setup_scene(&s, ctx, &r, false);
+    cvk_image im = draw(&s, "sphere-over-cloth");
+    const float under[3] = {-0.035f, 0.5f, -0.035f}, open[3] = {0.35f, 0.5f, 0.3f};
+    double b_under = brightness_at(&im, s.renderer, under), b_open = brightness_at(&im, s.renderer, open);
+    CHECK(b_under < 0.7 * b_open, "the cloth under the sphere (luminance %.1f) is not darker than the cloth beside "
+          "its shadow (%.1f)", b_under, b_open);
+    printf("cloth: in the sphere's shadow %.1f, beside it %.1f\n", b_under, b_open);
+    teardown(&s);
+}
+
 /* A box turned 30° about y, lit from above: its top is brighter than its front face. */
 static void box_visible(cvk_context* ctx)
 {
@@ -258,12 +279,27 @@ static void moving_sphere(cvk_context* ctx)
     cvk_image im = draw(&s, "moving-start");
     CHECK(greenish_at(&im, s.renderer, start) && !greenish_at(&im, s.renderer, end),
           "before any step the sphere is not drawn at its first keyframe alone");
+    /* One command buffer of the caller's, recorded once: a simulated frame, then its image;
+       submitted again and again. */
     cvk_error err;
+    cvk_submitter sub;
+    VkCommandBuffer cmd;
+    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
+    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
+    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
+    REQUIRE_OK(cvk_sim_record(s.sim, cmd, 1, &err), err);
+    REQUIRE_OK(cvk_renderer_record(s.renderer, cmd, &err), err);
+    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
     uint32_t frames = (uint32_t)ceil(0.2 / (s.scene.dt * s.scene.substeps)) + 1;
-    REQUIRE_OK(cvk_sim_step(s.sim, frames, &err), err);
+    for (uint32_t f = 0; f < frames; f++)
+        REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
+    cvk_submitter_destroy(ctx, &sub);
+    im = cvk_renderer_get_image(s.renderer);
+    CHECK(greenish_at(&im, s.renderer, end) && !greenish_at(&im, s.renderer, start),
+          "after %u recorded frames (past the last keyframe) the sphere is not drawn 1 m along +x alone", frames);
     im = draw(&s, "moving-end");
     CHECK(greenish_at(&im, s.renderer, end) && !greenish_at(&im, s.renderer, start),
-          "after %u frames (past the last keyframe) the sphere is not drawn 1 m along +x alone", frames);
+          "cvk_renderer_draw after the recorded frames does not draw the sphere 1 m along +x alone");
     teardown(&s);
 }
 
@@ -320,6 +356,7 @@ int main(void)
     cvk_context* ctx = harness_context();
     sphere_under_cloth(ctx);
     cloth_shadows_sphere(ctx);
+    sphere_shadows_cloth(ctx);
     box_visible(ctx);
     moving_sphere(ctx);
     framing(ctx);
