@@ -41,7 +41,7 @@ static void to_double(const float in[3], double out[3])
         out[k] = in[k];
 }
 
-static void box_empty(cvk_box* b)
+void cvk_box_empty(cvk_box* b)
 {
     for (int k = 0; k < 3; k++) {
         b->lo[k] = INFINITY;
@@ -49,7 +49,7 @@ static void box_empty(cvk_box* b)
     }
 }
 
-static void box_add(cvk_box* b, const double p[3])
+void cvk_box_add(cvk_box* b, const double p[3])
 {
     for (int k = 0; k < 3; k++) {
         b->lo[k] = fmin(b->lo[k], p[k]);
@@ -111,23 +111,51 @@ static void add_hanging(const cvk_build* b, const cvk_cloth_range* c, const doub
             hi[fall_axis] = fmin(hi[fall_axis], start_hi);
         if (fall_axis >= 0 && gravity[fall_axis] > 0)
             lo[fall_axis] = fmax(lo[fall_axis], start_lo);
-        box_add(box, lo);
-        box_add(box, hi);
+        cvk_box_add(box, lo);
+        cvk_box_add(box, hi);
     }
 }
 
 void cvk_reach_box(const cvk_build* b, const double gravity[3], cvk_box* out)
 {
-    box_empty(out);
+    cvk_box_empty(out);
     for (uint32_t p = 0; p < b->particle_count; p++) {
         double x[3];
         to_double(&b->position[3 * (size_t)p], x);
-        box_add(out, x);
+        cvk_box_add(out, x);
     }
     if (dot(gravity, gravity) == 0.0)
         return;
     for (uint32_t c = 0; c < b->cloth_count; c++)
         add_hanging(b, &b->cloths[c], gravity, out);
+}
+
+/* The colliders near the cloths: each collider box that overlaps the cloths' reach grown by
+   its own size on every side, clipped to that grown box. */
+static void add_colliders(const cvk_view_colliders* c, cvk_box* reach)
+{
+    double size = 1e-3;
+    for (int k = 0; k < 3; k++)
+        size = fmax(size, reach->hi[k] - reach->lo[k]);
+    cvk_box near;
+    for (int k = 0; k < 3; k++) {
+        near.lo[k] = reach->lo[k] - size;
+        near.hi[k] = reach->hi[k] + size;
+    }
+    for (uint32_t i = 0; i < c->box_count; i++) {
+        const cvk_box* b = &c->boxes[i];
+        double lo[3], hi[3];
+        bool overlaps = true;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmax(b->lo[k], near.lo[k]);
+            hi[k] = fmin(b->hi[k], near.hi[k]);
+            overlaps = overlaps && lo[k] <= hi[k];
+        }
+        if (!overlaps)
+            continue;
+        cvk_box_add(reach, lo);
+        cvk_box_add(reach, hi);
+    }
 }
 
 /* ---- matrices: column-major, m[column * 4 + row] ---- */
@@ -230,9 +258,9 @@ static void place_camera(const cvk_render_desc* desc, cvk_view* v)
     int count = framing_points(v, points);
     if (desc->auto_target) {
         cvk_box all;
-        box_empty(&all);
+        cvk_box_empty(&all);
         for (int i = 0; i < count; i++)
-            box_add(&all, points[i]);
+            cvk_box_add(&all, points[i]);
         for (int k = 0; k < 3; k++)
             v->target[k] = 0.5 * (all.lo[k] + all.hi[k]);
     } else {
@@ -288,7 +316,7 @@ static void camera_matrix(cvk_view* v)
     }
 }
 
-static void depth_range(cvk_view* v)
+static void depth_range(cvk_view* v, const cvk_view_colliders* colliders)
 {
     double right[3], cam_up[3], back[3];
     camera_basis(v->eye, v->target, v->up, right, cam_up, back);
@@ -296,6 +324,16 @@ static void depth_range(cvk_view* v)
     for (int c = 0; c < 8; c++) {
         double p[3];
         box_corner(&v->reach, c, p);
+        double o[3] = {p[0] - v->eye[0], p[1] - v->eye[1], p[2] - v->eye[2]};
+        double d = -dot(o, back);
+        nearest = fmin(nearest, d);
+        farthest = fmax(farthest, d);
+    }
+    /* Colliders drawn beyond the reach (a plane's square, a far box) stay inside the planes; one
+       reaching behind the eye leaves the near plane at its floor below. */
+    for (int c = 0; colliders && colliders->drawn.lo[0] <= colliders->drawn.hi[0] && c < 8; c++) {
+        double p[3];
+        box_corner(&colliders->drawn, c, p);
         double o[3] = {p[0] - v->eye[0], p[1] - v->eye[1], p[2] - v->eye[2]};
         double d = -dot(o, back);
         nearest = fmin(nearest, d);
@@ -331,12 +369,12 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size)
     normalize(right);
     cross(l, right, up);
     cvk_box box;
-    box_empty(&box);
+    cvk_box_empty(&box);
     for (int c = 0; c < 8; c++) {
         double p[3];
         box_corner(&v->reach, c, p);
         double q[3] = {dot(p, right), dot(p, up), dot(p, l)};
-        box_add(&box, q);
+        cvk_box_add(&box, q);
     }
     /* Square texels; a few texels of margin so PCF near the edge reads real depth. */
     double half = 0.5 * fmax(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]);
@@ -372,7 +410,7 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size)
 }
 
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
-                      uint32_t shadow_map_size, cvk_view* v)
+                      const cvk_view_colliders* colliders, uint32_t shadow_map_size, cvk_view* v)
 {
     memset(v, 0, sizeof *v);
     to_double(desc->up, v->up);
@@ -386,6 +424,8 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
     v->height = desc->size[1];
     v->aspect = (double)desc->size[0] / desc->size[1];
     cvk_reach_box(build, gravity, &v->reach);
+    if (colliders)
+        add_colliders(colliders, &v->reach);
 
     double lowest = INFINITY, size = 0.0;
     for (int c = 0; c < 8; c++) {
@@ -397,6 +437,8 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
         size = fmax(size, v->reach.hi[k] - v->reach.lo[k]);
     size = fmax(size, 1e-3);
     v->ground_height = desc->auto_ground_height ? lowest - 0.05 * size : desc->ground_height;
+    if (desc->auto_ground_height && colliders && colliders->ground_plane)
+        v->ground_height = colliders->ground_plane_height;
     /* A quarter of the power of ten nearest the scene's size: 25 cm squares for a 1 m cloth. */
     v->ground_tile = 0.25 * pow(10.0, round(log10(size)));
     double reference[3] = {fabs(v->up[0]) < 0.9 ? 1.0 : 0.0, fabs(v->up[0]) < 0.9 ? 0.0 : 1.0, 0.0};
@@ -408,7 +450,7 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
             v->ground_axes[a][k] /= v->ground_tile;
 
     place_camera(desc, v);
-    depth_range(v);
+    depth_range(v, colliders);
     camera_matrix(v);
     light_matrix(v, shadow_map_size);
 }

@@ -33,8 +33,21 @@ typedef struct cvk_view {
     bool patch_visible;                /* the key light is above the ground */
     double patch[4][3];                /* the ground under the shadow map (triangle strip order):
                                           the only ground a shadow can fall on */
-    cvk_box reach;                     /* where the cloths can go */
+    cvk_box reach;                     /* where the cloths can go, and the colliders near them */
 } cvk_view;
+
+/* What the colliders add to the view. A collider near the cloths is framed with them; one far
+   away, or the part of a huge one beyond the cloths' neighbourhood, is not (a 100 m plane or a
+   distant box does not zoom the camera out). */
+typedef struct cvk_view_colliders {
+    const cvk_box* boxes;              /* where finite colliders are drawn: each at rest and at
+                                          each keyframe */
+    uint32_t box_count;
+    cvk_box drawn;                     /* everything drawn for colliders (empty: lo > hi): the
+                                          depth range holds it */
+    bool ground_plane;                 /* a static plane collider facing up is the ground */
+    double ground_plane_height;        /* m along up: its height (the highest such plane) */
+} cvk_view_colliders;
 
 /* The box the cloths can occupy: their starting box and, when gravity moves them, for a
    pinned cloth every point within 1.35 times its rest distance of each of its pins (the
@@ -42,8 +55,13 @@ typedef struct cvk_view {
    when nothing falls (no integration or no gravity). */
 void cvk_reach_box(const cvk_build* build, const double gravity[3], cvk_box* out);
 
-/* Fills everything above. The description must have passed validation. */
+/* An empty box (lo = +inf, hi = -inf) and a point added to one. */
+void cvk_box_empty(cvk_box* box);
+void cvk_box_add(cvk_box* box, const double p[3]);
+
+/* Fills everything above. The description must have passed validation. colliders may be NULL
+   (none): the view is then exactly the cloths'. */
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
-                      uint32_t shadow_map_size, cvk_view* out);
+                      const cvk_view_colliders* colliders, uint32_t shadow_map_size, cvk_view* out);
 
 #endif

@@ -1,9 +1,10 @@
 /* The offscreen renderer (seed 002 §5.4). A frame is, after the mesh generation:
-   - the shadow pass: the cloth's depth from the key light;
-   - the lit pass, in two render passes: the cloth, lit and shadowed, multisampled over a
-     transparent background; then one sample per pixel, the ground and sky found from each
-     pixel's ray (shadowed only on the patch of ground under the shadow map) with the cloth's
-     samples averaged over them in linear light (the resolve), into an sRGB image;
+   - the shadow pass: the cloth's and the colliders' depth from the key light;
+   - the lit pass, in two render passes: the cloth and the colliders (render_colliders.c),
+     lit and shadowed, multisampled over a transparent background; then one sample per pixel,
+     the ground and sky found from each pixel's ray (shadowed only on the patch of ground
+     under the shadow map) with the cloth pass's samples averaged over them in linear light
+     (the resolve), into an sRGB image;
    - a copy of that image into a host-visible buffer.
    Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
    tests and writes every sample) to the part of the image that has edges to smooth.
@@ -428,12 +429,15 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
 
+    /* The colliders' poses (binding 3) only where there are colliders to draw. */
     static const cvk_binding bindings[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
     };
-    r = cvk_descriptors_create(rd->context, bindings, 3, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 4 : 3;
+    r = cvk_descriptors_create(rd->context, bindings, binding_count, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
                                4 * sizeof(float), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;
@@ -443,6 +447,7 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
         {.buffer = &rd->uniforms},
         {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
         {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
+        {.buffer = &rd->mesh->sim->collide.poses},
     };
     cvk_descriptors_write(rd->context, &rd->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -495,6 +500,10 @@ static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
                rd->desc.shadow_map_size, &clear, 1);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
     draw_cloths(rd, cmd, false);
+    if (rd->collider_shadow_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_shadow_pipeline);
+        cvk_render_colliders_record(rd, cmd, false);
+    }
     vkCmdEndRenderPass(cmd);
 }
 
@@ -506,6 +515,10 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
     draw_cloths(rd, cmd, true);
+    if (rd->collider_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);
+        cvk_render_colliders_record(rd, cmd, true);
+    }
     vkCmdEndRenderPass(cmd);
 
     begin_pass(cmd, rd->composite_pass, rd->composite_framebuffer, w, h, clears, 2);
@@ -544,9 +557,12 @@ cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error*
     if (r != CVK_SUCCESS)
         return r;
     timestamp(rd, cmd, 1);
+    /* The colliders' vertex shaders also read the poses the simulation wrote. */
+    bool colliders = rd->colliders.draw_count > 0;
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT,
-                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT);
+                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | (colliders ? VK_PIPELINE_STAGE_VERTEX_SHADER_BIT : 0),
+                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT |
+                        (colliders ? VK_ACCESS_SHADER_READ_BIT : 0));
     /* one set for every graphics pipeline of the frame; bindings outlive render passes */
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
     record_shadow_pass(rd, cmd);
@@ -555,6 +571,10 @@ cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error*
     timestamp(rd, cmd, 3);
     record_readback(rd, cmd);
     timestamp(rd, cmd, 4);
+    /* The next simulated frame rewrites the poses: these draws finish reading them first (the
+       mesh generation's own barrier covers only vertex input). */
+    if (colliders)
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
     return CVK_SUCCESS;
 }
 
@@ -616,9 +636,12 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     rd->samples = (VkSampleCountFlagBits)desc->samples;
     double gravity[3];
     gravity_of(mesh->sim, gravity);
-    cvk_view_resolve(desc, &mesh->sim->build, gravity, desc->shadow_map_size, &rd->view);
-
-    r = create_images(rd, error);
+    r = cvk_render_colliders_create(rd, gravity, error);
+    if (r == CVK_SUCCESS) {
+        cvk_view_resolve(desc, &mesh->sim->build, gravity, &rd->colliders.framing, desc->shadow_map_size,
+                         &rd->view);
+        r = create_images(rd, error);
+    }
     if (r == CVK_SUCCESS)
         r = create_shadow_pass(rd, error);
     if (r == CVK_SUCCESS)
@@ -649,7 +672,8 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     VkDevice dev = rd->context->device;
     if (rd->submitter.pool)
         vkQueueWaitIdle(rd->context->queue);
-    VkPipeline pipelines[] = {rd->shadow_pipeline, rd->cloth_pipeline, rd->background_pipeline, rd->patch_pipeline};
+    VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
+                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);
@@ -673,6 +697,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         cvk_gpu_image_destroy(rd->context, images[i]);
     cvk_buffer_destroy(rd->context, &rd->uniforms);
     cvk_buffer_destroy(rd->context, &rd->readback);
+    cvk_render_colliders_destroy(rd);
     cvk_submitter_destroy(rd->context, &rd->submitter);
     free(rd);
 }

@@ -6,6 +6,23 @@
 #include "mesh.h"
 #include "shared/frame.h" /* cvk_frame_uniforms, shared with shaders/frame.glsl */
 
+/* One collider's triangles in the shared collider buffers, drawn with instance index
+   `collider` (the vertex shaders read its pose from the simulation's poses buffer). */
+typedef struct cvk_collider_draw {
+    uint32_t first_index, index_count;
+    uint32_t collider;
+    float color[4];                  /* linear RGB, 1 */
+} cvk_collider_draw;
+
+typedef struct cvk_render_colliders {
+    cvk_buffer vertices;             /* 6 floats per vertex: position at rest (m), unit normal */
+    cvk_buffer indices;              /* uint32 */
+    cvk_collider_draw* draws;
+    uint32_t draw_count;
+    cvk_box* boxes;                  /* for the camera: see cvk_view_colliders */
+    cvk_view_colliders framing;
+} cvk_render_colliders;
+
 struct cvk_renderer {
     cvk_context* context;
     cvk_mesh* mesh;
@@ -24,13 +41,26 @@ struct cvk_renderer {
     cvk_descriptors descriptors;     /* the one graphics set and its pipeline layout */
     VkDescriptorSet set;
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
+    VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
+    cvk_render_colliders colliders;
 
     VkQueryPool queries;
     cvk_submitter submitter;
     VkCommandBuffer frame_cmd;
 };
 
-/* The four graphics pipelines: shadow, cloth, background and ground patch. */
+/* The graphics pipelines: shadow, cloth, background and ground patch, and with colliders to
+   draw the colliders' shadow and lit pipelines. */
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error);
+
+/* The simulation's colliders as triangles (lib/render_colliders.c): meshes at rest in one
+   vertex and index buffer, one draw per collider, and what the camera frames
+   (rd->colliders.framing). Runs before the view is resolved; reads rd->desc and rd->mesh. */
+cvk_result cvk_render_colliders_create(cvk_renderer* rd, const double gravity[3], cvk_error* error);
+void cvk_render_colliders_destroy(cvk_renderer* rd);
+
+/* Records the collider draws; with `colored`, each one's colour as the push constant. The
+   pipeline is bound by the caller. */
+void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored);
 
 #endif

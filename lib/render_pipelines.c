@@ -12,6 +12,7 @@ typedef struct pipeline_recipe {
     const char* what;
     cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
     uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal */
+    bool colliders;                  /* the collider buffers' layout, not the cloth mesh's */
     VkPrimitiveTopology topology;
     VkRenderPass pass;
     uint32_t width, height;
@@ -49,9 +50,13 @@ typedef struct fixed_state {
 static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fixed_state* f)
 {
     cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
-    f->binding = (VkVertexInputBindingDescription){0, mesh.vertex_stride, VK_VERTEX_INPUT_RATE_VERTEX};
-    f->attributes[0] = (VkVertexInputAttributeDescription){0, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.position_offset};
-    f->attributes[1] = (VkVertexInputAttributeDescription){1, 0, VK_FORMAT_R32G32B32_SFLOAT, mesh.normal_offset};
+    /* Collider vertices: position then normal, 3 floats each (render_colliders.c). */
+    uint32_t stride = p->colliders ? 6 * sizeof(float) : mesh.vertex_stride;
+    uint32_t position = p->colliders ? 0 : mesh.position_offset;
+    uint32_t normal = p->colliders ? 3 * sizeof(float) : mesh.normal_offset;
+    f->binding = (VkVertexInputBindingDescription){0, stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    f->attributes[0] = (VkVertexInputAttributeDescription){0, 0, VK_FORMAT_R32G32B32_SFLOAT, position};
+    f->attributes[1] = (VkVertexInputAttributeDescription){1, 0, VK_FORMAT_R32G32B32_SFLOAT, normal};
     f->vertex_input = (VkPipelineVertexInputStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
         .vertexBindingDescriptionCount = p->attributes ? 1 : 0,
@@ -177,20 +182,29 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
-        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
         /* Reversed depth: nearer is greater. */
-        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
-        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
          {false, false, rd->desc.samples}},
-        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0,
+        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
          VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}},
+        /* The colliders: shaded like the cloth (lit_cloth.frag), posed in the vertex shader. */
+        {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true,
+         VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
+        {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, true,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
+         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
     };
-    VkPipeline* outs[] = {&rd->shadow_pipeline, &rd->cloth_pipeline, &rd->background_pipeline, &rd->patch_pipeline};
-    for (size_t i = 0; i < sizeof recipes / sizeof recipes[0]; i++) {
+    VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
+                          &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};
+    size_t count = rd->colliders.draw_count > 0 ? 6 : 4;
+    for (size_t i = 0; i < count; i++) {
         cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
         if (r != CVK_SUCCESS)
             return r;

@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Cloth pass: lit and shadowed cloth over a transparent background, multisampled; the
-// composite pass puts it over the ground and sky. Both faces are drawn; a back face is lit
+// composite pass puts it over the ground and sky. The colliders (collider.vert) are shaded
+// here too, with their own colour. Both faces are drawn; a back face is lit
 // with the flipped normal, so the side away from the light is dark and the side towards it
 // lit, whichever way the cloth turns (seed 002 lit both faces alike, its §9).
 #include "frame.glsl"

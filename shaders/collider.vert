@@ -1,0 +1,18 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Collider pass: a collider's triangles at rest, moved by its pose; lit_cloth.frag shades them
+// like the cloth (both lights, the key light's shadow map).
+#include "frame.glsl"
+#include "collider_pose.glsl"
+
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 0) out vec3 world;
+layout(location = 1) out vec3 world_normal;
+
+void main()
+{
+    world = posed_point(position);
+    world_normal = posed_direction(normal);
+    gl_Position = frame.view_proj * vec4(world, 1.0);
+}
