@@ -705,7 +705,10 @@ CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);
    frame just simulated. The renderer's images, buffers and
    timestamp queries are its own; the render passes order every access to them, frame after
    frame. One submission of a renderer's frame may be in flight at a time. Graphics and compute
-   state you bound before the call is lost. */
+   state you bound before the call is lost. In a scene with colliders (drawn where the
+   simulation's own buffer says they are) it ends with an execution barrier from the vertex
+   shader to compute shaders, so the next recorded simulation frame does not move them while
+   they are drawn. */
 CVK_API cvk_result cvk_renderer_record(cvk_renderer* renderer, VkCommandBuffer cmd, cvk_error* error);
 
 /* Draws one frame of the current particles and waits: a command buffer recorded once, one
