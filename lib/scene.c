@@ -522,8 +522,8 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
     double speed = sqrt(dot3(v, v));
     if (speed <= CVK_MAX_VELOCITY)
         return true;
-    return issue_at(issue, path, "must be at most %g m/s fast, got %g m/s ([%g, %g, %g])", CVK_MAX_VELOCITY, speed,
-                    v[0], v[1], v[2]);
+    return issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%g, %g, %g])",
+                    CVK_MAX_VELOCITY, speed, v[0], v[1], v[2]);
 }
 
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
@@ -646,7 +646,8 @@ static bool check_mesh_shape(const cvk_collider_desc* c, const char* base, cvk_s
     return check_file_name(issue, path, c->file) && check_transform(&c->transform, base, issue);
 }
 
-/* Only the fields of the collider's own type are read, so only they are checked. */
+/* Only the fields of the collider's own type are read, so only they are checked. Paths are
+   the scene file's keys: a funnel's funnel_a is its "a". */
 static bool check_collider_shape(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
@@ -664,7 +665,7 @@ static bool check_collider_shape(const cvk_collider_desc* c, const char* base, c
                check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
     case CVK_COLLIDER_FUNNEL:
         return check_finite_array(issue, join(path, base, "apex"), c->apex, 3) &&
-               check_greater(issue, join(path, base, "funnel_a"), c->funnel_a, 0.0) &&
+               check_greater(issue, join(path, base, "a"), c->funnel_a, 0.0) &&
                check_greater(issue, join(path, base, "height"), c->height, 0.0);
     case CVK_COLLIDER_MESH: return check_mesh_shape(c, base, issue);
     case CVK_COLLIDER_TYPE_COUNT: break;
