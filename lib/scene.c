@@ -11,6 +11,7 @@
 /* Arbitrary tags: a description whose cookie differs skipped cvk_default_*_desc(). */
 static const uint32_t scene_cookie = 0x53634e65u;
 static const uint32_t cloth_cookie = 0x436c5468u;
+static const uint32_t collider_cookie = 0x436f4c64u;
 
 cvk_scene_desc cvk_default_scene_desc(void)
 {
@@ -34,6 +35,10 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .cloths = NULL,
         .cloth_count = 0,
         .render = cvk_default_render_desc(),
+        /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
+        .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f},
+        .colliders = NULL,
+        .collider_count = 0,
         .cookie_ = scene_cookie,
     };
 }
@@ -87,8 +92,53 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .use_pin_box = false,
         .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
         .color = {0.9f, 0.35f, 0.3f},
+        .velocity = {0.0f, 0.0f, 0.0f},
         .cookie_ = cloth_cookie,
     };
+}
+
+/* A plane through the origin facing +y: the ground. Every position is the origin and every
+   size positive, so that changing only the type gives a valid shape (a capsule with a = b is
+   a sphere); only a mesh needs its file. */
+cvk_collider_desc cvk_default_collider_desc(void)
+{
+    return (cvk_collider_desc){
+        .type = CVK_COLLIDER_PLANE,
+        .name = NULL,
+        .point = {0.0f, 0.0f, 0.0f},
+        .normal = {0.0f, 1.0f, 0.0f},
+        .center = {0.0f, 0.0f, 0.0f},
+        .radius = 0.25f,
+        .half_extents = {0.25f, 0.25f, 0.25f},
+        .rotation = {1.0f, 0.0f, 0.0f, 0.0f},
+        .a = {0.0f, 0.0f, 0.0f},
+        .b = {0.0f, 0.0f, 0.0f},
+        .apex = {0.0f, 0.0f, 0.0f},
+        .funnel_a = 0.5f,
+        .height = 1.0f,
+        .file = NULL,
+        .transform = {.scale = {1.0f, 1.0f, 1.0f}, .rotation = {1.0f, 0.0f, 0.0f, 0.0f},
+                      .translation = {0.0f, 0.0f, 0.0f}},
+        .friction = -1.0f,
+        .static_friction = -1.0f,
+        .motion = {.keyframes = NULL, .keyframe_count = 0, .loop = false},
+        .color = {0.55f, 0.55f, 0.6f},
+        .cookie_ = collider_cookie,
+    };
+}
+
+const char* cvk_collider_type_name(cvk_collider_type type)
+{
+    switch (type) {
+    case CVK_COLLIDER_PLANE: return "plane";
+    case CVK_COLLIDER_SPHERE: return "sphere";
+    case CVK_COLLIDER_BOX: return "box";
+    case CVK_COLLIDER_CAPSULE: return "capsule";
+    case CVK_COLLIDER_FUNNEL: return "funnel";
+    case CVK_COLLIDER_MESH: return "mesh";
+    case CVK_COLLIDER_TYPE_COUNT: break;
+    }
+    return NULL;
 }
 
 const char* cvk_linear_solver_name(cvk_linear_solver linear)
@@ -407,6 +457,16 @@ static bool check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_i
     return true;
 }
 
+/* A rotation of any length, normalised where it is used, but not zero. */
+static bool check_quaternion(cvk_scene_issue* issue, const char* path, const float q[4])
+{
+    if (!check_finite_array(issue, path, q, 4))
+        return false;
+    if (q[0] == 0.0f && q[1] == 0.0f && q[2] == 0.0f && q[3] == 0.0f)
+        return issue_at(issue, path, "must not be zero, got [0, 0, 0, 0]");
+    return true;
+}
+
 /* Every axis scaled by a finite non-zero factor (negative mirrors); a rotation of any length,
    normalised when the mesh is read, but not zero. */
 static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_issue* issue)
@@ -421,12 +481,14 @@ static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_
         if (t->scale[i] == 0.0f)
             return issue_at(issue, element, "must not be zero, got 0");
     }
-    const float* q = t->rotation;
-    if (!check_finite_array(issue, join(path, base, "transform.rotation"), q, 4))
+    if (!check_quaternion(issue, join(path, base, "transform.rotation"), t->rotation))
         return false;
-    if (q[0] == 0.0f && q[1] == 0.0f && q[2] == 0.0f && q[3] == 0.0f)
-        return issue_at(issue, path, "must not be zero, got [0, 0, 0, 0]");
     return check_finite_array(issue, join(path, base, "transform.translation"), t->translation, 3);
+}
+
+static bool check_file_name(cvk_scene_issue* issue, const char* path, const char* file)
+{
+    return file[0] != '\0' || issue_at(issue, path, "must name a mesh file, got an empty string");
 }
 
 /* A mesh cloth's shape comes from its file, so the grid keys are not looked at; its particle
@@ -434,10 +496,8 @@ static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_
 static bool check_shape(const cvk_cloth_desc* c, const char* base, uint64_t* total, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    if (c->mesh) {
-        join(path, base, "mesh");
-        return c->mesh[0] != '\0' || issue_at(issue, path, "must name a mesh file, got an empty string");
-    }
+    if (c->mesh)
+        return check_file_name(issue, join(path, base, "mesh"), c->mesh);
     return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
            check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
 }
@@ -453,6 +513,19 @@ static bool check_name(cvk_scene_issue* issue, const char* path, const char* nam
     return true;
 }
 
+static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    const float* v = c->velocity;
+    if (!check_finite_array(issue, join(path, base, "velocity"), v, 3))
+        return false;
+    double speed = sqrt(dot3(v, v));
+    if (speed <= CVK_MAX_VELOCITY)
+        return true;
+    return issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%g, %g, %g])",
+                    CVK_MAX_VELOCITY, speed, v[0], v[1], v[2]);
+}
+
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
 {
     char base[CVK_KEY_PATH_MAX];
@@ -463,7 +536,8 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
     return check_name(issue, join(path, base, "name"), c->name) &&
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && check_pins(c, base, issue) && check_pin_box(c, base, issue) &&
-           check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0);
+           check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
+           check_velocity(c, base, issue);
 }
 
 /* ---- the render block ---- */
@@ -534,6 +608,155 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)
     return check_render(desc, issue);
 }
 
+/* ---- collisions: the scene's defaults and each collider; base is "colliders.N" ---- */
+
+static bool check_collision(const cvk_collision_desc* c, cvk_scene_issue* issue)
+{
+    if (!check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
+        !check_at_least(issue, "collision.friction", c->friction, 0.0) ||
+        !check_finite(issue, "collision.static_friction", c->static_friction))
+        return false;
+    if (c->static_friction < c->friction)
+        return issue_at(issue, "collision.static_friction", "must be at least friction (%g), got %g", c->friction,
+                        c->static_friction);
+    return true;
+}
+
+static bool check_box_shape(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    char element[CVK_KEY_PATH_MAX];
+    if (!check_finite_array(issue, join(path, base, "center"), c->center, 3))
+        return false;
+    join(path, base, "half_extents");
+    for (uint32_t i = 0; i < 3; i++) {
+        if (!check_greater(issue, join_index(element, path, i), c->half_extents[i], 0.0))
+            return false;
+    }
+    return check_quaternion(issue, join(path, base, "rotation"), c->rotation);
+}
+
+/* A mesh collider's file is read (and checked for being closed) when the simulation is made. */
+static bool check_mesh_shape(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    join(path, base, "file");
+    if (!c->file)
+        return issue_at(issue, path, "a mesh collider needs a mesh file, got NULL");
+    return check_file_name(issue, path, c->file) && check_transform(&c->transform, base, issue);
+}
+
+/* Only the fields of the collider's own type are read, so only they are checked. Paths are
+   the scene file's keys: a funnel's funnel_a is its "a". */
+static bool check_collider_shape(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    switch (c->type) {
+    case CVK_COLLIDER_PLANE:
+        return check_finite_array(issue, join(path, base, "point"), c->point, 3) &&
+               check_direction(issue, join(path, base, "normal"), c->normal);
+    case CVK_COLLIDER_SPHERE:
+        return check_finite_array(issue, join(path, base, "center"), c->center, 3) &&
+               check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
+    case CVK_COLLIDER_BOX: return check_box_shape(c, base, issue);
+    case CVK_COLLIDER_CAPSULE:
+        return check_finite_array(issue, join(path, base, "a"), c->a, 3) &&
+               check_finite_array(issue, join(path, base, "b"), c->b, 3) &&
+               check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
+    case CVK_COLLIDER_FUNNEL:
+        return check_finite_array(issue, join(path, base, "apex"), c->apex, 3) &&
+               check_greater(issue, join(path, base, "a"), c->funnel_a, 0.0) &&
+               check_greater(issue, join(path, base, "height"), c->height, 0.0);
+    case CVK_COLLIDER_MESH: return check_mesh_shape(c, base, issue);
+    case CVK_COLLIDER_TYPE_COUNT: break;
+    }
+    return issue_at(issue, join(path, base, "type"), "unknown collider type %d", (int)c->type);
+}
+
+/* A coefficient below 0 stands for the scene's (the C API's "default"; a scene file leaves
+   the key out instead); the pair in use must have static at least kinetic. */
+static bool check_collider_friction(const cvk_collider_desc* c, const cvk_collision_desc* scene, const char* base,
+                                    cvk_scene_issue* issue)
+{
+    char kinetic_path[CVK_KEY_PATH_MAX];
+    char static_path[CVK_KEY_PATH_MAX];
+    if (!check_finite(issue, join(kinetic_path, base, "friction"), c->friction) ||
+        !check_finite(issue, join(static_path, base, "static_friction"), c->static_friction))
+        return false;
+    double kinetic = c->friction < 0 ? scene->friction : c->friction;
+    double fixed = c->static_friction < 0 ? scene->static_friction : c->static_friction;
+    if (fixed >= kinetic)
+        return true;
+    if (c->static_friction < 0)
+        return issue_at(issue, static_path, "is not given, and collision.static_friction (%g) is below this "
+                        "collider's friction (%g): give a static_friction of at least %g", fixed, kinetic, kinetic);
+    return issue_at(issue, static_path, "must be at least %s (%g), got %g",
+                    c->friction < 0 ? "collision.friction" : "friction", kinetic, fixed);
+}
+
+static bool check_keyframe(const cvk_keyframe* k, const char* base, const cvk_keyframe* previous,
+                           cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    if (!check_at_least(issue, join(path, base, "time"), k->time, 0.0))
+        return false;
+    if (previous && !(k->time > previous->time))
+        return issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", previous->time,
+                        k->time);
+    return check_finite_array(issue, join(path, base, "translation"), k->translation, 3) &&
+           check_quaternion(issue, join(path, base, "rotation"), k->rotation);
+}
+
+static bool check_motion(const cvk_motion* m, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    char element[CVK_KEY_PATH_MAX];
+    join(path, base, "keyframes");
+    if (m->keyframe_count > CVK_MAX_KEYFRAMES)
+        return issue_at(issue, path, "at most %u keyframes, got %" PRIu32, CVK_MAX_KEYFRAMES, m->keyframe_count);
+    if (m->keyframe_count > 0 && !m->keyframes)
+        return issue_at(issue, path, "is NULL but keyframe_count is %" PRIu32, m->keyframe_count);
+    for (uint32_t i = 0; i < m->keyframe_count; i++) {
+        const cvk_keyframe* previous = i > 0 ? &m->keyframes[i - 1] : NULL;
+        if (!check_keyframe(&m->keyframes[i], join_index(element, path, i), previous, issue))
+            return false;
+    }
+    if (m->loop && m->keyframe_count < 2)
+        return issue_at(issue, join(path, base, "loop"), "a looping motion needs at least two keyframes, got %" PRIu32,
+                        m->keyframe_count);
+    return true;
+}
+
+static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk_collision_desc* scene,
+                           cvk_scene_issue* issue)
+{
+    char base[CVK_KEY_PATH_MAX];
+    char path[CVK_KEY_PATH_MAX];
+    join_index(base, "colliders", index);
+    if (c->cookie_ != collider_cookie)
+        return issue_at(issue, base, "collider description was not made by cvk_default_collider_desc()");
+    return check_name(issue, join(path, base, "name"), c->name) && check_collider_shape(c, base, issue) &&
+           check_collider_friction(c, scene, base, issue) &&
+           check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
+           check_motion(&c->motion, base, issue);
+}
+
+static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
+{
+    if (!check_collision(&d->collision, issue))
+        return false;
+    if (d->collider_count > CVK_MAX_COLLIDERS)
+        return issue_at(issue, "colliders", "at most %u colliders, got %" PRIu32, CVK_MAX_COLLIDERS,
+                        d->collider_count);
+    if (d->collider_count > 0 && !d->colliders)
+        return issue_at(issue, "colliders", "is NULL but collider_count is %" PRIu32, d->collider_count);
+    for (uint32_t i = 0; i < d->collider_count; i++) {
+        if (!check_collider(&d->colliders[i], i, &d->collision, issue))
+            return false;
+    }
+    return true;
+}
+
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
 {
     if (desc->cookie_ != scene_cookie)
@@ -548,7 +771,7 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
         if (!check_cloth(&desc->cloths[i], i, &total, issue))
             return false;
     }
-    return check_render(&desc->render, issue);
+    return check_colliders(desc, issue) && check_render(&desc->render, issue);
 }
 
 cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error)

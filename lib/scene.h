@@ -41,4 +41,17 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
 
+/* Bounds on what sizes the device's collider buffers (one record per collider, its keyframes
+   uploaded whole and searched per substep), so that a typo in a count is refused up front: 64
+   colliders is far more than a scene draws, 10000 keyframes is almost three minutes at 60
+   keyframes a second. */
+#define CVK_MAX_COLLIDERS 64u
+#define CVK_MAX_KEYFRAMES 10000u
+
+/* Fastest initial cloth velocity, m/s: ten times a rifle bullet. At that speed a particle
+   crosses 10 m in a 1 ms substep and is 10 km away after a second, where single-precision
+   positions are a millimetre apart; no cloth scene needs more, and a typo is refused rather
+   than simulated into nonsense. */
+#define CVK_MAX_VELOCITY 1e4
+
 #endif

@@ -7,6 +7,7 @@
 
 #include <errno.h>
 #include <inttypes.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -167,7 +168,7 @@ static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, 
     return r;
 }
 
-#define FIELDS(array) {array, sizeof array / sizeof array[0]}
+#define FIELDS(array) {.fields = array, .count = sizeof array / sizeof array[0]}
 
 static const cvk_field stiffness_fields[] = {
     {.key = "structural", .read = cvk_read_float, .offset = offsetof(cvk_stiffness, structural)},
@@ -201,6 +202,7 @@ static const cvk_field cloth_fields[] = {
     {.key = "pins", .read = read_pins, .offset = 0},
     {.key = "pin_box", .read = read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
+    {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
 
@@ -229,6 +231,189 @@ static cvk_result read_cloths(cvk_reader* rd, const cvk_field* f, json_t* value,
     }
     desc->cloths = cloths;
     desc->cloth_count = (uint32_t)count;
+    return CVK_SUCCESS;
+}
+
+/* ---- collisions: the scene's defaults and the colliders ---- */
+
+static const cvk_field collision_fields[] = {
+    {.key = "self", .read = cvk_read_bool, .offset = offsetof(cvk_collision_desc, self)},
+    {.key = "thickness", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, thickness)},
+    {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, friction)},
+    {.key = "static_friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, static_friction)},
+};
+static const cvk_table collision_table = FIELDS(collision_fields);
+
+static const cvk_field keyframe_fields[] = {
+    {.key = "time", .read = cvk_read_float, .offset = offsetof(cvk_keyframe, time),
+     .required = "a keyframe needs its time"},
+    {.key = "translation", .read = cvk_read_floats, .offset = offsetof(cvk_keyframe, translation), .count = 3},
+    {.key = "rotation", .read = cvk_read_floats, .offset = offsetof(cvk_keyframe, rotation), .count = 4},
+};
+static const cvk_table keyframe_table = FIELDS(keyframe_fields);
+
+/* dest is the collider's motion: keyframes and keyframe_count go together. */
+static cvk_result read_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    (void)f;
+    cvk_motion* motion = dest;
+    if (!json_is_array(value))
+        return cvk_reader_fail_type(rd, path, "an array of keyframe objects", value);
+    size_t count = json_array_size(value);
+    motion->keyframes = NULL;
+    motion->keyframe_count = 0;
+    if (count == 0)
+        return CVK_SUCCESS;
+    if (count > UINT32_MAX)
+        return cvk_reader_fail_at(rd, path, "more than %" PRIu32 " keyframes", UINT32_MAX);
+    cvk_keyframe* keyframes = cvk_blocks_alloc(rd->blocks, count, sizeof *keyframes);
+    if (!keyframes)
+        return cvk_reader_fail_memory(rd);
+    char element[CVK_KEY_PATH_MAX];
+    for (size_t i = 0; i < count; i++) {
+        cvk_json_join_index(element, path, i);
+        keyframes[i] = (cvk_keyframe){.rotation = {1.0f, 0.0f, 0.0f, 0.0f}};
+        cvk_result r = cvk_read_object(rd, &keyframe_table, json_array_get(value, i), element, &keyframes[i]);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    motion->keyframes = keyframes;
+    motion->keyframe_count = (uint32_t)count;
+    return CVK_SUCCESS;
+}
+
+/* A negative coefficient means "the scene's" in the C API; a scene file leaves the key out
+   instead, so there it is a mistake. A non-finite one is left to validation to name. */
+static cvk_result read_coefficient(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    float v = 0.0f;
+    cvk_result r = cvk_read_float(rd, f, value, path, &v);
+    if (r != CVK_SUCCESS)
+        return r;
+    if (v < 0.0f && isfinite(v))
+        return cvk_reader_fail_at(rd, path, "must be at least 0, got %g (leave it out for collision.%s)", v, f->key);
+    *(float*)dest = v;
+    return CVK_SUCCESS;
+}
+
+static const char* collider_type_name(int v)
+{
+    return cvk_collider_type_name((cvk_collider_type)v);
+}
+
+static cvk_result read_collider_type(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
+                                     void* dest)
+{
+    (void)f;
+    int v = 0;
+    cvk_result r = cvk_read_enum(rd, value, path, "collider type", collider_type_name, &v);
+    if (r == CVK_SUCCESS)
+        *(cvk_collider_type*)dest = (cvk_collider_type)v;
+    return r;
+}
+
+#define COLLIDER(field) offsetof(cvk_collider_desc, field)
+
+/* The keys of every collider; each type's table adds its shape's. */
+static const cvk_field collider_fields[] = {
+    {.key = "type", .read = read_collider_type, .offset = COLLIDER(type)},
+    {.key = "name", .read = cvk_read_string, .offset = COLLIDER(name)},
+    {.key = "friction", .read = read_coefficient, .offset = COLLIDER(friction)},
+    {.key = "static_friction", .read = read_coefficient, .offset = COLLIDER(static_friction)},
+    {.key = "color", .read = cvk_read_floats, .offset = COLLIDER(color), .count = 3},
+    {.key = "keyframes", .read = read_keyframes, .offset = COLLIDER(motion)},
+    {.key = "loop", .read = cvk_read_bool, .offset = COLLIDER(motion) + offsetof(cvk_motion, loop)},
+};
+static const cvk_table collider_table = FIELDS(collider_fields);
+
+static const cvk_field plane_fields[] = {
+    {.key = "point", .read = cvk_read_floats, .offset = COLLIDER(point), .count = 3},
+    {.key = "normal", .read = cvk_read_floats, .offset = COLLIDER(normal), .count = 3},
+};
+static const cvk_field sphere_fields[] = {
+    {.key = "center", .read = cvk_read_floats, .offset = COLLIDER(center), .count = 3},
+    {.key = "radius", .read = cvk_read_float, .offset = COLLIDER(radius)},
+};
+static const cvk_field box_fields[] = {
+    {.key = "center", .read = cvk_read_floats, .offset = COLLIDER(center), .count = 3},
+    {.key = "half_extents", .read = cvk_read_floats, .offset = COLLIDER(half_extents), .count = 3},
+    {.key = "rotation", .read = cvk_read_floats, .offset = COLLIDER(rotation), .count = 4},
+};
+static const cvk_field capsule_fields[] = {
+    {.key = "a", .read = cvk_read_floats, .offset = COLLIDER(a), .count = 3},
+    {.key = "b", .read = cvk_read_floats, .offset = COLLIDER(b), .count = 3},
+    {.key = "radius", .read = cvk_read_float, .offset = COLLIDER(radius)},
+};
+/* "a" is the funnel's growth length here, the segment's first end on a capsule. */
+static const cvk_field funnel_fields[] = {
+    {.key = "apex", .read = cvk_read_floats, .offset = COLLIDER(apex), .count = 3},
+    {.key = "a", .read = cvk_read_float, .offset = COLLIDER(funnel_a)},
+    {.key = "height", .read = cvk_read_float, .offset = COLLIDER(height)},
+};
+static const cvk_field mesh_collider_fields[] = {
+    {.key = "file", .read = cvk_read_path, .offset = COLLIDER(file)},
+    {.key = "transform", .read = cvk_read_nested, .offset = COLLIDER(transform), .nested = &transform_table},
+};
+
+#define SHAPE_FIELDS(array, name) \
+    {.fields = array, .count = sizeof array / sizeof array[0], .owner = name, .shared = &collider_table}
+
+/* Indexed by cvk_collider_type. */
+static const cvk_table shape_tables[CVK_COLLIDER_TYPE_COUNT] = {
+    [CVK_COLLIDER_PLANE] = SHAPE_FIELDS(plane_fields, "a plane collider"),
+    [CVK_COLLIDER_SPHERE] = SHAPE_FIELDS(sphere_fields, "a sphere collider"),
+    [CVK_COLLIDER_BOX] = SHAPE_FIELDS(box_fields, "a box collider"),
+    [CVK_COLLIDER_CAPSULE] = SHAPE_FIELDS(capsule_fields, "a capsule collider"),
+    [CVK_COLLIDER_FUNNEL] = SHAPE_FIELDS(funnel_fields, "a funnel collider"),
+    [CVK_COLLIDER_MESH] = SHAPE_FIELDS(mesh_collider_fields, "a mesh collider"),
+};
+
+/* The type says which keys the object may have, so it is read first. */
+static cvk_result read_collider(cvk_reader* rd, json_t* value, const char* path, cvk_collider_desc* collider)
+{
+    if (!json_is_object(value))
+        return cvk_reader_fail_type(rd, path, "a collider object", value);
+    char type_path[CVK_KEY_PATH_MAX];
+    cvk_json_join_key(type_path, path, "type");
+    json_t* type = json_object_get(value, "type");
+    if (!type) {
+        char names[128];
+        cvk_list_names(collider_type_name, names, sizeof names);
+        return cvk_reader_fail_at(rd, type_path, "missing; a collider needs its type: %s", names);
+    }
+    *collider = cvk_default_collider_desc();
+    cvk_result r = read_collider_type(rd, NULL, type, type_path, &collider->type);
+    if (r != CVK_SUCCESS)
+        return r;
+    return cvk_read_object(rd, &shape_tables[collider->type], value, path, collider);
+}
+
+/* dest is the whole scene: colliders and collider_count go together. */
+static cvk_result read_colliders(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    (void)f;
+    cvk_scene_desc* desc = dest;
+    if (!json_is_array(value))
+        return cvk_reader_fail_type(rd, path, "an array of collider objects", value);
+    size_t count = json_array_size(value);
+    desc->colliders = NULL;
+    desc->collider_count = 0;
+    if (count == 0)
+        return CVK_SUCCESS;
+    if (count > UINT32_MAX)
+        return cvk_reader_fail_at(rd, path, "more than %" PRIu32 " colliders", UINT32_MAX);
+    cvk_collider_desc* colliders = cvk_blocks_alloc(rd->blocks, count, sizeof *colliders);
+    if (!colliders)
+        return cvk_reader_fail_memory(rd);
+    char element[CVK_KEY_PATH_MAX];
+    for (size_t i = 0; i < count; i++) {
+        cvk_json_join_index(element, path, i);
+        cvk_result r = read_collider(rd, json_array_get(value, i), element, &colliders[i]);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    desc->colliders = colliders;
+    desc->collider_count = (uint32_t)count;
     return CVK_SUCCESS;
 }
 
@@ -305,6 +490,9 @@ static const cvk_field scene_fields[] = {
     {.key = "solver", .read = cvk_read_nested, .offset = offsetof(cvk_scene_desc, solver), .nested = &solver_table},
     {.key = "cloths", .read = read_cloths, .offset = 0, .required = "a scene needs at least one cloth"},
     {.key = "render", .read = cvk_read_nested, .offset = offsetof(cvk_scene_desc, render), .nested = &render_table},
+    {.key = "collision", .read = cvk_read_nested, .offset = offsetof(cvk_scene_desc, collision),
+     .nested = &collision_table},
+    {.key = "colliders", .read = read_colliders, .offset = 0},
 };
 static const cvk_table scene_table = FIELDS(scene_fields);
 

@@ -267,7 +267,7 @@ cvk_result cvk_read_uints(cvk_reader* rd, const cvk_field* f, json_t* value, con
 }
 
 /* "a, b, c or d" from an enum's name function, which returns NULL past the last value. */
-static void list_names(const char* (*name_of)(int), char* out, size_t size)
+void cvk_list_names(const char* (*name_of)(int), char* out, size_t size)
 {
     int count = 0;
     while (name_of(count))
@@ -293,7 +293,7 @@ cvk_result cvk_read_enum(cvk_reader* rd, json_t* value, const char* path, const 
         }
     }
     char names[256];
-    list_names(name_of, names, sizeof names);
+    cvk_list_names(name_of, names, sizeof names);
     return cvk_reader_fail_at(rd, path, "unknown %s \"%s\" (expected %s)", what, text, names);
 }
 
@@ -305,20 +305,28 @@ static const cvk_field* find_field(const cvk_table* t, const char* key)
         if (strcmp(t->fields[i].key, key) == 0)
             return &t->fields[i];
     }
-    return NULL;
+    return t->shared ? find_field(t->shared, key) : NULL;
 }
 
-static void list_keys(const cvk_table* t, char* out, size_t size)
+/* The shared table's keys, then the table's own. */
+static size_t list_keys(const cvk_table* t, char* out, size_t size)
 {
-    size_t used = 0;
-    out[0] = '\0';
+    size_t used = t->shared ? list_keys(t->shared, out, size) : 0;
+    if (used == 0)
+        out[0] = '\0';
     for (size_t i = 0; i < t->count && used < size; i++)
-        used += (size_t)snprintf(out + used, size - used, "%s%s", i ? ", " : "", t->fields[i].key);
+        used += (size_t)snprintf(out + used, size - used, "%s%s", used ? ", " : "", t->fields[i].key);
+    return used;
 }
 
 static cvk_result check_required(cvk_reader* rd, const cvk_table* t, json_t* object, const char* path)
 {
     char child[CVK_KEY_PATH_MAX];
+    if (t->shared) {
+        cvk_result r = check_required(rd, t->shared, object, path);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
     for (size_t i = 0; i < t->count; i++) {
         const cvk_field* f = &t->fields[i];
         if (!f->required || json_object_get(object, f->key))
@@ -342,6 +350,8 @@ cvk_result cvk_read_object(cvk_reader* rd, const cvk_table* t, json_t* object, c
         if (!f) {
             char keys[320];
             list_keys(t, keys, sizeof keys);
+            if (t->owner)
+                return cvk_reader_fail_at(rd, child, "unknown key for %s (expected one of: %s)", t->owner, keys);
             return cvk_reader_fail_at(rd, child, "unknown key (expected one of: %s)", keys);
         }
         cvk_result r = f->read(rd, f, value, child, (char*)dest + f->offset);

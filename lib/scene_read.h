@@ -74,6 +74,9 @@ struct cvk_field {
 struct cvk_table {
     const cvk_field* fields;
     size_t count;
+    const char* owner;        /* set: unknown keys are named as not keys of this ("a box
+                                 collider"), for objects whose keys depend on a value in them */
+    const cvk_table* shared;  /* set: its keys belong to this table too, listed first */
 };
 
 /* ---- value readers: one per kind of key ---- */
@@ -95,7 +98,10 @@ cvk_result cvk_read_uints(cvk_reader* rd, const cvk_field* f, json_t* value, con
    value in the message ("unknown linear solver \"foo\" (expected rbgs, ...)"). */
 cvk_result cvk_read_enum(cvk_reader* rd, json_t* value, const char* path, const char* what,
                          const char* (*name_of)(int), int* out);
-/* An object whose every key is in t, read in the order the text has them into dest. */
+/* "a, b, c or d": the names name_of gives, as cvk_read_enum lists them in its message. */
+void cvk_list_names(const char* (*name_of)(int), char* out, size_t size);
+/* An object whose every key is in t (or t->shared), read in the order the text has them into
+   dest. */
 cvk_result cvk_read_object(cvk_reader* rd, const cvk_table* t, json_t* object, const char* path, void* dest);
 /* cvk_read_object with f->nested. */
 cvk_result cvk_read_nested(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);

@@ -59,7 +59,7 @@ static inline void check_float(double actual, double expected, const char* fact,
 /* ---- helpers: JSON inputs are written with ' for " so they stay readable ---- */
 
 typedef struct text {
-    char data[2048];
+    char data[8192];
 } text;
 
 static inline text json(const char* single_quoted)

@@ -125,8 +125,60 @@ typedef struct cvk_cloth_desc {
     bool use_pin_box;
     cvk_box3 pin_box;
     float color[3];
+    float velocity[3];
     uint32_t cookie_;
 } cvk_cloth_desc;
+
+typedef struct cvk_keyframe {
+    float time;
+    float translation[3];
+    float rotation[4];
+} cvk_keyframe;
+
+typedef struct cvk_motion {
+    const cvk_keyframe* keyframes;
+    uint32_t keyframe_count;
+    bool loop;
+} cvk_motion;
+
+typedef struct cvk_collision_desc {
+    bool self;
+    float thickness;
+    float friction;
+    float static_friction;
+} cvk_collision_desc;
+
+typedef enum cvk_collider_type {
+    CVK_COLLIDER_PLANE = 0,
+    CVK_COLLIDER_SPHERE = 1,
+    CVK_COLLIDER_BOX = 2,
+    CVK_COLLIDER_CAPSULE = 3,
+    CVK_COLLIDER_FUNNEL = 4,
+    CVK_COLLIDER_MESH = 5,
+    CVK_COLLIDER_TYPE_COUNT = 6,
+} cvk_collider_type;
+
+typedef struct cvk_collider_desc {
+    cvk_collider_type type;
+    const char* name;
+    float point[3];
+    float normal[3];
+    float center[3];
+    float radius;
+    float half_extents[3];
+    float rotation[4];
+    float a[3], b[3];
+    float apex[3];
+    float funnel_a;
+    float height;
+    const char* file;
+    cvk_transform transform;
+    float friction;
+    float static_friction;
+    cvk_motion motion;
+    float color[3];
+    uint32_t cookie_;
+} cvk_collider_desc;
 
 typedef struct cvk_light {
     float direction[3];
@@ -165,10 +217,15 @@ typedef struct cvk_scene_desc {
     const cvk_cloth_desc* cloths;
     uint32_t cloth_count;
     cvk_render_desc render;
+    cvk_collision_desc collision;
+    const cvk_collider_desc* colliders;
+    uint32_t collider_count;
     uint32_t cookie_;
 } cvk_scene_desc;
 
 cvk_render_desc cvk_default_render_desc(void);
+cvk_collider_desc cvk_default_collider_desc(void);
+const char* cvk_collider_type_name(cvk_collider_type type);
 const char* cvk_linear_solver_name(cvk_linear_solver linear);
 
 typedef struct cvk_scene cvk_scene;
@@ -218,6 +275,8 @@ cvk_result cvk_sim_read_mesh(cvk_sim* sim, float* xyz, float* normals, uint32_t*
 cvk_result cvk_sim_set_solver(cvk_sim* sim, const cvk_solver_desc* solver, cvk_error* error);
 cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
 
+#define CVK_MAX_PASSES 12
+
 typedef struct cvk_pass_stats {
     const char* name;
     double gpu_ms;
@@ -243,9 +302,14 @@ typedef struct cvk_sim_stats {
     uint32_t dispatches_per_frame;
     uint32_t dispatches_per_substep;
     uint32_t pass_count;
-    cvk_pass_stats passes[8];
+    cvk_pass_stats passes[12];
+    uint64_t collider_contacts;
+    uint64_t self_contacts;
+    double max_penetration;
+    uint64_t intersecting_pairs;
 } cvk_sim_stats;
 
+cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
 cvk_result cvk_sim_get_stats(cvk_sim* sim, cvk_sim_stats* out_stats, cvk_error* error);
 size_t cvk_sim_describe_plan(const cvk_sim* sim, char* text, size_t capacity);
 
@@ -273,9 +337,9 @@ cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_err
 # Structs declared above, for the layout test.
 STRUCTS = (
     "cvk_error", "cvk_context_desc", "cvk_context_info", "cvk_solver_desc", "cvk_stiffness",
-    "cvk_transform", "cvk_box3", "cvk_cloth_desc", "cvk_light", "cvk_render_desc",
-    "cvk_scene_desc", "cvk_sim_desc", "cvk_cloth_info", "cvk_pass_stats", "cvk_sim_stats",
-    "cvk_image",
+    "cvk_transform", "cvk_box3", "cvk_cloth_desc", "cvk_keyframe", "cvk_motion",
+    "cvk_collision_desc", "cvk_collider_desc", "cvk_light", "cvk_render_desc", "cvk_scene_desc",
+    "cvk_sim_desc", "cvk_cloth_info", "cvk_pass_stats", "cvk_sim_stats", "cvk_image",
 )
 
 ffi = cffi.FFI()
