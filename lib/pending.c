@@ -20,15 +20,3 @@ cvk_result cvk_sdf_from_mesh_file(const char* path, const cvk_transform* transfo
 }
 void cvk_sdf_destroy(cvk_sdf* sdf) { (void)sdf; }
 float cvk_sdf_sample(const cvk_sdf* sdf, const float p[3]) { (void)sdf; (void)p; return 1e9f; }
-cvk_collider_desc cvk_default_collider_desc(void)
-{
-    return (cvk_collider_desc){.type = CVK_COLLIDER_PLANE, .normal = {0, 1, 0}, .radius = 0.25f,
-        .half_extents = {0.25f, 0.25f, 0.25f}, .rotation = {1, 0, 0, 0}, .funnel_a = 0.5f,
-        .height = 1.0f, .transform = {.scale = {1, 1, 1}, .rotation = {1, 0, 0, 0}},
-        .friction = -1.0f, .static_friction = -1.0f, .color = {0.55f, 0.55f, 0.6f}};
-}
-const char* cvk_collider_type_name(cvk_collider_type type)
-{
-    static const char* const names[] = {"plane", "sphere", "box", "capsule", "funnel", "mesh"};
-    return (unsigned)type < 6 ? names[type] : NULL;
-}

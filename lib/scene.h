@@ -4,6 +4,7 @@
 #define CVK_SCENE_H
 
 #include "clothvk.h"
+#include "shared/layout.h"
 
 #define CVK_KEY_PATH_MAX 256
 
@@ -45,7 +46,7 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
    uploaded whole and searched per substep), so that a typo in a count is refused up front: 64
    colliders is far more than a scene draws, 10000 keyframes is almost three minutes at 60
    keyframes a second. */
-#define CVK_MAX_COLLIDERS 64u
+/* CVK_MAX_COLLIDERS (64): shaders/shared/layout.h, where the uniform arrays are sized by it. */
 #define CVK_MAX_KEYFRAMES 10000u
 
 /* Fastest initial cloth velocity, m/s: ten times a rifle bullet. At that speed a particle

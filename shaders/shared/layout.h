@@ -154,7 +154,7 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_COUNT 14
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
-#define CVK_MAX_COLLIDERS 64
+#define CVK_MAX_COLLIDERS 64u
 
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
