@@ -344,6 +344,29 @@ static void test_missing(void)
     CHECK(!sdf.values && !sdf.xyz && !sdf.triangles, "a failure left memory in the field");
 }
 
+/* A file Assimp cannot read: its reason after the reader's prefix, as for cloth meshes. */
+static void test_garbage(void)
+{
+    char path[256];
+    path_in(path, "garbage.obj");
+    FILE* f = fopen(path, "wb");
+    if (!f) {
+        fprintf(stderr, "FAILED: cannot write %s\n", path);
+        exit(1);
+    }
+    fputs("\x01\x02 this is not a mesh\n", f);
+    fclose(f);
+    cvk_sdf sdf;
+    cvk_error err = {0};
+    cvk_result r = cvk_sdf_from_mesh_file(path, &identity, 32, 0.0f, "colliders.6.file", &sdf, &err);
+    char prefix[512];
+    snprintf(prefix, sizeof prefix, "colliders.6.file: ");
+    CHECK(r != CVK_SUCCESS && strncmp(err.message, prefix, strlen(prefix)) == 0 &&
+          strstr(err.message, path) != NULL, "a garbage file gave %s: \"%s\"; expected a "
+          "failure naming the key and the file", cvk_result_name(r), err.message);
+    CHECK(!sdf.values && !sdf.xyz && !sdf.triangles, "a failure left memory in the field");
+}
+
 /* ---- the chair asset: the surface of a union of boxes (scripts/make_meshes.py) ---- */
 
 static const float chair_boxes[8][6] = {
@@ -455,8 +478,10 @@ int main(void)
     test_inconsistent();
     test_inside_out();
     test_missing();
+    test_garbage();
     test_chair();
-    const char* names[] = {"sphere.obj", "box.obj", "open.obj", "turned.obj", "inside-out.obj"};
+    const char* names[] = {"sphere.obj", "box.obj", "open.obj", "turned.obj", "inside-out.obj",
+                           "garbage.obj"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         char path[256];
         path_in(path, names[i]);
