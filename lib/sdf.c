@@ -27,9 +27,9 @@
 #include "topology.h"
 #include "u64_map.h"
 
-/* Samples between the mesh's box and the grid's edge on every side: trilinear sampling and
-   the device's finite-difference normals read one sample beyond the point, and a cloth
-   particle a few voxels off the surface still samples inside the grid. */
+/* Samples between the mesh's box and the grid's edge on every side, so that points a few
+   voxels off the surface, where contact is decided, are sampled (and differentiated, for
+   normals) inside the grid rather than through the bound beyond it. */
 #define SDF_MARGIN 3
 
 /* The finest grid asked for: 512 voxels along the diagonal is at most 519³ samples (0.5 GiB
@@ -395,7 +395,7 @@ static cvk_result check_arguments(const char* path, uint32_t resolution, float m
                         SDF_MAX_RESOLUTION);
     if (!(min_voxel >= 0.0f) || !isfinite(min_voxel))
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: smallest signed distance voxel "
-                        "%g m; it must be a finite number ≥ 0", key, (double)min_voxel);
+                        "%g m; it must be a finite number, 0 or more", key, (double)min_voxel);
     return CVK_SUCCESS;
 }
 

@@ -344,6 +344,19 @@ static void test_missing(void)
     CHECK(!sdf.values && !sdf.xyz && !sdf.triangles, "a failure left memory in the field");
 }
 
+/* A grid of one voxel along the diagonal is refused before the file is read. */
+static void test_resolution(void)
+{
+    cvk_sdf sdf;
+    cvk_error err = {0};
+    cvk_result r = cvk_sdf_from_mesh_file("chair.obj", &identity, 1, 0.0f, "colliders.7.file",
+                                          &sdf, &err);
+    const char* expected = "colliders.7.file: signed distance resolution 1; it must be 2 to 512 "
+                           "voxels along the mesh's diagonal";
+    CHECK(r == CVK_ERROR_INVALID_ARGUMENT && strcmp(err.message, expected) == 0, "resolution 1 "
+          "gave %s: \"%s\", expected \"%s\"", cvk_result_name(r), err.message, expected);
+}
+
 /* A file Assimp cannot read: its reason after the reader's prefix, as for cloth meshes. */
 static void test_garbage(void)
 {
@@ -479,6 +492,7 @@ int main(void)
     test_inside_out();
     test_missing();
     test_garbage();
+    test_resolution();
     test_chair();
     const char* names[] = {"sphere.obj", "box.obj", "open.obj", "turned.obj", "inside-out.obj",
                            "garbage.obj"};
