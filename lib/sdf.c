@@ -324,44 +324,72 @@ static double winding_number(const field_mesh* f, const double p[3])
     return sum / (4.0 * 3.14159265358979323846);
 }
 
-/* Unsigned distances everywhere, the sign of the samples within a voxel of the surface from
-   the winding number (its magnitude, so a mesh wound inside out is still solid inside), then
-   the sign carried outwards breadth first. `values` holds distances, then signed distances. */
+/* The point of sample s. */
+static void sample_point(const cvk_sdf* out, size_t s, double p[3])
+{
+    const uint32_t* d = out->dims;
+    p[0] = out->origin[0] + out->voxel * (double)(s % d[0]);
+    p[1] = out->origin[1] + out->voxel * (double)(s / d[0] % d[1]);
+    p[2] = out->origin[2] + out->voxel * (double)(s / d[0] / d[1]);
+}
+
+/* Signs for the unsigned distances in out->values, breadth first: a neighbour whose distance
+   and this sample's add up to more than the voxel has this sample's sign (the 1e-4 covers the
+   distances' rounding to float); a sample no known neighbour decides gets the sign of its
+   winding number (by magnitude, so a mesh wound inside out is still solid inside) and starts a
+   new search. A winding number is computed for about one sample per connected region and
+   for samples squeezed between close surfaces, not for every sample near the surface. */
+static void fill_signs(const field_mesh* f, cvk_sdf* out, int8_t* sign, uint32_t* queue)
+{
+    const uint32_t* d = out->dims;
+    const size_t samples = (size_t)d[0] * d[1] * d[2], step[3] = {1, d[0], (size_t)d[0] * d[1]};
+    const float apart = out->voxel * 1.0001f;
+    size_t unknown = 0;
+    uint32_t head = 0, tail = 0;
+    for (;;) {
+        if (head == tail) {
+            while (unknown < samples && sign[unknown])
+                unknown++;
+            if (unknown == samples)
+                return;
+            double p[3];
+            sample_point(out, unknown, p);
+            sign[unknown] = fabs(winding_number(f, p)) > 0.5 ? -1 : 1;
+            queue[tail++] = (uint32_t)unknown;
+        }
+        size_t s = queue[head++];
+        const uint32_t at[3] = {(uint32_t)(s % d[0]), (uint32_t)(s / d[0] % d[1]),
+                                (uint32_t)(s / step[2])};
+        for (int k = 0; k < 6; k++) {
+            int axis = k / 2;
+            bool up = k % 2;
+            if (up ? at[axis] + 1 >= d[axis] : at[axis] == 0)
+                continue;
+            size_t n = up ? s + step[axis] : s - step[axis];
+            if (!sign[n] && out->values[s] + out->values[n] > apart) {
+                sign[n] = sign[s];
+                queue[tail++] = (uint32_t)n;
+            }
+        }
+    }
+}
+
+/* Exact unsigned distances at every sample, then their signs. */
 static bool fill_field(const cvk_mesh_triangles* mesh, cvk_sdf* out)
 {
     field_mesh f = {.mesh = mesh};
-    const uint32_t* d = out->dims;
-    size_t samples = (size_t)d[0] * d[1] * d[2];
+    size_t samples = (size_t)out->dims[0] * out->dims[1] * out->dims[2];
     int8_t* sign = calloc(samples, sizeof *sign);
     uint32_t* queue = malloc(samples * sizeof *queue); /* samples < 2^32: SDF_MAX_RESOLUTION */
     bool ok = sign && queue && build_bvh(&f);
-    uint32_t tail = 0, nearest = 0;
+    uint32_t nearest = 0;
     for (size_t s = 0; ok && s < samples; s++) {
-        double p[3] = {out->origin[0] + out->voxel * (double)(s % d[0]),
-                       out->origin[1] + out->voxel * (double)(s / d[0] % d[1]),
-                       out->origin[2] + out->voxel * (double)(s / d[0] / d[1])};
-        double distance = sqrt(mesh_distance2(&f, p, &nearest));
-        out->values[s] = (float)distance;
-        if (distance <= out->voxel) {
-            sign[s] = fabs(winding_number(&f, p)) > 0.5 ? -1 : 1;
-            queue[tail++] = (uint32_t)s;
-        }
+        double p[3];
+        sample_point(out, s, p);
+        out->values[s] = (float)sqrt(mesh_distance2(&f, p, &nearest));
     }
-    const size_t step[3] = {1, d[0], (size_t)d[0] * d[1]};
-    for (uint32_t head = 0; ok && head < tail; head++) {
-        size_t s = queue[head];
-        uint32_t at[3] = {(uint32_t)(s % d[0]), (uint32_t)(s / d[0] % d[1]), (uint32_t)(s / step[2])};
-        for (int k = 0; k < 3; k++) {
-            if (at[k] > 0 && !sign[s - step[k]]) {
-                sign[s - step[k]] = sign[s];
-                queue[tail++] = (uint32_t)(s - step[k]);
-            }
-            if (at[k] + 1 < d[k] && !sign[s + step[k]]) {
-                sign[s + step[k]] = sign[s];
-                queue[tail++] = (uint32_t)(s + step[k]);
-            }
-        }
-    }
+    if (ok)
+        fill_signs(&f, out, sign, queue);
     for (size_t s = 0; ok && s < samples; s++)
         out->values[s] *= sign[s];
     free(sign);
