@@ -328,6 +328,39 @@ static void test_inside_out(void)
     cvk_sdf_destroy(&sdf);
 }
 
+/* Two cubes in one file, 1 m apart: each region of the grid gets its sign (the centres deep
+   inside, the gap between them outside). */
+static void test_two_parts(void)
+{
+    char path[256];
+    path_in(path, "two.obj");
+    float xyz[48];
+    int quads[48];
+    for (int v = 0; v < 8; v++)
+        for (int k = 0; k < 3; k++) {
+            xyz[3 * v + k] = 0.25f * cube_xyz[3 * v + k];
+            xyz[24 + 3 * v + k] = 0.25f * cube_xyz[3 * v + k] + (k == 0 ? 1.5f : 0.0f);
+        }
+    for (int i = 0; i < 24; i++) {
+        quads[i] = cube_quads[i];
+        quads[24 + i] = cube_quads[i] + 8;
+    }
+    write_obj(path, xyz, 16, quads, 4, 12);
+    cvk_sdf sdf;
+    cvk_error err;
+    REQUIRE_OK(cvk_sdf_from_mesh_file(path, &identity, 32, 0.0f, "colliders.8.file", &sdf, &err),
+               err);
+    const float a[3] = {0.05f, 0.0f, 0.0f}, b[3] = {1.45f, 0.0f, 0.0f}, gap[3] = {0.75f, 0.0f, 0.0f};
+    float da = cvk_sdf_sample(&sdf, a), db = cvk_sdf_sample(&sdf, b), dg = cvk_sdf_sample(&sdf, gap);
+    /* Within half a voxel: each point lies where the field has a crease (equally far from two
+       faces), which interpolation rounds off. */
+    float tolerance = 0.5f * sdf.voxel;
+    CHECK(fabsf(da + 0.2f) < tolerance && fabsf(db + 0.2f) < tolerance &&
+          fabsf(dg - 0.5f) < tolerance, "two cubes: %.5f m and %.5f m inside (expected -0.2), "
+          "%.5f m between (expected 0.5), tolerance %.4f m", da, db, dg, tolerance);
+    cvk_sdf_destroy(&sdf);
+}
+
 static void test_missing(void)
 {
     char path[256];
@@ -490,12 +523,13 @@ int main(void)
     test_open();
     test_inconsistent();
     test_inside_out();
+    test_two_parts();
     test_missing();
     test_garbage();
     test_resolution();
     test_chair();
     const char* names[] = {"sphere.obj", "box.obj", "open.obj", "turned.obj", "inside-out.obj",
-                           "garbage.obj"};
+                           "garbage.obj", "two.obj"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         char path[256];
         path_in(path, names[i]);
