@@ -55,6 +55,20 @@ cvk_result cvk_topology_grid(const cvk_cloth_desc* cloth, uint32_t index, cvk_to
 cvk_result cvk_topology_mesh(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,
                              cvk_error* error);
 
+/* A mesh file's triangles alone, for colliders: the same reader, welding, checks and messages
+   as cvk_topology_mesh (prefixed with `key`, e.g. "colliders.2.file"), the vertices in the same
+   order, with `transform` applied; no springs. On failure `out` is zeroed. */
+typedef struct cvk_mesh_triangles {
+    float* xyz;                  /* 3 floats per vertex, m, after the transform */
+    uint32_t vertex_count;
+    uint32_t* triangles;         /* 3 vertex indices per triangle, the file's winding */
+    uint32_t triangle_count;
+} cvk_mesh_triangles;
+
+cvk_result cvk_topology_mesh_triangles(const char* path, const cvk_transform* transform,
+                                       const char* key, cvk_mesh_triangles* out, cvk_error* error);
+void cvk_mesh_triangles_free(cvk_mesh_triangles* mesh);
+
 /* Lumped masses from the triangles: each vertex gets a third of the area of its triangles
    times density, or, with density 0, that area's share of total_mass. Every vertex must lie
    in a triangle of non-zero area (the mesh reader drops vertices no face uses; scene

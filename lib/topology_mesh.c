@@ -813,6 +813,51 @@ static cvk_result read_mesh(mesh_reader* r, cvk_topology* out)
     return result;
 }
 
+/* The same reader up to the triangles (welded, checked, no springs), then the transform. */
+cvk_result cvk_topology_mesh_triangles(const char* path, const cvk_transform* transform,
+                                       const char* key, cvk_mesh_triangles* out, cvk_error* error)
+{
+    memset(out, 0, sizeof *out);
+    mesh_reader r = {.path = path, .error = error};
+    snprintf(r.key, sizeof r.key, "%s", key);
+    cvk_result result = open_scene(&r);
+    if (result == CVK_SUCCESS)
+        result = weld(&r);
+    if (result == CVK_SUCCESS)
+        result = gather_faces(&r);
+    if (result == CVK_SUCCESS)
+        result = split_faces(&r);
+    if (result == CVK_SUCCESS)
+        result = find_edges(&r);
+    if (result == CVK_SUCCESS)
+        result = find_opposites(&r);
+    if (result == CVK_SUCCESS) {
+        out->xyz = malloc(3 * (size_t)r.vertex_count * sizeof *out->xyz);
+        result = out->xyz ? CVK_SUCCESS : out_of_memory(&r, "the vertices");
+    }
+    if (result == CVK_SUCCESS) {
+        out->vertex_count = r.vertex_count;
+        transform_positions(transform, r.position, out->xyz, r.vertex_count);
+        result = check_extent(&r, out->xyz);
+    }
+    if (result == CVK_SUCCESS) {
+        out->triangle_count = r.triangle_count;
+        out->triangles = r.triangles;
+        r.triangles = NULL;
+    }
+    reader_free(&r);
+    if (result != CVK_SUCCESS)
+        cvk_mesh_triangles_free(out);
+    return result;
+}
+
+void cvk_mesh_triangles_free(cvk_mesh_triangles* mesh)
+{
+    free(mesh->xyz);
+    free(mesh->triangles);
+    memset(mesh, 0, sizeof *mesh);
+}
+
 cvk_result cvk_topology_mesh(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,
                              cvk_error* error)
 {

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the example cloth meshes assets/meshes/poncho.obj and assets/meshes/flag.obj.
+"""Writes the example cloth meshes assets/meshes/poncho.obj and assets/meshes/flag.obj, and the
+collider mesh assets/meshes/chair.obj.
 
 Both lie in the x-y plane (z = 0), y up, facing +z (triangles counter-clockwise seen from +z),
 so a scene hangs them by pinning their top edge (y = 1) with a pin_box. They are irregularly
@@ -10,6 +11,8 @@ has edges between h and about 2h, so springs of similar length everywhere.
 - poncho.obj: a 1 m x 1 m square, x in [-0.5, 0.5], y in [0, 1], with a round head opening
   of radius 0.13 m at its centre (seed 002, fig. 6.19).
 - flag.obj: a 1.5 m x 1 m rectangle, x in [-0.75, 0.75], y in [0, 1].
+
+- chair.obj: a closed chair for mesh colliders (see chair() below).
 
 Vertices are written in the order the faces first use them and faces sorted top row first, so
 particle i of the cloth is the file's vertex i + 1 (OBJ counts from 1) and low indices lie along
@@ -230,12 +233,102 @@ def flag(path):
     write_obj(path, "flag: 1.5 m x 1 m", pts, delaunay(pts), 0, h)
 
 
+# The chair as the union of boxes (x0, y0, z0, x1, y1, z1), m: seat 0.45 m x 0.45 m, top at
+# y = 0.45; four legs of 0.04 m x 0.04 m from the floor (y = 0) up into the seat; at the back
+# (-z) two posts and a panel between them up to y = 0.9. Centred on x = z = 0, the front faces
+# +z. The file holds the union's surface only, one closed manifold with no faces inside the
+# solid: overlapping closed boxes would leave faces inside, which no signed distance can tell
+# from the real surface by distance alone.
+CHAIR_BOXES = [
+    (-0.225, 0.40, -0.225, 0.225, 0.45, 0.225),      # seat
+    (-0.21, 0.0, 0.165, -0.17, 0.42, 0.205),         # front left leg
+    (0.17, 0.0, 0.165, 0.21, 0.42, 0.205),           # front right leg
+    (-0.21, 0.0, -0.205, -0.17, 0.42, -0.165),       # back left leg
+    (0.17, 0.0, -0.205, 0.21, 0.42, -0.165),         # back right leg
+    (-0.21, 0.43, -0.215, -0.17, 0.9, -0.175),       # back post, left
+    (0.17, 0.43, -0.215, 0.21, 0.9, -0.175),         # back post, right
+    (-0.185, 0.6, -0.21, 0.185, 0.88, -0.185),       # back panel between the posts
+]
+
+
+def box_union_surface(boxes):
+    """The boundary of a union of axis-aligned boxes as quads on the grid of every box's
+    coordinates: a cell of that grid is solid when a box covers it, and each face between a
+    solid and an empty cell is a quad, counter-clockwise seen from the empty side. Faces meet
+    whole edge to whole edge (no T-junctions), so the surface is closed."""
+    axes = [sorted({b[k] for b in boxes} | {b[k + 3] for b in boxes}) for k in range(3)]
+    size = [len(a) - 1 for a in axes]
+
+    def solid(c):
+        if any(c[k] < 0 or c[k] >= size[k] for k in range(3)):
+            return False
+        mid = [(axes[k][c[k]] + axes[k][c[k] + 1]) / 2 for k in range(3)]
+        return any(all(b[k] < mid[k] < b[k + 3] for k in range(3)) for b in boxes)
+
+    index = {}
+    xyz = []
+    quads = []
+
+    def vertex(g):
+        if g not in index:
+            index[g] = len(xyz)
+            xyz.append(tuple(axes[k][g[k]] for k in range(3)))
+        return index[g]
+
+    for i in range(size[0]):
+        for j in range(size[1]):
+            for k in range(size[2]):
+                c = (i, j, k)
+                if not solid(c):
+                    continue
+                for axis in range(3):
+                    for side in (0, 1):
+                        n = list(c)
+                        n[axis] += 1 if side else -1
+                        if solid(tuple(n)):
+                            continue
+                        u, v = (axis + 1) % 3, (axis + 2) % 3
+                        base = list(c)
+                        base[axis] += side
+                        corners = []
+                        for du, dv in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                            g = list(base)
+                            g[u] += du
+                            g[v] += dv
+                            corners.append(vertex(tuple(g)))
+                        # (u, v, axis) is right-handed: u then v turns counter-clockwise seen
+                        # from +axis.
+                        quads.append(corners if side else corners[::-1])
+    return xyz, quads
+
+
+def chair(path):
+    xyz, quads = box_union_surface(CHAIR_BOXES)
+    edges = {}
+    for q in quads:
+        for a, b in zip(q, q[1:] + q[:1]):
+            edges[(min(a, b), max(a, b))] = edges.get((min(a, b), max(a, b)), 0) + 1
+    assert all(n == 2 for n in edges.values()), "the chair's surface is not a closed manifold"
+    with open(path, "w", encoding="ascii") as f:
+        f.write("# chair: seat 0.45 m x 0.45 m at y = 0.45, back to y = 0.9, front +z\n")
+        f.write("# written by scripts/make_meshes.py; the surface of %d boxes' union, closed; "
+                "y up, resting on y = 0\n" % len(CHAIR_BOXES))
+        f.write("# vertices %d, quads %d\n" % (len(xyz), len(quads)))
+        f.write("o chair\n")
+        for p in xyz:
+            f.write("v %g %g %g\n" % p)
+        for q in quads:
+            f.write("f %s\n" % " ".join(str(k + 1) for k in q))
+    print("%s: %d vertices, %d quads" % (path, len(xyz), len(quads)))
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.normpath(os.path.join(
         os.path.dirname(os.path.abspath(__file__)), "..", "assets", "meshes"))
     os.makedirs(out, exist_ok=True)
     poncho(os.path.join(out, "poncho.obj"))
     flag(os.path.join(out, "flag.obj"))
+    chair(os.path.join(out, "chair.obj"))
 
 
 if __name__ == "__main__":
