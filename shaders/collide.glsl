@@ -283,6 +283,16 @@ vec3 collide_colliders(vec3 x0, vec3 u)
             continue;
         l1 += depth * n;
         l1 = apply_friction(l0, l1, n, depth, c.friction, c.static_friction);
+        if (c.type != CVK_COLLIDER_PLANE_ID) {
+            // The tangent plane at the touch is exact for flat faces; at edges, corners and
+            // curved or sampled surfaces the end may still be within r: push it out along
+            // the field's gradient.
+            for (int i = 0; i < 2; i++) {
+                float left = r - shape_distance(c, l1);
+                if (left > 0.0)
+                    l1 += left * shape_normal(c, l1);
+            }
+        }
         u = quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
     }
     return u;

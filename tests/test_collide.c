@@ -10,6 +10,9 @@
 #define PI 3.14159265358979323846
 
 #define TOLERANCE 1e-4f /* m: how far inside the thickness a particle may end a substep */
+/* A mesh collider's field is sampled (trilinear, voxels of about 1.1 cm for the chair), and at
+   its edges and concave corners the pushes along the sampled gradient stop short by a little. */
+#define MESH_TOLERANCE 1e-3f
 
 static cvk_collider_desc collider(cvk_collider_type type)
 {
@@ -85,7 +88,7 @@ static cvk_scene_desc one_substep_scene(const cvk_cloth_desc* cloth, const cvk_c
 static void test_static_shapes(cvk_context* ctx)
 {
     cvk_cloth_desc cloth = flat_cloth(24, 1.0f, 0.45f);
-    cvk_collider_desc shapes[5];
+    cvk_collider_desc shapes[6];
     shapes[0] = collider(CVK_COLLIDER_PLANE);
     shapes[1] = collider(CVK_COLLIDER_SPHERE);
     shapes[1].radius = 0.3f;
@@ -103,12 +106,19 @@ static void test_static_shapes(cvk_context* ctx)
     shapes[4].apex[1] = 0.3f;
     shapes[4].funnel_a = 0.4f;
     shapes[4].height = 1.0f;
-    for (int i = 0; i < 5; i++) {
-        cvk_scene_desc scene = one_substep_scene(&cloth, &shapes[i]);
+    const char* root = getenv("CLOTHVK_SOURCE_ROOT");
+    char chair[512];
+    snprintf(chair, sizeof chair, "%s/assets/meshes/chair.obj", root ? root : ".");
+    shapes[5] = collider(CVK_COLLIDER_MESH); /* the chair, seat at 0.45 m */
+    shapes[5].file = chair;
+    cvk_cloth_desc above_chair = flat_cloth(24, 1.0f, 1.0f); /* its back reaches 0.9 m */
+    for (int i = 0; i < 6; i++) {
+        cvk_scene_desc scene = one_substep_scene(i == 5 ? &above_chair : &cloth, &shapes[i]);
         float worst = run_and_watch(ctx, &scene, 250);
-        CHECK(worst <= TOLERANCE, "a cloth dropped on a %s ends a substep %.3g m inside its "
+        float tolerance = i == 5 ? MESH_TOLERANCE : TOLERANCE;
+        CHECK(worst <= tolerance, "a cloth dropped on a %s ends a substep %.3g m inside its "
               "thickness (tolerance %.0e m)", cvk_collider_type_name(shapes[i].type), worst,
-              TOLERANCE);
+              tolerance);
     }
 }
 
