@@ -21,6 +21,7 @@ typedef struct cvk_spec_recipe {
 
 #define CVK_SPEC_PD {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
 #define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+#define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
@@ -29,7 +30,14 @@ typedef struct cvk_spec_recipe {
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
-    X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")
+    X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
+    X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
+    X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \
+    X(HASH_SCAN_CHUNKS, HASH_SCAN_CHUNKS_COMP, CVK_SPEC_WORKGROUP, "hash: scan chunks") \
+    X(HASH_SCAN, HASH_SCAN_COMP, CVK_SPEC_WORKGROUP, "hash: scan")              \
+    X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
+    X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
+    X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours")
 
 typedef enum cvk_pipeline_id {
 #define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,

@@ -1,0 +1,257 @@
+/* The uniform-grid spatial hash on the device (hash.h): buffers, the set, and the build as plan
+   operations. The build is a counting sort by slot followed by a per-slot sort:
+
+     fills     params (cell size, table size, count), counts := 0
+     count     per point: keys[p] = slot, counts[slot]++ (atomic)
+     scan      exclusive prefix sum of the counts into starts, in three dispatches: the sum of
+               each chunk of slots (one invocation per chunk), a serial scan of the chunk sums
+               (one invocation), then each chunk's own scan from its offset, which also resets
+               the counts to serve as cursors
+     scatter   per point: entries[starts[slot] + cursor[slot]++] = p (atomic)
+     sort      per slot: insertion sort of its entries by point index
+
+   The number of operations depends only on the count being 0 or not, never on the points, so
+   the build needs no host round trip. The three-dispatch scan uses no shared memory and no
+   workgroup barrier, which lavapipe makes expensive. */
+#include "hash.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "error.h"
+#include "shared/layout.h"
+
+_Static_assert(sizeof(cvk_hash_params) == 16, "cvk_hash_params: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_hash_push) == 16, "cvk_hash_push: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes in GLSL");
+
+#define MAX_CAPACITY (1u << 30) /* table_size = 2^31 slots at most: it must fit a uint */
+
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+};
+#undef STORAGE
+
+/* The smallest power of two ≥ 2 · capacity. */
+static uint32_t table_size_for(uint32_t capacity)
+{
+    uint32_t size = 2;
+    while (size < 2 * capacity)
+        size *= 2;
+    return size;
+}
+
+/* Slots per chunk of the scan: the power of two nearest sqrt(table_size) from above, so the
+   chunks and the slots of a chunk are about as many (both serial loops stay short). */
+static uint32_t chunk_for(uint32_t table_size)
+{
+    uint32_t bits = 0;
+    while ((1u << bits) < table_size)
+        bits++;
+    return 1u << ((bits + 1) / 2);
+}
+
+static uint32_t chunk_count(const cvk_hash* hash)
+{
+    return hash->table_size / chunk_for(hash->table_size);
+}
+
+static cvk_result check_desc(const cvk_context* context, const cvk_hash_desc* desc,
+                             cvk_error* error)
+{
+    if (desc->capacity < 1 || desc->capacity > MAX_CAPACITY)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "hash: capacity is %u points; it must be 1 to %u", desc->capacity,
+                        MAX_CAPACITY);
+    if (!(desc->cell_size > 0.0f) || !isfinite(desc->cell_size) ||
+        !isfinite(1.0f / desc->cell_size))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "hash: cell size is %g m; it must be positive and finite with a finite "
+                        "reciprocal", (double)desc->cell_size);
+    if (!desc->points || desc->points->size < (VkDeviceSize)desc->capacity * 16)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "hash: the points buffer must hold a vec4 per point (%u points)",
+                        desc->capacity);
+    uint64_t starts_bytes = 4 * ((uint64_t)table_size_for(desc->capacity) + 1);
+    uint64_t limit = context->properties.limits.maxStorageBufferRange;
+    if (starts_bytes > limit)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "hash: %u points need a table of %llu bytes; the device's storage "
+                        "buffers hold at most %llu", desc->capacity,
+                        (unsigned long long)starts_bytes, (unsigned long long)limit);
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, cvk_error* error)
+{
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    uint64_t slots = hash->table_size;
+    struct {
+        cvk_buffer* buffer;
+        VkDeviceSize bytes;
+        const char* what;
+    } list[] = {
+        {&hash->params, sizeof(cvk_hash_params), "hash parameters"},
+        {&hash->keys, 4 * (VkDeviceSize)hash->capacity, "hash keys"},
+        {&hash->starts, 4 * (slots + 1), "hash slot starts"},
+        {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
+        {&hash->scratch, 4 * (slots + chunk_count(hash)), "hash scratch"},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        cvk_result r = cvk_buffer_create(context, list[i].bytes, usage, CVK_MEMORY_DEVICE,
+                                         list[i].what, list[i].buffer, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_set(cvk_context* context, cvk_hash* hash, const cvk_buffer* points,
+                             cvk_error* error)
+{
+    cvk_descriptors d;
+    cvk_result r = cvk_descriptors_create(context, hash_bindings, CVK_HASH_BINDING_COUNT, 1,
+                                          VK_SHADER_STAGE_COMPUTE_BIT, sizeof(cvk_hash_push), &d,
+                                          error);
+    if (r != CVK_SUCCESS)
+        return r;
+    hash->set_layout = d.set_layout;
+    hash->layout = d.pipeline_layout;
+    hash->pool = d.pool;
+    hash->set = d.sets[0];
+    const cvk_resource res[CVK_HASH_BINDING_COUNT] = {
+        [CVK_HASH_BINDING_PARAMS] = {.buffer = &hash->params},
+        [CVK_HASH_BINDING_POINTS] = {.buffer = points},
+        [CVK_HASH_BINDING_KEYS] = {.buffer = &hash->keys},
+        [CVK_HASH_BINDING_STARTS] = {.buffer = &hash->starts},
+        [CVK_HASH_BINDING_ENTRIES] = {.buffer = &hash->entries},
+        [CVK_HASH_BINDING_SCRATCH] = {.buffer = &hash->scratch},
+    };
+    cvk_descriptors_write(context, &d, 0, res);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_hash* out,
+                           cvk_error* error)
+{
+    memset(out, 0, sizeof *out);
+    cvk_result r = check_desc(context, desc, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    out->capacity = desc->capacity;
+    out->table_size = table_size_for(desc->capacity);
+    out->cell_size = desc->cell_size;
+    r = create_buffers(context, out, error);
+    if (r == CVK_SUCCESS)
+        r = create_set(context, out, desc->points, error);
+    if (r != CVK_SUCCESS)
+        cvk_hash_destroy(context, out);
+    return r;
+}
+
+void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
+{
+    if (hash->pool)
+        vkDestroyDescriptorPool(context->device, hash->pool, NULL);
+    if (hash->layout)
+        vkDestroyPipelineLayout(context->device, hash->layout, NULL);
+    if (hash->set_layout)
+        vkDestroyDescriptorSetLayout(context->device, hash->set_layout, NULL);
+    cvk_buffer_destroy(context, &hash->params);
+    cvk_buffer_destroy(context, &hash->keys);
+    cvk_buffer_destroy(context, &hash->starts);
+    cvk_buffer_destroy(context, &hash->entries);
+    cvk_buffer_destroy(context, &hash->scratch);
+    memset(hash, 0, sizeof *hash);
+}
+
+static uint32_t float_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* The parameters, one fill per word (the fills touch disjoint words, so only the last needs a
+   barrier), and the counts zeroed; with no points, starts zeroed instead and nothing else. */
+static void add_fills(const cvk_hash* hash, cvk_plan* plan, uint32_t pass, uint32_t count)
+{
+    /* cvk_hash_params word by word */
+    uint32_t words[4] = {float_bits(hash->cell_size), float_bits(1.0f / hash->cell_size),
+                         hash->table_size, count};
+    for (uint32_t i = 0; i < 4; i++) {
+        cvk_op* op = cvk_plan_fill(plan, pass, hash->params.buffer, 4 * i, 4, words[i]);
+        if (op)
+            op->barrier = CVK_BARRIER_NONE;
+    }
+    const cvk_buffer* zeroed = count ? &hash->scratch : &hash->starts;
+    VkDeviceSize bytes = count ? 4 * (VkDeviceSize)hash->table_size : zeroed->size;
+    cvk_op* op = cvk_plan_fill(plan, pass, zeroed->buffer, 0, bytes, 0);
+    if (op)
+        snprintf(op->note, sizeof op->note, "%s", count ? "counts := 0" : "starts := 0 (no points)");
+}
+
+/* One build dispatch over `items` of `domain`. */
+static void add_dispatch(const cvk_hash* hash, cvk_plan* plan, uint32_t pass,
+                         cvk_pipeline_id pipeline, cvk_domain domain, uint32_t items,
+                         const cvk_hash_push* push, const char* note)
+{
+    cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, hash->layout, hash->set, domain, 0, items,
+                                   push, sizeof *push);
+    if (op)
+        snprintf(op->note, sizeof op->note, "%s", note);
+}
+
+cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
+                               cvk_error* error)
+{
+    if (count > hash->capacity)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "hash: %u points to hash; the hash was made for at most %u", count,
+                        hash->capacity);
+    uint32_t pass = cvk_plan_pass(plan, "hash");
+    add_fills(hash, plan, pass, count);
+    if (count > 0) {
+        uint32_t chunk = chunk_for(hash->table_size);
+        cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk};
+        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_COUNT, CVK_DOMAIN_PARTICLES, count, &push,
+                     "keys, counts per slot");
+        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CHUNK_SUMS, CVK_DOMAIN_CELLS, push.chunks,
+                     &push, "sums of chunks of slots");
+        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCAN_CHUNKS, CVK_DOMAIN_CELLS, 1, &push,
+                     "scan of the chunk sums");
+        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCAN, CVK_DOMAIN_CELLS, push.chunks, &push,
+                     "starts per slot");
+        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCATTER, CVK_DOMAIN_PARTICLES, count, &push,
+                     "entries by slot");
+        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SORT, CVK_DOMAIN_CELLS, hash->table_size,
+                     &push, "entries in index order per slot");
+    }
+    return cvk_plan_check(plan, error);
+}
+
+/* As hash_cell in shaders/hash_common.glsl: a correctly rounded product, floored, clamped. */
+static int32_t cell_coordinate(float p, float inv_cell)
+{
+    float limit = (float)CVK_HASH_CELL_LIMIT;
+    float c = floorf(p * inv_cell);
+    c = fmaxf(c, -limit);
+    c = fminf(c, limit);
+    return (int32_t)c;
+}
+
+uint32_t cvk_hash_slot(const cvk_hash* hash, const float p[3])
+{
+    float inv_cell = 1.0f / hash->cell_size;
+    uint32_t x = (uint32_t)cell_coordinate(p[0], inv_cell);
+    uint32_t y = (uint32_t)cell_coordinate(p[1], inv_cell);
+    uint32_t z = (uint32_t)cell_coordinate(p[2], inv_cell);
+    uint32_t h = (x * 73856093u) ^ (y * 19349663u) ^ (z * 83492791u);
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    return h & (hash->table_size - 1u);
+}
