@@ -7,12 +7,17 @@
                each chunk of slots (one invocation per chunk), a serial scan of the chunk sums
                (one invocation), then each chunk's own scan from its offset, which also resets
                the counts to serve as cursors
-     scatter   per point: entries[starts[slot] + cursor[slot]++] = p (atomic)
-     sort      per slot: insertion sort of its entries by point index
+     scatter   per point: unsorted[starts[slot] + cursor[slot]++] = p (atomic)
+     sort      per point: entries[starts[slot] + rank] = p, rank = the slot's points below p
 
    The number of operations depends only on the count being 0 or not, never on the points, so
    the build needs no host round trip. The three-dispatch scan uses no shared memory and no
-   workgroup barrier, which lavapipe makes expensive. */
+   workgroup barrier, which lavapipe makes expensive.
+
+   lavapipe (gallivm) ends a shader's loops silently after 65535 iterations in all, counted over
+   every loop of an invocation batch. Passes whose items loop over a slot (the sort here, and
+   queries such as hash_neighbours.comp) therefore get one item per invocation rather than the
+   plan's few strided workgroups; see cvk_hash_one_item_each. */
 #include "hash.h"
 
 #include <math.h>
@@ -27,6 +32,7 @@ _Static_assert(sizeof(cvk_hash_push) == 16, "cvk_hash_push: 16 bytes in GLSL");
 _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes in GLSL");
 
 #define MAX_CAPACITY (1u << 30) /* table_size = 2^31 slots at most: it must fit a uint */
+#define MAX_GROUPS 65535u       /* maxComputeWorkGroupCount[0] is at least this everywhere */
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
@@ -98,7 +104,7 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, cvk_error
         {&hash->keys, 4 * (VkDeviceSize)hash->capacity, "hash keys"},
         {&hash->starts, 4 * (slots + 1), "hash slot starts"},
         {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
-        {&hash->scratch, 4 * (slots + chunk_count(hash)), "hash scratch"},
+        {&hash->scratch, 4 * (slots + chunk_count(hash) + hash->capacity), "hash scratch"},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         cvk_result r = cvk_buffer_create(context, list[i].bytes, usage, CVK_MEMORY_DEVICE,
@@ -195,14 +201,23 @@ static void add_fills(const cvk_hash* hash, cvk_plan* plan, uint32_t pass, uint3
 }
 
 /* One build dispatch over `items` of `domain`. */
-static void add_dispatch(const cvk_hash* hash, cvk_plan* plan, uint32_t pass,
-                         cvk_pipeline_id pipeline, cvk_domain domain, uint32_t items,
-                         const cvk_hash_push* push, const char* note)
+static cvk_op* add_dispatch(const cvk_hash* hash, cvk_plan* plan, uint32_t pass,
+                            cvk_pipeline_id pipeline, cvk_domain domain, uint32_t items,
+                            const cvk_hash_push* push, const char* note)
 {
     cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, hash->layout, hash->set, domain, 0, items,
                                    push, sizeof *push);
     if (op)
         snprintf(op->note, sizeof op->note, "%s", note);
+    return op;
+}
+
+void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op)
+{
+    if (!op)
+        return;
+    uint32_t groups = (op->count + plan->workgroup_size - 1) / plan->workgroup_size;
+    op->groups = groups < MAX_GROUPS ? groups : MAX_GROUPS;
 }
 
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
@@ -227,8 +242,9 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
                      "starts per slot");
         add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCATTER, CVK_DOMAIN_PARTICLES, count, &push,
                      "entries by slot");
-        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SORT, CVK_DOMAIN_CELLS, hash->table_size,
-                     &push, "entries in index order per slot");
+        cvk_op* sort = add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SORT, CVK_DOMAIN_PARTICLES,
+                                    count, &push, "entries in index order per slot");
+        cvk_hash_one_item_each(plan, sort);
     }
     return cvk_plan_check(plan, error);
 }

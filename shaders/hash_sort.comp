@@ -1,25 +1,23 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The hash build, sort: each slot's entries into ascending point order (insertion sort, one
-// invocation per slot), so queries visit points in an order that does not depend on timing.
-// Slots hold about one point on average (table_size ≥ 2 · capacity) and the scatter leaves
-// them nearly sorted, so the quadratic worst case is rare.
+// The hash build, sort: the scatter left each slot's points in the order its atomics happened
+// (in scratch); each point's place in its slot is the number of the slot's points with a
+// smaller index, so entries come out in ascending point order whatever the timing. One point
+// per invocation (lib/hash.c): the loop is as long as the point's slot is full, and lavapipe
+// ends a shader's loops after 65535 iterations in all.
 #define HASH_BUILD
 #include "hash_common.glsl"
 
 void main()
 {
-    for (uint s = gl_GlobalInvocationID.x; s < pc.slots; s += hash_stride()) {
+    uint unsorted = pc.slots + pc.chunks;
+    for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
+        uint s = hash_keys[p];
         uint first = hash_starts[s];
         uint end = hash_starts[s + 1u];
-        for (uint i = first + 1u; i < end; i++) {
-            uint v = hash_entries[i];
-            uint j = i;
-            while (j > first && hash_entries[j - 1u] > v) {
-                hash_entries[j] = hash_entries[j - 1u];
-                j--;
-            }
-            hash_entries[j] = v;
-        }
+        uint rank = 0u;
+        for (uint e = first; e < end; e++)
+            rank += hash_scratch[unsorted + e] < p ? 1u : 0u;
+        hash_entries[first + rank] = p;
     }
 }
