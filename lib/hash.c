@@ -35,10 +35,15 @@ _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes i
 #define MAX_GROUPS 65535u       /* maxComputeWorkGroupCount[0] is at least this everywhere */
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    [CVK_HASH_BINDING_PARAMS] = STORAGE,     [CVK_HASH_BINDING_POINTS] = TEXEL,
+    [CVK_HASH_BINDING_KEYS] = STORAGE,       [CVK_HASH_BINDING_STARTS] = STORAGE,
+    [CVK_HASH_BINDING_ENTRIES] = STORAGE,    [CVK_HASH_BINDING_SCRATCH] = STORAGE,
+    [CVK_HASH_BINDING_STARTS_READ] = TEXEL,  [CVK_HASH_BINDING_ENTRIES_READ] = TEXEL,
 };
 #undef STORAGE
+#undef TEXEL
 
 /* The smallest power of two ≥ 2 · capacity. */
 static uint32_t table_size_for(uint32_t capacity)
@@ -80,19 +85,23 @@ static cvk_result check_desc(const cvk_context* context, const cvk_hash_desc* de
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "hash: the points buffer must hold a vec4 per point (%u points)",
                         desc->capacity);
-    uint64_t starts_bytes = 4 * ((uint64_t)table_size_for(desc->capacity) + 1);
+    uint64_t slots = (uint64_t)table_size_for(desc->capacity) + 1;
     uint64_t limit = context->properties.limits.maxStorageBufferRange;
-    if (starts_bytes > limit)
+    uint64_t texels = context->properties.limits.maxTexelBufferElements;
+    if (4 * slots > limit || slots > texels)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "hash: %u points need a table of %llu bytes; the device's storage "
-                        "buffers hold at most %llu", desc->capacity,
-                        (unsigned long long)starts_bytes, (unsigned long long)limit);
+                        "hash: %u points need a table of %llu slots; the device's buffers hold at "
+                        "most %llu (storage) and %llu (texel)", desc->capacity,
+                        (unsigned long long)slots, (unsigned long long)limit / 4,
+                        (unsigned long long)texels);
     return CVK_SUCCESS;
 }
 
-static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, cvk_error* error)
+static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk_buffer* points,
+                                 cvk_error* error)
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     uint64_t slots = hash->table_size;
     struct {
@@ -112,11 +121,18 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, cvk_error
         if (r != CVK_SUCCESS)
             return r;
     }
-    return CVK_SUCCESS;
+    cvk_result r = cvk_buffer_view_create(context, points, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                          &hash->points_view, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_view_create(context, &hash->starts, VK_FORMAT_R32_UINT,
+                                   &hash->starts_view, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_view_create(context, &hash->entries, VK_FORMAT_R32_UINT,
+                                   &hash->entries_view, error);
+    return r;
 }
 
-static cvk_result create_set(cvk_context* context, cvk_hash* hash, const cvk_buffer* points,
-                             cvk_error* error)
+static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* error)
 {
     cvk_descriptors d;
     cvk_result r = cvk_descriptors_create(context, hash_bindings, CVK_HASH_BINDING_COUNT, 1,
@@ -130,11 +146,13 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, const cvk_buf
     hash->set = d.sets[0];
     const cvk_resource res[CVK_HASH_BINDING_COUNT] = {
         [CVK_HASH_BINDING_PARAMS] = {.buffer = &hash->params},
-        [CVK_HASH_BINDING_POINTS] = {.buffer = points},
+        [CVK_HASH_BINDING_POINTS] = {.view = hash->points_view},
         [CVK_HASH_BINDING_KEYS] = {.buffer = &hash->keys},
         [CVK_HASH_BINDING_STARTS] = {.buffer = &hash->starts},
         [CVK_HASH_BINDING_ENTRIES] = {.buffer = &hash->entries},
         [CVK_HASH_BINDING_SCRATCH] = {.buffer = &hash->scratch},
+        [CVK_HASH_BINDING_STARTS_READ] = {.view = hash->starts_view},
+        [CVK_HASH_BINDING_ENTRIES_READ] = {.view = hash->entries_view},
     };
     cvk_descriptors_write(context, &d, 0, res);
     return CVK_SUCCESS;
@@ -150,9 +168,9 @@ cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_
     out->capacity = desc->capacity;
     out->table_size = table_size_for(desc->capacity);
     out->cell_size = desc->cell_size;
-    r = create_buffers(context, out, error);
+    r = create_buffers(context, out, desc->points, error);
     if (r == CVK_SUCCESS)
-        r = create_set(context, out, desc->points, error);
+        r = create_set(context, out, error);
     if (r != CVK_SUCCESS)
         cvk_hash_destroy(context, out);
     return r;
@@ -166,6 +184,12 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
         vkDestroyPipelineLayout(context->device, hash->layout, NULL);
     if (hash->set_layout)
         vkDestroyDescriptorSetLayout(context->device, hash->set_layout, NULL);
+    if (hash->points_view)
+        vkDestroyBufferView(context->device, hash->points_view, NULL);
+    if (hash->starts_view)
+        vkDestroyBufferView(context->device, hash->starts_view, NULL);
+    if (hash->entries_view)
+        vkDestroyBufferView(context->device, hash->entries_view, NULL);
     cvk_buffer_destroy(context, &hash->params);
     cvk_buffer_destroy(context, &hash->keys);
     cvk_buffer_destroy(context, &hash->starts);

@@ -17,7 +17,8 @@
 typedef struct cvk_hash_desc {
     uint32_t capacity;          /* points at most, ≥ 1 */
     float cell_size;            /* m, > 0 */
-    const cvk_buffer* points;   /* vec4 per point; must outlive the hash */
+    const cvk_buffer* points;   /* vec4 per point, made with VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT
+                                   (read through a texel view); must outlive the hash */
 } cvk_hash_desc;
 
 typedef struct cvk_hash {
@@ -29,6 +30,9 @@ typedef struct cvk_hash {
     cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */
     cvk_buffer entries;         /* uint per point: point indices grouped by slot, ascending in a slot */
     cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
+    VkBufferView points_view;   /* texel views the shaders read through (R32G32B32A32_SFLOAT, */
+    VkBufferView starts_view;   /* R32_UINT, R32_UINT): on lavapipe a texel fetch is a */
+    VkBufferView entries_view;  /* vectorised gather, a storage-buffer load is not */
     VkDescriptorSetLayout set_layout;
     VkDescriptorPool pool;
     VkDescriptorSet set;

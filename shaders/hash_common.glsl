@@ -34,9 +34,7 @@
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) buffer HashParams {
     cvk_hash_params hash_params;
 };
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_POINTS) readonly buffer HashPoints {
-    vec4 hash_points[];
-};
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_POINTS) uniform samplerBuffer hash_points;
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) buffer HashKeys {
     uint hash_keys[];
 };
@@ -49,6 +47,10 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) buffer HashEn
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) buffer HashScratch {
     uint hash_scratch[];
 };
+// The same starts and entries as queries read them: texel fetches are vectorised gathers on
+// lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ) uniform usamplerBuffer hash_starts_read;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ) uniform usamplerBuffer hash_entries_read;
 
 // The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
 // device round alike (a multiplication is correctly rounded; a division need not be), clamped
@@ -81,18 +83,18 @@ ivec3 hash_neighbour_cell(ivec3 home, uint n)
 // The entries [x, y) of the slot of `cell`: points of that cell and of any cell sharing its slot.
 uvec2 hash_range(ivec3 cell)
 {
-    uint s = hash_slot(cell);
-    return uvec2(hash_starts[s], hash_starts[s + 1u]);
+    int s = int(hash_slot(cell));
+    return uvec2(texelFetch(hash_starts_read, s).x, texelFetch(hash_starts_read, s + 1).x);
 }
 
 uint hash_entry(uint e)
 {
-    return hash_entries[e];
+    return texelFetch(hash_entries_read, int(e)).x;
 }
 
 vec3 hash_point(uint q)
 {
-    return hash_points[q].xyz;
+    return texelFetch(hash_points, int(q)).xyz;
 }
 
 // Whether point q lies in `cell` (and not in another cell that shares its slot).
