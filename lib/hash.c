@@ -1,7 +1,7 @@
 /* The uniform-grid spatial hash on the device (hash.h): buffers, the set, and the build as plan
    operations. The build is a counting sort by slot followed by a per-slot sort:
 
-     fills     params (cell size, table size, count), counts := 0
+     clear     params (cell size, table size, count), counts := 0 (no points: starts := 0)
      count     per point: keys[p] = slot, counts[slot]++ (atomic)
      scan      exclusive prefix sum of the counts into starts, in three dispatches: the sum of
                each chunk of slots (one invocation per chunk), a serial scan of the chunk sums
@@ -10,8 +10,8 @@
      scatter   per point: unsorted[starts[slot] + cursor[slot]++] = p (atomic)
      sort      per point: entries[starts[slot] + rank] = p, rank = the slot's points below p
 
-   The number of operations depends only on the count being 0 or not, never on the points, so
-   the build needs no host round trip. The three-dispatch scan uses no shared memory and no
+   All are dispatches ordered by compute barriers; with no points only the clear is recorded.
+   The number of operations never depends on the points, so the build needs no host round trip. The three-dispatch scan uses no shared memory and no
    workgroup barrier, which lavapipe makes expensive.
 
    lavapipe (gallivm) ends a shader's loops silently after 65535 iterations in all, counted over
@@ -28,7 +28,7 @@
 #include "shared/layout.h"
 
 _Static_assert(sizeof(cvk_hash_params) == 16, "cvk_hash_params: 16 bytes in GLSL");
-_Static_assert(sizeof(cvk_hash_push) == 16, "cvk_hash_push: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_hash_push) == 32, "cvk_hash_push: 32 bytes in GLSL");
 _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes in GLSL");
 
 #define MAX_CAPACITY (1u << 30) /* table_size = 2^31 slots at most: it must fit a uint */
@@ -198,32 +198,6 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
     memset(hash, 0, sizeof *hash);
 }
 
-static uint32_t float_bits(float f)
-{
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return u;
-}
-
-/* The parameters, one fill per word (the fills touch disjoint words, so only the last needs a
-   barrier), and the counts zeroed; with no points, starts zeroed instead and nothing else. */
-static void add_fills(const cvk_hash* hash, cvk_plan* plan, uint32_t pass, uint32_t count)
-{
-    /* cvk_hash_params word by word */
-    uint32_t words[4] = {float_bits(hash->cell_size), float_bits(1.0f / hash->cell_size),
-                         hash->table_size, count};
-    for (uint32_t i = 0; i < 4; i++) {
-        cvk_op* op = cvk_plan_fill(plan, pass, hash->params.buffer, 4 * i, 4, words[i]);
-        if (op)
-            op->barrier = CVK_BARRIER_NONE;
-    }
-    const cvk_buffer* zeroed = count ? &hash->scratch : &hash->starts;
-    VkDeviceSize bytes = count ? 4 * (VkDeviceSize)hash->table_size : zeroed->size;
-    cvk_op* op = cvk_plan_fill(plan, pass, zeroed->buffer, 0, bytes, 0);
-    if (op)
-        snprintf(op->note, sizeof op->note, "%s", count ? "counts := 0" : "starts := 0 (no points)");
-}
-
 /* One build dispatch over `items` of `domain`. */
 static cvk_op* add_dispatch(const cvk_hash* hash, cvk_plan* plan, uint32_t pass,
                             cvk_pipeline_id pipeline, cvk_domain domain, uint32_t items,
@@ -252,10 +226,12 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
                         "hash: %u points to hash; the hash was made for at most %u", count,
                         hash->capacity);
     uint32_t pass = cvk_plan_pass(plan, "hash");
-    add_fills(hash, plan, pass, count);
+    uint32_t chunk = chunk_for(hash->table_size);
+    cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
+                          hash->cell_size, 1.0f / hash->cell_size, 0, 0};
+    add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CLEAR, CVK_DOMAIN_CELLS, hash->table_size, &push,
+                 count ? "parameters, counts := 0" : "parameters, starts := 0 (no points)");
     if (count > 0) {
-        uint32_t chunk = chunk_for(hash->table_size);
-        cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk};
         add_dispatch(hash, plan, pass, CVK_PIPE_HASH_COUNT, CVK_DOMAIN_PARTICLES, count, &push,
                      "keys, counts per slot");
         add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CHUNK_SUMS, CVK_DOMAIN_CELLS, push.chunks,

@@ -84,7 +84,7 @@ CVK_STRUCT(cvk_gpu_pose, CVK_GPU_POSE_FIELDS)
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
 /* The hash's parameters, in a small storage buffer of its set, so a shader that queries the hash
-   needs no push data. Written by the build's first operations (lib/hash.c). */
+   needs no push data. Written by the build's first pass (shaders/hash_clear.comp). */
 #define CVK_HASH_PARAMS_FIELDS                                                          \
     CVK_FLOAT(cell_size)   /* m */                                                       \
     CVK_FLOAT(inv_cell)    /* 1 / cell_size, 1/m: cells are floor(p · inv_cell) */        \
@@ -97,7 +97,11 @@ CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
     CVK_UINT(points)       /* points hashed */                                           \
     CVK_UINT(slots)        /* table_size */                                              \
     CVK_UINT(chunk)        /* slots per chunk of the scan, a power of two */             \
-    CVK_UINT(chunks)       /* slots / chunk */
+    CVK_UINT(chunks)       /* slots / chunk */                                           \
+    CVK_FLOAT(cell_size)   /* m: written to the parameters by the clear pass */          \
+    CVK_FLOAT(inv_cell)    /* 1/m */                                                     \
+    CVK_UINT(pad0)                                                                      \
+    CVK_UINT(pad1)
 CVK_PUSH_BLOCK(cvk_hash_push, CVK_HASH_PUSH_FIELDS)
 
 /* The neighbour query (shaders/hash_neighbours.comp): per point, the other points within radius. */
