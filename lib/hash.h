@@ -46,7 +46,8 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 
 /* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
    clear, count, scan, scatter, sort. After its last op (barrier compute -> compute) starts and
-   entries are ready for queries. */
+   entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
+   is recorded, which leaves every start 0 and the parameters' count 0. */
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
                                cvk_error* error);
 
