@@ -1,13 +1,13 @@
 /* The uniform-grid spatial hash on the device (hash.h): buffers, the set, and the build as plan
    operations. The build is a counting sort by slot followed by a per-slot sort:
 
-     clear     params (cell size, table size, count), counts := 0 (no points: starts := 0)
+     clear     params (cell size, table size, count); with no points, starts := 0
      count     per point: keys[p] = slot, counts[slot]++ (atomic)
      scan      exclusive prefix sum of the counts into starts, in three dispatches: the sum of
                each chunk of slots (one invocation per chunk), a serial scan of the chunk sums
-               (one invocation), then each chunk's own scan from its offset, which also resets
-               the counts to serve as cursors
-     scatter   per point: unsorted[starts[slot] + cursor[slot]++] = p (atomic)
+               (one invocation), then each chunk's own scan from its offset
+     scatter   per point: unsorted[starts[slot] + --counts[slot]] = p (atomic), which leaves
+               every count 0 for the next build (they are zeroed once, at creation)
      sort      per point: entries[starts[slot] + rank] = p, rank = the slot's points below p
 
    All are dispatches ordered by compute barriers; with no points only the clear is recorded.
@@ -158,6 +158,31 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
     return CVK_SUCCESS;
 }
 
+/* Zeroes scratch once; from then on every build leaves the counts at 0 (see the top). */
+static cvk_result zero_counts(cvk_context* context, cvk_hash* hash, cvk_error* error)
+{
+    cvk_submitter submitter;
+    VkCommandBuffer cmd;
+    cvk_result r = cvk_submitter_create(context, &submitter, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    r = cvk_command_buffer_allocate(context, &submitter, &cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r == CVK_SUCCESS) {
+        vkCmdFillBuffer(cmd, hash->scratch.buffer, 0, VK_WHOLE_SIZE, 0);
+        /* for whatever reads first (a frame opens with its own barrier, but not every user's) */
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        r = cvk_command_buffer_end(cmd, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_submit_and_wait(context, &submitter, &cmd, 1, error);
+    cvk_submitter_destroy(context, &submitter);
+    return r;
+}
+
 cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_hash* out,
                            cvk_error* error)
 {
@@ -169,6 +194,8 @@ cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_
     out->table_size = table_size_for(desc->capacity);
     out->cell_size = desc->cell_size;
     r = create_buffers(context, out, desc->points, error);
+    if (r == CVK_SUCCESS)
+        r = zero_counts(context, out, error);
     if (r == CVK_SUCCESS)
         r = create_set(context, out, error);
     if (r != CVK_SUCCESS)
@@ -229,8 +256,10 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
     uint32_t chunk = chunk_for(hash->table_size);
     cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
                           hash->cell_size, 1.0f / hash->cell_size, 0, 0};
-    add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CLEAR, CVK_DOMAIN_CELLS, hash->table_size, &push,
-                 count ? "parameters, counts := 0" : "parameters, starts := 0 (no points)");
+    /* with points, one invocation writes the parameters; without, all zero the starts */
+    add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CLEAR, CVK_DOMAIN_CELLS,
+                 count ? 1 : hash->table_size, &push,
+                 count ? "parameters" : "parameters, starts := 0 (no points)");
     if (count > 0) {
         add_dispatch(hash, plan, pass, CVK_PIPE_HASH_COUNT, CVK_DOMAIN_PARTICLES, count, &push,
                      "keys, counts per slot");

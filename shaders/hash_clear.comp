@@ -1,9 +1,10 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The hash build, clear: the parameters from the push data, and every slot's count zeroed;
-// with no points, every start zeroed too, so queries find nothing. A dispatch rather than
-// buffer fills, so the whole build orders itself with compute barriers alone (a fill would
-// need the op before it, possibly another module's, to wait for transfers too).
+// The hash build, clear: the parameters from the push data; with no points, every start zeroed
+// so queries find nothing. (The counts are 0 already: zeroed at creation, and every build's
+// scatter counts them back down.) A dispatch rather than buffer fills, so the whole build
+// orders itself with compute barriers alone (a fill would need the op before it, possibly
+// another module's, to wait for transfers too).
 #define HASH_BUILD
 #include "hash_common.glsl"
 
@@ -17,9 +18,7 @@ void main()
         if (pc.points == 0u)
             hash_starts[pc.slots] = 0u;
     }
-    for (uint s = gl_GlobalInvocationID.x; s < pc.slots; s += hash_stride()) {
-        hash_scratch[s] = 0u;
-        if (pc.points == 0u)
+    if (pc.points == 0u)
+        for (uint s = gl_GlobalInvocationID.x; s < pc.slots; s += hash_stride())
             hash_starts[s] = 0u;
-    }
 }

@@ -1,8 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The hash build, scan 3 of 3: within each chunk, the exclusive prefix sum of the counts from
-// the chunk's offset gives each slot's start. The count is then reset to 0: the scatter uses it
-// as the slot's cursor.
+// the chunk's offset gives each slot's start. The counts stay: the scatter counts them down.
 #define HASH_BUILD
 #include "hash_common.glsl"
 
@@ -14,7 +13,6 @@ void main()
         for (uint k = 0u; k < pc.chunk; k++) {
             uint n = hash_scratch[first + k];
             hash_starts[first + k] = running;
-            hash_scratch[first + k] = 0u;
             running += n;
         }
     }

@@ -105,7 +105,7 @@ static void download(fixture* f, const cvk_buffer* b, void* data, VkDeviceSize b
 }
 
 /* Builds the hash of the case's points on the device, queries it, reads everything back;
-   `then_count` (when not UINT32_MAX) runs a second build over that many points first read. */
+   `then_count` (when not UINT32_MAX): a second build, over that many points, before the read. */
 static hash_result run_device(fixture* f, const hash_case* c, uint32_t* table_size,
                               uint32_t then_count)
 {
@@ -333,6 +333,22 @@ static void empty_case(fixture* f)
     free(points);
 }
 
+/* A second build over the same hash: the first leaves its counts for the second to start from
+   (they must be back at 0), with fewer points than the first. */
+static void rebuild_case(fixture* f)
+{
+    int32_t* points = random_points(53, 3000, -600, 600);
+    hash_case c = {"1800 points after 3000", points, 3000, 3000, 0.05f, 0.04f, 8, NULL};
+    uint32_t table_size;
+    hash_result r = run_device(f, &c, &table_size, 1800);
+    c.count = 1800;
+    check_params(&c, &r, table_size, 1800);
+    check_table(&c, &r, table_size);
+    check_neighbours(&c, &r);
+    result_free(&r);
+    free(points);
+}
+
 /* Points far away (clamped cells) and on cell borders: keys only. */
 static void far_case(fixture* f)
 {
@@ -380,6 +396,7 @@ int main(void)
     random_cases(&f);
     crowded_cases(&f);
     empty_case(&f);
+    rebuild_case(&f);
     far_case(&f);
     check_refused(&f);
     cvk_submitter_destroy(f.ctx, &f.submitter);
