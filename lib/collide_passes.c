@@ -76,6 +76,7 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
                                        c->set, CVK_DOMAIN_PARTICLES, 0, s->build.free_count,
                                        &push, sizeof push);
         if (op) {
+            cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
             op->set1 = c->hash.set;
             snprintf(op->note, sizeof op->note, "particle-triangle pairs within %.3g m",
                      2.0 * c->thickness);

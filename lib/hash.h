@@ -17,7 +17,8 @@
 typedef struct cvk_hash_desc {
     uint32_t capacity;          /* points at most, ≥ 1 */
     float cell_size;            /* m, > 0 */
-    const cvk_buffer* points;   /* vec4 per point; must outlive the hash */
+    const cvk_buffer* points;   /* vec4 per point, made with VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT
+                                   (read through a texel view); must outlive the hash */
 } cvk_hash_desc;
 
 typedef struct cvk_hash {
@@ -29,6 +30,9 @@ typedef struct cvk_hash {
     cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */
     cvk_buffer entries;         /* uint per point: point indices grouped by slot, ascending in a slot */
     cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
+    VkBufferView points_view;   /* texel views the shaders read through (R32G32B32A32_SFLOAT, */
+    VkBufferView starts_view;   /* R32_UINT, R32_UINT): on lavapipe a texel fetch is a */
+    VkBufferView entries_view;  /* vectorised gather, a storage-buffer load is not */
     VkDescriptorSetLayout set_layout;
     VkDescriptorPool pool;
     VkDescriptorSet set;
@@ -42,9 +46,16 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 
 /* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
    clear, count, scan, scatter, sort. After its last op (barrier compute -> compute) starts and
-   entries are ready for queries. */
+   entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
+   is recorded, which leaves every start 0 and the parameters' count 0. */
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
                                cvk_error* error);
+
+/* Gives dispatch `op` (may be NULL) one item per invocation, up to 65535 workgroups, instead of
+   the plan's cap. For passes whose items loop over hash slots (the sort, neighbour queries,
+   contact detection): lavapipe ends a shader's loops silently after 65535 iterations in all,
+   so a few strided workgroups would cut long loops short. */
+void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op);
 
 /* The host reference, for tests: the slot of a point, as the device computes it. */
 uint32_t cvk_hash_slot(const cvk_hash* hash, const float p[3]);

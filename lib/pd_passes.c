@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "error.h"
+#include "hash.h"
 #include "solve_pd.h"
 
 uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver)
@@ -214,9 +215,13 @@ static void add_contact(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint
         return;
     cvk_op* op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
                         pb->base.omega);
-    if (op)
+    if (op) {
+        /* Each particle loops over colliders and traces: one particle per invocation keeps
+           lavapipe's per-shader loop budget (hash.h) out of reach. */
+        cvk_hash_one_item_each(pb->plan, op);
         snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
                  set_note[set]);
+    }
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer

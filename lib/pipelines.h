@@ -28,7 +28,7 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
-#define CVK_SPEC_WG {1, {CVK_SPEC_WORKGROUP_SIZE}}
+#define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
@@ -40,7 +40,15 @@ typedef struct cvk_spec_recipe {
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
-    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WG, "particle-triangle candidates")
+    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "particle-triangle candidates") \
+    X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
+    X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
+    X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \
+    X(HASH_SCAN_CHUNKS, HASH_SCAN_CHUNKS_COMP, CVK_SPEC_WORKGROUP, "hash: scan chunks") \
+    X(HASH_SCAN, HASH_SCAN_COMP, CVK_SPEC_WORKGROUP, "hash: scan")              \
+    X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
+    X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
+    X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours")
 
 typedef enum cvk_pipeline_id {
 #define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,

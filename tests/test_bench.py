@@ -53,6 +53,10 @@ COLUMNS = {
                 "substeps", "frame_ms", "frame_ms_min", "frame_ms_max", "predict_ms", "solve_ms",
                 "finalize_ms", "ms_per_iteration", "ns_per_particle_iteration", "fps", "wall_ms",
                 "dispatches_per_frame", "device"],
+    "collide": ["points", "cell_size", "table_size", "clear_ms", "count_ms", "chunk_sums_ms",
+                "scan_chunks_ms", "scan_ms", "scatter_ms", "sort_ms", "hash_ms", "neighbours_ms",
+                "total_ms", "total_ms_min", "total_ms_max", "ns_per_point", "neighbours_per_point",
+                "dispatches", "device"],
 }
 TEXT = {"label", "solver", "kind", "case", "reason", "device"}
 
@@ -160,6 +164,25 @@ def stability_kinds(rows):
     return problems
 
 
+def collide_rows(rows):
+    """One row per point count; a power-of-two table of at least twice the points; the build's
+    7 dispatches plus the query; about 4 neighbours a point at one point per cell."""
+    problems = []
+    if [r["points"] for r in rows] != ["10", "2000"]:
+        problems.append(f"collide.csv points: expected 10, 2000, got {[r['points'] for r in rows]}")
+    for r in rows:
+        n, table = int(r["points"]), int(r["table_size"])
+        if table < 2 * n or table & (table - 1):
+            problems.append(f"collide.csv: table of {table} slots for {n} points")
+        if r["dispatches"] != "8":
+            problems.append(f"collide.csv: {r['dispatches']} operations for {n} points, expected 8")
+    big = [r for r in rows if r["points"] == "2000"]
+    if big and not 2.0 <= float(big[0]["neighbours_per_point"]) <= 6.0:
+        problems.append(f"collide.csv: {big[0]['neighbours_per_point']} neighbours per point at "
+                        "2000 points, expected about 4 (4π/3 points within one cell size)")
+    return problems
+
+
 GOOD = [
     {"name": "convergence on enlarged.json",
      "argv": ["convergence"] + TINY_ENLARGED + ["--max-iterations", "30"] + QUICK,
@@ -184,13 +207,15 @@ GOOD = [
     {"name": "scaling, a scene as template",
      "argv": ["scaling", HANGING, "--grids", "6", "--iterations", "2", "--solvers", "jacobi"] + QUICK,
      "experiment": "scaling"},
+    {"name": "collide",
+     "argv": ["collide", "--points", "2000,10"] + QUICK, "experiment": "collide", "check": collide_rows},
 ]
 
 BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
     {"name": "unknown experiment", "argv": ["speed", HANGING],
      "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
-               'stability or scaling)'},
+               'stability, scaling or collide)'},
     {"name": "missing scene", "argv": ["convergence"],
      "stderr": "clothvk-bench: convergence needs a scene file"},
     {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],
@@ -222,6 +247,10 @@ BAD = [
      "stderr": "clothvk-bench: --solvers: expected a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with :OMEGA (0 < OMEGA < 2), got rbgs,sor"},
     {"name": "omega out of range", "argv": ["convergence", HANGING, "--solvers", "rbgs:2"],
      "stderr": "clothvk-bench: --solvers: expected a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with :OMEGA (0 < OMEGA < 2), got rbgs:2"},
+    {"name": "no points", "argv": ["collide", "--points", "0,10"],
+     "stderr": "clothvk-bench: --points: expected a comma-separated list of whole numbers from 1 to 16777216, got 0,10"},
+    {"name": "--points of scaling", "argv": ["scaling", "--points", "10"],
+     "stderr": "clothvk-bench: --points is not an option of scaling (see --help)"},
     {"name": "grid of 1", "argv": ["scaling", "--grids", "1"],
      "stderr": "clothvk-bench: --grids: expected a comma-separated list of whole numbers from 2 to 65535, got 1"},
     {"name": "-o is a file", "argv": ["scaling", "-o", "afile"], "files": ["afile"],

@@ -106,6 +106,10 @@ typedef struct bench_options {
     /* scaling */
     uint32_t grids[BENCH_MAX_LIST];
     uint32_t grid_count;
+
+    /* collide */
+    uint32_t points[BENCH_MAX_LIST];
+    uint32_t point_count;
 } bench_options;
 
 /* What an experiment works with. */
@@ -243,6 +247,7 @@ int bench_budget(bench* b);
 int bench_pareto(bench* b);
 int bench_stability(bench* b);
 int bench_scaling(bench* b);
+int bench_collide(bench* b);
 
 /* Stability of one configuration, for the experiment and the tests: steps the simulation
    `steps` substeps (checking every few) and classifies it. */

@@ -20,7 +20,8 @@ enum {
     PARETO = 1 << 2,
     STABILITY = 1 << 3,
     SCALING = 1 << 4,
-    ALL = 0x1f,
+    COLLIDE = 1 << 5,
+    ALL = 0x3f,
 };
 
 typedef struct experiment {
@@ -37,6 +38,7 @@ static const experiment experiments[] = {
     {"pareto", PARETO, true, bench_pareto, 1400, 550},
     {"stability", STABILITY, true, bench_stability, 1500, 560},
     {"scaling", SCALING, false, bench_scaling, 1200, 550},
+    {"collide", COLLIDE, false, bench_collide, 1000, 600},
 };
 
 static void usage(FILE* out)
@@ -51,6 +53,7 @@ static void usage(FILE* out)
         "  pareto SCENE       error against GPU time per frame over solver x iterations x substeps\n"
         "  stability SCENE    stable region over h x stiffness (x damping), largest stable h, extremes\n"
         "  scaling [SCENE]    ms per frame and per pass against particle and iteration counts\n"
+        "  collide            spatial hash build and neighbour query: ms per pass against points\n"
         "options (all experiments):\n"
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
@@ -90,6 +93,8 @@ static void usage(FILE* out)
         "scaling:\n"
         "  --grids LIST        N for N x N grids (default 32,64,...,2048 and the largest that fits)\n"
         "  --iterations LIST   sweeps per substep (default 10,30,50,70)\n"
+        "collide:\n"
+        "  --points LIST       point counts (default 1000,10000,100000; 1000000 fits lavapipe)\n"
         "environment: CLOTHVK_DEVICE, CLOTHVK_VALIDATION=1, CLOTHVK_GNUPLOT, LP_NUM_THREADS (lavapipe)\n");
 }
 
@@ -255,6 +260,7 @@ static const option_spec option_specs[] = {
     {"--limit-ratio", STABILITY, true},
     {"--min-steps", STABILITY, true},
     {"--grids", SCALING, true},
+    {"--points", COLLIDE, true},
 };
 
 static const option_spec* find_option(const char* name)
@@ -338,6 +344,8 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         return parse_u32(name, v, 1, 10000000, &o->min_steps);
     if (!strcmp(name, "--grids"))
         return parse_u32_list(name, v, 2, 65535, o->grids, &o->grid_count);
+    if (!strcmp(name, "--points"))
+        return parse_u32_list(name, v, 1, 16777216, o->points, &o->point_count);
     if (!strcmp(name, "--no-plot")) {
         o->plot = false;
         return true;
@@ -390,6 +398,11 @@ static void set_defaults(bench_options* o, const experiment* e)
         const double k[] = {1e3, 1e4, 1e5, 1e6, 1e7, 1e8};
         memcpy(o->stiffness, k, sizeof k);
         o->stiffness_count = 6;
+    }
+    if (o->point_count == 0) {
+        const uint32_t points[] = {1000, 10000, 100000};
+        memcpy(o->points, points, sizeof points);
+        o->point_count = 3;
     }
     if (o->damping_count == 0)
         o->damping_count = 1; /* damping[0] = 0 */
@@ -464,7 +477,7 @@ static int parse_args(int argc, char** argv, parsed* p)
     p->e = find_experiment(positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
-                  "stability or scaling)", positional[0]);
+                  "stability, scaling or collide)", positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
     o->experiment = p->e->name;

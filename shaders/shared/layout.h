@@ -158,4 +158,49 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
+/* The hash's parameters, in a small storage buffer of its set, so a shader that queries the hash
+   needs no push data. Written by the build's first pass (shaders/hash_clear.comp). */
+#define CVK_HASH_PARAMS_FIELDS                                                          \
+    CVK_FLOAT(cell_size)   /* m */                                                       \
+    CVK_FLOAT(inv_cell)    /* 1 / cell_size, 1/m: cells are floor(p · inv_cell) */        \
+    CVK_UINT(table_size)   /* slots, a power of two */                                   \
+    CVK_UINT(count)        /* points hashed by the last build */
+CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
+
+/* The build passes' push data (shaders/hash_*.comp). The scan works in chunks of `chunk` slots. */
+#define CVK_HASH_PUSH_FIELDS                                                            \
+    CVK_UINT(points)       /* points hashed */                                           \
+    CVK_UINT(slots)        /* table_size */                                              \
+    CVK_UINT(chunk)        /* slots per chunk of the scan, a power of two */             \
+    CVK_UINT(chunks)       /* slots / chunk */                                           \
+    CVK_FLOAT(cell_size)   /* m: written to the parameters by the clear pass */          \
+    CVK_FLOAT(inv_cell)    /* 1/m */                                                     \
+    CVK_UINT(pad0)                                                                      \
+    CVK_UINT(pad1)
+CVK_PUSH_BLOCK(cvk_hash_push, CVK_HASH_PUSH_FIELDS)
+
+/* The neighbour query (shaders/hash_neighbours.comp): per point, the other points within radius. */
+#define CVK_HASH_QUERY_PUSH_FIELDS                                                      \
+    CVK_UINT(count)        /* points queried: [0, count) */                              \
+    CVK_FLOAT(radius2)     /* radius^2, m^2; radius at most the cell size */
+CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
+
+/* Bindings of the hash's set; scratch holds the count (then cursor) per slot, then the chunk
+   sums of the scan, then the entries as the scatter leaves them. What queries read goes through
+   texel buffers: on lavapipe a texel fetch is a vectorised gather while a storage-buffer load in
+   a divergent loop is a loop over the lanes (the neighbour query runs 2.4x faster). */
+#define CVK_HASH_BINDING_PARAMS 0       /* storage: cvk_hash_params */
+#define CVK_HASH_BINDING_POINTS 1       /* texel (rgba32f): a point per texel, xyz hashed */
+#define CVK_HASH_BINDING_KEYS 2         /* storage: uint per point, its slot */
+#define CVK_HASH_BINDING_STARTS 3       /* storage: uint per slot + 1 */
+#define CVK_HASH_BINDING_ENTRIES 4      /* storage: uint per point, indices grouped by slot */
+#define CVK_HASH_BINDING_SCRATCH 5      /* storage: counts per slot, sums per chunk, unsorted */
+#define CVK_HASH_BINDING_STARTS_READ 6  /* texel (r32ui): starts, as queries read them */
+#define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as queries read them */
+#define CVK_HASH_BINDING_COUNT 8
+
+/* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
+   defined for far-away points (they share the border cells). */
+#define CVK_HASH_CELL_LIMIT 1073741824.0
+
 #endif

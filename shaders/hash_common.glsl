@@ -1,0 +1,118 @@
+// The spatial hash (lib/hash.h): its descriptor set and the queries a shader makes of it.
+//
+// An including shader picks the set index with `#define HASH_SET n` before the include
+// (default 0) and declares its own workgroup size and push data; the hash's parameters come
+// from a buffer of the set. The build passes (hash_*.comp) define HASH_BUILD first and get
+// their push block and helpers too.
+//
+// A query visits the 27 cells around a point. Two cells can share a slot, so an entry of a
+// visited slot counts only when its own cell is the one visited:
+//
+//     ivec3 home = hash_cell(x);
+//     for (uint n = 0u; n < 27u; n++) {
+//         ivec3 cell = hash_neighbour_cell(home, n);
+//         uvec2 range = hash_range(cell);
+//         for (uint e = range.x; e < range.y; e++) {
+//             uint q = hash_entry(e);
+//             if (!hash_in_cell(q, cell))
+//                 continue;
+//             ... point q, at hash_point(q), in ascending q within a cell ...
+//         }
+//     }
+//
+// Every point within one cell size of x is found this way, each once.
+
+#ifndef HASH_COMMON_GLSL
+#define HASH_COMMON_GLSL
+
+#ifndef HASH_SET
+#define HASH_SET 0
+#endif
+
+#include "shared/layout.h"
+
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) buffer HashParams {
+    cvk_hash_params hash_params;
+};
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_POINTS) uniform samplerBuffer hash_points;
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) buffer HashKeys {
+    uint hash_keys[];
+};
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_STARTS) buffer HashStarts {
+    uint hash_starts[];
+};
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) buffer HashEntries {
+    uint hash_entries[];
+};
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) buffer HashScratch {
+    uint hash_scratch[];
+};
+// The same starts and entries as queries read them: texel fetches are vectorised gathers on
+// lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ) uniform usamplerBuffer hash_starts_read;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ) uniform usamplerBuffer hash_entries_read;
+
+// The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
+// device round alike (a multiplication is correctly rounded; a division need not be), clamped
+// so the conversion to int is defined. lib/hash.c computes the same.
+ivec3 hash_cell(vec3 p)
+{
+    vec3 c = floor(p * hash_params.inv_cell);
+    return ivec3(clamp(c, vec3(-CVK_HASH_CELL_LIMIT), vec3(CVK_HASH_CELL_LIMIT)));
+}
+
+// The slot of a cell: Teschner et al.'s primes, XORed, then a multiply-xorshift finaliser so the
+// low bits the mask keeps depend on every bit of the cell. Integer math only: the host's
+// cvk_hash_slot is the same function.
+uint hash_slot(ivec3 cell)
+{
+    uvec3 u = uvec3(cell);
+    uint h = (u.x * 73856093u) ^ (u.y * 19349663u) ^ (u.z * 83492791u);
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    return h & (hash_params.table_size - 1u);
+}
+
+// Cell n (0..26) of the 3x3x3 block around `home`.
+ivec3 hash_neighbour_cell(ivec3 home, uint n)
+{
+    return home + ivec3(int(n % 3u) - 1, int((n / 3u) % 3u) - 1, int(n / 9u) - 1);
+}
+
+// The entries [x, y) of the slot of `cell`: points of that cell and of any cell sharing its slot.
+uvec2 hash_range(ivec3 cell)
+{
+    int s = int(hash_slot(cell));
+    return uvec2(texelFetch(hash_starts_read, s).x, texelFetch(hash_starts_read, s + 1).x);
+}
+
+uint hash_entry(uint e)
+{
+    return texelFetch(hash_entries_read, int(e)).x;
+}
+
+vec3 hash_point(uint q)
+{
+    return texelFetch(hash_points, int(q)).xyz;
+}
+
+// Whether point q lies in `cell` (and not in another cell that shares its slot).
+bool hash_in_cell(uint q, ivec3 cell)
+{
+    return hash_cell(hash_point(q)) == cell;
+}
+
+#ifdef HASH_BUILD
+layout(local_size_x_id = 0) in;
+
+CVK_DECLARE_PUSH(CVK_HASH_PUSH_FIELDS)
+
+// Invocations stride over the dispatch, so a few workgroups can cover many items.
+uint hash_stride()
+{
+    return gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+#endif
+
+#endif
