@@ -241,15 +241,13 @@ static void initial_poses(const cvk_collide* c, cvk_gpu_pose* poses)
 typedef struct cloth_tables {
     uint32_t* triangles; /* 4 per triangle: internal indices, 0 */
     uint32_t* owned;     /* particle_count + 1 offsets, then triangle ids */
-    uint32_t* near;      /* particle_count + 1 offsets, then particle ids */
-    size_t owned_count, near_count;
+    size_t owned_count;
 } cloth_tables;
 
 static void free_cloth_tables(cloth_tables* t)
 {
     free(t->triangles);
     free(t->owned);
-    free(t->near);
 }
 
 /* Offsets from counts (in place, out[0..n]), then the lists placed by a cursor. */
@@ -267,12 +265,10 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
 {
     uint32_t n = b->particle_count, tc = b->triangle_count;
     t->owned_count = (size_t)n + 1 + tc;
-    t->near_count = (size_t)n + 1 + 2 * (size_t)b->spring_count;
     t->triangles = calloc(4 * (size_t)(tc ? tc : 1), sizeof(uint32_t));
     t->owned = calloc(t->owned_count, sizeof(uint32_t));
-    t->near = calloc(t->near_count, sizeof(uint32_t));
     uint32_t* cursor = calloc((size_t)n + 1, sizeof(uint32_t));
-    if (!t->triangles || !t->owned || !t->near || !cursor) {
+    if (!t->triangles || !t->owned || !cursor) {
         free(cursor);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "out of host memory for the contact tables");
@@ -294,17 +290,6 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
         const uint32_t* v = &t->triangles[4 * (size_t)i];
         uint32_t lowest = v[0] < v[1] ? (v[0] < v[2] ? v[0] : v[2]) : (v[1] < v[2] ? v[1] : v[2]);
         t->owned[n + 1 + cursor[lowest]++] = i;
-    }
-    for (uint32_t i = 0; i < b->spring_count; i++) {
-        t->near[b->springs[i].a]++;
-        t->near[b->springs[i].b]++;
-    }
-    prefix(t->near, n);
-    memcpy(cursor, t->near, ((size_t)n + 1) * sizeof(uint32_t));
-    for (uint32_t i = 0; i < b->spring_count; i++) {
-        const cvk_spring* s = &b->springs[i];
-        t->near[n + 1 + cursor[s->a]++] = s->b;
-        t->near[n + 1 + cursor[s->b]++] = s->a;
     }
     free(cursor);
     return CVK_SUCCESS;
@@ -369,6 +354,46 @@ static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error*
     return r;
 }
 
+/* Rest positions (the initial ones scaled by the cloth's rest_scale about its first particle)
+   and cloth index per particle: particles and triangles near each other at rest are not in
+   contact when near now (cvk_collide_rest_near). */
+static cvk_result make_rest(const cvk_build* b, cvk_collide* c, cvk_error* error)
+{
+    c->rest_xyz = malloc(4 * (size_t)(b->particle_count ? b->particle_count : 1) * sizeof(float));
+    if (!c->rest_xyz)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for rest positions");
+    float longest = 0.0f;
+    for (uint32_t i = 0; i < b->spring_count; i++)
+        longest = fmaxf(longest, b->springs[i].rest);
+    /* Beyond every spring (a bend spring spans two spacings) and beyond the detection radius,
+       so a flat cloth finds no contact with itself unless folded or crushed by half. */
+    c->exclusion = fmaxf(1.01f * longest, 2.5f * 2.0f * c->thickness);
+    for (uint32_t cloth = 0; cloth < b->cloth_count; cloth++) {
+        const cvk_cloth_range* r = &b->cloths[cloth];
+        const float* origin = &b->position[3 * (size_t)b->internal_of[r->first_user]];
+        for (uint32_t u = r->first_user; u < r->first_user + r->particle_count; u++) {
+            uint32_t p = b->internal_of[u];
+            for (int k = 0; k < 3; k++)
+                c->rest_xyz[4 * (size_t)p + k] =
+                    origin[k] + r->rest_scale * (b->position[3 * (size_t)p + k] - origin[k]);
+            c->rest_xyz[4 * (size_t)p + 3] = (float)cloth;
+        }
+    }
+    return CVK_SUCCESS;
+}
+
+bool cvk_collide_rest_near(const cvk_collide* c, uint32_t p, const uint32_t tri[3])
+{
+    const float* rp = &c->rest_xyz[4 * (size_t)p];
+    for (int k = 0; k < 3; k++) {
+        const float* rv = &c->rest_xyz[4 * (size_t)tri[k]];
+        float d[3] = {rp[0] - rv[0], rp[1] - rv[1], rp[2] - rv[2]};
+        if (rp[3] == rv[3] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < c->exclusion * c->exclusion)
+            return true;
+    }
+    return false;
+}
+
 static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     const cvk_build* b = &s->build;
@@ -376,6 +401,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     cvk_result r = CVK_SUCCESS;
     if (c->self)
         r = make_cloth_tables(b, &t, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = make_rest(b, c, error);
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
     VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
     if (r == CVK_SUCCESS)
@@ -385,8 +412,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = make_buffer(s, &c->owned, c->self ? 4u * t.owned_count : 16u, "triangles by corner",
                         t.owned, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->near, c->self ? 4u * t.near_count : 16u, "spring neighbours",
-                        t.near, error);
+        r = make_buffer(s, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
+                        "rest positions", c->self ? c->rest_xyz : NULL, error);
     if (r == CVK_SUCCESS)
         r = make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
     free_cloth_tables(&t);
@@ -406,6 +433,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .static_friction = c->static_friction,
         .dt = s->params.dt,
         .detect_radius = 2.0f * c->thickness,
+        .exclusion = c->exclusion,
     };
     cvk_gpu_frame frame = {0};
     cvk_result r = make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
@@ -432,7 +460,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_SDF] = {.buffer = &c->sdf_values},
         [CVK_CONTACT_BINDING_TRIANGLES] = {.buffer = &c->triangles},
         [CVK_CONTACT_BINDING_OWNED] = {.buffer = &c->owned},
-        [CVK_CONTACT_BINDING_NEAR] = {.buffer = &c->near},
+        [CVK_CONTACT_BINDING_REST] = {.buffer = &c->rest},
         [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
         [CVK_CONTACT_BINDING_POSITIONS] = {.buffer = &s->positions},
         [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = {.buffer = &c->params},
@@ -479,10 +507,11 @@ void cvk_collide_destroy(cvk_sim* s)
         cvk_hash_destroy(ctx, &c->hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
     cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
-                             &c->params, &c->triangles, &c->owned, &c->near, &c->contacts};
+                             &c->params, &c->triangles, &c->owned, &c->rest, &c->contacts};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);
+    free(c->rest_xyz);
     *c = (cvk_collide){0};
 }
 

@@ -36,7 +36,9 @@ typedef struct cvk_collide {
     cvk_buffer params;           /* cvk_gpu_contact_params */
     cvk_buffer triangles;        /* uvec4 per cloth triangle (internal particle indices) */
     cvk_buffer owned;            /* per particle + 1 then triangle ids: triangles by lowest vertex */
-    cvk_buffer near;             /* per particle + 1 then particle ids: joined by a spring */
+    cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
+    float* rest_xyz;             /* the same on the host (self-contact only) */
+    float exclusion;             /* m: pairs nearer than this at rest are never in contact */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_hash hash;               /* only with self-contact */
 
@@ -61,6 +63,10 @@ cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
 
 /* Puts the device's substep counter at `step` (after a snapshot is loaded). */
 cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* error);
+
+/* Whether particle p and triangle tri (internal indices) are of one cloth and near each other
+   at rest (a corner within `exclusion` of p): such pairs are skipped by the contact. */
+bool cvk_collide_rest_near(const cvk_collide* collide, uint32_t p, const uint32_t tri[3]);
 
 /* The pose of collider `index` at simulated time t (s), as the device computes it. */
 cvk_pose cvk_collide_pose(const cvk_collide* collide, uint32_t index, double t);

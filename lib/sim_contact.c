@@ -252,7 +252,8 @@ static double distance2(const double* p, const double* a, const double* b, const
 }
 
 /* Particle p (free) is a corner of triangle v or joined by a spring to one: the pair is close
-   in the rest mesh and not a contact. */
+   in the rest mesh and not a contact. With self-contact on, the device's own rule decides
+   instead (cvk_collide_rest_near: a corner near p at rest). */
 static bool near_in_mesh(const cvk_build* b, uint32_t p, const uint32_t* v)
 {
     if (p == v[0] || p == v[1] || p == v[2])
@@ -267,6 +268,7 @@ static bool near_in_mesh(const cvk_build* b, uint32_t p, const uint32_t* v)
 
 typedef struct triangle_query {
     const cvk_build* build;
+    const cvk_collide* collide;
     const float* xyz;
     const uint32_t* v; /* the triangle's particles */
     double corner[3][3];
@@ -279,7 +281,8 @@ static uint64_t pairs_in_range(const triangle_query* q, const point_grid* g, uin
     uint64_t pairs = 0;
     for (uint32_t i = first; i < end; i++) {
         uint32_t p = g->points[i].particle;
-        if (near_in_mesh(q->build, p, q->v))
+        if (q->collide->rest_xyz ? cvk_collide_rest_near(q->collide, p, q->v)
+                                 : near_in_mesh(q->build, p, q->v))
             continue;
         const float* x = &q->xyz[3 * (size_t)p];
         double pd[3] = {x[0], x[1], x[2]};
@@ -329,7 +332,8 @@ static cvk_result self_stats(cvk_sim* s, const float* xyz, const uint32_t* tri, 
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "contact statistics: out of host memory for a grid of %u particles",
                         b->free_count);
-    triangle_query q = {.build = b, .xyz = xyz, .thickness = s->collide.thickness};
+    triangle_query q = {.build = b, .collide = &s->collide, .xyz = xyz,
+                        .thickness = s->collide.thickness};
     for (uint32_t t = 0; t < b->triangle_count; t++) {
         q.v = &tri[3 * (size_t)t];
         if (q.v[0] == q.v[1] && q.v[1] == q.v[2])

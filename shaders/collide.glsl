@@ -58,8 +58,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) reado
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_OWNED) readonly buffer Owned {
     uint owned[]; // [p] .. [p + 1]: offsets (from particle_count + 1) of the triangles p owns
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAR) readonly buffer Near {
-    uint near_list[]; // the same layout: particles joined to p by a spring
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_REST) readonly buffer Rest {
+    vec4 rest[]; // rest position, cloth index
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) buffer Contacts {
     uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: triangle << 1 | side
@@ -336,41 +336,49 @@ vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
     return a + v * ab + t * ac;
 }
 
-// One particle–triangle contact: p (start x0p, now xp) kept at the thickness on the side of
+// How far p is from triangle (a, b, c) on the side `side` of it, and the direction to push it
+// to increase that: over the face, along the normal (negative when p is behind the face);
+// beside an edge or corner, the distance to it and away from it (a particle passing beside
+// an edge, even below the face's plane, has not crossed the face).
+float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out vec3 w)
+{
+    vec3 n = cross(b - a, c - a);
+    float area2 = length(n);
+    n = area2 > 0.0 ? side * n / area2 : vec3(0.0, 1.0, 0.0);
+    vec3 q = closest_on_triangle(p, a, b, c, w);
+    vec3 d = p - q;
+    float along = dot(d, n);
+    dir = n;
+    if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
+        return along;
+    float dist = length(d);
+    if (dist > 0.0)
+        dir = d / dist;
+    return dist;
+}
+
+// One particle–triangle contact: p (start x0p, now xp) kept at the thickness r on the side of
 // the triangle it started on; the triangle's corners at the start (a0..c0) and now (a..c).
+// A pair that starts the substep closer than r is only kept from coming closer and eased
+// apart by a twentieth of r per substep: the last correction of a substep becomes velocity
+// (depth / h), and pushing a pair a whole thickness apart in one substep flings the cloth.
 // Returns the corrected xp.
 vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
                       float side)
 {
     float r = contact_u.thickness;
-    vec3 n = cross(b - a, c - a);
-    float area2 = length(n);
-    if (area2 <= 0.0)
-        return xp;
-    n = side * n / area2;
-    vec3 w;
-    vec3 q = closest_on_triangle(xp, a, b, c, w);
-    vec3 d = xp - q;
-    float along = dot(d, n);
-    bool inner = w.x > 0.0 && w.y > 0.0 && w.z > 0.0;
-    vec3 dir;
-    float dist;
-    if (inner) { // over the face: keep to the starting side of its plane
-        dir = n;
-        dist = along;
-    } else { // beside an edge or corner: away from it, on the starting side
-        dist = length(d);
-        dir = dist > 0.0 ? d / dist : n;
-        if (dot(dir, n) < 0.0) {
-            dir = n;
-            dist = along;
-        }
-    }
-    float depth = r - dist;
-    if (depth <= 0.0)
+    vec3 dir0, w0, dir, w;
+    float start = separation(x0p, a0, b0, c0, side, dir0, w0);
+    float now = separation(xp, a, b, c, side, dir, w);
+    float target = min(r, max(start, 0.0) + 0.05 * r);
+    float depth = target - now;
+    // Beyond 2r inside, the pair crossed more than a substep can explain (an inverted or
+    // stretched triangle, a side judged while nearly coplanar): leave it rather than fling p.
+    if (depth <= 0.0 || now < -r)
         return xp;
     xp += depth * dir;
     // Friction relative to the triangle's own motion at the contact point.
+    vec3 q = w.x * a + w.y * b + w.z * c;
     vec3 q0 = w.x * a0 + w.y * b0 + w.z * c0;
     vec3 rel = (xp - x0p) - (q - q0);
     vec3 tangential = rel - dot(rel, dir) * dir;

@@ -3,8 +3,7 @@
 // Particle–triangle candidates, once per substep: for each free particle, the triangles of any
 // cloth within the detection radius at the start of the substep (x_n), found through the
 // spatial hash (a triangle is visited through its lowest corner, which lies in one of the 27
-// cells around the particle), skipping its own triangles and those of particles it is joined
-// to by a spring. The nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the
+// cells around the particle), skipping triangles of its own cloth that were near it at rest. The nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the
 // triangle the particle is on, which the sweeps then keep it on (pd_contact.glsl). The
 // enumeration order is fixed (cells in order, entries sorted in each slot), so the result does
 // not depend on thread timing.
@@ -18,17 +17,14 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const uint K = uint(CVK_CONTACTS_PER_PARTICLE);
 
-bool joined(uint p, uvec4 t)
+// Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near): not a contact.
+bool rest_near(vec4 rp, uvec4 t)
 {
-    if (t.x == p || t.y == p || t.z == p)
-        return true;
-    uint base = contact.particle_count + 1u;
-    for (uint i = near_list[p]; i < near_list[p + 1u]; i++) {
-        uint q = near_list[base + i];
-        if (q == t.x || q == t.y || q == t.z)
-            return true;
-    }
-    return false;
+    float e2 = contact.exclusion * contact.exclusion;
+    vec4 ra = rest[t.x], rb = rest[t.y], rc = rest[t.z];
+    vec3 da = rp.xyz - ra.xyz, db = rp.xyz - rb.xyz, dc = rp.xyz - rc.xyz;
+    return (ra.w == rp.w && dot(da, da) < e2) || (rb.w == rp.w && dot(db, db) < e2) ||
+           (rc.w == rp.w && dot(dc, dc) < e2);
 }
 
 void main()
@@ -36,6 +32,7 @@ void main()
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint p = pc.first + i;
         vec3 xp = contact_x[p].xyz;
+        vec4 rp = rest[p];
         uint kept[K];
         float dist[K];
         uint found = 0u;
@@ -51,7 +48,7 @@ void main()
                 for (uint o = owned[q]; o < owned[q + 1u]; o++) {
                     uint t = owned[base + o];
                     uvec4 tri = triangles[t];
-                    if (joined(p, tri))
+                    if (rest_near(rp, tri))
                         continue;
                     vec3 a = contact_x[tri.x].xyz, b = contact_x[tri.y].xyz, c = contact_x[tri.z].xyz;
                     vec3 w;

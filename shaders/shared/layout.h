@@ -118,7 +118,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(static_friction)                                                              \
     CVK_FLOAT(dt)             /* s per substep */                                           \
     CVK_FLOAT(detect_radius)  /* m: particle–triangle pairs nearer than this are kept */    \
-    CVK_UINT(pad0)                                                                          \
+    CVK_FLOAT(exclusion)      /* m: pairs with a corner this near at rest are skipped */    \
     CVK_UINT(pad1)                                                                          \
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
@@ -142,7 +142,7 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SDF 5
 #define CVK_CONTACT_BINDING_TRIANGLES 6
 #define CVK_CONTACT_BINDING_OWNED 7
-#define CVK_CONTACT_BINDING_NEAR 8
+#define CVK_CONTACT_BINDING_REST 8
 #define CVK_CONTACT_BINDING_CONTACTS 9
 #define CVK_CONTACT_BINDING_POSITIONS 10
 /* The same params, shapes and poses as uniform buffers, for the solver sweeps: on lavapipe a
