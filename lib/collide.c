@@ -299,18 +299,34 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 #define UNIFORM {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
-    STORAGE, STORAGE, STORAGE, STORAGE, UNIFORM, UNIFORM, UNIFORM,
+    [CVK_CONTACT_BINDING_FRAME] = STORAGE,
+    [CVK_CONTACT_BINDING_PARAMS] = STORAGE,
+    [CVK_CONTACT_BINDING_SHAPES] = STORAGE,
+    [CVK_CONTACT_BINDING_KEYFRAMES] = STORAGE,
+    [CVK_CONTACT_BINDING_POSES] = STORAGE,
+    [CVK_CONTACT_BINDING_SDF] = STORAGE,
+    [CVK_CONTACT_BINDING_TRIANGLES] = TEXEL,
+    [CVK_CONTACT_BINDING_OWNED] = TEXEL,
+    [CVK_CONTACT_BINDING_REST] = TEXEL,
+    [CVK_CONTACT_BINDING_CONTACTS] = STORAGE,
+    [CVK_CONTACT_BINDING_POSITIONS] = TEXEL,
+    [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = UNIFORM,
+    [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = UNIFORM,
+    [CVK_CONTACT_BINDING_POSES_UNIFORM] = UNIFORM,
+    [CVK_CONTACT_BINDING_CONTACTS_READ] = TEXEL,
 };
 #undef STORAGE
 #undef UNIFORM
+#undef TEXEL
 
 static cvk_result make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
                               const void* data, cvk_error* error)
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     VkDeviceSize bytes = size; /* what `data` holds; the buffer is never empty */
     if (size < 16)
@@ -367,7 +383,7 @@ static cvk_result make_rest(const cvk_build* b, cvk_collide* c, cvk_error* error
         longest = fmaxf(longest, b->springs[i].rest);
     /* Beyond every spring (a bend spring spans two spacings) and beyond the detection radius,
        so a flat cloth finds no contact with itself unless folded or crushed by half. */
-    c->exclusion = fmaxf(1.01f * longest, 2.5f * 2.0f * c->thickness);
+    c->exclusion = fmaxf(1.01f * longest, 5.0f * c->thickness);
     for (uint32_t cloth = 0; cloth < b->cloth_count; cloth++) {
         const cvk_cloth_range* r = &b->cloths[cloth];
         const float* origin = &b->position[3 * (size_t)b->internal_of[r->first_user]];
@@ -417,6 +433,19 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     if (r == CVK_SUCCESS)
         r = make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
     free_cloth_tables(&t);
+    struct {
+        const cvk_buffer* buffer;
+        VkFormat format;
+        VkBufferView* view;
+    } views[] = {
+        {&c->triangles, VK_FORMAT_R32G32B32A32_UINT, &c->view_triangles},
+        {&c->owned, VK_FORMAT_R32_UINT, &c->view_owned},
+        {&c->rest, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_rest},
+        {&c->contacts, VK_FORMAT_R32_UINT, &c->view_contacts},
+    };
+    for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
+        r = cvk_buffer_view_create(s->context, views[i].buffer, views[i].format, views[i].view,
+                                   error);
     return r;
 }
 
@@ -432,7 +461,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .friction = c->friction,
         .static_friction = c->static_friction,
         .dt = s->params.dt,
-        .detect_radius = 2.0f * c->thickness,
+        .detect_radius = CVK_DETECT_RADIUS_THICKNESSES * c->thickness,
         .exclusion = c->exclusion,
     };
     cvk_gpu_frame frame = {0};
@@ -458,14 +487,15 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_KEYFRAMES] = {.buffer = &c->keyframes},
         [CVK_CONTACT_BINDING_POSES] = {.buffer = &c->poses},
         [CVK_CONTACT_BINDING_SDF] = {.buffer = &c->sdf_values},
-        [CVK_CONTACT_BINDING_TRIANGLES] = {.buffer = &c->triangles},
-        [CVK_CONTACT_BINDING_OWNED] = {.buffer = &c->owned},
-        [CVK_CONTACT_BINDING_REST] = {.buffer = &c->rest},
+        [CVK_CONTACT_BINDING_TRIANGLES] = {.view = c->view_triangles},
+        [CVK_CONTACT_BINDING_OWNED] = {.view = c->view_owned},
+        [CVK_CONTACT_BINDING_REST] = {.view = c->view_rest},
         [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
-        [CVK_CONTACT_BINDING_POSITIONS] = {.buffer = &s->positions},
+        [CVK_CONTACT_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = {.buffer = &c->params},
         [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = {.buffer = &c->shapes},
         [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
+        [CVK_CONTACT_BINDING_CONTACTS_READ] = {.view = c->view_contacts},
     };
     cvk_descriptors_write(s->context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -506,6 +536,10 @@ void cvk_collide_destroy(cvk_sim* s)
     if (c->hash.capacity)
         cvk_hash_destroy(ctx, &c->hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
+    VkBufferView views[] = {c->view_triangles, c->view_owned, c->view_rest, c->view_contacts};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(ctx->device, views[i], NULL);
     cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
                              &c->params, &c->triangles, &c->owned, &c->rest, &c->contacts};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)

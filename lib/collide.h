@@ -18,6 +18,12 @@
 
 struct cvk_sim;
 
+/* Particle–triangle pairs nearer than this many thicknesses are kept as candidates. They are
+   found once per frame (the hash and the search cost more than the frame's solve on lavapipe
+   if repeated every substep), so the margin beyond the thickness covers the approach over a
+   frame's substeps; pairs that close faster than that within one frame are found a frame late. */
+#define CVK_DETECT_RADIUS_THICKNESSES 3.0f
+
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */
     bool self;                   /* particle–triangle contact between cloths */
@@ -41,6 +47,7 @@ typedef struct cvk_collide {
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_hash hash;               /* only with self-contact */
+    VkBufferView view_triangles, view_owned, view_rest, view_contacts; /* texel views */
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */

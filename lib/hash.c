@@ -41,6 +41,7 @@ static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
     [CVK_HASH_BINDING_KEYS] = STORAGE,       [CVK_HASH_BINDING_STARTS] = STORAGE,
     [CVK_HASH_BINDING_ENTRIES] = STORAGE,    [CVK_HASH_BINDING_SCRATCH] = STORAGE,
     [CVK_HASH_BINDING_STARTS_READ] = TEXEL,  [CVK_HASH_BINDING_ENTRIES_READ] = TEXEL,
+    [CVK_HASH_BINDING_PARAMS_READ] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0},
 };
 #undef STORAGE
 #undef TEXEL
@@ -102,6 +103,7 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     uint64_t slots = hash->table_size;
     struct {
@@ -153,6 +155,7 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
         [CVK_HASH_BINDING_SCRATCH] = {.buffer = &hash->scratch},
         [CVK_HASH_BINDING_STARTS_READ] = {.view = hash->starts_view},
         [CVK_HASH_BINDING_ENTRIES_READ] = {.view = hash->entries_view},
+        [CVK_HASH_BINDING_PARAMS_READ] = {.buffer = &hash->params},
     };
     cvk_descriptors_write(context, &d, 0, res);
     return CVK_SUCCESS;

@@ -226,3 +226,12 @@ const char* cvk_barrier_name(cvk_barrier barrier)
     }
     return "?";
 }
+
+uint32_t cvk_plan_frame_ops(const cvk_plan* plan, uint32_t pass)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < plan->op_count; i++)
+        if (pass == UINT32_MAX || plan->ops[i].pass == pass)
+            n += plan->ops[i].once_per_frame ? 1 : plan->substeps;
+    return n;
+}

@@ -56,6 +56,8 @@ typedef struct cvk_op {
     VkBuffer buffer, src;
     VkDeviceSize offset, src_offset, size;
     uint32_t value;
+    bool once_per_frame;        /* recorded in the first substep only (work whose result the
+                                   frame's later substeps reuse, e.g. contact candidates) */
     char note[64];              /* the family's details for --plan (iteration, buffers) */
 } cvk_op;
 
@@ -99,6 +101,9 @@ cvk_op* cvk_plan_fill(cvk_plan* plan, uint32_t pass, VkBuffer buffer, VkDeviceSi
                       VkDeviceSize size, uint32_t value);
 cvk_op* cvk_plan_copy(cvk_plan* plan, uint32_t pass, VkBuffer src, VkDeviceSize src_offset,
                       VkBuffer dst, VkDeviceSize dst_offset, VkDeviceSize size);
+
+/* Operations one frame records: all of them, or those of `pass` (UINT32_MAX: every pass). */
+uint32_t cvk_plan_frame_ops(const cvk_plan* plan, uint32_t pass);
 
 /* Creates every pipeline the plan uses, with the layout of its first op; *created tells
    whether any is new (fresh pipelines then want cvk_plan_record_warm_up). */

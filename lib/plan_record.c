@@ -123,13 +123,15 @@ void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,
     for (uint32_t sub = 0; sub < plan->substeps; sub++) {
         for (uint32_t i = 0; i < plan->op_count; i++) {
             const cvk_op* op = &plan->ops[i];
-            record_op(op, pipelines, &bound, cmd);
+            bool skip = op->once_per_frame && sub > 0;
+            if (!skip)
+                record_op(op, pipelines, &bound, cmd);
             bool pass_ends = i + 1 == plan->op_count || plan->ops[i + 1].pass != op->pass;
             if (timed && pass_ends)
                 vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries->pool,
                                     query++);
             bool last = sub + 1 == plan->substeps && i + 1 == plan->op_count;
-            if (!last)
+            if (!last && !skip)
                 record_barrier(cmd, op->barrier);
         }
     }

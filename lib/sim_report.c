@@ -69,10 +69,10 @@ void cvk_sim_get_timing(const cvk_sim* s, cvk_sim_stats* st)
     st->pass_count = s->plan.pass_count < CVK_MAX_PASSES ? s->plan.pass_count : CVK_MAX_PASSES;
     for (uint32_t p = 0; p < st->pass_count; p++) {
         st->passes[p].name = s->plan.pass_names[p];
-        st->passes[p].dispatches = s->plan.pass_dispatches[p] * s->plan.substeps;
+        st->passes[p].dispatches = cvk_plan_frame_ops(&s->plan, p);
     }
     st->dispatches_per_substep = s->plan.op_count;
-    st->dispatches_per_frame = s->plan.op_count * s->plan.substeps;
+    st->dispatches_per_frame = cvk_plan_frame_ops(&s->plan, UINT32_MAX);
     read_gpu_times(s, st);
 }
 
@@ -149,7 +149,8 @@ static void put_op(text* t, const cvk_plan* plan, const cvk_op* op)
             (unsigned long long)op->src_offset, (unsigned long long)op->offset, op->note);
         break;
     }
-    put(t, "; then %s\n", cvk_barrier_name(op->barrier));
+    put(t, "; then %s%s\n", cvk_barrier_name(op->barrier),
+        op->once_per_frame ? " (first substep of a frame only)" : "");
 }
 
 static void put_header(text* t, const cvk_sim* s)
@@ -189,11 +190,15 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
         return t.needed;
     }
     /* Only dispatches so far: "dispatches"; with fills or copies, "operations". */
-    put(&t, "per frame: %u substeps x %u %s = %u %s, workgroup size %u, at most %u workgroups "
-            "per dispatch%s\n",
-        plan->substeps, plan->op_count, plan->has_transfer ? "operations" : "dispatches",
-        plan->substeps * plan->op_count, plan->has_transfer ? "operations" : "dispatches",
-        plan->workgroup_size, plan->max_groups, s->timing ? ", timestamps per pass" : "");
+    const char* kind = plan->has_transfer ? "operations" : "dispatches";
+    uint32_t all = cvk_plan_frame_ops(plan, UINT32_MAX);
+    put(&t, "per frame: %u substeps x %u %s ", plan->substeps, plan->op_count, kind);
+    if (all == plan->substeps * plan->op_count)
+        put(&t, "= %u %s", all, kind);
+    else
+        put(&t, "less those of the first substep only = %u %s", all, kind);
+    put(&t, ", workgroup size %u, at most %u workgroups per dispatch%s\n", plan->workgroup_size,
+        plan->max_groups, s->timing ? ", timestamps per pass" : "");
     put(&t, "per substep:\n");
     for (uint32_t i = 0; i < plan->op_count; i++)
         put_op(&t, plan, &plan->ops[i]);

@@ -52,21 +52,23 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES) buffer Po
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly buffer Fields {
     float sdf_values[];
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) readonly buffer Triangles {
-    uvec4 triangles[]; // internal particle indices
-};
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_OWNED) readonly buffer Owned {
-    uint owned[]; // [p] .. [p + 1]: offsets (from particle_count + 1) of the triangles p owns
-};
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_REST) readonly buffer Rest {
-    vec4 rest[]; // rest position, cloth index
-};
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) buffer Contacts {
+// Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
+// where a storage-buffer load is a loop over the lanes).
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_OWNED) uniform usamplerBuffer owned_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_REST) uniform samplerBuffer rest_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeonly buffer Contacts {
     uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: triangle << 1 | side
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) readonly buffer ContactPositions {
-    vec4 contact_x[]; // x_n, internal order
-};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform usamplerBuffer contacts_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
+
+uvec4 contact_triangle(uint t) { return texelFetch(triangles_t, int(t)); } // internal indices
+// Triangles by lowest corner: [p] .. [p + 1] are offsets (from particle_count + 1) of p's.
+uint contact_owned(uint i) { return texelFetch(owned_t, int(i)).x; }
+vec4 contact_rest(uint p) { return texelFetch(rest_t, int(p)); } // rest position, cloth index
+uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
+vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
 
 // ---- quaternions (x, y, z, w) ----------------------------------------------------------------
 

@@ -4,7 +4,7 @@
 // cloth within the detection radius at the start of the substep (x_n), found through the
 // spatial hash (a triangle is visited through its lowest corner, which lies in one of the 27
 // cells around the particle), skipping triangles of its own cloth that were near it at rest. The nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the
-// triangle the particle is on, which the sweeps then keep it on (pd_contact.glsl). The
+// triangle the particle is on, which the sweeps then keep it on (pd_contact_u.glsl). The
 // enumeration order is fixed (cells in order, entries sorted in each slot), so the result does
 // not depend on thread timing.
 layout(local_size_x_id = 0) in;
@@ -17,11 +17,11 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const uint K = uint(CVK_CONTACTS_PER_PARTICLE);
 
-// Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near): not a contact.
+// Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near): not a contact_u.
 bool rest_near(vec4 rp, uvec4 t)
 {
-    float e2 = contact.exclusion * contact.exclusion;
-    vec4 ra = rest[t.x], rb = rest[t.y], rc = rest[t.z];
+    float e2 = contact_u.exclusion * contact_u.exclusion;
+    vec4 ra = contact_rest(t.x), rb = contact_rest(t.y), rc = contact_rest(t.z);
     vec3 da = rp.xyz - ra.xyz, db = rp.xyz - rb.xyz, dc = rp.xyz - rc.xyz;
     return (ra.w == rp.w && dot(da, da) < e2) || (rb.w == rp.w && dot(db, db) < e2) ||
            (rc.w == rp.w && dot(dc, dc) < e2);
@@ -31,13 +31,16 @@ void main()
 {
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint p = pc.first + i;
-        vec3 xp = contact_x[p].xyz;
-        vec4 rp = rest[p];
+        vec3 xp = contact_x(p);
+        vec4 rp = contact_rest(p);
         uint kept[K];
         float dist[K];
         uint found = 0u;
         ivec3 home = hash_cell(xp);
-        uint base = contact.particle_count + 1u;
+        uint base = contact_u.particle_count + 1u;
+        float reach = 1.0 / hash_params_u.inv_cell; // ≥ radius + 1.5 × the longest edge
+        float reach2 = reach * reach;
+        float exclusion2 = contact_u.exclusion * contact_u.exclusion;
         for (uint n = 0u; n < 27u; n++) {
             ivec3 cell = hash_neighbour_cell(home, n);
             uvec2 range = hash_range(cell);
@@ -45,16 +48,27 @@ void main()
                 uint q = hash_entry(e);
                 if (!hash_in_cell(q, cell))
                     continue; // another cell sharing the slot
-                for (uint o = owned[q]; o < owned[q + 1u]; o++) {
-                    uint t = owned[base + o];
-                    uvec4 tri = triangles[t];
+                // A triangle within the detection radius has its owner within the radius plus
+                // its longest edge, less than a cell (lib/collide_passes.c): farther owners are
+                // skipped by an empty range, which lavapipe's loops honour.
+                // q is a corner of every triangle it owns: if q was near p at rest, all of
+                // them are skipped (the common case inside one cloth).
+                vec3 to_q = hash_point(q) - xp;
+                vec4 rq = contact_rest(q);
+                vec3 rest_to_q = rq.xyz - rp.xyz;
+                bool near = dot(to_q, to_q) < reach2 &&
+                            (rq.w != rp.w || dot(rest_to_q, rest_to_q) >= exclusion2);
+                uint o_end = near ? contact_owned(q + 1u) : 0u;
+                for (uint o = near ? contact_owned(q) : 0u; o < o_end; o++) {
+                    uint t = contact_owned(base + o);
+                    uvec4 tri = contact_triangle(t);
                     if (rest_near(rp, tri))
                         continue;
-                    vec3 a = contact_x[tri.x].xyz, b = contact_x[tri.y].xyz, c = contact_x[tri.z].xyz;
+                    vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
                     vec3 w;
                     vec3 closest = closest_on_triangle(xp, a, b, c, w);
                     float d = length(xp - closest);
-                    if (d >= contact.detect_radius)
+                    if (d >= contact_u.detect_radius)
                         continue;
                     uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
                     // Insert by distance, keeping the K nearest (ties: first found first).

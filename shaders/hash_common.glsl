@@ -34,6 +34,9 @@
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) buffer HashParams {
     cvk_hash_params hash_params;
 };
+layout(std140, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS_READ) uniform HashParamsRead {
+    cvk_hash_params hash_params_u;
+};
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_POINTS) uniform samplerBuffer hash_points;
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) buffer HashKeys {
     uint hash_keys[];
@@ -57,7 +60,7 @@ layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ) uniform usampler
 // so the conversion to int is defined. lib/hash.c computes the same.
 ivec3 hash_cell(vec3 p)
 {
-    vec3 c = floor(p * hash_params.inv_cell);
+    vec3 c = floor(p * hash_params_u.inv_cell);
     return ivec3(clamp(c, vec3(-CVK_HASH_CELL_LIMIT), vec3(CVK_HASH_CELL_LIMIT)));
 }
 
@@ -71,7 +74,7 @@ uint hash_slot(ivec3 cell)
     h ^= h >> 16;
     h *= 0x7feb352du;
     h ^= h >> 15;
-    return h & (hash_params.table_size - 1u);
+    return h & (hash_params_u.table_size - 1u);
 }
 
 // Cell n (0..26) of the 3x3x3 block around `home`.

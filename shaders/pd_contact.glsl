@@ -16,10 +16,10 @@ vec3 pd_contact(uint p, vec3 u)
     if (SELF) {
         vec3 xp = x0 + u;
         for (uint k = 0u; k < uint(CVK_CONTACTS_PER_PARTICLE); k++) {
-            uint e = contacts[p * uint(CVK_CONTACTS_PER_PARTICLE) + k];
+            uint e = contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE) + k);
             if (e == CVK_NO_CONTACT)
                 break;
-            uvec4 t = triangles[e >> 1u];
+            uvec4 t = contact_triangle(e >> 1u);
             float side = (e & 1u) != 0u ? -1.0 : 1.0;
             vec3 a0 = fetch(x_read, t.x), b0 = fetch(x_read, t.y), c0 = fetch(x_read, t.z);
             xp = collide_triangle(x0, xp, a0, b0, c0, a0 + fetch(src, t.x), b0 + fetch(src, t.y),

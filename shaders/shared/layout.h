@@ -151,7 +151,8 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_PARAMS_UNIFORM 11
 #define CVK_CONTACT_BINDING_SHAPES_UNIFORM 12
 #define CVK_CONTACT_BINDING_POSES_UNIFORM 13
-#define CVK_CONTACT_BINDING_COUNT 14
+#define CVK_CONTACT_BINDING_CONTACTS_READ 14 /* texel view of the contacts */
+#define CVK_CONTACT_BINDING_COUNT 15
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
@@ -197,7 +198,9 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
 #define CVK_HASH_BINDING_SCRATCH 5      /* storage: counts per slot, sums per chunk, unsorted */
 #define CVK_HASH_BINDING_STARTS_READ 6  /* texel (r32ui): starts, as queries read them */
 #define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as queries read them */
-#define CVK_HASH_BINDING_COUNT 8
+#define CVK_HASH_BINDING_PARAMS_READ 8  /* uniform: the parameters, as queries read them (a
+                                           storage load per cell visited was a lane loop) */
+#define CVK_HASH_BINDING_COUNT 9
 
 /* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
    defined for far-away points (they share the border cells). */
