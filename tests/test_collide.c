@@ -302,9 +302,96 @@ static void test_poses_and_snapshot(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* Cloth on cloth: two cloths dropped on each other onto the ground, and a cloth dropped
+   tilted so that it lands edge first and buckles, end with no intersecting triangle pairs; without
+   self-contact the first pair does intersect (the test can fail). */
+static uint64_t drop_intersections(cvk_context* ctx, bool self, bool folding, uint32_t frames)
+{
+    cvk_cloth_desc cloths[2];
+    for (int i = 0; i < 2; i++) {
+        cloths[i] = flat_cloth(20, 0.5f, 0.05f + 0.1f * i);
+        cloths[i].origin[0] += 0.05f * i;
+        cloths[i].stiffness.shear = 1e6f;
+        cloths[i].stiffness.bend = 1e3f;
+    }
+    if (folding) { /* tilted 40°, its lower edge 5 cm above the ground: it lands edge first */
+        cloths[0].origin[1] = 0.05f + 0.5f * 0.6428f;
+        cloths[0].v_axis[0] = 0.0f;
+        cloths[0].v_axis[1] = -0.6428f;
+        cloths[0].v_axis[2] = 0.766f;
+    }
+    cvk_collider_desc ground = collider(CVK_COLLIDER_PLANE);
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = folding ? 1 : 2;
+    scene.colliders = &ground;
+    scene.collider_count = 1;
+    scene.collision.self = self;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
+    uint64_t pairs = 0;
+    REQUIRE_OK(cvk_sim_count_intersections(sim, &pairs, &err), err);
+    cvk_sim_stats st;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+    CHECK(st.nan_count == 0 && st.max_stretch < 0.5, "%s drop: max stretch %.3g, %llu NaN",
+          folding ? "folding" : "two-cloth", st.max_stretch, (unsigned long long)st.nan_count);
+    CHECK(st.intersecting_pairs == pairs, "the statistics count %llu intersecting pairs, "
+          "cvk_sim_count_intersections %llu", (unsigned long long)st.intersecting_pairs,
+          (unsigned long long)pairs);
+    cvk_sim_destroy(sim);
+    return pairs;
+}
+
+static void test_cloth_on_cloth(cvk_context* ctx)
+{
+    uint64_t with = drop_intersections(ctx, true, false, 40);
+    CHECK(with == 0, "two cloths dropped on each other: %llu intersecting triangle pairs",
+          (unsigned long long)with);
+    uint64_t without = drop_intersections(ctx, false, false, 40);
+    CHECK(without > 0, "without self-contact the two cloths should pass through each other "
+          "(0 intersecting pairs: the check cannot see a failure)");
+    uint64_t folded = drop_intersections(ctx, true, true, 60);
+    CHECK(folded == 0, "a tilted cloth dropped on the ground: %llu intersecting triangle pairs", (unsigned long long)folded);
+}
+
+/* The plan records collision passes only when the scene collides. */
+static void test_plan_passes(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth = flat_cloth(8, 0.5f, 1.0f);
+    cvk_collider_desc ground = collider(CVK_COLLIDER_PLANE);
+    cvk_scene_desc scene = one_substep_scene(&cloth, &ground);
+    const char* passes[] = {"colliders", "hash", "contacts", "contact"};
+    for (int variant = 0; variant < 3; variant++) {
+        scene.collider_count = variant == 1 ? 0 : 1;
+        scene.collision.self = variant >= 1;
+        if (variant == 1)
+            scene.collider_count = 0;
+        cvk_scene_desc none = scene;
+        none.collider_count = 0;
+        none.collision.self = false;
+        const cvk_scene_desc* which = variant == 0 ? &none : &scene;
+        cvk_error err;
+        cvk_sim* sim;
+        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = which}, &sim, &err), err);
+        for (int k = 0; k < 4; k++) {
+            bool expected = variant == 0 ? false
+                                         : (k == 0 ? which->collider_count > 0
+                                                   : (k == 3 ? true : which->collision.self));
+            bool found = cvk_plan_find_pass(&sim->plan, passes[k]) != UINT32_MAX;
+            CHECK(found == expected, "variant %d: pass \"%s\" %s", variant, passes[k],
+                  found ? "recorded but not expected" : "expected but missing");
+        }
+        cvk_sim_destroy(sim);
+    }
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
+    test_plan_passes(ctx);
+    test_cloth_on_cloth(ctx);
     test_friction(ctx);
     test_poses_and_snapshot(ctx);
     test_fast_sphere(ctx);

@@ -6,8 +6,9 @@
 
    Why it should hold: every pass is a loop over particles in which each particle's result
    depends only on the data, never on which invocation or workgroup computes it; no pass
-   reduces across invocations (no atomics, no shared memory), so the dispatch shape cannot
-   reorder a floating-point sum. A shape that changes the hash breaks that rule. */
+   reduces across invocations in floating point (the spatial hash counts with integer atomics
+   and then sorts each cell by particle index), so the dispatch shape cannot reorder a
+   floating-point sum. A shape that changes the hash breaks that rule. */
 #include <stdint.h>
 #include <unistd.h>
 
@@ -229,6 +230,41 @@ static void check_scene(cvk_context* ctx, const char* name, const cvk_scene_desc
     free(start);
 }
 
+/* Contact: two cloths falling onto a sphere and onto each other while a keyframed box sweeps
+   under them, with self-contact (the hash, the candidate search and the contact pass). */
+static void check_contact_scene(cvk_context* ctx, const cvk_scene_desc* base)
+{
+    cvk_cloth_desc cloths[2];
+    for (int i = 0; i < 2; i++) {
+        cloths[i] = cvk_default_cloth_desc();
+        cloths[i].grid[0] = cloths[i].grid[1] = 16;
+        cloths[i].size[0] = cloths[i].size[1] = 0.5f;
+        cloths[i].origin[0] = -0.25f + 0.04f * i;
+        cloths[i].origin[1] = 0.22f + 0.03f * i;
+        cloths[i].origin[2] = -0.25f;
+        cloths[i].stiffness.shear = 1e5f;
+    }
+    cvk_collider_desc colliders[2] = {cvk_default_collider_desc(), cvk_default_collider_desc()};
+    colliders[0].type = CVK_COLLIDER_SPHERE;
+    colliders[0].radius = 0.2f;
+    colliders[1].type = CVK_COLLIDER_BOX;
+    colliders[1].center[1] = 0.1f;
+    colliders[1].half_extents[0] = colliders[1].half_extents[1] = colliders[1].half_extents[2] = 0.1f;
+    static const cvk_keyframe keys[2] = {
+        {.time = 0.0f, .translation = {-0.4f, 0.0f, 0.0f}, .rotation = {1, 0, 0, 0}},
+        {.time = 0.1f, .translation = {0.4f, 0.0f, 0.0f}, .rotation = {0.7071068f, 0, 0.7071068f, 0}},
+    };
+    colliders[1].motion.keyframes = keys;
+    colliders[1].motion.keyframe_count = 2;
+    cvk_scene_desc scene = *base;
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.colliders = colliders;
+    scene.collider_count = 2;
+    scene.collision.self = true;
+    check_scene(ctx, "two cloths, sphere, moving box, self-contact", &scene, 2 * 16 * 16);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -257,5 +293,6 @@ int main(void)
     } else {
         CHECK(!"mkdtemp worked", "cannot make a folder under /tmp for the mesh file");
     }
+    check_contact_scene(ctx, &scene);
     return harness_finish(ctx);
 }
