@@ -510,6 +510,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
                                                      : default_thickness(&s->build);
     c->friction = scene->collision.friction;
+    c->detect_every = scene->collision.detect_every ? scene->collision.detect_every : 1;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)

@@ -18,10 +18,9 @@
 
 struct cvk_sim;
 
-/* Particle–triangle pairs nearer than this many thicknesses are kept as candidates. They are
-   found once per frame (the hash and the search cost more than the frame's solve on lavapipe
-   if repeated every substep), so the margin beyond the thickness covers the approach over a
-   frame's substeps; pairs that close faster than that within one frame are found a frame late. */
+/* Particle–triangle pairs nearer than this many thicknesses are kept as candidates, for the
+   substeps until the next search (collision.detect_every): the margin beyond the thickness
+   covers the approach in between. */
 #define CVK_DETECT_RADIUS_THICKNESSES 3.0f
 
 typedef struct cvk_collide {
@@ -29,6 +28,7 @@ typedef struct cvk_collide {
     bool self;                   /* particle–triangle contact between cloths */
     float thickness;             /* m, resolved (collision.thickness or its default) */
     float friction, static_friction;
+    uint32_t detect_every;       /* substeps from one candidate search to the next */
 
     uint32_t collider_count;
     cvk_collider_desc* colliders;/* deep copies (keyframes, names and files owned here) */

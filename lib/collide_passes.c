@@ -83,7 +83,7 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
                      (double)(CVK_DETECT_RADIUS_THICKNESSES * c->thickness));
         }
         for (uint32_t i = first; i < plan->op_count; i++)
-            plan->ops[i].once_per_frame = true; /* candidates for the whole frame */
+            plan->ops[i].every = c->detect_every; /* candidates for the substeps until the next */
     }
     return cvk_plan_check(plan, error);
 }

@@ -232,6 +232,12 @@ uint32_t cvk_plan_frame_ops(const cvk_plan* plan, uint32_t pass)
     uint32_t n = 0;
     for (uint32_t i = 0; i < plan->op_count; i++)
         if (pass == UINT32_MAX || plan->ops[i].pass == pass)
-            n += plan->ops[i].once_per_frame ? 1 : plan->substeps;
+            for (uint32_t sub = 0; sub < plan->substeps; sub++)
+                n += cvk_op_runs(&plan->ops[i], sub);
     return n;
+}
+
+bool cvk_op_runs(const cvk_op* op, uint32_t sub)
+{
+    return op->every <= 1 || sub % op->every == 0;
 }

@@ -56,8 +56,9 @@ typedef struct cvk_op {
     VkBuffer buffer, src;
     VkDeviceSize offset, src_offset, size;
     uint32_t value;
-    bool once_per_frame;        /* recorded in the first substep only (work whose result the
-                                   frame's later substeps reuse, e.g. contact candidates) */
+    uint32_t every;             /* 0 or 1: every substep; k: substeps 0, k, 2k, ... of a frame
+                                   only (work whose result the substeps between reuse, e.g.
+                                   contact candidates) */
     char note[64];              /* the family's details for --plan (iteration, buffers) */
 } cvk_op;
 
@@ -102,6 +103,8 @@ cvk_op* cvk_plan_fill(cvk_plan* plan, uint32_t pass, VkBuffer buffer, VkDeviceSi
 cvk_op* cvk_plan_copy(cvk_plan* plan, uint32_t pass, VkBuffer src, VkDeviceSize src_offset,
                       VkBuffer dst, VkDeviceSize dst_offset, VkDeviceSize size);
 
+/* Whether op runs in substep `sub` of a frame (its `every`). */
+bool cvk_op_runs(const cvk_op* op, uint32_t sub);
 /* Operations one frame records: all of them, or those of `pass` (UINT32_MAX: every pass). */
 uint32_t cvk_plan_frame_ops(const cvk_plan* plan, uint32_t pass);
 

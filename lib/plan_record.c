@@ -123,7 +123,7 @@ void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,
     for (uint32_t sub = 0; sub < plan->substeps; sub++) {
         for (uint32_t i = 0; i < plan->op_count; i++) {
             const cvk_op* op = &plan->ops[i];
-            bool skip = op->once_per_frame && sub > 0;
+            bool skip = !cvk_op_runs(op, sub);
             if (!skip)
                 record_op(op, pipelines, &bound, cmd);
             bool pass_ends = i + 1 == plan->op_count || plan->ops[i + 1].pass != op->pass;

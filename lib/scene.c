@@ -36,7 +36,8 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .cloth_count = 0,
         .render = cvk_default_render_desc(),
         /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
-        .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f},
+        .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f,
+                      .detect_every = 1},
         .colliders = NULL,
         .collider_count = 0,
         .cookie_ = scene_cookie,
@@ -610,8 +611,11 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)
 
 /* ---- collisions: the scene's defaults and each collider; base is "colliders.N" ---- */
 
-static bool check_collision(const cvk_collision_desc* c, cvk_scene_issue* issue)
+static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_scene_issue* issue)
 {
+    if (c->detect_every < 1 || c->detect_every > substeps)
+        return issue_at(issue, "collision.detect_every", "must be between 1 and substeps (%u), got %u",
+                        substeps, c->detect_every);
     if (!check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
         !check_at_least(issue, "collision.friction", c->friction, 0.0) ||
         !check_finite(issue, "collision.static_friction", c->static_friction))
@@ -743,7 +747,7 @@ static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk
 
 static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
 {
-    if (!check_collision(&d->collision, issue))
+    if (!check_collision(&d->collision, d->substeps, issue))
         return false;
     if (d->collider_count > CVK_MAX_COLLIDERS)
         return issue_at(issue, "colliders", "at most %u colliders, got %" PRIu32, CVK_MAX_COLLIDERS,

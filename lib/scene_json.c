@@ -241,6 +241,7 @@ static const cvk_field collision_fields[] = {
     {.key = "thickness", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, thickness)},
     {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, friction)},
     {.key = "static_friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, static_friction)},
+    {.key = "detect_every", .read = cvk_read_uint, .offset = offsetof(cvk_collision_desc, detect_every)},
 };
 static const cvk_table collision_table = FIELDS(collision_fields);
 

@@ -149,8 +149,10 @@ static void put_op(text* t, const cvk_plan* plan, const cvk_op* op)
             (unsigned long long)op->src_offset, (unsigned long long)op->offset, op->note);
         break;
     }
-    put(t, "; then %s%s\n", cvk_barrier_name(op->barrier),
-        op->once_per_frame ? " (first substep of a frame only)" : "");
+    put(t, "; then %s", cvk_barrier_name(op->barrier));
+    if (op->every > 1)
+        put(t, " (every %u substeps)", op->every);
+    put(t, "\n");
 }
 
 static void put_header(text* t, const cvk_sim* s)
@@ -196,7 +198,7 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
     if (all == plan->substeps * plan->op_count)
         put(&t, "= %u %s", all, kind);
     else
-        put(&t, "less those of the first substep only = %u %s", all, kind);
+        put(&t, "less those run every few substeps only = %u %s", all, kind);
     put(&t, ", workgroup size %u, at most %u workgroups per dispatch%s\n", plan->workgroup_size,
         plan->max_groups, s->timing ? ", timestamps per pass" : "");
     put(&t, "per substep:\n");

@@ -295,6 +295,10 @@ typedef struct cvk_collision_desc {
                                     any structural spring (the default) */
     float friction;              /* Coulomb kinetic coefficient, ≥ 0; usually 0.3 */
     float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
+    uint32_t detect_every;       /* substeps from one search for cloth-contact candidates to the
+                                    next (the hash and the query), 1 to substeps; usually 1.
+                                    Larger is cheaper, but layers approaching faster than about
+                                    two thicknesses per search interval may pass through */
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {

@@ -146,6 +146,7 @@ typedef struct cvk_collision_desc {
     float thickness;
     float friction;
     float static_friction;
+    uint32_t detect_every;
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {
