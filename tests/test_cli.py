@@ -64,6 +64,21 @@ def plan_has(*starts):
     return check
 
 
+def json_contacts(stdout, workdir):
+    """--json of a colliding scene: the contact figures, each a count or a length."""
+    try:
+        c = json.loads(stdout)["contacts"]
+    except (ValueError, KeyError, TypeError) as e:
+        return [f"no contacts object in the JSON: {e!r}"]
+    problems = [f"contacts.{k} is {c.get(k)!r}" for k in ("colliders", "self", "intersecting_pairs")
+                if not is_int(c.get(k)) or c.get(k) < 0]
+    if not is_number(c.get("max_penetration")) or c["max_penetration"] < 0:
+        problems.append(f"contacts.max_penetration is {c.get('max_penetration')!r}")
+    if not problems and c["colliders"] == 0:
+        problems.append("the cloth lies on the ground after 40 frames, yet no collider contact")
+    return problems
+
+
 def is_int(v):
     return isinstance(v, int) and not isinstance(v, bool)
 
@@ -314,6 +329,13 @@ CASES = [
      "check": plan_has("colours: 2 (red-black)", "per frame: 8 substeps x 34 dispatches")},
     {"name": "--plan full stencil", "argv": [STENCIL, "--plan"], "status": 0,
      "check": plan_has("colours: 5")},
+    {"name": "--plan with contact", "argv": [asset("drape.json"), "--plan"], "status": 0,
+     "check": plan_has("collision: thickness", "  colliders dispatch", "  hash     dispatch",
+                       "  contacts dispatch", "  contact  dispatch")},
+    {"name": "--json contacts", "argv": [asset("drape.json"), "--set", "cloths.0.grid=[12,12]",
+                                         "--set", "cloths.0.origin=[1,0.05,1]",
+                                         "--frames", "40", "--json"], "status": 0,
+     "check": json_contacts},
     {"name": "--json", "argv": [SMALL, "--set", "cloths.0.grid=[10,10]", "--frames", "3", "--json"], "status": 0,
      "check": json_stats(particles=100, structural=180, frames=3)},
     {"name": "--dump before any step", "argv": [SMALL, "--frames", "0", "--dump", DUMP], "status": 0,
