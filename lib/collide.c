@@ -461,7 +461,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .friction = c->friction,
         .static_friction = c->static_friction,
         .dt = s->params.dt,
-        .detect_radius = CVK_DETECT_RADIUS_THICKNESSES * c->thickness,
+        .detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness,
         .exclusion = c->exclusion,
     };
     cvk_gpu_frame frame = {0};

@@ -30,7 +30,8 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
     /* A triangle within the detection radius of p has its lowest corner (its owner) within the
        radius plus the triangle's longest edge; cells that large keep the owner among the 27
        cells around p while the cloth stretches up to 50 %. */
-    float cell = CVK_DETECT_RADIUS_THICKNESSES * c->thickness + 1.5f * longest_edge(&s->build);
+    float cell = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness +
+                 1.5f * longest_edge(&s->build);
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
                           &s->positions};
     cvk_result r = cvk_hash_create(s->context, &desc, &c->hash, error);
@@ -80,7 +81,7 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
             cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
             op->set1 = c->hash.set;
             snprintf(op->note, sizeof op->note, "particle-triangle pairs within %.3g m",
-                     (double)(CVK_DETECT_RADIUS_THICKNESSES * c->thickness));
+                     (double)(CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness));
         }
         for (uint32_t i = first; i < plan->op_count; i++)
             plan->ops[i].every = c->detect_every; /* candidates for the substeps until the next */

@@ -105,7 +105,7 @@ CVK_STRUCT(cvk_gpu_pose, CVK_GPU_POSE_FIELDS)
 CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 
 /* Particle–triangle contacts kept per particle per substep. */
-#define CVK_CONTACTS_PER_PARTICLE 8
+#define CVK_CONTACTS_PER_PARTICLE 16 /* two layers' worth (a particle in a stack) */
 #define CVK_NO_CONTACT 0xffffffffu
 
 #define CVK_GPU_CONTACT_PARAMS_FIELDS                                                       \
