@@ -57,6 +57,9 @@ COLUMNS = {
                 "scan_chunks_ms", "scan_ms", "scatter_ms", "sort_ms", "hash_ms", "neighbours_ms",
                 "total_ms", "total_ms_min", "total_ms_max", "ns_per_point", "neighbours_per_point",
                 "dispatches", "device"],
+    "contact-steps": ["dt", "steps", "max_penetration", "max_intersecting_pairs",
+                      "end_intersecting_pairs", "end_max_stretch", "nan", "gpu_ms_per_step",
+                      "tunnelling_free", "device"],
 }
 TEXT = {"label", "solver", "kind", "case", "reason", "device"}
 
@@ -183,6 +186,22 @@ def collide_rows(rows):
     return problems
 
 
+def contact_step_rows(rows):
+    """One row per h with the step count the time asks for; a small cloth falling on a ball
+    stays out of it at both steps."""
+    problems = []
+    got = [(r["dt"], r["steps"]) for r in rows]
+    if got != [("0.004", "10"), ("0.008", "5")]:
+        problems.append(f"contact-steps.csv (dt, steps): expected [(0.004, 10), (0.008, 5)], got {got}")
+    for r in rows:
+        if float(r["max_penetration"]) > 1e-4 or r["nan"] != "0":
+            problems.append(f"contact-steps.csv at h = {r['dt']}: penetration "
+                            f"{r['max_penetration']} m, {r['nan']} NaN")
+        if r["tunnelling_free"] not in ("0", "1"):
+            problems.append(f"contact-steps.csv: tunnelling_free is {r['tunnelling_free']!r}")
+    return problems
+
+
 GOOD = [
     {"name": "convergence on enlarged.json",
      "argv": ["convergence"] + TINY_ENLARGED + ["--max-iterations", "30"] + QUICK,
@@ -209,13 +228,18 @@ GOOD = [
      "experiment": "scaling"},
     {"name": "collide",
      "argv": ["collide", "--points", "2000,10"] + QUICK, "experiment": "collide", "check": collide_rows},
+    {"name": "contact-steps",
+     "argv": ["contact-steps", asset("drape.json"), "--set", "cloths.0.grid=[8,8]",
+              "--set", "cloths.0.origin=[-0.5,0.62,-0.5]", "--dt", "0.004,0.008",
+              "--time", "0.04"] + QUICK,
+     "experiment": "contact-steps", "check": contact_step_rows},
 ]
 
 BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
     {"name": "unknown experiment", "argv": ["speed", HANGING],
      "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
-               'stability, scaling or collide)'},
+               'stability, scaling, collide or contact-steps)'},
     {"name": "missing scene", "argv": ["convergence"],
      "stderr": "clothvk-bench: convergence needs a scene file"},
     {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],

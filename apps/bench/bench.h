@@ -248,6 +248,7 @@ int bench_pareto(bench* b);
 int bench_stability(bench* b);
 int bench_scaling(bench* b);
 int bench_collide(bench* b);
+int bench_contact_steps(bench* b);
 
 /* Stability of one configuration, for the experiment and the tests: steps the simulation
    `steps` substeps (checking every few) and classifies it. */

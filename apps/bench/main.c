@@ -21,7 +21,8 @@ enum {
     STABILITY = 1 << 3,
     SCALING = 1 << 4,
     COLLIDE = 1 << 5,
-    ALL = 0x3f,
+    CONTACT_STEPS = 1 << 6,
+    ALL = 0x7f,
 };
 
 typedef struct experiment {
@@ -39,6 +40,7 @@ static const experiment experiments[] = {
     {"stability", STABILITY, true, bench_stability, 1500, 560},
     {"scaling", SCALING, false, bench_scaling, 1200, 550},
     {"collide", COLLIDE, false, bench_collide, 1000, 600},
+    {"contact-steps", CONTACT_STEPS, true, bench_contact_steps, 1000, 550},
 };
 
 static void usage(FILE* out)
@@ -54,6 +56,7 @@ static void usage(FILE* out)
         "  stability SCENE    stable region over h x stiffness (x damping), largest stable h, extremes\n"
         "  scaling [SCENE]    ms per frame and per pass against particle and iteration counts\n"
         "  collide            spatial hash build and neighbour query: ms per pass against points\n"
+        "  contact-steps SCENE  penetration and intersecting pairs against the time step\n"
         "options (all experiments):\n"
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
@@ -249,10 +252,10 @@ static const option_spec option_specs[] = {
     {"--reference-max-iterations", CONVERGENCE | BUDGET | PARETO, true},
     {"--iterations", PARETO | STABILITY | SCALING, true},
     {"--substeps", PARETO, true},
-    {"--time", PARETO | STABILITY, true},
+    {"--time", PARETO | STABILITY | CONTACT_STEPS, true},
     {"--target", PARETO, true},
     {"--target-residual", PARETO, true},
-    {"--dt", STABILITY, true},
+    {"--dt", STABILITY | CONTACT_STEPS, true},
     {"--stiffness", STABILITY, true},
     {"--damping", STABILITY, true},
     {"--energy-bound", STABILITY, true},
@@ -388,7 +391,7 @@ static void set_defaults(bench_options* o, const experiment* e)
         o->substep_count = 3;
     }
     if (o->time == 0.0)
-        o->time = e->bit == STABILITY ? 0.5 : 0.25;
+        o->time = e->bit == STABILITY || e->bit == CONTACT_STEPS ? 0.5 : 0.25;
     if (o->dt_count == 0) {
         const double dts[] = {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 1.0 / 30.0};
         memcpy(o->dts, dts, sizeof dts);
@@ -477,7 +480,7 @@ static int parse_args(int argc, char** argv, parsed* p)
     p->e = find_experiment(positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
-                  "stability, scaling or collide)", positional[0]);
+                  "stability, scaling, collide or contact-steps)", positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
     o->experiment = p->e->name;
