@@ -3,6 +3,7 @@
 #include <math.h>
 
 #include "collide.h"
+#include "vec3.h"
 
 cvk_pose cvk_collide_pose(const cvk_collide* c, uint32_t index, double t)
 {
@@ -11,42 +12,25 @@ cvk_pose cvk_collide_pose(const cvk_collide* c, uint32_t index, double t)
     return cvk_motion_pose(&c->colliders[index].motion, t);
 }
 
-static float dot3(const float a[3], const float b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static float length3(const float a[3])
-{
-    return sqrtf(dot3(a, a));
-}
-
-static void normalize3(float v[3], const float fallback[3])
-{
-    float len = length3(v);
-    for (int k = 0; k < 3; k++)
-        v[k] = len > 1e-12f ? v[k] / len : fallback[k];
-}
-
 static const float up[3] = {0.0f, 1.0f, 0.0f};
 
 static float plane_distance(const cvk_collider_desc* d, const float l[3], float n[3])
 {
     float normal[3] = {d->normal[0], d->normal[1], d->normal[2]};
-    normalize3(normal, up);
+    cvk_normalize3(normal, up);
     float rel[3] = {l[0] - d->point[0], l[1] - d->point[1], l[2] - d->point[2]};
     for (int k = 0; k < 3; k++)
         n[k] = normal[k];
-    return dot3(normal, rel);
+    return cvk_dot3(normal, rel);
 }
 
 static float sphere_distance(const float centre[3], float radius, const float l[3], float n[3])
 {
     float rel[3] = {l[0] - centre[0], l[1] - centre[1], l[2] - centre[2]};
-    float len = length3(rel);
+    float len = cvk_length3(rel);
     for (int k = 0; k < 3; k++)
         n[k] = rel[k];
-    normalize3(n, up);
+    cvk_normalize3(n, up);
     return len - radius;
 }
 
@@ -66,7 +50,7 @@ static float box_distance(const cvk_collider_desc* d, const float l[3], float n[
         outside[k] = fmaxf(e[k], 0.0f);
     }
     float inside = fminf(fmaxf(e[0], fmaxf(e[1], e[2])), 0.0f);
-    float dist = length3(outside) + inside;
+    float dist = cvk_length3(outside) + inside;
     if (fmaxf(e[0], fmaxf(e[1], e[2])) > 0.0f) {
         for (int k = 0; k < 3; k++)
             local_n[k] = outside[k] * (b[k] < 0.0f ? -1.0f : 1.0f);
@@ -74,7 +58,7 @@ static float box_distance(const cvk_collider_desc* d, const float l[3], float n[
         int axis = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
         local_n[axis] = b[axis] >= 0.0f ? 1.0f : -1.0f;
     }
-    normalize3(local_n, up);
+    cvk_normalize3(local_n, up);
     cvk_quat_rotate(q, local_n, n);
     return dist;
 }
@@ -83,8 +67,8 @@ static float capsule_distance(const cvk_collider_desc* d, const float l[3], floa
 {
     float ab[3] = {d->b[0] - d->a[0], d->b[1] - d->a[1], d->b[2] - d->a[2]};
     float al[3] = {l[0] - d->a[0], l[1] - d->a[1], l[2] - d->a[2]};
-    float len2 = dot3(ab, ab);
-    float t = len2 > 0.0f ? fminf(fmaxf(dot3(al, ab) / len2, 0.0f), 1.0f) : 0.0f;
+    float len2 = cvk_dot3(ab, ab);
+    float t = len2 > 0.0f ? fminf(fmaxf(cvk_dot3(al, ab) / len2, 0.0f), 1.0f) : 0.0f;
     float closest[3] = {d->a[0] + t * ab[0], d->a[1] + t * ab[1], d->a[2] + t * ab[2]};
     return sphere_distance(closest, d->radius, l, n);
 }
@@ -110,10 +94,10 @@ static float funnel_distance(const cvk_collider_desc* d, const float l[3], float
     float away[3] = {-to_x * radial[0], -to_y, -to_x * radial[2]};
     float r = expf(s / a);
     float fallback[3] = {radial[0], -r / a, radial[2]};
-    normalize3(fallback, up);
+    cvk_normalize3(fallback, up);
     for (int k = 0; k < 3; k++)
         n[k] = away[k];
-    normalize3(n, fallback);
+    cvk_normalize3(n, fallback);
     return sqrtf(to_x * to_x + to_y * to_y);
 }
 
@@ -126,7 +110,7 @@ static float mesh_distance(const cvk_sdf* f, const float l[3], float n[3])
         lo[k] -= e;
         n[k] = cvk_sdf_sample(f, hi) - cvk_sdf_sample(f, lo);
     }
-    normalize3(n, up);
+    cvk_normalize3(n, up);
     return cvk_sdf_sample(f, l);
 }
 

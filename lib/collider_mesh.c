@@ -3,6 +3,7 @@
    have flat faces with their own normals; a mesh collider's triangles get normals split at
    sharp edges, so a chair's flat faces stay flat and its rounded parts stay smooth. */
 #include "collider_mesh.h"
+#include "vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -70,26 +71,6 @@ static void add_triangle(builder* b, uint32_t i, uint32_t j, uint32_t k)
     t[2] = k;
 }
 
-/* ---- small vector helpers ----------------------------------------------------------------- */
-
-static float dot3(const float a[3], const float b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const float a[3], const float b[3], float out[3])
-{
-    float c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-    memcpy(out, c, sizeof c);
-}
-
-static void normalize3(float v[3])
-{
-    float len = sqrtf(dot3(v, v));
-    if (len > 0.0f)
-        for (int k = 0; k < 3; k++)
-            v[k] /= len;
-}
 
 /* u, v completing the unit axis w to a right-handed frame (u × v = w). */
 static void perpendicular_frame(const float w[3], float u[3], float v[3])
@@ -99,9 +80,9 @@ static void perpendicular_frame(const float w[3], float u[3], float v[3])
         other[0] = 0.0f;
         other[1] = 1.0f;
     }
-    cross3(other, w, u);
-    normalize3(u);
-    cross3(w, u, v);
+    cvk_cross3(other, w, u);
+    cvk_normalize3(u, NULL);
+    cvk_cross3(w, u, v);
 }
 
 /* ---- surfaces of revolution --------------------------------------------------------------- */
@@ -129,7 +110,7 @@ static uint32_t lathe_ring(builder* b, const lathe* l, const profile_point* p)
             x[k] = l->origin[k] + p->radius * out + p->height * l->axis[k];
             n[k] = p->normal_out * out + p->normal_up * l->axis[k];
         }
-        normalize3(n);
+        cvk_normalize3(n, NULL);
         add_vertex(b, x, n);
     }
     return first;
@@ -202,7 +183,7 @@ static void make_sphere(builder* b, const cvk_collider_desc* c)
 static void make_capsule(builder* b, const cvk_collider_desc* c)
 {
     float d[3] = {c->b[0] - c->a[0], c->b[1] - c->a[1], c->b[2] - c->a[2]};
-    float length = sqrtf(dot3(d, d));
+    float length = sqrtf(cvk_dot3(d, d));
     lathe l = {.axis = {0.0f, 1.0f, 0.0f}};
     if (length > 0.0f)
         for (int k = 0; k < 3; k++)
@@ -274,11 +255,11 @@ static void make_box(builder* b, const cvk_collider_desc* c)
 static void make_plane(builder* b, const cvk_collider_desc* c, const float focus[3], float extent)
 {
     float n[3] = {c->normal[0], c->normal[1], c->normal[2]};
-    normalize3(n);
+    cvk_normalize3(n, NULL);
     float u[3], v[3], center[3];
     perpendicular_frame(n, u, v);
     float d[3] = {focus[0] - c->point[0], focus[1] - c->point[1], focus[2] - c->point[2]};
-    float above = dot3(d, n);
+    float above = cvk_dot3(d, n);
     for (int k = 0; k < 3; k++) {
         center[k] = focus[k] - above * n[k];
         u[k] *= 0.5f * extent;
@@ -325,7 +306,7 @@ static void face_normal(const cvk_sdf* sdf, uint32_t t, float out[3])
     const float* c = &sdf->xyz[3 * (size_t)tri[2]];
     float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    cross3(e1, e2, out);
+    cvk_cross3(e1, e2, out);
 }
 
 /* One vertex per triangle corner; its normal is the area-weighted mean of the faces around
@@ -343,13 +324,13 @@ static void make_from_sdf(builder* b, const cvk_sdf* sdf, const uint32_t* start,
             for (uint32_t f = start[v]; f < start[v + 1]; f++) {
                 float w[3];
                 face_normal(sdf, faces[f], w);
-                if (dot3(&unit[3 * (size_t)faces[f]], own) < SHARP_COS)
+                if (cvk_dot3(&unit[3 * (size_t)faces[f]], own) < SHARP_COS)
                     continue;
                 for (int k = 0; k < 3; k++)
                     n[k] += w[k];
             }
-            normalize3(n);
-            if (dot3(n, n) == 0.0f)
+            cvk_normalize3(n, NULL);
+            if (cvk_dot3(n, n) == 0.0f)
                 memcpy(n, own, sizeof n);
             corner[c] = add_vertex(b, &sdf->xyz[3 * (size_t)v], n);
         }
@@ -376,7 +357,7 @@ static cvk_result make_mesh(builder* b, const cvk_sdf* sdf, cvk_error* error)
     if (unit && faces_by_vertex(sdf, &start, &faces)) {
         for (uint32_t t = 0; t < sdf->triangle_count; t++) {
             face_normal(sdf, t, &unit[3 * (size_t)t]);
-            normalize3(&unit[3 * (size_t)t]);
+            cvk_normalize3(&unit[3 * (size_t)t], NULL);
         }
         reserve(b, 3 * sdf->triangle_count, sdf->triangle_count);
         make_from_sdf(b, sdf, start, faces, unit);

@@ -46,17 +46,17 @@ void main()
             uvec2 range = hash_range(cell);
             for (uint e = range.x; e < range.y; e++) {
                 uint q = hash_entry(e);
-                if (!hash_in_cell(q, cell))
-                    continue; // another cell sharing the slot
+                vec3 xq = hash_point(q); // fetched once: for its cell and its distance
                 // A triangle within the detection radius has its owner within the radius plus
                 // its longest edge, less than a cell (lib/collide_passes.c): farther owners are
                 // skipped by an empty range, which lavapipe's loops honour.
                 // q is a corner of every triangle it owns: if q was near p at rest, all of
                 // them are skipped (the common case inside one cloth).
-                vec3 to_q = hash_point(q) - xp;
+                // An entry of another cell sharing the slot is skipped the same way.
+                vec3 to_q = xq - xp;
                 vec4 rq = contact_rest(q);
                 vec3 rest_to_q = rq.xyz - rp.xyz;
-                bool near = dot(to_q, to_q) < reach2 &&
+                bool near = hash_cell(xq) == cell && dot(to_q, to_q) < reach2 &&
                             (rq.w != rp.w || dot(rest_to_q, rest_to_q) >= exclusion2);
                 uint o_end = near ? contact_owned(q + 1u) : 0u;
                 for (uint o = near ? contact_owned(q) : 0u; o < o_end; o++) {
