@@ -265,6 +265,15 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "residual_per_type", residuals);
     json_object_set_new(root, "max_stretch", real_or_null(st->max_stretch, true));
     json_object_set_new(root, "nan_count", json_integer((json_int_t)st->nan_count));
+    if (scene->solver.method == CVK_METHOD_IMPLICIT) {
+        json_t* linear = json_object();
+        json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
+        json_object_set_new(linear, "iterations_per_substep",
+                            json_real((double)st->solver_iterations_total /
+                                      ((double)st->frames * scene->substeps + (st->frames == 0))));
+        json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
+        json_object_set_new(root, "linear_solver", linear);
+    }
     if (scene->collider_count > 0 || scene->collision.self) {
         json_t* contacts = json_object();
         json_object_set_new(contacts, "colliders", json_integer((json_int_t)st->collider_contacts));
@@ -294,13 +303,23 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
 {
     printf("%s: %u frames of %u substeps (dt %g s) on %s\n", scene->name ? scene->name : "scene",
            t->frames, scene->substeps, scene->dt, cvk_context_get_info(ctx).device_name);
-    printf("  %llu particles (%llu pinned), %llu springs, %u colours, %s/%s %ux%u\n",
+    printf("  %llu particles (%llu pinned), %llu springs, %u colours, %s/%s ",
            (unsigned long long)st->particles, (unsigned long long)st->pinned,
            (unsigned long long)(st->springs[0] + st->springs[1] + st->springs[2]), st->colours,
-           cvk_method_name(scene->solver.method), cvk_linear_solver_name(scene->solver.linear),
-           scene->solver.outer_iterations, scene->solver.inner_iterations);
+           cvk_method_name(scene->solver.method), cvk_linear_solver_name(scene->solver.linear));
+    if (scene->solver.method == CVK_METHOD_IMPLICIT)
+        printf("to %g, at most %u\n", scene->solver.tolerance, scene->solver.max_iterations);
+    else
+        printf("%ux%u\n", scene->solver.outer_iterations, scene->solver.inner_iterations);
     printf("  residual %.4g m^2, max stretch %.3g %%, NaN %llu\n", st->residual,
            100.0 * st->max_stretch, (unsigned long long)st->nan_count);
+    if (scene->solver.method == CVK_METHOD_IMPLICIT)
+        printf("  %s: %u iterations in the last frame, %.2f per substep on average, %u "
+               "breakdowns\n", cvk_linear_solver_name(scene->solver.linear),
+               st->solver_iterations,
+               (double)st->solver_iterations_total /
+                   ((double)st->frames * scene->substeps + (st->frames == 0)),
+               st->solver_breakdowns);
     if (scene->collider_count > 0 || scene->collision.self)
         printf("  contacts: %llu with colliders, %llu between cloths; deepest penetration %.3g mm, "
                "%llu intersecting triangle pairs\n",

@@ -324,6 +324,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
     case CVK_LINEAR_JACOBI:
         plan_jacobi(&pb, &s->build, 0.0, false);
         break;
+    case CVK_LINEAR_CG: /* the implicit family's (scene validation keeps it there) */
+        break;
     case CVK_LINEAR_GS_CPU:
         plan->host = true; /* no dispatches */
         snprintf(plan->host_note, sizeof plan->host_note,

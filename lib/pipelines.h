@@ -48,7 +48,19 @@ typedef struct cvk_spec_recipe {
     X(HASH_SCAN, HASH_SCAN_COMP, CVK_SPEC_WORKGROUP, "hash: scan")              \
     X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
     X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
-    X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours")
+    X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours") \
+    X(IMPLICIT_ASSEMBLE, IMPLICIT_ASSEMBLE_COMP, CVK_SPEC_PD, "implicit: blocks, b, dv = 0") \
+    X(IMPLICIT_CG_START, IMPLICIT_CG_START_COMP, CVK_SPEC_PD, "cg: z = P^-1 r, p = z, r.z") \
+    X(IMPLICIT_CG_RHO0, IMPLICIT_RHO0_COMP, CVK_SPEC_PD, "cg: rho0") \
+    X(IMPLICIT_CG_PRODUCT, IMPLICIT_CG_PRODUCT_COMP, CVK_SPEC_PD, "cg: q = A p, p.q") \
+    X(IMPLICIT_CG_ALPHA, IMPLICIT_ALPHA_COMP, CVK_SPEC_PD, "cg: alpha") \
+    X(IMPLICIT_CG_UPDATE, IMPLICIT_CG_UPDATE_COMP, CVK_SPEC_PD, "cg: dv, r, z, r.z") \
+    X(IMPLICIT_CG_BETA, IMPLICIT_BETA_COMP, CVK_SPEC_PD, "cg: beta, stop test") \
+    X(IMPLICIT_CG_DIRECTION, IMPLICIT_CG_DIRECTION_COMP, CVK_SPEC_PD, "cg: p = z + beta p") \
+    X(IMPLICIT_JACOBI_EVEN, IMPLICIT_JACOBI_EVEN_COMP, CVK_SPEC_PD, "block jacobi: dv0 -> dv1") \
+    X(IMPLICIT_JACOBI_ODD, IMPLICIT_JACOBI_ODD_COMP, CVK_SPEC_PD, "block jacobi: dv1 -> dv0") \
+    X(IMPLICIT_JACOBI_CHECK, IMPLICIT_JACOBI_CHECK_COMP, CVK_SPEC_PD, "block jacobi: stop test") \
+    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_PD, "v += dv, x += h v")
 
 typedef enum cvk_pipeline_id {
 #define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,

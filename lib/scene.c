@@ -31,6 +31,9 @@ cvk_scene_desc cvk_default_scene_desc(void)
             .omega = 1.0f,
             .chebyshev_rho = 0.0f,
             .chebyshev_delay = 2,
+            .tolerance = 1e-3f,
+            .max_iterations = 100,
+            .kd = 0.0f,
         },
         .cloths = NULL,
         .cloth_count = 0,
@@ -149,6 +152,7 @@ const char* cvk_linear_solver_name(cvk_linear_solver linear)
     case CVK_LINEAR_JACOBI: return "jacobi";
     case CVK_LINEAR_CHEBYSHEV: return "chebyshev";
     case CVK_LINEAR_GS_CPU: return "gs-cpu";
+    case CVK_LINEAR_CG: return "cg";
     }
     return NULL;
 }
@@ -157,6 +161,7 @@ const char* cvk_method_name(cvk_method method)
 {
     switch (method) {
     case CVK_METHOD_PD: return "pd";
+    case CVK_METHOD_IMPLICIT: return "implicit";
     }
     return NULL;
 }
@@ -292,6 +297,22 @@ static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
            check_half_open(issue, "damping", d->damping, 0.0, 1.0);
 }
 
+/* The implicit method's linear solvers are its own (cg) or shared by name (jacobi). */
+static bool check_implicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
+{
+    bool implicit = s->method == CVK_METHOD_IMPLICIT;
+    if (implicit && s->linear != CVK_LINEAR_CG && s->linear != CVK_LINEAR_JACOBI)
+        return issue_at(issue, "solver.linear", "%s is not a linear solver of the implicit "
+                        "method; use cg or jacobi", cvk_linear_solver_name(s->linear));
+    if (!implicit && s->linear == CVK_LINEAR_CG)
+        return issue_at(issue, "solver.linear", "cg solves the implicit method only; use rbgs, "
+                        "jacobi, chebyshev or gs-cpu with %s", cvk_method_name(s->method));
+    return check_open(issue, "solver.tolerance", s->tolerance, 0.0, 1.0) &&
+           check_count_range(issue, "solver.max_iterations", s->max_iterations, 1,
+                             CVK_MAX_SWEEPS) &&
+           check_at_least(issue, "solver.kd", s->kd, 0.0);
+}
+
 bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     if (!cvk_method_name(s->method))
@@ -309,7 +330,8 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
                         "%" PRIu64 " sweeps per substep; at most %u", s->outer_iterations,
                         s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
     return check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
-           check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0);
+           check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0) &&
+           check_implicit(s, issue);
 }
 
 /* ---- one cloth; base is "cloths.N" ---- */
@@ -758,6 +780,10 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
         if (!check_collider(&d->colliders[i], i, &d->collision, issue))
             return false;
     }
+    /* Contact constraints are not filtered out of the implicit system yet. */
+    if (d->solver.method == CVK_METHOD_IMPLICIT && (d->collider_count > 0 || d->collision.self))
+        return issue_at(issue, "solver.method", "implicit does not handle contact yet; remove "
+                        "\"colliders\" and \"collision.self\", or use pd");
     return true;
 }
 

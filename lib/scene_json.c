@@ -428,6 +428,10 @@ static const cvk_field solver_fields[] = {
     {.key = "omega", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, omega)},
     {.key = "chebyshev_rho", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, chebyshev_rho)},
     {.key = "chebyshev_delay", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, chebyshev_delay)},
+    {.key = "tolerance", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, tolerance)},
+    {.key = "max_iterations", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, max_iterations),
+     .min = 1},
+    {.key = "kd", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, kd)},
 };
 static const cvk_table solver_table = FIELDS(solver_fields);
 

@@ -8,6 +8,7 @@
 #include "metrics.h"
 #include "scene.h"
 #include "sim.h"
+#include "solve_implicit.h"
 
 /* ---- statistics ------------------------------------------------------------------------ */
 
@@ -99,6 +100,7 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     st->gravitational_energy = m.gravitational;
     st->elastic_energy = m.elastic;
     st->energy = m.kinetic + m.gravitational + m.elastic;
+    cvk_implicit_stats(s, st);
     return cvk_sim_contact_stats(s, s->scratch, st, error);
 }
 

@@ -31,6 +31,7 @@ static const char* seed_name(const bench_solver* s)
     case CVK_LINEAR_GS_CPU: return "GS (sequential)";
     case CVK_LINEAR_JACOBI: return "Jacobi";
     case CVK_LINEAR_CHEBYSHEV: break;
+    case CVK_LINEAR_CG: break;
     }
     return "?";
 }

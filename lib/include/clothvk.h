@@ -177,6 +177,7 @@ CVK_API uint32_t cvk_context_validation_message_count(const cvk_context* context
 
 typedef enum cvk_method {
     CVK_METHOD_PD = 0, /* projective dynamics (Liu et al. 2013), Verlet prediction */
+    CVK_METHOD_IMPLICIT, /* backward Euler, one linearised Newton step per substep (Baraff & Witkin) */
 } cvk_method;
 
 typedef enum cvk_linear_solver {
@@ -184,6 +185,7 @@ typedef enum cvk_linear_solver {
     CVK_LINEAR_JACOBI,     /* Jacobi on the GPU, relaxation omega */
     CVK_LINEAR_CHEBYSHEV,  /* Jacobi with Chebyshev semi-iterative acceleration (Wang 2015) */
     CVK_LINEAR_GS_CPU,     /* sequential double-precision Gauss-Seidel on the host (reference) */
+    CVK_LINEAR_CG,         /* filtered block-Jacobi preconditioned conjugate gradient (implicit) */
 } cvk_linear_solver;
 
 typedef struct cvk_solver_desc {
@@ -194,6 +196,9 @@ typedef struct cvk_solver_desc {
     float omega;                /* SOR factor (rbgs, gs-cpu) or relaxation (jacobi, chebyshev), 0 < omega < 2, usually 1 */
     float chebyshev_rho;        /* spectral radius for chebyshev; 0 = estimated at build time */
     uint32_t chebyshev_delay;   /* plain sweeps before Chebyshev weights start, usually 2 */
+    float tolerance;            /* implicit: relative residual where cg / jacobi stop, usually 1e-3 */
+    uint32_t max_iterations;    /* implicit: cg iterations or jacobi sweeps per substep, at most; usually 100 */
+    float kd;                   /* implicit: damping along each spring, N·s/m; usually 0 */
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
@@ -592,6 +597,12 @@ typedef struct cvk_sim_stats {
                                     (0 when none is; thickness not counted) */
     uint64_t intersecting_pairs; /* non-adjacent cloth triangle pairs that intersect
                                     (cvk_sim_count_intersections); 0 without collision */
+    /* The implicit method's linear solver (0 for pd). */
+    uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps of the last frame, summed
+                                         over its substeps */
+    uint64_t solver_iterations_total; /* since the simulation started */
+    uint32_t solver_breakdowns;       /* substeps whose CG met pᵀAp ≤ 0 and stopped; 0 while the
+                                         system stays positive definite */
 } cvk_sim_stats;
 
 /* The number of pairs of cloth triangles that share no particle and intersect, computed exactly

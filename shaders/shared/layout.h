@@ -52,6 +52,58 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
 #define CVK_PD_BINDING_COUNT 11
 
+/* ---- implicit Euler: implicit_*.comp (lib/solve_implicit.c) ------------------------------- */
+
+#define CVK_IMPLICIT_PUSH_FIELDS                                                        \
+    CVK_UINT(count)        /* particles (or partial sums, for reductions) covered */     \
+    CVK_UINT(stride)       /* free particle count: adjacency slot stride */              \
+    CVK_UINT(partials)     /* invocations of a reduction pass = partial sums */          \
+    CVK_UINT(clamp)        /* 1: compressive part of each spring block clamped at 0 */   \
+    CVK_FLOAT(h)           /* substep, s */                                              \
+    CVK_FLOAT(tol2)        /* squared relative residual where the solve stops */         \
+    CVK_FLOAT(kd)          /* spring damping, N s/m */                                   \
+    CVK_FLOAT(keep)        /* 1 - damping (velocity kept per substep) */                 \
+    CVK_VEC4(gravity)      /* m/s^2 (0 when integration is off) */
+
+CVK_PUSH_BLOCK(cvk_implicit_push, CVK_IMPLICIT_PUSH_FIELDS)
+
+/* The solve's scalars, on the device only: CG's rho (r.z), its first value, alpha and beta;
+   converged: every pass of the solve does nothing once set; iterations of this substep and of
+   this frame (the frame's is zeroed by a fill at its first substep); result: the iterate
+   holding the solution (Jacobi ping-pongs); breakdown: substeps whose CG met p.Ap <= 0;
+   total_iterations: since the simulation started. */
+#define CVK_IMPLICIT_SCALARS_FIELDS \
+    CVK_FLOAT(rho)                  \
+    CVK_FLOAT(rho0)                 \
+    CVK_FLOAT(alpha)                \
+    CVK_FLOAT(beta)                 \
+    CVK_UINT(converged)             \
+    CVK_UINT(iterations)            \
+    CVK_UINT(frame_iterations)      \
+    CVK_UINT(result)                \
+    CVK_UINT(breakdown)             \
+    CVK_UINT(total_iterations)      \
+    CVK_UINT(pad1)                  \
+    CVK_UINT(pad2)
+CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
+
+/* Bindings of the implicit set (shaders/implicit_common.glsl); storage buffers, vec4 per item. */
+#define CVK_IMPLICIT_BINDING_X 0          /* positions, all particles */
+#define CVK_IMPLICIT_BINDING_V 1          /* velocities, all particles (w: mass, kg) */
+#define CVK_IMPLICIT_BINDING_ADJACENCY 2  /* per slot (slot-major): neighbour, k, rest (bits) */
+#define CVK_IMPLICIT_BINDING_DIAG 3       /* 4 per free particle: A_pp, then its inverse */
+#define CVK_IMPLICIT_BINDING_OFFDIAG 4    /* 2 per slot: the block H with A_pc = -H */
+#define CVK_IMPLICIT_BINDING_B 5          /* right-hand side */
+#define CVK_IMPLICIT_BINDING_DV0 6        /* the unknown dv (CG; Jacobi's first iterate) */
+#define CVK_IMPLICIT_BINDING_DV1 7        /* Jacobi's second iterate */
+#define CVK_IMPLICIT_BINDING_R 8          /* CG residual */
+#define CVK_IMPLICIT_BINDING_Z 9          /* preconditioned residual */
+#define CVK_IMPLICIT_BINDING_P 10         /* search direction */
+#define CVK_IMPLICIT_BINDING_Q 11         /* A p */
+#define CVK_IMPLICIT_BINDING_PARTIALS 12  /* float per reduction invocation */
+#define CVK_IMPLICIT_BINDING_SCALARS 13   /* cvk_implicit_scalars */
+#define CVK_IMPLICIT_BINDING_COUNT 14
+
 /* ---- mesh generation: mesh.comp ------------------------------------------------------------ */
 
 #define CVK_MESH_PUSH_FIELDS \

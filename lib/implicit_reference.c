@@ -1,0 +1,267 @@
+/* The implicit Euler substep on the host, in double precision: the ground truth the device's
+   assembly, CG and Jacobi are compared with (same formulas as shaders/implicit_assemble.comp,
+   same iteration and stopping rule as implicit_scalars.comp). Never on the fast path. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "solve_implicit.h"
+
+/* A symmetric 3×3 block: xx, yy, zz, xy, xz, yz. */
+typedef struct sym {
+    double m[6];
+} sym;
+
+static void sym_mul(const sym* a, const double* w, double* out)
+{
+    const double* m = a->m;
+    out[0] = m[0] * w[0] + m[3] * w[1] + m[4] * w[2];
+    out[1] = m[3] * w[0] + m[1] * w[1] + m[5] * w[2];
+    out[2] = m[4] * w[0] + m[5] * w[1] + m[2] * w[2];
+}
+
+/* a n nᵀ + t (I − n nᵀ) added to s. */
+static void add_outer(sym* s, const double* n, double a, double t)
+{
+    double d = a - t;
+    s->m[0] += d * n[0] * n[0] + t;
+    s->m[1] += d * n[1] * n[1] + t;
+    s->m[2] += d * n[2] * n[2] + t;
+    s->m[3] += d * n[0] * n[1];
+    s->m[4] += d * n[0] * n[2];
+    s->m[5] += d * n[1] * n[2];
+}
+
+static sym sym_inverse(const sym* a)
+{
+    const double* m = a->m;
+    double c00 = m[1] * m[2] - m[5] * m[5], c01 = m[4] * m[5] - m[3] * m[2];
+    double c02 = m[3] * m[5] - m[4] * m[1], c11 = m[0] * m[2] - m[4] * m[4];
+    double c12 = m[3] * m[4] - m[0] * m[5], c22 = m[0] * m[1] - m[3] * m[3];
+    double inv = 1.0 / (m[0] * c00 + m[3] * c01 + m[4] * c02);
+    return (sym){{inv * c00, inv * c11, inv * c22, inv * c01, inv * c02, inv * c12}};
+}
+
+static double dot3(const double* a, const double* b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+typedef struct lin_system {
+    const cvk_build* b;
+    size_t nf;
+    sym *diag, *inv, *off; /* off: slot-major, zero for pinned neighbours and padding */
+    double *rhs, *dv, *dv2, *r, *z, *p, *q;
+} lin_system;
+
+static void system_free(lin_system* s)
+{
+    free(s->diag);
+    free(s->inv);
+    free(s->off);
+    free(s->rhs);
+}
+
+static bool system_alloc(lin_system* s, const cvk_build* b)
+{
+    size_t nf = b->free_count, slots = (size_t)b->max_degree * nf;
+    *s = (lin_system){.b = b, .nf = nf};
+    s->diag = calloc(nf + 1, sizeof(sym));
+    s->inv = calloc(nf + 1, sizeof(sym));
+    s->off = calloc(slots + 1, sizeof(sym));
+    s->rhs = calloc(21 * nf + 1, sizeof(double)); /* rhs, dv, dv2, r, z, p, q */
+    if (!s->diag || !s->inv || !s->off || !s->rhs) {
+        system_free(s);
+        return false;
+    }
+    double** arrays[] = {&s->dv, &s->dv2, &s->r, &s->z, &s->p, &s->q};
+    for (size_t i = 0; i < 6; i++)
+        *arrays[i] = s->rhs + 3 * nf * (i + 1);
+    return true;
+}
+
+/* The blocks, b, dv = 0 and r = b (implicit_assemble.comp). */
+static void assemble(lin_system* s, const cvk_implicit_params* ip, const double* x, const double* v)
+{
+    const cvk_build* b = s->b;
+    double h = ip->h;
+    for (size_t p = 0; p < s->nf; p++) {
+        double m = b->mass[p], f[3], kv[3] = {0, 0, 0};
+        for (int c = 0; c < 3; c++)
+            f[c] = m * ip->gravity[c];
+        sym a = {{m, m, m, 0, 0, 0}};
+        for (uint32_t slot = 0; slot < b->max_degree; slot++) {
+            size_t e = (size_t)slot * s->nf + p;
+            uint32_t c = b->adj_index[e];
+            double k = b->adj_k[e], rest = b->adj_rest[e], d[3], dvel[3], n[3] = {0, 0, 0};
+            for (int i = 0; i < 3; i++) {
+                d[i] = x[3 * p + i] - x[3 * (size_t)c + i];
+                dvel[i] = v[3 * p + i] - v[3 * (size_t)c + i];
+            }
+            double l = sqrt(dot3(d, d)), t = 0.0;
+            if (l > 0.0) {
+                for (int i = 0; i < 3; i++)
+                    n[i] = d[i] / l;
+                t = 1.0 - rest / l;
+            }
+            if (ip->clamp && t < 0.0)
+                t = 0.0;
+            double scale = k * (l - rest) + ip->kd * dot3(dvel, n), kvs[3];
+            sym kb = {{0}}, hb;
+            add_outer(&kb, n, k, k * t);
+            sym_mul(&kb, dvel, kvs);
+            for (int i = 0; i < 3; i++) {
+                f[i] -= scale * n[i];
+                kv[i] += kvs[i];
+            }
+            for (int i = 0; i < 6; i++)
+                hb.m[i] = h * h * kb.m[i];
+            add_outer(&hb, n, h * ip->kd, 0.0);
+            for (int i = 0; i < 6; i++)
+                a.m[i] += hb.m[i];
+            s->off[e] = c < s->nf && k != 0.0 ? hb : (sym){{0}};
+        }
+        s->diag[p] = a;
+        s->inv[p] = sym_inverse(&a);
+        for (int i = 0; i < 3; i++) {
+            s->rhs[3 * p + i] = h * f[i] - h * h * kv[i];
+            s->r[3 * p + i] = s->rhs[3 * p + i];
+            s->dv[3 * p + i] = 0.0;
+        }
+    }
+}
+
+/* out_p = Σ H_pc w_c over p's unknown neighbours. */
+static void neighbour_sum(const lin_system* s, size_t p, const double* w, double* out)
+{
+    out[0] = out[1] = out[2] = 0.0;
+    for (uint32_t slot = 0; slot < s->b->max_degree; slot++) {
+        size_t e = (size_t)slot * s->nf + p;
+        uint32_t c = s->b->adj_index[e];
+        if (c >= s->nf)
+            continue;
+        double t[3];
+        sym_mul(&s->off[e], &w[3 * (size_t)c], t);
+        for (int i = 0; i < 3; i++)
+            out[i] += t[i];
+    }
+}
+
+static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_report* rep)
+{
+    size_t nf = s->nf;
+    double rho = 0.0;
+    for (size_t p = 0; p < nf; p++) {
+        sym_mul(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
+        memcpy(&s->p[3 * p], &s->z[3 * p], 3 * sizeof(double));
+        rho += dot3(&s->r[3 * p], &s->z[3 * p]);
+    }
+    double rho0 = rho, tol2 = ip->tolerance * ip->tolerance;
+    rep->residual = rho0 > 0.0 ? 1.0 : 0.0;
+    if (!(rho0 > 0.0))
+        return;
+    while (rep->iterations < ip->max_iterations) {
+        double pq = 0.0;
+        for (size_t p = 0; p < nf; p++) {
+            double own[3], others[3];
+            sym_mul(&s->diag[p], &s->p[3 * p], own);
+            neighbour_sum(s, p, s->p, others);
+            for (int i = 0; i < 3; i++)
+                s->q[3 * p + i] = own[i] - others[i];
+            pq += dot3(&s->p[3 * p], &s->q[3 * p]);
+        }
+        if (!(pq > 0.0) || isinf(pq)) {
+            rep->breakdown = true;
+            return;
+        }
+        double alpha = rho / pq, next = 0.0;
+        for (size_t i = 0; i < 3 * nf; i++) {
+            s->dv[i] += alpha * s->p[i];
+            s->r[i] -= alpha * s->q[i];
+        }
+        for (size_t p = 0; p < nf; p++) {
+            sym_mul(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
+            next += dot3(&s->r[3 * p], &s->z[3 * p]);
+        }
+        rep->iterations++;
+        rep->residual = sqrt(fmax(next, 0.0) / rho0);
+        double beta = next / rho;
+        rho = next;
+        if (!(next > tol2 * rho0))
+            return;
+        for (size_t i = 0; i < 3 * nf; i++)
+            s->p[i] = s->z[i] + beta * s->p[i];
+    }
+}
+
+/* Block Jacobi between dv and dv2; the solution ends in s->dv. */
+static void solve_jacobi(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_report* rep)
+{
+    size_t nf = s->nf;
+    double delta0 = 0.0, tol2 = ip->tolerance * ip->tolerance;
+    while (rep->iterations < ip->max_iterations) {
+        double delta = 0.0;
+        for (size_t p = 0; p < nf; p++) {
+            double acc[3], next[3], change[3], dchange[3];
+            neighbour_sum(s, p, s->dv, acc);
+            for (int i = 0; i < 3; i++)
+                acc[i] += s->rhs[3 * p + i];
+            sym_mul(&s->inv[p], acc, next);
+            for (int i = 0; i < 3; i++)
+                change[i] = next[i] - s->dv[3 * p + i];
+            sym_mul(&s->diag[p], change, dchange);
+            delta += dot3(change, dchange);
+            memcpy(&s->dv2[3 * p], next, sizeof next);
+        }
+        if (rep->iterations == 0)
+            delta0 = delta;
+        rep->iterations++;
+        rep->residual = delta0 > 0.0 ? sqrt(delta / delta0) : 0.0;
+        double* t = s->dv;
+        s->dv = s->dv2;
+        s->dv2 = t;
+        if (!(delta > tol2 * delta0))
+            return;
+    }
+}
+
+cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
+                                           const cvk_solver_desc* solver)
+{
+    cvk_implicit_params ip = {
+        .h = scene->dt,
+        .keep = 1.0 - scene->damping,
+        .kd = solver->kd,
+        .tolerance = solver->tolerance,
+        .max_iterations = solver->max_iterations,
+        .linear = solver->linear,
+        .clamp = true,
+    };
+    for (int c = 0; c < 3; c++)
+        ip.gravity[c] = scene->integrate ? scene->gravity[c] : 0.0;
+    return ip;
+}
+
+bool cvk_ref_implicit_substep(const cvk_build* b, const cvk_implicit_params* ip, double* x,
+                              double* v, cvk_implicit_report* report)
+{
+    cvk_implicit_report rep = {0};
+    lin_system s;
+    if (!system_alloc(&s, b))
+        return false;
+    assemble(&s, ip, x, v);
+    if (ip->linear == CVK_LINEAR_JACOBI)
+        solve_jacobi(&s, ip, &rep);
+    else
+        solve_cg(&s, ip, &rep);
+    for (size_t p = 0; p < s.nf; p++)
+        for (int i = 0; i < 3; i++) {
+            double vel = (v[3 * p + i] + s.dv[3 * p + i]) * ip->keep;
+            v[3 * p + i] = vel;
+            x[3 * p + i] += ip->h * vel;
+        }
+    system_free(&s);
+    if (report)
+        *report = rep;
+    return true;
+}

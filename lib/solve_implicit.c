@@ -1,0 +1,415 @@
+/* The implicit Euler family: its device objects (velocities, adjacency, blocks, CG vectors,
+   the solve's scalars), its state (positions and velocities), and its passes: assemble, then
+   max_iterations CG iterations or Jacobi sweeps that stop themselves on the device, then
+   integrate. No host round trip inside a frame. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "shared/layout.h"
+#include "solve_implicit.h"
+
+/* Reduction invocations are at most the free particles rounded up to a workgroup. */
+#define MAX_WORKGROUP_SIZE 1024u
+#define PARTIALS_CAPACITY(free_count) ((free_count) + MAX_WORKGROUP_SIZE)
+
+typedef struct cvk_implicit {
+    /* Velocities (w: mass), adjacency, per-particle and per-slot blocks, the system's vectors,
+       partial sums and the scalars (host-visible, read for the statistics). */
+    cvk_buffer v, adjacency, diag, offdiag, rhs, dv[2], r, z, p, q, partials, scalars;
+    cvk_descriptors descriptors;
+    VkCommandBuffer readback_cmd; /* positions and velocities -> staging */
+    uint32_t partial_count;       /* invocations of each reduction pass */
+} cvk_implicit;
+
+static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
+    VkDeviceSize nf16 = (VkDeviceSize)(b->free_count ? b->free_count : 1) * 16u;
+    VkDeviceSize slots16 = nf16 * (b->max_degree ? b->max_degree : 1);
+    VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                             VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    struct {
+        cvk_buffer* buffer;
+        VkDeviceSize size;
+        cvk_memory_kind memory;
+        const char* what;
+    } list[] = {
+        {&im->v, n16, CVK_MEMORY_DEVICE, "velocities"},
+        {&im->adjacency, slots16, CVK_MEMORY_DEVICE, "implicit adjacency"},
+        {&im->diag, 4 * nf16, CVK_MEMORY_DEVICE, "diagonal blocks"},
+        {&im->offdiag, 2 * slots16, CVK_MEMORY_DEVICE, "off-diagonal blocks"},
+        {&im->rhs, nf16, CVK_MEMORY_DEVICE, "implicit right-hand side"},
+        {&im->dv[0], nf16, CVK_MEMORY_DEVICE, "velocity change"},
+        {&im->dv[1], nf16, CVK_MEMORY_DEVICE, "velocity change (second iterate)"},
+        {&im->r, nf16, CVK_MEMORY_DEVICE, "CG residual"},
+        {&im->z, nf16, CVK_MEMORY_DEVICE, "CG preconditioned residual"},
+        {&im->p, nf16, CVK_MEMORY_DEVICE, "CG direction"},
+        {&im->q, nf16, CVK_MEMORY_DEVICE, "CG product"},
+        {&im->partials, (VkDeviceSize)PARTIALS_CAPACITY(b->free_count) * 4u, CVK_MEMORY_DEVICE,
+         "partial sums"},
+        {&im->scalars, sizeof(cvk_implicit_scalars), CVK_MEMORY_HOST, "solver scalars"},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        cvk_result r = cvk_buffer_create(s->context, list[i].size, use, list[i].memory,
+                                         list[i].what, list[i].buffer, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    memset(im->scalars.mapped, 0, sizeof(cvk_implicit_scalars));
+    return CVK_SUCCESS;
+}
+
+/* Slot-major: entry s·nf + p = (neighbour, bits of k, bits of L, 0). */
+static cvk_result upload_adjacency(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    size_t entries = (size_t)b->max_degree * b->free_count;
+    if (entries == 0)
+        return CVK_SUCCESS;
+    uint32_t* data = malloc(entries * 4 * sizeof(uint32_t));
+    if (!data)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    for (size_t e = 0; e < entries; e++) {
+        data[4 * e] = b->adj_index[e];
+        memcpy(&data[4 * e + 1], &b->adj_k[e], 4);
+        memcpy(&data[4 * e + 2], &b->adj_rest[e], 4);
+        data[4 * e + 3] = 0;
+    }
+    cvk_result r = cvk_sim_upload(s, &im->adjacency, data, entries * 16, error);
+    free(data);
+    return r;
+}
+
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding implicit_bindings[CVK_IMPLICIT_BINDING_COUNT] = {
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+};
+#undef STORAGE
+
+static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+{
+    cvk_result r = cvk_descriptors_create(s->context, implicit_bindings,
+                                          CVK_IMPLICIT_BINDING_COUNT, 1,
+                                          VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_implicit_push), &im->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    const cvk_resource res[CVK_IMPLICIT_BINDING_COUNT] = {
+        [CVK_IMPLICIT_BINDING_X] = {.buffer = &s->positions},
+        [CVK_IMPLICIT_BINDING_V] = {.buffer = &im->v},
+        [CVK_IMPLICIT_BINDING_ADJACENCY] = {.buffer = &im->adjacency},
+        [CVK_IMPLICIT_BINDING_DIAG] = {.buffer = &im->diag},
+        [CVK_IMPLICIT_BINDING_OFFDIAG] = {.buffer = &im->offdiag},
+        [CVK_IMPLICIT_BINDING_B] = {.buffer = &im->rhs},
+        [CVK_IMPLICIT_BINDING_DV0] = {.buffer = &im->dv[0]},
+        [CVK_IMPLICIT_BINDING_DV1] = {.buffer = &im->dv[1]},
+        [CVK_IMPLICIT_BINDING_R] = {.buffer = &im->r},
+        [CVK_IMPLICIT_BINDING_Z] = {.buffer = &im->z},
+        [CVK_IMPLICIT_BINDING_P] = {.buffer = &im->p},
+        [CVK_IMPLICIT_BINDING_Q] = {.buffer = &im->q},
+        [CVK_IMPLICIT_BINDING_PARTIALS] = {.buffer = &im->partials},
+        [CVK_IMPLICIT_BINDING_SCALARS] = {.buffer = &im->scalars},
+    };
+    cvk_descriptors_write(s->context, &im->descriptors, 0, res);
+    return CVK_SUCCESS;
+}
+
+static cvk_result record_readback(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+{
+    VkCommandBuffer cmd = im->readback_cmd;
+    cvk_result r = cvk_command_buffer_begin(cmd, 0, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
+    VkBufferCopy positions = {0, 0, n16}, velocities = {0, n16, n16};
+    vkCmdCopyBuffer(cmd, s->positions.buffer, s->staging.buffer, 1, &positions);
+    vkCmdCopyBuffer(cmd, im->v.buffer, s->staging.buffer, 1, &velocities);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    return cvk_command_buffer_end(cmd, error);
+}
+
+/* ---- state: positions and velocities (w: mass), vec4 in internal order ------------------ */
+
+static cvk_result upload_staged(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+{
+    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
+    cvk_staging_copy jobs[] = {{&s->positions, 0, 0, n16}, {&im->v, n16, 0, n16}};
+    return cvk_sim_copy_from_staging(s, jobs, 2, error);
+}
+
+static cvk_result implicit_write_state(cvk_sim* s, void* self, const float* xyz,
+                                       const float* velocity, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    float* x = s->staging.mapped;
+    float* v = x + 4 * (size_t)b->particle_count;
+    for (uint32_t p = 0; p < b->particle_count; p++) {
+        bool free_particle = p < b->free_count;
+        for (int c = 0; c < 3; c++) {
+            x[4 * p + c] = xyz[3 * (size_t)p + c];
+            v[4 * p + c] = velocity && free_particle ? velocity[3 * (size_t)p + c] : 0.0f;
+        }
+        x[4 * p + 3] = 0.0f;
+        v[4 * p + 3] = b->mass[p];
+    }
+    return upload_staged(s, self, error);
+}
+
+static cvk_result implicit_read_state(cvk_sim* s, void* self, float* xyz, float* velocity,
+                                      cvk_error* error)
+{
+    cvk_implicit* im = self;
+    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &im->readback_cmd, 1, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    size_t n = s->build.particle_count;
+    const float* x = s->staging.mapped;
+    const float* v = x + 4 * n;
+    for (size_t p = 0; p < n; p++)
+        for (int c = 0; c < 3; c++) {
+            if (xyz)
+                xyz[3 * p + c] = x[4 * p + c];
+            if (velocity)
+                velocity[3 * p + c] = v[4 * p + c];
+        }
+    return CVK_SUCCESS;
+}
+
+/* Snapshots: positions[n] vec4 then velocities[n] vec4, exactly as held. */
+static uint64_t implicit_snapshot_size(const cvk_sim* s, const void* self)
+{
+    (void)self;
+    return 32u * (uint64_t)s->build.particle_count;
+}
+
+static cvk_result implicit_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* error)
+{
+    cvk_implicit* im = self;
+    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &im->readback_cmd, 1, error);
+    if (r == CVK_SUCCESS)
+        memcpy(data, s->staging.mapped, implicit_snapshot_size(s, self));
+    return r;
+}
+
+static cvk_result implicit_load_snapshot(cvk_sim* s, void* self, const void* data, uint64_t size,
+                                         cvk_error* error)
+{
+    if (size != implicit_snapshot_size(s, self))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_sim_load_snapshot: the implicit state of this simulation is %llu "
+                        "bytes; the snapshot holds %llu",
+                        (unsigned long long)implicit_snapshot_size(s, self),
+                        (unsigned long long)size);
+    memcpy(s->staging.mapped, data, size);
+    return upload_staged(s, self, error);
+}
+
+void cvk_implicit_stats(const cvk_sim* s, cvk_sim_stats* st)
+{
+    const cvk_implicit* im = s->family == &cvk_family_implicit ? s->family_state : NULL;
+    cvk_implicit_scalars scalars = {0};
+    if (im)
+        memcpy(&scalars, im->scalars.mapped, sizeof scalars);
+    st->solver_iterations = scalars.frame_iterations;
+    st->solver_iterations_total = scalars.total_iterations;
+    st->solver_breakdowns = scalars.breakdown;
+}
+
+/* Enough reduction invocations to use the device, few enough that one invocation sums them
+   quickly: at most 16 workgroups. */
+static uint32_t partial_count(const cvk_sim* s, const cvk_plan* plan)
+{
+    uint32_t wg = plan->workgroup_size;
+    uint32_t groups = (s->build.free_count + wg - 1) / wg;
+    uint32_t cap = plan->max_groups < 16u ? plan->max_groups : 16u;
+    if (groups > cap)
+        groups = cap;
+    return (groups ? groups : 1u) * wg;
+}
+
+/* ---- passes ------------------------------------------------------------------------------ */
+
+typedef struct implicit_builder {
+    cvk_plan* plan;
+    const cvk_implicit* im;
+    cvk_implicit_push push;
+    uint32_t solve;
+} implicit_builder;
+
+/* Particle passes cover the free particles; reductions run partial_count invocations, each
+   over a fixed stride, so that their sums are the same bits every run. */
+static cvk_op* add(implicit_builder* ib, uint32_t pass, cvk_pipeline_id pipeline, bool reduce,
+                   const char* note, uint32_t iteration)
+{
+    uint32_t count = reduce ? ib->im->partial_count : ib->push.count;
+    cvk_op* op = cvk_plan_dispatch(ib->plan, pass, pipeline, ib->im->descriptors.pipeline_layout,
+                                   ib->im->descriptors.sets[0], CVK_DOMAIN_PARTICLES, 0, count,
+                                   &ib->push, sizeof ib->push);
+    if (op && iteration)
+        snprintf(op->note, sizeof op->note, "%s, iteration %u", note, iteration);
+    else if (op)
+        snprintf(op->note, sizeof op->note, "%s", note);
+    return op;
+}
+
+static void plan_cg(implicit_builder* ib, uint32_t iterations)
+{
+    add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_START, true, "start", 0);
+    add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_RHO0, true, "rho0", 0);
+    for (uint32_t i = 1; i <= iterations; i++) {
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_PRODUCT, true, "skipped once converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_ALPHA, true, "skipped once converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_UPDATE, true, "skipped once converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_BETA, true, "skipped once converged", i);
+        if (i < iterations)
+            add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_DIRECTION, false, "skipped once converged", i);
+    }
+}
+
+static void plan_jacobi(implicit_builder* ib, uint32_t sweeps)
+{
+    for (uint32_t i = 1; i <= sweeps; i++) {
+        add(ib, ib->solve, i % 2 ? CVK_PIPE_IMPLICIT_JACOBI_EVEN : CVK_PIPE_IMPLICIT_JACOBI_ODD,
+            true, "skipped once converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_JACOBI_CHECK, true, "skipped once converged", i);
+    }
+}
+
+static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solver,
+                                      cvk_plan* plan, cvk_error* error)
+{
+    cvk_implicit* im = self;
+    if (plan->workgroup_size > MAX_WORKGROUP_SIZE)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "the implicit solver takes workgroups of at most %u invocations, not %u",
+                        MAX_WORKGROUP_SIZE, plan->workgroup_size);
+    im->partial_count = partial_count(s, plan);
+    cvk_implicit_params ip = cvk_implicit_params_of(&s->params, solver);
+    implicit_builder ib = {.plan = plan, .im = im};
+    ib.push = (cvk_implicit_push){
+        .count = s->build.free_count,
+        .stride = s->build.free_count,
+        .partials = im->partial_count,
+        .clamp = 1,
+        .h = (float)ip.h,
+        .tol2 = (float)(ip.tolerance * ip.tolerance),
+        .kd = (float)ip.kd,
+        .keep = (float)ip.keep,
+    };
+    for (int c = 0; c < 3; c++)
+        ib.push.gravity[c] = (float)ip.gravity[c];
+    uint32_t assemble = cvk_plan_pass(plan, "assemble");
+    ib.solve = cvk_plan_pass(plan, "solve");
+    uint32_t integrate = cvk_plan_pass(plan, "integrate");
+    /* The frame's iteration count starts at its first substep. */
+    cvk_op* reset = cvk_plan_fill(plan, assemble, im->scalars.buffer,
+                                  offsetof(cvk_implicit_scalars, frame_iterations), 4, 0);
+    if (reset)
+        reset->every = plan->substeps;
+    add(&ib, assemble, CVK_PIPE_IMPLICIT_ASSEMBLE, false, "blocks, b, dv = 0", 0);
+    if (solver->linear == CVK_LINEAR_JACOBI)
+        plan_jacobi(&ib, solver->max_iterations);
+    else
+        plan_cg(&ib, solver->max_iterations);
+    add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, false, "from the solving iterate", 0);
+    snprintf(plan->solver_note, sizeof plan->solver_note,
+             ", tolerance %g, at most %u iterations (stopped on the device), kd %g N s/m",
+             solver->tolerance, solver->max_iterations, solver->kd);
+    return cvk_plan_check(plan, error);
+}
+
+/* ---- the family ---------------------------------------------------------------------------- */
+
+static bool implicit_accepts(const cvk_solver_desc* solver)
+{
+    return solver->method == CVK_METHOD_IMPLICIT;
+}
+
+static void implicit_destroy(cvk_sim* s, void* self)
+{
+    cvk_implicit* im = self;
+    if (!im)
+        return;
+    cvk_descriptors_destroy(s->context, &im->descriptors);
+    cvk_buffer* buffers[] = {&im->v, &im->adjacency, &im->diag, &im->offdiag, &im->rhs,
+                             &im->dv[0], &im->dv[1], &im->r, &im->z, &im->p, &im->q,
+                             &im->partials, &im->scalars};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(s->context, buffers[i]);
+    if (im->readback_cmd)
+        vkFreeCommandBuffers(s->context->device, s->submitter.pool, 1, &im->readback_cmd);
+    free(im);
+}
+
+static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
+                                  cvk_error* error)
+{
+    (void)solver;
+    *self = NULL;
+    cvk_implicit* im = calloc(1, sizeof *im);
+    if (!im)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
+    cvk_result r = create_buffers(s, im, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(s->context, &s->submitter, &im->readback_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = create_set(s, im, error);
+    if (r == CVK_SUCCESS)
+        r = upload_adjacency(s, im, error);
+    if (r == CVK_SUCCESS)
+        r = implicit_write_state(s, im, s->build.position, NULL, error);
+    if (r == CVK_SUCCESS)
+        r = record_readback(s, im, error);
+    if (r != CVK_SUCCESS) {
+        implicit_destroy(s, im);
+        return r;
+    }
+    *self = im;
+    return CVK_SUCCESS;
+}
+
+static cvk_result implicit_prepare(cvk_sim* s, void* self, const cvk_solver_desc* solver,
+                                   cvk_error* error)
+{
+    (void)s, (void)self, (void)solver, (void)error;
+    return CVK_SUCCESS;
+}
+
+/* cg and jacobi share the state. */
+static cvk_result implicit_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc* from,
+                                         const cvk_solver_desc* to, cvk_error* error)
+{
+    (void)s, (void)self, (void)from, (void)to, (void)error;
+    return CVK_SUCCESS;
+}
+
+static cvk_result implicit_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_error* error)
+{
+    (void)s, (void)self, (void)frames;
+    return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "the implicit family has no host solver");
+}
+
+const cvk_family_api cvk_family_implicit = {
+    .name = "implicit",
+    .accepts = implicit_accepts,
+    .create = implicit_create,
+    .destroy = implicit_destroy,
+    .add_passes = implicit_add_passes,
+    .prepare = implicit_prepare,
+    .switch_solver = implicit_switch_solver,
+    .read_state = implicit_read_state,
+    .write_state = implicit_write_state,
+    .step_host = implicit_step_host,
+    .snapshot_size = implicit_snapshot_size,
+    .save_snapshot = implicit_save_snapshot,
+    .load_snapshot = implicit_load_snapshot,
+};

@@ -1,0 +1,44 @@
+/* Implicit Euler (Baraff & Witkin 1998; seed 000 §4): backward Euler with one linearised
+   Newton step per substep, the system assembled on the device into 3×3 blocks per particle
+   and per adjacency slot, solved by filtered block-Jacobi-preconditioned CG or by block
+   Jacobi, both stopping on the device (shaders/implicit_*.comp). The host reference here is
+   the same algorithm in double precision. */
+#ifndef CVK_SOLVE_IMPLICIT_H
+#define CVK_SOLVE_IMPLICIT_H
+
+#include "sim.h"
+#include "solver.h"
+
+/* One substep's settings. */
+typedef struct cvk_implicit_params {
+    double h;             /* substep, s */
+    double gravity[3];    /* m/s², 0 without integration */
+    double keep;          /* 1 − damping */
+    double kd;            /* spring damping, N·s/m */
+    double tolerance;     /* relative residual (preconditioner's norm) where the solve stops */
+    uint32_t max_iterations;
+    cvk_linear_solver linear; /* CVK_LINEAR_CG or CVK_LINEAR_JACOBI */
+    bool clamp;           /* clamp the compressive part of each spring block (keeps A SPD) */
+} cvk_implicit_params;
+
+cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
+                                           const cvk_solver_desc* solver);
+
+/* What one reference substep did. */
+typedef struct cvk_implicit_report {
+    uint32_t iterations;  /* CG iterations or Jacobi sweeps */
+    bool breakdown;       /* CG met pᵀAp ≤ 0 (A not positive definite) and stopped */
+    double residual;      /* the last relative residual √(rᵀP⁻¹r / r₀ᵀP⁻¹r₀) */
+} cvk_implicit_report;
+
+/* One backward-Euler substep on the host in double precision: x and v (3 per particle,
+   internal order; pinned entries untouched) advance by h. The same assembly, iteration and
+   stopping rule as the device. Returns false when out of memory. */
+bool cvk_ref_implicit_substep(const cvk_build* build, const cvk_implicit_params* params,
+                              double* x, double* v, cvk_implicit_report* report);
+
+/* The solver_* fields of `st` (0 unless the simulation solves with this family); the
+   simulation's work must be complete. */
+void cvk_implicit_stats(const cvk_sim* sim, cvk_sim_stats* st);
+
+#endif

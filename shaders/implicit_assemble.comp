@@ -1,0 +1,73 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The system of one substep, per free particle p, from its springs (slot by slot):
+//   f_p   = m g + sum -k (l - L) n - kd ((v_p - v_c).n) n          n = (x_p - x_c) / l
+//   K     = k (n n^T + max(0, 1 - L/l) (I - n n^T))   (-dF_p/dx_p; without the clamp the
+//           factor 1 - L/l of a compressed spring is negative and A can lose definiteness)
+//   H     = h kd n n^T + h^2 K;  A_pp = m I + sum H,  A_pc = -H
+//   b_p   = h f_p - h^2 sum K (v_p - v_c)
+// and the start of the solve: dv = 0, r = b (CG), the inverse of A_pp (block-Jacobi).
+#include "implicit_common.glsl"
+
+void add_outer(inout vec4 s0, inout vec4 s1, vec3 n, float a, float t)
+{
+    // a n n^T + t (I - n n^T)
+    float d = a - t;
+    s0 += vec4(d * n.x * n.x + t, d * n.y * n.y + t, d * n.z * n.z + t, d * n.x * n.y);
+    s1 += vec4(d * n.x * n.z, d * n.y * n.z, 0.0, 0.0);
+}
+
+void main()
+{
+    if (gl_GlobalInvocationID.x == 0u && pc.count > 0u) {
+        scalars.converged = 0u;
+        scalars.iterations = 0u;
+        scalars.result = 0u;
+    }
+    float h = pc.h;
+    for (uint p = gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride()) {
+        vec3 xp = x[p].xyz;
+        vec4 vp4 = v[p];
+        vec3 vp = vp4.xyz;
+        float m = vp4.w;
+        vec3 f = m * pc.gravity.xyz;
+        vec3 kv = vec3(0.0);
+        vec4 a0 = vec4(m, m, m, 0.0), a1 = vec4(0.0);
+        for (uint s = 0u; s < MAX_DEGREE; s++) {
+            uint e = s * pc.stride + p;
+            uvec4 slot = adjacency[e];
+            float k = uintBitsToFloat(slot.y), rest = uintBitsToFloat(slot.z);
+            vec3 d = xp - x[slot.x].xyz;
+            float l = length(d);
+            vec3 n = l > 0.0 ? d / l : vec3(0.0);
+            float t = l > 0.0 ? 1.0 - rest / l : 0.0;
+            if (pc.clamp != 0u)
+                t = max(t, 0.0);
+            vec3 dvel = vp - v[slot.x].xyz;
+            f -= (k * (l - rest) + pc.kd * dot(dvel, n)) * n;
+            vec4 k0 = vec4(0.0), k1 = vec4(0.0);
+            add_outer(k0, k1, n, k, k * t);
+            kv += sym_mul(k0, k1, dvel);
+            vec4 h0 = h * h * k0, h1 = h * h * k1;
+            add_outer(h0, h1, n, h * pc.kd, 0.0);
+            a0 += h0;
+            a1 += h1;
+            bool unknown = slot.x < pc.stride && k != 0.0;
+            offdiag[2u * e] = unknown ? h0 : vec4(0.0);
+            offdiag[2u * e + 1u] = unknown ? h1 : vec4(0.0);
+        }
+        // The inverse of the symmetric block by cofactors.
+        float c00 = a0.y * a0.z - a1.y * a1.y, c01 = a1.x * a1.y - a0.w * a0.z;
+        float c02 = a0.w * a1.y - a1.x * a0.y, c11 = a0.x * a0.z - a1.x * a1.x;
+        float c12 = a0.w * a1.x - a0.x * a1.y, c22 = a0.x * a0.y - a0.w * a0.w;
+        float inv_det = 1.0 / (a0.x * c00 + a0.w * c01 + a1.x * c02);
+        diag[4u * p] = a0;
+        diag[4u * p + 1u] = a1;
+        diag[4u * p + 2u] = inv_det * vec4(c00, c11, c22, c01);
+        diag[4u * p + 3u] = inv_det * vec4(c02, c12, 0.0, 0.0);
+        vec3 rhs = h * f - h * h * kv;
+        b[p] = vec4(rhs, 0.0);
+        r[p] = vec4(rhs, 0.0);
+        dv0[p] = vec4(0.0);
+    }
+}
