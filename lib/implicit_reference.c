@@ -158,7 +158,9 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
     }
     double rho0 = rho, tol2 = ip->tolerance * ip->tolerance;
     rep->residual = rho0 > 0.0 ? 1.0 : 0.0;
-    if (!(rho0 > 0.0))
+    if (!(rho0 >= 0.0) || isinf(rho0))
+        rep->breakdown = true;
+    if (!(rho0 > 0.0) || rep->breakdown)
         return;
     while (rep->iterations < ip->max_iterations) {
         double pq = 0.0;
@@ -170,7 +172,7 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
                 s->q[3 * p + i] = own[i] - others[i];
             pq += dot3(&s->p[3 * p], &s->q[3 * p]);
         }
-        if (!(pq > 0.0) || isinf(pq)) {
+        if (!(pq > 0.0) || isinf(pq)) { /* negative, zero or not finite */
             rep->breakdown = true;
             return;
         }
@@ -184,7 +186,11 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
             next += dot3(&s->r[3 * p], &s->z[3 * p]);
         }
         rep->iterations++;
-        rep->residual = sqrt(fmax(next, 0.0) / rho0);
+        if (!(next >= 0.0) || isinf(next)) {
+            rep->breakdown = true;
+            return;
+        }
+        rep->residual = sqrt(next / rho0);
         double beta = next / rho;
         rho = next;
         if (!(next > tol2 * rho0))
@@ -212,6 +218,10 @@ static void solve_jacobi(lin_system* s, const cvk_implicit_params* ip, cvk_impli
             sym_mul(&s->diag[p], change, dchange);
             delta += dot3(change, dchange);
             memcpy(&s->dv2[3 * p], next, sizeof next);
+        }
+        if (!(delta >= 0.0) || isinf(delta)) {
+            rep->breakdown = true; /* a diagonal block is not positive definite */
+            return;
         }
         if (rep->iterations == 0)
             delta0 = delta;

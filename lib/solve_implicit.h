@@ -27,7 +27,8 @@ cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
 /* What one reference substep did. */
 typedef struct cvk_implicit_report {
     uint32_t iterations;  /* CG iterations or Jacobi sweeps */
-    bool breakdown;       /* CG met pᵀAp ≤ 0 (A not positive definite) and stopped */
+    bool breakdown;       /* a negative or non-finite rᵀP⁻¹r, pᵀAp (CG) or diagonal-block norm
+                             (Jacobi): A is not positive definite; the solve stopped there */
     double residual;      /* the last relative residual √(rᵀP⁻¹r / r₀ᵀP⁻¹r₀) */
 } cvk_implicit_report;
 

@@ -2,12 +2,13 @@
 #extension GL_GOOGLE_include_directive : require
 // The solve's scalars from the partial sums, by one invocation, summed in a fixed order:
 //   MODE 0 (CG start):  rho = rho0 = r.z; nothing to solve when it is 0
-//   MODE 1 (CG alpha):  alpha = rho / p.Ap; p.Ap <= 0 (A not positive definite) stops the
-//                       solve and counts a breakdown
+//   MODE 1 (CG alpha):  alpha = rho / p.Ap
 //   MODE 2 (CG beta):   rho' = r.z, one iteration more, converged when rho' <= tol^2 rho0
 //   MODE 3 (Jacobi):    delta = r.D^-1 r of the iterate the sweep read; one sweep more, the
 //                       result is the iterate it wrote; converged when delta <= tol^2 delta0
 // The residual is measured in the preconditioner's norm (Baraff & Witkin's stopping rule).
+// A negative or non-finite r.z, p.Ap or delta means A or its diagonal blocks are not positive
+// definite (what the clamp prevents): the solve stops there and counts a breakdown.
 #include "implicit_common.glsl"
 
 void main()
@@ -17,13 +18,18 @@ void main()
     float sum = 0.0;
     for (uint j = 0u; j < pc.partials; j++)
         sum += partials[j];
+    if (sum < 0.0 || isnan(sum) || isinf(sum)) {
+        scalars.converged = 1u;
+        scalars.breakdown += 1u;
+        return;
+    }
 #if MODE == 0
     scalars.rho = sum;
     scalars.rho0 = sum;
-    if (!(sum > 0.0))
+    if (sum == 0.0)
         scalars.converged = 1u;
 #elif MODE == 1
-    if (!(sum > 0.0) || isinf(sum)) {
+    if (sum == 0.0) {
         scalars.converged = 1u;
         scalars.breakdown += 1u;
         return;

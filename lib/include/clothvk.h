@@ -601,8 +601,9 @@ typedef struct cvk_sim_stats {
     uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps of the last frame, summed
                                          over its substeps */
     uint64_t solver_iterations_total; /* since the simulation started */
-    uint32_t solver_breakdowns;       /* substeps whose CG met pᵀAp ≤ 0 and stopped; 0 while the
-                                         system stays positive definite */
+    uint32_t solver_breakdowns;       /* substeps whose solve found the system not positive
+                                         definite (pᵀAp ≤ 0, rᵀP⁻¹r < 0) and stopped; 0 with
+                                         the clamp */
 } cvk_sim_stats;
 
 /* The number of pairs of cloth triangles that share no particle and intersect, computed exactly
