@@ -212,10 +212,10 @@ CASES = [
                      "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders)")},
     {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
      "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd)")},
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd)")},
     {"name": "wrong type", "argv": [scene("wrong-type.json")], "status": 2,
      "stderr": error(scene("wrong-type.json"), "dt: expected a number, got the string \"fast\"")},
     {"name": "negative mass", "argv": [scene("negative-mass.json")], "status": 2,
@@ -289,10 +289,10 @@ CASES = [
      "stderr": error(SMALL, "dt (from --set): must be a finite number, got NaN")},
     {"name": "unknown solver in the file", "argv": [scene("unknown-solver.json")], "status": 2,
      "stderr": error(scene("unknown-solver.json"),
-                     "solver.linear: unknown linear solver \"sor\" (expected rbgs, jacobi, chebyshev or gs-cpu)")},
+                     "solver.linear: unknown linear solver \"sor\" (expected rbgs, jacobi, chebyshev, gs-cpu or cg)")},
     {"name": "unknown solver via --set", "argv": [SMALL, "--set", "solver.linear=foo"], "status": 2,
      "stderr": error(SMALL, "solver.linear (from --set): unknown linear solver \"foo\" "
-                     "(expected rbgs, jacobi, chebyshev or gs-cpu)")},
+                     "(expected rbgs, jacobi, chebyshev, gs-cpu or cg)")},
 
     # The mesh keys: mistakes found before any mesh file is read.
     {"name": "unknown key in transform", "argv": [SMALL, "--set", "cloths.0.transform.shear=1"], "status": 2,
