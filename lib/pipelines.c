@@ -11,7 +11,9 @@ _Static_assert(offsetof(cvk_pd_push, keep) == 28, "cvk_pd_push.keep at 28");
 _Static_assert(offsetof(cvk_pd_push, gravity_h2) == 32, "cvk_pd_push.gravity_h2: a vec4 at 32");
 _Static_assert(sizeof(cvk_implicit_push) == 48, "cvk_implicit_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_implicit_push, gravity) == 32, "cvk_implicit_push.gravity: a vec4 at 32");
-_Static_assert(sizeof(cvk_implicit_scalars) == 48, "cvk_implicit_scalars: 48 bytes in GLSL");
+_Static_assert(sizeof(cvk_implicit_scalars) == 84, "cvk_implicit_scalars: 84 bytes in GLSL");
+_Static_assert(offsetof(cvk_implicit_scalars, reduce_groups) == 48,
+               "cvk_implicit_scalars: indirect commands from 48");
 _Static_assert(sizeof(cvk_mesh_push) == 8, "cvk_mesh_push: 8 bytes in GLSL");
 _Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.triangle_count at 4");
 

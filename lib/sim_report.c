@@ -168,9 +168,14 @@ static void put_header(text* t, const cvk_sim* s)
         b->colour_count == 2 ? "red-black" : "multi-colour");
     for (uint32_t c = 0; c < b->colour_count; c++)
         put(t, " %u", b->colour_start[c + 1] - b->colour_start[c]);
-    put(t, "\nsolver: %s / %s, %u outer x %u inner, omega %g%s\n", cvk_method_name(s->solver.method),
-        cvk_linear_solver_name(s->solver.linear), s->solver.outer_iterations,
-        s->solver.inner_iterations, s->solver.omega, s->plan.solver_note);
+    if (s->solver.method == CVK_METHOD_IMPLICIT) /* its settings are in the family's note */
+        put(t, "\nsolver: %s / %s%s\n", cvk_method_name(s->solver.method),
+            cvk_linear_solver_name(s->solver.linear), s->plan.solver_note);
+    else
+        put(t, "\nsolver: %s / %s, %u outer x %u inner, omega %g%s\n",
+            cvk_method_name(s->solver.method), cvk_linear_solver_name(s->solver.linear),
+            s->solver.outer_iterations, s->solver.inner_iterations, s->solver.omega,
+            s->plan.solver_note);
     const cvk_collide* c = &s->collide;
     if (c->colliding) {
         put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s, %u colliders",

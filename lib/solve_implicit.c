@@ -54,7 +54,10 @@ static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
         {&im->scalars, sizeof(cvk_implicit_scalars), CVK_MEMORY_HOST, "solver scalars"},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
-        cvk_result r = cvk_buffer_create(s->context, list[i].size, use, list[i].memory,
+        VkBufferUsageFlags usage = use;
+        if (list[i].buffer == &im->scalars) /* holds the solve's indirect dispatches */
+            usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+        cvk_result r = cvk_buffer_create(s->context, list[i].size, usage, list[i].memory,
                                          list[i].what, list[i].buffer, error);
         if (r != CVK_SUCCESS)
             return r;
@@ -245,15 +248,43 @@ typedef struct implicit_builder {
     uint32_t solve;
 } implicit_builder;
 
-/* Particle passes cover the free particles; reductions run partial_count invocations, each
-   over a fixed stride, so that their sums are the same bits every run. */
-static cvk_op* add(implicit_builder* ib, uint32_t pass, cvk_pipeline_id pipeline, bool reduce,
+/* How a pass is dispatched. The assembly and integration cover the free particles directly;
+   the solve's passes are dispatched indirectly from the commands in the scalars buffer, which
+   the assembly fills and the stop test zeroes. Reductions run partial_count invocations, each
+   over a fixed stride, so their sums are the same bits every run. */
+typedef enum pass_shape {
+    SHAPE_DIRECT,
+    SHAPE_PARTICLES,
+    SHAPE_REDUCE,
+    SHAPE_SINGLE, /* one invocation: a stop test; the next passes read the commands it wrote */
+} pass_shape;
+
+static cvk_op* add(implicit_builder* ib, uint32_t pass, cvk_pipeline_id pipeline, pass_shape shape,
                    const char* note, uint32_t iteration)
 {
-    uint32_t count = reduce ? ib->im->partial_count : ib->push.count;
-    cvk_op* op = cvk_plan_dispatch(ib->plan, pass, pipeline, ib->im->descriptors.pipeline_layout,
-                                   ib->im->descriptors.sets[0], CVK_DOMAIN_PARTICLES, 0, count,
-                                   &ib->push, sizeof ib->push);
+    const cvk_implicit* im = ib->im;
+    VkPipelineLayout layout = im->descriptors.pipeline_layout;
+    VkDescriptorSet set = im->descriptors.sets[0];
+    cvk_op* op;
+    if (shape == SHAPE_DIRECT) {
+        op = cvk_plan_dispatch(ib->plan, pass, pipeline, layout, set, CVK_DOMAIN_PARTICLES, 0,
+                               ib->push.count, &ib->push, sizeof ib->push);
+    } else {
+        VkDeviceSize offset = shape == SHAPE_REDUCE
+                                  ? offsetof(cvk_implicit_scalars, reduce_groups)
+                                  : shape == SHAPE_PARTICLES
+                                        ? offsetof(cvk_implicit_scalars, particle_groups)
+                                        : offsetof(cvk_implicit_scalars, single_groups);
+        op = cvk_plan_dispatch_indirect(ib->plan, pass, pipeline, layout, set,
+                                        CVK_DOMAIN_PARTICLES, im->scalars.buffer, offset,
+                                        &ib->push, sizeof ib->push);
+        if (op) {
+            op->count = shape == SHAPE_REDUCE ? im->partial_count
+                                              : shape == SHAPE_PARTICLES ? ib->push.count : 1;
+            if (shape == SHAPE_SINGLE)
+                op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+        }
+    }
     if (op && iteration)
         snprintf(op->note, sizeof op->note, "%s, iteration %u", note, iteration);
     else if (op)
@@ -263,15 +294,16 @@ static cvk_op* add(implicit_builder* ib, uint32_t pass, cvk_pipeline_id pipeline
 
 static void plan_cg(implicit_builder* ib, uint32_t iterations)
 {
-    add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_START, true, "start", 0);
-    add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_RHO0, true, "rho0", 0);
+    add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_START, SHAPE_REDUCE, "start", 0);
+    add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_RHO0, SHAPE_SINGLE, "rho0", 0);
     for (uint32_t i = 1; i <= iterations; i++) {
-        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_PRODUCT, true, "skipped once converged", i);
-        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_ALPHA, true, "skipped once converged", i);
-        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_UPDATE, true, "skipped once converged", i);
-        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_BETA, true, "skipped once converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_PRODUCT, SHAPE_REDUCE, "until converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_ALPHA, SHAPE_SINGLE, "until converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_UPDATE, SHAPE_REDUCE, "until converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_BETA, SHAPE_SINGLE, "until converged", i);
         if (i < iterations)
-            add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_DIRECTION, false, "skipped once converged", i);
+            add(ib, ib->solve, CVK_PIPE_IMPLICIT_CG_DIRECTION, SHAPE_PARTICLES, "until converged",
+                i);
     }
 }
 
@@ -279,8 +311,8 @@ static void plan_jacobi(implicit_builder* ib, uint32_t sweeps)
 {
     for (uint32_t i = 1; i <= sweeps; i++) {
         add(ib, ib->solve, i % 2 ? CVK_PIPE_IMPLICIT_JACOBI_EVEN : CVK_PIPE_IMPLICIT_JACOBI_ODD,
-            true, "skipped once converged", i);
-        add(ib, ib->solve, CVK_PIPE_IMPLICIT_JACOBI_CHECK, true, "skipped once converged", i);
+            SHAPE_REDUCE, "until converged", i);
+        add(ib, ib->solve, CVK_PIPE_IMPLICIT_JACOBI_CHECK, SHAPE_SINGLE, "until converged", i);
     }
 }
 
@@ -315,12 +347,15 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
                                   offsetof(cvk_implicit_scalars, frame_iterations), 4, 0);
     if (reset)
         reset->every = plan->substeps;
-    add(&ib, assemble, CVK_PIPE_IMPLICIT_ASSEMBLE, false, "blocks, b, dv = 0", 0);
+    cvk_op* op = add(&ib, assemble, CVK_PIPE_IMPLICIT_ASSEMBLE, SHAPE_DIRECT,
+                     "blocks, b, dv = 0, the solve's dispatch commands", 0);
+    if (op)
+        op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     if (solver->linear == CVK_LINEAR_JACOBI)
         plan_jacobi(&ib, solver->max_iterations);
     else
         plan_cg(&ib, solver->max_iterations);
-    add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, false, "from the solving iterate", 0);
+    add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate", 0);
     snprintf(plan->solver_note, sizeof plan->solver_note,
              ", tolerance %g, at most %u iterations (stopped on the device), kd %g N s/m",
              solver->tolerance, solver->max_iterations, solver->kd);

@@ -23,6 +23,13 @@ void main()
         scalars.converged = 0u;
         scalars.iterations = 0u;
         scalars.result = 0u;
+        // This dispatch covers the particles as every particle pass does.
+        scalars.reduce_groups = pc.partials / gl_WorkGroupSize.x;
+        scalars.particle_groups = gl_NumWorkGroups.x;
+        scalars.single_groups = 1u;
+        scalars.reduce_y = scalars.reduce_z = 1u;
+        scalars.particle_y = scalars.particle_z = 1u;
+        scalars.single_y = scalars.single_z = 1u;
     }
     float h = pc.h;
     for (uint p = gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride()) {

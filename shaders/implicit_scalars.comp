@@ -11,6 +11,14 @@
 // definite (what the clamp prevents): the solve stops there and counts a breakdown.
 #include "implicit_common.glsl"
 
+void stop()
+{
+    scalars.converged = 1u;
+    scalars.reduce_groups = 0u;
+    scalars.particle_groups = 0u;
+    scalars.single_groups = 0u;
+}
+
 void main()
 {
     if (gl_GlobalInvocationID.x != 0u || pc.partials == 0u || scalars.converged != 0u)
@@ -19,7 +27,7 @@ void main()
     for (uint j = 0u; j < pc.partials; j++)
         sum += partials[j];
     if (sum < 0.0 || isnan(sum) || isinf(sum)) {
-        scalars.converged = 1u;
+        stop();
         scalars.breakdown += 1u;
         return;
     }
@@ -27,10 +35,10 @@ void main()
     scalars.rho = sum;
     scalars.rho0 = sum;
     if (sum == 0.0)
-        scalars.converged = 1u;
+        stop();
 #elif MODE == 1
     if (sum == 0.0) {
-        scalars.converged = 1u;
+        stop();
         scalars.breakdown += 1u;
         return;
     }
@@ -42,7 +50,7 @@ void main()
     scalars.beta = sum / scalars.rho;
     scalars.rho = sum;
     if (!(sum > pc.tol2 * scalars.rho0))
-        scalars.converged = 1u;
+        stop();
 #else
     if (scalars.iterations == 0u)
         scalars.rho0 = sum;
@@ -52,6 +60,6 @@ void main()
     scalars.result = scalars.iterations & 1u;
     scalars.rho = sum;
     if (!(sum > pc.tol2 * scalars.rho0))
-        scalars.converged = 1u;
+        stop();
 #endif
 }

@@ -71,7 +71,10 @@ CVK_PUSH_BLOCK(cvk_implicit_push, CVK_IMPLICIT_PUSH_FIELDS)
    converged: every pass of the solve does nothing once set; iterations of this substep and of
    this frame (the frame's is zeroed by a fill at its first substep); result: the iterate
    holding the solution (Jacobi ping-pongs); breakdown: substeps whose CG met p.Ap <= 0;
-   total_iterations: since the simulation started. */
+   total_iterations: since the simulation started. Then three indirect dispatch commands
+   (x, y, z groups) the solve's passes are dispatched with: reductions, particle passes and
+   one-invocation passes; the assembly fills them and the stop test zeroes them, so a
+   converged solve's remaining passes dispatch no workgroups at all. */
 #define CVK_IMPLICIT_SCALARS_FIELDS \
     CVK_FLOAT(rho)                  \
     CVK_FLOAT(rho0)                 \
@@ -84,7 +87,16 @@ CVK_PUSH_BLOCK(cvk_implicit_push, CVK_IMPLICIT_PUSH_FIELDS)
     CVK_UINT(breakdown)             \
     CVK_UINT(total_iterations)      \
     CVK_UINT(pad1)                  \
-    CVK_UINT(pad2)
+    CVK_UINT(pad2)                  \
+    CVK_UINT(reduce_groups)         \
+    CVK_UINT(reduce_y)              \
+    CVK_UINT(reduce_z)              \
+    CVK_UINT(particle_groups)       \
+    CVK_UINT(particle_y)            \
+    CVK_UINT(particle_z)            \
+    CVK_UINT(single_groups)         \
+    CVK_UINT(single_y)              \
+    CVK_UINT(single_z)
 CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 
 /* Bindings of the implicit set (shaders/implicit_common.glsl); storage buffers, vec4 per item. */
