@@ -32,14 +32,40 @@ static void add_outer(sym* s, const double* n, double a, double t)
     s->m[5] += d * n[1] * n[2];
 }
 
-static sym sym_inverse(const sym* a)
+/* The block-Jacobi preconditioner as L D Lᵀ with pivots clamped at m (see
+   shaders/implicit_common.glsl): m[0..2] = l10, l20, l21; m[3..5] = 1/d. */
+static sym factor(const sym* a, double mass)
 {
     const double* m = a->m;
-    double c00 = m[1] * m[2] - m[5] * m[5], c01 = m[4] * m[5] - m[3] * m[2];
-    double c02 = m[3] * m[5] - m[4] * m[1], c11 = m[0] * m[2] - m[4] * m[4];
-    double c12 = m[3] * m[4] - m[0] * m[5], c22 = m[0] * m[1] - m[3] * m[3];
-    double inv = 1.0 / (m[0] * c00 + m[3] * c01 + m[4] * c02);
-    return (sym){{inv * c00, inv * c11, inv * c22, inv * c01, inv * c02, inv * c12}};
+    double d0 = fmax(m[0], mass);
+    double l10 = m[3] / d0, l20 = m[4] / d0;
+    double d1 = fmax(m[1] - l10 * l10 * d0, mass);
+    double l21 = (m[5] - l20 * l10 * d0) / d1;
+    double d2 = fmax(m[2] - l20 * l20 * d0 - l21 * l21 * d1, mass);
+    return (sym){{l10, l20, l21, 1.0 / d0, 1.0 / d1, 1.0 / d2}};
+}
+
+/* z = P⁻¹ r; returns rᵀz as a sum of squares. */
+static double precondition(const sym* f, const double* r, double* z)
+{
+    const double* l = f->m;
+    const double* g = f->m + 3;
+    double y[3] = {r[0], r[1] - l[0] * r[0], 0.0};
+    y[2] = r[2] - l[1] * r[0] - l[2] * y[1];
+    double w[3] = {y[0] * g[0], y[1] * g[1], y[2] * g[2]};
+    z[2] = w[2];
+    z[1] = w[1] - l[2] * z[2];
+    z[0] = w[0] - l[0] * z[1] - l[1] * z[2];
+    return y[0] * y[0] * g[0] + y[1] * y[1] * g[1] + y[2] * y[2] * g[2];
+}
+
+/* cᵀ A_pp c with the clamped factors: |D^½ Lᵀ c|². */
+static double block_norm(const sym* f, const double* c)
+{
+    const double* l = f->m;
+    const double* g = f->m + 3;
+    double u[3] = {c[0] + l[0] * c[1] + l[1] * c[2], c[1] + l[2] * c[2], c[2]};
+    return u[0] * u[0] / g[0] + u[1] * u[1] / g[1] + u[2] * u[2] / g[2];
 }
 
 static double dot3(const double* a, const double* b)
@@ -50,7 +76,7 @@ static double dot3(const double* a, const double* b)
 typedef struct lin_system {
     const cvk_build* b;
     size_t nf;
-    sym *diag, *inv, *off; /* off: slot-major, zero for pinned neighbours and padding */
+    sym *diag, *inv, *off; /* inv: P's factors (factor()); off: H per slot, slot-major */
     double *rhs, *dv, *dv2, *r, *z, *p, *q;
 } lin_system;
 
@@ -119,10 +145,10 @@ static void assemble(lin_system* s, const cvk_implicit_params* ip, const double*
             add_outer(&hb, n, h * ip->kd, 0.0);
             for (int i = 0; i < 6; i++)
                 a.m[i] += hb.m[i];
-            s->off[e] = c < s->nf && k != 0.0 ? hb : (sym){{0}};
+            s->off[e] = hb;
         }
         s->diag[p] = a;
-        s->inv[p] = sym_inverse(&a);
+        s->inv[p] = factor(&a, m);
         for (int i = 0; i < 3; i++) {
             s->rhs[3 * p + i] = h * f[i] - h * h * kv[i];
             s->r[3 * p + i] = s->rhs[3 * p + i];
@@ -152,9 +178,8 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
     size_t nf = s->nf;
     double rho = 0.0;
     for (size_t p = 0; p < nf; p++) {
-        sym_mul(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
+        rho += precondition(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
         memcpy(&s->p[3 * p], &s->z[3 * p], 3 * sizeof(double));
-        rho += dot3(&s->r[3 * p], &s->z[3 * p]);
     }
     double rho0 = rho, tol2 = ip->tolerance * ip->tolerance;
     rep->residual = rho0 > 0.0 ? 1.0 : 0.0;
@@ -165,12 +190,21 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
     while (rep->iterations < ip->max_iterations) {
         double pq = 0.0;
         for (size_t p = 0; p < nf; p++) {
-            double own[3], others[3];
-            sym_mul(&s->diag[p], &s->p[3 * p], own);
-            neighbour_sum(s, p, s->p, others);
+            double m = s->b->mass[p];
             for (int i = 0; i < 3; i++)
-                s->q[3 * p + i] = own[i] - others[i];
-            pq += dot3(&s->p[3 * p], &s->q[3 * p]);
+                s->q[3 * p + i] = m * s->p[3 * p + i];
+            pq += m * dot3(&s->p[3 * p], &s->p[3 * p]);
+            for (uint32_t slot = 0; slot < s->b->max_degree; slot++) {
+                size_t e = (size_t)slot * nf + p;
+                uint32_t c = s->b->adj_index[e];
+                double d[3], hd[3];
+                for (int i = 0; i < 3; i++)
+                    d[i] = s->p[3 * p + i] - (c < nf ? s->p[3 * (size_t)c + i] : 0.0);
+                sym_mul(&s->off[e], d, hd);
+                for (int i = 0; i < 3; i++)
+                    s->q[3 * p + i] += hd[i];
+                pq += (c < nf ? 0.5 : 1.0) * dot3(d, hd);
+            }
         }
         if (!(pq > 0.0) || isinf(pq)) { /* negative, zero or not finite */
             rep->breakdown = true;
@@ -181,10 +215,8 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
             s->dv[i] += alpha * s->p[i];
             s->r[i] -= alpha * s->q[i];
         }
-        for (size_t p = 0; p < nf; p++) {
-            sym_mul(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
-            next += dot3(&s->r[3 * p], &s->z[3 * p]);
-        }
+        for (size_t p = 0; p < nf; p++)
+            next += precondition(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
         rep->iterations++;
         if (!(next >= 0.0) || isinf(next)) {
             rep->breakdown = true;
@@ -208,15 +240,14 @@ static void solve_jacobi(lin_system* s, const cvk_implicit_params* ip, cvk_impli
     while (rep->iterations < ip->max_iterations) {
         double delta = 0.0;
         for (size_t p = 0; p < nf; p++) {
-            double acc[3], next[3], change[3], dchange[3];
+            double acc[3], next[3], change[3];
             neighbour_sum(s, p, s->dv, acc);
             for (int i = 0; i < 3; i++)
                 acc[i] += s->rhs[3 * p + i];
-            sym_mul(&s->inv[p], acc, next);
+            precondition(&s->inv[p], acc, next);
             for (int i = 0; i < 3; i++)
                 change[i] = next[i] - s->dv[3 * p + i];
-            sym_mul(&s->diag[p], change, dchange);
-            delta += dot3(change, dchange);
+            delta += block_norm(&s->inv[p], change);
             memcpy(&s->dv2[3 * p], next, sizeof next);
         }
         if (!(delta >= 0.0) || isinf(delta)) {

@@ -4,9 +4,9 @@
 //   f_p   = m g + sum -k (l - L) n - kd ((v_p - v_c).n) n          n = (x_p - x_c) / l
 //   K     = k (n n^T + max(0, 1 - L/l) (I - n n^T))   (-dF_p/dx_p; without the clamp the
 //           factor 1 - L/l of a compressed spring is negative and A can lose definiteness)
-//   H     = h kd n n^T + h^2 K;  A_pp = m I + sum H,  A_pc = -H
+//   H     = h kd n n^T + h^2 K;  A_pp = m I + sum H,  A_pc = -H (c free)
 //   b_p   = h f_p - h^2 sum K (v_p - v_c)
-// and the start of the solve: dv = 0, r = b (CG), the inverse of A_pp (block-Jacobi).
+// and the start of the solve: dv = 0, r = b (CG), the factors of A_pp (block Jacobi).
 #include "implicit_common.glsl"
 
 void add_outer(inout vec4 s0, inout vec4 s1, vec3 n, float a, float t)
@@ -59,19 +59,19 @@ void main()
             add_outer(h0, h1, n, h * pc.kd, 0.0);
             a0 += h0;
             a1 += h1;
-            bool unknown = slot.x < pc.stride && k != 0.0;
-            offdiag[2u * e] = unknown ? h0 : vec4(0.0);
-            offdiag[2u * e + 1u] = unknown ? h1 : vec4(0.0);
+            offdiag[2u * e] = h0;
+            offdiag[2u * e + 1u] = h1;
         }
-        // The inverse of the symmetric block by cofactors.
-        float c00 = a0.y * a0.z - a1.y * a1.y, c01 = a1.x * a1.y - a0.w * a0.z;
-        float c02 = a0.w * a1.y - a1.x * a0.y, c11 = a0.x * a0.z - a1.x * a1.x;
-        float c12 = a0.w * a1.x - a0.x * a1.y, c22 = a0.x * a0.y - a0.w * a0.w;
-        float inv_det = 1.0 / (a0.x * c00 + a0.w * c01 + a1.x * c02);
+        // L D L^T of the block, pivots clamped at m (see precondition()).
+        float d0 = max(a0.x, m);
+        float l10 = a0.w / d0, l20 = a1.x / d0;
+        float d1 = max(a0.y - l10 * l10 * d0, m);
+        float l21 = (a1.y - l20 * l10 * d0) / d1;
+        float d2 = max(a0.z - l20 * l20 * d0 - l21 * l21 * d1, m);
         diag[4u * p] = a0;
         diag[4u * p + 1u] = a1;
-        diag[4u * p + 2u] = inv_det * vec4(c00, c11, c22, c01);
-        diag[4u * p + 3u] = inv_det * vec4(c02, c12, 0.0, 0.0);
+        diag[4u * p + 2u] = vec4(l10, l20, l21, 0.0);
+        diag[4u * p + 3u] = vec4(1.0 / d0, 1.0 / d1, 1.0 / d2, 0.0);
         vec3 rhs = h * f - h * h * kv;
         b[p] = vec4(rhs, 0.0);
         r[p] = vec4(rhs, 0.0);

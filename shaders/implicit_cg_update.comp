@@ -24,12 +24,13 @@ void main()
         rp -= alpha * q[p].xyz;
         r[p] = vec4(rp, 0.0);
 #endif
-        vec3 zp = sym_mul(diag[4u * p + 2u], diag[4u * p + 3u], rp);
+        float rz;
+        vec3 zp = precondition(p, rp, rz);
         z[p] = vec4(zp, 0.0);
 #if START
         pdir[p] = vec4(zp, 0.0);
 #endif
-        sum += dot(rp, zp);
+        sum += rz;
     }
     partials[j] = sum;
 }

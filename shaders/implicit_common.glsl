@@ -2,9 +2,8 @@
 // substep (Baraff & Witkin 1998), (M - h dF/dv - h^2 dF/dx) dv = h (f + h dF/dx v), solved for
 // the free particles by filtered preconditioned CG or by block Jacobi.
 //
-// Pinned particles are the filter: they sit after the free ones, are no unknowns, and a slot
-// pointing at one carries no block, so their dv is 0 in every iterate (S = 0 there, S = I
-// elsewhere). Every 3x3 block is symmetric and kept as two vec4: (xx, yy, zz, xy), (xz, yz).
+// Pinned particles are the filter: they sit after the free ones and are no unknowns, so their
+// dv is 0 in every iterate (S = 0 there, S = I elsewhere). Every 3x3 block is symmetric and kept as two vec4: (xx, yy, zz, xy), (xz, yz).
 //
 // Every pass after the assembly reads scalars.converged first and does nothing once it is
 // set: the plan records max_iterations iterations and the device decides how many run.
@@ -44,10 +43,41 @@ vec3 sym_mul(vec4 s0, vec4 s1, vec3 w)
                 s1.x * w.x + s1.y * w.y + s0.z * w.z);
 }
 
-// dv of neighbour slot e of particle p in `which` (0: dv0, 1: dv1, 2: pdir); a pinned or
-// padding neighbour reads p's own value, which its zero block cancels.
+// The block-Jacobi preconditioner: A_pp = L D L^T (L unit lower triangular), kept as
+// f = (l10, l20, l21) and g = 1/d. Its pivots are clamped at m, which bounds the exact ones
+// from below (A_pp >= m I): at large steps h^2 k / m reaches 1e8 and the float pivot of a
+// direction only m resists is rounding noise that can come out negative. So P^-1 stays
+// positive definite and r.P^-1 r = |D^-1/2 L^-1 r|^2 is a sum of squares.
+vec3 lower_solve(vec3 f, vec3 r)
+{
+    float y1 = r.y - f.x * r.x;
+    return vec3(r.x, y1, r.z - f.y * r.x - f.z * y1);
+}
+
+vec3 upper_solve(vec3 f, vec3 w)
+{
+    float z1 = w.y - f.z * w.z;
+    return vec3(w.x - f.x * z1 - f.y * w.z, z1, w.z);
+}
+
+// z = P^-1 r for particle p; rz receives r.z.
+vec3 precondition(uint p, vec3 r, out float rz)
+{
+    vec3 f = diag[4u * p + 2u].xyz, g = diag[4u * p + 3u].xyz;
+    vec3 y = lower_solve(f, r);
+    rz = dot(y * y, g);
+    return upper_solve(f, y * g);
+}
+
+// Slot e of particle p: its neighbour, and whether that neighbour is an unknown (a pinned
+// neighbour's dv is 0 in every iterate: the filter). Padding slots point at p with H = 0.
 uint slot_neighbour(uint e, uint p)
 {
     uint c = adjacency[e].x;
     return c < pc.stride ? c : p;
+}
+
+float slot_free(uint e)
+{
+    return adjacency[e].x < pc.stride ? 1.0 : 0.0;
 }

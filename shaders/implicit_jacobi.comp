@@ -30,11 +30,18 @@ void main()
         vec3 acc = b[p].xyz;
         for (uint s = 0u; s < MAX_DEGREE; s++) {
             uint e = s * pc.stride + p;
-            acc += sym_mul(offdiag[2u * e], offdiag[2u * e + 1u], src_at(slot_neighbour(e, p)));
+            acc += slot_free(e) *
+                   sym_mul(offdiag[2u * e], offdiag[2u * e + 1u], src_at(slot_neighbour(e, p)));
         }
-        vec3 next = sym_mul(diag[4u * p + 2u], diag[4u * p + 3u], acc);
+        float unused;
+        vec3 next = precondition(p, acc, unused);
+        // The residual of the iterate read is r = A_pp (next - src); r.A_pp^-1 r is then
+        // change.A_pp change, formed as |D^1/2 L^T change|^2 with the clamped factors.
         vec3 change = next - src_at(p);
-        sum += dot(change, sym_mul(diag[4u * p], diag[4u * p + 1u], change));
+        vec3 f = diag[4u * p + 2u].xyz, g = diag[4u * p + 3u].xyz;
+        vec3 u = vec3(change.x + f.x * change.y + f.y * change.z, change.y + f.z * change.z,
+                      change.z);
+        sum += dot(u * u, 1.0 / g);
 #if ODD
         dv0[p] = vec4(next, 0.0);
 #else

@@ -369,7 +369,7 @@ static void compression(cvk_context* ctx)
     ip.linear = CVK_LINEAR_JACOBI;
     host_run(&b, &ip, 1, &breakdown, &finite);
     CHECK(breakdown, "unclamped Jacobi on compressed springs found the blocks positive definite");
-    printf("unclamped: CG and Jacobi find the system indefinite in the first substep\n");
+    printf("unclamped: CG and Jacobi break down in the first substep\n");
 
     ip.clamp = true;
     for (int j = 0; j < 2; j++) {
