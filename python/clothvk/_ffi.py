@@ -70,12 +70,13 @@ typedef struct cvk_context_info {
 cvk_context_info cvk_context_get_info(const cvk_context* context);
 uint32_t cvk_context_validation_message_count(const cvk_context* context);
 
-typedef enum cvk_method { CVK_METHOD_PD = 0 } cvk_method;
+typedef enum cvk_method { CVK_METHOD_PD = 0, CVK_METHOD_IMPLICIT = 1 } cvk_method;
 typedef enum cvk_linear_solver {
     CVK_LINEAR_RBGS = 0,
     CVK_LINEAR_JACOBI = 1,
     CVK_LINEAR_CHEBYSHEV = 2,
     CVK_LINEAR_GS_CPU = 3,
+    CVK_LINEAR_CG = 4,
 } cvk_linear_solver;
 
 typedef struct cvk_solver_desc {
@@ -86,6 +87,9 @@ typedef struct cvk_solver_desc {
     float omega;
     float chebyshev_rho;
     uint32_t chebyshev_delay;
+    float tolerance;
+    uint32_t max_iterations;
+    float kd;
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
@@ -308,6 +312,9 @@ typedef struct cvk_sim_stats {
     uint64_t self_contacts;
     double max_penetration;
     uint64_t intersecting_pairs;
+    uint32_t solver_iterations;
+    uint64_t solver_iterations_total;
+    uint32_t solver_breakdowns;
 } cvk_sim_stats;
 
 cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
