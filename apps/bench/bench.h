@@ -55,6 +55,7 @@ bool bench_table_write(FILE* file, void* table);
 
 /* One entry of --solvers: NAME or NAME:OMEGA. */
 typedef struct bench_solver {
+    cvk_method method;        /* implicit: "cg", "implicit-jacobi" (scaling only) */
     cvk_linear_solver linear;
     float omega;      /* 0: the scene's */
     char label[32];   /* as written: "rbgs", "rbgs:1.7" */

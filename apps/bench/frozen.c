@@ -24,7 +24,14 @@ cvk_solver_desc bench_solver_desc(const cvk_solver_desc* base, const bench_solve
                                   uint32_t sweeps, uint32_t inner)
 {
     cvk_solver_desc d = *base;
+    d.method = s->method;
     d.linear = s->linear;
+    if (s->method == CVK_METHOD_IMPLICIT) {
+        /* a fixed iteration count, as seed 000's tables: a tolerance never reached */
+        d.max_iterations = sweeps ? sweeps : 1;
+        d.tolerance = 1e-9f;
+        return d;
+    }
     if (s->omega > 0.0f)
         d.omega = s->omega;
     if (sweeps == 0)
@@ -38,6 +45,8 @@ cvk_solver_desc bench_solver_desc(const cvk_solver_desc* base, const bench_solve
 
 uint32_t bench_sweeps(const cvk_solver_desc* solver)
 {
+    if (solver->method == CVK_METHOD_IMPLICIT)
+        return solver->max_iterations;
     return solver->outer_iterations * solver->inner_iterations;
 }
 

@@ -61,6 +61,8 @@ static void usage(FILE* out)
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
         "  --solvers LIST      NAME[:OMEGA],... of jacobi, chebyshev, rbgs, gs-cpu\n"
+        "                      (scaling also: cg, implicit-jacobi: implicit Euler, --iterations\n"
+        "                      CG iterations or Jacobi sweeps per step, all run)\n"
         "  --inner N           linear sweeps per local step (default 1); iterations count sweeps\n"
         "  --repeat R          timed runs per point: median and min-max (default 3)\n"
         "  --warmup W          untimed runs before them (default 1)\n"
@@ -176,6 +178,14 @@ static bool parse_solver(const char* item, bench_solver* out)
                                             CVK_LINEAR_CHEBYSHEV, CVK_LINEAR_GS_CPU};
     size_t n = strcspn(item, ":");
     *out = (bench_solver){0};
+    if (!strcmp(item, "cg") || !strcmp(item, "implicit-jacobi")) {
+        out->method = CVK_METHOD_IMPLICIT;
+        out->linear = item[0] == 'c' ? CVK_LINEAR_CG : CVK_LINEAR_JACOBI;
+        snprintf(out->label, sizeof out->label, "%s", item);
+        snprintf(out->title, sizeof out->title, "implicit %s",
+                 cvk_linear_solver_name(out->linear));
+        return true;
+    }
     bool known = false;
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
         const char* name = cvk_linear_solver_name(all[i]);
@@ -498,6 +508,12 @@ static int parse_args(int argc, char** argv, parsed* p)
         if (!apply_option(o, given[g].name, given[g].value))
             return APP_EXIT_BAD_INPUT;
     }
+    for (uint32_t i = 0; i < o->solver_count; i++)
+        if (o->solvers[i].method == CVK_METHOD_IMPLICIT && p->e->bit != SCALING) {
+            app_error(tool, "--solvers: %s (implicit Euler) is measured by scaling only",
+                      o->solvers[i].label);
+            return APP_EXIT_BAD_INPUT;
+        }
     set_defaults(o, p->e);
     return APP_EXIT_OK;
 }
