@@ -163,24 +163,30 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "solver.linear: gs-cpu (the host reference) does not handle contact; "
                         "use rbgs, jacobi or chebyshev in a scene with colliders or self-contact");
+    if (solver->method == CVK_METHOD_IMPLICIT && s->collide.colliding)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "solver.method: implicit does not handle contact yet; use pd in a scene "
+                        "with colliders or self-contact");
     bool new_family = family != s->family;
-    void* self = s->family_state;
-    cvk_result r = new_family ? family->create(s, solver, &self, error) : CVK_SUCCESS;
+    /* The state, for the new family: read before it is created, since creating one puts its
+       state at rest at the build's positions (shared buffers included). */
+    cvk_result r = new_family ? cvk_sim_read_internal(s, error) : CVK_SUCCESS;
     if (r != CVK_SUCCESS)
         return r;
+    void* self = s->family_state;
+    if (new_family)
+        r = family->create(s, solver, &self, error);
     cvk_plan plan;
     cvk_sim_queries queries = {0};
-    r = prepare_switch(s, family, self, solver, &plan, &queries, error);
-    if (r == CVK_SUCCESS && new_family) {
-        r = cvk_sim_read_internal(s, error); /* the state, for the new family */
-        if (r != CVK_SUCCESS) {
-            cvk_plan_destroy(&plan);
-            cvk_sim_destroy_queries(s, &queries);
-        }
-    }
+    if (r == CVK_SUCCESS)
+        r = prepare_switch(s, family, self, solver, &plan, &queries, error);
     if (r != CVK_SUCCESS) {
-        if (new_family)
-            family->destroy(s, self);
+        if (new_family) {
+            family->destroy(s, self); /* NULL when create failed */
+            /* the old family gets its state back; the first failure is the one reported */
+            cvk_error ignored;
+            s->family->write_state(s, s->family_state, s->scratch, s->scratch_v, &ignored);
+        }
         return r;
     }
     return commit_switch(s, family, self, solver, &plan, &queries, error);

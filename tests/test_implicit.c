@@ -443,6 +443,54 @@ static void energy_and_rest(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* cvk_sim_set_solver moves the state between families: pd -> implicit -> pd keeps the
+   positions exactly and the velocities to float rounding; and it refuses implicit where the
+   scene collides. */
+static void switch_families(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth;
+    uint32_t pins[2][2];
+    cvk_scene_desc scene = hanging_scene(&cloth, pins, 8);
+    scene.solver.method = CVK_METHOD_PD;
+    scene.solver.linear = CVK_LINEAR_RBGS;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 20, &err), err);
+    float x0[3 * 64], v0[3 * 64], x1[3 * 64], v1[3 * 64];
+    REQUIRE_OK(cvk_sim_read_state(sim, x0, v0, 64, &err), err);
+    cvk_solver_desc implicit = scene.solver;
+    implicit.method = CVK_METHOD_IMPLICIT;
+    implicit.linear = CVK_LINEAR_CG;
+    REQUIRE_OK(cvk_sim_set_solver(sim, &implicit, &err), err);
+    REQUIRE_OK(cvk_sim_read_state(sim, x1, v1, 64, &err), err);
+    double speed = 0.0;
+    for (int i = 0; i < 3 * 64; i++)
+        speed = fmax(speed, fabs(v0[i]));
+    CHECK(harness_max_diff(x0, x1, 3 * 64) == 0.0 && harness_max_diff(v0, v1, 3 * 64) <= 1e-6 * speed,
+          "pd -> implicit: positions moved by %g m, velocities by %g m/s (speed %g m/s)",
+          harness_max_diff(x0, x1, 3 * 64), harness_max_diff(v0, v1, 3 * 64), speed);
+    CHECK(speed > 0.01, "the cloth is not moving (%g m/s): the check is void", speed);
+    REQUIRE_OK(cvk_sim_step(sim, 5, &err), err);
+    REQUIRE_OK(cvk_sim_read_state(sim, x0, v0, 64, &err), err);
+    REQUIRE_OK(cvk_sim_set_solver(sim, &scene.solver, &err), err);
+    REQUIRE_OK(cvk_sim_read_state(sim, x1, v1, 64, &err), err);
+    CHECK(harness_max_diff(x0, x1, 3 * 64) == 0.0 && harness_max_diff(v0, v1, 3 * 64) <= 1e-3 * speed,
+          "implicit -> pd: positions moved by %g m, velocities by %g m/s",
+          harness_max_diff(x0, x1, 3 * 64), harness_max_diff(v0, v1, 3 * 64));
+    cvk_sim_destroy(sim);
+
+    cvk_collider_desc plane = cvk_default_collider_desc();
+    scene.colliders = &plane;
+    scene.collider_count = 1;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    CHECK(cvk_sim_set_solver(sim, &implicit, &err) == CVK_ERROR_UNSUPPORTED &&
+              !strcmp(err.message, "solver.method: implicit does not handle contact yet; use pd "
+                                   "in a scene with colliders or self-contact"),
+          "implicit in a colliding scene: %s", err.message);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     scene_keys();
@@ -453,5 +501,6 @@ int main(void)
     pins_stay(ctx, CVK_LINEAR_JACOBI);
     compression(ctx);
     energy_and_rest(ctx);
+    switch_families(ctx);
     return harness_finish(ctx);
 }
