@@ -243,6 +243,11 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
                                "outer_iterations", (json_int_t)scene->solver.outer_iterations,
                                "inner_iterations", (json_int_t)scene->solver.inner_iterations,
                                "omega", float_json(scene->solver.omega));
+    if (solver && scene->solver.method == CVK_METHOD_IMPLICIT) {
+        json_object_set_new(solver, "tolerance", float_json(scene->solver.tolerance));
+        json_object_set_new(solver, "max_iterations", json_integer(scene->solver.max_iterations));
+        json_object_set_new(solver, "kd", float_json(scene->solver.kd));
+    }
     json_t* passes = json_array();
     for (uint32_t p = 0; p < st->pass_count; p++)
         json_array_append_new(passes,

@@ -293,6 +293,10 @@ CASES = [
     {"name": "unknown solver via --set", "argv": [SMALL, "--set", "solver.linear=foo"], "status": 2,
      "stderr": error(SMALL, "solver.linear (from --set): unknown linear solver \"foo\" "
                      "(expected rbgs, jacobi, chebyshev, gs-cpu or cg)")},
+    {"name": "implicit without its linear solver", "argv": [SMALL, "--set", "solver.method=implicit"],
+     "status": 2,
+     "stderr": error(SMALL, "solver.linear: rbgs is not a linear solver of the implicit method; "
+                     "use cg or jacobi")},
 
     # The mesh keys: mistakes found before any mesh file is read.
     {"name": "unknown key in transform", "argv": [SMALL, "--set", "cloths.0.transform.shear=1"], "status": 2,
