@@ -19,6 +19,7 @@ typedef struct cvk_implicit {
     /* Velocities (w: mass), adjacency, per-particle and per-slot blocks, the system's vectors,
        partial sums and the scalars (host-visible, read for the statistics). */
     cvk_buffer v, adjacency, diag, offdiag, rhs, dv[2], r, z, p, q, partials, scalars;
+    VkBufferView view_p, view_offdiag; /* the product's texel reads */
     cvk_descriptors descriptors;
     VkCommandBuffer readback_cmd; /* positions and velocities -> staging */
     uint32_t partial_count;       /* invocations of each reduction pass */
@@ -57,13 +58,19 @@ static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
         VkBufferUsageFlags usage = use;
         if (list[i].buffer == &im->scalars) /* holds the solve's indirect dispatches */
             usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+        if (list[i].buffer == &im->p || list[i].buffer == &im->offdiag)
+            usage |= VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
         cvk_result r = cvk_buffer_create(s->context, list[i].size, usage, list[i].memory,
                                          list[i].what, list[i].buffer, error);
         if (r != CVK_SUCCESS)
             return r;
     }
     memset(im->scalars.mapped, 0, sizeof(cvk_implicit_scalars));
-    return CVK_SUCCESS;
+    VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT;
+    cvk_result r = cvk_buffer_view_create(s->context, &im->p, vec4, &im->view_p, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_view_create(s->context, &im->offdiag, vec4, &im->view_offdiag, error);
+    return r;
 }
 
 /* Slot-major: entry s·nf + p = (neighbour, bits of k, bits of L, 0). */
@@ -88,11 +95,13 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_implicit* im, cvk_error* erro
 }
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 static const cvk_binding implicit_bindings[CVK_IMPLICIT_BINDING_COUNT] = {
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, TEXEL,   TEXEL,
 };
 #undef STORAGE
+#undef TEXEL
 
 static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
 {
@@ -117,6 +126,8 @@ static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
         [CVK_IMPLICIT_BINDING_Q] = {.buffer = &im->q},
         [CVK_IMPLICIT_BINDING_PARTIALS] = {.buffer = &im->partials},
         [CVK_IMPLICIT_BINDING_SCALARS] = {.buffer = &im->scalars},
+        [CVK_IMPLICIT_BINDING_P_READ] = {.view = im->view_p},
+        [CVK_IMPLICIT_BINDING_OFFDIAG_READ] = {.view = im->view_offdiag},
     };
     cvk_descriptors_write(s->context, &im->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -375,6 +386,10 @@ static void implicit_destroy(cvk_sim* s, void* self)
     if (!im)
         return;
     cvk_descriptors_destroy(s->context, &im->descriptors);
+    VkBufferView views[] = {im->view_p, im->view_offdiag};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(s->context->device, views[i], NULL);
     cvk_buffer* buffers[] = {&im->v, &im->adjacency, &im->diag, &im->offdiag, &im->rhs,
                              &im->dv[0], &im->dv[1], &im->r, &im->z, &im->p, &im->q,
                              &im->partials, &im->scalars};

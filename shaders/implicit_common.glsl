@@ -27,6 +27,8 @@ layout(std430, set = 0, binding = CVK_IMPLICIT_BINDING_P) buffer Direction { vec
 layout(std430, set = 0, binding = CVK_IMPLICIT_BINDING_Q) buffer Product { vec4 q[]; };
 layout(std430, set = 0, binding = CVK_IMPLICIT_BINDING_PARTIALS) buffer Partials { float partials[]; };
 layout(std430, set = 0, binding = CVK_IMPLICIT_BINDING_SCALARS) buffer Scalars { cvk_implicit_scalars scalars; };
+layout(set = 0, binding = CVK_IMPLICIT_BINDING_P_READ) uniform samplerBuffer pdir_read;
+layout(set = 0, binding = CVK_IMPLICIT_BINDING_OFFDIAG_READ) uniform samplerBuffer offdiag_read;
 
 CVK_DECLARE_PUSH(CVK_IMPLICIT_PUSH_FIELDS)
 

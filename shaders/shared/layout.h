@@ -114,7 +114,10 @@ CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 #define CVK_IMPLICIT_BINDING_Q 11         /* A p */
 #define CVK_IMPLICIT_BINDING_PARTIALS 12  /* float per reduction invocation */
 #define CVK_IMPLICIT_BINDING_SCALARS 13   /* cvk_implicit_scalars */
-#define CVK_IMPLICIT_BINDING_COUNT 14
+/* The product's reads as texels (a gather on lavapipe, where storage loads go lane by lane) */
+#define CVK_IMPLICIT_BINDING_P_READ 14          /* texel: search direction */
+#define CVK_IMPLICIT_BINDING_OFFDIAG_READ 15    /* texel: off-diagonal blocks */
+#define CVK_IMPLICIT_BINDING_COUNT 16 /* a descriptor table's most (lib/descriptors.c) */
 
 /* ---- mesh generation: mesh.comp ------------------------------------------------------------ */
 
