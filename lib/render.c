@@ -71,6 +71,10 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
                         "rendering needs a queue that can draw; queue family %u of %s supports compute "
                         "only (cvk_mesh works there: draw its buffers on a graphics queue)",
                         ctx->queue_family, ctx->properties.deviceName);
+    if (d->wireframe && !ctx->fill_mode_non_solid)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "render.wireframe: %s cannot draw triangles as lines (no fillModeNonSolid)",
+                        ctx->properties.deviceName);
     uint32_t max = cvk_context_max_image_size(ctx);
     if (d->size[0] > max || d->size[1] > max)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
@@ -515,6 +519,10 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
     draw_cloths(rd, cmd, true);
+    if (rd->wireframe_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->wireframe_pipeline);
+        draw_cloths(rd, cmd, true);
+    }
     if (rd->collider_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);
         cvk_render_colliders_record(rd, cmd, true);
@@ -673,7 +681,8 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     if (rd->submitter.pool)
         vkQueueWaitIdle(rd->context->queue);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
-                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline};
+                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
+                              rd->wireframe_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);

@@ -42,6 +42,7 @@ struct cvk_renderer {
     VkDescriptorSet set;
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
+    VkPipeline wireframe_pipeline;   /* none without render.wireframe */
     cvk_render_colliders colliders;
 
     VkQueryPool queries;

@@ -477,6 +477,7 @@ static const cvk_field render_fields[] = {
     {.key = "shadow_map_size", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, shadow_map_size),
      .min = 16},
     {.key = "samples", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, samples), .min = 1},
+    {.key = "wireframe", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, wireframe)},
 };
 static const cvk_table render_table = FIELDS(render_fields);
 

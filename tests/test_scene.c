@@ -408,7 +408,7 @@ static void test_render_json(void)
 
     EXPECT_INVALID("{'cloths': [{}], 'render': {'fov': 40}}",
                    "t.json: render.fov: unknown key (expected one of: size, eye, target, up, fov_y, key, fill, "
-                   "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples)");
+                   "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples, wireframe)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'key': {'colour': [1, 1, 1]}}}",
                    "t.json: render.key.colour: unknown key (expected one of: direction, color)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'size': [0, 10]}}",

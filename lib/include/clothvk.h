@@ -370,6 +370,7 @@ typedef struct cvk_render_desc {
     uint32_t shadow_map_size;    /* texels per side of the key light's depth map, 16 to 16384;
                                     usually 2048 */
     uint32_t samples;            /* multisampling: 1, 2, 4 or 8 samples per pixel, usually 4 */
+    bool wireframe;              /* draw the triangle edges over the shaded cloth; usually false */
 } cvk_render_desc;
 
 typedef struct cvk_scene_desc {
