@@ -204,6 +204,7 @@ typedef struct cvk_render_desc {
     float ground_color[3];
     uint32_t shadow_map_size;
     uint32_t samples;
+    bool wireframe;
 } cvk_render_desc;
 
 typedef struct cvk_scene_desc {
