@@ -861,6 +861,14 @@ static void test_shipped_scenes(void)
         CHECK_FLOAT(d->cloths[0].stiffness.bend, 1e5f);
     }
     cvk_scene_destroy(scene);
+    scene = load_shipped(root, "turntable.json");
+    if (scene) {
+        const cvk_render_desc* r = &cvk_scene_get_desc(scene)->render;
+        CHECK(r->wireframe && r->camera_loop);
+        CHECK_INT(r->camera_keyframe_count, 9);
+        CHECK_FLOAT(r->camera_keyframes[8].time, 4.0f);
+    }
+    cvk_scene_destroy(scene);
 }
 
 int main(void)
