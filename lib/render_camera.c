@@ -13,6 +13,7 @@
 cvk_result cvk_render_camera_create(cvk_renderer* rd, const cvk_render_desc* desc, cvk_error* error)
 {
     rd->desc.camera_keyframes = NULL;
+    rd->desc.camera_keyframe_count = 0;
     uint32_t n = desc->camera_keyframe_count;
     if (n == 0)
         return CVK_SUCCESS;
