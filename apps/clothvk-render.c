@@ -461,6 +461,9 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
             return APP_EXIT_FAILURE;
         }
         double t1 = app_now_ms();
+        /* A keyframed camera goes where it is at this frame's simulated time. */
+        double simulated = (double)(s->bake ? frame : i * s->o->every);
+        cvk_renderer_set_time(s->renderer, simulated * s->scene->dt * s->scene->substeps);
         if (cvk_renderer_draw(s->renderer, &err) != CVK_SUCCESS) {
             app_error(tool, "%s", err.message);
             return APP_EXIT_FAILURE;

@@ -237,10 +237,19 @@ static cvk_result create_device(cvk_context* context, cvk_error* error)
         .queueCount = 1,
         .pQueuePriorities = &priority,
     };
+    /* Triangles drawn as lines, and lines wider than a pixel, for the renderer's wireframe,
+       where the device has them. */
+    VkPhysicalDeviceFeatures supported, enabled = {0};
+    vkGetPhysicalDeviceFeatures(context->physical_device, &supported);
+    enabled.fillModeNonSolid = supported.fillModeNonSolid;
+    enabled.wideLines = supported.wideLines;
+    context->fill_mode_non_solid = supported.fillModeNonSolid == VK_TRUE;
+    context->wide_lines = supported.wideLines == VK_TRUE;
     VkDeviceCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue,
+        .pEnabledFeatures = &enabled,
     };
     VkResult vr = vkCreateDevice(context->physical_device, &info, NULL, &context->device);
     if (vr != VK_SUCCESS)

@@ -20,6 +20,8 @@ struct cvk_context {
     VkPhysicalDeviceMemoryProperties memory;
     uint32_t timestamp_valid_bits; /* 0: the queue family cannot write timestamps */
     bool graphics;                 /* the queue family can draw (the renderer needs it) */
+    bool fill_mode_non_solid;      /* triangles can be drawn as lines (render.wireframe) */
+    bool wide_lines;               /* lines can be wider than a pixel */
     uint32_t subgroup_size;
 
     cvk_log_fn log;

@@ -9,6 +9,7 @@
    Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
    tests and writes every sample) to the part of the image that has edges to smooth.
    Every object is made once at creation; a frame is one command buffer recorded once. */
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,6 +72,10 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
                         "rendering needs a queue that can draw; queue family %u of %s supports compute "
                         "only (cvk_mesh works there: draw its buffers on a graphics queue)",
                         ctx->queue_family, ctx->properties.deviceName);
+    if (d->wireframe && !ctx->fill_mode_non_solid)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "render.wireframe: %s cannot draw triangles as lines (no fillModeNonSolid)",
+                        ctx->properties.deviceName);
     uint32_t max = cvk_context_max_image_size(ctx);
     if (d->size[0] > max || d->size[1] > max)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
@@ -388,6 +393,16 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
         put3(u->patch_corners[i], v->patch[i], 1.0f);
 }
 
+void cvk_renderer_set_time(cvk_renderer* rd, double seconds)
+{
+    if (!rd || rd->eye_path.keyframe_count == 0)
+        return;
+    cvk_render_camera_resolve(rd, seconds);
+    cvk_frame_uniforms u;
+    fill_uniforms(rd, &u);
+    memcpy(rd->uniforms.mapped, &u, sizeof u);
+}
+
 static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
 {
     VkDevice dev = rd->context->device;
@@ -515,6 +530,10 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
     draw_cloths(rd, cmd, true);
+    if (rd->wireframe_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->wireframe_pipeline);
+        draw_cloths(rd, cmd, true);
+    }
     if (rd->collider_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);
         cvk_render_colliders_record(rd, cmd, true);
@@ -634,12 +653,12 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     rd->mesh = mesh;
     rd->desc = *desc;
     rd->samples = (VkSampleCountFlagBits)desc->samples;
-    double gravity[3];
-    gravity_of(mesh->sim, gravity);
-    r = cvk_render_colliders_create(rd, gravity, error);
+    gravity_of(mesh->sim, rd->gravity);
+    r = cvk_render_camera_create(rd, desc, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_render_colliders_create(rd, rd->gravity, error);
     if (r == CVK_SUCCESS) {
-        cvk_view_resolve(desc, &mesh->sim->build, gravity, &rd->colliders.framing, desc->shadow_map_size,
-                         &rd->view);
+        cvk_render_camera_resolve(rd, 0.0);
         r = create_images(rd, error);
     }
     if (r == CVK_SUCCESS)
@@ -673,7 +692,8 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     if (rd->submitter.pool)
         vkQueueWaitIdle(rd->context->queue);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
-                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline};
+                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
+                              rd->wireframe_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);
@@ -699,6 +719,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     cvk_buffer_destroy(rd->context, &rd->readback);
     cvk_render_colliders_destroy(rd);
     cvk_submitter_destroy(rd->context, &rd->submitter);
+    cvk_render_camera_destroy(rd);
     free(rd);
 }
 

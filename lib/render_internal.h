@@ -4,6 +4,7 @@
 
 #include "camera.h"
 #include "mesh.h"
+#include "motion.h"
 #include "shared/frame.h" /* cvk_frame_uniforms, shared with shaders/frame.glsl */
 
 /* One collider's triangles in the shared collider buffers, drawn with instance index
@@ -28,6 +29,10 @@ struct cvk_renderer {
     cvk_mesh* mesh;
     cvk_render_desc desc;
     cvk_view view;
+    double gravity[3];               /* the simulation's, for the reach (cvk_view_resolve) */
+    /* render.camera_keyframes as two translation-only motions, so the camera follows the
+       keyframe rules of lib/motion.c; rd->desc keeps no pointer to the caller's list. */
+    cvk_motion eye_path, target_path;
     VkSampleCountFlagBits samples;
 
     cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
@@ -42,6 +47,7 @@ struct cvk_renderer {
     VkDescriptorSet set;
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
+    VkPipeline wireframe_pipeline;   /* none without render.wireframe */
     cvk_render_colliders colliders;
 
     VkQueryPool queries;
@@ -62,5 +68,12 @@ void cvk_render_colliders_destroy(cvk_renderer* rd);
 /* Records the collider draws; with `colored`, each one's colour as the push constant. The
    pipeline is bound by the caller. */
 void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored);
+
+/* The camera's path (lib/render_camera.c): copied from desc's keyframes (rd->desc keeps no
+   pointer to them), freed, and the view (rd->view) resolved with the camera where it is at
+   `seconds`. Resolving needs rd->mesh, rd->gravity and rd->colliders.framing. */
+cvk_result cvk_render_camera_create(cvk_renderer* rd, const cvk_render_desc* desc, cvk_error* error);
+void cvk_render_camera_destroy(cvk_renderer* rd);
+void cvk_render_camera_resolve(cvk_renderer* rd, double seconds);
 
 #endif

@@ -7,6 +7,14 @@
 /* Slope-scaled depth bias of the shadow pass (in units of the depth format's step). */
 #define SHADOW_BIAS_CONSTANT 2.0f
 #define SHADOW_BIAS_SLOPE 2.5f
+/* The wireframe's bias towards the eye (reversed depth: larger is nearer). A line's sample and
+   its triangle's nearest sample can lie a pixel apart across the edge: a slope factor above 1
+   covers that difference in depth, and the constant the rounding of a float depth. */
+#define WIRE_BIAS_CONSTANT 4.0f
+#define WIRE_BIAS_SLOPE 1.5f
+/* A multisampled line one pixel wide that runs between two pixel rows covers half the samples
+   of each (a faint line beside a dark one); 1.5 pixels always cover three quarters of one. */
+#define WIRE_WIDTH 1.5f
 
 typedef struct pipeline_recipe {
     const char* what;
@@ -22,6 +30,7 @@ typedef struct pipeline_recipe {
     bool depth_bias;
     int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
     uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
+    bool lines;                      /* triangles drawn as their edges, depth tested, not written */
 } pipeline_recipe;
 
 static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
@@ -80,18 +89,18 @@ static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fix
 }
 
 /* Rasterisation, multisampling, depth, stencil and blending. */
-static void raster_state(const pipeline_recipe* p, bool has_fragment, fixed_state* f)
+static void raster_state(const pipeline_recipe* p, bool has_fragment, bool wide_lines, fixed_state* f)
 {
     /* No culling: both faces of the cloth are drawn, and both cast shadows. */
     f->raster = (VkPipelineRasterizationStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
-        .polygonMode = VK_POLYGON_MODE_FILL,
+        .polygonMode = p->lines ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL,
         .cullMode = VK_CULL_MODE_NONE,
         .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
         .depthBiasEnable = p->depth_bias,
-        .depthBiasConstantFactor = p->depth_bias ? SHADOW_BIAS_CONSTANT : 0.0f,
-        .depthBiasSlopeFactor = p->depth_bias ? SHADOW_BIAS_SLOPE : 0.0f,
-        .lineWidth = 1.0f,
+        .depthBiasConstantFactor = !p->depth_bias ? 0.0f : p->lines ? WIRE_BIAS_CONSTANT : SHADOW_BIAS_CONSTANT,
+        .depthBiasSlopeFactor = !p->depth_bias ? 0.0f : p->lines ? WIRE_BIAS_SLOPE : SHADOW_BIAS_SLOPE,
+        .lineWidth = p->lines && wide_lines ? WIRE_WIDTH : 1.0f,
     };
     f->multisample = (VkPipelineMultisampleStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
@@ -109,7 +118,7 @@ static void raster_state(const pipeline_recipe* p, bool has_fragment, fixed_stat
     f->depth = (VkPipelineDepthStencilStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
         .depthTestEnable = p->depth_test,
-        .depthWriteEnable = p->depth_test,
+        .depthWriteEnable = p->depth_test && !p->lines,
         .depthCompareOp = p->depth_compare,
         .stencilTestEnable = p->stencil != 0,
         .front = stencil,
@@ -150,7 +159,7 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
     };
     fixed_state f;
     geometry_state(rd, p, &f);
-    raster_state(p, has_fragment, &f);
+    raster_state(p, has_fragment, rd->context->wide_lines, &f);
     VkGraphicsPipelineCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
         .stageCount = has_fragment ? 2 : 1,
@@ -183,23 +192,23 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
         /* Reversed depth: nearer is greater. */
         {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
+         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
-         {false, false, rd->desc.samples}},
+         {false, false, rd->desc.samples}, false},
         {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}},
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}, false},
         /* The colliders: shaded like the cloth (lit_cloth.frag), posed in the vertex shader. */
         {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true,
-         VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}},
+         VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
         {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
-         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}},
+         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false},
     };
     VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
                           &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};
@@ -209,6 +218,12 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
-    return CVK_SUCCESS;
+    if (!rd->desc.wireframe)
+        return CVK_SUCCESS;
+    const pipeline_recipe wireframe = {
+        "wireframe pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_WIREFRAME_FRAG, 2, false,
+        VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
+        VK_COMPARE_OP_GREATER_OR_EQUAL, true, 0, {rd->desc.ground}, true};
+    return create_pipeline(rd, &wireframe, &rd->wireframe_pipeline, error);
 }
 

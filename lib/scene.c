@@ -600,8 +600,8 @@ static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
         !check_finite_array(issue, "render.target", r->target, 3) ||
         !check_direction(issue, "render.up", r->up) || !check_open(issue, "render.fov_y", r->fov_y, 0.0, 180.0))
         return false;
-    if (r->auto_eye || r->auto_target)
-        return true;
+    if (r->auto_eye || r->auto_target || r->camera_keyframe_count > 0)
+        return true; /* a keyframed camera: check_camera_keyframes */
     float view[3] = {r->target[0] - r->eye[0], r->target[1] - r->eye[1], r->target[2] - r->eye[2]};
     double vv = dot3(view, view);
     double uu = dot3(r->up, r->up);
@@ -616,6 +616,40 @@ static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
     return true;
 }
 
+/* Each keyframe's eye and target as render.eye and render.target are checked, at increasing times. */
+static bool check_camera_keyframes(const cvk_render_desc* r, cvk_scene_issue* issue)
+{
+    const char* base = "render.camera_keyframes";
+    if (r->camera_keyframe_count > CVK_MAX_KEYFRAMES)
+        return issue_at(issue, base, "at most %u keyframes, got %" PRIu32, CVK_MAX_KEYFRAMES, r->camera_keyframe_count);
+    if (r->camera_keyframe_count > 0 && !r->camera_keyframes)
+        return issue_at(issue, base, "is NULL but camera_keyframe_count is %" PRIu32, r->camera_keyframe_count);
+    char element[CVK_KEY_PATH_MAX], path[CVK_KEY_PATH_MAX];
+    for (uint32_t i = 0; i < r->camera_keyframe_count; i++) {
+        const cvk_camera_keyframe* k = &r->camera_keyframes[i];
+        join_index(element, base, i);
+        if (!check_at_least(issue, join(path, element, "time"), k->time, 0.0))
+            return false;
+        if (i > 0 && !(k->time > k[-1].time))
+            return issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", k[-1].time,
+                            k->time);
+        if (!check_finite_array(issue, join(path, element, "eye"), k->eye, 3) ||
+            !check_finite_array(issue, join(path, element, "target"), k->target, 3))
+            return false;
+        float view[3] = {k->target[0] - k->eye[0], k->target[1] - k->eye[1], k->target[2] - k->eye[2]};
+        double vv = dot3(view, view), uu = dot3(r->up, r->up), vu = dot3(view, r->up);
+        if (!(vv > 0))
+            return issue_at(issue, path, "must differ from the keyframe's eye, got [%g, %g, %g] for both",
+                            k->target[0], k->target[1], k->target[2]);
+        if (vv * uu - vu * vu <= 1e-12 * vv * uu)
+            return issue_at(issue, path, "must not lie straight above or below the keyframe's eye (along render.up)");
+    }
+    if (r->camera_loop && r->camera_keyframe_count < 2)
+        return issue_at(issue, "render.camera_loop", "a looping camera needs at least two keyframes, got %" PRIu32,
+                        r->camera_keyframe_count);
+    return true;
+}
+
 static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
 {
     return check_render_size(r, issue) && check_camera(r, issue) && check_light(&r->key, "render.key", issue) &&
@@ -623,7 +657,8 @@ static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
            check_closed_array(issue, "render.ambient", r->ambient, 3, 0.0, 1.0) &&
            check_closed_array(issue, "render.background", r->background, 3, 0.0, 1.0) &&
            check_finite(issue, "render.ground_height", r->ground_height) &&
-           check_closed_array(issue, "render.ground_color", r->ground_color, 3, 0.0, 1.0);
+           check_closed_array(issue, "render.ground_color", r->ground_color, 3, 0.0, 1.0) &&
+           check_camera_keyframes(r, issue);
 }
 
 bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)

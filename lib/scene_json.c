@@ -465,6 +465,47 @@ static const cvk_field light_fields[] = {
 };
 static const cvk_table light_table = FIELDS(light_fields);
 
+static const cvk_field camera_keyframe_fields[] = {
+    {.key = "time", .read = cvk_read_float, .offset = offsetof(cvk_camera_keyframe, time),
+     .required = "a camera keyframe needs its time"},
+    {.key = "eye", .read = cvk_read_floats, .offset = offsetof(cvk_camera_keyframe, eye), .count = 3,
+     .required = "a camera keyframe needs its eye"},
+    {.key = "target", .read = cvk_read_floats, .offset = offsetof(cvk_camera_keyframe, target), .count = 3,
+     .required = "a camera keyframe needs its target"},
+};
+static const cvk_table camera_keyframe_table = FIELDS(camera_keyframe_fields);
+
+/* dest is the render description: camera_keyframes and camera_keyframe_count go together. */
+static cvk_result read_camera_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
+                                        void* dest)
+{
+    (void)f;
+    cvk_render_desc* render = dest;
+    if (!json_is_array(value))
+        return cvk_reader_fail_type(rd, path, "an array of camera keyframe objects", value);
+    size_t count = json_array_size(value);
+    render->camera_keyframes = NULL;
+    render->camera_keyframe_count = 0;
+    if (count == 0)
+        return CVK_SUCCESS;
+    if (count > UINT32_MAX)
+        return cvk_reader_fail_at(rd, path, "more than %" PRIu32 " keyframes", UINT32_MAX);
+    cvk_camera_keyframe* keyframes = cvk_blocks_alloc(rd->blocks, count, sizeof *keyframes);
+    if (!keyframes)
+        return cvk_reader_fail_memory(rd);
+    char element[CVK_KEY_PATH_MAX];
+    for (size_t i = 0; i < count; i++) {
+        cvk_json_join_index(element, path, i);
+        keyframes[i] = (cvk_camera_keyframe){0};
+        cvk_result r = cvk_read_object(rd, &camera_keyframe_table, json_array_get(value, i), element, &keyframes[i]);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    render->camera_keyframes = keyframes;
+    render->camera_keyframe_count = (uint32_t)count;
+    return CVK_SUCCESS;
+}
+
 static const cvk_field render_fields[] = {
     {.key = "size", .read = cvk_read_uints, .offset = offsetof(cvk_render_desc, size), .count = 2, .min = 1},
     {.key = "eye", .read = read_eye, .offset = 0, .count = 3},
@@ -481,6 +522,9 @@ static const cvk_field render_fields[] = {
     {.key = "shadow_map_size", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, shadow_map_size),
      .min = 16},
     {.key = "samples", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, samples), .min = 1},
+    {.key = "wireframe", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, wireframe)},
+    {.key = "camera_keyframes", .read = read_camera_keyframes, .offset = 0},
+    {.key = "camera_loop", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, camera_loop)},
 };
 static const cvk_table render_table = FIELDS(render_fields);
 

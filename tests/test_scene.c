@@ -370,6 +370,39 @@ static void test_validate_render(void)
     EXPECT_DESC_VALID(&f.scene);
 }
 
+/* render.wireframe and render.camera_keyframes: read, and each bad keyframe named. */
+static void test_render_extras_json(void)
+{
+    cvk_scene* scene = PARSE_OK("{'cloths': [{}], 'render': {'wireframe': true, 'camera_loop': true,"
+                                " 'camera_keyframes': [{'time': 0, 'eye': [1, 2, 3], 'target': [0, 1, 0]},"
+                                " {'time': 2, 'eye': [-1, 2, 3], 'target': [0, 0.5, 0]}]}}");
+    if (scene) {
+        const cvk_render_desc* r = &cvk_scene_get_desc(scene)->render;
+        CHECK(r->wireframe);
+        CHECK(r->camera_loop);
+        CHECK_INT(r->camera_keyframe_count, 2);
+        CHECK_FLOAT(r->camera_keyframes[1].time, 2.0f);
+        CHECK_FLOAT(r->camera_keyframes[1].eye[0], -1.0f);
+        CHECK_FLOAT(r->camera_keyframes[1].target[1], 0.5f);
+    }
+    cvk_scene_destroy(scene);
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'camera_keyframes': [{'time': 0, 'eye': [1, 2, 3]}]}}",
+                   "t.json: render.camera_keyframes.0.target: missing; a camera keyframe needs its target");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'camera_keyframes': [{'time': 1, 'eye': [1, 2, 3], 'target': [0, 0, 0]},"
+                   " {'time': 1, 'eye': [1, 2, 3], 'target': [0, 0, 0]}]}}",
+                   "t.json: render.camera_keyframes.1.time: must be greater than the previous keyframe's time (1), got 1");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'camera_keyframes': [{'time': 0, 'eye': [1, 2, 3], 'target': [1, 2, 3]}]}}",
+                   "t.json: render.camera_keyframes.0.target: must differ from the keyframe's eye, got [1, 2, 3] for both");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'camera_keyframes': [{'time': 0, 'eye': [0, 2, 0], 'target': [0, 1, 0]}]}}",
+                   "t.json: render.camera_keyframes.0.target: must not lie straight above or below the keyframe's eye "
+                   "(along render.up)");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'camera_loop': true, 'camera_keyframes': [{'time': 0, 'eye': [1, 2, 3],"
+                   " 'target': [0, 0, 0]}]}}",
+                   "t.json: render.camera_loop: a looping camera needs at least two keyframes, got 1");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'camera_keyframes': {'time': 0}}}",
+                   "t.json: render.camera_keyframes: expected an array of camera keyframe objects, got an object");
+}
+
 static void test_render_json(void)
 {
     cvk_scene* scene = PARSE_OK("{'cloths': [{}], 'render': {'size': [320, 200], 'eye': [1, 2, 3], 'fov_y': 50,"
@@ -410,7 +443,8 @@ static void test_render_json(void)
 
     EXPECT_INVALID("{'cloths': [{}], 'render': {'fov': 40}}",
                    "t.json: render.fov: unknown key (expected one of: size, eye, target, up, fov_y, key, fill, "
-                   "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples)");
+                   "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples, wireframe, "
+                   "camera_keyframes, camera_loop)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'key': {'colour': [1, 1, 1]}}}",
                    "t.json: render.key.colour: unknown key (expected one of: direction, color)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'size': [0, 10]}}",
@@ -830,6 +864,14 @@ static void test_shipped_scenes(void)
         CHECK_FLOAT(d->cloths[0].stiffness.bend, 1e5f);
     }
     cvk_scene_destroy(scene);
+    scene = load_shipped(root, "turntable.json");
+    if (scene) {
+        const cvk_render_desc* r = &cvk_scene_get_desc(scene)->render;
+        CHECK(r->wireframe && r->camera_loop);
+        CHECK_INT(r->camera_keyframe_count, 9);
+        CHECK_FLOAT(r->camera_keyframes[8].time, 4.0f);
+    }
+    cvk_scene_destroy(scene);
 }
 
 int main(void)
@@ -846,6 +888,7 @@ int main(void)
     test_validate_render();
     test_minimal_json();
     test_render_json();
+    test_render_extras_json();
     test_full_json();
     test_malformed_json();
     test_nonfinite_json();

@@ -352,6 +352,15 @@ typedef struct cvk_light {
     float color[3];              /* linear RGB intensity; [1, 1, 1] is full white */
 } cvk_light;
 
+/* The camera at a time (render.camera_keyframes): between keyframes the eye and the target move
+   in straight lines, held before the first keyframe and after the last; with camera_loop the
+   path repeats (the rules of cvk_motion's translation). */
+typedef struct cvk_camera_keyframe {
+    float time;                  /* s, ≥ 0; strictly increasing along the list */
+    float eye[3];                /* camera position, m */
+    float target[3];             /* point the camera looks at, m; not the eye */
+} cvk_camera_keyframe;
+
 /* How the renderer sees the scene: the "render" block of a scene file. The defaults frame the
    scene's reach (where its cloths can go: their starting box and, below their pins, how far
    they can hang) from the front, above and to the right, lit by a key light from above. */
@@ -375,6 +384,11 @@ typedef struct cvk_render_desc {
     uint32_t shadow_map_size;    /* texels per side of the key light's depth map, 16 to 16384;
                                     usually 2048 */
     uint32_t samples;            /* multisampling: 1, 2, 4 or 8 samples per pixel, usually 4 */
+    bool wireframe;              /* draw the triangle edges over the shaded cloth; usually false */
+    const cvk_camera_keyframe* camera_keyframes; /* a moving camera (eye and target above are then
+                                    unused); usually none */
+    uint32_t camera_keyframe_count;
+    bool camera_loop;            /* repeat the camera's path, period last.time − first.time */
 } cvk_render_desc;
 
 typedef struct cvk_scene_desc {
@@ -766,6 +780,11 @@ typedef struct cvk_render_view {
 } cvk_render_view;
 
 CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
+
+/* Moves a camera with keyframes (render.camera_keyframes) to where it is at `seconds` of
+   simulated time, for the frames drawn from now on (a renderer starts at time 0); without
+   keyframes it does nothing. Call it while no frame of the renderer is in flight. */
+CVK_API void cvk_renderer_set_time(cvk_renderer* renderer, double seconds);
 
 /* Writes an image as a PNG file: to a temporary name in the same folder, then renamed, so the
    file is complete or absent; a path that exists and is not a regular file (a device, FIFO,

@@ -190,6 +190,12 @@ typedef struct cvk_light {
     float color[3];
 } cvk_light;
 
+typedef struct cvk_camera_keyframe {
+    float time;
+    float eye[3];
+    float target[3];
+} cvk_camera_keyframe;
+
 typedef struct cvk_render_desc {
     uint32_t size[2];
     bool auto_eye;
@@ -208,6 +214,10 @@ typedef struct cvk_render_desc {
     float ground_color[3];
     uint32_t shadow_map_size;
     uint32_t samples;
+    bool wireframe;
+    const cvk_camera_keyframe* camera_keyframes;
+    uint32_t camera_keyframe_count;
+    bool camera_loop;
 } cvk_render_desc;
 
 typedef struct cvk_scene_desc {
