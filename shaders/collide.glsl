@@ -52,6 +52,9 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES) buffer Po
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly buffer Fields {
     float sdf_values[];
 };
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer Searched {
+    vec4 searched[]; // per particle: where the last candidate search saw it
+};
 // Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
 // where a storage-buffer load is a loop over the lanes).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;

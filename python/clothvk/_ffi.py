@@ -308,6 +308,7 @@ typedef struct cvk_sim_stats {
     uint64_t self_contacts;
     double max_penetration;
     uint64_t intersecting_pairs;
+    uint64_t contact_searches;
 } cvk_sim_stats;
 
 cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
