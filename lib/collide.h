@@ -6,9 +6,9 @@
    found through the spatial hash (hash.h) and resolved in the same sweeps.
 
    The candidates are searched adaptively by default (Verlet lists, as molecular dynamics keeps
-   neighbour lists with a skin): a search keeps the triangles within three thicknesses of each
+   neighbour lists with a skin): a search keeps the triangles within 2.5 thicknesses of each
    particle, and a new search runs only at a substep that starts with some particle more than
-   half a thickness from where the last search saw it, so every pair within two thicknesses at
+   a quarter thickness from where the last search saw it, so every pair within two thicknesses at
    the start of any substep (what one substep can bring into contact, as when searching every
    substep) is still among the candidates. The device decides (contact_check.comp,
    contact_decide.comp); the hash build and the search do nothing at the other substeps. A cloth
@@ -33,10 +33,10 @@ struct cvk_sim;
    covers the approach in between. Searching every substep, two thicknesses; less often, three.
    Wider radii find more triangles per layer than a particle keeps (CVK_CONTACTS_PER_PARTICLE,
    nearest first), and a particle in a stack then loses the farther layer's. */
-#define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) != 1 ? 3.0f : 2.0f)
+#define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) == 0 ? 2.5f : (every) > 1 ? 3.0f : 2.0f)
 /* Adaptive search: a new one once a particle is this many thicknesses from where the last saw
    it (two particles then approached by at most the margin beyond two thicknesses). */
-#define CVK_SEARCH_AFTER_THICKNESSES 0.5f
+#define CVK_SEARCH_AFTER_THICKNESSES 0.25f
 
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */

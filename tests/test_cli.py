@@ -335,7 +335,7 @@ CASES = [
      "check": plan_has("colours: 5")},
     {"name": "--plan with contact", "argv": [asset("drape.json"), "--plan"], "status": 0,
      "check": plan_has("collision: thickness 0.01064 m, friction 0.3 (static 0.4), self-contact on "
-                       "(candidates searched when a particle moved 0.00532 m since the last search)",
+                       "(candidates searched when a particle moved 0.00266 m since the last search)",
                        "  colliders dispatch", "  hash     dispatch", "  contacts dispatch",
                        "  contact  dispatch")},
     {"name": "--json contacts", "argv": [asset("drape.json"), "--set", "cloths.0.grid=[12,12]",

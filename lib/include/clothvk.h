@@ -297,7 +297,7 @@ typedef struct cvk_collision_desc {
     float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
     uint32_t detect_every;       /* 0 (the default): search for cloth-contact candidates (the
                                     hash and the query) only at substeps that start with some
-                                    particle half a thickness from where the last search saw
+                                    particle a quarter thickness from where the last search saw
                                     it — as safe as searching every substep, and free for a
                                     cloth at rest; k (1 to substeps): every k substeps whatever
                                     moved (k > 1 is cheaper, but layers approaching faster than
