@@ -286,6 +286,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(contacts, "max_penetration", json_real(st->max_penetration));
         json_object_set_new(contacts, "intersecting_pairs",
                             json_integer((json_int_t)st->intersecting_pairs));
+        json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
         json_object_set_new(root, "contacts", contacts);
     }
     json_object_set_new(root, "gpu_ms_per_frame", real_or_null(t->gpu_ms / t->timed_frames, timed));
@@ -327,9 +328,10 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
                st->solver_breakdowns);
     if (scene->collider_count > 0 || scene->collision.self)
         printf("  contacts: %llu with colliders, %llu between cloths; deepest penetration %.3g mm, "
-               "%llu intersecting triangle pairs\n",
+               "%llu intersecting triangle pairs; %llu candidate searches\n",
                (unsigned long long)st->collider_contacts, (unsigned long long)st->self_contacts,
-               1e3 * st->max_penetration, (unsigned long long)st->intersecting_pairs);
+               1e3 * st->max_penetration, (unsigned long long)st->intersecting_pairs,
+               (unsigned long long)st->contact_searches);
     if (t->frames == 0)
         return;
     printf("  %.3f ms per frame wall", t->wall_ms / t->frames);

@@ -316,6 +316,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = UNIFORM,
     [CVK_CONTACT_BINDING_POSES_UNIFORM] = UNIFORM,
     [CVK_CONTACT_BINDING_CONTACTS_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_SEARCHED] = STORAGE,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -432,6 +433,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
                         "rest positions", c->self ? c->rest_xyz : NULL, error);
     if (r == CVK_SUCCESS)
         r = make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = make_buffer(s, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
+                        "positions at the last search", NULL, error);
     free_cloth_tables(&t);
     struct {
         const cvk_buffer* buffer;
@@ -463,8 +467,9 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .dt = s->params.dt,
         .detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness,
         .exclusion = c->exclusion,
+        .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
     };
-    cvk_gpu_frame frame = {0};
+    cvk_gpu_frame frame = {.search = 1, .force = 1};
     cvk_result r = make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
     if (r == CVK_SUCCESS)
         r = make_buffer(s, &c->frame, sizeof frame, "frame state", &frame, error);
@@ -496,6 +501,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = {.buffer = &c->shapes},
         [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
         [CVK_CONTACT_BINDING_CONTACTS_READ] = {.view = c->view_contacts},
+        [CVK_CONTACT_BINDING_SEARCHED] = {.buffer = &c->searched},
     };
     cvk_descriptors_write(s->context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -510,7 +516,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
                                                      : default_thickness(&s->build);
     c->friction = scene->collision.friction;
-    c->detect_every = scene->collision.detect_every ? scene->collision.detect_every : 1;
+    c->detect_every = scene->collision.detect_every; /* 0: adaptive */
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)
@@ -542,7 +548,8 @@ void cvk_collide_destroy(cvk_sim* s)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
     cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
-                             &c->params, &c->triangles, &c->owned, &c->rest, &c->contacts};
+                             &c->params, &c->triangles, &c->owned, &c->rest, &c->contacts,
+                             &c->searched};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);
@@ -552,6 +559,6 @@ void cvk_collide_destroy(cvk_sim* s)
 
 cvk_result cvk_collide_set_step(cvk_sim* s, uint64_t step, cvk_error* error)
 {
-    cvk_gpu_frame frame = {.step = (uint32_t)step};
+    cvk_gpu_frame frame = {.step = (uint32_t)step, .search = 1, .force = 1};
     return cvk_sim_upload(s, &s->collide.frame, &frame, sizeof frame, error);
 }

@@ -3,7 +3,17 @@
    solver sweep (continuous: a particle's path over the substep, in the collider's moving frame,
    is traced against the collider thickened by the cloth thickness, so nothing tunnels), Coulomb
    friction against the surface's own motion, and particle–triangle contact between cloths
-   found through the spatial hash (hash.h) once per substep and resolved in the same sweeps.
+   found through the spatial hash (hash.h) and resolved in the same sweeps.
+
+   The candidates are searched adaptively by default (Verlet lists, as molecular dynamics keeps
+   neighbour lists with a skin): a search keeps the triangles within 2.5 thicknesses of each
+   particle, and a new search runs only at a substep that starts with some particle more than
+   a quarter thickness from where the last search saw it, so every pair within two thicknesses at
+   the start of any substep (what one substep can bring into contact, as when searching every
+   substep) is still among the candidates. The device decides (contact_check.comp,
+   contact_decide.comp); the hash build and the search do nothing at the other substeps. A cloth
+   at rest then costs no search at all. collision.detect_every = k searches every k substeps
+   instead, whatever moved.
 
    The module owns one descriptor set, the contact set, which every solver family's pipelines
    bind as set 1 (shaders/collide.glsl declares it); a scene without colliders and without
@@ -23,14 +33,17 @@ struct cvk_sim;
    covers the approach in between. Searching every substep, two thicknesses; less often, three.
    Wider radii find more triangles per layer than a particle keeps (CVK_CONTACTS_PER_PARTICLE,
    nearest first), and a particle in a stack then loses the farther layer's. */
-#define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) > 1 ? 3.0f : 2.0f)
+#define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) == 0 ? 2.5f : (every) > 1 ? 3.0f : 2.0f)
+/* Adaptive search: a new one once a particle is this many thicknesses from where the last saw
+   it (two particles then approached by at most the margin beyond two thicknesses). */
+#define CVK_SEARCH_AFTER_THICKNESSES 0.25f
 
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */
     bool self;                   /* particle–triangle contact between cloths */
     float thickness;             /* m, resolved (collision.thickness or its default) */
     float friction, static_friction;
-    uint32_t detect_every;       /* substeps from one candidate search to the next */
+    uint32_t detect_every;       /* substeps from one candidate search to the next; 0: adaptive */
 
     uint32_t collider_count;
     cvk_collider_desc* colliders;/* deep copies (keyframes, names and files owned here) */
@@ -48,6 +61,7 @@ typedef struct cvk_collide {
     float* rest_xyz;             /* the same on the host (self-contact only) */
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
+    cvk_buffer searched;         /* vec4 per particle: its position at the last search */
     cvk_hash hash;               /* only with self-contact */
     VkBufferView view_triangles, view_owned, view_rest, view_contacts; /* texel views */
 
@@ -70,8 +84,23 @@ cvk_result cvk_collide_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error
 /* The hash and the detection pass's layout (self-contact only); called by cvk_collide_create. */
 cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
 
-/* Puts the device's substep counter at `step` (after a snapshot is loaded). */
+/* Puts the device's substep counter at `step` and asks for a search at the next substep. */
 cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* error);
+
+/* After the positions were written from the host: the next substep searches again. */
+cvk_result cvk_collide_positions_written(struct cvk_sim* sim, cvk_error* error);
+
+/* Candidate searches run so far (since creation or the last snapshot loaded); 0 without
+   self-contact. */
+cvk_result cvk_collide_searches(struct cvk_sim* sim, uint64_t* out, cvk_error* error);
+
+/* The contact state a snapshot carries so that stepping on from it gives the same bits: the
+   frame state, where the last search saw each particle and the candidates (adaptive search;
+   0 bytes otherwise). Save writes exactly cvk_collide_snapshot_size bytes; load takes them. */
+uint64_t cvk_collide_snapshot_size(const struct cvk_sim* sim);
+cvk_result cvk_collide_save_snapshot(struct cvk_sim* sim, unsigned char* data, cvk_error* error);
+cvk_result cvk_collide_load_snapshot(struct cvk_sim* sim, const unsigned char* data,
+                                     cvk_error* error);
 
 /* Whether particle p and triangle tri (internal indices) are of one cloth and near each other
    at rest (a corner within `exclusion` of p): such pairs are skipped by the contact. */

@@ -1,8 +1,11 @@
 /* The contact module's passes at the start of each substep: the colliders' poses (and the
-   frame state's advance), and for self-contact the hash of the positions and the detection of
-   particle–triangle candidates that the solver sweeps then resolve. */
+   frame state's advance), and for self-contact the decision to search (adaptive search), the
+   hash of the positions and the detection of particle–triangle candidates that the solver
+   sweeps then resolve; and the search's state as the host sees it. */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "collide.h"
 #include "shared/layout.h"
@@ -51,6 +54,29 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
                             : cvk_fail_vk(error, "vkCreatePipelineLayout (contact detection)", vr);
 }
 
+/* Adaptive search (collide.h): how far the particles moved since the last search, then whether
+   this substep searches (which opens or closes the hash build and the search). */
+static void add_search_decision(cvk_sim* s, cvk_plan* plan)
+{
+    cvk_collide* c = &s->collide;
+    uint32_t pass = cvk_plan_pass(plan, "contacts");
+    cvk_contact_push all = {0, s->build.particle_count, 0, 0};
+    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_CHECK,
+                                   c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES,
+                                   0, s->build.particle_count, &all, sizeof all);
+    if (op)
+        snprintf(op->note, sizeof op->note, "farthest move since the last search");
+    cvk_contact_push one = {0, 1, 0, 0};
+    op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_DECIDE, c->detect_layout, c->set,
+                           CVK_DOMAIN_PARTICLES, 0, 1, &one, sizeof one);
+    if (op) {
+        op->groups = 1;
+        op->set1 = c->hash.set;
+        snprintf(op->note, sizeof op->note, "search if moved > %.3g m",
+                 (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));
+    }
+}
+
 cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
     cvk_collide* c = &s->collide;
@@ -69,13 +95,16 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     }
     if (c->self && s->build.free_count > 0) {
         uint32_t first = plan->op_count;
+        if (c->detect_every == 0)
+            add_search_decision(s, plan);
         cvk_result r = cvk_hash_add_passes(&c->hash, plan, s->build.particle_count, error);
         if (r != CVK_SUCCESS)
             return r;
         uint32_t pass = cvk_plan_pass(plan, "contacts");
-        cvk_contact_push push = {0, s->build.free_count, 0, 0};
+        /* every particle, so that pinned (later kinematic) ones are seen where they are */
+        cvk_contact_push push = {0, s->build.particle_count, 0, 0};
         cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_DETECT, c->detect_layout,
-                                       c->set, CVK_DOMAIN_PARTICLES, 0, s->build.free_count,
+                                       c->set, CVK_DOMAIN_PARTICLES, 0, s->build.particle_count,
                                        &push, sizeof push);
         if (op) {
             cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
@@ -83,8 +112,85 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
             snprintf(op->note, sizeof op->note, "particle-triangle pairs within %.3g m",
                      (double)(CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness));
         }
-        for (uint32_t i = first; i < plan->op_count; i++)
+        for (uint32_t i = first; c->detect_every > 1 && i < plan->op_count; i++)
             plan->ops[i].every = c->detect_every; /* candidates for the substeps until the next */
     }
     return cvk_plan_check(plan, error);
+}
+
+/* ---- the search's state on the host: written positions, statistics, snapshots ----------- */
+
+cvk_result cvk_collide_positions_written(cvk_sim* s, cvk_error* error)
+{
+    cvk_collide* c = &s->collide;
+    if (!c->self)
+        return CVK_SUCCESS;
+    uint32_t force = 1;
+    memcpy(s->staging.mapped, &force, sizeof force);
+    cvk_staging_copy job = {&c->frame, 0, offsetof(cvk_gpu_frame, force), sizeof force};
+    return cvk_sim_copy_from_staging(s, &job, 1, error);
+}
+
+cvk_result cvk_collide_searches(cvk_sim* s, uint64_t* out, cvk_error* error)
+{
+    *out = 0;
+    if (!s->collide.self)
+        return CVK_SUCCESS;
+    cvk_gpu_frame frame;
+    cvk_result r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd,
+                                       &s->collide.frame, &frame, sizeof frame, error);
+    if (r == CVK_SUCCESS)
+        *out = frame.searches;
+    return r;
+}
+
+/* The three parts of the contact state in a snapshot, in order. */
+static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[3], VkDeviceSize sizes[3])
+{
+    const cvk_collide* c = &s->collide;
+    if (!c->self)
+        return 0;
+    VkDeviceSize n = s->build.particle_count;
+    buffers[0] = (cvk_buffer*)&c->frame;
+    sizes[0] = sizeof(cvk_gpu_frame);
+    buffers[1] = (cvk_buffer*)&c->searched;
+    sizes[1] = 16u * n;
+    buffers[2] = (cvk_buffer*)&c->contacts;
+    sizes[2] = 4u * CVK_CONTACTS_PER_PARTICLE * n;
+    return 3;
+}
+
+uint64_t cvk_collide_snapshot_size(const cvk_sim* s)
+{
+    cvk_buffer* buffers[3];
+    VkDeviceSize sizes[3];
+    uint64_t total = 0;
+    for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); i < n; i++)
+        total += sizes[i];
+    return total;
+}
+
+cvk_result cvk_collide_save_snapshot(cvk_sim* s, unsigned char* data, cvk_error* error)
+{
+    cvk_buffer* buffers[3];
+    VkDeviceSize sizes[3];
+    cvk_result r = CVK_SUCCESS;
+    for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); r == CVK_SUCCESS && i < n; i++) {
+        r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd, buffers[i], data,
+                                sizes[i], error);
+        data += sizes[i];
+    }
+    return r;
+}
+
+cvk_result cvk_collide_load_snapshot(cvk_sim* s, const unsigned char* data, cvk_error* error)
+{
+    cvk_buffer* buffers[3];
+    VkDeviceSize sizes[3];
+    cvk_result r = CVK_SUCCESS;
+    for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); r == CVK_SUCCESS && i < n; i++) {
+        r = cvk_sim_upload(s, buffers[i], data, sizes[i], error);
+        data += sizes[i];
+    }
+    return r;
 }

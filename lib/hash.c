@@ -27,7 +27,7 @@
 #include "error.h"
 #include "shared/layout.h"
 
-_Static_assert(sizeof(cvk_hash_params) == 16, "cvk_hash_params: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_hash_params) == 32, "cvk_hash_params: 32 bytes in GLSL");
 _Static_assert(sizeof(cvk_hash_push) == 32, "cvk_hash_push: 32 bytes in GLSL");
 _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes in GLSL");
 
@@ -161,7 +161,8 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
     return CVK_SUCCESS;
 }
 
-/* Zeroes scratch once; from then on every build leaves the counts at 0 (see the top). */
+/* Zeroes scratch once (from then on every build leaves the counts at 0, see the top) and opens
+   the build (params.build = 1). */
 static cvk_result zero_counts(cvk_context* context, cvk_hash* hash, cvk_error* error)
 {
     cvk_submitter submitter;
@@ -174,6 +175,8 @@ static cvk_result zero_counts(cvk_context* context, cvk_hash* hash, cvk_error* e
         r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
     if (r == CVK_SUCCESS) {
         vkCmdFillBuffer(cmd, hash->scratch.buffer, 0, VK_WHOLE_SIZE, 0);
+        cvk_hash_params params = {.build = 1};
+        vkCmdUpdateBuffer(cmd, hash->params.buffer, 0, sizeof params, &params);
         /* for whatever reads first (a frame opens with its own barrier, but not every user's) */
         cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,

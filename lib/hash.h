@@ -8,7 +8,12 @@
    The module owns its buffers, one descriptor set (shaders/hash_common.glsl declares it, at
    the set index the including shader chooses) and its pipelines' layout; it reads the points
    from a buffer it is given (vec4 per point, xyz used), so a solver can hash its predicted
-   positions and a test random ones. */
+   positions and a test random ones.
+
+   A build can be skipped on the device: its passes do nothing while the parameters' `build`
+   is 0 (1 from creation). A module that decides on the device when the points have moved
+   enough to need a new build writes it (lib/collide.c's adaptive search); queries then read
+   the last build. */
 #ifndef CVK_HASH_H
 #define CVK_HASH_H
 

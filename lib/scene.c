@@ -40,7 +40,7 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .render = cvk_default_render_desc(),
         /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
         .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f,
-                      .detect_every = 1},
+                      .detect_every = 0},
         .colliders = NULL,
         .collider_count = 0,
         .cookie_ = scene_cookie,
@@ -670,9 +670,10 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)
 
 static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_scene_issue* issue)
 {
-    if (c->detect_every < 1 || c->detect_every > substeps)
-        return issue_at(issue, "collision.detect_every", "must be between 1 and substeps (%u), got %u",
-                        substeps, c->detect_every);
+    if (c->detect_every > substeps)
+        return issue_at(issue, "collision.detect_every",
+                        "must be 0 (adaptive) or between 1 and substeps (%u), got %u", substeps,
+                        c->detect_every);
     if (!check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
         !check_at_least(issue, "collision.friction", c->friction, 0.0) ||
         !check_finite(issue, "collision.static_friction", c->static_friction))

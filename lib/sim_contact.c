@@ -359,8 +359,12 @@ cvk_result cvk_sim_contact_stats(cvk_sim* s, const float* xyz_internal, cvk_sim_
     st->self_contacts = 0;
     st->max_penetration = 0.0;
     st->intersecting_pairs = 0;
+    st->contact_searches = 0;
     if (!s->collide.colliding)
         return CVK_SUCCESS;
+    cvk_result searched = cvk_collide_searches(s, &st->contact_searches, error);
+    if (searched != CVK_SUCCESS)
+        return searched;
     collider_stats(s, xyz_internal, st);
     uint32_t* tri = NULL;
     cvk_result r = live_triangles(s, &tri, error);

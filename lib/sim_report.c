@@ -178,9 +178,14 @@ static void put_header(text* t, const cvk_sim* s)
             s->plan.solver_note);
     const cvk_collide* c = &s->collide;
     if (c->colliding) {
-        put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s, %u colliders",
-            c->thickness, c->friction, c->static_friction, c->self ? "on" : "off",
-            c->collider_count);
+        put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s",
+            c->thickness, c->friction, c->static_friction, c->self ? "on" : "off");
+        if (c->self && c->detect_every == 0)
+            put(t, " (candidates searched when a particle moved %.3g m since the last search)",
+                (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));
+        else if (c->self)
+            put(t, " (candidates searched every %u substeps)", c->detect_every);
+        put(t, ", %u colliders", c->collider_count);
         for (uint32_t i = 0; i < c->collider_count; i++)
             put(t, "%s%s%s", i ? ", " : ": ", cvk_collider_type_name(c->colliders[i].type),
                 c->colliders[i].motion.keyframe_count ? " (moving)" : "");

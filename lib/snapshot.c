@@ -1,5 +1,6 @@
 /* Exact snapshots: a header that says what the bytes are and which scene they belong to,
-   then the solver family's raw state (solver.h). Loading refuses, with one sentence and
+   then the solver family's raw state (solver.h), then with self-contact the contact state
+   (collide.h: frame state, positions at the last search, candidates). Loading refuses, with one sentence and
    changing nothing, anything that would not resume this simulation exactly.
 
    Header, 64 bytes, native byte order (little-endian on every machine clothvk runs on):
@@ -9,7 +10,7 @@
      16 uint64   frames simulated
      24 uint64   build hash: FNV-1a over particle counts, initial positions, masses and
                  springs in internal order (another scene, or another build order, differs)
-     32 uint64   bytes of family state after the header
+     32 uint64   bytes of state after the header (family, then contact)
      40 char[12] solver family ("pd")
      52 char[12] linear solver when taken ("rbgs", ...), for messages */
 #include <stdio.h>
@@ -59,7 +60,9 @@ static uint64_t build_hash(const cvk_build* b)
 
 uint64_t cvk_sim_snapshot_size(const cvk_sim* s)
 {
-    return s ? HEADER_SIZE + s->family->snapshot_size(s, s->family_state) : 0;
+    return s ? HEADER_SIZE + s->family->snapshot_size(s, s->family_state) +
+                   cvk_collide_snapshot_size(s)
+             : 0;
 }
 
 static void write_header(unsigned char* out, const header* h)
@@ -106,8 +109,12 @@ cvk_result cvk_sim_save_snapshot(cvk_sim* s, void* data, uint64_t size, cvk_erro
     snprintf(h.family, sizeof h.family, "%s", s->family->name);
     snprintf(h.solver, sizeof h.solver, "%s", cvk_linear_solver_name(s->solver.linear));
     write_header(data, &h);
-    return s->family->save_snapshot(s, s->family_state, (unsigned char*)data + HEADER_SIZE,
-                                    error);
+    unsigned char* state = (unsigned char*)data + HEADER_SIZE;
+    cvk_result r = s->family->save_snapshot(s, s->family_state, state, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_collide_save_snapshot(s, state + s->family->snapshot_size(s, s->family_state),
+                                      error);
+    return r;
 }
 
 /* Everything the header can say against this simulation, in the order a user can act on. */
@@ -150,10 +157,19 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
                         "cvk_sim_load_snapshot needs a simulation and the snapshot's bytes");
     header h;
     cvk_result r = check_header(s, data, size, &h, error);
+    uint64_t contact = cvk_collide_snapshot_size(s);
+    if (r == CVK_SUCCESS && h.state_size < contact)
+        r = cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                     "cvk_sim_load_snapshot: the snapshot holds %llu bytes of state, less than "
+                     "this simulation's cloth contact state alone (%llu): taken without "
+                     "self-contact?", (unsigned long long)h.state_size,
+                     (unsigned long long)contact);
+    const unsigned char* state = (const unsigned char*)data + HEADER_SIZE;
     if (r == CVK_SUCCESS)
-        r = s->family->load_snapshot(s, s->family_state, (const unsigned char*)data + HEADER_SIZE,
-                                     h.state_size, error);
-    if (r == CVK_SUCCESS && s->collide.collider_count > 0) /* the colliders' clock */
+        r = s->family->load_snapshot(s, s->family_state, state, h.state_size - contact, error);
+    if (r == CVK_SUCCESS && contact > 0) /* the frame state, the clock included */
+        r = cvk_collide_load_snapshot(s, state + (h.state_size - contact), error);
+    else if (r == CVK_SUCCESS && s->collide.collider_count > 0) /* the colliders' clock */
         r = cvk_collide_set_step(s, h.frames * s->params.substeps, error);
     if (r == CVK_SUCCESS)
         s->frames = h.frames;

@@ -52,6 +52,9 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES) buffer Po
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly buffer Fields {
     float sdf_values[];
 };
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer Searched {
+    vec4 searched[]; // per particle: where the last candidate search saw it
+};
 // Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
 // where a storage-buffer load is a loop over the lanes).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
@@ -365,11 +368,15 @@ float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out v
 // apart by a twentieth of r per substep: the last correction of a substep becomes velocity
 // (depth / h), and pushing a pair a whole thickness apart in one substep flings the cloth.
 // Returns the corrected xp.
-vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
-                      float side)
+vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c)
 {
     float r = contact_u.thickness;
     vec3 dir0, w0, dir, w;
+    // The side p starts this substep on, judged now rather than when the candidates were
+    // searched (possibly substeps ago, lib/collide.h): a particle that went round an edge
+    // since is kept on its new side, not pushed back through the face.
+    vec3 nearest0 = closest_on_triangle(x0p, a0, b0, c0, w0);
+    float side = dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0;
     float start = separation(x0p, a0, b0, c0, side, dir0, w0);
     float now = separation(xp, a, b, c, side, dir, w);
     float target = min(r, max(start, 0.0) + 0.05 * r);

@@ -16,6 +16,7 @@ layout(local_size_x_id = 0) in;
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const uint K = uint(CVK_CONTACTS_PER_PARTICLE);
+const float INFINITY = 3.0e38; // beyond any distance kept
 
 // Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near): not a contact_u.
 bool rest_near(vec4 rp, uvec4 t)
@@ -29,13 +30,21 @@ bool rest_near(vec4 rp, uvec4 t)
 
 void main()
 {
+    if (frame.search == 0u)
+        return; // adaptive search: the candidates of the last search still hold
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint p = pc.first + i;
         vec3 xp = contact_x(p);
+        searched[p] = vec4(xp, 0.0);
+        if (p >= contact_u.free_count)
+            continue; // a pinned particle is only seen (the adaptive search's reference)
         vec4 rp = contact_rest(p);
         uint kept[K];
         float dist[K];
-        uint found = 0u;
+        for (uint k = 0u; k < K; k++) {
+            kept[k] = CVK_NO_CONTACT;
+            dist[k] = INFINITY;
+        }
         ivec3 home = hash_cell(xp);
         uint base = contact_u.particle_count + 1u;
         float reach = 1.0 / hash_params_u.inv_cell; // ≥ radius + 1.5 × the longest edge
@@ -71,24 +80,23 @@ void main()
                     if (d >= contact_u.detect_radius)
                         continue;
                     uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
-                    // Insert by distance, keeping the K nearest (ties: first found first).
-                    uint at = found < K ? found : K;
-                    while (at > 0u && dist[at - 1u] > d) {
-                        if (at < K) {
-                            dist[at] = dist[at - 1u];
-                            kept[at] = kept[at - 1u];
-                        }
-                        at--;
+                    // Insert by distance, keeping the K nearest (ties: first found first). Every
+                    // index is a constant once the loop unrolls: a variable index into a
+                    // private array is a per-lane memory loop on lavapipe (the search took 1.4x
+                    // as long with the usual insertion loop).
+                    uint item = (t << 1u) | side;
+                    for (uint k = K - 1u; k > 0u; k--) {
+                        bool shift = dist[k - 1u] > d;
+                        bool here = !shift && dist[k] > d;
+                        kept[k] = shift ? kept[k - 1u] : (here ? item : kept[k]);
+                        dist[k] = shift ? dist[k - 1u] : (here ? d : dist[k]);
                     }
-                    if (at < K) {
-                        dist[at] = d;
-                        kept[at] = (t << 1u) | side;
-                        found = min(found + 1u, K);
-                    }
+                    kept[0] = dist[0] > d ? item : kept[0];
+                    dist[0] = dist[0] > d ? d : dist[0];
                 }
             }
         }
         for (uint k = 0u; k < K; k++)
-            contacts[p * K + k] = k < found ? kept[k] : CVK_NO_CONTACT;
+            contacts[p * K + k] = kept[k];
     }
 }

@@ -20,12 +20,16 @@ vec3 pd_contact(uint p, vec3 u)
             if (e == CVK_NO_CONTACT)
                 break;
             uvec4 t = contact_triangle(e >> 1u);
-            float side = (e & 1u) != 0u ? -1.0 : 1.0;
             vec3 a0 = fetch(x_read, t.x), b0 = fetch(x_read, t.y), c0 = fetch(x_read, t.z);
             xp = collide_triangle(x0, xp, a0, b0, c0, a0 + fetch(src, t.x), b0 + fetch(src, t.y),
-                                  c0 + fetch(src, t.z), side);
+                                  c0 + fetch(src, t.z));
         }
-        u = xp - x0;
+        // At most half a thickness of push in one pass, however many triangles push: a
+        // particle crowded by several layers was otherwise thrown by their summed corrections.
+        vec3 push = xp - (x0 + u);
+        float length_push = length(push);
+        float most = 0.5 * contact_u.thickness;
+        u += length_push > most ? push * (most / length_push) : push;
     }
     if (COLLIDERS)
         u = collide_colliders(x0, u);

@@ -51,7 +51,7 @@ COLUMNS = {
                   "failed_at_step", "max_stretch", "energy_growth", "nan_count", "device"],
     "scaling": ["label", "solver", "omega", "grid", "particles", "iterations", "outer", "inner",
                 "substeps", "frame_ms", "frame_ms_min", "frame_ms_max", "predict_ms", "solve_ms",
-                "finalize_ms", "ms_per_iteration", "ns_per_particle_iteration", "fps", "wall_ms",
+                "finalize_ms", "colliders_ms", "hash_ms", "contacts_ms", "contact_ms", "ms_per_iteration", "ns_per_particle_iteration", "fps", "wall_ms",
                 "dispatches_per_frame", "device"],
     "collide": ["points", "cell_size", "table_size", "clear_ms", "count_ms", "chunk_sums_ms",
                 "scan_chunks_ms", "scan_ms", "scatter_ms", "sort_ms", "hash_ms", "neighbours_ms",
@@ -68,6 +68,8 @@ def may_be_empty(experiment, row, column):
     """Cells that are empty or not a number by design."""
     if experiment == "budget" and column == "seed_002_gtx970":
         return True  # the seed measured RBGS, GS and Jacobi only, at 1, 2, 4 and 8 ms
+    if experiment == "scaling" and column in CONTACT_COLUMNS:
+        return True  # passes of a colliding scene, checked by contact_pass_columns
     if experiment == "stability":
         if row["kind"] == "limit":
             # the largest stable h and the smallest unstable one, where the sweep found them
@@ -167,6 +169,27 @@ def stability_kinds(rows):
     return problems
 
 
+CONTACT_COLUMNS = ("colliders_ms", "hash_ms", "contacts_ms", "contact_ms")
+
+
+def no_contact_columns(rows):
+    """A scene without colliders or self-contact records no collision pass."""
+    return [f"scaling.csv: {c} is {r[c]!r} in a scene without contact"
+            for r in rows for c in CONTACT_COLUMNS if r[c] != "nan"][:5]
+
+
+def self_contact_columns(rows):
+    """Self-contact without colliders: hash, contacts and contact timed, no colliders pass."""
+    problems = []
+    for r in rows:
+        if r["colliders_ms"] != "nan":
+            problems.append(f"scaling.csv: colliders_ms is {r['colliders_ms']!r} with no collider")
+        for c in ("hash_ms", "contacts_ms", "contact_ms"):
+            if not (math.isfinite(float(r[c])) and float(r[c]) > 0):
+                problems.append(f"scaling.csv: {c} is {r[c]!r} with self-contact on")
+    return problems[:5] or ([] if rows else ["scaling.csv has no rows"])
+
+
 def collide_rows(rows):
     """One row per point count; a power-of-two table of at least twice the points; the build's
     7 dispatches plus the query; about 4 neighbours a point at one point per cell."""
@@ -222,7 +245,12 @@ GOOD = [
                                              "--solvers", "rbgs,jacobi", "--limit-ratio", "2"] + QUICK,
      "experiment": "stability", "check": stability_kinds},
     {"name": "scaling, built-in scene",
-     "argv": ["scaling", "--grids", "4,8", "--iterations", "2,3"] + QUICK, "experiment": "scaling"},
+     "argv": ["scaling", "--grids", "4,8", "--iterations", "2,3"] + QUICK, "experiment": "scaling",
+     "check": no_contact_columns},
+    {"name": "scaling, self-contact",
+     "argv": ["scaling", HANGING, "--set", "collision.self=true", "--grids", "6,8", "--iterations", "2",
+              "--solvers", "rbgs"] + QUICK,
+     "experiment": "scaling", "check": self_contact_columns},
     {"name": "scaling, a scene as template",
      "argv": ["scaling", HANGING, "--grids", "6", "--iterations", "2", "--solvers", "jacobi"] + QUICK,
      "experiment": "scaling"},

@@ -458,9 +458,8 @@ static void test_json_types(void)
                    "t.json: collision.margin: unknown key (expected one of: self, thickness, friction, "
                    "static_friction, detect_every)");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'detect_every': 9}}",
-                   "t.json: collision.detect_every: must be between 1 and substeps (8), got 9");
-    EXPECT_INVALID("{'cloths': [{}], 'collision': {'detect_every': 0}}",
-                   "t.json: collision.detect_every: must be between 1 and substeps (8), got 0");
+                   "t.json: collision.detect_every: must be 0 (adaptive) or between 1 and "
+                   "substeps (8), got 9");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'self': 1}}",
                    "t.json: collision.self: expected true or false, got the number 1");
     EXPECT_INVALID("{'cloths': [{'velocity': [1, 2]}]}",

@@ -2,7 +2,10 @@
    (seed 000 §6.1 and appendix C.1: particles x iterations -> frame rate). Square grids from
    32 x 32 up to the largest the device and the host memory hold; the cloth hangs from the two
    corners of its first row like hanging.json, or follows the scene given (its first cloth,
-   its pins moved to the same relative places). */
+   its pins moved to the same relative places). With colliders or self-contact in the scene,
+   the collision passes are timed too (colliders, hash, contacts, contact; not a number when
+   the scene records none), so the cost of contact against particle count is one run:
+   `clothvk-bench scaling assets/scenes/hanging.json --set collision.self=true`. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,13 +18,20 @@
 static const char* const columns[] = {
     "label", "solver", "omega", "grid", "particles", "iterations", "outer", "inner", "substeps",
     "frame_ms", "frame_ms_min", "frame_ms_max", "predict_ms", "solve_ms", "finalize_ms",
-    "ms_per_iteration", "ns_per_particle_iteration", "fps", "wall_ms", "dispatches_per_frame",
+    "colliders_ms", "hash_ms", "contacts_ms", "contact_ms", "ms_per_iteration", "ns_per_particle_iteration", "fps", "wall_ms", "dispatches_per_frame",
 };
 
 /* Host memory a particle costs (simulation, build and this tool), measured on lavapipe where
    device memory is host memory too; the largest grid keeps within half the machine. */
 #define BYTES_PER_PARTICLE 600.0
 #define MAX_PINS 64
+
+/* The collision passes (lib/collide_passes.c, the families' contact pass) and their columns. */
+#define CONTACT_PASSES 4
+static const char* const contact_pass[CONTACT_PASSES] = {"colliders", "hash", "contacts",
+                                                          "contact"};
+static const char* const contact_column[CONTACT_PASSES] = {"colliders_ms", "hash_ms",
+                                                            "contacts_ms", "contact_ms"};
 
 typedef struct template_scene {
     cvk_scene_desc scene;
@@ -146,11 +156,23 @@ static void add_row(bench* b, const bench_solver* s, const cvk_solver_desc* d, u
     bench_table_num(t, "predict_ms", pass_of(m, implicit ? "assemble" : "predict"));
     bench_table_num(t, "solve_ms", solve);
     bench_table_num(t, "finalize_ms", pass_of(m, implicit ? "integrate" : "finalize"));
+    for (uint32_t c = 0; c < CONTACT_PASSES; c++)
+        bench_table_num(t, contact_column[c], pass_of(m, contact_pass[c]));
     bench_table_num(t, "ms_per_iteration", solve / (sweeps * substeps));
     bench_table_num(t, "ns_per_particle_iteration", 1e6 * solve / (sweeps * substeps * particles));
     bench_table_num(t, "fps", 1e3 / m->frame_ms.median);
     bench_table_num(t, "wall_ms", m->wall_ms);
     bench_table_int(t, "dispatches_per_frame", m->timing.dispatches_per_frame);
+}
+
+/* True when any point ran a collision pass. */
+static bool any_contact(const bench_table* t)
+{
+    for (uint32_t r = 0; r < t->rows; r++)
+        for (uint32_t c = 0; c < CONTACT_PASSES; c++)
+            if (!isnan(bench_table_get(t, r, contact_column[c])))
+                return true;
+    return false;
 }
 
 /* One measured point, kept until every grid has run: the CSV lists each series (solver and
@@ -259,14 +281,37 @@ static void print_tables(const bench* b, const uint32_t* grids, uint32_t grid_co
     }
 }
 
+/* The collision passes' share of the frame, per grid, for the first solver and sweep count. */
+static void print_contact(const bench* b, const uint32_t* grids, uint32_t grid_count)
+{
+    const bench_table* t = &b->table;
+    const char* label = b->o->solvers[0].label;
+    printf("%s, %u sweeps: collision passes, GPU ms per frame (median)\n%12s %10s", label,
+           b->o->iterations[0], "particles", "frame");
+    for (uint32_t c = 0; c < CONTACT_PASSES; c++)
+        printf(" %10s", contact_pass[c]);
+    printf("\n");
+    for (uint32_t g = 0; g < grid_count; g++) {
+        int r = find_row(t, label, grids[g], b->o->iterations[0]);
+        if (r < 0)
+            continue;
+        printf("%12llu %10.4g", (unsigned long long)grids[g] * grids[g],
+               bench_table_get(t, (uint32_t)r, "frame_ms"));
+        for (uint32_t c = 0; c < CONTACT_PASSES; c++)
+            printf(" %10.4g", bench_table_get(t, (uint32_t)r, contact_column[c]));
+        printf("\n");
+    }
+}
+
 static void write_plot(bench* b, uint32_t substeps)
 {
     bench_text* t = &b->plot;
     bench_plot_styles(t);
-    bench_text_add(t, "set multiplot layout 1,2 title \"scaling, %u substeps per frame, on %s\"\n"
+    bool contact = any_contact(&b->table);
+    bench_text_add(t, "set multiplot layout 1,%d title \"scaling, %u substeps per frame, on %s\"\n"
                       "set logscale xy\nset xlabel \"particles\"\nset format x \"%%.0e\"\n"
                       "set key top left font \",8\"\n",
-                   substeps, b->device);
+                   contact ? 3 : 2, substeps, b->device);
     const char* panels[2][3] = {
         {"GPU time per frame", "ms per frame", "frame_ms"},
         {"solve time per particle and sweep", "ns", "ns_per_particle_iteration"},
@@ -283,6 +328,20 @@ static void write_plot(bench* b, uint32_t substeps)
                                k + 1, b->o->solvers[s].title, b->o->iterations[k]);
                 sep = ", \\\n     ";
             }
+        bench_text_add(t, "\n");
+    }
+    if (contact) {
+        bench_text_add(t, "set title \"collision passes, %s, %u sweeps\"\nset ylabel \"ms per "
+                          "frame\"\n", b->o->solvers[0].title, b->o->iterations[0]);
+        const char* sep = "plot ";
+        for (uint32_t c = 0; c < CONTACT_PASSES; c++) {
+            bench_text_add(t, "%s\"scaling.csv\" using \"particles\":(strcol(\"label\") eq \"%s\" "
+                              "&& column(\"iterations\") == %u ? column(\"%s\") : NaN) with "
+                              "linespoints linestyle %u title \"%s\"",
+                           sep, b->o->solvers[0].label, b->o->iterations[0], contact_column[c],
+                           c + 1, contact_pass[c]);
+            sep = ", \\\n     ";
+        }
         bench_text_add(t, "\n");
     }
     bench_text_add(t, "unset multiplot\n");
@@ -326,6 +385,8 @@ int bench_scaling(bench* b)
     template_scene ts;
     make_scene(b, 2, &ts);
     print_tables(b, grids, count);
+    if (any_contact(&b->table))
+        print_contact(b, grids, count);
     write_plot(b, ts.scene.substeps);
     return APP_EXIT_OK;
 }

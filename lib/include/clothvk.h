@@ -300,10 +300,13 @@ typedef struct cvk_collision_desc {
                                     any structural spring (the default) */
     float friction;              /* Coulomb kinetic coefficient, ≥ 0; usually 0.3 */
     float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
-    uint32_t detect_every;       /* substeps from one search for cloth-contact candidates to the
-                                    next (the hash and the query), 1 to substeps; usually 1.
-                                    Larger is cheaper, but layers approaching faster than about
-                                    two thicknesses per search interval may pass through */
+    uint32_t detect_every;       /* 0 (the default): search for cloth-contact candidates (the
+                                    hash and the query) only at substeps that start with some
+                                    particle a quarter thickness from where the last search saw
+                                    it — as safe as searching every substep, and free for a
+                                    cloth at rest; k (1 to substeps): every k substeps whatever
+                                    moved (k > 1 is cheaper, but layers approaching faster than
+                                    about a thickness per k substeps may pass through) */
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {
@@ -611,6 +614,9 @@ typedef struct cvk_sim_stats {
                                     (0 when none is; thickness not counted) */
     uint64_t intersecting_pairs; /* non-adjacent cloth triangle pairs that intersect
                                     (cvk_sim_count_intersections); 0 without collision */
+    uint64_t contact_searches;   /* searches for cloth-contact candidates so far (since creation
+                                    or the last snapshot loaded; adaptive by default, see
+                                    collision.detect_every); 0 without self-contact */
     /* The implicit method's linear solver (0 for pd). */
     uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps of the last frame, summed
                                          over its substeps */

@@ -322,6 +322,7 @@ typedef struct cvk_sim_stats {
     uint64_t self_contacts;
     double max_penetration;
     uint64_t intersecting_pairs;
+    uint64_t contact_searches;
     uint32_t solver_iterations;
     uint64_t solver_iterations_total;
     uint32_t solver_breakdowns;

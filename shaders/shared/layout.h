@@ -129,12 +129,17 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 
 /* ---- collisions: the contact set (lib/collide.h, shaders/collide.glsl) ------------------- */
 
-/* The frame state the recorded work advances itself: substeps simulated so far. Simulated
-   time at the start of substep n is n · dt. */
-#define CVK_GPU_FRAME_FIELDS \
-    CVK_UINT(step)           \
-    CVK_UINT(pad0)           \
-    CVK_UINT(pad1)           \
+/* The frame state the recorded work advances itself: substeps simulated so far (simulated
+   time at the start of substep n is n · dt), and when cloth contact searches for candidates
+   (adaptive search, lib/collide.h: shaders/contact_check.comp and contact_decide.comp). */
+#define CVK_GPU_FRAME_FIELDS                                                                 \
+    CVK_UINT(step)                                                                          \
+    CVK_UINT(search)   /* 1: this substep searches (the hash build and the search run) */   \
+    CVK_UINT(moved)    /* float bits: farthest a particle is from where the last search saw it */ \
+    CVK_UINT(force)    /* 1: search at the next substep whatever moved (start, state written) */ \
+    CVK_UINT(searches) /* searches so far */                                                \
+    CVK_UINT(pad0)                                                                          \
+    CVK_UINT(pad1)                                                                          \
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
@@ -186,7 +191,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(dt)             /* s per substep */                                           \
     CVK_FLOAT(detect_radius)  /* m: particle–triangle pairs nearer than this are kept */    \
     CVK_FLOAT(exclusion)      /* m: pairs with a corner this near at rest are skipped */    \
-    CVK_UINT(pad1)                                                                          \
+    CVK_FLOAT(search_after)   /* m: adaptive search when a particle moved this far since */ \
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
@@ -219,7 +224,8 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SHAPES_UNIFORM 12
 #define CVK_CONTACT_BINDING_POSES_UNIFORM 13
 #define CVK_CONTACT_BINDING_CONTACTS_READ 14 /* texel view of the contacts */
-#define CVK_CONTACT_BINDING_COUNT 15
+#define CVK_CONTACT_BINDING_SEARCHED 15 /* vec4 per particle: where the last search saw it */
+#define CVK_CONTACT_BINDING_COUNT 16
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
@@ -232,7 +238,11 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
     CVK_FLOAT(cell_size)   /* m */                                                       \
     CVK_FLOAT(inv_cell)    /* 1 / cell_size, 1/m: cells are floor(p · inv_cell) */        \
     CVK_UINT(table_size)   /* slots, a power of two */                                   \
-    CVK_UINT(count)        /* points hashed by the last build */
+    CVK_UINT(count)        /* points hashed by the last build */                         \
+    CVK_UINT(build)        /* 0: the build passes do nothing (1 from creation) */        \
+    CVK_UINT(pad0)                                                                      \
+    CVK_UINT(pad1)                                                                      \
+    CVK_UINT(pad2)
 CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
 
 /* The build passes' push data (shaders/hash_*.comp). The scan works in chunks of `chunk` slots. */
