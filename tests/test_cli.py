@@ -283,6 +283,17 @@ CASES = [
      "stderr": error(SMALL, "substeps: 10000 substeps × 20002 operations per substep are 200020000 "
                             "operations per frame; a frame records at most 1000000 (fewer "
                             "substeps, sweeps or colours)")},
+    # Derived quantities of the solve: m/h² and m/h² + Σk must fit single precision.
+    {"name": "mass whose m/h² overflows", "argv": [SMALL, "--set", "cloths.0.mass=1e30"],
+     "status": 2,
+     "stderr": error(SMALL, "cloths.0.mass: a particle of 8.33333e+28 kg with a step of 0.002 s "
+                            "has m/h² = 2.08333e+34 kg/s², outside [1e-30, 1e+30] where "
+                            "single-precision solves hold it")},
+    {"name": "stiffness whose diagonal overflows",
+     "argv": [SMALL, "--set", "cloths.0.stiffness.structural=3e38"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.stiffness: a particle's springs sum to 9e+38 N/m; with "
+                            "m/h² = 2083.33 kg/s² its row's diagonal exceeds 1e+30, beyond what "
+                            "single-precision solves hold")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,
