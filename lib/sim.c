@@ -69,6 +69,8 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
         r = cvk_buffer_create(ctx, 2u * n16,
                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               CVK_MEMORY_HOST, "staging", &s->staging, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_watch_create(s, error);
     return r;
 }
 
@@ -401,7 +403,7 @@ void cvk_sim_destroy(cvk_sim* s)
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
-    cvk_buffer* buffers[] = {&s->positions, &s->spring_alive, &s->staging};
+    cvk_buffer* buffers[] = {&s->positions, &s->spring_alive, &s->staging, &s->watch};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     cvk_plan_destroy(&s->plan);
@@ -470,6 +472,8 @@ cvk_result cvk_sim_step(cvk_sim* s, uint32_t frames, cvk_error* error)
                                 : submit_frames(s, frames, error);
     if (r == CVK_SUCCESS)
         s->frames += frames;
+    if (r == CVK_SUCCESS && !s->plan.host)
+        r = cvk_sim_watch_check(s, error);
     return r;
 }
 

@@ -83,8 +83,11 @@ static cvk_result write_state(cvk_sim* s, const float* xyz, const float* velocit
         if (velocity)
             memcpy(&s->scratch_v[3 * (size_t)p], &velocity[user], 3 * sizeof(float));
     }
-    return s->family->write_state(s, s->family_state, s->scratch, velocity ? s->scratch_v : NULL,
-                                  error);
+    r = s->family->write_state(s, s->family_state, s->scratch, velocity ? s->scratch_v : NULL,
+                               error);
+    if (r == CVK_SUCCESS)
+        cvk_sim_watch_reset(s); /* a new state: a past divergence no longer holds */
+    return r;
 }
 
 cvk_result cvk_sim_write_state(cvk_sim* s, const float* xyz, const float* velocity,

@@ -137,7 +137,8 @@ def json_stats(particles, structural, frames, linear=None):
             return problems
         expected = {"particles": (stats["particles"], particles),
                     "springs.structural": (stats["springs"]["structural"], structural),
-                    "frames": (stats["frames"], frames), "nan_count": (stats["nan_count"], 0)}
+                    "frames": (stats["frames"], frames), "nan_count": (stats["nan_count"], 0),
+                    "diverged": (stats.get("diverged"), False)}
         if linear:
             expected["solver.linear"] = (stats["solver"]["linear"], linear)
         for key, (got, want) in expected.items():
@@ -386,10 +387,45 @@ def run_case(case):
         return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
 
 
+def divergence_problems(argv, frame):
+    """A run that blows up (the library's divergence watch): exit status 3, one line on stderr
+    naming the frame, the statistics on stdout with "diverged": true and where, and no --dump
+    written (the state is not a result)."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-cli-") as workdir:
+        p = tooltest.run_tool(SIM, argv + ["--json", "--dump", DUMP], workdir, timeout=120)
+        problems = []
+        if p.returncode != 3:
+            problems.append(f"exit status {p.returncode}, expected 3")
+        line = tooltest.tool_line("clothvk-sim", f"{argv[0]}: diverged in frame {frame}, cloth 0: a "
+                                  "particle moved faster than 10000 m/s or a spring stretched past "
+                                  "ten times its rest length; stopped there")
+        if p.stderr.splitlines() != [line]:
+            problems.append(f"stderr {p.stderr!r}, expected the line {line!r}")
+        stats = parse_json(p.stdout, problems)
+        if stats is not None:
+            got = {k: stats.get(k) for k in ("diverged", "diverged_frame", "diverged_cloth",
+                                             "diverged_reason")}
+            want = {"diverged": True, "diverged_frame": frame, "diverged_cloth": 0,
+                    "diverged_reason": "run-away"}
+            if got != want:
+                problems.append(f"JSON says {got}, expected {want}")
+        if tooltest.listing(workdir):
+            problems.append(f"files were written: {tooltest.listing(workdir)}")
+        return problems
+
+
 def main():
     cases = tooltest.Cases("cli")
     for case in CASES:
         cases.add(f"{case['name']}: clothvk-sim {' '.join(case_argv(case))}", run_case(case))
+    # dt = 1000 s: springs ten times their length within the first frame; a cloth at 9990.5 m/s
+    # gaining 1 m/s a substep (dt 0.01 s, 100 m/s², 4 substeps a frame) passes 10000 m/s in its
+    # 10th substep, in frame 2.
+    cases.add("divergence at dt = 1000 s", divergence_problems([SMALL, "--set", "dt=1000"], 0))
+    fast = [SMALL, "--set", "cloths.0.pins=[]", "--set", "cloths.0.velocity=[0,-9990.5,0]",
+            "--set", "dt=0.01", "--set", "gravity=[0,-100,0]", "--set", "damping=0",
+            "--frames", "40"]
+    cases.add("divergence of a cloth too fast", divergence_problems(fast, 2))
     return cases.finish()
 
 
