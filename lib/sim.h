@@ -64,7 +64,7 @@ struct cvk_sim {
    motion that fast, such as a free fall in vacuum for over 1000 s at 9.81 m/s². */
 #define CVK_DIVERGED_SPEED 1e4 /* m/s */
 /* ... and a spring longer than ten times its rest length has too (predict.comp checks each
-   particle's first four springs): cloth tears or stops long before that; a solve whose step is
+   particle's first spring): cloth tears or stops long before that; a solve whose step is
    far too long for its springs (dt = 1000 s) gets there without moving fast. */
 #define CVK_DIVERGED_STRETCH 10
 

@@ -5,27 +5,22 @@
 // first iterate. Pinned particles are never dispatched.
 //
 // For the divergence watch, one invocation counts the substep (finalize reads the count after
-// the barriers between them), and every particle's first four springs (its first quad of slots)
-// are measured in the positions the substep starts from, which no pass writes while this one
-// runs: one past RUNAWAY_STRETCH times its rest length raises the flag finalize acts on. Four
-// springs are enough: a solve that blows up stretches every spring around where it starts.
+// the barriers between them), and every particle's first spring (slot 0) is measured in the
+// positions the substep starts from, which no pass writes while this one runs: one past
+// RUNAWAY_STRETCH times its rest length raises the flag finalize acts on. One spring a particle
+// is enough (a solve that blows up stretches every spring around where it starts) and costs
+// four fetches where the first four would cost seven.
 #include "pd_common.glsl"
 
 const float RUNAWAY_STRETCH = 10.0; // lib/sim.h, CVK_DIVERGED_STRETCH
 
-bool overstretched(uint p)
+bool overstretched(uint p, vec3 xp)
 {
-    uvec4 c = quad_neighbours(0u, p);
-    vec4 k = quad_k(0u, p);
-    vec4 kl = texelFetch(adjacency_kl, int(p));
-    vec3 xp = fetch(x_read, p);
-    bool over = false;
-    for (uint j = 0u; j < 4u; j++) {
-        vec3 d = fetch(x_read, c[j]) - xp;
-        float limit = RUNAWAY_STRETCH * kl[j] / max(k[j], 1e-30);
-        over = over || (k[j] > 0.0 && dot(d, d) > limit * limit);
-    }
-    return over;
+    uint c = quad_neighbours(0u, p).x;
+    float k = quad_k(0u, p).x;
+    float limit = RUNAWAY_STRETCH * texelFetch(adjacency_kl, int(p)).x / max(k, 1e-30);
+    vec3 d = fetch(x_read, c) - xp;
+    return k > 0.0 && dot(d, d) > limit * limit;
 }
 
 void main()
@@ -35,9 +30,10 @@ void main()
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
         vec3 yp = fetch(src, p) * pc.keep + pc.gravity_h2.xyz;
-        y[p] = vec4(yp, texelFetch(x_read, int(p)).w);
+        vec4 xp = texelFetch(x_read, int(p));
+        y[p] = vec4(yp, xp.w);
         dst[p] = vec4(yp, 0.0);
-        if (pc.max_u2 > 0.0 && overstretched(p)) {
+        if (pc.max_u2 > 0.0 && overstretched(p, xp.xyz)) {
             watch.stretched = 1u;
             atomicMin(watch.particle, p);
         }
