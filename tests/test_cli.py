@@ -295,6 +295,12 @@ CASES = [
      "stderr": error(SMALL, "cloths.0.stiffness: a particle's springs sum to 9e+38 N/m; with "
                             "m/h² = 2083.33 kg/s² its row's diagonal exceeds 1e+30, beyond what "
                             "single-precision solves hold")},
+    {"name": "workgroup size 0", "argv": [SMALL, "--workgroup-size", "0"], "status": 2,
+     "stderr": tooltest.tool_line("clothvk-sim", "--workgroup-size: expected a whole number from 1 "
+                                  "to 1024, got 0")},
+    {"name": "no workgroups", "argv": [SMALL, "--max-workgroups", "0"], "status": 2,
+     "stderr": tooltest.tool_line("clothvk-sim", "--max-workgroups: expected a whole number of at "
+                                  "least 1, got 0")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,
@@ -387,6 +393,21 @@ def run_case(case):
         return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
 
 
+def same_dump(argv_a, argv_b):
+    """Two runs with --dump: both succeed and write the same bytes (compute shapes change how
+    the work is split, never the result: the solve is deterministic per particle)."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-cli-") as workdir:
+        dumps = []
+        for i, argv in enumerate((argv_a, argv_b)):
+            name = f"run{i}.csv"
+            p = tooltest.run_tool(SIM, argv + ["--dump", name], workdir, timeout=120)
+            if p.returncode != 0 or p.stderr:
+                return [f"{' '.join(argv)}: exit status {p.returncode}, stderr {p.stderr.strip()!r}"]
+            with open(os.path.join(workdir, name), "rb") as f:
+                dumps.append(f.read())
+        return [] if dumps[0] == dumps[1] else [f"{' '.join(argv_b)} wrote other positions"]
+
+
 def divergence_problems(argv, frame):
     """A run that blows up (the library's divergence watch): exit status 3, one line on stderr
     naming the frame, the statistics on stdout with "diverged": true and where, and no --dump
@@ -426,6 +447,10 @@ def main():
             "--set", "dt=0.01", "--set", "gravity=[0,-100,0]", "--set", "damping=0",
             "--frames", "40"]
     cases.add("divergence of a cloth too fast", divergence_problems(fast, 2))
+    hanging = [os.path.join(ROOT, "assets", "scenes", "hanging.json"), "--frames", "3"]
+    for shape in (["--workgroup-size", "32"], ["--max-workgroups", "1"],
+                  ["--workgroup-size", "1", "--max-workgroups", "3"]):
+        cases.add(f"{' '.join(shape)}: the same positions", same_dump(hanging, hanging + shape))
     return cases.finish()
 
 

@@ -210,11 +210,12 @@ def run_case(case):
 
 
 def determinism():
-    """The same scene rendered twice: the same PNG bytes, image for image."""
+    """The same scene rendered twice, the second time with --serial (each image written before
+    the next frame is simulated): the same PNG bytes, image for image."""
     with tempfile.TemporaryDirectory(prefix="clothvk-render-cli-") as workdir:
-        for out in ("one", "two"):
-            p = tooltest.run_tool(RENDER, TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"],
-                                  workdir, timeout=180)
+        for out, extra in (("one", []), ("two", ["--serial"])):
+            p = tooltest.run_tool(RENDER, TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"]
+                                  + extra, workdir, timeout=180)
             if p.returncode != 0 or p.stderr:
                 return [f"run into {out} failed ({p.returncode}): {p.stderr.strip()}"]
         names = images(os.path.join(workdir, "one"))
