@@ -456,9 +456,12 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
             int status = app_bake_load(s->bake, frame);
             if (status != APP_EXIT_OK)
                 return status;
-        } else if (i > 0 && cvk_sim_step(s->sim, s->o->every, &err) != CVK_SUCCESS) {
-            app_error(tool, "%s", err.message);
-            return APP_EXIT_FAILURE;
+        } else if (i > 0) {
+            cvk_result r = cvk_sim_step(s->sim, s->o->every, &err);
+            if (r != CVK_SUCCESS) { /* the frames drawn so far are complete and stay */
+                app_error(tool, "%s", err.message);
+                return r == CVK_ERROR_DIVERGED ? APP_EXIT_DIVERGED : APP_EXIT_FAILURE;
+            }
         }
         double t1 = app_now_ms();
         /* A keyframed camera goes where it is at this frame's simulated time. */

@@ -175,6 +175,7 @@ typedef struct run_totals {
     uint32_t timed_frames;
     double gpu_ms;
     double pass_ms[CVK_MAX_PASSES];
+    bool diverged; /* the library stopped the run; the report says where and when */
 } run_totals;
 
 /* Steps `frames` frames. With OBJ or PC2 output, file or sample i holds the state after
@@ -192,7 +193,14 @@ static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc
         if (bake && !app_bake_frame(bake, f))
             return APP_EXIT_FAILURE;
         double t0 = app_now_ms();
-        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS) {
+        cvk_result r = cvk_sim_step(sim, 1, &err);
+        if (r == CVK_ERROR_DIVERGED) {
+            t->wall_ms += app_now_ms() - t0;
+            t->frames++;
+            t->diverged = true;
+            return APP_EXIT_OK;
+        }
+        if (r != CVK_SUCCESS) {
             app_error(tool, "%s", err.message);
             return APP_EXIT_FAILURE;
         }
@@ -270,6 +278,13 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "residual_per_type", residuals);
     json_object_set_new(root, "max_stretch", real_or_null(st->max_stretch, true));
     json_object_set_new(root, "nan_count", json_integer((json_int_t)st->nan_count));
+    json_object_set_new(root, "diverged", json_boolean(st->diverged));
+    if (st->diverged) {
+        json_object_set_new(root, "diverged_frame", json_integer((json_int_t)st->diverged_frame));
+        json_object_set_new(root, "diverged_cloth", json_integer(st->diverged_cloth));
+        json_object_set_new(root, "diverged_reason",
+                            json_string(st->diverged_nonfinite ? "non-finite" : "run-away"));
+    }
     if (scene->solver.method == CVK_METHOD_IMPLICIT) {
         json_t* linear = json_object();
         json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
@@ -434,6 +449,14 @@ static int report(const options* o, const cvk_scene_desc* scene, const cvk_conte
         print_obj_summary(o, out, frames);
     if (bake && !o->json)
         print_bake_summary(bake);
+    if (st.diverged) {
+        app_error(tool, "%s: diverged in frame %llu, cloth %u: %s; stopped there", o->scene,
+                  (unsigned long long)st.diverged_frame, st.diverged_cloth,
+                  st.diverged_nonfinite ? "a position became NaN or infinite"
+                                        : "a particle moved faster than 10000 m/s or a spring "
+                                          "stretched past ten times its rest length");
+        return APP_EXIT_DIVERGED;
+    }
     if (st.nan_count) {
         app_error(tool, "%s: the simulation produced %llu non-finite coordinates", o->scene,
                   (unsigned long long)st.nan_count);

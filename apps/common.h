@@ -14,6 +14,7 @@ enum {
     APP_EXIT_OK = 0,
     APP_EXIT_FAILURE = 1,   /* the run failed (device error, NaN in the result, validation) */
     APP_EXIT_BAD_INPUT = 2, /* bad arguments or scene; nothing was written */
+    APP_EXIT_DIVERGED = 3,  /* the simulation blew up (the library's divergence watch) */
 };
 
 /* Prints "tool: message" on stderr, one line: control characters in the message (from file

@@ -51,6 +51,7 @@ const char* cvk_result_name(cvk_result result)
     case CVK_ERROR_DEVICE_LIMIT: return "CVK_ERROR_DEVICE_LIMIT";
     case CVK_ERROR_OUT_OF_MEMORY: return "CVK_ERROR_OUT_OF_MEMORY";
     case CVK_ERROR_VULKAN: return "CVK_ERROR_VULKAN";
+    case CVK_ERROR_DIVERGED: return "CVK_ERROR_DIVERGED";
     }
     return "CVK_ERROR_UNKNOWN";
 }

@@ -24,6 +24,24 @@ static int device_memory_type(const cvk_context* context, uint32_t allowed)
     return type >= 0 ? type : find_memory_type(context, allowed, 0);
 }
 
+/* An allocation larger than the heap it would come from is invalid usage (Vulkan's
+   VUID-vkAllocateMemory-pAllocateInfo-01713), not an out-of-memory error: refuse it first, as a
+   limit of the device, with both figures. */
+static cvk_result check_heap(const cvk_context* context, int type, VkDeviceSize size,
+                             const char* what, cvk_error* error)
+{
+    const VkPhysicalDeviceMemoryProperties* m = &context->memory;
+    uint32_t heap = m->memoryTypes[type].heapIndex;
+    if (size <= m->memoryHeaps[heap].size)
+        return CVK_SUCCESS;
+    return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                    "%s needs %llu bytes (%.1f GiB) in one allocation; %s's memory heap %u holds "
+                    "%llu bytes (%.1f GiB)", what, (unsigned long long)size,
+                    (double)size / (1u << 30), context->properties.deviceName, heap,
+                    (unsigned long long)m->memoryHeaps[heap].size,
+                    (double)m->memoryHeaps[heap].size / (1u << 30));
+}
+
 cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUsageFlags usage,
                              cvk_memory_kind kind, const char* what, cvk_buffer* out,
                              cvk_error* error)
@@ -58,6 +76,11 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
     if (type < 0) {
         cvk_buffer_destroy(context, out);
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
+    }
+    cvk_result r = check_heap(context, type, req.size, what, error);
+    if (r != CVK_SUCCESS) {
+        cvk_buffer_destroy(context, out);
+        return r;
     }
     VkMemoryAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
@@ -268,6 +291,43 @@ cvk_result cvk_buffer_upload(cvk_context* context, cvk_submitter* submitter, VkC
     return r;
 }
 
+/* Bytes per sample of the formats clothvk draws to; 16, the most any format takes, for others. */
+static VkDeviceSize sample_bytes(VkFormat format)
+{
+    switch (format) {
+    case VK_FORMAT_S8_UINT: return 1;
+    case VK_FORMAT_D16_UNORM: return 2;
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB:
+    case VK_FORMAT_D32_SFLOAT: return 4;
+    default: return 16;
+    }
+}
+
+/* An image larger than the device allows for its format (maxResourceSize; 4 GiB − 1 on
+   lavapipe) is invalid usage, found only by the validation layer: refuse it before creating it,
+   as a limit of the device, with the figures. */
+static cvk_result check_image_size(const cvk_context* context, VkFormat format, uint32_t width,
+                                   uint32_t height, VkSampleCountFlagBits samples,
+                                   VkImageUsageFlags usage, const char* what, cvk_error* error)
+{
+    VkImageFormatProperties properties;
+    VkResult vr = vkGetPhysicalDeviceImageFormatProperties(
+        context->physical_device, format, VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_OPTIMAL, usage, 0,
+        &properties);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk_for(error, "vkGetPhysicalDeviceImageFormatProperties", vr, "%s", what);
+    VkDeviceSize bytes = (VkDeviceSize)width * height * (VkDeviceSize)samples * sample_bytes(format);
+    if (bytes <= properties.maxResourceSize)
+        return CVK_SUCCESS;
+    return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                    "%s: %u x %u pixels at %u samples take %llu bytes (%.1f GiB); %s allows "
+                    "%llu bytes for one image (maxResourceSize)", what, width, height,
+                    (unsigned)samples, (unsigned long long)bytes, (double)bytes / (1u << 30),
+                    context->properties.deviceName,
+                    (unsigned long long)properties.maxResourceSize);
+}
+
 cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
                                 VkSampleCountFlagBits samples, VkImageUsageFlags usage,
                                 VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
@@ -287,6 +347,10 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
         .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
         .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
     };
+    cvk_result checked = check_image_size(context, format, width, height, samples, usage, what,
+                                          error);
+    if (checked != CVK_SUCCESS)
+        return checked;
     VkResult vr = vkCreateImage(context->device, &info, NULL, &out->image);
     if (vr != VK_SUCCESS) {
         return cvk_fail_vk_for(error, "vkCreateImage", vr, "%s (%u x %u)", what, width, height);
@@ -297,6 +361,11 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
     if (type < 0) {
         cvk_gpu_image_destroy(context, out);
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
+    }
+    cvk_result r = check_heap(context, type, req.size, what, error);
+    if (r != CVK_SUCCESS) {
+        cvk_gpu_image_destroy(context, out);
+        return r;
     }
     VkMemoryAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,

@@ -291,6 +291,7 @@ static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
     cvk_pd_push base = {0};
     base.stride = s->build.free_count;
     base.inv_h2 = (float)(1.0 / (h * h));
+    base.max_u2 = (float)(CVK_DIVERGED_SPEED * h * CVK_DIVERGED_SPEED * h);
     base.omega = solver->omega;
     base.keep = scene->integrate ? 1.0f - scene->damping : 0.0f;
     for (int k = 0; k < 3; k++)

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "checked.h"
 #include "error.h"
 #include "scene.h"
 
@@ -52,10 +53,10 @@ uint32_t cvk_plan_pass(cvk_plan* plan, const char* name)
         return found;
     if (plan->pass_count == plan->pass_capacity) {
         uint32_t capacity = plan->pass_capacity ? 2 * plan->pass_capacity : 8;
-        const char** names = realloc(plan->pass_names, capacity * sizeof *names);
+        const char** names = cvk_realloc_array(plan->pass_names, capacity, sizeof *names);
         if (names)
             plan->pass_names = names;
-        uint32_t* dispatches = realloc(plan->pass_dispatches, capacity * sizeof *dispatches);
+        uint32_t* dispatches = cvk_realloc_array(plan->pass_dispatches, capacity, sizeof *dispatches);
         if (dispatches)
             plan->pass_dispatches = dispatches;
         if (!names || !dispatches) {
@@ -78,7 +79,7 @@ static cvk_op* append(cvk_plan* plan, cvk_op_kind kind, uint32_t pass, cvk_barri
     }
     if (plan->op_count == plan->op_capacity) {
         uint32_t capacity = plan->op_capacity ? 2 * plan->op_capacity : 16;
-        cvk_op* ops = realloc(plan->ops, capacity * sizeof *ops);
+        cvk_op* ops = capacity > plan->op_capacity ? cvk_realloc_array(plan->ops, capacity, sizeof *ops) : NULL;
         if (!ops) {
             plan->out_of_memory = true;
             return NULL;

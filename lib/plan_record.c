@@ -1,6 +1,8 @@
 /* Recording a plan into a command buffer: the one loop every family's passes go through. */
 #include "plan.h"
 
+#include "checked.h"
+
 #define COMPUTE VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT
 #define TRANSFER VK_PIPELINE_STAGE_TRANSFER_BIT
 #define SHADER_RW (VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_UNIFORM_READ_BIT)
@@ -98,15 +100,21 @@ static void record_op(const cvk_op* op, const cvk_pipelines* pipelines, binder* 
 
 uint32_t cvk_plan_query_count(const cvk_plan* plan, uint32_t* pass_of)
 {
-    uint32_t q = 1;
-    for (uint32_t sub = 0; sub < plan->substeps; sub++)
-        for (uint32_t i = 0; i < plan->op_count; i++)
-            if (i + 1 == plan->op_count || plan->ops[i + 1].pass != plan->ops[i].pass) {
-                if (pass_of)
-                    pass_of[q] = plan->ops[i].pass;
-                q++;
-            }
-    return q;
+    uint32_t per_substep = 0;
+    for (uint32_t i = 0; i < plan->op_count; i++)
+        per_substep += i + 1 == plan->op_count || plan->ops[i + 1].pass != plan->ops[i].pass;
+    /* One query opens the frame; UINT32_MAX itself is never a valid count. */
+    uint32_t total;
+    if (!cvk_mul_u32(per_substep, plan->substeps, &total) || total >= UINT32_MAX - 1)
+        return UINT32_MAX;
+    if (pass_of) {
+        uint32_t q = 1;
+        for (uint32_t sub = 0; sub < plan->substeps; sub++)
+            for (uint32_t i = 0; i < plan->op_count; i++)
+                if (i + 1 == plan->op_count || plan->ops[i + 1].pass != plan->ops[i].pass)
+                    pass_of[q++] = plan->ops[i].pass;
+    }
+    return total + 1;
 }
 
 void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,

@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "collide.h"
+#include "checked.h"
 #include "error.h"
 #include "scene.h"
 #include "sim_limits.h"
@@ -68,6 +69,8 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
         r = cvk_buffer_create(ctx, 2u * n16,
                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                               CVK_MEMORY_HOST, "staging", &s->staging, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_watch_create(s, error);
     return r;
 }
 
@@ -120,7 +123,7 @@ static cvk_result upload_spring_flags(cvk_sim* s, cvk_error* error)
     const cvk_build* b = &s->build;
     if (b->spring_count == 0)
         return CVK_SUCCESS;
-    uint32_t* alive = malloc((size_t)b->spring_count * sizeof(uint32_t));
+    uint32_t* alive = cvk_malloc_array(b->spring_count, sizeof(uint32_t));
     if (!alive)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
     for (uint32_t i = 0; i < b->spring_count; i++)
@@ -189,6 +192,10 @@ cvk_result cvk_sim_create_queries(cvk_sim* s, const cvk_plan* plan, cvk_sim_quer
     if (s->timing_request < 0 || s->context->timestamp_valid_bits == 0 || plan->host)
         return CVK_SUCCESS;
     out->count = cvk_plan_query_count(plan, NULL);
+    if (out->count == UINT32_MAX)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "substeps: %u substeps of %u operations need more timestamp queries "
+                        "than a frame may hold", plan->substeps, plan->op_count);
     out->pass = calloc(out->count, sizeof *out->pass);
     if (!out->pass)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for queries");
@@ -269,8 +276,8 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
                                  uint32_t max_groups, cvk_error* error)
 {
     size_t n = s->build.particle_count;
-    s->scratch = malloc(3 * n * sizeof(float));
-    s->scratch_v = malloc(3 * n * sizeof(float));
+    s->scratch = cvk_malloc_array(3 * n, sizeof(float)); /* n < 2^30: 3n fits */
+    s->scratch_v = cvk_malloc_array(3 * n, sizeof(float));
     if (!s->scratch || !s->scratch_v)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for positions");
     cvk_result r = create_buffers(s, error);
@@ -367,6 +374,8 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)
+        r = cvk_check_derived(scene, &s->build, scene->dt, error);
+    if (r == CVK_SUCCESS)
         r = create_objects(s, scene, workgroup_size, max_workgroups(context, desc), error);
     if (r != CVK_SUCCESS) {
         cvk_sim_destroy(s);
@@ -394,7 +403,7 @@ void cvk_sim_destroy(cvk_sim* s)
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
-    cvk_buffer* buffers[] = {&s->positions, &s->spring_alive, &s->staging};
+    cvk_buffer* buffers[] = {&s->positions, &s->spring_alive, &s->staging, &s->watch};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     cvk_plan_destroy(&s->plan);
@@ -428,7 +437,7 @@ static cvk_result submit_frames(cvk_sim* s, uint32_t frames, cvk_error* error)
 {
     uint32_t per_submit = frames < MAX_FRAMES_PER_SUBMIT ? frames : MAX_FRAMES_PER_SUBMIT;
     if (s->batch_capacity < per_submit) {
-        VkCommandBuffer* batch = realloc(s->batch, per_submit * sizeof *batch);
+        VkCommandBuffer* batch = cvk_realloc_array(s->batch, per_submit, sizeof *batch);
         if (!batch)
             return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for a submission");
         s->batch = batch;
@@ -463,6 +472,8 @@ cvk_result cvk_sim_step(cvk_sim* s, uint32_t frames, cvk_error* error)
                                 : submit_frames(s, frames, error);
     if (r == CVK_SUCCESS)
         s->frames += frames;
+    if (r == CVK_SUCCESS && !s->plan.host)
+        r = cvk_sim_watch_check(s, error);
     return r;
 }
 

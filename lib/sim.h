@@ -32,6 +32,8 @@ struct cvk_sim {
     cvk_buffer positions;
     cvk_buffer spring_alive; /* uint per spring of build.springs: 1, 0 once torn; the mesh reads it */
     cvk_buffer staging; /* host-visible, 2 vec4 per particle: uploads and readback */
+    cvk_buffer watch;   /* host-visible cvk_gpu_watch: the divergence watch */
+    uint64_t watch_frames; /* s->frames when the watch was last reset */
     VkBufferView view_positions, view_spring_alive;
     cvk_pipelines pipelines; /* the table's pipelines, created on first use */
 
@@ -54,6 +56,27 @@ struct cvk_sim {
     float* scratch;   /* positions, 3 floats per particle, internal order */
     float* scratch_v; /* velocities, same layout */
 };
+
+/* The divergence watch (shaders/finalize.comp): a particle whose step is longer than
+   CVK_DIVERGED_SPEED · h in one substep has run away. 10000 m/s is the bound on a cloth's
+   initial velocity (lib/scene.h) and thirty times the speed of sound: a sane cloth does not
+   reach it, while a blown-up solve passes it within a few substeps. It trips falsely only for
+   motion that fast, such as a free fall in vacuum for over 1000 s at 9.81 m/s². */
+#define CVK_DIVERGED_SPEED 1e4 /* m/s */
+/* ... and a spring longer than ten times its rest length has too (predict.comp checks each
+   particle's first spring): cloth tears or stops long before that; a solve whose step is
+   far too long for its springs (dt = 1000 s) gets there without moving fast. */
+#define CVK_DIVERGED_STRETCH 10
+
+/* Creates the watch buffer and resets it. */
+cvk_result cvk_sim_watch_create(cvk_sim* sim, cvk_error* error);
+/* Forgets a divergence and counts substeps from 0 again: the state was rewritten. */
+void cvk_sim_watch_reset(cvk_sim* sim);
+/* After the queue has finished the simulation's frames: CVK_ERROR_DIVERGED with the frame and
+   cloth when the watch tripped, else CVK_SUCCESS. */
+cvk_result cvk_sim_watch_check(const cvk_sim* sim, cvk_error* error);
+/* The diverged fields of `st`. */
+void cvk_sim_watch_stats(const cvk_sim* sim, cvk_sim_stats* st);
 
 /* Reads the state back through the family: positions into sim->scratch, velocities into
    sim->scratch_v (internal order, 3 floats per particle). */

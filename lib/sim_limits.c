@@ -72,3 +72,43 @@ cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_
         where = l->scene->cloths[0].mesh ? "cloths.0.mesh" : "cloths.0.grid";
     return check_counts(l->context, where, particle_count, max_degree, error);
 }
+
+/* The cloth a particle (internal index) belongs to. */
+static uint32_t cloth_of(const cvk_build* b, uint32_t p)
+{
+    uint32_t user = b->user_of[p], cloth = 0;
+    while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
+        cloth++;
+    return cloth;
+}
+
+static double spring_sum(const cvk_build* b, uint32_t p)
+{
+    double sum = 0.0;
+    for (uint32_t slot = 0; slot < b->degree[p]; slot++)
+        sum += b->adj_k[(size_t)slot * b->free_count + p];
+    return sum;
+}
+
+cvk_result cvk_check_derived(const cvk_scene_desc* scene, const cvk_build* b, double h,
+                             cvk_error* error)
+{
+    double inv_h2 = 1.0 / (h * h);
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        uint32_t c = cloth_of(b, p);
+        const char* mass_key = scene->cloths[c].density > 0.0f ? "density" : "mass";
+        double inertia = b->mass[p] * inv_h2, springs = spring_sum(b, p);
+        if (inertia > CVK_MAX_DIAGONAL || inertia < CVK_MIN_INERTIA)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "cloths.%u.%s: a particle of %g kg with a step of %g s has "
+                            "m/h² = %g kg/s², outside [%g, %g] where single-precision solves "
+                            "hold it", c, mass_key, (double)b->mass[p], h, inertia,
+                            CVK_MIN_INERTIA, CVK_MAX_DIAGONAL);
+        if (inertia + springs > CVK_MAX_DIAGONAL)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "cloths.%u.stiffness: a particle's springs sum to %g N/m; with "
+                            "m/h² = %g kg/s² its row's diagonal exceeds %g, beyond what "
+                            "single-precision solves hold", c, springs, inertia, CVK_MAX_DIAGONAL);
+    }
+    return CVK_SUCCESS;
+}

@@ -20,4 +20,14 @@ typedef struct cvk_build_limits {
 cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_t max_degree,
                                   cvk_error* error);
 
+/* The derived quantities of the solve, from the build: every free particle's m/h² and the
+   diagonal m/h² + Σk of its row must be representable in single precision with room for the
+   products the sweeps form with displacements (CVK_MAX_DIAGONAL), and m/h² must not vanish.
+   CVK_ERROR_INVALID_ARGUMENT naming the cloth's key ("cloths.0.mass", "cloths.0.stiffness"). */
+#define CVK_MAX_DIAGONAL 1e30 /* kg/s²: float's largest is 3.4e38 */
+#define CVK_MIN_INERTIA 1e-30 /* kg/s²: m/h² below this is lost against any spring */
+
+cvk_result cvk_check_derived(const cvk_scene_desc* scene, const cvk_build* build, double h,
+                             cvk_error* error);
+
 #endif

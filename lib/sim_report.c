@@ -99,6 +99,7 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     st->kinetic_energy = m.kinetic;
     st->gravitational_energy = m.gravitational;
     st->elastic_energy = m.elastic;
+    cvk_sim_watch_stats(s, st);
     st->energy = m.kinetic + m.gravitational + m.elastic;
     cvk_implicit_stats(s, st);
     return cvk_sim_contact_stats(s, s->scratch, st, error);

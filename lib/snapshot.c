@@ -171,7 +171,9 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
         r = cvk_collide_load_snapshot(s, state + (h.state_size - contact), error);
     else if (r == CVK_SUCCESS && s->collide.collider_count > 0) /* the colliders' clock */
         r = cvk_collide_set_step(s, h.frames * s->params.substeps, error);
-    if (r == CVK_SUCCESS)
+    if (r == CVK_SUCCESS) {
         s->frames = h.frames;
+        cvk_sim_watch_reset(s);
+    }
     return r;
 }

@@ -105,7 +105,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_Y] = STORAGE,      [CVK_PD_BINDING_X_READ] = TEXEL,
     [CVK_PD_BINDING_X] = STORAGE,      [CVK_PD_BINDING_RHS_READ] = TEXEL,
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
-    [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL,
+    [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
@@ -125,6 +125,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_RHS] = {.buffer = &pd->rhs},
         [CVK_PD_BINDING_ADJACENCY] = {.view = pd->view_adjacency},
         [CVK_PD_BINDING_ADJACENCY_KL] = {.view = pd->view_adjacency_kl},
+        [CVK_PD_BINDING_WATCH] = {.buffer = &s->watch},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
 }

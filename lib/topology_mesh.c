@@ -235,17 +235,26 @@ static uint64_t cell_key(int64_t x, int64_t y, int64_t z)
     return ((uint64_t)(x + 1) << 42) | ((uint64_t)(y + 1) << 21) | (uint64_t)(z + 1);
 }
 
-static void cell_of(const weld_grid* g, const float p[3], int64_t c[3])
+/* false for a point outside the grid's cells by more than one (an OBJ "v" line of no face, or
+   one whose number does not fit a float, read again by obj_vertex_order): it matches no particle,
+   and its cell would not fit the key (or, infinite, not an integer: fuzz_mesh found that). */
+static bool cell_of(const weld_grid* g, const float p[3], int64_t c[3])
 {
-    for (int k = 0; k < 3; k++)
-        c[k] = (int64_t)floor((p[k] - g->lo[k]) / g->cell);
+    for (int k = 0; k < 3; k++) {
+        double cell = floor((p[k] - g->lo[k]) / g->cell);
+        if (!(cell >= -1.0 && cell < (double)(1 << 21) - 1.0))
+            return false;
+        c[k] = (int64_t)cell;
+    }
+    return true;
 }
 
 /* The first particle (lowest index) within the tolerance of p, or UNUSED_VERTEX. */
 static uint32_t weld_find(const weld_grid* g, const float* position, const float p[3])
 {
     int64_t c[3];
-    cell_of(g, p, c);
+    if (!cell_of(g, p, c))
+        return UNUSED_VERTEX;
     uint32_t best = UNUSED_VERTEX;
     for (int dz = -1; dz <= 1; dz++)
         for (int dy = -1; dy <= 1; dy++)
@@ -265,7 +274,7 @@ static uint32_t weld_find(const weld_grid* g, const float* position, const float
 static void weld_insert(weld_grid* g, const float p[3], uint32_t particle)
 {
     int64_t c[3];
-    cell_of(g, p, c);
+    cell_of(g, p, c); /* a particle lies in the box: always in range */
     size_t b = cvk_hash_u64(cell_key(c[0], c[1], c[2])) & g->mask;
     g->next[particle] = g->head[b];
     g->head[b] = particle;

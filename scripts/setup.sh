@@ -21,6 +21,7 @@ packages=(
                                                # optional at run time)
     slurm-wlm munge                            # tests/test_slurm.py starts a one-node Slurm
                                                # cluster (scripts/slurm-render.sh)
+    clang                                      # scripts/fuzz.sh: libFuzzer harnesses
 )
 
 missing=()

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The C test programs again, built with AddressSanitizer and UndefinedBehaviorSanitizer.
+# The C test programs again, built with AddressSanitizer and UndefinedBehaviorSanitizer, then
+# the tools' tests (cli, render-cli, bench) against the sanitized tools.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -7,3 +8,8 @@ bash scripts/setup.sh
     meson setup build-sanitize -Db_sanitize=address,undefined -Db_lundef=false >/dev/null
 meson compile -C build-sanitize >/dev/null
 meson test -C build-sanitize --print-errorlogs --suite unit --wrapper "$PWD/tests/sanitize.sh" "$@"
+# The tools' tests (bad input, divergence, images, experiments) against the sanitized tools.
+[ $# -gt 0 ] || meson test -C build-sanitize --print-errorlogs --wrapper "$PWD/tests/sanitize-tools.sh" \
+    cli render-cli bench
+# The libFuzzer harnesses, 30 s each (scripts/fuzz.sh; clang).
+[ $# -gt 0 ] || bash scripts/fuzz.sh 30

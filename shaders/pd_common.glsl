@@ -35,6 +35,7 @@ layout(set = 0, binding = CVK_PD_BINDING_RHS_READ) uniform samplerBuffer rhs_rea
 layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec4 rhs[]; };
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adjacency_kl;
+layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 
 // The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)

@@ -141,7 +141,8 @@ def json_stats(particles, structural, frames, linear=None):
             return problems
         expected = {"particles": (stats["particles"], particles),
                     "springs.structural": (stats["springs"]["structural"], structural),
-                    "frames": (stats["frames"], frames), "nan_count": (stats["nan_count"], 0)}
+                    "frames": (stats["frames"], frames), "nan_count": (stats["nan_count"], 0),
+                    "diverged": (stats.get("diverged"), False)}
         if linear:
             expected["solver.linear"] = (stats["solver"]["linear"], linear)
         for key, (got, want) in expected.items():
@@ -287,6 +288,23 @@ CASES = [
      "stderr": error(SMALL, "substeps: 10000 substeps × 20002 operations per substep are 200020000 "
                             "operations per frame; a frame records at most 1000000 (fewer "
                             "substeps, sweeps or colours)")},
+    # Derived quantities of the solve: m/h² and m/h² + Σk must fit single precision.
+    {"name": "mass whose m/h² overflows", "argv": [SMALL, "--set", "cloths.0.mass=1e30"],
+     "status": 2,
+     "stderr": error(SMALL, "cloths.0.mass: a particle of 8.33333e+28 kg with a step of 0.002 s "
+                            "has m/h² = 2.08333e+34 kg/s², outside [1e-30, 1e+30] where "
+                            "single-precision solves hold it")},
+    {"name": "stiffness whose diagonal overflows",
+     "argv": [SMALL, "--set", "cloths.0.stiffness.structural=3e38"], "status": 2,
+     "stderr": error(SMALL, "cloths.0.stiffness: a particle's springs sum to 9e+38 N/m; with "
+                            "m/h² = 2083.33 kg/s² its row's diagonal exceeds 1e+30, beyond what "
+                            "single-precision solves hold")},
+    {"name": "workgroup size 0", "argv": [SMALL, "--workgroup-size", "0"], "status": 2,
+     "stderr": tooltest.tool_line("clothvk-sim", "--workgroup-size: expected a whole number from 1 "
+                                  "to 1024, got 0")},
+    {"name": "no workgroups", "argv": [SMALL, "--max-workgroups", "0"], "status": 2,
+     "stderr": tooltest.tool_line("clothvk-sim", "--max-workgroups: expected a whole number of at "
+                                  "least 1, got 0")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,
@@ -385,10 +403,64 @@ def run_case(case):
         return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
 
 
+def same_dump(argv_a, argv_b):
+    """Two runs with --dump: both succeed and write the same bytes (compute shapes change how
+    the work is split, never the result: the solve is deterministic per particle)."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-cli-") as workdir:
+        dumps = []
+        for i, argv in enumerate((argv_a, argv_b)):
+            name = f"run{i}.csv"
+            p = tooltest.run_tool(SIM, argv + ["--dump", name], workdir, timeout=120)
+            if p.returncode != 0 or p.stderr:
+                return [f"{' '.join(argv)}: exit status {p.returncode}, stderr {p.stderr.strip()!r}"]
+            with open(os.path.join(workdir, name), "rb") as f:
+                dumps.append(f.read())
+        return [] if dumps[0] == dumps[1] else [f"{' '.join(argv_b)} wrote other positions"]
+
+
+def divergence_problems(argv, frame):
+    """A run that blows up (the library's divergence watch): exit status 3, one line on stderr
+    naming the frame, the statistics on stdout with "diverged": true and where, and no --dump
+    written (the state is not a result)."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-cli-") as workdir:
+        p = tooltest.run_tool(SIM, argv + ["--json", "--dump", DUMP], workdir, timeout=120)
+        problems = []
+        if p.returncode != 3:
+            problems.append(f"exit status {p.returncode}, expected 3")
+        line = tooltest.tool_line("clothvk-sim", f"{argv[0]}: diverged in frame {frame}, cloth 0: a "
+                                  "particle moved faster than 10000 m/s or a spring stretched past "
+                                  "ten times its rest length; stopped there")
+        if p.stderr.splitlines() != [line]:
+            problems.append(f"stderr {p.stderr!r}, expected the line {line!r}")
+        stats = parse_json(p.stdout, problems)
+        if stats is not None:
+            got = {k: stats.get(k) for k in ("diverged", "diverged_frame", "diverged_cloth",
+                                             "diverged_reason")}
+            want = {"diverged": True, "diverged_frame": frame, "diverged_cloth": 0,
+                    "diverged_reason": "run-away"}
+            if got != want:
+                problems.append(f"JSON says {got}, expected {want}")
+        if tooltest.listing(workdir):
+            problems.append(f"files were written: {tooltest.listing(workdir)}")
+        return problems
+
+
 def main():
     cases = tooltest.Cases("cli")
     for case in CASES:
         cases.add(f"{case['name']}: clothvk-sim {' '.join(case_argv(case))}", run_case(case))
+    # dt = 1000 s: springs ten times their length within the first frame; a cloth at 9990.5 m/s
+    # gaining 1 m/s a substep (dt 0.01 s, 100 m/s², 4 substeps a frame) passes 10000 m/s in its
+    # 10th substep, in frame 2.
+    cases.add("divergence at dt = 1000 s", divergence_problems([SMALL, "--set", "dt=1000"], 0))
+    fast = [SMALL, "--set", "cloths.0.pins=[]", "--set", "cloths.0.velocity=[0,-9990.5,0]",
+            "--set", "dt=0.01", "--set", "gravity=[0,-100,0]", "--set", "damping=0",
+            "--frames", "40"]
+    cases.add("divergence of a cloth too fast", divergence_problems(fast, 2))
+    hanging = [os.path.join(ROOT, "assets", "scenes", "hanging.json"), "--frames", "3"]
+    for shape in (["--workgroup-size", "32"], ["--max-workgroups", "1"],
+                  ["--workgroup-size", "1", "--max-workgroups", "3"]):
+        cases.add(f"{' '.join(shape)}: the same positions", same_dump(hanging, hanging + shape))
     return cases.finish()
 
 

@@ -126,6 +126,17 @@ CASES = [
     {"name": "scene size above the device's limit", "argv": [SMALL, "-o", "out", "--set", "render.size=[100,20000]"],
      "status": 2, "env": {"CLOTHVK_DEVICE": "llvmpipe"},
      "stderr": error(f"{SMALL}: render.size: 100 x 20000 pixels is more than {LLVMPIPE} allows (16384 x 16384)")},
+    # Within the largest image size, but an image larger than the device allows for one image
+    # (4 GiB − 1 on lavapipe), or than the memory heap it would come from (lavapipe's: 2 GiB):
+    # a device limit found before any frame, not a validation error.
+    {"name": "image larger than the device allows", "argv": [SMALL, "-o", "out", "--size", "16384x16384"],
+     "status": 2, "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(f"{SMALL}: cloth image: 16384 x 16384 pixels at 4 samples take 4294967296 bytes "
+                     f"(4.0 GiB); {LLVMPIPE} allows 4294967295 bytes for one image (maxResourceSize)")},
+    {"name": "image larger than the memory heap", "argv": [SMALL, "-o", "out", "--size", "12000x12000"],
+     "status": 2, "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(f"{SMALL}: cloth image needs 2304000000 bytes (2.1 GiB) in one allocation; "
+                     f"{LLVMPIPE}'s memory heap 0 holds {tooltest.HEAP_SIZE}")},
     {"name": "samples the device lacks", "argv": [SMALL, "-o", "out", "--set", "render.samples=8"], "status": 2,
      "env": {"CLOTHVK_DEVICE": "llvmpipe"},
      "stderr": error(f"{SMALL}: render.samples: {LLVMPIPE} draws 1 or 4 samples per pixel, not 8")},
@@ -199,11 +210,12 @@ def run_case(case):
 
 
 def determinism():
-    """The same scene rendered twice: the same PNG bytes, image for image."""
+    """The same scene rendered twice, the second time with --serial (each image written before
+    the next frame is simulated): the same PNG bytes, image for image."""
     with tempfile.TemporaryDirectory(prefix="clothvk-render-cli-") as workdir:
-        for out in ("one", "two"):
-            p = tooltest.run_tool(RENDER, TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"],
-                                  workdir, timeout=180)
+        for out, extra in (("one", []), ("two", ["--serial"])):
+            p = tooltest.run_tool(RENDER, TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"]
+                                  + extra, workdir, timeout=180)
             if p.returncode != 0 or p.stderr:
                 return [f"run into {out} failed ({p.returncode}): {p.stderr.strip()}"]
         names = images(os.path.join(workdir, "one"))

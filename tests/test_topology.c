@@ -232,6 +232,18 @@ static void check_obj_vertex_order(void)
     CHECK(worst == 0.0, "order.obj: %u particles not in the order of the v lines (off by %g)",
           t.vertex_count, worst);
     cvk_topology_destroy(&t);
+
+    /* "v" lines of no face, far outside the mesh or beyond float range, are read again for the
+       order too: they match no particle (their cell was once an infinite integer, undefined
+       behaviour that UBSan reports; found by tests/fuzz/fuzz_mesh.c). */
+    write_file("far.obj", "v 1e39 0 0\nv 0 0 0\nv 1 0 0\nv -1e30 5 5\nv 0 1 0\nv 1 1 0\n"
+               "f 5 2 3 6\n", 0, path);
+    c = mesh_desc(path, 1e6f, 0.0f, 0.0f);
+    t = read_ok("far.obj", &c);
+    worst = t.vertex_count == 4 ? harness_max_diff(t.position, &want[0][0], 12) : INFINITY;
+    CHECK(worst == 0.0, "far.obj: %u particles not in the order of the v lines (off by %g)",
+          t.vertex_count, worst);
+    cvk_topology_destroy(&t);
 }
 
 /* ---- transform ------------------------------------------------------------------------------- */

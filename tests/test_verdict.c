@@ -123,8 +123,10 @@ static void real_runs(cvk_context* ctx)
     printf("over-relaxed Jacobi: %s after %llu steps (energy growth %.3g scales)\n",
            bench_verdict_name(r.verdict), (unsigned long long)r.steps_done, r.growth);
 
+    /* With the bench's own bounds lifted the library's divergence watch stops the run, before
+       any coordinate is lost (it used to run on to NaN). */
     r = run(ctx, &s.scene, 4000, INFINITY, INFINITY);
-    CHECK(r.verdict == BENCH_NAN && r.nan_count > 0,
+    CHECK(r.verdict == BENCH_DIVERGED && r.nan_count == 0 && r.steps_done < 4000,
           "over-relaxed Jacobi with no energy or stretch bound is %s after %llu steps, %llu NaN",
           bench_verdict_name(r.verdict), (unsigned long long)r.steps_done,
           (unsigned long long)r.nan_count);

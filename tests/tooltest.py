@@ -22,6 +22,8 @@ ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(
 # carries the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
 LLVMPIPE = "{llvmpipe}"
 LLVMPIPE_PATTERN = r"llvmpipe \(LLVM [0-9.]+, [0-9]+ bits\)"
+HEAP_SIZE = "<heap size>"
+HEAP_SIZE_PATTERN = r"[0-9]+ bytes \([0-9.]+ GiB\)"
 
 
 def tool_paths(*names):
@@ -48,10 +50,11 @@ def run_tool(tool, argv, cwd=None, env=None, timeout=None):
 
 def line_matches(got, expected):
     """Whether a line equals `expected`, where LLVMPIPE in `expected` stands for any lavapipe
-    device name."""
-    if LLVMPIPE not in expected:
+    device name and HEAP_SIZE for a memory heap's size ("2147483648 bytes (2.0 GiB)")."""
+    if LLVMPIPE not in expected and HEAP_SIZE not in expected:
         return got == expected
     pattern = re.escape(expected).replace(re.escape(LLVMPIPE), LLVMPIPE_PATTERN)
+    pattern = pattern.replace(re.escape(HEAP_SIZE), HEAP_SIZE_PATTERN)
     return re.fullmatch(pattern, got) is not None
 
 

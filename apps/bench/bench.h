@@ -219,9 +219,12 @@ typedef enum bench_verdict {
     BENCH_NAN,      /* a coordinate became NaN or infinite */
     BENCH_ENERGY,   /* the energy grew past the bound */
     BENCH_STRETCH,  /* a spring stretched past the bound */
+    BENCH_DIVERGED, /* the library's divergence watch stopped the run (too fast, or a spring
+                       ten times its length) */
 } bench_verdict;
 
-const char* bench_verdict_name(bench_verdict v); /* "stable", "nan", "energy", "stretch" */
+/* "stable", "nan", "energy", "stretch", "diverged" */
+const char* bench_verdict_name(bench_verdict v);
 
 /* What a run is compared with: its start. */
 typedef struct bench_watch {
@@ -235,7 +238,7 @@ bench_watch bench_watch_start(const cvk_sim_stats* start, double total_mass, con
                               double extent);
 /* Classifies the statistics of a run against its start; *growth receives the gain of kinetic
    + gravitational energy over the scale (see verdict.c for why springs are left out).
-   Unstable: a NaN or infinity; growth above energy_bound; max stretch above
+   Unstable: the library's divergence watch tripped; a NaN or infinity; growth above energy_bound; max stretch above
    max(stretch_bound, the start's). */
 bench_verdict bench_classify(const bench_watch* w, const cvk_sim_stats* now, double energy_bound,
                              double stretch_bound, double* growth);

@@ -13,6 +13,7 @@ const char* bench_verdict_name(bench_verdict v)
     case BENCH_NAN: return "nan";
     case BENCH_ENERGY: return "energy";
     case BENCH_STRETCH: return "stretch";
+    case BENCH_DIVERGED: return "diverged";
     }
     return "?";
 }
@@ -50,6 +51,8 @@ bench_verdict bench_classify(const bench_watch* w, const cvk_sim_stats* now, dou
                              double stretch_bound, double* growth)
 {
     *growth = (mechanical(now) - w->energy0) / w->scale;
+    if (now->diverged)
+        return now->diverged_nonfinite ? BENCH_NAN : BENCH_DIVERGED;
     if (now->nan_count > 0 || !isfinite(now->energy) || !isfinite(now->max_stretch))
         return BENCH_NAN;
     if (*growth > energy_bound)
@@ -86,7 +89,9 @@ bool bench_run_stability(cvk_sim* sim, const cvk_scene_desc* scene, uint64_t ste
         uint64_t frames = (steps - out->steps_done + per_frame - 1) / per_frame;
         if (frames > CHECK_EVERY)
             frames = CHECK_EVERY;
-        if (cvk_sim_step(sim, (uint32_t)frames, error) != CVK_SUCCESS ||
+        /* A divergence the library's watch found is a verdict, read from the statistics. */
+        cvk_result r = cvk_sim_step(sim, (uint32_t)frames, error);
+        if ((r != CVK_SUCCESS && r != CVK_ERROR_DIVERGED) ||
             cvk_sim_get_stats(sim, &st, error) != CVK_SUCCESS)
             return false;
         out->steps_done += frames * per_frame;

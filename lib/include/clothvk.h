@@ -100,6 +100,7 @@ typedef enum cvk_result {
     CVK_ERROR_DEVICE_LIMIT,     /* the scene exceeds a limit of the device */
     CVK_ERROR_OUT_OF_MEMORY,    /* host or device memory ran out */
     CVK_ERROR_VULKAN,           /* a Vulkan call failed; the message names it and its VkResult */
+    CVK_ERROR_DIVERGED,         /* the simulation blew up; the message names the frame and cloth */
 } cvk_result;
 
 /* One sentence that says why a call failed. Pass NULL where you do not want it. */
@@ -487,7 +488,10 @@ CVK_API void cvk_sim_destroy(cvk_sim* sim);
 CVK_API cvk_result cvk_sim_record(cvk_sim* sim, VkCommandBuffer cmd, uint32_t frames, cvk_error* error);
 
 /* Advances `frames` frames and waits until they are done: one submission of a command
-   buffer recorded once at creation, one host wait at the end. */
+   buffer recorded once at creation, one host wait at the end. CVK_ERROR_DIVERGED when the
+   simulation blew up (now or before; the message names the frame and the cloth): its
+   positions stopped advancing there, and stepping on changes nothing until a state is
+   written (cvk_sim_write_state, cvk_sim_load_snapshot). */
 CVK_API cvk_result cvk_sim_step(cvk_sim* sim, uint32_t frames, cvk_error* error);
 
 /* Number of particles over all cloths. */
@@ -624,6 +628,13 @@ typedef struct cvk_sim_stats {
     uint32_t solver_breakdowns;       /* substeps whose solve found the system not positive
                                          definite (pᵀAp ≤ 0, rᵀP⁻¹r < 0) and stopped; 0 with
                                          the clamp */
+    /* The divergence watch (GPU solvers): a non-finite position, a particle faster than
+       10000 m/s or a spring ten times its rest length stops the simulation at the last sane
+       state. */
+    bool diverged;               /* the simulation blew up; its state stopped advancing */
+    uint64_t diverged_frame;     /* the frame (0-based, as stats.frames counts) it happened in */
+    uint32_t diverged_cloth;     /* the cloth (scene order) of the first particle that did */
+    bool diverged_nonfinite;     /* true: a position became NaN or infinite; false: ran away */
 } cvk_sim_stats;
 
 /* The number of pairs of cloth triangles that share no particle and intersect, computed exactly

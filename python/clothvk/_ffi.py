@@ -27,6 +27,7 @@ typedef enum cvk_result {
     CVK_ERROR_DEVICE_LIMIT = 5,
     CVK_ERROR_OUT_OF_MEMORY = 6,
     CVK_ERROR_VULKAN = 7,
+    CVK_ERROR_DIVERGED = 8,
 } cvk_result;
 
 typedef struct cvk_error {
@@ -326,6 +327,10 @@ typedef struct cvk_sim_stats {
     uint32_t solver_iterations;
     uint64_t solver_iterations_total;
     uint32_t solver_breakdowns;
+    bool diverged;
+    uint64_t diverged_frame;
+    uint32_t diverged_cloth;
+    bool diverged_nonfinite;
 } cvk_sim_stats;
 
 cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);

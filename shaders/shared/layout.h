@@ -29,7 +29,7 @@
     CVK_UINT(first)        /* first particle of this dispatch */                         \
     CVK_UINT(count)        /* particles in this dispatch */                              \
     CVK_UINT(stride)       /* free particle count: adjacency slot stride */              \
-    CVK_UINT(pad0)                                                                      \
+    CVK_FLOAT(max_u2)      /* finalize: |u|^2 beyond this is a run-away, m^2; 0: none */\
     CVK_FLOAT(inv_h2)      /* 1 / h^2, 1/s^2 */                                          \
     CVK_FLOAT(omega)       /* SOR factor (Gauss-Seidel) or relaxation (Jacobi) */        \
     CVK_FLOAT(cheb)        /* Chebyshev weight of this sweep; 1 = plain sweep */         \
@@ -50,7 +50,24 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_RHS 8           /* storage */
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
 #define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
-#define CVK_PD_BINDING_COUNT 11
+#define CVK_PD_BINDING_WATCH 11        /* storage: cvk_gpu_watch */
+#define CVK_PD_BINDING_COUNT 12
+
+/* The divergence watch (lib/sim.h): predict counts substeps and flags a spring stretched past
+   CVK_DIVERGED_STRETCH in the positions it starts from (nothing writes them while it runs);
+   finalize records the first substep at which a particle's new position is not finite, its
+   step exceeds max_u2 or predict raised the flag, and from then on moves no particle.
+   Host-visible: cvk_sim_step reads it after its fence, with no extra submission. */
+#define CVK_WATCH_NONE 0xffffffffu
+#define CVK_WATCH_NONFINITE 1u
+#define CVK_WATCH_RUNAWAY 2u
+#define CVK_GPU_WATCH_FIELDS                                                            \
+    CVK_UINT(substep)      /* substeps predicted since the watch was reset */           \
+    CVK_UINT(diverged_at)  /* the substep (counted from 1) it diverged at, or NONE */    \
+    CVK_UINT(particle)     /* the lowest internal index that diverged then */           \
+    CVK_UINT(reason)       /* CVK_WATCH_NONFINITE | CVK_WATCH_RUNAWAY */                \
+    CVK_UINT(stretched)    /* set by predict: a spring is past the stretch bound */
+CVK_STRUCT(cvk_gpu_watch, CVK_GPU_WATCH_FIELDS)
 
 /* ---- implicit Euler: implicit_*.comp (lib/solve_implicit.c) ------------------------------- */
 

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# libFuzzer harnesses (tests/fuzz/) for the scene loader with --set overrides and for the mesh
+# reader, built with clang, AddressSanitizer and UndefinedBehaviorSanitizer in build-fuzz/, and
+# run for SECONDS each (default 60) from seeds made of the scenes in assets/scenes and
+# tests/scenes (as they are, and with --set overrides) and the meshes in assets/; what a run
+# finds new stays in build-fuzz/corpus-*, where the next run starts. Any finding (a crash, a
+# sanitizer report, a leak) fails the script and leaves the input as build-fuzz/crash-* (or
+# leak-*, timeout-*). For a longer run: bash scripts/fuzz.sh 3600.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+command -v clang >/dev/null || { echo "fuzz.sh: clang is missing (apt-get install clang)" >&2; exit 2; }
+if [ ! -f build-fuzz/build.ninja ]; then
+    CC=clang meson setup build-fuzz -Db_sanitize=address,undefined -Db_lundef=false \
+        -Dc_args=-fsanitize=fuzzer-no-link >/dev/null
+fi
+meson compile -C build-fuzz lib/clothvk_internal >/dev/null
+flags="-g -O1 -fsanitize=fuzzer,address,undefined -Ilib -Ilib/include -Ishaders -Ibuild-fuzz/shaders"
+libs="build-fuzz/lib/libclothvk_internal.a $(pkg-config --libs jansson assimp vulkan zlib) -lm -lpthread"
+for name in scene mesh; do
+    # shellcheck disable=SC2086
+    clang $flags -o "build-fuzz/fuzz_$name" "tests/fuzz/fuzz_$name.c" $libs
+done
+
+# Seeds: a scene's text as it is, and with an override; a mesh with its format byte first.
+seeds=build-fuzz/seeds
+rm -rf "$seeds" && mkdir -p "$seeds/scene" "$seeds/mesh"
+for f in assets/scenes/*.json tests/scenes/*.json; do
+    cp "$f" "$seeds/scene/$(basename "$f")"
+    printf '%s\n#set\nsubsteps=3\ncloths.0.grid=[5,4]\n' "$(cat "$f")" > "$seeds/scene/set-$(basename "$f")"
+done
+for f in $(find assets tests -name '*.obj' -o -name '*.ply' | head -50); do
+    case "$f" in *.ply) byte='\x01' ;; *) byte='\x00' ;; esac
+    { printf "$byte"; cat "$f"; } > "$seeds/mesh/$(echo "$f" | tr / _)"
+done
+# Leaks are checked in the scene harness only: Assimp 5.2's OBJ importer leaks on some malformed
+# files inside aiImportFile itself (60 KB on one input the mesh harness found; aiImportFile alone
+# leaks the same), and its frames, unsymbolized, would hide one of clothvk's behind it. The unit
+# tests under ASan (scripts/test-sanitize.sh) check clothvk's own mesh code for leaks.
+status=0
+for name in scene mesh; do
+    corpus=build-fuzz/corpus-$name
+    mkdir -p "$corpus"
+    leaks=1
+    [ "$name" = scene ] || leaks=0
+    ASAN_OPTIONS=detect_leaks=$leaks UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+        "build-fuzz/fuzz_$name" "$corpus" "$seeds/$name" -max_total_time="$seconds" \
+        -max_len=65536 -timeout=10 -rss_limit_mb=2048 -artifact_prefix=build-fuzz/ \
+        -print_final_stats=1 2>"build-fuzz/fuzz_$name.log" || status=1
+    grep -E "^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)|cov: " \
+        "build-fuzz/fuzz_$name.log" | tail -4 | sed "s/^/fuzz_$name: /"
+done
+[ $status -eq 0 ] || echo "fuzz.sh: a finding; see build-fuzz/fuzz_*.log and build-fuzz/crash-*" >&2
+exit $status
