@@ -27,7 +27,19 @@ struct cvk_context {
     cvk_log_fn log;
     void* log_user;
     atomic_uint validation_messages;
+
+    /* Device loss: set when a submit or wait returned VK_ERROR_DEVICE_LOST. From then on the
+       library submits and waits no more on this device (cvk_queue_submit, cvk_fence_wait); it
+       only destroys what it made. */
+    atomic_bool lost;
+    atomic_uint fence_waits; /* fence waits so far, for the injection below */
+    /* Test builds only: the lose_at_wait-th fence wait (counting from 1) reports
+       VK_ERROR_DEVICE_LOST as a real loss would. 0: never. */
+    uint32_t lose_at_wait;
 };
+
+/* True once the device has been lost. */
+bool cvk_context_lost(const cvk_context* context);
 
 /* Largest particle count whose per-particle arrays fit the device's buffer limits. */
 uint64_t cvk_context_max_particles(const cvk_context* context);

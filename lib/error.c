@@ -21,6 +21,8 @@ cvk_result cvk_fail_vk(cvk_error* error, const char* call, VkResult vr)
     cvk_result result = CVK_ERROR_VULKAN;
     if (vr == VK_ERROR_OUT_OF_HOST_MEMORY || vr == VK_ERROR_OUT_OF_DEVICE_MEMORY)
         result = CVK_ERROR_OUT_OF_MEMORY;
+    if (vr == VK_ERROR_DEVICE_LOST)
+        result = CVK_ERROR_DEVICE_LOST;
     return cvk_fail(error, result, "%s failed: %s (%d)", call, cvk_vk_result_name(vr), (int)vr);
 }
 
@@ -52,6 +54,7 @@ const char* cvk_result_name(cvk_result result)
     case CVK_ERROR_OUT_OF_MEMORY: return "CVK_ERROR_OUT_OF_MEMORY";
     case CVK_ERROR_VULKAN: return "CVK_ERROR_VULKAN";
     case CVK_ERROR_DIVERGED: return "CVK_ERROR_DIVERGED";
+    case CVK_ERROR_DEVICE_LOST: return "CVK_ERROR_DEVICE_LOST";
     }
     return "CVK_ERROR_UNKNOWN";
 }

@@ -205,6 +205,61 @@ cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* subm
     return CVK_SUCCESS;
 }
 
+bool cvk_context_lost(const cvk_context* context)
+{
+    return atomic_load(&context->lost);
+}
+
+static cvk_result lost_already(cvk_error* error, const char* call)
+{
+    return cvk_fail(error, CVK_ERROR_DEVICE_LOST,
+                    "the device was lost earlier (VK_ERROR_DEVICE_LOST); %s was not called: "
+                    "objects on this context can only be destroyed", call);
+}
+
+static cvk_result device_lost(cvk_context* context, cvk_error* error, const char* call)
+{
+    atomic_store(&context->lost, true);
+    return cvk_fail(error, CVK_ERROR_DEVICE_LOST,
+                    "%s failed: the device was lost (VK_ERROR_DEVICE_LOST: a driver reset, a "
+                    "removed GPU or a hung submission); nothing more is submitted to it",
+                    call);
+}
+
+cvk_result cvk_queue_submit(cvk_context* context, const VkSubmitInfo* submit, VkFence fence,
+                            cvk_error* error)
+{
+    if (cvk_context_lost(context))
+        return lost_already(error, "vkQueueSubmit");
+    VkResult vr = vkQueueSubmit(context->queue, 1, submit, fence);
+    if (vr == VK_ERROR_DEVICE_LOST)
+        return device_lost(context, error, "vkQueueSubmit");
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkQueueSubmit", vr);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_fence_wait(cvk_context* context, VkFence fence, cvk_error* error)
+{
+    if (cvk_context_lost(context))
+        return lost_already(error, "vkWaitForFences");
+    VkResult vr = vkWaitForFences(context->device, 1, &fence, VK_TRUE, UINT64_MAX);
+    unsigned waits = atomic_fetch_add(&context->fence_waits, 1) + 1;
+    if (vr == VK_SUCCESS && context->lose_at_wait && waits >= context->lose_at_wait)
+        vr = VK_ERROR_DEVICE_LOST;
+    if (vr == VK_ERROR_DEVICE_LOST)
+        return device_lost(context, error, "vkWaitForFences");
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkWaitForFences", vr);
+    return CVK_SUCCESS;
+}
+
+void cvk_queue_idle(cvk_context* context)
+{
+    if (!cvk_context_lost(context) && vkQueueWaitIdle(context->queue) == VK_ERROR_DEVICE_LOST)
+        atomic_store(&context->lost, true);
+}
+
 cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
                                const VkCommandBuffer* cmds, uint32_t count, cvk_error* error)
 {
@@ -213,13 +268,12 @@ cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
         .commandBufferCount = count,
         .pCommandBuffers = cmds,
     };
-    VkResult vr = vkQueueSubmit(context->queue, 1, &submit, submitter->fence);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkQueueSubmit", vr);
-    vr = vkWaitForFences(context->device, 1, &submitter->fence, VK_TRUE, UINT64_MAX);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkWaitForFences", vr);
-    vr = vkResetFences(context->device, 1, &submitter->fence);
+    cvk_result r = cvk_queue_submit(context, &submit, submitter->fence, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_fence_wait(context, submitter->fence, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    VkResult vr = vkResetFences(context->device, 1, &submitter->fence);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkResetFences", vr);
     return CVK_SUCCESS;

@@ -112,6 +112,17 @@ void cvk_submitter_destroy(cvk_context* context, cvk_submitter* submitter);
 cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* submitter,
                                        VkCommandBuffer* out, cvk_error* error);
 /* Submits `count` command buffers (one batch, in order) and waits for them. */
+/* vkQueueSubmit and vkWaitForFences (no timeout) through the context's device-loss state: once
+   the device is lost (by either call, or earlier) they return CVK_ERROR_DEVICE_LOST without
+   calling Vulkan. Every submit and wait of the library goes through these two. */
+cvk_result cvk_queue_submit(cvk_context* context, const VkSubmitInfo* submit, VkFence fence,
+                            cvk_error* error);
+cvk_result cvk_fence_wait(cvk_context* context, VkFence fence, cvk_error* error);
+
+/* vkQueueWaitIdle before destroying objects the queue may still use; skipped once the device
+   is lost (destroying is all that is left to do, and the spec allows it then). */
+void cvk_queue_idle(cvk_context* context);
+
 cvk_result cvk_submit_and_wait(cvk_context* context, cvk_submitter* submitter,
                                const VkCommandBuffer* cmds, uint32_t count, cvk_error* error);
 

@@ -300,7 +300,7 @@ void cvk_mesh_destroy(cvk_mesh* m)
         return;
     VkDevice dev = m->context->device;
     if (m->submitter.pool) /* work recorded by cvk_mesh_record may still use the buffers */
-        vkQueueWaitIdle(m->context->queue);
+        cvk_queue_idle(m->context);
     if (m->pipeline)
         vkDestroyPipeline(dev, m->pipeline, NULL);
     if (m->descriptor_pool)

@@ -690,7 +690,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         return;
     VkDevice dev = rd->context->device;
     if (rd->submitter.pool)
-        vkQueueWaitIdle(rd->context->queue);
+        cvk_queue_idle(rd->context);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
                               rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
                               rd->wireframe_pipeline};

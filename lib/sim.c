@@ -391,7 +391,7 @@ void cvk_sim_destroy(cvk_sim* s)
         return;
     VkDevice dev = s->context->device;
     if (s->submitter.pool)
-        vkQueueWaitIdle(s->context->queue);
+        cvk_queue_idle(s->context);
     if (s->family && s->family_state)
         s->family->destroy(s, s->family_state);
     cvk_collide_destroy(s);
@@ -454,9 +454,9 @@ static cvk_result submit_frames(cvk_sim* s, uint32_t frames, cvk_error* error)
             .commandBufferCount = count,
             .pCommandBuffers = s->batch,
         };
-        VkResult vr = vkQueueSubmit(s->context->queue, 1, &submit, VK_NULL_HANDLE);
-        if (vr != VK_SUCCESS)
-            return cvk_fail_vk(error, "vkQueueSubmit", vr);
+        cvk_result r = cvk_queue_submit(s->context, &submit, VK_NULL_HANDLE, error);
+        if (r != CVK_SUCCESS)
+            return r;
         done += count;
     }
     return CVK_SUCCESS;

@@ -101,6 +101,8 @@ typedef enum cvk_result {
     CVK_ERROR_OUT_OF_MEMORY,    /* host or device memory ran out */
     CVK_ERROR_VULKAN,           /* a Vulkan call failed; the message names it and its VkResult */
     CVK_ERROR_DIVERGED,         /* the simulation blew up; the message names the frame and cloth */
+    CVK_ERROR_DEVICE_LOST,      /* the device was lost (VK_ERROR_DEVICE_LOST): objects made on its
+                                   context can only be destroyed; nothing more is submitted */
 } cvk_result;
 
 /* One sentence that says why a call failed. Pass NULL where you do not want it. */

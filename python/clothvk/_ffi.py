@@ -28,6 +28,7 @@ typedef enum cvk_result {
     CVK_ERROR_OUT_OF_MEMORY = 6,
     CVK_ERROR_VULKAN = 7,
     CVK_ERROR_DIVERGED = 8,
+    CVK_ERROR_DEVICE_LOST = 9,
 } cvk_result;
 
 typedef struct cvk_error {
