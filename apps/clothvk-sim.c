@@ -310,6 +310,13 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "dispatches_per_frame", json_integer(st->dispatches_per_frame));
     json_object_set_new(root, "dispatches_per_substep", json_integer(st->dispatches_per_substep));
     json_object_set_new(root, "passes", passes);
+    cvk_context_info info = cvk_context_get_info(ctx);
+    json_t* memory = json_object();
+    json_object_set_new(memory, "device_bytes", json_integer((json_int_t)info.device_bytes));
+    json_object_set_new(memory, "device_peak_bytes",
+                        json_integer((json_int_t)info.device_peak_bytes));
+    json_object_set_new(memory, "host_peak_rss_bytes", json_integer((json_int_t)app_peak_rss()));
+    json_object_set_new(root, "memory", memory);
     json_object_set_new(root, "validation_messages",
                         json_integer(cvk_context_validation_message_count(ctx)));
     char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));

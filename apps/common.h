@@ -81,4 +81,7 @@ char* app_folder_of(const char* path);
 /* Milliseconds on a monotonic clock. */
 double app_now_ms(void);
 
+/* The most resident memory the process has used so far, bytes (getrusage's ru_maxrss). */
+uint64_t app_peak_rss(void);
+
 #endif

@@ -391,6 +391,8 @@ cvk_context_info cvk_context_get_info(const cvk_context* context)
         .max_particles = cvk_context_max_particles(context),
         .graphics = context->graphics,
         .max_image_size = cvk_context_max_image_size(context),
+        .device_bytes = atomic_load(&context->device_bytes),
+        .device_peak_bytes = atomic_load(&context->device_peak_bytes),
     };
 }
 

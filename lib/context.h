@@ -32,11 +32,19 @@ struct cvk_context {
        library submits and waits no more on this device (cvk_queue_submit, cvk_fence_wait); it
        only destroys what it made. */
     atomic_bool lost;
+
+    /* Device memory allocated through this context (buffers and images of every object on
+       it), now and at most so far: what cvk_context_info reports. */
+    _Atomic uint64_t device_bytes;
+    _Atomic uint64_t device_peak_bytes;
     atomic_uint fence_waits; /* fence waits so far, for the injection below */
     /* Test builds only: the lose_at_wait-th fence wait (counting from 1) reports
        VK_ERROR_DEVICE_LOST as a real loss would. 0: never. */
     uint32_t lose_at_wait;
 };
+
+/* Counts an allocation of `bytes` (negative: a release) of device memory. */
+void cvk_context_count_memory(cvk_context* context, int64_t bytes);
 
 /* True once the device has been lost. */
 bool cvk_context_lost(const cvk_context* context);

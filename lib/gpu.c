@@ -88,6 +88,10 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
         .memoryTypeIndex = (uint32_t)type,
     };
     vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
+    if (vr == VK_SUCCESS) {
+        out->allocated = req.size;
+        cvk_context_count_memory(context, (int64_t)req.size);
+    }
     if (vr == VK_SUCCESS)
         vr = vkBindBufferMemory(context->device, out->buffer, out->memory, 0);
     if (vr == VK_SUCCESS && kind == CVK_MEMORY_HOST)
@@ -106,6 +110,7 @@ void cvk_buffer_destroy(cvk_context* context, cvk_buffer* buffer)
         vkDestroyBuffer(context->device, buffer->buffer, NULL);
     if (buffer->memory)
         vkFreeMemory(context->device, buffer->memory, NULL);
+    cvk_context_count_memory(context, -(int64_t)buffer->allocated);
     memset(buffer, 0, sizeof *buffer);
 }
 
@@ -203,6 +208,14 @@ cvk_result cvk_command_buffer_allocate(cvk_context* context, cvk_submitter* subm
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkAllocateCommandBuffers", vr);
     return CVK_SUCCESS;
+}
+
+void cvk_context_count_memory(cvk_context* context, int64_t bytes)
+{
+    uint64_t now = atomic_fetch_add(&context->device_bytes, (uint64_t)bytes) + (uint64_t)bytes;
+    uint64_t peak = atomic_load(&context->device_peak_bytes);
+    while (now > peak && !atomic_compare_exchange_weak(&context->device_peak_bytes, &peak, now)) {
+    }
 }
 
 bool cvk_context_lost(const cvk_context* context)
@@ -427,6 +440,10 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
         .memoryTypeIndex = (uint32_t)type,
     };
     vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
+    if (vr == VK_SUCCESS) {
+        out->allocated = req.size;
+        cvk_context_count_memory(context, (int64_t)req.size);
+    }
     if (vr == VK_SUCCESS)
         vr = vkBindImageMemory(context->device, out->image, out->memory, 0);
     if (vr != VK_SUCCESS) {
@@ -457,6 +474,7 @@ void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image)
         vkDestroyImage(context->device, image->image, NULL);
     if (image->memory)
         vkFreeMemory(context->device, image->memory, NULL);
+    cvk_context_count_memory(context, -(int64_t)image->allocated);
     memset(image, 0, sizeof *image);
 }
 

@@ -9,6 +9,7 @@ typedef struct cvk_buffer {
     VkBuffer buffer;
     VkDeviceMemory memory;
     VkDeviceSize size;
+    VkDeviceSize allocated; /* bytes of device memory behind it (counted by the context) */
     void* mapped; /* non-NULL for host-visible buffers */
 } cvk_buffer;
 
@@ -27,6 +28,7 @@ typedef struct cvk_gpu_image {
     VkImage image;
     VkDeviceMemory memory;
     VkImageView view;
+    VkDeviceSize allocated; /* bytes of device memory behind it (counted by the context) */
 } cvk_gpu_image;
 
 cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,

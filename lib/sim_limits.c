@@ -4,6 +4,7 @@
 #include "sim_limits.h"
 
 #include "error.h"
+#include "memory.h"
 
 /* The adjacency takes two texels per quad of spring slots (see solve_pd.c). */
 static uint64_t adjacency_texels(uint64_t particles, uint32_t max_degree)
@@ -12,8 +13,9 @@ static uint64_t adjacency_texels(uint64_t particles, uint32_t max_degree)
     return particles * 2u * quads;
 }
 
-static cvk_result check_counts(const cvk_context* context, const char* where, uint64_t total,
-                               uint32_t degree, cvk_error* error)
+static cvk_result check_counts(const cvk_context* context, const cvk_scene_desc* scene,
+                               const char* where, uint64_t total, uint32_t degree,
+                               cvk_error* error)
 {
     const VkPhysicalDeviceLimits* limits = &context->properties.limits;
     uint64_t max_particles = cvk_context_max_particles(context);
@@ -30,7 +32,7 @@ static cvk_result check_counts(const cvk_context* context, const char* where, ui
                         "texels; %s allows %u texel buffer elements (maxTexelBufferElements)",
                         where, (unsigned long long)total, degree, (unsigned long long)texels,
                         context->properties.deviceName, limits->maxTexelBufferElements);
-    return CVK_SUCCESS;
+    return cvk_memory_check(context, scene, where, total, degree, error);
 }
 
 /* Springs per grid particle, at most, from the stiffnesses present. */
@@ -60,7 +62,7 @@ cvk_result cvk_check_scene_limits(const cvk_context* context, const cvk_scene_de
         degree = d > degree ? d : degree;
     }
     const char* where = scene->cloth_count == 1 ? "cloths.0.grid" : "cloths";
-    return check_counts(context, where, total, degree, error);
+    return check_counts(context, scene, where, total, degree, error);
 }
 
 cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_t max_degree,
@@ -70,7 +72,7 @@ cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_
     const char* where = "cloths";
     if (l->scene->cloth_count == 1)
         where = l->scene->cloths[0].mesh ? "cloths.0.mesh" : "cloths.0.grid";
-    return check_counts(l->context, where, particle_count, max_degree, error);
+    return check_counts(l->context, l->scene, where, particle_count, max_degree, error);
 }
 
 /* The cloth a particle (internal index) belongs to. */

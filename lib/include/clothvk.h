@@ -167,6 +167,8 @@ typedef struct cvk_context_info {
     uint64_t max_particles;       /* largest particle count the device's buffer limits allow */
     bool graphics;                /* true when the queue can draw: the renderer needs it */
     uint32_t max_image_size;      /* largest image width and height the renderer can make */
+    uint64_t device_bytes;        /* device memory held now by everything made on this context */
+    uint64_t device_peak_bytes;   /* the most it has held at once */
 } cvk_context_info;
 
 CVK_API cvk_context_info cvk_context_get_info(const cvk_context* context);

@@ -146,6 +146,8 @@ class Context(_Owner):
             "timestamps": bool(i.timestamps), "subgroup_size": i.subgroup_size,
             "max_particles": i.max_particles, "graphics": bool(i.graphics),
             "max_image_size": i.max_image_size,
+            "device_bytes": i.device_bytes,
+            "device_peak_bytes": i.device_peak_bytes,
         }
 
     def validation_message_count(self):

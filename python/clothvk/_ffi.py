@@ -67,6 +67,8 @@ typedef struct cvk_context_info {
     uint64_t max_particles;
     bool graphics;
     uint32_t max_image_size;
+    uint64_t device_bytes;
+    uint64_t device_peak_bytes;
 } cvk_context_info;
 
 cvk_context_info cvk_context_get_info(const cvk_context* context);

@@ -1,0 +1,118 @@
+/* The memory estimate (lib/memory.c) against what the library really allocates, and the
+   refusal of a scene that does not fit:
+   - for PD with 4 and 12 springs per particle, self-contact and implicit Euler, the estimate
+     of device memory is at least what the context holds after creating the simulation and at
+     most twice that;
+   - under an address-space limit (RLIMIT_AS) 256 MiB above the process's size, a 2000 x 2000
+     grid is refused before anything is built: CVK_ERROR_OUT_OF_MEMORY and the sentence with the
+     figure and the limit; a small grid under the same limit is created. */
+#include <string.h>
+#include <sys/resource.h>
+
+#include "harness.h"
+#include "memory.h"
+
+typedef struct config {
+    const char* name;
+    float shear, bend;
+    bool self;
+    cvk_method method;
+    uint32_t degree;
+} config;
+
+static cvk_scene_desc grid_scene(cvk_cloth_desc* cloth, const config* c, uint32_t n)
+{
+    *cloth = cvk_default_cloth_desc();
+    cloth->grid[0] = cloth->grid[1] = n;
+    cloth->stiffness.shear = c->shear;
+    cloth->stiffness.bend = c->bend;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloth;
+    scene.cloth_count = 1;
+    scene.collision.self = c->self;
+    scene.solver.method = c->method;
+    if (c->method == CVK_METHOD_IMPLICIT)
+        scene.solver.linear = CVK_LINEAR_CG;
+    return scene;
+}
+
+static void test_estimate(cvk_context* ctx, const config* c)
+{
+    cvk_cloth_desc cloth;
+    cvk_scene_desc scene = grid_scene(&cloth, c, 100);
+    uint64_t before = cvk_context_get_info(ctx).device_bytes;
+    cvk_error err;
+    cvk_sim* sim = NULL;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    uint64_t held = cvk_context_get_info(ctx).device_bytes - before;
+    cvk_memory_estimate e = cvk_memory_estimate_for(&scene, 10000, c->degree);
+    CHECK(e.device_bytes >= held && e.device_bytes <= 2 * held,
+          "%s: estimated %llu device bytes for 10000 particles, the simulation holds %llu",
+          c->name, (unsigned long long)e.device_bytes, (unsigned long long)held);
+    cvk_sim_destroy(sim);
+    uint64_t after = cvk_context_get_info(ctx).device_bytes;
+    CHECK(after == before, "%s: %llu device bytes still counted after destroying",
+          c->name, (unsigned long long)(after - before));
+}
+
+static uint64_t vm_size(void)
+{
+    FILE* f = fopen("/proc/self/status", "r");
+    char line[256];
+    unsigned long long kb = 0;
+    while (f && fgets(line, sizeof line, f))
+        if (sscanf(line, "VmSize: %llu", &kb) == 1)
+            break;
+    if (f)
+        fclose(f);
+    return (uint64_t)kb * 1024u;
+}
+
+static void test_refusal(cvk_context* ctx)
+{
+    struct rlimit saved;
+    getrlimit(RLIMIT_AS, &saved);
+    struct rlimit tight = saved;
+    tight.rlim_cur = vm_size() + (256u << 20);
+    if (setrlimit(RLIMIT_AS, &tight) != 0) {
+        CHECK(false, "setrlimit(RLIMIT_AS) failed");
+        return;
+    }
+    config c = {"struct", 0.0f, 0.0f, false, CVK_METHOD_PD, 4};
+    cvk_cloth_desc cloth;
+    cvk_scene_desc scene = grid_scene(&cloth, &c, 2000);
+    cvk_error err = {.message = ""};
+    cvk_sim* sim = NULL;
+    cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err);
+    const char* start = "cloths.0.grid: 4000000 particles need about ";
+    const char* end = " GiB is free (bound by the address-space limit (RLIMIT_AS))";
+    size_t n = strlen(err.message);
+    CHECK(r == CVK_ERROR_OUT_OF_MEMORY && sim == NULL &&
+              strncmp(err.message, start, strlen(start)) == 0 && n > strlen(end) &&
+              strcmp(err.message + n - strlen(end), end) == 0,
+          "a 2000 x 2000 grid under a tight RLIMIT_AS: %s, \"%s\"", cvk_result_name(r),
+          err.message);
+    scene = grid_scene(&cloth, &c, 20);
+    r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err);
+    CHECK(r == CVK_SUCCESS, "a 20 x 20 grid under the same limit: %s, %s", cvk_result_name(r),
+          err.message);
+    cvk_sim_destroy(sim);
+    setrlimit(RLIMIT_AS, &saved);
+}
+
+int main(void)
+{
+    cvk_context* ctx = harness_context();
+    const config configs[] = {
+        {"pd, structural springs", 0.0f, 0.0f, false, CVK_METHOD_PD, 4},
+        {"pd, shear and bend", 1e5f, 100.0f, false, CVK_METHOD_PD, 12},
+        {"pd, self-contact", 1e5f, 100.0f, true, CVK_METHOD_PD, 12},
+        {"implicit", 1e5f, 100.0f, false, CVK_METHOD_IMPLICIT, 12},
+    };
+    for (size_t i = 0; i < sizeof configs / sizeof configs[0]; i++)
+        test_estimate(ctx, &configs[i]);
+    /* AddressSanitizer reserves terabytes of address space: an RLIMIT_AS test cannot run. */
+    if (!getenv("ASAN_OPTIONS"))
+        test_refusal(ctx);
+    return harness_finish(ctx);
+}
