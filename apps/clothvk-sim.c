@@ -1,6 +1,7 @@
 /* clothvk-sim: runs a scene headless and prints statistics. */
 #include <jansson.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -181,11 +182,27 @@ typedef struct run_totals {
 /* Steps `frames` frames. With OBJ or PC2 output, file or sample i holds the state after
    i·every frames, for every i·every < frames (clothvk-render's rule for its images); a bake
    starts at its first missing frame and writes its own frames; writing is not timed. */
+/* Ctrl-C (or SIGTERM) stops the run before the next frame: the OBJ files and bake frames
+   written so far are whole (each is renamed into place complete), and the dump and the point
+   cache, written only by a run that finished, are not written. */
+static volatile sig_atomic_t interrupted;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
 static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc2* pc2,
                       uint32_t every, app_bake* bake, run_totals* t)
 {
     cvk_error err;
     for (uint32_t f = bake ? bake->first : 0; f < frames; f++) {
+        if (interrupted) {
+            app_error(tool, "interrupted after %u of %u frames; the files written are complete",
+                      f, frames);
+            return APP_EXIT_FAILURE;
+        }
         if (out && f % every == 0 && !app_obj_frames_write(out, f / every, f))
             return APP_EXIT_FAILURE;
         if (pc2 && f % every == 0 && !app_pc2_write(pc2))
@@ -558,8 +575,11 @@ int main(int argc, char** argv)
     options o = {0};
     bool done = false;
     int status = parse_args(argc, argv, &o, &done);
-    if (status == APP_EXIT_OK && !done)
+    if (status == APP_EXIT_OK && !done) {
+        signal(SIGINT, on_signal);
+        signal(SIGTERM, on_signal);
         status = run(&o);
+    }
     app_overrides_free(&o.overrides);
     return status;
 }

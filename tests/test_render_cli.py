@@ -12,11 +12,9 @@ case must exit with status 0 and print nothing on stderr (validation messages in
 """
 import os
 import re
-import struct
 import subprocess
 import sys
 import tempfile
-import zlib
 
 import tooltest
 
@@ -36,35 +34,6 @@ def error(message):
     return tooltest.tool_line("clothvk-render", message)
 
 
-def png_info(path):
-    """(width, height, colour type) of a complete PNG file; raises ValueError otherwise."""
-    with open(path, "rb") as f:
-        data = f.read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError("no PNG signature")
-    at, header, idat, ended = 8, None, b"", False
-    while at < len(data):
-        length, kind = struct.unpack(">I4s", data[at:at + 8])
-        body = data[at + 8:at + 8 + length]
-        crc = struct.unpack(">I", data[at + 8 + length:at + 12 + length])[0]
-        if zlib.crc32(kind + body) != crc:
-            raise ValueError(f"bad CRC in chunk {kind!r}")
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBB", body[:10])
-        elif kind == b"IDAT":
-            idat += body
-        elif kind == b"IEND":
-            ended = True
-        at += 12 + length
-    if not header or not ended:
-        raise ValueError("no IHDR or no IEND: truncated")
-    width, height, depth, colour = header
-    channels = {2: 3, 6: 4}[colour]
-    if len(zlib.decompress(idat)) != height * (1 + width * channels):
-        raise ValueError("the image data has the wrong size")
-    return width, height, colour
-
-
 def images(folder):
     return sorted(n for n in os.listdir(folder) if n.endswith(".png"))
 
@@ -78,7 +47,7 @@ def expect_images(folder, names, width, height):
         problems.append(f"{folder} holds {found}, expected {names}")
     for name in names:
         try:
-            w, h, _ = png_info(os.path.join(folder, name))
+            w, h, _ = tooltest.png_info(os.path.join(folder, name))
             if (w, h) != (width, height):
                 problems.append(f"{name} is {w}x{h}, expected {width}x{height}")
         except (OSError, ValueError) as e:

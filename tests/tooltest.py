@@ -13,7 +13,9 @@ import re
 import subprocess
 import sys
 import tempfile
+import struct
 import time
+import zlib
 
 # The source tree, for its scenes and assets: meson says where; by hand, the folder above this one.
 ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -236,3 +238,32 @@ class Checks:
             return 1
         print(passed_line)
         return 0
+
+
+def png_info(path):
+    """(width, height, colour type) of a complete PNG file; raises ValueError otherwise."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError("no PNG signature")
+    at, header, idat, ended = 8, None, b"", False
+    while at < len(data):
+        length, kind = struct.unpack(">I4s", data[at:at + 8])
+        body = data[at + 8:at + 8 + length]
+        crc = struct.unpack(">I", data[at + 8 + length:at + 12 + length])[0]
+        if zlib.crc32(kind + body) != crc:
+            raise ValueError(f"bad CRC in chunk {kind!r}")
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            ended = True
+        at += 12 + length
+    if not header or not ended:
+        raise ValueError("no IHDR or no IEND: truncated")
+    width, height, depth, colour = header
+    channels = {2: 3, 6: 4}[colour]
+    if len(zlib.decompress(idat)) != height * (1 + width * channels):
+        raise ValueError("the image data has the wrong size")
+    return width, height, colour
