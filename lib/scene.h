@@ -38,6 +38,10 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 #define CVK_MAX_FRAME_DISPATCHES 1000000u
 #define CVK_MIN_DT 1e-6
 #define CVK_MAX_SCENE_BYTES (64u << 20) /* a scene file's size */
+/* A mesh file's size: Assimp holds the whole file and its own copy of every vertex and face,
+   several times the file; 1 GiB of text is some 30 million triangles, beyond what one
+   scene's device buffers hold (CVK_MAX_PARTICLES, and the device's own limits before that). */
+#define CVK_MAX_MESH_BYTES (UINT64_C(1) << 30)
 
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)

@@ -171,6 +171,12 @@ static cvk_result open_scene(mesh_reader* r)
         return cannot_read(r, "it is a directory");
     if (!S_ISREG(st.st_mode)) /* a FIFO would block, a device be read forever */
         return cannot_read(r, "it is not a regular file");
+    if ((uint64_t)st.st_size > CVK_MAX_MESH_BYTES) {
+        char reason[128];
+        snprintf(reason, sizeof reason, "%llu bytes; a mesh file is at most %llu",
+                 (unsigned long long)st.st_size, (unsigned long long)CVK_MAX_MESH_BYTES);
+        return cannot_read(r, reason);
+    }
     /* Assimp says only "Unable to open file" where the system says why (permissions). */
     FILE* file = fopen(r->path, "rb");
     if (!file)

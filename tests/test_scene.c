@@ -788,6 +788,15 @@ static void test_files(void)
     snprintf(expected, sizeof expected, "%s: cannot read: Is a directory", dir);
     EXPECT_LOAD_ERROR(dir, CVK_ERROR_IO, expected);
 
+    /* A sparse file one byte past the bound: refused from its size, before reading. */
+    char huge[300];
+    snprintf(huge, sizeof huge, "%s/huge.json", dir);
+    CHECK(write_file(huge, ""));
+    CHECK(truncate(huge, ((off_t)64 << 20) + 1) == 0); /* README: at most 64 MiB */
+    snprintf(expected, sizeof expected, "%s: 67108865 bytes; a scene file is at most 67108864", huge);
+    EXPECT_LOAD_ERROR(huge, CVK_ERROR_IO, expected);
+    CHECK(remove(huge) == 0);
+
     const char* const sets[] = {"cloths.0.grid.1=8"};
     snprintf(expected, sizeof expected, "%s: --set cloths.3.grid: index 3 is out of range (cloths has 1 element)",
              path[2]);

@@ -500,6 +500,16 @@ static void expect_invalid(const char* name, const char* text, const char* probl
     expect_error(path, CVK_ERROR_INVALID_ARGUMENT, want, false);
 }
 
+/* Makes `path` a sparse file of `size` bytes (no disk is used). */
+static bool truncate_to(const char* path, uint64_t size)
+{
+    FILE* f = fopen(path, "wb");
+    if (!f)
+        return false;
+    fclose(f);
+    return truncate(path, (off_t)size) == 0;
+}
+
 static void check_bad_input(void)
 {
     char path[512], want[1024];
@@ -514,6 +524,17 @@ static void check_bad_input(void)
         expect_error(path, CVK_ERROR_IO, want, false);
         remove(path);
     }
+
+    /* A sparse file past the size bound: refused from its size, before Assimp reads it. */
+    snprintf(path, sizeof path, "%s/huge.obj", temp_dir);
+    bool made = truncate_to(path, CVK_MAX_MESH_BYTES + 1);
+    CHECK(made, "could not make the sparse file %s: %s", path, strerror(errno));
+    if (made) {
+        snprintf(want, sizeof want, "cloths.3.mesh: cannot read %s: 1073741825 bytes; a mesh "
+                 "file is at most 1073741824", path);
+        expect_error(path, CVK_ERROR_IO, want, false);
+    }
+    remove(path);
 
     snprintf(path, sizeof path, "%s/folder.obj", temp_dir);
     mkdir(path, 0700);
