@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "colour.h"
+#include "tether.h"
 #include "error.h"
 #include "topology.h"
 
@@ -320,6 +321,8 @@ cvk_result cvk_build_create_checked(const cvk_scene_desc* scene, cvk_build_check
         }
         r = build_adjacency(b, check, check_user, error);
     }
+    if (r == CVK_SUCCESS)
+        r = cvk_build_tethers(scene, b, error);
     parts_destroy(parts, scene->cloth_count);
     if (r != CVK_SUCCESS)
         cvk_build_destroy(b);
@@ -340,6 +343,8 @@ void cvk_build_destroy(cvk_build* b)
     free(b->triangles);
     free(b->triangle_springs);
     free(b->cloths);
+    free(b->tether_anchor);
+    free(b->tether_length);
     memset(b, 0, sizeof *b);
 }
 

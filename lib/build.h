@@ -72,6 +72,11 @@ typedef struct cvk_build {
 
     uint32_t cloth_count;
     cvk_cloth_range* cloths;
+
+    /* Tethers (tether.h): CVK_TETHER_SLOTS pins (internal indices, nearest first) per free
+       particle and the length each tether allows, m; NULL when no cloth has tethers. */
+    uint32_t* tether_anchor;
+    float* tether_length;
 } cvk_build;
 
 /* Called once the particle count and the largest number of springs on one particle are known,

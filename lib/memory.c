@@ -17,6 +17,7 @@
 #define DEVICE_SELF 200u
 #define DEVICE_IMPLICIT_PER_SLOT 52u
 #define DEVICE_CONTACT 64u /* colliders: per-particle contact state */
+#define DEVICE_TETHERS 32u /* four pins and four lengths (lib/tether.h) */
 #define DEVICE_FIXED (64u << 10) /* uniforms, staging, queries: about 10 KB measured */
 /* Host bytes per particle beside the device's (resident set of clothvk-sim less its device
    memory on lavapipe, same grids): about 210 with 4 slots, 420 with 12; self-contact about
@@ -25,6 +26,16 @@
 #define HOST_PER_SLOT 30u
 #define HOST_SELF 240u
 #define HOST_FIXED (8u << 20)
+/* The tethers' search (lib/tether.c) while it runs: labels, lengths, the spring graph. */
+#define HOST_TETHERS 200u
+
+static bool any_tethers(const cvk_scene_desc* scene)
+{
+    for (uint32_t c = 0; c < scene->cloth_count; c++)
+        if (scene->cloths[c].tethers > 0.0f)
+            return true;
+    return false;
+}
 
 static uint64_t per_particle_device(const cvk_scene_desc* scene, uint32_t degree)
 {
@@ -33,6 +44,8 @@ static uint64_t per_particle_device(const cvk_scene_desc* scene, uint32_t degree
         bytes += DEVICE_SELF;
     if (scene->collider_count > 0)
         bytes += DEVICE_CONTACT;
+    if (any_tethers(scene))
+        bytes += DEVICE_TETHERS;
     if (scene->solver.method == CVK_METHOD_IMPLICIT)
         bytes += (uint64_t)DEVICE_IMPLICIT_PER_SLOT * degree;
     return bytes;
@@ -44,6 +57,8 @@ cvk_memory_estimate cvk_memory_estimate_for(const cvk_scene_desc* scene, uint64_
     uint64_t host = HOST_BASE + (uint64_t)HOST_PER_SLOT * degree;
     if (scene->collision.self)
         host += HOST_SELF;
+    if (any_tethers(scene))
+        host += HOST_TETHERS;
     /* particles < 2^32 and the per-particle figures < 2^12: no overflow. */
     return (cvk_memory_estimate){
         .device_bytes = DEVICE_FIXED + particles * per_particle_device(scene, degree),

@@ -136,7 +136,8 @@ typedef struct pd_builder {
     cvk_pd_push base;
     VkDescriptorSet contact_set;       /* set 1 of every dispatch */
     bool contact;                      /* the scene collides: a contact op per outer iteration */
-    uint32_t predict, solve, contact_pass, finalize; /* pass indices */
+    bool tethers;                      /* a cloth has tethers: a tether op per outer iteration */
+    uint32_t predict, solve, tether_pass, contact_pass, finalize; /* pass indices */
 } pd_builder;
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {
@@ -207,10 +208,18 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
            pb->base.omega);
 }
 
-/* Contact after the last sweep of an outer iteration, in place on what it wrote (set: the
-   same as that sweep's, so triangle corners come from its src). */
-static void add_contact(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint32_t outer)
+/* Tethers, then contact, after the last sweep of an outer iteration, in place on what it
+   wrote (set: the same as that sweep's, so triangle corners come from its src). Contact comes
+   last: a tether may pull a particle into a collider, never the other way round. */
+static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint32_t outer)
 {
+    if (pb->tethers) {
+        cvk_op* op = add_op(pb, CVK_PIPE_PD_TETHER, set, pb->tether_pass, 0, b->free_count,
+                            1.0f, pb->base.omega);
+        if (op)
+            snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
+                     set_note[set]);
+    }
     if (!pb->contact)
         return;
     cvk_op* op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
@@ -241,7 +250,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                                     pb->base.omega);
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
             }
-        add_contact(pb, b, set_for(t, w), o);
+        add_after_outer(pb, b, set_for(t, w), o);
     }
     add_finalize(pb, b);
 }
@@ -263,7 +272,7 @@ static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool che
                             set_for(src, dst), pb->solve, 0, b->free_count, (float)cheb, omega);
         solve_note(pb, op, s / solver->inner_iterations, inner, -1, set_for(src, dst));
         if (inner + 1 == solver->inner_iterations)
-            add_contact(pb, b, set_for(src, dst), s / solver->inner_iterations);
+            add_after_outer(pb, b, set_for(src, dst), s / solver->inner_iterations);
     }
     add_finalize(pb, b);
 }
@@ -304,9 +313,12 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
 {
     cvk_pd* pd = self;
     pd_builder pb = {.plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver),
-                     .contact_set = s->collide.set, .contact = s->collide.colliding};
+                     .contact_set = s->collide.set, .contact = s->collide.colliding,
+                     .tethers = s->build.tether_anchor != NULL};
     pb.predict = cvk_plan_pass(plan, "predict");
     pb.solve = cvk_plan_pass(plan, "solve");
+    if (pb.tethers)
+        pb.tether_pass = cvk_plan_pass(plan, "tethers");
     if (pb.contact)
         pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");

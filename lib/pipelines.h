@@ -39,6 +39,7 @@ typedef struct cvk_spec_recipe {
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
+    X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \

@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "tether.h"
+
 cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene)
 {
     double h = scene->dt;
@@ -95,6 +97,28 @@ void cvk_ref_jacobi_sweep(const cvk_build* b, const double* rhs, double omega, d
     }
 }
 
+void cvk_ref_tethers(const cvk_build* b, double* x)
+{
+    if (!b->tether_anchor)
+        return;
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        double* xp = &x[3 * (size_t)p];
+        const uint32_t* anchor = &b->tether_anchor[CVK_TETHER_SLOTS * (size_t)p];
+        const float* limit = &b->tether_length[CVK_TETHER_SLOTS * (size_t)p];
+        uint32_t count = 0;
+        while (count < CVK_TETHER_SLOTS && anchor[count] != CVK_TETHER_NONE)
+            count++;
+        for (uint32_t j = 0; j < count * CVK_TETHER_ROUNDS; j++) {
+            const double* xa = &x[3 * (size_t)anchor[j % count]];
+            double t[3] = {xp[0] - xa[0], xp[1] - xa[1], xp[2] - xa[2]};
+            double far = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+            if (far > limit[j % count])
+                for (int c = 0; c < 3; c++)
+                    xp[c] = xa[c] + t[c] * (limit[j % count] / far);
+        }
+    }
+}
+
 void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params,
                                 const cvk_solver_desc* solver, const double* y, double* x,
                                 double* scratch)
@@ -103,6 +127,7 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params
         cvk_ref_rhs(b, params, x, y, scratch);
         for (uint32_t i = 0; i < solver->inner_iterations; i++)
             cvk_ref_gauss_seidel_sweep(b, scratch, solver->omega, x);
+        cvk_ref_tethers(b, x);
     }
 }
 

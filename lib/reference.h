@@ -32,9 +32,14 @@ double cvk_ref_gauss_seidel_sweep(const cvk_build* build, const double* b, doubl
 void cvk_ref_jacobi_sweep(const cvk_build* build, const double* b, double omega, double cheb,
                           const double* src, double* dst);
 
+/* Tethers (tether.h) on positions x: each free particle farther from one of its pins than
+   that tether allows is moved onto the sphere around the pin, pin by pin, nearest first,
+   CVK_TETHER_ROUNDS times. */
+void cvk_ref_tethers(const cvk_build* build, double* x);
+
 /* The solve of one substep with the sequential Gauss-Seidel solver (the "gs-cpu" solver):
-   outer iterations of local step + inner sweeps, from x towards the prediction y; `scratch`
-   holds 4 doubles per particle (b). */
+   outer iterations of local step + inner sweeps, then tethers, from x towards the prediction
+   y; `scratch` holds 4 doubles per particle (b). */
 void cvk_ref_solve_gauss_seidel(const cvk_build* build, const cvk_ref_params* params,
                                 const cvk_solver_desc* solver, const double* y, double* x,
                                 double* scratch);

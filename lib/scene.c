@@ -97,6 +97,7 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
         .color = {0.9f, 0.35f, 0.3f},
         .velocity = {0.0f, 0.0f, 0.0f},
+        .tethers = 0.0f,
         .cookie_ = cloth_cookie,
     };
 }
@@ -549,6 +550,19 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
                     CVK_MAX_VELOCITY, speed, v[0], v[1], v[2]);
 }
 
+/* 0 (none) or a scale of the rest distance from 1 (exactly) to CVK_MAX_TETHER_SCALE. */
+static bool check_tethers(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    join(path, base, "tethers");
+    if (!check_finite(issue, path, c->tethers))
+        return false;
+    if (c->tethers == 0.0f || (c->tethers >= 1.0f && c->tethers <= CVK_MAX_TETHER_SCALE))
+        return true;
+    return issue_at(issue, path, "must be 0 (no tethers) or from 1 to %g (a scale of the rest "
+                    "distance to the pins), got %g", CVK_MAX_TETHER_SCALE, c->tethers);
+}
+
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
 {
     char base[CVK_KEY_PATH_MAX];
@@ -560,7 +574,23 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && check_pins(c, base, issue) && check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           check_velocity(c, base, issue);
+           check_velocity(c, base, issue) && check_tethers(c, base, issue);
+}
+
+/* Tethers are a pass of the projective-dynamics solve; the other families have none yet. */
+static bool check_tether_solver(const cvk_scene_desc* d, cvk_scene_issue* issue)
+{
+    if (d->solver.method == CVK_METHOD_PD)
+        return true;
+    for (uint32_t i = 0; i < d->cloth_count; i++) {
+        if (d->cloths[i].tethers == 0.0f)
+            continue;
+        char base[CVK_KEY_PATH_MAX], path[CVK_KEY_PATH_MAX];
+        join_index(base, "cloths", i);
+        return issue_at(issue, join(path, base, "tethers"), "the %s method has no tethers; "
+                        "remove them or use pd", cvk_method_name(d->solver.method));
+    }
+    return true;
 }
 
 /* ---- the render block ---- */
@@ -837,7 +867,8 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
         if (!check_cloth(&desc->cloths[i], i, &total, issue))
             return false;
     }
-    return check_colliders(desc, issue) && check_render(&desc->render, issue);
+    return check_tether_solver(desc, issue) && check_colliders(desc, issue) &&
+           check_render(&desc->render, issue);
 }
 
 cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error)

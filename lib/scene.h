@@ -53,6 +53,9 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 /* CVK_MAX_COLLIDERS (64): shaders/shared/layout.h, where the uniform arrays are sized by it. */
 #define CVK_MAX_KEYFRAMES 10000u
 
+/* Largest tether scale: a tether ten times its rest distance no longer holds anything. */
+#define CVK_MAX_TETHER_SCALE 10.0
+
 /* Fastest initial cloth velocity, m/s: ten times a rifle bullet. At that speed a particle
    crosses 10 m in a 1 ms substep and is 10 km away after a second, where single-precision
    positions are a millimetre apart; no cloth scene needs more, and a typo is refused rather

@@ -203,6 +203,7 @@ static const cvk_field cloth_fields[] = {
     {.key = "pin_box", .read = read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
+    {.key = "tethers", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, tethers)},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
 

@@ -1,11 +1,13 @@
 /* The projective-dynamics family: its device objects (displacement iterates, adjacency,
    descriptor sets), its state in displacement form on the device or, for gs-cpu, on the
    host, and the host reference step. Its passes are in pd_passes.c. */
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "error.h"
 #include "solve_pd.h"
+#include "tether.h"
 
 /* ---- device objects ------------------------------------------------------------------- */
 
@@ -24,6 +26,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
     VkDeviceSize nf = b->free_count ? b->free_count : 1;
     VkDeviceSize quads = (VkDeviceSize)adjacency_quads(b->max_degree) * nf;
+    VkDeviceSize tethers = b->tether_anchor ? nf : 1; /* one texel keeps the view valid */
     VkBufferUsageFlags state = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -46,6 +49,10 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         {&pd->adjacency, quads * 32u, table, "adjacency", &pd->view_adjacency,
          VK_FORMAT_R32G32B32A32_UINT},
         {&pd->adjacency_kl, quads * 16u, table, "adjacency k*L", &pd->view_adjacency_kl, vec4},
+        {&pd->tether_anchor, tethers * 16u, table, "tether pins", &pd->view_tether_anchor,
+         VK_FORMAT_R32G32B32A32_UINT},
+        {&pd->tether_length, tethers * 16u, table, "tether lengths", &pd->view_tether_length,
+         vec4},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         cvk_result r = cvk_buffer_create(s->context, list[i].size, list[i].usage,
@@ -97,6 +104,35 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     return r;
 }
 
+/* The tethers as the GPU reads them: one uvec4 of pins and one vec4 of lengths per free
+   particle (CVK_TETHER_SLOTS is 4); a missing tether points at the particle itself with a
+   length nothing reaches, so the pass needs no test for it (pd_tether.comp). */
+static cvk_result upload_tethers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    if (!b->tether_anchor)
+        return CVK_SUCCESS;
+    _Static_assert(CVK_TETHER_SLOTS == 4, "pd_tether.comp reads four tethers per particle");
+    size_t count = (size_t)b->free_count * CVK_TETHER_SLOTS;
+    uint32_t* anchor = malloc(count * sizeof *anchor);
+    float* length = malloc(count * sizeof *length);
+    cvk_result r = CVK_SUCCESS;
+    if (!anchor || !length)
+        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the tethers");
+    for (size_t i = 0; r == CVK_SUCCESS && i < count; i++) {
+        bool none = b->tether_anchor[i] == CVK_TETHER_NONE;
+        anchor[i] = none ? (uint32_t)(i / CVK_TETHER_SLOTS) : b->tether_anchor[i];
+        length[i] = none ? FLT_MAX : b->tether_length[i];
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_upload(s, &pd->tether_anchor, anchor, count * sizeof *anchor, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_upload(s, &pd->tether_length, length, count * sizeof *length, error);
+    free(anchor);
+    free(length);
+    return r;
+}
+
 #define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
@@ -106,6 +142,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_X] = STORAGE,      [CVK_PD_BINDING_RHS_READ] = TEXEL,
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
     [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
+    [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
 };
 #undef TEXEL
 #undef STORAGE
@@ -126,6 +163,8 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_ADJACENCY] = {.view = pd->view_adjacency},
         [CVK_PD_BINDING_ADJACENCY_KL] = {.view = pd->view_adjacency_kl},
         [CVK_PD_BINDING_WATCH] = {.buffer = &s->watch},
+        [CVK_PD_BINDING_TETHER_ANCHOR] = {.view = pd->view_tether_anchor},
+        [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
 }
@@ -372,12 +411,13 @@ static void pd_destroy(cvk_sim* s, void* self)
     VkDevice dev = s->context->device;
     cvk_descriptors_destroy(s->context, &pd->descriptors);
     VkBufferView views[] = {pd->view_u[0], pd->view_u[1], pd->view_y, pd->view_rhs,
-                            pd->view_adjacency, pd->view_adjacency_kl};
+                            pd->view_adjacency, pd->view_adjacency_kl,
+                            pd->view_tether_anchor, pd->view_tether_length};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
-                             &pd->adjacency_kl};
+                             &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (pd->readback_cmd)
@@ -413,6 +453,8 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         r = create_sets(s, pd, error);
     if (r == CVK_SUCCESS)
         r = upload_adjacency(s, pd, error);
+    if (r == CVK_SUCCESS)
+        r = upload_tethers(s, pd, error);
     if (r == CVK_SUCCESS)
         r = set_state(s, pd, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)

@@ -22,6 +22,10 @@ typedef struct cvk_pd {
        uvec4 neighbours and bits of k, and vec4 k·L (see pd_common.glsl). */
     cvk_buffer u[2], y, rhs, adjacency, adjacency_kl;
     VkBufferView view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
+    /* Tethers (tether.h): uvec4 pins and vec4 lengths per free particle; one texel each
+       when the scene has none. */
+    cvk_buffer tether_anchor, tether_length;
+    VkBufferView view_tether_anchor, view_tether_length;
     cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */
     VkCommandBuffer readback_cmd; /* positions and u[0] -> staging, recorded once */
 

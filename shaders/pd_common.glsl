@@ -36,6 +36,8 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adjacency_kl;
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
+layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
+layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
 
 // The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)

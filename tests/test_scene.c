@@ -591,7 +591,7 @@ static void test_unknown_keys(void)
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
-                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, velocity)");
+                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, velocity, tethers)");
     EXPECT_INVALID("{'cloths': [{'stiffness': {'bending': 1}}]}",
                    "t.json: cloths.0.stiffness.bending: unknown key (expected one of: structural, shear, bend)");
 }
@@ -652,6 +652,18 @@ static void test_invalid_values_json(void)
     EXPECT_INVALID("{'solver': {'omega': 2}, 'cloths': [{}]}",
                    "t.json: solver.omega: must be greater than 0 and less than 2, got 2");
     EXPECT_INVALID("{'cloths': [{}, {'color': [0, 0, 2]}]}", "t.json: cloths.1.color.2: must be between 0 and 1, got 2");
+    EXPECT_INVALID("{'cloths': [{'tethers': 0.5}]}",
+                   "t.json: cloths.0.tethers: must be 0 (no tethers) or from 1 to 10 (a scale of the rest distance "
+                   "to the pins), got 0.5");
+    EXPECT_INVALID("{'cloths': [{'tethers': -1}]}",
+                   "t.json: cloths.0.tethers: must be 0 (no tethers) or from 1 to 10 (a scale of the rest distance "
+                   "to the pins), got -1");
+    EXPECT_INVALID("{'cloths': [{'tethers': 11}]}",
+                   "t.json: cloths.0.tethers: must be 0 (no tethers) or from 1 to 10 (a scale of the rest distance "
+                   "to the pins), got 11");
+    EXPECT_INVALID("{'cloths': [{'tethers': true}]}", "t.json: cloths.0.tethers: expected a number, got true");
+    EXPECT_INVALID("{'solver': {'method': 'implicit', 'linear': 'cg'}, 'cloths': [{}, {'tethers': 1}]}",
+                   "t.json: cloths.1.tethers: the implicit method has no tethers; remove them or use pd");
 }
 
 static void test_overrides(void)
@@ -732,7 +744,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "cloths.0.massive=1",
                      "t.json: cloths.0.massive (from --set): unknown key (expected one of: name, grid, size, origin, "
                      "u_axis, v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, "
-                     "velocity)");
+                     "velocity, tethers)");
 
     cvk_scene* scene = NULL;
     cvk_error err = {0};

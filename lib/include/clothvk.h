@@ -266,6 +266,11 @@ typedef struct cvk_cloth_desc {
     cvk_box3 pin_box;            /* m, after the transform; min ≤ max on every axis */
     float color[3];              /* linear RGB in [0, 1], for renderers */
     float velocity[3];           /* initial velocity of every free particle, m/s; usually 0 */
+    float tethers;               /* long-range attachments: 0 = none (the default); ≥ 1: no
+                                    free particle gets farther from any of its (up to) four
+                                    nearest pins than tethers × its rest distance to it across
+                                    the cloth; usually 1. A cloth without pins has none.
+                                    Projective dynamics only */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 

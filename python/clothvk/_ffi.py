@@ -134,6 +134,7 @@ typedef struct cvk_cloth_desc {
     cvk_box3 pin_box;
     float color[3];
     float velocity[3];
+    float tethers;
     uint32_t cookie_;
 } cvk_cloth_desc;
 

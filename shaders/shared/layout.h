@@ -51,7 +51,15 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
 #define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
 #define CVK_PD_BINDING_WATCH 11        /* storage: cvk_gpu_watch */
-#define CVK_PD_BINDING_COUNT 12
+#define CVK_PD_BINDING_TETHER_ANCHOR 12 /* texel: uvec4 per free particle, pinned indices */
+#define CVK_PD_BINDING_TETHER_LENGTH 13 /* texel: vec4 per free particle, m */
+#define CVK_PD_BINDING_COUNT 14
+
+/* Tethers (lib/tether.h, shaders/pd_tether.comp): a particle is projected onto each of its
+   tethers' spheres in turn, at most this many rounds (a round that moves nothing ends it):
+   one projection can take it out of another sphere, and repeating them converges into the
+   intersection. */
+#define CVK_TETHER_ROUNDS 2u
 
 /* The divergence watch (lib/sim.h): predict counts substeps and flags a spring stretched past
    CVK_DIVERGED_STRETCH in the positions it starts from (nothing writes them while it runs);
