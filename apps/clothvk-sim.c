@@ -294,6 +294,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "residual_normalized", json_real(st->residual_normalized));
     json_object_set_new(root, "residual_per_type", residuals);
     json_object_set_new(root, "max_stretch", real_or_null(st->max_stretch, true));
+    json_object_set_new(root, "p99_stretch", real_or_null(st->p99_stretch, true));
     json_object_set_new(root, "nan_count", json_integer((json_int_t)st->nan_count));
     json_object_set_new(root, "diverged", json_boolean(st->diverged));
     if (st->diverged) {

@@ -1,6 +1,7 @@
 #include "metrics.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 static double distance(const float* pa, const float* pb)
@@ -44,6 +45,43 @@ static void particle_energy(const cvk_build* b, const float* xyz, const float* v
                 out->gravitational -= m * (double)gravity[c] * xyz[i];
         }
     }
+}
+
+static int by_value(const void* a, const void* b)
+{
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+bool cvk_metrics_structural_stretch_quantile(const cvk_build* b, const float* xyz, double q,
+                                             double* out)
+{
+    *out = 0.0;
+    uint64_t n = b->springs_by_type[CVK_SPRING_STRUCTURAL];
+    if (n == 0)
+        return true;
+    double* stretch = malloc(n * sizeof *stretch);
+    if (!stretch)
+        return false;
+    size_t count = 0;
+    bool nonfinite = false;
+    for (uint32_t s = 0; s < b->spring_count; s++) {
+        const cvk_spring* sp = &b->springs[s];
+        if (sp->type != CVK_SPRING_STRUCTURAL || !(sp->rest > 0.0f))
+            continue;
+        double e = distance(&xyz[3 * (size_t)sp->a], &xyz[3 * (size_t)sp->b]) / sp->rest - 1.0;
+        nonfinite |= !isfinite(e);
+        stretch[count++] = e;
+    }
+    if (nonfinite)
+        *out = NAN; /* no order among NaN: the quantile of a broken state is not a number */
+    else if (count > 0) {
+        size_t rank = (size_t)ceil(q * (double)count);
+        qsort(stretch, count, sizeof *stretch, by_value);
+        *out = stretch[(rank > 0 ? rank : 1) - 1];
+    }
+    free(stretch);
+    return true;
 }
 
 void cvk_metrics_compute(const cvk_build* b, const float* xyz, const float* velocity,

@@ -20,6 +20,12 @@ typedef struct cvk_metrics {
 void cvk_metrics_compute(const cvk_build* build, const float* xyz, const float* velocity,
                          const float gravity[3], cvk_metrics* out);
 
+/* The q-quantile (nearest rank: the ceil(q n)-th smallest, 0 < q ≤ 1) of |xa − xb| / L − 1
+   over the structural springs, into *out (0 without structural springs). False when out of
+   host memory (a copy of the stretches is sorted). */
+bool cvk_metrics_structural_stretch_quantile(const cvk_build* build, const float* xyz, double q,
+                                             double* out);
+
 /* Solve error of one substep: |x − x*| / |x* − x0| over all coordinates, where x* is the
    converged solution and x0 the positions at the start of the substep. The solver's unknown
    is the displacement x − x0, so this is |u − u*| / |u*|: 1 when nothing was solved, 0 when

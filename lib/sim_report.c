@@ -95,6 +95,10 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
         st->residual_per_type[t] = m.residual[t];
     st->residual_normalized = m.residual_normalized;
     st->max_stretch = m.max_stretch;
+    if (!cvk_metrics_structural_stretch_quantile(b, s->scratch, 0.99, &st->p99_stretch))
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the stretch percentile (%llu springs)",
+                        (unsigned long long)b->springs_by_type[CVK_SPRING_STRUCTURAL]);
     st->nan_count = m.nan_count;
     st->kinetic_energy = m.kinetic;
     st->gravitational_energy = m.gravitational;

@@ -3,6 +3,7 @@
    and pins by grid coordinate, by vertex index and by box, with their exact errors. */
 #include "build.h"
 #include "harness.h"
+#include "metrics.h"
 #include "topology.h"
 
 static cvk_cloth_desc grid_cloth(uint32_t w, uint32_t h, bool structural, bool shear, bool bend)
@@ -178,6 +179,47 @@ static void check_build_error(void)
     CHECK(b.position == NULL && b.springs == NULL && b.cloths == NULL, "failed build: arrays left behind");
 }
 
+/* The stretch quantile over structural springs: a rope of 101 particles whose spring i (in
+   build order) is stretched by i / 1000 has its 99th percentile (nearest rank: the 99th
+   smallest of 100) at 0.098; a non-finite position makes it NaN. */
+static void check_stretch_quantile(void)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = 101;
+    cloth.grid[1] = 1;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = &cloth;
+    scene.cloth_count = 1;
+    cvk_build b;
+    cvk_error err;
+    REQUIRE_OK(cvk_build_create(&scene, &b, &err), err);
+    float* xyz = malloc(3 * sizeof(float) * b.particle_count);
+    CHECK(xyz && b.spring_count == 100, "%u springs", b.spring_count);
+    if (xyz && b.spring_count == 100) {
+        /* Lay the rope out along x so that spring s has length L (1 + s / 1000), in any
+           particle order: walk the chain from particle 0 in user order. */
+        double x = 0.0;
+        for (uint32_t i = 0; i < 101; i++) {
+            uint32_t p = b.internal_of[i];
+            xyz[3 * p] = (float)x;
+            xyz[3 * p + 1] = xyz[3 * p + 2] = 0.0f;
+            if (i < 100)
+                x += b.springs[0].rest * (1.0 + (double)((i * 37) % 100) / 1000.0);
+        }
+        double p99 = -1.0;
+        CHECK(cvk_metrics_structural_stretch_quantile(&b, xyz, 0.99, &p99), "out of memory");
+        CHECK(fabs(p99 - 0.098) < 1e-5, "p99 stretch %.6f, expected 0.098", p99);
+        double median = -1.0;
+        cvk_metrics_structural_stretch_quantile(&b, xyz, 0.5, &median);
+        CHECK(fabs(median - 0.049) < 1e-5, "median stretch %.6f, expected 0.049", median);
+        xyz[3 * b.internal_of[50]] = NAN;
+        cvk_metrics_structural_stretch_quantile(&b, xyz, 0.99, &p99);
+        CHECK(isnan(p99), "p99 stretch with a NaN position: %g", p99);
+    }
+    free(xyz);
+    cvk_build_destroy(&b);
+}
+
 int main(void)
 {
     const uint32_t sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 2}, {3, 3}, {7, 5}, {16, 11}};
@@ -188,6 +230,7 @@ int main(void)
     check_pins();
     check_pin_errors();
     check_build_error();
+    check_stretch_quantile();
     printf("%d checks, %d failed\n", harness_checks, harness_failures);
     return harness_failures ? 1 : 0;
 }

@@ -125,7 +125,7 @@ def json_stats(particles, structural, frames, linear=None):
         check_types("", stats, {
             "scene": lambda v: isinstance(v, str), "particles": is_int, "springs": lambda v: True,
             "frames": is_int, "substeps": is_int, "solver": lambda v: True, "residual": is_number,
-            "max_stretch": is_number, "nan_count": is_int, "gpu_ms_per_frame": is_time,
+            "max_stretch": is_number, "p99_stretch": is_number, "nan_count": is_int, "gpu_ms_per_frame": is_time,
             "wall_ms_per_frame": is_number, "dispatches_per_frame": is_int,
             "passes": lambda v: isinstance(v, list) and len(v) > 0}, problems)
         if problems:

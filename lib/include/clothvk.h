@@ -607,6 +607,8 @@ typedef struct cvk_sim_stats {
     double residual_per_type[3];/* the same sum for structural, shear and bend springs, m² */
     double residual_normalized;/* residual / (structural springs · mean L²); dimensionless */
     double max_stretch;        /* max over all springs of |xa − xb| / L − 1 */
+    double p99_stretch;        /* 99th percentile (nearest rank) of |xa − xb| / L − 1 over the
+                                  structural springs: the stretch of all but the worst 1 % */
     uint64_t nan_count;        /* coordinates that are NaN or infinite; 0 in a healthy run */
     double kinetic_energy;     /* Σ ½ m |v|² over free particles, J */
     double gravitational_energy;/* −Σ m g·x over free particles (0 at the origin; 0 without

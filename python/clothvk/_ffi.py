@@ -313,6 +313,7 @@ typedef struct cvk_sim_stats {
     double residual_per_type[3];
     double residual_normalized;
     double max_stretch;
+    double p99_stretch;
     uint64_t nan_count;
     double kinetic_energy;
     double gravitational_energy;
