@@ -885,6 +885,26 @@ static void test_shipped_scenes(void)
         CHECK_FLOAT(d->cloths[0].stiffness.bend, 1e5f);
     }
     cvk_scene_destroy(scene);
+    /* The peers' hanging cloth (README "Accuracy against peers"): its physics exactly. */
+    scene = load_shipped(root, "peer-hanging.json");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        CHECK(fabs(d->dt - 1.0 / 480.0) < 1e-9);
+        CHECK_INT(d->substeps, 8);
+        CHECK_INT(d->frames, 120);
+        const cvk_cloth_desc* c = &d->cloths[0];
+        CHECK_INT(c->grid[0], 100);
+        CHECK_INT(c->grid[1], 100);
+        CHECK_FLOAT(c->mass, 0.1f);
+        CHECK_FLOAT(c->stiffness.structural, 1e6f);
+        CHECK_FLOAT(c->size[0], 1.0f);
+        CHECK_FLOAT(c->size[1], 1.0f);
+        CHECK_FLOAT(d->gravity[1], -9.81f);
+        CHECK_INT(c->pin_count, 2);
+        CHECK(c->pin_count == 2 && c->pins[1][0] == 99 && c->pins[1][1] == 0);
+        CHECK_FLOAT(c->tethers, 1.0f);
+    }
+    cvk_scene_destroy(scene);
     scene = load_shipped(root, "turntable.json");
     if (scene) {
         const cvk_render_desc* r = &cvk_scene_get_desc(scene)->render;
