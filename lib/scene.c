@@ -162,6 +162,29 @@ const char* cvk_method_name(cvk_method method)
     switch (method) {
     case CVK_METHOD_PD: return "pd";
     case CVK_METHOD_IMPLICIT: return "implicit";
+    case CVK_METHOD_EXPLICIT: return "explicit";
+    }
+    return NULL;
+}
+
+const char* cvk_integrator_name(cvk_integrator integrator)
+{
+    switch (integrator) {
+    case CVK_INTEGRATOR_NONE: return "none";
+    case CVK_INTEGRATOR_EULER: return "euler";
+    case CVK_INTEGRATOR_RK2: return "rk2";
+    case CVK_INTEGRATOR_AB4: return "adams-bashforth";
+    case CVK_INTEGRATOR_VERLET: return "verlet";
+    }
+    return NULL;
+}
+
+const char* cvk_damping_model_name(cvk_damping_model model)
+{
+    switch (model) {
+    case CVK_DAMPING_NONE: return "none";
+    case CVK_DAMPING_SPRING: return "spring";
+    case CVK_DAMPING_VISCOSITY: return "viscosity";
     }
     return NULL;
 }
@@ -313,6 +336,33 @@ static bool check_implicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
            check_at_least(issue, "solver.kd", s->kd, 0.0);
 }
 
+/* The explicit method's keys belong to it (kd to it and implicit), and it solves no linear
+   system: a key of another method is a mistake, not something to ignore. */
+static bool check_explicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
+{
+    bool explicit_method = s->method == CVK_METHOD_EXPLICIT;
+    if (!cvk_integrator_name(s->integrator))
+        return issue_at(issue, "solver.integrator", "unknown integrator %d", (int)s->integrator);
+    if (!cvk_damping_model_name(s->damping_model))
+        return issue_at(issue, "solver.damping_model", "unknown damping model %d",
+                        (int)s->damping_model);
+    if (!explicit_method && s->integrator != CVK_INTEGRATOR_NONE)
+        return issue_at(issue, "solver.integrator", "is a key of the explicit method; remove it "
+                        "or set \"method\": \"explicit\" (method is %s)",
+                        cvk_method_name(s->method));
+    if (!explicit_method && s->damping_model != CVK_DAMPING_NONE)
+        return issue_at(issue, "solver.damping_model", "is a key of the explicit method; remove "
+                        "it or set \"method\": \"explicit\" (method is %s)",
+                        cvk_method_name(s->method));
+    if (s->method == CVK_METHOD_PD && s->kd != 0.0f)
+        return issue_at(issue, "solver.kd", "is a key of the implicit and explicit methods; pd "
+                        "damps with \"damping\" (remove kd or change the method)");
+    if (explicit_method && s->linear != CVK_LINEAR_RBGS)
+        return issue_at(issue, "solver.linear", "the explicit method solves no linear system; "
+                        "remove \"linear\" (got %s)", cvk_linear_solver_name(s->linear));
+    return true;
+}
+
 bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     if (!cvk_method_name(s->method))
@@ -331,7 +381,7 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
                         s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
     return check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
            check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0) &&
-           check_implicit(s, issue);
+           check_implicit(s, issue) && check_explicit(s, issue);
 }
 
 /* ---- one cloth; base is "cloths.N" ---- */
@@ -816,7 +866,11 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
         if (!check_collider(&d->colliders[i], i, &d->collision, issue))
             return false;
     }
-    /* Contact constraints are not filtered out of the implicit system yet. */
+    /* Contact constraints are not filtered out of the implicit system yet; the explicit
+       integrators have no contact response. */
+    if (d->solver.method == CVK_METHOD_EXPLICIT && (d->collider_count > 0 || d->collision.self))
+        return issue_at(issue, "solver.method", "explicit does not handle contact; remove "
+                        "\"colliders\" and \"collision.self\", or use pd");
     if (d->solver.method == CVK_METHOD_IMPLICIT && (d->collider_count > 0 || d->collision.self))
         return issue_at(issue, "solver.method", "implicit does not handle contact yet; remove "
                         "\"colliders\" and \"collision.self\", or use pd");

@@ -453,6 +453,8 @@ static void switch_families(cvk_context* ctx)
     cvk_scene_desc scene = hanging_scene(&cloth, pins, 8);
     scene.solver.method = CVK_METHOD_PD;
     scene.solver.linear = CVK_LINEAR_RBGS;
+    float kd = scene.solver.kd;
+    scene.solver.kd = 0.0f; /* a key of implicit, not pd */
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
@@ -462,6 +464,7 @@ static void switch_families(cvk_context* ctx)
     cvk_solver_desc implicit = scene.solver;
     implicit.method = CVK_METHOD_IMPLICIT;
     implicit.linear = CVK_LINEAR_CG;
+    implicit.kd = kd;
     REQUIRE_OK(cvk_sim_set_solver(sim, &implicit, &err), err);
     REQUIRE_OK(cvk_sim_read_state(sim, x1, v1, 64, &err), err);
     double speed = 0.0;
