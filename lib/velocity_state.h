@@ -6,7 +6,8 @@
 
 #include "sim.h"
 
-/* Records into `cmd`: positions then velocities `v` -> staging (2 vec4 per particle). */
+/* Records into `cmd`: positions then `v` -> staging (2 vec4 per particle); v is the
+   velocities here, PD's last displacements in lib/solve_pd.c. */
 cvk_result cvk_vstate_record_readback(cvk_sim* sim, VkCommandBuffer cmd, const cvk_buffer* v,
                                       cvk_error* error);
 /* Positions and velocities (3 floats per particle, velocity NULL: at rest; pinned particles

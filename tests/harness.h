@@ -112,4 +112,45 @@ static inline double harness_max_diff(const float* a, const float* b, uint64_t n
     return worst;
 }
 
+/* Energy over `frames` frames of one step each: how often it grew by more than 1e-6 of its
+   start (float positions round it), the largest such rise, the start, and the statistics at
+   the end. Stops the program when a step fails. */
+typedef struct harness_energy_run {
+    uint32_t rises;
+    double worst_rise, start;
+    cvk_sim_stats end;
+} harness_energy_run;
+
+static inline harness_energy_run harness_energy_watch(cvk_sim* sim, uint32_t frames)
+{
+    harness_energy_run run = {.worst_rise = -INFINITY};
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &run.end, &err), err);
+    double previous = run.end.energy;
+    run.start = previous;
+    for (uint32_t f = 0; f < frames; f++) {
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        REQUIRE_OK(cvk_sim_get_stats(sim, &run.end, &err), err);
+        double rise = run.end.energy - previous;
+        if (rise > 1e-6 * fabs(run.start)) {
+            run.rises++;
+            run.worst_rise = fmax(run.worst_rise, rise);
+        }
+        previous = run.end.energy;
+    }
+    return run;
+}
+
+/* Parsing `json_text` (as file "t.json") fails as bad input with exactly `want`. */
+#define harness_expect_scene_message(json_text, want)                                           \
+    do {                                                                                        \
+        cvk_scene* scene_ = NULL;                                                               \
+        cvk_error err_ = {0};                                                                   \
+        cvk_result r_ = cvk_scene_parse((json_text), "t.json", NULL, 0, &scene_, &err_);        \
+        CHECK(r_ == CVK_ERROR_INVALID_ARGUMENT, "%s: parsed", (json_text));                     \
+        CHECK(strcmp(err_.message, (want)) == 0, "%s: got \"%s\", want \"%s\"", (json_text),  \
+              err_.message, (want));                                                            \
+        cvk_scene_destroy(scene_);                                                              \
+    } while (0)
+
 #endif

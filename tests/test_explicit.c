@@ -23,17 +23,6 @@
 static const cvk_integrator integrators[] = {CVK_INTEGRATOR_EULER, CVK_INTEGRATOR_RK2,
                                              CVK_INTEGRATOR_AB4, CVK_INTEGRATOR_VERLET};
 
-static void expect_message(const char* json, const char* message)
-{
-    cvk_scene* scene = NULL;
-    cvk_error err = {0};
-    cvk_result r = cvk_scene_parse(json, "t.json", NULL, 0, &scene, &err);
-    CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "%s: parsed", json);
-    CHECK(strcmp(err.message, message) == 0, "%s: got \"%s\", want \"%s\"", json, err.message,
-          message);
-    cvk_scene_destroy(scene);
-}
-
 static void scene_keys(void)
 {
     cvk_scene* scene = NULL;
@@ -58,31 +47,31 @@ static void scene_keys(void)
               !strcmp(cvk_method_name(CVK_METHOD_EXPLICIT), "explicit"),
           "names");
 
-    expect_message("{\"solver\": {\"method\": \"explicit\", \"integrator\": \"rk4\"}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"explicit\", \"integrator\": \"rk4\"}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.integrator: unknown integrator \"rk4\" (expected euler, rk2, "
                    "adams-bashforth or verlet)");
-    expect_message("{\"solver\": {\"method\": \"explicit\", \"damping_model\": \"none\"}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"explicit\", \"damping_model\": \"none\"}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.damping_model: unknown damping model \"none\" (expected "
                    "spring or viscosity)");
-    expect_message("{\"solver\": {\"integrator\": \"rk2\"}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"integrator\": \"rk2\"}, \"cloths\": [{}]}",
                    "t.json: solver.integrator: is a key of the explicit method; remove it or set "
                    "\"method\": \"explicit\" (method is pd)");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", "
                    "\"damping_model\": \"spring\"}, \"cloths\": [{}]}",
                    "t.json: solver.damping_model: is a key of the explicit method; remove it or "
                    "set \"method\": \"explicit\" (method is implicit)");
-    expect_message("{\"solver\": {\"kd\": 2}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"kd\": 2}, \"cloths\": [{}]}",
                    "t.json: solver.kd: is a key of the implicit and explicit methods; pd damps "
                    "with \"damping\" (remove kd or change the method)");
-    expect_message("{\"solver\": {\"method\": \"explicit\", \"kd\": -1}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"method\": \"explicit\", \"kd\": -1}, \"cloths\": [{}]}",
                    "t.json: solver.kd: must be at least 0, got -1");
-    expect_message("{\"solver\": {\"method\": \"explicit\", \"linear\": \"jacobi\"}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"explicit\", \"linear\": \"jacobi\"}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.linear: the explicit method solves no linear system; remove "
                    "\"linear\" (got jacobi)");
-    expect_message("{\"solver\": {\"method\": \"explicit\"}, \"colliders\": [{\"type\": "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"explicit\"}, \"colliders\": [{\"type\": "
                    "\"plane\"}], \"cloths\": [{}]}",
                    "t.json: solver.method: explicit does not handle contact; remove "
                    "\"colliders\" and \"collision.self\", or use pd");
@@ -423,27 +412,16 @@ static void damped_energy(cvk_context* ctx)
         cvk_error err;
         cvk_sim* sim;
         REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
-        cvk_sim_stats st;
-        REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-        double previous = st.energy, start = st.energy, worst_rise = -INFINITY;
-        uint32_t rises = 0;
-        for (uint32_t f = 0; f < 150; f++) {
-            REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
-            REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-            double rise = st.energy - previous;
-            if (rise > 1e-6 * fabs(start)) {
-                rises++;
-                worst_rise = fmax(worst_rise, rise);
-            }
-            previous = st.energy;
-        }
+        harness_energy_run run = harness_energy_watch(sim, 150);
         const char* name = cvk_integrator_name(integrators[k]);
-        CHECK(rises == 0, "%s: the energy grew in %u of 150 frames, by up to %g J (scale %g J)",
-              name, rises, worst_rise, fabs(start));
-        CHECK(start - st.energy > 1e-3 * fabs(start), "%s: the energy fell only from %g to %g J",
-              name, start, st.energy);
-        printf("%s, damped hanging cloth: energy %g -> %g J over 150 frames\n", name, start,
-               st.energy);
+        CHECK(run.rises == 0, "%s: the energy grew in %u of 150 frames, by up to %g J (scale "
+              "%g J)", name, run.rises, run.worst_rise, fabs(run.start));
+        CHECK(run.start - run.end.energy > 1e-3 * fabs(run.start),
+              "%s: the energy fell only from %g to %g J", name, run.start, run.end.energy);
+        printf("%s (%s damping), damped hanging cloth: energy %g -> %g J over 150 frames\n",
+               name, cvk_damping_model_name(scene.solver.damping_model ? scene.solver.damping_model
+                                                                       : CVK_DAMPING_SPRING),
+               run.start, run.end.energy);
         cvk_sim_destroy(sim);
     }
 }

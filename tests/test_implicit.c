@@ -15,17 +15,6 @@
    fewer moves them by 1e-2 and more (checked). */
 #define SAME_TO_ROUNDING 1e-4
 
-static void expect_message(const char* json, const char* message)
-{
-    cvk_scene* scene = NULL;
-    cvk_error err = {0};
-    cvk_result r = cvk_scene_parse(json, "t.json", NULL, 0, &scene, &err);
-    CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "%s: parsed", json);
-    CHECK(strcmp(err.message, message) == 0, "%s: got \"%s\", want \"%s\"", json, err.message,
-          message);
-    cvk_scene_destroy(scene);
-}
-
 static void scene_keys(void)
 {
     cvk_scene* scene = NULL;
@@ -44,22 +33,22 @@ static void scene_keys(void)
           "defaults: tolerance %g, max_iterations %u, kd %g", d.solver.tolerance,
           d.solver.max_iterations, d.solver.kd);
 
-    expect_message("{\"solver\": {\"method\": \"implicit\"}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\"}, \"cloths\": [{}]}",
                    "t.json: solver.linear: rbgs is not a linear solver of the implicit method; "
                    "use cg or jacobi");
-    expect_message("{\"solver\": {\"linear\": \"cg\"}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"linear\": \"cg\"}, \"cloths\": [{}]}",
                    "t.json: solver.linear: cg solves the implicit method only; use rbgs, jacobi, "
                    "chebyshev or gs-cpu with pd");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"tolerance\": 0}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"tolerance\": 0}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.tolerance: must be greater than 0 and less than 1, got 0");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"kd\": -1}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"kd\": -1}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.kd: must be at least 0, got -1");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", "
                    "\"max_iterations\": 0}, \"cloths\": [{}]}",
                    "t.json: solver.max_iterations: must be at least 1, got 0");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"jacobi\"}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"jacobi\"}, "
                    "\"colliders\": [{\"type\": \"plane\"}], \"cloths\": [{}]}",
                    "t.json: solver.method: implicit does not handle contact yet; remove "
                    "\"colliders\" and \"collision.self\", or use pd");
@@ -416,23 +405,11 @@ static void energy_and_rest(cvk_context* ctx)
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
-    cvk_sim_stats st;
-    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-    double previous = st.energy, start = st.energy, worst_rise = -INFINITY;
-    uint32_t rises = 0;
-    for (uint32_t f = 0; f < 1000; f++) {
-        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
-        REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-        /* float positions round the energy: allow 1e-6 of its scale */
-        double rise = st.energy - previous;
-        if (rise > 1e-6 * fabs(start)) {
-            rises++;
-            worst_rise = fmax(worst_rise, rise);
-        }
-        previous = st.energy;
-    }
-    CHECK(rises == 0, "the energy grew in %u of 1000 frames, by up to %g J (scale %g J)", rises,
-          worst_rise, fabs(start));
+    harness_energy_run run = harness_energy_watch(sim, 1000);
+    cvk_sim_stats st = run.end;
+    double start = run.start;
+    CHECK(run.rises == 0, "the energy grew in %u of 1000 frames, by up to %g J (scale %g J)",
+          run.rises, run.worst_rise, fabs(start));
     CHECK(st.kinetic_energy < 1e-5 * fabs(start),
           "after 1000 frames the kinetic energy is %g J (scale %g J): not at rest",
           st.kinetic_energy, fabs(start));
