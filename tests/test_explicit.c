@@ -115,19 +115,6 @@ static void make_random_cloth(harness_rng* rng, random_cloth* rc)
     rc->scene.solver.kd = (float)harness_uniform(rng, 0.0, 0.5);
 }
 
-/* One frame (8 substeps) on the device from (xyz, v) in user order; the result replaces them. */
-static void device_frame(cvk_context* ctx, const cvk_scene_desc* scene, float* xyz, float* v)
-{
-    cvk_error err;
-    cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
-    uint64_t n = cvk_sim_particle_count(sim);
-    REQUIRE_OK(cvk_sim_write_state(sim, xyz, v, n, &err), err);
-    REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
-    REQUIRE_OK(cvk_sim_read_state(sim, xyz, v, n, &err), err);
-    cvk_sim_destroy(sim);
-}
-
 /* The same frame on the host; positions (user order) into hx. */
 static void host_frame(const cvk_scene_desc* scene, const float* xyz, const float* v, double* hx)
 {
@@ -174,16 +161,8 @@ static void device_equals_reference(cvk_context* ctx, cvk_damping_model model)
         make_random_cloth(&rng, &rc);
         rc.scene.solver.damping_model = model;
         uint64_t n = (uint64_t)rc.cloth.grid[0] * rc.cloth.grid[1];
-        cvk_error err;
-        cvk_sim* probe;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &rc.scene}, &probe, &err), err);
-        float* x0 = harness_read_all(probe);
-        cvk_sim_destroy(probe);
-        float* v0 = malloc(3 * n * sizeof(float));
-        for (uint64_t i = 0; i < 3 * n; i++) {
-            x0[i] += (float)harness_uniform(&rng, -0.03, 0.03);
-            v0[i] = (float)harness_uniform(&rng, -2.0, 2.0);
-        }
+        float *x0, *v0;
+        harness_random_start(ctx, &rc.scene, &rng, 0.03, 2.0, n, &x0, &v0);
         float* x = malloc(3 * n * sizeof(float));
         float* v = malloc(3 * n * sizeof(float));
         double* hx[4];
@@ -192,7 +171,7 @@ static void device_equals_reference(cvk_context* ctx, cvk_damping_model model)
             rc.scene.solver.integrator = integrators[k];
             memcpy(x, x0, 3 * n * sizeof(float));
             memcpy(v, v0, 3 * n * sizeof(float));
-            device_frame(ctx, &rc.scene, x, v);
+            harness_frame_from(ctx, &rc.scene, x, v, NULL);
             host_frame(&rc.scene, x0, v0, hx[k]);
             double dx = rounding_ratio(x, hx[k], x0, 3 * n, rc.scene.substeps);
             worst = fmax(worst, dx);

@@ -90,21 +90,6 @@ static void make_random_cloth(harness_rng* rng, random_cloth* rc, cvk_linear_sol
     rc->scene.solver.tolerance = 1e-7f; /* runs every iteration it is given */
 }
 
-/* One substep on the device from (xyz, v) in user order; the result replaces them. */
-static void device_substep(cvk_context* ctx, const cvk_scene_desc* scene, float* xyz, float* v,
-                           cvk_sim_stats* st)
-{
-    cvk_error err;
-    cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
-    uint64_t n = cvk_sim_particle_count(sim);
-    REQUIRE_OK(cvk_sim_write_state(sim, xyz, v, n, &err), err);
-    REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
-    REQUIRE_OK(cvk_sim_read_state(sim, xyz, v, n, &err), err);
-    REQUIRE_OK(cvk_sim_get_stats(sim, st, &err), err);
-    cvk_sim_destroy(sim);
-}
-
 /* The same substep on the host; returns its report. */
 static cvk_implicit_report host_substep(const cvk_scene_desc* scene, const float* xyz,
                                         const float* v, double* hx, double* hv)
@@ -155,16 +140,8 @@ static void device_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
         random_cloth rc;
         make_random_cloth(&rng, &rc, linear);
         uint64_t n = (uint64_t)rc.cloth.grid[0] * rc.cloth.grid[1];
-        cvk_error err;
-        cvk_sim* probe;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &rc.scene}, &probe, &err), err);
-        float* x0 = harness_read_all(probe);
-        cvk_sim_destroy(probe);
-        float* v0 = malloc(3 * n * sizeof(float));
-        for (uint64_t i = 0; i < 3 * n; i++) {
-            x0[i] += (float)harness_uniform(&rng, -0.01, 0.01);
-            v0[i] = (float)harness_uniform(&rng, -0.5, 0.5);
-        }
+        float *x0, *v0;
+        harness_random_start(ctx, &rc.scene, &rng, 0.01, 0.5, n, &x0, &v0);
         float* x = malloc(3 * n * sizeof(float));
         float* v = malloc(3 * n * sizeof(float));
         double* hx = malloc(3 * n * sizeof(double));
@@ -176,7 +153,7 @@ static void device_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
             memcpy(x, x0, 3 * n * sizeof(float));
             memcpy(v, v0, 3 * n * sizeof(float));
             cvk_sim_stats st;
-            device_substep(ctx, &rc.scene, x, v, &st);
+            harness_frame_from(ctx, &rc.scene, x, v, &st);
             cvk_implicit_report rep = host_substep(&rc.scene, x0, v0, hx, hv);
             double dv = relative_diff(v, hv, v0, 3 * n), dx = relative_diff(x, hx, x0, 3 * n);
             worst = fmax(worst, fmax(dv, dx));
@@ -206,7 +183,7 @@ static void device_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
         memcpy(x, x0, 3 * n * sizeof(float));
         memcpy(v, v0, 3 * n * sizeof(float));
         cvk_sim_stats st;
-        device_substep(ctx, &rc.scene, x, v, &st);
+        harness_frame_from(ctx, &rc.scene, x, v, &st);
         cvk_implicit_report rep = host_substep(&rc.scene, x0, v0, hx, hv);
         CHECK(st.solver_iterations + 1 >= rep.iterations && st.solver_iterations <= rep.iterations + 1,
               "%s trial %d: to 1e-2 the device stopped after %u iterations, the host after %u",
