@@ -273,6 +273,20 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(solver, "max_iterations", json_integer(scene->solver.max_iterations));
         json_object_set_new(solver, "kd", float_json(scene->solver.kd));
     }
+    if (solver && scene->solver.method == CVK_METHOD_EXPLICIT) {
+        /* the settings the run used: the defaults resolved */
+        cvk_integrator integrator = scene->solver.integrator ? scene->solver.integrator
+                                                             : CVK_INTEGRATOR_EULER;
+        cvk_damping_model model = scene->solver.damping_model ? scene->solver.damping_model
+                                                              : CVK_DAMPING_SPRING;
+        json_object_del(solver, "linear");
+        json_object_del(solver, "outer_iterations");
+        json_object_del(solver, "inner_iterations");
+        json_object_del(solver, "omega");
+        json_object_set_new(solver, "integrator", json_string(cvk_integrator_name(integrator)));
+        json_object_set_new(solver, "damping_model", json_string(cvk_damping_model_name(model)));
+        json_object_set_new(solver, "kd", float_json(scene->solver.kd));
+    }
     json_t* passes = json_array();
     for (uint32_t p = 0; p < st->pass_count; p++)
         json_array_append_new(passes,
@@ -349,12 +363,18 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
 {
     printf("%s: %u frames of %u substeps (dt %g s) on %s\n", scene->name ? scene->name : "scene",
            t->frames, scene->substeps, scene->dt, cvk_context_get_info(ctx).device_name);
-    printf("  %llu particles (%llu pinned), %llu springs, %u colours, %s/%s ",
+    bool explicit_method = scene->solver.method == CVK_METHOD_EXPLICIT;
+    printf("  %llu particles (%llu pinned), %llu springs, %u colours, %s%s%s ",
            (unsigned long long)st->particles, (unsigned long long)st->pinned,
            (unsigned long long)(st->springs[0] + st->springs[1] + st->springs[2]), st->colours,
-           cvk_method_name(scene->solver.method), cvk_linear_solver_name(scene->solver.linear));
+           cvk_method_name(scene->solver.method), explicit_method ? "" : "/",
+           explicit_method ? "" : cvk_linear_solver_name(scene->solver.linear));
     if (scene->solver.method == CVK_METHOD_IMPLICIT)
         printf("to %g, at most %u\n", scene->solver.tolerance, scene->solver.max_iterations);
+    else if (scene->solver.method == CVK_METHOD_EXPLICIT)
+        printf("%s, kd %g\n", cvk_integrator_name(scene->solver.integrator ? scene->solver.integrator
+                                                                          : CVK_INTEGRATOR_EULER),
+               scene->solver.kd);
     else
         printf("%ux%u\n", scene->solver.outer_iterations, scene->solver.inner_iterations);
     printf("  residual %.4g m^2, max stretch %.3g %%, NaN %llu\n", st->residual,

@@ -16,6 +16,11 @@
 #define DEVICE_PER_SLOT 16u
 #define DEVICE_SELF 200u
 #define DEVICE_IMPLICIT_PER_SLOT 52u
+/* Explicit integrators, from their buffer sizes (not measured): velocities, the RK2 stage,
+   accelerations and the Adams-Bashforth history are 160 bytes, the adjacency 16 per slot;
+   rounded up by a tenth. */
+#define DEVICE_EXPLICIT 176u
+#define DEVICE_EXPLICIT_PER_SLOT 18u
 #define DEVICE_CONTACT 64u /* colliders: per-particle contact state */
 #define DEVICE_TETHERS 32u /* four pins and four lengths (lib/tether.h) */
 #define DEVICE_FIXED (64u << 10) /* uniforms, staging, queries: about 10 KB measured */
@@ -48,6 +53,8 @@ static uint64_t per_particle_device(const cvk_scene_desc* scene, uint32_t degree
         bytes += DEVICE_TETHERS;
     if (scene->solver.method == CVK_METHOD_IMPLICIT)
         bytes += (uint64_t)DEVICE_IMPLICIT_PER_SLOT * degree;
+    if (scene->solver.method == CVK_METHOD_EXPLICIT)
+        bytes += DEVICE_EXPLICIT + (uint64_t)DEVICE_EXPLICIT_PER_SLOT * degree;
     return bytes;
 }
 

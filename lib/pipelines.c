@@ -14,6 +14,8 @@ _Static_assert(offsetof(cvk_implicit_push, gravity) == 32, "cvk_implicit_push.gr
 _Static_assert(sizeof(cvk_implicit_scalars) == 84, "cvk_implicit_scalars: 84 bytes in GLSL");
 _Static_assert(offsetof(cvk_implicit_scalars, reduce_groups) == 48,
                "cvk_implicit_scalars: indirect commands from 48");
+_Static_assert(sizeof(cvk_explicit_push) == 48, "cvk_explicit_push: 48 bytes in GLSL");
+_Static_assert(offsetof(cvk_explicit_push, gravity) == 32, "cvk_explicit_push.gravity: a vec4 at 32");
 _Static_assert(sizeof(cvk_mesh_push) == 8, "cvk_mesh_push: 8 bytes in GLSL");
 _Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.triangle_count at 4");
 

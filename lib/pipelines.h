@@ -63,7 +63,9 @@ typedef struct cvk_spec_recipe {
     X(IMPLICIT_JACOBI_EVEN, IMPLICIT_JACOBI_EVEN_COMP, CVK_SPEC_PD, "block jacobi: dv0 -> dv1") \
     X(IMPLICIT_JACOBI_ODD, IMPLICIT_JACOBI_ODD_COMP, CVK_SPEC_PD, "block jacobi: dv1 -> dv0") \
     X(IMPLICIT_JACOBI_CHECK, IMPLICIT_JACOBI_CHECK_COMP, CVK_SPEC_PD, "block jacobi: stop test") \
-    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_PD, "v += dv, x += h v")
+    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_PD, "v += dv, x += h v") \
+    X(EXPLICIT_FORCE, EXPLICIT_FORCE_COMP, CVK_SPEC_PD, "explicit: a = f(x, v) / m") \
+    X(EXPLICIT_UPDATE, EXPLICIT_UPDATE_COMP, CVK_SPEC_PD, "explicit: x, v from a (the integrator's rule)")
 
 typedef enum cvk_pipeline_id {
 #define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,

@@ -132,41 +132,6 @@ cvk_collider_desc cvk_default_collider_desc(void)
     };
 }
 
-const char* cvk_collider_type_name(cvk_collider_type type)
-{
-    switch (type) {
-    case CVK_COLLIDER_PLANE: return "plane";
-    case CVK_COLLIDER_SPHERE: return "sphere";
-    case CVK_COLLIDER_BOX: return "box";
-    case CVK_COLLIDER_CAPSULE: return "capsule";
-    case CVK_COLLIDER_FUNNEL: return "funnel";
-    case CVK_COLLIDER_MESH: return "mesh";
-    case CVK_COLLIDER_TYPE_COUNT: break;
-    }
-    return NULL;
-}
-
-const char* cvk_linear_solver_name(cvk_linear_solver linear)
-{
-    switch (linear) {
-    case CVK_LINEAR_RBGS: return "rbgs";
-    case CVK_LINEAR_JACOBI: return "jacobi";
-    case CVK_LINEAR_CHEBYSHEV: return "chebyshev";
-    case CVK_LINEAR_GS_CPU: return "gs-cpu";
-    case CVK_LINEAR_CG: return "cg";
-    }
-    return NULL;
-}
-
-const char* cvk_method_name(cvk_method method)
-{
-    switch (method) {
-    case CVK_METHOD_PD: return "pd";
-    case CVK_METHOD_IMPLICIT: return "implicit";
-    }
-    return NULL;
-}
-
 /* ---- small checks: each returns true when fine, else fills the issue and returns false ---- */
 
 __attribute__((format(printf, 3, 4)))
@@ -314,6 +279,33 @@ static bool check_implicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
            check_at_least(issue, "solver.kd", s->kd, 0.0);
 }
 
+/* The explicit method's keys belong to it (kd to it and implicit), and it solves no linear
+   system: a key of another method is a mistake, not something to ignore. */
+static bool check_explicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
+{
+    bool explicit_method = s->method == CVK_METHOD_EXPLICIT;
+    if (!cvk_integrator_name(s->integrator))
+        return issue_at(issue, "solver.integrator", "unknown integrator %d", (int)s->integrator);
+    if (!cvk_damping_model_name(s->damping_model))
+        return issue_at(issue, "solver.damping_model", "unknown damping model %d",
+                        (int)s->damping_model);
+    if (!explicit_method && s->integrator != CVK_INTEGRATOR_NONE)
+        return issue_at(issue, "solver.integrator", "is a key of the explicit method; remove it "
+                        "or set \"method\": \"explicit\" (method is %s)",
+                        cvk_method_name(s->method));
+    if (!explicit_method && s->damping_model != CVK_DAMPING_NONE)
+        return issue_at(issue, "solver.damping_model", "is a key of the explicit method; remove "
+                        "it or set \"method\": \"explicit\" (method is %s)",
+                        cvk_method_name(s->method));
+    if (s->method == CVK_METHOD_PD && s->kd != 0.0f)
+        return issue_at(issue, "solver.kd", "is a key of the implicit and explicit methods; pd "
+                        "damps with \"damping\" (remove kd or change the method)");
+    if (explicit_method && s->linear != CVK_LINEAR_RBGS)
+        return issue_at(issue, "solver.linear", "the explicit method solves no linear system; "
+                        "remove \"linear\" (got %s)", cvk_linear_solver_name(s->linear));
+    return true;
+}
+
 bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     if (!cvk_method_name(s->method))
@@ -332,7 +324,7 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
                         s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
     return check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
            check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0) &&
-           check_implicit(s, issue);
+           check_implicit(s, issue) && check_explicit(s, issue);
 }
 
 /* ---- one cloth; base is "cloths.N" ---- */
@@ -846,7 +838,11 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
         if (!check_collider(&d->colliders[i], i, &d->collision, issue))
             return false;
     }
-    /* Contact constraints are not filtered out of the implicit system yet. */
+    /* Contact constraints are not filtered out of the implicit system yet; the explicit
+       integrators have no contact response. */
+    if (d->solver.method == CVK_METHOD_EXPLICIT && (d->collider_count > 0 || d->collision.self))
+        return issue_at(issue, "solver.method", "explicit does not handle contact; remove "
+                        "\"colliders\" and \"collision.self\", or use pd");
     if (d->solver.method == CVK_METHOD_IMPLICIT && (d->collider_count > 0 || d->collision.self))
         return issue_at(issue, "solver.method", "implicit does not handle contact yet; remove "
                         "\"colliders\" and \"collision.self\", or use pd");

@@ -64,6 +64,39 @@ static cvk_result read_linear(cvk_reader* rd, const cvk_field* f, json_t* value,
     return r;
 }
 
+/* The names a scene may give (NONE is the default, not a name to write). */
+static const char* integrator_key_name(int v)
+{
+    return v >= 0 ? cvk_integrator_name((cvk_integrator)(v + 1)) : NULL;
+}
+
+static const char* damping_model_key_name(int v)
+{
+    return v >= 0 ? cvk_damping_model_name((cvk_damping_model)(v + 1)) : NULL;
+}
+
+static cvk_result read_integrator(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
+                                  void* dest)
+{
+    (void)f;
+    int v = 0;
+    cvk_result r = cvk_read_enum(rd, value, path, "integrator", integrator_key_name, &v);
+    if (r == CVK_SUCCESS)
+        *(cvk_integrator*)dest = (cvk_integrator)(v + 1);
+    return r;
+}
+
+static cvk_result read_damping_model(cvk_reader* rd, const cvk_field* f, json_t* value,
+                                     const char* path, void* dest)
+{
+    (void)f;
+    int v = 0;
+    cvk_result r = cvk_read_enum(rd, value, path, "damping model", damping_model_key_name, &v);
+    if (r == CVK_SUCCESS)
+        *(cvk_damping_model*)dest = (cvk_damping_model)(v + 1);
+    return r;
+}
+
 /* ---- a cloth's pins: [i, j] pairs on a grid, vertex indices on a mesh, and a box for either ---- */
 
 static const cvk_field pin_pair_field = {.key = "pins", .read = cvk_read_uints, .count = 2, .min = 0};
@@ -433,6 +466,9 @@ static const cvk_field solver_fields[] = {
     {.key = "max_iterations", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, max_iterations),
      .min = 1},
     {.key = "kd", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, kd)},
+    {.key = "integrator", .read = read_integrator, .offset = offsetof(cvk_solver_desc, integrator)},
+    {.key = "damping_model", .read = read_damping_model,
+     .offset = offsetof(cvk_solver_desc, damping_model)},
 };
 static const cvk_table solver_table = FIELDS(solver_fields);
 

@@ -29,7 +29,8 @@ double cvk_now_ms(void)
 }
 
 /* Every family; the first that accepts a solver description solves it. */
-static const cvk_family_api* const families[] = {&cvk_family_pd, &cvk_family_implicit};
+static const cvk_family_api* const families[] = {&cvk_family_pd, &cvk_family_implicit,
+                                                  &cvk_family_explicit};
 
 const cvk_family_api* cvk_family_for(const cvk_solver_desc* solver)
 {

@@ -176,6 +176,8 @@ static void put_header(text* t, const cvk_sim* s)
     if (s->solver.method == CVK_METHOD_IMPLICIT) /* its settings are in the family's note */
         put(t, "\nsolver: %s / %s%s\n", cvk_method_name(s->solver.method),
             cvk_linear_solver_name(s->solver.linear), s->plan.solver_note);
+    else if (s->solver.method == CVK_METHOD_EXPLICIT) /* no linear solver; settings in the note */
+        put(t, "\nsolver: %s%s\n", cvk_method_name(s->solver.method), s->plan.solver_note);
     else
         put(t, "\nsolver: %s / %s, %u outer x %u inner, omega %g%s\n",
             cvk_method_name(s->solver.method), cvk_linear_solver_name(s->solver.linear),

@@ -172,6 +172,10 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "solver.method: the %s method has no tethers; use pd in a scene with "
                         "tethers", cvk_method_name(solver->method));
+    if (solver->method == CVK_METHOD_EXPLICIT && s->collide.colliding)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "solver.method: explicit does not handle contact; use pd in a scene "
+                        "with colliders or self-contact");
     if (solver->method == CVK_METHOD_IMPLICIT && s->collide.colliding)
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "solver.method: implicit does not handle contact yet; use pd in a scene "

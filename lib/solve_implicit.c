@@ -10,6 +10,7 @@
 #include "error.h"
 #include "shared/layout.h"
 #include "solve_implicit.h"
+#include "velocity_state.h"
 
 /* Reduction invocations are at most the free particles rounded up to a workgroup. */
 #define MAX_WORKGROUP_SIZE 1024u
@@ -73,27 +74,6 @@ static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
     return r;
 }
 
-/* Slot-major: entry s·nf + p = (neighbour, bits of k, bits of L, 0). */
-static cvk_result upload_adjacency(cvk_sim* s, cvk_implicit* im, cvk_error* error)
-{
-    const cvk_build* b = &s->build;
-    size_t entries = (size_t)b->max_degree * b->free_count;
-    if (entries == 0)
-        return CVK_SUCCESS;
-    uint32_t* data = malloc(entries * 4 * sizeof(uint32_t));
-    if (!data)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
-    for (size_t e = 0; e < entries; e++) {
-        data[4 * e] = b->adj_index[e];
-        memcpy(&data[4 * e + 1], &b->adj_k[e], 4);
-        memcpy(&data[4 * e + 2], &b->adj_rest[e], 4);
-        data[4 * e + 3] = 0;
-    }
-    cvk_result r = cvk_sim_upload(s, &im->adjacency, data, entries * 16, error);
-    free(data);
-    return r;
-}
-
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 #define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 static const cvk_binding implicit_bindings[CVK_IMPLICIT_BINDING_COUNT] = {
@@ -133,69 +113,20 @@ static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
     return CVK_SUCCESS;
 }
 
-static cvk_result record_readback(cvk_sim* s, cvk_implicit* im, cvk_error* error)
-{
-    VkCommandBuffer cmd = im->readback_cmd;
-    cvk_result r = cvk_command_buffer_begin(cmd, 0, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
-    VkBufferCopy positions = {0, 0, n16}, velocities = {0, n16, n16};
-    vkCmdCopyBuffer(cmd, s->positions.buffer, s->staging.buffer, 1, &positions);
-    vkCmdCopyBuffer(cmd, im->v.buffer, s->staging.buffer, 1, &velocities);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    return cvk_command_buffer_end(cmd, error);
-}
-
 /* ---- state: positions and velocities (w: mass), vec4 in internal order ------------------ */
-
-static cvk_result upload_staged(cvk_sim* s, cvk_implicit* im, cvk_error* error)
-{
-    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
-    cvk_staging_copy jobs[] = {{&s->positions, 0, 0, n16}, {&im->v, n16, 0, n16}};
-    return cvk_sim_copy_from_staging(s, jobs, 2, error);
-}
 
 static cvk_result implicit_write_state(cvk_sim* s, void* self, const float* xyz,
                                        const float* velocity, cvk_error* error)
 {
-    const cvk_build* b = &s->build;
-    float* x = s->staging.mapped;
-    float* v = x + 4 * (size_t)b->particle_count;
-    for (uint32_t p = 0; p < b->particle_count; p++) {
-        bool free_particle = p < b->free_count;
-        for (int c = 0; c < 3; c++) {
-            x[4 * p + c] = xyz[3 * (size_t)p + c];
-            v[4 * p + c] = velocity && free_particle ? velocity[3 * (size_t)p + c] : 0.0f;
-        }
-        x[4 * p + 3] = 0.0f;
-        v[4 * p + 3] = b->mass[p];
-    }
-    return upload_staged(s, self, error);
+    cvk_implicit* im = self;
+    return cvk_vstate_write(s, &im->v, xyz, velocity, error);
 }
 
 static cvk_result implicit_read_state(cvk_sim* s, void* self, float* xyz, float* velocity,
                                       cvk_error* error)
 {
     cvk_implicit* im = self;
-    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &im->readback_cmd, 1, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    size_t n = s->build.particle_count;
-    const float* x = s->staging.mapped;
-    const float* v = x + 4 * n;
-    for (size_t p = 0; p < n; p++)
-        for (int c = 0; c < 3; c++) {
-            if (xyz)
-                xyz[3 * p + c] = x[4 * p + c];
-            if (velocity)
-                velocity[3 * p + c] = v[4 * p + c];
-        }
-    return CVK_SUCCESS;
+    return cvk_vstate_read(s, im->readback_cmd, xyz, velocity, error);
 }
 
 /* Snapshots: positions[n] vec4 then velocities[n] vec4, exactly as held. */
@@ -223,8 +154,9 @@ static cvk_result implicit_load_snapshot(cvk_sim* s, void* self, const void* dat
                         "bytes; the snapshot holds %llu",
                         (unsigned long long)implicit_snapshot_size(s, self),
                         (unsigned long long)size);
+    cvk_implicit* im = self;
     memcpy(s->staging.mapped, data, size);
-    return upload_staged(s, self, error);
+    return cvk_vstate_upload_staged(s, &im->v, error);
 }
 
 void cvk_implicit_stats(const cvk_sim* s, cvk_sim_stats* st)
@@ -414,11 +346,11 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         r = create_set(s, im, error);
     if (r == CVK_SUCCESS)
-        r = upload_adjacency(s, im, error);
+        r = cvk_vstate_upload_adjacency(s, &im->adjacency, error);
     if (r == CVK_SUCCESS)
         r = implicit_write_state(s, im, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)
-        r = record_readback(s, im, error);
+        r = cvk_vstate_record_readback(s, im->readback_cmd, &im->v, error);
     if (r != CVK_SUCCESS) {
         implicit_destroy(s, im);
         return r;

@@ -8,6 +8,7 @@
 #include "error.h"
 #include "solve_pd.h"
 #include "tether.h"
+#include "velocity_state.h"
 
 /* ---- device objects ------------------------------------------------------------------- */
 
@@ -184,24 +185,6 @@ static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     return CVK_SUCCESS;
 }
 
-/* readback_cmd copies positions and last displacements into the staging buffer. */
-static cvk_result record_readback(cvk_sim* s, cvk_pd* pd, cvk_error* error)
-{
-    VkCommandBuffer cmd = pd->readback_cmd;
-    cvk_result r = cvk_command_buffer_begin(cmd, 0, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkDeviceSize n16 = (VkDeviceSize)s->build.particle_count * 16u;
-    VkBufferCopy positions = {0, 0, n16}, displacements = {0, n16, n16};
-    vkCmdCopyBuffer(cmd, s->positions.buffer, s->staging.buffer, 1, &positions);
-    vkCmdCopyBuffer(cmd, pd->u[0].buffer, s->staging.buffer, 1, &displacements);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    return cvk_command_buffer_end(cmd, error);
-}
 
 /* ---- state --------------------------------------------------------------------------- */
 
@@ -458,7 +441,7 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS)
         r = set_state(s, pd, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)
-        r = record_readback(s, pd, error);
+        r = cvk_vstate_record_readback(s, pd->readback_cmd, &pd->u[0], error);
     if (r != CVK_SUCCESS) {
         pd_destroy(s, pd);
         return r;

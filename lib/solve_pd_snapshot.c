@@ -42,7 +42,7 @@ cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* e
     }
     cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &pd->readback_cmd, 1, error);
     if (r == CVK_SUCCESS)
-        memcpy(out, s->staging.mapped, 32u * n); /* positions, then u[0] (record_readback) */
+        memcpy(out, s->staging.mapped, 32u * n); /* positions, then u[0] (cvk_vstate_record_readback) */
     return r;
 }
 

@@ -51,6 +51,7 @@ typedef struct cvk_family_api {
 /* Every family, and the one that solves `solver` (NULL: none). */
 extern const cvk_family_api cvk_family_pd;
 extern const cvk_family_api cvk_family_implicit;
+extern const cvk_family_api cvk_family_explicit;
 const cvk_family_api* cvk_family_for(const cvk_solver_desc* solver);
 
 #endif

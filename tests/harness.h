@@ -112,4 +112,80 @@ static inline double harness_max_diff(const float* a, const float* b, uint64_t n
     return worst;
 }
 
+/* One frame of `scene` on the device from (xyz, v) in user order; the result replaces them,
+   and the statistics go to *st (may be NULL). */
+static inline void harness_frame_from(cvk_context* ctx, const cvk_scene_desc* scene, float* xyz,
+                                      float* v, cvk_sim_stats* st)
+{
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    uint64_t n = cvk_sim_particle_count(sim);
+    REQUIRE_OK(cvk_sim_write_state(sim, xyz, v, n, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+    REQUIRE_OK(cvk_sim_read_state(sim, xyz, v, n, &err), err);
+    if (st)
+        REQUIRE_OK(cvk_sim_get_stats(sim, st, &err), err);
+    cvk_sim_destroy(sim);
+}
+
+/* A random start for `scene` (n particles): its built positions moved by up to ±dx m and
+   velocities up to ±dv m/s, each coordinate; the caller frees both. */
+static inline void harness_random_start(cvk_context* ctx, const cvk_scene_desc* scene,
+                                        harness_rng* rng, double dx, double dv, uint64_t n,
+                                        float** x0, float** v0)
+{
+    cvk_error err;
+    cvk_sim* probe;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &probe, &err), err);
+    *x0 = harness_read_all(probe);
+    cvk_sim_destroy(probe);
+    *v0 = malloc(3 * n * sizeof(float));
+    for (uint64_t i = 0; i < 3 * n; i++) {
+        (*x0)[i] += (float)harness_uniform(rng, -dx, dx);
+        (*v0)[i] = (float)harness_uniform(rng, -dv, dv);
+    }
+}
+
+/* Energy over `frames` frames of one step each: how often it grew by more than 1e-6 of its
+   start (float positions round it), the largest such rise, the start, and the statistics at
+   the end. Stops the program when a step fails. */
+typedef struct harness_energy_run {
+    uint32_t rises;
+    double worst_rise, start;
+    cvk_sim_stats end;
+} harness_energy_run;
+
+static inline harness_energy_run harness_energy_watch(cvk_sim* sim, uint32_t frames)
+{
+    harness_energy_run run = {.worst_rise = -INFINITY};
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &run.end, &err), err);
+    double previous = run.end.energy;
+    run.start = previous;
+    for (uint32_t f = 0; f < frames; f++) {
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        REQUIRE_OK(cvk_sim_get_stats(sim, &run.end, &err), err);
+        double rise = run.end.energy - previous;
+        if (rise > 1e-6 * fabs(run.start)) {
+            run.rises++;
+            run.worst_rise = fmax(run.worst_rise, rise);
+        }
+        previous = run.end.energy;
+    }
+    return run;
+}
+
+/* Parsing `json_text` (as file "t.json") fails as bad input with exactly `want`. */
+#define harness_expect_scene_message(json_text, want)                                           \
+    do {                                                                                        \
+        cvk_scene* scene_ = NULL;                                                               \
+        cvk_error err_ = {0};                                                                   \
+        cvk_result r_ = cvk_scene_parse((json_text), "t.json", NULL, 0, &scene_, &err_);        \
+        CHECK(r_ == CVK_ERROR_INVALID_ARGUMENT, "%s: parsed", (json_text));                     \
+        CHECK(strcmp(err_.message, (want)) == 0, "%s: got \"%s\", want \"%s\"", (json_text),  \
+              err_.message, (want));                                                            \
+        cvk_scene_destroy(scene_);                                                              \
+    } while (0)
+
 #endif

@@ -60,14 +60,26 @@ COLUMNS = {
     "contact-steps": ["dt", "steps", "max_penetration", "max_intersecting_pairs",
                       "end_intersecting_pairs", "end_max_stretch", "nan", "gpu_ms_per_step",
                       "tunnelling_free", "device"],
+    "explicit-stability": ["measure", "integrator", "damping_model", "dt", "kd", "measured",
+                           "unstable_at", "predicted", "measured_over_predicted", "seed",
+                           "lambda_d", "lambda_k", "runs", "steps", "device"],
 }
-TEXT = {"label", "solver", "kind", "case", "reason", "device"}
+TEXT = {"label", "solver", "kind", "case", "reason", "device", "measure", "integrator",
+        "damping_model", "seed"}
 
 
 def may_be_empty(experiment, row, column):
     """Cells that are empty or not a number by design."""
     if experiment == "budget" and column == "seed_002_gtx970":
         return True  # the seed measured RBGS, GS and Jacobi only, at 1, 2, 4 and 8 ms
+    if experiment == "explicit-stability":
+        # kd rows fix dt, h rows fix kd; the ratio row is no run of its own
+        if column == "dt":
+            return row["measure"] != "largest stable kd"
+        if column == "kd":
+            return row["measure"] == "largest stable kd"
+        if column in ("runs", "steps"):
+            return row["measure"] == "h ratio"
     if experiment == "scaling" and column in CONTACT_COLUMNS:
         return True  # passes of a colliding scene, checked by contact_pass_columns
     if experiment == "stability":
@@ -225,6 +237,28 @@ def contact_step_rows(rows):
     return problems
 
 
+def explicit_limits(rows):
+    """Seed 001 §3 on a small cloth: every limit the bisection brackets lies within 10 % of
+    the one predicted from the stiffest mode, and Adams-Bashforth's h is 0.3 / 2 of Euler's."""
+    problems = []
+    got = [(r["measure"], r["integrator"]) for r in rows]
+    want = [("largest stable kd", "euler"), ("largest stable kd", "rk2")] + \
+        [("largest stable h", i) for i in ("euler", "rk2", "adams-bashforth", "verlet")] + \
+        [("h ratio", "euler / adams-bashforth")]
+    if got != want:
+        problems.append(f"explicit-stability.csv rows: expected {want}, got {got}")
+    for r in rows:
+        ratio = float(r["measured_over_predicted"])
+        if not 0.9 <= ratio <= 1.1:
+            problems.append(f"explicit-stability.csv: {r['integrator']} {r['measure']}: "
+                            f"measured {r['measured']}, predicted {r['predicted']}")
+    if rows and rows[-1]["measure"] == "h ratio" and \
+            abs(float(rows[-1]["predicted"]) - 20.0 / 3.0) > 0.1:
+        problems.append(f"explicit-stability.csv: predicted ratio {rows[-1]['predicted']}, "
+                        "expected 2 / 0.3 = 6.67")
+    return problems
+
+
 GOOD = [
     {"name": "convergence on enlarged.json",
      "argv": ["convergence"] + TINY_ENLARGED + ["--max-iterations", "30"] + QUICK,
@@ -265,13 +299,18 @@ GOOD = [
               "--set", "cloths.0.origin=[-0.5,0.62,-0.5]", "--dt", "0.004,0.008",
               "--time", "0.04"] + QUICK,
      "experiment": "contact-steps", "check": contact_step_rows},
+    {"name": "explicit-stability",
+     "argv": ["explicit-stability", asset("seed001.json"), "--set", "cloths.0.grid=[6,6]",
+              "--set", "cloths.0.mass=1", "--set", "cloths.0.pins=[[0,0],[1,0],[2,0],[3,0],[4,0],[5,0]]",
+              "--time", "0.3", "--limit-ratio", "1.1"],
+     "experiment": "explicit-stability", "check": explicit_limits},
 ]
 
 BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
     {"name": "unknown experiment", "argv": ["speed", HANGING],
      "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
-               'stability, scaling, collide or contact-steps)'},
+               'stability, scaling, collide, contact-steps or explicit-stability)'},
     {"name": "missing scene", "argv": ["convergence"],
      "stderr": "clothvk-bench: convergence needs a scene file"},
     {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],

@@ -15,17 +15,6 @@
    fewer moves them by 1e-2 and more (checked). */
 #define SAME_TO_ROUNDING 1e-4
 
-static void expect_message(const char* json, const char* message)
-{
-    cvk_scene* scene = NULL;
-    cvk_error err = {0};
-    cvk_result r = cvk_scene_parse(json, "t.json", NULL, 0, &scene, &err);
-    CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "%s: parsed", json);
-    CHECK(strcmp(err.message, message) == 0, "%s: got \"%s\", want \"%s\"", json, err.message,
-          message);
-    cvk_scene_destroy(scene);
-}
-
 static void scene_keys(void)
 {
     cvk_scene* scene = NULL;
@@ -44,22 +33,22 @@ static void scene_keys(void)
           "defaults: tolerance %g, max_iterations %u, kd %g", d.solver.tolerance,
           d.solver.max_iterations, d.solver.kd);
 
-    expect_message("{\"solver\": {\"method\": \"implicit\"}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\"}, \"cloths\": [{}]}",
                    "t.json: solver.linear: rbgs is not a linear solver of the implicit method; "
                    "use cg or jacobi");
-    expect_message("{\"solver\": {\"linear\": \"cg\"}, \"cloths\": [{}]}",
+    harness_expect_scene_message("{\"solver\": {\"linear\": \"cg\"}, \"cloths\": [{}]}",
                    "t.json: solver.linear: cg solves the implicit method only; use rbgs, jacobi, "
                    "chebyshev or gs-cpu with pd");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"tolerance\": 0}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"tolerance\": 0}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.tolerance: must be greater than 0 and less than 1, got 0");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"kd\": -1}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", \"kd\": -1}, "
                    "\"cloths\": [{}]}",
                    "t.json: solver.kd: must be at least 0, got -1");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"cg\", "
                    "\"max_iterations\": 0}, \"cloths\": [{}]}",
                    "t.json: solver.max_iterations: must be at least 1, got 0");
-    expect_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"jacobi\"}, "
+    harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\", \"linear\": \"jacobi\"}, "
                    "\"colliders\": [{\"type\": \"plane\"}], \"cloths\": [{}]}",
                    "t.json: solver.method: implicit does not handle contact yet; remove "
                    "\"colliders\" and \"collision.self\", or use pd");
@@ -99,21 +88,6 @@ static void make_random_cloth(harness_rng* rng, random_cloth* rc, cvk_linear_sol
     rc->scene.solver.linear = linear;
     rc->scene.solver.kd = (float)harness_uniform(rng, 0.0, 1.0);
     rc->scene.solver.tolerance = 1e-7f; /* runs every iteration it is given */
-}
-
-/* One substep on the device from (xyz, v) in user order; the result replaces them. */
-static void device_substep(cvk_context* ctx, const cvk_scene_desc* scene, float* xyz, float* v,
-                           cvk_sim_stats* st)
-{
-    cvk_error err;
-    cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
-    uint64_t n = cvk_sim_particle_count(sim);
-    REQUIRE_OK(cvk_sim_write_state(sim, xyz, v, n, &err), err);
-    REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
-    REQUIRE_OK(cvk_sim_read_state(sim, xyz, v, n, &err), err);
-    REQUIRE_OK(cvk_sim_get_stats(sim, st, &err), err);
-    cvk_sim_destroy(sim);
 }
 
 /* The same substep on the host; returns its report. */
@@ -166,16 +140,8 @@ static void device_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
         random_cloth rc;
         make_random_cloth(&rng, &rc, linear);
         uint64_t n = (uint64_t)rc.cloth.grid[0] * rc.cloth.grid[1];
-        cvk_error err;
-        cvk_sim* probe;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &rc.scene}, &probe, &err), err);
-        float* x0 = harness_read_all(probe);
-        cvk_sim_destroy(probe);
-        float* v0 = malloc(3 * n * sizeof(float));
-        for (uint64_t i = 0; i < 3 * n; i++) {
-            x0[i] += (float)harness_uniform(&rng, -0.01, 0.01);
-            v0[i] = (float)harness_uniform(&rng, -0.5, 0.5);
-        }
+        float *x0, *v0;
+        harness_random_start(ctx, &rc.scene, &rng, 0.01, 0.5, n, &x0, &v0);
         float* x = malloc(3 * n * sizeof(float));
         float* v = malloc(3 * n * sizeof(float));
         double* hx = malloc(3 * n * sizeof(double));
@@ -187,7 +153,7 @@ static void device_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
             memcpy(x, x0, 3 * n * sizeof(float));
             memcpy(v, v0, 3 * n * sizeof(float));
             cvk_sim_stats st;
-            device_substep(ctx, &rc.scene, x, v, &st);
+            harness_frame_from(ctx, &rc.scene, x, v, &st);
             cvk_implicit_report rep = host_substep(&rc.scene, x0, v0, hx, hv);
             double dv = relative_diff(v, hv, v0, 3 * n), dx = relative_diff(x, hx, x0, 3 * n);
             worst = fmax(worst, fmax(dv, dx));
@@ -217,7 +183,7 @@ static void device_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
         memcpy(x, x0, 3 * n * sizeof(float));
         memcpy(v, v0, 3 * n * sizeof(float));
         cvk_sim_stats st;
-        device_substep(ctx, &rc.scene, x, v, &st);
+        harness_frame_from(ctx, &rc.scene, x, v, &st);
         cvk_implicit_report rep = host_substep(&rc.scene, x0, v0, hx, hv);
         CHECK(st.solver_iterations + 1 >= rep.iterations && st.solver_iterations <= rep.iterations + 1,
               "%s trial %d: to 1e-2 the device stopped after %u iterations, the host after %u",
@@ -416,23 +382,11 @@ static void energy_and_rest(cvk_context* ctx)
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
-    cvk_sim_stats st;
-    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-    double previous = st.energy, start = st.energy, worst_rise = -INFINITY;
-    uint32_t rises = 0;
-    for (uint32_t f = 0; f < 1000; f++) {
-        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
-        REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-        /* float positions round the energy: allow 1e-6 of its scale */
-        double rise = st.energy - previous;
-        if (rise > 1e-6 * fabs(start)) {
-            rises++;
-            worst_rise = fmax(worst_rise, rise);
-        }
-        previous = st.energy;
-    }
-    CHECK(rises == 0, "the energy grew in %u of 1000 frames, by up to %g J (scale %g J)", rises,
-          worst_rise, fabs(start));
+    harness_energy_run run = harness_energy_watch(sim, 1000);
+    cvk_sim_stats st = run.end;
+    double start = run.start;
+    CHECK(run.rises == 0, "the energy grew in %u of 1000 frames, by up to %g J (scale %g J)",
+          run.rises, run.worst_rise, fabs(start));
     CHECK(st.kinetic_energy < 1e-5 * fabs(start),
           "after 1000 frames the kinetic energy is %g J (scale %g J): not at rest",
           st.kinetic_energy, fabs(start));
@@ -453,6 +407,8 @@ static void switch_families(cvk_context* ctx)
     cvk_scene_desc scene = hanging_scene(&cloth, pins, 8);
     scene.solver.method = CVK_METHOD_PD;
     scene.solver.linear = CVK_LINEAR_RBGS;
+    float kd = scene.solver.kd;
+    scene.solver.kd = 0.0f; /* a key of implicit, not pd */
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
@@ -462,6 +418,7 @@ static void switch_families(cvk_context* ctx)
     cvk_solver_desc implicit = scene.solver;
     implicit.method = CVK_METHOD_IMPLICIT;
     implicit.linear = CVK_LINEAR_CG;
+    implicit.kd = kd;
     REQUIRE_OK(cvk_sim_set_solver(sim, &implicit, &err), err);
     REQUIRE_OK(cvk_sim_read_state(sim, x1, v1, 64, &err), err);
     double speed = 0.0;

@@ -109,7 +109,12 @@ static void test_names(void)
 {
     CHECK_STR(cvk_method_name(CVK_METHOD_PD), "pd");
     CHECK_STR(cvk_method_name(CVK_METHOD_IMPLICIT), "implicit");
-    CHECK_STR(cvk_method_name((cvk_method)2), NULL);
+    CHECK_STR(cvk_method_name(CVK_METHOD_EXPLICIT), "explicit");
+    CHECK_STR(cvk_method_name((cvk_method)3), NULL);
+    CHECK_STR(cvk_integrator_name(CVK_INTEGRATOR_AB4), "adams-bashforth");
+    CHECK_STR(cvk_integrator_name((cvk_integrator)5), NULL);
+    CHECK_STR(cvk_damping_model_name(CVK_DAMPING_VISCOSITY), "viscosity");
+    CHECK_STR(cvk_damping_model_name((cvk_damping_model)3), NULL);
     CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_RBGS), "rbgs");
     CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_JACOBI), "jacobi");
     CHECK_STR(cvk_linear_solver_name(CVK_LINEAR_CHEBYSHEV), "chebyshev");
@@ -588,7 +593,7 @@ static void test_unknown_keys(void)
                    "gravity, damping, solver, cloths, render, collision, colliders)");
     EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
                    "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
-                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd)");
+                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
                    "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, velocity, tethers)");
@@ -622,8 +627,8 @@ static void test_wrong_types(void)
     EXPECT_INVALID("{'solver': [], 'cloths': [{}]}", "t.json: solver: expected an object, got an array of 0");
     EXPECT_INVALID("{'solver': {'linear': 'foo'}, 'cloths': [{}]}",
                    "t.json: solver.linear: unknown linear solver \"foo\" (expected rbgs, jacobi, chebyshev, gs-cpu or cg)");
-    EXPECT_INVALID("{'solver': {'method': 'explicit'}, 'cloths': [{}]}",
-                   "t.json: solver.method: unknown method \"explicit\" (expected pd or implicit)");
+    EXPECT_INVALID("{'solver': {'method': 'verlet'}, 'cloths': [{}]}",
+                   "t.json: solver.method: unknown method \"verlet\" (expected pd, implicit or explicit)");
     EXPECT_INVALID("{'solver': {'linear': 1}, 'cloths': [{}]}", "t.json: solver.linear: expected a string, got the number 1");
     EXPECT_INVALID("{'solver': {'chebyshev_delay': -1}, 'cloths': [{}]}",
                    "t.json: solver.chebyshev_delay: must be at least 0, got -1");
@@ -737,7 +742,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR(base, "solver.iterationz=3",
                      "t.json: solver.iterationz (from --set): unknown key (expected one of: method, linear, "
                      "outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, "
-                     "max_iterations, kd)");
+                     "max_iterations, kd, integrator, damping_model)");
     EXPECT_SET_ERROR(base, "cloths=[]", "t.json: cloths (from --set): a scene needs at least one cloth");
     /* A bad value in the file does not, even when other keys were set. */
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "frames=10", "t.json: cloths.0.mass: must be greater than 0, got -0.1");

@@ -103,6 +103,8 @@ typedef struct bench_options {
     double stretch_bound;       /* max stretch (1 = 100%) */
     double limit_ratio;         /* bisection stops when hi / lo is below this */
     uint32_t min_steps;
+    /* explicit-stability */
+    double kd;                  /* N·s/m for the largest stable h */
 
     /* scaling */
     uint32_t grids[BENCH_MAX_LIST];
@@ -253,6 +255,7 @@ int bench_stability(bench* b);
 int bench_scaling(bench* b);
 int bench_collide(bench* b);
 int bench_contact_steps(bench* b);
+int bench_explicit_stability(bench* b);
 
 /* Stability of one configuration, for the experiment and the tests: steps the simulation
    `steps` substeps (checking every few) and classifies it. */

@@ -22,7 +22,8 @@ enum {
     SCALING = 1 << 4,
     COLLIDE = 1 << 5,
     CONTACT_STEPS = 1 << 6,
-    ALL = 0x7f,
+    EXPLICIT = 1 << 7,
+    ALL = 0xff,
 };
 
 typedef struct experiment {
@@ -41,6 +42,7 @@ static const experiment experiments[] = {
     {"scaling", SCALING, false, bench_scaling, 1200, 550},
     {"collide", COLLIDE, false, bench_collide, 1000, 600},
     {"contact-steps", CONTACT_STEPS, true, bench_contact_steps, 1000, 550},
+    {"explicit-stability", EXPLICIT, true, bench_explicit_stability, 1000, 550},
 };
 
 static void usage(FILE* out)
@@ -57,6 +59,8 @@ static void usage(FILE* out)
         "  scaling [SCENE]    ms per frame and per pass against particle and iteration counts\n"
         "  collide            spatial hash build and neighbour query: ms per pass against points\n"
         "  contact-steps SCENE  penetration and intersecting pairs against the time step\n"
+        "  explicit-stability SCENE  seed 001 §3: largest stable kd and h of the explicit\n"
+        "                      integrators, measured and predicted from the stiffest mode\n"
         "options (all experiments):\n"
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
@@ -95,7 +99,11 @@ static void usage(FILE* out)
         "  --energy-bound G    unstable when the energy grows by G energy scales (default 1)\n"
         "  --stretch-bound S   unstable when a spring stretches by S (default 10 = 1000%%)\n"
         "  --limit-ratio Q     bisection precision of the largest stable h (default 1.05)\n"
-        "scaling:\n"
+        "explicit-stability (also --time, default 1, --min-steps, --energy-bound,\n"
+        "                    --stretch-bound, --limit-ratio (default 1.02) as for stability):\n"
+        "  --kd KD             damping for the largest stable h, N s/m (default 10)\n"
+        "scaling:\n");
+    fprintf(out,
         "  --grids LIST        N for N x N grids (default 32,64,...,2048 and the largest that fits)\n"
         "  --iterations LIST   sweeps per substep (default 10,30,50,70)\n"
         "collide:\n"
@@ -262,16 +270,17 @@ static const option_spec option_specs[] = {
     {"--reference-max-iterations", CONVERGENCE | BUDGET | PARETO, true},
     {"--iterations", PARETO | STABILITY | SCALING, true},
     {"--substeps", PARETO, true},
-    {"--time", PARETO | STABILITY | CONTACT_STEPS, true},
+    {"--time", PARETO | STABILITY | CONTACT_STEPS | EXPLICIT, true},
     {"--target", PARETO, true},
     {"--target-residual", PARETO, true},
     {"--dt", STABILITY | CONTACT_STEPS, true},
     {"--stiffness", STABILITY, true},
     {"--damping", STABILITY, true},
-    {"--energy-bound", STABILITY, true},
-    {"--stretch-bound", STABILITY | PARETO, true},
-    {"--limit-ratio", STABILITY, true},
-    {"--min-steps", STABILITY, true},
+    {"--energy-bound", STABILITY | EXPLICIT, true},
+    {"--stretch-bound", STABILITY | PARETO | EXPLICIT, true},
+    {"--kd", EXPLICIT, true},
+    {"--limit-ratio", STABILITY | EXPLICIT, true},
+    {"--min-steps", STABILITY | EXPLICIT, true},
     {"--grids", SCALING, true},
     {"--points", COLLIDE, true},
 };
@@ -346,6 +355,8 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
     if (!strcmp(name, "--damping"))
         return parse_double_list(name, v, 0.0, 0.999, false, "a comma-separated list of numbers "
                                  "from 0 to 0.999", o->damping, &o->damping_count);
+    if (!strcmp(name, "--kd"))
+        return parse_double(name, v, 0.0, 1e6, true, positive, &o->kd);
     if (!strcmp(name, "--energy-bound"))
         return parse_double(name, v, 0.0, 1e12, true, positive, &o->energy_bound);
     if (!strcmp(name, "--stretch-bound"))
@@ -401,7 +412,12 @@ static void set_defaults(bench_options* o, const experiment* e)
         o->substep_count = 3;
     }
     if (o->time == 0.0)
-        o->time = e->bit == STABILITY || e->bit == CONTACT_STEPS ? 0.5 : 0.25;
+        o->time = e->bit == EXPLICIT ? 1.0
+                  : e->bit == STABILITY || e->bit == CONTACT_STEPS ? 0.5 : 0.25;
+    if (o->kd == 0.0)
+        o->kd = 10.0;
+    if (o->limit_ratio == 0.0)
+        o->limit_ratio = e->bit == EXPLICIT ? 1.02 : 1.05;
     if (o->dt_count == 0) {
         const double dts[] = {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016, 1.0 / 30.0};
         memcpy(o->dts, dts, sizeof dts);
@@ -438,7 +454,7 @@ static int parse_args(int argc, char** argv, parsed* p)
         .out_dir = ".", .repeat = 3, .warmup = 1, .inner = 1, .plot = true,
         .max_iterations = 1000, .reference_max = 200,
         .target_error = 1e-3,
-        .energy_bound = 1.0, .stretch_bound = 10.0, .limit_ratio = 1.05, .min_steps = 50,
+        .energy_bound = 1.0, .stretch_bound = 10.0, .min_steps = 50,
     };
     const char* positional[2] = {NULL, NULL};
     uint32_t positionals = 0;
@@ -490,7 +506,8 @@ static int parse_args(int argc, char** argv, parsed* p)
     p->e = find_experiment(positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
-                  "stability, scaling, collide or contact-steps)", positional[0]);
+                  "stability, scaling, collide, contact-steps or explicit-stability)",
+                  positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
     o->experiment = p->e->name;

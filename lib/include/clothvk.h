@@ -183,7 +183,25 @@ CVK_API uint32_t cvk_context_validation_message_count(const cvk_context* context
 typedef enum cvk_method {
     CVK_METHOD_PD = 0, /* projective dynamics (Liu et al. 2013), Verlet prediction */
     CVK_METHOD_IMPLICIT, /* backward Euler, one linearised Newton step per substep (Baraff & Witkin) */
+    CVK_METHOD_EXPLICIT, /* explicit mass-spring integration (seed 001): euler, rk2, adams-bashforth, verlet */
 } cvk_method;
+
+/* The explicit method's integrator; NONE (the default) is euler for explicit and the only value
+   the other methods take. */
+typedef enum cvk_integrator {
+    CVK_INTEGRATOR_NONE = 0,
+    CVK_INTEGRATOR_EULER,      /* forward Euler: v += h a(x, v), x += h v (the old v) */
+    CVK_INTEGRATOR_RK2,        /* second-order TVD Runge-Kutta (Shu-Osher) */
+    CVK_INTEGRATOR_AB4,        /* fourth-order Adams-Bashforth, euler for its first 3 steps */
+    CVK_INTEGRATOR_VERLET,     /* position Verlet, velocity (x_n - x_n-1) / h */
+} cvk_integrator;
+
+/* How the explicit method damps; NONE (the default) is spring for explicit. */
+typedef enum cvk_damping_model {
+    CVK_DAMPING_NONE = 0,
+    CVK_DAMPING_SPRING,        /* -kd ((v_a - v_b).n) n along each spring (Matyka) */
+    CVK_DAMPING_VISCOSITY,     /* -kd (v_a - v_b) across each spring (artificial viscosity, Desbrun) */
+} cvk_damping_model;
 
 typedef enum cvk_linear_solver {
     CVK_LINEAR_RBGS = 0,   /* multi-colour Gauss-Seidel on the GPU, SOR with omega */
@@ -203,7 +221,9 @@ typedef struct cvk_solver_desc {
     uint32_t chebyshev_delay;   /* plain sweeps before Chebyshev weights start, usually 2 */
     float tolerance;            /* implicit: relative residual where cg / jacobi stop, usually 1e-3 */
     uint32_t max_iterations;    /* implicit: cg iterations or jacobi sweeps per substep, at most; usually 100 */
-    float kd;                   /* implicit: damping along each spring, N·s/m; usually 0 */
+    float kd;                   /* implicit, explicit: spring damping (or viscosity), N·s/m; usually 0 */
+    cvk_integrator integrator;  /* explicit: CVK_INTEGRATOR_NONE = euler */
+    cvk_damping_model damping_model; /* explicit: CVK_DAMPING_NONE = spring */
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
@@ -438,6 +458,10 @@ CVK_API cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error
 /* "rbgs", "jacobi", "chebyshev", "gs-cpu"; NULL for an unknown value. */
 CVK_API const char* cvk_linear_solver_name(cvk_linear_solver linear);
 CVK_API const char* cvk_method_name(cvk_method method);
+/* "euler", "rk2", "adams-bashforth", "verlet" ("none" for NONE); NULL for an unknown value. */
+CVK_API const char* cvk_integrator_name(cvk_integrator integrator);
+/* "spring", "viscosity" ("none" for NONE); NULL for an unknown value. */
+CVK_API const char* cvk_damping_model_name(cvk_damping_model model);
 
 /* A scene loaded from JSON: owns its description and everything it points to. */
 typedef struct cvk_scene cvk_scene;

@@ -74,7 +74,19 @@ typedef struct cvk_context_info {
 cvk_context_info cvk_context_get_info(const cvk_context* context);
 uint32_t cvk_context_validation_message_count(const cvk_context* context);
 
-typedef enum cvk_method { CVK_METHOD_PD = 0, CVK_METHOD_IMPLICIT = 1 } cvk_method;
+typedef enum cvk_method { CVK_METHOD_PD = 0, CVK_METHOD_IMPLICIT = 1, CVK_METHOD_EXPLICIT = 2 } cvk_method;
+typedef enum cvk_integrator {
+    CVK_INTEGRATOR_NONE = 0,
+    CVK_INTEGRATOR_EULER = 1,
+    CVK_INTEGRATOR_RK2 = 2,
+    CVK_INTEGRATOR_AB4 = 3,
+    CVK_INTEGRATOR_VERLET = 4,
+} cvk_integrator;
+typedef enum cvk_damping_model {
+    CVK_DAMPING_NONE = 0,
+    CVK_DAMPING_SPRING = 1,
+    CVK_DAMPING_VISCOSITY = 2,
+} cvk_damping_model;
 typedef enum cvk_linear_solver {
     CVK_LINEAR_RBGS = 0,
     CVK_LINEAR_JACOBI = 1,
@@ -94,6 +106,8 @@ typedef struct cvk_solver_desc {
     float tolerance;
     uint32_t max_iterations;
     float kd;
+    cvk_integrator integrator;
+    cvk_damping_model damping_model;
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {

@@ -144,6 +144,44 @@ CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 #define CVK_IMPLICIT_BINDING_OFFDIAG_READ 15    /* texel: off-diagonal blocks */
 #define CVK_IMPLICIT_BINDING_COUNT 16 /* a descriptor table's most (lib/descriptors.c) */
 
+/* ---- explicit integrators: explicit_force.comp, explicit_update.comp (lib/solve_explicit.c) - */
+
+/* What explicit_update does (mode) */
+#define CVK_EXPLICIT_EULER 0u       /* v' = v + h a, x' = x + h v */
+#define CVK_EXPLICIT_RK2_STAGE 1u   /* xs = x + h v, vs = v + h a */
+#define CVK_EXPLICIT_RK2_COMBINE 2u /* x' = (x + xs + h vs) / 2, v' = (v + vs + h as) / 2 */
+#define CVK_EXPLICIT_AB4 3u         /* 4th-order Adams-Bashforth from the history (euler at first) */
+#define CVK_EXPLICIT_VERLET 4u      /* v' = v + h a, x' = x + h v' */
+#define CVK_EXPLICIT_HISTORY 6u     /* vec4 per free particle: a_n-1..a_n-3 (w of the first: steps
+                                       held), then v_n-1..v_n-3 */
+
+#define CVK_EXPLICIT_PUSH_FIELDS                                                          \
+    CVK_UINT(count)        /* free particles */                                            \
+    CVK_UINT(stride)       /* free particle count: adjacency slot stride */                \
+    CVK_UINT(mode)         /* update: CVK_EXPLICIT_*; force: 1 counts the substep */       \
+    CVK_UINT(viscosity)    /* 1: artificial viscosity, 0: damping along the spring */      \
+    CVK_FLOAT(h)           /* substep, s */                                                \
+    CVK_FLOAT(kd)          /* damping, N s/m */                                            \
+    CVK_FLOAT(keep)        /* 1 - damping (velocity kept per substep) */                   \
+    CVK_FLOAT(max_u2)      /* |x' - x|^2 beyond this is a run-away, m^2 */                 \
+    CVK_VEC4(gravity)      /* m/s^2 (0 when integration is off) */
+
+CVK_PUSH_BLOCK(cvk_explicit_push, CVK_EXPLICIT_PUSH_FIELDS)
+
+/* Bindings of the explicit set (two sets: the force pass reads X_IN/V_IN, the state in set 0
+   and the RK2 stage in set 1); storage buffers, vec4 per particle. */
+#define CVK_EXPLICIT_BINDING_X 0          /* positions, all particles */
+#define CVK_EXPLICIT_BINDING_V 1          /* velocities, all particles (w: mass, kg) */
+#define CVK_EXPLICIT_BINDING_XS 2         /* RK2 stage positions, free particles */
+#define CVK_EXPLICIT_BINDING_VS 3         /* RK2 stage velocities, free particles */
+#define CVK_EXPLICIT_BINDING_ADJACENCY 4  /* per slot (slot-major): neighbour, k, rest (bits) */
+#define CVK_EXPLICIT_BINDING_A 5          /* accelerations, free particles */
+#define CVK_EXPLICIT_BINDING_HISTORY 6    /* Adams-Bashforth history, CVK_EXPLICIT_HISTORY each */
+#define CVK_EXPLICIT_BINDING_WATCH 7      /* cvk_gpu_watch */
+#define CVK_EXPLICIT_BINDING_X_IN 8       /* the force pass's positions (X or XS) */
+#define CVK_EXPLICIT_BINDING_V_IN 9       /* the force pass's velocities (V or VS) */
+#define CVK_EXPLICIT_BINDING_COUNT 10
+
 /* ---- mesh generation: mesh.comp ------------------------------------------------------------ */
 
 #define CVK_MESH_PUSH_FIELDS \
