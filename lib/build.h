@@ -72,6 +72,12 @@ typedef struct cvk_build {
 
     uint32_t cloth_count;
     cvk_cloth_range* cloths;
+
+    /* Attached (kinematic) particles, all of them pinned: attached[i] is an internal index,
+       attached_to[i] its attachment (scene order); cloth by cloth in user order. */
+    uint32_t attached_count;
+    uint32_t* attached;
+    uint32_t* attached_to;
 } cvk_build;
 
 /* Called once the particle count and the largest number of springs on one particle are known,

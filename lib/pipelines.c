@@ -16,6 +16,10 @@ _Static_assert(offsetof(cvk_implicit_scalars, reduce_groups) == 48,
                "cvk_implicit_scalars: indirect commands from 48");
 _Static_assert(sizeof(cvk_mesh_push) == 8, "cvk_mesh_push: 8 bytes in GLSL");
 _Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.triangle_count at 4");
+_Static_assert(sizeof(cvk_attach_push) == 16, "cvk_attach_push: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_gpu_attachment) == 16, "cvk_gpu_attachment: 16 bytes in std430");
+_Static_assert(sizeof(cvk_gpu_attached) == 32, "cvk_gpu_attached: 32 bytes in std430");
+_Static_assert(offsetof(cvk_gpu_attached, particle) == 16, "cvk_gpu_attached.particle at 16");
 
 typedef struct pipeline_recipe {
     cvk_shader_id shader;

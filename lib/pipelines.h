@@ -40,6 +40,7 @@ typedef struct cvk_spec_recipe {
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
+    X(ATTACH, ATTACH_COMP, CVK_SPEC_NONE, "attached particles, frame state") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "particle-triangle candidates") \

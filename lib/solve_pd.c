@@ -253,7 +253,8 @@ static cvk_result read_displacement_state(cvk_sim* s, cvk_pd* pd, float* xyz, fl
 }
 
 /* Verlet's velocity at the end of a substep from its displacement u = x_n − x_{n−1}:
-   v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: 0. */
+   v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: u / h, which is
+   0 but for attached particles (their motion over the substep: lib/attach.h). */
 static void velocities_of(const cvk_sim* s, const float* u, float* v)
 {
     double h = s->dt;
@@ -262,7 +263,7 @@ static void velocities_of(const cvk_sim* s, const float* u, float* v)
         for (int c = 0; c < 3; c++) {
             size_t i = 3 * (size_t)p + c;
             v[i] = p < b->free_count ? (float)(((double)u[i] + 0.5 * s->ref.gravity_h2[c]) / h)
-                                     : 0.0f;
+                                     : (float)((double)u[i] / h);
         }
 }
 
@@ -411,6 +412,8 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->readback_cmd, error);
     if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
+    if (r == CVK_SUCCESS)
+        cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
     if (r == CVK_SUCCESS)
         r = upload_adjacency(s, pd, error);
     if (r == CVK_SUCCESS)

@@ -292,6 +292,26 @@ typedef struct cvk_motion {
     bool loop;
 } cvk_motion;
 
+/* Kinematic particles of one cloth moved by keyframes (the curtain rail of seed 002 fig. 6.20):
+   a chosen particle at p when the simulation is created is at translation(t) + rotation(t) · p
+   at time t, so keyframes that start at the identity pose start from where the particles are.
+   Attached particles are pinned (infinitely heavy) for the solver; the recorded work computes
+   their positions from the frame state on the device, and each substep's displacement is the
+   motion's, so the cloth is dragged, not teleported. The particles are those of pins,
+   pin_vertices and pin_box together (at least one); no particle may be in two attachments.
+   The projective-dynamics solvers on the device (rbgs, jacobi, chebyshev) move them; implicit
+   and gs-cpu refuse a scene with attachments. */
+typedef struct cvk_attachment_desc {
+    uint32_t cloth;              /* index into cvk_scene_desc.cloths */
+    const uint32_t (*pins)[2];   /* grids: grid coordinates [i, j] */
+    uint32_t pin_count;
+    const uint32_t* pin_vertices;/* meshes: vertex indices (particle order) */
+    uint32_t pin_vertex_count;
+    bool use_pin_box;            /* true: also every particle of the cloth inside pin_box */
+    cvk_box3 pin_box;            /* m, at the start; min ≤ max on every axis */
+    cvk_motion motion;           /* no keyframes: held where it starts */
+} cvk_attachment_desc;
+
 /* ----------------------------------------------------------------------------------------
  * Collisions
  * ------------------------------------------------------------------------------------- */
@@ -415,6 +435,9 @@ typedef struct cvk_scene_desc {
     const cvk_collider_desc* colliders;
     uint32_t collider_count;     /* 0: nothing to collide with (no collision work is recorded
                                     unless collision.self) */
+    const cvk_attachment_desc* attachments; /* keyframed kinematic particles; zero-initialised
+                                    fields are the defaults */
+    uint32_t attachment_count;   /* 0: none (no attachment pass is recorded) */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 
@@ -513,7 +536,8 @@ CVK_API cvk_result cvk_sim_write_positions(cvk_sim* sim, const float* xyz, uint6
 
 /* The full state, for snapshots: positions (m) and velocities (m/s), 3 floats per particle in
    the order of cvk_sim_read_positions. The velocity is Verlet's at the end of the last
-   substep, (x_n − x_{n−1}) / h + h g / 2 (0 for pinned particles and for a cloth at rest).
+   substep, (x_n − x_{n−1}) / h + h g / 2 (0 for a cloth at rest; for a pinned particle 0, for an
+   attached one the motion's (x_n − x_{n−1}) / h).
    Either array may be NULL; waits like cvk_sim_read_positions. */
 CVK_API cvk_result cvk_sim_read_state(cvk_sim* sim, float* xyz, float* velocity, uint64_t count,
                               cvk_error* error);

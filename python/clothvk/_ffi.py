@@ -149,6 +149,17 @@ typedef struct cvk_motion {
     bool loop;
 } cvk_motion;
 
+typedef struct cvk_attachment_desc {
+    uint32_t cloth;
+    const uint32_t (*pins)[2];
+    uint32_t pin_count;
+    const uint32_t* pin_vertices;
+    uint32_t pin_vertex_count;
+    bool use_pin_box;
+    cvk_box3 pin_box;
+    cvk_motion motion;
+} cvk_attachment_desc;
+
 typedef struct cvk_collision_desc {
     bool self;
     float thickness;
@@ -239,6 +250,8 @@ typedef struct cvk_scene_desc {
     cvk_collision_desc collision;
     const cvk_collider_desc* colliders;
     uint32_t collider_count;
+    const cvk_attachment_desc* attachments;
+    uint32_t attachment_count;
     uint32_t cookie_;
 } cvk_scene_desc;
 

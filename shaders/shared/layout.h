@@ -247,6 +247,44 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
 
+/* ---- attachments: attach.comp (lib/attach.h) --------------------------------------------- */
+
+/* One attachment's motion: its keyframes in the attachment keyframe buffer (2 vec4 each, as
+   the colliders'; shaders/motion.glsl). */
+#define CVK_GPU_ATTACHMENT_FIELDS \
+    CVK_UINT(keyframe_first)      \
+    CVK_UINT(keyframe_count)      \
+    CVK_UINT(loop)                \
+    CVK_UINT(pad0)
+CVK_STRUCT(cvk_gpu_attachment, CVK_GPU_ATTACHMENT_FIELDS)
+
+/* One attached particle: where it was when the simulation was created, which it is, whose. */
+#define CVK_GPU_ATTACHED_FIELDS                                                   \
+    CVK_VEC4(start)        /* xyz: position at creation, m */                      \
+    CVK_UINT(particle)     /* internal index (a pinned one) */                     \
+    CVK_UINT(attachment)   /* into the attachment table */                         \
+    CVK_UINT(pad0)                                                                \
+    CVK_UINT(pad1)
+CVK_STRUCT(cvk_gpu_attached, CVK_GPU_ATTACHED_FIELDS)
+
+/* Push data of attach.comp. count 0 (the warm-up dispatch) does nothing, not even advance the
+   frame state. */
+#define CVK_ATTACH_PUSH_FIELDS                                                     \
+    CVK_UINT(count)        /* attached particles */                                \
+    CVK_UINT(advance)      /* 1: this pass advances the frame state (no collider pass did) */ \
+    CVK_FLOAT(dt)          /* s per substep */                                     \
+    CVK_UINT(pad0)
+CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
+
+#define CVK_ATTACH_BINDING_FRAME 0       /* cvk_gpu_frame (the contact module's buffer) */
+#define CVK_ATTACH_BINDING_KEYFRAMES 1   /* 2 vec4 per keyframe */
+#define CVK_ATTACH_BINDING_ATTACHMENTS 2 /* cvk_gpu_attachment per attachment */
+#define CVK_ATTACH_BINDING_ATTACHED 3    /* cvk_gpu_attached per attached particle */
+#define CVK_ATTACH_BINDING_POSITIONS 4   /* vec4 per particle: x_n */
+#define CVK_ATTACH_BINDING_U0 5          /* the solver's displacement iterates (pd_common.glsl) */
+#define CVK_ATTACH_BINDING_U1 6
+#define CVK_ATTACH_BINDING_COUNT 7
+
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
 /* The hash's parameters, in a small storage buffer of its set, so a shader that queries the hash
