@@ -314,10 +314,13 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
         pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");
     pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
-    cvk_result r = solver->linear == CVK_LINEAR_GS_CPU ? CVK_SUCCESS
-                                                      : cvk_attach_add_passes(s, plan, error);
-    if (r != CVK_SUCCESS)
-        return r;
+    if (solver->linear != CVK_LINEAR_GS_CPU) {
+        cvk_result r = cvk_attach_add_passes(s, plan, error);
+        if (r == CVK_SUCCESS)
+            r = cvk_aero_add_passes(s, plan, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
     switch (solver->linear) {
     case CVK_LINEAR_RBGS:
         plan_gauss_seidel(&pb, &s->build);

@@ -43,6 +43,11 @@ cvk_scene_desc cvk_default_scene_desc(void)
                       .detect_every = 0},
         .colliders = NULL,
         .collider_count = 0,
+        .attachments = NULL,
+        .attachment_count = 0,
+        .wind = {.enabled = false, .velocity = {0.0f, 0.0f, 0.0f},
+                 .gusts = {.amplitude = 0.0f, .period = 2.0f, .jitter = 0.0f}},
+        .air_density = 1.2f,
         .cookie_ = scene_cookie,
     };
 }
@@ -97,6 +102,7 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
         .color = {0.9f, 0.35f, 0.3f},
         .velocity = {0.0f, 0.0f, 0.0f},
+        .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},
         .cookie_ = cloth_cookie,
     };
 }
@@ -208,7 +214,7 @@ static bool check_finite(cvk_scene_issue* issue, const char* path, double v)
     return cvk_issue_at(issue, path, "must be a finite number, got %s", text);
 }
 
-static bool check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n)
+bool cvk_check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n)
 {
     char element[CVK_KEY_PATH_MAX];
     for (uint32_t i = 0; i < n; i++) {
@@ -218,14 +224,14 @@ static bool check_finite_array(cvk_scene_issue* issue, const char* path, const f
     return true;
 }
 
-static bool check_greater(cvk_scene_issue* issue, const char* path, double v, double low)
+bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, double low)
 {
     if (!check_finite(issue, path, v))
         return false;
     return v > low || cvk_issue_at(issue, path, "must be greater than %g, got %g", low, v);
 }
 
-static bool check_at_least(cvk_scene_issue* issue, const char* path, double v, double low)
+bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low)
 {
     if (!check_finite(issue, path, v))
         return false;
@@ -286,14 +292,14 @@ static bool check_closed_array(cvk_scene_issue* issue, const char* path, const f
 
 static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
 {
-    if (!check_greater(issue, "dt", d->dt, 0.0))
+    if (!cvk_check_greater(issue, "dt", d->dt, 0.0))
         return false;
     if (d->dt < CVK_MIN_DT)
         return cvk_issue_at(issue, "dt", "must be at least %g s (1/dt² must fit single precision "
                         "with room for masses and stiffnesses), got %g", CVK_MIN_DT, d->dt);
     return check_count_range(issue, "substeps", d->substeps, 1, CVK_MAX_SUBSTEPS) &&
            check_count(issue, "frames", d->frames, 1) &&
-           check_finite_array(issue, "gravity", d->gravity, 3) &&
+           cvk_check_finite_array(issue, "gravity", d->gravity, 3) &&
            check_half_open(issue, "damping", d->damping, 0.0, 1.0);
 }
 
@@ -310,7 +316,7 @@ static bool check_implicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
     return check_open(issue, "solver.tolerance", s->tolerance, 0.0, 1.0) &&
            check_count_range(issue, "solver.max_iterations", s->max_iterations, 1,
                              CVK_MAX_SWEEPS) &&
-           check_at_least(issue, "solver.kd", s->kd, 0.0);
+           cvk_check_at_least(issue, "solver.kd", s->kd, 0.0);
 }
 
 bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
@@ -384,7 +390,7 @@ static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     char v_path[CVK_KEY_PATH_MAX];
     join(u_path, base, "u_axis");
     join(v_path, base, "v_axis");
-    if (!check_finite_array(issue, u_path, c->u_axis, 3) || !check_finite_array(issue, v_path, c->v_axis, 3))
+    if (!cvk_check_finite_array(issue, u_path, c->u_axis, 3) || !cvk_check_finite_array(issue, v_path, c->v_axis, 3))
         return false;
     const float* u = c->u_axis;
     const float* v = c->v_axis;
@@ -407,10 +413,10 @@ static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
 static bool check_mass(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    if (!check_at_least(issue, join(path, base, "density"), c->density, 0.0))
+    if (!cvk_check_at_least(issue, join(path, base, "density"), c->density, 0.0))
         return false;
     if (c->density == 0.0f)
-        return check_greater(issue, join(path, base, "mass"), c->mass, 0.0);
+        return cvk_check_greater(issue, join(path, base, "mass"), c->mass, 0.0);
     if (!c->mesh && (c->grid[0] == 1 || c->grid[1] == 1))
         return cvk_issue_at(issue, path, "a %" PRIu32 " x %" PRIu32 " grid is a rope, with no area for a density; "
                         "give its mass instead", c->grid[0], c->grid[1]);
@@ -420,11 +426,11 @@ static bool check_mass(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
 static bool check_material(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    return check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) && check_mass(c, base, issue) &&
-           check_at_least(issue, join(path, base, "stiffness.structural"),
+    return cvk_check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) && check_mass(c, base, issue) &&
+           cvk_check_at_least(issue, join(path, base, "stiffness.structural"),
                           c->stiffness.structural, 0.0) &&
-           check_at_least(issue, join(path, base, "stiffness.shear"), c->stiffness.shear, 0.0) &&
-           check_at_least(issue, join(path, base, "stiffness.bend"), c->stiffness.bend, 0.0);
+           cvk_check_at_least(issue, join(path, base, "stiffness.shear"), c->stiffness.shear, 0.0) &&
+           cvk_check_at_least(issue, join(path, base, "stiffness.bend"), c->stiffness.bend, 0.0);
 }
 
 /* Vertex indices are checked against the mesh when it is read: its vertex count is not known
@@ -469,8 +475,8 @@ bool cvk_check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     if (!c->use_pin_box)
         return true;
     join(path, base, "pin_box");
-    if (!check_finite_array(issue, join_index(corner, path, 0), c->pin_box.min, 3) ||
-        !check_finite_array(issue, join_index(corner, path, 1), c->pin_box.max, 3))
+    if (!cvk_check_finite_array(issue, join_index(corner, path, 0), c->pin_box.min, 3) ||
+        !cvk_check_finite_array(issue, join_index(corner, path, 1), c->pin_box.max, 3))
         return false;
     for (int k = 0; k < 3; k++) {
         if (c->pin_box.min[k] > c->pin_box.max[k])
@@ -483,7 +489,7 @@ bool cvk_check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
 /* A rotation of any length, normalised where it is used, but not zero. */
 static bool check_quaternion(cvk_scene_issue* issue, const char* path, const float q[4])
 {
-    if (!check_finite_array(issue, path, q, 4))
+    if (!cvk_check_finite_array(issue, path, q, 4))
         return false;
     if (q[0] == 0.0f && q[1] == 0.0f && q[2] == 0.0f && q[3] == 0.0f)
         return cvk_issue_at(issue, path, "must not be zero, got [0, 0, 0, 0]");
@@ -506,7 +512,7 @@ static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_
     }
     if (!check_quaternion(issue, join(path, base, "transform.rotation"), t->rotation))
         return false;
-    return check_finite_array(issue, join(path, base, "transform.translation"), t->translation, 3);
+    return cvk_check_finite_array(issue, join(path, base, "transform.translation"), t->translation, 3);
 }
 
 static bool check_file_name(cvk_scene_issue* issue, const char* path, const char* file)
@@ -522,7 +528,7 @@ static bool check_shape(const cvk_cloth_desc* c, const char* base, uint64_t* tot
     if (c->mesh)
         return check_file_name(issue, join(path, base, "mesh"), c->mesh);
     return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
-           check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
+           cvk_check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
 }
 
 /* Names are printed by the tools and written into OBJ files (an "o" line): a control
@@ -540,7 +546,7 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
 {
     char path[CVK_KEY_PATH_MAX];
     const float* v = c->velocity;
-    if (!check_finite_array(issue, join(path, base, "velocity"), v, 3))
+    if (!cvk_check_finite_array(issue, join(path, base, "velocity"), v, 3))
         return false;
     double speed = sqrt(dot3(v, v));
     if (speed <= CVK_MAX_VELOCITY)
@@ -560,14 +566,14 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && cvk_check_pins(c, base, issue) && cvk_check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           check_velocity(c, base, issue);
+           check_velocity(c, base, issue) && cvk_aero_check(&c->aero, base, issue);
 }
 
 /* ---- the render block ---- */
 
 static bool check_direction(cvk_scene_issue* issue, const char* path, const float v[3])
 {
-    if (!check_finite_array(issue, path, v, 3))
+    if (!cvk_check_finite_array(issue, path, v, 3))
         return false;
     if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
         return cvk_issue_at(issue, path, "must not be zero, got [0, 0, 0]");
@@ -596,8 +602,8 @@ static bool check_render_size(const cvk_render_desc* r, cvk_scene_issue* issue)
 
 static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
 {
-    if (!check_finite_array(issue, "render.eye", r->eye, 3) ||
-        !check_finite_array(issue, "render.target", r->target, 3) ||
+    if (!cvk_check_finite_array(issue, "render.eye", r->eye, 3) ||
+        !cvk_check_finite_array(issue, "render.target", r->target, 3) ||
         !check_direction(issue, "render.up", r->up) || !check_open(issue, "render.fov_y", r->fov_y, 0.0, 180.0))
         return false;
     if (r->auto_eye || r->auto_target || r->camera_keyframe_count > 0)
@@ -628,13 +634,13 @@ static bool check_camera_keyframes(const cvk_render_desc* r, cvk_scene_issue* is
     for (uint32_t i = 0; i < r->camera_keyframe_count; i++) {
         const cvk_camera_keyframe* k = &r->camera_keyframes[i];
         join_index(element, base, i);
-        if (!check_at_least(issue, join(path, element, "time"), k->time, 0.0))
+        if (!cvk_check_at_least(issue, join(path, element, "time"), k->time, 0.0))
             return false;
         if (i > 0 && !(k->time > k[-1].time))
             return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", k[-1].time,
                             k->time);
-        if (!check_finite_array(issue, join(path, element, "eye"), k->eye, 3) ||
-            !check_finite_array(issue, join(path, element, "target"), k->target, 3))
+        if (!cvk_check_finite_array(issue, join(path, element, "eye"), k->eye, 3) ||
+            !cvk_check_finite_array(issue, join(path, element, "target"), k->target, 3))
             return false;
         float view[3] = {k->target[0] - k->eye[0], k->target[1] - k->eye[1], k->target[2] - k->eye[2]};
         double vv = dot3(view, view), uu = dot3(r->up, r->up), vu = dot3(view, r->up);
@@ -674,8 +680,8 @@ static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_
         return cvk_issue_at(issue, "collision.detect_every",
                         "must be 0 (adaptive) or between 1 and substeps (%u), got %u", substeps,
                         c->detect_every);
-    if (!check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
-        !check_at_least(issue, "collision.friction", c->friction, 0.0) ||
+    if (!cvk_check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
+        !cvk_check_at_least(issue, "collision.friction", c->friction, 0.0) ||
         !check_finite(issue, "collision.static_friction", c->static_friction))
         return false;
     if (c->static_friction < c->friction)
@@ -688,11 +694,11 @@ static bool check_box_shape(const cvk_collider_desc* c, const char* base, cvk_sc
 {
     char path[CVK_KEY_PATH_MAX];
     char element[CVK_KEY_PATH_MAX];
-    if (!check_finite_array(issue, join(path, base, "center"), c->center, 3))
+    if (!cvk_check_finite_array(issue, join(path, base, "center"), c->center, 3))
         return false;
     join(path, base, "half_extents");
     for (uint32_t i = 0; i < 3; i++) {
-        if (!check_greater(issue, join_index(element, path, i), c->half_extents[i], 0.0))
+        if (!cvk_check_greater(issue, join_index(element, path, i), c->half_extents[i], 0.0))
             return false;
     }
     return check_quaternion(issue, join(path, base, "rotation"), c->rotation);
@@ -715,20 +721,20 @@ static bool check_collider_shape(const cvk_collider_desc* c, const char* base, c
     char path[CVK_KEY_PATH_MAX];
     switch (c->type) {
     case CVK_COLLIDER_PLANE:
-        return check_finite_array(issue, join(path, base, "point"), c->point, 3) &&
+        return cvk_check_finite_array(issue, join(path, base, "point"), c->point, 3) &&
                check_direction(issue, join(path, base, "normal"), c->normal);
     case CVK_COLLIDER_SPHERE:
-        return check_finite_array(issue, join(path, base, "center"), c->center, 3) &&
-               check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
+        return cvk_check_finite_array(issue, join(path, base, "center"), c->center, 3) &&
+               cvk_check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
     case CVK_COLLIDER_BOX: return check_box_shape(c, base, issue);
     case CVK_COLLIDER_CAPSULE:
-        return check_finite_array(issue, join(path, base, "a"), c->a, 3) &&
-               check_finite_array(issue, join(path, base, "b"), c->b, 3) &&
-               check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
+        return cvk_check_finite_array(issue, join(path, base, "a"), c->a, 3) &&
+               cvk_check_finite_array(issue, join(path, base, "b"), c->b, 3) &&
+               cvk_check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
     case CVK_COLLIDER_FUNNEL:
-        return check_finite_array(issue, join(path, base, "apex"), c->apex, 3) &&
-               check_greater(issue, join(path, base, "a"), c->funnel_a, 0.0) &&
-               check_greater(issue, join(path, base, "height"), c->height, 0.0);
+        return cvk_check_finite_array(issue, join(path, base, "apex"), c->apex, 3) &&
+               cvk_check_greater(issue, join(path, base, "a"), c->funnel_a, 0.0) &&
+               cvk_check_greater(issue, join(path, base, "height"), c->height, 0.0);
     case CVK_COLLIDER_MESH: return check_mesh_shape(c, base, issue);
     case CVK_COLLIDER_TYPE_COUNT: break;
     }
@@ -760,12 +766,12 @@ static bool check_keyframe(const cvk_keyframe* k, const char* base, const cvk_ke
                            cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    if (!check_at_least(issue, join(path, base, "time"), k->time, 0.0))
+    if (!cvk_check_at_least(issue, join(path, base, "time"), k->time, 0.0))
         return false;
     if (previous && !(k->time > previous->time))
         return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", previous->time,
                         k->time);
-    return check_finite_array(issue, join(path, base, "translation"), k->translation, 3) &&
+    return cvk_check_finite_array(issue, join(path, base, "translation"), k->translation, 3) &&
            check_quaternion(issue, join(path, base, "rotation"), k->rotation);
 }
 
@@ -838,6 +844,7 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
             return false;
     }
     return check_colliders(desc, issue) && cvk_attachments_check(desc, issue) &&
+           cvk_wind_check(desc, issue) &&
            check_render(&desc->render, issue);
 }
 

@@ -46,6 +46,18 @@ bool cvk_attachments_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attachment_count,
                                   cvk_scene_issue* issue);
 
+/* Air (lib/scene_air.c): the wind block and air_density, and the solver it needs; a cloth's
+   aero coefficients (paths start with base). */
+bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
+bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
+bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
+bool cvk_check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n);
+bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, double low);
+bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low);
+
+/* Fastest mean wind, m/s: ten times a hurricane's; a typo is refused. */
+#define CVK_MAX_WIND 700.0
+
 /* The cloth description whose pins are the attachment's (the rest is the cloth's): the pins
    checks and the topology's pin selection then serve attachments too. */
 cvk_cloth_desc cvk_attachment_pins_as_cloth(const cvk_cloth_desc* cloth,

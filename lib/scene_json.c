@@ -184,6 +184,13 @@ static const cvk_field transform_fields[] = {
 };
 static const cvk_table transform_table = FIELDS(transform_fields);
 
+static const cvk_field aero_fields[] = {
+    {.key = "drag", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, drag)},
+    {.key = "lift", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, lift)},
+    {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, friction)},
+};
+static const cvk_table aero_table = FIELDS(aero_fields);
+
 static const cvk_field cloth_fields[] = {
     {.key = "name", .read = cvk_read_string, .offset = offsetof(cvk_cloth_desc, name)},
     {.key = "grid", .read = cvk_read_uints, .offset = offsetof(cvk_cloth_desc, grid), .count = 2, .min = 1},
@@ -203,6 +210,7 @@ static const cvk_field cloth_fields[] = {
     {.key = "pin_box", .read = read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
+    {.key = "aero", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, aero), .nested = &aero_table},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
 
@@ -480,6 +488,29 @@ static cvk_result read_attachments(cvk_reader* rd, const cvk_field* f, json_t* v
     return CVK_SUCCESS;
 }
 
+/* ---- the air: wind and gusts ---- */
+
+static const cvk_field gusts_fields[] = {
+    {.key = "amplitude", .read = cvk_read_float, .offset = offsetof(cvk_gusts_desc, amplitude)},
+    {.key = "period", .read = cvk_read_float, .offset = offsetof(cvk_gusts_desc, period)},
+    {.key = "jitter", .read = cvk_read_float, .offset = offsetof(cvk_gusts_desc, jitter)},
+};
+static const cvk_table gusts_table = FIELDS(gusts_fields);
+
+static const cvk_field wind_fields[] = {
+    {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_wind_desc, velocity), .count = 3},
+    {.key = "gusts", .read = cvk_read_nested, .offset = offsetof(cvk_wind_desc, gusts), .nested = &gusts_table},
+};
+static const cvk_table wind_table = FIELDS(wind_fields);
+
+/* dest is the wind: a "wind" block turns the air on. */
+static cvk_result read_wind(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    cvk_wind_desc* wind = dest;
+    wind->enabled = true;
+    return cvk_read_nested(rd, f, value, path, dest);
+}
+
 static const cvk_field solver_fields[] = {
     {.key = "method", .read = read_method, .offset = offsetof(cvk_solver_desc, method)},
     {.key = "linear", .read = read_linear, .offset = offsetof(cvk_solver_desc, linear)},
@@ -605,6 +636,8 @@ static const cvk_field scene_fields[] = {
      .nested = &collision_table},
     {.key = "colliders", .read = read_colliders, .offset = 0},
     {.key = "attachments", .read = read_attachments, .offset = 0},
+    {.key = "wind", .read = read_wind, .offset = offsetof(cvk_scene_desc, wind), .nested = &wind_table},
+    {.key = "air_density", .read = cvk_read_float, .offset = offsetof(cvk_scene_desc, air_density)},
 };
 static const cvk_table scene_table = FIELDS(scene_fields);
 

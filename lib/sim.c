@@ -175,7 +175,8 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
     uint32_t types = 0;
     for (uint32_t i = 0; i < s->collide.collider_count; i++)
         types |= 1u << s->collide.colliders[i].type;
-    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, types, s->collide.self};
+    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, types, s->collide.self,
+                              s->aero.enabled};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);
@@ -311,6 +312,8 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
     if (r == CVK_SUCCESS)
         r = cvk_attach_create(s, scene, error);
     if (r == CVK_SUCCESS)
+        r = cvk_aero_create(s, scene, error);
+    if (r == CVK_SUCCESS)
         r = s->family->create(s, &s->solver, &s->family_state, error);
     if (r == CVK_SUCCESS)
         r = set_initial_velocity(s, scene, error);
@@ -415,6 +418,7 @@ void cvk_sim_destroy(cvk_sim* s)
         cvk_queue_idle(s->context);
     if (s->family && s->family_state)
         s->family->destroy(s, s->family_state);
+    cvk_aero_destroy(s);
     cvk_attach_destroy(s);
     cvk_collide_destroy(s);
     cvk_pipelines_destroy(s->context, &s->pipelines);

@@ -4,6 +4,7 @@
 #ifndef CVK_SIM_H
 #define CVK_SIM_H
 
+#include "aero.h"
 #include "attach.h"
 #include "build.h"
 #include "collide.h"
@@ -26,6 +27,7 @@ struct cvk_sim {
 
     cvk_collide collide;    /* colliders, self-contact, the frame state (collide.h) */
     cvk_attach attach;      /* keyframed attached particles (attach.h) */
+    cvk_aero aero;          /* wind and air drag (aero.h) */
 
     const struct cvk_family_api* family; /* the family that solves `solver` */
     void* family_state;

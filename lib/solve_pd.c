@@ -106,6 +106,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_X] = STORAGE,      [CVK_PD_BINDING_RHS_READ] = TEXEL,
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
     [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
+    [CVK_PD_BINDING_EXTERNAL] = TEXEL,
 };
 #undef TEXEL
 #undef STORAGE
@@ -126,6 +127,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_ADJACENCY] = {.view = pd->view_adjacency},
         [CVK_PD_BINDING_ADJACENCY_KL] = {.view = pd->view_adjacency_kl},
         [CVK_PD_BINDING_WATCH] = {.buffer = &s->watch},
+        [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero.view_external},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
 }
@@ -412,8 +414,10 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->readback_cmd, error);
     if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
-    if (r == CVK_SUCCESS)
+    if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
         cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
+        cvk_aero_bind(s, &pd->u[0]);
+    }
     if (r == CVK_SUCCESS)
         r = upload_adjacency(s, pd, error);
     if (r == CVK_SUCCESS)

@@ -227,6 +227,17 @@ typedef struct cvk_box3 {
     float max[3];
 } cvk_box3;
 
+/* Aerodynamic coefficients of a cloth's triangles (used when the scene has a "wind" block). A
+   triangle of area A, unit normal n, in air moving at v relative to it (|v| = speed, the
+   normal part v_n = (v·n) n, the tangential v_t = v − v_n, cos θ = v·n / |v|) feels
+   ½ ρ A (drag |v·n| v_n + friction |v| v_t + lift cos θ sin θ |v|² l), l the unit vector across
+   v in the plane of v and n (after NvCloth's wind); a third of it on each corner. */
+typedef struct cvk_aero_desc {
+    float drag;                  /* pressure drag along the normal, ≥ 0; usually 1 */
+    float lift;                  /* lift across the flow, ≥ 0; usually 0.2 */
+    float friction;              /* skin friction along the surface, ≥ 0; usually 0.02 */
+} cvk_aero_desc;
+
 /* One cloth: a rectangular grid of particles (the default) or a triangle mesh read from a file.
 
    Grid: particle [i, j] sits at origin + i·du·u_axis + j·dv·v_axis, du = size[0] / (grid[0] − 1),
@@ -266,6 +277,7 @@ typedef struct cvk_cloth_desc {
     cvk_box3 pin_box;            /* m, after the transform; min ≤ max on every axis */
     float color[3];              /* linear RGB in [0, 1], for renderers */
     float velocity[3];           /* initial velocity of every free particle, m/s; usually 0 */
+    cvk_aero_desc aero;          /* how the air of cvk_scene_desc.wind pushes it */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 
@@ -419,6 +431,25 @@ typedef struct cvk_render_desc {
     bool camera_loop;            /* repeat the camera's path, period last.time − first.time */
 } cvk_render_desc;
 
+/* Gusts: the wind's speed and direction varying with simulated time t, deterministically
+   (the same on every run and on the device and host): with phase τ = 2π t / period,
+   speed factor 1 + amplitude · (sin τ + sin(1.618 τ + 1)) / 2 and a turn about the up axis
+   (+y) by jitter · sin(0.73 τ + 2) degrees. */
+typedef struct cvk_gusts_desc {
+    float amplitude;             /* fraction of the mean speed the gusts add or take, 0 to 1;
+                                    usually 0 (a steady wind) */
+    float period;                /* s, > 0; usually 2 */
+    float jitter;                /* degrees, 0 to 90; usually 0 */
+} cvk_gusts_desc;
+
+/* Air on the cloths (the "wind" block of a scene file). Without it no aerodynamic work is
+   recorded; with it, even at zero velocity, moving cloth feels the drag of still air. */
+typedef struct cvk_wind_desc {
+    bool enabled;                /* true: air acts on every cloth by its aero coefficients */
+    float velocity[3];           /* m/s, the mean wind; usually [0, 0, 0] (still air) */
+    cvk_gusts_desc gusts;
+} cvk_wind_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;            /* for messages and output; may be NULL */
     float dt;                    /* substep length, s; > 0, usually 0.002 */
@@ -438,6 +469,8 @@ typedef struct cvk_scene_desc {
     const cvk_attachment_desc* attachments; /* keyframed kinematic particles; zero-initialised
                                     fields are the defaults */
     uint32_t attachment_count;   /* 0: none (no attachment pass is recorded) */
+    cvk_wind_desc wind;          /* air: wind, gusts and drag; usually off */
+    float air_density;           /* kg/m³, > 0; usually 1.2 */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 

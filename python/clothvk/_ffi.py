@@ -113,6 +113,12 @@ typedef struct cvk_box3 {
     float max[3];
 } cvk_box3;
 
+typedef struct cvk_aero_desc {
+    float drag;
+    float lift;
+    float friction;
+} cvk_aero_desc;
+
 typedef struct cvk_cloth_desc {
     const char* name;
     uint32_t grid[2];
@@ -134,6 +140,7 @@ typedef struct cvk_cloth_desc {
     cvk_box3 pin_box;
     float color[3];
     float velocity[3];
+    cvk_aero_desc aero;
     uint32_t cookie_;
 } cvk_cloth_desc;
 
@@ -235,6 +242,18 @@ typedef struct cvk_render_desc {
     bool camera_loop;
 } cvk_render_desc;
 
+typedef struct cvk_gusts_desc {
+    float amplitude;
+    float period;
+    float jitter;
+} cvk_gusts_desc;
+
+typedef struct cvk_wind_desc {
+    bool enabled;
+    float velocity[3];
+    cvk_gusts_desc gusts;
+} cvk_wind_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;
     float dt;
@@ -252,6 +271,8 @@ typedef struct cvk_scene_desc {
     uint32_t collider_count;
     const cvk_attachment_desc* attachments;
     uint32_t attachment_count;
+    cvk_wind_desc wind;
+    float air_density;
     uint32_t cookie_;
 } cvk_scene_desc;
 

@@ -51,7 +51,8 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
 #define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
 #define CVK_PD_BINDING_WATCH 11        /* storage: cvk_gpu_watch */
-#define CVK_PD_BINDING_COUNT 12
+#define CVK_PD_BINDING_EXTERNAL 12     /* texel: h^2 F / m of the air per free particle (WIND) */
+#define CVK_PD_BINDING_COUNT 13
 
 /* The divergence watch (lib/sim.h): predict counts substeps and flags a spring stretched past
    CVK_DIVERGED_STRETCH in the positions it starts from (nothing writes them while it runs);
@@ -284,6 +285,29 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 #define CVK_ATTACH_BINDING_U0 5          /* the solver's displacement iterates (pd_common.glsl) */
 #define CVK_ATTACH_BINDING_U1 6
 #define CVK_ATTACH_BINDING_COUNT 7
+
+/* ---- air: aero_triangles.comp, aero_gather.comp (lib/aero.h) ------------------------------ */
+
+/* Push data of both air passes. count 0 (the warm-up dispatch) does nothing, not even advance
+   the frame state. */
+#define CVK_AERO_PUSH_FIELDS                                                       \
+    CVK_UINT(count)        /* triangles (aero_triangles) or free particles (aero_gather) */ \
+    CVK_UINT(counted)      /* 1: a pass before counted this substep; 0: aero_gather counts it */ \
+    CVK_FLOAT(dt)          /* s per substep */                                     \
+    CVK_UINT(pad0)                                                                \
+    CVK_VEC4(wind)         /* xyz: the mean wind, m/s */                           \
+    CVK_VEC4(gusts)        /* x: amplitude; y: 2 pi / period, 1/s; z: jitter, radians */
+CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
+
+#define CVK_AERO_BINDING_FRAME 0        /* cvk_gpu_frame (the contact module's buffer) */
+#define CVK_AERO_BINDING_POSITIONS 1    /* vec4 per particle: x_n, w: m/h^2 (pd_common.glsl) */
+#define CVK_AERO_BINDING_U 2            /* vec4 per particle: the last displacement (velocity h) */
+#define CVK_AERO_BINDING_TRIANGLES 3    /* uvec4 per triangle: corners (internal), cloth */
+#define CVK_AERO_BINDING_COEFFICIENTS 4 /* vec4 per cloth: rho/2 times drag, lift, friction */
+#define CVK_AERO_BINDING_FORCES 5       /* vec4 per triangle: a third of its force, N */
+#define CVK_AERO_BINDING_INCIDENCE 6    /* uint: free_count + 1 offsets, then triangle ids */
+#define CVK_AERO_BINDING_EXTERNAL 7     /* vec4 per free particle: h^2 F / m, read by predict */
+#define CVK_AERO_BINDING_COUNT 8
 
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
