@@ -12,13 +12,16 @@
 #include "sim.h"
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 static const cvk_binding aero_bindings[CVK_AERO_BINDING_COUNT] = {
-    [CVK_AERO_BINDING_FRAME] = STORAGE,        [CVK_AERO_BINDING_POSITIONS] = STORAGE,
-    [CVK_AERO_BINDING_U] = STORAGE,            [CVK_AERO_BINDING_TRIANGLES] = STORAGE,
+    [CVK_AERO_BINDING_FRAME] = STORAGE,        [CVK_AERO_BINDING_POSITIONS] = TEXEL,
+    [CVK_AERO_BINDING_U] = TEXEL,              [CVK_AERO_BINDING_TRIANGLES] = TEXEL,
     [CVK_AERO_BINDING_COEFFICIENTS] = STORAGE, [CVK_AERO_BINDING_FORCES] = STORAGE,
-    [CVK_AERO_BINDING_INCIDENCE] = STORAGE,    [CVK_AERO_BINDING_EXTERNAL] = STORAGE,
+    [CVK_AERO_BINDING_INCIDENCE] = TEXEL,      [CVK_AERO_BINDING_EXTERNAL] = STORAGE,
+    [CVK_AERO_BINDING_FORCES_READ] = TEXEL,
 };
 #undef STORAGE
+#undef TEXEL
 
 static const double two_pi = 6.283185307179586;
 static const double degrees = 0.017453292519943295;
@@ -84,6 +87,18 @@ static cvk_result make_tables(cvk_sim* s, cvk_aero* a, cvk_error* error)
     free(fill);
     free(tris);
     free(inc);
+    struct {
+        const cvk_buffer* buffer;
+        VkFormat format;
+        VkBufferView* view;
+    } views[] = {
+        {&a->triangles, VK_FORMAT_R32G32B32A32_UINT, &a->view_triangles},
+        {&a->incidence, VK_FORMAT_R32_UINT, &a->view_incidence},
+        {&a->forces, VK_FORMAT_R32G32B32A32_SFLOAT, &a->view_forces},
+    };
+    for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
+        r = cvk_buffer_view_create(s->context, views[i].buffer, views[i].format, views[i].view,
+                                   error);
     return r;
 }
 
@@ -132,8 +147,11 @@ void cvk_aero_destroy(cvk_sim* s)
 {
     cvk_aero* a = &s->aero;
     cvk_descriptors_destroy(s->context, &a->descriptors);
-    if (a->view_external)
-        vkDestroyBufferView(s->context->device, a->view_external, NULL);
+    VkBufferView views[] = {a->view_external, a->view_triangles, a->view_incidence,
+                            a->view_forces};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(s->context->device, views[i], NULL);
     cvk_buffer* buffers[] = {&a->triangles, &a->coefficient_buffer, &a->forces, &a->incidence,
                              &a->external};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
@@ -142,20 +160,21 @@ void cvk_aero_destroy(cvk_sim* s)
     *a = (cvk_aero){0};
 }
 
-void cvk_aero_bind(cvk_sim* s, const cvk_buffer* u)
+void cvk_aero_bind(cvk_sim* s, VkBufferView u)
 {
     cvk_aero* a = &s->aero;
     if (!a->enabled)
         return;
     const cvk_resource res[CVK_AERO_BINDING_COUNT] = {
         [CVK_AERO_BINDING_FRAME] = {.buffer = &s->collide.frame},
-        [CVK_AERO_BINDING_POSITIONS] = {.buffer = &s->positions},
-        [CVK_AERO_BINDING_U] = {.buffer = u},
-        [CVK_AERO_BINDING_TRIANGLES] = {.buffer = &a->triangles},
+        [CVK_AERO_BINDING_POSITIONS] = {.view = s->view_positions},
+        [CVK_AERO_BINDING_U] = {.view = u},
+        [CVK_AERO_BINDING_TRIANGLES] = {.view = a->view_triangles},
         [CVK_AERO_BINDING_COEFFICIENTS] = {.buffer = &a->coefficient_buffer},
         [CVK_AERO_BINDING_FORCES] = {.buffer = &a->forces},
-        [CVK_AERO_BINDING_INCIDENCE] = {.buffer = &a->incidence},
+        [CVK_AERO_BINDING_INCIDENCE] = {.view = a->view_incidence},
         [CVK_AERO_BINDING_EXTERNAL] = {.buffer = &a->external},
+        [CVK_AERO_BINDING_FORCES_READ] = {.view = a->view_forces},
     };
     cvk_descriptors_write(s->context, &a->descriptors, 0, res);
     a->bound = true;

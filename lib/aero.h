@@ -25,6 +25,7 @@ typedef struct cvk_aero {
     cvk_buffer incidence;        /* free_count + 1 offsets, then triangle ids */
     cvk_buffer external;         /* vec4 per free particle: h² F / m (16 bytes without wind) */
     VkBufferView view_external;  /* bound by the projective-dynamics set in every scene */
+    VkBufferView view_triangles, view_incidence, view_forces;
     cvk_descriptors descriptors;
     bool bound;
 } cvk_aero;
@@ -33,8 +34,9 @@ typedef struct cvk_aero {
 cvk_result cvk_aero_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk_error* error);
 void cvk_aero_destroy(struct cvk_sim* sim);
 
-/* Points the passes at the solver's last displacement (projective dynamics' u[0]). */
-void cvk_aero_bind(struct cvk_sim* sim, const cvk_buffer* u);
+/* Points the passes at the solver's last displacement (a texel view of projective dynamics'
+   u[0]). */
+void cvk_aero_bind(struct cvk_sim* sim, VkBufferView u);
 
 /* The two passes ("wind"), before the prediction; none without wind. */
 cvk_result cvk_aero_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);

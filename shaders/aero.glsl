@@ -4,23 +4,20 @@
 #include "shared/layout.h"
 
 layout(std430, set = 0, binding = CVK_AERO_BINDING_FRAME) buffer Frame { cvk_gpu_frame frame; };
-layout(std430, set = 0, binding = CVK_AERO_BINDING_POSITIONS) readonly buffer Positions {
-    vec4 x[];
-};
-layout(std430, set = 0, binding = CVK_AERO_BINDING_U) readonly buffer U { vec4 u[]; };
-layout(std430, set = 0, binding = CVK_AERO_BINDING_TRIANGLES) readonly buffer Triangles {
-    uvec4 triangles[];
-};
+layout(set = 0, binding = CVK_AERO_BINDING_POSITIONS) uniform samplerBuffer x_t;
+layout(set = 0, binding = CVK_AERO_BINDING_U) uniform samplerBuffer u_t;
+layout(set = 0, binding = CVK_AERO_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
 layout(std430, set = 0, binding = CVK_AERO_BINDING_COEFFICIENTS) readonly buffer Coefficients {
     vec4 coefficients[];
 };
-layout(std430, set = 0, binding = CVK_AERO_BINDING_FORCES) buffer Forces { vec4 forces[]; };
-layout(std430, set = 0, binding = CVK_AERO_BINDING_INCIDENCE) readonly buffer Incidence {
-    uint incidence[];
+layout(std430, set = 0, binding = CVK_AERO_BINDING_FORCES) writeonly buffer Forces {
+    vec4 forces[];
 };
+layout(set = 0, binding = CVK_AERO_BINDING_INCIDENCE) uniform usamplerBuffer incidence_t;
 layout(std430, set = 0, binding = CVK_AERO_BINDING_EXTERNAL) writeonly buffer Air {
     vec4 air[]; // h^2 F / m per free particle
 };
+layout(set = 0, binding = CVK_AERO_BINDING_FORCES_READ) uniform samplerBuffer forces_t;
 CVK_DECLARE_PUSH(CVK_AERO_PUSH_FIELDS)
 
 vec3 wind_at(float t)

@@ -14,9 +14,10 @@ void main()
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint p = gl_GlobalInvocationID.x; p < pc.count; p += stride) {
         vec3 sum = vec3(0.0);
-        for (uint k = incidence[p]; k < incidence[p + 1u]; k++)
-            sum += forces[incidence[pc.count + 1u + k]].xyz;
-        air[p] = vec4(sum / x[p].w, 0.0);
+        uint first = texelFetch(incidence_t, int(p)).x, end = texelFetch(incidence_t, int(p + 1u)).x;
+        for (uint k = first; k < end; k++)
+            sum += texelFetch(forces_t, int(texelFetch(incidence_t, int(pc.count + 1u + k)).x)).xyz;
+        air[p] = vec4(sum / texelFetch(x_t, int(p)).w, 0.0);
     }
     if (gl_GlobalInvocationID.x == 0u && pc.counted == 0u)
         frame.step += 1u;

@@ -19,9 +19,11 @@ void main()
     vec3 wind = wind_at(float(step) * pc.dt);
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
-        uvec4 t = triangles[i];
-        vec3 a = x[t.x].xyz, b = x[t.y].xyz, c = x[t.z].xyz;
-        vec3 velocity = (u[t.x].xyz + u[t.y].xyz + u[t.z].xyz) / (3.0 * pc.dt);
+        uvec4 t = texelFetch(triangles_t, int(i));
+        vec3 a = texelFetch(x_t, int(t.x)).xyz, b = texelFetch(x_t, int(t.y)).xyz,
+             c = texelFetch(x_t, int(t.z)).xyz;
+        vec3 velocity = (texelFetch(u_t, int(t.x)).xyz + texelFetch(u_t, int(t.y)).xyz +
+                         texelFetch(u_t, int(t.z)).xyz) / (3.0 * pc.dt);
         vec3 v = wind - velocity;
         vec3 normal = cross(b - a, c - a);
         float twice_area = length(normal);

@@ -299,15 +299,18 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
     CVK_VEC4(gusts)        /* x: amplitude; y: 2 pi / period, 1/s; z: jitter, radians */
 CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
 
+/* Tables read per item are texel buffers (a gather on lavapipe, where a storage load is a loop
+   over the lanes; pd_common.glsl). */
 #define CVK_AERO_BINDING_FRAME 0        /* cvk_gpu_frame (the contact module's buffer) */
-#define CVK_AERO_BINDING_POSITIONS 1    /* vec4 per particle: x_n, w: m/h^2 (pd_common.glsl) */
-#define CVK_AERO_BINDING_U 2            /* vec4 per particle: the last displacement (velocity h) */
-#define CVK_AERO_BINDING_TRIANGLES 3    /* uvec4 per triangle: corners (internal), cloth */
+#define CVK_AERO_BINDING_POSITIONS 1    /* texel, vec4 per particle: x_n, w: m/h^2 (pd_common.glsl) */
+#define CVK_AERO_BINDING_U 2            /* texel, vec4 per particle: the last displacement (velocity h) */
+#define CVK_AERO_BINDING_TRIANGLES 3    /* texel, uvec4 per triangle: corners (internal), cloth */
 #define CVK_AERO_BINDING_COEFFICIENTS 4 /* vec4 per cloth: rho/2 times drag, lift, friction */
 #define CVK_AERO_BINDING_FORCES 5       /* vec4 per triangle: a third of its force, N */
-#define CVK_AERO_BINDING_INCIDENCE 6    /* uint: free_count + 1 offsets, then triangle ids */
+#define CVK_AERO_BINDING_INCIDENCE 6    /* texel, uint: free_count + 1 offsets, then triangle ids */
 #define CVK_AERO_BINDING_EXTERNAL 7     /* vec4 per free particle: h^2 F / m, read by predict */
-#define CVK_AERO_BINDING_COUNT 8
+#define CVK_AERO_BINDING_FORCES_READ 8  /* texel view of the forces */
+#define CVK_AERO_BINDING_COUNT 9
 
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
