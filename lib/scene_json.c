@@ -112,7 +112,7 @@ static cvk_result read_pin_vertices(cvk_reader* rd, json_t* value, size_t count,
 /* dest is the whole cloth. The first element says which form the array is: a pair ([i, j],
    for grids) or a vertex index (for meshes); validation then checks that the form fits the
    cloth. */
-static cvk_result read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+cvk_result cvk_read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
     cvk_cloth_desc* cloth = dest;
@@ -135,7 +135,7 @@ static cvk_result read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, c
 static const cvk_field corner_field = {.key = "pin_box", .read = cvk_read_floats, .count = 3};
 
 /* dest is the whole cloth: a box turns use_pin_box on. */
-static cvk_result read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+cvk_result cvk_read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
     cvk_cloth_desc* cloth = dest;
@@ -168,7 +168,6 @@ static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, 
     return r;
 }
 
-#define FIELDS(array) {.fields = array, .count = sizeof array / sizeof array[0]}
 
 static const cvk_field stiffness_fields[] = {
     {.key = "structural", .read = cvk_read_float, .offset = offsetof(cvk_stiffness, structural)},
@@ -206,8 +205,8 @@ static const cvk_field cloth_fields[] = {
     {.key = "density", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, density)},
     {.key = "stiffness", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, stiffness),
      .nested = &stiffness_table},
-    {.key = "pins", .read = read_pins, .offset = 0},
-    {.key = "pin_box", .read = read_pin_box, .offset = 0},
+    {.key = "pins", .read = cvk_read_pins, .offset = 0},
+    {.key = "pin_box", .read = cvk_read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
     {.key = "aero", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, aero), .nested = &aero_table},
@@ -262,7 +261,7 @@ static const cvk_field keyframe_fields[] = {
 static const cvk_table keyframe_table = FIELDS(keyframe_fields);
 
 /* dest is the collider's motion: keyframes and keyframe_count go together. */
-static cvk_result read_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+cvk_result cvk_read_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
     cvk_motion* motion = dest;
@@ -330,7 +329,7 @@ static const cvk_field collider_fields[] = {
     {.key = "friction", .read = read_coefficient, .offset = COLLIDER(friction)},
     {.key = "static_friction", .read = read_coefficient, .offset = COLLIDER(static_friction)},
     {.key = "color", .read = cvk_read_floats, .offset = COLLIDER(color), .count = 3},
-    {.key = "keyframes", .read = read_keyframes, .offset = COLLIDER(motion)},
+    {.key = "keyframes", .read = cvk_read_keyframes, .offset = COLLIDER(motion)},
     {.key = "loop", .read = cvk_read_bool, .offset = COLLIDER(motion) + offsetof(cvk_motion, loop)},
 };
 static const cvk_table collider_table = FIELDS(collider_fields);
@@ -424,91 +423,6 @@ static cvk_result read_colliders(cvk_reader* rd, const cvk_field* f, json_t* val
     desc->colliders = colliders;
     desc->collider_count = (uint32_t)count;
     return CVK_SUCCESS;
-}
-
-/* ---- attachments: a cloth's particles moved by keyframes ---- */
-
-/* dest is the attachment: "pins" and "pin_box" are read as a cloth's are. */
-static cvk_result read_attachment_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
-                                       void* dest)
-{
-    cvk_attachment_desc* a = dest;
-    cvk_cloth_desc pins = cvk_attachment_pins_as_cloth(&(cvk_cloth_desc){0}, a);
-    cvk_result r = strcmp(f->key, "pins") == 0 ? read_pins(rd, f, value, path, &pins)
-                                               : read_pin_box(rd, f, value, path, &pins);
-    if (r != CVK_SUCCESS)
-        return r;
-    a->pins = pins.pins;
-    a->pin_count = pins.pin_count;
-    a->pin_vertices = pins.pin_vertices;
-    a->pin_vertex_count = pins.pin_vertex_count;
-    a->use_pin_box = pins.use_pin_box;
-    a->pin_box = pins.pin_box;
-    return CVK_SUCCESS;
-}
-
-#define ATTACHMENT(field) offsetof(cvk_attachment_desc, field)
-static const cvk_field attachment_fields[] = {
-    {.key = "cloth", .read = cvk_read_uint, .offset = ATTACHMENT(cloth), .min = 0},
-    {.key = "pins", .read = read_attachment_pins, .offset = 0},
-    {.key = "pin_box", .read = read_attachment_pins, .offset = 0},
-    {.key = "keyframes", .read = read_keyframes, .offset = ATTACHMENT(motion)},
-    {.key = "loop", .read = cvk_read_bool, .offset = ATTACHMENT(motion) + offsetof(cvk_motion, loop)},
-};
-static const cvk_table attachment_table = FIELDS(attachment_fields);
-
-/* dest is the whole scene: attachments and attachment_count go together. */
-static cvk_result read_attachments(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
-                                   void* dest)
-{
-    (void)f;
-    cvk_scene_desc* desc = dest;
-    if (!json_is_array(value))
-        return cvk_reader_fail_type(rd, path, "an array of attachment objects", value);
-    size_t count = json_array_size(value);
-    desc->attachments = NULL;
-    desc->attachment_count = 0;
-    if (count == 0)
-        return CVK_SUCCESS;
-    if (count > UINT32_MAX)
-        return cvk_reader_fail_at(rd, path, "more than %" PRIu32 " attachments", UINT32_MAX);
-    cvk_attachment_desc* attachments = cvk_blocks_alloc(rd->blocks, count, sizeof *attachments);
-    if (!attachments)
-        return cvk_reader_fail_memory(rd);
-    char element[CVK_KEY_PATH_MAX];
-    for (size_t i = 0; i < count; i++) {
-        cvk_json_join_index(element, path, i);
-        attachments[i] = (cvk_attachment_desc){0};
-        cvk_result r = cvk_read_object(rd, &attachment_table, json_array_get(value, i), element, &attachments[i]);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
-    desc->attachments = attachments;
-    desc->attachment_count = (uint32_t)count;
-    return CVK_SUCCESS;
-}
-
-/* ---- the air: wind and gusts ---- */
-
-static const cvk_field gusts_fields[] = {
-    {.key = "amplitude", .read = cvk_read_float, .offset = offsetof(cvk_gusts_desc, amplitude)},
-    {.key = "period", .read = cvk_read_float, .offset = offsetof(cvk_gusts_desc, period)},
-    {.key = "jitter", .read = cvk_read_float, .offset = offsetof(cvk_gusts_desc, jitter)},
-};
-static const cvk_table gusts_table = FIELDS(gusts_fields);
-
-static const cvk_field wind_fields[] = {
-    {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_wind_desc, velocity), .count = 3},
-    {.key = "gusts", .read = cvk_read_nested, .offset = offsetof(cvk_wind_desc, gusts), .nested = &gusts_table},
-};
-static const cvk_table wind_table = FIELDS(wind_fields);
-
-/* dest is the wind: a "wind" block turns the air on. */
-static cvk_result read_wind(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
-{
-    cvk_wind_desc* wind = dest;
-    wind->enabled = true;
-    return cvk_read_nested(rd, f, value, path, dest);
 }
 
 static const cvk_field solver_fields[] = {
@@ -635,8 +549,8 @@ static const cvk_field scene_fields[] = {
     {.key = "collision", .read = cvk_read_nested, .offset = offsetof(cvk_scene_desc, collision),
      .nested = &collision_table},
     {.key = "colliders", .read = read_colliders, .offset = 0},
-    {.key = "attachments", .read = read_attachments, .offset = 0},
-    {.key = "wind", .read = read_wind, .offset = offsetof(cvk_scene_desc, wind), .nested = &wind_table},
+    {.key = "attachments", .read = cvk_read_attachments, .offset = 0},
+    {.key = "wind", .read = cvk_read_wind, .offset = offsetof(cvk_scene_desc, wind), .nested = &cvk_wind_table},
     {.key = "air_density", .read = cvk_read_float, .offset = offsetof(cvk_scene_desc, air_density)},
 };
 static const cvk_table scene_table = FIELDS(scene_fields);
