@@ -46,12 +46,16 @@ typedef struct cloth_part {
     uint32_t first_user;
     uint32_t first_spring;
     uint32_t first_triangle;
+    uint32_t* attached_to;  /* per vertex: its attachment (scene order) or UINT32_MAX; NULL
+                               when none of the scene's attachments is on this cloth */
 } cloth_part;
 
 static void parts_destroy(cloth_part* parts, uint32_t count)
 {
-    for (uint32_t c = 0; parts && c < count; c++)
+    for (uint32_t c = 0; parts && c < count; c++) {
         cvk_topology_destroy(&parts[c].topology);
+        free(parts[c].attached_to);
+    }
     free(parts);
 }
 
@@ -72,10 +76,86 @@ static cvk_result colour_topology(cvk_topology* t, uint32_t index, cvk_error* er
     return r;
 }
 
+/* Marks the particles of attachment a (on this part's cloth) attached and pinned. */
+static cvk_result attach_one(const cvk_scene_desc* scene, uint32_t a, cloth_part* part,
+                             uint8_t* mark, cvk_error* error)
+{
+    const cvk_attachment_desc* desc = &scene->attachments[a];
+    cvk_topology* t = &part->topology;
+    char base[32];
+    snprintf(base, sizeof base, "attachments.%u", a);
+    cvk_cloth_desc pins = cvk_attachment_pins_as_cloth(&scene->cloths[desc->cloth], desc);
+    memset(mark, 0, t->vertex_count);
+    cvk_result r = cvk_topology_select(&pins, base, t, mark, error);
+    for (uint32_t v = 0; r == CVK_SUCCESS && v < t->vertex_count; v++) {
+        if (!mark[v])
+            continue;
+        if (part->attached_to[v] != UINT32_MAX)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "%s: particle %u of cloth %u is already in attachments.%u", base, v,
+                            desc->cloth, part->attached_to[v]);
+        part->attached_to[v] = a;
+        t->pinned[v] = 1;
+    }
+    return r;
+}
+
+/* The attachments on cloth `cloth`: their particles are pinned, and remembered per vertex. */
+static cvk_result attach_part(const cvk_scene_desc* scene, uint32_t cloth, cloth_part* part,
+                              cvk_error* error)
+{
+    uint32_t n = part->topology.vertex_count;
+    cvk_result r = CVK_SUCCESS;
+    uint8_t* mark = NULL;
+    for (uint32_t a = 0; r == CVK_SUCCESS && a < scene->attachment_count; a++) {
+        if (scene->attachments[a].cloth != cloth)
+            continue;
+        if (!part->attached_to) {
+            part->attached_to = malloc((n ? n : 1) * sizeof(uint32_t));
+            mark = malloc(n ? n : 1);
+            if (!part->attached_to || !mark) {
+                r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                             "out of host memory for the attachments of %u particles", n);
+                break;
+            }
+            memset(part->attached_to, 0xff, (size_t)n * sizeof(uint32_t));
+        }
+        r = attach_one(scene, a, part, mark, error);
+    }
+    free(mark);
+    return r;
+}
+
+/* The attached particles by internal index, cloth by cloth in user order. */
+static cvk_result list_attached(cvk_build* b, const cloth_part* parts, cvk_error* error)
+{
+    uint32_t count = 0;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        for (uint32_t v = 0; parts[c].attached_to && v < parts[c].topology.vertex_count; v++)
+            count += parts[c].attached_to[v] != UINT32_MAX;
+    b->attached_count = count;
+    b->attached = malloc((count ? count : 1) * sizeof(uint32_t));
+    b->attached_to = malloc((count ? count : 1) * sizeof(uint32_t));
+    if (!b->attached || !b->attached_to)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for %u attached particles", count);
+    uint32_t i = 0;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        for (uint32_t v = 0; parts[c].attached_to && v < parts[c].topology.vertex_count; v++) {
+            if (parts[c].attached_to[v] == UINT32_MAX)
+                continue;
+            b->attached[i] = b->internal_of[parts[c].first_user + v];
+            b->attached_to[i++] = parts[c].attached_to[v];
+        }
+    return CVK_SUCCESS;
+}
+
 static cvk_result make_parts(const cvk_scene_desc* scene, cloth_part* parts, cvk_error* error)
 {
     for (uint32_t c = 0; c < scene->cloth_count; c++) {
         cvk_result r = cvk_topology_create(&scene->cloths[c], c, &parts[c].topology, error);
+        if (r == CVK_SUCCESS)
+            r = attach_part(scene, c, &parts[c], error);
         if (r == CVK_SUCCESS)
             r = colour_topology(&parts[c].topology, c, error);
         if (r != CVK_SUCCESS)
@@ -319,7 +399,9 @@ cvk_result cvk_build_create_checked(const cvk_scene_desc* scene, cvk_build_check
             add_triangles(b, &parts[c]);
             describe_cloth(b, &scene->cloths[c], c, &parts[c]);
         }
-        r = build_adjacency(b, check, check_user, error);
+        r = list_attached(b, parts, error);
+        if (r == CVK_SUCCESS)
+            r = build_adjacency(b, check, check_user, error);
     }
     if (r == CVK_SUCCESS)
         r = cvk_build_tethers(scene, b, error);
@@ -345,6 +427,8 @@ void cvk_build_destroy(cvk_build* b)
     free(b->cloths);
     free(b->tether_anchor);
     free(b->tether_length);
+    free(b->attached);
+    free(b->attached_to);
     memset(b, 0, sizeof *b);
 }
 

@@ -77,6 +77,11 @@ typedef struct cvk_build {
        particle and the length each tether allows, m; NULL when no cloth has tethers. */
     uint32_t* tether_anchor;
     float* tether_length;
+    /* Attached (kinematic) particles, all of them pinned: attached[i] is an internal index,
+       attached_to[i] its attachment (scene order); cloth by cloth in user order. */
+    uint32_t attached_count;
+    uint32_t* attached;
+    uint32_t* attached_to;
 } cvk_build;
 
 /* Called once the particle count and the largest number of springs on one particle are known,

@@ -202,13 +202,8 @@ static cvk_result make_collider_tables(const cvk_collide* c, contact_tables* t, 
         const cvk_collider_desc* d = &c->colliders[i];
         const cvk_sdf* f = &c->sdfs[i];
         t->shapes[i] = gpu_shape(c, i, k, (uint32_t)v);
-        for (uint32_t j = 0; j < d->motion.keyframe_count; j++, k++) {
-            const cvk_keyframe* kf = &d->motion.keyframes[j];
-            float* out = &t->keyframes[8 * (size_t)k];
-            set3(out, (float[3]){kf->time, kf->translation[0], kf->translation[1]},
-                 kf->translation[2]);
-            quat_xyzw(kf->rotation, out + 4);
-        }
+        cvk_motion_pack(&d->motion, &t->keyframes[8 * (size_t)k]);
+        k += d->motion.keyframe_count;
         uint64_t n = (uint64_t)f->dims[0] * f->dims[1] * f->dims[2];
         if (n)
             memcpy(&t->sdf[v], f->values, n * sizeof(float));
@@ -322,23 +317,6 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
 #undef UNIFORM
 #undef TEXEL
 
-static cvk_result make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
-                              const void* data, cvk_error* error)
-{
-    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-    VkDeviceSize bytes = size; /* what `data` holds; the buffer is never empty */
-    if (size < 16)
-        size = 16;
-    cvk_result r = cvk_buffer_create(s->context, size, usage, CVK_MEMORY_DEVICE, what, buffer,
-                                     error);
-    if (r == CVK_SUCCESS && data)
-        r = cvk_sim_upload(s, buffer, data, bytes, error);
-    return r;
-}
-
 static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     contact_tables t = {0};
@@ -352,19 +330,19 @@ static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error*
                                     "out of host memory for the colliders");
     if (r == CVK_SUCCESS) {
         initial_poses(c, poses);
-        r = make_buffer(s, &c->poses, n * sizeof(cvk_gpu_pose), "collider poses", poses, error);
+        r = cvk_sim_make_buffer(s, &c->poses, n * sizeof(cvk_gpu_pose), "collider poses", poses, error);
     }
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->shapes, n * sizeof(cvk_gpu_collider), "collider shapes", NULL,
+        r = cvk_sim_make_buffer(s, &c->shapes, n * sizeof(cvk_gpu_collider), "collider shapes", NULL,
                         error);
     if (r == CVK_SUCCESS && c->collider_count)
         r = cvk_sim_upload(s, &c->shapes, t.shapes, c->collider_count * sizeof(cvk_gpu_collider),
                            error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->keyframes, 32u * (VkDeviceSize)(t.keyframe_count ? t.keyframe_count : 1),
+        r = cvk_sim_make_buffer(s, &c->keyframes, 32u * (VkDeviceSize)(t.keyframe_count ? t.keyframe_count : 1),
                         "collider keyframes", t.keyframes, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->sdf_values, 4u * (VkDeviceSize)(t.sdf_count ? t.sdf_count : 1),
+        r = cvk_sim_make_buffer(s, &c->sdf_values, 4u * (VkDeviceSize)(t.sdf_count ? t.sdf_count : 1),
                         "collider distance fields", t.sdf, error);
     free_tables(&t);
     free(poses);
@@ -423,18 +401,18 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
     VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->triangles, c->self ? 16u * tc : 16u, "contact triangles",
+        r = cvk_sim_make_buffer(s, &c->triangles, c->self ? 16u * tc : 16u, "contact triangles",
                         t.triangles, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->owned, c->self ? 4u * t.owned_count : 16u, "triangles by corner",
+        r = cvk_sim_make_buffer(s, &c->owned, c->self ? 4u * t.owned_count : 16u, "triangles by corner",
                         t.owned, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
+        r = cvk_sim_make_buffer(s, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
                         "rest positions", c->self ? c->rest_xyz : NULL, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
+        r = cvk_sim_make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
+        r = cvk_sim_make_buffer(s, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
                         "positions at the last search", NULL, error);
     free_cloth_tables(&t);
     struct {
@@ -470,9 +448,9 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
     };
     cvk_gpu_frame frame = {.search = 1, .force = 1};
-    cvk_result r = make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
+    cvk_result r = cvk_sim_make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
     if (r == CVK_SUCCESS)
-        r = make_buffer(s, &c->frame, sizeof frame, "frame state", &frame, error);
+        r = cvk_sim_make_buffer(s, &c->frame, sizeof frame, "frame state", &frame, error);
     return r;
 }
 

@@ -107,3 +107,19 @@ cvk_pose cvk_motion_pose(const cvk_motion* m, double t)
         pose.translation[c] = k[i].translation[c] + s * (k[i + 1].translation[c] - k[i].translation[c]);
     return pose;
 }
+
+void cvk_motion_pack(const cvk_motion* m, float* out)
+{
+    for (uint32_t j = 0; j < m->keyframe_count; j++) {
+        const cvk_keyframe* kf = &m->keyframes[j];
+        float* o = out + 8 * (size_t)j;
+        float q[4];
+        cvk_quat_normalize(kf->rotation, q);
+        o[0] = kf->time;
+        for (int c = 0; c < 3; c++) {
+            o[1 + c] = kf->translation[c];
+            o[4 + c] = q[1 + c];
+        }
+        o[7] = q[0];
+    }
+}

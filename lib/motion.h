@@ -21,6 +21,10 @@ void cvk_quat_rotate(const float q[4], const float p[3], float out[3]);
 void cvk_pose_apply(const cvk_pose* pose, const float p[3], float out[3]);
 void cvk_pose_apply_inverse(const cvk_pose* pose, const float p[3], float out[3]);
 
+/* The keyframes as the device reads them (shaders/motion.glsl): 8 floats per keyframe, time,
+   translation, then the normalised rotation as (x, y, z, w). */
+void cvk_motion_pack(const cvk_motion* motion, float* out);
+
 /* Normalised copy of q; [1, 0, 0, 0] when q is zero. */
 void cvk_quat_normalize(const float q[4], float out[4]);
 

@@ -204,7 +204,10 @@ static void add_predict(pd_builder* pb, const cvk_build* b, uint32_t start)
 /* x += u: the substep's displacement, which the solve left in U0, moves the positions. */
 static void add_finalize(pd_builder* pb, const cvk_build* b)
 {
-    add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, b->free_count, 1.0f,
+    /* With attachments the pinned particles too: the attached move by the displacement the
+       attach pass gave them, the others by their u of 0 (x + 0 is x, bit for bit). */
+    uint32_t count = b->attached_count > 0 ? b->particle_count : b->free_count;
+    add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f,
            pb->base.omega);
 }
 
@@ -323,6 +326,13 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
         pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");
     pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
+    if (solver->linear != CVK_LINEAR_GS_CPU) {
+        cvk_result r = cvk_attach_add_passes(s, plan, error);
+        if (r == CVK_SUCCESS)
+            r = cvk_aero_add_passes(s, plan, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
     switch (solver->linear) {
     case CVK_LINEAR_RBGS:
         plan_gauss_seidel(&pb, &s->build);

@@ -18,6 +18,12 @@ _Static_assert(sizeof(cvk_explicit_push) == 48, "cvk_explicit_push: 48 bytes in 
 _Static_assert(offsetof(cvk_explicit_push, gravity) == 32, "cvk_explicit_push.gravity: a vec4 at 32");
 _Static_assert(sizeof(cvk_mesh_push) == 8, "cvk_mesh_push: 8 bytes in GLSL");
 _Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.triangle_count at 4");
+_Static_assert(sizeof(cvk_aero_push) == 48, "cvk_aero_push: 48 bytes in GLSL");
+_Static_assert(offsetof(cvk_aero_push, wind) == 16, "cvk_aero_push.wind: a vec4 at 16");
+_Static_assert(sizeof(cvk_attach_push) == 16, "cvk_attach_push: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_gpu_attachment) == 16, "cvk_gpu_attachment: 16 bytes in std430");
+_Static_assert(sizeof(cvk_gpu_attached) == 32, "cvk_gpu_attached: 32 bytes in std430");
+_Static_assert(offsetof(cvk_gpu_attached, particle) == 16, "cvk_gpu_attached.particle at 16");
 
 typedef struct pipeline_recipe {
     cvk_shader_id shader;
@@ -45,6 +51,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_FALSE: return 0;
     case CVK_SPEC_COLLIDER_TYPES: return inputs->collider_types;
     case CVK_SPEC_SELF_CONTACT: return inputs->self_contact ? 1 : 0;
+    case CVK_SPEC_WIND: return inputs->wind ? 1 : 0;
     }
     return 0;
 }

@@ -15,6 +15,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_FALSE,          /* a boolean switch left false */
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
+    CVK_SPEC_WIND,           /* the scene has air (lib/aero.h): predict adds its force */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -27,12 +28,15 @@ typedef struct cvk_spec_recipe {
 /* The contact pass (ids 3, 4 of shaders/pd_contact.glsl; id 2 unused). */
 #define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
+/* The prediction (id 3 of shaders/predict.comp; id 2 unused). */
+#define CVK_SPEC_PREDICT {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                          CVK_SPEC_WIND}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
-    X(PREDICT, PREDICT_COMP, CVK_SPEC_PD, "predict (Verlet)")                   \
+    X(PREDICT, PREDICT_COMP, CVK_SPEC_PREDICT, "predict (Verlet)")              \
     X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
@@ -41,6 +45,9 @@ typedef struct cvk_spec_recipe {
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
+    X(ATTACH, ATTACH_COMP, CVK_SPEC_NONE, "attached particles, frame state") \
+    X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
+    X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "particle-triangle candidates") \
@@ -82,6 +89,7 @@ typedef struct cvk_spec_inputs {
     uint32_t max_degree;
     uint32_t collider_types; /* bit t: colliders of type t */
     bool self_contact;
+    bool wind;
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

@@ -43,6 +43,11 @@ cvk_scene_desc cvk_default_scene_desc(void)
                       .detect_every = 0},
         .colliders = NULL,
         .collider_count = 0,
+        .attachments = NULL,
+        .attachment_count = 0,
+        .wind = {.enabled = false, .velocity = {0.0f, 0.0f, 0.0f},
+                 .gusts = {.amplitude = 0.0f, .period = 2.0f, .jitter = 0.0f}},
+        .air_density = 1.2f,
         .cookie_ = scene_cookie,
     };
 }
@@ -98,6 +103,7 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .color = {0.9f, 0.35f, 0.3f},
         .velocity = {0.0f, 0.0f, 0.0f},
         .tethers = 0.0f,
+        .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},
         .cookie_ = cloth_cookie,
     };
 }
@@ -135,7 +141,7 @@ cvk_collider_desc cvk_default_collider_desc(void)
 /* ---- small checks: each returns true when fine, else fills the issue and returns false ---- */
 
 __attribute__((format(printf, 3, 4)))
-static bool issue_at(cvk_scene_issue* issue, const char* path, const char* format, ...)
+bool cvk_issue_at(cvk_scene_issue* issue, const char* path, const char* format, ...)
 {
     cvk_key_path(issue->path, "%s", path);
     va_list args;
@@ -171,10 +177,10 @@ static bool check_finite(cvk_scene_issue* issue, const char* path, double v)
         return true;
     /* glibc prints a NaN with its sign bit set as "-nan"; the sign of a NaN means nothing. */
     const char* text = isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
-    return issue_at(issue, path, "must be a finite number, got %s", text);
+    return cvk_issue_at(issue, path, "must be a finite number, got %s", text);
 }
 
-static bool check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n)
+bool cvk_check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n)
 {
     char element[CVK_KEY_PATH_MAX];
     for (uint32_t i = 0; i < n; i++) {
@@ -184,23 +190,23 @@ static bool check_finite_array(cvk_scene_issue* issue, const char* path, const f
     return true;
 }
 
-static bool check_greater(cvk_scene_issue* issue, const char* path, double v, double low)
+bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, double low)
 {
     if (!check_finite(issue, path, v))
         return false;
-    return v > low || issue_at(issue, path, "must be greater than %g, got %g", low, v);
+    return v > low || cvk_issue_at(issue, path, "must be greater than %g, got %g", low, v);
 }
 
-static bool check_at_least(cvk_scene_issue* issue, const char* path, double v, double low)
+bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low)
 {
     if (!check_finite(issue, path, v))
         return false;
-    return v >= low || issue_at(issue, path, "must be at least %g, got %g", low, v);
+    return v >= low || cvk_issue_at(issue, path, "must be at least %g, got %g", low, v);
 }
 
 static bool check_count(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low)
 {
-    return v >= low || issue_at(issue, path, "must be at least %" PRIu32 ", got %" PRIu32, low, v);
+    return v >= low || cvk_issue_at(issue, path, "must be at least %" PRIu32 ", got %" PRIu32, low, v);
 }
 
 /* low <= v <= high, for counts whose products size the plan and the recorded frame. */
@@ -208,7 +214,7 @@ static bool check_count_range(cvk_scene_issue* issue, const char* path, uint32_t
                               uint32_t high)
 {
     if (v > high)
-        return issue_at(issue, path, "must be at most %" PRIu32 ", got %" PRIu32, high, v);
+        return cvk_issue_at(issue, path, "must be at most %" PRIu32 ", got %" PRIu32, high, v);
     return check_count(issue, path, v, low);
 }
 
@@ -220,7 +226,7 @@ static bool check_half_open(cvk_scene_issue* issue, const char* path, double v, 
         return false;
     if (v >= low && v < high)
         return true;
-    return issue_at(issue, path, "must be at least %g and less than %g, got %g", low, high, v);
+    return cvk_issue_at(issue, path, "must be at least %g and less than %g, got %g", low, high, v);
 }
 
 /* low < v < high */
@@ -230,7 +236,7 @@ static bool check_open(cvk_scene_issue* issue, const char* path, double v, doubl
         return false;
     if (v > low && v < high)
         return true;
-    return issue_at(issue, path, "must be greater than %g and less than %g, got %g", low, high, v);
+    return cvk_issue_at(issue, path, "must be greater than %g and less than %g, got %g", low, high, v);
 }
 
 /* low <= v <= high, element by element */
@@ -243,7 +249,7 @@ static bool check_closed_array(cvk_scene_issue* issue, const char* path, const f
         if (!check_finite(issue, element, v[i]))
             return false;
         if (v[i] < low || v[i] > high)
-            return issue_at(issue, element, "must be between %g and %g, got %g", low, high, v[i]);
+            return cvk_issue_at(issue, element, "must be between %g and %g, got %g", low, high, v[i]);
     }
     return true;
 }
@@ -252,14 +258,14 @@ static bool check_closed_array(cvk_scene_issue* issue, const char* path, const f
 
 static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
 {
-    if (!check_greater(issue, "dt", d->dt, 0.0))
+    if (!cvk_check_greater(issue, "dt", d->dt, 0.0))
         return false;
     if (d->dt < CVK_MIN_DT)
-        return issue_at(issue, "dt", "must be at least %g s (1/dt² must fit single precision "
+        return cvk_issue_at(issue, "dt", "must be at least %g s (1/dt² must fit single precision "
                         "with room for masses and stiffnesses), got %g", CVK_MIN_DT, d->dt);
     return check_count_range(issue, "substeps", d->substeps, 1, CVK_MAX_SUBSTEPS) &&
            check_count(issue, "frames", d->frames, 1) &&
-           check_finite_array(issue, "gravity", d->gravity, 3) &&
+           cvk_check_finite_array(issue, "gravity", d->gravity, 3) &&
            check_half_open(issue, "damping", d->damping, 0.0, 1.0);
 }
 
@@ -268,15 +274,15 @@ static bool check_implicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     bool implicit = s->method == CVK_METHOD_IMPLICIT;
     if (implicit && s->linear != CVK_LINEAR_CG && s->linear != CVK_LINEAR_JACOBI)
-        return issue_at(issue, "solver.linear", "%s is not a linear solver of the implicit "
+        return cvk_issue_at(issue, "solver.linear", "%s is not a linear solver of the implicit "
                         "method; use cg or jacobi", cvk_linear_solver_name(s->linear));
     if (!implicit && s->linear == CVK_LINEAR_CG)
-        return issue_at(issue, "solver.linear", "cg solves the implicit method only; use rbgs, "
+        return cvk_issue_at(issue, "solver.linear", "cg solves the implicit method only; use rbgs, "
                         "jacobi, chebyshev or gs-cpu with %s", cvk_method_name(s->method));
     return check_open(issue, "solver.tolerance", s->tolerance, 0.0, 1.0) &&
            check_count_range(issue, "solver.max_iterations", s->max_iterations, 1,
                              CVK_MAX_SWEEPS) &&
-           check_at_least(issue, "solver.kd", s->kd, 0.0);
+           cvk_check_at_least(issue, "solver.kd", s->kd, 0.0);
 }
 
 /* The explicit method's keys belong to it (kd to it and implicit), and it solves no linear
@@ -285,23 +291,23 @@ static bool check_explicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     bool explicit_method = s->method == CVK_METHOD_EXPLICIT;
     if (!cvk_integrator_name(s->integrator))
-        return issue_at(issue, "solver.integrator", "unknown integrator %d", (int)s->integrator);
+        return cvk_issue_at(issue, "solver.integrator", "unknown integrator %d", (int)s->integrator);
     if (!cvk_damping_model_name(s->damping_model))
-        return issue_at(issue, "solver.damping_model", "unknown damping model %d",
+        return cvk_issue_at(issue, "solver.damping_model", "unknown damping model %d",
                         (int)s->damping_model);
     if (!explicit_method && s->integrator != CVK_INTEGRATOR_NONE)
-        return issue_at(issue, "solver.integrator", "is a key of the explicit method; remove it "
+        return cvk_issue_at(issue, "solver.integrator", "is a key of the explicit method; remove it "
                         "or set \"method\": \"explicit\" (method is %s)",
                         cvk_method_name(s->method));
     if (!explicit_method && s->damping_model != CVK_DAMPING_NONE)
-        return issue_at(issue, "solver.damping_model", "is a key of the explicit method; remove "
+        return cvk_issue_at(issue, "solver.damping_model", "is a key of the explicit method; remove "
                         "it or set \"method\": \"explicit\" (method is %s)",
                         cvk_method_name(s->method));
     if (s->method == CVK_METHOD_PD && s->kd != 0.0f)
-        return issue_at(issue, "solver.kd", "is a key of the implicit and explicit methods; pd "
+        return cvk_issue_at(issue, "solver.kd", "is a key of the implicit and explicit methods; pd "
                         "damps with \"damping\" (remove kd or change the method)");
     if (explicit_method && s->linear != CVK_LINEAR_RBGS)
-        return issue_at(issue, "solver.linear", "the explicit method solves no linear system; "
+        return cvk_issue_at(issue, "solver.linear", "the explicit method solves no linear system; "
                         "remove \"linear\" (got %s)", cvk_linear_solver_name(s->linear));
     return true;
 }
@@ -309,9 +315,9 @@ static bool check_explicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
 bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     if (!cvk_method_name(s->method))
-        return issue_at(issue, "solver.method", "unknown method %d", (int)s->method);
+        return cvk_issue_at(issue, "solver.method", "unknown method %d", (int)s->method);
     if (!cvk_linear_solver_name(s->linear))
-        return issue_at(issue, "solver.linear", "unknown linear solver %d", (int)s->linear);
+        return cvk_issue_at(issue, "solver.linear", "unknown linear solver %d", (int)s->linear);
     if (!check_count_range(issue, "solver.outer_iterations", s->outer_iterations, 1,
                            CVK_MAX_SWEEPS) ||
         !check_count_range(issue, "solver.inner_iterations", s->inner_iterations, 1,
@@ -319,7 +325,7 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
         return false;
     uint64_t sweeps = (uint64_t)s->outer_iterations * s->inner_iterations;
     if (sweeps > CVK_MAX_SWEEPS)
-        return issue_at(issue, "solver", "%" PRIu32 " outer × %" PRIu32 " inner iterations are "
+        return cvk_issue_at(issue, "solver", "%" PRIu32 " outer × %" PRIu32 " inner iterations are "
                         "%" PRIu64 " sweeps per substep; at most %u", s->outer_iterations,
                         s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
     return check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
@@ -335,13 +341,13 @@ static bool check_grid(const cvk_cloth_desc* c, const char* base, uint64_t* tota
     char path[CVK_KEY_PATH_MAX];
     join(path, base, "grid");
     if (c->grid[0] < 1 || c->grid[1] < 1)
-        return issue_at(issue, path, "each dimension must be at least 1, got [%" PRIu32 ", %" PRIu32 "]",
+        return cvk_issue_at(issue, path, "each dimension must be at least 1, got [%" PRIu32 ", %" PRIu32 "]",
                         c->grid[0], c->grid[1]);
     /* Both factors are below 2^32 and the running total stays at most 2^30 before this add,
        so the sum cannot wrap. */
     *total += (uint64_t)c->grid[0] * c->grid[1];
     if (*total > CVK_MAX_PARTICLES)
-        return issue_at(issue, path, "%" PRIu64 " particles in all is more than clothvk supports (%" PRIu64 ")",
+        return cvk_issue_at(issue, path, "%" PRIu64 " particles in all is more than clothvk supports (%" PRIu64 ")",
                         *total, CVK_MAX_PARTICLES);
     return true;
 }
@@ -357,9 +363,9 @@ static bool check_size(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
         if (!check_finite(issue, element, c->size[i]))
             return false;
         if (c->grid[i] == 1 && c->size[i] < 0)
-            return issue_at(issue, element, "must be at least 0, got %g", c->size[i]);
+            return cvk_issue_at(issue, element, "must be at least 0, got %g", c->size[i]);
         if (c->grid[i] > 1 && c->size[i] <= 0)
-            return issue_at(issue, element,
+            return cvk_issue_at(issue, element,
                             "must be greater than 0 (the grid has %" PRIu32 " particles along it), got %g",
                             c->grid[i], c->size[i]);
     }
@@ -377,7 +383,7 @@ static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     char v_path[CVK_KEY_PATH_MAX];
     join(u_path, base, "u_axis");
     join(v_path, base, "v_axis");
-    if (!check_finite_array(issue, u_path, c->u_axis, 3) || !check_finite_array(issue, v_path, c->v_axis, 3))
+    if (!cvk_check_finite_array(issue, u_path, c->u_axis, 3) || !cvk_check_finite_array(issue, v_path, c->v_axis, 3))
         return false;
     const float* u = c->u_axis;
     const float* v = c->v_axis;
@@ -385,13 +391,13 @@ static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     double vv = dot3(v, v);
     double uv = dot3(u, v);
     if (!(uu > 0))
-        return issue_at(issue, u_path, "must not be zero, got [%g, %g, %g]", u[0], u[1], u[2]);
+        return cvk_issue_at(issue, u_path, "must not be zero, got [%g, %g, %g]", u[0], u[1], u[2]);
     if (!(vv > 0))
-        return issue_at(issue, v_path, "must not be zero, got [%g, %g, %g]", v[0], v[1], v[2]);
+        return cvk_issue_at(issue, v_path, "must not be zero, got [%g, %g, %g]", v[0], v[1], v[2]);
     /* |u × v|² = |u|²|v|² − (u·v)²; below 1e-12 of |u|²|v|² the sine of the angle is under 1e-6
        and the grid collapses onto a line. */
     if (uu * vv - uv * uv <= 1e-12 * uu * vv)
-        return issue_at(issue, v_path, "must not be parallel to u_axis, got [%g, %g, %g]", v[0], v[1], v[2]);
+        return cvk_issue_at(issue, v_path, "must not be parallel to u_axis, got [%g, %g, %g]", v[0], v[1], v[2]);
     return true;
 }
 
@@ -400,12 +406,12 @@ static bool check_axes(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
 static bool check_mass(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    if (!check_at_least(issue, join(path, base, "density"), c->density, 0.0))
+    if (!cvk_check_at_least(issue, join(path, base, "density"), c->density, 0.0))
         return false;
     if (c->density == 0.0f)
-        return check_greater(issue, join(path, base, "mass"), c->mass, 0.0);
+        return cvk_check_greater(issue, join(path, base, "mass"), c->mass, 0.0);
     if (!c->mesh && (c->grid[0] == 1 || c->grid[1] == 1))
-        return issue_at(issue, path, "a %" PRIu32 " x %" PRIu32 " grid is a rope, with no area for a density; "
+        return cvk_issue_at(issue, path, "a %" PRIu32 " x %" PRIu32 " grid is a rope, with no area for a density; "
                         "give its mass instead", c->grid[0], c->grid[1]);
     return true;
 }
@@ -413,11 +419,11 @@ static bool check_mass(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
 static bool check_material(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    return check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) && check_mass(c, base, issue) &&
-           check_at_least(issue, join(path, base, "stiffness.structural"),
+    return cvk_check_greater(issue, join(path, base, "rest_scale"), c->rest_scale, 0.0) && check_mass(c, base, issue) &&
+           cvk_check_at_least(issue, join(path, base, "stiffness.structural"),
                           c->stiffness.structural, 0.0) &&
-           check_at_least(issue, join(path, base, "stiffness.shear"), c->stiffness.shear, 0.0) &&
-           check_at_least(issue, join(path, base, "stiffness.bend"), c->stiffness.bend, 0.0);
+           cvk_check_at_least(issue, join(path, base, "stiffness.shear"), c->stiffness.shear, 0.0) &&
+           cvk_check_at_least(issue, join(path, base, "stiffness.bend"), c->stiffness.bend, 0.0);
 }
 
 /* Vertex indices are checked against the mesh when it is read: its vertex count is not known
@@ -425,13 +431,13 @@ static bool check_material(const cvk_cloth_desc* c, const char* base, cvk_scene_
 static bool check_mesh_pins(const cvk_cloth_desc* c, const char* path, cvk_scene_issue* issue)
 {
     if (c->pin_count > 0)
-        return issue_at(issue, path, "a mesh cloth takes vertex indices (file order), not [i, j] pairs");
+        return cvk_issue_at(issue, path, "a mesh cloth takes vertex indices (file order), not [i, j] pairs");
     if (c->pin_vertex_count > 0 && !c->pin_vertices)
-        return issue_at(issue, path, "pin_vertices is NULL but pin_vertex_count is %" PRIu32, c->pin_vertex_count);
+        return cvk_issue_at(issue, path, "pin_vertices is NULL but pin_vertex_count is %" PRIu32, c->pin_vertex_count);
     return true;
 }
 
-static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+bool cvk_check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
     char element[CVK_KEY_PATH_MAX];
@@ -439,14 +445,14 @@ static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
     if (c->mesh)
         return check_mesh_pins(c, path, issue);
     if (c->pin_vertex_count > 0)
-        return issue_at(issue, path, "a grid cloth takes [i, j] pairs, not vertex indices");
+        return cvk_issue_at(issue, path, "a grid cloth takes [i, j] pairs, not vertex indices");
     if (c->pin_count > 0 && !c->pins)
-        return issue_at(issue, path, "is NULL but pin_count is %" PRIu32, c->pin_count);
+        return cvk_issue_at(issue, path, "is NULL but pin_count is %" PRIu32, c->pin_count);
     for (uint32_t p = 0; p < c->pin_count; p++) {
         const uint32_t* pin = c->pins[p];
         if (pin[0] < c->grid[0] && pin[1] < c->grid[1])
             continue;
-        return issue_at(issue, join_index(element, path, p),
+        return cvk_issue_at(issue, join_index(element, path, p),
                         "[%" PRIu32 ", %" PRIu32 "] is outside the %" PRIu32 " x %" PRIu32 " grid", pin[0],
                         pin[1], c->grid[0], c->grid[1]);
     }
@@ -454,7 +460,7 @@ static bool check_pins(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
 }
 
 /* The JSON path of a corner is pin_box.0 (min) or pin_box.1 (max). */
-static bool check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+bool cvk_check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     static const char axis_names[3] = {'x', 'y', 'z'};
     char path[CVK_KEY_PATH_MAX];
@@ -462,12 +468,12 @@ static bool check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_i
     if (!c->use_pin_box)
         return true;
     join(path, base, "pin_box");
-    if (!check_finite_array(issue, join_index(corner, path, 0), c->pin_box.min, 3) ||
-        !check_finite_array(issue, join_index(corner, path, 1), c->pin_box.max, 3))
+    if (!cvk_check_finite_array(issue, join_index(corner, path, 0), c->pin_box.min, 3) ||
+        !cvk_check_finite_array(issue, join_index(corner, path, 1), c->pin_box.max, 3))
         return false;
     for (int k = 0; k < 3; k++) {
         if (c->pin_box.min[k] > c->pin_box.max[k])
-            return issue_at(issue, path, "min %g is above max %g on axis %c", c->pin_box.min[k], c->pin_box.max[k],
+            return cvk_issue_at(issue, path, "min %g is above max %g on axis %c", c->pin_box.min[k], c->pin_box.max[k],
                             axis_names[k]);
     }
     return true;
@@ -476,10 +482,10 @@ static bool check_pin_box(const cvk_cloth_desc* c, const char* base, cvk_scene_i
 /* A rotation of any length, normalised where it is used, but not zero. */
 static bool check_quaternion(cvk_scene_issue* issue, const char* path, const float q[4])
 {
-    if (!check_finite_array(issue, path, q, 4))
+    if (!cvk_check_finite_array(issue, path, q, 4))
         return false;
     if (q[0] == 0.0f && q[1] == 0.0f && q[2] == 0.0f && q[3] == 0.0f)
-        return issue_at(issue, path, "must not be zero, got [0, 0, 0, 0]");
+        return cvk_issue_at(issue, path, "must not be zero, got [0, 0, 0, 0]");
     return true;
 }
 
@@ -495,16 +501,16 @@ static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_
         if (!check_finite(issue, element, t->scale[i]))
             return false;
         if (t->scale[i] == 0.0f)
-            return issue_at(issue, element, "must not be zero, got 0");
+            return cvk_issue_at(issue, element, "must not be zero, got 0");
     }
     if (!check_quaternion(issue, join(path, base, "transform.rotation"), t->rotation))
         return false;
-    return check_finite_array(issue, join(path, base, "transform.translation"), t->translation, 3);
+    return cvk_check_finite_array(issue, join(path, base, "transform.translation"), t->translation, 3);
 }
 
 static bool check_file_name(cvk_scene_issue* issue, const char* path, const char* file)
 {
-    return file[0] != '\0' || issue_at(issue, path, "must name a mesh file, got an empty string");
+    return file[0] != '\0' || cvk_issue_at(issue, path, "must name a mesh file, got an empty string");
 }
 
 /* A mesh cloth's shape comes from its file, so the grid keys are not looked at; its particle
@@ -515,7 +521,7 @@ static bool check_shape(const cvk_cloth_desc* c, const char* base, uint64_t* tot
     if (c->mesh)
         return check_file_name(issue, join(path, base, "mesh"), c->mesh);
     return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
-           check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
+           cvk_check_finite_array(issue, join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
 }
 
 /* Names are printed by the tools and written into OBJ files (an "o" line): a control
@@ -524,7 +530,7 @@ static bool check_name(cvk_scene_issue* issue, const char* path, const char* nam
 {
     for (const unsigned char* c = (const unsigned char*)name; c && *c; c++)
         if (*c < 0x20 || *c == 0x7f)
-            return issue_at(issue, path, "contains the control character \\x%02x at byte %u",
+            return cvk_issue_at(issue, path, "contains the control character \\x%02x at byte %u",
                             *c, (unsigned)(c - (const unsigned char*)name));
     return true;
 }
@@ -533,12 +539,12 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
 {
     char path[CVK_KEY_PATH_MAX];
     const float* v = c->velocity;
-    if (!check_finite_array(issue, join(path, base, "velocity"), v, 3))
+    if (!cvk_check_finite_array(issue, join(path, base, "velocity"), v, 3))
         return false;
     double speed = sqrt(dot3(v, v));
     if (speed <= CVK_MAX_VELOCITY)
         return true;
-    return issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%g, %g, %g])",
+    return cvk_issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%g, %g, %g])",
                     CVK_MAX_VELOCITY, speed, v[0], v[1], v[2]);
 }
 
@@ -551,7 +557,7 @@ static bool check_tethers(const cvk_cloth_desc* c, const char* base, cvk_scene_i
         return false;
     if (c->tethers == 0.0f || (c->tethers >= 1.0f && c->tethers <= CVK_MAX_TETHER_SCALE))
         return true;
-    return issue_at(issue, path, "must be 0 (no tethers) or from 1 to %g (a scale of the rest "
+    return cvk_issue_at(issue, path, "must be 0 (no tethers) or from 1 to %g (a scale of the rest "
                     "distance to the pins), got %g", CVK_MAX_TETHER_SCALE, c->tethers);
 }
 
@@ -561,12 +567,13 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
     char path[CVK_KEY_PATH_MAX];
     join_index(base, "cloths", index);
     if (c->cookie_ != cloth_cookie)
-        return issue_at(issue, base, "cloth description was not made by cvk_default_cloth_desc()");
+        return cvk_issue_at(issue, base, "cloth description was not made by cvk_default_cloth_desc()");
     return check_name(issue, join(path, base, "name"), c->name) &&
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
-           check_material(c, base, issue) && check_pins(c, base, issue) && check_pin_box(c, base, issue) &&
+           check_material(c, base, issue) && cvk_check_pins(c, base, issue) && cvk_check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           check_velocity(c, base, issue) && check_tethers(c, base, issue);
+           check_velocity(c, base, issue) && check_tethers(c, base, issue) &&
+           cvk_aero_check(&c->aero, base, issue);
 }
 
 /* Tethers are a pass of the projective-dynamics solve; the other families have none yet. */
@@ -579,7 +586,7 @@ static bool check_tether_solver(const cvk_scene_desc* d, cvk_scene_issue* issue)
             continue;
         char base[CVK_KEY_PATH_MAX], path[CVK_KEY_PATH_MAX];
         join_index(base, "cloths", i);
-        return issue_at(issue, join(path, base, "tethers"), "the %s method has no tethers; "
+        return cvk_issue_at(issue, join(path, base, "tethers"), "the %s method has no tethers; "
                         "remove them or use pd", cvk_method_name(d->solver.method));
     }
     return true;
@@ -589,10 +596,10 @@ static bool check_tether_solver(const cvk_scene_desc* d, cvk_scene_issue* issue)
 
 static bool check_direction(cvk_scene_issue* issue, const char* path, const float v[3])
 {
-    if (!check_finite_array(issue, path, v, 3))
+    if (!cvk_check_finite_array(issue, path, v, 3))
         return false;
     if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f)
-        return issue_at(issue, path, "must not be zero, got [0, 0, 0]");
+        return cvk_issue_at(issue, path, "must not be zero, got [0, 0, 0]");
     return true;
 }
 
@@ -606,20 +613,20 @@ static bool check_light(const cvk_light* light, const char* base, cvk_scene_issu
 static bool check_render_size(const cvk_render_desc* r, cvk_scene_issue* issue)
 {
     if (r->size[0] < 1 || r->size[1] < 1)
-        return issue_at(issue, "render.size", "each dimension must be at least 1, got [%" PRIu32 ", %" PRIu32 "]",
+        return cvk_issue_at(issue, "render.size", "each dimension must be at least 1, got [%" PRIu32 ", %" PRIu32 "]",
                         r->size[0], r->size[1]);
     if (r->shadow_map_size < 16 || r->shadow_map_size > 16384)
-        return issue_at(issue, "render.shadow_map_size", "must be from 16 to 16384, got %" PRIu32,
+        return cvk_issue_at(issue, "render.shadow_map_size", "must be from 16 to 16384, got %" PRIu32,
                         r->shadow_map_size);
     if (r->samples != 1 && r->samples != 2 && r->samples != 4 && r->samples != 8)
-        return issue_at(issue, "render.samples", "must be 1, 2, 4 or 8, got %" PRIu32, r->samples);
+        return cvk_issue_at(issue, "render.samples", "must be 1, 2, 4 or 8, got %" PRIu32, r->samples);
     return true;
 }
 
 static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
 {
-    if (!check_finite_array(issue, "render.eye", r->eye, 3) ||
-        !check_finite_array(issue, "render.target", r->target, 3) ||
+    if (!cvk_check_finite_array(issue, "render.eye", r->eye, 3) ||
+        !cvk_check_finite_array(issue, "render.target", r->target, 3) ||
         !check_direction(issue, "render.up", r->up) || !check_open(issue, "render.fov_y", r->fov_y, 0.0, 180.0))
         return false;
     if (r->auto_eye || r->auto_target || r->camera_keyframe_count > 0)
@@ -629,11 +636,11 @@ static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
     double uu = dot3(r->up, r->up);
     double vu = dot3(view, r->up);
     if (!(vv > 0))
-        return issue_at(issue, "render.target", "must differ from render.eye, got [%g, %g, %g] for both",
+        return cvk_issue_at(issue, "render.target", "must differ from render.eye, got [%g, %g, %g] for both",
                         r->target[0], r->target[1], r->target[2]);
     /* As for the cloth axes: the camera needs a sideways direction, up × view. */
     if (vv * uu - vu * vu <= 1e-12 * vv * uu)
-        return issue_at(issue, "render.up", "must not be parallel to the view direction (target - eye), got "
+        return cvk_issue_at(issue, "render.up", "must not be parallel to the view direction (target - eye), got "
                         "[%g, %g, %g]", r->up[0], r->up[1], r->up[2]);
     return true;
 }
@@ -643,31 +650,31 @@ static bool check_camera_keyframes(const cvk_render_desc* r, cvk_scene_issue* is
 {
     const char* base = "render.camera_keyframes";
     if (r->camera_keyframe_count > CVK_MAX_KEYFRAMES)
-        return issue_at(issue, base, "at most %u keyframes, got %" PRIu32, CVK_MAX_KEYFRAMES, r->camera_keyframe_count);
+        return cvk_issue_at(issue, base, "at most %u keyframes, got %" PRIu32, CVK_MAX_KEYFRAMES, r->camera_keyframe_count);
     if (r->camera_keyframe_count > 0 && !r->camera_keyframes)
-        return issue_at(issue, base, "is NULL but camera_keyframe_count is %" PRIu32, r->camera_keyframe_count);
+        return cvk_issue_at(issue, base, "is NULL but camera_keyframe_count is %" PRIu32, r->camera_keyframe_count);
     char element[CVK_KEY_PATH_MAX], path[CVK_KEY_PATH_MAX];
     for (uint32_t i = 0; i < r->camera_keyframe_count; i++) {
         const cvk_camera_keyframe* k = &r->camera_keyframes[i];
         join_index(element, base, i);
-        if (!check_at_least(issue, join(path, element, "time"), k->time, 0.0))
+        if (!cvk_check_at_least(issue, join(path, element, "time"), k->time, 0.0))
             return false;
         if (i > 0 && !(k->time > k[-1].time))
-            return issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", k[-1].time,
+            return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", k[-1].time,
                             k->time);
-        if (!check_finite_array(issue, join(path, element, "eye"), k->eye, 3) ||
-            !check_finite_array(issue, join(path, element, "target"), k->target, 3))
+        if (!cvk_check_finite_array(issue, join(path, element, "eye"), k->eye, 3) ||
+            !cvk_check_finite_array(issue, join(path, element, "target"), k->target, 3))
             return false;
         float view[3] = {k->target[0] - k->eye[0], k->target[1] - k->eye[1], k->target[2] - k->eye[2]};
         double vv = dot3(view, view), uu = dot3(r->up, r->up), vu = dot3(view, r->up);
         if (!(vv > 0))
-            return issue_at(issue, path, "must differ from the keyframe's eye, got [%g, %g, %g] for both",
+            return cvk_issue_at(issue, path, "must differ from the keyframe's eye, got [%g, %g, %g] for both",
                             k->target[0], k->target[1], k->target[2]);
         if (vv * uu - vu * vu <= 1e-12 * vv * uu)
-            return issue_at(issue, path, "must not lie straight above or below the keyframe's eye (along render.up)");
+            return cvk_issue_at(issue, path, "must not lie straight above or below the keyframe's eye (along render.up)");
     }
     if (r->camera_loop && r->camera_keyframe_count < 2)
-        return issue_at(issue, "render.camera_loop", "a looping camera needs at least two keyframes, got %" PRIu32,
+        return cvk_issue_at(issue, "render.camera_loop", "a looping camera needs at least two keyframes, got %" PRIu32,
                         r->camera_keyframe_count);
     return true;
 }
@@ -693,15 +700,15 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)
 static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_scene_issue* issue)
 {
     if (c->detect_every > substeps)
-        return issue_at(issue, "collision.detect_every",
+        return cvk_issue_at(issue, "collision.detect_every",
                         "must be 0 (adaptive) or between 1 and substeps (%u), got %u", substeps,
                         c->detect_every);
-    if (!check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
-        !check_at_least(issue, "collision.friction", c->friction, 0.0) ||
+    if (!cvk_check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
+        !cvk_check_at_least(issue, "collision.friction", c->friction, 0.0) ||
         !check_finite(issue, "collision.static_friction", c->static_friction))
         return false;
     if (c->static_friction < c->friction)
-        return issue_at(issue, "collision.static_friction", "must be at least friction (%g), got %g", c->friction,
+        return cvk_issue_at(issue, "collision.static_friction", "must be at least friction (%g), got %g", c->friction,
                         c->static_friction);
     return true;
 }
@@ -710,11 +717,11 @@ static bool check_box_shape(const cvk_collider_desc* c, const char* base, cvk_sc
 {
     char path[CVK_KEY_PATH_MAX];
     char element[CVK_KEY_PATH_MAX];
-    if (!check_finite_array(issue, join(path, base, "center"), c->center, 3))
+    if (!cvk_check_finite_array(issue, join(path, base, "center"), c->center, 3))
         return false;
     join(path, base, "half_extents");
     for (uint32_t i = 0; i < 3; i++) {
-        if (!check_greater(issue, join_index(element, path, i), c->half_extents[i], 0.0))
+        if (!cvk_check_greater(issue, join_index(element, path, i), c->half_extents[i], 0.0))
             return false;
     }
     return check_quaternion(issue, join(path, base, "rotation"), c->rotation);
@@ -726,7 +733,7 @@ static bool check_mesh_shape(const cvk_collider_desc* c, const char* base, cvk_s
     char path[CVK_KEY_PATH_MAX];
     join(path, base, "file");
     if (!c->file)
-        return issue_at(issue, path, "a mesh collider needs a mesh file, got NULL");
+        return cvk_issue_at(issue, path, "a mesh collider needs a mesh file, got NULL");
     return check_file_name(issue, path, c->file) && check_transform(&c->transform, base, issue);
 }
 
@@ -737,24 +744,24 @@ static bool check_collider_shape(const cvk_collider_desc* c, const char* base, c
     char path[CVK_KEY_PATH_MAX];
     switch (c->type) {
     case CVK_COLLIDER_PLANE:
-        return check_finite_array(issue, join(path, base, "point"), c->point, 3) &&
+        return cvk_check_finite_array(issue, join(path, base, "point"), c->point, 3) &&
                check_direction(issue, join(path, base, "normal"), c->normal);
     case CVK_COLLIDER_SPHERE:
-        return check_finite_array(issue, join(path, base, "center"), c->center, 3) &&
-               check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
+        return cvk_check_finite_array(issue, join(path, base, "center"), c->center, 3) &&
+               cvk_check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
     case CVK_COLLIDER_BOX: return check_box_shape(c, base, issue);
     case CVK_COLLIDER_CAPSULE:
-        return check_finite_array(issue, join(path, base, "a"), c->a, 3) &&
-               check_finite_array(issue, join(path, base, "b"), c->b, 3) &&
-               check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
+        return cvk_check_finite_array(issue, join(path, base, "a"), c->a, 3) &&
+               cvk_check_finite_array(issue, join(path, base, "b"), c->b, 3) &&
+               cvk_check_greater(issue, join(path, base, "radius"), c->radius, 0.0);
     case CVK_COLLIDER_FUNNEL:
-        return check_finite_array(issue, join(path, base, "apex"), c->apex, 3) &&
-               check_greater(issue, join(path, base, "a"), c->funnel_a, 0.0) &&
-               check_greater(issue, join(path, base, "height"), c->height, 0.0);
+        return cvk_check_finite_array(issue, join(path, base, "apex"), c->apex, 3) &&
+               cvk_check_greater(issue, join(path, base, "a"), c->funnel_a, 0.0) &&
+               cvk_check_greater(issue, join(path, base, "height"), c->height, 0.0);
     case CVK_COLLIDER_MESH: return check_mesh_shape(c, base, issue);
     case CVK_COLLIDER_TYPE_COUNT: break;
     }
-    return issue_at(issue, join(path, base, "type"), "unknown collider type %d", (int)c->type);
+    return cvk_issue_at(issue, join(path, base, "type"), "unknown collider type %d", (int)c->type);
 }
 
 /* A coefficient below 0 stands for the scene's (the C API's "default"; a scene file leaves
@@ -772,9 +779,9 @@ static bool check_collider_friction(const cvk_collider_desc* c, const cvk_collis
     if (fixed >= kinetic)
         return true;
     if (c->static_friction < 0)
-        return issue_at(issue, static_path, "is not given, and collision.static_friction (%g) is below this "
+        return cvk_issue_at(issue, static_path, "is not given, and collision.static_friction (%g) is below this "
                         "collider's friction (%g): give a static_friction of at least %g", fixed, kinetic, kinetic);
-    return issue_at(issue, static_path, "must be at least %s (%g), got %g",
+    return cvk_issue_at(issue, static_path, "must be at least %s (%g), got %g",
                     c->friction < 0 ? "collision.friction" : "friction", kinetic, fixed);
 }
 
@@ -782,31 +789,31 @@ static bool check_keyframe(const cvk_keyframe* k, const char* base, const cvk_ke
                            cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
-    if (!check_at_least(issue, join(path, base, "time"), k->time, 0.0))
+    if (!cvk_check_at_least(issue, join(path, base, "time"), k->time, 0.0))
         return false;
     if (previous && !(k->time > previous->time))
-        return issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", previous->time,
+        return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", previous->time,
                         k->time);
-    return check_finite_array(issue, join(path, base, "translation"), k->translation, 3) &&
+    return cvk_check_finite_array(issue, join(path, base, "translation"), k->translation, 3) &&
            check_quaternion(issue, join(path, base, "rotation"), k->rotation);
 }
 
-static bool check_motion(const cvk_motion* m, const char* base, cvk_scene_issue* issue)
+bool cvk_check_motion(const cvk_motion* m, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
     char element[CVK_KEY_PATH_MAX];
     join(path, base, "keyframes");
     if (m->keyframe_count > CVK_MAX_KEYFRAMES)
-        return issue_at(issue, path, "at most %u keyframes, got %" PRIu32, CVK_MAX_KEYFRAMES, m->keyframe_count);
+        return cvk_issue_at(issue, path, "at most %u keyframes, got %" PRIu32, CVK_MAX_KEYFRAMES, m->keyframe_count);
     if (m->keyframe_count > 0 && !m->keyframes)
-        return issue_at(issue, path, "is NULL but keyframe_count is %" PRIu32, m->keyframe_count);
+        return cvk_issue_at(issue, path, "is NULL but keyframe_count is %" PRIu32, m->keyframe_count);
     for (uint32_t i = 0; i < m->keyframe_count; i++) {
         const cvk_keyframe* previous = i > 0 ? &m->keyframes[i - 1] : NULL;
         if (!check_keyframe(&m->keyframes[i], join_index(element, path, i), previous, issue))
             return false;
     }
     if (m->loop && m->keyframe_count < 2)
-        return issue_at(issue, join(path, base, "loop"), "a looping motion needs at least two keyframes, got %" PRIu32,
+        return cvk_issue_at(issue, join(path, base, "loop"), "a looping motion needs at least two keyframes, got %" PRIu32,
                         m->keyframe_count);
     return true;
 }
@@ -818,11 +825,11 @@ static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk
     char path[CVK_KEY_PATH_MAX];
     join_index(base, "colliders", index);
     if (c->cookie_ != collider_cookie)
-        return issue_at(issue, base, "collider description was not made by cvk_default_collider_desc()");
+        return cvk_issue_at(issue, base, "collider description was not made by cvk_default_collider_desc()");
     return check_name(issue, join(path, base, "name"), c->name) && check_collider_shape(c, base, issue) &&
            check_collider_friction(c, scene, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           check_motion(&c->motion, base, issue);
+           cvk_check_motion(&c->motion, base, issue);
 }
 
 static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
@@ -830,10 +837,10 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
     if (!check_collision(&d->collision, d->substeps, issue))
         return false;
     if (d->collider_count > CVK_MAX_COLLIDERS)
-        return issue_at(issue, "colliders", "at most %u colliders, got %" PRIu32, CVK_MAX_COLLIDERS,
+        return cvk_issue_at(issue, "colliders", "at most %u colliders, got %" PRIu32, CVK_MAX_COLLIDERS,
                         d->collider_count);
     if (d->collider_count > 0 && !d->colliders)
-        return issue_at(issue, "colliders", "is NULL but collider_count is %" PRIu32, d->collider_count);
+        return cvk_issue_at(issue, "colliders", "is NULL but collider_count is %" PRIu32, d->collider_count);
     for (uint32_t i = 0; i < d->collider_count; i++) {
         if (!check_collider(&d->colliders[i], i, &d->collision, issue))
             return false;
@@ -841,10 +848,10 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
     /* Contact constraints are not filtered out of the implicit system yet; the explicit
        integrators have no contact response. */
     if (d->solver.method == CVK_METHOD_EXPLICIT && (d->collider_count > 0 || d->collision.self))
-        return issue_at(issue, "solver.method", "explicit does not handle contact; remove "
+        return cvk_issue_at(issue, "solver.method", "explicit does not handle contact; remove "
                         "\"colliders\" and \"collision.self\", or use pd");
     if (d->solver.method == CVK_METHOD_IMPLICIT && (d->collider_count > 0 || d->collision.self))
-        return issue_at(issue, "solver.method", "implicit does not handle contact yet; remove "
+        return cvk_issue_at(issue, "solver.method", "implicit does not handle contact yet; remove "
                         "\"colliders\" and \"collision.self\", or use pd");
     return true;
 }
@@ -852,18 +859,19 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
 {
     if (desc->cookie_ != scene_cookie)
-        return issue_at(issue, "", "scene description was not made by cvk_default_scene_desc()");
+        return cvk_issue_at(issue, "", "scene description was not made by cvk_default_scene_desc()");
     if (!check_name(issue, "name", desc->name) || !check_timing(desc, issue) ||
         !cvk_solver_desc_check(&desc->solver, issue))
         return false;
     if (!desc->cloths || desc->cloth_count < 1)
-        return issue_at(issue, "cloths", "a scene needs at least one cloth");
+        return cvk_issue_at(issue, "cloths", "a scene needs at least one cloth");
     uint64_t total = 0;
     for (uint32_t i = 0; i < desc->cloth_count; i++) {
         if (!check_cloth(&desc->cloths[i], i, &total, issue))
             return false;
     }
     return check_tether_solver(desc, issue) && check_colliders(desc, issue) &&
+           cvk_attachments_check(desc, issue) && cvk_wind_check(desc, issue) &&
            check_render(&desc->render, issue);
 }
 

@@ -30,6 +30,39 @@ bool cvk_solver_desc_check(const cvk_solver_desc* solver, cvk_scene_issue* issue
 /* The same for a render description alone; paths start with "render.". */
 bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 
+/* Fills issue with "path: problem" and returns false (for the checks below and their files). */
+bool cvk_issue_at(cvk_scene_issue* issue, const char* path, const char* format, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Parts of the scene check that other descriptions reuse: a cloth's pins and pin_box (against
+   the cloth's grid or mesh form) and a keyframed motion; paths start with base. */
+bool cvk_check_pins(const cvk_cloth_desc* cloth, const char* base, cvk_scene_issue* issue);
+bool cvk_check_pin_box(const cvk_cloth_desc* cloth, const char* base, cvk_scene_issue* issue);
+bool cvk_check_motion(const cvk_motion* motion, const char* base, cvk_scene_issue* issue);
+
+/* Attachments (lib/scene_attach.c): each names a cloth of the scene, attaches at least one
+   particle by pins valid for that cloth, and moves by a valid motion; and the solver moves them
+   (cvk_attachments_solver_check, also for cvk_sim_set_solver). */
+bool cvk_attachments_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
+bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attachment_count,
+                                  cvk_scene_issue* issue);
+
+/* Air (lib/scene_air.c): the wind block and air_density, and the solver it needs; a cloth's
+   aero coefficients (paths start with base). */
+bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
+bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
+bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
+bool cvk_check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n);
+bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, double low);
+bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low);
+
+/* Fastest mean wind, m/s: ten times a hurricane's; a typo is refused. */
+#define CVK_MAX_WIND 700.0
+
+/* The cloth description whose pins are the attachment's (the rest is the cloth's): the pins
+   checks and the topology's pin selection then serve attachments too. */
+cvk_cloth_desc cvk_attachment_pins_as_cloth(const cvk_cloth_desc* cloth,
+                                            const cvk_attachment_desc* attachment);
+
 /* Bounds on the counts whose products size the step plan and the frame a command buffer
    records (a typo such as "substeps": 4294967295 must be refused, not recorded until memory
    runs out), and on dt, whose 1/dt² must fit single precision. */

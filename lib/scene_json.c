@@ -145,7 +145,7 @@ static cvk_result read_pin_vertices(cvk_reader* rd, json_t* value, size_t count,
 /* dest is the whole cloth. The first element says which form the array is: a pair ([i, j],
    for grids) or a vertex index (for meshes); validation then checks that the form fits the
    cloth. */
-static cvk_result read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+cvk_result cvk_read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
     cvk_cloth_desc* cloth = dest;
@@ -168,7 +168,7 @@ static cvk_result read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, c
 static const cvk_field corner_field = {.key = "pin_box", .read = cvk_read_floats, .count = 3};
 
 /* dest is the whole cloth: a box turns use_pin_box on. */
-static cvk_result read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+cvk_result cvk_read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
     cvk_cloth_desc* cloth = dest;
@@ -201,7 +201,6 @@ static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, 
     return r;
 }
 
-#define FIELDS(array) {.fields = array, .count = sizeof array / sizeof array[0]}
 
 static const cvk_field stiffness_fields[] = {
     {.key = "structural", .read = cvk_read_float, .offset = offsetof(cvk_stiffness, structural)},
@@ -216,6 +215,13 @@ static const cvk_field transform_fields[] = {
     {.key = "translation", .read = cvk_read_floats, .offset = offsetof(cvk_transform, translation), .count = 3},
 };
 static const cvk_table transform_table = FIELDS(transform_fields);
+
+static const cvk_field aero_fields[] = {
+    {.key = "drag", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, drag)},
+    {.key = "lift", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, lift)},
+    {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, friction)},
+};
+static const cvk_table aero_table = FIELDS(aero_fields);
 
 static const cvk_field cloth_fields[] = {
     {.key = "name", .read = cvk_read_string, .offset = offsetof(cvk_cloth_desc, name)},
@@ -232,11 +238,12 @@ static const cvk_field cloth_fields[] = {
     {.key = "density", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, density)},
     {.key = "stiffness", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, stiffness),
      .nested = &stiffness_table},
-    {.key = "pins", .read = read_pins, .offset = 0},
-    {.key = "pin_box", .read = read_pin_box, .offset = 0},
+    {.key = "pins", .read = cvk_read_pins, .offset = 0},
+    {.key = "pin_box", .read = cvk_read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
     {.key = "tethers", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, tethers)},
+    {.key = "aero", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, aero), .nested = &aero_table},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
 
@@ -288,7 +295,7 @@ static const cvk_field keyframe_fields[] = {
 static const cvk_table keyframe_table = FIELDS(keyframe_fields);
 
 /* dest is the collider's motion: keyframes and keyframe_count go together. */
-static cvk_result read_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+cvk_result cvk_read_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
     cvk_motion* motion = dest;
@@ -356,7 +363,7 @@ static const cvk_field collider_fields[] = {
     {.key = "friction", .read = read_coefficient, .offset = COLLIDER(friction)},
     {.key = "static_friction", .read = read_coefficient, .offset = COLLIDER(static_friction)},
     {.key = "color", .read = cvk_read_floats, .offset = COLLIDER(color), .count = 3},
-    {.key = "keyframes", .read = read_keyframes, .offset = COLLIDER(motion)},
+    {.key = "keyframes", .read = cvk_read_keyframes, .offset = COLLIDER(motion)},
     {.key = "loop", .read = cvk_read_bool, .offset = COLLIDER(motion) + offsetof(cvk_motion, loop)},
 };
 static const cvk_table collider_table = FIELDS(collider_fields);
@@ -579,6 +586,9 @@ static const cvk_field scene_fields[] = {
     {.key = "collision", .read = cvk_read_nested, .offset = offsetof(cvk_scene_desc, collision),
      .nested = &collision_table},
     {.key = "colliders", .read = read_colliders, .offset = 0},
+    {.key = "attachments", .read = cvk_read_attachments, .offset = 0},
+    {.key = "wind", .read = cvk_read_wind, .offset = offsetof(cvk_scene_desc, wind), .nested = &cvk_wind_table},
+    {.key = "air_density", .read = cvk_read_float, .offset = offsetof(cvk_scene_desc, air_density)},
 };
 static const cvk_table scene_table = FIELDS(scene_fields);
 

@@ -106,6 +106,22 @@ cvk_result cvk_read_object(cvk_reader* rd, const cvk_table* t, json_t* object, c
 /* cvk_read_object with f->nested. */
 cvk_result cvk_read_nested(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
 
+/* A table of the fields in `array`. */
+#define FIELDS(array) {.fields = array, .count = sizeof array / sizeof array[0]}
+
+/* ---- readers the scene tables share (lib/scene_json.c, lib/scene_json_time.c) ---- */
+
+/* dest is a cloth: "pins" ([i, j] pairs or vertex indices) and "pin_box" (turns use_pin_box on). */
+cvk_result cvk_read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+cvk_result cvk_read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+/* dest is a cvk_motion: "keyframes". */
+cvk_result cvk_read_keyframes(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+/* dest is the scene: "attachments". */
+cvk_result cvk_read_attachments(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+/* dest is the wind: "wind" turns the air on and reads cvk_wind_table. */
+cvk_result cvk_read_wind(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+extern const cvk_table cvk_wind_table;
+
 /* ---- text ---- */
 
 /* jansson's parse (duplicate keys rejected, any value at the top), except that a bare NaN or

@@ -104,6 +104,23 @@ cvk_result cvk_sim_copy_from_staging(cvk_sim* s, const cvk_staging_copy* jobs, u
     return r;
 }
 
+cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
+                               const void* data, cvk_error* error)
+{
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    VkDeviceSize bytes = size; /* what `data` holds; the buffer is never empty */
+    if (size < 16)
+        size = 16;
+    cvk_result r = cvk_buffer_create(s->context, size, usage, CVK_MEMORY_DEVICE, what, buffer,
+                                     error);
+    if (r == CVK_SUCCESS && data)
+        r = cvk_sim_upload(s, buffer, data, bytes, error);
+    return r;
+}
+
 cvk_result cvk_sim_upload(cvk_sim* s, cvk_buffer* dst, const void* data, VkDeviceSize size,
                           cvk_error* error)
 {
@@ -159,7 +176,8 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
     uint32_t types = 0;
     for (uint32_t i = 0; i < s->collide.collider_count; i++)
         types |= 1u << s->collide.colliders[i].type;
-    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, types, s->collide.self};
+    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, types, s->collide.self,
+                              s->aero.enabled};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);
@@ -293,6 +311,10 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
     if (r == CVK_SUCCESS)
         r = cvk_collide_create(s, scene, error);
     if (r == CVK_SUCCESS)
+        r = cvk_attach_create(s, scene, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_aero_create(s, scene, error);
+    if (r == CVK_SUCCESS)
         r = s->family->create(s, &s->solver, &s->family_state, error);
     if (r == CVK_SUCCESS)
         r = set_initial_velocity(s, scene, error);
@@ -338,6 +360,8 @@ static void init_fields(cvk_sim* s, cvk_context* context, const cvk_sim_desc* de
     s->params.cloth_count = 0;
     s->params.colliders = NULL; /* the contact module keeps its own copies */
     s->params.collider_count = 0;
+    s->params.attachments = NULL; /* the attachment module keeps what it needs */
+    s->params.attachment_count = 0;
     s->timing_request = desc->timing;
     s->ref = cvk_ref_params_of(scene);
     s->family = cvk_family_for(&scene->solver);
@@ -395,6 +419,8 @@ void cvk_sim_destroy(cvk_sim* s)
         cvk_queue_idle(s->context);
     if (s->family && s->family_state)
         s->family->destroy(s, s->family_state);
+    cvk_aero_destroy(s);
+    cvk_attach_destroy(s);
     cvk_collide_destroy(s);
     cvk_pipelines_destroy(s->context, &s->pipelines);
     if (s->queries)

@@ -4,6 +4,8 @@
 #ifndef CVK_SIM_H
 #define CVK_SIM_H
 
+#include "aero.h"
+#include "attach.h"
 #include "build.h"
 #include "collide.h"
 #include "gpu.h"
@@ -24,6 +26,8 @@ struct cvk_sim {
     cvk_ref_params ref;
 
     cvk_collide collide;    /* colliders, self-contact, the frame state (collide.h) */
+    cvk_attach attach;      /* keyframed attached particles (attach.h) */
+    cvk_aero aero;          /* wind and air drag (aero.h) */
 
     const struct cvk_family_api* family; /* the family that solves `solver` */
     void* family_state;
@@ -99,6 +103,11 @@ typedef struct cvk_staging_copy {
    compute and transfer work after sees them. */
 cvk_result cvk_sim_copy_from_staging(cvk_sim* sim, const cvk_staging_copy* jobs, uint32_t count,
                                      cvk_error* error);
+
+/* A device buffer for a module's tables (storage, uniform, texel and transfer use; at least 16
+   bytes), filled with `size` bytes of `data` unless data is NULL. */
+cvk_result cvk_sim_make_buffer(cvk_sim* sim, cvk_buffer* buffer, VkDeviceSize size, const char* what,
+                               const void* data, cvk_error* error);
 
 /* Uploads a host array into a device buffer through the staging buffer, in chunks. */
 cvk_result cvk_sim_upload(cvk_sim* sim, cvk_buffer* dst, const void* data, VkDeviceSize size,

@@ -160,6 +160,9 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     cvk_scene_issue issue;
     if (!cvk_solver_desc_check(solver, &issue))
         return cvk_fail_issue(error, &issue);
+    if (!cvk_attachments_solver_check(solver, s->attach.attachment_count, &issue) ||
+        !cvk_wind_solver_check(solver, s->aero.enabled, &issue))
+        return cvk_fail_issue(error, &issue);
     const cvk_family_api* family = cvk_family_for(solver);
     if (!family)
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",

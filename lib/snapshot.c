@@ -169,7 +169,8 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
         r = s->family->load_snapshot(s, s->family_state, state, h.state_size - contact, error);
     if (r == CVK_SUCCESS && contact > 0) /* the frame state, the clock included */
         r = cvk_collide_load_snapshot(s, state + (h.state_size - contact), error);
-    else if (r == CVK_SUCCESS && s->collide.collider_count > 0) /* the colliders' clock */
+    else if (r == CVK_SUCCESS && (s->collide.collider_count > 0 || s->attach.attachment_count > 0 ||
+                                  s->aero.enabled)) /* the clock of colliders, attachments, gusts */
         r = cvk_collide_set_step(s, h.frames * s->params.substeps, error);
     if (r == CVK_SUCCESS) {
         s->frames = h.frames;

@@ -144,6 +144,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
     [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
     [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
+    [CVK_PD_BINDING_EXTERNAL] = TEXEL,
 };
 #undef TEXEL
 #undef STORAGE
@@ -166,6 +167,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_WATCH] = {.buffer = &s->watch},
         [CVK_PD_BINDING_TETHER_ANCHOR] = {.view = pd->view_tether_anchor},
         [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
+        [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero.view_external},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
 }
@@ -275,7 +277,8 @@ static cvk_result read_displacement_state(cvk_sim* s, cvk_pd* pd, float* xyz, fl
 }
 
 /* Verlet's velocity at the end of a substep from its displacement u = x_n − x_{n−1}:
-   v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: 0. */
+   v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: u / h, which is
+   0 but for attached particles (their motion over the substep: lib/attach.h). */
 static void velocities_of(const cvk_sim* s, const float* u, float* v)
 {
     double h = s->dt;
@@ -284,7 +287,7 @@ static void velocities_of(const cvk_sim* s, const float* u, float* v)
         for (int c = 0; c < 3; c++) {
             size_t i = 3 * (size_t)p + c;
             v[i] = p < b->free_count ? (float)(((double)u[i] + 0.5 * s->ref.gravity_h2[c]) / h)
-                                     : 0.0f;
+                                     : (float)((double)u[i] / h);
         }
 }
 
@@ -434,6 +437,10 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->readback_cmd, error);
     if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
+    if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
+        cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
+        cvk_aero_bind(s, pd->view_u[0]);
+    }
     if (r == CVK_SUCCESS)
         r = upload_adjacency(s, pd, error);
     if (r == CVK_SUCCESS)

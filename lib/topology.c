@@ -2,6 +2,7 @@
 #include "topology.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -222,25 +223,25 @@ cvk_result cvk_topology_grid(const cvk_cloth_desc* c, uint32_t index, cvk_topolo
 
 /* ---- masses and pins, for every generator ---- */
 
-static cvk_result pin_listed(const cvk_cloth_desc* c, uint32_t index, cvk_topology* t,
-                             cvk_error* error)
+static cvk_result pin_listed(const cvk_cloth_desc* c, const char* base, const cvk_topology* t,
+                             uint8_t* mark, cvk_error* error)
 {
     /* Scene validation has checked grid pins against the grid. */
     for (uint32_t p = 0; p < c->pin_count && !c->mesh; p++)
-        t->pinned[(size_t)c->pins[p][1] * c->grid[0] + c->pins[p][0]] = 1;
+        mark[(size_t)c->pins[p][1] * c->grid[0] + c->pins[p][0]] = 1;
     for (uint32_t p = 0; p < c->pin_vertex_count; p++) {
         uint32_t v = c->pin_vertices[p];
         if (v >= t->vertex_count)
             return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                            "cloths.%u.pins.%u: vertex %u is out of range; the %s has %u vertices",
-                            index, p, v, c->mesh ? "mesh" : "cloth", t->vertex_count);
-        t->pinned[v] = 1;
+                            "%s.pins.%u: vertex %u is out of range; the %s has %u vertices", base,
+                            p, v, c->mesh ? "mesh" : "cloth", t->vertex_count);
+        mark[v] = 1;
     }
     return CVK_SUCCESS;
 }
 
-static cvk_result pin_inside_box(const cvk_cloth_desc* c, uint32_t index, cvk_topology* t,
-                                 cvk_error* error)
+static cvk_result pin_inside_box(const cvk_cloth_desc* c, const char* base, const cvk_topology* t,
+                                 uint8_t* mark, cvk_error* error)
 {
     if (!c->use_pin_box)
         return CVK_SUCCESS;
@@ -251,15 +252,22 @@ static cvk_result pin_inside_box(const cvk_cloth_desc* c, uint32_t index, cvk_to
         for (int k = 0; k < 3; k++)
             in = in && x[k] >= c->pin_box.min[k] && x[k] <= c->pin_box.max[k];
         if (in) {
-            t->pinned[v] = 1;
+            mark[v] = 1;
             inside++;
         }
     }
     if (inside == 0)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "cloths.%u.pin_box: holds none of the cloth's %u vertices", index,
+                        "%s.pin_box: holds none of the cloth's %u vertices", base,
                         t->vertex_count);
     return CVK_SUCCESS;
+}
+
+cvk_result cvk_topology_select(const cvk_cloth_desc* pins, const char* base,
+                               const cvk_topology* t, uint8_t* mark, cvk_error* error)
+{
+    cvk_result r = pin_listed(pins, base, t, mark, error);
+    return r == CVK_SUCCESS ? pin_inside_box(pins, base, t, mark, error) : r;
 }
 
 static cvk_result fill_masses(const cvk_cloth_desc* c, cvk_topology* t, cvk_error* error)
@@ -290,10 +298,10 @@ cvk_result cvk_topology_create(const cvk_cloth_desc* cloth, uint32_t index, cvk_
                      out->vertex_count);
     if (r == CVK_SUCCESS)
         r = fill_masses(cloth, out, error);
+    char base[32];
+    snprintf(base, sizeof base, "cloths.%u", index);
     if (r == CVK_SUCCESS)
-        r = pin_listed(cloth, index, out, error);
-    if (r == CVK_SUCCESS)
-        r = pin_inside_box(cloth, index, out, error);
+        r = cvk_topology_select(cloth, base, out, out->pinned, error);
     if (r != CVK_SUCCESS)
         cvk_topology_destroy(out);
     return r;

@@ -46,6 +46,11 @@ cvk_result cvk_topology_create(const cvk_cloth_desc* cloth, uint32_t index, cvk_
                                cvk_error* error);
 void cvk_topology_destroy(cvk_topology* topology);
 
+/* Sets mark[v] = 1 for every vertex that `pins` names (its pins, pin_vertices and pin_box, as
+   a cloth's pins); messages start with base ("cloths.0", "attachments.2"). */
+cvk_result cvk_topology_select(const cvk_cloth_desc* pins, const char* base,
+                               const cvk_topology* topology, uint8_t* mark, cvk_error* error);
+
 /* The two generators behind cvk_topology_create. Each fills position, triangles,
    triangle_springs, springs (of non-zero stiffness only) and, for grids, colour; mass and
    pinned are filled afterwards by cvk_topology_create for both. lib/topology.c holds the grid,

@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 
 #include "error.h"
+#include "vec3.h"
 #include "u64_map.h"
 
 /* Vertices closer than this fraction of the bounding-box diagonal are one particle. It is about
@@ -483,25 +484,14 @@ static void sub3(const float* a, const float* b, double out[3])
         out[k] = (double)a[k] - b[k];
 }
 
-static void cross3(const double a[3], const double b[3], double out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 static bool degenerate(const mesh_reader* r, const uint32_t t[3])
 {
     double e1[3], e2[3], c[3];
     sub3(&r->position[3 * (size_t)t[1]], &r->position[3 * (size_t)t[0]], e1);
     sub3(&r->position[3 * (size_t)t[2]], &r->position[3 * (size_t)t[0]], e2);
-    cross3(e1, e2, c);
-    return 0.5 * sqrt(dot3(c, c)) < DEGENERATE_AREA * r->diagonal * r->diagonal;
+    cvk_cross3d(e1, e2, c);
+    return 0.5 * sqrt(cvk_dot3d(c, c)) < DEGENERATE_AREA * r->diagonal * r->diagonal;
 }
 
 /* Whether a face of n > 4 corners is planar and convex, so that a fan from its first corner
@@ -522,11 +512,11 @@ static bool fan_safe(const mesh_reader* r, const uint32_t* c, size_t n)
             hi[k] = fmax(hi[k], p[k]);
         }
     }
-    double length = sqrt(dot3(normal, normal));
+    double length = sqrt(cvk_dot3d(normal, normal));
     if (length == 0.0)
         return false;
     double d[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
-    double size = sqrt(dot3(d, d));
+    double size = sqrt(cvk_dot3d(d, d));
     for (int k = 0; k < 3; k++)
         normal[k] /= length;
     for (size_t i = 0; i < n; i++) {
@@ -537,10 +527,10 @@ static bool fan_safe(const mesh_reader* r, const uint32_t* c, size_t n)
         sub3(p1, p0, a);
         sub3(p2, p1, b);
         sub3(p0, &r->position[3 * (size_t)c[0]], off);
-        cross3(a, b, turn);
-        if (fabs(dot3(off, normal)) > PLANAR_TOLERANCE * size)
+        cvk_cross3d(a, b, turn);
+        if (fabs(cvk_dot3d(off, normal)) > PLANAR_TOLERANCE * size)
             return false;
-        if (dot3(turn, normal) < -CONVEX_TOLERANCE * sqrt(dot3(a, a) * dot3(b, b)))
+        if (cvk_dot3d(turn, normal) < -CONVEX_TOLERANCE * sqrt(cvk_dot3d(a, a) * cvk_dot3d(b, b)))
             return false;
     }
     return true;
@@ -752,8 +742,8 @@ static void transform_positions(const cvk_transform* t, const float* in, float* 
         double v[3], c[3], cc[3];
         for (int k = 0; k < 3; k++)
             v[k] = (double)in[3 * (size_t)i + k] * t->scale[k];
-        cross3(u, v, c);
-        cross3(u, c, cc);
+        cvk_cross3d(u, v, c);
+        cvk_cross3d(u, c, cc);
         for (int k = 0; k < 3; k++)
             out[3 * (size_t)i + k] = (float)(v[k] + 2.0 * q[0] * c[k] + 2.0 * cc[k] + t->translation[k]);
     }

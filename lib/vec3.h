@@ -1,4 +1,5 @@
-/* Small float vector helpers for host geometry (colliders, their meshes). */
+/* Small vector helpers for host geometry (colliders, their meshes, the air's reference): float,
+   and double where a reference wants it. */
 #ifndef CVK_VEC3_H
 #define CVK_VEC3_H
 
@@ -28,6 +29,17 @@ static inline void cvk_normalize3(float v[3], const float fallback[3])
     float len = cvk_length3(v);
     for (int k = 0; k < 3; k++)
         v[k] = len > 1e-12f ? v[k] / len : (fallback ? fallback[k] : v[k]);
+}
+
+static inline double cvk_dot3d(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void cvk_cross3d(const double a[3], const double b[3], double out[3])
+{
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    memcpy(out, c, sizeof c);
 }
 
 #endif

@@ -73,18 +73,7 @@ vec4 contact_rest(uint p) { return texelFetch(rest_t, int(p)); } // rest positio
 uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
 vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
 
-// ---- quaternions (x, y, z, w) ----------------------------------------------------------------
-
-vec3 quat_rotate(vec4 q, vec3 v)
-{
-    vec3 c = cross(q.xyz, v);
-    return v + 2.0 * (q.w * c + cross(q.xyz, c));
-}
-
-vec3 quat_rotate_inverse(vec4 q, vec3 v)
-{
-    return quat_rotate(vec4(-q.xyz, q.w), v);
-}
+#include "motion.glsl" // quat_rotate, motion_pose (reads keyframes, above)
 
 // ---- signed distances of the shapes at rest ------------------------------------------------
 

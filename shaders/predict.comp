@@ -1,8 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Verlet prediction in displacement form: the last substep's displacement u (in src) carries
-// the velocity, so the predicted displacement is y = u (1 - damping) + h^2 g; it is also the
-// first iterate. Pinned particles are never dispatched.
+// the velocity, so the predicted displacement is y = u (1 - damping) + h^2 g (+ h^2 F / m of
+// the air, WIND); it is also the first iterate. Pinned particles are never dispatched.
 //
 // For the divergence watch, one invocation counts the substep (finalize reads the count after
 // the barriers between them), and every particle's first spring (slot 0) is measured in the
@@ -11,6 +11,10 @@
 // is enough (a solve that blows up stretches every spring around where it starts) and costs
 // four fetches where the first four would cost seven.
 #include "pd_common.glsl"
+
+// The air's h^2 F / m (lib/aero.h), when the scene has a "wind" block.
+layout(constant_id = 3) const bool WIND = false;
+layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL) uniform samplerBuffer air;
 
 const float RUNAWAY_STRETCH = 10.0; // lib/sim.h, CVK_DIVERGED_STRETCH
 
@@ -30,6 +34,8 @@ void main()
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
         vec3 yp = fetch(src, p) * pc.keep + pc.gravity_h2.xyz;
+        if (WIND)
+            yp += fetch(air, p);
         vec4 xp = texelFetch(x_read, int(p));
         y[p] = vec4(yp, xp.w);
         dst[p] = vec4(yp, 0.0);

@@ -214,7 +214,7 @@ CASES = [
      "stderr": "clothvk-sim: " + scene("malformed.json") + ":4:10: malformed JSON: '}' expected near '\"cloths\"'"},
     {"name": "unknown top-level key", "argv": [scene("unknown-key.json")], "status": 2,
      "stderr": error(scene("unknown-key.json"), "gravityy: unknown key (expected one of: name, dt, substeps, "
-                     "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders)")},
+                     "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)")},
     {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
      "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
                      "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)")},
@@ -258,7 +258,7 @@ CASES = [
      "argv": [SMALL, "--set", "cloths.0.\x1b[31mbad=1"], "status": 2,
      "stderr": error(SMALL, "cloths.0.\\x1b[31mbad (from --set): unknown key (expected one of: "
                             "name, grid, size, origin, u_axis, v_axis, mesh, transform, rest_scale, "
-                            "mass, density, stiffness, pins, pin_box, color, velocity, tethers)")},
+                            "mass, density, stiffness, pins, pin_box, color, velocity, tethers, aero)")},
     # A device or a FIFO would be read forever or block: only regular files are scenes.
     {"name": "a device as the scene", "argv": ["/dev/zero"], "status": 2,
      "stderr": error("/dev/zero", "cannot read: it is not a regular file")},

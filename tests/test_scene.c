@@ -590,13 +590,13 @@ static void test_unknown_keys(void)
 {
     EXPECT_INVALID("{'iterationz': 3, 'cloths': [{}]}",
                    "t.json: iterationz: unknown key (expected one of: name, dt, substeps, frames, integrate, "
-                   "gravity, damping, solver, cloths, render, collision, colliders)");
+                   "gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)");
     EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
                    "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
-                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, velocity, tethers)");
+                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, velocity, tethers, aero)");
     EXPECT_INVALID("{'cloths': [{'stiffness': {'bending': 1}}]}",
                    "t.json: cloths.0.stiffness.bending: unknown key (expected one of: structural, shear, bend)");
 }
@@ -749,7 +749,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "cloths.0.massive=1",
                      "t.json: cloths.0.massive (from --set): unknown key (expected one of: name, grid, size, origin, "
                      "u_axis, v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, "
-                     "velocity, tethers)");
+                     "velocity, tethers, aero)");
 
     cvk_scene* scene = NULL;
     cvk_error err = {0};

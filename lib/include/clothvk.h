@@ -247,6 +247,17 @@ typedef struct cvk_box3 {
     float max[3];
 } cvk_box3;
 
+/* Aerodynamic coefficients of a cloth's triangles (used when the scene has a "wind" block). A
+   triangle of area A, unit normal n, in air moving at v relative to it (|v| = speed, the
+   normal part v_n = (v·n) n, the tangential v_t = v − v_n, cos θ = v·n / |v|) feels
+   ½ ρ A (drag |v·n| v_n + friction |v| v_t + lift cos θ sin θ |v|² l), l the unit vector across
+   v in the plane of v and n (after NvCloth's wind); a third of it on each corner. */
+typedef struct cvk_aero_desc {
+    float drag;                  /* pressure drag along the normal, ≥ 0; usually 1 */
+    float lift;                  /* lift across the flow, ≥ 0; usually 0.2 */
+    float friction;              /* skin friction along the surface, ≥ 0; usually 0.02 */
+} cvk_aero_desc;
+
 /* One cloth: a rectangular grid of particles (the default) or a triangle mesh read from a file.
 
    Grid: particle [i, j] sits at origin + i·du·u_axis + j·dv·v_axis, du = size[0] / (grid[0] − 1),
@@ -291,6 +302,7 @@ typedef struct cvk_cloth_desc {
                                     nearest pins than tethers × its rest distance to it across
                                     the cloth; usually 1. A cloth without pins has none.
                                     Projective dynamics only */
+    cvk_aero_desc aero;          /* how the air of cvk_scene_desc.wind pushes it */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 
@@ -316,6 +328,26 @@ typedef struct cvk_motion {
     uint32_t keyframe_count;
     bool loop;
 } cvk_motion;
+
+/* Kinematic particles of one cloth moved by keyframes (the curtain rail of seed 002 fig. 6.20):
+   a chosen particle at p when the simulation is created is at translation(t) + rotation(t) · p
+   at time t, so keyframes that start at the identity pose start from where the particles are.
+   Attached particles are pinned (infinitely heavy) for the solver; the recorded work computes
+   their positions from the frame state on the device, and each substep's displacement is the
+   motion's, so the cloth is dragged, not teleported. The particles are those of pins,
+   pin_vertices and pin_box together (at least one); no particle may be in two attachments.
+   The projective-dynamics solvers on the device (rbgs, jacobi, chebyshev) move them; implicit
+   and gs-cpu refuse a scene with attachments. */
+typedef struct cvk_attachment_desc {
+    uint32_t cloth;              /* index into cvk_scene_desc.cloths */
+    const uint32_t (*pins)[2];   /* grids: grid coordinates [i, j] */
+    uint32_t pin_count;
+    const uint32_t* pin_vertices;/* meshes: vertex indices (particle order) */
+    uint32_t pin_vertex_count;
+    bool use_pin_box;            /* true: also every particle of the cloth inside pin_box */
+    cvk_box3 pin_box;            /* m, at the start; min ≤ max on every axis */
+    cvk_motion motion;           /* no keyframes: held where it starts */
+} cvk_attachment_desc;
 
 /* ----------------------------------------------------------------------------------------
  * Collisions
@@ -424,6 +456,25 @@ typedef struct cvk_render_desc {
     bool camera_loop;            /* repeat the camera's path, period last.time − first.time */
 } cvk_render_desc;
 
+/* Gusts: the wind's speed and direction varying with simulated time t, deterministically
+   (the same on every run and on the device and host): with phase τ = 2π t / period,
+   speed factor 1 + amplitude · (sin τ + sin(1.618 τ + 1)) / 2 and a turn about the up axis
+   (+y) by jitter · sin(0.73 τ + 2) degrees. */
+typedef struct cvk_gusts_desc {
+    float amplitude;             /* fraction of the mean speed the gusts add or take, 0 to 1;
+                                    usually 0 (a steady wind) */
+    float period;                /* s, > 0; usually 2 */
+    float jitter;                /* degrees, 0 to 90; usually 0 */
+} cvk_gusts_desc;
+
+/* Air on the cloths (the "wind" block of a scene file). Without it no aerodynamic work is
+   recorded; with it, even at zero velocity, moving cloth feels the drag of still air. */
+typedef struct cvk_wind_desc {
+    bool enabled;                /* true: air acts on every cloth by its aero coefficients */
+    float velocity[3];           /* m/s, the mean wind; usually [0, 0, 0] (still air) */
+    cvk_gusts_desc gusts;
+} cvk_wind_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;            /* for messages and output; may be NULL */
     float dt;                    /* substep length, s; > 0, usually 0.002 */
@@ -440,6 +491,11 @@ typedef struct cvk_scene_desc {
     const cvk_collider_desc* colliders;
     uint32_t collider_count;     /* 0: nothing to collide with (no collision work is recorded
                                     unless collision.self) */
+    const cvk_attachment_desc* attachments; /* keyframed kinematic particles; zero-initialised
+                                    fields are the defaults */
+    uint32_t attachment_count;   /* 0: none (no attachment pass is recorded) */
+    cvk_wind_desc wind;          /* air: wind, gusts and drag; usually off */
+    float air_density;           /* kg/m³, > 0; usually 1.2 */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 
@@ -542,7 +598,8 @@ CVK_API cvk_result cvk_sim_write_positions(cvk_sim* sim, const float* xyz, uint6
 
 /* The full state, for snapshots: positions (m) and velocities (m/s), 3 floats per particle in
    the order of cvk_sim_read_positions. The velocity is Verlet's at the end of the last
-   substep, (x_n − x_{n−1}) / h + h g / 2 (0 for pinned particles and for a cloth at rest).
+   substep, (x_n − x_{n−1}) / h + h g / 2 (0 for a cloth at rest; for a pinned particle 0, for an
+   attached one the motion's (x_n − x_{n−1}) / h).
    Either array may be NULL; waits like cvk_sim_read_positions. */
 CVK_API cvk_result cvk_sim_read_state(cvk_sim* sim, float* xyz, float* velocity, uint64_t count,
                               cvk_error* error);

@@ -127,6 +127,12 @@ typedef struct cvk_box3 {
     float max[3];
 } cvk_box3;
 
+typedef struct cvk_aero_desc {
+    float drag;
+    float lift;
+    float friction;
+} cvk_aero_desc;
+
 typedef struct cvk_cloth_desc {
     const char* name;
     uint32_t grid[2];
@@ -149,6 +155,7 @@ typedef struct cvk_cloth_desc {
     float color[3];
     float velocity[3];
     float tethers;
+    cvk_aero_desc aero;
     uint32_t cookie_;
 } cvk_cloth_desc;
 
@@ -163,6 +170,17 @@ typedef struct cvk_motion {
     uint32_t keyframe_count;
     bool loop;
 } cvk_motion;
+
+typedef struct cvk_attachment_desc {
+    uint32_t cloth;
+    const uint32_t (*pins)[2];
+    uint32_t pin_count;
+    const uint32_t* pin_vertices;
+    uint32_t pin_vertex_count;
+    bool use_pin_box;
+    cvk_box3 pin_box;
+    cvk_motion motion;
+} cvk_attachment_desc;
 
 typedef struct cvk_collision_desc {
     bool self;
@@ -239,6 +257,18 @@ typedef struct cvk_render_desc {
     bool camera_loop;
 } cvk_render_desc;
 
+typedef struct cvk_gusts_desc {
+    float amplitude;
+    float period;
+    float jitter;
+} cvk_gusts_desc;
+
+typedef struct cvk_wind_desc {
+    bool enabled;
+    float velocity[3];
+    cvk_gusts_desc gusts;
+} cvk_wind_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;
     float dt;
@@ -254,6 +284,10 @@ typedef struct cvk_scene_desc {
     cvk_collision_desc collision;
     const cvk_collider_desc* colliders;
     uint32_t collider_count;
+    const cvk_attachment_desc* attachments;
+    uint32_t attachment_count;
+    cvk_wind_desc wind;
+    float air_density;
     uint32_t cookie_;
 } cvk_scene_desc;
 

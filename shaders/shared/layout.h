@@ -51,9 +51,10 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
 #define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
 #define CVK_PD_BINDING_WATCH 11        /* storage: cvk_gpu_watch */
-#define CVK_PD_BINDING_TETHER_ANCHOR 12 /* texel: uvec4 per free particle, pinned indices */
-#define CVK_PD_BINDING_TETHER_LENGTH 13 /* texel: vec4 per free particle, m */
-#define CVK_PD_BINDING_COUNT 14
+#define CVK_PD_BINDING_EXTERNAL 12     /* texel: h^2 F / m of the air per free particle (WIND) */
+#define CVK_PD_BINDING_TETHER_ANCHOR 13 /* texel: uvec4 per free particle, pinned indices */
+#define CVK_PD_BINDING_TETHER_LENGTH 14 /* texel: vec4 per free particle, m */
+#define CVK_PD_BINDING_COUNT 15
 
 /* Tethers (lib/tether.h, shaders/pd_tether.comp): a particle is projected onto each of its
    tethers' spheres in turn, at most this many rounds (a round that moves nothing ends it):
@@ -292,6 +293,70 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
+
+/* ---- attachments: attach.comp (lib/attach.h) --------------------------------------------- */
+
+/* One attachment's motion: its keyframes in the attachment keyframe buffer (2 vec4 each, as
+   the colliders'; shaders/motion.glsl). */
+#define CVK_GPU_ATTACHMENT_FIELDS \
+    CVK_UINT(keyframe_first)      \
+    CVK_UINT(keyframe_count)      \
+    CVK_UINT(loop)                \
+    CVK_UINT(pad0)
+CVK_STRUCT(cvk_gpu_attachment, CVK_GPU_ATTACHMENT_FIELDS)
+
+/* One attached particle: where it was when the simulation was created, which it is, whose. */
+#define CVK_GPU_ATTACHED_FIELDS                                                   \
+    CVK_VEC4(start)        /* xyz: position at creation, m */                      \
+    CVK_UINT(particle)     /* internal index (a pinned one) */                     \
+    CVK_UINT(attachment)   /* into the attachment table */                         \
+    CVK_UINT(pad0)                                                                \
+    CVK_UINT(pad1)
+CVK_STRUCT(cvk_gpu_attached, CVK_GPU_ATTACHED_FIELDS)
+
+/* Push data of attach.comp. count 0 (the warm-up dispatch) does nothing, not even advance the
+   frame state. */
+#define CVK_ATTACH_PUSH_FIELDS                                                     \
+    CVK_UINT(count)        /* attached particles */                                \
+    CVK_UINT(advance)      /* 1: this pass advances the frame state (no collider pass did) */ \
+    CVK_FLOAT(dt)          /* s per substep */                                     \
+    CVK_UINT(pad0)
+CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
+
+#define CVK_ATTACH_BINDING_FRAME 0       /* cvk_gpu_frame (the contact module's buffer) */
+#define CVK_ATTACH_BINDING_KEYFRAMES 1   /* 2 vec4 per keyframe */
+#define CVK_ATTACH_BINDING_ATTACHMENTS 2 /* cvk_gpu_attachment per attachment */
+#define CVK_ATTACH_BINDING_ATTACHED 3    /* cvk_gpu_attached per attached particle */
+#define CVK_ATTACH_BINDING_POSITIONS 4   /* vec4 per particle: x_n */
+#define CVK_ATTACH_BINDING_U0 5          /* the solver's displacement iterates (pd_common.glsl) */
+#define CVK_ATTACH_BINDING_U1 6
+#define CVK_ATTACH_BINDING_COUNT 7
+
+/* ---- air: aero_triangles.comp, aero_gather.comp (lib/aero.h) ------------------------------ */
+
+/* Push data of both air passes. count 0 (the warm-up dispatch) does nothing, not even advance
+   the frame state. */
+#define CVK_AERO_PUSH_FIELDS                                                       \
+    CVK_UINT(count)        /* triangles (aero_triangles) or free particles (aero_gather) */ \
+    CVK_UINT(counted)      /* 1: a pass before counted this substep; 0: aero_gather counts it */ \
+    CVK_FLOAT(dt)          /* s per substep */                                     \
+    CVK_UINT(pad0)                                                                \
+    CVK_VEC4(wind)         /* xyz: the mean wind, m/s */                           \
+    CVK_VEC4(gusts)        /* x: amplitude; y: 2 pi / period, 1/s; z: jitter, radians */
+CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
+
+/* Tables read per item are texel buffers (a gather on lavapipe, where a storage load is a loop
+   over the lanes; pd_common.glsl). */
+#define CVK_AERO_BINDING_FRAME 0        /* cvk_gpu_frame (the contact module's buffer) */
+#define CVK_AERO_BINDING_POSITIONS 1    /* texel, vec4 per particle: x_n, w: m/h^2 (pd_common.glsl) */
+#define CVK_AERO_BINDING_U 2            /* texel, vec4 per particle: the last displacement (velocity h) */
+#define CVK_AERO_BINDING_TRIANGLES 3    /* texel, uvec4 per triangle: corners (internal), cloth */
+#define CVK_AERO_BINDING_COEFFICIENTS 4 /* vec4 per cloth: rho/2 times drag, lift, friction */
+#define CVK_AERO_BINDING_FORCES 5       /* vec4 per triangle: a third of its force, N */
+#define CVK_AERO_BINDING_INCIDENCE 6    /* texel, uint: free_count + 1 offsets, then triangle ids */
+#define CVK_AERO_BINDING_EXTERNAL 7     /* vec4 per free particle: h^2 F / m, read by predict */
+#define CVK_AERO_BINDING_FORCES_READ 8  /* texel view of the forces */
+#define CVK_AERO_BINDING_COUNT 9
 
 /* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
 
