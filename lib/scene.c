@@ -96,6 +96,8 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .use_pin_box = false,
         .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
         .color = {0.9f, 0.35f, 0.3f},
+        .texture = NULL,
+        .texture_scale = {1.0f, 1.0f},
         .velocity = {0.0f, 0.0f, 0.0f},
         .cookie_ = cloth_cookie,
     };
@@ -549,6 +551,18 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
                     CVK_MAX_VELOCITY, speed, v[0], v[1], v[2]);
 }
 
+static bool check_texture(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX], element[CVK_KEY_PATH_MAX];
+    if (c->texture && c->texture[0] == '\0')
+        return issue_at(issue, join(path, base, "texture"), "must name an image file, got an empty string");
+    join(path, base, "texture_scale");
+    for (uint32_t i = 0; i < 2; i++)
+        if (!check_greater(issue, join_index(element, path, i), c->texture_scale[i], 0.0))
+            return false;
+    return true;
+}
+
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
 {
     char base[CVK_KEY_PATH_MAX];
@@ -560,6 +574,7 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && check_pins(c, base, issue) && check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
+           check_texture(c, base, issue) &&
            check_velocity(c, base, issue);
 }
 

@@ -202,6 +202,8 @@ static const cvk_field cloth_fields[] = {
     {.key = "pins", .read = read_pins, .offset = 0},
     {.key = "pin_box", .read = read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
+    {.key = "texture", .read = cvk_read_path, .offset = offsetof(cvk_cloth_desc, texture)},
+    {.key = "texture_scale", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, texture_scale), .count = 2},
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
