@@ -1,7 +1,8 @@
 /* The cloths' textures (cvk_cloth_desc.texture): each file read with stb_image, its mip chain
    made on the host by averaging 2 x 2 texels in linear light, uploaded once into an
    R8G8B8A8_SRGB image (the sampler decodes sRGB to linear) together with the texture
-   coordinates the cloth pass reads as its third vertex attribute. A 1 x 1 white texture stands
+   coordinates the cloth pass reads as its third vertex attribute; sampled trilinearly, and
+   anisotropically on a GPU that allows it. A 1 x 1 white texture stands
    in for the cloths without one, so every descriptor set has a texture to point at. */
 #include <errno.h>
 #include <math.h>
@@ -265,7 +266,12 @@ static cvk_result upload(cvk_renderer* rd, const host_texture* host, cvk_error* 
 
 static cvk_result create_sampler(cvk_renderer* rd, cvk_error* error)
 {
-    /* Trilinear, repeating (texture_scale above 1 tiles the texture). */
+    /* Trilinear, repeating (texture_scale above 1 tiles the texture), and anisotropic (up to
+       8 samples along a cloth seen at a slant) where the device enabled the feature, except on
+       a CPU device: lavapipe has it, but its lit pass took 6x as long with it on plaid.json's
+       first frame (1.34-1.37 s against 0.21-0.22 s, alternating runs on a loaded machine). */
+    const cvk_context* ctx = rd->context;
+    bool anisotropic = ctx->sampler_anisotropy && ctx->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
     VkSamplerCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
         .magFilter = VK_FILTER_LINEAR,
@@ -274,6 +280,8 @@ static cvk_result create_sampler(cvk_renderer* rd, cvk_error* error)
         .addressModeU = VK_SAMPLER_ADDRESS_MODE_REPEAT,
         .addressModeV = VK_SAMPLER_ADDRESS_MODE_REPEAT,
         .addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT,
+        .anisotropyEnable = anisotropic,
+        .maxAnisotropy = anisotropic ? fminf(8.0f, ctx->properties.limits.maxSamplerAnisotropy) : 1.0f,
         .maxLod = VK_LOD_CLAMP_NONE,
     };
     VkResult vr = vkCreateSampler(rd->context->device, &info, NULL, &rd->textures.sampler);
