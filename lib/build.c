@@ -318,6 +318,23 @@ static void describe_cloth(cvk_build* b, const cvk_cloth_desc* desc, uint32_t in
         snprintf(r->name, sizeof r->name, "cloth%u", index);
 }
 
+/* The textured cloths' paths and texture coordinates, for the renderer. */
+static cvk_result copy_textures(cvk_build* b, const cvk_scene_desc* scene, const cloth_part* parts,
+                                cvk_error* error)
+{
+    for (uint32_t c = 0; c < scene->cloth_count; c++) {
+        const cvk_topology* t = &parts[c].topology;
+        if (!scene->cloths[c].texture || !t->uv)
+            continue;
+        if (!b->uv && !(b->uv = calloc(2 * (size_t)b->particle_count, sizeof *b->uv)))
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for texture coordinates");
+        memcpy(&b->uv[2 * (size_t)parts[c].first_user], t->uv, 2 * (size_t)t->vertex_count * sizeof *t->uv);
+        if (!(b->cloths[c].texture = strdup(scene->cloths[c].texture)))
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for texture paths");
+    }
+    return CVK_SUCCESS;
+}
+
 static cvk_result build_adjacency(cvk_build* b, cvk_build_check check, void* check_user,
                                   cvk_error* error)
 {
@@ -401,6 +418,8 @@ cvk_result cvk_build_create_checked(const cvk_scene_desc* scene, cvk_build_check
         }
         r = list_attached(b, parts, error);
         if (r == CVK_SUCCESS)
+            r = copy_textures(b, scene, parts, error);
+        if (r == CVK_SUCCESS)
             r = build_adjacency(b, check, check_user, error);
     }
     if (r == CVK_SUCCESS)
@@ -424,11 +443,14 @@ void cvk_build_destroy(cvk_build* b)
     free(b->adj_rest);
     free(b->triangles);
     free(b->triangle_springs);
+    for (uint32_t c = 0; b->cloths && c < b->cloth_count; c++)
+        free(b->cloths[c].texture);
     free(b->cloths);
     free(b->tether_anchor);
     free(b->tether_length);
     free(b->attached);
     free(b->attached_to);
+    free(b->uv);
     memset(b, 0, sizeof *b);
 }
 

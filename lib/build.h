@@ -37,6 +37,7 @@ typedef struct cvk_cloth_range {
     uint32_t grid[2];          /* a grid's particles along u and v; 0 for a mesh */
     float rest_scale;          /* for the renderer: how far the cloth can reach */
     float color[3];            /* linear RGB, for the renderer */
+    char* texture;             /* the scene's texture path (a copy), or NULL */
 } cvk_cloth_range;
 
 typedef struct cvk_build {
@@ -82,6 +83,9 @@ typedef struct cvk_build {
     uint32_t attached_count;
     uint32_t* attached;
     uint32_t* attached_to;
+    /* Texture coordinates, 2 per particle in user order (0 on cloths without a texture);
+       NULL when no cloth has a texture. */
+    float* uv;
 } cvk_build;
 
 /* Called once the particle count and the largest number of springs on one particle are known,

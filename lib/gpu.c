@@ -400,13 +400,22 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
                                 VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
                                 cvk_error* error)
 {
+    return cvk_gpu_image_create_mipped(context, format, width, height, 1, samples, usage, aspect, what, out,
+                                       error);
+}
+
+cvk_result cvk_gpu_image_create_mipped(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
+                                       uint32_t levels, VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                                       VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
+                                       cvk_error* error)
+{
     memset(out, 0, sizeof *out);
     VkImageCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO,
         .imageType = VK_IMAGE_TYPE_2D,
         .format = format,
         .extent = {width, height, 1},
-        .mipLevels = 1,
+        .mipLevels = levels,
         .arrayLayers = 1,
         .samples = samples,
         .tiling = VK_IMAGE_TILING_OPTIMAL,
@@ -456,7 +465,7 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
         .image = out->image,
         .viewType = VK_IMAGE_VIEW_TYPE_2D,
         .format = format,
-        .subresourceRange = {aspect, 0, 1, 0, 1},
+        .subresourceRange = {aspect, 0, levels, 0, 1},
     };
     vr = vkCreateImageView(context->device, &view, NULL, &out->view);
     if (vr != VK_SUCCESS) {

@@ -35,6 +35,11 @@ cvk_result cvk_gpu_image_create(cvk_context* context, VkFormat format, uint32_t 
                                 VkSampleCountFlagBits samples, VkImageUsageFlags usage,
                                 VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
                                 cvk_error* error);
+/* The same with `levels` mip levels (the view covers them all). */
+cvk_result cvk_gpu_image_create_mipped(cvk_context* context, VkFormat format, uint32_t width, uint32_t height,
+                                       uint32_t levels, VkSampleCountFlagBits samples, VkImageUsageFlags usage,
+                                       VkImageAspectFlags aspect, const char* what, cvk_gpu_image* out,
+                                       cvk_error* error);
 void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image);
 
 /* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ... */

@@ -1,5 +1,5 @@
-/* PNG files through stb_image_write, with zlib doing the deflate: stb's own deflate is simple
-   and slow (about 5x zlib's level 2 on a 1280 x 720 frame). */
+/* PNG files through stb_image_write's row filters, with zlib doing the deflate: stb's own
+   deflate is simple and slow (about 5x zlib's level 2 on a 1280 x 720 frame). */
 #include <errno.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -32,6 +32,13 @@ static unsigned char* zlib_compress(unsigned char* data, int size, int* out_size
     return out;
 }
 
+/* One row filter for every row: stbi_write_png_to_mem tries all five on each row and keeps the
+   smallest sum of residuals (its filter choice is a global, which the library never writes).
+   Measured on two demo frames (1280 x 720, zlib level 2, best of 15, one sitting): all five
+   34 ms, "up" 11.5 ms, for files 2-3 % larger ("sub" 12 ms, -2 to +4.5 %; Paeth 17 ms,
+   +1-1.6 %; none 9 ms, +11-24 %). */
+#define PNG_FILTER_UP 2
+
 #define STBIW_ZLIB_COMPRESS zlib_compress
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -44,6 +51,56 @@ static unsigned char* zlib_compress(unsigned char* data, int size, int* out_size
 #pragma GCC diagnostic ignored "-Wpedantic"
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
+
+/* stbi_write_png_to_mem with one filter for every row (PNG_FILTER_UP) and no global read:
+   8-bit RGB (n = 3) or RGBA (n = 4). */
+static unsigned char* encode_png(const unsigned char* pixels, int stride, int w, int h, int n, int* out_len)
+{
+    size_t row = (size_t)w * (size_t)n + 1;
+    unsigned char* filtered = malloc(row * (size_t)h);
+    if (!filtered)
+        return NULL;
+    for (int y = 0; y < h; y++) {
+        filtered[(size_t)y * row] = y == 0 ? 0 : PNG_FILTER_UP; /* no row above the first */
+        stbiw__encode_png_line((unsigned char*)pixels, stride, w, h, y, n, PNG_FILTER_UP,
+                               (signed char*)filtered + (size_t)y * row + 1);
+    }
+    int zlen = 0;
+    unsigned char* zlib = zlib_compress(filtered, (int)(row * (size_t)h), &zlen, 0);
+    free(filtered);
+    if (!zlib)
+        return NULL;
+    static const unsigned char signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+    unsigned char* out = malloc(8 + 12 + 13 + 12 + (size_t)zlen + 12);
+    if (!out) {
+        free(zlib);
+        return NULL;
+    }
+    unsigned char* o = out;
+    memcpy(o, signature, 8);
+    o += 8;
+    stbiw__wp32(o, 13);
+    stbiw__wptag(o, "IHDR");
+    stbiw__wp32(o, w);
+    stbiw__wp32(o, h);
+    *o++ = 8;                   /* bits per channel */
+    *o++ = n == 4 ? 6 : 2;      /* colour type: RGBA or RGB */
+    *o++ = 0;                   /* deflate, adaptive filtering, no interlace */
+    *o++ = 0;
+    *o++ = 0;
+    stbiw__wpcrc(&o, 13);
+    stbiw__wp32(o, zlen);
+    stbiw__wptag(o, "IDAT");
+    memcpy(o, zlib, (size_t)zlen);
+    o += zlen;
+    free(zlib);
+    stbiw__wpcrc(&o, zlen);
+    stbiw__wp32(o, 0);
+    stbiw__wptag(o, "IEND");
+    stbiw__wpcrc(&o, 0);
+    *out_len = (int)(o - out);
+    return out;
+}
 
 /* Writes the encoded bytes to a temporary file beside `path` and renames it into place. */
 static cvk_result write_atomic(const char* path, const unsigned char* bytes, size_t size, cvk_error* error)
@@ -111,9 +168,8 @@ cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_err
         }
     }
     int size = 0;
-    unsigned char* png = opaque ? stbi_write_png_to_mem(rgb, (int)(w * 3), (int)w, (int)h, 3, &size)
-                                : stbi_write_png_to_mem(image->pixels, (int)image->row_bytes, (int)w, (int)h, 4,
-                                                        &size);
+    unsigned char* png = opaque ? encode_png(rgb, (int)(w * 3), (int)w, (int)h, 3, &size)
+                                : encode_png(image->pixels, (int)image->row_bytes, (int)w, (int)h, 4, &size);
     free(rgb);
     if (!png)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "%s: out of memory encoding a %u x %u PNG", path,

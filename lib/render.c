@@ -444,27 +444,32 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
 
-    /* The colliders' poses (binding 3) only where there are colliders to draw. */
+    /* Binding 3: the cloth's texture, one set per texture (set 0: the white stand-in). The
+       colliders' poses (binding 4) only where there are colliders to draw. */
     static const cvk_binding bindings[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
     };
-    uint32_t binding_count = rd->colliders.draw_count > 0 ? 4 : 3;
-    r = cvk_descriptors_create(rd->context, bindings, binding_count, 1, VK_SHADER_STAGE_FRAGMENT_BIT,
-                               4 * sizeof(float), &rd->descriptors, error);
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 5 : 4;
+    r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.count,
+                               VK_SHADER_STAGE_FRAGMENT_BIT, 4 * sizeof(float), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;
     rd->pipeline_layout = rd->descriptors.pipeline_layout;
     rd->set = rd->descriptors.sets[0];
-    const cvk_resource res[] = {
-        {.buffer = &rd->uniforms},
-        {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
-        {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
-        {.buffer = &rd->mesh->sim->collide.poses},
-    };
-    cvk_descriptors_write(rd->context, &rd->descriptors, 0, res);
+    for (uint32_t i = 0; i < rd->textures.count; i++) {
+        const cvk_resource res[] = {
+            {.buffer = &rd->uniforms},
+            {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
+            {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
+            {.image = rd->textures.images[i].view, .sampler = rd->textures.sampler},
+            {.buffer = &rd->mesh->sim->collide.poses},
+        };
+        cvk_descriptors_write(rd->context, &rd->descriptors, i, res);
+    }
     return CVK_SUCCESS;
 }
 
@@ -479,19 +484,32 @@ static void timestamp(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t quer
 static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored)
 {
     cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
-    VkDeviceSize offset = 0;
-    vkCmdBindVertexBuffers(cmd, 0, 1, &mesh.vertex_buffer, &offset);
+    VkBuffer buffers[2] = {mesh.vertex_buffer, rd->textures.uv.buffer};
+    VkDeviceSize offsets[2] = {0, 0};
+    /* The texture coordinates only for the lit pipelines, and only when a cloth has a texture. */
+    vkCmdBindVertexBuffers(cmd, 0, colored && rd->textures.uv.buffer ? 2 : 1, buffers, offsets);
     vkCmdBindIndexBuffer(cmd, mesh.index_buffer, 0, mesh.index_type);
     const cvk_build* b = &rd->mesh->sim->build;
+    uint32_t bound = 0;
     for (uint32_t c = 0; c < mesh.cloth_count; c++) {
         if (mesh.cloths[c].index_count == 0)
             continue;
         if (colored) {
-            float albedo[4] = {b->cloths[c].color[0], b->cloths[c].color[1], b->cloths[c].color[2], 1.0f};
+            /* w: 1 where the cloth's texture replaces its colour */
+            uint32_t set = rd->textures.set_of[c];
+            float albedo[4] = {b->cloths[c].color[0], b->cloths[c].color[1], b->cloths[c].color[2],
+                               set ? 1.0f : 0.0f};
             vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof albedo, albedo);
+            if (set != bound) {
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
+                                        &rd->descriptors.sets[set], 0, NULL);
+                bound = set;
+            }
         }
         vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
     }
+    if (bound != 0)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
 }
 
 static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer, uint32_t width,
@@ -662,6 +680,8 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
         r = create_images(rd, error);
     }
     if (r == CVK_SUCCESS)
+        r = cvk_render_textures_create(rd, error);
+    if (r == CVK_SUCCESS)
         r = create_shadow_pass(rd, error);
     if (r == CVK_SUCCESS)
         r = create_cloth_pass(rd, error);
@@ -718,6 +738,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     cvk_buffer_destroy(rd->context, &rd->uniforms);
     cvk_buffer_destroy(rd->context, &rd->readback);
     cvk_render_colliders_destroy(rd);
+    cvk_render_textures_destroy(rd);
     cvk_submitter_destroy(rd->context, &rd->submitter);
     cvk_render_camera_destroy(rd);
     free(rd);

@@ -24,6 +24,17 @@ typedef struct cvk_render_colliders {
     cvk_view_colliders framing;
 } cvk_render_colliders;
 
+/* The cloths' textures (lib/render_textures.c): image 0 is a white stand-in for cloths without
+   one; descriptor set i points at image i. */
+typedef struct cvk_render_textures {
+    cvk_gpu_image* images;
+    uint32_t count;
+    uint32_t* set_of;                /* per cloth: its descriptor set, 0 without a texture */
+    VkSampler sampler;
+    cvk_buffer uv;                   /* texture coordinates, 2 floats per vertex; none when no
+                                        cloth has a texture */
+} cvk_render_textures;
+
 struct cvk_renderer {
     cvk_context* context;
     cvk_mesh* mesh;
@@ -49,6 +60,7 @@ struct cvk_renderer {
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
     cvk_render_colliders colliders;
+    cvk_render_textures textures;
 
     VkQueryPool queries;
     cvk_submitter submitter;
@@ -68,6 +80,11 @@ void cvk_render_colliders_destroy(cvk_renderer* rd);
 /* Records the collider draws; with `colored`, each one's colour as the push constant. The
    pipeline is bound by the caller. */
 void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored);
+
+/* Reads every cloth's texture (errors name the key path, "cloths.N.texture"), makes its mips
+   and uploads them with the texture coordinates; needs rd->mesh. */
+cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error);
+void cvk_render_textures_destroy(cvk_renderer* rd);
 
 /* The camera's path (lib/render_camera.c): copied from desc's keyframes (rd->desc keeps no
    pointer to them), freed, and the view (rd->view) resolved with the camera where it is at

@@ -19,7 +19,8 @@
 typedef struct pipeline_recipe {
     const char* what;
     cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
-    uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal */
+    uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal;
+                                        3: and texture coordinates (binding 1) */
     bool colliders;                  /* the collider buffers' layout, not the cloth mesh's */
     VkPrimitiveTopology topology;
     VkRenderPass pass;
@@ -41,8 +42,8 @@ static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModu
 
 /* The fixed-function state of one recipe; pointers inside point into the struct itself. */
 typedef struct fixed_state {
-    VkVertexInputBindingDescription binding;
-    VkVertexInputAttributeDescription attributes[2];
+    VkVertexInputBindingDescription bindings[2];
+    VkVertexInputAttributeDescription attributes[3];
     VkPipelineVertexInputStateCreateInfo vertex_input;
     VkPipelineInputAssemblyStateCreateInfo assembly;
     VkViewport viewport;
@@ -63,13 +64,15 @@ static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fix
     uint32_t stride = p->colliders ? 6 * sizeof(float) : mesh.vertex_stride;
     uint32_t position = p->colliders ? 0 : mesh.position_offset;
     uint32_t normal = p->colliders ? 3 * sizeof(float) : mesh.normal_offset;
-    f->binding = (VkVertexInputBindingDescription){0, stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    f->bindings[0] = (VkVertexInputBindingDescription){0, stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    f->bindings[1] = (VkVertexInputBindingDescription){1, 2 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
     f->attributes[0] = (VkVertexInputAttributeDescription){0, 0, VK_FORMAT_R32G32B32_SFLOAT, position};
     f->attributes[1] = (VkVertexInputAttributeDescription){1, 0, VK_FORMAT_R32G32B32_SFLOAT, normal};
+    f->attributes[2] = (VkVertexInputAttributeDescription){2, 1, VK_FORMAT_R32G32_SFLOAT, 0};
     f->vertex_input = (VkPipelineVertexInputStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-        .vertexBindingDescriptionCount = p->attributes ? 1 : 0,
-        .pVertexBindingDescriptions = &f->binding,
+        .vertexBindingDescriptionCount = p->attributes == 0 ? 0 : p->attributes == 3 ? 2 : 1,
+        .pVertexBindingDescriptions = f->bindings,
         .vertexAttributeDescriptionCount = p->attributes,
         .pVertexAttributeDescriptions = f->attributes,
     };
@@ -189,13 +192,18 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
 {
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
     bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
+    /* With a textured cloth, the cloth's lit pipelines read texture coordinates too. */
+    bool textured = rd->textures.uv.buffer != VK_NULL_HANDLE;
+    cvk_shader_id cloth_vert = textured ? CVK_SHADER_LIT_CLOTH_TEXTURED_VERT : CVK_SHADER_LIT_CLOTH_VERT;
+    uint32_t cloth_attributes = textured ? 3 : 2;
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
         /* Reversed depth: nearer is greater. */
-        {"cloth pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false},
+        {"cloth pass", cloth_vert, CVK_SHADER_LIT_CLOTH_FRAG, cloth_attributes, false,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
+         false, 0, {rd->desc.ground, textured}, false},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
          {false, false, rd->desc.samples}, false},
@@ -221,7 +229,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     if (!rd->desc.wireframe)
         return CVK_SUCCESS;
     const pipeline_recipe wireframe = {
-        "wireframe pass", CVK_SHADER_LIT_CLOTH_VERT, CVK_SHADER_WIREFRAME_FRAG, 2, false,
+        "wireframe pass", cloth_vert, CVK_SHADER_WIREFRAME_FRAG, cloth_attributes, false,
         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
         VK_COMPARE_OP_GREATER_OR_EQUAL, true, 0, {rd->desc.ground}, true};
     return create_pipeline(rd, &wireframe, &rd->wireframe_pipeline, error);

@@ -101,6 +101,8 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .use_pin_box = false,
         .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
         .color = {0.9f, 0.35f, 0.3f},
+        .texture = NULL,
+        .texture_scale = {1.0f, 1.0f},
         .velocity = {0.0f, 0.0f, 0.0f},
         .tethers = 0.0f,
         .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},
@@ -561,6 +563,18 @@ static bool check_tethers(const cvk_cloth_desc* c, const char* base, cvk_scene_i
                     "distance to the pins), got %g", CVK_MAX_TETHER_SCALE, c->tethers);
 }
 
+static bool check_texture(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX], element[CVK_KEY_PATH_MAX];
+    if (c->texture && c->texture[0] == '\0')
+        return cvk_issue_at(issue, join(path, base, "texture"), "must name an image file, got an empty string");
+    join(path, base, "texture_scale");
+    for (uint32_t i = 0; i < 2; i++)
+        if (!cvk_check_greater(issue, join_index(element, path, i), c->texture_scale[i], 0.0))
+            return false;
+    return true;
+}
+
 static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total, cvk_scene_issue* issue)
 {
     char base[CVK_KEY_PATH_MAX];
@@ -572,7 +586,8 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && cvk_check_pins(c, base, issue) && cvk_check_pin_box(c, base, issue) &&
            check_closed_array(issue, join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           check_velocity(c, base, issue) && check_tethers(c, base, issue) &&
+           check_texture(c, base, issue) && check_velocity(c, base, issue) &&
+           check_tethers(c, base, issue) &&
            cvk_aero_check(&c->aero, base, issue);
 }
 

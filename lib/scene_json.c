@@ -241,6 +241,8 @@ static const cvk_field cloth_fields[] = {
     {.key = "pins", .read = cvk_read_pins, .offset = 0},
     {.key = "pin_box", .read = cvk_read_pin_box, .offset = 0},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
+    {.key = "texture", .read = cvk_read_path, .offset = offsetof(cvk_cloth_desc, texture)},
+    {.key = "texture_scale", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, texture_scale), .count = 2},
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
     {.key = "tethers", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, tethers)},
     {.key = "aero", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, aero), .nested = &aero_table},

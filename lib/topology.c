@@ -165,6 +165,23 @@ static void grid_positions(const cvk_cloth_desc* c, float* position)
         }
 }
 
+/* Texture coordinates of particle [i, j]: its place in the grid times texture_scale. */
+static float* grid_uv(const cvk_cloth_desc* c)
+{
+    float* uv = malloc(2 * (size_t)c->grid[0] * c->grid[1] * sizeof *uv);
+    if (!uv)
+        return NULL;
+    double du = c->grid[0] > 1 ? c->texture_scale[0] / (double)(c->grid[0] - 1) : 0.0;
+    double dv = c->grid[1] > 1 ? c->texture_scale[1] / (double)(c->grid[1] - 1) : 0.0;
+    for (uint32_t j = 0; j < c->grid[1]; j++)
+        for (uint32_t i = 0; i < c->grid[0]; i++) {
+            float* out = &uv[2 * ((size_t)j * c->grid[0] + i)];
+            out[0] = (float)(i * du);
+            out[1] = (float)(j * dv);
+        }
+    return uv;
+}
+
 /* Each cell [i, j]..[i + 1, j + 1] is split along its [i + 1, j] - [i, j + 1] diagonal into
    (a, b, c) and (b, d, c), both wound so their normal is u_axis × v_axis; each edge names the
    structural or anti-diagonal shear spring along it. */
@@ -213,6 +230,10 @@ cvk_result cvk_topology_grid(const cvk_cloth_desc* c, uint32_t index, cvk_topolo
     }
     grid_positions(c, t->position);
     grid_triangles(&g, t);
+    if (c->texture && !(t->uv = grid_uv(c))) {
+        cvk_topology_destroy(t);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for a %u x %u grid", g.w, g.h);
+    }
     bool shear = c->stiffness.shear > 0.0f, bend = c->stiffness.bend > 0.0f;
     for (uint32_t j = 0; j < g.h; j++)
         for (uint32_t i = 0; i < g.w; i++)
@@ -316,5 +337,6 @@ void cvk_topology_destroy(cvk_topology* t)
     free(t->triangle_springs);
     free(t->springs);
     free(t->colour);
+    free(t->uv);
     memset(t, 0, sizeof *t);
 }

@@ -23,6 +23,8 @@ typedef struct cvk_topology {
     float* position;             /* xyz per vertex, m, after any transform */
     float* mass;                 /* kg per vertex */
     uint8_t* pinned;             /* 1 per pinned vertex (pins, pin_vertices, pin_box) */
+    float* uv;                   /* 2 per vertex, texture coordinates; only for a cloth with a
+                                    texture, else NULL */
 
     uint32_t triangle_count;
     uint32_t* triangles;         /* 3 vertices per triangle, counter-clockwise from the front */

@@ -778,6 +778,39 @@ static cvk_result check_extent(mesh_reader* r, const float* position)
     return CVK_SUCCESS;
 }
 
+/* Texture coordinates per particle: the first set of the first file vertex welded into it
+   (vertices repeated only for a UV seam are welded, so a seam stretches the texture). */
+static cvk_result fill_uv(mesh_reader* r, cvk_topology* out)
+{
+    out->uv = calloc(2 * (size_t)(r->vertex_count ? r->vertex_count : 1), sizeof *out->uv);
+    uint8_t* set = calloc(r->vertex_count ? r->vertex_count : 1, 1);
+    if (!out->uv || !set) {
+        free(set);
+        return out_of_memory(r, "the texture coordinates");
+    }
+    bool any = false;
+    for (unsigned m = 0; m < r->scene->mNumMeshes; m++) {
+        const struct aiMesh* mesh = r->scene->mMeshes[m];
+        if (!mesh->mTextureCoords[0])
+            continue;
+        any = true;
+        for (unsigned v = 0; v < mesh->mNumVertices; v++) {
+            uint32_t p = r->particle_of[r->vertex_base[m] + v];
+            if (p == UNUSED_VERTEX || set[p])
+                continue;
+            set[p] = 1;
+            out->uv[2 * (size_t)p] = mesh->mTextureCoords[0][v].x;
+            out->uv[2 * (size_t)p + 1] = mesh->mTextureCoords[0][v].y;
+        }
+    }
+    free(set);
+    if (!any)
+        return cvk_fail(r->error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%.*stexture: %s has no texture coordinates to map the texture by",
+                        (int)(strlen(r->key) - strlen("mesh")), r->key, r->path);
+    return CVK_SUCCESS;
+}
+
 static cvk_result fill_output(mesh_reader* r, cvk_topology* out)
 {
     out->vertex_count = r->vertex_count;
@@ -793,7 +826,7 @@ static cvk_result fill_output(mesh_reader* r, cvk_topology* out)
     out->triangle_count = r->triangle_count;
     out->triangles = r->triangles;
     r->triangles = NULL;
-    return CVK_SUCCESS;
+    return r->cloth->texture ? fill_uv(r, out) : CVK_SUCCESS;
 }
 
 static cvk_result read_mesh(mesh_reader* r, cvk_topology* out)

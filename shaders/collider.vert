@@ -9,10 +9,12 @@ layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 0) out vec3 world;
 layout(location = 1) out vec3 world_normal;
+layout(location = 2) out vec2 uv; // colliders have no texture (lit_cloth.frag)
 
 void main()
 {
     world = posed_point(position);
     world_normal = posed_direction(normal);
+    uv = vec2(0.0);
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }

@@ -10,13 +10,22 @@
 
 // The ground hides what is below it (a cloth without a collider falls through).
 layout(constant_id = 0) const bool CLIP_BELOW_GROUND = true;
+// Some cloth has a texture: read it where the material says so.
+layout(constant_id = 1) const bool TEXTURED = false;
 
 layout(push_constant) uniform Material {
-    vec4 albedo; // rgb: linear colour of this cloth
+    vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
 } material;
+
+// The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
+layout(set = 0, binding = 3) uniform sampler2D albedo_map;
 
 layout(location = 0) in vec3 world;
 layout(location = 1) in vec3 world_normal;
+// Centroid: with multisampling a pixel's centre may lie outside a triangle that covers some of
+// its samples, and a coordinate extrapolated there could read beyond the cloth's part of the
+// texture.
+layout(location = 2) centroid in vec2 uv;
 layout(location = 0) out vec4 color;
 
 void main()
@@ -30,5 +39,6 @@ void main()
     float visible = dot(n, frame.key_direction.xyz) > 0.0 ? key_visibility(world, n) : 0.0;
     // Stored as the square root of linear light: the composite pass squares it back before
     // averaging the samples, and 8 bits of it are about as fine in the dark as sRGB.
-    color = vec4(sqrt(clamp(shade(world, n, material.albedo.rgb, 0.12, visible), 0.0, 1.0)), 1.0);
+    vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
+    color = vec4(sqrt(clamp(shade(world, n, albedo, 0.12, visible), 0.0, 1.0)), 1.0);
 }

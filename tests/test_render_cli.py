@@ -21,7 +21,9 @@ import tooltest
 [RENDER] = tooltest.tool_paths("clothvk-render")
 ROOT = tooltest.ROOT
 
-SMALL = os.path.join(ROOT, "tests", "scenes", "small.json")
+SCENES = os.path.join(ROOT, "tests", "scenes")
+SMALL = os.path.join(SCENES, "small.json")
+FLAG = os.path.join(ROOT, "assets", "scenes", "flag.json")
 HANGING = os.path.join(ROOT, "assets", "scenes", "hanging.json")
 # hanging.json made small enough for a test: 24 x 24 particles, 160 x 90 pixels.
 TINY = [HANGING, "--set", "cloths.0.grid=[24,24]", "--set", "cloths.0.pins=[[0,0],[23,0]]", "--size", "160x90"]
@@ -122,6 +124,21 @@ CASES = [
                      "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop)")},
     {"name": "bad render value", "argv": [SMALL, "-o", "out", "--set", "render.key.direction=[0,0,0]"],
      "status": 2, "stderr": error(f"{SMALL}: render.key.direction (from --set): must not be zero, got [0, 0, 0]")},
+    # A cloth's texture (read when the renderer is made, before any image).
+    {"name": "missing texture", "argv": [SMALL, "-o", "out", "--set", 'cloths.0.texture="no-such.png"'],
+     "status": 2, "stderr": error(f"{SMALL}: cloths.0.texture: {SCENES}/no-such.png: cannot open: "
+                                  "No such file or directory")},
+    {"name": "texture not an image", "argv": [SMALL, "-o", "out", "--set", 'cloths.0.texture="small.json"'],
+     "status": 2, "stderr": error(f"{SMALL}: cloths.0.texture: {SCENES}/small.json: not an image stb_image can "
+                                  "read (unknown image type)")},
+    {"name": "texture too large", "argv": [SMALL, "-o", "out", "--set", 'cloths.0.texture="wide-texture.png"'],
+     "status": 2, "env": {"CLOTHVK_DEVICE": "llvmpipe"},
+     "stderr": error(f"{SMALL}: cloths.0.texture: {SCENES}/wide-texture.png: 20000 x 1 texels is more than "
+                     f"{LLVMPIPE} allows (16384 x 16384)")},
+    {"name": "texture on a mesh without texture coordinates",
+     "argv": [FLAG, "-o", "out", "--set", 'cloths.0.texture="../textures/plaid.png"'], "status": 2,
+     "stderr": error(f"{FLAG}: cloths.0.texture: {ROOT}/assets/scenes/../meshes/flag.obj has no texture "
+                     "coordinates to map the texture by")},
     {"name": "missing scene", "argv": ["no-such.json", "-o", "out"], "status": 2,
      "stderr": error("no-such.json: cannot open: No such file or directory")},
     # The output folder: an existing file in the way, under it, or a folder that takes no file.

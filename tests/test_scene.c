@@ -311,6 +311,15 @@ static void test_validate_material(void)
     EXPECT_DESC_INVALID(&f.scene, "cloths.0.color.1: must be between 0 and 1, got -0.25");
     f.cloths[0].color[1] = NAN;
     EXPECT_DESC_INVALID(&f.scene, "cloths.0.color.1: must be a finite number, got nan");
+
+    fixture_init(&f);
+    f.cloths[0].texture = "";
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.texture: must name an image file, got an empty string");
+    fixture_init(&f);
+    f.cloths[0].texture_scale[1] = 0.0f;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.texture_scale.1: must be greater than 0, got 0");
+    f.cloths[0].texture_scale[1] = INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "cloths.0.texture_scale.1: must be a finite number, got inf");
 }
 
 static void test_validate_pins(void)
@@ -499,7 +508,7 @@ static void test_full_json(void)
                                 " 'cloths': [{'name': 'a', 'grid': [3, 4], 'size': [2, 3], 'origin': [1, 2, 3],"
                                 "   'u_axis': [0, 1, 0], 'v_axis': [0, 0, -1], 'rest_scale': 0.5, 'mass': 2,"
                                 "   'stiffness': {'structural': 10, 'shear': 20, 'bend': 30},"
-                                "   'pins': [[0, 0], [2, 3]], 'color': [0, 0.5, 1]},"
+                                "   'pins': [[0, 0], [2, 3]], 'color': [0, 0.5, 1], 'texture_scale': [2, 3]},"
                                 "  {'name': 'b'}]}");
     if (!scene)
         return;
@@ -537,7 +546,11 @@ static void test_full_json(void)
     CHECK_INT(c->pins[1][0], 2);
     CHECK_INT(c->pins[1][1], 3);
     CHECK_FLOAT(c->color[1], 0.5f);
+    CHECK_FLOAT(c->texture_scale[0], 2.0f);
+    CHECK_FLOAT(c->texture_scale[1], 3.0f);
     CHECK_STR(d->cloths[1].name, "b");
+    CHECK(d->cloths[1].texture == NULL);
+    CHECK_FLOAT(d->cloths[1].texture_scale[1], 1.0f);
     CHECK_INT(d->cloths[1].grid[0], 100);
     cvk_scene_destroy(scene);
 
@@ -596,7 +609,7 @@ static void test_unknown_keys(void)
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
-                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, velocity, tethers, aero)");
+                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero)");
     EXPECT_INVALID("{'cloths': [{'stiffness': {'bending': 1}}]}",
                    "t.json: cloths.0.stiffness.bending: unknown key (expected one of: structural, shear, bend)");
 }
@@ -749,7 +762,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "cloths.0.massive=1",
                      "t.json: cloths.0.massive (from --set): unknown key (expected one of: name, grid, size, origin, "
                      "u_axis, v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, "
-                     "velocity, tethers, aero)");
+                     "texture, texture_scale, velocity, tethers, aero)");
 
     cvk_scene* scene = NULL;
     cvk_error err = {0};

@@ -296,6 +296,14 @@ typedef struct cvk_cloth_desc {
     bool use_pin_box;            /* true: also pin every particle inside pin_box */
     cvk_box3 pin_box;            /* m, after the transform; min ≤ max on every axis */
     float color[3];              /* linear RGB in [0, 1], for renderers */
+    const char* texture;         /* image file (PNG, JPEG, ...; stb_image) drawn on the cloth in
+                                    place of color, its 8-bit values sRGB; NULL = none. A scene
+                                    file's relative path is relative to the scene file. Read by
+                                    cvk_renderer_create, mapped by the mesh file's texture
+                                    coordinates, or on a grid by u = i / (grid[0] − 1) ·
+                                    texture_scale[0], v = j / (grid[1] − 1) · texture_scale[1] */
+    float texture_scale[2];      /* grids: repeats of the texture along u and v; > 0, usually
+                                    [1, 1]; unused for meshes */
     float velocity[3];           /* initial velocity of every free particle, m/s; usually 0 */
     float tethers;               /* long-range attachments: 0 = none (the default); ≥ 1: no
                                     free particle gets farther from any of its (up to) four

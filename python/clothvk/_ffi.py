@@ -153,6 +153,8 @@ typedef struct cvk_cloth_desc {
     bool use_pin_box;
     cvk_box3 pin_box;
     float color[3];
+    const char* texture;
+    float texture_scale[2];
     float velocity[3];
     float tethers;
     cvk_aero_desc aero;
