@@ -42,8 +42,8 @@ COLUMNS = {
     "budget": ["label", "solver", "omega", "budget_ms", "iterations", "outer", "inner", "solve_ms",
                "solve_ms_min", "solve_ms_max", "fits", "residual", "residual_relative",
                "solve_error", "ms_per_iteration", "overhead_ms", "seed_002_gtx970", "device"],
-    "pareto": ["label", "solver", "omega", "substeps", "dt", "iterations", "outer", "inner",
-               "frames", "time_s", "frame_ms", "frame_ms_min", "frame_ms_max", "residual",
+    "pareto": ["label", "method", "solver", "omega", "tolerance", "substeps", "dt", "iterations",
+               "outer", "inner", "frames", "time_s", "frame_ms", "frame_ms_min", "frame_ms_max", "residual",
                "trajectory_error", "max_stretch", "nan_count", "stable", "front_residual",
                "front_trajectory", "device"],
     "stability": ["kind", "case", "label", "solver", "omega", "iterations", "outer", "inner", "dt",
@@ -64,7 +64,7 @@ COLUMNS = {
                            "unstable_at", "predicted", "measured_over_predicted", "seed",
                            "lambda_d", "lambda_k", "runs", "steps", "device"],
 }
-TEXT = {"label", "solver", "kind", "case", "reason", "device", "measure", "integrator",
+TEXT = {"label", "method", "solver", "kind", "case", "reason", "device", "measure", "integrator",
         "damping_model", "seed"}
 
 
@@ -80,6 +80,14 @@ def may_be_empty(experiment, row, column):
             return row["measure"] == "largest stable kd"
         if column in ("runs", "steps"):
             return row["measure"] == "h ratio"
+    if experiment == "pareto":
+        # the settings of one family only; a setting that blew up is not timed
+        if column in ("omega", "outer", "inner"):
+            return row["method"] != "pd"
+        if column == "tolerance":
+            return row["method"] != "implicit"
+        if column.startswith("frame_ms") or column in ("residual", "trajectory_error"):
+            return row["stable"] == "0"
     if experiment == "scaling" and column in CONTACT_COLUMNS:
         return True  # passes of a colliding scene, checked by contact_pass_columns
     if experiment == "stability":
@@ -181,6 +189,26 @@ def stability_kinds(rows):
     return problems
 
 
+def every_family(rows):
+    """Each family has its rows: projective dynamics per sweep count, implicit Euler per
+    tolerance with the iterations it used (at least one, at most --max-iterations), the
+    explicit integrator once per substep count; a converged explicit run is stable."""
+    problems = fronts_hold_stable_settings(rows)
+    methods = {(r["method"], r["solver"]) for r in rows}
+    for m in (("pd", "rbgs"), ("implicit", "cg"), ("implicit", "jacobi"), ("explicit", "verlet")):
+        if m not in methods:
+            problems.append(f"no {m[0]} {m[1]} rows")
+    for r in rows:
+        if r["method"] == "implicit":
+            if float(r["tolerance"]) not in (1e-2, 1e-4):
+                problems.append(f"implicit row with tolerance {r['tolerance']}")
+            if not 1 <= float(r["iterations"]) <= 40:
+                problems.append(f"implicit {r['solver']} used {r['iterations']} iterations per substep")
+        if r["method"] == "explicit" and (r["substeps"] != "1000" or r["stable"] != "1"):
+            problems.append(f"explicit row: {r['substeps']} substeps, stable {r['stable']}")
+    return problems
+
+
 CONTACT_COLUMNS = ("colliders_ms", "hash_ms", "contacts_ms", "contact_ms")
 
 
@@ -273,6 +301,12 @@ GOOD = [
      "argv": ["pareto"] + TINY_HANGING + ["--iterations", "1,4", "--substeps", "1,2",
                                           "--time", "0.05", "--solvers", "jacobi,rbgs"] + QUICK,
      "experiment": "pareto", "check": fronts_hold_stable_settings},
+    {"name": "pareto, every family",
+     "argv": ["pareto"] + TINY_HANGING + ["--iterations", "1,4", "--substeps", "2",
+                                          "--time", "0.05", "--solvers", "rbgs,cg,implicit-jacobi,verlet",
+                                          "--tolerances", "1e-2,1e-4", "--max-iterations", "40",
+                                          "--explicit-substeps", "1000"] + QUICK,
+     "experiment": "pareto", "check": every_family},
     {"name": "stability",
      "argv": ["stability"] + TINY_HANGING + ["--dt", "0.002,0.0333", "--stiffness", "1e4,1e6",
                                              "--time", "0.04", "--min-steps", "4",
@@ -305,6 +339,9 @@ GOOD = [
               "--time", "0.3", "--limit-ratio", "1.1"],
      "experiment": "explicit-stability", "check": explicit_limits},
 ]
+
+SOLVERS = ("a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with "
+           ":OMEGA (0 < OMEGA < 2), or of cg, implicit-jacobi, euler, rk2, adams-bashforth or verlet")
 
 BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
@@ -339,11 +376,25 @@ BAD = [
     {"name": "negative time step", "argv": ["stability", HANGING, "--dt", "0.001,-0.002"],
      "stderr": "clothvk-bench: --dt: expected a comma-separated list of time steps greater than 0 and at most 10 s, got 0.001,-0.002"},
     {"name": "unknown solver", "argv": ["convergence", HANGING, "--solvers", "rbgs,sor"],
-     "stderr": "clothvk-bench: --solvers: expected a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with :OMEGA (0 < OMEGA < 2), got rbgs,sor"},
+     "stderr": "clothvk-bench: --solvers: expected " + SOLVERS + ", got rbgs,sor"},
     {"name": "omega out of range", "argv": ["convergence", HANGING, "--solvers", "rbgs:2"],
-     "stderr": "clothvk-bench: --solvers: expected a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with :OMEGA (0 < OMEGA < 2), got rbgs:2"},
-    {"name": "implicit outside scaling", "argv": ["pareto", HANGING, "--solvers", "rbgs,cg"],
-     "stderr": "clothvk-bench: --solvers: cg (implicit Euler) is measured by scaling only"},
+     "stderr": "clothvk-bench: --solvers: expected " + SOLVERS + ", got rbgs:2"},
+    {"name": "implicit outside scaling and pareto", "argv": ["convergence", HANGING, "--solvers", "rbgs,cg"],
+     "stderr": "clothvk-bench: --solvers: cg (implicit Euler) is measured by scaling and pareto only"},
+    {"name": "explicit outside pareto", "argv": ["scaling", HANGING, "--solvers", "verlet"],
+     "stderr": "clothvk-bench: --solvers: verlet (explicit) is measured by pareto only (and by "
+               "explicit-stability, which takes no --solvers)"},
+    {"name": "explicit without its substeps", "argv": ["pareto", HANGING, "--solvers", "rbgs,rk2"],
+     "stderr": "clothvk-bench: pareto: explicit integrators need --explicit-substeps (their steps "
+               "are far shorter than the others')"},
+    {"name": "explicit substeps without explicit",
+     "argv": ["pareto", HANGING, "--explicit-substeps", "100"],
+     "stderr": "clothvk-bench: pareto: --explicit-substeps without an explicit integrator in --solvers"},
+    {"name": "explicit substeps past the bound",
+     "argv": ["pareto", HANGING, "--solvers", "euler", "--explicit-substeps", "100,10001"],
+     "stderr": "clothvk-bench: --explicit-substeps: expected a comma-separated list of whole numbers from 1 to 10000, got 100,10001"},
+    {"name": "tolerance of 0", "argv": ["pareto", HANGING, "--solvers", "cg", "--tolerances", "0.01,0"],
+     "stderr": "clothvk-bench: --tolerances: expected a comma-separated list of numbers greater than 0 and at most 1, got 0.01,0"},
     {"name": "no points", "argv": ["collide", "--points", "0,10"],
      "stderr": "clothvk-bench: --points: expected a comma-separated list of whole numbers from 1 to 16777216, got 0,10"},
     {"name": "--points of scaling", "argv": ["scaling", "--points", "10"],

@@ -57,6 +57,7 @@ bool bench_table_write(FILE* file, void* table);
 typedef struct bench_solver {
     cvk_method method;        /* implicit: "cg", "implicit-jacobi" (scaling only) */
     cvk_linear_solver linear;
+    cvk_integrator integrator; /* explicit: euler, rk2, adams-bashforth or verlet */
     float omega;      /* 0: the scene's */
     char label[32];   /* as written: "rbgs", "rbgs:1.7" */
     char title[48];   /* for plots: "rbgs ω=1.7" */
@@ -91,6 +92,12 @@ typedef struct bench_options {
     double time;                /* simulated seconds; 0: the experiment's default */
     double target_error;        /* m */
     double target_residual;     /* m²; 0: twice the reference's */
+    /* pareto with other families */
+    double tolerances[BENCH_MAX_LIST]; /* implicit: relative residuals where the solve stops */
+    uint32_t tolerance_count;
+    uint32_t explicit_substeps[BENCH_MAX_LIST]; /* explicit: substeps per frame */
+    uint32_t explicit_substep_count;
+    uint32_t reference_substeps; /* 0: REFERENCE_FACTOR x the finest of --substeps */
 
     /* stability */
     double dts[BENCH_MAX_LIST];

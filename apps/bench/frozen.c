@@ -32,6 +32,10 @@ cvk_solver_desc bench_solver_desc(const cvk_solver_desc* base, const bench_solve
         d.tolerance = 1e-9f;
         return d;
     }
+    if (s->method == CVK_METHOD_EXPLICIT) {
+        d.integrator = s->integrator;
+        return d;
+    }
     if (s->omega > 0.0f)
         d.omega = s->omega;
     if (sweeps == 0)

@@ -89,6 +89,16 @@ static void usage(FILE* out)
         "                      1e-8 m, 200); the reference is the converged solve at h / 4\n"
         "  --stretch-bound S   settings that stretch a spring by more than S are unstable and on\n"
         "                      no front (default 10 = 1000%%)\n"
+        "  --solvers           also cg and implicit-jacobi (implicit Euler: each --substeps x\n"
+        "                      --tolerances, at most --max-iterations per substep, default 1000)\n"
+        "                      and euler, rk2, adams-bashforth, verlet (explicit, the scene's\n"
+        "                      solver.kd: each of --explicit-substeps, which they need)\n"
+        "  --tolerances LIST   implicit: relative residuals where the solve stops (default\n"
+        "                      0.01,0.001)\n"
+        "  --explicit-substeps LIST  explicit: substeps per frame (1 to 10000)\n"
+        "  --reference-substeps N  the reference's substeps per frame (default 4 x the largest\n"
+        "                      of --substeps)\n");
+    fprintf(out,
         "stability:\n"
         "  --dt LIST           time steps, s (default 0.0005,0.001,0.002,0.004,0.008,0.016,0.0333333)\n"
         "  --stiffness LIST    structural N/m (default 1e3,1e4,1e5,1e6,1e7,1e8)\n"
@@ -186,6 +196,16 @@ static bool parse_solver(const char* item, bench_solver* out)
                                             CVK_LINEAR_CHEBYSHEV, CVK_LINEAR_GS_CPU};
     size_t n = strcspn(item, ":");
     *out = (bench_solver){0};
+    static const cvk_integrator integrators[] = {CVK_INTEGRATOR_EULER, CVK_INTEGRATOR_RK2,
+                                                 CVK_INTEGRATOR_AB4, CVK_INTEGRATOR_VERLET};
+    for (size_t i = 0; i < sizeof integrators / sizeof integrators[0]; i++)
+        if (!strcmp(item, cvk_integrator_name(integrators[i]))) {
+            out->method = CVK_METHOD_EXPLICIT;
+            out->integrator = integrators[i];
+            snprintf(out->label, sizeof out->label, "%s", item);
+            snprintf(out->title, sizeof out->title, "explicit %s", item);
+            return true;
+        }
     if (!strcmp(item, "cg") || !strcmp(item, "implicit-jacobi")) {
         out->method = CVK_METHOD_IMPLICIT;
         out->linear = item[0] == 'c' ? CVK_LINEAR_CG : CVK_LINEAR_JACOBI;
@@ -222,7 +242,8 @@ static bool parse_solver(const char* item, bench_solver* out)
 static bool parse_solvers(const char* text, bench_options* o)
 {
     const char* expected = "a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each "
-                           "optionally with :OMEGA (0 < OMEGA < 2)";
+                           "optionally with :OMEGA (0 < OMEGA < 2), or of cg, implicit-jacobi, "
+                           "euler, rk2, adams-bashforth or verlet";
     o->solver_count = 0;
     if (!text || !*text)
         return bad_value("--solvers", expected, text);
@@ -264,7 +285,10 @@ static const option_spec option_specs[] = {
     {"--warmup", ALL, true},
     {"--no-plot", ALL, false},
     {"--frame", CONVERGENCE | BUDGET, true},
-    {"--max-iterations", CONVERGENCE, true},
+    {"--max-iterations", CONVERGENCE | PARETO, true},
+    {"--tolerances", PARETO, true},
+    {"--explicit-substeps", PARETO, true},
+    {"--reference-substeps", PARETO, true},
     {"--ms", BUDGET, true},
     {"--reference-tolerance", CONVERGENCE | BUDGET | PARETO, true},
     {"--reference-max-iterations", CONVERGENCE | BUDGET | PARETO, true},
@@ -338,6 +362,13 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         return parse_u32(name, v, 1, 100000, &o->reference_max);
     if (!strcmp(name, "--iterations"))
         return parse_u32_list(name, v, 1, 100000, o->iterations, &o->iteration_count);
+    if (!strcmp(name, "--tolerances"))
+        return parse_double_list(name, v, 0.0, 1.0, true, "a comma-separated list of numbers "
+                                 "greater than 0 and at most 1", o->tolerances, &o->tolerance_count);
+    if (!strcmp(name, "--explicit-substeps"))
+        return parse_u32_list(name, v, 1, 10000, o->explicit_substeps, &o->explicit_substep_count);
+    if (!strcmp(name, "--reference-substeps"))
+        return parse_u32(name, v, 1, 10000, &o->reference_substeps);
     if (!strcmp(name, "--substeps"))
         return parse_u32_list(name, v, 1, 1000, o->substeps, &o->substep_count);
     if (!strcmp(name, "--time"))
@@ -405,6 +436,11 @@ static void set_defaults(bench_options* o, const experiment* e)
         bool is_pareto = e->bit == PARETO;
         memcpy(o->iterations, is_pareto ? pareto : scaling, is_pareto ? sizeof pareto : sizeof scaling);
         o->iteration_count = is_pareto ? 6 : 4;
+    }
+    if (o->tolerance_count == 0) {
+        o->tolerances[0] = 1e-2;
+        o->tolerances[1] = 1e-3;
+        o->tolerance_count = 2;
     }
     if (o->substep_count == 0) {
         const uint32_t substeps[] = {2, 4, 8};
@@ -525,12 +561,28 @@ static int parse_args(int argc, char** argv, parsed* p)
         if (!apply_option(o, given[g].name, given[g].value))
             return APP_EXIT_BAD_INPUT;
     }
-    for (uint32_t i = 0; i < o->solver_count; i++)
-        if (o->solvers[i].method == CVK_METHOD_IMPLICIT && p->e->bit != SCALING) {
-            app_error(tool, "--solvers: %s (implicit Euler) is measured by scaling only",
-                      o->solvers[i].label);
+    bool explicit_listed = false;
+    for (uint32_t i = 0; i < o->solver_count; i++) {
+        const bench_solver* s = &o->solvers[i];
+        explicit_listed |= s->method == CVK_METHOD_EXPLICIT;
+        if (s->method == CVK_METHOD_IMPLICIT && p->e->bit != SCALING && p->e->bit != PARETO) {
+            app_error(tool, "--solvers: %s (implicit Euler) is measured by scaling and pareto only",
+                      s->label);
             return APP_EXIT_BAD_INPUT;
         }
+        if (s->method == CVK_METHOD_EXPLICIT && p->e->bit != PARETO) {
+            app_error(tool, "--solvers: %s (explicit) is measured by pareto only (and by "
+                      "explicit-stability, which takes no --solvers)", s->label);
+            return APP_EXIT_BAD_INPUT;
+        }
+    }
+    if (p->e->bit == PARETO && explicit_listed != (o->explicit_substep_count > 0)) {
+        app_error(tool, explicit_listed ? "pareto: explicit integrators need --explicit-substeps "
+                                          "(their steps are far shorter than the others')"
+                                        : "pareto: --explicit-substeps without an explicit "
+                                          "integrator in --solvers");
+        return APP_EXIT_BAD_INPUT;
+    }
     set_defaults(o, p->e);
     return APP_EXIT_OK;
 }

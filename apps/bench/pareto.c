@@ -1,10 +1,13 @@
-/* pareto: error against GPU time per frame, over solver x iterations x substeps. Every
-   setting simulates the scene from rest for the same simulated time; its errors are the
-   residual (seed 002 eq. 4.1) and the trajectory error: the RMS distance to a reference
-   trajectory at that time. The reference is the converged solver at a 4x smaller h than the
-   finest setting: every substep solved to convergence by Newton's method (reference.h). The
-   Pareto front of each error is marked, and the cheapest setting that reaches a target error
-   is named. */
+/* pareto: error against GPU time per frame, over solver x iterations x substeps, and over
+   the other families: implicit Euler (cg, block jacobi) x tolerance x substeps and the
+   explicit integrators x their own substeps. Every setting simulates the scene from rest for
+   the same simulated time; its errors are the residual (seed 002 eq. 4.1) and the trajectory
+   error: the RMS distance to a reference trajectory at that time. The reference is the
+   converged solver at a 4x smaller h than the finest projective-dynamics or implicit setting
+   (or --reference-substeps): every substep solved to convergence by Newton's method
+   (reference.h). The explicit integrators need steps far shorter than that; they are compared
+   with the same reference, not with one of their own. The Pareto front of each error is
+   marked, and the cheapest setting that reaches a target error is named. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,7 +20,8 @@
 #include "reference.h"
 
 static const char* const columns[] = {
-    "label", "solver", "omega", "substeps", "dt", "iterations", "outer", "inner", "frames",
+    "label", "method", "solver", "omega", "tolerance", "substeps", "dt", "iterations", "outer",
+    "inner", "frames",
     "time_s", "frame_ms", "frame_ms_min", "frame_ms_max", "residual", "trajectory_error",
     "max_stretch", "nan_count", "stable", "front_residual", "front_trajectory",
 };
@@ -67,11 +71,11 @@ static bool simulate(cvk_sim* sim, const setup* su, const cvk_solver_desc* solve
     return r == CVK_SUCCESS;
 }
 
-/* The reference trajectory: every substep at h / 4 of the finest setting solved to
-   convergence (Newton, reference.h), on the host in double precision. */
-static bool reference(bench* b, setup* su, uint32_t finest)
+/* The reference trajectory: every one of `substeps` substeps per frame solved to convergence
+   (Newton, reference.h), on the host in double precision. */
+static bool reference(bench* b, setup* su, uint32_t substeps)
 {
-    su->reference_substeps = REFERENCE_FACTOR * finest;
+    su->reference_substeps = substeps;
     cvk_scene_desc scene = scene_with_substeps(b->scene, su->frame_time, su->reference_substeps);
     bench_host h;
     bool ok = bench_host_create(&scene, NULL, NULL, &h); /* at rest, as the simulations start */
@@ -113,25 +117,42 @@ static bool time_frames(bench* b, cvk_sim* sim, bench_timing* out)
     return true;
 }
 
+/* One setting: `sweeps` per substep for projective dynamics; for implicit Euler the solve
+   stops at `tolerance` (at most --max-iterations), and its iterations are the mean it used per
+   substep in the simulated run's last frame; the explicit integrators have neither. */
 static bool run_setting(bench* b, setup* su, cvk_sim* sim, const cvk_scene_desc* scene,
-                        const bench_solver* s, uint32_t sweeps)
+                        const bench_solver* s, uint32_t sweeps, double tolerance)
 {
     cvk_solver_desc d = bench_solver_desc(&scene->solver, s, sweeps, b->o->inner);
+    if (s->method == CVK_METHOD_IMPLICIT) {
+        d.tolerance = (float)tolerance;
+        d.max_iterations = b->o->max_iterations;
+    }
     cvk_sim_stats st;
     bench_timing frame_ms;
-    if (!simulate(sim, su, &d, su->out, &st) || !time_frames(b, sim, &frame_ms))
+    if (!simulate(sim, su, &d, su->out, &st))
+        return false;
+    double iterations = s->method == CVK_METHOD_PD       ? (double)bench_sweeps(&d)
+                        : s->method == CVK_METHOD_IMPLICIT ? (double)st.solver_iterations / scene->substeps
+                                                           : 1.0;
+    /* A setting that blew up stays frozen where it did: it is unstable, and not timed. */
+    frame_ms = (bench_timing){NAN, NAN, NAN};
+    if (!st.diverged && !time_frames(b, sim, &frame_ms))
         return false;
     double error = cvk_metrics_rms_distance(su->out, su->reference, su->n);
     bench_table* t = &b->table;
     bench_table_row(t);
     bench_table_str(t, "label", s->label);
-    bench_table_str(t, "solver", cvk_linear_solver_name(s->linear));
-    bench_table_num(t, "omega", d.omega);
+    bench_table_str(t, "method", cvk_method_name(s->method));
+    bench_table_str(t, "solver", s->method == CVK_METHOD_EXPLICIT ? cvk_integrator_name(s->integrator)
+                                                                : cvk_linear_solver_name(s->linear));
+    bench_table_num(t, "omega", s->method == CVK_METHOD_PD ? d.omega : NAN);
+    bench_table_num(t, "tolerance", s->method == CVK_METHOD_IMPLICIT ? tolerance : NAN);
     bench_table_int(t, "substeps", scene->substeps);
     bench_table_num(t, "dt", scene->dt);
-    bench_table_int(t, "iterations", bench_sweeps(&d));
-    bench_table_int(t, "outer", d.outer_iterations);
-    bench_table_int(t, "inner", d.inner_iterations);
+    bench_table_num(t, "iterations", iterations);
+    bench_table_num(t, "outer", s->method == CVK_METHOD_PD ? d.outer_iterations : NAN);
+    bench_table_num(t, "inner", s->method == CVK_METHOD_PD ? d.inner_iterations : NAN);
     bench_table_int(t, "frames", su->frames);
     bench_table_num(t, "time_s", su->frames * su->frame_time);
     bench_table_num(t, "frame_ms", frame_ms.median);
@@ -142,7 +163,8 @@ static bool run_setting(bench* b, setup* su, cvk_sim* sim, const cvk_scene_desc*
     bench_table_num(t, "max_stretch", st.max_stretch);
     bench_table_int(t, "nan_count", st.nan_count);
     /* as the stability experiment judges it; an exploded setting is on no front */
-    bench_table_int(t, "stable", st.nan_count == 0 && st.max_stretch <= b->o->stretch_bound);
+    bench_table_int(t, "stable", !st.diverged && st.nan_count == 0 &&
+                                     st.max_stretch <= b->o->stretch_bound);
     return true;
 }
 
@@ -164,8 +186,25 @@ static void mark_front(bench_table* t, const char* error, const char* mark)
 
 static void print_setting(const bench_table* t, uint32_t r)
 {
-    printf("%-10s %2.0f substeps x %3.0f iterations", bench_table_get_str(t, r, "label"),
-           bench_table_get(t, r, "substeps"), bench_table_get(t, r, "iterations"));
+    const char* method = bench_table_get_str(t, r, "method");
+    printf("%-15s %4.0f substeps x ", bench_table_get_str(t, r, "label"),
+           bench_table_get(t, r, "substeps"));
+    if (!strcmp(method, "implicit"))
+        printf("%5.1f iterations (to %g)", bench_table_get(t, r, "iterations"),
+               bench_table_get(t, r, "tolerance"));
+    else
+        printf("%3.0f iterations", bench_table_get(t, r, "iterations"));
+}
+
+/* The label of a point on a plot's front: substeps x sweeps, or x tolerance for implicit. */
+static void front_label(bench_text* plot, const bench_table* t, uint32_t r)
+{
+    if (!strcmp(bench_table_get_str(t, r, "method"), "implicit"))
+        bench_text_add(plot, "%.0fx%g", bench_table_get(t, r, "substeps"),
+                       bench_table_get(t, r, "tolerance"));
+    else
+        bench_text_add(plot, "%.0fx%.0f", bench_table_get(t, r, "substeps"),
+                       bench_table_get(t, r, "iterations"));
 }
 
 /* The cheapest row on the front `mark` that costs more than `after` ms, or -1: walking it
@@ -230,10 +269,9 @@ static void front_block(bench* b, const char* name, const char* error, const cha
         if (best < 0)
             break;
         printed = bench_table_get(t, (uint32_t)best, "frame_ms");
-        bench_text_add(&b->plot, "%.6g,%.6g,%.0fx%.0f\n", printed,
-                       bench_table_get(t, (uint32_t)best, error),
-                       bench_table_get(t, (uint32_t)best, "substeps"),
-                       bench_table_get(t, (uint32_t)best, "iterations"));
+        bench_text_add(&b->plot, "%.6g,%.6g,", printed, bench_table_get(t, (uint32_t)best, error));
+        front_label(&b->plot, t, (uint32_t)best);
+        bench_text_add(&b->plot, "\n");
     }
     bench_text_add(&b->plot, "EOD\n");
 }
@@ -249,6 +287,7 @@ static void write_plot(bench* b, const setup* su)
         front_block(b, marks[i], errors[i], marks[i]);
     bench_text_add(t, "set multiplot layout 1,2 title \"%s: error after %.3g s against GPU time per "
                       "frame (gs-cpu: host), on %s\"\nset xlabel \"time per frame (ms)\"\n"
+                      "set datafile missing \"nan\"\n"
                       "set format y \"%%.0e\"\nset key bottom left\n",
                    b->scene_name, su->frames * su->frame_time, b->device);
     for (int i = 0; i < 2; i++) {
@@ -260,8 +299,9 @@ static void write_plot(bench* b, const setup* su)
             bench_text_add(&front, ", \\\n     %.9g with lines linecolor rgb \"black\" dashtype 3 "
                                    "title \"reference (converged, h/%u)\"", su->reference_residual,
                            su->reference_substeps / (uint32_t)(su->frame_time / b->scene->dt + 0.5));
-        bench_text_add(t, "set title \"%s; front labelled substeps x iterations; unstable "
-                          "settings left out\"\nset ylabel \"%s\"\n", titles[i], titles[i]);
+        bench_text_add(t, "set title \"%s; front: substeps x iterations (implicit: x "
+                          "tolerance); unstable left out\"\nset ylabel \"%s\"\n",
+                       titles[i], titles[i]);
         bench_plot_solvers(b, "pareto.csv", "frame_ms", errors[i], "points", true, true, "stable",
                            &front);
         bench_text_free(&front);
@@ -334,14 +374,31 @@ int bench_pareto(bench* b)
     uint32_t finest = 0;
     for (uint32_t i = 0; i < b->o->substep_count; i++)
         finest = b->o->substeps[i] > finest ? b->o->substeps[i] : finest;
-    bool ok = prepare(b, &su) && reference(b, &su, finest);
+    uint32_t reference_substeps = b->o->reference_substeps ? b->o->reference_substeps
+                                                           : REFERENCE_FACTOR * finest;
+    bool ok = prepare(b, &su) && reference(b, &su, reference_substeps);
     for (uint32_t i = 0; ok && i < b->o->substep_count; i++) {
         cvk_scene_desc scene = scene_with_substeps(b->scene, su.frame_time, b->o->substeps[i]);
         cvk_sim* sim = bench_sim_create(b, &scene);
         ok = sim != NULL;
+        for (uint32_t s = 0; ok && s < b->o->solver_count; s++) {
+            const bench_solver* solver = &b->o->solvers[s];
+            if (solver->method == CVK_METHOD_PD)
+                for (uint32_t k = 0; ok && k < b->o->iteration_count; k++)
+                    ok = run_setting(b, &su, sim, &scene, solver, b->o->iterations[k], 0.0);
+            else if (solver->method == CVK_METHOD_IMPLICIT)
+                for (uint32_t k = 0; ok && k < b->o->tolerance_count; k++)
+                    ok = run_setting(b, &su, sim, &scene, solver, 0, b->o->tolerances[k]);
+        }
+        cvk_sim_destroy(sim);
+    }
+    for (uint32_t i = 0; ok && i < b->o->explicit_substep_count; i++) {
+        cvk_scene_desc scene = scene_with_substeps(b->scene, su.frame_time, b->o->explicit_substeps[i]);
+        cvk_sim* sim = bench_sim_create(b, &scene);
+        ok = sim != NULL;
         for (uint32_t s = 0; ok && s < b->o->solver_count; s++)
-            for (uint32_t k = 0; ok && k < b->o->iteration_count; k++)
-                ok = run_setting(b, &su, sim, &scene, &b->o->solvers[s], b->o->iterations[k]);
+            if (b->o->solvers[s].method == CVK_METHOD_EXPLICIT)
+                ok = run_setting(b, &su, sim, &scene, &b->o->solvers[s], 1, 0.0);
         cvk_sim_destroy(sim);
     }
     if (ok) {
