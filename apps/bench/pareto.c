@@ -98,13 +98,21 @@ static bool reference(bench* b, setup* su, uint32_t substeps)
     return ok;
 }
 
-static bool time_frames(bench* b, cvk_sim* sim, bench_timing* out)
+/* Times frames after the simulated run; a setting that blows up while being timed sets
+   *diverged and is not timed. */
+static bool time_frames(bench* b, cvk_sim* sim, bench_timing* out, bool* diverged)
 {
     cvk_error err;
     double samples[1000];
     uint32_t measured = 0;
     for (uint32_t f = 0; f < b->o->warmup + b->o->repeat; f++) {
-        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS) {
+        cvk_result r = cvk_sim_step(sim, 1, &err);
+        if (r == CVK_ERROR_DIVERGED) {
+            *diverged = true;
+            *out = (bench_timing){NAN, NAN, NAN};
+            return true;
+        }
+        if (r != CVK_SUCCESS) {
             bench_fail(&err);
             return false;
         }
@@ -137,7 +145,7 @@ static bool run_setting(bench* b, setup* su, cvk_sim* sim, const cvk_scene_desc*
                                                            : 1.0;
     /* A setting that blew up stays frozen where it did: it is unstable, and not timed. */
     frame_ms = (bench_timing){NAN, NAN, NAN};
-    if (!st.diverged && !time_frames(b, sim, &frame_ms))
+    if (!st.diverged && !time_frames(b, sim, &frame_ms, &st.diverged))
         return false;
     double error = cvk_metrics_rms_distance(su->out, su->reference, su->n);
     bench_table* t = &b->table;
