@@ -4,7 +4,8 @@
    frames alone; a grabbed particle is at its target at the end of every frame, moved evenly
    over the substeps, with the cloth following, under every device linear solver and with
    tethers; released, it is free with the drag's velocity; a frame recorded once and submitted
-   again with the target changed between submissions gives the bits of cvk_sim_step; pinned
+   again with the target changed between submissions gives the bits of cvk_sim_step; the grab
+   holds a particle inside a collider (contact does not push it out); pinned
    particles, missing ones, bad targets and solvers that cannot hold a grab are refused. */
 #include <stdint.h>
 
@@ -449,6 +450,49 @@ static void record_equals_step(cvk_context* ctx)
     cvk_sim_destroy(recorded);
 }
 
+/* A plane collider 5 cm below the cloth's bottom edge, and the bottom middle particle dragged
+   15 cm down, through it: the grab wins over contact (the hand holds the particle where it
+   is), while the particles beside it stay on the free side. */
+static void drag_beats_contact(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, false);
+    cvk_collider_desc floor = cvk_default_collider_desc();
+    floor.point[1] = 0.5f;
+    s.scene.colliders = &floor;
+    s.scene.collider_count = 1;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    uint64_t n = cvk_sim_particle_count(sim);
+    cvk_particle grabbed = {0, (AH - 1) * AW + AW / 2};
+    float* x = harness_read_all(sim);
+    float start[3], target[3];
+    memcpy(start, &x[3 * grabbed.index], sizeof start);
+    double worst = 0.0;
+    for (int f = 1; f <= 10; f++) {
+        memcpy(target, start, sizeof target);
+        target[1] -= 0.015f * f;
+        REQUIRE_OK(cvk_sim_grab(sim, grabbed, target, &err), err);
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+        worst = fmax(worst, dist3(&x[3 * grabbed.index], target));
+    }
+    double lowest_other = INFINITY;
+    for (uint64_t p = 0; p < n; p++)
+        if (p != grabbed.index)
+            lowest_other = fmin(lowest_other, x[3 * p + 1]);
+    CHECK(worst < 2e-6, "through a collider: the grabbed particle is up to %.3g m from its target",
+          worst);
+    CHECK(x[3 * grabbed.index + 1] < 0.45f && lowest_other > 0.49,
+          "the grabbed particle is at y = %.3f (want 0.4), the lowest other at %.3f (want above "
+          "the plane at 0.5, less its thickness)", (double)x[3 * grabbed.index + 1], lowest_other);
+    printf("drag through a collider: at the target to %.3g m, the lowest other particle at "
+           "y = %.4f\n", worst, lowest_other);
+    free(x);
+    cvk_sim_destroy(sim);
+}
+
 static void grab_refuses(cvk_context* ctx)
 {
     setup s;
@@ -513,6 +557,7 @@ int main(void)
     drag_follows(ctx, CVK_LINEAR_CHEBYSHEV, 0.0f, 0.0f);
     /* Pulled down as well, past the length its tethers allow: the grab wins over them. */
     drag_follows(ctx, CVK_LINEAR_RBGS, 1.0f, 0.005f);
+    drag_beats_contact(ctx);
     record_equals_step(ctx);
     grab_refuses(ctx);
     return harness_finish(ctx);
