@@ -33,7 +33,9 @@
  *
  * 4. Read the particles back (cloth by cloth: grids row by row, meshes in file order), or
  *    the whole mesh with cvk_sim_read_mesh, and ask for statistics: residual, stretch, NaN
- *    count, GPU time per pass.
+ *    count, GPU time per pass. Let a user pull the cloth: cvk_sim_pick finds the particle
+ *    under a ray (a click), cvk_sim_grab drags it to where the mouse goes, frame after frame,
+ *    cvk_sim_release lets go (examples/drag.c).
  *
  * 5. See it. A mesh turns the particles into triangles and normals on the device, every
  *    frame, with no trip through the host. Either clothvk draws it (shadow-mapped, two lights,
@@ -142,8 +144,8 @@ typedef struct cvk_context_desc {
        then; 0 is a valid family) to use the application's objects. The queue family must
        support compute; timestamps are used when it supports them. The library submits to
        that queue (and waits for it) in cvk_sim_step, cvk_sim_get_stats, the read, write and
-       set calls, cvk_mesh_create, cvk_renderer_create and cvk_renderer_draw, and waits for it
-       in every destroy call: like any Vulkan queue it must not be used from another thread
+       set calls, cvk_sim_pick, a simulation's first cvk_sim_grab, cvk_mesh_create,
+       cvk_renderer_create and cvk_renderer_draw, and waits for it in every destroy call: like any Vulkan queue it must not be used from another thread
        at the same time. */
     VkInstance instance;
     VkPhysicalDevice physical_device;
@@ -584,6 +586,9 @@ CVK_API void cvk_sim_destroy(cvk_sim* sim);
      dispatch without a trailing barrier.
    - Before another stage reads the particle positions you record a barrier from
      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_WRITE_BIT to that stage.
+   - Once the simulation has the grab pass (cvk_sim_grab, cvk_sim_desc.grab), every frame
+     reads a host-visible buffer that cvk_sim_grab and cvk_sim_release write from the host:
+     call them only while no submission of these frames is executing (see cvk_sim_grab).
    - Fails with CVK_ERROR_UNSUPPORTED for the host solver "gs-cpu" (use cvk_sim_step). */
 CVK_API cvk_result cvk_sim_record(cvk_sim* sim, VkCommandBuffer cmd, uint32_t frames, cvk_error* error);
 
