@@ -14,8 +14,9 @@
    The "click" lands on the pixel where the middle of the cloth's bottom edge is seen; the drag
    pulls that particle 0.9 m out of the cloth's plane and 0.45 m down over 1.3 s, holds it,
    eases it back part of the way (a stretched elastic sheet let go at full stretch snaps up over
-   its pins) and lets go. The top edge is pinned, so the cloth is stretched far past its rest lengths near the
-   grabbed particle: with tearing on (a "tearing" block in the scene's cloth) it tears there.
+   its pins) and lets go. The top edge is pinned, so the cloth is stretched far past its rest
+   lengths near the grabbed particle: with tearing on (a "tearing" block in the scene's cloth)
+   it tears there.
 
        drag OUT_DIR [FRAMES] [SCENE]
 
@@ -126,7 +127,8 @@ int main(int argc, char** argv)
     const cvk_scene_desc* desc = cvk_scene_get_desc(scene);
     uint32_t frames = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : desc->frames;
     /* .grab: the frame has the grab pass from the start (cvk_sim_grab would add it otherwise). */
-    if (cvk_sim_create(ctx, &(cvk_sim_desc){.scene = desc, .grab = true}, &sim, &err) != CVK_SUCCESS ||
+    cvk_sim_desc sim_desc = {.scene = desc, .grab = true};
+    if (cvk_sim_create(ctx, &sim_desc, &sim, &err) != CVK_SUCCESS ||
         cvk_mesh_create(sim, NULL, &mesh, &err) != CVK_SUCCESS ||
         cvk_renderer_create(mesh, &desc->render, &renderer, &err) != CVK_SUCCESS) {
         fail("setup", &err);
@@ -192,7 +194,8 @@ int main(int argc, char** argv)
             printf("fully pulled (frame %u): the largest spring stretch is %.0f%% (99th "
                    "percentile %.0f%%)\n", f, 100.0 * held.max_stretch, 100.0 * held.p99_stretch);
         }
-        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS || cvk_renderer_draw(renderer, &err) != CVK_SUCCESS) {
+        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS ||
+            cvk_renderer_draw(renderer, &err) != CVK_SUCCESS) {
             fail("frame", &err);
             goto done;
         }
@@ -217,7 +220,8 @@ done:
     cvk_sim_destroy(sim);
     cvk_scene_destroy(scene);
     if (status == 0 && cvk_context_validation_message_count(ctx) > 0) {
-        fprintf(stderr, "drag: %u validation messages\n", cvk_context_validation_message_count(ctx));
+        fprintf(stderr, "drag: %u validation messages\n",
+                cvk_context_validation_message_count(ctx));
         status = 1;
     }
     cvk_context_destroy(ctx);

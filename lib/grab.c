@@ -147,7 +147,8 @@ cvk_result cvk_sim_grab(cvk_sim* s, cvk_particle particle, const float target[3]
         if (r == CVK_SUCCESS)
             r = cvk_sim_replan(s, error);
         if (r != CVK_SUCCESS) {
-            cvk_grab_destroy(s); /* the plan kept is the old one, without the pass */
+            if (cvk_plan_find_pass(&s->plan, "grab") == UINT32_MAX)
+                cvk_grab_destroy(s); /* the old plan was kept: nothing uses the pass's set */
             return r;
         }
     }

@@ -321,8 +321,9 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
                              cvk_plan* plan, cvk_error* error)
 {
     cvk_pd* pd = self;
-    pd_builder pb = {.sim = s, .plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver),
-                     .contact_set = s->collide.set, .contact = s->collide.colliding,
+    pd_builder pb = {.sim = s, .plan = plan, .pd = pd, .solver = solver,
+                     .base = base_push(s, solver), .contact_set = s->collide.set,
+                     .contact = s->collide.colliding,
                      .tethers = s->build.tether_anchor != NULL};
     pb.predict = cvk_plan_pass(plan, "predict");
     if (s->grab.planned && solver->linear != CVK_LINEAR_GS_CPU)

@@ -16,7 +16,9 @@ layout(local_size_x = 1) in;
 
 #include "shared/layout.h"
 
-layout(std430, set = 0, binding = CVK_GRAB_BINDING_GRAB) readonly buffer Grab { cvk_gpu_grab grab; };
+layout(std430, set = 0, binding = CVK_GRAB_BINDING_GRAB) readonly buffer Grab {
+    cvk_gpu_grab grab;
+};
 layout(std430, set = 0, binding = CVK_GRAB_BINDING_WATCH) readonly buffer Watch {
     cvk_gpu_watch watch;
 };

@@ -144,7 +144,8 @@ static void pick_matches_host(cvk_context* ctx)
         float df[3] = {(float)d[0], (float)d[1], (float)d[2]};
         cvk_pick_result got;
         REQUIRE_OK(cvk_sim_pick(sim, of, df, (float)radius, &got, &err), err);
-        bool same = got.hit == want.hit && (!want.hit || user_index(sim, got.particle) == want.user);
+        bool same = got.hit == want.hit &&
+                    (!want.hit || user_index(sim, got.particle) == want.user);
         if (!same) {
             wrong++;
             CHECK(same, "ray %d: device %s particle %u, host %s particle %u", ray,
@@ -262,7 +263,8 @@ static void pick_refuses(cvk_context* ctx)
                    "cvk_sim_pick: the ray's direction must be finite and not zero, got [0, 0, 0]");
     EXPECT_MESSAGE(cvk_sim_pick(sim, o, (float[3]){NAN, 0, -1}, 0.1f, &got, &err),
                    CVK_ERROR_INVALID_ARGUMENT,
-                   "cvk_sim_pick: the ray's direction must be finite and not zero, got [nan, 0, -1]");
+                   "cvk_sim_pick: the ray's direction must be finite and not zero, got "
+                   "[nan, 0, -1]");
     EXPECT_MESSAGE(cvk_sim_pick(sim, (float[3]){0, INFINITY, 1}, (float[3]){0, 0, -1}, 0.1f, &got,
                                 &err),
                    CVK_ERROR_INVALID_ARGUMENT,
@@ -317,10 +319,10 @@ static double dist3(const float* a, const float* b)
 }
 
 /* The bottom middle particle of cloth 0, dragged out along +z and a little up (or `down` m a
-   frame lower) at a steady 0.64 m/s for 16 frames, then let go: at the target at the end of every frame, its velocity
-   that of the drag (the motion spread over the substeps; a jump in one substep would show S
-   times more), the particle two rows above pulled along; released, it moves on as a free
-   particle with that velocity. */
+   frame lower) at a steady 0.64 m/s for 16 frames, then let go: at the target at the end of
+   every frame, its velocity that of the drag (the motion spread over the substeps; a jump in
+   one substep would show S times more), the particle two rows above pulled along; released, it
+   moves on as a free particle with that velocity. */
 static void drag_follows(cvk_context* ctx, cvk_linear_solver linear, float tethers, float down)
 {
     setup s;
@@ -356,7 +358,8 @@ static void drag_follows(cvk_context* ctx, cvk_linear_solver linear, float tethe
         for (int k = 0; k < 3; k++)
             worst_v = fmax(worst_v, fabs(v[3 * grabbed.index + k] - step[k] / frame));
     }
-    CHECK(worst < 2e-6, "%s%s: the grabbed particle is up to %.3g m from its target at a frame's end",
+    CHECK(worst < 2e-6,
+          "%s%s: the grabbed particle is up to %.3g m from its target at a frame's end",
           name, tethers > 0 ? " with tethers" : "", worst);
     /* Verlet's velocity adds h g / 2 (clothvk.h); the drag's is 0.64 m/s. */
     CHECK(worst_v < 0.05, "%s: the grabbed particle's velocity is off the drag's by %.3g m/s",
