@@ -130,6 +130,7 @@ double cvk_pd_chebyshev_rho(const cvk_solver_desc* solver, double h, const cvk_b
 }
 
 typedef struct pd_builder {
+    cvk_sim* sim;
     cvk_plan* plan;
     const cvk_pd* pd;
     const cvk_solver_desc* solver;
@@ -199,6 +200,7 @@ static void add_predict(pd_builder* pb, const cvk_build* b, uint32_t start)
 {
     add_op(pb, CVK_PIPE_PREDICT, set_for(0, start), pb->predict, 0, b->free_count, 1.0f,
            pb->base.omega);
+    cvk_grab_add_op(pb->sim, pb->plan, "after predict: y (w: 2^100), u0, u1");
 }
 
 /* x += u: the substep's displacement, which the solve left in U0, moves the positions. */
@@ -207,6 +209,10 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
     /* With attachments the pinned particles too: the attached move by the displacement the
        attach pass gave them, the others by their u of 0 (x + 0 is x, bit for bit). */
     uint32_t count = b->attached_count > 0 ? b->particle_count : b->free_count;
+    /* The solved displacement of a grabbed particle, again, where tethers or contact may have
+       moved it after the last sweep (the sweeps themselves hold it: its weight, grab.h). */
+    if (pb->tethers || pb->contact)
+        cvk_grab_add_op(pb->sim, pb->plan, "before finalize: u0, u1");
     add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f,
            pb->base.omega);
 }
@@ -315,10 +321,13 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
                              cvk_plan* plan, cvk_error* error)
 {
     cvk_pd* pd = self;
-    pd_builder pb = {.plan = plan, .pd = pd, .solver = solver, .base = base_push(s, solver),
-                     .contact_set = s->collide.set, .contact = s->collide.colliding,
+    pd_builder pb = {.sim = s, .plan = plan, .pd = pd, .solver = solver,
+                     .base = base_push(s, solver), .contact_set = s->collide.set,
+                     .contact = s->collide.colliding,
                      .tethers = s->build.tether_anchor != NULL};
     pb.predict = cvk_plan_pass(plan, "predict");
+    if (s->grab.planned && solver->linear != CVK_LINEAR_GS_CPU)
+        cvk_plan_pass(plan, "grab"); /* listed after predict, where it first runs */
     pb.solve = cvk_plan_pass(plan, "solve");
     if (pb.tethers)
         pb.tether_pass = cvk_plan_pass(plan, "tethers");

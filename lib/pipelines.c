@@ -24,6 +24,13 @@ _Static_assert(sizeof(cvk_attach_push) == 16, "cvk_attach_push: 16 bytes in GLSL
 _Static_assert(sizeof(cvk_gpu_attachment) == 16, "cvk_gpu_attachment: 16 bytes in std430");
 _Static_assert(sizeof(cvk_gpu_attached) == 32, "cvk_gpu_attached: 32 bytes in std430");
 _Static_assert(offsetof(cvk_gpu_attached, particle) == 16, "cvk_gpu_attached.particle at 16");
+_Static_assert(sizeof(cvk_gpu_grab) == 32, "cvk_gpu_grab: 32 bytes in std430");
+_Static_assert(offsetof(cvk_gpu_grab, particle) == 16, "cvk_gpu_grab.particle at 16");
+_Static_assert(sizeof(cvk_grab_push) == 16, "cvk_grab_push: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_gpu_pick) == 32, "cvk_gpu_pick: 32 bytes in std430");
+_Static_assert(offsetof(cvk_gpu_pick, position) == 16, "cvk_gpu_pick.position: a vec4 at 16");
+_Static_assert(sizeof(cvk_pick_push) == 48, "cvk_pick_push: 48 bytes in GLSL");
+_Static_assert(offsetof(cvk_pick_push, radius2) == 32, "cvk_pick_push.radius2 at 32");
 
 typedef struct pipeline_recipe {
     cvk_shader_id shader;

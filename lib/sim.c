@@ -292,7 +292,7 @@ static cvk_result set_initial_velocity(cvk_sim* s, const cvk_scene_desc* scene, 
 }
 
 static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32_t workgroup_size,
-                                 uint32_t max_groups, cvk_error* error)
+                                 uint32_t max_groups, bool grab, cvk_error* error)
 {
     size_t n = s->build.particle_count;
     s->scratch = cvk_malloc_array(3 * n, sizeof(float)); /* n < 2^30: 3n fits */
@@ -318,6 +318,13 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
         r = s->family->create(s, &s->solver, &s->family_state, error);
     if (r == CVK_SUCCESS)
         r = set_initial_velocity(s, scene, error);
+    if (r == CVK_SUCCESS && grab) {
+        const char* unsupported = cvk_grab_unsupported(&s->solver);
+        r = unsupported ? cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                                   "cvk_sim_desc.grab: %s cannot hold a grabbed particle; use the "
+                                   "pd method with rbgs, jacobi or chebyshev", unsupported)
+                        : cvk_grab_enable(s, error);
+    }
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_plan(s, s->family, s->family_state, &s->solver, workgroup_size,
                               max_groups, &s->plan, error);
@@ -401,7 +408,8 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     if (r == CVK_SUCCESS)
         r = cvk_check_derived(scene, &s->build, scene->dt, error);
     if (r == CVK_SUCCESS)
-        r = create_objects(s, scene, workgroup_size, max_workgroups(context, desc), error);
+        r = create_objects(s, scene, workgroup_size, max_workgroups(context, desc), desc->grab,
+                           error);
     if (r != CVK_SUCCESS) {
         cvk_sim_destroy(s);
         return r;
@@ -419,6 +427,8 @@ void cvk_sim_destroy(cvk_sim* s)
         cvk_queue_idle(s->context);
     if (s->family && s->family_state)
         s->family->destroy(s, s->family_state);
+    cvk_pick_destroy(s);
+    cvk_grab_destroy(s);
     cvk_aero_destroy(s);
     cvk_attach_destroy(s);
     cvk_collide_destroy(s);

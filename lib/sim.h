@@ -9,6 +9,8 @@
 #include "build.h"
 #include "collide.h"
 #include "gpu.h"
+#include "grab.h"
+#include "pick.h"
 #include "plan.h"
 #include "reference.h"
 
@@ -28,6 +30,8 @@ struct cvk_sim {
     cvk_collide collide;    /* colliders, self-contact, the frame state (collide.h) */
     cvk_attach attach;      /* keyframed attached particles (attach.h) */
     cvk_aero aero;          /* wind and air drag (aero.h) */
+    cvk_grab grab;          /* the dragged particle (grab.h) */
+    cvk_pick pick;          /* picking's buffers, made on the first pick (pick.h) */
 
     const struct cvk_family_api* family; /* the family that solves `solver` */
     void* family_state;
@@ -133,6 +137,13 @@ cvk_result cvk_sim_create_queries(cvk_sim* sim, const cvk_plan* plan, cvk_sim_qu
 void cvk_sim_destroy_queries(cvk_sim* sim, cvk_sim_queries* queries);
 /* Makes `queries` the simulation's (taking them over) and marks them for a reset. */
 void cvk_sim_use_queries(cvk_sim* sim, cvk_sim_queries* queries);
+/* Makes the plan again for the current solver (a module joined it: the grab pass), with its
+   pipelines, queries and frame_cmd; waits for the queue first. On failure the old plan stays. */
+cvk_result cvk_sim_replan(cvk_sim* sim, cvk_error* error);
+/* The internal index of a particle named as the public API names it; `call` starts the
+   message when it does not exist. */
+cvk_result cvk_sim_particle_internal(const cvk_sim* sim, cvk_particle particle, const char* call,
+                                     uint32_t* out, cvk_error* error);
 /* Records frame_cmd from the current plan. */
 cvk_result cvk_sim_record_frame_cmd(cvk_sim* sim, cvk_error* error);
 

@@ -6,6 +6,7 @@
 
 #include "error.h"
 #include "scene.h"
+#include "shared/layout.h"
 #include "sim.h"
 #include "solver.h"
 
@@ -152,6 +153,41 @@ static cvk_result commit_switch(cvk_sim* s, const cvk_family_api* family, void* 
     return r;
 }
 
+cvk_result cvk_sim_replan(cvk_sim* s, cvk_error* error)
+{
+    cvk_queue_idle(s->context); /* the old queries may be in use */
+    cvk_plan plan;
+    cvk_sim_queries queries = {0};
+    cvk_result r = cvk_sim_make_plan(s, s->family, s->family_state, &s->solver,
+                                     s->plan.workgroup_size, s->plan.max_groups, &plan, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    r = cvk_sim_ready_pipelines(s, &plan, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_create_queries(s, &plan, &queries, error);
+    if (r != CVK_SUCCESS) {
+        cvk_plan_destroy(&plan);
+        return r;
+    }
+    cvk_plan_destroy(&s->plan);
+    s->plan = plan;
+    cvk_sim_use_queries(s, &queries);
+    r = cvk_sim_record_frame_cmd(s, error);
+    if (r == CVK_SUCCESS && s->queries_unreset)
+        r = cvk_sim_copy_from_staging(s, NULL, 0, error); /* resets the new queries */
+    return r;
+}
+
+/* Whether a particle is grabbed now (lib/grab.h). */
+static bool grabbing(const cvk_sim* s)
+{
+    if (!s->grab.planned)
+        return false;
+    cvk_gpu_grab grab;
+    memcpy(&grab, s->grab.state.mapped, sizeof grab);
+    return grab.held != 0;
+}
+
 cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_error* error)
 {
     if (!s || !solver)
@@ -160,6 +196,11 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     cvk_scene_issue issue;
     if (!cvk_solver_desc_check(solver, &issue))
         return cvk_fail_issue(error, &issue);
+    const char* no_grab = cvk_grab_unsupported(solver);
+    if (no_grab && grabbing(s))
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "cvk_sim_set_solver: a particle is grabbed and %s cannot hold it; "
+                        "release it first (cvk_sim_release)", no_grab);
     if (!cvk_attachments_solver_check(solver, s->attach.attachment_count, &issue) ||
         !cvk_wind_solver_check(solver, s->aero.enabled, &issue))
         return cvk_fail_issue(error, &issue);

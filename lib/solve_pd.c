@@ -439,6 +439,7 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         r = create_sets(s, pd, error);
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
         cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
+        cvk_grab_bind(s, &pd->u[0], &pd->u[1], &pd->y);
         cvk_aero_bind(s, pd->view_u[0]);
     }
     if (r == CVK_SUCCESS)

@@ -33,7 +33,9 @@
  *
  * 4. Read the particles back (cloth by cloth: grids row by row, meshes in file order), or
  *    the whole mesh with cvk_sim_read_mesh, and ask for statistics: residual, stretch, NaN
- *    count, GPU time per pass.
+ *    count, GPU time per pass. Let a user pull the cloth: cvk_sim_pick finds the particle
+ *    under a ray (a click), cvk_sim_grab drags it to where the mouse goes, frame after frame,
+ *    cvk_sim_release lets go (examples/drag.c).
  *
  * 5. See it. A mesh turns the particles into triangles and normals on the device, every
  *    frame, with no trip through the host. Either clothvk draws it (shadow-mapped, two lights,
@@ -142,8 +144,8 @@ typedef struct cvk_context_desc {
        then; 0 is a valid family) to use the application's objects. The queue family must
        support compute; timestamps are used when it supports them. The library submits to
        that queue (and waits for it) in cvk_sim_step, cvk_sim_get_stats, the read, write and
-       set calls, cvk_mesh_create, cvk_renderer_create and cvk_renderer_draw, and waits for it
-       in every destroy call: like any Vulkan queue it must not be used from another thread
+       set calls, cvk_sim_pick, a simulation's first cvk_sim_grab, cvk_mesh_create,
+       cvk_renderer_create and cvk_renderer_draw, and waits for it in every destroy call: like any Vulkan queue it must not be used from another thread
        at the same time. */
     VkInstance instance;
     VkPhysicalDevice physical_device;
@@ -560,6 +562,9 @@ typedef struct cvk_sim_desc {
                                     CPU devices, where each costs a thread hand-off, one per
                                     workgroup_size particles elsewhere */
     int timing;                  /* GPU timestamps per pass: 0 = on where supported, -1 = off */
+    bool grab;                   /* true: the frame has the grab pass from the start, so frames
+                                    you record now follow cvk_sim_grab; false: the first
+                                    cvk_sim_grab adds it (see there) */
 } cvk_sim_desc;
 
 CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
@@ -581,6 +586,9 @@ CVK_API void cvk_sim_destroy(cvk_sim* sim);
      dispatch without a trailing barrier.
    - Before another stage reads the particle positions you record a barrier from
      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_WRITE_BIT to that stage.
+   - Once the simulation has the grab pass (cvk_sim_grab, cvk_sim_desc.grab), every frame
+     reads a host-visible buffer that cvk_sim_grab and cvk_sim_release write from the host:
+     call them only while no submission of these frames is executing (see cvk_sim_grab).
    - Fails with CVK_ERROR_UNSUPPORTED for the host solver "gs-cpu" (use cvk_sim_step). */
 CVK_API cvk_result cvk_sim_record(cvk_sim* sim, VkCommandBuffer cmd, uint32_t frames, cvk_error* error);
 
@@ -736,6 +744,66 @@ typedef struct cvk_sim_stats {
     uint32_t diverged_cloth;     /* the cloth (scene order) of the first particle that did */
     bool diverged_nonfinite;     /* true: a position became NaN or infinite; false: ran away */
 } cvk_sim_stats;
+
+/* ----------------------------------------------------------------------------------------
+ * Picking and dragging: the interaction an engine needs (seed 002 §5.3.8)
+ * ------------------------------------------------------------------------------------- */
+
+/* A particle: its cloth (scene order) and its index in that cloth, in the order of
+   cvk_sim_read_positions from cvk_cloth_info.first_particle (a grid's [i, j] is
+   j · grid[0] + i). */
+typedef struct cvk_particle {
+    uint32_t cloth;
+    uint32_t index;
+} cvk_particle;
+
+typedef struct cvk_pick_result {
+    bool hit;                    /* false: the ray passes no particle within the radius */
+    cvk_particle particle;       /* the particle hit nearest the origin */
+    float distance;              /* m along the ray from its origin to the point of the ray
+                                    nearest the particle */
+    float position[3];           /* the particle's position, m: where a drag starts */
+} cvk_pick_result;
+
+/* The particle nearest the ray's origin among those the ray passes within `radius` (m, ≥ 0;
+   usually about half the particle spacing) of, in front of the origin (distance ≥ 0), computed
+   on the device over every particle, pinned ones included. The direction need not be unit
+   length. Equal distances go to the cloth, then the index, that comes first: the answer is
+   the same every run. A miss is not an error: out->hit is false. A ray with a non-finite
+   origin, a zero or non-finite direction or a negative or non-finite radius is refused with
+   CVK_ERROR_INVALID_ARGUMENT. It is a query outside the frame: one submission of its own,
+   waited for like cvk_sim_read_positions; recorded frames are not touched. */
+CVK_API cvk_result cvk_sim_pick(cvk_sim* sim, const float origin[3], const float direction[3],
+                                float radius, cvk_pick_result* out, cvk_error* error);
+
+/* Drags a particle: from the next frame on, `particle` moves in a straight line from where each
+   frame finds it to `target` (m), evenly over the frame's substeps, and is at the target at its
+   end (to float rounding); the solver holds it there as infinitely heavy, so the cloth follows
+   through its springs (tethers and contact do not move it). Calling it again moves the target
+   or grabs another particle (one at a time: the one before is released). A pinned or attached
+   particle is refused (CVK_ERROR_INVALID_ARGUMENT), as is a non-finite target. Only the pd
+   method with a device linear solver (rbgs, jacobi, chebyshev) holds a grab: the others are
+   refused with CVK_ERROR_UNSUPPORTED, and cvk_sim_set_solver refuses to switch to them while a
+   particle is grabbed.
+
+   cvk_sim_release lets the particle go: it is free again from the next frame on, with the
+   velocity of its last substep (still if the target stood still, moving if it was dragged).
+
+   A grab is not part of the state: snapshots and cvk_sim_write_state neither save nor clear
+   it.
+
+   Synchronisation: the target lives in a small host-visible buffer that every recorded frame
+   reads; cvk_sim_grab and cvk_sim_release write it at once from the host and submit nothing.
+   So call them only while no submitted frame of this simulation is executing: cvk_sim_step has
+   waited already; if you record frames yourself (cvk_sim_record), wait on your fence first.
+   The frames submitted after the call see the new target; a command buffer recorded earlier
+   does too, and need not be recorded again, with one exception: the first cvk_sim_grab of a
+   simulation made without cvk_sim_desc.grab adds the grab pass to the frame (waiting for the
+   queue, as cvk_sim_set_solver does), and command buffers recorded before it must be recorded
+   again. */
+CVK_API cvk_result cvk_sim_grab(cvk_sim* sim, cvk_particle particle, const float target[3],
+                                cvk_error* error);
+CVK_API void cvk_sim_release(cvk_sim* sim);
 
 /* The number of pairs of cloth triangles that share no particle and intersect, computed exactly
    on the host from the current positions (waits like cvk_sim_read_positions). Torn triangles

@@ -248,13 +248,15 @@ def _ptr(cdecl, array):
 class Simulation(_Owner):
     """A simulation of a scene on a context (the scene is copied; it may be closed after)."""
 
-    def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True):
+    def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True,
+                 grab=False):
         self.context = context
         desc = ffi.new("cvk_sim_desc*")
         desc.scene = scene._desc
         desc.workgroup_size = workgroup_size
         desc.max_workgroups = max_workgroups
         desc.timing = 0 if timing else -1
+        desc.grab = grab
         out = ffi.new("cvk_sim**")
         err = ffi.new("cvk_error*")
         _check(lib.cvk_sim_create(context._live(), desc, out, err), err)
@@ -320,6 +322,31 @@ class Simulation(_Owner):
                                      _ptr("float[]", normals), _ptr("uint32_t[]", triangles),
                                      n, t, err), err)
         return xyz, normals, triangles
+
+    def pick(self, origin, direction, radius):
+        """The particle nearest the ray's origin among those it passes within `radius` (m) of,
+        in front of the origin, found on the device: a dict (cloth, index within the cloth,
+        distance along the ray in m, position in m), or None when the ray hits none."""
+        out = ffi.new("cvk_pick_result*")
+        err = ffi.new("cvk_error*")
+        _check(lib.cvk_sim_pick(self._live(), [float(v) for v in origin],
+                                [float(v) for v in direction], float(radius), out, err), err)
+        if not out.hit:
+            return None
+        return {"cloth": out.particle.cloth, "index": out.particle.index,
+                "distance": out.distance, "position": list(out.position)}
+
+    def grab(self, cloth, index, target):
+        """Drags particle `index` of cloth `cloth` to `target` (m) over the next frame and holds
+        it there (see cvk_sim_grab: one particle at a time; call again to move the target)."""
+        err = ffi.new("cvk_error*")
+        particle = ffi.new("cvk_particle*", {"cloth": cloth, "index": index})
+        _check(lib.cvk_sim_grab(self._live(), particle[0], [float(v) for v in target], err),
+               err)
+
+    def release(self):
+        """Lets the grabbed particle go, with the velocity of its last substep."""
+        lib.cvk_sim_release(self._live())
 
     def cloths(self):
         """One dict per cloth, in scene order: name, particle and triangle ranges, mesh."""

@@ -313,6 +313,7 @@ typedef struct cvk_sim_desc {
     uint32_t workgroup_size;
     uint32_t max_workgroups;
     int timing;
+    bool grab;
 } cvk_sim_desc;
 
 cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
@@ -343,6 +344,24 @@ uint64_t cvk_sim_triangle_count(const cvk_sim* sim);
 cvk_result cvk_sim_read_mesh(cvk_sim* sim, float* xyz, float* normals, uint32_t* triangles,
                              uint64_t vertex_count, uint64_t triangle_count, cvk_error* error);
 cvk_result cvk_sim_set_solver(cvk_sim* sim, const cvk_solver_desc* solver, cvk_error* error);
+
+typedef struct cvk_particle {
+    uint32_t cloth;
+    uint32_t index;
+} cvk_particle;
+
+typedef struct cvk_pick_result {
+    bool hit;
+    cvk_particle particle;
+    float distance;
+    float position[3];
+} cvk_pick_result;
+
+cvk_result cvk_sim_pick(cvk_sim* sim, const float origin[3], const float direction[3],
+                        float radius, cvk_pick_result* out, cvk_error* error);
+cvk_result cvk_sim_grab(cvk_sim* sim, cvk_particle particle, const float target[3],
+                        cvk_error* error);
+void cvk_sim_release(cvk_sim* sim);
 cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
 
 #define CVK_MAX_PASSES 12
@@ -419,6 +438,7 @@ STRUCTS = (
     "cvk_transform", "cvk_box3", "cvk_cloth_desc", "cvk_keyframe", "cvk_motion",
     "cvk_collision_desc", "cvk_collider_desc", "cvk_light", "cvk_render_desc", "cvk_scene_desc",
     "cvk_sim_desc", "cvk_cloth_info", "cvk_pass_stats", "cvk_sim_stats", "cvk_image",
+    "cvk_particle", "cvk_pick_result",
 )
 
 ffi = cffi.FFI()

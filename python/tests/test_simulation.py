@@ -86,3 +86,31 @@ def test_close_order_and_use_after_close(ctx, small_scene):
         sim.step(1)
     sim = clothvk.Simulation(ctx, small_scene)
     del sim  # collected without close(): __del__ destroys it
+
+
+def test_pick_grab_release(ctx, small_scene):
+    with clothvk.Simulation(ctx, small_scene) as sim:
+        sim.step(2)
+        xyz = sim.positions()
+        aim = xyz[7 * 16 + 5]
+        origin = aim + np.array([0.0, 1.0, 0.0], dtype=np.float32)
+        hit = sim.pick(origin, [0, -1, 0], 0.01)
+        # numpy's answer: the nearest along the ray of those within 1 cm of it
+        v = xyz - origin
+        t = -v[:, 1]
+        near = np.hypot(v[:, 0], v[:, 2]) <= 0.01
+        want = int(np.flatnonzero(near & (t >= 0))[np.argmin(t[near & (t >= 0)])])
+        assert hit is not None and (hit["cloth"], hit["index"]) == (0, want), hit
+        assert abs(hit["distance"] - t[want]) < 1e-5 and hit["position"] == xyz[want].tolist()
+        assert sim.pick(origin, [0, 1, 0], 0.01) is None, "the cloth behind the origin was hit"
+        with pytest.raises(clothvk.Error, match="direction must be finite and not zero"):
+            sim.pick(origin, [0, 0, 0], 0.01)
+        target = [float(aim[0]), float(aim[1]) + 0.1, float(aim[2])]
+        sim.grab(0, want, target)
+        sim.step(1)
+        assert np.abs(sim.positions()[want] - target).max() < 1e-6
+        sim.release()
+        sim.step(3)
+        assert np.abs(sim.positions()[want] - target).max() > 1e-3, "still held after release"
+        with pytest.raises(clothvk.Error, match="is pinned"):
+            sim.grab(0, 0, target)

@@ -411,4 +411,59 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
    defined for far-away points (they share the border cells). */
 #define CVK_HASH_CELL_LIMIT 1073741824.0
 
+/* ---- picking and dragging: grab.comp, pick.comp (lib/grab.h, lib/pick.h) ---------------- */
+
+/* The grab, written by the host between frames (host-visible, coherent) and read by the
+   recorded frame every substep: which particle follows which target. */
+#define CVK_GPU_GRAB_FIELDS                                                         \
+    CVK_VEC4(target)       /* xyz: where the particle is at the end of the frame, m */ \
+    CVK_UINT(particle)     /* internal index (a free particle) */                    \
+    CVK_UINT(held)         /* 0: nothing is grabbed, the pass does nothing */        \
+    CVK_UINT(pad0)                                                                  \
+    CVK_UINT(pad1)
+CVK_STRUCT(cvk_gpu_grab, CVK_GPU_GRAB_FIELDS)
+
+/* Push data of grab.comp. substeps 0 (the warm-up dispatch) does nothing. */
+#define CVK_GRAB_PUSH_FIELDS                                                       \
+    CVK_UINT(substeps)     /* substeps per frame */                                \
+    CVK_FLOAT(weight)      /* m/h^2 the solver sees for the grabbed particle */     \
+    CVK_UINT(pad0)                                                                \
+    CVK_UINT(pad1)
+CVK_PUSH_BLOCK(cvk_grab_push, CVK_GRAB_PUSH_FIELDS)
+
+#define CVK_GRAB_BINDING_GRAB 0          /* cvk_gpu_grab (host-visible) */
+#define CVK_GRAB_BINDING_WATCH 1         /* cvk_gpu_watch: its substep count places the substep */
+#define CVK_GRAB_BINDING_POSITIONS 2     /* vec4 per particle: x_n */
+#define CVK_GRAB_BINDING_Y 3             /* the solver's predicted displacement (pd_common.glsl) */
+#define CVK_GRAB_BINDING_U0 4            /* the solver's displacement iterates */
+#define CVK_GRAB_BINDING_U1 5
+#define CVK_GRAB_BINDING_COUNT 6
+
+/* The pick's answer (host-visible): the smallest distance along the ray as float bits (a
+   non-negative float's bits order like the float), then the smallest user index at that
+   distance, then that particle's position. NONE where nothing was hit. */
+#define CVK_PICK_NONE 0xffffffffu
+#define CVK_GPU_PICK_FIELDS                                                         \
+    CVK_UINT(distance_bits) /* floatBitsToUint of the distance along the ray, m */   \
+    CVK_UINT(user)          /* user index of the nearest particle hit */             \
+    CVK_UINT(pad0)                                                                  \
+    CVK_UINT(pad1)                                                                  \
+    CVK_VEC4(position)      /* xyz: that particle's position, m */
+CVK_STRUCT(cvk_gpu_pick, CVK_GPU_PICK_FIELDS)
+
+/* Push data of pick.comp: stage 0 finds the distance, 1 the particle, 2 its position. */
+#define CVK_PICK_PUSH_FIELDS                                                       \
+    CVK_VEC4(origin)       /* xyz: the ray's origin, m */                           \
+    CVK_VEC4(direction)    /* xyz: the ray's unit direction */                      \
+    CVK_FLOAT(radius2)     /* radius^2, m^2 */                                      \
+    CVK_UINT(count)        /* particles: [0, count) in internal order */           \
+    CVK_UINT(stage)                                                                \
+    CVK_UINT(pad0)
+CVK_PUSH_BLOCK(cvk_pick_push, CVK_PICK_PUSH_FIELDS)
+
+#define CVK_PICK_BINDING_POSITIONS 0     /* vec4 per particle, internal order */
+#define CVK_PICK_BINDING_USER_OF 1       /* uint per particle: its user index */
+#define CVK_PICK_BINDING_RESULT 2        /* cvk_gpu_pick (host-visible) */
+#define CVK_PICK_BINDING_COUNT 3
+
 #endif
