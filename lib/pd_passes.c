@@ -350,11 +350,16 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
     case CVK_LINEAR_CG: /* the implicit family's (scene validation keeps it there) */
         break;
     case CVK_LINEAR_GS_CPU:
-        plan->host = true; /* no dispatches */
+        plan->host = true; /* no dispatches; scene validation refuses tearing here */
         snprintf(plan->host_note, sizeof plan->host_note,
                  "%u substeps on the host (sequential double-precision Gauss-Seidel, colour "
                  "order), then one upload of the positions", plan->substeps);
         break;
+    }
+    if (solver->linear != CVK_LINEAR_GS_CPU) {
+        cvk_result r = cvk_tear_add_passes(s, plan, error); /* after finalize */
+        if (r != CVK_SUCCESS)
+            return r;
     }
     return cvk_plan_check(plan, error);
 }

@@ -161,7 +161,8 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     if (!cvk_solver_desc_check(solver, &issue))
         return cvk_fail_issue(error, &issue);
     if (!cvk_attachments_solver_check(solver, s->attach.attachment_count, &issue) ||
-        !cvk_wind_solver_check(solver, s->aero.enabled, &issue))
+        !cvk_wind_solver_check(solver, s->aero.enabled, &issue) ||
+        !cvk_tearing_solver_check(solver, s->tear.count > 0, &issue))
         return cvk_fail_issue(error, &issue);
     const cvk_family_api* family = cvk_family_for(solver);
     if (!family)

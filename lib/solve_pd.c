@@ -34,6 +34,8 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     VkBufferUsageFlags motion = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT; /* read for velocities */
     VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    /* Tearing (tear.h) zeroes the k of broken springs in place. */
+    VkBufferUsageFlags adjacency = table | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT;
     struct {
         cvk_buffer* buffer;
@@ -47,9 +49,9 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         {&pd->u[1], n16, state, "displacements (second iterate)", &pd->view_u[1], vec4},
         {&pd->y, n16, state, "predicted displacements", &pd->view_y, vec4},
         {&pd->rhs, nf * 16u, state, "right-hand side", &pd->view_rhs, vec4},
-        {&pd->adjacency, quads * 32u, table, "adjacency", &pd->view_adjacency,
+        {&pd->adjacency, quads * 32u, adjacency, "adjacency", &pd->view_adjacency,
          VK_FORMAT_R32G32B32A32_UINT},
-        {&pd->adjacency_kl, quads * 16u, table, "adjacency k*L", &pd->view_adjacency_kl, vec4},
+        {&pd->adjacency_kl, quads * 16u, adjacency, "adjacency k*L", &pd->view_adjacency_kl, vec4},
         {&pd->tether_anchor, tethers * 16u, table, "tether pins", &pd->view_tether_anchor,
          VK_FORMAT_R32G32B32A32_UINT},
         {&pd->tether_length, tethers * 16u, table, "tether lengths", &pd->view_tether_length,
@@ -69,8 +71,9 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 
 /* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
    texel (2q + 1) * nf + p: bits of their k; k·L at texel q * nf + p. Slots past max_degree
-   point at p itself with k = 0. */
-static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+   point at p itself with k = 0, and so do torn springs (alive[s] == 0; alive NULL: none),
+   as tear.comp leaves them. */
+cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive, cvk_error* error)
 {
     const cvk_build* b = &s->build;
     size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
@@ -78,9 +81,12 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         return CVK_SUCCESS;
     uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
     float* kl = malloc(quads * nf * 4 * sizeof(float));
+    uint32_t* spring_of = alive ? malloc((size_t)b->max_degree * nf * sizeof(uint32_t)) : NULL;
     cvk_result r = CVK_SUCCESS;
-    if (!pairs || !kl)
+    if (!pairs || !kl || (alive && !spring_of))
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    else if (alive)
+        cvk_tear_slot_springs(b, spring_of);
     for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
         for (size_t p = 0; p < nf; p++) {
             uint32_t* neighbours = &pairs[4 * ((2 * q) * nf + p)];
@@ -89,10 +95,11 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
             for (size_t j = 0; j < 4; j++) {
                 size_t slot = 4 * q + j, e = slot * nf + p;
                 bool real = slot < b->max_degree;
-                float k = real ? b->adj_k[e] : 0.0f;
+                bool torn = real && alive && spring_of[e] != UINT32_MAX && !alive[spring_of[e]];
+                float k = real && !torn ? b->adj_k[e] : 0.0f;
                 neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
                 memcpy(&k_bits[j], &k, sizeof k);
-                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f;
+                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f; /* 0 when torn: 0 · L */
             }
         }
     }
@@ -102,6 +109,7 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         r = cvk_sim_upload(s, &pd->adjacency_kl, kl, quads * nf * 4 * sizeof(float), error);
     free(pairs);
     free(kl);
+    free(spring_of);
     return r;
 }
 
@@ -440,9 +448,10 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
         cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
         cvk_aero_bind(s, pd->view_u[0]);
+        cvk_tear_bind(s, &pd->adjacency, &pd->adjacency_kl);
     }
     if (r == CVK_SUCCESS)
-        r = upload_adjacency(s, pd, error);
+        r = cvk_pd_upload_adjacency(s, pd, NULL, error);
     if (r == CVK_SUCCESS)
         r = upload_tethers(s, pd, error);
     if (r == CVK_SUCCESS)

@@ -42,6 +42,11 @@ typedef struct cvk_pd {
     float* scratch_u;     /* last displacements x_n − x_{n−1}, 3 floats per particle */
 } cvk_pd;
 
+/* Uploads the adjacency tables from the build, the springs whose flag in `alive` is 0 (torn;
+   alive NULL: none) with k = 0, as tearing leaves them (tear.h). */
+cvk_result cvk_pd_upload_adjacency(cvk_sim* sim, cvk_pd* pd, const uint32_t* alive,
+                                   cvk_error* error);
+
 /* Uploads the gs-cpu positions (hx) into the positions buffer, for drawing and reading. */
 cvk_result cvk_pd_upload_host_positions(cvk_sim* sim, cvk_pd* pd, cvk_error* error);
 

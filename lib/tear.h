@@ -1,0 +1,55 @@
+/* Tearing (cvk_tearing_desc): one pass per substep, after finalize, over the springs of the
+   cloths that tear (shaders/tear.comp). A spring whose relative stretch |xa − xb| / L − 1 in
+   the substep's final positions passes its cloth's max_stretch is marked dead in the
+   simulation's spring flags (which the mesh generation, the exports and the contact statistics
+   already follow) and its k and k·L are set to 0 in both ends' projective-dynamics adjacency:
+   the sweeps (rbgs, jacobi, chebyshev), their diagonal and the divergence watch then forget
+   it. Breaking is permanent: nothing sets a flag back, not cvk_sim_write_state, not a solver
+   switch; a snapshot carries the flags and loading one rebuilds the adjacency from them.
+   Projective dynamics on the device only (scene validation refuses the others). A scene
+   without tearing records nothing of this module. */
+#ifndef CVK_TEAR_H
+#define CVK_TEAR_H
+
+#include "build.h"
+#include "gpu.h"
+#include "plan.h"
+
+struct cvk_sim;
+
+typedef struct cvk_tear {
+    uint32_t count;              /* springs that may tear; 0: the scene does not tear */
+    cvk_buffer table;            /* 2 uvec4 per such spring (shaders/shared/layout.h) */
+    VkBufferView view_table;
+    cvk_descriptors descriptors; /* one set; bound to the adjacency by cvk_tear_bind */
+    bool bound;
+} cvk_tear;
+
+/* The springs of cloths with tearing, and where each sits in its ends' adjacency. */
+cvk_result cvk_tear_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk_error* error);
+void cvk_tear_destroy(struct cvk_sim* sim);
+
+/* Points the pass at projective dynamics' adjacency buffers (neighbours and bits of k, k·L);
+   the family calls it when it creates them. */
+void cvk_tear_bind(struct cvk_sim* sim, const cvk_buffer* adjacency,
+                   const cvk_buffer* adjacency_kl);
+
+/* The pass ("tear"), after finalize; none in a scene without tearing. */
+cvk_result cvk_tear_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);
+
+/* The spring flags as the device holds them (uint per spring of build.springs, 1 or 0);
+   waits for the queue. */
+cvk_result cvk_tear_read_flags(struct cvk_sim* sim, uint32_t* alive, cvk_error* error);
+
+/* Entry e of the adjacency (slot s of free particle p at s · free_count + p, as build.h lays
+   it out) -> the spring it holds, UINT32_MAX for padding; `spring_of` has max_degree ·
+   free_count entries. */
+void cvk_tear_slot_springs(const cvk_build* build, uint32_t* spring_of);
+
+/* Snapshot part: the spring flags when the scene tears (0 bytes otherwise). Loading uploads
+   them and has the family rebuild its adjacency without the dead springs. */
+uint64_t cvk_tear_snapshot_size(const struct cvk_sim* sim);
+cvk_result cvk_tear_save_snapshot(struct cvk_sim* sim, void* data, cvk_error* error);
+cvk_result cvk_tear_load_snapshot(struct cvk_sim* sim, const void* data, cvk_error* error);
+
+#endif

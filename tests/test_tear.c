@@ -1,0 +1,492 @@
+/* Tearing on the device (lib/tear.h): the same springs tear in every run, dispatch shape and
+   device solver; each substep's decisions are those of a host check on the positions the pass
+   saw; a torn spring pulls no more (its free end falls exactly as a free body); the mesh and
+   the export lose exactly the triangles along torn springs; a cloth below its threshold tears
+   nothing and a scene without tearing records no pass; a snapshot resumes the torn state bit
+   for bit; writing the state or switching device solver keeps torn springs torn; solvers that
+   do not tear are refused with their message. */
+#include <stdint.h>
+
+#include "gpu.h"
+#include "harness.h"
+#include "sim.h"
+
+#define W 12
+#define H 10
+#define MAX_STRETCH 0.2f
+
+static const cvk_keyframe drag[2] = {
+    {.time = 0.0f, .rotation = {1, 0, 0, 0}},
+    {.time = 0.5f, .translation = {0.0f, -0.35f, 0.25f}, .rotation = {1, 0, 0, 0}},
+};
+static const uint32_t drag_pins[2][2] = {{5, H - 1}, {6, H - 1}};
+
+typedef struct setup {
+    cvk_scene_desc scene;
+    cvk_cloth_desc cloth;
+    cvk_attachment_desc attachment;
+    uint32_t pins[W][2];
+} setup;
+
+/* A W × H sheet hanging from its whole top row; two particles of its bottom row are dragged
+   down and out until it tears. */
+static void make_scene(setup* s, bool dragged, float max_stretch)
+{
+    for (uint32_t i = 0; i < W; i++) {
+        s->pins[i][0] = i;
+        s->pins[i][1] = 0;
+    }
+    s->cloth = cvk_default_cloth_desc();
+    s->cloth.grid[0] = W;
+    s->cloth.grid[1] = H;
+    s->cloth.size[0] = 0.44f;
+    s->cloth.size[1] = 0.36f;
+    memcpy(s->cloth.origin, (float[3]){-0.22f, 1.0f, 0.0f}, sizeof s->cloth.origin);
+    memcpy(s->cloth.v_axis, (float[3]){0.0f, -1.0f, 0.0f}, sizeof s->cloth.v_axis);
+    s->cloth.stiffness.structural = 1e4f;
+    s->cloth.stiffness.shear = 1e3f;
+    s->cloth.stiffness.bend = 10.0f;
+    s->cloth.pins = (const uint32_t(*)[2])s->pins;
+    s->cloth.pin_count = W;
+    s->cloth.tearing.max_stretch = max_stretch;
+    s->attachment = (cvk_attachment_desc){
+        .cloth = 0, .pins = drag_pins, .pin_count = 2,
+        .motion = {.keyframes = drag, .keyframe_count = 2}};
+    s->scene = cvk_default_scene_desc();
+    s->scene.substeps = 4;
+    s->scene.cloths = &s->cloth;
+    s->scene.cloth_count = 1;
+    if (dragged) {
+        s->scene.attachments = &s->attachment;
+        s->scene.attachment_count = 1;
+    }
+}
+
+static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t workgroup_size,
+                         uint32_t max_workgroups)
+{
+    cvk_error err;
+    cvk_sim* sim = NULL;
+    cvk_sim_desc desc = {.scene = scene, .workgroup_size = workgroup_size,
+                         .max_workgroups = max_workgroups, .timing = -1};
+    REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
+    return sim;
+}
+
+/* The spring flags (uint per spring of the build). */
+static uint32_t* read_flags(cvk_sim* sim)
+{
+    cvk_error err;
+    uint32_t* alive = malloc((size_t)sim->build.spring_count * sizeof *alive + 4);
+    if (!alive)
+        exit(1);
+    REQUIRE_OK(cvk_tear_read_flags(sim, alive, &err), err);
+    return alive;
+}
+
+static uint32_t count_torn(const cvk_sim* sim, const uint32_t* alive)
+{
+    uint32_t torn = 0;
+    for (uint32_t s = 0; s < sim->build.spring_count; s++)
+        torn += alive[s] == 0;
+    return torn;
+}
+
+#define FRAMES 20
+
+/* ---- the same springs everywhere -------------------------------------------------------- */
+
+typedef struct shape {
+    uint32_t workgroup_size, max_workgroups; /* 0: the library's choice */
+} shape;
+
+static const shape shapes[] = {{0, 0}, {8, 1}, {8, 3}, {32, 0}, {256, 3}, {0, 0}};
+#define SHAPE_COUNT (sizeof shapes / sizeof shapes[0])
+
+static void same_springs_everywhere(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, true, MAX_STRETCH);
+    const cvk_linear_solver solvers[] = {CVK_LINEAR_RBGS, CVK_LINEAR_JACOBI, CVK_LINEAR_CHEBYSHEV};
+    for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; k++) {
+        s.scene.solver.linear = solvers[k];
+        const char* name = cvk_linear_solver_name(solvers[k]);
+        uint32_t* first = NULL;
+        float* first_x = NULL;
+        uint32_t torn = 0, springs = 0, same = 0;
+        for (size_t i = 0; i < SHAPE_COUNT; i++) {
+            cvk_error err;
+            cvk_sim* sim = make_sim(ctx, &s.scene, shapes[i].workgroup_size, shapes[i].max_workgroups);
+            REQUIRE_OK(cvk_sim_step(sim, FRAMES, &err), err);
+            uint32_t* alive = read_flags(sim);
+            float* x = harness_read_all(sim);
+            uint64_t n = cvk_sim_particle_count(sim);
+            springs = sim->build.spring_count;
+            if (!first) {
+                first = alive;
+                first_x = x;
+                torn = count_torn(sim, alive);
+            } else {
+                bool flags = memcmp(alive, first, springs * sizeof *alive) == 0;
+                bool positions = memcmp(x, first_x, 3 * n * sizeof *x) == 0;
+                CHECK(flags, "%s, workgroup size %u, max workgroups %u: %u springs torn, the first "
+                      "shape tore %u (or others)", name, shapes[i].workgroup_size,
+                      shapes[i].max_workgroups, count_torn(sim, alive), torn);
+                CHECK(positions, "%s, workgroup size %u, max workgroups %u: positions differ by up "
+                      "to %g m", name, shapes[i].workgroup_size, shapes[i].max_workgroups,
+                      harness_max_diff(x, first_x, 3 * n));
+                same += flags && positions;
+                free(alive);
+                free(x);
+            }
+            cvk_sim_destroy(sim);
+        }
+        /* A test of nothing torn, or of everything, would prove little. */
+        CHECK(torn > 0 && torn < springs / 2, "%s: %u of %u springs torn in %d frames", name, torn,
+              springs, FRAMES);
+        printf("%s: %u of %u springs torn after %d frames, the same springs and positions for %u "
+               "of %zu other shapes and runs\n", name, torn, springs, FRAMES, same, SHAPE_COUNT - 1);
+        free(first);
+        free(first_x);
+    }
+}
+
+/* ---- each substep's decisions, checked on the host ---------------------------------------- */
+
+/* With one substep per frame, the positions read after a frame are those the tear pass saw:
+   a spring must be dead exactly when it was dead before or is now longer than its breaking
+   length. Springs within 1e-5 of the threshold may round either way and are not judged. */
+static void decisions_match_the_host(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, true, MAX_STRETCH);
+    s.scene.substeps = 1;
+    cvk_sim* sim = make_sim(ctx, &s.scene, 0, 0);
+    const cvk_build* b = &sim->build;
+    uint32_t* before = read_flags(sim);
+    uint32_t judged = 0, wrong = 0, newly = 0, ambiguous = 0;
+    for (uint32_t f = 0; f < 4 * FRAMES; f++) {
+        cvk_error err;
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        uint32_t* after = read_flags(sim);
+        REQUIRE_OK(cvk_sim_read_internal(sim, &err), err);
+        for (uint32_t i = 0; i < b->spring_count; i++) {
+            const cvk_spring* sp = &b->springs[i];
+            const float* xa = &sim->scratch[3 * (size_t)sp->a];
+            const float* xb = &sim->scratch[3 * (size_t)sp->b];
+            double d = sqrt(pow((double)xa[0] - xb[0], 2) + pow((double)xa[1] - xb[1], 2) +
+                            pow((double)xa[2] - xb[2], 2));
+            double stretch = d / sp->rest - 1.0;
+            if (before[i] && fabs(stretch - MAX_STRETCH) < 1e-5) {
+                ambiguous++;
+                continue;
+            }
+            bool dead = !before[i] || stretch > MAX_STRETCH;
+            wrong += dead != (after[i] == 0);
+            newly += before[i] && !after[i];
+            judged++;
+        }
+        free(before);
+        before = after;
+    }
+    CHECK(wrong == 0, "%u of %u tearing decisions differ from the host's", wrong, judged);
+    CHECK(newly > 0, "no spring tore in %d frames", 4 * FRAMES);
+    printf("one substep a frame: %u decisions as the host makes them (%u springs torn on the way, "
+           "%u too close to the threshold to judge)\n", judged - wrong, newly, ambiguous);
+    free(before);
+    cvk_sim_destroy(sim);
+}
+
+/* ---- a torn spring pulls no more ---------------------------------------------------------- */
+
+/* A two-particle rope, the top pinned, the bottom thrown down at 10 m/s: its spring (which
+   would hold a 3 m/s throw to 9.5 % of stretch) passes 10 % within a few substeps and tears. From then on the free particle is a body in free
+   fall, which Verlet integrates exactly: x(t) = x1 + v1 t + g t² / 2. Without tearing the
+   spring would hold it within centimetres of the pin. */
+static double rope_deviation(cvk_context* ctx, float max_stretch, uint64_t* torn)
+{
+    static const uint32_t pin[1][2] = {{0, 0}};
+    cvk_cloth_desc c = cvk_default_cloth_desc();
+    c.grid[0] = 1;
+    c.grid[1] = 2;
+    c.size[1] = 0.1f;
+    memcpy(c.origin, (float[3]){0.0f, 1.0f, 0.0f}, sizeof c.origin);
+    memcpy(c.v_axis, (float[3]){0.0f, -1.0f, 0.0f}, sizeof c.v_axis);
+    c.mass = 0.02f;
+    c.stiffness.structural = 1e3f;
+    c.pins = pin;
+    c.pin_count = 1;
+    c.velocity[1] = -10.0f;
+    c.tearing.max_stretch = max_stretch;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = &c;
+    scene.cloth_count = 1;
+    cvk_sim* sim = make_sim(ctx, &scene, 0, 0);
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_step(sim, 2, &err), err);
+    float x1[6], v1[6], x[6];
+    REQUIRE_OK(cvk_sim_read_state(sim, x1, v1, 2, &err), err);
+    const uint32_t frames = 20;
+    REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, 2, &err), err);
+    cvk_sim_stats st;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+    *torn = st.torn_springs;
+    double t = (double)frames * scene.substeps * scene.dt, worst = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double expect = x1[3 + k] + v1[3 + k] * t + 0.5 * scene.gravity[k] * t * t;
+        worst = fmax(worst, fabs(x[3 + k] - expect));
+    }
+    cvk_sim_destroy(sim);
+    return worst;
+}
+
+static void torn_spring_pulls_no_more(cvk_context* ctx)
+{
+    uint64_t torn = 0, kept = 0;
+    double free_fall = rope_deviation(ctx, 0.1f, &torn);
+    double held = rope_deviation(ctx, 0.0f, &kept);
+    CHECK(torn == 1, "the rope's one spring: %llu torn", (unsigned long long)torn);
+    CHECK(kept == 0, "without tearing %llu springs tore", (unsigned long long)kept);
+    /* Float positions near 1 m and 0.35 s of float displacements: tens of micrometres. */
+    CHECK(free_fall < 1e-4, "the torn rope's end is %g m from free fall", free_fall);
+    CHECK(held > 1e-2, "the intact rope's end is only %g m from free fall: the check cannot tell",
+          held);
+    printf("torn rope: the free end %.3g m from exact free fall after 0.32 s (%.3g m with the "
+           "spring intact)\n", free_fall, held);
+}
+
+/* ---- triangles ------------------------------------------------------------------------------ */
+
+static void* read_buffer(cvk_context* ctx, VkBuffer buffer, VkDeviceSize size)
+{
+    cvk_error err;
+    cvk_submitter sub;
+    VkCommandBuffer cmd;
+    cvk_buffer host;
+    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
+    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
+    REQUIRE_OK(cvk_buffer_create(ctx, size ? size : 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 CVK_MEMORY_HOST, "readback", &host, &err), err);
+    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferCopy region = {0, 0, size};
+    vkCmdCopyBuffer(cmd, buffer, host.buffer, 1, &region);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
+    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
+    void* copy = malloc(size ? size : 1);
+    if (!copy)
+        exit(1);
+    memcpy(copy, host.mapped, size);
+    cvk_buffer_destroy(ctx, &host);
+    cvk_submitter_destroy(ctx, &sub);
+    return copy;
+}
+
+/* Triangles whose three indices are not all equal. */
+static uint32_t live_triangles(const uint32_t* indices, uint64_t count)
+{
+    uint32_t live = 0;
+    for (uint64_t t = 0; t < count; t++)
+        live += !(indices[3 * t] == indices[3 * t + 1] && indices[3 * t] == indices[3 * t + 2]);
+    return live;
+}
+
+static void triangles_follow(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, true, MAX_STRETCH);
+    cvk_sim* sim = make_sim(ctx, &s.scene, 0, 0);
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_step(sim, FRAMES, &err), err);
+    const cvk_build* b = &sim->build;
+    uint32_t* alive = read_flags(sim);
+    uint32_t predicted = 0;
+    for (uint32_t t = 0; t < b->triangle_count; t++) {
+        bool live = true;
+        for (int e = 0; e < 3; e++) {
+            uint32_t spring = b->triangle_springs[3 * (size_t)t + e];
+            live = live && (spring == UINT32_MAX || alive[spring]);
+        }
+        predicted += live;
+    }
+    uint64_t n = cvk_sim_particle_count(sim), count = cvk_sim_triangle_count(sim);
+    uint32_t* triangles = malloc(3 * count * sizeof *triangles);
+    if (!triangles)
+        exit(1);
+    REQUIRE_OK(cvk_sim_read_mesh(sim, NULL, NULL, triangles, n, count, &err), err);
+    uint32_t exported = live_triangles(triangles, count);
+
+    cvk_mesh* mesh;
+    REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
+    cvk_submitter sub;
+    VkCommandBuffer cmd;
+    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
+    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
+    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
+    REQUIRE_OK(cvk_mesh_record(mesh, cmd, &err), err);
+    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
+    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
+    cvk_submitter_destroy(ctx, &sub);
+    cvk_mesh_buffers info = cvk_mesh_get_buffers(mesh);
+    uint32_t* indices = read_buffer(ctx, info.index_buffer, (VkDeviceSize)info.index_count * 4u);
+    uint32_t drawn = live_triangles(indices, info.index_count / 3);
+
+    CHECK(predicted < count, "nothing torn: %u of %llu triangles live", predicted,
+          (unsigned long long)count);
+    CHECK(exported == predicted, "cvk_sim_read_mesh keeps %u triangles; %u have no torn edge",
+          exported, predicted);
+    CHECK(drawn == predicted, "the device mesh draws %u triangles; %u have no torn edge", drawn,
+          predicted);
+    printf("%u springs torn: %u of %llu triangles left, in the export and the device mesh alike\n",
+           count_torn(sim, alive), predicted, (unsigned long long)count);
+    free(indices);
+    free(triangles);
+    free(alive);
+    cvk_mesh_destroy(mesh);
+    cvk_sim_destroy(sim);
+}
+
+/* ---- below the threshold, and no tearing at all ------------------------------------------------ */
+
+static void below_threshold(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, false, MAX_STRETCH); /* hanging alone: stretched by a few percent */
+    cvk_sim* sim = make_sim(ctx, &s.scene, 0, 0);
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_step(sim, 3 * FRAMES, &err), err);
+    cvk_sim_stats st;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+    CHECK(st.torn_springs == 0, "%llu springs torn below the threshold",
+          (unsigned long long)st.torn_springs);
+    CHECK(st.max_stretch > 1e-4 && st.max_stretch < MAX_STRETCH,
+          "the hanging sheet's largest stretch is %g, not between 1e-4 and %g", st.max_stretch,
+          MAX_STRETCH);
+    uint32_t with_pass = cvk_plan_find_pass(&sim->plan, "tear");
+    CHECK(with_pass != UINT32_MAX, "a tearing scene records no \"tear\" pass");
+    uint32_t dispatches = st.dispatches_per_substep;
+    cvk_solver_desc host = s.scene.solver;
+    host.linear = CVK_LINEAR_GS_CPU;
+    CHECK(cvk_sim_set_solver(sim, &host, &err) == CVK_ERROR_INVALID_ARGUMENT, "gs-cpu accepted");
+    CHECK(strcmp(err.message, "solver.linear: gs-cpu (the host reference) does not tear springs; "
+                 "remove \"tearing\", or use rbgs, jacobi or chebyshev") == 0, "%s", err.message);
+    cvk_solver_desc implicit = s.scene.solver;
+    implicit.method = CVK_METHOD_IMPLICIT;
+    implicit.linear = CVK_LINEAR_CG;
+    CHECK(cvk_sim_set_solver(sim, &implicit, &err) == CVK_ERROR_INVALID_ARGUMENT, "implicit accepted");
+    CHECK(strcmp(err.message, "solver.method: implicit does not tear springs; remove \"tearing\", "
+                 "or use pd") == 0, "%s", err.message);
+    cvk_sim_destroy(sim);
+
+    make_scene(&s, false, 0.0f);
+    sim = make_sim(ctx, &s.scene, 0, 0);
+    REQUIRE_OK(cvk_sim_step(sim, 3 * FRAMES, &err), err);
+    cvk_sim_stats off;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &off, &err), err);
+    CHECK(cvk_plan_find_pass(&sim->plan, "tear") == UINT32_MAX,
+          "a scene without tearing records a \"tear\" pass");
+    CHECK(off.dispatches_per_substep + 1 == dispatches,
+          "%u dispatches a substep without tearing, %u with it", off.dispatches_per_substep,
+          dispatches);
+    CHECK(off.torn_springs == 0, "%llu springs torn without tearing",
+          (unsigned long long)off.torn_springs);
+    /* Below the threshold nothing tears, so the pass changes nothing. */
+    CHECK(off.max_stretch == st.max_stretch, "max stretch %.9g without tearing, %.9g with it",
+          off.max_stretch, st.max_stretch);
+    printf("below the threshold: nothing torn, largest stretch %.3g; the same state as without "
+           "tearing, one dispatch less a substep without it\n", st.max_stretch);
+    cvk_sim_destroy(sim);
+}
+
+/* ---- snapshots, written states, solver switches ---------------------------------------------- */
+
+static void torn_state_carried(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, true, MAX_STRETCH);
+    cvk_sim* a = make_sim(ctx, &s.scene, 0, 0);
+    cvk_error err;
+    uint32_t* at_save = NULL;
+    for (int f = 0; f < FRAMES && (!at_save || count_torn(a, at_save) == 0); f++) {
+        REQUIRE_OK(cvk_sim_step(a, 1, &err), err); /* on to the frame the first springs break */
+        free(at_save);
+        at_save = read_flags(a);
+    }
+    uint32_t torn_at_save = count_torn(a, at_save);
+    uint64_t size = cvk_sim_snapshot_size(a);
+    void* snap = malloc(size);
+    if (!snap)
+        exit(1);
+    REQUIRE_OK(cvk_sim_save_snapshot(a, snap, size, &err), err);
+    REQUIRE_OK(cvk_sim_step(a, FRAMES, &err), err);
+    uint32_t* flags_a = read_flags(a);
+    float* xa = harness_read_all(a);
+
+    cvk_sim* b = make_sim(ctx, &s.scene, 0, 0);
+    REQUIRE_OK(cvk_sim_load_snapshot(b, snap, size, &err), err);
+    uint32_t* loaded = read_flags(b);
+    REQUIRE_OK(cvk_sim_step(b, FRAMES, &err), err);
+    uint32_t* flags_b = read_flags(b);
+    float* xb = harness_read_all(b);
+    uint64_t n = cvk_sim_particle_count(a);
+    size_t springs = a->build.spring_count;
+    CHECK(torn_at_save > 0, "nothing torn when the snapshot was taken");
+    CHECK(count_torn(a, flags_a) > torn_at_save, "nothing tore after the snapshot (%u torn)",
+          torn_at_save);
+    CHECK(memcmp(loaded, at_save, springs * 4) == 0, "the loaded flags differ from the saved");
+    CHECK(memcmp(flags_a, flags_b, springs * 4) == 0, "resumed: %u springs torn, %u in the run "
+          "that went on", count_torn(b, flags_b), count_torn(a, flags_a));
+    CHECK(memcmp(xa, xb, 3 * n * sizeof *xa) == 0, "resumed: positions differ by up to %g m",
+          harness_max_diff(xa, xb, 3 * n));
+    printf("snapshot with %u springs torn: resumed to the same %u torn springs and the same "
+           "positions, bit for bit\n", torn_at_save, count_torn(a, flags_a));
+
+    /* A written state keeps the torn springs torn; so does a switch of device solver. */
+    float* start = malloc(3 * n * sizeof *start);
+    if (!start)
+        exit(1);
+    for (uint32_t p = 0; p < b->build.particle_count; p++)
+        memcpy(&start[3 * (size_t)b->build.user_of[p]], &b->build.position[3 * (size_t)p],
+               3 * sizeof(float));
+    REQUIRE_OK(cvk_sim_write_state(b, start, NULL, n, &err), err);
+    uint32_t* written = read_flags(b);
+    CHECK(memcmp(written, flags_b, springs * 4) == 0, "writing the state mended springs");
+    cvk_solver_desc jacobi = s.scene.solver;
+    jacobi.linear = CVK_LINEAR_JACOBI;
+    REQUIRE_OK(cvk_sim_set_solver(b, &jacobi, &err), err);
+    REQUIRE_OK(cvk_sim_step(b, 1, &err), err);
+    uint32_t* switched = read_flags(b);
+    uint32_t mended = 0;
+    for (size_t i = 0; i < springs; i++)
+        mended += !written[i] && switched[i];
+    CHECK(mended == 0, "%u springs mended by a switch to jacobi", mended);
+
+    free(written);
+    free(switched);
+    free(start);
+    free(at_save);
+    free(flags_a);
+    free(flags_b);
+    free(loaded);
+    free(xa);
+    free(xb);
+    free(snap);
+    cvk_sim_destroy(a);
+    cvk_sim_destroy(b);
+}
+
+int main(void)
+{
+    cvk_context* ctx = harness_context();
+    same_springs_everywhere(ctx);
+    decisions_match_the_host(ctx);
+    torn_spring_pulls_no_more(ctx);
+    triangles_follow(ctx);
+    below_threshold(ctx);
+    torn_state_carried(ctx);
+    return harness_finish(ctx);
+}
