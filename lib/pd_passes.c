@@ -350,7 +350,7 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
     case CVK_LINEAR_CG: /* the implicit family's (scene validation keeps it there) */
         break;
     case CVK_LINEAR_GS_CPU:
-        plan->host = true; /* no dispatches; scene validation refuses tearing here */
+        plan->host = true; /* no dispatches */
         snprintf(plan->host_note, sizeof plan->host_note,
                  "%u substeps on the host (sequential double-precision Gauss-Seidel, colour "
                  "order), then one upload of the positions", plan->substeps);
@@ -360,6 +360,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
         cvk_result r = cvk_tear_add_passes(s, plan, error); /* after finalize */
         if (r != CVK_SUCCESS)
             return r;
+    } else if (s->tear.count > 0) {
+        cvk_plan_pass(plan, "tear"); /* timed on the host (cvk_tear_host) */
     }
     return cvk_plan_check(plan, error);
 }

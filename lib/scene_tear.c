@@ -17,9 +17,6 @@ bool cvk_tearing_solver_check(const cvk_solver_desc* solver, bool tearing, cvk_s
     if (solver->method != CVK_METHOD_PD)
         return cvk_issue_at(issue, "solver.method", "%s does not tear springs; remove "
                             "\"tearing\", or use pd", cvk_method_name(solver->method));
-    if (solver->linear == CVK_LINEAR_GS_CPU)
-        return cvk_issue_at(issue, "solver.linear", "gs-cpu (the host reference) does not tear "
-                            "springs; remove \"tearing\", or use rbgs, jacobi or chebyshev");
     return true;
 }
 

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "checked.h"
 #include "error.h"
 #include "solve_pd.h"
 #include "tether.h"
@@ -83,10 +84,8 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
     float* kl = malloc(quads * nf * 4 * sizeof(float));
     uint32_t* spring_of = alive ? malloc((size_t)b->max_degree * nf * sizeof(uint32_t)) : NULL;
     cvk_result r = CVK_SUCCESS;
-    if (!pairs || !kl || (alive && !spring_of))
+    if (!pairs || !kl || (alive && (!spring_of || !cvk_tear_slot_springs(b, spring_of))))
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
-    else if (alive)
-        cvk_tear_slot_springs(b, spring_of);
     for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
         for (size_t p = 0; p < nf; p++) {
             uint32_t* neighbours = &pairs[4 * ((2 * q) * nf + p)];
@@ -213,6 +212,35 @@ static cvk_result pd_prepare(cvk_sim* s, void* self, const cvk_solver_desc* solv
     if (!pd->hx || !pd->hprev || !pd->hy || !pd->hrhs)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "out of host memory for the gs-cpu solver state");
+    if (s->tear.count == 0)
+        return CVK_SUCCESS;
+    /* Intact; a switch from the device brings the device's torn state (pd_switch_solver). */
+    const cvk_build* b = &s->build;
+    size_t entries = (size_t)b->max_degree * b->free_count;
+    pd->h_alive = cvk_malloc_array(b->spring_count, sizeof *pd->h_alive);
+    pd->h_adj_k = cvk_malloc_array(entries ? entries : 1, sizeof *pd->h_adj_k);
+    if (!pd->h_alive || !pd->h_adj_k)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the gs-cpu solver's spring flags");
+    for (uint32_t i = 0; i < b->spring_count; i++)
+        pd->h_alive[i] = 1;
+    if (entries)
+        memcpy(pd->h_adj_k, b->adj_k, entries * sizeof *pd->h_adj_k);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_pd_set_torn(cvk_sim* s, cvk_pd* pd, const uint32_t* alive, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cvk_result r = cvk_sim_upload(s, &s->spring_alive, alive,
+                                  (size_t)b->spring_count * sizeof *alive, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_pd_upload_adjacency(s, pd, alive, error);
+    if (r != CVK_SUCCESS || !pd->h_alive)
+        return r;
+    if (!cvk_tear_host_adjacency(b, alive, pd->h_adj_k))
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    memcpy(pd->h_alive, alive, (size_t)b->spring_count * sizeof *alive);
     return CVK_SUCCESS;
 }
 
@@ -349,6 +377,17 @@ static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc
     pd->host = host;
     if (r == CVK_SUCCESS)
         r = set_state(s, pd, s->scratch, pd->scratch_u, error);
+    if (r != CVK_SUCCESS || s->tear.count == 0)
+        return r;
+    /* The torn state follows: the device's flags are current (gs-cpu uploads its own after
+       every step), and both sides' adjacency is rebuilt from them. */
+    uint32_t* alive = cvk_malloc_array(s->build.spring_count, sizeof *alive);
+    if (!alive)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
+    r = cvk_tear_read_flags(s, alive, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_pd_set_torn(s, pd, alive, error);
+    free(alive);
     return r;
 }
 
@@ -371,23 +410,38 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
     cvk_pd* pd = self;
     uint32_t predict = cvk_plan_find_pass(&s->plan, "predict");
     uint32_t solve = cvk_plan_find_pass(&s->plan, "solve");
+    uint32_t tear = cvk_plan_find_pass(&s->plan, "tear");
+    /* With tearing the solve reads the host's adjacency, torn springs at k = 0. */
+    cvk_build view = s->build;
+    if (pd->h_adj_k)
+        view.adj_k = pd->h_adj_k;
     for (uint32_t f = 0; f < frames; f++) {
-        double predict_ms = 0.0, solve_ms = 0.0;
+        double predict_ms = 0.0, solve_ms = 0.0, tear_ms = 0.0;
         for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
             double t0 = cvk_now_ms();
-            cvk_ref_predict(&s->build, &s->ref, pd->hx, pd->hprev, pd->hy);
+            cvk_ref_predict(&view, &s->ref, pd->hx, pd->hprev, pd->hy);
             double t1 = cvk_now_ms();
-            cvk_ref_solve_gauss_seidel(&s->build, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            cvk_ref_solve_gauss_seidel(&view, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            double t2 = cvk_now_ms();
+            if (pd->h_alive)
+                cvk_tear_host(s, pd->hx, pd->h_alive, pd->h_adj_k);
             predict_ms += t1 - t0;
-            solve_ms += cvk_now_ms() - t1;
+            solve_ms += t2 - t1;
+            tear_ms += cvk_now_ms() - t2;
         }
         if (predict < CVK_MAX_PASSES)
             s->host_pass_ms[predict] = predict_ms;
         if (solve < CVK_MAX_PASSES)
             s->host_pass_ms[solve] = solve_ms;
+        if (tear < CVK_MAX_PASSES)
+            s->host_pass_ms[tear] = tear_ms;
         s->host_timed = true;
     }
-    return cvk_pd_upload_host_positions(s, pd, error);
+    cvk_result r = cvk_pd_upload_host_positions(s, pd, error);
+    if (r == CVK_SUCCESS && pd->h_alive) /* for the mesh, the statistics and snapshots */
+        r = cvk_sim_upload(s, &s->spring_alive, pd->h_alive,
+                           (size_t)s->build.spring_count * sizeof *pd->h_alive, error);
+    return r;
 }
 
 /* ---- the family ------------------------------------------------------------------------ */
@@ -420,6 +474,8 @@ static void pd_destroy(cvk_sim* s, void* self)
     free(pd->hprev);
     free(pd->hy);
     free(pd->hrhs);
+    free(pd->h_alive);
+    free(pd->h_adj_k);
     free(pd->scratch_u);
     free(pd);
 }

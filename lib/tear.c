@@ -24,7 +24,7 @@ static const cvk_binding tear_bindings[CVK_TEAR_BINDING_COUNT] = {
 #undef TEXEL
 #undef STORAGE
 
-void cvk_tear_slot_springs(const cvk_build* b, uint32_t* spring_of)
+bool cvk_tear_slot_springs(const cvk_build* b, uint32_t* spring_of)
 {
     uint32_t nf = b->free_count;
     size_t entries = (size_t)b->max_degree * nf;
@@ -32,7 +32,7 @@ void cvk_tear_slot_springs(const cvk_build* b, uint32_t* spring_of)
         spring_of[e] = UINT32_MAX;
     uint32_t* fill = calloc(nf ? nf : 1, sizeof *fill);
     if (!fill)
-        return;
+        return false;
     /* The order build_adjacency (build.c) fills the slots in: spring by spring, end a first. */
     for (uint32_t s = 0; s < b->spring_count; s++) {
         uint32_t ends[2] = {b->springs[s].a, b->springs[s].b};
@@ -41,6 +41,7 @@ void cvk_tear_slot_springs(const cvk_build* b, uint32_t* spring_of)
                 spring_of[(size_t)fill[ends[e]]++ * nf + ends[e]] = s;
     }
     free(fill);
+    return true;
 }
 
 /* The cloth (scene order) of internal particle p. */
@@ -62,21 +63,27 @@ static void slot_elements(const cvk_build* b, uint32_t slot, uint32_t p, uint32_
     *kl = 4 * (q * nf + p) + j;
 }
 
-/* The table: 8 uints per spring that may tear (shaders/shared/layout.h). */
-static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, uint32_t* count)
+/* The table: 8 uints per spring that may tear (shaders/shared/layout.h); and the host's
+   arrays of them in t. */
+static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk_tear* t,
+                            uint32_t* count)
 {
     size_t entries = (size_t)b->max_degree * b->free_count;
     uint32_t* spring_of = cvk_malloc_array(entries ? entries : 1, sizeof *spring_of);
     uint32_t* table = cvk_malloc_array(8 * (size_t)b->spring_count, sizeof *table);
     /* slot[2s + e]: the slot of end e of spring s, or UINT32_MAX (pinned) */
     uint32_t* slot = cvk_malloc_array(2 * (size_t)b->spring_count, sizeof *slot);
-    if (!spring_of || !table || !slot) {
+    t->spring = cvk_malloc_array(b->spring_count ? b->spring_count : 1, sizeof *t->spring);
+    t->limit2 = cvk_malloc_array(b->spring_count ? b->spring_count : 1, sizeof *t->limit2);
+    t->entry = cvk_malloc_array(2 * (size_t)(b->spring_count ? b->spring_count : 1),
+                                sizeof *t->entry);
+    if (!spring_of || !table || !slot || !t->spring || !t->limit2 || !t->entry ||
+        !cvk_tear_slot_springs(b, spring_of)) {
         free(spring_of);
         free(table);
         free(slot);
         return NULL;
     }
-    cvk_tear_slot_springs(b, spring_of);
     for (size_t i = 0; i < 2 * (size_t)b->spring_count; i++)
         slot[i] = UINT32_MAX;
     for (size_t e = 0; e < entries; e++) {
@@ -92,18 +99,24 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, uin
             continue;
         double length = (double)sp->rest * (1.0 + (double)stretch);
         float limit2 = (float)(length * length);
-        uint32_t* t = &table[8 * (size_t)n++];
-        t[0] = sp->a;
-        t[1] = sp->b;
-        t[2] = s;
-        memcpy(&t[3], &limit2, sizeof limit2);
+        t->spring[n] = s;
+        t->limit2[n] = limit2;
+        uint32_t* row = &table[8 * (size_t)n];
+        row[0] = sp->a;
+        row[1] = sp->b;
+        row[2] = s;
+        memcpy(&row[3], &limit2, sizeof limit2);
         uint32_t ends[2] = {sp->a, sp->b};
         for (int e = 0; e < 2; e++) {
             uint32_t at = slot[2 * (size_t)s + e];
-            t[4 + 2 * e] = t[5 + 2 * e] = CVK_TEAR_NONE;
-            if (at != UINT32_MAX)
-                slot_elements(b, at, ends[e], &t[4 + 2 * e], &t[5 + 2 * e]);
+            row[4 + 2 * e] = row[5 + 2 * e] = CVK_TEAR_NONE;
+            t->entry[2 * (size_t)n + e] = UINT32_MAX;
+            if (at != UINT32_MAX) {
+                slot_elements(b, at, ends[e], &row[4 + 2 * e], &row[5 + 2 * e]);
+                t->entry[2 * (size_t)n + e] = at * b->free_count + ends[e];
+            }
         }
+        n++;
     }
     free(spring_of);
     free(slot);
@@ -118,7 +131,7 @@ cvk_result cvk_tear_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* e
     if (!cvk_scene_tears(scene))
         return CVK_SUCCESS;
     uint32_t count = 0;
-    uint32_t* table = make_table(&s->build, scene, &count);
+    uint32_t* table = make_table(&s->build, scene, t, &count);
     if (!table)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the tearing table");
     cvk_result r = cvk_sim_make_buffer(s, &t->table, 32u * (VkDeviceSize)count, "tearing springs",
@@ -143,6 +156,9 @@ void cvk_tear_destroy(cvk_sim* s)
     if (t->view_table)
         vkDestroyBufferView(s->context->device, t->view_table, NULL);
     cvk_buffer_destroy(s->context, &t->table);
+    free(t->spring);
+    free(t->limit2);
+    free(t->entry);
     *t = (cvk_tear){0};
 }
 
@@ -189,6 +205,43 @@ cvk_result cvk_tear_read_flags(cvk_sim* s, uint32_t* alive, cvk_error* error)
                                alive, bytes, error);
 }
 
+uint32_t cvk_tear_host(const cvk_sim* s, const double* x, uint32_t* alive, float* adj_k)
+{
+    const cvk_tear* t = &s->tear;
+    uint32_t torn = 0;
+    for (uint32_t i = 0; i < t->count; i++) {
+        uint32_t spring = t->spring[i];
+        if (!alive[spring])
+            continue;
+        const cvk_spring* sp = &s->build.springs[spring];
+        const double* xa = &x[3 * (size_t)sp->a];
+        const double* xb = &x[3 * (size_t)sp->b];
+        double d[3] = {xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]};
+        if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > (double)t->limit2[i]))
+            continue;
+        alive[spring] = 0;
+        for (int e = 0; e < 2; e++)
+            if (t->entry[2 * (size_t)i + e] != UINT32_MAX)
+                adj_k[t->entry[2 * (size_t)i + e]] = 0.0f;
+        torn++;
+    }
+    return torn;
+}
+
+bool cvk_tear_host_adjacency(const cvk_build* b, const uint32_t* alive, float* adj_k)
+{
+    size_t entries = (size_t)b->max_degree * b->free_count;
+    uint32_t* spring_of = cvk_malloc_array(entries ? entries : 1, sizeof *spring_of);
+    if (!spring_of || !cvk_tear_slot_springs(b, spring_of)) {
+        free(spring_of);
+        return false;
+    }
+    for (size_t e = 0; e < entries; e++)
+        adj_k[e] = spring_of[e] != UINT32_MAX && !alive[spring_of[e]] ? 0.0f : b->adj_k[e];
+    free(spring_of);
+    return true;
+}
+
 uint64_t cvk_tear_snapshot_size(const cvk_sim* s)
 {
     return s->tear.count ? (uint64_t)s->build.spring_count * sizeof(uint32_t) : 0;
@@ -210,9 +263,8 @@ cvk_result cvk_tear_load_snapshot(cvk_sim* s, const void* data, cvk_error* error
     memcpy(alive, data, n * sizeof *alive);
     for (size_t i = 0; i < n; i++)
         alive[i] = alive[i] != 0; /* a flag is 1 or 0, whatever the bytes said */
-    cvk_result r = cvk_sim_upload(s, &s->spring_alive, alive, n * sizeof *alive, error);
-    if (r == CVK_SUCCESS) /* tearing implies projective dynamics on the device */
-        r = cvk_pd_upload_adjacency(s, s->family_state, alive, error);
+    /* tearing implies projective dynamics */
+    cvk_result r = cvk_pd_set_torn(s, s->family_state, alive, error);
     free(alive);
     return r;
 }

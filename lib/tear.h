@@ -6,8 +6,9 @@
    the sweeps (rbgs, jacobi, chebyshev), their diagonal and the divergence watch then forget
    it. Breaking is permanent: nothing sets a flag back, not cvk_sim_write_state, not a solver
    switch; a snapshot carries the flags and loading one rebuilds the adjacency from them.
-   Projective dynamics on the device only (scene validation refuses the others). A scene
-   without tearing records nothing of this module. */
+   gs-cpu tears on the host (cvk_tear_host) on its own copy of the adjacency's k and uploads
+   its flags after every step. Projective dynamics only (scene validation refuses the other
+   methods). A scene without tearing records nothing of this module. */
 #ifndef CVK_TEAR_H
 #define CVK_TEAR_H
 
@@ -19,6 +20,10 @@ struct cvk_sim;
 
 typedef struct cvk_tear {
     uint32_t count;              /* springs that may tear; 0: the scene does not tear */
+    uint32_t* spring;            /* host: each one's index into build.springs */
+    float* limit2;               /* host: each one's squared breaking length, m² */
+    uint32_t* entry;             /* host: 2 per spring, its entry in each end's adjacency
+                                    (build.h layout; UINT32_MAX for a pinned end) */
     cvk_buffer table;            /* 2 uvec4 per such spring (shaders/shared/layout.h) */
     VkBufferView view_table;
     cvk_descriptors descriptors; /* one set; bound to the adjacency by cvk_tear_bind */
@@ -43,11 +48,21 @@ cvk_result cvk_tear_read_flags(struct cvk_sim* sim, uint32_t* alive, cvk_error* 
 
 /* Entry e of the adjacency (slot s of free particle p at s · free_count + p, as build.h lays
    it out) -> the spring it holds, UINT32_MAX for padding; `spring_of` has max_degree ·
-   free_count entries. */
-void cvk_tear_slot_springs(const cvk_build* build, uint32_t* spring_of);
+   free_count entries. False when out of host memory. */
+bool cvk_tear_slot_springs(const cvk_build* build, uint32_t* spring_of);
 
-/* Snapshot part: the spring flags when the scene tears (0 bytes otherwise). Loading uploads
-   them and has the family rebuild its adjacency without the dead springs. */
+/* The host reference of the pass (gs-cpu): every live spring that may tear and is longer than
+   its breaking length in positions x (3 doubles per particle, internal order) gets alive 0
+   and k 0 in adj_k (the build's adjacency layout). Returns the springs it tore. */
+uint32_t cvk_tear_host(const struct cvk_sim* sim, const double* x, uint32_t* alive, float* adj_k);
+
+/* adj_k (the build's layout) as the build has it, with k 0 for every spring whose flag in
+   `alive` is 0. False when out of host memory. */
+bool cvk_tear_host_adjacency(const cvk_build* build, const uint32_t* alive, float* adj_k);
+
+/* Snapshot part: the spring flags when the scene tears (0 bytes otherwise), as the device
+   holds them (gs-cpu uploads its flags after every step). Loading uploads them and has the
+   family rebuild its adjacency without the dead springs. */
 uint64_t cvk_tear_snapshot_size(const struct cvk_sim* sim);
 cvk_result cvk_tear_save_snapshot(struct cvk_sim* sim, void* data, cvk_error* error);
 cvk_result cvk_tear_load_snapshot(struct cvk_sim* sim, const void* data, cvk_error* error);
