@@ -261,8 +261,8 @@ typedef struct cvk_aero_desc {
 /* Tearing (the "tearing" block of a cloth): a spring of the cloth whose relative stretch
    |xa − xb| / L − 1 passes max_stretch at the end of a substep breaks for good. It then pulls
    no more in the solve, and the triangles along it leave the mesh, the renderer and the
-   exports. Decided on the device, spring by spring, so the same springs break on every run
-   and dispatch shape. Projective dynamics only (rbgs, jacobi, chebyshev on the device; gs-cpu
+   exports. Decided spring by spring, each on its own, so the same springs break on every
+   run and dispatch shape. Projective dynamics only (rbgs, jacobi, chebyshev on the device; gs-cpu
    on the host); the implicit and explicit methods refuse it, and so do tethers. */
 typedef struct cvk_tearing_desc {
     float max_stretch;           /* relative stretch at which a spring breaks; 0 = never (the
