@@ -357,7 +357,7 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
         break;
     }
     if (solver->linear != CVK_LINEAR_GS_CPU) {
-        cvk_result r = cvk_tear_add_passes(s, plan, error); /* after finalize */
+        cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_PD, plan, error); /* after finalize */
         if (r != CVK_SUCCESS)
             return r;
     } else if (s->tear.count > 0) {

@@ -51,10 +51,8 @@ bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attach
 bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
 bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
-/* Tearing (lib/scene_tear.c): each cloth's max_stretch, tearing apart from tethers, and the
-   solver it needs (cvk_tearing_solver_check, also for cvk_sim_set_solver). */
+/* Tearing (lib/scene_tear.c): each cloth's max_stretch, and tearing apart from tethers. */
 bool cvk_tearing_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
-bool cvk_tearing_solver_check(const cvk_solver_desc* solver, bool tearing, cvk_scene_issue* issue);
 /* Whether some cloth of the scene tears. */
 bool cvk_scene_tears(const cvk_scene_desc* desc);
 /* Largest tearing max_stretch: the divergence watch stops a solve whose spring reaches ten

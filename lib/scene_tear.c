@@ -1,5 +1,5 @@
-/* Validation of tearing: a cloth's "tearing" block, and what it asks of the solver and of
-   tethers. */
+/* Validation of tearing: a cloth's "tearing" block, and tearing apart from tethers (every
+   solver tears). */
 #include "scene.h"
 
 bool cvk_scene_tears(const cvk_scene_desc* d)
@@ -8,16 +8,6 @@ bool cvk_scene_tears(const cvk_scene_desc* d)
         if (d->cloths[i].tearing.max_stretch > 0.0f)
             return true;
     return false;
-}
-
-bool cvk_tearing_solver_check(const cvk_solver_desc* solver, bool tearing, cvk_scene_issue* issue)
-{
-    if (!tearing)
-        return true;
-    if (solver->method != CVK_METHOD_PD)
-        return cvk_issue_at(issue, "solver.method", "%s does not tear springs; remove "
-                            "\"tearing\", or use pd", cvk_method_name(solver->method));
-    return true;
 }
 
 /* A tether holds a particle near its pins along paths of the whole cloth: once the cloth
@@ -47,5 +37,5 @@ bool cvk_tearing_check(const cvk_scene_desc* d, cvk_scene_issue* issue)
     for (uint32_t i = 0; i < d->cloth_count; i++)
         if (!check_cloth(&d->cloths[i], i, issue))
             return false;
-    return cvk_tearing_solver_check(&d->solver, cvk_scene_tears(d), issue);
+    return true;
 }

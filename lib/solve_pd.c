@@ -78,11 +78,14 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
 {
     const cvk_build* b = &s->build;
     size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
-    if (nf == 0 || b->max_degree == 0)
+    /* Without springs (max_degree 0) the one quad of padding is still written: the prediction's
+       divergence watch reads slot 0 of every particle (shaders/predict.comp). */
+    if (nf == 0)
         return CVK_SUCCESS;
     uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
     float* kl = malloc(quads * nf * 4 * sizeof(float));
-    uint32_t* spring_of = alive ? malloc((size_t)b->max_degree * nf * sizeof(uint32_t)) : NULL;
+    size_t entries = (size_t)b->max_degree * nf;
+    uint32_t* spring_of = alive ? malloc((entries ? entries : 1) * sizeof(uint32_t)) : NULL;
     cvk_result r = CVK_SUCCESS;
     if (!pairs || !kl || (alive && (!spring_of || !cvk_tear_slot_springs(b, spring_of))))
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
@@ -229,8 +232,9 @@ static cvk_result pd_prepare(cvk_sim* s, void* self, const cvk_solver_desc* solv
     return CVK_SUCCESS;
 }
 
-cvk_result cvk_pd_set_torn(cvk_sim* s, cvk_pd* pd, const uint32_t* alive, cvk_error* error)
+cvk_result cvk_pd_set_torn(cvk_sim* s, void* self, const uint32_t* alive, cvk_error* error)
 {
+    cvk_pd* pd = self;
     const cvk_build* b = &s->build;
     cvk_result r = cvk_sim_upload(s, &s->spring_alive, alive,
                                   (size_t)b->spring_count * sizeof *alive, error);
@@ -381,10 +385,8 @@ static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc
         return r;
     /* The torn state follows: the device's flags are current (gs-cpu uploads its own after
        every step), and both sides' adjacency is rebuilt from them. */
-    uint32_t* alive = cvk_malloc_array(s->build.spring_count, sizeof *alive);
-    if (!alive)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
-    r = cvk_tear_read_flags(s, alive, error);
+    uint32_t* alive = NULL;
+    r = cvk_tear_copy_flags(s, &alive, error);
     if (r == CVK_SUCCESS)
         r = cvk_pd_set_torn(s, pd, alive, error);
     free(alive);
@@ -504,7 +506,7 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
         cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
         cvk_aero_bind(s, pd->view_u[0]);
-        cvk_tear_bind(s, &pd->adjacency, &pd->adjacency_kl);
+        cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency, &pd->adjacency_kl);
     }
     if (r == CVK_SUCCESS)
         r = cvk_pd_upload_adjacency(s, pd, NULL, error);
@@ -536,4 +538,5 @@ const cvk_family_api cvk_family_pd = {
     .snapshot_size = cvk_pd_snapshot_size,
     .save_snapshot = cvk_pd_save_snapshot,
     .load_snapshot = cvk_pd_load_snapshot,
+    .set_torn = cvk_pd_set_torn,
 };

@@ -51,7 +51,7 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* sim, cvk_pd* pd, const uint32_t* ali
 
 /* Puts the torn state `alive` (uint per spring, 0 = torn) in place everywhere: the spring
    flags, the device adjacency and, where gs-cpu's host arrays exist, those (tear.h). */
-cvk_result cvk_pd_set_torn(cvk_sim* sim, cvk_pd* pd, const uint32_t* alive, cvk_error* error);
+cvk_result cvk_pd_set_torn(cvk_sim* sim, void* pd, const uint32_t* alive, cvk_error* error);
 
 /* Uploads the gs-cpu positions (hx) into the positions buffer, for drawing and reading. */
 cvk_result cvk_pd_upload_host_positions(cvk_sim* sim, cvk_pd* pd, cvk_error* error);

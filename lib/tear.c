@@ -12,7 +12,7 @@
 #include "scene.h"
 #include "shared/layout.h"
 #include "sim.h"
-#include "solve_pd.h"
+#include "solver.h"
 
 #define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
@@ -51,16 +51,6 @@ static uint32_t cloth_of(const cvk_build* b, uint32_t p)
     while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
         cloth++;
     return cloth;
-}
-
-/* Where spring s's stiffness sits for free particle p: element indices of the k bits in the
-   adjacency's uint array and of k·L in the float array (pd_common.glsl's quads). */
-static void slot_elements(const cvk_build* b, uint32_t slot, uint32_t p, uint32_t* k,
-                          uint32_t* kl)
-{
-    uint32_t nf = b->free_count, q = slot / 4, j = slot % 4;
-    *k = 4 * ((2 * q + 1) * nf + p) + j;
-    *kl = 4 * (q * nf + p) + j;
 }
 
 /* The table: 8 uints per spring that may tear (shaders/shared/layout.h); and the host's
@@ -109,13 +99,11 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
         uint32_t ends[2] = {sp->a, sp->b};
         for (int e = 0; e < 2; e++) {
             uint32_t at = slot[2 * (size_t)s + e];
-            row[4 + 2 * e] = row[5 + 2 * e] = CVK_TEAR_NONE;
-            t->entry[2 * (size_t)n + e] = UINT32_MAX;
-            if (at != UINT32_MAX) {
-                slot_elements(b, at, ends[e], &row[4 + 2 * e], &row[5 + 2 * e]);
-                t->entry[2 * (size_t)n + e] = at * b->free_count + ends[e];
-            }
+            t->entry[2 * (size_t)n + e] = at == UINT32_MAX ? UINT32_MAX
+                                                          : at * b->free_count + ends[e];
+            row[4 + e] = at == UINT32_MAX ? CVK_TEAR_NONE : t->entry[2 * (size_t)n + e];
         }
+        row[6] = row[7] = 0;
         n++;
     }
     free(spring_of);
@@ -141,9 +129,9 @@ cvk_result cvk_tear_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* e
         r = cvk_buffer_view_create(s->context, &t->table, VK_FORMAT_R32G32B32A32_UINT,
                                    &t->view_table, error);
     if (r == CVK_SUCCESS)
-        r = cvk_descriptors_create(s->context, tear_bindings, CVK_TEAR_BINDING_COUNT, 1,
-                                   VK_SHADER_STAGE_COMPUTE_BIT, sizeof(cvk_tear_push),
-                                   &t->descriptors, error);
+        r = cvk_descriptors_create(s->context, tear_bindings, CVK_TEAR_BINDING_COUNT,
+                                   CVK_TEAR_FAMILIES, VK_SHADER_STAGE_COMPUTE_BIT,
+                                   sizeof(cvk_tear_push), &t->descriptors, error);
     if (r == CVK_SUCCESS)
         t->count = count;
     return r; /* on failure cvk_sim_destroy calls cvk_tear_destroy */
@@ -162,11 +150,15 @@ void cvk_tear_destroy(cvk_sim* s)
     *t = (cvk_tear){0};
 }
 
-void cvk_tear_bind(cvk_sim* s, const cvk_buffer* adjacency, const cvk_buffer* adjacency_kl)
+void cvk_tear_bind(cvk_sim* s, cvk_tear_family family, const cvk_buffer* adjacency,
+                   const cvk_buffer* adjacency_kl)
 {
     cvk_tear* t = &s->tear;
     if (t->count == 0)
         return;
+    t->layout[family] = adjacency_kl ? CVK_TEAR_LAYOUT_PD : CVK_TEAR_LAYOUT_UVEC4;
+    if (!adjacency_kl) /* one buffer: the pass never writes k·L there */
+        adjacency_kl = adjacency;
     const cvk_resource res[CVK_TEAR_BINDING_COUNT] = {
         [CVK_TEAR_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_TEAR_BINDING_TABLE] = {.view = t->view_table},
@@ -174,26 +166,43 @@ void cvk_tear_bind(cvk_sim* s, const cvk_buffer* adjacency, const cvk_buffer* ad
         [CVK_TEAR_BINDING_ADJACENCY] = {.buffer = adjacency},
         [CVK_TEAR_BINDING_ADJACENCY_KL] = {.buffer = adjacency_kl},
     };
-    cvk_descriptors_write(s->context, &t->descriptors, 0, res);
-    t->bound = true;
+    cvk_descriptors_write(s->context, &t->descriptors, family, res);
+    t->bound[family] = true;
 }
 
-cvk_result cvk_tear_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
+cvk_result cvk_tear_add_passes(cvk_sim* s, cvk_tear_family family, cvk_plan* plan,
+                               cvk_error* error)
 {
     cvk_tear* t = &s->tear;
     if (t->count == 0)
         return CVK_SUCCESS;
-    if (!t->bound)
+    if (!t->bound[family])
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "tearing: this solver does not tear springs");
-    cvk_tear_push push = {t->count, 0, 0, 0};
+    cvk_tear_push push = {t->count, t->layout[family], s->build.free_count, 0};
     uint32_t pass = cvk_plan_pass(plan, "tear");
     cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_TEAR, t->descriptors.pipeline_layout,
-                                   t->descriptors.sets[0], CVK_DOMAIN_SPRINGS, 0, t->count,
+                                   t->descriptors.sets[family], CVK_DOMAIN_SPRINGS, 0, t->count,
                                    &push, sizeof push);
     if (op)
-        snprintf(op->note, sizeof op->note, "%u springs of tearing cloths, after x += u",
+        snprintf(op->note, sizeof op->note, "%u springs of tearing cloths, final positions",
                  t->count);
     return cvk_plan_check(plan, error);
+}
+
+cvk_result cvk_tear_copy_flags(cvk_sim* s, uint32_t** out, cvk_error* error)
+{
+    *out = NULL;
+    uint32_t* alive = cvk_malloc_array(s->build.spring_count ? s->build.spring_count : 1,
+                                       sizeof *alive);
+    if (!alive)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
+    cvk_result r = cvk_tear_read_flags(s, alive, error);
+    if (r != CVK_SUCCESS) {
+        free(alive);
+        return r;
+    }
+    *out = alive;
+    return CVK_SUCCESS;
 }
 
 cvk_result cvk_tear_read_flags(cvk_sim* s, uint32_t* alive, cvk_error* error)
@@ -263,8 +272,7 @@ cvk_result cvk_tear_load_snapshot(cvk_sim* s, const void* data, cvk_error* error
     memcpy(alive, data, n * sizeof *alive);
     for (size_t i = 0; i < n; i++)
         alive[i] = alive[i] != 0; /* a flag is 1 or 0, whatever the bytes said */
-    /* tearing implies projective dynamics */
-    cvk_result r = cvk_pd_set_torn(s, s->family_state, alive, error);
+    cvk_result r = s->family->set_torn(s, s->family_state, alive, error);
     free(alive);
     return r;
 }

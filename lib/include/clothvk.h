@@ -262,8 +262,7 @@ typedef struct cvk_aero_desc {
    |xa − xb| / L − 1 passes max_stretch at the end of a substep breaks for good. It then pulls
    no more in the solve, and the triangles along it leave the mesh, the renderer and the
    exports. Decided spring by spring, each on its own, so the same springs break on every
-   run and dispatch shape. Projective dynamics only (rbgs, jacobi, chebyshev on the device; gs-cpu
-   on the host); the implicit and explicit methods refuse it, and so do tethers. */
+   run and dispatch shape. Every solver tears (gs-cpu on the host); tethers refuse it. */
 typedef struct cvk_tearing_desc {
     float max_stretch;           /* relative stretch at which a spring breaks; 0 = never (the
                                     default); e.g. 0.5 breaks a spring at 1.5 × its rest length */
