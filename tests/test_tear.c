@@ -64,6 +64,16 @@ static void make_scene(setup* s, bool dragged, float max_stretch)
     }
 }
 
+/* The same sheet, softer and thrown down at 15 m/s from its top row: it tears there within
+   the first frame, with no attachment (which gs-cpu and implicit refuse). */
+static void make_thrown(setup* s)
+{
+    make_scene(s, false, MAX_STRETCH);
+    s->cloth.velocity[1] = -15.0f;
+    s->cloth.stiffness.structural = 1e3f;
+    s->cloth.stiffness.shear = 1e2f;
+}
+
 static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t workgroup_size,
                          uint32_t max_workgroups)
 {
@@ -325,15 +335,24 @@ static double rope_against_lone(cvk_context* ctx, cvk_solver_desc solver, cvk_so
     return worst;
 }
 
+/* The implicit (CG) or explicit (Verlet: stable with the rope's spring intact, too) solver, with
+   spring damping, which a torn spring must lose with its stiffness. */
+static cvk_solver_desc other_family(cvk_method method)
+{
+    cvk_solver_desc solver = cvk_default_scene_desc().solver;
+    solver.method = method;
+    if (method == CVK_METHOD_IMPLICIT)
+        solver.linear = CVK_LINEAR_CG;
+    else
+        solver.integrator = CVK_INTEGRATOR_VERLET;
+    solver.kd = 0.5f;
+    return solver;
+}
+
 static void other_families_tear(cvk_context* ctx)
 {
-    cvk_solver_desc implicit = cvk_default_scene_desc().solver, explicit = implicit;
-    implicit.method = CVK_METHOD_IMPLICIT;
-    implicit.linear = CVK_LINEAR_CG;
-    explicit.method = CVK_METHOD_EXPLICIT;
-    explicit.integrator = CVK_INTEGRATOR_VERLET; /* stable with the spring intact, too */
-    /* Spring damping, which a torn spring must lose with its stiffness. */
-    implicit.kd = explicit.kd = 0.5f;
+    cvk_solver_desc implicit = other_family(CVK_METHOD_IMPLICIT);
+    cvk_solver_desc explicit = other_family(CVK_METHOD_EXPLICIT);
     const cvk_solver_desc solvers[] = {implicit, explicit};
     for (size_t k = 0; k < 2; k++) {
         const char* name = cvk_method_name(solvers[k].method);
@@ -373,14 +392,18 @@ static void other_families_tear(cvk_context* ctx)
                from, to, apart);
     }
 
-    /* The thrown sheet of host_tears_as_the_device, under each family and dispatch shape. */
+}
+
+/* The thrown sheet of host_tears_as_the_device under the implicit and explicit families: the
+   same springs tear for every dispatch shape. */
+static void other_families_same_springs(cvk_context* ctx)
+{
+    const cvk_solver_desc solvers[] = {other_family(CVK_METHOD_IMPLICIT),
+                                       other_family(CVK_METHOD_EXPLICIT)};
     const shape family_shapes[] = {{0, 0}, {8, 1}, {32, 3}, {64, 0}, {0, 0}};
     for (size_t k = 0; k < 2; k++) {
         setup s;
-        make_scene(&s, false, MAX_STRETCH);
-        s.cloth.velocity[1] = -15.0f;
-        s.cloth.stiffness.structural = 1e3f;
-        s.cloth.stiffness.shear = 1e2f;
+        make_thrown(&s);
         s.scene.solver = solvers[k];
         s.scene.solver.kd = 0.0f; /* the light sheet's particles: 0.5 N s/m would be stiff */
         if (solvers[k].method == CVK_METHOD_EXPLICIT) { /* inside Verlet's stable step */
@@ -436,16 +459,105 @@ static void other_families_tear(cvk_context* ctx)
 
 /* ---- the host reference ----------------------------------------------------------------------- */
 
+/* Switching between gs-cpu and rbgs carries the torn state both ways: a run switched from rbgs
+   to gs-cpu after `frames` goes on as the gs-cpu run `host` does, and one switched back as the
+   rbgs run `dev` does. */
+static void host_switches(cvk_context* ctx, cvk_sim* dev, cvk_sim* host, uint32_t frames)
+{
+    setup s;
+    make_thrown(&s);
+    cvk_error err;
+    uint64_t n = cvk_sim_particle_count(dev);
+    s.scene.solver.linear = CVK_LINEAR_GS_CPU;
+    cvk_sim* to_host = make_sim(ctx, &s.scene, 0, 0); /* gs-cpu */
+    s.scene.solver.linear = CVK_LINEAR_RBGS;
+    cvk_sim* to_dev = make_sim(ctx, &s.scene, 0, 0);
+    REQUIRE_OK(cvk_sim_step(to_host, frames, &err), err);
+    REQUIRE_OK(cvk_sim_step(to_dev, frames, &err), err);
+    cvk_solver_desc rbgs = s.scene.solver, gs_cpu = rbgs;
+    gs_cpu.linear = CVK_LINEAR_GS_CPU;
+    REQUIRE_OK(cvk_sim_set_solver(to_host, &rbgs, &err), err);  /* gs-cpu -> rbgs */
+    REQUIRE_OK(cvk_sim_set_solver(to_dev, &gs_cpu, &err), err); /* rbgs -> gs-cpu */
+    cvk_sim* runs[2][2] = {{to_host, dev}, {to_dev, host}}; /* switched, and its peer */
+    for (int k = 0; k < 2; k++) {
+        cvk_sim* switched = runs[k][0];
+        cvk_sim* peer = runs[k][1];
+        REQUIRE_OK(cvk_sim_step(switched, 4, &err), err);
+        REQUIRE_OK(cvk_sim_step(peer, 4, &err), err);
+        uint32_t* a = read_flags(switched);
+        uint32_t* b = read_flags(peer);
+        float* xa = harness_read_all(switched);
+        float* xb = harness_read_all(peer);
+        uint32_t differ = 0;
+        for (uint32_t i = 0; i < dev->build.spring_count; i++)
+            differ += a[i] != b[i];
+        double gap = harness_max_diff(xa, xb, 3 * n);
+        const char* what = k == 0 ? "gs-cpu -> rbgs" : "rbgs -> gs-cpu";
+        CHECK(differ == 0, "%s: %u springs torn on one side only", what, differ);
+        CHECK(gap < 1e-4, "%s: positions differ by up to %g m from the run that did not switch",
+              what, gap);
+        printf("switched %s: the same %u springs torn as the run that did not switch, positions "
+               "within %.2g m\n", what, count_torn(switched, a), gap);
+        free(a);
+        free(b);
+        free(xa);
+        free(xb);
+    }
+    cvk_sim_destroy(to_host);
+    cvk_sim_destroy(to_dev);
+}
+
+/* gs-cpu's snapshots carry its torn state too: resumed, the same bits. */
+static void host_snapshot(cvk_context* ctx)
+{
+    setup s;
+    make_thrown(&s);
+    s.scene.solver.linear = CVK_LINEAR_GS_CPU;
+    cvk_error err;
+    cvk_sim* first = make_sim(ctx, &s.scene, 0, 0);
+    cvk_sim* second = make_sim(ctx, &s.scene, 0, 0);
+    uint64_t n = cvk_sim_particle_count(first);
+    REQUIRE_OK(cvk_sim_step(first, 1, &err), err);
+    uint32_t* a = read_flags(first);
+    uint32_t torn_at_save = count_torn(first, a);
+    free(a);
+    uint64_t size = cvk_sim_snapshot_size(first);
+    void* snap = malloc(size);
+    if (!snap)
+        exit(1);
+    REQUIRE_OK(cvk_sim_save_snapshot(first, snap, size, &err), err);
+    REQUIRE_OK(cvk_sim_load_snapshot(second, snap, size, &err), err);
+    REQUIRE_OK(cvk_sim_step(first, 4, &err), err);
+    REQUIRE_OK(cvk_sim_step(second, 4, &err), err);
+    a = read_flags(first);
+    uint32_t* b = read_flags(second);
+    float* xa = harness_read_all(first);
+    float* xb = harness_read_all(second);
+    /* The throw tears them all in the first frame; a torn spring the load had mended would
+       pull the resumed run's positions away. */
+    CHECK(torn_at_save > 0, "gs-cpu: nothing torn at the snapshot");
+    CHECK(memcmp(a, b, first->build.spring_count * sizeof *a) == 0 &&
+          memcmp(xa, xb, 3 * n * sizeof *xa) == 0,
+          "gs-cpu resumed from a snapshot: other torn springs or positions (up to %g m)",
+          harness_max_diff(xa, xb, 3 * n));
+    printf("gs-cpu snapshot with %u springs torn: resumed to the same %u torn springs and "
+           "positions, bit for bit\n", torn_at_save, count_torn(first, a));
+    free(a);
+    free(b);
+    free(xa);
+    free(xb);
+    free(snap);
+    cvk_sim_destroy(first);
+    cvk_sim_destroy(second);
+}
+
 /* gs-cpu tears on the host (cvk_tear_host) what rbgs tears on the device: a sheet hanging from
    its top row thrown down at 15 m/s tears the same springs, and its particles end where the
    host's do to float rounding. */
 static void host_tears_as_the_device(cvk_context* ctx)
 {
     setup s;
-    make_scene(&s, false, MAX_STRETCH);
-    s.cloth.velocity[1] = -15.0f;
-    s.cloth.stiffness.structural = 1e3f;
-    s.cloth.stiffness.shear = 1e2f;
+    make_thrown(&s);
     cvk_sim* dev = make_sim(ctx, &s.scene, 0, 0);
     s.scene.solver.linear = CVK_LINEAR_GS_CPU;
     cvk_sim* host = make_sim(ctx, &s.scene, 0, 0);
@@ -469,85 +581,12 @@ static void host_tears_as_the_device(cvk_context* ctx)
     printf("thrown sheet: rbgs and gs-cpu tear the same %u springs in %u frames, positions "
            "within %.2g m\n", count_torn(dev, a), frames, gap);
 
-    /* Switching between the two carries the torn state both ways: a run switched from rbgs
-       to gs-cpu goes on as the gs-cpu run does, and one switched back as the rbgs run does. */
+    host_switches(ctx, dev, host, frames);
+    host_snapshot(ctx);
     free(a);
     free(b);
     free(xa);
     free(xb);
-    cvk_sim* to_host = make_sim(ctx, &s.scene, 0, 0); /* gs-cpu */
-    s.scene.solver.linear = CVK_LINEAR_RBGS;
-    cvk_sim* to_dev = make_sim(ctx, &s.scene, 0, 0);
-    REQUIRE_OK(cvk_sim_step(to_host, frames, &err), err);
-    REQUIRE_OK(cvk_sim_step(to_dev, frames, &err), err);
-    cvk_solver_desc rbgs = s.scene.solver, gs_cpu = rbgs;
-    gs_cpu.linear = CVK_LINEAR_GS_CPU;
-    REQUIRE_OK(cvk_sim_set_solver(to_host, &rbgs, &err), err);  /* gs-cpu -> rbgs */
-    REQUIRE_OK(cvk_sim_set_solver(to_dev, &gs_cpu, &err), err); /* rbgs -> gs-cpu */
-    cvk_sim* runs[2][2] = {{to_host, dev}, {to_dev, host}}; /* switched, and its peer */
-    for (int k = 0; k < 2; k++) {
-        cvk_sim* switched = runs[k][0];
-        cvk_sim* peer = runs[k][1];
-        REQUIRE_OK(cvk_sim_step(switched, 4, &err), err);
-        REQUIRE_OK(cvk_sim_step(peer, 4, &err), err);
-        a = read_flags(switched);
-        b = read_flags(peer);
-        xa = harness_read_all(switched);
-        xb = harness_read_all(peer);
-        differ = 0;
-        for (uint32_t i = 0; i < dev->build.spring_count; i++)
-            differ += a[i] != b[i];
-        gap = harness_max_diff(xa, xb, 3 * n);
-        const char* what = k == 0 ? "gs-cpu -> rbgs" : "rbgs -> gs-cpu";
-        CHECK(differ == 0, "%s: %u springs torn on one side only", what, differ);
-        CHECK(gap < 1e-4, "%s: positions differ by up to %g m from the run that did not switch",
-              what, gap);
-        printf("switched %s: the same %u springs torn as the run that did not switch, positions "
-               "within %.2g m\n", what, count_torn(switched, a), gap);
-        free(a);
-        free(b);
-        free(xa);
-        free(xb);
-    }
-    cvk_sim_destroy(to_host);
-    cvk_sim_destroy(to_dev);
-
-    /* gs-cpu's snapshots carry its torn state too: resumed, the same bits. */
-    s.scene.solver.linear = CVK_LINEAR_GS_CPU;
-    cvk_sim* first = make_sim(ctx, &s.scene, 0, 0);
-    cvk_sim* second = make_sim(ctx, &s.scene, 0, 0);
-    REQUIRE_OK(cvk_sim_step(first, 1, &err), err);
-    a = read_flags(first);
-    uint32_t torn_at_save = count_torn(first, a);
-    free(a);
-    uint64_t size = cvk_sim_snapshot_size(first);
-    void* snap = malloc(size);
-    if (!snap)
-        exit(1);
-    REQUIRE_OK(cvk_sim_save_snapshot(first, snap, size, &err), err);
-    REQUIRE_OK(cvk_sim_load_snapshot(second, snap, size, &err), err);
-    REQUIRE_OK(cvk_sim_step(first, 4, &err), err);
-    REQUIRE_OK(cvk_sim_step(second, 4, &err), err);
-    a = read_flags(first);
-    b = read_flags(second);
-    xa = harness_read_all(first);
-    xb = harness_read_all(second);
-    /* The throw tears them all in the first frame; a torn spring the load had mended would
-       pull the resumed run's positions away. */
-    CHECK(torn_at_save > 0, "gs-cpu: nothing torn at the snapshot");
-    CHECK(memcmp(a, b, first->build.spring_count * sizeof *a) == 0 &&
-          memcmp(xa, xb, 3 * n * sizeof *xa) == 0,
-          "gs-cpu resumed from a snapshot: other torn springs or positions (up to %g m)",
-          harness_max_diff(xa, xb, 3 * n));
-    printf("gs-cpu snapshot with %u springs torn: resumed to the same %u torn springs and "
-           "positions, bit for bit\n", torn_at_save, count_torn(first, a));
-    free(a);
-    free(b);
-    free(xa);
-    free(xb);
-    free(snap);
-    cvk_sim_destroy(first);
-    cvk_sim_destroy(second);
     cvk_sim_destroy(dev);
     cvk_sim_destroy(host);
 }
@@ -772,6 +811,7 @@ int main(void)
     torn_spring_pulls_no_more(ctx);
     host_tears_as_the_device(ctx);
     other_families_tear(ctx);
+    other_families_same_springs(ctx);
     triangles_follow(ctx);
     below_threshold(ctx);
     torn_state_carried(ctx);
