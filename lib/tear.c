@@ -53,14 +53,23 @@ static uint32_t cloth_of(const cvk_build* b, uint32_t p)
     return cloth;
 }
 
-/* The table: 8 uints per spring that may tear (shaders/shared/layout.h); and the host's
+/* Element indices of adjacency entry e (slot · nf + p) as projective dynamics packs it
+   (pd_common.glsl's quads): its k bits in the uint array, its k·L in the float array. */
+static void pd_elements(uint32_t e, uint32_t nf, uint32_t* k, uint32_t* kl)
+{
+    uint32_t p = e % nf, slot = e / nf, q = slot / 4, j = slot % 4;
+    *k = 4 * ((2 * q + 1) * nf + p) + j;
+    *kl = 4 * (q * nf + p) + j;
+}
+
+/* The table: 12 uints per spring that may tear (shaders/shared/layout.h); and the host's
    arrays of them in t. */
 static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk_tear* t,
                             uint32_t* count)
 {
     size_t entries = (size_t)b->max_degree * b->free_count;
     uint32_t* spring_of = cvk_malloc_array(entries ? entries : 1, sizeof *spring_of);
-    uint32_t* table = cvk_malloc_array(8 * (size_t)b->spring_count, sizeof *table);
+    uint32_t* table = cvk_malloc_array(12 * (size_t)b->spring_count, sizeof *table);
     /* slot[2s + e]: the slot of end e of spring s, or UINT32_MAX (pinned) */
     uint32_t* slot = cvk_malloc_array(2 * (size_t)b->spring_count, sizeof *slot);
     t->spring = cvk_malloc_array(b->spring_count ? b->spring_count : 1, sizeof *t->spring);
@@ -91,19 +100,23 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
         float limit2 = (float)(length * length);
         t->spring[n] = s;
         t->limit2[n] = limit2;
-        uint32_t* row = &table[8 * (size_t)n];
+        uint32_t* row = &table[12 * (size_t)n];
         row[0] = sp->a;
         row[1] = sp->b;
         row[2] = s;
         memcpy(&row[3], &limit2, sizeof limit2);
         uint32_t ends[2] = {sp->a, sp->b};
+        row[10] = row[11] = 0;
         for (int e = 0; e < 2; e++) {
             uint32_t at = slot[2 * (size_t)s + e];
-            t->entry[2 * (size_t)n + e] = at == UINT32_MAX ? UINT32_MAX
-                                                          : at * b->free_count + ends[e];
-            row[4 + e] = at == UINT32_MAX ? CVK_TEAR_NONE : t->entry[2 * (size_t)n + e];
+            uint32_t entry = at == UINT32_MAX ? UINT32_MAX : at * b->free_count + ends[e];
+            t->entry[2 * (size_t)n + e] = entry;
+            row[4 + 2 * e] = row[5 + 2 * e] = row[8 + e] = CVK_TEAR_NONE;
+            if (entry == UINT32_MAX)
+                continue;
+            pd_elements(entry, b->free_count, &row[4 + 2 * e], &row[5 + 2 * e]);
+            row[8 + e] = 4 * entry + 1; /* (neighbour, bits of k, bits of L, 0) */
         }
-        row[6] = row[7] = 0;
         n++;
     }
     free(spring_of);
@@ -122,7 +135,7 @@ cvk_result cvk_tear_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* e
     uint32_t* table = make_table(&s->build, scene, t, &count);
     if (!table)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the tearing table");
-    cvk_result r = cvk_sim_make_buffer(s, &t->table, 32u * (VkDeviceSize)count, "tearing springs",
+    cvk_result r = cvk_sim_make_buffer(s, &t->table, 48u * (VkDeviceSize)count, "tearing springs",
                                        table, error);
     free(table);
     if (r == CVK_SUCCESS)
@@ -156,7 +169,7 @@ void cvk_tear_bind(cvk_sim* s, cvk_tear_family family, const cvk_buffer* adjacen
     cvk_tear* t = &s->tear;
     if (t->count == 0)
         return;
-    t->layout[family] = adjacency_kl ? CVK_TEAR_LAYOUT_PD : CVK_TEAR_LAYOUT_UVEC4;
+    t->uvec4[family] = adjacency_kl == NULL;
     if (!adjacency_kl) /* one buffer: the pass never writes k·L there */
         adjacency_kl = adjacency;
     const cvk_resource res[CVK_TEAR_BINDING_COUNT] = {
@@ -178,9 +191,10 @@ cvk_result cvk_tear_add_passes(cvk_sim* s, cvk_tear_family family, cvk_plan* pla
         return CVK_SUCCESS;
     if (!t->bound[family])
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "tearing: this solver does not tear springs");
-    cvk_tear_push push = {t->count, t->layout[family], s->build.free_count, 0};
+    cvk_tear_push push = {t->count, 0, 0, 0};
     uint32_t pass = cvk_plan_pass(plan, "tear");
-    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_TEAR, t->descriptors.pipeline_layout,
+    cvk_pipeline_id pipeline = t->uvec4[family] ? CVK_PIPE_TEAR_UVEC4 : CVK_PIPE_TEAR;
+    cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, t->descriptors.pipeline_layout,
                                    t->descriptors.sets[family], CVK_DOMAIN_SPRINGS, 0, t->count,
                                    &push, sizeof push);
     if (op)

@@ -36,10 +36,10 @@ typedef struct cvk_tear {
     float* limit2;               /* host: each one's squared breaking length, m² */
     uint32_t* entry;             /* host: 2 per spring, its entry in each end's adjacency
                                     (build.h layout; UINT32_MAX for a pinned end) */
-    cvk_buffer table;            /* 2 uvec4 per such spring (shaders/shared/layout.h) */
+    cvk_buffer table;            /* 3 uvec4 per such spring (shaders/shared/layout.h) */
     VkBufferView view_table;
     cvk_descriptors descriptors; /* a set per family, bound to its adjacency by cvk_tear_bind */
-    uint32_t layout[CVK_TEAR_FAMILIES]; /* CVK_TEAR_LAYOUT_* of each family's adjacency */
+    bool uvec4[CVK_TEAR_FAMILIES]; /* the family packs its adjacency as uvec4 entries */
     bool bound[CVK_TEAR_FAMILIES];
 } cvk_tear;
 
@@ -48,9 +48,9 @@ cvk_result cvk_tear_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk
 void cvk_tear_destroy(struct cvk_sim* sim);
 
 /* Points `family`'s set of the pass at its adjacency: projective dynamics' two buffers
-   (neighbours and bits of k, k·L: CVK_TEAR_LAYOUT_PD), or the one uvec4 buffer of the
-   implicit and explicit families (adjacency_kl NULL: CVK_TEAR_LAYOUT_UVEC4). The family calls
-   it when it creates them. */
+   (neighbours and bits of k, k·L), or the one uvec4 buffer of the implicit and explicit
+   families (adjacency_kl NULL; the pass then runs its UVEC4 build). The family calls it when
+   it creates them. */
 void cvk_tear_bind(struct cvk_sim* sim, cvk_tear_family family, const cvk_buffer* adjacency,
                    const cvk_buffer* adjacency_kl);
 
