@@ -250,6 +250,15 @@ static json_t* float_json(float v)
     return json_real(shortest);
 }
 
+/* Whether a cloth of the scene tears (its springs may break). */
+static bool scene_tears(const cvk_scene_desc* scene)
+{
+    for (uint32_t c = 0; c < scene->cloth_count; c++)
+        if (scene->cloths[c].tearing.max_stretch > 0.0f)
+            return true;
+    return false;
+}
+
 static json_t* real_or_null(double v, bool valid)
 {
     return valid && isfinite(v) ? json_real(v) : json_null();
@@ -309,6 +318,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "residual_per_type", residuals);
     json_object_set_new(root, "max_stretch", real_or_null(st->max_stretch, true));
     json_object_set_new(root, "p99_stretch", real_or_null(st->p99_stretch, true));
+    json_object_set_new(root, "torn_springs", json_integer((json_int_t)st->torn_springs));
     json_object_set_new(root, "nan_count", json_integer((json_int_t)st->nan_count));
     json_object_set_new(root, "diverged", json_boolean(st->diverged));
     if (st->diverged) {
@@ -379,6 +389,9 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
         printf("%ux%u\n", scene->solver.outer_iterations, scene->solver.inner_iterations);
     printf("  residual %.4g m^2, max stretch %.3g %%, NaN %llu\n", st->residual,
            100.0 * st->max_stretch, (unsigned long long)st->nan_count);
+    if (scene_tears(scene))
+        printf("  torn springs %llu of %llu\n", (unsigned long long)st->torn_springs,
+               (unsigned long long)(st->springs[0] + st->springs[1] + st->springs[2]));
     if (scene->solver.method == CVK_METHOD_IMPLICIT)
         printf("  %s: %u iterations in the last frame, %.2f per substep on average, %u "
                "breakdowns\n", cvk_linear_solver_name(scene->solver.linear),

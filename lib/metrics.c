@@ -10,12 +10,15 @@ static double distance(const float* pa, const float* pb)
     return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
-static void spring_metrics(const cvk_build* b, const float* xyz, cvk_metrics* out)
+static void spring_metrics(const cvk_build* b, const float* xyz, const uint32_t* alive,
+                           cvk_metrics* out)
 {
     double rest2 = 0.0;
     out->max_stretch = b->spring_count ? -INFINITY : 0.0;
     for (uint32_t s = 0; s < b->spring_count; s++) {
         const cvk_spring* sp = &b->springs[s];
+        if (alive && !alive[s])
+            continue;
         double len = distance(&xyz[3 * (size_t)sp->a], &xyz[3 * (size_t)sp->b]);
         double e = len - sp->rest;
         out->residual[sp->type] += e * e;
@@ -28,6 +31,8 @@ static void spring_metrics(const cvk_build* b, const float* xyz, cvk_metrics* ou
         if (sp->type == CVK_SPRING_STRUCTURAL)
             rest2 += (double)sp->rest * sp->rest;
     }
+    if (out->max_stretch == -INFINITY) /* every spring torn */
+        out->max_stretch = 0.0;
     if (rest2 > 0.0)
         out->residual_normalized = out->residual[CVK_SPRING_STRUCTURAL] / rest2;
 }
@@ -56,6 +61,12 @@ static int by_value(const void* a, const void* b)
 bool cvk_metrics_structural_stretch_quantile(const cvk_build* b, const float* xyz, double q,
                                              double* out)
 {
+    return cvk_metrics_live_stretch_quantile(b, xyz, NULL, q, out);
+}
+
+bool cvk_metrics_live_stretch_quantile(const cvk_build* b, const float* xyz,
+                                       const uint32_t* alive, double q, double* out)
+{
     *out = 0.0;
     uint64_t n = b->springs_by_type[CVK_SPRING_STRUCTURAL];
     if (n == 0)
@@ -67,7 +78,7 @@ bool cvk_metrics_structural_stretch_quantile(const cvk_build* b, const float* xy
     bool nonfinite = false;
     for (uint32_t s = 0; s < b->spring_count; s++) {
         const cvk_spring* sp = &b->springs[s];
-        if (sp->type != CVK_SPRING_STRUCTURAL || !(sp->rest > 0.0f))
+        if (sp->type != CVK_SPRING_STRUCTURAL || !(sp->rest > 0.0f) || (alive && !alive[s]))
             continue;
         double e = distance(&xyz[3 * (size_t)sp->a], &xyz[3 * (size_t)sp->b]) / sp->rest - 1.0;
         nonfinite |= !isfinite(e);
@@ -87,11 +98,17 @@ bool cvk_metrics_structural_stretch_quantile(const cvk_build* b, const float* xy
 void cvk_metrics_compute(const cvk_build* b, const float* xyz, const float* velocity,
                          const float gravity[3], cvk_metrics* out)
 {
+    cvk_metrics_compute_live(b, xyz, velocity, gravity, NULL, out);
+}
+
+void cvk_metrics_compute_live(const cvk_build* b, const float* xyz, const float* velocity,
+                              const float gravity[3], const uint32_t* alive, cvk_metrics* out)
+{
     memset(out, 0, sizeof *out);
     for (size_t i = 0; i < 3 * (size_t)b->particle_count; i++)
         if (!isfinite(xyz[i]))
             out->nan_count++;
-    spring_metrics(b, xyz, out);
+    spring_metrics(b, xyz, alive, out);
     particle_energy(b, xyz, velocity, gravity, out);
 }
 

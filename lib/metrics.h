@@ -19,12 +19,19 @@ typedef struct cvk_metrics {
    outside, so they carry no kinetic or gravitational energy. */
 void cvk_metrics_compute(const cvk_build* build, const float* xyz, const float* velocity,
                          const float gravity[3], cvk_metrics* out);
+/* The same over the live springs only: alive (uint per spring, 0 = torn; lib/tear.h) may be
+   NULL (all live). A torn spring pulls nothing, so it has no residual, stretch or energy. */
+void cvk_metrics_compute_live(const cvk_build* build, const float* xyz, const float* velocity,
+                              const float gravity[3], const uint32_t* alive, cvk_metrics* out);
 
 /* The q-quantile (nearest rank: the ceil(q n)-th smallest, 0 < q ≤ 1) of |xa − xb| / L − 1
    over the structural springs, into *out (0 without structural springs). False when out of
    host memory (a copy of the stretches is sorted). */
 bool cvk_metrics_structural_stretch_quantile(const cvk_build* build, const float* xyz, double q,
                                              double* out);
+/* The same over the live structural springs (alive as above). */
+bool cvk_metrics_live_stretch_quantile(const cvk_build* build, const float* xyz,
+                                       const uint32_t* alive, double q, double* out);
 
 /* Solve error of one substep: |x − x*| / |x* − x0| over all coordinates, where x* is the
    converged solution and x0 the positions at the start of the substep. The solver's unknown

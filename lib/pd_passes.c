@@ -365,5 +365,12 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
                  "order), then one upload of the positions", plan->substeps);
         break;
     }
+    if (solver->linear != CVK_LINEAR_GS_CPU) {
+        cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_PD, plan, error); /* after finalize */
+        if (r != CVK_SUCCESS)
+            return r;
+    } else if (s->tear.count > 0) {
+        cvk_plan_pass(plan, "tear"); /* timed on the host (cvk_tear_host) */
+    }
     return cvk_plan_check(plan, error);
 }

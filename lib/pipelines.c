@@ -21,6 +21,7 @@ _Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.tria
 _Static_assert(sizeof(cvk_aero_push) == 48, "cvk_aero_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_aero_push, wind) == 16, "cvk_aero_push.wind: a vec4 at 16");
 _Static_assert(sizeof(cvk_attach_push) == 16, "cvk_attach_push: 16 bytes in GLSL");
+_Static_assert(sizeof(cvk_tear_push) == 16, "cvk_tear_push: 16 bytes in GLSL");
 _Static_assert(sizeof(cvk_gpu_attachment) == 16, "cvk_gpu_attachment: 16 bytes in std430");
 _Static_assert(sizeof(cvk_gpu_attached) == 32, "cvk_gpu_attached: 32 bytes in std430");
 _Static_assert(offsetof(cvk_gpu_attached, particle) == 16, "cvk_gpu_attached.particle at 16");

@@ -106,6 +106,7 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .velocity = {0.0f, 0.0f, 0.0f},
         .tethers = 0.0f,
         .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},
+        .tearing = {.max_stretch = 0.0f},
         .cookie_ = cloth_cookie,
     };
 }
@@ -887,7 +888,7 @@ bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
     }
     return check_tether_solver(desc, issue) && check_colliders(desc, issue) &&
            cvk_attachments_check(desc, issue) && cvk_wind_check(desc, issue) &&
-           check_render(&desc->render, issue);
+           cvk_tearing_check(desc, issue) && check_render(&desc->render, issue);
 }
 
 cvk_result cvk_scene_desc_validate(const cvk_scene_desc* desc, cvk_error* error)

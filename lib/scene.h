@@ -51,6 +51,14 @@ bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attach
 bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
 bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
+/* Tearing (lib/scene_tear.c): each cloth's max_stretch, and tearing apart from tethers. */
+bool cvk_tearing_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
+/* Whether some cloth of the scene tears. */
+bool cvk_scene_tears(const cvk_scene_desc* desc);
+/* Largest tearing max_stretch: the divergence watch stops a solve whose spring reaches ten
+   times its rest length (CVK_DIVERGED_STRETCH in lib/sim.h), a stretch of 9. */
+#define CVK_MAX_TEAR_STRETCH 9.0
+
 bool cvk_check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n);
 bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, double low);
 bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low);

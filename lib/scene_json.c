@@ -201,7 +201,6 @@ static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, 
     return r;
 }
 
-
 static const cvk_field stiffness_fields[] = {
     {.key = "structural", .read = cvk_read_float, .offset = offsetof(cvk_stiffness, structural)},
     {.key = "shear", .read = cvk_read_float, .offset = offsetof(cvk_stiffness, shear)},
@@ -222,6 +221,10 @@ static const cvk_field aero_fields[] = {
     {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_aero_desc, friction)},
 };
 static const cvk_table aero_table = FIELDS(aero_fields);
+static const cvk_field tearing_fields[] = {
+    {.key = "max_stretch", .read = cvk_read_float, .offset = offsetof(cvk_tearing_desc, max_stretch)},
+};
+static const cvk_table tearing_table = FIELDS(tearing_fields);
 
 static const cvk_field cloth_fields[] = {
     {.key = "name", .read = cvk_read_string, .offset = offsetof(cvk_cloth_desc, name)},
@@ -246,6 +249,7 @@ static const cvk_field cloth_fields[] = {
     {.key = "velocity", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, velocity), .count = 3},
     {.key = "tethers", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, tethers)},
     {.key = "aero", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, aero), .nested = &aero_table},
+    {.key = "tearing", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, tearing), .nested = &tearing_table},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
 

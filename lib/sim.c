@@ -52,8 +52,9 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                    VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
-    /* Spring flags: read back by cvk_sim_read_mesh to leave torn triangles out. */
-    VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+    /* Spring flags: written by tearing, read back by cvk_sim_read_mesh to leave torn
+       triangles out. */
+    VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     cvk_result r = cvk_buffer_create(ctx, n16, positions, CVK_MEMORY_DEVICE, "positions",
                                      &s->positions, error);
@@ -315,6 +316,8 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
     if (r == CVK_SUCCESS)
         r = cvk_aero_create(s, scene, error);
     if (r == CVK_SUCCESS)
+        r = cvk_tear_create(s, scene, error);
+    if (r == CVK_SUCCESS)
         r = s->family->create(s, &s->solver, &s->family_state, error);
     if (r == CVK_SUCCESS)
         r = set_initial_velocity(s, scene, error);
@@ -429,6 +432,7 @@ void cvk_sim_destroy(cvk_sim* s)
         s->family->destroy(s, s->family_state);
     cvk_pick_destroy(s);
     cvk_grab_destroy(s);
+    cvk_tear_destroy(s);
     cvk_aero_destroy(s);
     cvk_attach_destroy(s);
     cvk_collide_destroy(s);

@@ -13,6 +13,7 @@
 #include "pick.h"
 #include "plan.h"
 #include "reference.h"
+#include "tear.h"
 
 struct cvk_family_api;
 
@@ -32,13 +33,15 @@ struct cvk_sim {
     cvk_aero aero;          /* wind and air drag (aero.h) */
     cvk_grab grab;          /* the dragged particle (grab.h) */
     cvk_pick pick;          /* picking's buffers, made on the first pick (pick.h) */
+    cvk_tear tear;          /* springs that break (tear.h) */
 
     const struct cvk_family_api* family; /* the family that solves `solver` */
     void* family_state;
 
     /* Positions (internal order, vec4; the family may use w: PD keeps m/h² there). */
     cvk_buffer positions;
-    cvk_buffer spring_alive; /* uint per spring of build.springs: 1, 0 once torn; the mesh reads it */
+    cvk_buffer spring_alive; /* uint per spring of build.springs: 1, 0 once torn (tear.h); the
+                                mesh reads it */
     cvk_buffer staging; /* host-visible, 2 vec4 per particle: uploads and readback */
     cvk_buffer watch;   /* host-visible cvk_gpu_watch: the divergence watch */
     uint64_t watch_frames; /* s->frames when the watch was last reset */

@@ -77,6 +77,31 @@ void cvk_sim_get_timing(const cvk_sim* s, cvk_sim_stats* st)
     read_gpu_times(s, st);
 }
 
+/* The spring and energy figures of `st` from the state in s->scratch, over the live springs. */
+static cvk_result spring_stats(cvk_sim* s, const uint32_t* alive, cvk_sim_stats* st,
+                               cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cvk_metrics m;
+    cvk_metrics_compute_live(b, s->scratch, s->scratch_v,
+                             s->params.integrate ? s->params.gravity : NULL, alive, &m);
+    st->residual = m.residual[CVK_SPRING_STRUCTURAL];
+    for (int t = 0; t < 3; t++)
+        st->residual_per_type[t] = m.residual[t];
+    st->residual_normalized = m.residual_normalized;
+    st->max_stretch = m.max_stretch;
+    if (!cvk_metrics_live_stretch_quantile(b, s->scratch, alive, 0.99, &st->p99_stretch))
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the stretch percentile (%llu springs)",
+                        (unsigned long long)b->springs_by_type[CVK_SPRING_STRUCTURAL]);
+    st->nan_count = m.nan_count;
+    st->kinetic_energy = m.kinetic;
+    st->gravitational_energy = m.gravitational;
+    st->elastic_energy = m.elastic;
+    st->energy = m.kinetic + m.gravitational + m.elastic;
+    return CVK_SUCCESS;
+}
+
 cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
 {
     if (!s || !st)
@@ -87,24 +112,21 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     cvk_result r = cvk_sim_read_internal(s, error);
     if (r != CVK_SUCCESS)
         return r;
-    cvk_metrics m;
-    cvk_metrics_compute(b, s->scratch, s->scratch_v, s->params.integrate ? s->params.gravity : NULL,
-                        &m);
-    st->residual = m.residual[CVK_SPRING_STRUCTURAL];
-    for (int t = 0; t < 3; t++)
-        st->residual_per_type[t] = m.residual[t];
-    st->residual_normalized = m.residual_normalized;
-    st->max_stretch = m.max_stretch;
-    if (!cvk_metrics_structural_stretch_quantile(b, s->scratch, 0.99, &st->p99_stretch))
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "out of host memory for the stretch percentile (%llu springs)",
-                        (unsigned long long)b->springs_by_type[CVK_SPRING_STRUCTURAL]);
-    st->nan_count = m.nan_count;
-    st->kinetic_energy = m.kinetic;
-    st->gravitational_energy = m.gravitational;
-    st->elastic_energy = m.elastic;
+    uint32_t* alive = NULL; /* the spring flags, when springs can tear */
+    if (s->tear.count > 0) {
+        alive = malloc((size_t)b->spring_count * sizeof *alive);
+        if (!alive)
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
+        r = cvk_tear_read_flags(s, alive, error);
+        for (uint32_t i = 0; r == CVK_SUCCESS && i < b->spring_count; i++)
+            st->torn_springs += alive[i] == 0;
+    }
+    if (r == CVK_SUCCESS)
+        r = spring_stats(s, alive, st, error);
+    free(alive);
+    if (r != CVK_SUCCESS)
+        return r;
     cvk_sim_watch_stats(s, st);
-    st->energy = m.kinetic + m.gravitational + m.elastic;
     cvk_implicit_stats(s, st);
     return cvk_sim_contact_stats(s, s->scratch, st, error);
 }

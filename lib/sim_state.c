@@ -233,6 +233,15 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     void* self = s->family_state;
     if (new_family)
         r = family->create(s, solver, &self, error);
+    if (r == CVK_SUCCESS && new_family && s->tear.count > 0) {
+        /* A new family's adjacency starts whole: it takes the torn state (the flags are
+           unchanged by its creation). */
+        uint32_t* alive = NULL;
+        r = cvk_tear_copy_flags(s, &alive, error);
+        if (r == CVK_SUCCESS)
+            r = family->set_torn(s, self, alive, error);
+        free(alive);
+    }
     cvk_plan plan;
     cvk_sim_queries queries = {0};
     if (r == CVK_SUCCESS)

@@ -1,6 +1,7 @@
 /* Exact snapshots: a header that says what the bytes are and which scene they belong to,
    then the solver family's raw state (solver.h), then with self-contact the contact state
-   (collide.h: frame state, positions at the last search, candidates). Loading refuses, with one sentence and
+   (collide.h: frame state, positions at the last search, candidates), then with tearing the
+   spring flags (tear.h: uint32 per spring, 1 or 0 once torn). Loading refuses, with one sentence and
    changing nothing, anything that would not resume this simulation exactly.
 
    Header, 64 bytes, native byte order (little-endian on every machine clothvk runs on):
@@ -10,7 +11,7 @@
      16 uint64   frames simulated
      24 uint64   build hash: FNV-1a over particle counts, initial positions, masses and
                  springs in internal order (another scene, or another build order, differs)
-     32 uint64   bytes of state after the header (family, then contact)
+     32 uint64   bytes of state after the header (family, then contact, then tearing)
      40 char[12] solver family ("pd")
      52 char[12] linear solver when taken ("rbgs", ...), for messages */
 #include <stdio.h>
@@ -61,7 +62,7 @@ static uint64_t build_hash(const cvk_build* b)
 uint64_t cvk_sim_snapshot_size(const cvk_sim* s)
 {
     return s ? HEADER_SIZE + s->family->snapshot_size(s, s->family_state) +
-                   cvk_collide_snapshot_size(s)
+                   cvk_collide_snapshot_size(s) + cvk_tear_snapshot_size(s)
              : 0;
 }
 
@@ -110,10 +111,12 @@ cvk_result cvk_sim_save_snapshot(cvk_sim* s, void* data, uint64_t size, cvk_erro
     snprintf(h.solver, sizeof h.solver, "%s", cvk_linear_solver_name(s->solver.linear));
     write_header(data, &h);
     unsigned char* state = (unsigned char*)data + HEADER_SIZE;
+    uint64_t family = s->family->snapshot_size(s, s->family_state);
     cvk_result r = s->family->save_snapshot(s, s->family_state, state, error);
     if (r == CVK_SUCCESS)
-        r = cvk_collide_save_snapshot(s, state + s->family->snapshot_size(s, s->family_state),
-                                      error);
+        r = cvk_collide_save_snapshot(s, state + family, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_tear_save_snapshot(s, state + family + cvk_collide_snapshot_size(s), error);
     return r;
 }
 
@@ -157,18 +160,24 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
                         "cvk_sim_load_snapshot needs a simulation and the snapshot's bytes");
     header h;
     cvk_result r = check_header(s, data, size, &h, error);
+    uint64_t tear = cvk_tear_snapshot_size(s);
     uint64_t contact = cvk_collide_snapshot_size(s);
-    if (r == CVK_SUCCESS && h.state_size < contact)
+    if (r == CVK_SUCCESS && h.state_size < contact + tear)
         r = cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                      "cvk_sim_load_snapshot: the snapshot holds %llu bytes of state, less than "
-                     "this simulation's cloth contact state alone (%llu): taken without "
-                     "self-contact?", (unsigned long long)h.state_size,
-                     (unsigned long long)contact);
+                     "this simulation's %s alone (%llu): taken without %s?",
+                     (unsigned long long)h.state_size,
+                     tear ? "cloth contact state and spring flags" : "cloth contact state",
+                     (unsigned long long)(contact + tear),
+                     tear ? "self-contact or tearing" : "self-contact");
     const unsigned char* state = (const unsigned char*)data + HEADER_SIZE;
+    uint64_t family = r == CVK_SUCCESS ? h.state_size - contact - tear : 0;
     if (r == CVK_SUCCESS)
-        r = s->family->load_snapshot(s, s->family_state, state, h.state_size - contact, error);
+        r = s->family->load_snapshot(s, s->family_state, state, family, error);
+    if (r == CVK_SUCCESS) /* torn springs stay torn: flags and adjacency as they were */
+        r = cvk_tear_load_snapshot(s, state + family + contact, error);
     if (r == CVK_SUCCESS && contact > 0) /* the frame state, the clock included */
-        r = cvk_collide_load_snapshot(s, state + (h.state_size - contact), error);
+        r = cvk_collide_load_snapshot(s, state + family, error);
     else if (r == CVK_SUCCESS && (s->collide.collider_count > 0 || s->attach.attachment_count > 0 ||
                                   s->aero.enabled)) /* the clock of colliders, attachments, gusts */
         r = cvk_collide_set_step(s, h.frames * s->params.substeps, error);

@@ -194,6 +194,9 @@ static cvk_result explicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
             "euler: x += h v, v += h a");
         break;
     }
+    cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_EXPLICIT, plan, error); /* after the update */
+    if (r != CVK_SUCCESS)
+        return r;
     snprintf(plan->solver_note, sizeof plan->solver_note, ", %s, %s damping, kd %g N s/m",
              cvk_integrator_name(ep.integrator), cvk_damping_model_name(ep.damping_model),
              solver->kd);
@@ -221,6 +224,13 @@ static void explicit_destroy(cvk_sim* s, void* self)
     free(ex);
 }
 
+static cvk_result explicit_set_torn(cvk_sim* s, void* self, const uint32_t* alive,
+                                    cvk_error* error)
+{
+    cvk_explicit* ex = self;
+    return cvk_vstate_set_torn(s, &ex->adjacency, alive, error);
+}
+
 static cvk_result explicit_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
                                   cvk_error* error)
 {
@@ -235,7 +245,9 @@ static cvk_result explicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         r = create_sets(s, ex, error);
     if (r == CVK_SUCCESS)
-        r = cvk_vstate_upload_adjacency(s, &ex->adjacency, error);
+        r = cvk_vstate_upload_adjacency(s, &ex->adjacency, NULL, error);
+    if (r == CVK_SUCCESS)
+        cvk_tear_bind(s, CVK_TEAR_FOR_EXPLICIT, &ex->adjacency, NULL);
     if (r == CVK_SUCCESS)
         r = explicit_write_state(s, ex, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)
@@ -283,4 +295,5 @@ const cvk_family_api cvk_family_explicit = {
     .snapshot_size = explicit_snapshot_size,
     .save_snapshot = explicit_save_snapshot,
     .load_snapshot = explicit_load_snapshot,
+    .set_torn = explicit_set_torn,
 };

@@ -299,6 +299,9 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
     else
         plan_cg(&ib, solver->max_iterations);
     add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate", 0);
+    cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_IMPLICIT, plan, error); /* after x += h v */
+    if (r != CVK_SUCCESS)
+        return r;
     snprintf(plan->solver_note, sizeof plan->solver_note,
              ", tolerance %g, at most %u iterations (stopped on the device), kd %g N s/m",
              solver->tolerance, solver->max_iterations, solver->kd);
@@ -332,6 +335,13 @@ static void implicit_destroy(cvk_sim* s, void* self)
     free(im);
 }
 
+static cvk_result implicit_set_torn(cvk_sim* s, void* self, const uint32_t* alive,
+                                    cvk_error* error)
+{
+    cvk_implicit* im = self;
+    return cvk_vstate_set_torn(s, &im->adjacency, alive, error);
+}
+
 static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
                                   cvk_error* error)
 {
@@ -346,7 +356,9 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         r = create_set(s, im, error);
     if (r == CVK_SUCCESS)
-        r = cvk_vstate_upload_adjacency(s, &im->adjacency, error);
+        r = cvk_vstate_upload_adjacency(s, &im->adjacency, NULL, error);
+    if (r == CVK_SUCCESS)
+        cvk_tear_bind(s, CVK_TEAR_FOR_IMPLICIT, &im->adjacency, NULL);
     if (r == CVK_SUCCESS)
         r = implicit_write_state(s, im, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)
@@ -394,4 +406,5 @@ const cvk_family_api cvk_family_implicit = {
     .snapshot_size = implicit_snapshot_size,
     .save_snapshot = implicit_save_snapshot,
     .load_snapshot = implicit_load_snapshot,
+    .set_torn = implicit_set_torn,
 };

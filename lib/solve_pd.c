@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "checked.h"
 #include "error.h"
 #include "solve_pd.h"
 #include "tether.h"
@@ -34,6 +35,8 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     VkBufferUsageFlags motion = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT; /* read for velocities */
     VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    /* Tearing (tear.h) zeroes the k of broken springs in place. */
+    VkBufferUsageFlags adjacency = table | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT;
     struct {
         cvk_buffer* buffer;
@@ -47,9 +50,9 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         {&pd->u[1], n16, state, "displacements (second iterate)", &pd->view_u[1], vec4},
         {&pd->y, n16, state, "predicted displacements", &pd->view_y, vec4},
         {&pd->rhs, nf * 16u, state, "right-hand side", &pd->view_rhs, vec4},
-        {&pd->adjacency, quads * 32u, table, "adjacency", &pd->view_adjacency,
+        {&pd->adjacency, quads * 32u, adjacency, "adjacency", &pd->view_adjacency,
          VK_FORMAT_R32G32B32A32_UINT},
-        {&pd->adjacency_kl, quads * 16u, table, "adjacency k*L", &pd->view_adjacency_kl, vec4},
+        {&pd->adjacency_kl, quads * 16u, adjacency, "adjacency k*L", &pd->view_adjacency_kl, vec4},
         {&pd->tether_anchor, tethers * 16u, table, "tether pins", &pd->view_tether_anchor,
          VK_FORMAT_R32G32B32A32_UINT},
         {&pd->tether_length, tethers * 16u, table, "tether lengths", &pd->view_tether_length,
@@ -69,17 +72,22 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 
 /* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
    texel (2q + 1) * nf + p: bits of their k; k·L at texel q * nf + p. Slots past max_degree
-   point at p itself with k = 0. */
-static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+   point at p itself with k = 0, and so do torn springs (alive[s] == 0; alive NULL: none),
+   as tear.comp leaves them. */
+cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive, cvk_error* error)
 {
     const cvk_build* b = &s->build;
     size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
-    if (nf == 0 || b->max_degree == 0)
+    /* Without springs (max_degree 0) the one quad of padding is still written: the prediction's
+       divergence watch reads slot 0 of every particle (shaders/predict.comp). */
+    if (nf == 0)
         return CVK_SUCCESS;
     uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
     float* kl = malloc(quads * nf * 4 * sizeof(float));
+    size_t entries = (size_t)b->max_degree * nf;
+    uint32_t* spring_of = alive ? malloc((entries ? entries : 1) * sizeof(uint32_t)) : NULL;
     cvk_result r = CVK_SUCCESS;
-    if (!pairs || !kl)
+    if (!pairs || !kl || (alive && (!spring_of || !cvk_tear_slot_springs(b, spring_of))))
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
     for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
         for (size_t p = 0; p < nf; p++) {
@@ -89,10 +97,11 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
             for (size_t j = 0; j < 4; j++) {
                 size_t slot = 4 * q + j, e = slot * nf + p;
                 bool real = slot < b->max_degree;
-                float k = real ? b->adj_k[e] : 0.0f;
+                bool torn = real && alive && spring_of[e] != UINT32_MAX && !alive[spring_of[e]];
+                float k = real && !torn ? b->adj_k[e] : 0.0f;
                 neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
                 memcpy(&k_bits[j], &k, sizeof k);
-                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f;
+                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f; /* 0 when torn: 0 · L */
             }
         }
     }
@@ -102,6 +111,7 @@ static cvk_result upload_adjacency(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         r = cvk_sim_upload(s, &pd->adjacency_kl, kl, quads * nf * 4 * sizeof(float), error);
     free(pairs);
     free(kl);
+    free(spring_of);
     return r;
 }
 
@@ -205,6 +215,36 @@ static cvk_result pd_prepare(cvk_sim* s, void* self, const cvk_solver_desc* solv
     if (!pd->hx || !pd->hprev || !pd->hy || !pd->hrhs)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "out of host memory for the gs-cpu solver state");
+    if (s->tear.count == 0)
+        return CVK_SUCCESS;
+    /* Intact; a switch from the device brings the device's torn state (pd_switch_solver). */
+    const cvk_build* b = &s->build;
+    size_t entries = (size_t)b->max_degree * b->free_count;
+    pd->h_alive = cvk_malloc_array(b->spring_count, sizeof *pd->h_alive);
+    pd->h_adj_k = cvk_malloc_array(entries ? entries : 1, sizeof *pd->h_adj_k);
+    if (!pd->h_alive || !pd->h_adj_k)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the gs-cpu solver's spring flags");
+    for (uint32_t i = 0; i < b->spring_count; i++)
+        pd->h_alive[i] = 1;
+    if (entries)
+        memcpy(pd->h_adj_k, b->adj_k, entries * sizeof *pd->h_adj_k);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_pd_set_torn(cvk_sim* s, void* self, const uint32_t* alive, cvk_error* error)
+{
+    cvk_pd* pd = self;
+    const cvk_build* b = &s->build;
+    cvk_result r = cvk_sim_upload(s, &s->spring_alive, alive,
+                                  (size_t)b->spring_count * sizeof *alive, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_pd_upload_adjacency(s, pd, alive, error);
+    if (r != CVK_SUCCESS || !pd->h_alive)
+        return r;
+    if (!cvk_tear_host_adjacency(b, alive, pd->h_adj_k))
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    memcpy(pd->h_alive, alive, (size_t)b->spring_count * sizeof *alive);
     return CVK_SUCCESS;
 }
 
@@ -341,6 +381,15 @@ static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc
     pd->host = host;
     if (r == CVK_SUCCESS)
         r = set_state(s, pd, s->scratch, pd->scratch_u, error);
+    if (r != CVK_SUCCESS || s->tear.count == 0)
+        return r;
+    /* The torn state follows: the device's flags are current (gs-cpu uploads its own after
+       every step), and both sides' adjacency is rebuilt from them. */
+    uint32_t* alive = NULL;
+    r = cvk_tear_copy_flags(s, &alive, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_pd_set_torn(s, pd, alive, error);
+    free(alive);
     return r;
 }
 
@@ -363,23 +412,38 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
     cvk_pd* pd = self;
     uint32_t predict = cvk_plan_find_pass(&s->plan, "predict");
     uint32_t solve = cvk_plan_find_pass(&s->plan, "solve");
+    uint32_t tear = cvk_plan_find_pass(&s->plan, "tear");
+    /* With tearing the solve reads the host's adjacency, torn springs at k = 0. */
+    cvk_build view = s->build;
+    if (pd->h_adj_k)
+        view.adj_k = pd->h_adj_k;
     for (uint32_t f = 0; f < frames; f++) {
-        double predict_ms = 0.0, solve_ms = 0.0;
+        double predict_ms = 0.0, solve_ms = 0.0, tear_ms = 0.0;
         for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
             double t0 = cvk_now_ms();
-            cvk_ref_predict(&s->build, &s->ref, pd->hx, pd->hprev, pd->hy);
+            cvk_ref_predict(&view, &s->ref, pd->hx, pd->hprev, pd->hy);
             double t1 = cvk_now_ms();
-            cvk_ref_solve_gauss_seidel(&s->build, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            cvk_ref_solve_gauss_seidel(&view, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            double t2 = cvk_now_ms();
+            if (pd->h_alive)
+                cvk_tear_host(s, pd->hx, pd->h_alive, pd->h_adj_k);
             predict_ms += t1 - t0;
-            solve_ms += cvk_now_ms() - t1;
+            solve_ms += t2 - t1;
+            tear_ms += cvk_now_ms() - t2;
         }
         if (predict < CVK_MAX_PASSES)
             s->host_pass_ms[predict] = predict_ms;
         if (solve < CVK_MAX_PASSES)
             s->host_pass_ms[solve] = solve_ms;
+        if (tear < CVK_MAX_PASSES)
+            s->host_pass_ms[tear] = tear_ms;
         s->host_timed = true;
     }
-    return cvk_pd_upload_host_positions(s, pd, error);
+    cvk_result r = cvk_pd_upload_host_positions(s, pd, error);
+    if (r == CVK_SUCCESS && pd->h_alive) /* for the mesh, the statistics and snapshots */
+        r = cvk_sim_upload(s, &s->spring_alive, pd->h_alive,
+                           (size_t)s->build.spring_count * sizeof *pd->h_alive, error);
+    return r;
 }
 
 /* ---- the family ------------------------------------------------------------------------ */
@@ -412,6 +476,8 @@ static void pd_destroy(cvk_sim* s, void* self)
     free(pd->hprev);
     free(pd->hy);
     free(pd->hrhs);
+    free(pd->h_alive);
+    free(pd->h_adj_k);
     free(pd->scratch_u);
     free(pd);
 }
@@ -441,9 +507,10 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
         cvk_grab_bind(s, &pd->u[0], &pd->u[1], &pd->y);
         cvk_aero_bind(s, pd->view_u[0]);
+        cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency, &pd->adjacency_kl);
     }
     if (r == CVK_SUCCESS)
-        r = upload_adjacency(s, pd, error);
+        r = cvk_pd_upload_adjacency(s, pd, NULL, error);
     if (r == CVK_SUCCESS)
         r = upload_tethers(s, pd, error);
     if (r == CVK_SUCCESS)
@@ -472,4 +539,5 @@ const cvk_family_api cvk_family_pd = {
     .snapshot_size = cvk_pd_snapshot_size,
     .save_snapshot = cvk_pd_save_snapshot,
     .load_snapshot = cvk_pd_load_snapshot,
+    .set_torn = cvk_pd_set_torn,
 };

@@ -39,8 +39,19 @@ typedef struct cvk_pd {
     double* hprev;
     double* hy;
     double* hrhs;         /* 4 doubles per particle */
+    uint32_t* h_alive;    /* gs-cpu with tearing: its spring flags (tear.h) */
+    float* h_adj_k;       /* gs-cpu with tearing: build.adj_k with torn springs at 0 */
     float* scratch_u;     /* last displacements x_n − x_{n−1}, 3 floats per particle */
 } cvk_pd;
+
+/* Uploads the adjacency tables from the build, the springs whose flag in `alive` is 0 (torn;
+   alive NULL: none) with k = 0, as tearing leaves them (tear.h). */
+cvk_result cvk_pd_upload_adjacency(cvk_sim* sim, cvk_pd* pd, const uint32_t* alive,
+                                   cvk_error* error);
+
+/* Puts the torn state `alive` (uint per spring, 0 = torn) in place everywhere: the spring
+   flags, the device adjacency and, where gs-cpu's host arrays exist, those (tear.h). */
+cvk_result cvk_pd_set_torn(cvk_sim* sim, void* pd, const uint32_t* alive, cvk_error* error);
 
 /* Uploads the gs-cpu positions (hx) into the positions buffer, for drawing and reading. */
 cvk_result cvk_pd_upload_host_positions(cvk_sim* sim, cvk_pd* pd, cvk_error* error);

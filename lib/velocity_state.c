@@ -6,24 +6,38 @@
 #include "error.h"
 #include "velocity_state.h"
 
-cvk_result cvk_vstate_upload_adjacency(cvk_sim* s, cvk_buffer* adjacency, cvk_error* error)
+cvk_result cvk_vstate_upload_adjacency(cvk_sim* s, cvk_buffer* adjacency, const uint32_t* alive,
+                                       cvk_error* error)
 {
     const cvk_build* b = &s->build;
     size_t entries = (size_t)b->max_degree * b->free_count;
     if (entries == 0)
         return CVK_SUCCESS;
     uint32_t* data = malloc(entries * 4 * sizeof(uint32_t));
-    if (!data)
+    float* k = malloc(entries * sizeof(float));
+    if (!data || !k || (alive && !cvk_tear_host_adjacency(b, alive, k))) {
+        free(data);
+        free(k);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    }
     for (size_t e = 0; e < entries; e++) {
         data[4 * e] = b->adj_index[e];
-        memcpy(&data[4 * e + 1], &b->adj_k[e], 4);
+        memcpy(&data[4 * e + 1], alive ? &k[e] : &b->adj_k[e], 4);
         memcpy(&data[4 * e + 2], &b->adj_rest[e], 4);
         data[4 * e + 3] = 0;
     }
     cvk_result r = cvk_sim_upload(s, adjacency, data, entries * 16, error);
     free(data);
+    free(k);
     return r;
+}
+
+cvk_result cvk_vstate_set_torn(cvk_sim* s, cvk_buffer* adjacency, const uint32_t* alive,
+                               cvk_error* error)
+{
+    cvk_result r = cvk_sim_upload(s, &s->spring_alive, alive,
+                                  (size_t)s->build.spring_count * sizeof *alive, error);
+    return r == CVK_SUCCESS ? cvk_vstate_upload_adjacency(s, adjacency, alive, error) : r;
 }
 
 cvk_result cvk_vstate_record_readback(cvk_sim* s, VkCommandBuffer cmd, const cvk_buffer* v,

@@ -19,7 +19,13 @@ cvk_result cvk_vstate_read(cvk_sim* sim, VkCommandBuffer cmd, float* xyz, float*
                            cvk_error* error);
 /* Uploads the staging buffer's first 2 vec4 per particle into positions and `v`. */
 cvk_result cvk_vstate_upload_staged(cvk_sim* sim, cvk_buffer* v, cvk_error* error);
-/* The build's adjacency, slot-major: entry s·nf + p = (neighbour, bits of k, bits of L, 0). */
-cvk_result cvk_vstate_upload_adjacency(cvk_sim* sim, cvk_buffer* adjacency, cvk_error* error);
+/* The build's adjacency, slot-major: entry s·nf + p = (neighbour, bits of k, bits of L, 0);
+   the springs whose flag in `alive` is 0 (torn, lib/tear.h; alive NULL: none) with k = 0. */
+cvk_result cvk_vstate_upload_adjacency(cvk_sim* sim, cvk_buffer* adjacency, const uint32_t* alive,
+                                       cvk_error* error);
+/* set_torn of the implicit and explicit families (solver.h): the spring flags, and
+   `adjacency` as cvk_vstate_upload_adjacency makes it. */
+cvk_result cvk_vstate_set_torn(cvk_sim* sim, cvk_buffer* adjacency, const uint32_t* alive,
+                               cvk_error* error);
 
 #endif

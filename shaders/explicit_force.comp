@@ -29,10 +29,11 @@ void main()
             float l = length(d);
             vec3 n = l > 0.0 ? d / l : vec3(0.0);
             f -= k * (l - rest) * n;
+            float kd = k > 0.0 ? pc.kd : 0.0; // a torn spring (k = 0, lib/tear.h) damps no more
             if (pc.viscosity != 0u)
-                f -= pc.kd * dvel;
+                f -= kd * dvel;
             else
-                f -= pc.kd * dot(dvel, n) * n;
+                f -= kd * dot(dvel, n) * n;
         }
         acc[p] = vec4(f / m, 0.0);
     }

@@ -51,12 +51,13 @@ void main()
             if (pc.clamp != 0u)
                 t = max(t, 0.0);
             vec3 dvel = vp - v[slot.x].xyz;
-            f -= (k * (l - rest) + pc.kd * dot(dvel, n)) * n;
+            float kd = k > 0.0 ? pc.kd : 0.0; // a torn spring (k = 0, lib/tear.h) damps no more
+            f -= (k * (l - rest) + kd * dot(dvel, n)) * n;
             vec4 k0 = vec4(0.0), k1 = vec4(0.0);
             add_outer(k0, k1, n, k, k * t);
             kv += sym_mul(k0, k1, dvel);
             vec4 h0 = h * h * k0, h1 = h * h * k1;
-            add_outer(h0, h1, n, h * pc.kd, 0.0);
+            add_outer(h0, h1, n, h * kd, 0.0);
             a0 += h0;
             a1 += h1;
             offdiag[2u * e] = h0;

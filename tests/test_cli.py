@@ -125,7 +125,8 @@ def json_stats(particles, structural, frames, linear=None):
         check_types("", stats, {
             "scene": lambda v: isinstance(v, str), "particles": is_int, "springs": lambda v: True,
             "frames": is_int, "substeps": is_int, "solver": lambda v: True, "residual": is_number,
-            "max_stretch": is_number, "p99_stretch": is_number, "nan_count": is_int, "gpu_ms_per_frame": is_time,
+            "max_stretch": is_number, "p99_stretch": is_number, "torn_springs": is_int,
+            "nan_count": is_int, "gpu_ms_per_frame": is_time,
             "wall_ms_per_frame": is_number, "dispatches_per_frame": is_int,
             "passes": lambda v: isinstance(v, list) and len(v) > 0}, problems)
         if problems:
@@ -142,12 +143,29 @@ def json_stats(particles, structural, frames, linear=None):
         expected = {"particles": (stats["particles"], particles),
                     "springs.structural": (stats["springs"]["structural"], structural),
                     "frames": (stats["frames"], frames), "nan_count": (stats["nan_count"], 0),
+                    "torn_springs": (stats["torn_springs"], 0),
                     "diverged": (stats.get("diverged"), False)}
         if linear:
             expected["solver.linear"] = (stats["solver"]["linear"], linear)
         for key, (got, want) in expected.items():
             if got != want:
                 problems.append(f"{key}: expected {want!r}, got {got!r}")
+        return problems
+    return check
+
+
+def json_torn(least, most):
+    """--json of a tearing run: torn_springs within [least, most] and a tear pass timed."""
+    def check(stdout, workdir):
+        problems = []
+        stats = parse_json(stdout, problems)
+        if stats is None:
+            return problems
+        torn = stats.get("torn_springs")
+        if not is_int(torn) or not least <= torn <= most:
+            problems.append(f"torn_springs: expected {least} to {most}, got {torn!r}")
+        if "tear" not in [p.get("name") for p in stats.get("passes", [])]:
+            problems.append("no \"tear\" pass in passes")
         return problems
     return check
 
@@ -258,7 +276,7 @@ CASES = [
      "argv": [SMALL, "--set", "cloths.0.\x1b[31mbad=1"], "status": 2,
      "stderr": error(SMALL, "cloths.0.\\x1b[31mbad (from --set): unknown key (expected one of: "
                             "name, grid, size, origin, u_axis, v_axis, mesh, transform, rest_scale, "
-                            "mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero)")},
+                            "mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing)")},
     # A device or a FIFO would be read forever or block: only regular files are scenes.
     {"name": "a device as the scene", "argv": ["/dev/zero"], "status": 2,
      "stderr": error("/dev/zero", "cannot read: it is not a regular file")},
@@ -370,6 +388,21 @@ CASES = [
      "check": dump_grid(SMALL, first_two_at_rest=True)},
     {"name": "1 x N rope", "argv": [ROPE, "--frames", "10", "--dump", DUMP], "status": 0,
      "check": dump_grid(ROPE, first_two_at_rest=False)},
+    # Tearing: the count in --json (a 10 x 10 sheet thrown down from its two pins at 20 m/s
+    # tears there, 8 springs at 0.2; without tearing it stretches 85 % and keeps them all),
+    # and a bad threshold.
+    {"name": "--json torn_springs", "argv": [SMALL, "--set", "cloths.0.grid=[10,10]",
+                                             "--set", "cloths.0.velocity=[0,-20,0]",
+                                             "--set", "cloths.0.tearing.max_stretch=0.2",
+                                             "--frames", "3", "--json"], "status": 0,
+     "check": json_torn(1, 180)},
+    {"name": "--json torn_springs without tearing", "argv": [SMALL, "--set", "cloths.0.grid=[10,10]",
+                                                           "--set", "cloths.0.velocity=[0,-20,0]",
+                                                           "--frames", "3", "--json"], "status": 0,
+     "check": json_stats(particles=100, structural=180, frames=3)},
+    {"name": "negative max_stretch", "argv": [SMALL, "--set", "cloths.0.tearing.max_stretch=-1"],
+     "status": 2,
+     "stderr": error(SMALL, "cloths.0.tearing.max_stretch (from --set): must be at least 0, got -1")},
 ] + [
     {"name": f"--set solver.linear={linear}",
      "argv": [SMALL, "--set", f"solver.linear={linear}", "--frames", "5", "--json"], "status": 0,

@@ -609,7 +609,7 @@ static void test_unknown_keys(void)
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
-                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero)");
+                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing)");
     EXPECT_INVALID("{'cloths': [{'stiffness': {'bending': 1}}]}",
                    "t.json: cloths.0.stiffness.bending: unknown key (expected one of: structural, shear, bend)");
 }
@@ -762,7 +762,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "cloths.0.massive=1",
                      "t.json: cloths.0.massive (from --set): unknown key (expected one of: name, grid, size, origin, "
                      "u_axis, v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, "
-                     "texture, texture_scale, velocity, tethers, aero)");
+                     "texture, texture_scale, velocity, tethers, aero, tearing)");
 
     cvk_scene* scene = NULL;
     cvk_error err = {0};

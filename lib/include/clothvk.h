@@ -260,6 +260,16 @@ typedef struct cvk_aero_desc {
     float friction;              /* skin friction along the surface, ≥ 0; usually 0.02 */
 } cvk_aero_desc;
 
+/* Tearing (the "tearing" block of a cloth): a spring of the cloth whose relative stretch
+   |xa − xb| / L − 1 passes max_stretch at the end of a substep breaks for good. It then pulls
+   no more in the solve, and the triangles along it leave the mesh, the renderer and the
+   exports. Decided spring by spring, each on its own, so the same springs break on every
+   run and dispatch shape. Every solver tears (gs-cpu on the host); tethers refuse it. */
+typedef struct cvk_tearing_desc {
+    float max_stretch;           /* relative stretch at which a spring breaks; 0 = never (the
+                                    default); e.g. 0.5 breaks a spring at 1.5 × its rest length */
+} cvk_tearing_desc;
+
 /* One cloth: a rectangular grid of particles (the default) or a triangle mesh read from a file.
 
    Grid: particle [i, j] sits at origin + i·du·u_axis + j·dv·v_axis, du = size[0] / (grid[0] − 1),
@@ -313,6 +323,7 @@ typedef struct cvk_cloth_desc {
                                     the cloth; usually 1. A cloth without pins has none.
                                     Projective dynamics only */
     cvk_aero_desc aero;          /* how the air of cvk_scene_desc.wind pushes it */
+    cvk_tearing_desc tearing;    /* when its springs break; none by default */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 
@@ -698,6 +709,8 @@ typedef struct cvk_sim_stats {
     uint64_t particles;        /* all particles */
     uint64_t pinned;           /* of which pinned */
     uint64_t springs[3];       /* structural, shear, bend */
+    uint64_t torn_springs;     /* springs broken by tearing so far (cvk_tearing_desc); the spring
+                                  metrics below leave them out */
     uint32_t colours;          /* particle colours of the Gauss-Seidel sweep */
     uint64_t frames;           /* frames advanced with cvk_sim_step */
     double residual;           /* Σ (|xa − xb| − L)² over structural springs (seed 002 eq. 4.1), m² */

@@ -133,6 +133,10 @@ typedef struct cvk_aero_desc {
     float friction;
 } cvk_aero_desc;
 
+typedef struct cvk_tearing_desc {
+    float max_stretch;
+} cvk_tearing_desc;
+
 typedef struct cvk_cloth_desc {
     const char* name;
     uint32_t grid[2];
@@ -158,6 +162,7 @@ typedef struct cvk_cloth_desc {
     float velocity[3];
     float tethers;
     cvk_aero_desc aero;
+    cvk_tearing_desc tearing;
     uint32_t cookie_;
 } cvk_cloth_desc;
 
@@ -376,6 +381,7 @@ typedef struct cvk_sim_stats {
     uint64_t particles;
     uint64_t pinned;
     uint64_t springs[3];
+    uint64_t torn_springs;
     uint32_t colours;
     uint64_t frames;
     double residual;

@@ -332,6 +332,30 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 #define CVK_ATTACH_BINDING_U1 6
 #define CVK_ATTACH_BINDING_COUNT 7
 
+/* ---- tearing: tear.comp (lib/tear.h) ------------------------------------------------------- */
+
+/* Push data of tear.comp. count 0 (the warm-up dispatch) does nothing. */
+#define CVK_TEAR_PUSH_FIELDS                                                       \
+    CVK_UINT(count)        /* springs that may tear (of cloths with tearing) */    \
+    CVK_UINT(pad0)                                                                \
+    CVK_UINT(pad1)                                                                \
+    CVK_UINT(pad2)
+CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
+
+/* Per spring that may tear, three uvec4 texels: (a, b, spring index, bits of the squared
+   length at which it breaks, m^2); where its stiffness sits in each free end's adjacency as
+   projective dynamics packs it (pd_common.glsl's quads): (k of a, k·L of a, k of b, k·L of b)
+   as element indices of the adjacency's uint array and of the k·L float array; and as the
+   implicit and explicit families pack it (velocity_state.h's (neighbour, bits of k, bits of L,
+   0) per entry): (k of a, k of b, 0, 0). CVK_TEAR_NONE for a pinned end. */
+#define CVK_TEAR_NONE 0xffffffffu
+#define CVK_TEAR_BINDING_POSITIONS 0    /* texel: vec4 per particle, x after the substep */
+#define CVK_TEAR_BINDING_TABLE 1        /* texel: 2 uvec4 per spring that may tear */
+#define CVK_TEAR_BINDING_ALIVE 2        /* storage: uint per spring, 1 / 0 once torn */
+#define CVK_TEAR_BINDING_ADJACENCY 3    /* storage: the adjacency's neighbours and bits of k */
+#define CVK_TEAR_BINDING_ADJACENCY_KL 4 /* storage: the adjacency's k·L */
+#define CVK_TEAR_BINDING_COUNT 5
+
 /* ---- air: aero_triangles.comp, aero_gather.comp (lib/aero.h) ------------------------------ */
 
 /* Push data of both air passes. count 0 (the warm-up dispatch) does nothing, not even advance

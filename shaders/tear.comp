@@ -1,0 +1,68 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Tearing (lib/tear.h), once per substep once its positions are final: every spring of a
+// tearing cloth whose length passes its breaking length is marked dead and its stiffness
+// leaves both ends' adjacency (k, and k·L for projective dynamics, set to 0), so the solver
+// forgets it: every projective-dynamics sweep, the diagonal and the divergence watch with no
+// test of their own; the implicit and explicit families take k = 0 as no spring (no force, no
+// damping). Each
+// invocation writes only its own spring's flag and slots: no order between invocations
+// matters, and the same springs break for every dispatch shape. Tearing again a spring already
+// torn writes the same zeros, so dead springs need no test either.
+layout(local_size_x_id = 0) in;
+
+#include "shared/layout.h"
+
+layout(set = 0, binding = CVK_TEAR_BINDING_POSITIONS) uniform samplerBuffer x;
+layout(set = 0, binding = CVK_TEAR_BINDING_TABLE) uniform usamplerBuffer table;
+layout(std430, set = 0, binding = CVK_TEAR_BINDING_ALIVE) writeonly buffer Alive { uint alive[]; };
+layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY) writeonly buffer Adjacency {
+    uint adjacency[];
+};
+layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY_KL) writeonly buffer AdjacencyKL {
+    float adjacency_kl[];
+};
+CVK_DECLARE_PUSH(CVK_TEAR_PUSH_FIELDS)
+
+// Built twice (shaders/meson.build): for projective dynamics' quads (k bits, k·L) and, with
+// UVEC4, for the (neighbour, bits of k, bits of L, 0) entries of the implicit and explicit
+// families. Each reads its own texel of the spring's row, element indices ready: with the
+// indices computed here instead (a division per torn spring) and the layout chosen by a push
+// constant, the pass took twice its share of tear.json's frame on lavapipe (7 % against 3.5 %),
+// though the branch is seldom taken.
+#ifdef UVEC4
+const uint ROW_TEXEL = 2u; // (k of a, k of b, unused, unused)
+#else
+const uint ROW_TEXEL = 1u; // (k of a, k·L of a, k of b, k·L of b)
+#endif
+
+// Sets k (and k·L) of one end's entry to 0: the bits of 0.0 are 0.
+void forget(uint k, uint kl)
+{
+    if (k == CVK_TEAR_NONE)
+        return;
+    adjacency[k] = 0u;
+#ifndef UVEC4
+    adjacency_kl[kl] = 0.0;
+#endif
+}
+
+void main()
+{
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
+        uvec4 spring = texelFetch(table, int(3u * i));
+        vec3 d = texelFetch(x, int(spring.x)).xyz - texelFetch(x, int(spring.y)).xyz;
+        if (!(dot(d, d) > uintBitsToFloat(spring.w)))
+            continue;
+        uvec4 ends = texelFetch(table, int(3u * i + ROW_TEXEL));
+        alive[spring.z] = 0u;
+#ifdef UVEC4
+        forget(ends.x, 0u);
+        forget(ends.y, 0u);
+#else
+        forget(ends.x, ends.y);
+        forget(ends.z, ends.w);
+#endif
+    }
+}
