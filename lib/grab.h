@@ -20,9 +20,17 @@ struct cvk_sim;
    far from float's 3.4e38. */
 #define CVK_GRAB_WEIGHT 1.2676506002282294e30f
 
+/* Bytes of the grab buffer: the cvk_gpu_grab, then CVK_GRAB_MAX members (shared/layout.h). */
+#define CVK_GRAB_BYTES (sizeof(cvk_gpu_grab) + CVK_GRAB_MAX * 4 * sizeof(float))
+
 typedef struct cvk_grab {
     bool planned;                 /* the plan has the grab pass */
-    cvk_buffer state;             /* host-visible cvk_gpu_grab, written by cvk_sim_grab */
+    cvk_buffer state;             /* host-visible cvk_gpu_grab and its members (CVK_GRAB_BYTES),
+                                     written by cvk_sim_grab and cvk_sim_grab_within */
+    bool held;                    /* what the buffer holds, for a repeated call: */
+    uint32_t particle;            /* the grabbed particle (internal index) */
+    float radius;                 /* its cvk_sim_grab_within radius (0: cvk_sim_grab) */
+    uint32_t count;               /* members held, the grabbed particle included */
     cvk_descriptors descriptors;  /* one set */
     const cvk_buffer* u0;         /* the solver's iterates, from cvk_grab_bind */
     const cvk_buffer* u1;

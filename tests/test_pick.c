@@ -5,7 +5,8 @@
    over the substeps, with the cloth following, under every device linear solver and with
    tethers; released, it is free with the drag's velocity; a frame recorded once and submitted
    again with the target changed between submissions gives the bits of cvk_sim_step; the grab
-   holds a particle inside a collider (contact does not push it out); pinned
+   holds a particle inside a collider (contact does not push it out); a hand (grab within a
+   radius) holds every free particle near the grabbed one at its offset; pinned
    particles, missing ones, bad targets and solvers that cannot hold a grab are refused. */
 #include <stdint.h>
 
@@ -399,6 +400,101 @@ static void drag_follows(cvk_context* ctx, cvk_linear_solver linear, float tethe
     cvk_sim_destroy(sim);
 }
 
+/* A hand (cvk_sim_grab_within): the free particles of the grabbed one's cloth within the
+   radius when the grab starts (found on the host here, in double precision) are at the target
+   plus their offsets at the end of every frame, the rest are not held (the pinned row is
+   never taken), a repeated call with the same radius only moves the target (the offsets stay
+   those of the start), radius 0 holds the one particle, and a released hand lets them all go. */
+static void hand_follows(cvk_context* ctx)
+{
+    setup s;
+    make_scene(&s, true);
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 5, &err), err);
+    uint64_t n = cvk_sim_particle_count(sim);
+    /* the second row's middle: the radius reaches the pinned top row and past it */
+    cvk_particle grabbed = {0, AW + AW / 2};
+    const float radius = 0.11f; /* about two spacings */
+    float* x0 = harness_read_all(sim);
+    const float* p0 = &x0[3 * grabbed.index];
+    bool member[AW * AH] = {false};
+    uint32_t members = 0, pinned_near = 0;
+    for (uint32_t q = 0; q < AW * AH; q++) {
+        if (dist3(&x0[3 * q], p0) > radius)
+            continue;
+        if (q < AW) /* the pinned top row: never held */
+            pinned_near++;
+        else
+            member[q] = true, members++;
+    }
+    CHECK(members > 4 && members < AW * AH / 2 && pinned_near > 0,
+          "hand: %u members and %u pinned particles within the radius: the test is void", members,
+          pinned_near);
+    float* x = malloc(3 * n * sizeof(float));
+    double worst = 0.0, nearest_other = 1e30;
+    float target[3];
+    for (int f = 1; f <= 12; f++) {
+        for (int k = 0; k < 3; k++)
+            target[k] = p0[k] + (k == 2 ? 0.012f * f : 0.0f);
+        REQUIRE_OK(cvk_sim_grab_within(sim, grabbed, radius, target, &err), err);
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+        for (uint32_t q = 0; q < AW * AH; q++) {
+            float want[3];
+            for (int k = 0; k < 3; k++)
+                want[k] = target[k] + (x0[3 * q + k] - p0[k]);
+            double off = dist3(&x[3 * q], want);
+            if (member[q])
+                worst = fmax(worst, off);
+            else if (q >= AW) /* a free particle outside the hand lags behind it */
+                nearest_other = fmin(nearest_other, off);
+        }
+    }
+    CHECK(worst < 2e-6, "hand: a held particle is up to %.3g m from the target plus its offset",
+          worst);
+    CHECK(nearest_other > 1e-4, "hand: a particle outside the radius followed the hand to %.3g m",
+          nearest_other);
+    /* Radius 0: the one particle; its former members are let go. */
+    REQUIRE_OK(cvk_sim_grab_within(sim, grabbed, 0.0f, target, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 3, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+    double one = dist3(&x[3 * grabbed.index], target), left = 0.0;
+    for (uint32_t q = 0; q < AW * AH; q++)
+        if (member[q] && q != grabbed.index) {
+            float want[3];
+            for (int k = 0; k < 3; k++)
+                want[k] = target[k] + (x0[3 * q + k] - p0[k]);
+            left = fmax(left, dist3(&x[3 * q], want));
+        }
+    CHECK(one < 2e-6 && left > 1e-4, "hand of radius 0: the particle %.3g m from the target, the "
+          "former members up to %.3g m from their offsets", one, left);
+    cvk_sim_release(sim);
+    REQUIRE_OK(cvk_sim_step(sim, 3, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+    double fell = dist3(&x[3 * grabbed.index], target);
+    CHECK(fell > 1e-3, "hand released: the particle stayed within %.3g m of the target", fell);
+    EXPECT_MESSAGE(cvk_sim_grab_within(sim, grabbed, -0.1f, target, &err),
+                   CVK_ERROR_INVALID_ARGUMENT,
+                   "cvk_sim_grab_within: the radius must be a finite number of metres, at least "
+                   "0; got -0.1");
+    EXPECT_MESSAGE(cvk_sim_grab_within(sim, grabbed, NAN, target, &err),
+                   CVK_ERROR_INVALID_ARGUMENT,
+                   "cvk_sim_grab_within: the radius must be a finite number of metres, at least "
+                   "0; got nan");
+    EXPECT_MESSAGE(cvk_sim_grab_within(sim, (cvk_particle){0, 1}, 0.1f, target, &err),
+                   CVK_ERROR_INVALID_ARGUMENT,
+                   "cvk_sim_grab_within: particle 1 of cloth 0 (\"hanging\") is pinned; only free "
+                   "particles can be grabbed");
+    printf("hand of %u particles: held to %.3g m; the nearest free particle outside %.3g m off; "
+           "radius 0 then: %.3g m, former members up to %.3g m off\n", members, worst,
+           nearest_other, one, left);
+    free(x);
+    free(x0);
+    cvk_sim_destroy(sim);
+}
+
 /* A frame recorded once (before the first grab, the pass planned from creation) and submitted
    again and again while the host moves the target between submissions, then releases: the bits
    of cvk_sim_step on a simulation that grabbed without cvk_sim_desc.grab. */
@@ -561,6 +657,7 @@ int main(void)
     /* Pulled down as well, past the length its tethers allow: the grab wins over them. */
     drag_follows(ctx, CVK_LINEAR_RBGS, 1.0f, 0.005f);
     drag_beats_contact(ctx);
+    hand_follows(ctx);
     record_equals_step(ctx);
     grab_refuses(ctx);
     return harness_finish(ctx);

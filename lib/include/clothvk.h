@@ -816,6 +816,17 @@ CVK_API cvk_result cvk_sim_pick(cvk_sim* sim, const float origin[3], const float
    again. */
 CVK_API cvk_result cvk_sim_grab(cvk_sim* sim, cvk_particle particle, const float target[3],
                                 cvk_error* error);
+/* As cvk_sim_grab, with a hand instead of a fingertip: every free particle of the same cloth
+   within `radius` m of `particle`, where they are when the grab starts, is held too, each at its
+   offset from `particle` (so the region moves rigidly with the target); at most 64, the
+   nearest first (ties: the lower index). A load on one particle concentrates in its own
+   springs, so with tearing a one-particle drag plucks that particle out; spread over a region
+   it tears the cloth. The grab starts by reading the positions back (it waits, like
+   cvk_sim_read_positions); calling it again with the same particle and radius only moves the
+   target (no wait). Radius 0 grabs the one particle. A negative or non-finite radius is
+   refused with CVK_ERROR_INVALID_ARGUMENT; the rest as cvk_sim_grab. */
+CVK_API cvk_result cvk_sim_grab_within(cvk_sim* sim, cvk_particle particle, float radius,
+                                       const float target[3], cvk_error* error);
 CVK_API void cvk_sim_release(cvk_sim* sim);
 
 /* The number of pairs of cloth triangles that share no particle and intersect, computed exactly

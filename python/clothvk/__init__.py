@@ -336,13 +336,19 @@ class Simulation(_Owner):
         return {"cloth": out.particle.cloth, "index": out.particle.index,
                 "distance": out.distance, "position": list(out.position)}
 
-    def grab(self, cloth, index, target):
+    def grab(self, cloth, index, target, radius=0.0):
         """Drags particle `index` of cloth `cloth` to `target` (m) over the next frame and holds
-        it there (see cvk_sim_grab: one particle at a time; call again to move the target)."""
+        it there (see cvk_sim_grab: one grab at a time; call again to move the target). With a
+        radius (m), the free particles of the cloth within it are held too, at their offsets
+        (cvk_sim_grab_within)."""
         err = ffi.new("cvk_error*")
         particle = ffi.new("cvk_particle*", {"cloth": cloth, "index": index})
-        _check(lib.cvk_sim_grab(self._live(), particle[0], [float(v) for v in target], err),
-               err)
+        target = [float(v) for v in target]
+        if radius:
+            _check(lib.cvk_sim_grab_within(self._live(), particle[0], float(radius), target, err),
+                   err)
+        else:
+            _check(lib.cvk_sim_grab(self._live(), particle[0], target, err), err)
 
     def release(self):
         """Lets the grabbed particle go, with the velocity of its last substep."""

@@ -366,6 +366,8 @@ cvk_result cvk_sim_pick(cvk_sim* sim, const float origin[3], const float directi
                         float radius, cvk_pick_result* out, cvk_error* error);
 cvk_result cvk_sim_grab(cvk_sim* sim, cvk_particle particle, const float target[3],
                         cvk_error* error);
+cvk_result cvk_sim_grab_within(cvk_sim* sim, cvk_particle particle, float radius,
+                               const float target[3], cvk_error* error);
 void cvk_sim_release(cvk_sim* sim);
 cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
 

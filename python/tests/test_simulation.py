@@ -114,3 +114,14 @@ def test_pick_grab_release(ctx, small_scene):
         assert np.abs(sim.positions()[want] - target).max() > 1e-3, "still held after release"
         with pytest.raises(clothvk.Error, match="is pinned"):
             sim.grab(0, 0, target)
+        # a hand: every free particle within 10 cm of it moves with it, at its offset
+        xyz = sim.positions()
+        near = np.flatnonzero(np.linalg.norm(xyz - xyz[want], axis=1) <= 0.1)
+        assert len(near) > 1
+        lifted = xyz[want] + np.array([0.0, 0.1, 0.0], dtype=np.float32)
+        sim.grab(0, want, lifted.tolist(), radius=0.1)
+        sim.step(1)
+        moved = sim.positions()[near] - (xyz[near] - xyz[want])
+        assert np.abs(moved - lifted).max() < 1e-5
+        with pytest.raises(clothvk.Error, match="radius must be a finite number"):
+            sim.grab(0, want, target, radius=-1.0)

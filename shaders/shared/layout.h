@@ -443,9 +443,14 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
     CVK_VEC4(target)       /* xyz: where the particle is at the end of the frame, m */ \
     CVK_UINT(particle)     /* internal index (a free particle) */                    \
     CVK_UINT(held)         /* 0: nothing is grabbed, the pass does nothing */        \
-    CVK_UINT(pad0)                                                                  \
+    CVK_UINT(count)        /* particles held (cvk_sim_grab_within), 1 to CVK_GRAB_MAX */ \
     CVK_UINT(pad1)
 CVK_STRUCT(cvk_gpu_grab, CVK_GPU_GRAB_FIELDS)
+
+/* Particles a grab holds at once (grab.comp's workgroup); after the cvk_gpu_grab in the same
+   buffer come CVK_GRAB_MAX vec4: xyz the member's offset from the target, w its internal index
+   as float bits (member 0 is the grabbed particle, offset 0). */
+#define CVK_GRAB_MAX 64
 
 /* Push data of grab.comp. substeps 0 (the warm-up dispatch) does nothing. */
 #define CVK_GRAB_PUSH_FIELDS                                                       \
