@@ -1,0 +1,56 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Contact constraints of the implicit solve, per free particle at the start of the substep
+// (the colliders posed at t and t + h by collider_poses.comp). A particle is held on the
+// collider whose surface it would reach first: its gap g = distance - thickness, its velocity
+// relative to the surface along the outward normal n (the collider's material point at x,
+// moved from its pose at t to its pose at t + h) is u, and it is held when g + h u, where it
+// ends the substep at its present velocity, is below HOLD_SLACK thicknesses. Held:
+//   - inside (g < 0), x moves out along n onto the surface (Baraff & Witkin's position
+//     alteration, seed 000 section 4.5): no velocity is made from the correction;
+//   - its velocity along n becomes the one that ends the substep on the surface, u = -g / h
+//     (the surface's own for a particle on it);
+//   - its filter is n (S = I - n n^T): the solve leaves that component alone.
+// Every other particle's filter is 0. Release: implicit_integrate.comp. Without friction.
+#define IMPLICIT_CONTACT 1
+#include "implicit_common.glsl"
+
+// A held particle rests within rounding of g = 0, so g + h u wanders either side of it; this
+// much slack keeps it held until the release gives it a real velocity away.
+const float HOLD_SLACK = 0.01;
+
+void main()
+{
+    float h = pc.h;
+    float thickness = contact_u.thickness;
+    for (uint p = gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride()) {
+        vec3 xp = x[p].xyz;
+        vec3 vp = v[p].xyz;
+        float best = HOLD_SLACK * thickness, gap = 0.0, speed = 0.0;
+        vec3 normal = vec3(0.0);
+        for (uint k = 0u; k < contact_u.collider_count; k++) {
+            cvk_gpu_collider c = shapes_u[k];
+            cvk_gpu_pose pose = poses_u[k];
+            vec3 l = quat_rotate_inverse(pose.rotation0, xp - pose.translation0.xyz);
+            float g = shape_distance(c, l) - thickness;
+            vec3 n = quat_rotate(pose.rotation0, shape_normal(c, l));
+            vec3 surface = (quat_rotate(pose.rotation1, l) + pose.translation1.xyz - xp) / h;
+            float u = dot(vp - surface, n);
+            float ends = g + h * u;
+            if (ends < best) {
+                best = ends;
+                gap = g;
+                speed = u;
+                normal = n;
+            }
+        }
+        bool held = dot(normal, normal) > 0.0;
+        if (held) {
+            xp -= min(gap, 0.0) * normal;
+            vp += (-max(gap, 0.0) / h - speed) * normal;
+            x[p].xyz = xp;
+            v[p].xyz = vp;
+        }
+        contact_filter[p] = vec4(normal, held ? 1.0 : 0.0);
+    }
+}
