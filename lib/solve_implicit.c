@@ -176,6 +176,25 @@ void cvk_implicit_stats(const cvk_sim* s, cvk_sim_stats* st)
     st->solver_breakdowns = scalars.breakdown;
 }
 
+cvk_result cvk_implicit_read_held(cvk_sim* s, float* held, cvk_error* error)
+{
+    if (s->family != &cvk_family_implicit)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_implicit_read_held: the simulation does not solve with implicit");
+    cvk_implicit* im = s->family_state;
+    const cvk_build* b = &s->build;
+    float* filter = malloc(im->filter.size);
+    if (!filter)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the filter");
+    cvk_result r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd, &im->filter,
+                                       filter, im->filter.size, error);
+    for (uint32_t p = 0; r == CVK_SUCCESS && p < b->particle_count; p++)
+        for (int c = 0; c < 4; c++)
+            held[4 * (size_t)b->user_of[p] + c] = p < b->free_count ? filter[4 * p + c] : 0.0f;
+    free(filter);
+    return r;
+}
+
 /* Enough reduction invocations to use the device, few enough that one invocation sums them
    quickly: at most 16 workgroups. */
 static uint32_t partial_count(const cvk_sim* s, const cvk_plan* plan)

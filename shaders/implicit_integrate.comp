@@ -1,6 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// v = (v + dv) (1 - damping), x += h v, from the iterate that holds the solution.
+// v = (v + dv) (1 - damping), x += h v, from the iterate that holds the solution (damping
+// only across the normal of a particle held on a collider).
 //
 // With colliders, the release of a held particle (one-sided contact): the unfiltered system's
 // residual along its normal, n.(b - A dv), is the push the surface would have to pull with to
@@ -31,14 +32,20 @@ void main()
     bool second = scalars.result != 0u;
     for (uint p = gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride()) {
         vec3 dv = solution(second, p);
+        vec3 vel = v[p].xyz + dv;
         if (FILTER) {
             vec3 n = contact_filter[p].xyz;
             float pull = dot(n, residual(second, p, dv, v[p].w));
             float stiffness = dot(n, sym_mul(diag[4u * p], diag[4u * p + 1u], n));
-            if (pull > 0.0)
-                dv += (pull / stiffness) * n;
+            if (pull > 0.0) {
+                vel += (pull / stiffness) * n;
+                contact_filter[p].w = 2.0; // released (for tests: cvk_implicit_read_held)
+            }
+            // Damping leaves the prescribed component along n alone (it ends on the surface).
+            vel = pc.keep * vel + (1.0 - pc.keep) * dot(vel, n) * n;
+        } else {
+            vel *= pc.keep;
         }
-        vec3 vel = (v[p].xyz + dv) * pc.keep;
         v[p].xyz = vel;
         x[p].xyz += pc.h * vel;
     }
