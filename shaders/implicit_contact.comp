@@ -3,9 +3,9 @@
 // Contact constraints of the implicit solve, per free particle at the start of the substep
 // (the colliders posed at t and t + h by collider_poses.comp). A particle is held on the
 // collider whose surface it would reach first: its gap g = distance - thickness, its velocity
-// relative to the surface along the outward normal n (the collider's material point at x,
-// moved from its pose at t to its pose at t + h) is u, and it is held when g + h u, where it
-// ends the substep at its present velocity, is below HOLD_SLACK thicknesses. Held:
+// relative to the surface along the outward normal n is u (its motion at its present velocity
+// over the substep in the collider's moving frame, as collide_colliders measures it), and it
+// is held when g + h u, where it would end the substep, is below HOLD_SLACK thicknesses. Held:
 //   - inside (g < 0), x moves out along n onto the surface (Baraff & Witkin's position
 //     alteration, seed 000 section 4.5): no velocity is made from the correction;
 //   - its velocity along n becomes the one that ends the substep on the surface, u = -g / h
@@ -31,17 +31,18 @@ void main()
         for (uint k = 0u; k < contact_u.collider_count; k++) {
             cvk_gpu_collider c = shapes_u[k];
             cvk_gpu_pose pose = poses_u[k];
-            vec3 l = quat_rotate_inverse(pose.rotation0, xp - pose.translation0.xyz);
-            float g = shape_distance(c, l) - thickness;
-            vec3 n = quat_rotate(pose.rotation0, shape_normal(c, l));
-            vec3 surface = (quat_rotate(pose.rotation1, l) + pose.translation1.xyz - xp) / h;
-            float u = dot(vp - surface, n);
-            float ends = g + h * u;
+            // Where the particle is in the collider's frame now and, at its present
+            // velocity, at the end of the substep (as collide_colliders measures motion).
+            vec3 l0 = quat_rotate_inverse(pose.rotation0, xp - pose.translation0.xyz);
+            vec3 l1 = quat_rotate_inverse(pose.rotation1, xp + h * vp - pose.translation1.xyz);
+            float g = shape_distance(c, l0) - thickness;
+            vec3 n = shape_normal(c, l0);
+            float ends = g + dot(n, l1 - l0);
             if (ends < best) {
                 best = ends;
                 gap = g;
-                speed = u;
-                normal = n;
+                speed = dot(n, l1 - l0) / h;
+                normal = quat_rotate(pose.rotation0, n);
             }
         }
         bool held = dot(normal, normal) > 0.0;
