@@ -8,7 +8,8 @@
      no free particle is deeper than DEEPEST thicknesses into the plane's thickness, every held
      particle lies at the thickness to float rounding, the pinned corner keeps its bits, and
      the cloth comes to rest;
-   - a cloth dropped on a sphere stays out of it, its held particles at the thickness;
+   - a cloth dropped on a sphere and on a box stays out of it, its held particles at the
+     thickness;
    - a plane moved up by keyframes lifts the cloth lying on it, which stays on it;
    - self-contact with implicit is refused with its message. */
 #include "build.h"
@@ -303,6 +304,15 @@ static void set_plane(drop_run* d, const float point[3], const float normal[3])
 static double surface_distance(const drop_run* d, const float* p, double t)
 {
     const cvk_collider_desc* c = &d->collider;
+    if (c->type == CVK_COLLIDER_BOX) { /* axis-aligned here */
+        double outside = 0.0, inside = -INFINITY;
+        for (int k = 0; k < 3; k++) {
+            double q = fabs(p[k] - c->center[k]) - c->half_extents[k];
+            outside += q > 0.0 ? q * q : 0.0;
+            inside = fmax(inside, q);
+        }
+        return sqrt(outside) + fmin(inside, 0.0);
+    }
     if (c->type == CVK_COLLIDER_SPHERE) {
         double r[3] = {p[0] - c->center[0], p[1] - c->center[1], p[2] - c->center[2]};
         return sqrt(dot3d(r, r)) - c->radius;
@@ -415,6 +425,18 @@ static void drop_on_sphere(cvk_context* ctx)
     run_drop(ctx, &d, 60, 1e-4, "cg on a sphere");
 }
 
+static void drop_on_box(cvk_context* ctx)
+{
+    drop_run d;
+    make_drop(&d, CVK_LINEAR_CG, 0.3f, false);
+    d.collider = cvk_default_collider_desc();
+    d.collider.type = CVK_COLLIDER_BOX;
+    d.collider.center[1] = 0.1f;
+    d.collider.half_extents[0] = d.collider.half_extents[1] = d.collider.half_extents[2] = 0.1f;
+    /* on the top face exactly; round its edges as over a sphere */
+    run_drop(ctx, &d, 60, 1e-4, "cg on a box");
+}
+
 /* A plane rising at 0.2 m/s under a cloth lying on it. */
 static void lifted_by_plane(cvk_context* ctx)
 {
@@ -467,6 +489,7 @@ int main(void)
     drop_on_plane(ctx, CVK_LINEAR_CG);
     drop_on_plane(ctx, CVK_LINEAR_JACOBI);
     drop_on_sphere(ctx);
+    drop_on_box(ctx);
     lifted_by_plane(ctx);
     return harness_finish(ctx);
 }
