@@ -335,9 +335,12 @@ static void solve_jacobi(lin_system* s, const cvk_implicit_params* ip, cvk_impli
 }
 
 /* A held particle whose residual along its normal, n·(b − A dv), is positive (the surface
-   would have to pull) leaves with the normal velocity one block-Jacobi step gives it
-   (implicit_integrate.comp). Reads the neighbours' dv, so s->dv2 receives the result. */
-static void release(lin_system* s, size_t p)
+   would have to pull) leaves with the normal velocity one block-Jacobi step gives it; one that
+   stays loses tangential velocity to Coulomb friction for the impulse −n·(b − A dv) on its
+   mass (static planes: relative to rest). implicit_integrate.comp. Reads the neighbours' dv,
+   so s->dv2 receives the velocity change. */
+static void contact_response(lin_system* s, const cvk_implicit_params* ip, const double* v,
+                             size_t p)
 {
     const double* n = &s->held[3 * p];
     double* dv = &s->dv[3 * p];
@@ -354,8 +357,23 @@ static void release(lin_system* s, size_t p)
     }
     sym_mul(&s->diag[p], n, an);
     double pull = dot3(n, res), stiffness = dot3(n, an);
+    double* out = &s->dv2[3 * p];
     for (int i = 0; i < 3; i++)
-        s->dv2[3 * p + i] = dv[i] + (pull > 0.0 ? pull / stiffness * n[i] : 0.0);
+        out[i] = dv[i] + (pull > 0.0 ? pull / stiffness * n[i] : 0.0);
+    if (pull > 0.0 || stiffness == 0.0) /* released, or not held */
+        return;
+    double vel[3], t[3];
+    for (int i = 0; i < 3; i++)
+        vel[i] = v[3 * p + i] + out[i];
+    double along = dot3(vel, n);
+    for (int i = 0; i < 3; i++)
+        t[i] = vel[i] - along * n[i];
+    double speed = sqrt(dot3(t, t)), push = -pull;
+    double keep = speed * m <= ip->static_friction * push
+                      ? 0.0
+                      : 1.0 - fmin(1.0, ip->friction * push / (m * speed));
+    for (int i = 0; i < 3; i++)
+        out[i] -= (1.0 - keep) * t[i];
 }
 
 cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
@@ -389,7 +407,7 @@ bool cvk_ref_implicit_substep(const cvk_build* b, const cvk_implicit_params* ip,
     else
         solve_cg(&s, ip, &rep);
     for (size_t p = 0; p < s.nf; p++)
-        release(&s, p);
+        contact_response(&s, ip, v, p);
     double* released = s.dv2;
     s.dv2 = s.dv;
     s.dv = released;

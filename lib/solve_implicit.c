@@ -334,7 +334,10 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
         plan_jacobi(&ib, solver->max_iterations);
     else
         plan_cg(&ib, solver->max_iterations);
-    add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate", 0);
+    op = add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate",
+             0);
+    if (op)
+        op->set1 = s->collide.set; /* friction: the colliders' coefficients and poses */
     snprintf(plan->solver_note, sizeof plan->solver_note,
              ", tolerance %g, at most %u iterations (stopped on the device), kd %g N s/m",
              solver->tolerance, solver->max_iterations, solver->kd);

@@ -24,6 +24,7 @@ typedef struct cvk_implicit_params {
     const double (*planes)[6];
     uint32_t plane_count;
     double thickness;
+    double friction, static_friction; /* Coulomb coefficients against every plane */
 } cvk_implicit_params;
 
 cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
@@ -44,8 +45,9 @@ bool cvk_ref_implicit_substep(const cvk_build* build, const cvk_implicit_params*
                               double* x, double* v, cvk_implicit_report* report);
 
 /* The contact filter of the last substep, for tests: 4 floats per particle in the user's
-   order, the unit normal of the collider it was held on and 1 (2: released at the end of the
-   substep), 0 for a free or pinned one. The simulation must solve with this family. */
+   order, the unit normal of the collider it was held on and 1 + the collider's index (its
+   negative: released at the end of the substep), 0 for a free or pinned one. The simulation
+   must solve with this family. */
 cvk_result cvk_implicit_read_held(cvk_sim* sim, float* held, cvk_error* error);
 
 /* The solver_* fields of `st` (0 unless the simulation solves with this family); the

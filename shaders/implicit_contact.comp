@@ -10,8 +10,9 @@
 //     alteration, seed 000 section 4.5): no velocity is made from the correction;
 //   - its velocity along n becomes the one that ends the substep on the surface, u = -g / h
 //     (the surface's own for a particle on it);
-//   - its filter is n (S = I - n n^T): the solve leaves that component alone.
-// Every other particle's filter is 0. Release: implicit_integrate.comp. Without friction.
+//   - its filter is n (S = I - n n^T): the solve leaves that component alone, and w is 1 + the
+//     collider's index (its friction and motion, implicit_integrate.comp).
+// Every other particle's filter is 0. Release and friction: implicit_integrate.comp.
 #define IMPLICIT_CONTACT 1
 #include "implicit_common.glsl"
 
@@ -28,6 +29,7 @@ void main()
         vec3 vp = v[p].xyz;
         float best = HOLD_SLACK * thickness, gap = 0.0, speed = 0.0;
         vec3 normal = vec3(0.0);
+        uint which = 0u; // 1 + the collider it is held on
         for (uint k = 0u; k < contact_u.collider_count; k++) {
             cvk_gpu_collider c = shapes_u[k];
             cvk_gpu_pose pose = poses_u[k];
@@ -47,6 +49,7 @@ void main()
                 gap = g;
                 speed = dot(n, l1 - l0) / h;
                 normal = quat_rotate(pose.rotation0, n);
+                which = k + 1u;
             }
         }
         bool held = dot(normal, normal) > 0.0;
@@ -56,6 +59,6 @@ void main()
             x[p].xyz = xp;
             v[p].xyz = vp;
         }
-        contact_filter[p] = vec4(normal, held ? 1.0 : 0.0);
+        contact_filter[p] = vec4(normal, float(which));
     }
 }
