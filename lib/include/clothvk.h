@@ -183,7 +183,7 @@ CVK_API uint32_t cvk_context_validation_message_count(const cvk_context* context
 typedef enum cvk_method {
     CVK_METHOD_PD = 0, /* projective dynamics (Liu et al. 2013), Verlet prediction */
     CVK_METHOD_IMPLICIT, /* backward Euler, one linearised Newton step per substep (Baraff & Witkin);
-                            colliders as filtered constraints, no friction, no self-contact */
+                            colliders as filtered constraints, no self-contact */
     CVK_METHOD_EXPLICIT, /* explicit mass-spring integration (seed 001): euler, rk2, adams-bashforth, verlet */
 } cvk_method;
 
