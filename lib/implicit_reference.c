@@ -78,6 +78,7 @@ typedef struct lin_system {
     size_t nf;
     sym *diag, *inv, *off; /* inv: P's factors (factor()); off: H per slot, slot-major */
     double *rhs, *dv, *dv2, *r, *z, *p, *q;
+    double* held; /* the contact normal per free particle, 0 when not held (the filter) */
 } lin_system;
 
 static void system_free(lin_system* s)
@@ -95,18 +96,77 @@ static bool system_alloc(lin_system* s, const cvk_build* b)
     s->diag = calloc(nf + 1, sizeof(sym));
     s->inv = calloc(nf + 1, sizeof(sym));
     s->off = calloc(slots + 1, sizeof(sym));
-    s->rhs = calloc(21 * nf + 1, sizeof(double)); /* rhs, dv, dv2, r, z, p, q */
+    s->rhs = calloc(24 * nf + 1, sizeof(double)); /* rhs, dv, dv2, r, z, p, q, held */
     if (!s->diag || !s->inv || !s->off || !s->rhs) {
         system_free(s);
         return false;
     }
-    double** arrays[] = {&s->dv, &s->dv2, &s->r, &s->z, &s->p, &s->q};
-    for (size_t i = 0; i < 6; i++)
+    double** arrays[] = {&s->dv, &s->dv2, &s->r, &s->z, &s->p, &s->q, &s->held};
+    for (size_t i = 0; i < 7; i++)
         *arrays[i] = s->rhs + 3 * nf * (i + 1);
     return true;
 }
 
-/* The blocks, b, dv = 0 and r = b (implicit_assemble.comp). */
+/* w less its part along p's contact normal: the filter S = I − n nᵀ (S = I when not held). */
+static void filter(const lin_system* s, size_t p, double* w)
+{
+    const double* n = &s->held[3 * p];
+    double along = dot3(w, n);
+    for (int i = 0; i < 3; i++)
+        w[i] -= along * n[i];
+}
+
+/* A held particle's preconditioner block: S A S + m n nᵀ = A − n aᵀ − a nᵀ + (n·a + m) n nᵀ,
+   a = A n. */
+static sym tangent_block(const sym* a, const double* n, double m)
+{
+    double an[3];
+    sym_mul(a, n, an);
+    double c = dot3(n, an) + m;
+    const int row[6] = {0, 1, 2, 0, 0, 1}, col[6] = {0, 1, 2, 1, 2, 2};
+    sym out = *a;
+    for (int k = 0; k < 6; k++) {
+        int i = row[k], j = col[k];
+        out.m[k] -= n[i] * an[j] + an[i] * n[j] - c * n[i] * n[j];
+    }
+    return out;
+}
+
+/* Contact at the substep's start (implicit_contact.comp): each free particle that would end
+   the substep within HOLD_SLACK thicknesses of a plane's offset surface at its velocity is
+   held on the nearest such plane: moved out onto it if inside, its normal velocity set to end
+   on it, its filter the plane's normal. */
+#define HOLD_SLACK 0.01
+static void contact(lin_system* s, const cvk_implicit_params* ip, double* x, double* v)
+{
+    double h = ip->h;
+    for (size_t p = 0; p < s->nf; p++) {
+        double best = HOLD_SLACK * ip->thickness, gap = 0.0, speed = 0.0;
+        const double* normal = NULL;
+        for (uint32_t k = 0; k < ip->plane_count; k++) {
+            const double* plane = ip->planes[k];
+            double rel[3] = {x[3 * p] - plane[0], x[3 * p + 1] - plane[1], x[3 * p + 2] - plane[2]};
+            double g = dot3(rel, plane + 3) - ip->thickness, u = dot3(&v[3 * p], plane + 3);
+            if (g + h * u < best) {
+                best = g + h * u;
+                gap = g;
+                speed = u;
+                normal = plane + 3;
+            }
+        }
+        double* held = &s->held[3 * p];
+        held[0] = held[1] = held[2] = 0.0;
+        if (!normal)
+            continue;
+        for (int i = 0; i < 3; i++) {
+            held[i] = normal[i];
+            x[3 * p + i] -= fmin(gap, 0.0) * normal[i];
+            v[3 * p + i] += (-fmax(gap, 0.0) / h - speed) * normal[i];
+        }
+    }
+}
+
+/* The blocks, b, dv = 0 and r = S b (implicit_assemble.comp). */
 static void assemble(lin_system* s, const cvk_implicit_params* ip, const double* x, const double* v)
 {
     const cvk_build* b = s->b;
@@ -148,12 +208,14 @@ static void assemble(lin_system* s, const cvk_implicit_params* ip, const double*
             s->off[e] = hb;
         }
         s->diag[p] = a;
-        s->inv[p] = factor(&a, m);
+        sym pre = tangent_block(&a, &s->held[3 * p], m);
+        s->inv[p] = factor(&pre, m);
         for (int i = 0; i < 3; i++) {
             s->rhs[3 * p + i] = h * f[i] - h * h * kv[i];
             s->r[3 * p + i] = s->rhs[3 * p + i];
             s->dv[3 * p + i] = 0.0;
         }
+        filter(s, p, &s->r[3 * p]);
     }
 }
 
@@ -179,6 +241,7 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
     double rho = 0.0;
     for (size_t p = 0; p < nf; p++) {
         rho += precondition(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
+        filter(s, p, &s->z[3 * p]);
         memcpy(&s->p[3 * p], &s->z[3 * p], 3 * sizeof(double));
     }
     double rho0 = rho, tol2 = ip->tolerance * ip->tolerance;
@@ -205,6 +268,7 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
                     s->q[3 * p + i] += hd[i];
                 pq += (c < nf ? 0.5 : 1.0) * dot3(d, hd);
             }
+            filter(s, p, &s->q[3 * p]);
         }
         if (!(pq > 0.0) || isinf(pq)) { /* negative, zero or not finite */
             rep->breakdown = true;
@@ -215,8 +279,10 @@ static void solve_cg(lin_system* s, const cvk_implicit_params* ip, cvk_implicit_
             s->dv[i] += alpha * s->p[i];
             s->r[i] -= alpha * s->q[i];
         }
-        for (size_t p = 0; p < nf; p++)
+        for (size_t p = 0; p < nf; p++) {
             next += precondition(&s->inv[p], &s->r[3 * p], &s->z[3 * p]);
+            filter(s, p, &s->z[3 * p]);
+        }
         rep->iterations++;
         if (!(next >= 0.0) || isinf(next)) {
             rep->breakdown = true;
@@ -244,7 +310,9 @@ static void solve_jacobi(lin_system* s, const cvk_implicit_params* ip, cvk_impli
             neighbour_sum(s, p, s->dv, acc);
             for (int i = 0; i < 3; i++)
                 acc[i] += s->rhs[3 * p + i];
+            filter(s, p, acc);
             precondition(&s->inv[p], acc, next);
+            filter(s, p, next);
             for (int i = 0; i < 3; i++)
                 change[i] = next[i] - s->dv[3 * p + i];
             delta += block_norm(&s->inv[p], change);
@@ -264,6 +332,48 @@ static void solve_jacobi(lin_system* s, const cvk_implicit_params* ip, cvk_impli
         if (!(delta > tol2 * delta0))
             return;
     }
+}
+
+/* A held particle whose residual along its normal, n·(b − A dv), is positive (the surface
+   would have to pull) leaves with the normal velocity one block-Jacobi step gives it; one that
+   stays loses tangential velocity to Coulomb friction for the impulse −n·(b − A dv) on its
+   mass (static planes: relative to rest). implicit_integrate.comp. Reads the neighbours' dv,
+   so s->dv2 receives the velocity change. */
+static void contact_response(lin_system* s, const cvk_implicit_params* ip, const double* v,
+                             size_t p)
+{
+    const double* n = &s->held[3 * p];
+    double* dv = &s->dv[3 * p];
+    double res[3], an[3];
+    neighbour_sum(s, p, s->dv, res); /* Σ H dv_c over unknown neighbours */
+    double m = s->b->mass[p];
+    for (int i = 0; i < 3; i++)
+        res[i] += s->rhs[3 * p + i] - m * dv[i];
+    for (uint32_t slot = 0; slot < s->b->max_degree; slot++) {
+        double hd[3];
+        sym_mul(&s->off[(size_t)slot * s->nf + p], dv, hd);
+        for (int i = 0; i < 3; i++)
+            res[i] -= hd[i];
+    }
+    sym_mul(&s->diag[p], n, an);
+    double pull = dot3(n, res), stiffness = dot3(n, an);
+    double* out = &s->dv2[3 * p];
+    for (int i = 0; i < 3; i++)
+        out[i] = dv[i] + (pull > 0.0 ? pull / stiffness * n[i] : 0.0);
+    if (pull > 0.0 || stiffness == 0.0) /* released, or not held */
+        return;
+    double vel[3], t[3];
+    for (int i = 0; i < 3; i++)
+        vel[i] = v[3 * p + i] + out[i];
+    double along = dot3(vel, n);
+    for (int i = 0; i < 3; i++)
+        t[i] = vel[i] - along * n[i];
+    double speed = sqrt(dot3(t, t)), push = -pull;
+    double keep = speed * m <= ip->static_friction * push
+                      ? 0.0
+                      : 1.0 - fmin(1.0, ip->friction * push / (m * speed));
+    for (int i = 0; i < 3; i++)
+        out[i] -= (1.0 - keep) * t[i];
 }
 
 cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
@@ -290,17 +400,29 @@ bool cvk_ref_implicit_substep(const cvk_build* b, const cvk_implicit_params* ip,
     lin_system s;
     if (!system_alloc(&s, b))
         return false;
+    contact(&s, ip, x, v);
     assemble(&s, ip, x, v);
     if (ip->linear == CVK_LINEAR_JACOBI)
         solve_jacobi(&s, ip, &rep);
     else
         solve_cg(&s, ip, &rep);
     for (size_t p = 0; p < s.nf; p++)
+        contact_response(&s, ip, v, p);
+    double* released = s.dv2;
+    s.dv2 = s.dv;
+    s.dv = released;
+    for (size_t p = 0; p < s.nf; p++) {
+        /* damping leaves a held particle's component along its normal alone */
+        const double* n = &s.held[3 * p];
+        double vel[3];
+        for (int i = 0; i < 3; i++)
+            vel[i] = v[3 * p + i] + s.dv[3 * p + i];
+        double along = dot3(vel, n);
         for (int i = 0; i < 3; i++) {
-            double vel = (v[3 * p + i] + s.dv[3 * p + i]) * ip->keep;
-            v[3 * p + i] = vel;
-            x[3 * p + i] += ip->h * vel;
+            v[3 * p + i] = ip->keep * vel[i] + (1.0 - ip->keep) * along * n[i];
+            x[3 * p + i] += ip->h * v[3 * p + i];
         }
+    }
     system_free(&s);
     if (report)
         *report = rep;

@@ -10,7 +10,7 @@
    40 x 40 and a 100 x 100 grid, the difference over 8400 particles): 168 with 4 springs per
    particle, 280 with 12 (14 per spring slot over 112), 458 with self-contact (+179: the hash's
    keys, ranges, candidates), 844 with implicit Euler (+564 at 12 slots: 3x3 blocks per slot
-   and the CG vectors, 47 per slot). The coefficients round each up by about a tenth, so the
+   and the CG vectors, 47 per slot; the contact filter added 16 since). The coefficients round each up by about a tenth, so the
    estimate bounds what is made without overstating it by more than a few tens of percent. */
 #define DEVICE_BASE 125u
 #define DEVICE_PER_SLOT 16u

@@ -31,6 +31,9 @@ typedef struct cvk_spec_recipe {
 /* The prediction (id 3 of shaders/predict.comp; id 2 unused). */
 #define CVK_SPEC_PREDICT {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND}}
+/* The implicit passes (id 2 of shaders/implicit_common.glsl: the contact filter is compiled in
+   only for a scene with colliders). */
+#define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 
@@ -63,18 +66,19 @@ typedef struct cvk_spec_recipe {
     X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
     X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
     X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours") \
-    X(IMPLICIT_ASSEMBLE, IMPLICIT_ASSEMBLE_COMP, CVK_SPEC_PD, "implicit: blocks, b, dv = 0") \
-    X(IMPLICIT_CG_START, IMPLICIT_CG_START_COMP, CVK_SPEC_PD, "cg: z = P^-1 r, p = z, r.z") \
-    X(IMPLICIT_CG_RHO0, IMPLICIT_RHO0_COMP, CVK_SPEC_PD, "cg: rho0") \
-    X(IMPLICIT_CG_PRODUCT, IMPLICIT_CG_PRODUCT_COMP, CVK_SPEC_PD, "cg: q = A p, p.q") \
-    X(IMPLICIT_CG_ALPHA, IMPLICIT_ALPHA_COMP, CVK_SPEC_PD, "cg: alpha") \
-    X(IMPLICIT_CG_UPDATE, IMPLICIT_CG_UPDATE_COMP, CVK_SPEC_PD, "cg: dv, r, z, r.z") \
-    X(IMPLICIT_CG_BETA, IMPLICIT_BETA_COMP, CVK_SPEC_PD, "cg: beta, stop test") \
-    X(IMPLICIT_CG_DIRECTION, IMPLICIT_CG_DIRECTION_COMP, CVK_SPEC_PD, "cg: p = z + beta p") \
-    X(IMPLICIT_JACOBI_EVEN, IMPLICIT_JACOBI_EVEN_COMP, CVK_SPEC_PD, "block jacobi: dv0 -> dv1") \
-    X(IMPLICIT_JACOBI_ODD, IMPLICIT_JACOBI_ODD_COMP, CVK_SPEC_PD, "block jacobi: dv1 -> dv0") \
-    X(IMPLICIT_JACOBI_CHECK, IMPLICIT_JACOBI_CHECK_COMP, CVK_SPEC_PD, "block jacobi: stop test") \
-    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_PD, "v += dv, x += h v") \
+    X(IMPLICIT_CONTACT, IMPLICIT_CONTACT_COMP, CVK_SPEC_IMPLICIT, "implicit: held on colliders, S") \
+    X(IMPLICIT_ASSEMBLE, IMPLICIT_ASSEMBLE_COMP, CVK_SPEC_IMPLICIT, "implicit: blocks, b, dv = 0") \
+    X(IMPLICIT_CG_START, IMPLICIT_CG_START_COMP, CVK_SPEC_IMPLICIT, "cg: z = P^-1 r, p = z, r.z") \
+    X(IMPLICIT_CG_RHO0, IMPLICIT_RHO0_COMP, CVK_SPEC_IMPLICIT, "cg: rho0") \
+    X(IMPLICIT_CG_PRODUCT, IMPLICIT_CG_PRODUCT_COMP, CVK_SPEC_IMPLICIT, "cg: q = A p, p.q") \
+    X(IMPLICIT_CG_ALPHA, IMPLICIT_ALPHA_COMP, CVK_SPEC_IMPLICIT, "cg: alpha") \
+    X(IMPLICIT_CG_UPDATE, IMPLICIT_CG_UPDATE_COMP, CVK_SPEC_IMPLICIT, "cg: dv, r, z, r.z") \
+    X(IMPLICIT_CG_BETA, IMPLICIT_BETA_COMP, CVK_SPEC_IMPLICIT, "cg: beta, stop test") \
+    X(IMPLICIT_CG_DIRECTION, IMPLICIT_CG_DIRECTION_COMP, CVK_SPEC_IMPLICIT, "cg: p = z + beta p") \
+    X(IMPLICIT_JACOBI_EVEN, IMPLICIT_JACOBI_EVEN_COMP, CVK_SPEC_IMPLICIT, "block jacobi: dv0 -> dv1") \
+    X(IMPLICIT_JACOBI_ODD, IMPLICIT_JACOBI_ODD_COMP, CVK_SPEC_IMPLICIT, "block jacobi: dv1 -> dv0") \
+    X(IMPLICIT_JACOBI_CHECK, IMPLICIT_JACOBI_CHECK_COMP, CVK_SPEC_IMPLICIT, "block jacobi: stop test") \
+    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_IMPLICIT, "v += dv, x += h v") \
     X(EXPLICIT_FORCE, EXPLICIT_FORCE_COMP, CVK_SPEC_PD, "explicit: a = f(x, v) / m") \
     X(EXPLICIT_UPDATE, EXPLICIT_UPDATE_COMP, CVK_SPEC_PD, "explicit: x, v from a (the integrator's rule)")
 

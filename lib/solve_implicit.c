@@ -20,6 +20,7 @@ typedef struct cvk_implicit {
     /* Velocities (w: mass), adjacency, per-particle and per-slot blocks, the system's vectors,
        partial sums and the scalars (host-visible, read for the statistics). */
     cvk_buffer v, adjacency, diag, offdiag, rhs, dv[2], r, z, p, q, partials, scalars;
+    cvk_buffer filter; /* the contact filter's normal per free particle (implicit_contact.comp) */
     VkBufferView view_p, view_offdiag; /* the product's texel reads */
     cvk_descriptors descriptors;
     VkCommandBuffer readback_cmd; /* positions and velocities -> staging */
@@ -51,6 +52,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
         {&im->z, nf16, CVK_MEMORY_DEVICE, "CG preconditioned residual"},
         {&im->p, nf16, CVK_MEMORY_DEVICE, "CG direction"},
         {&im->q, nf16, CVK_MEMORY_DEVICE, "CG product"},
+        {&im->filter, nf16, CVK_MEMORY_DEVICE, "contact filter"},
         {&im->partials, (VkDeviceSize)PARTIALS_CAPACITY(b->free_count) * 4u, CVK_MEMORY_DEVICE,
          "partial sums"},
         {&im->scalars, sizeof(cvk_implicit_scalars), CVK_MEMORY_HOST, "solver scalars"},
@@ -77,18 +79,21 @@ static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 #define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
 static const cvk_binding implicit_bindings[CVK_IMPLICIT_BINDING_COUNT] = {
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
-    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, TEXEL,   TEXEL,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, STORAGE,
+    STORAGE, STORAGE, STORAGE, STORAGE, STORAGE, TEXEL,   TEXEL,   STORAGE,
 };
 #undef STORAGE
 #undef TEXEL
 
 static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
 {
-    cvk_result r = cvk_descriptors_create(s->context, implicit_bindings,
-                                          CVK_IMPLICIT_BINDING_COUNT, 1,
-                                          VK_SHADER_STAGE_COMPUTE_BIT,
-                                          sizeof(cvk_implicit_push), &im->descriptors, error);
+    /* Set 1 is the contact set: the contact pass reads the colliders (shaders/collide.glsl). */
+    cvk_result r = cvk_descriptors_create_with(s->context, implicit_bindings,
+                                               CVK_IMPLICIT_BINDING_COUNT, 1,
+                                               VK_SHADER_STAGE_COMPUTE_BIT,
+                                               sizeof(cvk_implicit_push),
+                                               &s->collide.set_layout, 1, &im->descriptors,
+                                               error);
     if (r != CVK_SUCCESS)
         return r;
     const cvk_resource res[CVK_IMPLICIT_BINDING_COUNT] = {
@@ -108,6 +113,7 @@ static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
         [CVK_IMPLICIT_BINDING_SCALARS] = {.buffer = &im->scalars},
         [CVK_IMPLICIT_BINDING_P_READ] = {.view = im->view_p},
         [CVK_IMPLICIT_BINDING_OFFDIAG_READ] = {.view = im->view_offdiag},
+        [CVK_IMPLICIT_BINDING_FILTER] = {.buffer = &im->filter},
     };
     cvk_descriptors_write(s->context, &im->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -168,6 +174,25 @@ void cvk_implicit_stats(const cvk_sim* s, cvk_sim_stats* st)
     st->solver_iterations = scalars.frame_iterations;
     st->solver_iterations_total = scalars.total_iterations;
     st->solver_breakdowns = scalars.breakdown;
+}
+
+cvk_result cvk_implicit_read_held(cvk_sim* s, float* held, cvk_error* error)
+{
+    if (s->family != &cvk_family_implicit)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_implicit_read_held: the simulation does not solve with implicit");
+    cvk_implicit* im = s->family_state;
+    const cvk_build* b = &s->build;
+    float* filter = malloc(im->filter.size);
+    if (!filter)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the filter");
+    cvk_result r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd, &im->filter,
+                                       filter, im->filter.size, error);
+    for (uint32_t p = 0; r == CVK_SUCCESS && p < b->particle_count; p++)
+        for (int c = 0; c < 4; c++)
+            held[4 * (size_t)b->user_of[p] + c] = p < b->free_count ? filter[4 * p + c] : 0.0f;
+    free(filter);
+    return r;
 }
 
 /* Enough reduction invocations to use the device, few enough that one invocation sums them
@@ -282,6 +307,17 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
     };
     for (int c = 0; c < 3; c++)
         ib.push.gravity[c] = (float)ip.gravity[c];
+    if (s->collide.collider_count > 0) {
+        uint32_t contact = cvk_plan_pass(plan, "contact");
+        cvk_op* op = add(&ib, contact, CVK_PIPE_IMPLICIT_CONTACT, SHAPE_DIRECT,
+                         "held on colliders: x, v along n, S = I - n n^T", 0);
+        if (op) {
+            op->set1 = s->collide.set;
+            /* each particle loops over the colliders: one per invocation keeps lavapipe's
+               per-shader loop budget (hash.h) out of reach */
+            cvk_hash_one_item_each(plan, op);
+        }
+    }
     uint32_t assemble = cvk_plan_pass(plan, "assemble");
     ib.solve = cvk_plan_pass(plan, "solve");
     uint32_t integrate = cvk_plan_pass(plan, "integrate");
@@ -298,7 +334,10 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
         plan_jacobi(&ib, solver->max_iterations);
     else
         plan_cg(&ib, solver->max_iterations);
-    add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate", 0);
+    op = add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate",
+             0);
+    if (op)
+        op->set1 = s->collide.set; /* friction: the colliders' coefficients and poses */
     cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_IMPLICIT, plan, error); /* after x += h v */
     if (r != CVK_SUCCESS)
         return r;
@@ -327,7 +366,7 @@ static void implicit_destroy(cvk_sim* s, void* self)
             vkDestroyBufferView(s->context->device, views[i], NULL);
     cvk_buffer* buffers[] = {&im->v, &im->adjacency, &im->diag, &im->offdiag, &im->rhs,
                              &im->dv[0], &im->dv[1], &im->r, &im->z, &im->p, &im->q,
-                             &im->partials, &im->scalars};
+                             &im->partials, &im->scalars, &im->filter};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (im->readback_cmd)
@@ -340,6 +379,17 @@ static cvk_result implicit_set_torn(cvk_sim* s, void* self, const uint32_t* aliv
 {
     cvk_implicit* im = self;
     return cvk_vstate_set_torn(s, &im->adjacency, alive, error);
+}
+
+/* No particle is held before the first contact pass. */
+static cvk_result zero_filter(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+{
+    void* zeros = calloc(1, im->filter.size);
+    if (!zeros)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
+    cvk_result r = cvk_sim_upload(s, &im->filter, zeros, im->filter.size, error);
+    free(zeros);
+    return r;
 }
 
 static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
@@ -355,6 +405,8 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &im->readback_cmd, error);
     if (r == CVK_SUCCESS)
         r = create_set(s, im, error);
+    if (r == CVK_SUCCESS)
+        r = zero_filter(s, im, error);
     if (r == CVK_SUCCESS)
         r = cvk_vstate_upload_adjacency(s, &im->adjacency, NULL, error);
     if (r == CVK_SUCCESS)

@@ -19,6 +19,12 @@ typedef struct cvk_implicit_params {
     uint32_t max_iterations;
     cvk_linear_solver linear; /* CVK_LINEAR_CG or CVK_LINEAR_JACOBI */
     bool clamp;           /* clamp the compressive part of each spring block (keeps A SPD) */
+    /* The host reference's colliders: static planes, each a point and a unit outward normal
+       (m), kept `thickness` (m) away as shaders/implicit_contact.comp keeps every collider. */
+    const double (*planes)[6];
+    uint32_t plane_count;
+    double thickness;
+    double friction, static_friction; /* Coulomb coefficients against every plane */
 } cvk_implicit_params;
 
 cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
@@ -33,10 +39,16 @@ typedef struct cvk_implicit_report {
 } cvk_implicit_report;
 
 /* One backward-Euler substep on the host in double precision: x and v (3 per particle,
-   internal order; pinned entries untouched) advance by h. The same assembly, iteration and
-   stopping rule as the device. Returns false when out of memory. */
+   internal order; pinned entries untouched) advance by h. The same contact filter, assembly,
+   iteration, stopping rule and release as the device. Returns false when out of memory. */
 bool cvk_ref_implicit_substep(const cvk_build* build, const cvk_implicit_params* params,
                               double* x, double* v, cvk_implicit_report* report);
+
+/* The contact filter of the last substep, for tests: 4 floats per particle in the user's
+   order, the unit normal of the collider it was held on and 1 + the collider's index (its
+   negative: released at the end of the substep), 0 for a free or pinned one. The simulation
+   must solve with this family. */
+cvk_result cvk_implicit_read_held(cvk_sim* sim, float* held, cvk_error* error);
 
 /* The solver_* fields of `st` (0 unless the simulation solves with this family); the
    simulation's work must be complete. */

@@ -6,7 +6,8 @@
 //           factor 1 - L/l of a compressed spring is negative and A can lose definiteness)
 //   H     = h kd n n^T + h^2 K;  A_pp = m I + sum H,  A_pc = -H (c free)
 //   b_p   = h f_p - h^2 sum K (v_p - v_c)
-// and the start of the solve: dv = 0, r = b (CG), the factors of A_pp (block Jacobi).
+// and the start of the solve: dv = 0, r = S b (CG; S the contact filter, implicit_common.glsl),
+// the factors of A_pp (block Jacobi; of S A_pp S + m n n^T for a particle held on a collider).
 #include "implicit_common.glsl"
 
 void add_outer(inout vec4 s0, inout vec4 s1, vec3 n, float a, float t)
@@ -63,18 +64,29 @@ void main()
             offdiag[2u * e] = h0;
             offdiag[2u * e + 1u] = h1;
         }
+        diag[4u * p] = a0;
+        diag[4u * p + 1u] = a1;
+        vec3 rhs = h * f - h * h * kv;
+        b[p] = vec4(rhs, 0.0);
+        if (FILTER) {
+            // A held particle's preconditioner: S A_pp S + m n n^T = A_pp - n a^T - a n^T +
+            // (n.a + m) n n^T with a = A_pp n (unchanged when n = 0, a free particle).
+            vec3 n = contact_filter[p].xyz;
+            vec3 an = sym_mul(a0, a1, n);
+            float c = dot(n, an) + m;
+            a0 -= vec4(2.0 * n * an - c * n * n, n.x * an.y + an.x * n.y - c * n.x * n.y);
+            a1 -= vec4(n.x * an.z + an.x * n.z - c * n.x * n.z,
+                       n.y * an.z + an.y * n.z - c * n.y * n.z, 0.0, 0.0);
+            rhs = filtered(p, rhs);
+        }
         // L D L^T of the block, pivots clamped at m (see precondition()).
         float d0 = max(a0.x, m);
         float l10 = a0.w / d0, l20 = a1.x / d0;
         float d1 = max(a0.y - l10 * l10 * d0, m);
         float l21 = (a1.y - l20 * l10 * d0) / d1;
         float d2 = max(a0.z - l20 * l20 * d0 - l21 * l21 * d1, m);
-        diag[4u * p] = a0;
-        diag[4u * p + 1u] = a1;
         diag[4u * p + 2u] = vec4(l10, l20, l21, 0.0);
         diag[4u * p + 3u] = vec4(1.0 / d0, 1.0 / d1, 1.0 / d2, 0.0);
-        vec3 rhs = h * f - h * h * kv;
-        b[p] = vec4(rhs, 0.0);
         r[p] = vec4(rhs, 0.0);
         dv0[p] = vec4(0.0);
     }

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// CG: q = A p and the partial sums of p.q, one per invocation over a fixed stride (pc.partials
+// CG: q = S A p (S the contact filter) and the partial sums of p.q, one per invocation over a fixed stride (pc.partials
 // invocations), so the sum is the same bits every run. Reads go through texel buffers. A p is formed as m p_p + sum H (p_p -
 // p_c) and p.Ap as m |p|^2 + sum w (p_p - p_c).H (p_p - p_c) (w = 1/2 per end of a spring
 // between free particles, 1 towards a pinned one, whose p_c is 0): the diagonal form
@@ -32,7 +32,8 @@ void main()
             qp += hd;
             energy += (1.0 - 0.5 * free_c) * dot(d, hd);
         }
-        q[p] = vec4(qp, 0.0);
+        q[p] = vec4(filtered(p, qp), 0.0); // p.S A p = p.A p: p is filtered
+
         sum += energy;
     }
     partials[j] = sum;

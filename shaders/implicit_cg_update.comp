@@ -1,6 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// CG: dv += alpha p, r -= alpha q, z = P^-1 r (block Jacobi) and the partial sums of r.z.
+// CG: dv += alpha p, r -= alpha q, z = S P^-1 r (block Jacobi, filtered) and the partial sums
+// of r.z (r is filtered, so r.S P^-1 r = r.P^-1 r, the sum of squares precondition() forms).
 // With START (the first pass of a substep) only z = P^-1 r, p = z and the sums.
 #include "implicit_common.glsl"
 
@@ -25,7 +26,7 @@ void main()
         r[p] = vec4(rp, 0.0);
 #endif
         float rz;
-        vec3 zp = precondition(p, rp, rz);
+        vec3 zp = filtered(p, precondition(p, rp, rz));
         z[p] = vec4(zp, 0.0);
 #if START
         pdir[p] = vec4(zp, 0.0);

@@ -5,6 +5,15 @@
 // Pinned particles are the filter: they sit after the free ones and are no unknowns, so their
 // dv is 0 in every iterate (S = 0 there, S = I elsewhere). Every 3x3 block is symmetric and kept as two vec4: (xx, yy, zz, xy), (xz, yz).
 //
+// Contact (a scene with colliders: COLLIDER_TYPES != 0, specialisation id 2) adds the filter
+// S = I - n n^T of a free particle held on a collider along its outward normal n
+// (implicit_contact.comp writes n per substep, 0 for the others; Baraff & Witkin section 5,
+// seed 000 listing 4.1): r, z, q and every Jacobi iterate are filtered, so dv never has a
+// component along n and the velocity the contact pass prescribed along n is kept. The
+// preconditioner of a held particle is the block of S A_pp S + m n n^T, which maps the tangent
+// plane onto itself (an exact 2x2 solve there). Without colliders FILTER is false and every
+// filter below compiles to nothing.
+//
 // Every pass after the assembly reads scalars.converged first and does nothing once it is
 // set: the plan records max_iterations iterations and the device decides how many run.
 
@@ -31,6 +40,24 @@ layout(set = 0, binding = CVK_IMPLICIT_BINDING_P_READ) uniform samplerBuffer pdi
 layout(set = 0, binding = CVK_IMPLICIT_BINDING_OFFDIAG_READ) uniform samplerBuffer offdiag_read;
 
 CVK_DECLARE_PUSH(CVK_IMPLICIT_PUSH_FIELDS)
+
+#ifdef IMPLICIT_CONTACT
+#define CONTACT_TYPES_ID 2
+#include "collide.glsl" // the contact set (set 1) and the colliders' distances and normals
+#else
+layout(constant_id = 2) const uint COLLIDER_TYPES = 0u;
+#endif
+const bool FILTER = COLLIDER_TYPES != 0u;
+layout(std430, set = 0, binding = CVK_IMPLICIT_BINDING_FILTER) buffer ContactFilter { vec4 contact_filter[]; };
+
+// S w for free particle p: w less its part along p's contact normal (0 when p is not held).
+vec3 filtered(uint p, vec3 w)
+{
+    if (!FILTER)
+        return w;
+    vec3 n = contact_filter[p].xyz;
+    return w - dot(w, n) * n;
+}
 
 uint invocation_stride()
 {

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // One block-Jacobi sweep (seed 000 section 4.4.2) from dv0 into dv1 (or, with ODD, dv1 into
 // dv0): dv'_p = A_pp^-1 (b_p + sum H dv_c), and the partial sums of r.A_pp^-1 r for the
-// iterate read, whose residual is r = A_pp (dv' - dv).
+// iterate read, whose residual is r = A_pp (dv' - dv). A particle held on a collider solves
+// its block in the tangent plane: dv'_p = S (S A_pp S + m n n^T)^-1 S (b_p + sum H dv_c).
 #include "implicit_common.glsl"
 
 #ifndef ODD
@@ -34,7 +35,7 @@ void main()
                    sym_mul(offdiag[2u * e], offdiag[2u * e + 1u], src_at(slot_neighbour(e, p)));
         }
         float unused;
-        vec3 next = precondition(p, acc, unused);
+        vec3 next = filtered(p, precondition(p, filtered(p, acc), unused));
         // The residual of the iterate read is r = A_pp (next - src); r.A_pp^-1 r is then
         // change.A_pp change, formed as |D^1/2 L^T change|^2 with the clamped factors.
         vec3 change = next - src_at(p);

@@ -184,7 +184,8 @@ CVK_API uint32_t cvk_context_validation_message_count(const cvk_context* context
 
 typedef enum cvk_method {
     CVK_METHOD_PD = 0, /* projective dynamics (Liu et al. 2013), Verlet prediction */
-    CVK_METHOD_IMPLICIT, /* backward Euler, one linearised Newton step per substep (Baraff & Witkin) */
+    CVK_METHOD_IMPLICIT, /* backward Euler, one linearised Newton step per substep (Baraff & Witkin);
+                            colliders as filtered constraints, no self-contact */
     CVK_METHOD_EXPLICIT, /* explicit mass-spring integration (seed 001): euler, rk2, adams-bashforth, verlet */
 } cvk_method;
 
@@ -404,7 +405,7 @@ typedef enum cvk_collider_type {
 
 /* One rigid collider. Shape fields are in scene coordinates at rest; motion moves the whole
    shape rigidly (a point p of it is at translation(t) + rotation(t) · p at time t), and the
-   surface's velocity enters friction.
+   surface's velocity enters friction (pd) and the held particles' velocity (implicit).
 
    Funnel: seed 002's parametric surface x = u cos v, y = a ln u, z = u sin v around the world
    up axis (+y) with its origin at apex (where the radius is 1 m), from apex down to `height`

@@ -143,7 +143,11 @@ CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 /* The product's reads as texels (a gather on lavapipe, where storage loads go lane by lane) */
 #define CVK_IMPLICIT_BINDING_P_READ 14          /* texel: search direction */
 #define CVK_IMPLICIT_BINDING_OFFDIAG_READ 15    /* texel: off-diagonal blocks */
-#define CVK_IMPLICIT_BINDING_COUNT 16 /* a descriptor table's most (lib/descriptors.c) */
+/* Per free particle: the contact filter of this substep, (n, 1 + k) for a particle held on
+   collider k along its unit normal n (S = I - n n^T; -(1 + k) once released), 0 for a free one
+   (implicit_contact.comp, implicit_integrate.comp) */
+#define CVK_IMPLICIT_BINDING_FILTER 16
+#define CVK_IMPLICIT_BINDING_COUNT 17
 
 /* ---- explicit integrators: explicit_force.comp, explicit_update.comp (lib/solve_explicit.c) - */
 
