@@ -9,6 +9,12 @@ _Static_assert(sizeof(cvk_pd_push) == 48, "cvk_pd_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_pd_push, inv_h2) == 16, "cvk_pd_push.inv_h2 at 16");
 _Static_assert(offsetof(cvk_pd_push, keep) == 28, "cvk_pd_push.keep at 28");
 _Static_assert(offsetof(cvk_pd_push, gravity_h2) == 32, "cvk_pd_push.gravity_h2: a vec4 at 32");
+_Static_assert(sizeof(cvk_pd_converge_push) <= sizeof(cvk_pd_push),
+               "cvk_pd_converge_push: within the pd layout's push range");
+_Static_assert(sizeof(cvk_pd_scalars) == 96, "cvk_pd_scalars: 96 bytes in GLSL");
+_Static_assert(offsetof(cvk_pd_scalars, sweep_groups) == 32 &&
+                   offsetof(cvk_pd_scalars, copy_groups) == 80,
+               "cvk_pd_scalars: the indirect commands where the shaders write them");
 _Static_assert(sizeof(cvk_implicit_push) == 48, "cvk_implicit_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_implicit_push, gravity) == 32, "cvk_implicit_push.gravity: a vec4 at 32");
 _Static_assert(sizeof(cvk_implicit_scalars) == 84, "cvk_implicit_scalars: 84 bytes in GLSL");

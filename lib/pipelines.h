@@ -42,6 +42,11 @@ typedef struct cvk_spec_recipe {
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
+    X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step + residual") \
+    X(JACOBI_FIRST_CHECK, PD_JACOBI_CHECK_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step + residual") \
+    X(PD_REDUCE, PD_REDUCE_COMP, CVK_SPEC_WORKGROUP, "residual: partial sums")  \
+    X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
+    X(PD_COPY, PD_COPY_COMP, CVK_SPEC_WORKGROUP, "u0 = u1 (stopped in u1)")    \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \

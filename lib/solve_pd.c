@@ -64,7 +64,14 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
-    return CVK_SUCCESS;
+    cvk_result r = cvk_buffer_create(s->context, CVK_PD_RESIDUALS_OFFSET + 4u * nf,
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                         VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     CVK_MEMORY_HOST, "convergence state", &pd->converge, error);
+    if (r == CVK_SUCCESS)
+        memset(pd->converge.mapped, 0, sizeof(cvk_pd_scalars));
+    return r;
 }
 
 /* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
@@ -144,7 +151,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
     [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
     [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
-    [CVK_PD_BINDING_EXTERNAL] = TEXEL,
+    [CVK_PD_BINDING_EXTERNAL] = TEXEL, [CVK_PD_BINDING_CONVERGE] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
@@ -168,6 +175,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_TETHER_ANCHOR] = {.view = pd->view_tether_anchor},
         [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
         [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero.view_external},
+        [CVK_PD_BINDING_CONVERGE] = {.buffer = &pd->converge},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
 }
@@ -363,13 +371,14 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
     cvk_pd* pd = self;
     uint32_t predict = cvk_plan_find_pass(&s->plan, "predict");
     uint32_t solve = cvk_plan_find_pass(&s->plan, "solve");
+    cvk_solver_desc solver = cvk_solver_desc_resolve(&s->solver); /* max_iterations: outer */
     for (uint32_t f = 0; f < frames; f++) {
         double predict_ms = 0.0, solve_ms = 0.0;
         for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
             double t0 = cvk_now_ms();
             cvk_ref_predict(&s->build, &s->ref, pd->hx, pd->hprev, pd->hy);
             double t1 = cvk_now_ms();
-            cvk_ref_solve_gauss_seidel(&s->build, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            cvk_ref_solve_gauss_seidel(&s->build, &s->ref, &solver, pd->hy, pd->hx, pd->hrhs);
             predict_ms += t1 - t0;
             solve_ms += cvk_now_ms() - t1;
         }
@@ -380,6 +389,24 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
         s->host_timed = true;
     }
     return cvk_pd_upload_host_positions(s, pd, error);
+}
+
+void cvk_pd_stats(const cvk_sim* s, cvk_sim_stats* st)
+{
+    const cvk_pd* pd = s->family == &cvk_family_pd ? s->family_state : NULL;
+    if (!pd)
+        return;
+    if (pd->checking) {
+        cvk_pd_scalars scalars;
+        memcpy(&scalars, pd->converge.mapped, sizeof scalars);
+        st->solver_iterations = scalars.frame_iterations;
+        st->solver_iterations_total = scalars.total_iterations;
+        st->solver_residual = scalars.residual;
+        return;
+    }
+    uint64_t per_frame = (uint64_t)pd->plan_sweeps * s->plan.substeps;
+    st->solver_iterations = s->frames ? (uint32_t)per_frame : 0;
+    st->solver_iterations_total = per_frame * s->frames;
 }
 
 /* ---- the family ------------------------------------------------------------------------ */
@@ -403,7 +430,8 @@ static void pd_destroy(cvk_sim* s, void* self)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
-                             &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length};
+                             &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length,
+                             &pd->converge};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (pd->readback_cmd)

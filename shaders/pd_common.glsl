@@ -38,6 +38,7 @@ layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adj
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
+#include "pd_converge.glsl"
 
 // The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
@@ -78,8 +79,13 @@ vec3 spring_rhs(vec3 e, vec3 t, float k, float kl)
 // (cur is its own): writes and returns b = (b_p, 1/diag_p), and sets acc to sum_c k_c u_c of the
 // first linear sweep. Neighbours below `swept_below` were already updated in this sweep
 // (Gauss-Seidel colours before this one) and are read from dst_read; the rest from src.
+// RESIDUAL (the checking variants of the first sweeps) also writes |d_p|^2, the squared
+// Jacobi correction of the springs' system at src: d_p = (b_p + sum_c k_c src_c) / diag_p - cur.
 vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
 {
+#ifdef RESIDUAL
+    vec3 src_acc = vec3(0.0);
+#endif
     vec3 xp = fetch(x_read, p);
     vec4 yp = texelFetch(y_read, int(p));
     vec3 sum = yp.w * yp.xyz;
@@ -95,10 +101,17 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
             sum += spring_rhs(edge, edge + cur - un, k[j], kl[j]);
             diag += k[j];
             acc += k[j] * (n[j] < swept_below ? fetch(dst_read, n[j]) : un);
+#ifdef RESIDUAL
+            src_acc += k[j] * un;
+#endif
         }
     }
     vec4 b = vec4(sum, 1.0 / diag);
     rhs[p] = b;
+#ifdef RESIDUAL
+    vec3 d = (b.xyz + src_acc) * b.w - cur;
+    residual[p] = dot(d, d);
+#endif
     return b;
 }
 
