@@ -169,7 +169,7 @@ static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, 
         op = cvk_plan_dispatch_indirect(pb->plan, pass, pipeline,
                                         pb->pd->descriptors.pipeline_layout,
                                         pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
-                                        pb->pd->converge.buffer, slot, &push, sizeof push);
+                                        pb->pd->scalars.buffer, slot, &push, sizeof push);
         if (op) {
             op->first = first;
             op->count = count;
@@ -245,25 +245,16 @@ static void add_check(pd_builder* pb, uint32_t outer, bool in_u1, uint32_t swept
     push.first_check = outer == 0;
     push.last_check = outer + 1 == pb->solver->outer_iterations;
     const cvk_pd* pd = pb->pd;
-    VkPipelineLayout layout = pd->descriptors.pipeline_layout;
-    VkDescriptorSet set = pd->descriptors.sets[CVK_PD_SET_U0_TO_U0];
+    VkPipelineLayout layout = pd->converge_descriptors.pipeline_layout;
+    VkDescriptorSet set = pd->converge_descriptors.sets[0];
     cvk_op *reduce, *decide;
-    if (!pb->armed) { /* the frame's count starts at its first substep */
-        pb->check_pass = cvk_plan_pass(pb->plan, "convergence");
-        cvk_op* reset = cvk_plan_fill(pb->plan, pb->check_pass, pd->converge.buffer,
-                                      offsetof(cvk_pd_scalars, frame_iterations), 4, 0);
-        if (reset) {
-            reset->every = pb->plan->substeps;
-            snprintf(reset->note, sizeof reset->note, "the frame's sweep count = 0");
-        }
-    }
     if (pb->armed) {
         reduce = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout,
-                                            set, CVK_DOMAIN_PARTICLES, pd->converge.buffer,
+                                            set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
                                             offsetof(cvk_pd_scalars, reduce_groups), &push,
                                             sizeof push);
         decide = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout,
-                                            set, CVK_DOMAIN_PARTICLES, pd->converge.buffer,
+                                            set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
                                             offsetof(cvk_pd_scalars, single_groups), &push,
                                             sizeof push);
         if (reduce)
@@ -276,9 +267,10 @@ static void add_check(pd_builder* pb, uint32_t outer, bool in_u1, uint32_t swept
         decide = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout, set,
                                    CVK_DOMAIN_PARTICLES, 0, 1, &push, sizeof push);
     }
-    if (reduce)
+    if (reduce) {
         snprintf(reduce->note, sizeof reduce->note, "residual at the start of outer %u",
                  outer + 1);
+    }
     if (decide) {
         decide->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
         snprintf(decide->note, sizeof decide->note, "stop below the tolerance, after %u sweeps",
@@ -297,7 +289,7 @@ static void add_copy_back(pd_builder* pb, const cvk_build* b)
     cvk_op* op = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_COPY,
                                             pb->pd->descriptors.pipeline_layout,
                                             pb->pd->descriptors.sets[CVK_PD_SET_U1_TO_U0],
-                                            CVK_DOMAIN_PARTICLES, pb->pd->converge.buffer,
+                                            CVK_DOMAIN_PARTICLES, pb->pd->scalars.buffer,
                                             offsetof(cvk_pd_scalars, copy_groups), &push,
                                             sizeof push);
     if (op) {
@@ -471,6 +463,17 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
     if (pb.contact)
         pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");
+    if (pb.checking) {
+        /* The frame's count starts at its first substep, first of all: only the frame's
+           opening barrier (which covers transfers) is before it. */
+        pb.check_pass = cvk_plan_pass(plan, "convergence");
+        cvk_op* reset = cvk_plan_fill(plan, pb.check_pass, pd->scalars.buffer,
+                                      offsetof(cvk_pd_scalars, frame_iterations), 4, 0);
+        if (reset) {
+            reset->every = plan->substeps;
+            snprintf(reset->note, sizeof reset->note, "the frame's sweep count = 0");
+        }
+    }
     pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
     if (solver->linear != CVK_LINEAR_GS_CPU) {
         cvk_result r = cvk_attach_add_passes(s, plan, error);

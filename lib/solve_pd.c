@@ -64,13 +64,17 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
-    cvk_result r = cvk_buffer_create(s->context, CVK_PD_RESIDUALS_OFFSET + 4u * nf,
-                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                         VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                     CVK_MEMORY_HOST, "convergence state", &pd->converge, error);
+    cvk_result r = cvk_buffer_create(s->context, 4u * (CVK_PD_PARTIALS + nf),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_DEVICE,
+                                     "residuals", &pd->sums, error);
     if (r == CVK_SUCCESS)
-        memset(pd->converge.mapped, 0, sizeof(cvk_pd_scalars));
+        r = cvk_buffer_create(s->context, sizeof(cvk_pd_scalars),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                  VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              CVK_MEMORY_HOST, "convergence state", &pd->scalars, error);
+    if (r == CVK_SUCCESS)
+        memset(pd->scalars.mapped, 0, sizeof(cvk_pd_scalars));
     return r;
 }
 
@@ -175,9 +179,33 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_TETHER_ANCHOR] = {.view = pd->view_tether_anchor},
         [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
         [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero.view_external},
-        [CVK_PD_BINDING_CONVERGE] = {.buffer = &pd->converge},
+        [CVK_PD_BINDING_CONVERGE] = {.buffer = &pd->sums},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
+}
+
+static const cvk_binding converge_bindings[CVK_PD_CONVERGE_BINDING_COUNT] = {
+    [CVK_PD_CONVERGE_BINDING_SUMS] = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
+    [CVK_PD_CONVERGE_BINDING_SCALARS] = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
+};
+
+/* The check's own set: the indirect commands are bound nowhere else, so only the decision's
+   writes need a barrier to the indirect reads. */
+static cvk_result create_converge_set(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    cvk_result r = cvk_descriptors_create(s->context, converge_bindings,
+                                          CVK_PD_CONVERGE_BINDING_COUNT, 1,
+                                          VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_pd_converge_push),
+                                          &pd->converge_descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    const cvk_resource res[CVK_PD_CONVERGE_BINDING_COUNT] = {
+        [CVK_PD_CONVERGE_BINDING_SUMS] = {.buffer = &pd->sums},
+        [CVK_PD_CONVERGE_BINDING_SCALARS] = {.buffer = &pd->scalars},
+    };
+    cvk_descriptors_write(s->context, &pd->converge_descriptors, 0, res);
+    return CVK_SUCCESS;
 }
 
 static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
@@ -192,7 +220,7 @@ static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     write_set(s, pd, CVK_PD_SET_U0_TO_U1, 0, 1);
     write_set(s, pd, CVK_PD_SET_U1_TO_U0, 1, 0);
     write_set(s, pd, CVK_PD_SET_U0_TO_U0, 0, 0);
-    return CVK_SUCCESS;
+    return create_converge_set(s, pd, error);
 }
 
 
@@ -398,7 +426,7 @@ void cvk_pd_stats(const cvk_sim* s, cvk_sim_stats* st)
         return;
     if (pd->checking) {
         cvk_pd_scalars scalars;
-        memcpy(&scalars, pd->converge.mapped, sizeof scalars);
+        memcpy(&scalars, pd->scalars.mapped, sizeof scalars);
         st->solver_iterations = scalars.frame_iterations;
         st->solver_iterations_total = scalars.total_iterations;
         st->solver_residual = scalars.residual;
@@ -423,6 +451,7 @@ static void pd_destroy(cvk_sim* s, void* self)
         return;
     VkDevice dev = s->context->device;
     cvk_descriptors_destroy(s->context, &pd->descriptors);
+    cvk_descriptors_destroy(s->context, &pd->converge_descriptors);
     VkBufferView views[] = {pd->view_u[0], pd->view_u[1], pd->view_y, pd->view_rhs,
                             pd->view_adjacency, pd->view_adjacency_kl,
                             pd->view_tether_anchor, pd->view_tether_length};
@@ -431,7 +460,7 @@ static void pd_destroy(cvk_sim* s, void* self)
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
                              &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length,
-                             &pd->converge};
+                             &pd->sums, &pd->scalars};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (pd->readback_cmd)

@@ -26,10 +26,12 @@ typedef struct cvk_pd {
        when the scene has none. */
     cvk_buffer tether_anchor, tether_length;
     VkBufferView view_tether_anchor, view_tether_length;
-    /* Solves that stop when converged: cvk_pd_scalars (indirect commands included), then
-       CVK_PD_PARTIALS partial sums and a squared residual per free particle; host-visible, read
-       for the statistics (shared/layout.h). */
-    cvk_buffer converge;
+    /* Solves that stop when converged (shared/layout.h): CVK_PD_PARTIALS partial sums and a
+       squared residual per free particle (`sums`), and cvk_pd_scalars with the indirect
+       commands (`scalars`, host-visible: read for the statistics), which only the check's own
+       set binds. */
+    cvk_buffer sums, scalars;
+    cvk_descriptors converge_descriptors; /* one set: sums, scalars */
     bool checking;        /* the current plan checks for convergence (counts on the device) */
     uint32_t plan_sweeps; /* sweeps per substep the current plan records */
     cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */
@@ -65,10 +67,6 @@ cvk_result cvk_pd_load_snapshot(cvk_sim* sim, void* self, const void* data, uint
 /* The passes of one substep of `solver` (pd_passes.c). */
 cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
                              cvk_plan* plan, cvk_error* error);
-
-/* The convergence check's passes (pd_passes.c): offsets in `converge`. */
-#define CVK_PD_PARTIALS_OFFSET ((VkDeviceSize)sizeof(cvk_pd_scalars))
-#define CVK_PD_RESIDUALS_OFFSET (CVK_PD_PARTIALS_OFFSET + 4u * (VkDeviceSize)CVK_PD_PARTIALS)
 
 /* The pd family's part of the statistics: sweeps of the last frame and since creation, counted
    on the device when the plan checks for convergence, else the sweeps the plan records. */

@@ -38,6 +38,7 @@ layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adj
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
+#define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
 #include "pd_converge.glsl"
 
 // The push constants: cvk_pd_push, declared with the C side in shared/layout.h.

@@ -14,10 +14,19 @@
 layout(local_size_x_id = 0) in;
 
 #include "shared/layout.h"
-#include "pd_converge.glsl"
 
+#if MODE == 2
+// The family's set (u1 -> u0).
 layout(set = 0, binding = CVK_PD_BINDING_SRC) uniform samplerBuffer src;
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
+#else
+// The check's own set: only the decision writes the indirect commands.
+#define CONVERGE_SUMS CVK_PD_CONVERGE_BINDING_SUMS
+#include "pd_converge.glsl"
+layout(std430, set = 0, binding = CVK_PD_CONVERGE_BINDING_SCALARS) buffer Scalars {
+    cvk_pd_scalars scalars;
+};
+#endif
 
 CVK_DECLARE_PUSH(CVK_PD_CONVERGE_PUSH_FIELDS)
 

@@ -54,7 +54,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_EXTERNAL 12     /* texel: h^2 F / m of the air per free particle (WIND) */
 #define CVK_PD_BINDING_TETHER_ANCHOR 13 /* texel: uvec4 per free particle, pinned indices */
 #define CVK_PD_BINDING_TETHER_LENGTH 14 /* texel: vec4 per free particle, m */
-#define CVK_PD_BINDING_CONVERGE 15     /* storage: cvk_pd_scalars, partials, residuals */
+#define CVK_PD_BINDING_CONVERGE 15     /* storage: partial sums, squared residuals */
 #define CVK_PD_BINDING_COUNT 16
 
 /* Solves that stop when converged (solver.tolerance; lib/pd_passes.c, shaders/pd_converge.comp).
@@ -66,6 +66,13 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
    tolerance) times the sum at the substep's first iterate: the relative residual is |d| / |d_0|.
    Once below, it zeroes the indirect commands of every later pass of the substep. */
 #define CVK_PD_PARTIALS 256u
+
+/* Bindings of the check's own set (shaders/pd_converge.comp, MODE 0 and 1): the partial sums
+   and residuals (the buffer the checking sweeps write as CVK_PD_BINDING_CONVERGE) and the
+   cvk_pd_scalars, which hold the indirect commands and which nothing else binds. */
+#define CVK_PD_CONVERGE_BINDING_SUMS 0
+#define CVK_PD_CONVERGE_BINDING_SCALARS 1
+#define CVK_PD_CONVERGE_BINDING_COUNT 2
 
 #define CVK_PD_CONVERGE_PUSH_FIELDS                                                     \
     CVK_UINT(stride)       /* free particle count */                                     \
