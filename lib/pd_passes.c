@@ -299,14 +299,6 @@ static void add_copy_back(pd_builder* pb, const cvk_build* b)
     pb->armed = false;
 }
 
-/* Whether the first sweep of outer iteration o is a checking one: all are, with a tolerance
-   (the first measures the substep's first iterate, which the others are relative to). */
-static bool checks_at(const pd_builder* pb, uint32_t outer)
-{
-    (void)outer;
-    return pb->checking;
-}
-
 /* Tethers, then contact, after the last sweep of an outer iteration, in place on what it
    wrote (set: the same as that sweep's, so triangle corners come from its src). Contact comes
    last: a tether may pull a particle into a collider, never the other way round. */
@@ -342,7 +334,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
     for (uint32_t o = 0; o < outer; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
         for (uint32_t i = 0; i < inner; i++) {
-            cvk_pipeline_id first = checks_at(pb, o) ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
+            cvk_pipeline_id first = pb->checking ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
             for (uint32_t c = 0; c < b->colour_count; c++) {
                 cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
                                     pb->solve, b->colour_start[c],
@@ -350,7 +342,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                                     pb->base.omega);
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
             }
-            if (i == 0 && checks_at(pb, o))
+            if (i == 0 && pb->checking)
                 add_check(pb, o, t == 1, o * inner + 1);
         }
         add_after_outer(pb, b, set_for(t, w), o);
@@ -373,7 +365,7 @@ static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool che
                                 : 1.0;
         float omega = cvk_jacobi_sweep_omega(s % cycle, cycle, solver->omega);
         uint32_t outer = s / solver->inner_iterations;
-        bool check = inner == 0 && checks_at(pb, outer);
+        bool check = inner == 0 && pb->checking;
         cvk_op* op = add_op(pb, check ? CVK_PIPE_JACOBI_FIRST_CHECK
                                       : inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
                             set_for(src, dst), pb->solve, 0, b->free_count, (float)cheb, omega);
@@ -454,8 +446,6 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
                      .contact_set = s->collide.set, .contact = s->collide.colliding,
                      .tethers = s->build.tether_anchor != NULL};
     pb.checking = plan_checks(s, solver, plan, &pb.check);
-    pd->checking = pb.checking;
-    pd->plan_sweeps = solver->outer_iterations * solver->inner_iterations;
     pb.predict = cvk_plan_pass(plan, "predict");
     pb.solve = cvk_plan_pass(plan, "solve");
     if (pb.tethers)
@@ -485,7 +475,7 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
     if (pb.checking)
         snprintf(plan->solver_note, sizeof plan->solver_note,
                  ", tolerance %g (checked on the device), "
-                 "at most %u sweeps", solver->tolerance, pd->plan_sweeps);
+                 "at most %u sweeps", solver->tolerance, pb.check.sweeps);
     switch (solver->linear) {
     case CVK_LINEAR_RBGS:
         plan_gauss_seidel(&pb, &s->build);

@@ -424,7 +424,8 @@ void cvk_pd_stats(const cvk_sim* s, cvk_sim_stats* st)
     const cvk_pd* pd = s->family == &cvk_family_pd ? s->family_state : NULL;
     if (!pd)
         return;
-    if (pd->checking) {
+    /* The current plan checks when it has the pass (a failed switch leaves the plan as is). */
+    if (cvk_plan_find_pass(&s->plan, "convergence") != UINT32_MAX) {
         cvk_pd_scalars scalars;
         memcpy(&scalars, pd->scalars.mapped, sizeof scalars);
         st->solver_iterations = scalars.frame_iterations;
@@ -432,7 +433,9 @@ void cvk_pd_stats(const cvk_sim* s, cvk_sim_stats* st)
         st->solver_residual = scalars.residual;
         return;
     }
-    uint64_t per_frame = (uint64_t)pd->plan_sweeps * s->plan.substeps;
+    cvk_solver_desc solver = cvk_solver_desc_resolve(&s->solver);
+    uint64_t per_frame = (uint64_t)solver.outer_iterations * solver.inner_iterations *
+                         s->plan.substeps;
     st->solver_iterations = s->frames ? (uint32_t)per_frame : 0;
     st->solver_iterations_total = per_frame * s->frames;
 }

@@ -32,8 +32,6 @@ typedef struct cvk_pd {
        set binds. */
     cvk_buffer sums, scalars;
     cvk_descriptors converge_descriptors; /* one set: sums, scalars */
-    bool checking;        /* the current plan checks for convergence (counts on the device) */
-    uint32_t plan_sweeps; /* sweeps per substep the current plan records */
     cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */
     VkCommandBuffer readback_cmd; /* positions and u[0] -> staging, recorded once */
 
