@@ -77,6 +77,9 @@ vec3 spring_rhs(vec3 e, vec3 t, float k, float kl)
 }
 
 #ifdef RESIDUAL
+// The scene has tethers (the tether buffers hold one texel otherwise: nothing to read).
+layout(constant_id = 3) const bool TETHERS = false;
+
 // A tether that holds p takes the part of its correction d that points out of its sphere: the
 // projected residual of the one-sided constraint, which is 0 at the constrained solution
 // (without it a cloth hanging on its tethers never converges: the springs keep pulling the
@@ -96,6 +99,8 @@ vec3 tether_free(vec3 d, vec3 t, float limit)
 // d with every tether of p that holds it applied (shaders/pd_tether.comp's data).
 vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
 {
+    if (!TETHERS)
+        return d;
     uvec4 anchor = texelFetch(tether_anchor, int(p));
     vec4 limit = texelFetch(tether_length, int(p));
     for (uint j = 0u; j < 4u; j++) {
