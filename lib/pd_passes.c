@@ -247,29 +247,33 @@ static void add_check(pd_builder* pb, uint32_t outer, bool in_u1, uint32_t swept
     const cvk_pd* pd = pb->pd;
     VkPipelineLayout layout = pd->converge_descriptors.pipeline_layout;
     VkDescriptorSet set = pd->converge_descriptors.sets[0];
-    cvk_op *reduce, *decide;
+    /* Each op is finished before the next append, which may move the list. */
+    cvk_op* reduce;
     if (pb->armed) {
         reduce = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout,
                                             set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
                                             offsetof(cvk_pd_scalars, reduce_groups), &push,
                                             sizeof push);
+        if (reduce)
+            reduce->count = CVK_PD_PARTIALS;
+    } else {
+        reduce = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout, set,
+                                   CVK_DOMAIN_PARTICLES, 0, CVK_PD_PARTIALS, &push, sizeof push);
+    }
+    if (reduce)
+        snprintf(reduce->note, sizeof reduce->note, "residual at the start of outer %u",
+                 outer + 1);
+    cvk_op* decide;
+    if (pb->armed) {
         decide = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout,
                                             set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
                                             offsetof(cvk_pd_scalars, single_groups), &push,
                                             sizeof push);
-        if (reduce)
-            reduce->count = CVK_PD_PARTIALS;
         if (decide)
             decide->count = 1;
     } else {
-        reduce = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout, set,
-                                   CVK_DOMAIN_PARTICLES, 0, CVK_PD_PARTIALS, &push, sizeof push);
         decide = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout, set,
                                    CVK_DOMAIN_PARTICLES, 0, 1, &push, sizeof push);
-    }
-    if (reduce) {
-        snprintf(reduce->note, sizeof reduce->note, "residual at the start of outer %u",
-                 outer + 1);
     }
     if (decide) {
         decide->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
