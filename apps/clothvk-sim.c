@@ -277,10 +277,15 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
                                "outer_iterations", (json_int_t)scene->solver.outer_iterations,
                                "inner_iterations", (json_int_t)scene->solver.inner_iterations,
                                "omega", float_json(scene->solver.omega));
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(&scene->solver); /* what ran */
     if (solver && scene->solver.method == CVK_METHOD_IMPLICIT) {
-        json_object_set_new(solver, "tolerance", float_json(scene->solver.tolerance));
-        json_object_set_new(solver, "max_iterations", json_integer(scene->solver.max_iterations));
+        json_object_set_new(solver, "tolerance", float_json(resolved.tolerance));
+        json_object_set_new(solver, "max_iterations", json_integer(resolved.max_iterations));
         json_object_set_new(solver, "kd", float_json(scene->solver.kd));
+    }
+    if (solver && scene->solver.method == CVK_METHOD_PD) { /* 0: every sweep runs */
+        json_object_set_new(solver, "tolerance", float_json(resolved.tolerance));
+        json_object_set_new(solver, "max_iterations", json_integer(resolved.max_iterations));
     }
     if (solver && scene->solver.method == CVK_METHOD_EXPLICIT) {
         /* the settings the run used: the defaults resolved */
@@ -327,13 +332,16 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(root, "diverged_reason",
                             json_string(st->diverged_nonfinite ? "non-finite" : "run-away"));
     }
-    if (scene->solver.method == CVK_METHOD_IMPLICIT) {
+    if (scene->solver.method != CVK_METHOD_EXPLICIT) { /* pd: sweeps */
         json_t* linear = json_object();
         json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
         json_object_set_new(linear, "iterations_per_substep",
                             json_real((double)st->solver_iterations_total /
                                       ((double)st->frames * scene->substeps + (st->frames == 0))));
-        json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
+        if (scene->solver.method == CVK_METHOD_IMPLICIT)
+            json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
+        else if (resolved.tolerance > 0.0f) /* the last check's measure (solver.tolerance) */
+            json_object_set_new(linear, "residual_last", json_real(st->solver_residual));
         json_object_set_new(root, "linear_solver", linear);
     }
     if (scene->collider_count > 0 || scene->collision.self) {
@@ -379,14 +387,18 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
            (unsigned long long)(st->springs[0] + st->springs[1] + st->springs[2]), st->colours,
            cvk_method_name(scene->solver.method), explicit_method ? "" : "/",
            explicit_method ? "" : cvk_linear_solver_name(scene->solver.linear));
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(&scene->solver); /* what ran */
     if (scene->solver.method == CVK_METHOD_IMPLICIT)
-        printf("to %g, at most %u\n", scene->solver.tolerance, scene->solver.max_iterations);
+        printf("to %g, at most %u\n", resolved.tolerance, resolved.max_iterations);
+    else if (scene->solver.method == CVK_METHOD_PD && resolved.tolerance > 0.0f)
+        printf("%ux%u, to %g\n", resolved.outer_iterations, resolved.inner_iterations,
+               resolved.tolerance);
     else if (scene->solver.method == CVK_METHOD_EXPLICIT)
         printf("%s, kd %g\n", cvk_integrator_name(scene->solver.integrator ? scene->solver.integrator
                                                                           : CVK_INTEGRATOR_EULER),
                scene->solver.kd);
     else
-        printf("%ux%u\n", scene->solver.outer_iterations, scene->solver.inner_iterations);
+        printf("%ux%u\n", resolved.outer_iterations, resolved.inner_iterations);
     printf("  residual %.4g m^2, max stretch %.3g %%, NaN %llu\n", st->residual,
            100.0 * st->max_stretch, (unsigned long long)st->nan_count);
     if (scene_tears(scene))
@@ -399,6 +411,11 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
                (double)st->solver_iterations_total /
                    ((double)st->frames * scene->substeps + (st->frames == 0)),
                st->solver_breakdowns);
+    else if (scene->solver.method == CVK_METHOD_PD)
+        printf("  %s: %u sweeps in the last frame, %.2f per substep on average\n",
+               cvk_linear_solver_name(scene->solver.linear), st->solver_iterations,
+               (double)st->solver_iterations_total /
+                   ((double)st->frames * scene->substeps + (st->frames == 0)));
     if (scene->collider_count > 0 || scene->collision.self)
         printf("  contacts: %llu with colliders, %llu between cloths; deepest penetration %.3g mm, "
                "%llu intersecting triangle pairs; %llu candidate searches\n",

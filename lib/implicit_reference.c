@@ -379,12 +379,13 @@ static void contact_response(lin_system* s, const cvk_implicit_params* ip, const
 cvk_implicit_params cvk_implicit_params_of(const cvk_scene_desc* scene,
                                            const cvk_solver_desc* solver)
 {
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(solver); /* 0: the defaults */
     cvk_implicit_params ip = {
         .h = scene->dt,
         .keep = 1.0 - scene->damping,
         .kd = solver->kd,
-        .tolerance = solver->tolerance,
-        .max_iterations = solver->max_iterations,
+        .tolerance = resolved.tolerance,
+        .max_iterations = resolved.max_iterations,
         .linear = solver->linear,
         .clamp = true,
     };

@@ -139,6 +139,11 @@ typedef struct pd_builder {
     bool contact;                      /* the scene collides: a contact op per outer iteration */
     bool tethers;                      /* a cloth has tethers: a tether op per outer iteration */
     uint32_t predict, solve, tether_pass, contact_pass, finalize; /* pass indices */
+    /* With a tolerance: the check's pass and push data, and whether the substep's first check
+       is behind (then the solve's ops are dispatched indirectly: the device may stop them). */
+    bool checking, armed;
+    uint32_t check_pass;
+    cvk_pd_converge_push check;
 } pd_builder;
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {
@@ -157,9 +162,24 @@ static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, 
     push.count = count;
     push.cheb = cheb;
     push.omega = omega;
-    cvk_op* op = cvk_plan_dispatch(pb->plan, pass, pipeline, pb->pd->descriptors.pipeline_layout,
-                                   pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES, first,
-                                   count, &push, sizeof push);
+    cvk_op* op;
+    if (pb->armed && count > 0) {
+        VkDeviceSize slot = pipeline == CVK_PIPE_PD_CONTACT
+                                ? offsetof(cvk_pd_scalars, contact_groups)
+                                : offsetof(cvk_pd_scalars, sweep_groups);
+        op = cvk_plan_dispatch_indirect(pb->plan, pass, pipeline,
+                                        pb->pd->descriptors.pipeline_layout,
+                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
+                                        pb->pd->scalars.buffer, slot, &push, sizeof push);
+        if (op) {
+            op->first = first;
+            op->count = count;
+        }
+    } else {
+        op = cvk_plan_dispatch(pb->plan, pass, pipeline, pb->pd->descriptors.pipeline_layout,
+                               pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES, first, count,
+                               &push, sizeof push);
+    }
     if (op) {
         op->set1 = pb->contact_set;
         snprintf(op->note, sizeof op->note, "%s", set_note[set]);
@@ -217,6 +237,78 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
            pb->base.omega);
 }
 
+/* The convergence check that follows the first sweep of outer iteration `outer`, which
+   measured the iterate that outer iteration started from (in u1 when in_u1) and wrote the
+   squared residuals: partial sums, then one invocation that stops the rest of the substep or
+   lets it go on. The first check of a substep (outer 0: the first iterate, the measure the
+   others are relative to) is dispatched directly and arms the indirect commands every later
+   pass of the solve reads; `swept` counts the sweeps run by then. */
+static void add_check(pd_builder* pb, uint32_t outer, bool in_u1, uint32_t swept)
+{
+    cvk_pd_converge_push push = pb->check;
+    push.swept = swept;
+    push.in_u1 = in_u1;
+    push.first_check = outer == 0;
+    push.last_check = outer + 1 == pb->solver->outer_iterations;
+    const cvk_pd* pd = pb->pd;
+    VkPipelineLayout layout = pd->converge_descriptors.pipeline_layout;
+    VkDescriptorSet set = pd->converge_descriptors.sets[0];
+    /* Each op is finished before the next append, which may move the list. */
+    cvk_op* reduce;
+    if (pb->armed) {
+        reduce = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout,
+                                            set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
+                                            offsetof(cvk_pd_scalars, reduce_groups), &push,
+                                            sizeof push);
+        if (reduce)
+            reduce->count = CVK_PD_PARTIALS;
+    } else {
+        reduce = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout, set,
+                                   CVK_DOMAIN_PARTICLES, 0, CVK_PD_PARTIALS, &push, sizeof push);
+    }
+    if (reduce)
+        snprintf(reduce->note, sizeof reduce->note, "residual at the start of outer %u",
+                 outer + 1);
+    cvk_op* decide;
+    if (pb->armed) {
+        decide = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout,
+                                            set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
+                                            offsetof(cvk_pd_scalars, single_groups), &push,
+                                            sizeof push);
+        if (decide)
+            decide->count = 1;
+    } else {
+        decide = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout, set,
+                                   CVK_DOMAIN_PARTICLES, 0, 1, &push, sizeof push);
+    }
+    if (decide) {
+        decide->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+        snprintf(decide->note, sizeof decide->note, "stop below the tolerance, after %u sweeps",
+                 swept);
+    }
+    pb->armed = true;
+}
+
+/* The end of a checked solve: u0 = u1 when it stopped with its solution in u1 (zero groups
+   otherwise); finalize, which reads u0, runs unconditionally. */
+static void add_copy_back(pd_builder* pb, const cvk_build* b)
+{
+    if (!pb->checking || !pb->armed)
+        return;
+    cvk_pd_converge_push push = pb->check;
+    cvk_op* op = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_COPY,
+                                            pb->pd->descriptors.pipeline_layout,
+                                            pb->pd->descriptors.sets[CVK_PD_SET_U1_TO_U0],
+                                            CVK_DOMAIN_PARTICLES, pb->pd->scalars.buffer,
+                                            offsetof(cvk_pd_scalars, copy_groups), &push,
+                                            sizeof push);
+    if (op) {
+        op->count = b->free_count;
+        snprintf(op->note, sizeof op->note, "when stopped in u1, u1 -> u0");
+    }
+    pb->armed = false;
+}
+
 /* Tethers, then contact, after the last sweep of an outer iteration, in place on what it
    wrote (set: the same as that sweep's, so triangle corners come from its src). Contact comes
    last: a tether may pull a particle into a collider, never the other way round. */
@@ -247,20 +339,25 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
    writes U0, where finalize and the next prediction find it. */
 static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
 {
-    uint32_t outer = pb->solver->outer_iterations;
+    uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
     add_predict(pb, b, outer % 2);
     for (uint32_t o = 0; o < outer; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
-        for (uint32_t i = 0; i < pb->solver->inner_iterations; i++)
+        for (uint32_t i = 0; i < inner; i++) {
+            cvk_pipeline_id first = pb->checking ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
             for (uint32_t c = 0; c < b->colour_count; c++) {
-                cvk_op* op = add_op(pb, i == 0 ? CVK_PIPE_GS_FIRST : CVK_PIPE_GS, set_for(t, w),
+                cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
                                     pb->solve, b->colour_start[c],
                                     b->colour_start[c + 1] - b->colour_start[c], 1.0f,
                                     pb->base.omega);
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
             }
+            if (i == 0 && pb->checking)
+                add_check(pb, o, t == 1, o * inner + 1);
+        }
         add_after_outer(pb, b, set_for(t, w), o);
     }
+    add_copy_back(pb, b);
     add_finalize(pb, b);
 }
 
@@ -277,12 +374,18 @@ static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool che
         double cheb = chebyshev ? cvk_chebyshev_weight(s % cycle, solver->chebyshev_delay, rho)
                                 : 1.0;
         float omega = cvk_jacobi_sweep_omega(s % cycle, cycle, solver->omega);
-        cvk_op* op = add_op(pb, inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
+        uint32_t outer = s / solver->inner_iterations;
+        bool check = inner == 0 && pb->checking;
+        cvk_op* op = add_op(pb, check ? CVK_PIPE_JACOBI_FIRST_CHECK
+                                      : inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
                             set_for(src, dst), pb->solve, 0, b->free_count, (float)cheb, omega);
-        solve_note(pb, op, s / solver->inner_iterations, inner, -1, set_for(src, dst));
+        solve_note(pb, op, outer, inner, -1, set_for(src, dst));
+        if (check)
+            add_check(pb, outer, src == 1, s + 1);
         if (inner + 1 == solver->inner_iterations)
-            add_after_outer(pb, b, set_for(src, dst), s / solver->inner_iterations);
+            add_after_outer(pb, b, set_for(src, dst), outer);
     }
+    add_copy_back(pb, b);
     add_finalize(pb, b);
 }
 
@@ -317,14 +420,43 @@ static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
     return base;
 }
 
-cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solver,
+/* Groups of a direct dispatch over `count` items. */
+static uint32_t groups_for(const cvk_plan* plan, uint32_t count)
+{
+    uint32_t groups = (count + plan->workgroup_size - 1) / plan->workgroup_size;
+    return groups < plan->max_groups ? groups : plan->max_groups;
+}
+
+/* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and
+   free particles. */
+static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const cvk_plan* plan,
+                        cvk_pd_converge_push* check)
+{
+    uint32_t nf = s->build.free_count;
+    cvk_op contact = {.count = nf};
+    cvk_hash_one_item_each(plan, &contact);
+    *check = (cvk_pd_converge_push){
+        .stride = nf,
+        .sweeps = solver->outer_iterations * solver->inner_iterations,
+        .tol2 = (float)((double)solver->tolerance * solver->tolerance),
+        .sweep_groups = groups_for(plan, nf),
+        .contact_groups = contact.groups,
+        .reduce_groups = groups_for(plan, CVK_PD_PARTIALS),
+    };
+    return solver->tolerance > 0.0f && nf > 0 && solver->linear != CVK_LINEAR_GS_CPU;
+}
+
+cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requested,
                              cvk_plan* plan, cvk_error* error)
 {
     cvk_pd* pd = self;
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(requested); /* max_iterations: outer */
+    const cvk_solver_desc* solver = &resolved;
     pd_builder pb = {.sim = s, .plan = plan, .pd = pd, .solver = solver,
                      .base = base_push(s, solver), .contact_set = s->collide.set,
                      .contact = s->collide.colliding,
                      .tethers = s->build.tether_anchor != NULL};
+    pb.checking = plan_checks(s, solver, plan, &pb.check);
     pb.predict = cvk_plan_pass(plan, "predict");
     if (s->grab.planned && solver->linear != CVK_LINEAR_GS_CPU)
         cvk_plan_pass(plan, "grab"); /* listed after predict, where it first runs */
@@ -334,6 +466,17 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
     if (pb.contact)
         pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");
+    if (pb.checking) {
+        /* The frame's count starts at its first substep, first of all: only the frame's
+           opening barrier (which covers transfers) is before it. */
+        pb.check_pass = cvk_plan_pass(plan, "convergence");
+        cvk_op* reset = cvk_plan_fill(plan, pb.check_pass, pd->scalars.buffer,
+                                      offsetof(cvk_pd_scalars, frame_iterations), 4, 0);
+        if (reset) {
+            reset->every = plan->substeps;
+            snprintf(reset->note, sizeof reset->note, "the frame's sweep count = 0");
+        }
+    }
     pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
     if (solver->linear != CVK_LINEAR_GS_CPU) {
         cvk_result r = cvk_attach_add_passes(s, plan, error);
@@ -342,13 +485,18 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solv
         if (r != CVK_SUCCESS)
             return r;
     }
+    if (pb.checking)
+        snprintf(plan->solver_note, sizeof plan->solver_note,
+                 ", tolerance %g (checked on the device), "
+                 "at most %u sweeps", solver->tolerance, pb.check.sweeps);
     switch (solver->linear) {
     case CVK_LINEAR_RBGS:
         plan_gauss_seidel(&pb, &s->build);
         break;
     case CVK_LINEAR_CHEBYSHEV:
         pd->chebyshev_rho = chebyshev_rho(s, pd, solver);
-        snprintf(plan->solver_note, sizeof plan->solver_note,
+        size_t used = strlen(plan->solver_note);
+        snprintf(plan->solver_note + used, sizeof plan->solver_note - used,
                  ", rho %.6f (estimated %.6f, capped for stability), delay %u", pd->chebyshev_rho,
                  pd->chebyshev_rho_estimated, solver->chebyshev_delay);
         plan_jacobi(&pb, &s->build, pd->chebyshev_rho, true);

@@ -9,6 +9,12 @@ _Static_assert(sizeof(cvk_pd_push) == 48, "cvk_pd_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_pd_push, inv_h2) == 16, "cvk_pd_push.inv_h2 at 16");
 _Static_assert(offsetof(cvk_pd_push, keep) == 28, "cvk_pd_push.keep at 28");
 _Static_assert(offsetof(cvk_pd_push, gravity_h2) == 32, "cvk_pd_push.gravity_h2: a vec4 at 32");
+_Static_assert(sizeof(cvk_pd_converge_push) <= sizeof(cvk_pd_push),
+               "cvk_pd_converge_push: within the pd layout's push range");
+_Static_assert(sizeof(cvk_pd_scalars) == 96, "cvk_pd_scalars: 96 bytes in GLSL");
+_Static_assert(offsetof(cvk_pd_scalars, sweep_groups) == 32 &&
+                   offsetof(cvk_pd_scalars, copy_groups) == 80,
+               "cvk_pd_scalars: the indirect commands where the shaders write them");
 _Static_assert(sizeof(cvk_implicit_push) == 48, "cvk_implicit_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_implicit_push, gravity) == 32, "cvk_implicit_push.gravity: a vec4 at 32");
 _Static_assert(sizeof(cvk_implicit_scalars) == 84, "cvk_implicit_scalars: 84 bytes in GLSL");
@@ -60,6 +66,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_COLLIDER_TYPES: return inputs->collider_types;
     case CVK_SPEC_SELF_CONTACT: return inputs->self_contact ? 1 : 0;
     case CVK_SPEC_WIND: return inputs->wind ? 1 : 0;
+    case CVK_SPEC_TETHERS: return inputs->tethers ? 1 : 0;
     }
     return 0;
 }

@@ -16,6 +16,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
     CVK_SPEC_WIND,           /* the scene has air (lib/aero.h): predict adds its force */
+    CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/tether.h) */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -25,6 +26,9 @@ typedef struct cvk_spec_recipe {
 
 #define CVK_SPEC_PD {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
 #define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+/* The checking first sweeps (id 3: TETHERS of shaders/pd_common.glsl). */
+#define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                 CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
 /* The contact pass (ids 3, 4 of shaders/pd_contact.glsl; id 2 unused). */
 #define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
@@ -45,6 +49,11 @@ typedef struct cvk_spec_recipe {
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
+    X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "gauss-seidel + local step + residual") \
+    X(JACOBI_FIRST_CHECK, PD_JACOBI_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "jacobi + local step + residual") \
+    X(PD_REDUCE, PD_REDUCE_COMP, CVK_SPEC_WORKGROUP, "residual: partial sums")  \
+    X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
+    X(PD_COPY, PD_COPY_COMP, CVK_SPEC_WORKGROUP, "u0 = u1 (stopped in u1)")    \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
@@ -98,6 +107,7 @@ typedef struct cvk_spec_inputs {
     uint32_t collider_types; /* bit t: colliders of type t */
     bool self_contact;
     bool wind;
+    bool tethers;
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

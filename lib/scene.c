@@ -31,8 +31,8 @@ cvk_scene_desc cvk_default_scene_desc(void)
             .omega = 1.0f,
             .chebyshev_rho = 0.0f,
             .chebyshev_delay = 2,
-            .tolerance = 1e-3f,
-            .max_iterations = 100,
+            .tolerance = 0.0f,     /* the family's: none for pd, 1e-3 for implicit */
+            .max_iterations = 0,   /* the family's: outer × inner for pd, 100 for implicit */
             .kd = 0.0f,
         },
         .cloths = NULL,
@@ -282,10 +282,49 @@ static bool check_implicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
     if (!implicit && s->linear == CVK_LINEAR_CG)
         return cvk_issue_at(issue, "solver.linear", "cg solves the implicit method only; use rbgs, "
                         "jacobi, chebyshev or gs-cpu with %s", cvk_method_name(s->method));
-    return check_open(issue, "solver.tolerance", s->tolerance, 0.0, 1.0) &&
-           check_count_range(issue, "solver.max_iterations", s->max_iterations, 1,
-                             CVK_MAX_SWEEPS) &&
-           cvk_check_at_least(issue, "solver.kd", s->kd, 0.0);
+    return cvk_check_at_least(issue, "solver.kd", s->kd, 0.0);
+}
+
+/* solver.tolerance and solver.max_iterations: one rule for the two methods that stop when
+   converged (0: the method's default), and keys of theirs only. */
+static bool check_stopping(const cvk_solver_desc* s, cvk_scene_issue* issue)
+{
+    if (s->tolerance != 0.0f && !check_open(issue, "solver.tolerance", s->tolerance, 0.0, 1.0))
+        return false;
+    if (s->max_iterations > CVK_MAX_SWEEPS)
+        return cvk_issue_at(issue, "solver.max_iterations", "must be at most %u, got %" PRIu32,
+                        CVK_MAX_SWEEPS, s->max_iterations);
+    if (s->method == CVK_METHOD_EXPLICIT && (s->tolerance > 0.0f || s->max_iterations > 0))
+        return cvk_issue_at(issue, s->tolerance > 0.0f ? "solver.tolerance"
+                                                       : "solver.max_iterations",
+                        "the explicit method solves no linear system; remove it");
+    if (s->method != CVK_METHOD_PD)
+        return true;
+    if (s->max_iterations % s->inner_iterations != 0)
+        return cvk_issue_at(issue, "solver.max_iterations", "pd runs whole outer iterations of "
+                        "inner_iterations (%" PRIu32 ") sweeps: must be a multiple of %" PRIu32
+                        ", got %" PRIu32, s->inner_iterations, s->inner_iterations,
+                        s->max_iterations);
+    if (s->linear == CVK_LINEAR_GS_CPU && s->tolerance > 0.0f)
+        return cvk_issue_at(issue, "solver.tolerance", "gs-cpu (the host reference) runs every "
+                        "sweep; remove tolerance or use rbgs, jacobi or chebyshev");
+    return true;
+}
+
+cvk_solver_desc cvk_solver_desc_resolve(const cvk_solver_desc* solver)
+{
+    cvk_solver_desc r = *solver;
+    if (r.method == CVK_METHOD_IMPLICIT) {
+        if (r.tolerance == 0.0f)
+            r.tolerance = 1e-3f;
+        if (r.max_iterations == 0)
+            r.max_iterations = 100;
+    } else if (r.method == CVK_METHOD_PD) {
+        if (r.max_iterations > 0 && r.inner_iterations > 0)
+            r.outer_iterations = r.max_iterations / r.inner_iterations;
+        r.max_iterations = r.outer_iterations * r.inner_iterations;
+    }
+    return r;
 }
 
 /* The explicit method's keys belong to it (kd to it and implicit), and it solves no linear
@@ -333,7 +372,7 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
                         s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
     return check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
            check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0) &&
-           check_implicit(s, issue) && check_explicit(s, issue);
+           check_implicit(s, issue) && check_stopping(s, issue) && check_explicit(s, issue);
 }
 
 /* ---- one cloth; base is "cloths.N" ---- */

@@ -465,6 +465,26 @@ static cvk_result read_colliders(cvk_reader* rd, const cvk_field* f, json_t* val
     return CVK_SUCCESS;
 }
 
+/* solver.tolerance and solver.max_iterations: 0 is the description's "the method's default",
+   not a value to write (lib/scene.c, check_stopping, has the rest of the rule). */
+static cvk_result read_tolerance(cvk_reader* rd, const cvk_field* f, json_t* value,
+                                 const char* path, void* dest)
+{
+    cvk_result r = cvk_read_float(rd, f, value, path, dest);
+    if (r == CVK_SUCCESS && *(float*)dest == 0.0f)
+        return cvk_reader_fail_at(rd, path, "must be greater than 0 and less than 1, got 0");
+    return r;
+}
+
+static cvk_result read_max_iterations(cvk_reader* rd, const cvk_field* f, json_t* value,
+                                      const char* path, void* dest)
+{
+    cvk_result r = cvk_read_uint(rd, f, value, path, dest);
+    if (r == CVK_SUCCESS && *(uint32_t*)dest < f->min)
+        return cvk_reader_fail_at(rd, path, "must be at least %" PRIu32 ", got 0", f->min);
+    return r;
+}
+
 static const cvk_field solver_fields[] = {
     {.key = "method", .read = read_method, .offset = offsetof(cvk_solver_desc, method)},
     {.key = "linear", .read = read_linear, .offset = offsetof(cvk_solver_desc, linear)},
@@ -475,9 +495,9 @@ static const cvk_field solver_fields[] = {
     {.key = "omega", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, omega)},
     {.key = "chebyshev_rho", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, chebyshev_rho)},
     {.key = "chebyshev_delay", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, chebyshev_delay)},
-    {.key = "tolerance", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, tolerance)},
-    {.key = "max_iterations", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, max_iterations),
-     .min = 1},
+    {.key = "tolerance", .read = read_tolerance, .offset = offsetof(cvk_solver_desc, tolerance)},
+    {.key = "max_iterations", .read = read_max_iterations,
+     .offset = offsetof(cvk_solver_desc, max_iterations), .min = 1},
     {.key = "kd", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, kd)},
     {.key = "integrator", .read = read_integrator, .offset = offsetof(cvk_solver_desc, integrator)},
     {.key = "damping_model", .read = read_damping_model,

@@ -9,6 +9,7 @@
 #include "scene.h"
 #include "sim.h"
 #include "solve_implicit.h"
+#include "solve_pd.h"
 
 /* ---- statistics ------------------------------------------------------------------------ */
 
@@ -128,6 +129,7 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
         return r;
     cvk_sim_watch_stats(s, st);
     cvk_implicit_stats(s, st);
+    cvk_pd_stats(s, st);
     return cvk_sim_contact_stats(s, s->scratch, st, error);
 }
 

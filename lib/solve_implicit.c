@@ -331,9 +331,9 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
     if (op)
         op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     if (solver->linear == CVK_LINEAR_JACOBI)
-        plan_jacobi(&ib, solver->max_iterations);
+        plan_jacobi(&ib, ip.max_iterations);
     else
-        plan_cg(&ib, solver->max_iterations);
+        plan_cg(&ib, ip.max_iterations);
     op = add(&ib, integrate, CVK_PIPE_IMPLICIT_INTEGRATE, SHAPE_DIRECT, "from the solving iterate",
              0);
     if (op)
@@ -343,7 +343,7 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
         return r;
     snprintf(plan->solver_note, sizeof plan->solver_note,
              ", tolerance %g, at most %u iterations (stopped on the device), kd %g N s/m",
-             solver->tolerance, solver->max_iterations, solver->kd);
+             ip.tolerance, ip.max_iterations, solver->kd);
     return cvk_plan_check(plan, error);
 }
 

@@ -67,7 +67,18 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
-    return CVK_SUCCESS;
+    cvk_result r = cvk_buffer_create(s->context, 4u * (CVK_PD_PARTIALS + nf),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_DEVICE,
+                                     "residuals", &pd->sums, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_create(s->context, sizeof(cvk_pd_scalars),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                  VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              CVK_MEMORY_HOST, "convergence state", &pd->scalars, error);
+    if (r == CVK_SUCCESS)
+        memset(pd->scalars.mapped, 0, sizeof(cvk_pd_scalars));
+    return r;
 }
 
 /* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
@@ -154,7 +165,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
     [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
     [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
-    [CVK_PD_BINDING_EXTERNAL] = TEXEL,
+    [CVK_PD_BINDING_EXTERNAL] = TEXEL, [CVK_PD_BINDING_CONVERGE] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
@@ -178,8 +189,33 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_TETHER_ANCHOR] = {.view = pd->view_tether_anchor},
         [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
         [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero.view_external},
+        [CVK_PD_BINDING_CONVERGE] = {.buffer = &pd->sums},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
+}
+
+static const cvk_binding converge_bindings[CVK_PD_CONVERGE_BINDING_COUNT] = {
+    [CVK_PD_CONVERGE_BINDING_SUMS] = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
+    [CVK_PD_CONVERGE_BINDING_SCALARS] = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
+};
+
+/* The check's own set: the indirect commands are bound nowhere else, so only the decision's
+   writes need a barrier to the indirect reads. */
+static cvk_result create_converge_set(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    cvk_result r = cvk_descriptors_create(s->context, converge_bindings,
+                                          CVK_PD_CONVERGE_BINDING_COUNT, 1,
+                                          VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_pd_converge_push),
+                                          &pd->converge_descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    const cvk_resource res[CVK_PD_CONVERGE_BINDING_COUNT] = {
+        [CVK_PD_CONVERGE_BINDING_SUMS] = {.buffer = &pd->sums},
+        [CVK_PD_CONVERGE_BINDING_SCALARS] = {.buffer = &pd->scalars},
+    };
+    cvk_descriptors_write(s->context, &pd->converge_descriptors, 0, res);
+    return CVK_SUCCESS;
 }
 
 static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
@@ -194,7 +230,7 @@ static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     write_set(s, pd, CVK_PD_SET_U0_TO_U1, 0, 1);
     write_set(s, pd, CVK_PD_SET_U1_TO_U0, 1, 0);
     write_set(s, pd, CVK_PD_SET_U0_TO_U0, 0, 0);
-    return CVK_SUCCESS;
+    return create_converge_set(s, pd, error);
 }
 
 
@@ -417,13 +453,14 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
     cvk_build view = s->build;
     if (pd->h_adj_k)
         view.adj_k = pd->h_adj_k;
+    cvk_solver_desc solver = cvk_solver_desc_resolve(&s->solver); /* max_iterations: outer */
     for (uint32_t f = 0; f < frames; f++) {
         double predict_ms = 0.0, solve_ms = 0.0, tear_ms = 0.0;
         for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
             double t0 = cvk_now_ms();
             cvk_ref_predict(&view, &s->ref, pd->hx, pd->hprev, pd->hy);
             double t1 = cvk_now_ms();
-            cvk_ref_solve_gauss_seidel(&view, &s->ref, &s->solver, pd->hy, pd->hx, pd->hrhs);
+            cvk_ref_solve_gauss_seidel(&view, &s->ref, &solver, pd->hy, pd->hx, pd->hrhs);
             double t2 = cvk_now_ms();
             if (pd->h_alive)
                 cvk_tear_host(s, pd->hx, pd->h_alive, pd->h_adj_k);
@@ -446,6 +483,27 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
     return r;
 }
 
+void cvk_pd_stats(const cvk_sim* s, cvk_sim_stats* st)
+{
+    const cvk_pd* pd = s->family == &cvk_family_pd ? s->family_state : NULL;
+    if (!pd)
+        return;
+    /* The current plan checks when it has the pass (a failed switch leaves the plan as is). */
+    if (cvk_plan_find_pass(&s->plan, "convergence") != UINT32_MAX) {
+        cvk_pd_scalars scalars;
+        memcpy(&scalars, pd->scalars.mapped, sizeof scalars);
+        st->solver_iterations = scalars.frame_iterations;
+        st->solver_iterations_total = scalars.total_iterations;
+        st->solver_residual = scalars.residual;
+        return;
+    }
+    cvk_solver_desc solver = cvk_solver_desc_resolve(&s->solver);
+    uint64_t per_frame = (uint64_t)solver.outer_iterations * solver.inner_iterations *
+                         s->plan.substeps;
+    st->solver_iterations = s->frames ? (uint32_t)per_frame : 0;
+    st->solver_iterations_total = per_frame * s->frames;
+}
+
 /* ---- the family ------------------------------------------------------------------------ */
 
 static bool pd_accepts(const cvk_solver_desc* solver)
@@ -460,6 +518,7 @@ static void pd_destroy(cvk_sim* s, void* self)
         return;
     VkDevice dev = s->context->device;
     cvk_descriptors_destroy(s->context, &pd->descriptors);
+    cvk_descriptors_destroy(s->context, &pd->converge_descriptors);
     VkBufferView views[] = {pd->view_u[0], pd->view_u[1], pd->view_y, pd->view_rhs,
                             pd->view_adjacency, pd->view_adjacency_kl,
                             pd->view_tether_anchor, pd->view_tether_length};
@@ -467,7 +526,8 @@ static void pd_destroy(cvk_sim* s, void* self)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
-                             &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length};
+                             &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length,
+                             &pd->sums, &pd->scalars};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (pd->readback_cmd)

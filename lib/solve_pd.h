@@ -26,6 +26,12 @@ typedef struct cvk_pd {
        when the scene has none. */
     cvk_buffer tether_anchor, tether_length;
     VkBufferView view_tether_anchor, view_tether_length;
+    /* Solves that stop when converged (shared/layout.h): CVK_PD_PARTIALS partial sums and a
+       squared residual per free particle (`sums`), and cvk_pd_scalars with the indirect
+       commands (`scalars`, host-visible: read for the statistics), which only the check's own
+       set binds. */
+    cvk_buffer sums, scalars;
+    cvk_descriptors converge_descriptors; /* one set: sums, scalars */
     cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */
     VkCommandBuffer readback_cmd; /* positions and u[0] -> staging, recorded once */
 
@@ -70,6 +76,10 @@ cvk_result cvk_pd_load_snapshot(cvk_sim* sim, void* self, const void* data, uint
 /* The passes of one substep of `solver` (pd_passes.c). */
 cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
                              cvk_plan* plan, cvk_error* error);
+
+/* The pd family's part of the statistics: sweeps of the last frame and since creation, counted
+   on the device when the plan checks for convergence, else the sweeps the plan records. */
+void cvk_pd_stats(const cvk_sim* sim, cvk_sim_stats* st);
 
 /* Chebyshev's ρ for `solver` at step h: solver->chebyshev_rho when set, else `estimated`
    when ≥ 0, else estimated here; capped for stability. *estimated_out (if not NULL) gets ρ

@@ -38,6 +38,8 @@ layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adj
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
+#define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
+#include "pd_converge.glsl"
 
 // The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
@@ -74,12 +76,53 @@ vec3 spring_rhs(vec3 e, vec3 t, float k, float kl)
     return (len > 0.0 ? (kl / len) * t : vec3(0.0)) - k * e;
 }
 
+#ifdef RESIDUAL
+// The scene has tethers (the tether buffers hold one texel otherwise: nothing to read).
+layout(constant_id = 3) const bool TETHERS = false;
+
+// A tether that holds p takes the part of its correction d that points out of its sphere: the
+// projected residual of the one-sided constraint, which is 0 at the constrained solution
+// (without it a cloth hanging on its tethers never converges: the springs keep pulling the
+// held particles outward). t is the tether's vector from the pin to p in the iterate; p is
+// held when on its sphere to float rounding (the tether pass put it there) or past it. A
+// missing tether points at p itself (t = 0, an unreachable limit).
+vec3 tether_free(vec3 d, vec3 t, float limit)
+{
+    float far = length(t);
+    if (far < limit * (1.0 - 1e-5))
+        return d;
+    vec3 n = t / far;
+    float outward = dot(d, n);
+    return outward > 0.0 ? d - outward * n : d;
+}
+
+// d with every tether of p that holds it applied (shaders/pd_tether.comp's data).
+vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
+{
+    if (!TETHERS)
+        return d;
+    uvec4 anchor = texelFetch(tether_anchor, int(p));
+    vec4 limit = texelFetch(tether_length, int(p));
+    for (uint j = 0u; j < 4u; j++) {
+        vec3 t = cur - fetch(src, anchor[j]) + xp - fetch(x_read, anchor[j]);
+        d = tether_free(d, t, limit[j]);
+    }
+    return d;
+}
+#endif
+
 // The local step of particle p at the start of an outer iteration, from the iterate in src
 // (cur is its own): writes and returns b = (b_p, 1/diag_p), and sets acc to sum_c k_c u_c of the
 // first linear sweep. Neighbours below `swept_below` were already updated in this sweep
 // (Gauss-Seidel colours before this one) and are read from dst_read; the rest from src.
+// RESIDUAL (the checking variants of the first sweeps) also writes |d_p|^2, the squared
+// Jacobi correction of the springs' system at src: d_p = (b_p + sum_c k_c src_c) / diag_p - cur,
+// less what the tethers holding p take (free_of_tethers).
 vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
 {
+#ifdef RESIDUAL
+    vec3 src_acc = vec3(0.0);
+#endif
     vec3 xp = fetch(x_read, p);
     vec4 yp = texelFetch(y_read, int(p));
     vec3 sum = yp.w * yp.xyz;
@@ -95,10 +138,17 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
             sum += spring_rhs(edge, edge + cur - un, k[j], kl[j]);
             diag += k[j];
             acc += k[j] * (n[j] < swept_below ? fetch(dst_read, n[j]) : un);
+#ifdef RESIDUAL
+            src_acc += k[j] * un;
+#endif
         }
     }
     vec4 b = vec4(sum, 1.0 / diag);
     rhs[p] = b;
+#ifdef RESIDUAL
+    vec3 d = free_of_tethers(p, xp, cur, (b.xyz + src_acc) * b.w - cur);
+    residual[p] = dot(d, d);
+#endif
     return b;
 }
 

@@ -6,6 +6,8 @@
 // FIRST (the first sweep of an outer iteration) also computes b_p from src, the iterate at
 // the start of the outer iteration, and reads neighbours of colours not yet swept from src:
 // those of lower colours (index < pc.first) were already written to dst in this sweep.
+// Built a second time with RESIDUAL: the first sweep of an outer iteration that a convergence
+// check follows, which also writes each particle's squared residual at src (pd_common.glsl).
 #include "pd_common.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;

@@ -4,7 +4,8 @@
 // Chebyshev semi-iterative step of Wang 2015:
 //   u^ = (b + sum_c k_c u_c) / diag,   z = u + omega (u^ - u),
 //   u_next = cheb (z - u_older) + u_older, where u_older (the iterate before src) is in dst.
-// FIRST computes b from src, the iterate at the start of the outer iteration.
+// FIRST computes b from src, the iterate at the start of the outer iteration. Built a second
+// time with RESIDUAL: a checking first sweep also writes the squared residual at src.
 #include "pd_common.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;

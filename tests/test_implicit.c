@@ -29,9 +29,11 @@ static void scene_keys(void)
           "tolerance %g, max_iterations %u, kd %g", s->tolerance, s->max_iterations, s->kd);
     cvk_scene_destroy(scene);
     cvk_scene_desc d = cvk_default_scene_desc();
-    CHECK(d.solver.tolerance == 1e-3f && d.solver.max_iterations == 100 && d.solver.kd == 0.0f,
-          "defaults: tolerance %g, max_iterations %u, kd %g", d.solver.tolerance,
-          d.solver.max_iterations, d.solver.kd);
+    d.solver.method = CVK_METHOD_IMPLICIT; /* 0 in the description: the method's default */
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(&d.solver);
+    CHECK(resolved.tolerance == 1e-3f && resolved.max_iterations == 100 && d.solver.kd == 0.0f,
+          "defaults: tolerance %g, max_iterations %u, kd %g", resolved.tolerance,
+          resolved.max_iterations, d.solver.kd);
 
     harness_expect_scene_message("{\"solver\": {\"method\": \"implicit\"}, \"cloths\": [{}]}",
                    "t.json: solver.linear: rbgs is not a linear solver of the implicit method; "

@@ -44,6 +44,8 @@ cvk_solver_desc bench_solver_desc(const cvk_solver_desc* base, const bench_solve
         inner = inner == 0 ? 1 : sweeps;
     d.inner_iterations = inner;
     d.outer_iterations = (sweeps + inner - 1) / inner;
+    d.max_iterations = 0; /* the sweeps are outer × inner, every one of them run */
+    d.tolerance = 0.0f;
     return d;
 }
 

@@ -222,8 +222,15 @@ typedef struct cvk_solver_desc {
     float omega;                /* SOR factor (rbgs, gs-cpu) or relaxation (jacobi, chebyshev), 0 < omega < 2, usually 1 */
     float chebyshev_rho;        /* spectral radius for chebyshev; 0 = estimated at build time */
     uint32_t chebyshev_delay;   /* plain sweeps before Chebyshev weights start, usually 2 */
-    float tolerance;            /* implicit: relative residual where cg / jacobi stop, usually 1e-3 */
-    uint32_t max_iterations;    /* implicit: cg iterations or jacobi sweeps per substep, at most; usually 100 */
+    float tolerance;            /* where the solve stops, 0 ≤ tolerance < 1; 0 = the method's default.
+                                   implicit: relative residual of cg / jacobi, default 1e-3. pd
+                                   (rbgs, jacobi, chebyshev): |D⁻¹(b − A u)| / the same at the
+                                   substep's first iterate (D⁻¹(b − A u): the move one Jacobi
+                                   sweep would make), checked on the device at the start of
+                                   every outer iteration; default none (every sweep runs) */
+    uint32_t max_iterations;    /* sweeps per substep, at most; 0 = the method's default. implicit:
+                                   cg iterations or jacobi sweeps, default 100. pd: a multiple of
+                                   inner_iterations that replaces outer × inner (its default) */
     float kd;                   /* implicit, explicit: spring damping (or viscosity), N·s/m; usually 0 */
     cvk_integrator integrator;  /* explicit: CVK_INTEGRATOR_NONE = euler */
     cvk_damping_model damping_model; /* explicit: CVK_DAMPING_NONE = spring */
@@ -523,6 +530,9 @@ typedef struct cvk_scene_desc {
 
 /* Defaults: see the field comments and README.md. */
 CVK_API cvk_scene_desc cvk_default_scene_desc(void);
+/* `solver` with its method's defaults filled in (tolerance, max_iterations; for pd the
+   outer_iterations that max_iterations implies): what a simulation runs. */
+CVK_API cvk_solver_desc cvk_solver_desc_resolve(const cvk_solver_desc* solver);
 CVK_API cvk_cloth_desc cvk_default_cloth_desc(void);
 CVK_API cvk_render_desc cvk_default_render_desc(void); /* the same as cvk_default_scene_desc().render */
 CVK_API cvk_collider_desc cvk_default_collider_desc(void); /* a plane through the origin, +y up */
@@ -743,13 +753,16 @@ typedef struct cvk_sim_stats {
     uint64_t contact_searches;   /* searches for cloth-contact candidates so far (since creation
                                     or the last snapshot loaded; adaptive by default, see
                                     collision.detect_every); 0 without self-contact */
-    /* The implicit method's linear solver (0 for pd). */
-    uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps of the last frame, summed
-                                         over its substeps */
+    /* The linear solver: implicit's, and pd's sweeps (counted on the device with a tolerance;
+       without one, every sweep the plan records). */
+    uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps (pd: sweeps) of the last
+                                         frame, summed over its substeps */
     uint64_t solver_iterations_total; /* since the simulation started */
     uint32_t solver_breakdowns;       /* substeps whose solve found the system not positive
                                          definite (pᵀAp ≤ 0, rᵀP⁻¹r < 0) and stopped; 0 with
                                          the clamp */
+    float solver_residual;            /* pd with a tolerance: the last relative residual
+                                         measured (solver.tolerance's measure); else 0 */
     /* The divergence watch (GPU solvers): a non-finite position, a particle faster than
        10000 m/s or a spring ten times its rest length stops the simulation at the last sane
        state. */

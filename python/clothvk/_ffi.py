@@ -299,6 +299,7 @@ typedef struct cvk_scene_desc {
 } cvk_scene_desc;
 
 cvk_render_desc cvk_default_render_desc(void);
+cvk_solver_desc cvk_solver_desc_resolve(const cvk_solver_desc* solver);
 cvk_collider_desc cvk_default_collider_desc(void);
 const char* cvk_collider_type_name(cvk_collider_type type);
 const char* cvk_linear_solver_name(cvk_linear_solver linear);
@@ -409,6 +410,7 @@ typedef struct cvk_sim_stats {
     uint32_t solver_iterations;
     uint64_t solver_iterations_total;
     uint32_t solver_breakdowns;
+    float solver_residual;
     bool diverged;
     uint64_t diverged_frame;
     uint32_t diverged_cloth;

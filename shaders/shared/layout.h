@@ -54,7 +54,73 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_EXTERNAL 12     /* texel: h^2 F / m of the air per free particle (WIND) */
 #define CVK_PD_BINDING_TETHER_ANCHOR 13 /* texel: uvec4 per free particle, pinned indices */
 #define CVK_PD_BINDING_TETHER_LENGTH 14 /* texel: vec4 per free particle, m */
-#define CVK_PD_BINDING_COUNT 15
+#define CVK_PD_BINDING_CONVERGE 15     /* storage: partial sums, squared residuals */
+#define CVK_PD_BINDING_COUNT 16
+
+/* Solves that stop when converged (solver.tolerance; lib/pd_passes.c, shaders/pd_converge.comp).
+   The measure: the first sweep of every outer iteration computes, besides its local step, the
+   residual of the springs' system at the iterate it reads, scaled by the diagonal:
+   d_p = (b_p + sum_c k_c u_c) / diag_p - u_p (the move one Jacobi sweep would make there), and
+   writes |d_p|^2; a reduction sums them in a fixed order into CVK_PD_PARTIALS partial sums
+   whatever the dispatch shape, and one invocation compares the sum with tol2 (the squared
+   tolerance) times the sum at the substep's first iterate: the relative residual is |d| / |d_0|.
+   Once below, it zeroes the indirect commands of every later pass of the substep. */
+#define CVK_PD_PARTIALS 256u
+
+/* Bindings of the check's own set (shaders/pd_converge.comp, MODE 0 and 1): the partial sums
+   and residuals (the buffer the checking sweeps write as CVK_PD_BINDING_CONVERGE) and the
+   cvk_pd_scalars, which hold the indirect commands and which nothing else binds. */
+#define CVK_PD_CONVERGE_BINDING_SUMS 0
+#define CVK_PD_CONVERGE_BINDING_SCALARS 1
+#define CVK_PD_CONVERGE_BINDING_COUNT 2
+
+#define CVK_PD_CONVERGE_PUSH_FIELDS                                                     \
+    CVK_UINT(stride)       /* free particle count */                                     \
+    CVK_UINT(swept)        /* decide: sweeps run when the measured sweep ends */         \
+    CVK_UINT(sweeps)       /* decide: sweeps the plan records per substep */             \
+    CVK_UINT(in_u1)        /* decide: the measured iterate lies in u1 (else u0) */       \
+    CVK_UINT(first_check)  /* decide: the substep's first check: its first iterate */    \
+    CVK_UINT(last_check)   /* decide: no check after this one */                         \
+    CVK_FLOAT(tol2)        /* decide: stop when |d|^2 <= tol2 |d_0|^2 */                 \
+    CVK_UINT(sweep_groups) /* decide: groups of the sweeps, tethers and the copy */      \
+    CVK_UINT(contact_groups) /* decide: groups of the contact pass */                    \
+    CVK_UINT(reduce_groups)  /* decide: groups of the reduction */
+
+CVK_PUSH_BLOCK(cvk_pd_converge_push, CVK_PD_CONVERGE_PUSH_FIELDS)
+
+/* The convergence state, on the device (host-visible, read for the statistics): converged
+   this substep; iterations (sweeps) of the last substep, of this frame (zeroed by a fill at its
+   first substep) and since creation; residual: the last relative residual measured; checks:
+   decisions taken since creation; start: |d_0|^2 of this substep's first iterate; then the
+   indirect commands (x, y, z groups) of the passes after the substep's first check: sweeps
+   (also tethers), contact, the reduction, the one-invocation decision and the copy of a
+   converged iterate from u1 to u0 (finalize reads u0). */
+#define CVK_PD_SCALARS_FIELDS       \
+    CVK_UINT(converged)             \
+    CVK_UINT(iterations)            \
+    CVK_UINT(frame_iterations)      \
+    CVK_UINT(total_iterations)      \
+    CVK_FLOAT(residual)             \
+    CVK_UINT(checks)                \
+    CVK_FLOAT(start)                \
+    CVK_UINT(pad1)                  \
+    CVK_UINT(sweep_groups)          \
+    CVK_UINT(sweep_y)               \
+    CVK_UINT(sweep_z)               \
+    CVK_UINT(contact_groups)        \
+    CVK_UINT(contact_y)             \
+    CVK_UINT(contact_z)             \
+    CVK_UINT(reduce_groups)         \
+    CVK_UINT(reduce_y)              \
+    CVK_UINT(reduce_z)              \
+    CVK_UINT(single_groups)         \
+    CVK_UINT(single_y)              \
+    CVK_UINT(single_z)              \
+    CVK_UINT(copy_groups)           \
+    CVK_UINT(copy_y)                \
+    CVK_UINT(copy_z)                \
+    CVK_UINT(pad2)
+CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
 
 /* Tethers (lib/tether.h, shaders/pd_tether.comp): a particle is projected onto each of its
    tethers' spheres in turn, at most this many rounds (a round that moves nothing ends it):
