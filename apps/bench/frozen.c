@@ -34,6 +34,8 @@ cvk_solver_desc bench_solver_desc(const cvk_solver_desc* base, const bench_solve
     }
     if (s->method == CVK_METHOD_EXPLICIT) {
         d.integrator = s->integrator;
+        d.max_iterations = 0; /* no solve: nothing to stop */
+        d.tolerance = 0.0f;
         return d;
     }
     if (s->omega > 0.0f)
