@@ -237,6 +237,26 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
            pb->base.omega);
 }
 
+/* One op of a convergence check over `count` items: dispatched directly before the substep's
+   first check has armed the indirect commands, then through the group count at `groups_at`
+   in the scalars (0 once the solve has stopped). */
+static cvk_op* check_op(pd_builder* pb, cvk_pipeline_id pipeline, VkDeviceSize groups_at,
+                        uint32_t count, const cvk_pd_converge_push* push)
+{
+    const cvk_pd* pd = pb->pd;
+    VkPipelineLayout layout = pd->converge_descriptors.pipeline_layout;
+    VkDescriptorSet set = pd->converge_descriptors.sets[0];
+    if (!pb->armed)
+        return cvk_plan_dispatch(pb->plan, pb->check_pass, pipeline, layout, set,
+                                 CVK_DOMAIN_PARTICLES, 0, count, push, sizeof *push);
+    cvk_op* op = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, pipeline, layout, set,
+                                            CVK_DOMAIN_PARTICLES, pd->scalars.buffer, groups_at,
+                                            push, sizeof *push);
+    if (op)
+        op->count = count;
+    return op;
+}
+
 /* The convergence check that follows the first sweep of outer iteration `outer`, which
    measured the iterate that outer iteration started from (in u1 when in_u1) and wrote the
    squared residuals: partial sums, then one invocation that stops the rest of the substep or
@@ -250,37 +270,14 @@ static void add_check(pd_builder* pb, uint32_t outer, bool in_u1, uint32_t swept
     push.in_u1 = in_u1;
     push.first_check = outer == 0;
     push.last_check = outer + 1 == pb->solver->outer_iterations;
-    const cvk_pd* pd = pb->pd;
-    VkPipelineLayout layout = pd->converge_descriptors.pipeline_layout;
-    VkDescriptorSet set = pd->converge_descriptors.sets[0];
     /* Each op is finished before the next append, which may move the list. */
-    cvk_op* reduce;
-    if (pb->armed) {
-        reduce = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout,
-                                            set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
-                                            offsetof(cvk_pd_scalars, reduce_groups), &push,
-                                            sizeof push);
-        if (reduce)
-            reduce->count = CVK_PD_PARTIALS;
-    } else {
-        reduce = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_REDUCE, layout, set,
-                                   CVK_DOMAIN_PARTICLES, 0, CVK_PD_PARTIALS, &push, sizeof push);
-    }
+    cvk_op* reduce = check_op(pb, CVK_PIPE_PD_REDUCE, offsetof(cvk_pd_scalars, reduce_groups),
+                              CVK_PD_PARTIALS, &push);
     if (reduce)
         snprintf(reduce->note, sizeof reduce->note, "residual at the start of outer %u",
                  outer + 1);
-    cvk_op* decide;
-    if (pb->armed) {
-        decide = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout,
-                                            set, CVK_DOMAIN_PARTICLES, pd->scalars.buffer,
-                                            offsetof(cvk_pd_scalars, single_groups), &push,
-                                            sizeof push);
-        if (decide)
-            decide->count = 1;
-    } else {
-        decide = cvk_plan_dispatch(pb->plan, pb->check_pass, CVK_PIPE_PD_DECIDE, layout, set,
-                                   CVK_DOMAIN_PARTICLES, 0, 1, &push, sizeof push);
-    }
+    cvk_op* decide = check_op(pb, CVK_PIPE_PD_DECIDE, offsetof(cvk_pd_scalars, single_groups), 1,
+                              &push);
     if (decide) {
         decide->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
         snprintf(decide->note, sizeof decide->note, "stop below the tolerance, after %u sweeps",
