@@ -130,7 +130,10 @@ void cvk_attach_bind(cvk_sim* s, const cvk_buffer* u0, const cvk_buffer* u1)
     a->bound = true;
 }
 
-cvk_result cvk_attach_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
+/* One attach dispatch: `pipeline` with `place`; the first of a substep counts it when no
+   collider pass did. */
+static cvk_result add_pass(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, bool place,
+                           const char* what, cvk_error* error)
 {
     cvk_attach* a = &s->attach;
     if (a->attachment_count == 0 || s->build.attached_count == 0)
@@ -139,18 +142,30 @@ cvk_result cvk_attach_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "attachments: this solver does not move attached particles");
     /* The collider pass, when there is one, has counted this substep already. */
-    bool counted = s->collide.colliding && s->collide.collider_count > 0;
-    cvk_attach_push push = {s->build.attached_count, counted ? 0u : 1u, s->params.dt, 0};
+    bool counted = place || (s->collide.colliding && s->collide.collider_count > 0);
+    cvk_attach_push push = {s->build.attached_count, counted ? 0u : 1u, s->params.dt,
+                            place ? 1u : 0u};
     uint32_t pass = cvk_plan_pass(plan, "attach");
-    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_ATTACH, a->descriptors.pipeline_layout,
+    cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, a->descriptors.pipeline_layout,
                                    a->descriptors.sets[0], CVK_DOMAIN_PARTICLES, 0,
                                    s->build.attached_count, &push, sizeof push);
     if (op) {
         op->groups = 1; /* one workgroup: it may advance the frame state */
-        snprintf(op->note, sizeof op->note, "%u particles, u = pose(t + dt) start - x%s",
-                 s->build.attached_count, counted ? "" : ", step += 1");
+        snprintf(op->note, sizeof op->note, "%u particles, %s%s", s->build.attached_count, what,
+                 counted ? "" : ", step += 1");
     }
     return cvk_plan_check(plan, error);
+}
+
+cvk_result cvk_attach_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
+{
+    return add_pass(s, plan, CVK_PIPE_ATTACH, false, "u = pose(t + dt) start - x", error);
+}
+
+cvk_result cvk_attach_add_implicit_pass(cvk_sim* s, cvk_plan* plan, bool place, cvk_error* error)
+{
+    return add_pass(s, plan, CVK_PIPE_ATTACH_IMPLICIT, place,
+                    place ? "x = pose(t + h) start" : "v = (pose(t + h) start - x) / h", error);
 }
 
 void cvk_attach_position(const cvk_sim* s, uint32_t i, double t, float out[3])
