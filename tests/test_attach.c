@@ -247,6 +247,11 @@ static void solvers(cvk_context* ctx)
                                 "attached particles; remove \"attachments\", or use rbgs, "
                                 "jacobi or chebyshev");
     solver = s.scene.solver;
+    solver.method = CVK_METHOD_EXPLICIT;
+    solver.linear = CVK_LINEAR_RBGS; /* explicit's linear: none given */
+    expect_refused(sim, solver, "solver.method: explicit does not move attached particles; "
+                                "remove \"attachments\", or use pd or implicit");
+    solver = s.scene.solver;
     solver.linear = CVK_LINEAR_CHEBYSHEV;
     REQUIRE_OK(cvk_sim_set_solver(sim, &solver, &err), err);
     float* start = harness_read_all(sim);
