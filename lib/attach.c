@@ -93,7 +93,8 @@ cvk_result cvk_attach_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error*
     if (r == CVK_SUCCESS)
         r = upload_tables(s, a, keyframes, error);
     if (r == CVK_SUCCESS)
-        r = cvk_descriptors_create(s->context, attach_bindings, CVK_ATTACH_BINDING_COUNT, 1,
+        r = cvk_descriptors_create(s->context, attach_bindings, CVK_ATTACH_BINDING_COUNT,
+                                   CVK_ATTACH_FAMILIES,
                                    VK_SHADER_STAGE_COMPUTE_BIT, sizeof(cvk_attach_push),
                                    &a->descriptors, error);
     return r; /* on failure cvk_sim_destroy calls cvk_attach_destroy */
@@ -112,7 +113,8 @@ void cvk_attach_destroy(cvk_sim* s)
     *a = (cvk_attach){0};
 }
 
-void cvk_attach_bind(cvk_sim* s, const cvk_buffer* u0, const cvk_buffer* u1)
+void cvk_attach_bind(cvk_sim* s, cvk_attach_family family, const cvk_buffer* u0,
+                     const cvk_buffer* u1)
 {
     cvk_attach* a = &s->attach;
     if (a->attachment_count == 0)
@@ -126,19 +128,19 @@ void cvk_attach_bind(cvk_sim* s, const cvk_buffer* u0, const cvk_buffer* u1)
         [CVK_ATTACH_BINDING_U0] = {.buffer = u0},
         [CVK_ATTACH_BINDING_U1] = {.buffer = u1},
     };
-    cvk_descriptors_write(s->context, &a->descriptors, 0, res);
-    a->bound = true;
+    cvk_descriptors_write(s->context, &a->descriptors, family, res);
+    a->bound[family] = true;
 }
 
-/* One attach dispatch: `pipeline` with `place`; the first of a substep counts it when no
-   collider pass did. */
-static cvk_result add_pass(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, bool place,
+/* One attach dispatch of `family`'s pipeline and set (implicit: the velocity or the place
+   pass); the first of a substep counts it when no collider pass did. */
+static cvk_result add_pass(cvk_sim* s, cvk_plan* plan, cvk_attach_family family, bool place,
                            const char* what, cvk_error* error)
 {
     cvk_attach* a = &s->attach;
     if (a->attachment_count == 0 || s->build.attached_count == 0)
         return CVK_SUCCESS;
-    if (!a->bound)
+    if (!a->bound[family])
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "attachments: this solver does not move attached particles");
     /* The collider pass, when there is one, has counted this substep already. */
@@ -146,8 +148,10 @@ static cvk_result add_pass(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline,
     cvk_attach_push push = {s->build.attached_count, counted ? 0u : 1u, s->params.dt,
                             place ? 1u : 0u};
     uint32_t pass = cvk_plan_pass(plan, "attach");
+    cvk_pipeline_id pipeline = family == CVK_ATTACH_FOR_PD ? CVK_PIPE_ATTACH
+                                                           : CVK_PIPE_ATTACH_IMPLICIT;
     cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, a->descriptors.pipeline_layout,
-                                   a->descriptors.sets[0], CVK_DOMAIN_PARTICLES, 0,
+                                   a->descriptors.sets[family], CVK_DOMAIN_PARTICLES, 0,
                                    s->build.attached_count, &push, sizeof push);
     if (op) {
         op->groups = 1; /* one workgroup: it may advance the frame state */
@@ -159,12 +163,12 @@ static cvk_result add_pass(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline,
 
 cvk_result cvk_attach_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
-    return add_pass(s, plan, CVK_PIPE_ATTACH, false, "u = pose(t + dt) start - x", error);
+    return add_pass(s, plan, CVK_ATTACH_FOR_PD, false, "u = pose(t + dt) start - x", error);
 }
 
 cvk_result cvk_attach_add_implicit_pass(cvk_sim* s, cvk_plan* plan, bool place, cvk_error* error)
 {
-    return add_pass(s, plan, CVK_PIPE_ATTACH_IMPLICIT, place,
+    return add_pass(s, plan, CVK_ATTACH_FOR_IMPLICIT, place,
                     place ? "x = pose(t + h) start" : "v = (pose(t + h) start - x) / h", error);
 }
 

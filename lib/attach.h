@@ -15,23 +15,33 @@
 
 struct cvk_sim;
 
+/* Which family's iterates a descriptor set of the pass writes: one set each, so that a family
+   being created beside another (a solver switch that may still fail) never rebinds the
+   running one's (as lib/tear.h). */
+typedef enum cvk_attach_family {
+    CVK_ATTACH_FOR_PD,
+    CVK_ATTACH_FOR_IMPLICIT,
+    CVK_ATTACH_FAMILIES
+} cvk_attach_family;
+
 typedef struct cvk_attach {
     uint32_t attachment_count;
     cvk_motion* motions;         /* deep copies of the scene's motions (keyframes owned here) */
     cvk_buffer keyframes;        /* 2 vec4 per keyframe (cvk_motion_pack) */
     cvk_buffer attachments;      /* cvk_gpu_attachment per attachment */
     cvk_buffer attached;         /* cvk_gpu_attached per attached particle */
-    cvk_descriptors descriptors; /* one set; bound to the solver's iterates by cvk_attach_bind */
-    bool bound;
+    cvk_descriptors descriptors; /* a set per family, bound to its iterates by cvk_attach_bind */
+    bool bound[CVK_ATTACH_FAMILIES];
 } cvk_attach;
 
 /* Copies the scene's motions and uploads the tables (nothing when the scene has none). */
 cvk_result cvk_attach_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk_error* error);
 void cvk_attach_destroy(struct cvk_sim* sim);
 
-/* Points the pass at the solver's two displacement iterates (projective dynamics' u[0], u[1];
+/* Points the family's set at its two displacement iterates (projective dynamics' u[0], u[1];
    implicit Euler's velocities, twice); the family calls it when it creates them. */
-void cvk_attach_bind(struct cvk_sim* sim, const cvk_buffer* u0, const cvk_buffer* u1);
+void cvk_attach_bind(struct cvk_sim* sim, cvk_attach_family family, const cvk_buffer* u0,
+                     const cvk_buffer* u1);
 
 /* The pass ("attach"), before the family's prediction; none without attachments. */
 cvk_result cvk_attach_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);
@@ -40,7 +50,7 @@ cvk_result cvk_attach_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error*
    (place false) the velocity that takes each attached particle to its keyframed place over the
    substep, v = (pose(t + h) · start − x_n) / h, which the springs to it carry into the
    right-hand side (the particle is pinned for the solver, S = 0); after the integration
-   (place true) x = pose(t + h) · start. The velocities must be bound as u0 and u1. */
+   (place true) x = pose(t + h) · start. The velocities must be bound (CVK_ATTACH_FOR_IMPLICIT). */
 cvk_result cvk_attach_add_implicit_pass(struct cvk_sim* sim, cvk_plan* plan, bool place,
                                         cvk_error* error);
 

@@ -419,7 +419,7 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         cvk_tear_bind(s, CVK_TEAR_FOR_IMPLICIT, &im->adjacency, NULL);
     if (r == CVK_SUCCESS)
-        cvk_attach_bind(s, &im->v, &im->v); /* the velocity and place passes */
+        cvk_attach_bind(s, CVK_ATTACH_FOR_IMPLICIT, &im->v, &im->v); /* velocity, place */
     if (r == CVK_SUCCESS)
         r = implicit_write_state(s, im, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)
