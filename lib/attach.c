@@ -93,7 +93,8 @@ cvk_result cvk_attach_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error*
     if (r == CVK_SUCCESS)
         r = upload_tables(s, a, keyframes, error);
     if (r == CVK_SUCCESS)
-        r = cvk_descriptors_create(s->context, attach_bindings, CVK_ATTACH_BINDING_COUNT, 1,
+        r = cvk_descriptors_create(s->context, attach_bindings, CVK_ATTACH_BINDING_COUNT,
+                                   CVK_ATTACH_FAMILIES,
                                    VK_SHADER_STAGE_COMPUTE_BIT, sizeof(cvk_attach_push),
                                    &a->descriptors, error);
     return r; /* on failure cvk_sim_destroy calls cvk_attach_destroy */
@@ -112,7 +113,8 @@ void cvk_attach_destroy(cvk_sim* s)
     *a = (cvk_attach){0};
 }
 
-void cvk_attach_bind(cvk_sim* s, const cvk_buffer* u0, const cvk_buffer* u1)
+void cvk_attach_bind(cvk_sim* s, cvk_attach_family family, const cvk_buffer* u0,
+                     const cvk_buffer* u1)
 {
     cvk_attach* a = &s->attach;
     if (a->attachment_count == 0)
@@ -126,31 +128,48 @@ void cvk_attach_bind(cvk_sim* s, const cvk_buffer* u0, const cvk_buffer* u1)
         [CVK_ATTACH_BINDING_U0] = {.buffer = u0},
         [CVK_ATTACH_BINDING_U1] = {.buffer = u1},
     };
-    cvk_descriptors_write(s->context, &a->descriptors, 0, res);
-    a->bound = true;
+    cvk_descriptors_write(s->context, &a->descriptors, family, res);
+    a->bound[family] = true;
 }
 
-cvk_result cvk_attach_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
+/* One attach dispatch of `family`'s pipeline and set (implicit: the velocity or the place
+   pass); the first of a substep counts it when no collider pass did. */
+static cvk_result add_pass(cvk_sim* s, cvk_plan* plan, cvk_attach_family family, bool place,
+                           const char* what, cvk_error* error)
 {
     cvk_attach* a = &s->attach;
     if (a->attachment_count == 0 || s->build.attached_count == 0)
         return CVK_SUCCESS;
-    if (!a->bound)
+    if (!a->bound[family])
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "attachments: this solver does not move attached particles");
     /* The collider pass, when there is one, has counted this substep already. */
-    bool counted = s->collide.colliding && s->collide.collider_count > 0;
-    cvk_attach_push push = {s->build.attached_count, counted ? 0u : 1u, s->params.dt, 0};
+    bool counted = place || (s->collide.colliding && s->collide.collider_count > 0);
+    cvk_attach_push push = {s->build.attached_count, counted ? 0u : 1u, s->params.dt,
+                            place ? 1u : 0u};
     uint32_t pass = cvk_plan_pass(plan, "attach");
-    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_ATTACH, a->descriptors.pipeline_layout,
-                                   a->descriptors.sets[0], CVK_DOMAIN_PARTICLES, 0,
+    cvk_pipeline_id pipeline = family == CVK_ATTACH_FOR_PD ? CVK_PIPE_ATTACH
+                                                           : CVK_PIPE_ATTACH_IMPLICIT;
+    cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, a->descriptors.pipeline_layout,
+                                   a->descriptors.sets[family], CVK_DOMAIN_PARTICLES, 0,
                                    s->build.attached_count, &push, sizeof push);
     if (op) {
         op->groups = 1; /* one workgroup: it may advance the frame state */
-        snprintf(op->note, sizeof op->note, "%u particles, u = pose(t + dt) start - x%s",
-                 s->build.attached_count, counted ? "" : ", step += 1");
+        snprintf(op->note, sizeof op->note, "%u particles, %s%s", s->build.attached_count, what,
+                 counted ? "" : ", step += 1");
     }
     return cvk_plan_check(plan, error);
+}
+
+cvk_result cvk_attach_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
+{
+    return add_pass(s, plan, CVK_ATTACH_FOR_PD, false, "u = pose(t + dt) start - x", error);
+}
+
+cvk_result cvk_attach_add_implicit_pass(cvk_sim* s, cvk_plan* plan, bool place, cvk_error* error)
+{
+    return add_pass(s, plan, CVK_ATTACH_FOR_IMPLICIT, place,
+                    place ? "x = pose(t + h) start" : "v = (pose(t + h) start - x) / h", error);
 }
 
 void cvk_attach_position(const cvk_sim* s, uint32_t i, double t, float out[3])

@@ -58,6 +58,7 @@ typedef struct cvk_spec_recipe {
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
     X(ATTACH, ATTACH_COMP, CVK_SPEC_NONE, "attached particles, frame state") \
+    X(ATTACH_IMPLICIT, ATTACH_IMPLICIT_COMP, CVK_SPEC_NONE, "attached particles: v or x (implicit)") \
     X(GRAB, GRAB_COMP, CVK_SPEC_NONE, "grabbed particle -> target") \
     X(PICK, PICK_COMP, CVK_SPEC_NONE, "nearest particle on a ray (outside the frame)") \
     X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \

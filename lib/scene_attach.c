@@ -42,9 +42,9 @@ bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attach
 {
     if (attachment_count == 0)
         return true;
-    if (solver->method == CVK_METHOD_IMPLICIT)
-        return cvk_issue_at(issue, "solver.method", "implicit does not move attached particles "
-                            "yet; remove \"attachments\", or use pd");
+    if (solver->method == CVK_METHOD_EXPLICIT)
+        return cvk_issue_at(issue, "solver.method", "explicit does not move attached particles; "
+                            "remove \"attachments\", or use pd or implicit");
     if (solver->linear == CVK_LINEAR_GS_CPU)
         return cvk_issue_at(issue, "solver.linear", "gs-cpu (the host reference) does not move "
                             "attached particles; remove \"attachments\", or use rbgs, jacobi or "

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "attach.h"
 #include "error.h"
 #include "shared/layout.h"
 #include "solve_implicit.h"
@@ -318,6 +319,10 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
             cvk_hash_one_item_each(plan, op);
         }
     }
+    /* Attached particles: their velocity over the substep, read by the assembly. */
+    cvk_result r = cvk_attach_add_implicit_pass(s, plan, false, error);
+    if (r != CVK_SUCCESS)
+        return r;
     uint32_t assemble = cvk_plan_pass(plan, "assemble");
     ib.solve = cvk_plan_pass(plan, "solve");
     uint32_t integrate = cvk_plan_pass(plan, "integrate");
@@ -338,7 +343,9 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
              0);
     if (op)
         op->set1 = s->collide.set; /* friction: the colliders' coefficients and poses */
-    cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_IMPLICIT, plan, error); /* after x += h v */
+    r = cvk_attach_add_implicit_pass(s, plan, true, error); /* attached x at their targets */
+    if (r == CVK_SUCCESS)
+        r = cvk_tear_add_passes(s, CVK_TEAR_FOR_IMPLICIT, plan, error); /* after x += h v */
     if (r != CVK_SUCCESS)
         return r;
     snprintf(plan->solver_note, sizeof plan->solver_note,
@@ -411,6 +418,8 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
         r = cvk_vstate_upload_adjacency(s, &im->adjacency, NULL, error);
     if (r == CVK_SUCCESS)
         cvk_tear_bind(s, CVK_TEAR_FOR_IMPLICIT, &im->adjacency, NULL);
+    if (r == CVK_SUCCESS)
+        cvk_attach_bind(s, CVK_ATTACH_FOR_IMPLICIT, &im->v, &im->v); /* velocity, place */
     if (r == CVK_SUCCESS)
         r = implicit_write_state(s, im, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)

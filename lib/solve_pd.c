@@ -564,7 +564,7 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
-        cvk_attach_bind(s, &pd->u[0], &pd->u[1]);
+        cvk_attach_bind(s, CVK_ATTACH_FOR_PD, &pd->u[0], &pd->u[1]);
         cvk_grab_bind(s, &pd->u[0], &pd->u[1], &pd->y);
         cvk_aero_bind(s, pd->view_u[0]);
         cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency, &pd->adjacency_kl);

@@ -79,9 +79,14 @@ static void test_bad_json(void)
     EXPECT_INVALID("{" GRID ", 'attachments': [{'pins': [[0, 0]], 'loop': true,"
                    " 'keyframes': [{'time': 0}]}]}",
                    "t.json: attachments.0.loop: a looping motion needs at least two keyframes, got 1");
-    EXPECT_INVALID("{" GRID ", 'solver': {'method': 'implicit', 'linear': 'cg'}, 'attachments': [{'pins': [[0, 0]]}]}",
-                   "t.json: solver.method: implicit does not move attached particles yet; remove "
-                   "\"attachments\", or use pd");
+    EXPECT_INVALID("{" GRID ", 'solver': {'method': 'explicit'}, 'attachments': [{'pins': [[0, 0]]}]}",
+                   "t.json: solver.method: explicit does not move attached particles; remove "
+                   "\"attachments\", or use pd or implicit");
+    /* implicit moves attached particles (lib/attach.h): its scene is taken */
+    cvk_scene* implicit = PARSE_OK("{" GRID ", 'solver': {'method': 'implicit', 'linear': 'cg'},"
+                                   " 'attachments': [{'pins': [[0, 0]]}]}");
+    if (implicit)
+        cvk_scene_destroy(implicit);
     EXPECT_INVALID("{" GRID ", 'solver': {'linear': 'gs-cpu'}, 'attachments': [{'pins': [[0, 0]]}]}",
                    "t.json: solver.linear: gs-cpu (the host reference) does not move attached "
                    "particles; remove \"attachments\", or use rbgs, jacobi or chebyshev");

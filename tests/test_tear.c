@@ -65,7 +65,7 @@ static void make_scene(setup* s, bool dragged, float max_stretch)
 }
 
 /* The same sheet, softer and thrown down at 15 m/s from its top row: it tears there within
-   the first frame, with no attachment (which gs-cpu and implicit refuse). */
+   the first frame, with no attachment (which gs-cpu refuses). */
 static void make_thrown(setup* s)
 {
     make_scene(s, false, MAX_STRETCH);

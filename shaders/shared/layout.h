@@ -390,7 +390,7 @@ CVK_STRUCT(cvk_gpu_attached, CVK_GPU_ATTACHED_FIELDS)
     CVK_UINT(count)        /* attached particles */                                \
     CVK_UINT(advance)      /* 1: this pass advances the frame state (no collider pass did) */ \
     CVK_FLOAT(dt)          /* s per substep */                                     \
-    CVK_UINT(pad0)
+    CVK_UINT(place)        /* implicit variant: 0 velocity pass, 1 place pass (attach.comp) */
 CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 
 #define CVK_ATTACH_BINDING_FRAME 0       /* cvk_gpu_frame (the contact module's buffer) */
@@ -398,8 +398,8 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 #define CVK_ATTACH_BINDING_ATTACHMENTS 2 /* cvk_gpu_attachment per attachment */
 #define CVK_ATTACH_BINDING_ATTACHED 3    /* cvk_gpu_attached per attached particle */
 #define CVK_ATTACH_BINDING_POSITIONS 4   /* vec4 per particle: x_n */
-#define CVK_ATTACH_BINDING_U0 5          /* the solver's displacement iterates (pd_common.glsl) */
-#define CVK_ATTACH_BINDING_U1 6
+#define CVK_ATTACH_BINDING_U0 5          /* pd: the displacement iterates (pd_common.glsl); */
+#define CVK_ATTACH_BINDING_U1 6          /* implicit: both the velocities (w: mass) */
 #define CVK_ATTACH_BINDING_COUNT 7
 
 /* ---- tearing: tear.comp (lib/tear.h) ------------------------------------------------------- */
