@@ -12,73 +12,23 @@
    - a scene without attachments records no attach pass. */
 #include <stdint.h>
 
+#include "attach_scene.h"
 #include "build.h"
 #include "gpu.h"
-#include "harness.h"
-#include "motion.h"
 #include "solve_implicit.h"
-
-#define W 6
-#define H 5
 
 /* As tests/test_implicit.c: one substep with a fixed number of iterations, float against
    double, relative to the substep's largest velocity change. */
 #define SAME_TO_ROUNDING 1e-4
 
-static const cvk_keyframe slide[3] = {
-    {.time = 0.0f, .rotation = {1, 0, 0, 0}},
-    {.time = 0.1f, .translation = {0.2f, 0.0f, 0.0f}, .rotation = {1, 0, 0, 0}},
-    {.time = 0.2f, .rotation = {1, 0, 0, 0}}, /* back where it started: a closed loop */
-};
 static const cvk_keyframe still[1] = {{.time = 0.0f, .rotation = {1, 0, 0, 0}}};
-/* 30 degrees about z (about the world origin), with a lift. */
-static const cvk_keyframe turn[2] = {
-    {.time = 0.05f, .rotation = {1, 0, 0, 0}},
-    {.time = 0.3f, .translation = {0.0f, 0.05f, 0.0f}, .rotation = {0.9659258f, 0, 0, 0.2588190f}},
-};
-static const uint32_t slide_pins[2][2] = {{0, 0}, {1, 0}};
-static const uint32_t turn_pins[1][2] = {{W - 1, 0}};
 
-typedef struct setup {
-    cvk_scene_desc scene;
-    cvk_cloth_desc cloth;
-    cvk_attachment_desc attachments[2];
-    cvk_collider_desc collider;
-} setup;
-
-/* A W × H cloth hanging in the x-y plane, solved by implicit `linear`; its top corners are
-   attached, one pair sliding (looping), the other turning. */
+/* The attachment tests' scene, solved by implicit `linear`. */
 static void make_scene(setup* s, cvk_linear_solver linear, bool collider)
 {
-    s->cloth = cvk_default_cloth_desc();
-    s->cloth.grid[0] = W;
-    s->cloth.grid[1] = H;
-    s->cloth.size[0] = 0.5f;
-    s->cloth.size[1] = 0.4f;
-    memcpy(s->cloth.origin, (float[3]){-0.25f, 1.0f, 0.0f}, sizeof s->cloth.origin);
-    memcpy(s->cloth.v_axis, (float[3]){0.0f, -1.0f, 0.3f}, sizeof s->cloth.v_axis);
-    s->cloth.stiffness.structural = 1e4f;
-    s->cloth.stiffness.shear = 1e3f;
-    s->attachments[0] = (cvk_attachment_desc){
-        .cloth = 0, .pins = slide_pins, .pin_count = 2,
-        .motion = {.keyframes = slide, .keyframe_count = 3, .loop = true}};
-    s->attachments[1] = (cvk_attachment_desc){
-        .cloth = 0, .pins = turn_pins, .pin_count = 1,
-        .motion = {.keyframes = turn, .keyframe_count = 2}};
-    s->scene = cvk_default_scene_desc();
-    s->scene.substeps = 4;
-    s->scene.cloths = &s->cloth;
-    s->scene.cloth_count = 1;
-    s->scene.attachments = s->attachments;
-    s->scene.attachment_count = 2;
+    attach_make_scene(s, collider);
     s->scene.solver.method = CVK_METHOD_IMPLICIT;
     s->scene.solver.linear = linear;
-    if (collider) { /* far below: its pass counts the substeps, nothing touches it */
-        s->collider = cvk_default_collider_desc();
-        s->collider.point[1] = -5.0f;
-        s->scene.colliders = &s->collider;
-        s->scene.collider_count = 1;
-    }
 }
 
 static cvk_sim* create(cvk_context* ctx, const cvk_scene_desc* scene)
@@ -87,26 +37,6 @@ static cvk_sim* create(cvk_context* ctx, const cvk_scene_desc* scene)
     cvk_sim* sim = NULL;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
     return sim;
-}
-
-/* The largest distance of the attached particles from where their motions put them at time t,
-   given the positions at creation (user order). */
-static double attachment_error(const cvk_scene_desc* scene, const float* start, const float* x,
-                               double t)
-{
-    double worst = 0.0;
-    for (uint32_t a = 0; a < scene->attachment_count; a++) {
-        const cvk_attachment_desc* d = &scene->attachments[a];
-        cvk_pose pose = cvk_motion_pose(&d->motion, t);
-        for (uint32_t p = 0; p < d->pin_count; p++) {
-            size_t i = (size_t)d->pins[p][1] * scene->cloths[d->cloth].grid[0] + d->pins[p][0];
-            float want[3];
-            cvk_pose_apply(&pose, &start[3 * i], want);
-            for (int k = 0; k < 3; k++)
-                worst = fmax(worst, fabs((double)x[3 * i + k] - want[k]));
-        }
-    }
-    return worst;
 }
 
 /* Every frame, through the slide's loop and past the turn's last keyframe. */
