@@ -78,6 +78,8 @@ typedef struct cvk_build {
        particle and the length each tether allows, m; NULL when no cloth has tethers. */
     uint32_t* tether_anchor;
     float* tether_length;
+    uint32_t tether_slots;    /* the most tethers one particle has (its slots in use, nearest
+                                 first; the rest are empty): 0 without tethers */
     /* Attached (kinematic) particles, all of them pinned: attached[i] is an internal index,
        attached_to[i] its attachment (scene order); cloth by cloth in user order. */
     uint32_t attached_count;

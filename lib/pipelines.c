@@ -67,6 +67,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_SELF_CONTACT: return inputs->self_contact ? 1 : 0;
     case CVK_SPEC_WIND: return inputs->wind ? 1 : 0;
     case CVK_SPEC_TETHERS: return inputs->tethers ? 1 : 0;
+    case CVK_SPEC_TETHER_SLOTS: return inputs->tether_slots ? inputs->tether_slots : 1;
     }
     return 0;
 }

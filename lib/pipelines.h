@@ -17,6 +17,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
     CVK_SPEC_WIND,           /* the scene has air (lib/aero.h): predict adds its force */
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/tether.h) */
+    CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -25,6 +26,8 @@ typedef struct cvk_spec_recipe {
 } cvk_spec_recipe;
 
 #define CVK_SPEC_PD {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
+/* The tether pass (id 2 of shaders/pd_tether.comp: the slots it reads). */
+#define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 #define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
 /* The checking first sweeps (id 3: TETHERS of shaders/pd_common.glsl). */
 #define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
@@ -55,7 +58,7 @@ typedef struct cvk_spec_recipe {
     X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
     X(PD_COPY, PD_COPY_COMP, CVK_SPEC_WORKGROUP, "u0 = u1 (stopped in u1)")    \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
-    X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD, "tethers")                        \
+    X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
     X(ATTACH, ATTACH_COMP, CVK_SPEC_NONE, "attached particles, frame state") \
     X(ATTACH_IMPLICIT, ATTACH_IMPLICIT_COMP, CVK_SPEC_NONE, "attached particles: v or x (implicit)") \
@@ -109,6 +112,7 @@ typedef struct cvk_spec_inputs {
     bool self_contact;
     bool wind;
     bool tethers;
+    uint32_t tether_slots;
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

@@ -178,7 +178,8 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
     for (uint32_t i = 0; i < s->collide.collider_count; i++)
         types |= 1u << s->collide.colliders[i].type;
     cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, types, s->collide.self,
-                              s->aero.enabled, s->build.tether_anchor != NULL};
+                              s->aero.enabled, s->build.tether_anchor != NULL,
+                              s->build.tether_slots};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);

@@ -188,6 +188,7 @@ cvk_result cvk_build_tethers(const cvk_scene_desc* scene, cvk_build* b, cvk_erro
 {
     b->tether_anchor = NULL;
     b->tether_length = NULL;
+    b->tether_slots = 0;
     if (!any_tethers(scene) || b->free_count == b->particle_count || b->free_count == 0)
         return CVK_SUCCESS;
     size_t slots = CVK_TETHER_SLOTS * (size_t)b->particle_count;
@@ -212,8 +213,12 @@ cvk_result cvk_build_tethers(const cvk_scene_desc* scene, cvk_build* b, cvk_erro
         b->tether_length = malloc(kept * sizeof *b->tether_length);
         ok = b->tether_anchor && b->tether_length;
     }
+    b->tether_slots = 0;
     for (size_t i = 0; ok && i < kept; i++) {
         uint32_t p = (uint32_t)(i / CVK_TETHER_SLOTS);
+        uint32_t slot = (uint32_t)(i % CVK_TETHER_SLOTS);
+        if (anchor[i] != CVK_TETHER_NONE && slot + 1 > b->tether_slots)
+            b->tether_slots = slot + 1;
         b->tether_anchor[i] = anchor[i];
         b->tether_length[i] =
             anchor[i] == CVK_TETHER_NONE

@@ -7,6 +7,10 @@
 // pass of the solve writes: the result does not depend on the order of invocations.
 #include "pd_common.glsl"
 
+// The slots any particle uses (cvk_build.tether_slots; slots fill nearest first): a scene with
+// two pins reads and projects two, not four.
+layout(constant_id = 2) const uint SLOTS = 4;
+
 
 // In displacement form, as the sweeps (pd_common.glsl): with e = x_p - x_a at the start of the
 // substep and t = e + u_p - u_a, a tether too long sets u_p = u_a - e + t L / |t|. A particle
@@ -35,17 +39,20 @@ void main()
         vec3 xp = fetch(x_read, p);
         vec3 u = fetch(dst_read, p);
         vec3 b0 = fetch(dst_read, anchor.x) - (xp - fetch(x_read, anchor.x));
-        vec3 b1 = fetch(dst_read, anchor.y) - (xp - fetch(x_read, anchor.y));
-        vec3 b2 = fetch(dst_read, anchor.z) - (xp - fetch(x_read, anchor.z));
-        vec3 b3 = fetch(dst_read, anchor.w) - (xp - fetch(x_read, anchor.w));
+        vec3 b1 = SLOTS > 1u ? fetch(dst_read, anchor.y) - (xp - fetch(x_read, anchor.y)) : b0;
+        vec3 b2 = SLOTS > 2u ? fetch(dst_read, anchor.z) - (xp - fetch(x_read, anchor.z)) : b0;
+        vec3 b3 = SLOTS > 3u ? fetch(dst_read, anchor.w) - (xp - fetch(x_read, anchor.w)) : b0;
         bool moved = false;
         for (uint round = 0u; round < CVK_TETHER_ROUNDS; round++) {
             bool before = moved;
             moved = false;
             project(u, b0, limit.x, moved);
-            project(u, b1, limit.y, moved);
-            project(u, b2, limit.z, moved);
-            project(u, b3, limit.w, moved);
+            if (SLOTS > 1u)
+                project(u, b1, limit.y, moved);
+            if (SLOTS > 2u)
+                project(u, b2, limit.z, moved);
+            if (SLOTS > 3u)
+                project(u, b3, limit.w, moved);
             bool again = moved;
             moved = moved || before;
             if (!again)

@@ -85,7 +85,7 @@ static void run_plan(fixture* f, const cvk_plan* plan)
 {
     cvk_error err;
     cvk_pipelines pipelines = {0};
-    cvk_spec_inputs inputs = {WORKGROUP, 0, 0, false, false, false};
+    cvk_spec_inputs inputs = {.workgroup_size = WORKGROUP};
     bool created;
     REQUIRE_OK(cvk_plan_require_pipelines(plan, f->ctx, &pipelines, &inputs, &created, &err), err);
     REQUIRE_OK(cvk_command_buffer_begin(f->cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, &err),

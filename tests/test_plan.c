@@ -51,7 +51,7 @@ static void run_transfer_plan(cvk_context* ctx, cvk_sim* sim, cvk_buffer* indire
     REQUIRE_OK(cvk_plan_check(&plan, &err), err);
     CHECK(plan.op_count == 4 && plan.has_transfer, "the plan holds %u ops (expected 4)",
           plan.op_count);
-    cvk_spec_inputs inputs = {plan.workgroup_size, sim->build.max_degree, 0, false, false, false};
+    cvk_spec_inputs inputs = {.workgroup_size = plan.workgroup_size, .max_degree = sim->build.max_degree};
     bool created;
     REQUIRE_OK(cvk_plan_require_pipelines(&plan, ctx, &sim->pipelines, &inputs, &created, &err),
                err);

@@ -55,6 +55,8 @@ static void grid_tethers(void)
     cvk_error err;
     REQUIRE_OK(cvk_build_create(&scene, &b, &err), err);
     CHECK(b.tether_anchor && b.tether_length, "a cloth with tethers and pins has none");
+    CHECK(b.tether_slots == 2, "two pins fill %u tether slots, expected 2 (the tether pass "
+          "reads that many)", b.tether_slots);
     uint32_t checked = 0;
     for (uint32_t p = 0; b.tether_anchor && p < b.free_count; p++) {
         const uint32_t* anchor = &b.tether_anchor[CVK_TETHER_SLOTS * (size_t)p];
@@ -113,6 +115,7 @@ static void mesh_tethers(void)
     cvk_build b;
     cvk_error err;
     REQUIRE_OK(cvk_build_create(&scene, &b, &err), err);
+    CHECK(b.tether_slots == 3, "three pins fill %u tether slots, expected 3", b.tether_slots);
     uint32_t n = b.particle_count;
     double* dist = malloc(n * sizeof *dist);
     double worst = 0.0, shortest_ratio = INFINITY;

@@ -167,7 +167,7 @@ static cvk_result setup(run* r, uint32_t n, cvk_error* err)
     cvk_descriptors_write(r->ctx, &r->query, 0, (cvk_resource[]){{.buffer = &r->found}});
     make_plan(r, n, err, &res);
     bool created;
-    cvk_spec_inputs inputs = {WORKGROUP, 0, 0, false, false, false};
+    cvk_spec_inputs inputs = {.workgroup_size = WORKGROUP};
     if (res == CVK_SUCCESS)
         res = cvk_plan_require_pipelines(&r->plan, r->ctx, &r->pipelines, &inputs, &created, err);
     if (res == CVK_SUCCESS)
