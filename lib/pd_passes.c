@@ -311,7 +311,9 @@ static void add_copy_back(pd_builder* pb, const cvk_build* b)
    last: a tether may pull a particle into a collider, never the other way round. */
 static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint32_t outer)
 {
-    if (pb->tethers) {
+    uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
+    bool tether_now = (outer + 1) % every == 0 || outer + 1 == pb->solver->outer_iterations;
+    if (pb->tethers && tether_now) {
         cvk_op* op = add_op(pb, CVK_PIPE_PD_TETHER, set, pb->tether_pass, 0, b->free_count,
                             1.0f, pb->base.omega);
         if (op)

@@ -123,11 +123,13 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params
                                 const cvk_solver_desc* solver, const double* y, double* x,
                                 double* scratch)
 {
+    uint32_t every = solver->tether_every ? solver->tether_every : 1;
     for (uint32_t o = 0; o < solver->outer_iterations; o++) {
         cvk_ref_rhs(b, params, x, y, scratch);
         for (uint32_t i = 0; i < solver->inner_iterations; i++)
             cvk_ref_gauss_seidel_sweep(b, scratch, solver->omega, x);
-        cvk_ref_tethers(b, x);
+        if ((o + 1) % every == 0 || o + 1 == solver->outer_iterations)
+            cvk_ref_tethers(b, x); /* as the device's tether pass (lib/pd_passes.c) */
     }
 }
 

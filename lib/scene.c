@@ -31,6 +31,7 @@ cvk_scene_desc cvk_default_scene_desc(void)
             .omega = 1.0f,
             .chebyshev_rho = 0.0f,
             .chebyshev_delay = 2,
+            .tether_every = 1,
             .tolerance = 0.0f,     /* the family's: none for pd, 1e-3 for implicit */
             .max_iterations = 0,   /* the family's: outer × inner for pd, 100 for implicit */
             .kd = 0.0f,
@@ -363,7 +364,8 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
     if (!check_count_range(issue, "solver.outer_iterations", s->outer_iterations, 1,
                            CVK_MAX_SWEEPS) ||
         !check_count_range(issue, "solver.inner_iterations", s->inner_iterations, 1,
-                           CVK_MAX_SWEEPS))
+                           CVK_MAX_SWEEPS) ||
+        !check_count_range(issue, "solver.tether_every", s->tether_every, 0, CVK_MAX_SWEEPS))
         return false;
     uint64_t sweeps = (uint64_t)s->outer_iterations * s->inner_iterations;
     if (sweeps > CVK_MAX_SWEEPS)

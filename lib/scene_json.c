@@ -502,6 +502,7 @@ static const cvk_field solver_fields[] = {
     {.key = "integrator", .read = read_integrator, .offset = offsetof(cvk_solver_desc, integrator)},
     {.key = "damping_model", .read = read_damping_model,
      .offset = offsetof(cvk_solver_desc, damping_model)},
+    {.key = "tether_every", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, tether_every)},
 };
 static const cvk_table solver_table = FIELDS(solver_fields);
 

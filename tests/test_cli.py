@@ -235,10 +235,10 @@ CASES = [
                      "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)")},
     {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
      "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)")},
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)")},
     {"name": "wrong type", "argv": [scene("wrong-type.json")], "status": 2,
      "stderr": error(scene("wrong-type.json"), "dt: expected a number, got the string \"fast\"")},
     {"name": "negative mass", "argv": [scene("negative-mass.json")], "status": 2,

@@ -27,6 +27,7 @@ static void check_default_scene(const cvk_scene_desc* d)
     CHECK_FLOAT(d->solver.omega, 1.0f);
     CHECK_FLOAT(d->solver.chebyshev_rho, 0.0f);
     CHECK_INT(d->solver.chebyshev_delay, 2);
+    CHECK_INT(d->solver.tether_every, 1);
 }
 
 static void check_default_cloth(const cvk_cloth_desc* c)
@@ -606,7 +607,7 @@ static void test_unknown_keys(void)
                    "gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)");
     EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
                    "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
-                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model)");
+                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
                    "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing)");
@@ -645,6 +646,10 @@ static void test_wrong_types(void)
     EXPECT_INVALID("{'solver': {'linear': 1}, 'cloths': [{}]}", "t.json: solver.linear: expected a string, got the number 1");
     EXPECT_INVALID("{'solver': {'chebyshev_delay': -1}, 'cloths': [{}]}",
                    "t.json: solver.chebyshev_delay: must be at least 0, got -1");
+    EXPECT_INVALID("{'solver': {'tether_every': -1}, 'cloths': [{}]}",
+                   "t.json: solver.tether_every: must be at least 0, got -1");
+    EXPECT_INVALID("{'solver': {'tether_every': 10001}, 'cloths': [{}]}",
+                   "t.json: solver.tether_every: must be at most 10000, got 10001");
     EXPECT_INVALID("{'cloths': [{'grid': [10, 10, 10]}]}",
                    "t.json: cloths.0.grid: expected an array of 2 whole numbers, got an array of 3");
     EXPECT_INVALID("{'cloths': [{'grid': [-1, 10]}]}", "t.json: cloths.0.grid.0: must be at least 1, got -1");
@@ -755,7 +760,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR(base, "solver.iterationz=3",
                      "t.json: solver.iterationz (from --set): unknown key (expected one of: method, linear, "
                      "outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, "
-                     "max_iterations, kd, integrator, damping_model)");
+                     "max_iterations, kd, integrator, damping_model, tether_every)");
     EXPECT_SET_ERROR(base, "cloths=[]", "t.json: cloths (from --set): a scene needs at least one cloth");
     /* A bad value in the file does not, even when other keys were set. */
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "frames=10", "t.json: cloths.0.mass: must be greater than 0, got -0.1");

@@ -214,27 +214,45 @@ static void tethers_hold(cvk_context* ctx, cvk_linear_solver linear)
     cvk_build_destroy(&b);
 }
 
-/* rbgs and gs-cpu run the same colour-ordered Gauss-Seidel, with tethers after each outer
-   iteration: the same positions up to float rounding of the device's sweeps. */
-static void matches_reference(cvk_context* ctx)
+/* rbgs and gs-cpu run the same colour-ordered Gauss-Seidel, with tethers after every `every`
+   outer iterations and the last (solver.tether_every): the same positions up to float rounding
+   of the device's sweeps, and the device records that many tether dispatches. Returns rbgs's
+   positions (the caller frees them). */
+static float* matches_reference(cvk_context* ctx, uint32_t every)
 {
     float* xyz[2] = {NULL, NULL};
     cvk_error err;
+    uint32_t tether_ops = 0, expected = 0;
     for (int host = 0; host < 2; host++) {
         cvk_cloth_desc cloth = soft_cloth(1.0f);
         cvk_scene_desc scene = scene_of(&cloth, 1);
         scene.solver.linear = host ? CVK_LINEAR_GS_CPU : CVK_LINEAR_RBGS;
+        scene.solver.tether_every = every;
+        expected = 0;
+        for (uint32_t o = 0; o < scene.solver.outer_iterations; o++)
+            expected += (o + 1) % every == 0 || o + 1 == scene.solver.outer_iterations;
+        expected *= scene.substeps;
         cvk_sim* sim;
         REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
         REQUIRE_OK(cvk_sim_step(sim, 10, &err), err);
         xyz[host] = harness_read_all(sim);
+        if (!host) {
+            cvk_sim_stats st;
+            REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+            for (uint32_t i = 0; i < st.pass_count; i++)
+                if (!strcmp(st.passes[i].name, "tethers"))
+                    tether_ops = st.passes[i].dispatches;
+        }
         cvk_sim_destroy(sim);
     }
     double d = harness_max_diff(xyz[0], xyz[1], 3 * 120);
-    CHECK(d < 1e-4, "rbgs and gs-cpu with tethers differ by %g m", d);
-    printf("tethers: rbgs vs gs-cpu %.3g m apart after 10 frames\n", d);
-    free(xyz[0]);
+    CHECK(d < 1e-4, "tether_every %u: rbgs and gs-cpu with tethers differ by %g m", every, d);
+    CHECK(tether_ops == expected, "tether_every %u: %u tether dispatches a frame, expected %u",
+          every, tether_ops, expected);
+    printf("tethers every %u outer iterations: rbgs vs gs-cpu %.3g m apart after 10 frames, %u "
+           "tether dispatches a frame\n", every, d, tether_ops);
     free(xyz[1]);
+    return xyz[0];
 }
 
 /* Switching a tethered simulation to implicit Euler is refused, changing nothing. */
@@ -263,7 +281,15 @@ int main(void)
     tethers_hold(ctx, CVK_LINEAR_RBGS);
     tethers_hold(ctx, CVK_LINEAR_JACOBI);
     tethers_hold(ctx, CVK_LINEAR_CHEBYSHEV);
-    matches_reference(ctx);
+    float* each = matches_reference(ctx, 1);
+    float* second = matches_reference(ctx, 2);
+    free(matches_reference(ctx, 3));
+    double apart = harness_max_diff(each, second, 3 * 120);
+    CHECK(apart > 1e-7, "tether_every 2 leaves the cloth within %g m of tether_every 1: the "
+          "setting does nothing", apart);
+    printf("tethers every 2 against every 1: %.3g m apart after 10 frames\n", apart);
+    free(each);
+    free(second);
     other_families_refused(ctx);
     return harness_finish(ctx);
 }

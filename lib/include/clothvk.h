@@ -234,6 +234,9 @@ typedef struct cvk_solver_desc {
     float kd;                   /* implicit, explicit: spring damping (or viscosity), N·s/m; usually 0 */
     cvk_integrator integrator;  /* explicit: CVK_INTEGRATOR_NONE = euler */
     cvk_damping_model damping_model; /* explicit: CVK_DAMPING_NONE = spring */
+    uint32_t tether_every;      /* pd with tethers: the tether pass after every this many outer
+                                   iterations and after the last; 0 or 1 = after each (the
+                                   default); 2 halves the pass's cost for a little stretch */
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {

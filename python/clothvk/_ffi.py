@@ -108,6 +108,7 @@ typedef struct cvk_solver_desc {
     float kd;
     cvk_integrator integrator;
     cvk_damping_model damping_model;
+    uint32_t tether_every;
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
