@@ -362,8 +362,9 @@ static cvk_result build_adjacency(cvk_build* b, cvk_build_check check, void* che
     b->adj_index = calloc(entries, sizeof(uint32_t));
     b->adj_k = calloc(entries, sizeof(float));
     b->adj_rest = calloc(entries, sizeof(float));
+    b->adj_spring = malloc(entries * sizeof(uint32_t));
     uint32_t* fill = calloc(nf ? nf : 1, sizeof(uint32_t));
-    if (!b->adj_index || !b->adj_k || !b->adj_rest || !fill) {
+    if (!b->adj_index || !b->adj_k || !b->adj_rest || !b->adj_spring || !fill) {
         free(fill);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for adjacency");
     }
@@ -378,13 +379,16 @@ static cvk_result build_adjacency(cvk_build* b, cvk_build_check check, void* che
             b->adj_index[at] = ends[e][1];
             b->adj_k[at] = sp->k;
             b->adj_rest[at] = sp->rest;
+            b->adj_spring[at] = s;
         }
     }
     /* Pad to max_degree with zero-stiffness springs to the particle itself, so the GPU
        loop has a fixed length and no degree to fetch. */
     for (uint32_t p = 0; p < nf; p++)
-        for (uint32_t s = fill[p]; s < b->max_degree; s++)
+        for (uint32_t s = fill[p]; s < b->max_degree; s++) {
             b->adj_index[(size_t)s * nf + p] = p;
+            b->adj_spring[(size_t)s * nf + p] = UINT32_MAX;
+        }
     free(fill);
     return CVK_SUCCESS;
 }
@@ -441,6 +445,7 @@ void cvk_build_destroy(cvk_build* b)
     free(b->adj_index);
     free(b->adj_k);
     free(b->adj_rest);
+    free(b->adj_spring);
     free(b->triangles);
     free(b->triangle_springs);
     for (uint32_t c = 0; b->cloths && c < b->cloth_count; c++)
@@ -452,6 +457,19 @@ void cvk_build_destroy(cvk_build* b)
     free(b->attached_to);
     free(b->uv);
     memset(b, 0, sizeof *b);
+}
+
+uint32_t cvk_build_cloth_of_user(const cvk_build* b, uint32_t user)
+{
+    uint32_t cloth = 0;
+    while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
+        cloth++;
+    return cloth;
+}
+
+uint32_t cvk_build_cloth_of(const cvk_build* b, uint32_t particle)
+{
+    return cvk_build_cloth_of_user(b, b->user_of[particle]);
 }
 
 uint32_t cvk_build_colour_of(const cvk_build* b, uint32_t particle)

@@ -62,6 +62,8 @@ typedef struct cvk_build {
     uint32_t* adj_index;
     float* adj_k;
     float* adj_rest;
+    uint32_t* adj_spring;     /* the spring (index into springs) of each entry; UINT32_MAX for
+                                 padding. Tearing zeroes the k of a broken spring's entries. */
 
     /* Triangles of every cloth, cloth by cloth: 3 user indices each, counter-clockwise seen
        from the front, and the spring index (into springs) along edges (v0,v1), (v1,v2),
@@ -117,5 +119,9 @@ int64_t cvk_build_find_colour_conflict(const cvk_build* build);
 
 /* Colour of an internal free particle index. */
 uint32_t cvk_build_colour_of(const cvk_build* build, uint32_t particle);
+
+/* The cloth (scene order) of a particle by its user index, and by its internal index. */
+uint32_t cvk_build_cloth_of_user(const cvk_build* build, uint32_t user);
+uint32_t cvk_build_cloth_of(const cvk_build* build, uint32_t particle);
 
 #endif

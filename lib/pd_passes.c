@@ -419,13 +419,6 @@ static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
     return base;
 }
 
-/* Groups of a direct dispatch over `count` items. */
-static uint32_t groups_for(const cvk_plan* plan, uint32_t count)
-{
-    uint32_t groups = (count + plan->workgroup_size - 1) / plan->workgroup_size;
-    return groups < plan->max_groups ? groups : plan->max_groups;
-}
-
 /* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and
    free particles. */
 static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const cvk_plan* plan,
@@ -438,9 +431,9 @@ static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const c
         .stride = nf,
         .sweeps = solver->outer_iterations * solver->inner_iterations,
         .tol2 = (float)((double)solver->tolerance * solver->tolerance),
-        .sweep_groups = groups_for(plan, nf),
+        .sweep_groups = cvk_plan_groups(plan, nf),
         .contact_groups = contact.groups,
-        .reduce_groups = groups_for(plan, CVK_PD_PARTIALS),
+        .reduce_groups = cvk_plan_groups(plan, CVK_PD_PARTIALS),
     };
     return solver->tolerance > 0.0f && nf > 0 && solver->linear != CVK_LINEAR_GS_CPU;
 }

@@ -113,9 +113,7 @@ static cvk_result check_ray(const float origin[3], const float direction[3], flo
 
 static cvk_particle particle_of_user(const cvk_build* b, uint32_t user)
 {
-    uint32_t cloth = 0;
-    while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
-        cloth++;
+    uint32_t cloth = cvk_build_cloth_of_user(b, user);
     return (cvk_particle){cloth, user - b->cloths[cloth].first_user};
 }
 

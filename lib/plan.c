@@ -124,9 +124,14 @@ cvk_op* cvk_plan_dispatch(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipelin
     set_dispatch(plan, op, pipeline, layout, set, domain, push, push_bytes);
     op->first = first;
     op->count = count;
-    uint32_t groups = (count + plan->workgroup_size - 1) / plan->workgroup_size;
-    op->groups = groups < plan->max_groups ? groups : plan->max_groups;
+    op->groups = cvk_plan_groups(plan, count);
     return op;
+}
+
+uint32_t cvk_plan_groups(const cvk_plan* plan, uint32_t count)
+{
+    uint32_t groups = (count + plan->workgroup_size - 1) / plan->workgroup_size;
+    return groups < plan->max_groups ? groups : plan->max_groups;
 }
 
 cvk_op* cvk_plan_dispatch_indirect(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,

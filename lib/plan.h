@@ -91,6 +91,9 @@ uint32_t cvk_plan_find_pass(const cvk_plan* plan, const char* name);
 
 /* Appenders; each returns the op (barrier: what its kind usually needs), or NULL when there
    is nothing to do (count 0) or no memory (then cvk_plan_check fails). */
+/* Workgroups of a direct dispatch over `count` items: one invocation per item, at most
+   max_groups (invocations stride over the rest). */
+uint32_t cvk_plan_groups(const cvk_plan* plan, uint32_t count);
 cvk_op* cvk_plan_dispatch(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,
                           VkPipelineLayout layout, VkDescriptorSet set, cvk_domain domain,
                           uint32_t first, uint32_t count, const void* push, uint32_t push_bytes);

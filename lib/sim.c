@@ -122,6 +122,16 @@ cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size
     return r;
 }
 
+cvk_result cvk_sim_clear_buffer(cvk_sim* s, cvk_buffer* buffer, cvk_error* error)
+{
+    void* zeros = calloc(1, buffer->size);
+    if (!zeros)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
+    cvk_result r = cvk_sim_upload(s, buffer, zeros, buffer->size, error);
+    free(zeros);
+    return r;
+}
+
 cvk_result cvk_sim_upload(cvk_sim* s, cvk_buffer* dst, const void* data, VkDeviceSize size,
                           cvk_error* error)
 {
@@ -281,9 +291,7 @@ static cvk_result set_initial_velocity(cvk_sim* s, const cvk_scene_desc* scene, 
         return CVK_SUCCESS;
     const cvk_build* b = &s->build;
     for (uint32_t p = 0; p < b->particle_count; p++) {
-        uint32_t user = b->user_of[p], cloth = 0;
-        while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
-            cloth++;
+        uint32_t cloth = cvk_build_cloth_of(b, p);
         for (int k = 0; k < 3; k++) {
             s->scratch[3 * (size_t)p + k] = b->position[3 * (size_t)p + k];
             s->scratch_v[3 * (size_t)p + k] =

@@ -75,15 +75,6 @@ cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_
     return check_counts(l->context, l->scene, where, particle_count, max_degree, error);
 }
 
-/* The cloth a particle (internal index) belongs to. */
-static uint32_t cloth_of(const cvk_build* b, uint32_t p)
-{
-    uint32_t user = b->user_of[p], cloth = 0;
-    while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
-        cloth++;
-    return cloth;
-}
-
 static double spring_sum(const cvk_build* b, uint32_t p)
 {
     double sum = 0.0;
@@ -97,7 +88,7 @@ cvk_result cvk_check_derived(const cvk_scene_desc* scene, const cvk_build* b, do
 {
     double inv_h2 = 1.0 / (h * h);
     for (uint32_t p = 0; p < b->free_count; p++) {
-        uint32_t c = cloth_of(b, p);
+        uint32_t c = cvk_build_cloth_of(b, p);
         const char* mass_key = scene->cloths[c].density > 0.0f ? "density" : "mass";
         double inertia = b->mass[p] * inv_h2, springs = spring_sum(b, p);
         if (inertia > CVK_MAX_DIAGONAL || inertia < CVK_MIN_INERTIA)

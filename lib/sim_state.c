@@ -6,7 +6,6 @@
 
 #include "error.h"
 #include "scene.h"
-#include "shared/layout.h"
 #include "sim.h"
 #include "solver.h"
 
@@ -108,14 +107,14 @@ cvk_result cvk_sim_write_positions(cvk_sim* s, const float* xyz, uint64_t count,
 
 /* Everything that can fail on a valid description comes before the switch: a failure leaves
    the old solver running; only added pipelines (harmless) stay behind. */
-static cvk_result prepare_switch(cvk_sim* s, const cvk_family_api* family, void* self,
-                                 const cvk_solver_desc* solver, cvk_plan* plan,
-                                 cvk_sim_queries* queries, cvk_error* error)
+/* A plan for `solver` with its pipelines ready and its queries made; nothing is left behind
+   on failure but pipelines (harmless). */
+static cvk_result make_plan_ready(cvk_sim* s, const cvk_family_api* family, void* self,
+                                  const cvk_solver_desc* solver, cvk_plan* plan,
+                                  cvk_sim_queries* queries, cvk_error* error)
 {
-    cvk_result r = family->prepare(s, self, solver, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_sim_make_plan(s, family, self, solver, s->plan.workgroup_size,
-                              s->plan.max_groups, plan, error);
+    cvk_result r = cvk_sim_make_plan(s, family, self, solver, s->plan.workgroup_size,
+                                     s->plan.max_groups, plan, error);
     if (r != CVK_SUCCESS)
         return r;
     r = cvk_sim_ready_pipelines(s, plan, error);
@@ -124,6 +123,14 @@ static cvk_result prepare_switch(cvk_sim* s, const cvk_family_api* family, void*
     if (r != CVK_SUCCESS)
         cvk_plan_destroy(plan);
     return r;
+}
+
+static cvk_result prepare_switch(cvk_sim* s, const cvk_family_api* family, void* self,
+                                 const cvk_solver_desc* solver, cvk_plan* plan,
+                                 cvk_sim_queries* queries, cvk_error* error)
+{
+    cvk_result r = family->prepare(s, self, solver, error);
+    return r == CVK_SUCCESS ? make_plan_ready(s, family, self, solver, plan, queries, error) : r;
 }
 
 /* The switch itself: the new family (if any) takes the place of the old one and receives the
@@ -158,17 +165,10 @@ cvk_result cvk_sim_replan(cvk_sim* s, cvk_error* error)
     cvk_queue_idle(s->context); /* the old queries may be in use */
     cvk_plan plan;
     cvk_sim_queries queries = {0};
-    cvk_result r = cvk_sim_make_plan(s, s->family, s->family_state, &s->solver,
-                                     s->plan.workgroup_size, s->plan.max_groups, &plan, error);
+    cvk_result r = make_plan_ready(s, s->family, s->family_state, &s->solver, &plan, &queries,
+                                   error);
     if (r != CVK_SUCCESS)
         return r;
-    r = cvk_sim_ready_pipelines(s, &plan, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_sim_create_queries(s, &plan, &queries, error);
-    if (r != CVK_SUCCESS) {
-        cvk_plan_destroy(&plan);
-        return r;
-    }
     cvk_plan_destroy(&s->plan);
     s->plan = plan;
     cvk_sim_use_queries(s, &queries);
@@ -176,16 +176,6 @@ cvk_result cvk_sim_replan(cvk_sim* s, cvk_error* error)
     if (r == CVK_SUCCESS && s->queries_unreset)
         r = cvk_sim_copy_from_staging(s, NULL, 0, error); /* resets the new queries */
     return r;
-}
-
-/* Whether a particle is grabbed now (lib/grab.h). */
-static bool grabbing(const cvk_sim* s)
-{
-    if (!s->grab.planned)
-        return false;
-    cvk_gpu_grab grab;
-    memcpy(&grab, s->grab.state.mapped, sizeof grab);
-    return grab.held != 0;
 }
 
 cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_error* error)
@@ -197,7 +187,7 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
     if (!cvk_solver_desc_check(solver, &issue))
         return cvk_fail_issue(error, &issue);
     const char* no_grab = cvk_grab_unsupported(solver);
-    if (no_grab && grabbing(s))
+    if (no_grab && s->grab.held)
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "cvk_sim_set_solver: a particle is grabbed and %s cannot hold it; "
                         "release it first (cvk_sim_release)", no_grab);

@@ -34,14 +34,6 @@ static bool read_watch(const cvk_sim* s, cvk_gpu_watch* w)
     return w->diverged_at != CVK_WATCH_NONE && w->particle < s->build.particle_count;
 }
 
-static uint32_t cloth_of_internal(const cvk_build* b, uint32_t p)
-{
-    uint32_t user = b->user_of[p], cloth = 0;
-    while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
-        cloth++;
-    return cloth;
-}
-
 void cvk_sim_watch_stats(const cvk_sim* s, cvk_sim_stats* st)
 {
     cvk_gpu_watch w;
@@ -49,7 +41,7 @@ void cvk_sim_watch_stats(const cvk_sim* s, cvk_sim_stats* st)
     if (!st->diverged)
         return;
     st->diverged_frame = s->watch_frames + (w.diverged_at - 1u) / s->params.substeps;
-    st->diverged_cloth = cloth_of_internal(&s->build, w.particle);
+    st->diverged_cloth = cvk_build_cloth_of(&s->build, w.particle);
     st->diverged_nonfinite = (w.reason & CVK_WATCH_NONFINITE) != 0;
 }
 

@@ -77,22 +77,12 @@ static cvk_result create_sets(cvk_sim* s, cvk_explicit* ex, cvk_error* error)
 
 /* ---- state: positions, velocities (w: mass) and the history --------------------------- */
 
-static cvk_result clear_history(cvk_sim* s, cvk_explicit* ex, cvk_error* error)
-{
-    void* zeros = calloc(1, ex->history.size);
-    if (!zeros)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the history");
-    cvk_result r = cvk_sim_upload(s, &ex->history, zeros, ex->history.size, error);
-    free(zeros);
-    return r;
-}
-
 /* A new state starts the Adams-Bashforth rule again from Euler steps. */
 static cvk_result explicit_write_state(cvk_sim* s, void* self, const float* xyz,
                                        const float* velocity, cvk_error* error)
 {
     cvk_explicit* ex = self;
-    cvk_result r = clear_history(s, ex, error);
+    cvk_result r = cvk_sim_clear_buffer(s, &ex->history, error);
     return r == CVK_SUCCESS ? cvk_vstate_write(s, &ex->v, xyz, velocity, error) : r;
 }
 
@@ -272,7 +262,8 @@ static cvk_result explicit_switch_solver(cvk_sim* s, void* self, const cvk_solve
                                          const cvk_solver_desc* to, cvk_error* error)
 {
     (void)from, (void)to;
-    return clear_history(s, self, error);
+    cvk_explicit* ex = self;
+    return cvk_sim_clear_buffer(s, &ex->history, error);
 }
 
 static cvk_result explicit_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_error* error)

@@ -388,17 +388,6 @@ static cvk_result implicit_set_torn(cvk_sim* s, void* self, const uint32_t* aliv
     return cvk_vstate_set_torn(s, &im->adjacency, alive, error);
 }
 
-/* No particle is held before the first contact pass. */
-static cvk_result zero_filter(cvk_sim* s, cvk_implicit* im, cvk_error* error)
-{
-    void* zeros = calloc(1, im->filter.size);
-    if (!zeros)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
-    cvk_result r = cvk_sim_upload(s, &im->filter, zeros, im->filter.size, error);
-    free(zeros);
-    return r;
-}
-
 static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
                                   cvk_error* error)
 {
@@ -413,7 +402,7 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         r = create_set(s, im, error);
     if (r == CVK_SUCCESS)
-        r = zero_filter(s, im, error);
+        r = cvk_sim_clear_buffer(s, &im->filter, error); /* nothing held before contact */
     if (r == CVK_SUCCESS)
         r = cvk_vstate_upload_adjacency(s, &im->adjacency, NULL, error);
     if (r == CVK_SUCCESS)

@@ -95,10 +95,8 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
         return CVK_SUCCESS;
     uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
     float* kl = malloc(quads * nf * 4 * sizeof(float));
-    size_t entries = (size_t)b->max_degree * nf;
-    uint32_t* spring_of = alive ? malloc((entries ? entries : 1) * sizeof(uint32_t)) : NULL;
     cvk_result r = CVK_SUCCESS;
-    if (!pairs || !kl || (alive && (!spring_of || !cvk_tear_slot_springs(b, spring_of))))
+    if (!pairs || !kl)
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
     for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
         for (size_t p = 0; p < nf; p++) {
@@ -108,7 +106,7 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
             for (size_t j = 0; j < 4; j++) {
                 size_t slot = 4 * q + j, e = slot * nf + p;
                 bool real = slot < b->max_degree;
-                bool torn = real && alive && spring_of[e] != UINT32_MAX && !alive[spring_of[e]];
+                bool torn = real && cvk_tear_entry_torn(b, alive, e);
                 float k = real && !torn ? b->adj_k[e] : 0.0f;
                 neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
                 memcpy(&k_bits[j], &k, sizeof k);
@@ -122,7 +120,6 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
         r = cvk_sim_upload(s, &pd->adjacency_kl, kl, quads * nf * 4 * sizeof(float), error);
     free(pairs);
     free(kl);
-    free(spring_of);
     return r;
 }
 
@@ -278,8 +275,7 @@ cvk_result cvk_pd_set_torn(cvk_sim* s, void* self, const uint32_t* alive, cvk_er
         r = cvk_pd_upload_adjacency(s, pd, alive, error);
     if (r != CVK_SUCCESS || !pd->h_alive)
         return r;
-    if (!cvk_tear_host_adjacency(b, alive, pd->h_adj_k))
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
+    cvk_tear_host_adjacency(b, alive, pd->h_adj_k);
     memcpy(pd->h_alive, alive, (size_t)b->spring_count * sizeof *alive);
     return CVK_SUCCESS;
 }

@@ -24,35 +24,6 @@ static const cvk_binding tear_bindings[CVK_TEAR_BINDING_COUNT] = {
 #undef TEXEL
 #undef STORAGE
 
-bool cvk_tear_slot_springs(const cvk_build* b, uint32_t* spring_of)
-{
-    uint32_t nf = b->free_count;
-    size_t entries = (size_t)b->max_degree * nf;
-    for (size_t e = 0; e < entries; e++)
-        spring_of[e] = UINT32_MAX;
-    uint32_t* fill = calloc(nf ? nf : 1, sizeof *fill);
-    if (!fill)
-        return false;
-    /* The order build_adjacency (build.c) fills the slots in: spring by spring, end a first. */
-    for (uint32_t s = 0; s < b->spring_count; s++) {
-        uint32_t ends[2] = {b->springs[s].a, b->springs[s].b};
-        for (int e = 0; e < 2; e++)
-            if (ends[e] < nf)
-                spring_of[(size_t)fill[ends[e]]++ * nf + ends[e]] = s;
-    }
-    free(fill);
-    return true;
-}
-
-/* The cloth (scene order) of internal particle p. */
-static uint32_t cloth_of(const cvk_build* b, uint32_t p)
-{
-    uint32_t user = b->user_of[p], cloth = 0;
-    while (cloth + 1 < b->cloth_count && user >= b->cloths[cloth + 1].first_user)
-        cloth++;
-    return cloth;
-}
-
 /* Element indices of adjacency entry e (slot · nf + p) as projective dynamics packs it
    (pd_common.glsl's quads): its k bits in the uint array, its k·L in the float array. */
 static void pd_elements(uint32_t e, uint32_t nf, uint32_t* k, uint32_t* kl)
@@ -68,7 +39,6 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
                             uint32_t* count)
 {
     size_t entries = (size_t)b->max_degree * b->free_count;
-    uint32_t* spring_of = cvk_malloc_array(entries ? entries : 1, sizeof *spring_of);
     uint32_t* table = cvk_malloc_array(12 * (size_t)b->spring_count, sizeof *table);
     /* slot[2s + e]: the slot of end e of spring s, or UINT32_MAX (pinned) */
     uint32_t* slot = cvk_malloc_array(2 * (size_t)b->spring_count, sizeof *slot);
@@ -76,9 +46,7 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
     t->limit2 = cvk_malloc_array(b->spring_count ? b->spring_count : 1, sizeof *t->limit2);
     t->entry = cvk_malloc_array(2 * (size_t)(b->spring_count ? b->spring_count : 1),
                                 sizeof *t->entry);
-    if (!spring_of || !table || !slot || !t->spring || !t->limit2 || !t->entry ||
-        !cvk_tear_slot_springs(b, spring_of)) {
-        free(spring_of);
+    if (!table || !slot || !t->spring || !t->limit2 || !t->entry) {
         free(table);
         free(slot);
         return NULL;
@@ -86,14 +54,14 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
     for (size_t i = 0; i < 2 * (size_t)b->spring_count; i++)
         slot[i] = UINT32_MAX;
     for (size_t e = 0; e < entries; e++) {
-        uint32_t s = spring_of[e], p = (uint32_t)(e % b->free_count);
+        uint32_t s = b->adj_spring[e], p = (uint32_t)(e % b->free_count);
         if (s != UINT32_MAX)
             slot[2 * (size_t)s + (b->springs[s].a == p ? 0 : 1)] = (uint32_t)(e / b->free_count);
     }
     uint32_t n = 0;
     for (uint32_t s = 0; s < b->spring_count; s++) {
         const cvk_spring* sp = &b->springs[s];
-        float stretch = scene->cloths[cloth_of(b, sp->a)].tearing.max_stretch;
+        float stretch = scene->cloths[cvk_build_cloth_of(b, sp->a)].tearing.max_stretch;
         if (!(stretch > 0.0f))
             continue;
         double length = (double)sp->rest * (1.0 + (double)stretch);
@@ -119,7 +87,6 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
         }
         n++;
     }
-    free(spring_of);
     free(slot);
     *count = n;
     return table;
@@ -251,18 +218,17 @@ uint32_t cvk_tear_host(const cvk_sim* s, const double* x, uint32_t* alive, float
     return torn;
 }
 
-bool cvk_tear_host_adjacency(const cvk_build* b, const uint32_t* alive, float* adj_k)
+bool cvk_tear_entry_torn(const cvk_build* b, const uint32_t* alive, size_t entry)
+{
+    uint32_t s = b->adj_spring[entry];
+    return alive && s != UINT32_MAX && !alive[s];
+}
+
+void cvk_tear_host_adjacency(const cvk_build* b, const uint32_t* alive, float* adj_k)
 {
     size_t entries = (size_t)b->max_degree * b->free_count;
-    uint32_t* spring_of = cvk_malloc_array(entries ? entries : 1, sizeof *spring_of);
-    if (!spring_of || !cvk_tear_slot_springs(b, spring_of)) {
-        free(spring_of);
-        return false;
-    }
     for (size_t e = 0; e < entries; e++)
-        adj_k[e] = spring_of[e] != UINT32_MAX && !alive[spring_of[e]] ? 0.0f : b->adj_k[e];
-    free(spring_of);
-    return true;
+        adj_k[e] = cvk_tear_entry_torn(b, alive, e) ? 0.0f : b->adj_k[e];
 }
 
 uint64_t cvk_tear_snapshot_size(const cvk_sim* s)

@@ -63,10 +63,9 @@ cvk_result cvk_tear_add_passes(struct cvk_sim* sim, cvk_tear_family family, cvk_
    waits for the queue. */
 cvk_result cvk_tear_read_flags(struct cvk_sim* sim, uint32_t* alive, cvk_error* error);
 
-/* Entry e of the adjacency (slot s of free particle p at s · free_count + p, as build.h lays
-   it out) -> the spring it holds, UINT32_MAX for padding; `spring_of` has max_degree ·
-   free_count entries. False when out of host memory. */
-bool cvk_tear_slot_springs(const cvk_build* build, uint32_t* spring_of);
+/* Whether adjacency entry `entry` (build.h's layout) holds a spring whose flag in `alive` is 0
+   (alive NULL: nothing is torn). */
+bool cvk_tear_entry_torn(const cvk_build* build, const uint32_t* alive, size_t entry);
 
 /* The host reference of the pass (gs-cpu): every live spring that may tear and is longer than
    its breaking length in positions x (3 doubles per particle, internal order) gets alive 0
@@ -74,8 +73,8 @@ bool cvk_tear_slot_springs(const cvk_build* build, uint32_t* spring_of);
 uint32_t cvk_tear_host(const struct cvk_sim* sim, const double* x, uint32_t* alive, float* adj_k);
 
 /* adj_k (the build's layout) as the build has it, with k 0 for every spring whose flag in
-   `alive` is 0. False when out of host memory. */
-bool cvk_tear_host_adjacency(const cvk_build* build, const uint32_t* alive, float* adj_k);
+   `alive` is 0. */
+void cvk_tear_host_adjacency(const cvk_build* build, const uint32_t* alive, float* adj_k);
 
 /* The spring flags as they are, in a new array (*out) the caller frees; *out NULL on failure. */
 cvk_result cvk_tear_copy_flags(struct cvk_sim* sim, uint32_t** out, cvk_error* error);

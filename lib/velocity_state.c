@@ -14,21 +14,17 @@ cvk_result cvk_vstate_upload_adjacency(cvk_sim* s, cvk_buffer* adjacency, const 
     if (entries == 0)
         return CVK_SUCCESS;
     uint32_t* data = malloc(entries * 4 * sizeof(uint32_t));
-    float* k = malloc(entries * sizeof(float));
-    if (!data || !k || (alive && !cvk_tear_host_adjacency(b, alive, k))) {
-        free(data);
-        free(k);
+    if (!data)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
-    }
     for (size_t e = 0; e < entries; e++) {
+        float k = cvk_tear_entry_torn(b, alive, e) ? 0.0f : b->adj_k[e];
         data[4 * e] = b->adj_index[e];
-        memcpy(&data[4 * e + 1], alive ? &k[e] : &b->adj_k[e], 4);
+        memcpy(&data[4 * e + 1], &k, 4);
         memcpy(&data[4 * e + 2], &b->adj_rest[e], 4);
         data[4 * e + 3] = 0;
     }
     cvk_result r = cvk_sim_upload(s, adjacency, data, entries * 16, error);
     free(data);
-    free(k);
     return r;
 }
 
