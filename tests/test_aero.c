@@ -7,8 +7,8 @@
    change; the same bits for two dispatch shapes; no wind, no wind pass. */
 #include <stdint.h>
 
-#include "gpu.h"
 #include "harness.h"
+#include "recorded.h"
 #include "sim.h"
 
 #define W 6
@@ -167,14 +167,8 @@ static void carried_and_repeatable(cvk_context* ctx)
     REQUIRE_OK(cvk_sim_step(a, frames, &err), err);
     REQUIRE_OK(cvk_sim_step(b, frames, &err), err);
     cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    REQUIRE_OK(cvk_sim_record(c, cmd, 1, &err), err);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    for (uint32_t f = 0; f < frames; f++)
-        REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
+    VkCommandBuffer cmd = harness_record(ctx, c, 1, &sub);
+    harness_submit(ctx, &sub, cmd, frames);
     cvk_submitter_destroy(ctx, &sub);
     float* xa = harness_read_all(a);
     float* xb = harness_read_all(b);

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #include "attach_scene.h"
-#include "gpu.h"
+#include "recorded.h"
 
 /* Every frame, the attached particles are where the keyframes say (to float rounding of the
    time and the pose), through the loop of the sliding pair and past the turn's last keyframe. */
@@ -53,14 +53,8 @@ static void record_equals_step(cvk_context* ctx)
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &recorded, &err), err);
     REQUIRE_OK(cvk_sim_step(stepped, frames, &err), err);
     cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    REQUIRE_OK(cvk_sim_record(recorded, cmd, 1, &err), err);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    for (uint32_t f = 0; f < frames; f++)
-        REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
+    VkCommandBuffer cmd = harness_record(ctx, recorded, 1, &sub);
+    harness_submit(ctx, &sub, cmd, frames);
     cvk_submitter_destroy(ctx, &sub);
     float* a = harness_read_all(stepped);
     float* b = harness_read_all(recorded);

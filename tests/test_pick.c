@@ -10,8 +10,8 @@
    particles, missing ones, bad targets and solvers that cannot hold a grab are refused. */
 #include <stdint.h>
 
-#include "gpu.h"
 #include "harness.h"
+#include "recorded.h"
 
 #define AW 12
 #define AH 10
@@ -508,12 +508,7 @@ static void record_equals_step(cvk_context* ctx)
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene, .grab = true}, &recorded,
                               &err), err);
     cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    REQUIRE_OK(cvk_sim_record(recorded, cmd, 1, &err), err);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
+    VkCommandBuffer cmd = harness_record(ctx, recorded, 1, &sub);
     cvk_particle grabbed = {0, (AH - 1) * AW + 2};
     float* x = harness_read_all(stepped);
     float target[3];
