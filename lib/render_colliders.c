@@ -19,6 +19,8 @@
 #define PLANE_EXTENT_SCALE 8.0
 /* A plane whose normal is within about 0.8° of up can be the ground. */
 #define GROUND_COS 0.9999
+/* A plane within this distance (m) of a given ground height is at that height. */
+#define GROUND_HEIGHT_TOLERANCE 1e-5
 
 static double length3(const float v[3])
 {
@@ -28,8 +30,7 @@ static double length3(const float v[3])
 /* The height (m along up) of a static plane collider facing up, when it becomes the ground. */
 static bool ground_plane(const cvk_renderer* rd, const cvk_collider_desc* c, double* height)
 {
-    if (c->type != CVK_COLLIDER_PLANE || c->motion.keyframe_count > 0 || !rd->desc.ground ||
-        !rd->desc.auto_ground_height)
+    if (c->type != CVK_COLLIDER_PLANE || c->motion.keyframe_count > 0 || !rd->desc.ground)
         return false;
     double n = length3(c->normal), u = length3(rd->desc.up);
     if (n == 0.0 || u == 0.0)
@@ -40,6 +41,10 @@ static bool ground_plane(const cvk_renderer* rd, const cvk_collider_desc* c, dou
         h += (double)c->point[k] * rd->desc.up[k] / u;
     }
     *height = h;
+    /* A ground at a given height is this plane when they coincide: drawing the plane too would
+       only cover the ground with the same surface (at 4x MSAA, most of the image's cost). */
+    if (!rd->desc.auto_ground_height && fabs(h - rd->desc.ground_height) > GROUND_HEIGHT_TOLERANCE)
+        return false;
     return along >= GROUND_COS;
 }
 

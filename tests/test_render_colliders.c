@@ -8,7 +8,8 @@
    - a keyframed sphere is drawn where the simulation's own recorded work moved it, by one
      command buffer (a simulated frame and its image) recorded once and submitted again and
      again;
-   - a static plane facing up becomes the ground (its height), and the automatic camera frames
+   - a static plane facing up becomes the ground (its height), as does one at the height the
+     scene gives the ground, but not one above it; the automatic camera frames
      a collider near the cloths but not a far box or a 100 m plane.
    Scenes without colliders are covered by test_render (their images are unchanged). Set
    CLOTHVK_TEST_IMAGES to a folder to keep the images. */
@@ -351,6 +352,30 @@ static void framing(cvk_context* ctx)
           near.reach_min[0], near.reach_max[0], near.reach_min[1], near.reach_max[1]);
 }
 
+/* A static plane facing up at the ground height the scene gives is the ground: not drawn
+   again on top of it (in its own colour), while the same plane 0.2 m higher is. */
+static bool plane_drawn(cvk_context* ctx, float height)
+{
+    setup s = {.cloth = flat_cloth(0.0f, 1.0f, 0.0f), .collider_count = 1};
+    s.colliders[0] = cvk_default_collider_desc();
+    s.colliders[0].point[1] = height;
+    memcpy(s.colliders[0].color, green, sizeof green);
+    cvk_render_desc r = view(sphere_eye, sphere_target, (const float[3]){0.3f, 1.0f, 0.4f});
+    setup_scene(&s, ctx, &r, false);
+    cvk_image im = draw(&s, height == 0.0f ? "plane-at-ground" : "plane-above-ground");
+    /* Ground in front of the cloth's shadow, on either side of the middle. */
+    bool green_left = greenish_at(&im, s.renderer, (const float[3]){-0.8f, height, 1.2f});
+    bool green_right = greenish_at(&im, s.renderer, (const float[3]){0.8f, height, 1.2f});
+    teardown(&s);
+    return green_left && green_right;
+}
+
+static void plane_at_ground_height(cvk_context* ctx)
+{
+    CHECK(!plane_drawn(ctx, 0.0f), "a green plane at the given ground height (0 m) is drawn over the ground");
+    CHECK(plane_drawn(ctx, 0.2f), "a green plane 0.2 m above the given ground height is not drawn");
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -360,5 +385,6 @@ int main(void)
     box_visible(ctx);
     moving_sphere(ctx);
     framing(ctx);
+    plane_at_ground_height(ctx);
     return harness_finish(ctx);
 }
