@@ -3,7 +3,8 @@
    shaders move them by the pose the simulation's own recorded work left in its poses buffer
    (pose 1: the end of the last substep), so a frame submitted again draws moving colliders
    without a host write. A static plane facing up, when the ground is drawn at an automatic
-   height, is the ground itself rather than a second surface on top of it. */
+   height or at the plane's own, is the ground itself rather than a second surface on top of
+   it. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -3,15 +3,16 @@
    of the isolated dark pixels on the cloth — pixels far darker than their cloth neighbourhood
    that are not part of a connected dark feature (a shadow's edge, a fold's line):
    - a cloth folded over itself with a 1.5 cm radius, its upper layer shadowing the lower,
-     seen from above and from the side of the fold;
+     seen from above, from the side of the fold, end-on and from below, and lit at a grazing
+     angle;
    - a cloth seen nearly edge-on, and a cloth lit at grazing angles (the light 3° and 10°
      off its plane, from either face), flat and gently curved: nothing there can shadow the
      cloth, so also no pixel amid it may be more than 10 % off the median of its 5 x 5
      neighbourhood (acne in bands, where no pixel stands alone).
    A pixel counts when it and its 8 neighbours are cloth, it is darker than 0.6 of the median of
    the cloth pixels in its 5 x 5 neighbourhood, and the 8-connected group of pixels darker than
-   0.85 of that median around it has at most 2 pixels. Set CLOTHVK_TEST_IMAGES to a folder to keep the images (isolated pixels
-   marked green in a copy, NAME-marked.png). */
+   0.85 of that median around it has at most 2 pixels. Set CLOTHVK_TEST_IMAGES to a folder to
+   keep the images (isolated pixels marked green in a copy, NAME-marked.png). */
 #include "harness.h"
 
 #include <math.h>
