@@ -56,14 +56,14 @@ typedef struct cvk_collide {
     cvk_buffer sdf_values;       /* every mesh collider's field, back to back */
     cvk_buffer params;           /* cvk_gpu_contact_params */
     cvk_buffer triangles;        /* uvec4 per cloth triangle (internal particle indices) */
-    cvk_buffer owned;            /* per particle + 1 then triangle ids: triangles by lowest vertex */
+    cvk_buffer incident;         /* per particle + 1 offsets, then the ids of its triangles */
     cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
     float* rest_xyz;             /* the same on the host (self-contact only) */
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_buffer searched;         /* vec4 per particle: its position at the last search */
     cvk_hash hash;               /* only with self-contact */
-    VkBufferView view_triangles, view_owned, view_rest, view_contacts; /* texel views */
+    VkBufferView view_triangles, view_incident, view_rest, view_contacts; /* texel views */
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */

@@ -30,11 +30,13 @@ static float longest_edge(const cvk_build* b)
 cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 {
     cvk_collide* c = &s->collide;
-    /* A triangle within the detection radius of p has its lowest corner (its owner) within the
-       radius plus the triangle's longest edge; cells that large keep the owner among the 27
-       cells around p while the cloth stretches up to 50 %. */
+    /* A triangle within the detection radius of p has a corner within the radius plus the
+       farthest any point of it is from its nearest corner: at most the longest edge / √3 (the
+       circumradius of an equilateral triangle; less for any other shape of that longest edge).
+       Cells that large keep that corner among the 27 cells around p while the cloth stretches
+       up to 50 %. */
     float cell = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness +
-                 1.5f * longest_edge(&s->build);
+                 1.5f / sqrtf(3.0f) * longest_edge(&s->build);
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
                           &s->positions};
     cvk_result r = cvk_hash_create(s->context, &desc, &c->hash, error);

@@ -1,11 +1,13 @@
 /* The adaptive search for cloth-contact candidates (lib/collide.h): a cloth at rest stops
    searching, a fast one searches at every substep, positions written from the host make the
    next substep search, and a snapshot carries the contact state so that stepping on from it
-   gives the same bits as never having stopped. */
+   gives the same bits as never having stopped; on folded cloths, the candidates a search keeps
+   against a brute force over every particle–triangle pair. */
 #include <string.h>
 
 #include "collide.h"
 #include "harness.h"
+#include "shared/layout.h"
 #include "sim.h"
 
 /* A cloth of n × n particles, `size` m, horizontal at height y, centred on x = z = 0. */
@@ -135,10 +137,207 @@ static void test_snapshot(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* ---- the candidates against a brute force ---------------------------------------------- */
+
+static double point_triangle_distance(const float* p, const float* a, const float* b,
+                                      const float* c)
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    for (int k = 0; k < 3; k++) {
+        ab[k] = (double)b[k] - a[k];
+        ac[k] = (double)c[k] - a[k];
+        ap[k] = (double)p[k] - a[k];
+        bp[k] = (double)p[k] - b[k];
+        cp[k] = (double)p[k] - c[k];
+    }
+#define DOT(u, v) ((u)[0] * (v)[0] + (u)[1] * (v)[1] + (u)[2] * (v)[2])
+    double d1 = DOT(ab, ap), d2 = DOT(ac, ap), d3 = DOT(ab, bp), d4 = DOT(ac, bp);
+    double d5 = DOT(ab, cp), d6 = DOT(ac, cp);
+#undef DOT
+    double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    double s = 0.0, t = 0.0; /* closest = a + s ab + t ac (Ericson 2005, 5.1.5) */
+    if (d1 <= 0.0 && d2 <= 0.0) {
+    } else if (d3 >= 0.0 && d4 <= d3) {
+        s = 1.0;
+    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        s = d1 / (d1 - d3);
+    } else if (d6 >= 0.0 && d5 <= d6) {
+        t = 1.0;
+    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        t = d2 / (d2 - d6);
+    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        s = 1.0 - t;
+    } else {
+        double denom = va + vb + vc;
+        s = vb / denom;
+        t = vc / denom;
+    }
+    double d2sum = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double d = ap[k] - s * ab[k] - t * ac[k];
+        d2sum += d * d;
+    }
+    return sqrt(d2sum);
+}
+
+static uint32_t next_random(uint32_t* state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+static float uniform(uint32_t* state, float lo, float hi)
+{
+    return lo + (hi - lo) * (float)next_random(state) / (float)(1u << 24);
+}
+
+/* A cloth folded twice into three layers (an S seen from the side) with random fold lines,
+   gaps between 0.3 and 2.2 thicknesses and every particle jittered by up to a quarter
+   thickness: the middle layer has candidates on both sides, more than a particle keeps. */
+static void fold(float* xyz, uint32_t n, float size, float thickness, uint32_t* state)
+{
+    float h = size / (float)(n - 1);
+    float s1 = uniform(state, 0.45f, 0.55f) * size, s2 = s1 + uniform(state, 0.25f, 0.35f) * size;
+    float g1 = uniform(state, 0.3f, 2.2f) * thickness, g2 = uniform(state, 0.3f, 2.2f) * thickness;
+    for (uint32_t j = 0; j < n; j++)
+        for (uint32_t i = 0; i < n; i++) {
+            float s = (float)i * h, x, y;
+            if (s < s1) {
+                x = s;
+                y = 0.0f;
+            } else if (s < s2) {
+                x = s1 - (s - s1);
+                y = g1;
+            } else {
+                x = s1 - (s2 - s1) + (s - s2);
+                y = g1 + g2;
+            }
+            float* p = &xyz[3 * ((size_t)j * n + i)];
+            p[0] = x + uniform(state, -0.25f, 0.25f) * thickness;
+            p[1] = 0.5f + y + uniform(state, -0.25f, 0.25f) * thickness;
+            p[2] = (float)j * h + uniform(state, -0.25f, 0.25f) * thickness;
+        }
+}
+
+/* After a search on a folded cloth: every particle–triangle pair within the detection radius
+   that is not near at rest is among the particle's kept candidates, or the particle keeps as
+   many as it can, all at most that far; every kept one is such a pair, once, with the side the
+   particle is on. Distances on the host in double from the positions the search saw. */
+static void test_candidates(cvk_context* ctx)
+{
+    const uint32_t n = 24, K = CVK_CONTACTS_PER_PARTICLE;
+    const float size = 0.5f;
+    uint64_t pairs = 0, kept_total = 0, full = 0, missing = 0, wrong = 0;
+    for (uint32_t seed = 1; seed <= 4; seed++) {
+        cvk_cloth_desc cloth = flat_cloth(n, size, 0.5f);
+        cvk_scene_desc scene = cvk_default_scene_desc();
+        scene.cloths = &cloth;
+        scene.cloth_count = 1;
+        scene.substeps = 1;
+        scene.collision.self = true;
+        cvk_error err;
+        cvk_sim* sim = NULL;
+        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        const cvk_collide* c = &sim->collide;
+        const cvk_build* b = &sim->build;
+        float* xyz = malloc(3 * (size_t)n * n * sizeof(float));
+        uint32_t state = seed * 7919u;
+        fold(xyz, n, size, c->thickness, &state);
+        REQUIRE_OK(cvk_sim_write_positions(sim, xyz, (uint64_t)n * n, &err), err);
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err); /* one substep: it searches */
+        uint64_t bytes = cvk_collide_snapshot_size(sim);
+        unsigned char* snap = malloc(bytes);
+        REQUIRE_OK(cvk_collide_save_snapshot(sim, snap, &err), err);
+        const float* seen = (const float*)(snap + sizeof(cvk_gpu_frame)); /* vec4 per particle */
+        const uint32_t* kept = (const uint32_t*)(snap + sizeof(cvk_gpu_frame) +
+                                                 16u * (size_t)b->particle_count);
+        double radius = (double)CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
+        double slack = 1e-5 * radius; /* float rounding of the device's distances */
+        for (uint32_t p = 0; p < b->free_count; p++) {
+            const float* xp = &seen[4 * (size_t)p];
+            const uint32_t* mine = &kept[(size_t)K * p];
+            uint32_t count = 0;
+            double farthest = 0.0;
+            while (count < K && mine[count] != CVK_NO_CONTACT)
+                count++;
+            for (uint32_t k = count; k < K; k++)
+                wrong += mine[k] != CVK_NO_CONTACT; /* the list ends at the first empty slot */
+            for (uint32_t k = 0; k < count; k++) {
+                uint32_t t = mine[k] >> 1, side = mine[k] & 1u;
+                if (t >= b->triangle_count) {
+                    wrong++;
+                    continue;
+                }
+                uint32_t v[3];
+                for (int m = 0; m < 3; m++)
+                    v[m] = b->internal_of[b->triangles[3 * (size_t)t + m]];
+                const float *a = &seen[4 * (size_t)v[0]], *bb = &seen[4 * (size_t)v[1]],
+                            *cc = &seen[4 * (size_t)v[2]];
+                double d = point_triangle_distance(xp, a, bb, cc);
+                farthest = fmax(farthest, d);
+                bool twice = false;
+                for (uint32_t m = 0; m < k; m++)
+                    twice |= (mine[m] >> 1) == t;
+                /* the side: the sign of (p − a) · n, well away from the plane only */
+                double e1[3], e2[3], ap[3];
+                for (int m = 0; m < 3; m++) {
+                    e1[m] = (double)bb[m] - a[m];
+                    e2[m] = (double)cc[m] - a[m];
+                    ap[m] = (double)xp[m] - a[m];
+                }
+                double nrm[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                 e1[0] * e2[1] - e1[1] * e2[0]};
+                double height = (ap[0] * nrm[0] + ap[1] * nrm[1] + ap[2] * nrm[2]) /
+                                sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+                bool bad_side = fabs(height) > slack && (height < 0.0) != (side == 1u);
+                if (d >= radius + slack || cvk_collide_rest_near(c, p, v) || twice || bad_side)
+                    wrong++;
+            }
+            kept_total += count;
+            full += count == K;
+            for (uint32_t t = 0; t < b->triangle_count; t++) {
+                uint32_t v[3];
+                for (int m = 0; m < 3; m++)
+                    v[m] = b->internal_of[b->triangles[3 * (size_t)t + m]];
+                if (cvk_collide_rest_near(c, p, v))
+                    continue;
+                double d = point_triangle_distance(xp, &seen[4 * (size_t)v[0]],
+                                                   &seen[4 * (size_t)v[1]],
+                                                   &seen[4 * (size_t)v[2]]);
+                if (d >= radius - slack)
+                    continue;
+                pairs++;
+                bool found = false;
+                for (uint32_t k = 0; k < count; k++)
+                    found |= (mine[k] >> 1) == t;
+                if (!found && !(count == K && farthest <= d + slack))
+                    missing++;
+            }
+        }
+        free(snap);
+        free(xyz);
+        cvk_sim_destroy(sim);
+    }
+    CHECK(missing == 0, "%llu of %llu pairs within the detection radius are neither kept nor "
+          "beyond a full list of nearer ones", (unsigned long long)missing,
+          (unsigned long long)pairs);
+    CHECK(wrong == 0, "%llu kept candidates are too far, near at rest, kept twice, on the wrong "
+          "side or out of place", (unsigned long long)wrong);
+    /* The folds bring layers within the radius, and the middle layer's particles have more
+       such triangles than they keep: both branches above are exercised. */
+    CHECK(pairs > 1000 && kept_total > 1000 && full > 10,
+          "%llu pairs within the radius, %llu kept, %llu full lists: the folds did not fold",
+          (unsigned long long)pairs, (unsigned long long)kept_total, (unsigned long long)full);
+    printf("candidates: %llu pairs within the radius, %llu kept, %llu full lists\n",
+           (unsigned long long)pairs, (unsigned long long)kept_total, (unsigned long long)full);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     test_rest_and_motion(ctx);
     test_snapshot(ctx);
+    test_candidates(ctx);
     return harness_finish(ctx);
 }
