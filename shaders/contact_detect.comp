@@ -53,7 +53,8 @@ void main()
     if (frame.search == 0u)
         return; // adaptive search: the candidates of the last search still hold
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-        uint p = pc.first + i;
+        // Particles in the hash's order (by slot): neighbouring lanes walk the same cells.
+        uint p = hash_entry(pc.first + i);
         vec3 xp = contact_x(p);
         searched[p] = vec4(xp, 0.0);
         if (p >= contact_u.free_count)
