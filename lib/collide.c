@@ -444,7 +444,17 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .exclusion = c->exclusion,
         .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
     };
-    cvk_gpu_frame frame = {.search = 1, .force = 1};
+    /* the frame state, then the motion bounds of the adaptive search (empty) */
+    struct {
+        cvk_gpu_frame frame;
+        cvk_gpu_motion_bounds bounds;
+    } frame = {
+        .frame = {.search = 1, .force = 1},
+        .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0},
+    };
+    _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
+                   "the frame buffer: the frame state, then the bounds, as std430 lays them out");
     cvk_result r = cvk_sim_make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->frame, sizeof frame, "frame state", &frame, error);

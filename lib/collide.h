@@ -7,10 +7,12 @@
 
    The candidates are searched adaptively by default (Verlet lists, as molecular dynamics keeps
    neighbour lists with a skin): a search keeps the triangles within 2.5 thicknesses of each
-   particle, and a new search runs only at a substep that starts with some particle more than
-   a quarter thickness from where the last search saw it, so every pair within two thicknesses at
-   the start of any substep (what one substep can bring into contact, as when searching every
-   substep) is still among the candidates. The device decides (contact_check.comp,
+   particle, and a new search runs only at a substep that starts with some particle's
+   displacement since the last search more than a quarter thickness from the centre of all the
+   displacements' bounds (two particles then approached by at most half a thickness, and a
+   cloth that moves as one needs no search), so every pair within two thicknesses at the start
+   of any substep (what one substep can bring into contact, as when searching every substep) is
+   still among the candidates. The device decides (contact_check.comp,
    contact_decide.comp); the hash build and the search do nothing at the other substeps. A cloth
    at rest then costs no search at all. collision.detect_every = k searches every k substeps
    instead, whatever moved.
@@ -34,8 +36,9 @@ struct cvk_sim;
    Wider radii find more triangles per layer than a particle keeps (CVK_CONTACTS_PER_PARTICLE,
    nearest first), and a particle in a stack then loses the farther layer's. */
 #define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) == 0 ? 2.5f : (every) > 1 ? 3.0f : 2.0f)
-/* Adaptive search: a new one once a particle is this many thicknesses from where the last saw
-   it (two particles then approached by at most the margin beyond two thicknesses). */
+/* Adaptive search: a new one once a particle's displacement since the last is this many
+   thicknesses from the displacements' centre (two particles then approached by at most the
+   margin beyond two thicknesses). */
 #define CVK_SEARCH_AFTER_THICKNESSES 0.25f
 
 typedef struct cvk_collide {
@@ -49,7 +52,7 @@ typedef struct cvk_collide {
     cvk_collider_desc* colliders;/* deep copies (keyframes, names and files owned here) */
     cvk_sdf* sdfs;               /* per collider; all zero but for CVK_COLLIDER_MESH */
 
-    cvk_buffer frame;            /* cvk_gpu_frame */
+    cvk_buffer frame;            /* cvk_gpu_frame, then cvk_gpu_motion_bounds */
     cvk_buffer poses;            /* cvk_gpu_pose per collider (at least one element) */
     cvk_buffer shapes;           /* cvk_gpu_collider per collider */
     cvk_buffer keyframes;        /* 2 vec4 per keyframe: (time, translation), rotation (x, y, z, w) */

@@ -36,6 +36,7 @@ layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES_UNIFORM) u
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
     cvk_gpu_frame frame;
+    cvk_gpu_motion_bounds motion_bounds; // adaptive search (contact_check.comp)
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS) readonly buffer ContactParams {
     cvk_gpu_contact_params contact;
