@@ -48,6 +48,12 @@ bool near_corner(vec3 xp, vec4 rp, ivec3 cell, uint q, vec3 xq, float reach2, fl
            !corner_rest_near(rp, contact_rest(q), e2);
 }
 
+// Whether the kept candidate (dist_k, kept_k) comes after (d, item) in the list.
+bool after(float dist_k, uint kept_k, float d, uint item)
+{
+    return dist_k > d || (dist_k == d && kept_k > item);
+}
+
 void main()
 {
     if (frame.search == 0u)
@@ -117,19 +123,21 @@ void main()
                     if (d >= contact_u.detect_radius)
                         continue;
                     uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
-                    // Insert by distance, keeping the K nearest (ties: first found first). Every
-                    // index is a constant once the loop unrolls: a variable index into a
-                    // private array is a per-lane memory loop on lavapipe (the search took 1.4x
-                    // as long with the usual insertion loop).
+                    // Insert by distance, keeping the K nearest (ties, as at a corner shared by
+                    // several triangles: the lower triangle first, so the list does not depend
+                    // on the order of the walk). Every index is a constant once the loop
+                    // unrolls: a variable index into a private array is a per-lane memory loop
+                    // on lavapipe (the search took 1.4x as long with the usual insertion loop).
                     uint item = (t << 1u) | side;
                     for (uint k = K - 1u; k > 0u; k--) {
-                        bool shift = dist[k - 1u] > d;
-                        bool here = !shift && dist[k] > d;
+                        bool shift = after(dist[k - 1u], kept[k - 1u], d, item);
+                        bool here = !shift && after(dist[k], kept[k], d, item);
                         kept[k] = shift ? kept[k - 1u] : (here ? item : kept[k]);
                         dist[k] = shift ? dist[k - 1u] : (here ? d : dist[k]);
                     }
-                    kept[0] = dist[0] > d ? item : kept[0];
-                    dist[0] = dist[0] > d ? d : dist[0];
+                    bool first = after(dist[0], kept[0], d, item);
+                    kept[0] = first ? item : kept[0];
+                    dist[0] = first ? d : dist[0];
                 }
             }
         }

@@ -245,7 +245,8 @@ static void test_candidates(cvk_context* ctx)
 {
     const uint32_t n = 24, K = CVK_CONTACTS_PER_PARTICLE;
     const float size = 0.5f;
-    uint64_t pairs = 0, kept_total = 0, full = 0, missing = 0, wrong = 0;
+    uint64_t pairs = 0, kept_total = 0, full = 0, missing = 0, wrong = 0, unordered = 0;
+    uint64_t ties = 0, tie_order = 0;
     for (uint32_t seed = 1; seed <= 4; seed++) {
         cvk_cloth_desc cloth = flat_cloth(n, size, 0.5f);
         cvk_scene_desc scene = cvk_default_scene_desc();
@@ -275,7 +276,7 @@ static void test_candidates(cvk_context* ctx)
             const float* xp = &seen[4 * (size_t)p];
             const uint32_t* mine = &kept[(size_t)K * p];
             uint32_t count = 0;
-            double farthest = 0.0;
+            double farthest = 0.0, previous = 0.0;
             while (count < K && mine[count] != CVK_NO_CONTACT)
                 count++;
             for (uint32_t k = count; k < K; k++)
@@ -293,6 +294,16 @@ static void test_candidates(cvk_context* ctx)
                             *cc = &seen[4 * (size_t)v[2]];
                 double d = point_triangle_distance(xp, a, bb, cc);
                 farthest = fmax(farthest, d);
+                /* nearest first; at equal distances (the nearest point a corner that several
+                   triangles share: the same distance to the bit here, and on the device too
+                   unless its float arithmetic lands on an edge next to the corner), the lower
+                   triangle first */
+                if (k > 0 && d < previous - slack)
+                    unordered++;
+                if (k > 0 && d == previous && (mine[k - 1] >> 1) > t)
+                    tie_order++;
+                ties += k > 0 && d == previous;
+                previous = d;
                 bool twice = false;
                 for (uint32_t m = 0; m < k; m++)
                     twice |= (mine[m] >> 1) == t;
@@ -341,13 +352,18 @@ static void test_candidates(cvk_context* ctx)
           (unsigned long long)pairs);
     CHECK(wrong == 0, "%llu kept candidates are too far, near at rest, kept twice, on the wrong "
           "side or out of place", (unsigned long long)wrong);
+    CHECK(unordered == 0, "%llu kept candidates after a farther one", (unsigned long long)unordered);
+    /* ties broken by the order of the walk put about one in six the other way */
+    CHECK(ties > 1000 && tie_order * 100 < ties, "%llu of %llu ties not in triangle order",
+          (unsigned long long)tie_order, (unsigned long long)ties);
     /* The folds bring layers within the radius, and the middle layer's particles have more
        such triangles than they keep: both branches above are exercised. */
     CHECK(pairs > 1000 && kept_total > 1000 && full > 10,
           "%llu pairs within the radius, %llu kept, %llu full lists: the folds did not fold",
           (unsigned long long)pairs, (unsigned long long)kept_total, (unsigned long long)full);
-    printf("candidates: %llu pairs within the radius, %llu kept, %llu full lists\n",
-           (unsigned long long)pairs, (unsigned long long)kept_total, (unsigned long long)full);
+    printf("candidates: %llu pairs within the radius, %llu kept, %llu full lists, %llu ties\n",
+           (unsigned long long)pairs, (unsigned long long)kept_total, (unsigned long long)full,
+           (unsigned long long)ties);
 }
 
 int main(void)
