@@ -79,8 +79,8 @@ void main()
             ivec3 cell = hash_neighbour_cell(home, n);
             uvec2 range = hash_range(cell);
             for (uint e = range.x; e < range.y; e++) {
-                uint q = hash_entry(e);
-                if (near_corner(xp, rp, cell, q, hash_point(q), reach2, e2)) {
+                uvec4 entry = hash_entry_point(e); // the point's index and where it is
+                if (near_corner(xp, rp, cell, entry.w, uintBitsToFloat(entry.xyz), reach2, e2)) {
                     first_cell = min(first_cell, n);
                     last_cell = n;
                 }
@@ -96,8 +96,9 @@ void main()
             ivec3 cell = hash_neighbour_cell(home, n);
             uvec2 range = hash_range(cell);
             for (uint e = range.x; e < range.y; e++) {
-                uint q = hash_entry(e);
-                vec3 xq = hash_point(q); // fetched once: for its cell, distance and triangles
+                uvec4 entry = hash_entry_point(e);
+                uint q = entry.w;
+                vec3 xq = uintBitsToFloat(entry.xyz); // for its cell, distance and triangles
                 bool near = near_corner(xp, rp, cell, q, xq, reach2, e2);
                 uint o_end = near ? contact_incident(q + 1u) : 0u;
                 for (uint o = near ? contact_incident(q) : 0u; o < o_end; o++) {

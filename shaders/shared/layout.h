@@ -517,7 +517,11 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
 #define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as queries read them */
 #define CVK_HASH_BINDING_PARAMS_READ 8  /* uniform: the parameters, as queries read them (a
                                            storage load per cell visited was a lane loop) */
-#define CVK_HASH_BINDING_COUNT 9
+#define CVK_HASH_BINDING_SORTED 9       /* storage: uvec4 per point in the entries' order: the
+                                           point's xyz (float bits) and its index */
+#define CVK_HASH_BINDING_SORTED_READ 10 /* texel (rgba32ui): sorted, as queries read it (one
+                                           fetch per entry instead of the entry, then its point) */
+#define CVK_HASH_BINDING_COUNT 11
 
 /* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
    defined for far-away points (they share the border cells). */
