@@ -248,10 +248,12 @@ static void test_candidates(cvk_context* ctx)
     uint64_t pairs = 0, kept_total = 0, full = 0, missing = 0, wrong = 0, unordered = 0;
     uint64_t ties = 0, tie_order = 0;
     for (uint32_t seed = 1; seed <= 4; seed++) {
-        cvk_cloth_desc cloth = flat_cloth(n, size, 0.5f);
+        /* seeds 3 and 4: a second folded cloth among the first one's layers */
+        cvk_cloth_desc cloths[2] = {flat_cloth(n, size, 0.5f), flat_cloth(n, size, 0.7f)};
+        uint32_t cloth_count = seed > 2 ? 2 : 1;
         cvk_scene_desc scene = cvk_default_scene_desc();
-        scene.cloths = &cloth;
-        scene.cloth_count = 1;
+        scene.cloths = cloths;
+        scene.cloth_count = cloth_count;
         scene.substeps = 1;
         scene.collision.self = true;
         cvk_error err;
@@ -259,10 +261,20 @@ static void test_candidates(cvk_context* ctx)
         REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
         const cvk_collide* c = &sim->collide;
         const cvk_build* b = &sim->build;
-        float* xyz = malloc(3 * (size_t)n * n * sizeof(float));
+        float* xyz = malloc(3 * (size_t)n * n * cloth_count * sizeof(float));
         uint32_t state = seed * 7919u;
         fold(xyz, n, size, c->thickness, &state);
-        REQUIRE_OK(cvk_sim_write_positions(sim, xyz, (uint64_t)n * n, &err), err);
+        if (cloth_count == 2) {
+            float* second = &xyz[3 * (size_t)n * n];
+            fold(second, n, size, c->thickness, &state);
+            float dx = uniform(&state, -0.2f, 0.2f) * size;
+            float dy = uniform(&state, -1.0f, 3.0f) * c->thickness;
+            for (size_t i = 0; i < (size_t)n * n; i++) {
+                second[3 * i] += dx;
+                second[3 * i + 1] += dy;
+            }
+        }
+        REQUIRE_OK(cvk_sim_write_positions(sim, xyz, (uint64_t)n * n * cloth_count, &err), err);
         REQUIRE_OK(cvk_sim_step(sim, 1, &err), err); /* one substep: it searches */
         uint64_t bytes = cvk_collide_snapshot_size(sim);
         unsigned char* snap = malloc(bytes);
