@@ -4,14 +4,15 @@
 // triangles of any cloth within the detection radius at the start of the substep (x_n),
 // skipping triangles of its own cloth that were near it at rest. A triangle within the radius
 // has a corner within the radius plus 1.5 × the longest edge / √3 (the farthest any point of a
-// triangle is from its nearest corner, with the cloth stretched by up to 50 %; lib/collide.h),
+// triangle is from its nearest corner, with the cloth stretched by up to 50 %;
+// lib/collide_passes.c),
 // the hash's cell size: the walk over the 27 cells around the particle visits every such
 // corner, and the triangles around each corner that is neither too far nor near at rest are
 // tested, each once, through the lowest-index corner within reach. Where the cloth is not
 // folded every corner within reach is near at rest, and no triangle is tested at all. The
-// nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle is on.
-// The enumeration order is fixed (cells in order, entries sorted in each slot, triangles in
-// table order), so the result does not depend on thread timing.
+// nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle is on;
+// equally near ones by triangle index, so the list depends neither on thread timing nor on the
+// order of the walk.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
