@@ -235,14 +235,14 @@ static void initial_poses(const cvk_collide* c, cvk_gpu_pose* poses)
 
 typedef struct cloth_tables {
     uint32_t* triangles; /* 4 per triangle: internal indices, 0 */
-    uint32_t* owned;     /* particle_count + 1 offsets, then triangle ids */
-    size_t owned_count;
+    uint32_t* incident;  /* particle_count + 1 offsets, then triangle ids */
+    size_t incident_count;
 } cloth_tables;
 
 static void free_cloth_tables(cloth_tables* t)
 {
     free(t->triangles);
-    free(t->owned);
+    free(t->incident);
 }
 
 /* Offsets from counts (in place, out[0..n]), then the lists placed by a cursor. */
@@ -259,33 +259,30 @@ static void prefix(uint32_t* table, uint32_t n)
 static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_error* error)
 {
     uint32_t n = b->particle_count, tc = b->triangle_count;
-    t->owned_count = (size_t)n + 1 + tc;
+    t->incident_count = (size_t)n + 1 + 3 * (size_t)tc;
     t->triangles = calloc(4 * (size_t)(tc ? tc : 1), sizeof(uint32_t));
-    t->owned = calloc(t->owned_count, sizeof(uint32_t));
+    t->incident = calloc(t->incident_count, sizeof(uint32_t));
     uint32_t* cursor = calloc((size_t)n + 1, sizeof(uint32_t));
-    if (!t->triangles || !t->owned || !cursor) {
+    if (!t->triangles || !t->incident || !cursor) {
         free(cursor);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "out of host memory for the contact tables");
     }
-    /* A triangle belongs to its lowest-index corner: visiting each particle's own triangles
-       visits every triangle once. */
-    for (uint32_t i = 0; i < tc; i++) {
-        uint32_t lowest = UINT32_MAX;
+    /* Every triangle under each of its corners, in triangle order: the search reaches a
+       triangle through its corners (shaders/contact_detect.comp). */
+    for (uint32_t i = 0; i < tc; i++)
         for (int k = 0; k < 3; k++) {
             uint32_t v = b->internal_of[b->triangles[3 * (size_t)i + k]];
             t->triangles[4 * (size_t)i + k] = v;
-            lowest = v < lowest ? v : lowest;
+            t->incident[v]++;
         }
-        t->owned[lowest]++;
-    }
-    prefix(t->owned, n);
-    memcpy(cursor, t->owned, ((size_t)n + 1) * sizeof(uint32_t));
-    for (uint32_t i = 0; i < tc; i++) {
-        const uint32_t* v = &t->triangles[4 * (size_t)i];
-        uint32_t lowest = v[0] < v[1] ? (v[0] < v[2] ? v[0] : v[2]) : (v[1] < v[2] ? v[1] : v[2]);
-        t->owned[n + 1 + cursor[lowest]++] = i;
-    }
+    prefix(t->incident, n);
+    memcpy(cursor, t->incident, ((size_t)n + 1) * sizeof(uint32_t));
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = t->triangles[4 * (size_t)i + k];
+            t->incident[n + 1 + cursor[v]++] = i;
+        }
     free(cursor);
     return CVK_SUCCESS;
 }
@@ -303,7 +300,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_POSES] = STORAGE,
     [CVK_CONTACT_BINDING_SDF] = STORAGE,
     [CVK_CONTACT_BINDING_TRIANGLES] = TEXEL,
-    [CVK_CONTACT_BINDING_OWNED] = TEXEL,
+    [CVK_CONTACT_BINDING_INCIDENT] = TEXEL,
     [CVK_CONTACT_BINDING_REST] = TEXEL,
     [CVK_CONTACT_BINDING_CONTACTS] = STORAGE,
     [CVK_CONTACT_BINDING_POSITIONS] = TEXEL,
@@ -404,8 +401,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = cvk_sim_make_buffer(s, &c->triangles, c->self ? 16u * tc : 16u, "contact triangles",
                         t.triangles, error);
     if (r == CVK_SUCCESS)
-        r = cvk_sim_make_buffer(s, &c->owned, c->self ? 4u * t.owned_count : 16u, "triangles by corner",
-                        t.owned, error);
+        r = cvk_sim_make_buffer(s, &c->incident, c->self ? 4u * t.incident_count : 16u,
+                                "triangles by corner", t.incident, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
                         "rest positions", c->self ? c->rest_xyz : NULL, error);
@@ -421,7 +418,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         VkBufferView* view;
     } views[] = {
         {&c->triangles, VK_FORMAT_R32G32B32A32_UINT, &c->view_triangles},
-        {&c->owned, VK_FORMAT_R32_UINT, &c->view_owned},
+        {&c->incident, VK_FORMAT_R32_UINT, &c->view_incident},
         {&c->rest, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_rest},
         {&c->contacts, VK_FORMAT_R32_UINT, &c->view_contacts},
     };
@@ -447,7 +444,17 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .exclusion = c->exclusion,
         .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
     };
-    cvk_gpu_frame frame = {.search = 1, .force = 1};
+    /* the frame state, then the motion bounds of the adaptive search (empty) */
+    struct {
+        cvk_gpu_frame frame;
+        cvk_gpu_motion_bounds bounds;
+    } frame = {
+        .frame = {.search = 1, .force = 1},
+        .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0},
+    };
+    _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
+                   "the frame buffer: the frame state, then the bounds, as std430 lays them out");
     cvk_result r = cvk_sim_make_buffer(s, &c->params, sizeof p, "contact parameters", &p, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->frame, sizeof frame, "frame state", &frame, error);
@@ -471,7 +478,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_POSES] = {.buffer = &c->poses},
         [CVK_CONTACT_BINDING_SDF] = {.buffer = &c->sdf_values},
         [CVK_CONTACT_BINDING_TRIANGLES] = {.view = c->view_triangles},
-        [CVK_CONTACT_BINDING_OWNED] = {.view = c->view_owned},
+        [CVK_CONTACT_BINDING_INCIDENT] = {.view = c->view_incident},
         [CVK_CONTACT_BINDING_REST] = {.view = c->view_rest},
         [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
         [CVK_CONTACT_BINDING_POSITIONS] = {.view = s->view_positions},
@@ -521,12 +528,12 @@ void cvk_collide_destroy(cvk_sim* s)
     if (c->hash.capacity)
         cvk_hash_destroy(ctx, &c->hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
-    VkBufferView views[] = {c->view_triangles, c->view_owned, c->view_rest, c->view_contacts};
+    VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_rest, c->view_contacts};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
     cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
-                             &c->params, &c->triangles, &c->owned, &c->rest, &c->contacts,
+                             &c->params, &c->triangles, &c->incident, &c->rest, &c->contacts,
                              &c->searched};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);

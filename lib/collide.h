@@ -7,10 +7,12 @@
 
    The candidates are searched adaptively by default (Verlet lists, as molecular dynamics keeps
    neighbour lists with a skin): a search keeps the triangles within 2.5 thicknesses of each
-   particle, and a new search runs only at a substep that starts with some particle more than
-   a quarter thickness from where the last search saw it, so every pair within two thicknesses at
-   the start of any substep (what one substep can bring into contact, as when searching every
-   substep) is still among the candidates. The device decides (contact_check.comp,
+   particle, and a new search runs only at a substep that starts with some particle's
+   displacement since the last search more than a quarter thickness from the centre of all the
+   displacements' bounds (two particles then approached by at most half a thickness, and a
+   cloth that moves as one needs no search), so every pair within two thicknesses at the start
+   of any substep (what one substep can bring into contact, as when searching every substep) is
+   still among the candidates. The device decides (contact_check.comp,
    contact_decide.comp); the hash build and the search do nothing at the other substeps. A cloth
    at rest then costs no search at all. collision.detect_every = k searches every k substeps
    instead, whatever moved.
@@ -34,8 +36,9 @@ struct cvk_sim;
    Wider radii find more triangles per layer than a particle keeps (CVK_CONTACTS_PER_PARTICLE,
    nearest first), and a particle in a stack then loses the farther layer's. */
 #define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) == 0 ? 2.5f : (every) > 1 ? 3.0f : 2.0f)
-/* Adaptive search: a new one once a particle is this many thicknesses from where the last saw
-   it (two particles then approached by at most the margin beyond two thicknesses). */
+/* Adaptive search: a new one once a particle's displacement since the last is this many
+   thicknesses from the displacements' centre (two particles then approached by at most the
+   margin beyond two thicknesses). */
 #define CVK_SEARCH_AFTER_THICKNESSES 0.25f
 
 typedef struct cvk_collide {
@@ -49,21 +52,21 @@ typedef struct cvk_collide {
     cvk_collider_desc* colliders;/* deep copies (keyframes, names and files owned here) */
     cvk_sdf* sdfs;               /* per collider; all zero but for CVK_COLLIDER_MESH */
 
-    cvk_buffer frame;            /* cvk_gpu_frame */
+    cvk_buffer frame;            /* cvk_gpu_frame, then cvk_gpu_motion_bounds */
     cvk_buffer poses;            /* cvk_gpu_pose per collider (at least one element) */
     cvk_buffer shapes;           /* cvk_gpu_collider per collider */
     cvk_buffer keyframes;        /* 2 vec4 per keyframe: (time, translation), rotation (x, y, z, w) */
     cvk_buffer sdf_values;       /* every mesh collider's field, back to back */
     cvk_buffer params;           /* cvk_gpu_contact_params */
     cvk_buffer triangles;        /* uvec4 per cloth triangle (internal particle indices) */
-    cvk_buffer owned;            /* per particle + 1 then triangle ids: triangles by lowest vertex */
+    cvk_buffer incident;         /* per particle + 1 offsets, then the ids of its triangles */
     cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
     float* rest_xyz;             /* the same on the host (self-contact only) */
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_buffer searched;         /* vec4 per particle: its position at the last search */
     cvk_hash hash;               /* only with self-contact */
-    VkBufferView view_triangles, view_owned, view_rest, view_contacts; /* texel views */
+    VkBufferView view_triangles, view_incident, view_rest, view_contacts; /* texel views */
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */

@@ -30,11 +30,13 @@ static float longest_edge(const cvk_build* b)
 cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 {
     cvk_collide* c = &s->collide;
-    /* A triangle within the detection radius of p has its lowest corner (its owner) within the
-       radius plus the triangle's longest edge; cells that large keep the owner among the 27
-       cells around p while the cloth stretches up to 50 %. */
+    /* A triangle within the detection radius of p has a corner within the radius plus the
+       farthest any point of it is from its nearest corner: at most the longest edge / √3 (the
+       circumradius of an equilateral triangle; less for any other shape of that longest edge).
+       Cells that large keep that corner among the 27 cells around p while the cloth stretches
+       up to 50 %. */
     float cell = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness +
-                 1.5f * longest_edge(&s->build);
+                 1.5f / sqrtf(3.0f) * longest_edge(&s->build);
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
                           &s->positions};
     cvk_result r = cvk_hash_create(s->context, &desc, &c->hash, error);
@@ -60,19 +62,24 @@ static void add_search_decision(cvk_sim* s, cvk_plan* plan)
 {
     cvk_collide* c = &s->collide;
     uint32_t pass = cvk_plan_pass(plan, "contacts");
-    cvk_contact_push all = {0, s->build.particle_count, 0, 0};
-    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_CHECK,
-                                   c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES,
-                                   0, s->build.particle_count, &all, sizeof all);
-    if (op)
-        snprintf(op->note, sizeof op->note, "farthest move since the last search");
+    cvk_op* op = NULL;
+    for (uint32_t phase = 0; phase < 2; phase++) {
+        cvk_contact_push all = {0, s->build.particle_count, phase, 0};
+        op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_CHECK, c->descriptors.pipeline_layout,
+                               c->set, CVK_DOMAIN_PARTICLES, 0, s->build.particle_count, &all,
+                               sizeof all);
+        if (op)
+            snprintf(op->note, sizeof op->note, "%s",
+                     phase == 0 ? "bounds of the moves since the last search"
+                                : "farthest move from the bounds' centre");
+    }
     cvk_contact_push one = {0, 1, 0, 0};
     op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_DECIDE, c->detect_layout, c->set,
                            CVK_DOMAIN_PARTICLES, 0, 1, &one, sizeof one);
     if (op) {
         op->groups = 1;
         op->set1 = c->hash.set;
-        snprintf(op->note, sizeof op->note, "search if moved > %.3g m",
+        snprintf(op->note, sizeof op->note, "search if moved > %.3g m from the centre",
                  (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));
     }
 }

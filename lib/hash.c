@@ -8,7 +8,8 @@
                (one invocation), then each chunk's own scan from its offset
      scatter   per point: unsorted[starts[slot] + --counts[slot]] = p (atomic), which leaves
                every count 0 for the next build (they are zeroed once, at creation)
-     sort      per point: entries[starts[slot] + rank] = p, rank = the slot's points below p
+     sort      per point: entries[starts[slot] + rank] = p, rank = the slot's points below p,
+               and sorted[starts[slot] + rank] = (p's point, p)
 
    All are dispatches ordered by compute barriers; with no points only the clear is recorded.
    The number of operations never depends on the points, so the build needs no host round trip. The three-dispatch scan uses no shared memory and no
@@ -42,6 +43,7 @@ static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
     [CVK_HASH_BINDING_ENTRIES] = STORAGE,    [CVK_HASH_BINDING_SCRATCH] = STORAGE,
     [CVK_HASH_BINDING_STARTS_READ] = TEXEL,  [CVK_HASH_BINDING_ENTRIES_READ] = TEXEL,
     [CVK_HASH_BINDING_PARAMS_READ] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0},
+    [CVK_HASH_BINDING_SORTED] = STORAGE,     [CVK_HASH_BINDING_SORTED_READ] = TEXEL,
 };
 #undef STORAGE
 #undef TEXEL
@@ -116,6 +118,7 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         {&hash->starts, 4 * (slots + 1), "hash slot starts"},
         {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
         {&hash->scratch, 4 * (slots + chunk_count(hash) + hash->capacity), "hash scratch"},
+        {&hash->sorted, 16 * (VkDeviceSize)hash->capacity, "hash points by slot"},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         cvk_result r = cvk_buffer_create(context, list[i].bytes, usage, CVK_MEMORY_DEVICE,
@@ -131,6 +134,9 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
     if (r == CVK_SUCCESS)
         r = cvk_buffer_view_create(context, &hash->entries, VK_FORMAT_R32_UINT,
                                    &hash->entries_view, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_view_create(context, &hash->sorted, VK_FORMAT_R32G32B32A32_UINT,
+                                   &hash->sorted_view, error);
     return r;
 }
 
@@ -156,6 +162,8 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
         [CVK_HASH_BINDING_STARTS_READ] = {.view = hash->starts_view},
         [CVK_HASH_BINDING_ENTRIES_READ] = {.view = hash->entries_view},
         [CVK_HASH_BINDING_PARAMS_READ] = {.buffer = &hash->params},
+        [CVK_HASH_BINDING_SORTED] = {.buffer = &hash->sorted},
+        [CVK_HASH_BINDING_SORTED_READ] = {.view = hash->sorted_view},
     };
     cvk_descriptors_write(context, &d, 0, res);
     return CVK_SUCCESS;
@@ -223,11 +231,14 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
         vkDestroyBufferView(context->device, hash->starts_view, NULL);
     if (hash->entries_view)
         vkDestroyBufferView(context->device, hash->entries_view, NULL);
+    if (hash->sorted_view)
+        vkDestroyBufferView(context->device, hash->sorted_view, NULL);
     cvk_buffer_destroy(context, &hash->params);
     cvk_buffer_destroy(context, &hash->keys);
     cvk_buffer_destroy(context, &hash->starts);
     cvk_buffer_destroy(context, &hash->entries);
     cvk_buffer_destroy(context, &hash->scratch);
+    cvk_buffer_destroy(context, &hash->sorted);
     memset(hash, 0, sizeof *hash);
 }
 

@@ -35,9 +35,11 @@ typedef struct cvk_hash {
     cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */
     cvk_buffer entries;         /* uint per point: point indices grouped by slot, ascending in a slot */
     cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
+    cvk_buffer sorted;          /* uvec4 per point in the entries' order: xyz bits, index */
     VkBufferView points_view;   /* texel views the shaders read through (R32G32B32A32_SFLOAT, */
     VkBufferView starts_view;   /* R32_UINT, R32_UINT): on lavapipe a texel fetch is a */
     VkBufferView entries_view;  /* vectorised gather, a storage-buffer load is not */
+    VkBufferView sorted_view;   /* R32G32B32A32_UINT */
     VkDescriptorSetLayout set_layout;
     VkDescriptorPool pool;
     VkDescriptorSet set;

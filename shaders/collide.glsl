@@ -36,6 +36,7 @@ layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES_UNIFORM) u
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
     cvk_gpu_frame frame;
+    cvk_gpu_motion_bounds motion_bounds; // adaptive search (contact_check.comp)
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS) readonly buffer ContactParams {
     cvk_gpu_contact_params contact;
@@ -58,7 +59,7 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer
 // Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
 // where a storage-buffer load is a loop over the lanes).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_OWNED) uniform usamplerBuffer owned_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INCIDENT) uniform usamplerBuffer incident_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_REST) uniform samplerBuffer rest_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeonly buffer Contacts {
     uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: triangle << 1 | side
@@ -67,8 +68,8 @@ layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform u
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
 
 uvec4 contact_triangle(uint t) { return texelFetch(triangles_t, int(t)); } // internal indices
-// Triangles by lowest corner: [p] .. [p + 1] are offsets (from particle_count + 1) of p's.
-uint contact_owned(uint i) { return texelFetch(owned_t, int(i)).x; }
+// Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.
+uint contact_incident(uint i) { return texelFetch(incident_t, int(i)).x; }
 vec4 contact_rest(uint p) { return texelFetch(rest_t, int(p)); } // rest position, cloth index
 uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
 vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n

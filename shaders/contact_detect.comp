@@ -1,12 +1,18 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Particle–triangle candidates, once per substep: for each free particle, the triangles of any
-// cloth within the detection radius at the start of the substep (x_n), found through the
-// spatial hash (a triangle is visited through its lowest corner, which lies in one of the 27
-// cells around the particle), skipping triangles of its own cloth that were near it at rest. The nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the
-// triangle the particle is on, which the sweeps then keep it on (pd_contact_u.glsl). The
-// enumeration order is fixed (cells in order, entries sorted in each slot), so the result does
-// not depend on thread timing.
+// Particle–triangle candidates, at a search (lib/collide.h): for each free particle, the
+// triangles of any cloth within the detection radius at the start of the substep (x_n),
+// skipping triangles of its own cloth that were near it at rest. A triangle within the radius
+// has a corner within the radius plus 1.5 × the longest edge / √3 (the farthest any point of a
+// triangle is from its nearest corner, with the cloth stretched by up to 50 %;
+// lib/collide_passes.c),
+// the hash's cell size: the walk over the 27 cells around the particle visits every such
+// corner, and the triangles around each corner that is neither too far nor near at rest are
+// tested, each once, through the lowest-index corner within reach. Where the cloth is not
+// folded every corner within reach is near at rest, and no triangle is tested at all. The
+// nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle is on;
+// equally near ones by triangle index, so the list depends neither on thread timing nor on the
+// order of the walk.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -18,14 +24,35 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 const uint K = uint(CVK_CONTACTS_PER_PARTICLE);
 const float INFINITY = 3.0e38; // beyond any distance kept
 
-// Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near): not a contact_u.
-bool rest_near(vec4 rp, uvec4 t)
+// Within reach of xp: the walk's test and the dedup's, one expression (precise: no
+// contraction, so both give the same answer for the same corner).
+bool within_reach(vec3 xp, vec3 x, float reach2)
 {
-    float e2 = contact_u.exclusion * contact_u.exclusion;
-    vec4 ra = contact_rest(t.x), rb = contact_rest(t.y), rc = contact_rest(t.z);
-    vec3 da = rp.xyz - ra.xyz, db = rp.xyz - rb.xyz, dc = rp.xyz - rc.xyz;
-    return (ra.w == rp.w && dot(da, da) < e2) || (rb.w == rp.w && dot(db, db) < e2) ||
-           (rc.w == rp.w && dot(dc, dc) < e2);
+    precise vec3 d = x - xp;
+    precise float d2 = dot(d, d);
+    return d2 < reach2;
+}
+
+// Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near) for one corner.
+bool corner_rest_near(vec4 rp, vec4 rq, float e2)
+{
+    vec3 d = rq.xyz - rp.xyz;
+    return rq.w == rp.w && dot(d, d) < e2;
+}
+
+// Whether entry q of `cell` is a corner the search goes on from: in that cell (not another
+// sharing its slot, which is visited through its own), within reach, and not near p at rest
+// (then all its triangles are: the common case inside one cloth).
+bool near_corner(vec3 xp, vec4 rp, ivec3 cell, uint q, vec3 xq, float reach2, float e2)
+{
+    return hash_cell(xq) == cell && within_reach(xp, xq, reach2) &&
+           !corner_rest_near(rp, contact_rest(q), e2);
+}
+
+// Whether the kept candidate (dist_k, kept_k) comes after (d, item) in the list.
+bool after(float dist_k, uint kept_k, float d, uint item)
+{
+    return dist_k > d || (dist_k == d && kept_k > item);
 }
 
 void main()
@@ -33,66 +60,86 @@ void main()
     if (frame.search == 0u)
         return; // adaptive search: the candidates of the last search still hold
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-        uint p = pc.first + i;
+        // Particles in the hash's order (by slot): neighbouring lanes walk the same cells.
+        uint p = hash_entry(pc.first + i);
         vec3 xp = contact_x(p);
         searched[p] = vec4(xp, 0.0);
         if (p >= contact_u.free_count)
             continue; // a pinned particle is only seen (the adaptive search's reference)
         vec4 rp = contact_rest(p);
+        ivec3 home = hash_cell(xp);
+        uint base = contact_u.particle_count + 1u;
+        float reach = 1.0 / hash_params_u.inv_cell; // radius + 1.5 × longest edge / √3
+        float reach2 = reach * reach;
+        float e2 = contact_u.exclusion * contact_u.exclusion;
+        // First the cells that hold a corner to go on from, with nothing else live: on
+        // lavapipe the candidate arrays below cost on every iteration of every loop they are
+        // live in, and where the cloth is not folded there is no such cell at all.
+        uint first_cell = 27u, last_cell = 0u;
+        for (uint n = 0u; n < 27u; n++) {
+            ivec3 cell = hash_neighbour_cell(home, n);
+            uvec2 range = hash_range(cell);
+            for (uint e = range.x; e < range.y; e++) {
+                uvec4 entry = hash_entry_point(e); // the point's index and where it is
+                if (near_corner(xp, rp, cell, entry.w, uintBitsToFloat(entry.xyz), reach2, e2)) {
+                    first_cell = min(first_cell, n);
+                    last_cell = n;
+                }
+            }
+        }
         uint kept[K];
         float dist[K];
         for (uint k = 0u; k < K; k++) {
             kept[k] = CVK_NO_CONTACT;
             dist[k] = INFINITY;
         }
-        ivec3 home = hash_cell(xp);
-        uint base = contact_u.particle_count + 1u;
-        float reach = 1.0 / hash_params_u.inv_cell; // ≥ radius + 1.5 × the longest edge
-        float reach2 = reach * reach;
-        float exclusion2 = contact_u.exclusion * contact_u.exclusion;
-        for (uint n = 0u; n < 27u; n++) {
+        for (uint n = first_cell; n <= last_cell; n++) {
             ivec3 cell = hash_neighbour_cell(home, n);
             uvec2 range = hash_range(cell);
             for (uint e = range.x; e < range.y; e++) {
-                uint q = hash_entry(e);
-                vec3 xq = hash_point(q); // fetched once: for its cell and its distance
-                // A triangle within the detection radius has its owner within the radius plus
-                // its longest edge, less than a cell (lib/collide_passes.c): farther owners are
-                // skipped by an empty range, which lavapipe's loops honour.
-                // q is a corner of every triangle it owns: if q was near p at rest, all of
-                // them are skipped (the common case inside one cloth).
-                // An entry of another cell sharing the slot is skipped the same way.
-                vec3 to_q = xq - xp;
-                vec4 rq = contact_rest(q);
-                vec3 rest_to_q = rq.xyz - rp.xyz;
-                bool near = hash_cell(xq) == cell && dot(to_q, to_q) < reach2 &&
-                            (rq.w != rp.w || dot(rest_to_q, rest_to_q) >= exclusion2);
-                uint o_end = near ? contact_owned(q + 1u) : 0u;
-                for (uint o = near ? contact_owned(q) : 0u; o < o_end; o++) {
-                    uint t = contact_owned(base + o);
+                uvec4 entry = hash_entry_point(e);
+                uint q = entry.w;
+                vec3 xq = uintBitsToFloat(entry.xyz); // for its cell, distance and triangles
+                bool near = near_corner(xp, rp, cell, q, xq, reach2, e2);
+                uint o_end = near ? contact_incident(q + 1u) : 0u;
+                for (uint o = near ? contact_incident(q) : 0u; o < o_end; o++) {
+                    uint t = contact_incident(base + o);
                     uvec4 tri = contact_triangle(t);
-                    if (rest_near(rp, tri))
+                    // The other two corners (q is one of the three).
+                    uint u = tri.x == q ? tri.y : tri.x;
+                    uint v = tri.z == q ? tri.y : tri.z;
+                    vec3 xu = contact_x(u), xv = contact_x(v);
+                    // Tested once, through its lowest-index corner within reach.
+                    if ((u < q && within_reach(xp, xu, reach2)) ||
+                        (v < q && within_reach(xp, xv, reach2)))
                         continue;
-                    vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
+                    if (corner_rest_near(rp, contact_rest(u), e2) ||
+                        corner_rest_near(rp, contact_rest(v), e2))
+                        continue;
+                    vec3 a = tri.x == q ? xq : xu;
+                    vec3 b = tri.y == q ? xq : (tri.x == q ? xu : xv);
+                    vec3 c = tri.z == q ? xq : xv;
                     vec3 w;
                     vec3 closest = closest_on_triangle(xp, a, b, c, w);
                     float d = length(xp - closest);
                     if (d >= contact_u.detect_radius)
                         continue;
                     uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
-                    // Insert by distance, keeping the K nearest (ties: first found first). Every
-                    // index is a constant once the loop unrolls: a variable index into a
-                    // private array is a per-lane memory loop on lavapipe (the search took 1.4x
-                    // as long with the usual insertion loop).
+                    // Insert by distance, keeping the K nearest (ties, as at a corner shared by
+                    // several triangles: the lower triangle first, so the list does not depend
+                    // on the order of the walk). Every index is a constant once the loop
+                    // unrolls: a variable index into a private array is a per-lane memory loop
+                    // on lavapipe (the search took 1.4x as long with the usual insertion loop).
                     uint item = (t << 1u) | side;
                     for (uint k = K - 1u; k > 0u; k--) {
-                        bool shift = dist[k - 1u] > d;
-                        bool here = !shift && dist[k] > d;
+                        bool shift = after(dist[k - 1u], kept[k - 1u], d, item);
+                        bool here = !shift && after(dist[k], kept[k], d, item);
                         kept[k] = shift ? kept[k - 1u] : (here ? item : kept[k]);
                         dist[k] = shift ? dist[k - 1u] : (here ? d : dist[k]);
                     }
-                    kept[0] = dist[0] > d ? item : kept[0];
-                    dist[0] = dist[0] > d ? d : dist[0];
+                    bool first = after(dist[0], kept[0], d, item);
+                    kept[0] = first ? item : kept[0];
+                    dist[0] = first ? d : dist[0];
                 }
             }
         }

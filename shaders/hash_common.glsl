@@ -54,6 +54,10 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) buffer HashSc
 // lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ) uniform usamplerBuffer hash_starts_read;
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ) uniform usamplerBuffer hash_entries_read;
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) writeonly buffer HashSorted {
+    uvec4 hash_sorted[]; // per entry: its point's xyz (float bits), its index
+};
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ) uniform usamplerBuffer hash_sorted_read;
 
 #ifdef HASH_BUILD
 // A build skipped on the device (lib/hash.h): every pass of it returns at once.
@@ -103,6 +107,13 @@ uint hash_entry(uint e)
 vec3 hash_point(uint q)
 {
     return texelFetch(hash_points, int(q)).xyz;
+}
+
+// Entry e's point index (w) and its point (xyz, as float bits) in one fetch, from the copy the
+// build sorts along with the entries.
+uvec4 hash_entry_point(uint e)
+{
+    return texelFetch(hash_sorted_read, int(e));
 }
 
 // Whether point q lies in `cell` (and not in another cell that shares its slot).

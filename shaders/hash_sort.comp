@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // The hash build, sort: the scatter left each slot's points in the order its atomics happened
 // (in scratch); each point's place in its slot is the number of the slot's points with a
-// smaller index, so entries come out in ascending point order whatever the timing. One point
+// smaller index, so entries come out in ascending point order whatever the timing (and with
+// them, a copy of each point with its index, for queries). One point
 // per invocation (lib/hash.c): the loop is as long as the point's slot is full, and lavapipe
 // ends a shader's loops after 65535 iterations in all.
 #define HASH_BUILD
@@ -21,5 +22,6 @@ void main()
         for (uint e = first; e < end; e++)
             rank += hash_scratch[unsorted + e] < p ? 1u : 0u;
         hash_entries[first + rank] = p;
+        hash_sorted[first + rank] = uvec4(floatBitsToUint(hash_point(p)), p);
     }
 }

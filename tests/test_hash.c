@@ -33,6 +33,7 @@ typedef struct hash_case {
 typedef struct hash_result {
     uint32_t params[4];
     uint32_t *keys, *starts, *entries, *found;
+    uint32_t* sorted; /* 4 per entry: its point's xyz bits, its index */
 } hash_result;
 
 static void* alloc_or_die(size_t bytes)
@@ -148,12 +149,14 @@ static hash_result run_device(fixture* f, const hash_case* c, uint32_t* table_si
         .starts = alloc_or_die(4 * ((size_t)hash.table_size + 1)),
         .entries = alloc_or_die(4 * (size_t)c->capacity),
         .found = alloc_or_die(8 * (size_t)c->capacity),
+        .sorted = alloc_or_die(16 * (size_t)c->capacity),
     };
     download(f, &hash.params, r.params, sizeof r.params);
     download(f, &hash.keys, r.keys, 4 * (VkDeviceSize)c->count);
     download(f, &hash.starts, r.starts, 4 * ((VkDeviceSize)hash.table_size + 1));
     download(f, &hash.entries, r.entries, 4 * (VkDeviceSize)c->count);
     download(f, &found, r.found, 8 * (VkDeviceSize)c->count);
+    download(f, &hash.sorted, r.sorted, 16 * (VkDeviceSize)c->count);
     cvk_descriptors_destroy(f->ctx, &query);
     cvk_hash_destroy(f->ctx, &hash);
     cvk_buffer_destroy(f->ctx, &found);
@@ -167,6 +170,7 @@ static void result_free(hash_result* r)
     free(r->starts);
     free(r->entries);
     free(r->found);
+    free(r->sorted);
 }
 
 /* The first index where two arrays differ, or n. */
@@ -219,6 +223,20 @@ static void check_table(const hash_case* c, const hash_result* r, uint32_t table
     uint32_t e = first_difference(r->entries, entries, c->count);
     CHECK(e == c->count, "%s: entry %u is point %u, want point %u (slots sorted by index)",
           c->name, e, e < c->count ? r->entries[e] : 0, e < c->count ? entries[e] : 0);
+    /* the sorted copy: entry i's point, bit for bit, and its index */
+    uint32_t bad = c->count;
+    for (uint32_t i = 0; i < c->count && bad == c->count; i++) {
+        uint32_t q = entries[i];
+        bad = r->sorted[4 * (size_t)i + 3] == q &&
+                      memcmp(&r->sorted[4 * (size_t)i], &p[4 * (size_t)q], 12) == 0
+                  ? bad
+                  : i;
+    }
+    CHECK(bad == c->count, "%s: sorted copy of entry %u is (%08x %08x %08x, %u), want point %u",
+          c->name, bad, bad < c->count ? r->sorted[4 * (size_t)bad] : 0,
+          bad < c->count ? r->sorted[4 * (size_t)bad + 1] : 0,
+          bad < c->count ? r->sorted[4 * (size_t)bad + 2] : 0,
+          bad < c->count ? r->sorted[4 * (size_t)bad + 3] : 0, bad < c->count ? entries[bad] : 0);
     free(p);
     free(keys);
     free(starts);

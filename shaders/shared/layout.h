@@ -269,13 +269,30 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
     CVK_UINT(search)   /* 1: this substep searches (the hash build and the search run) */   \
-    CVK_UINT(moved)    /* float bits: farthest a particle is from where the last search saw it */ \
+    CVK_UINT(moved)    /* float bits: farthest a displacement since the last search is from */ \
+                       /* the displacements' centre */                                        \
     CVK_UINT(force)    /* 1: search at the next substep whatever moved (start, state written) */ \
     CVK_UINT(searches) /* searches so far */                                                \
     CVK_UINT(pad0)                                                                          \
     CVK_UINT(pad1)                                                                          \
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
+
+/* After the frame state in its buffer: the bounds of the particles' displacements since the
+   last search (per axis, order-preserving bits of the floats: lib/collide.h), gathered and used
+   within one substep and reset by its decision, so snapshots need not carry them. */
+#define CVK_GPU_MOTION_BOUNDS_FIELDS \
+    CVK_UINT(low_x)                  \
+    CVK_UINT(low_y)                  \
+    CVK_UINT(low_z)                  \
+    CVK_UINT(high_x)                 \
+    CVK_UINT(high_y)                 \
+    CVK_UINT(high_z)                 \
+    CVK_UINT(pad0)                   \
+    CVK_UINT(pad1)
+CVK_STRUCT(cvk_gpu_motion_bounds, CVK_GPU_MOTION_BOUNDS_FIELDS)
+#define CVK_MOTION_LOW_EMPTY 0xffffffffu /* the bounds' reset state: low above high */
+#define CVK_MOTION_HIGH_EMPTY 0u
 
 /* A collider's rigid pose at the start (0) and end (1) of the current substep: a point p of the
    collider at rest is at translation + rotate(rotation, p). Quaternions as (x, y, z, w). After
@@ -329,13 +346,14 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
-/* Push data of the contact passes (collider_poses, contact_detect): items [first, first +
-   count). A dispatch with count 0 (the pipelines' warm-up) does nothing, not even advance
-   the frame state. */
+/* Push data of the contact passes (collider_poses, contact_check, contact_detect): items
+   [first, first + count); contact_check's phase (0: the displacements' bounds, 1: the farthest
+   from their centre). A dispatch with count 0 (the pipelines' warm-up) does nothing, not even
+   advance the frame state. */
 #define CVK_CONTACT_PUSH_FIELDS \
     CVK_UINT(first)             \
     CVK_UINT(count)             \
-    CVK_UINT(pad0)              \
+    CVK_UINT(phase)             \
     CVK_UINT(pad1)
 CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 
@@ -347,7 +365,7 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_POSES 4
 #define CVK_CONTACT_BINDING_SDF 5
 #define CVK_CONTACT_BINDING_TRIANGLES 6
-#define CVK_CONTACT_BINDING_OWNED 7
+#define CVK_CONTACT_BINDING_INCIDENT 7
 #define CVK_CONTACT_BINDING_REST 8
 #define CVK_CONTACT_BINDING_CONTACTS 9
 #define CVK_CONTACT_BINDING_POSITIONS 10
@@ -499,7 +517,11 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
 #define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as queries read them */
 #define CVK_HASH_BINDING_PARAMS_READ 8  /* uniform: the parameters, as queries read them (a
                                            storage load per cell visited was a lane loop) */
-#define CVK_HASH_BINDING_COUNT 9
+#define CVK_HASH_BINDING_SORTED 9       /* storage: uvec4 per point in the entries' order: the
+                                           point's xyz (float bits) and its index */
+#define CVK_HASH_BINDING_SORTED_READ 10 /* texel (rgba32ui): sorted, as queries read it (one
+                                           fetch per entry instead of the entry, then its point) */
+#define CVK_HASH_BINDING_COUNT 11
 
 /* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
    defined for far-away points (they share the border cells). */
