@@ -12,7 +12,9 @@ cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene)
         p.keep = 1.0 - scene->damping;
         for (int k = 0; k < 3; k++)
             p.gravity_h2[k] = (double)scene->gravity[k] * h * h;
-        p.rest_rate = CVK_REST_RATE_PER_DAMPING * scene->damping;
+        /* none with contact (solve_pd.h) */
+        bool contact = scene->collision.self || scene->collider_count > 0;
+        p.rest_rate = contact ? 0.0 : CVK_REST_RATE_PER_DAMPING * scene->damping;
     }
     return p;
 }

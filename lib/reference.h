@@ -14,7 +14,8 @@ typedef struct cvk_ref_params {
     double inv_h2;        /* 1 / h² */
     double keep;          /* 1 − damping, 0 without integration */
     double gravity_h2[3]; /* h² g, 0 without integration */
-    double rest_rate;     /* the rest memory's rate (solve_pd.h), 0 without damping */
+    double rest_rate;     /* the rest memory's rate (solve_pd.h), 0 without damping or with
+                             contact */
 } cvk_ref_params;
 
 cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene);
