@@ -215,7 +215,8 @@ static cvk_pd_set set_for(uint32_t src, uint32_t dst)
     return src == 0 ? CVK_PD_SET_U0_TO_U1 : CVK_PD_SET_U1_TO_U0;
 }
 
-/* y = u (1 - damping) + h² g into the buffer holding the first iterate. */
+/* y = u (1 - damping) + h² g, and the first iterate y + rest memory into the buffer that
+   holds it. */
 static void add_predict(pd_builder* pb, const cvk_build* b, uint32_t start)
 {
     add_op(pb, CVK_PIPE_PREDICT, set_for(0, start), pb->predict, 0, b->free_count, 1.0f,
@@ -416,6 +417,7 @@ static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
     base.keep = scene->integrate ? 1.0f - scene->damping : 0.0f;
     for (int k = 0; k < 3; k++)
         base.gravity_h2[k] = scene->integrate ? (float)(scene->gravity[k] * h * h) : 0.0f;
+    base.rest_rate = (float)s->ref.rest_rate; /* solve_pd.h */
     return base;
 }
 
@@ -449,6 +451,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
                      .contact = s->collide.colliding,
                      .tethers = s->build.tether_anchor != NULL};
     pb.checking = plan_checks(s, solver, plan, &pb.check);
+    if (pb.checking)
+        pb.base.rest_rate = 0.0f; /* no rest memory in checked solves (solve_pd.h) */
     pb.predict = cvk_plan_pass(plan, "predict");
     if (s->grab.planned && solver->linear != CVK_LINEAR_GS_CPU)
         cvk_plan_pass(plan, "grab"); /* listed after predict, where it first runs */

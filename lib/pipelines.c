@@ -5,10 +5,11 @@
 #include "shared/layout.h"
 
 /* The C mirror of every shared block must have the layout GLSL gives it. */
-_Static_assert(sizeof(cvk_pd_push) == 48, "cvk_pd_push: 48 bytes in GLSL");
+_Static_assert(sizeof(cvk_pd_push) == 52, "cvk_pd_push: 52 bytes in GLSL");
 _Static_assert(offsetof(cvk_pd_push, inv_h2) == 16, "cvk_pd_push.inv_h2 at 16");
 _Static_assert(offsetof(cvk_pd_push, keep) == 28, "cvk_pd_push.keep at 28");
 _Static_assert(offsetof(cvk_pd_push, gravity_h2) == 32, "cvk_pd_push.gravity_h2: a vec4 at 32");
+_Static_assert(offsetof(cvk_pd_push, rest_rate) == 48, "cvk_pd_push.rest_rate at 48");
 _Static_assert(sizeof(cvk_pd_converge_push) <= sizeof(cvk_pd_push),
                "cvk_pd_converge_push: within the pd layout's push range");
 _Static_assert(sizeof(cvk_pd_scalars) == 96, "cvk_pd_scalars: 96 bytes in GLSL");

@@ -12,6 +12,9 @@ cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene)
         p.keep = 1.0 - scene->damping;
         for (int k = 0; k < 3; k++)
             p.gravity_h2[k] = (double)scene->gravity[k] * h * h;
+        /* none with contact (solve_pd.h) */
+        bool contact = scene->collision.self || scene->collider_count > 0;
+        p.rest_rate = contact ? 0.0 : CVK_REST_RATE_PER_DAMPING * scene->damping;
     }
     return p;
 }
@@ -25,6 +28,22 @@ void cvk_ref_predict(const cvk_build* b, const cvk_ref_params* params, double* x
         prev[i] = xi;
         x[i] = y[i];
     }
+}
+
+void cvk_ref_rest_start(const cvk_build* b, const cvk_ref_params* params, const double* rest,
+                        double* x)
+{
+    if (params->rest_rate > 0.0)
+        for (size_t i = 0; i < 3 * (size_t)b->free_count; i++)
+            x[i] += rest[i];
+}
+
+void cvk_ref_rest_update(const cvk_build* b, const cvk_ref_params* params, const double* x,
+                         const double* y, double* rest)
+{
+    if (params->rest_rate > 0.0)
+        for (size_t i = 0; i < 3 * (size_t)b->free_count; i++)
+            rest[i] += params->rest_rate * ((x[i] - y[i]) - rest[i]);
 }
 
 void cvk_ref_rhs(const cvk_build* b, const cvk_ref_params* params, const double* t,
@@ -135,10 +154,14 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params
 
 void cvk_ref_substep_gauss_seidel(const cvk_build* b, const cvk_ref_params* params,
                                   const cvk_solver_desc* solver, double* x, double* prev,
-                                  double* y, double* scratch)
+                                  double* y, double* rest, double* scratch)
 {
     cvk_ref_predict(b, params, x, prev, y);
+    if (rest)
+        cvk_ref_rest_start(b, params, rest, x);
     cvk_ref_solve_gauss_seidel(b, params, solver, y, x, scratch);
+    if (rest)
+        cvk_ref_rest_update(b, params, x, y, rest);
 }
 
 uint64_t cvk_ref_solve_converged(const cvk_build* b, const cvk_ref_params* params,

@@ -7,10 +7,15 @@
 
 #include "build.h"
 
+/* The rest memory's rate per unit of damping (its reasons in solve_pd.h). */
+#define CVK_REST_RATE_PER_DAMPING 0.25
+
 typedef struct cvk_ref_params {
     double inv_h2;        /* 1 / h² */
     double keep;          /* 1 − damping, 0 without integration */
     double gravity_h2[3]; /* h² g, 0 without integration */
+    double rest_rate;     /* the rest memory's rate (solve_pd.h), 0 without damping or with
+                             contact */
 } cvk_ref_params;
 
 cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene);
@@ -18,6 +23,14 @@ cvk_ref_params cvk_ref_params_of(const cvk_scene_desc* scene);
 /* y = x + (x − prev)·keep + h² g; prev ← x; x ← y (free particles). */
 void cvk_ref_predict(const cvk_build* build, const cvk_ref_params* params, double* x,
                      double* prev, double* y);
+
+/* The rest memory (solve_pd.h) on the host: x += rest after the prediction (the first
+   iterate y + r), and r += rate ((x − y) − r) after the solve (free particles; nothing when
+   params->rest_rate is 0). */
+void cvk_ref_rest_start(const cvk_build* build, const cvk_ref_params* params, const double* rest,
+                        double* x);
+void cvk_ref_rest_update(const cvk_build* build, const cvk_ref_params* params, const double* x,
+                         const double* y, double* rest);
 
 /* b_p = m/h² y_p + Σ k L (t_p − t_c)/|t_p − t_c|, and 1/diag (free particles). */
 void cvk_ref_rhs(const cvk_build* build, const cvk_ref_params* params, const double* t,
@@ -44,10 +57,12 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* build, const cvk_ref_params* pa
                                 const cvk_solver_desc* solver, const double* y, double* x,
                                 double* scratch);
 
-/* One projective-dynamics substep with it: predict, then cvk_ref_solve_gauss_seidel. */
+/* One projective-dynamics substep with it: predict, then cvk_ref_solve_gauss_seidel; with a
+   rest memory `rest` (3 doubles per particle; NULL: none) started from y + rest, which it
+   updates. */
 void cvk_ref_substep_gauss_seidel(const cvk_build* build, const cvk_ref_params* params,
                                   const cvk_solver_desc* solver, double* x, double* prev,
-                                  double* y, double* scratch);
+                                  double* y, double* rest, double* scratch);
 
 /* The converged solution x* of one substep: from the iterate in x (usually the prediction y),
    repeats local step + one Gauss-Seidel sweep with SOR `omega` until no coordinate changes by

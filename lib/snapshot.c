@@ -21,7 +21,7 @@
 #include "sim.h"
 #include "solver.h"
 
-#define CVK_SNAPSHOT_VERSION 1u
+#define CVK_SNAPSHOT_VERSION 2u /* 2: the projective-dynamics rest memory */
 #define HEADER_SIZE 64u
 static const char magic[8] = "CVKSNAP";
 

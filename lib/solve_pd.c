@@ -58,6 +58,13 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         {&pd->tether_length, tethers * 16u, table, "tether lengths", &pd->view_tether_length,
          vec4},
     };
+    cvk_result r = cvk_buffer_create(s->context, nf * 16u,
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                         VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                         VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     CVK_MEMORY_DEVICE, "rest memory", &pd->rest, error);
+    if (r != CVK_SUCCESS)
+        return r;
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         cvk_result r = cvk_buffer_create(s->context, list[i].size, list[i].usage,
                                          CVK_MEMORY_DEVICE, list[i].what, list[i].buffer, error);
@@ -67,9 +74,9 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
-    cvk_result r = cvk_buffer_create(s->context, 4u * (CVK_PD_PARTIALS + nf),
-                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_DEVICE,
-                                     "residuals", &pd->sums, error);
+    r = cvk_buffer_create(s->context, 4u * (CVK_PD_PARTIALS + nf),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_DEVICE, "residuals",
+                          &pd->sums, error);
     if (r == CVK_SUCCESS)
         r = cvk_buffer_create(s->context, sizeof(cvk_pd_scalars),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
@@ -163,6 +170,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
     [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
     [CVK_PD_BINDING_EXTERNAL] = TEXEL, [CVK_PD_BINDING_CONVERGE] = STORAGE,
+    [CVK_PD_BINDING_REST] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
@@ -187,6 +195,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
         [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero.view_external},
         [CVK_PD_BINDING_CONVERGE] = {.buffer = &pd->sums},
+        [CVK_PD_BINDING_REST] = {.buffer = &pd->rest},
     };
     cvk_descriptors_write(s->context, &pd->descriptors, set, res);
 }
@@ -245,7 +254,8 @@ static cvk_result pd_prepare(cvk_sim* s, void* self, const cvk_solver_desc* solv
     pd->hprev = malloc(3 * n * sizeof(double));
     pd->hy = malloc(3 * n * sizeof(double));
     pd->hrhs = malloc(4 * n * sizeof(double));
-    if (!pd->hx || !pd->hprev || !pd->hy || !pd->hrhs)
+    pd->hrest = calloc(3 * n, sizeof(double));
+    if (!pd->hx || !pd->hprev || !pd->hy || !pd->hrhs || !pd->hrest)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "out of host memory for the gs-cpu solver state");
     if (s->tear.count == 0)
@@ -280,13 +290,38 @@ cvk_result cvk_pd_set_torn(cvk_sim* s, void* self, const uint32_t* alive, cvk_er
     return CVK_SUCCESS;
 }
 
+/* The rest memory from `rest` (3 floats per particle, internal order; NULL: 0) on the side
+   that holds the state. */
+static cvk_result set_rest(cvk_sim* s, cvk_pd* pd, const float* rest, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    if (pd->host) {
+        for (size_t i = 0; i < 3 * (size_t)b->particle_count; i++)
+            pd->hrest[i] = rest && i < 3 * (size_t)b->free_count ? (double)rest[i] : 0.0;
+        return CVK_SUCCESS;
+    }
+    if (!rest)
+        return cvk_sim_clear_buffer(s, &pd->rest, error);
+    float* r4 = s->staging.mapped; /* the rest memory is at most one vec4 per particle */
+    memset(r4, 0, pd->rest.size);
+    for (size_t p = 0; p < b->free_count; p++)
+        for (int c = 0; c < 3; c++)
+            r4[4 * p + c] = rest[3 * p + c];
+    cvk_staging_copy job = {&pd->rest, 0, 0, pd->rest.size};
+    return cvk_sim_copy_from_staging(s, &job, 1, error);
+}
+
 /* Sets positions `xyz` and last displacements `disp` (internal order, 3 floats each; disp NULL
-   means at rest). At rest is zero velocity at this instant, so the first Verlet step moves a
+   means at rest) and the rest memory (3 floats each; NULL: 0, as wherever positions come from
+   the host). At rest is zero velocity at this instant, so the first Verlet step moves a
    free particle by ½ h² g, as x(t) = x0 + ½ g t² requires: in displacement form a last
    displacement of −½ h² g. Pinned particles never move: their displacement is 0. */
 static cvk_result set_state(cvk_sim* s, cvk_pd* pd, const float* xyz, const float* disp,
-                            cvk_error* error)
+                            const float* rest, cvk_error* error)
 {
+    cvk_result r = set_rest(s, pd, rest, error); /* first: it goes through the staging buffer */
+    if (r != CVK_SUCCESS)
+        return r;
     const cvk_build* b = &s->build;
     uint32_t n = b->particle_count;
     float* x = s->staging.mapped;
@@ -321,6 +356,27 @@ cvk_result cvk_pd_upload_staged_state(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         {&pd->y, n16, 0, n16},
     };
     return cvk_sim_copy_from_staging(s, jobs, 4, error);
+}
+
+/* The rest memory into `rest` (3 floats per particle, internal order; pinned: 0), from
+   whichever side holds the state. */
+static cvk_result read_rest(cvk_sim* s, cvk_pd* pd, float* rest, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    size_t n = b->particle_count;
+    if (pd->host) {
+        for (size_t i = 0; i < 3 * n; i++)
+            rest[i] = (float)pd->hrest[i];
+        return CVK_SUCCESS;
+    }
+    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &pd->rest_readback_cmd, 1, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    const float* r4 = s->staging.mapped;
+    for (size_t p = 0; p < n; p++)
+        for (int c = 0; c < 3; c++)
+            rest[3 * p + c] = p < b->free_count ? r4[4 * p + c] : 0.0f;
+    return CVK_SUCCESS;
 }
 
 /* Positions and last displacements, from whichever side holds the state. */
@@ -398,7 +454,7 @@ static cvk_result pd_write_state(cvk_sim* s, void* self, const float* xyz, const
     cvk_pd* pd = self;
     if (velocity)
         displacements_of(s, velocity, pd->scratch_u);
-    return set_state(s, pd, xyz, velocity ? pd->scratch_u : NULL, error);
+    return set_state(s, pd, xyz, velocity ? pd->scratch_u : NULL, NULL, error);
 }
 
 /* The state moves between host and device only when the solver does. */
@@ -407,12 +463,21 @@ static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc
 {
     cvk_pd* pd = self;
     bool host = to->linear == CVK_LINEAR_GS_CPU;
+    /* A checked solve has no rest memory (solve_pd.h): it starts again from 0 after one. */
+    if (!host && to->tolerance > 0.0f && s->ref.rest_rate > 0.0) {
+        cvk_result r = cvk_sim_clear_buffer(s, &pd->rest, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
     if (host == (from->linear == CVK_LINEAR_GS_CPU))
         return CVK_SUCCESS;
-    cvk_result r = read_displacement_state(s, pd, s->scratch, pd->scratch_u, error);
+    /* The rest memory first: its readback goes through the staging buffer too. */
+    cvk_result r = read_rest(s, pd, s->scratch_v, error);
+    if (r == CVK_SUCCESS)
+        r = read_displacement_state(s, pd, s->scratch, pd->scratch_u, error);
     pd->host = host;
     if (r == CVK_SUCCESS)
-        r = set_state(s, pd, s->scratch, pd->scratch_u, error);
+        r = set_state(s, pd, s->scratch, pd->scratch_u, s->scratch_v, error);
     if (r != CVK_SUCCESS || s->tear.count == 0)
         return r;
     /* The torn state follows: the device's flags are current (gs-cpu uploads its own after
@@ -455,8 +520,10 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
         for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
             double t0 = cvk_now_ms();
             cvk_ref_predict(&view, &s->ref, pd->hx, pd->hprev, pd->hy);
+            cvk_ref_rest_start(&view, &s->ref, pd->hrest, pd->hx);
             double t1 = cvk_now_ms();
             cvk_ref_solve_gauss_seidel(&view, &s->ref, &solver, pd->hy, pd->hx, pd->hrhs);
+            cvk_ref_rest_update(&view, &s->ref, pd->hx, pd->hy, pd->hrest);
             double t2 = cvk_now_ms();
             if (pd->h_alive)
                 cvk_tear_host(s, pd->hx, pd->h_alive, pd->h_adj_k);
@@ -523,19 +590,39 @@ static void pd_destroy(cvk_sim* s, void* self)
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
                              &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length,
-                             &pd->sums, &pd->scalars};
+                             &pd->sums, &pd->scalars, &pd->rest};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (pd->readback_cmd)
         vkFreeCommandBuffers(dev, s->submitter.pool, 1, &pd->readback_cmd);
+    if (pd->rest_readback_cmd)
+        vkFreeCommandBuffers(dev, s->submitter.pool, 1, &pd->rest_readback_cmd);
     free(pd->hx);
     free(pd->hprev);
     free(pd->hy);
     free(pd->hrhs);
+    free(pd->hrest);
     free(pd->h_alive);
     free(pd->h_adj_k);
     free(pd->scratch_u);
     free(pd);
+}
+
+/* The rest memory -> the start of the staging buffer, recorded once. */
+static cvk_result record_rest_readback(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+{
+    VkCommandBuffer cmd = pd->rest_readback_cmd;
+    cvk_result r = cvk_command_buffer_begin(cmd, 0, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferCopy all = {0, 0, pd->rest.size};
+    vkCmdCopyBuffer(cmd, pd->rest.buffer, s->staging.buffer, 1, &all);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    return cvk_command_buffer_end(cmd, error);
 }
 
 static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
@@ -558,6 +645,8 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS)
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->readback_cmd, error);
     if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->rest_readback_cmd, error);
+    if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
         cvk_attach_bind(s, CVK_ATTACH_FOR_PD, &pd->u[0], &pd->u[1]);
@@ -570,9 +659,11 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS)
         r = upload_tethers(s, pd, error);
     if (r == CVK_SUCCESS)
-        r = set_state(s, pd, s->build.position, NULL, error);
+        r = set_state(s, pd, s->build.position, NULL, NULL, error);
     if (r == CVK_SUCCESS)
         r = cvk_vstate_record_readback(s, pd->readback_cmd, &pd->u[0], error);
+    if (r == CVK_SUCCESS)
+        r = record_rest_readback(s, pd, error);
     if (r != CVK_SUCCESS) {
         pd_destroy(s, pd);
         return r;

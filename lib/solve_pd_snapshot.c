@@ -1,13 +1,15 @@
 /* Exact snapshots of the projective-dynamics state. Between substeps the family's state is
-   the positions and the last displacement u[0]: every other buffer (u[1], y, rhs) is
-   written by a substep before it reads it, and pinned entries never change. So a snapshot
-   is those two arrays exactly as they are held: on the device vec4 floats (w included) in
-   internal order, for gs-cpu the host's doubles x and x_prev. Converting between the two
-   would not be exact, so a snapshot loads only where the state lives on the same side;
-   among the device solvers (rbgs, jacobi, chebyshev) the state is the same and loads across.
+   the positions, the last displacement u[0] and the rest memory (solve_pd.h): every other
+   buffer (u[1], y, rhs) is written by a substep before it reads it, and pinned entries never
+   change. So a snapshot is those arrays exactly as they are held: on the device vec4 floats
+   (w included) in internal order, for gs-cpu the host's doubles x, x_prev and rest.
+   Converting between the two would not be exact, so a snapshot loads only where the state
+   lives on the same side; among the device solvers (rbgs, jacobi, chebyshev) the state is the
+   same and loads across.
 
    Layout (native byte order): uint32 storage (PD_DEVICE or PD_HOST), uint32 0, then
-   device: positions[n] vec4, u0[n] vec4; host: x[3n] doubles, x_prev[3n] doubles. */
+   device: positions[n] vec4, u0[n] vec4, rest[nf] vec4 (nf free particles, at least 1);
+   host: x[3n] doubles, x_prev[3n] doubles, rest[3n] doubles. */
 #include <string.h>
 
 #include "error.h"
@@ -16,15 +18,15 @@
 enum { PD_DEVICE = 1, PD_HOST = 2 };
 #define PD_PREFIX 8u
 
-static uint64_t payload_size(uint32_t storage, uint64_t n)
+static uint64_t payload_size(uint32_t storage, const cvk_pd* pd, uint64_t n)
 {
-    return PD_PREFIX + (storage == PD_HOST ? 6u * sizeof(double) * n : 32u * n);
+    return PD_PREFIX + (storage == PD_HOST ? 9u * sizeof(double) * n : 32u * n + pd->rest.size);
 }
 
 uint64_t cvk_pd_snapshot_size(const cvk_sim* s, const void* self)
 {
     const cvk_pd* pd = self;
-    return payload_size(pd->host ? PD_HOST : PD_DEVICE, s->build.particle_count);
+    return payload_size(pd->host ? PD_HOST : PD_DEVICE, pd, s->build.particle_count);
 }
 
 cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* error)
@@ -38,11 +40,16 @@ cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* e
     if (pd->host) {
         memcpy(out, pd->hx, 3 * n * sizeof(double));
         memcpy(out + 3 * n * sizeof(double), pd->hprev, 3 * n * sizeof(double));
+        memcpy(out + 6 * n * sizeof(double), pd->hrest, 3 * n * sizeof(double));
         return CVK_SUCCESS;
     }
     cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &pd->readback_cmd, 1, error);
     if (r == CVK_SUCCESS)
         memcpy(out, s->staging.mapped, 32u * n); /* positions, then u[0] (cvk_vstate_record_readback) */
+    if (r == CVK_SUCCESS)
+        r = cvk_submit_and_wait(s->context, &s->submitter, &pd->rest_readback_cmd, 1, error);
+    if (r == CVK_SUCCESS)
+        memcpy(out + 32u * n, s->staging.mapped, pd->rest.size);
     return r;
 }
 
@@ -69,7 +76,7 @@ static cvk_result check_payload(const cvk_sim* s, const cvk_pd* pd, const void* 
                         "cvk_sim_load_snapshot: the snapshot holds %s; this simulation solves "
                         "with %s: set that kind of solver first (cvk_sim_set_solver)",
                         side_name(prefix[0]), cvk_linear_solver_name(s->solver.linear));
-    uint64_t want = payload_size(here, s->build.particle_count);
+    uint64_t want = payload_size(here, pd, s->build.particle_count);
     if (size != want)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_sim_load_snapshot: the projective-dynamics state is %llu bytes; "
@@ -89,10 +96,17 @@ cvk_result cvk_pd_load_snapshot(cvk_sim* s, void* self, const void* data, uint64
     if (pd->host) {
         memcpy(pd->hx, in, 3 * n * sizeof(double));
         memcpy(pd->hprev, in + 3 * n * sizeof(double), 3 * n * sizeof(double));
+        memcpy(pd->hrest, in + 6 * n * sizeof(double), 3 * n * sizeof(double));
         memcpy(pd->hy, pd->hx, 3 * n * sizeof(double)); /* pinned entries: where they are held */
         return cvk_pd_upload_host_positions(s, pd, error);
     }
-    /* As set_state: u[1] and y start equal to u[0]; each substep overwrites them first. */
+    /* The rest memory first (through the staging buffer), then as set_state: u[1] and y start
+       equal to u[0]; each substep overwrites them first. */
+    memcpy(s->staging.mapped, in + 32u * n, pd->rest.size);
+    cvk_staging_copy rest = {&pd->rest, 0, 0, pd->rest.size};
+    r = cvk_sim_copy_from_staging(s, &rest, 1, error);
+    if (r != CVK_SUCCESS)
+        return r;
     memcpy(s->staging.mapped, in, 32u * n);
     return cvk_pd_upload_staged_state(s, pd, error);
 }

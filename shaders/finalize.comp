@@ -1,7 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // x_{n+1} = x_n + u: the one place absolute positions are rounded. u stays in src as the
-// velocity (times h) for the next prediction.
+// velocity (times h) for the next prediction. The rest memory of a free particle (index below
+// pc.stride) follows the correction this solve made to its prediction:
+// r += rest_rate (u - y - r) (lib/solve_pd.h).
 //
 // The divergence watch costs a few arithmetic operations per particle here, with no pass of its
 // own: a new position that is not finite, or a step longer than pc.max_u2 allows (a speed no
@@ -29,6 +31,10 @@ void main()
             atomicOr(watch.reason, nonfinite ? CVK_WATCH_NONFINITE : CVK_WATCH_RUNAWAY);
         } else {
             x[p].xyz = next;
+            if (pc.rest_rate > 0.0 && p < pc.stride) {
+                vec3 r = rest_memory[p].xyz;
+                rest_memory[p].xyz = r + pc.rest_rate * (u - fetch(y_read, p) - r);
+            }
         }
     }
 }

@@ -38,6 +38,9 @@ layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adj
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
+// The rest memory (lib/solve_pd.h): per free particle, the low-passed correction the solves
+// made to their predictions; predict adds it to the first iterate, finalize updates it.
+layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 rest_memory[]; };
 #define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
 #include "pd_converge.glsl"
 

@@ -2,7 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // Verlet prediction in displacement form: the last substep's displacement u (in src) carries
 // the velocity, so the predicted displacement is y = u (1 - damping) + h^2 g (+ h^2 F / m of
-// the air, WIND); it is also the first iterate. Pinned particles are never dispatched.
+// the air, WIND), the inertial target of the solve. The first iterate is y plus the rest
+// memory (the low-passed correction the solves made to their predictions, lib/solve_pd.h):
+// at rest that is the equilibrium itself, which a truncated solve keeps; without it the solve
+// would rest where its sweeps leave h^2 g partly uncorrected. Pinned particles are never
+// dispatched.
 //
 // For the divergence watch, one invocation counts the substep (finalize reads the count after
 // the barriers between them), and every particle's first spring (slot 0) is measured in the
@@ -38,7 +42,8 @@ void main()
             yp += fetch(air, p);
         vec4 xp = texelFetch(x_read, int(p));
         y[p] = vec4(yp, xp.w);
-        dst[p] = vec4(yp, 0.0);
+        vec3 first = pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
+        dst[p] = vec4(first, 0.0);
         if (pc.max_u2 > 0.0 && overstretched(p, xp.xyz)) {
             watch.stretched = 1u;
             atomicMin(watch.particle, p);

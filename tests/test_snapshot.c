@@ -9,7 +9,8 @@
 #define N_FRAMES 5
 #define M_FRAMES 4
 
-/* A 16 x 12 cloth pinned at two corners, with shear springs: it swings and stretches. */
+/* A 16 x 12 cloth pinned at two corners, with shear springs and damping: it swings and
+   stretches, and its projective-dynamics state includes the rest memory. */
 typedef struct swinging {
     cvk_cloth_desc cloth;
     cvk_scene_desc scene;
@@ -30,6 +31,7 @@ static void make_swinging(swinging* w, uint32_t columns, cvk_linear_solver linea
     w->scene.cloths = &w->cloth;
     w->scene.cloth_count = 1;
     w->scene.solver.linear = linear;
+    w->scene.damping = 0.02f; /* a rest memory to carry (lib/solve_pd.h) */
 }
 
 static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene)

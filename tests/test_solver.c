@@ -266,7 +266,7 @@ static void newton_equals_gauss_seidel(const char* name, const char* const* over
     }
     /* some motion first: substeps with the scene's own (truncated) solver */
     for (uint32_t s = 0; s < warm_substeps; s++)
-        cvk_ref_substep_gauss_seidel(&b, &params, &scene->solver, x, prev, y, scratch);
+        cvk_ref_substep_gauss_seidel(&b, &params, &scene->solver, x, prev, y, NULL, scratch);
     cvk_ref_predict(&b, &params, x, prev, y);
     memcpy(newton, x, 3 * n * sizeof(double));
     cvk_ref_newton_report report;

@@ -34,7 +34,8 @@
     CVK_FLOAT(omega)       /* SOR factor (Gauss-Seidel) or relaxation (Jacobi) */        \
     CVK_FLOAT(cheb)        /* Chebyshev weight of this sweep; 1 = plain sweep */         \
     CVK_FLOAT(keep)        /* 1 - damping (0 when integration is off) */                 \
-    CVK_VEC4(gravity_h2)   /* h^2 g, m (0 when integration is off) */
+    CVK_VEC4(gravity_h2)   /* h^2 g, m (0 when integration is off) */                 \
+    CVK_FLOAT(rest_rate)   /* rest memory's rate (lib/solve_pd.h); 0: none */
 
 CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
@@ -55,7 +56,8 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_TETHER_ANCHOR 13 /* texel: uvec4 per free particle, pinned indices */
 #define CVK_PD_BINDING_TETHER_LENGTH 14 /* texel: vec4 per free particle, m */
 #define CVK_PD_BINDING_CONVERGE 15     /* storage: partial sums, squared residuals */
-#define CVK_PD_BINDING_COUNT 16
+#define CVK_PD_BINDING_REST 16        /* storage: rest memory, mean correction (solve_pd.h) */
+#define CVK_PD_BINDING_COUNT 17
 
 /* Solves that stop when converged (solver.tolerance; lib/pd_passes.c, shaders/pd_converge.comp).
    The measure: the first sweep of every outer iteration computes, besides its local step, the
