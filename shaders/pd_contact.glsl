@@ -13,7 +13,6 @@ const bool COLLIDERS = COLLIDER_TYPES != 0u;
 vec3 pd_contact(uint p, vec3 u)
 {
     vec3 x0 = fetch(x_read, p);
-    vec3 pushed = vec3(0.0); // by the other cloths' triangles, in this pass
     if (SELF) {
         vec3 xp = x0 + u;
         for (uint k = 0u; k < uint(CVK_CONTACTS_PER_PARTICLE); k++) {
@@ -30,12 +29,9 @@ vec3 pd_contact(uint p, vec3 u)
         vec3 push = xp - (x0 + u);
         float length_push = length(push);
         float most = 0.5 * contact_u.thickness;
-        pushed = length_push > most ? push * (most / length_push) : push;
+        u += length_push > most ? push * (most / length_push) : push;
     }
-    // The colliders see the push as a move of the start, not as motion along their surface:
-    // their friction would otherwise take the tangential part of it back, and a border crushed
-    // against a wall would slide over itself within the wall's plane.
     if (COLLIDERS)
-        return collide_colliders(x0 + pushed, u) + pushed;
-    return u + pushed;
+        u = collide_colliders(x0, u);
+    return u;
 }
