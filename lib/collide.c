@@ -354,12 +354,10 @@ static cvk_result make_rest(const cvk_build* b, cvk_collide* c, cvk_error* error
     c->rest_xyz = malloc(4 * (size_t)(b->particle_count ? b->particle_count : 1) * sizeof(float));
     if (!c->rest_xyz)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for rest positions");
-    float longest = 0.0f;
-    for (uint32_t i = 0; i < b->spring_count; i++)
-        longest = fmaxf(longest, b->springs[i].rest);
-    /* Beyond every spring (a bend spring spans two spacings) and beyond the detection radius,
-       so a flat cloth finds no contact with itself unless folded or crushed by half. */
-    c->exclusion = fmaxf(1.01f * longest, 5.0f * c->thickness);
+    /* Only pairs that would touch at rest: every other pair of one cloth is a contact, so a
+       fold one or two particles wide (a rolled border, a sheet without bending crumpling at
+       the particle scale) is kept from crossing itself. */
+    c->exclusion = CVK_EXCLUSION_THICKNESSES * c->thickness;
     for (uint32_t cloth = 0; cloth < b->cloth_count; cloth++) {
         const cvk_cloth_range* r = &b->cloths[cloth];
         const float* origin = &b->position[3 * (size_t)b->internal_of[r->first_user]];

@@ -36,6 +36,13 @@ struct cvk_sim;
    Wider radii find more triangles per layer than a particle keeps (CVK_CONTACTS_PER_PARTICLE,
    nearest first), and a particle in a stack then loses the farther layer's. */
 #define CVK_DETECT_RADIUS_THICKNESSES(every) ((every) == 0 ? 2.5f : (every) > 1 ? 3.0f : 2.0f)
+/* Particles of one cloth within this many thicknesses of a triangle's corner at rest are not in
+   contact with it. Less than the nearest rest distance between a particle and a triangle not
+   its own in a grid (a spacing from the corner, half the diagonal from the edge: 1.41 default
+   thicknesses), so with the default thickness only the particle's own triangles are left out
+   and a flat cloth is in contact with none; more than the thickness, so a particle is never
+   pushed off a triangle whose corner lies within the thickness of it at rest. */
+#define CVK_EXCLUSION_THICKNESSES 1.5f
 /* Adaptive search: a new one once a particle's displacement since the last is this many
    thicknesses from the displacements' centre (two particles then approached by at most the
    margin beyond two thicknesses). */
