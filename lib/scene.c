@@ -41,7 +41,7 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .render = cvk_default_render_desc(),
         /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
         .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f,
-                      .detect_every = 0},
+                      .detect_every = 0, .exclusion = 0.0f},
         .colliders = NULL,
         .collider_count = 0,
         .attachments = NULL,
@@ -762,6 +762,7 @@ static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_
                         c->detect_every);
     if (!cvk_check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
         !cvk_check_at_least(issue, "collision.friction", c->friction, 0.0) ||
+        !cvk_check_at_least(issue, "collision.exclusion", c->exclusion, 0.0) ||
         !check_finite(issue, "collision.static_friction", c->static_friction))
         return false;
     if (c->static_friction < c->friction)

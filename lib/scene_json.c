@@ -289,6 +289,7 @@ static const cvk_field collision_fields[] = {
     {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, friction)},
     {.key = "static_friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, static_friction)},
     {.key = "detect_every", .read = cvk_read_uint, .offset = offsetof(cvk_collision_desc, detect_every)},
+    {.key = "exclusion", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, exclusion)},
 };
 static const cvk_table collision_table = FIELDS(collision_fields);
 

@@ -50,6 +50,7 @@ static void check_default_collision(const cvk_scene_desc* d)
     CHECK_FLOAT(d->collision.thickness, 0.0f);
     CHECK_FLOAT(d->collision.friction, 0.3f);
     CHECK_FLOAT(d->collision.static_friction, 0.4f);
+    CHECK_FLOAT(d->collision.exclusion, 0.0f);
     CHECK(d->colliders == NULL);
     CHECK_INT(d->collider_count, 0);
 }
@@ -456,7 +457,11 @@ static void test_json_types(void)
                    "friction, static_friction, color, keyframes, loop, file, transform)");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 0.01, 'margin': 0.01}}",
                    "t.json: collision.margin: unknown key (expected one of: self, thickness, friction, "
-                   "static_friction, detect_every)");
+                   "static_friction, detect_every, exclusion)");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'exclusion': -0.01}}",
+                   "t.json: collision.exclusion: must be at least 0, got -0.01");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'exclusion': '1 cm'}}",
+                   "t.json: collision.exclusion: expected a number, got the string \"1 cm\"");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'detect_every': 9}}",
                    "t.json: collision.detect_every: must be 0 (adaptive) or between 1 and "
                    "substeps (8), got 9");

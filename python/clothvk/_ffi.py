@@ -196,6 +196,7 @@ typedef struct cvk_collision_desc {
     float friction;
     float static_friction;
     uint32_t detect_every;
+    float exclusion;
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {
