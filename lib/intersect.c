@@ -521,3 +521,53 @@ cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
     *out_pairs = pairs;
     return CVK_SUCCESS;
 }
+
+static void sub3(const double* a, const double* b, double* out)
+{
+    for (int c = 0; c < 3; c++)
+        out[c] = a[c] - b[c];
+}
+
+static double dot3(const double* a, const double* b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Squared distance from p to the closed triangle (a, b, c): the closest point by Voronoi
+   regions (Ericson, Real-Time Collision Detection, 5.1.5). */
+double cvk_point_triangle_distance2(const double p[3], const double a[3], const double b[3],
+                                    const double c[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3], d[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    sub3(p, a, ap);
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    sub3(p, b, bp);
+    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    sub3(p, c, cp);
+    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
+    double s = 0.0, t = 0.0; /* q = a + s·ab + t·ac */
+    if (d1 <= 0.0 && d2 <= 0.0) {
+    } else if (d3 >= 0.0 && d4 <= d3) {
+        s = 1.0;
+    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        s = d1 / (d1 - d3);
+    } else if (d6 >= 0.0 && d5 <= d6) {
+        t = 1.0;
+    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        t = d2 / (d2 - d6);
+    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        s = 1.0 - t;
+    } else {
+        double denom = va + vb + vc;
+        s = vb / denom;
+        t = vc / denom;
+    }
+    for (int k = 0; k < 3; k++)
+        q[k] = a[k] + s * ab[k] + t * ac[k];
+    sub3(p, q, d);
+    return dot3(d, d);
+}

@@ -16,4 +16,9 @@ cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
 /* Whether two triangles (9 floats each) intersect: the exact predicate the count uses. */
 bool cvk_triangles_intersect(const float a[9], const float b[9]);
 
+/* Squared distance from p to the closed triangle (a, b, c), in double: the host's measure of
+   cloth contact (the contact statistics, the search's brute-force test). */
+double cvk_point_triangle_distance2(const double p[3], const double a[3], const double b[3],
+                                    const double c[3]);
+
 #endif

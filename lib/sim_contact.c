@@ -202,54 +202,6 @@ static uint32_t first_in(const point_grid* g, uint64_t cell)
     return lo;
 }
 
-static void sub(const double* a, const double* b, double* out)
-{
-    for (int c = 0; c < 3; c++)
-        out[c] = a[c] - b[c];
-}
-
-static double dot(const double* a, const double* b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* Squared distance from p to the closed triangle (a, b, c): the closest point by Voronoi
-   regions (Ericson, Real-Time Collision Detection, 5.1.5). */
-static double distance2(const double* p, const double* a, const double* b, const double* c)
-{
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3], d[3];
-    sub(b, a, ab);
-    sub(c, a, ac);
-    sub(p, a, ap);
-    double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    sub(p, b, bp);
-    double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    sub(p, c, cp);
-    double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
-    double s = 0.0, t = 0.0; /* q = a + s·ab + t·ac */
-    if (d1 <= 0.0 && d2 <= 0.0) {
-    } else if (d3 >= 0.0 && d4 <= d3) {
-        s = 1.0;
-    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        s = d1 / (d1 - d3);
-    } else if (d6 >= 0.0 && d5 <= d6) {
-        t = 1.0;
-    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        t = d2 / (d2 - d6);
-    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-        t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        s = 1.0 - t;
-    } else {
-        double denom = va + vb + vc;
-        s = vb / denom;
-        t = vc / denom;
-    }
-    for (int k = 0; k < 3; k++)
-        q[k] = a[k] + s * ab[k] + t * ac[k];
-    sub(p, q, d);
-    return dot(d, d);
-}
 
 /* Particle p (free) is a corner of triangle v or joined by a spring to one: the pair is close
    in the rest mesh and not a contact. With self-contact on, the device's own rule decides
@@ -286,7 +238,7 @@ static uint64_t pairs_in_range(const triangle_query* q, const point_grid* g, uin
             continue;
         const float* x = &q->xyz[3 * (size_t)p];
         double pd[3] = {x[0], x[1], x[2]};
-        if (distance2(pd, q->corner[0], q->corner[1], q->corner[2]) < q->thickness * q->thickness)
+        if (cvk_point_triangle_distance2(pd, q->corner[0], q->corner[1], q->corner[2]) < q->thickness * q->thickness)
             pairs++;
     }
     return pairs;

@@ -7,6 +7,7 @@
 
 #include "collide.h"
 #include "harness.h"
+#include "intersect.h"
 #include "shared/layout.h"
 #include "sim.h"
 
@@ -159,43 +160,14 @@ static void test_snapshot(cvk_context* ctx)
 static double point_triangle_distance(const float* p, const float* a, const float* b,
                                       const float* c)
 {
-    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    double pd[3], ad[3], bd[3], cd[3];
     for (int k = 0; k < 3; k++) {
-        ab[k] = (double)b[k] - a[k];
-        ac[k] = (double)c[k] - a[k];
-        ap[k] = (double)p[k] - a[k];
-        bp[k] = (double)p[k] - b[k];
-        cp[k] = (double)p[k] - c[k];
+        pd[k] = p[k];
+        ad[k] = a[k];
+        bd[k] = b[k];
+        cd[k] = c[k];
     }
-#define DOT(u, v) ((u)[0] * (v)[0] + (u)[1] * (v)[1] + (u)[2] * (v)[2])
-    double d1 = DOT(ab, ap), d2 = DOT(ac, ap), d3 = DOT(ab, bp), d4 = DOT(ac, bp);
-    double d5 = DOT(ab, cp), d6 = DOT(ac, cp);
-#undef DOT
-    double vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-    double s = 0.0, t = 0.0; /* closest = a + s ab + t ac (Ericson 2005, 5.1.5) */
-    if (d1 <= 0.0 && d2 <= 0.0) {
-    } else if (d3 >= 0.0 && d4 <= d3) {
-        s = 1.0;
-    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        s = d1 / (d1 - d3);
-    } else if (d6 >= 0.0 && d5 <= d6) {
-        t = 1.0;
-    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        t = d2 / (d2 - d6);
-    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-        t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        s = 1.0 - t;
-    } else {
-        double denom = va + vb + vc;
-        s = vb / denom;
-        t = vc / denom;
-    }
-    double d2sum = 0.0;
-    for (int k = 0; k < 3; k++) {
-        double d = ap[k] - s * ab[k] - t * ac[k];
-        d2sum += d * d;
-    }
-    return sqrt(d2sum);
+    return sqrt(cvk_point_triangle_distance2(pd, ad, bd, cd));
 }
 
 static uint32_t next_random(uint32_t* state)
