@@ -369,7 +369,7 @@ static cvk_result read_rest(cvk_sim* s, cvk_pd* pd, float* rest, cvk_error* erro
             rest[i] = (float)pd->hrest[i];
         return CVK_SUCCESS;
     }
-    cvk_result r = cvk_submit_and_wait(s->context, &s->submitter, &pd->rest_readback_cmd, 1, error);
+    cvk_result r = cvk_sim_copy_to_staging(s, &pd->rest, pd->rest.size, error);
     if (r != CVK_SUCCESS)
         return r;
     const float* r4 = s->staging.mapped;
@@ -595,8 +595,6 @@ static void pd_destroy(cvk_sim* s, void* self)
         cvk_buffer_destroy(s->context, buffers[i]);
     if (pd->readback_cmd)
         vkFreeCommandBuffers(dev, s->submitter.pool, 1, &pd->readback_cmd);
-    if (pd->rest_readback_cmd)
-        vkFreeCommandBuffers(dev, s->submitter.pool, 1, &pd->rest_readback_cmd);
     free(pd->hx);
     free(pd->hprev);
     free(pd->hy);
@@ -606,23 +604,6 @@ static void pd_destroy(cvk_sim* s, void* self)
     free(pd->h_adj_k);
     free(pd->scratch_u);
     free(pd);
-}
-
-/* The rest memory -> the start of the staging buffer, recorded once. */
-static cvk_result record_rest_readback(cvk_sim* s, cvk_pd* pd, cvk_error* error)
-{
-    VkCommandBuffer cmd = pd->rest_readback_cmd;
-    cvk_result r = cvk_command_buffer_begin(cmd, 0, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy all = {0, 0, pd->rest.size};
-    vkCmdCopyBuffer(cmd, pd->rest.buffer, s->staging.buffer, 1, &all);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    return cvk_command_buffer_end(cmd, error);
 }
 
 static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** self,
@@ -645,8 +626,6 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
     if (r == CVK_SUCCESS)
         r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->readback_cmd, error);
     if (r == CVK_SUCCESS)
-        r = cvk_command_buffer_allocate(s->context, &s->submitter, &pd->rest_readback_cmd, error);
-    if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */
         cvk_attach_bind(s, CVK_ATTACH_FOR_PD, &pd->u[0], &pd->u[1]);
@@ -662,8 +641,6 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         r = set_state(s, pd, s->build.position, NULL, NULL, error);
     if (r == CVK_SUCCESS)
         r = cvk_vstate_record_readback(s, pd->readback_cmd, &pd->u[0], error);
-    if (r == CVK_SUCCESS)
-        r = record_rest_readback(s, pd, error);
     if (r != CVK_SUCCESS) {
         pd_destroy(s, pd);
         return r;

@@ -32,9 +32,8 @@ typedef struct cvk_pd {
        set binds. */
     cvk_buffer sums, scalars;
     /* The rest memory (see below): vec4 per free particle (one when none), zero from the
-       host; its readback into the staging buffer, recorded once. */
+       host; read back through cvk_sim_copy_to_staging. */
     cvk_buffer rest;
-    VkCommandBuffer rest_readback_cmd;
     cvk_descriptors converge_descriptors; /* one set: sums, scalars */
     cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */
     VkCommandBuffer readback_cmd; /* positions and u[0] -> staging, recorded once */

@@ -47,7 +47,7 @@ cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* e
     if (r == CVK_SUCCESS)
         memcpy(out, s->staging.mapped, 32u * n); /* positions, then u[0] (cvk_vstate_record_readback) */
     if (r == CVK_SUCCESS)
-        r = cvk_submit_and_wait(s->context, &s->submitter, &pd->rest_readback_cmd, 1, error);
+        r = cvk_sim_copy_to_staging(s, &pd->rest, pd->rest.size, error);
     if (r == CVK_SUCCESS)
         memcpy(out + 32u * n, s->staging.mapped, pd->rest.size);
     return r;
