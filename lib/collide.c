@@ -354,11 +354,6 @@ static cvk_result make_rest(const cvk_build* b, cvk_collide* c, cvk_error* error
     c->rest_xyz = malloc(4 * (size_t)(b->particle_count ? b->particle_count : 1) * sizeof(float));
     if (!c->rest_xyz)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for rest positions");
-    /* By default only pairs that would touch at rest: every other pair of one cloth is a
-       contact, so a fold one or two particles wide (a rolled border, a sheet without bending
-       crumpling at the particle scale) is kept from crossing itself. collision.exclusion
-       trades that for speed (cvk_collision_desc). */
-    c->exclusion = c->exclusion > 0.0f ? c->exclusion : CVK_EXCLUSION_THICKNESSES * c->thickness;
     for (uint32_t cloth = 0; cloth < b->cloth_count; cloth++) {
         const cvk_cloth_range* r = &b->cloths[cloth];
         const float* origin = &b->position[3 * (size_t)b->internal_of[r->first_user]];
@@ -501,7 +496,12 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
                                                      : default_thickness(&s->build);
     c->friction = scene->collision.friction;
     c->detect_every = scene->collision.detect_every; /* 0: adaptive */
-    c->exclusion = scene->collision.exclusion;        /* 0: the default, set with the rest data */
+    /* By default only pairs that would touch at rest: every other pair of one cloth is a
+       contact, so a fold one or two particles wide (a rolled border, a sheet without bending
+       crumpling at the particle scale) is kept from crossing itself. collision.exclusion
+       trades that for speed (cvk_collision_desc). */
+    c->exclusion = scene->collision.exclusion > 0.0f ? scene->collision.exclusion
+                                                     : CVK_EXCLUSION_THICKNESSES * c->thickness;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)
