@@ -309,6 +309,12 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_POSES_UNIFORM] = UNIFORM,
     [CVK_CONTACT_BINDING_CONTACTS_READ] = TEXEL,
     [CVK_CONTACT_BINDING_SEARCHED] = STORAGE,
+    [CVK_CONTACT_BINDING_PATCH_TABLE] = TEXEL,
+    [CVK_CONTACT_BINDING_PATCH_BOUNDS] = STORAGE,
+    [CVK_CONTACT_BINDING_PATCH_BOUNDS_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_PATCH_ACTIVE] = STORAGE,
+    [CVK_CONTACT_BINDING_LISTS] = STORAGE,
+    [CVK_CONTACT_BINDING_SEARCHED_READ] = TEXEL,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -389,6 +395,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = make_cloth_tables(b, &t, error);
     if (r == CVK_SUCCESS && c->self)
         r = make_rest(b, c, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = cvk_collide_make_patches(c, b, t.triangles, t.incident, error);
+    VkDeviceSize patches = c->patch_count ? c->patch_count : 1;
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
     VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
     if (r == CVK_SUCCESS)
@@ -405,6 +414,19 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
                         "positions at the last search", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_make_buffer(s, &c->patch_table_buffer, c->self ? 4u * c->patch_table_size : 16u,
+                                "contact patches", c->patch_table, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_make_buffer(s, &c->patch_bounds, 48u * patches, "patch bounds", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_make_buffer(s, &c->patch_active, 4u * patches, "active patches", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_make_buffer(s, &c->lists,
+                                c->self ? 4u * (CVK_LIST_HEADER + 2u * (VkDeviceSize)b->particle_count) : 16u,
+                                "contact work lists", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_clear_buffer(s, &c->lists, error);
     free_cloth_tables(&t);
     struct {
         const cvk_buffer* buffer;
@@ -415,6 +437,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->incident, VK_FORMAT_R32_UINT, &c->view_incident},
         {&c->rest, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_rest},
         {&c->contacts, VK_FORMAT_R32_UINT, &c->view_contacts},
+        {&c->patch_table_buffer, VK_FORMAT_R32_UINT, &c->view_patch_table},
+        {&c->patch_bounds, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_patch_bounds},
+        {&c->searched, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_searched},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->context, views[i].buffer, views[i].format, views[i].view,
@@ -434,9 +459,12 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .friction = c->friction,
         .static_friction = c->static_friction,
         .dt = s->params.dt,
-        .detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness,
+        .detect_radius = c->detect_radius,
         .exclusion = c->exclusion,
         .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
+        .patch_count = c->patch_count,
+        .patch_neighbours = c->patch_neighbours,
+        .flat_cos = cosf(CVK_FLAT_DEGREES * (3.14159265f / 180.0f)),
     };
     /* the frame state, then the motion bounds of the adaptive search (empty) */
     struct {
@@ -481,6 +509,12 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
         [CVK_CONTACT_BINDING_CONTACTS_READ] = {.view = c->view_contacts},
         [CVK_CONTACT_BINDING_SEARCHED] = {.buffer = &c->searched},
+        [CVK_CONTACT_BINDING_PATCH_TABLE] = {.view = c->view_patch_table},
+        [CVK_CONTACT_BINDING_PATCH_BOUNDS] = {.buffer = &c->patch_bounds},
+        [CVK_CONTACT_BINDING_PATCH_BOUNDS_READ] = {.view = c->view_patch_bounds},
+        [CVK_CONTACT_BINDING_PATCH_ACTIVE] = {.buffer = &c->patch_active},
+        [CVK_CONTACT_BINDING_LISTS] = {.buffer = &c->lists},
+        [CVK_CONTACT_BINDING_SEARCHED_READ] = {.view = c->view_searched},
     };
     cvk_descriptors_write(s->context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -503,6 +537,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->exclusion = scene->collision.exclusion > 0.0f ? scene->collision.exclusion
                                                      : CVK_EXCLUSION_THICKNESSES * c->thickness;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
+    c->detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
@@ -528,17 +563,20 @@ void cvk_collide_destroy(cvk_sim* s)
     if (c->hash.capacity)
         cvk_hash_destroy(ctx, &c->hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
-    VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_rest, c->view_contacts};
+    VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_rest, c->view_contacts,
+                            c->view_patch_table, c->view_patch_bounds, c->view_searched};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
     cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
                              &c->params, &c->triangles, &c->incident, &c->rest, &c->contacts,
-                             &c->searched};
+                             &c->searched, &c->patch_table_buffer, &c->patch_bounds,
+                             &c->patch_active, &c->lists};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);
     free(c->rest_xyz);
+    free(c->patch_table);
     *c = (cvk_collide){0};
 }
 

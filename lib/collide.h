@@ -17,6 +17,23 @@
    at rest then costs no search at all. collision.detect_every = k searches every k substeps
    instead, whatever moved.
 
+   Patches: a search first rules out, as a whole, the parts of the cloths that cannot hold a
+   candidate. The triangles are grouped at creation into patches (per cloth, the connected
+   pieces of the triangles whose rest centroids share a cube about six rest edges wide; at
+   most CVK_MAX_PATCHES). At a search, each patch's bounding box and normal cone (the axis of
+   its triangles' unit normals and the largest angle from it) are measured on the device, and
+   a patch is active unless it is flat itself (every normal within CVK_FLAT_DEGREES of its
+   axis) and every other patch whose box comes within the detection radius of its own is a
+   rest neighbour (the two share a particle) with which it stays flat (every normal of both
+   within CVK_FLAT_DEGREES of its axis). A surface that flat is a height field over its axis:
+   a particle near a triangle of it is near it along the surface, a neighbour no contact is
+   needed against (the springs keep those apart); layers stacked on it, its own folds and
+   other cloths make it active. Only the free particles of active patches (and particles on no
+   triangle) search, listed on the device and searched through an indirect dispatch; the
+   particles that came out with candidates are listed too, and a scene without colliders
+   visits only them in its contact passes. A flat cloth moving in space thus costs neither a
+   hash build nor a walk, nor a contact pass.
+
    The module owns one descriptor set, the contact set, which every solver family's pipelines
    bind as set 1 (shaders/collide.glsl declares it); a scene without colliders and without
    self-contact still gets a small set (so layouts stay one shape) but records no collision
@@ -24,6 +41,7 @@
 #ifndef CVK_COLLIDE_H
 #define CVK_COLLIDE_H
 
+#include "build.h"
 #include "hash.h"
 #include "motion.h"
 #include "sdf.h"
@@ -47,6 +65,11 @@ struct cvk_sim;
    thicknesses from the displacements' centre (two particles then approached by at most the
    margin beyond two thicknesses). */
 #define CVK_SEARCH_AFTER_THICKNESSES 0.25f
+/* Patches (above): about this many rest edges across, at most this many (larger ones in big
+   scenes: the device compares every pair), flat within this angle. */
+#define CVK_PATCH_EDGES 6.0f
+#define CVK_MAX_PATCHES 2048u
+#define CVK_FLAT_DEGREES 60.0f
 
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */
@@ -70,10 +93,21 @@ typedef struct cvk_collide {
     cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
     float* rest_xyz;             /* the same on the host (self-contact only) */
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
+    float detect_radius;         /* m: candidates are kept within it */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_buffer searched;         /* vec4 per particle: its position at the last search */
     cvk_hash hash;               /* only with self-contact */
+    /* Surface patches (self-contact only): see "Patches" above. */
+    uint32_t patch_count;
+    uint32_t patch_neighbours;   /* where the neighbour offsets start in the patch table */
+    uint32_t* patch_table;       /* the table on the host too (shared/layout.h) */
+    size_t patch_table_size;     /* uints */
+    cvk_buffer patch_table_buffer;
+    cvk_buffer patch_bounds;     /* vec4 × 3 per patch: low, high, normal cone */
+    cvk_buffer patch_active;     /* uint per patch */
+    cvk_buffer lists;            /* the work lists (shared/layout.h: CVK_LIST_*) */
     VkBufferView view_triangles, view_incident, view_rest, view_contacts; /* texel views */
+    VkBufferView view_patch_table, view_patch_bounds, view_searched;
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */
@@ -111,6 +145,19 @@ uint64_t cvk_collide_snapshot_size(const struct cvk_sim* sim);
 cvk_result cvk_collide_save_snapshot(struct cvk_sim* sim, unsigned char* data, cvk_error* error);
 cvk_result cvk_collide_load_snapshot(struct cvk_sim* sim, const unsigned char* data,
                                      cvk_error* error);
+
+/* The patches (collide_patches.c) from the rest mesh: triangles (4 uint per triangle, internal
+   corners) and the triangles around each particle (particle_count + 1 offsets, then ids). */
+cvk_result cvk_collide_make_patches(cvk_collide* collide, const cvk_build* build,
+                                    const uint32_t* triangles, const uint32_t* incident,
+                                    cvk_error* error);
+
+/* The patch activity a search computes on the device ("Patches" above), on the host in double
+   from positions x (vec4 per particle, internal order): active[patch] = 1 or 0. slack > 0
+   makes it more ready to call a patch active (a wider radius, a narrower flat angle, both by
+   the factor 1 + slack), < 0 less: tests bracket the device's float rounding with it. */
+void cvk_collide_patch_activity(const cvk_collide* collide, const cvk_build* build,
+                                const float* x, double slack, uint8_t* active);
 
 /* Whether particle p and triangle tri (internal indices) are of one cloth and near each other
    at rest (a corner within `exclusion` of p): such pairs are skipped by the contact. */

@@ -84,6 +84,45 @@ static void add_search_decision(cvk_sim* s, cvk_plan* plan)
     }
 }
 
+/* One phase of shaders/contact_compact.comp (phase 1 over every particle, the others one
+   invocation). Phases 2 and 3 write indirect commands. */
+static void add_compact(cvk_sim* s, cvk_plan* plan, uint32_t phase, const char* note)
+{
+    cvk_collide* c = &s->collide;
+    uint32_t count = phase == 1 ? s->build.particle_count : 1;
+    cvk_contact_push push = {0, count, phase, plan->workgroup_size};
+    cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_COMPACT,
+                                   c->detect_layout, c->set, CVK_DOMAIN_PARTICLES, 0, count, &push,
+                                   sizeof push);
+    if (!op)
+        return;
+    if (phase != 1)
+        op->groups = 1;
+    if (phase >= 2)
+        op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+    op->set1 = c->hash.set;
+    snprintf(op->note, sizeof op->note, "%s", note);
+}
+
+/* The patches' activity and the search list (collide.h, "Patches"). */
+static void add_lists(cvk_sim* s, cvk_plan* plan)
+{
+    cvk_collide* c = &s->collide;
+    add_compact(s, plan, 0, "lists emptied");
+    for (uint32_t phase = 0; phase < 2 && c->patch_count > 0; phase++) {
+        cvk_contact_push push = {0, c->patch_count, phase, plan->workgroup_size};
+        cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_PATCH,
+                                       c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES,
+                                       0, c->patch_count, &push, sizeof push);
+        cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
+        if (op)
+            snprintf(op->note, sizeof op->note, "%u patches: %s", c->patch_count,
+                     phase == 0 ? "boxes, normal cones" : "active or not");
+    }
+    add_compact(s, plan, 1, "search list, where each particle is seen");
+    add_compact(s, plan, 2, "search command; hash built if any listed");
+}
+
 cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
     cvk_collide* c = &s->collide;
@@ -104,21 +143,23 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         uint32_t first = plan->op_count;
         if (c->detect_every == 0)
             add_search_decision(s, plan);
+        add_lists(s, plan);
         cvk_result r = cvk_hash_add_passes(&c->hash, plan, s->build.particle_count, error);
         if (r != CVK_SUCCESS)
             return r;
         uint32_t pass = cvk_plan_pass(plan, "contacts");
-        /* every particle, so that pinned (later kinematic) ones are seen where they are */
-        cvk_contact_push push = {0, s->build.particle_count, 0, 0};
-        cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_DETECT, c->detect_layout,
-                                       c->set, CVK_DOMAIN_PARTICLES, 0, s->build.particle_count,
-                                       &push, sizeof push);
+        cvk_contact_push push = {0, s->build.particle_count, 0, plan->workgroup_size};
+        cvk_op* op = cvk_plan_dispatch_indirect(plan, pass, CVK_PIPE_CONTACT_DETECT,
+                                                c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
+                                                c->lists.buffer, 4u * CVK_LIST_SEARCH_GROUPS,
+                                                &push, sizeof push);
         if (op) {
-            cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
+            op->count = s->build.particle_count;
             op->set1 = c->hash.set;
-            snprintf(op->note, sizeof op->note, "particle-triangle pairs within %.3g m",
-                     (double)(CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness));
+            snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m",
+                     (double)c->detect_radius);
         }
+        add_compact(s, plan, 3, "contact list -> contact passes' command");
         for (uint32_t i = first; c->detect_every > 1 && i < plan->op_count; i++)
             plan->ops[i].every = c->detect_every; /* candidates for the substeps until the next */
     }
@@ -151,8 +192,8 @@ cvk_result cvk_collide_searches(cvk_sim* s, uint64_t* out, cvk_error* error)
     return r;
 }
 
-/* The three parts of the contact state in a snapshot, in order. */
-static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[3], VkDeviceSize sizes[3])
+/* The four parts of the contact state in a snapshot, in order. */
+static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[4], VkDeviceSize sizes[4])
 {
     const cvk_collide* c = &s->collide;
     if (!c->self)
@@ -164,13 +205,15 @@ static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[3], VkDevic
     sizes[1] = 16u * n;
     buffers[2] = (cvk_buffer*)&c->contacts;
     sizes[2] = 4u * CVK_CONTACTS_PER_PARTICLE * n;
-    return 3;
+    buffers[3] = (cvk_buffer*)&c->lists;
+    sizes[3] = 4u * (CVK_LIST_HEADER + 2u * n);
+    return 4;
 }
 
 uint64_t cvk_collide_snapshot_size(const cvk_sim* s)
 {
-    cvk_buffer* buffers[3];
-    VkDeviceSize sizes[3];
+    cvk_buffer* buffers[4];
+    VkDeviceSize sizes[4];
     uint64_t total = 0;
     for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); i < n; i++)
         total += sizes[i];
@@ -179,8 +222,8 @@ uint64_t cvk_collide_snapshot_size(const cvk_sim* s)
 
 cvk_result cvk_collide_save_snapshot(cvk_sim* s, unsigned char* data, cvk_error* error)
 {
-    cvk_buffer* buffers[3];
-    VkDeviceSize sizes[3];
+    cvk_buffer* buffers[4];
+    VkDeviceSize sizes[4];
     cvk_result r = CVK_SUCCESS;
     for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); r == CVK_SUCCESS && i < n; i++) {
         r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd, buffers[i], data,
@@ -192,8 +235,8 @@ cvk_result cvk_collide_save_snapshot(cvk_sim* s, unsigned char* data, cvk_error*
 
 cvk_result cvk_collide_load_snapshot(cvk_sim* s, const unsigned char* data, cvk_error* error)
 {
-    cvk_buffer* buffers[3];
-    VkDeviceSize sizes[3];
+    cvk_buffer* buffers[4];
+    VkDeviceSize sizes[4];
     cvk_result r = CVK_SUCCESS;
     for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); r == CVK_SUCCESS && i < n; i++) {
         r = cvk_sim_upload(s, buffers[i], data, sizes[i], error);

@@ -323,15 +323,35 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
     }
     if (!pb->contact)
         return;
-    cvk_op* op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
-                        pb->base.omega);
-    if (op) {
+    const cvk_collide* c = &pb->sim->collide;
+    cvk_op* op;
+    if (c->self && c->collider_count == 0 && !pb->armed) {
+        /* Self-contact alone: only the particles the search listed with candidates, through
+           the command the search wrote (collide.h, "Patches"; pd_contact.glsl: LISTED). */
+        cvk_pd_push push = pb->base;
+        push.first = 0;
+        push.count = b->free_count;
+        push.cheb = 1.0f;
+        op = cvk_plan_dispatch_indirect(pb->plan, pb->contact_pass, CVK_PIPE_PD_CONTACT,
+                                        pb->pd->descriptors.pipeline_layout,
+                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
+                                        c->lists.buffer, 4u * CVK_LIST_CONTACT_GROUPS, &push,
+                                        sizeof push);
+        if (op) {
+            op->count = b->free_count;
+            op->set1 = pb->contact_set;
+        }
+    } else {
+        op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
+                    pb->base.omega);
         /* Each particle loops over colliders and traces: one particle per invocation keeps
            lavapipe's per-shader loop budget (hash.h) out of reach. */
-        cvk_hash_one_item_each(pb->plan, op);
-        snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
-                 set_note[set]);
+        if (op && !pb->armed)
+            cvk_hash_one_item_each(pb->plan, op);
     }
+    if (op)
+        snprintf(op->note, sizeof op->note, "after outer %u, in place, %s%s", outer + 1,
+                 set_note[set], op->kind == CVK_OP_DISPATCH_INDIRECT && !pb->armed ? ", listed" : "");
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer

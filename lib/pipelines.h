@@ -71,6 +71,8 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "particle-triangle candidates") \
+    X(CONTACT_PATCH, CONTACT_PATCH_COMP, CVK_SPEC_WORKGROUP, "patches: bounds, cones, activity") \
+    X(CONTACT_COMPACT, CONTACT_COMPACT_COMP, CVK_SPEC_WORKGROUP, "search and contact lists") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
     X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \

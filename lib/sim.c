@@ -129,7 +129,8 @@ cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     VkDeviceSize bytes = size; /* what `data` holds; the buffer is never empty */
     if (size < 16)
         size = 16;

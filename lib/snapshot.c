@@ -21,7 +21,7 @@
 #include "sim.h"
 #include "solver.h"
 
-#define CVK_SNAPSHOT_VERSION 2u /* 2: the projective-dynamics rest memory */
+#define CVK_SNAPSHOT_VERSION 3u /* 2: the projective-dynamics rest memory; 3: the contact work lists */
 #define HEADER_SIZE 64u
 static const char magic[8] = "CVKSNAP";
 

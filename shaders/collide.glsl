@@ -66,6 +66,19 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeo
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform usamplerBuffer contacts_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
+// Surface patches and the work lists of a search (lib/collide.h, "Patches").
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_TABLE) uniform usamplerBuffer patch_table_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS) writeonly buffer PatchBounds {
+    vec4 patch_bounds[]; // per patch: low, high, normal cone (axis, cosine of its half-angle)
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS_READ) uniform samplerBuffer patch_bounds_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_ACTIVE) buffer PatchActive {
+    uint patch_active[];
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
+    uint lists[]; // CVK_LIST_*: counts and indirect commands, then the search and contact lists
+};
 
 uvec4 contact_triangle(uint t) { return texelFetch(triangles_t, int(t)); } // internal indices
 // Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.
@@ -73,6 +86,9 @@ uint contact_incident(uint i) { return texelFetch(incident_t, int(i)).x; }
 vec4 contact_rest(uint p) { return texelFetch(rest_t, int(p)); } // rest position, cloth index
 uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
 vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
+uint patch_table(uint i) { return texelFetch(patch_table_t, int(i)).x; }
+// Where the contact list starts in `lists`: after the header and the search list.
+uint contact_list_base() { return uint(CVK_LIST_HEADER) + contact_u.particle_count; }
 
 #include "motion.glsl" // quat_rotate, motion_pose (reads keyframes, above)
 

@@ -31,7 +31,7 @@ void main()
         vec3 low = vec3(3.0e38), high = vec3(-3.0e38);
         for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
             uint p = pc.first + i;
-            vec3 d = contact_x(p) - searched[p].xyz;
+            vec3 d = contact_x(p) - texelFetch(searched_t, int(p)).xyz;
             low = min(low, d); // a non-finite d is left to phase 1
             high = max(high, d);
         }
@@ -56,7 +56,7 @@ void main()
     float farthest = 0.0;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
         uint p = pc.first + i;
-        farthest = max(farthest, distance(contact_x(p) - searched[p].xyz, centre));
+        farthest = max(farthest, distance(contact_x(p) - texelFetch(searched_t, int(p)).xyz, centre));
     }
     // A non-finite position (a cloth that blew up) searches every substep rather than never.
     if (!(farthest <= 3.0e38))

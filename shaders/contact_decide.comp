@@ -21,6 +21,8 @@ void main()
     bool search = frame.force != 0u || uintBitsToFloat(frame.moved) > contact.search_after;
     frame.search = search ? 1u : 0u;
     hash_params.build = search ? 1u : 0u;
+    if (!search) // the search's indirect dispatch does nothing (contact_compact.comp arms it)
+        lists[CVK_LIST_SEARCH_GROUPS] = 0u;
     frame.searches += search ? 1u : 0u;
     frame.moved = 0u;
     frame.force = 0u;

@@ -57,15 +57,13 @@ bool after(float dist_k, uint kept_k, float d, uint item)
 
 void main()
 {
-    if (frame.search == 0u)
+    if (frame.search == 0u || pc.count == 0u)
         return; // adaptive search: the candidates of the last search still hold
-    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-        // Particles in the hash's order (by slot): neighbouring lanes walk the same cells.
-        uint p = hash_entry(pc.first + i);
+    uint listed = lists[CVK_LIST_SEARCH_COUNT];
+    for (uint i = gl_GlobalInvocationID.x; i < listed; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        // The free particles of active patches (contact_compact.comp).
+        uint p = lists[uint(CVK_LIST_HEADER) + i];
         vec3 xp = contact_x(p);
-        searched[p] = vec4(xp, 0.0);
-        if (p >= contact_u.free_count)
-            continue; // a pinned particle is only seen (the adaptive search's reference)
         vec4 rp = contact_rest(p);
         ivec3 home = hash_cell(xp);
         uint base = contact_u.particle_count + 1u;
@@ -145,5 +143,7 @@ void main()
         }
         for (uint k = 0u; k < K; k++)
             contacts[p * K + k] = kept[k];
+        if (kept[0] != CVK_NO_CONTACT) // the contact passes visit it (contact_compact.comp)
+            lists[contact_list_base() + atomicAdd(lists[CVK_LIST_CONTACT_COUNT], 1u)] = p;
     }
 }

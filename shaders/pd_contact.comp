@@ -9,6 +9,16 @@
 
 void main()
 {
+    if (LISTED) {
+        // Only the particles with candidates (no colliders: nothing else to do), listed by the
+        // search (contact_compact.comp).
+        uint listed = pc.count == 0u ? 0u : lists[CVK_LIST_CONTACT_COUNT];
+        for (uint i = gl_GlobalInvocationID.x; i < listed; i += invocation_stride()) {
+            uint p = lists[contact_list_base() + i];
+            dst[p] = vec4(pd_contact(p, fetch(dst_read, p)), 0.0);
+        }
+        return;
+    }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
         dst[p] = vec4(pd_contact(p, fetch(dst_read, p)), 0.0);

@@ -9,6 +9,9 @@
 
 layout(constant_id = 4) const bool SELF = false;
 const bool COLLIDERS = COLLIDER_TYPES != 0u;
+// Self-contact alone: the pass visits only the particles the last search listed with
+// candidates (lib/collide.h, "Patches"); with colliders it visits every particle.
+const bool LISTED = SELF && !COLLIDERS;
 
 vec3 pd_contact(uint p, vec3 u)
 {

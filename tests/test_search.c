@@ -3,6 +3,7 @@
    next substep search, and a snapshot carries the contact state so that stepping on from it
    gives the same bits as never having stopped; on folded cloths, the candidates a search keeps
    against a brute force over every particle–triangle pair. */
+#include <math.h>
 #include <string.h>
 
 #include "collide.h"
@@ -219,6 +220,8 @@ static void test_candidates(cvk_context* ctx)
     const float size = 0.5f;
     uint64_t pairs = 0, kept_total = 0, full = 0, missing = 0, wrong = 0, unordered = 0;
     uint64_t ties = 0, tie_order = 0;
+    uint64_t listed_particles = 0, culled_particles = 0, culled_pairs = 0;
+    double farthest_culled = 0.0, radius_all = 0.0;
     for (uint32_t seed = 1; seed <= 4; seed++) {
         /* seeds 3 and 4: a second folded cloth among the first one's layers */
         cvk_cloth_desc cloths[2] = {flat_cloth(n, size, 0.5f), flat_cloth(n, size, 0.7f)};
@@ -256,9 +259,47 @@ static void test_candidates(cvk_context* ctx)
                                                  16u * (size_t)b->particle_count);
         double radius = (double)CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
         double slack = 1e-5 * radius; /* float rounding of the device's distances */
+        radius_all = radius;
+        /* The patches: the host's activity bracketed a little either way (the device's float
+           rounding near the thresholds may go either way). */
+        uint8_t* surely = malloc(c->patch_count ? c->patch_count : 1);
+        uint8_t* maybe = malloc(c->patch_count ? c->patch_count : 1);
+        cvk_collide_patch_activity(c, b, seen, -0.01, surely);
+        cvk_collide_patch_activity(c, b, seen, 0.01, maybe);
+        const uint32_t* table = c->patch_table;
         for (uint32_t p = 0; p < b->free_count; p++) {
             const float* xp = &seen[4 * (size_t)p];
             const uint32_t* mine = &kept[(size_t)K * p];
+            uint32_t own = table[p];
+            bool must = own == CVK_NO_PATCH || surely[own];
+            bool may = own == CVK_NO_PATCH || maybe[own];
+            listed_particles += must;
+            if (!may) { /* a flat, lone patch: no candidates, and none needed nearby */
+                culled_particles++;
+                wrong += mine[0] != CVK_NO_CONTACT;
+                for (uint32_t t = 0; t < b->triangle_count; t++) {
+                    uint32_t v[3];
+                    for (int m = 0; m < 3; m++)
+                        v[m] = b->internal_of[b->triangles[3 * (size_t)t + m]];
+                    if (cvk_collide_rest_near(c, p, v) ||
+                        point_triangle_distance(xp, &seen[4 * (size_t)v[0]], &seen[4 * (size_t)v[1]],
+                                                &seen[4 * (size_t)v[2]]) >= radius)
+                        continue;
+                    culled_pairs++;
+                    double nearest = INFINITY; /* at rest, to the triangle's nearest corner */
+                    for (int m = 0; m < 3; m++) {
+                        const float* r0 = &c->rest_xyz[4 * (size_t)p];
+                        const float* r1 = &c->rest_xyz[4 * (size_t)v[m]];
+                        double d[3] = {(double)r0[0] - r1[0], (double)r0[1] - r1[1], (double)r0[2] - r1[2]};
+                        nearest = fmin(nearest, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) +
+                                                    (r0[3] != r1[3] ? INFINITY : 0.0));
+                    }
+                    farthest_culled = fmax(farthest_culled, nearest);
+                }
+                continue;
+            }
+            if (!must)
+                continue; /* on a threshold: either is right */
             uint32_t count = 0;
             double farthest = 0.0, previous = 0.0;
             while (count < K && mine[count] != CVK_NO_CONTACT)
@@ -327,10 +368,21 @@ static void test_candidates(cvk_context* ctx)
                     missing++;
             }
         }
+        free(surely);
+        free(maybe);
         free(snap);
         free(xyz);
         cvk_sim_destroy(sim);
     }
+    /* What the patches leave out is the cloth's own surface around a particle: pairs near at
+       rest (a flat surface is a height field: near in space is near along it). */
+    CHECK(farthest_culled <= 4.0 * radius_all, "a pair left out by the patches is %.4g m apart at "
+          "rest (more than 4 detection radii, %.4g m)", farthest_culled, 4.0 * radius_all);
+    CHECK(listed_particles > 1000, "%llu particles searched on the folded cloths",
+          (unsigned long long)listed_particles);
+    printf("patches: %llu particles searched, %llu left out (%llu pairs within the radius, at "
+           "most %.4g m apart at rest)\n", (unsigned long long)listed_particles,
+           (unsigned long long)culled_particles, (unsigned long long)culled_pairs, farthest_culled);
     CHECK(missing == 0, "%llu of %llu pairs within the detection radius are neither kept nor "
           "beyond a full list of nearer ones", (unsigned long long)missing,
           (unsigned long long)pairs);
@@ -350,9 +402,140 @@ static void test_candidates(cvk_context* ctx)
            (unsigned long long)ties);
 }
 
+/* Patches (collide.h): a flat cloth moving fast in space lists no particle to search, has no
+   candidates and builds no hash; folded, it lists the particles of its active patches, as the
+   host's reference of the patch activity says. */
+static void test_flat_patches(cvk_context* ctx)
+{
+    /* Two cloths: the second far off, then stacked on the first (each flat, facing the same
+       way: only being apart makes them inactive), then away again while the first folds. */
+    cvk_cloth_desc cloths[2] = {flat_cloth(40, 1.0f, 1.0f), flat_cloth(20, 0.5f, 1.0f)};
+    cloths[0].velocity[0] = cloths[1].velocity[0] = 3.0f;
+    cloths[1].origin[0] += 5.0f;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.substeps = 1;
+    scene.collision.self = true;
+    cvk_error err;
+    cvk_sim* sim = NULL;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    const cvk_collide* c = &sim->collide;
+    const cvk_build* b = &sim->build;
+    uint64_t bytes = cvk_collide_snapshot_size(sim);
+    unsigned char* snap = malloc(bytes);
+    uint8_t* active = malloc(c->patch_count);
+    uint8_t* maybe = malloc(c->patch_count);
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* xyz = malloc(3 * n * sizeof(float));
+    const uint64_t first_count = 40 * 40;
+    static const char* const names[3] = {"flat", "stacked", "folded"};
+    for (int phase = 0; phase < 3; phase++) {
+        bool folded = phase == 2;
+        const char* name = names[phase];
+        if (phase > 0) {
+            REQUIRE_OK(cvk_sim_read_positions(sim, xyz, n, &err), err);
+            float x_min = xyz[0], x_max = xyz[0];
+            for (uint64_t i = 0; i < first_count; i++) {
+                x_min = fminf(x_min, xyz[3 * i]);
+                x_max = fmaxf(x_max, xyz[3 * i]);
+            }
+            /* stacked: the second cloth two thicknesses above the first's middle, or away */
+            float second_min = xyz[3 * first_count];
+            for (uint64_t i = first_count; i < n; i++)
+                second_min = fminf(second_min, xyz[3 * i]);
+            float shift = (phase == 1 ? 0.5f * (x_min + x_max) - 0.25f : x_max + 3.0f) - second_min;
+            for (uint64_t i = first_count; i < n; i++) {
+                xyz[3 * i] += shift;
+                xyz[3 * i + 1] = xyz[1] + (phase == 1 ? 2.0f * c->thickness : 0.0f);
+            }
+            float fold_at = x_min + 2.0f / 3.0f * (x_max - x_min);
+            for (uint64_t i = 0; folded && i < first_count; i++)
+                if (xyz[3 * i] > fold_at) {
+                    /* the far third folded back over the middle, two thicknesses above */
+                    xyz[3 * i] = 2.0f * fold_at - xyz[3 * i];
+                    xyz[3 * i + 1] += 2.0f * c->thickness;
+                }
+            REQUIRE_OK(cvk_sim_write_positions(sim, xyz, n, &err), err);
+        }
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        REQUIRE_OK(cvk_collide_save_snapshot(sim, snap, &err), err);
+        const float* seen = (const float*)(snap + sizeof(cvk_gpu_frame));
+        const uint32_t* kept = (const uint32_t*)(snap + sizeof(cvk_gpu_frame) + 16u * (size_t)n);
+        const uint32_t* lists = (const uint32_t*)(snap + bytes - 4u * (CVK_LIST_HEADER + 2u * (size_t)n));
+        cvk_collide_patch_activity(c, b, seen, -0.01, active);
+        cvk_collide_patch_activity(c, b, seen, 0.01, maybe);
+        uint32_t on = 0, expected = 0, undecided = 0, disagree = 0, with = 0, culled_pairs = 0;
+        double farthest = 0.0;
+        for (uint32_t a = 0; a < c->patch_count; a++)
+            on += active[a];
+        uint32_t listed = lists[CVK_LIST_SEARCH_COUNT];
+        for (uint32_t p = 0; p < b->free_count; p++) {
+            bool in = false;
+            for (uint32_t i = 0; i < listed; i++)
+                in = in || lists[CVK_LIST_HEADER + i] == p;
+            uint32_t own = c->patch_table[p];
+            bool must = own == CVK_NO_PATCH || active[own], may = own == CVK_NO_PATCH || maybe[own];
+            expected += must;
+            undecided += must != may;
+            disagree += must == may && in != must;
+            with += kept[(size_t)CVK_CONTACTS_PER_PARTICLE * p] != CVK_NO_CONTACT;
+            if (in || may)
+                continue;
+            /* Left out: what lies within the detection radius is the cloth's own surface
+               around p (near at rest: a flat surface is a height field over its axis). */
+            const float* xp = &seen[4 * (size_t)p];
+            for (uint32_t t = 0; t < b->triangle_count; t++) {
+                uint32_t v[3];
+                for (int m = 0; m < 3; m++)
+                    v[m] = b->internal_of[b->triangles[3 * (size_t)t + m]];
+                if (point_triangle_distance(xp, &seen[4 * (size_t)v[0]], &seen[4 * (size_t)v[1]],
+                                            &seen[4 * (size_t)v[2]]) >= c->detect_radius)
+                    continue;
+                double nearest = INFINITY;
+                for (int m = 0; m < 3; m++) {
+                    const float* r0 = &c->rest_xyz[4 * (size_t)p];
+                    const float* r1 = &c->rest_xyz[4 * (size_t)v[m]];
+                    double d[3] = {(double)r0[0] - r1[0], (double)r0[1] - r1[1], (double)r0[2] - r1[2]};
+                    nearest = fmin(nearest, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+                }
+                culled_pairs++;
+                farthest = fmax(farthest, nearest);
+            }
+        }
+        if (folded) {
+            CHECK(culled_pairs > 0 && farthest <= 2.0 * c->detect_radius, "folded cloths: of %u "
+                  "pairs within the detection radius left out by the patches, one is %.4g m apart "
+                  "at rest (more than 2 radii, %.4g m)", culled_pairs, farthest,
+                  2.0 * (double)c->detect_radius);
+            printf("folded cloths: %u pairs within the radius left out, at most %.4g m apart at rest "
+                   "(radius %.4g m)\n", culled_pairs, farthest, (double)c->detect_radius);
+        }
+        CHECK(disagree == 0, "%s cloths: %u particles listed to search or not against the host's "
+              "patch activity", name, disagree);
+        CHECK(lists[CVK_LIST_CONTACT_COUNT] == with, "%s cloths: %u particles listed with "
+              "candidates, %u have them", name, lists[CVK_LIST_CONTACT_COUNT], with);
+        if (phase == 0)
+            CHECK(on == 0 && listed == 0 && with == 0, "a flat cloth: %u of %u patches active, "
+                  "%u particles searched, %u with candidates", on, c->patch_count, listed, with);
+        else
+            CHECK(on > 0 && listed > 0 && with > 0 && listed < b->free_count, "%s cloths: "
+                  "%u of %u patches active, %u of %u particles searched, %u with candidates",
+                  name, on, c->patch_count, listed, b->free_count, with);
+        printf("%s cloths: %u of %u patches active, %u particles searched (%u on a threshold), "
+               "%u with candidates\n", name, on, c->patch_count, listed, undecided, with);
+    }
+    free(xyz);
+    free(active);
+    free(maybe);
+    free(snap);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
+    test_flat_patches(ctx);
     test_rest_and_motion(ctx);
     test_snapshot(ctx);
     test_candidates(ctx);

@@ -345,8 +345,26 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(detect_radius)  /* m: particle–triangle pairs nearer than this are kept */    \
     CVK_FLOAT(exclusion)      /* m: pairs with a corner this near at rest are skipped */    \
     CVK_FLOAT(search_after)   /* m: adaptive search when a particle moved this far since */ \
-    CVK_UINT(pad2)
+    CVK_UINT(patch_count)     /* surface patches (lib/collide.h), at least 1 */             \
+    CVK_UINT(patch_neighbours)/* in the patch table: where the neighbour offsets start */   \
+    CVK_FLOAT(flat_cos)       /* a patch pair within this cone (cosine) is flat */         \
+    CVK_UINT(pad3)                                                                          \
+    CVK_UINT(pad4)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
+
+/* The patch table (uint, lib/collide.h): [0, particle_count): each particle's patch
+   (CVK_NO_PATCH: on no triangle); from particle_count: patch_count + 1 offsets into the
+   triangle ids that follow them; from patch_neighbours: patch_count + 1 offsets into the ids
+   of the rest-adjacent patches that follow them. */
+#define CVK_NO_PATCH 0xffffffffu
+/* The work lists (uint): a header, then the particles that search (free, in an active patch)
+   and the particles with candidates after the search (those the contact pass visits). The
+   header's counts and indirect dispatch commands are written on the device. */
+#define CVK_LIST_SEARCH_COUNT 0
+#define CVK_LIST_CONTACT_COUNT 1
+#define CVK_LIST_SEARCH_GROUPS 4  /* x, y, z */
+#define CVK_LIST_CONTACT_GROUPS 8 /* x, y, z */
+#define CVK_LIST_HEADER 16        /* the search list starts here; the contact list n later */
 
 /* Push data of the contact passes (collider_poses, contact_check, contact_detect): items
    [first, first + count); contact_check's phase (0: the displacements' bounds, 1: the farthest
@@ -356,7 +374,7 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
     CVK_UINT(first)             \
     CVK_UINT(count)             \
     CVK_UINT(phase)             \
-    CVK_UINT(pad1)
+    CVK_UINT(workgroup_size) /* the listed dispatches': for the group counts written */
 CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 
 /* Bindings of the contact set (set 1 of the solver pipelines, set 0 of the contact passes). */
@@ -379,7 +397,13 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_POSES_UNIFORM 13
 #define CVK_CONTACT_BINDING_CONTACTS_READ 14 /* texel view of the contacts */
 #define CVK_CONTACT_BINDING_SEARCHED 15 /* vec4 per particle: where the last search saw it */
-#define CVK_CONTACT_BINDING_COUNT 16
+#define CVK_CONTACT_BINDING_PATCH_TABLE 16 /* texel, uint: the patch table (above) */
+#define CVK_CONTACT_BINDING_PATCH_BOUNDS 17 /* vec4 × 3 per patch: low, high, cone (axis, cos) */
+#define CVK_CONTACT_BINDING_PATCH_BOUNDS_READ 18 /* texel view of the same */
+#define CVK_CONTACT_BINDING_PATCH_ACTIVE 19 /* uint per patch: its particles search */
+#define CVK_CONTACT_BINDING_LISTS 20 /* the work lists (above) */
+#define CVK_CONTACT_BINDING_SEARCHED_READ 21 /* texel view of where the last search saw them */
+#define CVK_CONTACT_BINDING_COUNT 22
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u

@@ -1,0 +1,84 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The surface patches at a search (lib/collide.h, "Patches"), one patch per invocation:
+// phase 0: its bounding box over its triangles' corners at x_n and its normal cone (the
+// normalised sum of its triangles' unit normals as the axis, the smallest cosine of a normal
+// to it; -1 when it has a degenerate triangle or normals that cancel); phase 1: whether it is
+// active — not flat itself, or some other patch within the detection radius of its box that
+// is not a rest neighbour, or a neighbour that does not stay flat with it. Each patch's
+// result depends on the data alone, not on the order of invocations.
+layout(local_size_x_id = 0) in;
+#include "shared/layout.h"
+#define CONTACT_SET 0
+#include "collide.glsl"
+CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
+
+vec3 unit_normal(uint t, out bool degenerate)
+{
+    uvec4 tri = contact_triangle(t);
+    vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
+    vec3 n = cross(b - a, c - a);
+    float len = length(n);
+    degenerate = !(len > 0.0);
+    return degenerate ? vec3(0.0) : n / len;
+}
+
+void main()
+{
+    if (frame.search == 0u || pc.count == 0u)
+        return;
+    uint patches = contact_u.patch_count;
+    uint offsets = contact_u.particle_count, ids = offsets + patches + 1u;
+    for (uint a = gl_GlobalInvocationID.x; a < pc.count; a += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        if (pc.phase == 0u) {
+            uint first = patch_table(offsets + a), end = patch_table(offsets + a + 1u);
+            vec3 low = vec3(3.0e38), high = vec3(-3.0e38), sum = vec3(0.0);
+            bool broken = false;
+            for (uint i = first; i < end; i++) {
+                uint t = patch_table(ids + i);
+                uvec4 tri = contact_triangle(t);
+                vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
+                low = min(low, min(x0, min(x1, x2)));
+                high = max(high, max(x0, max(x1, x2)));
+                bool degenerate;
+                sum += unit_normal(t, degenerate);
+                broken = broken || degenerate;
+            }
+            float len = length(sum);
+            vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);
+            float cosine = broken || !(len > 0.0) ? -1.0 : 1.0;
+            for (uint i = first; i < end && cosine > -1.0; i++) {
+                bool degenerate;
+                cosine = min(cosine, dot(unit_normal(patch_table(ids + i), degenerate), axis));
+            }
+            patch_bounds[3u * a] = vec4(low, 0.0);
+            patch_bounds[3u * a + 1u] = vec4(high, 0.0);
+            patch_bounds[3u * a + 2u] = vec4(axis, cosine);
+            continue;
+        }
+        vec3 low = texelFetch(patch_bounds_t, int(3u * a)).xyz;
+        vec3 high = texelFetch(patch_bounds_t, int(3u * a + 1u)).xyz;
+        vec4 cone = texelFetch(patch_bounds_t, int(3u * a + 2u));
+        float limit = acos(contact_u.flat_cos);
+        float r = contact_u.detect_radius;
+        uint near = contact_u.patch_neighbours;
+        uint near_first = patch_table(near + a), near_end = patch_table(near + a + 1u);
+        bool busy = !(acos(clamp(cone.w, -1.0, 1.0)) <= limit);
+        for (uint b = 0u; b < patches && !busy; b++) {
+            vec3 low_b = texelFetch(patch_bounds_t, int(3u * b)).xyz;
+            vec3 high_b = texelFetch(patch_bounds_t, int(3u * b + 1u)).xyz;
+            bool overlap = all(lessThanEqual(low - r, high_b)) && all(lessThanEqual(low_b - r, high));
+            if (b == a || !overlap)
+                continue;
+            bool adjacent = false;
+            for (uint k = near_first; k < near_end; k++)
+                adjacent = adjacent || patch_table(near + patches + 1u + k) == b;
+            vec4 cone_b = texelFetch(patch_bounds_t, int(3u * b + 2u));
+            // every normal of b within limit of a's axis: the two stay a height field over it
+            float spread = acos(clamp(dot(cone.xyz, cone_b.xyz), -1.0, 1.0)) +
+                           acos(clamp(cone_b.w, -1.0, 1.0));
+            busy = !adjacent || !(spread <= limit);
+        }
+        patch_active[a] = busy ? 1u : 0u;
+    }
+}
