@@ -69,7 +69,7 @@ struct cvk_sim;
    scenes: the device compares every pair), flat within this angle. */
 #define CVK_PATCH_EDGES 6.0f
 #define CVK_MAX_PATCHES 2048u
-#define CVK_FLAT_DEGREES 60.0f
+#define CVK_FLAT_DEGREES 80.0f
 
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */

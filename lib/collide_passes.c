@@ -62,24 +62,19 @@ static void add_search_decision(cvk_sim* s, cvk_plan* plan)
 {
     cvk_collide* c = &s->collide;
     uint32_t pass = cvk_plan_pass(plan, "contacts");
-    cvk_op* op = NULL;
-    for (uint32_t phase = 0; phase < 2; phase++) {
-        cvk_contact_push all = {0, s->build.particle_count, phase, 0};
-        op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_CHECK, c->descriptors.pipeline_layout,
-                               c->set, CVK_DOMAIN_PARTICLES, 0, s->build.particle_count, &all,
-                               sizeof all);
-        if (op)
-            snprintf(op->note, sizeof op->note, "%s",
-                     phase == 0 ? "bounds of the moves since the last search"
-                                : "farthest move from the bounds' centre");
-    }
+    cvk_contact_push all = {0, s->build.particle_count, 0, 0};
+    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_CHECK,
+                                   c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES, 0,
+                                   s->build.particle_count, &all, sizeof all);
+    if (op)
+        snprintf(op->note, sizeof op->note, "bounds of the moves since the last search");
     cvk_contact_push one = {0, 1, 0, 0};
     op = cvk_plan_dispatch(plan, pass, CVK_PIPE_CONTACT_DECIDE, c->detect_layout, c->set,
                            CVK_DOMAIN_PARTICLES, 0, 1, &one, sizeof one);
     if (op) {
         op->groups = 1;
         op->set1 = c->hash.set;
-        snprintf(op->note, sizeof op->note, "search if moved > %.3g m from the centre",
+        snprintf(op->note, sizeof op->note, "search if the bounds' half-diagonal > %.3g m",
                  (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));
     }
 }

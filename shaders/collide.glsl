@@ -92,6 +92,19 @@ uint contact_list_base() { return uint(CVK_LIST_HEADER) + contact_u.particle_cou
 
 #include "motion.glsl" // quat_rotate, motion_pose (reads keyframes, above)
 
+// Bits of a float that order as the float does (as unsigned integers), and back: the motion
+// bounds of the adaptive search (contact_check.comp, contact_decide.comp).
+uint ordered(float f)
+{
+    uint u = floatBitsToUint(f);
+    return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+
+float from_ordered(uint u)
+{
+    return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7fffffffu : ~u);
+}
+
 // ---- signed distances of the shapes at rest ------------------------------------------------
 
 float box_distance(cvk_gpu_collider c, vec3 l)

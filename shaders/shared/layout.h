@@ -271,8 +271,8 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
     CVK_UINT(search)   /* 1: this substep searches (the hash build and the search run) */   \
-    CVK_UINT(moved)    /* float bits: farthest a displacement since the last search is from */ \
-                       /* the displacements' centre */                                        \
+    CVK_UINT(moved)    /* float bits: 3e38 when a displacement since the last search is not */ \
+                       /* finite (contact_check.comp), else 0 */                              \
     CVK_UINT(force)    /* 1: search at the next substep whatever moved (start, state written) */ \
     CVK_UINT(searches) /* searches so far */                                                \
     CVK_UINT(pad0)                                                                          \
@@ -366,10 +366,10 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 #define CVK_LIST_CONTACT_GROUPS 8 /* x, y, z */
 #define CVK_LIST_HEADER 16        /* the search list starts here; the contact list n later */
 
-/* Push data of the contact passes (collider_poses, contact_check, contact_detect): items
-   [first, first + count); contact_check's phase (0: the displacements' bounds, 1: the farthest
-   from their centre). A dispatch with count 0 (the pipelines' warm-up) does nothing, not even
-   advance the frame state. */
+/* Push data of the contact passes (collider_poses, contact_check, contact_patch,
+   contact_compact, contact_detect): items [first, first + count); the phase of a pass that has
+   several. A dispatch with count 0 (the pipelines' warm-up) does nothing, not even advance the
+   frame state. */
 #define CVK_CONTACT_PUSH_FIELDS \
     CVK_UINT(first)             \
     CVK_UINT(count)             \
