@@ -23,12 +23,14 @@
    most CVK_MAX_PATCHES). At a search, each patch's bounding box and normal cone (the axis of
    its triangles' unit normals and the largest angle from it) are measured on the device, and
    a patch is active unless it is flat itself (every normal within CVK_FLAT_DEGREES of its
-   axis) and every other patch whose box comes within the detection radius of its own is a
-   rest neighbour (the two share a particle) with which it stays flat (every normal of both
-   within CVK_FLAT_DEGREES of its axis). A surface that flat is a height field over its axis:
-   a particle near a triangle of it is near it along the surface, a neighbour no contact is
-   needed against (the springs keep those apart); layers stacked on it, its own folds and
-   other cloths make it active. Only the free particles of active patches (and particles on no
+   axis, no edge squeezed below CVK_PATCH_SQUEEZE of its rest length) and every other patch
+   whose box comes within the detection radius of its own is a rest neighbour (triangles of
+   the two meet at a particle or at a triangle's corners) with which it stays flat (every
+   normal of both within CVK_FLAT_DEGREES of its axis). A surface that flat is a height field
+   over its axis: a particle near a triangle of it is near it along the surface, a neighbour
+   no contact is needed against (the springs keep those apart); layers stacked on it, its own
+   folds, a border squeezed so hard that it may have slid over itself within its plane (a
+   cloth crushed against a wall), and other cloths make it active. Only the free particles of active patches (and particles on no
    triangle) search, listed on the device and searched through an indirect dispatch; the
    particles that came out with candidates are listed too, and a scene without colliders
    visits only them in its contact passes. A flat cloth moving in space thus costs neither a

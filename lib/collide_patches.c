@@ -269,6 +269,18 @@ void cvk_collide_patch_activity(const cvk_collide* c, const cvk_build* b, const 
                 double nv[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                                 e1[0] * e2[1] - e1[1] * e2[0]};
                 double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+                for (int k = 0; k < 3; k++) { /* squeezed within its plane: as a degenerate one */
+                    const float* r0 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
+                    const float* r1 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
+                    double now = 0.0, rest = 0.0;
+                    for (int m = 0; m < 3; m++) {
+                        double e = (double)v[(k + 1) % 3][m] - v[k][m], r = (double)r1[m] - r0[m];
+                        now += e * e;
+                        rest += r * r;
+                    }
+                    if (now < CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE * rest)
+                        len = 0.0;
+                }
                 if (pass == 0) {
                     for (int k = 0; k < 3; k++)
                         for (int m = 0; m < 3; m++) {

@@ -3,7 +3,7 @@
 // The surface patches at a search (lib/collide.h, "Patches"), one patch per invocation:
 // phase 0: its bounding box over its triangles' corners at x_n and its normal cone (the
 // normalised sum of its triangles' unit normals as the axis, the smallest cosine of a normal
-// to it; -1 when it has a degenerate triangle or normals that cancel); phase 1: whether it is
+// to it; -1 when it has a degenerate or squeezed triangle or normals that cancel); phase 1: whether it is
 // active — not flat itself, or some other patch within the detection radius of its box that
 // is not a rest neighbour, or a neighbour that does not stay flat with it. Each patch's
 // result depends on the data alone, not on the order of invocations.
@@ -21,6 +21,18 @@ vec3 unit_normal(uint t, out bool degenerate)
     float len = length(n);
     degenerate = !(len > 0.0);
     return degenerate ? vec3(0.0) : n / len;
+}
+
+// Whether an edge of the triangle is shorter than CVK_PATCH_SQUEEZE of its rest length: a
+// surface squeezed that much within its plane may have slid over itself there (a border
+// crushed against a wall), which a flat normal cone does not show.
+bool squeezed(uvec4 tri, vec3 a, vec3 b, vec3 c)
+{
+    vec3 ra = contact_rest(tri.x).xyz, rb = contact_rest(tri.y).xyz, rc = contact_rest(tri.z).xyz;
+    vec3 now = vec3(dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c));
+    vec3 rest = vec3(dot(rb - ra, rb - ra), dot(rc - rb, rc - rb), dot(ra - rc, ra - rc));
+    float k = CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE;
+    return any(lessThan(now, k * rest));
 }
 
 void main()
@@ -42,7 +54,7 @@ void main()
                 high = max(high, max(x0, max(x1, x2)));
                 bool degenerate;
                 sum += unit_normal(t, degenerate);
-                broken = broken || degenerate;
+                broken = broken || degenerate || squeezed(tri, x0, x1, x2);
             }
             float len = length(sum);
             vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);

@@ -357,6 +357,8 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
    triangle ids that follow them; from patch_neighbours: patch_count + 1 offsets into the ids
    of the rest-adjacent patches that follow them. */
 #define CVK_NO_PATCH 0xffffffffu
+/* A patch with an edge shorter than this fraction of its rest length is active (lib/collide.h). */
+#define CVK_PATCH_SQUEEZE 0.6
 /* The work lists (uint): a header, then the particles that search (free, in an active patch)
    and the particles with candidates after the search (those the contact pass visits). The
    header's counts and indirect dispatch commands are written on the device. */
