@@ -402,9 +402,9 @@ static void test_candidates(cvk_context* ctx)
            (unsigned long long)ties);
 }
 
-/* Patches (collide.h): a flat cloth moving fast in space lists no particle to search, has no
-   candidates and builds no hash; folded, it lists the particles of its active patches, as the
-   host's reference of the patch activity says. */
+/* Patches (collide.h): a flat cloth moving fast in space lists no particle to search and has
+   no candidates; with another cloth stacked on it, folded, or squeezed within its plane, it
+   lists the particles of its active patches, as the host's reference of the activity says. */
 static void test_flat_patches(cvk_context* ctx)
 {
     /* Two cloths: the second far off, then stacked on the first (each flat, facing the same
@@ -428,13 +428,14 @@ static void test_flat_patches(cvk_context* ctx)
     uint8_t* maybe = malloc(c->patch_count);
     uint64_t n = cvk_sim_particle_count(sim);
     float* xyz = malloc(3 * n * sizeof(float));
+    float* flat_xyz = malloc(3 * n * sizeof(float));
     const uint64_t first_count = 40 * 40;
-    static const char* const names[3] = {"flat", "stacked", "folded"};
-    for (int phase = 0; phase < 3; phase++) {
+    static const char* const names[4] = {"flat", "stacked", "folded", "squeezed"};
+    for (int phase = 0; phase < 4; phase++) {
         bool folded = phase == 2;
         const char* name = names[phase];
-        if (phase > 0) {
-            REQUIRE_OK(cvk_sim_read_positions(sim, xyz, n, &err), err);
+        if (phase > 0) { /* from the flat state each time */
+            memcpy(xyz, flat_xyz, 3 * n * sizeof(float));
             float x_min = xyz[0], x_max = xyz[0];
             for (uint64_t i = 0; i < first_count; i++) {
                 x_min = fminf(x_min, xyz[3 * i]);
@@ -450,6 +451,9 @@ static void test_flat_patches(cvk_context* ctx)
                 xyz[3 * i + 1] = xyz[1] + (phase == 1 ? 2.0f * c->thickness : 0.0f);
             }
             float fold_at = x_min + 2.0f / 3.0f * (x_max - x_min);
+            for (uint64_t i = 0; phase == 3 && i < first_count; i++)
+                if (xyz[3 * i] > fold_at) /* the far third squeezed to 0.4 of its width, flat */
+                    xyz[3 * i] = fold_at + 0.4f * (xyz[3 * i] - fold_at);
             for (uint64_t i = 0; folded && i < first_count; i++)
                 if (xyz[3 * i] > fold_at) {
                     /* the far third folded back over the middle, two thicknesses above */
@@ -459,6 +463,8 @@ static void test_flat_patches(cvk_context* ctx)
             REQUIRE_OK(cvk_sim_write_positions(sim, xyz, n, &err), err);
         }
         REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        if (phase == 0)
+            REQUIRE_OK(cvk_sim_read_positions(sim, flat_xyz, n, &err), err);
         REQUIRE_OK(cvk_collide_save_snapshot(sim, snap, &err), err);
         const float* seen = (const float*)(snap + sizeof(cvk_gpu_frame));
         const uint32_t* kept = (const uint32_t*)(snap + sizeof(cvk_gpu_frame) + 16u * (size_t)n);
@@ -526,6 +532,7 @@ static void test_flat_patches(cvk_context* ctx)
                "%u with candidates\n", name, on, c->patch_count, listed, undecided, with);
     }
     free(xyz);
+    free(flat_xyz);
     free(active);
     free(maybe);
     free(snap);
