@@ -210,6 +210,20 @@ static void fold(float* xyz, uint32_t n, float size, float thickness, uint32_t* 
         }
 }
 
+/* Cloths with self-contact, one substep a frame (every frame searches once). */
+static cvk_sim* self_contact_sim(cvk_context* ctx, const cvk_cloth_desc* cloths, uint32_t count)
+{
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = count;
+    scene.substeps = 1;
+    scene.collision.self = true;
+    cvk_error err;
+    cvk_sim* sim = NULL;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    return sim;
+}
+
 /* After a search on a folded cloth: every particle–triangle pair within the detection radius
    that is not near at rest is among the particle's kept candidates, or the particle keeps as
    many as it can, all at most that far; every kept one is such a pair, once, with the side the
@@ -226,14 +240,8 @@ static void test_candidates(cvk_context* ctx)
         /* seeds 3 and 4: a second folded cloth among the first one's layers */
         cvk_cloth_desc cloths[2] = {flat_cloth(n, size, 0.5f), flat_cloth(n, size, 0.7f)};
         uint32_t cloth_count = seed > 2 ? 2 : 1;
-        cvk_scene_desc scene = cvk_default_scene_desc();
-        scene.cloths = cloths;
-        scene.cloth_count = cloth_count;
-        scene.substeps = 1;
-        scene.collision.self = true;
         cvk_error err;
-        cvk_sim* sim = NULL;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        cvk_sim* sim = self_contact_sim(ctx, cloths, cloth_count);
         const cvk_collide* c = &sim->collide;
         const cvk_build* b = &sim->build;
         float* xyz = malloc(3 * (size_t)n * n * cloth_count * sizeof(float));
@@ -412,14 +420,8 @@ static void test_flat_patches(cvk_context* ctx)
     cvk_cloth_desc cloths[2] = {flat_cloth(40, 1.0f, 1.0f), flat_cloth(20, 0.5f, 1.0f)};
     cloths[0].velocity[0] = cloths[1].velocity[0] = 3.0f;
     cloths[1].origin[0] += 5.0f;
-    cvk_scene_desc scene = cvk_default_scene_desc();
-    scene.cloths = cloths;
-    scene.cloth_count = 2;
-    scene.substeps = 1;
-    scene.collision.self = true;
     cvk_error err;
-    cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    cvk_sim* sim = self_contact_sim(ctx, cloths, 2);
     const cvk_collide* c = &sim->collide;
     const cvk_build* b = &sim->build;
     uint64_t bytes = cvk_collide_snapshot_size(sim);
