@@ -23,7 +23,8 @@
    most CVK_MAX_PATCHES). At a search, each patch's bounding box and normal cone (the axis of
    its triangles' unit normals and the largest angle from it) are measured on the device, and
    a patch is active unless it is flat itself (every normal within CVK_FLAT_DEGREES of its
-   axis, no edge squeezed below CVK_PATCH_SQUEEZE of its rest length) and every other patch
+   axis, neither of a triangle's two shorter rest edges squeezed below CVK_PATCH_SQUEEZE of
+   its rest length) and every other patch
    whose box comes within the detection radius of its own is a rest neighbour (triangles of
    the two meet at a particle or at a triangle's corners) with which it stays flat (every
    normal of both within CVK_FLAT_DEGREES of its axis). A surface that flat is a height field

@@ -269,18 +269,23 @@ void cvk_collide_patch_activity(const cvk_collide* c, const cvk_build* b, const 
                 double nv[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                                 e1[0] * e2[1] - e1[1] * e2[0]};
                 double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
-                for (int k = 0; k < 3; k++) { /* squeezed within its plane: as a degenerate one */
+                /* One of its two shorter edges at rest squeezed within its plane: as a
+                   degenerate triangle (the longest, the first of equals, does not count). */
+                double now[3], rest[3];
+                for (int k = 0; k < 3; k++) {
                     const float* r0 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
                     const float* r1 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
-                    double now = 0.0, rest = 0.0;
+                    now[k] = rest[k] = 0.0;
                     for (int m = 0; m < 3; m++) {
                         double e = (double)v[(k + 1) % 3][m] - v[k][m], r = (double)r1[m] - r0[m];
-                        now += e * e;
-                        rest += r * r;
+                        now[k] += e * e;
+                        rest[k] += r * r;
                     }
-                    if (now < CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE * rest)
-                        len = 0.0;
                 }
+                int longest = rest[0] >= rest[1] && rest[0] >= rest[2] ? 0 : rest[1] >= rest[2] ? 1 : 2;
+                for (int k = 0; k < 3; k++)
+                    if (k != longest && now[k] < CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE * rest[k])
+                        len = 0.0;
                 if (pass == 0) {
                     for (int k = 0; k < 3; k++)
                         for (int m = 0; m < 3; m++) {

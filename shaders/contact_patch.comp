@@ -23,16 +23,23 @@ vec3 unit_normal(uint t, out bool degenerate)
     return degenerate ? vec3(0.0) : n / len;
 }
 
-// Whether an edge of the triangle is shorter than CVK_PATCH_SQUEEZE of its rest length: a
-// surface squeezed that much within its plane may have slid over itself there (a border
-// crushed against a wall), which a flat normal cone does not show.
+// Whether one of the triangle's two shorter edges at rest is now shorter than
+// CVK_PATCH_SQUEEZE of its rest length: a surface squeezed that much within its plane may have
+// slid over itself there (a border crushed against a wall), which a flat normal cone does not
+// show. The longest edge is left out: a cloth without shear springs shears freely, and its
+// triangles' diagonals then shorten without anything sliding over anything.
 bool squeezed(uvec4 tri, vec3 a, vec3 b, vec3 c)
 {
     vec3 ra = contact_rest(tri.x).xyz, rb = contact_rest(tri.y).xyz, rc = contact_rest(tri.z).xyz;
     vec3 now = vec3(dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c));
     vec3 rest = vec3(dot(rb - ra, rb - ra), dot(rc - rb, rc - rb), dot(ra - rc, ra - rc));
+    float longest = max(rest.x, max(rest.y, rest.z));
     float k = CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE;
-    return any(lessThan(now, k * rest));
+    bvec3 shorter = lessThan(now, k * rest);
+    // the longest at rest (the first of equals) does not count
+    bool skip_x = rest.x == longest, skip_y = !skip_x && rest.y == longest;
+    bool skip_z = !skip_x && !skip_y;
+    return (shorter.x && !skip_x) || (shorter.y && !skip_y) || (shorter.z && !skip_z);
 }
 
 void main()
