@@ -105,24 +105,6 @@ cvk_result cvk_sim_copy_from_staging(cvk_sim* s, const cvk_staging_copy* jobs, u
     return r;
 }
 
-cvk_result cvk_sim_copy_to_staging(cvk_sim* s, const cvk_buffer* src, VkDeviceSize size,
-                                   cvk_error* error)
-{
-    VkCommandBuffer cmd = s->transfer_cmd;
-    cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region = {0, 0, size};
-    vkCmdCopyBuffer(cmd, src->buffer, s->staging.buffer, 1, &region);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    r = cvk_command_buffer_end(cmd, error);
-    return r == CVK_SUCCESS ? cvk_submit_and_wait(s->context, &s->submitter, &cmd, 1, error) : r;
-}
-
 cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
                                const void* data, cvk_error* error)
 {

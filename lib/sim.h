@@ -111,12 +111,6 @@ typedef struct cvk_staging_copy {
 cvk_result cvk_sim_copy_from_staging(cvk_sim* sim, const cvk_staging_copy* jobs, uint32_t count,
                                      cvk_error* error);
 
-/* Copies the first `size` bytes of a device buffer to the start of the staging buffer and
-   waits (earlier GPU work on it finishes first): for reads outside the frame, such as a solver
-   switch or a snapshot. */
-cvk_result cvk_sim_copy_to_staging(cvk_sim* sim, const cvk_buffer* src, VkDeviceSize size,
-                                   cvk_error* error);
-
 /* A device buffer for a module's tables (storage, uniform, texel and transfer use; at least 16
    bytes), filled with `size` bytes of `data` unless data is NULL. */
 cvk_result cvk_sim_make_buffer(cvk_sim* sim, cvk_buffer* buffer, VkDeviceSize size, const char* what,

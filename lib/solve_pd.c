@@ -369,14 +369,16 @@ static cvk_result read_rest(cvk_sim* s, cvk_pd* pd, float* rest, cvk_error* erro
             rest[i] = (float)pd->hrest[i];
         return CVK_SUCCESS;
     }
-    cvk_result r = cvk_sim_copy_to_staging(s, &pd->rest, pd->rest.size, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    const float* r4 = s->staging.mapped;
-    for (size_t p = 0; p < n; p++)
+    float* r4 = malloc(pd->rest.size);
+    if (!r4)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the rest memory");
+    cvk_result r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd, &pd->rest, r4,
+                                       pd->rest.size, error);
+    for (size_t p = 0; r == CVK_SUCCESS && p < n; p++)
         for (int c = 0; c < 3; c++)
             rest[3 * p + c] = p < b->free_count ? r4[4 * p + c] : 0.0f;
-    return CVK_SUCCESS;
+    free(r4);
+    return r;
 }
 
 /* Positions and last displacements, from whichever side holds the state. */
@@ -471,7 +473,6 @@ static cvk_result pd_switch_solver(cvk_sim* s, void* self, const cvk_solver_desc
     }
     if (host == (from->linear == CVK_LINEAR_GS_CPU))
         return CVK_SUCCESS;
-    /* The rest memory first: its readback goes through the staging buffer too. */
     cvk_result r = read_rest(s, pd, s->scratch_v, error);
     if (r == CVK_SUCCESS)
         r = read_displacement_state(s, pd, s->scratch, pd->scratch_u, error);

@@ -32,7 +32,7 @@ typedef struct cvk_pd {
        set binds. */
     cvk_buffer sums, scalars;
     /* The rest memory (see below): vec4 per free particle (one when none), zero from the
-       host; read back through cvk_sim_copy_to_staging. */
+       host; read back through cvk_buffer_download. */
     cvk_buffer rest;
     cvk_descriptors converge_descriptors; /* one set: sums, scalars */
     cvk_descriptors descriptors; /* CVK_PD_SET_COUNT sets */

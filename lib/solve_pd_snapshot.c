@@ -47,9 +47,8 @@ cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* e
     if (r == CVK_SUCCESS)
         memcpy(out, s->staging.mapped, 32u * n); /* positions, then u[0] (cvk_vstate_record_readback) */
     if (r == CVK_SUCCESS)
-        r = cvk_sim_copy_to_staging(s, &pd->rest, pd->rest.size, error);
-    if (r == CVK_SUCCESS)
-        memcpy(out + 32u * n, s->staging.mapped, pd->rest.size);
+        r = cvk_buffer_download(s->context, &s->submitter, s->transfer_cmd, &pd->rest,
+                                out + 32u * n, pd->rest.size, error);
     return r;
 }
 

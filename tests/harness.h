@@ -87,6 +87,17 @@ static inline double harness_uniform(harness_rng* r, double lo, double hi)
     return lo + (hi - lo) * (harness_next(r) >> 8) / (double)(1u << 24);
 }
 
+/* A small unpinned cloth for free-fall checks: 12 x 9 particles, shear 1e5 and bend 1e4 N/m. */
+static inline cvk_cloth_desc harness_falling_cloth(void)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = 12;
+    cloth.grid[1] = 9;
+    cloth.stiffness.shear = 1e5f;
+    cloth.stiffness.bend = 1e4f;
+    return cloth;
+}
+
 static inline float* harness_read_all(cvk_sim* sim)
 {
     cvk_error err;

@@ -15,11 +15,7 @@ static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene)
 
 static void free_fall(cvk_context* ctx, cvk_linear_solver linear)
 {
-    cvk_cloth_desc cloth = cvk_default_cloth_desc();
-    cloth.grid[0] = 12;
-    cloth.grid[1] = 9;
-    cloth.stiffness.shear = 1e5f;
-    cloth.stiffness.bend = 1e4f;
+    cvk_cloth_desc cloth = harness_falling_cloth();
     cvk_scene_desc scene = cvk_default_scene_desc();
     scene.cloths = &cloth;
     scene.cloth_count = 1;

@@ -260,11 +260,7 @@ static void other_method_rests_at_equilibrium(cvk_context* ctx, const rest_scene
    stays 0; one that learnt the motion instead would run ahead of it). */
 static void free_fall_not_slowed(cvk_context* ctx)
 {
-    cvk_cloth_desc cloth = cvk_default_cloth_desc();
-    cloth.grid[0] = 12;
-    cloth.grid[1] = 9;
-    cloth.stiffness.shear = 1e5f;
-    cloth.stiffness.bend = 1e4f;
+    cvk_cloth_desc cloth = harness_falling_cloth();
     cvk_scene_desc scene = cvk_default_scene_desc();
     scene.cloths = &cloth;
     scene.cloth_count = 1;
