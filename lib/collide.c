@@ -10,6 +10,7 @@
 #include "scene.h"
 #include "shared/layout.h"
 #include "sim.h"
+#include "u64_map.h"
 
 /* Half the shortest structural rest length (any spring's when a cloth has no structural
    ones): particles then keep a spacing's distance from each other across layers. */
@@ -276,6 +277,30 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
             t->triangles[4 * (size_t)i + k] = v;
             t->incident[v]++;
         }
+    /* w: bit k set where no triangle runs the edge from corner k + 1 back to corner k (a
+       border, or a neighbour wound the other way), so that corner meets the edge only here
+       and only as the one before it (pd_contact.glsl, edges_off_shells). */
+    cvk_u64_map directed = {0};
+    if (!cvk_u64_map_init(&directed, 3 * (size_t)tc)) {
+        cvk_u64_map_free(&directed);
+        free(cursor);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the contact tables");
+    }
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t key = (uint64_t)t->triangles[4 * (size_t)i + k] << 32 |
+                           t->triangles[4 * (size_t)i + (k + 1) % 3];
+            directed.key[cvk_u64_map_slot(&directed, key)] = key;
+        }
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t back = (uint64_t)t->triangles[4 * (size_t)i + (k + 1) % 3] << 32 |
+                            t->triangles[4 * (size_t)i + k];
+            if (directed.key[cvk_u64_map_slot(&directed, back)] != back)
+                t->triangles[4 * (size_t)i + 3] |= 1u << k;
+        }
+    cvk_u64_map_free(&directed);
     prefix(t->incident, n);
     memcpy(cursor, t->incident, ((size_t)n + 1) * sizeof(uint32_t));
     for (uint32_t i = 0; i < tc; i++)
@@ -391,7 +416,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     const cvk_build* b = &s->build;
     cloth_tables t = {0};
     cvk_result r = CVK_SUCCESS;
-    if (c->self)
+    bool tables = c->self || c->shells;
+    if (tables)
         r = make_cloth_tables(b, &t, error);
     if (r == CVK_SUCCESS && c->self)
         r = make_rest(b, c, error);
@@ -401,10 +427,10 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
     VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
     if (r == CVK_SUCCESS)
-        r = cvk_sim_make_buffer(s, &c->triangles, c->self ? 16u * tc : 16u, "contact triangles",
+        r = cvk_sim_make_buffer(s, &c->triangles, tables ? 16u * tc : 16u, "contact triangles",
                         t.triangles, error);
     if (r == CVK_SUCCESS)
-        r = cvk_sim_make_buffer(s, &c->incident, c->self ? 4u * t.incident_count : 16u,
+        r = cvk_sim_make_buffer(s, &c->incident, tables ? 4u * t.incident_count : 16u,
                                 "triangles by corner", t.incident, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
@@ -539,6 +565,8 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     c->detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
     cvk_result r = copy_colliders(c, scene, error);
+    for (uint32_t i = 0; r == CVK_SUCCESS && i < c->collider_count; i++)
+        c->shells = c->shells || c->colliders[i].type == CVK_COLLIDER_FUNNEL;
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS)

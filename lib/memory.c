@@ -23,6 +23,9 @@
 #define DEVICE_EXPLICIT 176u
 #define DEVICE_EXPLICIT_PER_SLOT 18u
 #define DEVICE_CONTACT 64u /* colliders: per-particle contact state */
+/* A funnel without self-contact: the triangle tables its edge test reads (16 bytes per
+   triangle, about two per particle, and 4 per triangle corner), rounded up. */
+#define DEVICE_SHELLS 64u
 #define DEVICE_TETHERS 32u /* four pins and four lengths (lib/tether.h) */
 #define DEVICE_FIXED (64u << 10) /* uniforms, staging, queries: about 10 KB measured */
 /* Host bytes per particle beside the device's (resident set of clothvk-sim less its device
@@ -43,11 +46,21 @@ static bool any_tethers(const cvk_scene_desc* scene)
     return false;
 }
 
+static bool any_funnel(const cvk_scene_desc* scene)
+{
+    for (uint32_t i = 0; i < scene->collider_count; i++)
+        if (scene->colliders[i].type == CVK_COLLIDER_FUNNEL)
+            return true;
+    return false;
+}
+
 static uint64_t per_particle_device(const cvk_scene_desc* scene, uint32_t degree)
 {
     uint64_t bytes = DEVICE_BASE + (uint64_t)DEVICE_PER_SLOT * degree;
     if (scene->collision.self)
         bytes += DEVICE_SELF;
+    else if (any_funnel(scene))
+        bytes += DEVICE_SHELLS;
     if (scene->collider_count > 0)
         bytes += DEVICE_CONTACT;
     if (any_tethers(scene))

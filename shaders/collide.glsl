@@ -280,45 +280,61 @@ vec3 apply_friction(vec3 l0, vec3 l1, vec3 n, float depth, float mu, float mu_s)
     return l1 - tangential * min(1.0, mu * depth / t);
 }
 
+// Contact with collider k for a point that starts the substep at x0 and would end it at
+// x0 + u, kept r off its surface: returns the corrected displacement.
+vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
+{
+    cvk_gpu_collider c = shapes_u[k];
+    cvk_gpu_pose pose = poses_u[k];
+    vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
+    vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+    vec3 hit, n;
+    bool touch;
+    if (COLLIDER_TYPES == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {
+        // a half-space: the projection needs no trace
+        n = c.b.xyz;
+        hit = l1 + (r - dot(n, l1 - c.a.xyz)) * n;
+        touch = dot(n, l1 - c.a.xyz) < r;
+    } else {
+        touch = trace_segment(c, l0, l1, r, hit, n);
+    }
+    if (!touch)
+        return u;
+    float depth = dot(n, hit - l1);
+    if (depth <= 0.0)
+        return u;
+    l1 += depth * n;
+    l1 = apply_friction(l0, l1, n, depth, c.friction, c.static_friction);
+    if (c.type != CVK_COLLIDER_PLANE_ID) {
+        // The tangent plane at the touch is exact for flat faces; at edges, corners and
+        // curved or sampled surfaces the end may still be within r: push it out along
+        // the field's gradient.
+        for (int i = 0; i < 2; i++) {
+            float left = r - shape_distance(c, l1);
+            if (left > 0.0)
+                l1 += left * shape_normal(c, l1);
+        }
+    }
+    return quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
+}
+
 // Collider contact for a particle that starts the substep at x0 and would end it at x0 + u:
 // returns the displacement that keeps it out of every collider.
 vec3 collide_colliders(vec3 x0, vec3 u)
 {
-    float r = contact_u.thickness;
-    for (uint k = 0; k < contact_u.collider_count; k++) {
-        cvk_gpu_collider c = shapes_u[k];
-        cvk_gpu_pose pose = poses_u[k];
-        vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
-        vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
-        vec3 hit, n;
-        bool touch;
-        if (COLLIDER_TYPES == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {
-            // a half-space: the projection needs no trace
-            n = c.b.xyz;
-            hit = l1 + (r - dot(n, l1 - c.a.xyz)) * n;
-            touch = dot(n, l1 - c.a.xyz) < r;
-        } else {
-            touch = trace_segment(c, l0, l1, r, hit, n);
-        }
-        if (!touch)
-            continue;
-        float depth = dot(n, hit - l1);
-        if (depth <= 0.0)
-            continue;
-        l1 += depth * n;
-        l1 = apply_friction(l0, l1, n, depth, c.friction, c.static_friction);
-        if (c.type != CVK_COLLIDER_PLANE_ID) {
-            // The tangent plane at the touch is exact for flat faces; at edges, corners and
-            // curved or sampled surfaces the end may still be within r: push it out along
-            // the field's gradient.
-            for (int i = 0; i < 2; i++) {
-                float left = r - shape_distance(c, l1);
-                if (left > 0.0)
-                    l1 += left * shape_normal(c, l1);
-            }
-        }
-        u = quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
-    }
+    for (uint k = 0; k < contact_u.collider_count; k++)
+        u = collide_shape(k, x0, u, contact_u.thickness);
+    return u;
+}
+
+// The same against the colliders that are surfaces rather than solids (funnels) alone, for a
+// point of an edge kept r off them (pd_contact.glsl, edges_off_shells).
+vec3 collide_shells(vec3 x0, vec3 u, float r)
+{
+    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
+        for (uint k = 0; k < contact_u.collider_count; k++)
+            if (shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
+                u = collide_shape(k, x0, u, r);
     return u;
 }
 

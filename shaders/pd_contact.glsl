@@ -13,6 +13,56 @@ const bool COLLIDERS = COLLIDER_TYPES != 0u;
 // candidates (lib/collide.h, "Patches"); with colliders it visits every particle.
 const bool LISTED = SELF && !COLLIDERS;
 
+// A funnel is a surface with two sides, and a particle's contact alone lets an edge cut
+// through it: a particle carried below the rim and round it to the outside stays outside
+// while its neighbours are inside, the edges between them through the wall, and the cloth
+// pulls it up the outer wall, stretching those edges without bound (funnel.json stopped at
+// frame 55 with an edge ten times its rest length). So the midpoints of the particle's
+// triangle edges are kept half a thickness off the funnels too, on the side each started the
+// substep on, and the particle moves by the largest of their corrections (its neighbour moves
+// by the same from its side, so the midpoint moves by all of it). The neighbours' displacement
+// is the iterate before (src), as for the triangles above.
+vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
+{
+    uint base = contact_u.particle_count + 1u;
+    float r = 0.5 * contact_u.thickness;
+    vec3 most = vec3(0.0);
+    for (uint k = 0u; k < contact_u.collider_count; k++) {
+        if (shapes_u[k].type != CVK_COLLIDER_FUNNEL_ID)
+            continue;
+        // In the funnel's frame every point of a midpoint's path is within max(|m0 - x0|,
+        // |m1 - x1|) of p's path, and p's path within |l1 - l0| of l0: an edge whose bound
+        // keeps it beyond r is not traced (a trace costs up to 32 of the funnel's distances).
+        cvk_gpu_pose pose = poses_u[k];
+        vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
+        vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+        float slack = shape_distance(shapes_u[k], l0) - length(l1 - l0) - r;
+        uint o_begin = contact_incident(p), o_end = contact_incident(p + 1u);
+        for (uint o = o_begin; o < o_end; o++) {
+            uvec4 t = contact_triangle(contact_incident(base + o));
+            // The edge to the next corner in the triangle's winding: each edge of p once, as
+            // the triangles on either side wind it the other way; and the edge to the corner
+            // before where no triangle has it the other way round (a border: the table's w
+            // marks it, lib/collide.c).
+            uint k0 = t.x == p ? 0u : (t.y == p ? 1u : 2u);
+            uint next = t[(k0 + 1u) % 3u], prev = t[(k0 + 2u) % 3u];
+            bool border = (t.w & (1u << ((k0 + 2u) % 3u))) != 0u;
+            for (uint j = 0u; j < (border ? 2u : 1u); j++) {
+                uint q = j == 0u ? next : prev;
+                vec3 half0 = 0.5 * (fetch(x_read, q) - x0);
+                vec3 half1 = half0 + 0.5 * (fetch(src, q) - u);
+                if (max(length(half0), length(half1)) < slack)
+                    continue;
+                vec3 um = u + half1 - half0; // the midpoint's displacement
+                vec3 push = collide_shape(k, x0 + half0, um, r) - um;
+                if (dot(push, push) > dot(most, most))
+                    most = push;
+            }
+        }
+    }
+    return u + most;
+}
+
 vec3 pd_contact(uint p, vec3 u)
 {
     vec3 x0 = fetch(x_read, p);
@@ -34,6 +84,8 @@ vec3 pd_contact(uint p, vec3 u)
         float most = 0.5 * contact_u.thickness;
         u += length_push > most ? push * (most / length_push) : push;
     }
+    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
+        u = edges_off_shells(p, x0, u);
     if (COLLIDERS)
         u = collide_colliders(x0, u);
     return u;
