@@ -93,7 +93,8 @@ typedef struct cvk_collide {
     cvk_buffer keyframes;        /* 2 vec4 per keyframe: (time, translation), rotation (x, y, z, w) */
     cvk_buffer sdf_values;       /* every mesh collider's field, back to back */
     cvk_buffer params;           /* cvk_gpu_contact_params */
-    cvk_buffer triangles;        /* uvec4 per cloth triangle (internal particle indices) */
+    cvk_buffer triangles;        /* uvec4 per cloth triangle: internal particle indices, and
+                                    in w the border bits of its edges (collide.c) */
     cvk_buffer incident;         /* per particle + 1 offsets, then the ids of its triangles */
     cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
     float* rest_xyz;             /* the same on the host (self-contact only) */

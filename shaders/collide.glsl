@@ -327,17 +327,6 @@ vec3 collide_colliders(vec3 x0, vec3 u)
     return u;
 }
 
-// The same against the colliders that are surfaces rather than solids (funnels) alone, for a
-// point of an edge kept r off them (pd_contact.glsl, edges_off_shells).
-vec3 collide_shells(vec3 x0, vec3 u, float r)
-{
-    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
-        for (uint k = 0; k < contact_u.collider_count; k++)
-            if (shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
-                u = collide_shape(k, x0, u, r);
-    return u;
-}
-
 // ---- cloth against cloth -------------------------------------------------------------------
 
 // The point of triangle (a, b, c) nearest p and its barycentric weights (Ericson 2005, 5.1.5).
