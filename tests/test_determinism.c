@@ -265,6 +265,29 @@ static void check_contact_scene(cvk_context* ctx, const cvk_scene_desc* base)
     check_scene(ctx, "two cloths, sphere, moving box, self-contact", &scene, 2 * 16 * 16);
 }
 
+/* A cloth caught in a funnel's neck, its corners on the wall from the start: the funnel's
+   edge test (pd_contact.glsl, edges_off_shells) reads the neighbours' iterate before, never the
+   one being written. */
+static void check_funnel_scene(cvk_context* ctx, const cvk_scene_desc* base)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = cloth.grid[1] = 16;
+    cloth.size[0] = cloth.size[1] = 0.5f;
+    cloth.origin[0] = cloth.origin[2] = -0.25f;
+    cloth.origin[1] = 0.1f; /* the funnel's radius there is e^-1 = 0.368 m, the corners' 0.354 */
+    cvk_collider_desc funnel = cvk_default_collider_desc();
+    funnel.type = CVK_COLLIDER_FUNNEL;
+    funnel.apex[1] = 0.5f;
+    funnel.funnel_a = 0.4f;
+    funnel.height = 0.6f;
+    cvk_scene_desc scene = *base;
+    scene.cloths = &cloth;
+    scene.cloth_count = 1;
+    scene.colliders = &funnel;
+    scene.collider_count = 1;
+    check_scene(ctx, "a cloth in a funnel's neck", &scene, 16 * 16);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -294,5 +317,6 @@ int main(void)
         CHECK(!"mkdtemp worked", "cannot make a folder under /tmp for the mesh file");
     }
     check_contact_scene(ctx, &scene);
+    check_funnel_scene(ctx, &scene);
     return harness_finish(ctx);
 }
