@@ -416,7 +416,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     const cvk_build* b = &s->build;
     cloth_tables t = {0};
     cvk_result r = CVK_SUCCESS;
-    bool tables = c->self || c->shells;
+    bool tables = c->self || (c->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
     if (tables)
         r = make_cloth_tables(b, &t, error);
     if (r == CVK_SUCCESS && c->self)
@@ -564,9 +564,8 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
                                                      : CVK_EXCLUSION_THICKNESSES * c->thickness;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     c->detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
+    c->types = cvk_scene_collider_types(scene);
     cvk_result r = copy_colliders(c, scene, error);
-    for (uint32_t i = 0; r == CVK_SUCCESS && i < c->collider_count; i++)
-        c->shells = c->shells || c->colliders[i].type == CVK_COLLIDER_FUNNEL;
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS)

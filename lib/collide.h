@@ -77,8 +77,9 @@ struct cvk_sim;
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */
     bool self;                   /* particle–triangle contact between cloths */
-    bool shells;                 /* a funnel (a surface, not a solid): the cloth's edges are
-                                    kept off it too, so the triangle tables are built */
+    uint32_t types;              /* bit t: colliders of type t (a funnel, a surface rather
+                                    than a solid, has the cloth's edges kept off it too, so
+                                    the triangle tables are built for it) */
     float thickness;             /* m, resolved (collision.thickness or its default) */
     float friction, static_friction;
     uint32_t detect_every;       /* substeps from one candidate search to the next; 0: adaptive */

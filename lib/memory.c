@@ -5,6 +5,7 @@
 #include <sys/resource.h>
 
 #include "error.h"
+#include "scene.h"
 
 /* Per-particle device bytes, measured with clothvk's Python package (device_peak_bytes of a
    40 x 40 and a 100 x 100 grid, the difference over 8400 particles): 168 with 4 springs per
@@ -46,20 +47,12 @@ static bool any_tethers(const cvk_scene_desc* scene)
     return false;
 }
 
-static bool any_funnel(const cvk_scene_desc* scene)
-{
-    for (uint32_t i = 0; i < scene->collider_count; i++)
-        if (scene->colliders[i].type == CVK_COLLIDER_FUNNEL)
-            return true;
-    return false;
-}
-
 static uint64_t per_particle_device(const cvk_scene_desc* scene, uint32_t degree)
 {
     uint64_t bytes = DEVICE_BASE + (uint64_t)DEVICE_PER_SLOT * degree;
     if (scene->collision.self)
         bytes += DEVICE_SELF;
-    else if (any_funnel(scene))
+    else if (cvk_scene_collider_types(scene) & (1u << CVK_COLLIDER_FUNNEL))
         bytes += DEVICE_SHELLS;
     if (scene->collider_count > 0)
         bytes += DEVICE_CONTACT;

@@ -947,3 +947,11 @@ cvk_result cvk_fail_issue(cvk_error* error, const cvk_scene_issue* issue)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", issue->problem);
     return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s: %s", issue->path, issue->problem);
 }
+
+uint32_t cvk_scene_collider_types(const cvk_scene_desc* desc)
+{
+    uint32_t types = 0;
+    for (uint32_t i = 0; i < desc->collider_count; i++)
+        types |= 1u << desc->colliders[i].type;
+    return types;
+}

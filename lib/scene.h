@@ -55,6 +55,8 @@ bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue
 bool cvk_tearing_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 /* Whether some cloth of the scene tears. */
 bool cvk_scene_tears(const cvk_scene_desc* desc);
+/* Bit t set: the scene has a collider of type t (cvk_collider_type). */
+uint32_t cvk_scene_collider_types(const cvk_scene_desc* desc);
 /* Largest tearing max_stretch: the divergence watch stops a solve whose spring reaches ten
    times its rest length (CVK_DIVERGED_STRETCH in lib/sim.h), a stretch of 9. */
 #define CVK_MAX_TEAR_STRETCH 9.0

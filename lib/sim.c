@@ -185,11 +185,8 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
 /* Creates the pipelines `plan` uses and dispatches the new ones once. */
 cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* error)
 {
-    uint32_t types = 0;
-    for (uint32_t i = 0; i < s->collide.collider_count; i++)
-        types |= 1u << s->collide.colliders[i].type;
-    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, types, s->collide.self,
-                              s->aero.enabled, s->build.tether_anchor != NULL,
+    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, s->collide.types,
+                              s->collide.self, s->aero.enabled, s->build.tether_anchor != NULL,
                               s->build.tether_slots};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,

@@ -24,6 +24,10 @@ void main()
         low = min(low, d);
         high = max(high, d);
     }
+    if (!finite) { // a cloth that blew up: bounds no search can be skipped for
+        low = vec3(-3.0e38);
+        high = vec3(3.0e38);
+    }
     if (low.x <= high.x) {
         atomicMin(motion_bounds.low_x, ordered(low.x));
         atomicMin(motion_bounds.low_y, ordered(low.y));
@@ -32,7 +36,4 @@ void main()
         atomicMax(motion_bounds.high_y, ordered(high.y));
         atomicMax(motion_bounds.high_z, ordered(high.z));
     }
-    // A non-finite position (a cloth that blew up) searches every substep rather than never.
-    if (!finite)
-        atomicMax(frame.moved, floatBitsToUint(3.0e38));
 }

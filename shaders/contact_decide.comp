@@ -19,14 +19,14 @@ void main()
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
     // The farthest any displacement since the last search can be from the bounds' centre:
-    // half their diagonal (or what contact_check.comp put there for a non-finite one).
-    float moved = uintBitsToFloat(frame.moved);
+    // half their diagonal (infinite where contact_check.comp met a non-finite one).
+    float moved = 0.0;
     if (motion_bounds.low_x != CVK_MOTION_LOW_EMPTY) {
         vec3 low = vec3(from_ordered(motion_bounds.low_x), from_ordered(motion_bounds.low_y),
                         from_ordered(motion_bounds.low_z));
         vec3 high = vec3(from_ordered(motion_bounds.high_x), from_ordered(motion_bounds.high_y),
                          from_ordered(motion_bounds.high_z));
-        moved = max(moved, 0.5 * length(high - low));
+        moved = 0.5 * length(high - low);
     }
     bool search = frame.force != 0u || !(moved <= contact.search_after);
     frame.search = search ? 1u : 0u;
@@ -34,7 +34,6 @@ void main()
     if (!search) // the search's indirect dispatch does nothing (contact_compact.comp arms it)
         lists[CVK_LIST_SEARCH_GROUPS] = 0u;
     frame.searches += search ? 1u : 0u;
-    frame.moved = 0u;
     frame.force = 0u;
     motion_bounds.low_x = motion_bounds.low_y = motion_bounds.low_z = CVK_MOTION_LOW_EMPTY;
     motion_bounds.high_x = motion_bounds.high_y = motion_bounds.high_z = CVK_MOTION_HIGH_EMPTY;

@@ -271,8 +271,7 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
     CVK_UINT(search)   /* 1: this substep searches (the hash build and the search run) */   \
-    CVK_UINT(moved)    /* float bits: 3e38 when a displacement since the last search is not */ \
-                       /* finite (contact_check.comp), else 0 */                              \
+    CVK_UINT(pad3)     /* unused: the fields after it keep their offsets */              \
     CVK_UINT(force)    /* 1: search at the next substep whatever moved (start, state written) */ \
     CVK_UINT(searches) /* searches so far */                                                \
     CVK_UINT(pad0)                                                                          \
