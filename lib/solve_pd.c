@@ -15,7 +15,7 @@
 
 /* The GPU adjacency packs a particle's springs four to a texel: per quad of slots one rgba32ui
    texel of neighbours and one of the bits of their k (both in `adjacency`), and one rgba32f
-   texel of k·L (`adjacency_kl`). A sweep then gathers two texels for four springs instead of
+   texel of rest lengths L (`adjacency_rest`). A sweep then gathers two texels for four springs instead of
    four; on lavapipe a gather costs the same for one component as for four. */
 static uint32_t adjacency_quads(uint32_t max_degree)
 {
@@ -52,7 +52,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
         {&pd->rhs, nf * 16u, state, "right-hand side", &pd->view_rhs, vec4},
         {&pd->adjacency, quads * 32u, adjacency, "adjacency", &pd->view_adjacency,
          VK_FORMAT_R32G32B32A32_UINT},
-        {&pd->adjacency_kl, quads * 16u, adjacency, "adjacency k*L", &pd->view_adjacency_kl, vec4},
+        {&pd->adjacency_rest, quads * 16u, adjacency, "adjacency rest lengths", &pd->view_adjacency_rest, vec4},
         {&pd->tether_anchor, tethers * 16u, table, "tether pins", &pd->view_tether_anchor,
          VK_FORMAT_R32G32B32A32_UINT},
         {&pd->tether_length, tethers * 16u, table, "tether lengths", &pd->view_tether_length,
@@ -89,7 +89,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 }
 
 /* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
-   texel (2q + 1) * nf + p: bits of their k; k·L at texel q * nf + p. Slots past max_degree
+   texel (2q + 1) * nf + p: bits of their k; L at texel q * nf + p. Slots past max_degree
    point at p itself with k = 0, and so do torn springs (alive[s] == 0; alive NULL: none),
    as tear.comp leaves them. */
 cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive, cvk_error* error)
@@ -101,15 +101,15 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
     if (nf == 0)
         return CVK_SUCCESS;
     uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
-    float* kl = malloc(quads * nf * 4 * sizeof(float));
+    float* rest = malloc(quads * nf * 4 * sizeof(float));
     cvk_result r = CVK_SUCCESS;
-    if (!pairs || !kl)
+    if (!pairs || !rest)
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the adjacency");
     for (size_t q = 0; r == CVK_SUCCESS && q < quads; q++) {
         for (size_t p = 0; p < nf; p++) {
             uint32_t* neighbours = &pairs[4 * ((2 * q) * nf + p)];
             uint32_t* k_bits = &pairs[4 * ((2 * q + 1) * nf + p)];
-            float* k_rest = &kl[4 * (q * nf + p)];
+            float* length = &rest[4 * (q * nf + p)];
             for (size_t j = 0; j < 4; j++) {
                 size_t slot = 4 * q + j, e = slot * nf + p;
                 bool real = slot < b->max_degree;
@@ -117,16 +117,16 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
                 float k = real && !torn ? b->adj_k[e] : 0.0f;
                 neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
                 memcpy(&k_bits[j], &k, sizeof k);
-                k_rest[j] = real ? k * b->adj_rest[e] : 0.0f; /* 0 when torn: 0 · L */
+                length[j] = real && !torn ? b->adj_rest[e] : 0.0f;
             }
         }
     }
     if (r == CVK_SUCCESS)
         r = cvk_sim_upload(s, &pd->adjacency, pairs, quads * nf * 8 * sizeof(uint32_t), error);
     if (r == CVK_SUCCESS)
-        r = cvk_sim_upload(s, &pd->adjacency_kl, kl, quads * nf * 4 * sizeof(float), error);
+        r = cvk_sim_upload(s, &pd->adjacency_rest, rest, quads * nf * 4 * sizeof(float), error);
     free(pairs);
-    free(kl);
+    free(rest);
     return r;
 }
 
@@ -167,7 +167,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_Y] = STORAGE,      [CVK_PD_BINDING_X_READ] = TEXEL,
     [CVK_PD_BINDING_X] = STORAGE,      [CVK_PD_BINDING_RHS_READ] = TEXEL,
     [CVK_PD_BINDING_RHS] = STORAGE,    [CVK_PD_BINDING_ADJACENCY] = TEXEL,
-    [CVK_PD_BINDING_ADJACENCY_KL] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
+    [CVK_PD_BINDING_ADJACENCY_REST] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
     [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
     [CVK_PD_BINDING_EXTERNAL] = TEXEL, [CVK_PD_BINDING_CONVERGE] = STORAGE,
     [CVK_PD_BINDING_REST] = STORAGE,
@@ -189,7 +189,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_RHS_READ] = {.view = pd->view_rhs},
         [CVK_PD_BINDING_RHS] = {.buffer = &pd->rhs},
         [CVK_PD_BINDING_ADJACENCY] = {.view = pd->view_adjacency},
-        [CVK_PD_BINDING_ADJACENCY_KL] = {.view = pd->view_adjacency_kl},
+        [CVK_PD_BINDING_ADJACENCY_REST] = {.view = pd->view_adjacency_rest},
         [CVK_PD_BINDING_WATCH] = {.buffer = &s->watch},
         [CVK_PD_BINDING_TETHER_ANCHOR] = {.view = pd->view_tether_anchor},
         [CVK_PD_BINDING_TETHER_LENGTH] = {.view = pd->view_tether_length},
@@ -584,13 +584,13 @@ static void pd_destroy(cvk_sim* s, void* self)
     cvk_descriptors_destroy(s->context, &pd->descriptors);
     cvk_descriptors_destroy(s->context, &pd->converge_descriptors);
     VkBufferView views[] = {pd->view_u[0], pd->view_u[1], pd->view_y, pd->view_rhs,
-                            pd->view_adjacency, pd->view_adjacency_kl,
+                            pd->view_adjacency, pd->view_adjacency_rest,
                             pd->view_tether_anchor, pd->view_tether_length};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
-                             &pd->adjacency_kl, &pd->tether_anchor, &pd->tether_length,
+                             &pd->adjacency_rest, &pd->tether_anchor, &pd->tether_length,
                              &pd->sums, &pd->scalars, &pd->rest};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(s->context, buffers[i]);
@@ -632,7 +632,7 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         cvk_attach_bind(s, CVK_ATTACH_FOR_PD, &pd->u[0], &pd->u[1]);
         cvk_grab_bind(s, &pd->u[0], &pd->u[1], &pd->y);
         cvk_aero_bind(s, pd->view_u[0]);
-        cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency, &pd->adjacency_kl);
+        cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency, &pd->adjacency_rest);
     }
     if (r == CVK_SUCCESS)
         r = cvk_pd_upload_adjacency(s, pd, NULL, error);

@@ -19,9 +19,9 @@ typedef enum cvk_pd_set {
 typedef struct cvk_pd {
     /* Two displacement iterates (u[0] holds the last substep's displacement: the velocity
        times h), the predicted displacement, the right-hand side; adjacency in quads of slots:
-       uvec4 neighbours and bits of k, and vec4 k·L (see pd_common.glsl). */
-    cvk_buffer u[2], y, rhs, adjacency, adjacency_kl;
-    VkBufferView view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_kl;
+       uvec4 neighbours and bits of k, and vec4 L (see pd_common.glsl). */
+    cvk_buffer u[2], y, rhs, adjacency, adjacency_rest;
+    VkBufferView view_u[2], view_y, view_rhs, view_adjacency, view_adjacency_rest;
     /* Tethers (tether.h): uvec4 pins and vec4 lengths per free particle; one texel each
        when the scene has none. */
     cvk_buffer tether_anchor, tether_length;

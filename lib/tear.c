@@ -19,18 +19,18 @@
 static const cvk_binding tear_bindings[CVK_TEAR_BINDING_COUNT] = {
     [CVK_TEAR_BINDING_POSITIONS] = TEXEL, [CVK_TEAR_BINDING_TABLE] = TEXEL,
     [CVK_TEAR_BINDING_ALIVE] = STORAGE,   [CVK_TEAR_BINDING_ADJACENCY] = STORAGE,
-    [CVK_TEAR_BINDING_ADJACENCY_KL] = STORAGE,
+    [CVK_TEAR_BINDING_ADJACENCY_REST] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
 
 /* Element indices of adjacency entry e (slot · nf + p) as projective dynamics packs it
-   (pd_common.glsl's quads): its k bits in the uint array, its k·L in the float array. */
-static void pd_elements(uint32_t e, uint32_t nf, uint32_t* k, uint32_t* kl)
+   (pd_common.glsl's quads): its k bits in the uint array, its L in the float array. */
+static void pd_elements(uint32_t e, uint32_t nf, uint32_t* k, uint32_t* l)
 {
     uint32_t p = e % nf, slot = e / nf, q = slot / 4, j = slot % 4;
     *k = 4 * ((2 * q + 1) * nf + p) + j;
-    *kl = 4 * (q * nf + p) + j;
+    *l = 4 * (q * nf + p) + j;
 }
 
 /* The table: 12 uints per spring that may tear (shaders/shared/layout.h); and the host's
@@ -131,20 +131,20 @@ void cvk_tear_destroy(cvk_sim* s)
 }
 
 void cvk_tear_bind(cvk_sim* s, cvk_tear_family family, const cvk_buffer* adjacency,
-                   const cvk_buffer* adjacency_kl)
+                   const cvk_buffer* adjacency_rest)
 {
     cvk_tear* t = &s->tear;
     if (t->count == 0)
         return;
-    t->uvec4[family] = adjacency_kl == NULL;
-    if (!adjacency_kl) /* one buffer: the pass never writes k·L there */
-        adjacency_kl = adjacency;
+    t->uvec4[family] = adjacency_rest == NULL;
+    if (!adjacency_rest) /* one buffer: the pass never writes L there */
+        adjacency_rest = adjacency;
     const cvk_resource res[CVK_TEAR_BINDING_COUNT] = {
         [CVK_TEAR_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_TEAR_BINDING_TABLE] = {.view = t->view_table},
         [CVK_TEAR_BINDING_ALIVE] = {.buffer = &s->spring_alive},
         [CVK_TEAR_BINDING_ADJACENCY] = {.buffer = adjacency},
-        [CVK_TEAR_BINDING_ADJACENCY_KL] = {.buffer = adjacency_kl},
+        [CVK_TEAR_BINDING_ADJACENCY_REST] = {.buffer = adjacency_rest},
     };
     cvk_descriptors_write(s->context, &t->descriptors, family, res);
     t->bound[family] = true;

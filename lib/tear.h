@@ -3,7 +3,7 @@
    stretch |xa − xb| / L − 1 passes its cloth's max_stretch is marked dead in the simulation's
    spring flags (which the mesh generation, the exports and the contact statistics already
    follow) and its k is set to 0 in both ends' entries of the solver family's adjacency (and
-   k·L for projective dynamics): the PD sweeps (rbgs, jacobi, chebyshev), their diagonal and
+   L for projective dynamics): the PD sweeps (rbgs, jacobi, chebyshev), their diagonal and
    the divergence watch then forget it, and the implicit and explicit families take k = 0 as
    no spring (no force, no damping). Breaking is permanent: nothing sets a flag back, not
    cvk_sim_write_state, not a solver switch (a new family gets the torn state through its
@@ -48,11 +48,11 @@ cvk_result cvk_tear_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk
 void cvk_tear_destroy(struct cvk_sim* sim);
 
 /* Points `family`'s set of the pass at its adjacency: projective dynamics' two buffers
-   (neighbours and bits of k, k·L), or the one uvec4 buffer of the implicit and explicit
-   families (adjacency_kl NULL; the pass then runs its UVEC4 build). The family calls it when
+   (neighbours and bits of k, L), or the one uvec4 buffer of the implicit and explicit
+   families (adjacency_rest NULL; the pass then runs its UVEC4 build). The family calls it when
    it creates them. */
 void cvk_tear_bind(struct cvk_sim* sim, cvk_tear_family family, const cvk_buffer* adjacency,
-                   const cvk_buffer* adjacency_kl);
+                   const cvk_buffer* adjacency_rest);
 
 /* The pass ("tear") with `family`'s set, once the substep's positions are final; none in a
    scene without tearing. */

@@ -13,7 +13,7 @@
 //
 // Adjacency comes in quads of slots, padded to a multiple of four: for quad q of particle p,
 // texel (2q) * pc.stride + p of `adjacency` holds four neighbours and texel (2q + 1) * pc.stride
-// + p the bits of their k; texel q * pc.stride + p of `adjacency_kl` holds their k * L. So
+// + p the bits of their k; texel q * pc.stride + p of `adjacency_rest` holds their rest lengths L. So
 // neighbouring invocations read neighbouring texels, and four springs cost two gathers (a
 // gather costs the same for one component as for four on lavapipe). Padding slots point at p
 // itself with zero stiffness and contribute nothing.
@@ -34,7 +34,7 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_X) writeonly buffer Positions {
 layout(set = 0, binding = CVK_PD_BINDING_RHS_READ) uniform samplerBuffer rhs_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec4 rhs[]; };
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
-layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_KL) uniform samplerBuffer adjacency_kl;
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST) uniform samplerBuffer adjacency_rest;
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
@@ -70,16 +70,42 @@ vec3 fetch(samplerBuffer data, uint index)
 }
 
 // One spring's part of the right-hand side in displacement form: k (L t/|t| - e), where
-// e = x_p - x_c at the start of the substep and t = e + u_p - u_c at the start of the outer
-// iteration (the local step: the spring's best direction, at rest length). Coincident
-// particles give no direction and only pull together.
-vec3 spring_rhs(vec3 e, vec3 t, float k, float kl)
+// e = x_p - x_c at the start of the substep, du = u_p - u_c at the start of the outer
+// iteration and t = e + du (the local step: the spring's best direction, at rest length).
+// Computed as k (du - s t) with s = (|t| - L) / |t| = (t.t - L^2) / ((|t| + L) |t|): the
+// stretch comes from t.t - L^2, sums and products that every Vulkan device rounds
+// correctly, and |t| enters only s's denominator. The direct form k L t/|t| - k e is the
+// difference of two terms of size k L, so the few ulp that a device may err by in a square
+// root or a division (Vulkan allows 2.5 ulp for a division; lavapipe rounds both correctly,
+// NVIDIA's GPUs do not) became a few ulp of k L of force in every spring, which a cloth at
+// rest cannot tell from stretch: the 41-particle chain of tests/test_rest.c rested 1.9e-6 m
+// from its equilibrium (rbgs 4x4, lavapipe) and 2.7e-5 m (jacobi 1x1, H200); 1.4e-7 and
+// 1.0e-5 m in this form. Coincident particles give no direction and only pull together
+// (s t = 0: k (du - t) = -k e).
+vec3 spring_rhs(vec3 du, vec3 t, float k, float rest)
 {
-    float len = length(t);
-    return (len > 0.0 ? (kl / len) * t : vec3(0.0)) - k * e;
+    float tt = dot(t, t);
+    float len = sqrt(tt);
+    float s = len > 0.0 ? (tt - rest * rest) / ((len + rest) * len) : 0.0;
+    return k * (du - s * t);
 }
 
 #ifdef RESIDUAL
+// The rounding of d_p (local_step) relative to the sizes of the terms it is summed from: a
+// spring's stretch comes from t.t - L^2, two terms of size L^2 that cancel, so each spring
+// term carries about an ulp of k L whatever the device; the sums around it add a few more.
+// The check counts only the part of |d_p|^2 above this floor: where d_p is no larger than its
+// rounding, the iterate solves the system as well as float can tell. Without it the measure
+// of a solve from rest (where the first residual is itself small) stalled above the
+// tolerance on devices whose square roots and divisions are not correctly rounded: on an
+// NVIDIA H200 a tolerance of 5 % stopped no solve of tests/test_pd_tolerance.c's cloth.
+const float RESIDUAL_ROUNDING = 4.0 / 16777216.0; // 4 units of 2^-24 of the terms' sizes
+
+float l1(vec3 v)
+{
+    return abs(v.x) + abs(v.y) + abs(v.z);
+}
+
 // The scene has tethers (the tether buffers hold one texel otherwise: nothing to read).
 layout(constant_id = 3) const bool TETHERS = false;
 
@@ -125,6 +151,7 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
 {
 #ifdef RESIDUAL
     vec3 src_acc = vec3(0.0);
+    float size = 0.0; // the sum of the sizes of the terms of b_p + sum_c k_c src_c
 #endif
     vec3 xp = fetch(x_read, p);
     vec4 yp = texelFetch(y_read, int(p));
@@ -134,15 +161,17 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
     for (uint q = 0; q < QUADS; q++) {
         uvec4 n = quad_neighbours(q, p);
         vec4 k = quad_k(q, p);
-        vec4 kl = texelFetch(adjacency_kl, int(q * pc.stride + p));
+        vec4 rest = texelFetch(adjacency_rest, int(q * pc.stride + p));
         for (uint j = 0; j < 4u; j++) {
             vec3 un = fetch(src, n[j]);
             vec3 edge = xp - fetch(x_read, n[j]);
-            sum += spring_rhs(edge, edge + cur - un, k[j], kl[j]);
+            vec3 du = cur - un;
+            sum += spring_rhs(du, edge + du, k[j], rest[j]);
             diag += k[j];
             acc += k[j] * (n[j] < swept_below ? fetch(dst_read, n[j]) : un);
 #ifdef RESIDUAL
             src_acc += k[j] * un;
+            size += k[j] * (rest[j] + l1(edge) + l1(un));
 #endif
         }
     }
@@ -150,7 +179,8 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc)
     rhs[p] = b;
 #ifdef RESIDUAL
     vec3 d = free_of_tethers(p, xp, cur, (b.xyz + src_acc) * b.w - cur);
-    residual[p] = dot(d, d);
+    float floor = RESIDUAL_ROUNDING * ((size + yp.w * l1(yp.xyz)) * b.w + l1(cur));
+    residual[p] = max(dot(d, d) - floor * floor, 0.0);
 #endif
     return b;
 }

@@ -26,7 +26,7 @@ bool overstretched(uint p, vec3 xp)
 {
     uint c = quad_neighbours(0u, p).x;
     float k = quad_k(0u, p).x;
-    float limit = RUNAWAY_STRETCH * texelFetch(adjacency_kl, int(p)).x / max(k, 1e-30);
+    float limit = RUNAWAY_STRETCH * texelFetch(adjacency_rest, int(p)).x;
     vec3 d = fetch(x_read, c) - xp;
     return k > 0.0 && dot(d, d) > limit * limit;
 }

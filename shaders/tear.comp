@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Tearing (lib/tear.h), once per substep once its positions are final: every spring of a
 // tearing cloth whose length passes its breaking length is marked dead and its stiffness
-// leaves both ends' adjacency (k, and k·L for projective dynamics, set to 0), so the solver
+// leaves both ends' adjacency (k, and L for projective dynamics, set to 0), so the solver
 // forgets it: every projective-dynamics sweep, the diagonal and the divergence watch with no
 // test of their own; the implicit and explicit families take k = 0 as no spring (no force, no
 // damping). Each
@@ -19,12 +19,12 @@ layout(std430, set = 0, binding = CVK_TEAR_BINDING_ALIVE) writeonly buffer Alive
 layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY) writeonly buffer Adjacency {
     uint adjacency[];
 };
-layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY_KL) writeonly buffer AdjacencyKL {
-    float adjacency_kl[];
+layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY_REST) writeonly buffer AdjacencyRest {
+    float adjacency_rest[];
 };
 CVK_DECLARE_PUSH(CVK_TEAR_PUSH_FIELDS)
 
-// Built twice (shaders/meson.build): for projective dynamics' quads (k bits, k·L) and, with
+// Built twice (shaders/meson.build): for projective dynamics' quads (k bits, L) and, with
 // UVEC4, for the (neighbour, bits of k, bits of L, 0) entries of the implicit and explicit
 // families. Each reads its own texel of the spring's row, element indices ready: with the
 // indices computed here instead (a division per torn spring) and the layout chosen by a push
@@ -33,17 +33,17 @@ CVK_DECLARE_PUSH(CVK_TEAR_PUSH_FIELDS)
 #ifdef UVEC4
 const uint ROW_TEXEL = 2u; // (k of a, k of b, unused, unused)
 #else
-const uint ROW_TEXEL = 1u; // (k of a, k·L of a, k of b, k·L of b)
+const uint ROW_TEXEL = 1u; // (k of a, L of a, k of b, L of b)
 #endif
 
-// Sets k (and k·L) of one end's entry to 0: the bits of 0.0 are 0.
-void forget(uint k, uint kl)
+// Sets k (and L) of one end's entry to 0: the bits of 0.0 are 0.
+void forget(uint k, uint l)
 {
     if (k == CVK_TEAR_NONE)
         return;
     adjacency[k] = 0u;
 #ifndef UVEC4
-    adjacency_kl[kl] = 0.0;
+    adjacency_rest[l] = 0.0;
 #endif
 }
 

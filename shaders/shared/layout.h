@@ -50,7 +50,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_RHS_READ 7      /* texel: b, w: 1/diag */
 #define CVK_PD_BINDING_RHS 8           /* storage */
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
-#define CVK_PD_BINDING_ADJACENCY_KL 10 /* texel: k * rest length, by quad */
+#define CVK_PD_BINDING_ADJACENCY_REST 10 /* texel: rest lengths, by quad */
 #define CVK_PD_BINDING_WATCH 11        /* storage: cvk_gpu_watch */
 #define CVK_PD_BINDING_EXTERNAL 12     /* texel: h^2 F / m of the air per free particle (WIND) */
 #define CVK_PD_BINDING_TETHER_ANCHOR 13 /* texel: uvec4 per free particle, pinned indices */
@@ -459,8 +459,8 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 
 /* Per spring that may tear, three uvec4 texels: (a, b, spring index, bits of the squared
    length at which it breaks, m^2); where its stiffness sits in each free end's adjacency as
-   projective dynamics packs it (pd_common.glsl's quads): (k of a, k·L of a, k of b, k·L of b)
-   as element indices of the adjacency's uint array and of the k·L float array; and as the
+   projective dynamics packs it (pd_common.glsl's quads): (k of a, L of a, k of b, L of b)
+   as element indices of the adjacency's uint array and of the L float array; and as the
    implicit and explicit families pack it (velocity_state.h's (neighbour, bits of k, bits of L,
    0) per entry): (k of a, k of b, 0, 0). CVK_TEAR_NONE for a pinned end. */
 #define CVK_TEAR_NONE 0xffffffffu
@@ -468,7 +468,7 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 #define CVK_TEAR_BINDING_TABLE 1        /* texel: 2 uvec4 per spring that may tear */
 #define CVK_TEAR_BINDING_ALIVE 2        /* storage: uint per spring, 1 / 0 once torn */
 #define CVK_TEAR_BINDING_ADJACENCY 3    /* storage: the adjacency's neighbours and bits of k */
-#define CVK_TEAR_BINDING_ADJACENCY_KL 4 /* storage: the adjacency's k·L */
+#define CVK_TEAR_BINDING_ADJACENCY_REST 4 /* storage: the adjacency's rest lengths L */
 #define CVK_TEAR_BINDING_COUNT 5
 
 /* ---- air: aero_triangles.comp, aero_gather.comp (lib/aero.h) ------------------------------ */
