@@ -19,17 +19,15 @@ void main()
         vec3 acc;
         vec4 b;
         vec3 cur;
+        float ksum;
         if (FIRST) {
             cur = fetch(src, p);
-            b = local_step(p, cur, pc.first, acc);
+            b = local_step(p, cur, pc.first, acc, ksum);
         } else {
             b = texelFetch(rhs_read, int(p));
-            acc = neighbour_sum(dst_read, p);
-            cur = pc.omega != 1.0 ? fetch(dst_read, p) : vec3(0.0);
+            cur = fetch(dst_read, p);
+            acc = neighbour_sum(dst_read, p, cur, ksum);
         }
-        vec3 u = (b.xyz + acc) * b.w;
-        if (pc.omega != 1.0)
-            u = cur + pc.omega * (u - cur);
-        dst[p] = vec4(u, 0.0);
+        dst[p] = vec4(cur + pc.omega * jacobi_move(b, cur, acc, ksum), 0.0);
     }
 }

@@ -17,14 +17,14 @@ void main()
         vec3 cur = fetch(src, p);
         vec3 acc;
         vec4 b;
+        float ksum;
         if (FIRST) {
-            b = local_step(p, cur, 0u, acc);
+            b = local_step(p, cur, 0u, acc, ksum);
         } else {
             b = texelFetch(rhs_read, int(p));
-            acc = neighbour_sum(src, p);
+            acc = neighbour_sum(src, p, cur, ksum);
         }
-        vec3 u = (b.xyz + acc) * b.w;
-        u = cur + pc.omega * (u - cur);
+        vec3 u = cur + pc.omega * jacobi_move(b, cur, acc, ksum);
         if (pc.cheb != 1.0) {
             vec3 older = fetch(dst_read, p);
             u = pc.cheb * (u - older) + older;

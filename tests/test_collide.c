@@ -306,9 +306,11 @@ static void test_poses_and_snapshot(cvk_context* ctx)
    and a sheet pinned at two corners that falls over a sphere and folds onto itself on the
    ground (the demo's scene at 32 x 32, without bending: it crumples and rolls its border at
    the particle scale, folds one or two particles wide that pairs excluded up to five
-   thicknesses at rest let cross, 5 intersecting pairs). Each ends with no intersecting
-   triangle pairs, and each does intersect without self-contact (the test can fail; a cloth
-   dropped tilted onto the ground, checked here before, does not). */
+   thicknesses at rest let cross, 13 intersecting pairs after 100 frames). Each ends with no
+   intersecting triangle pairs, and each does intersect without self-contact (the test can
+   fail; a cloth dropped tilted onto the ground, checked here before, does not). The sheet
+   runs 100 frames: it falls symmetrically and first crosses itself without self-contact
+   after 60 to 80 frames, depending on the solve's rounding. */
 typedef enum drop_kind { DROP_TWO_CLOTHS, DROP_OVER_SPHERE } drop_kind;
 
 static const char* const drop_names[] = {"two cloths dropped on each other",
@@ -373,7 +375,7 @@ static void test_cloth_on_cloth(cvk_context* ctx)
     } cases[] = {
         {DROP_TWO_CLOTHS, 1e3f, 40},
         {DROP_TWO_CLOTHS, 0.0f, 40},
-        {DROP_OVER_SPHERE, 0.0f, 60},
+        {DROP_OVER_SPHERE, 0.0f, 100},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         uint64_t pairs =
@@ -389,7 +391,7 @@ static void test_cloth_on_cloth(cvk_context* ctx)
     }
     /* collision.exclusion is honoured: at two and a half spacings (the cheaper search's
        setting, for cloths with bending stiffness) the sheet without bending crosses itself. */
-    uint64_t wide = drop_intersections(ctx, true, DROP_OVER_SPHERE, 0.0f, 60, 2.5f / 31.0f);
+    uint64_t wide = drop_intersections(ctx, true, DROP_OVER_SPHERE, 0.0f, 100, 2.5f / 31.0f);
     printf("%s, bend 0, exclusion 2.5 spacings: %llu intersecting pairs\n",
            drop_names[DROP_OVER_SPHERE], (unsigned long long)wide);
     CHECK(wide > 0, "%s with an exclusion of 2.5 spacings: no intersecting pairs (is "

@@ -47,7 +47,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_Y 4             /* storage */
 #define CVK_PD_BINDING_X_READ 5        /* texel: x_n, w: m/h^2 */
 #define CVK_PD_BINDING_X 6             /* storage */
-#define CVK_PD_BINDING_RHS_READ 7      /* texel: b, w: 1/diag */
+#define CVK_PD_BINDING_RHS_READ 7      /* texel: w y + r, w (pd_common.glsl local_step) */
 #define CVK_PD_BINDING_RHS 8           /* storage */
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
 #define CVK_PD_BINDING_ADJACENCY_REST 10 /* texel: rest lengths, by quad */
