@@ -78,9 +78,9 @@ vec3 fetch(samplerBuffer data, uint index)
 // difference of two terms of size k L, so the few ulp that a device may err by in a square
 // root or a division (Vulkan allows 2.5 ulp for a division; lavapipe rounds both correctly,
 // NVIDIA's GPUs do not) became a few ulp of k L of force in every spring, which a cloth at
-// rest cannot tell from stretch: the 41-particle chain of tests/test_rest.c rested 1.9e-6 m
-// from its equilibrium (rbgs 4x4, lavapipe) and 2.7e-5 m (jacobi 1x1, H200); 1.4e-7 and
-// 1.0e-5 m in this form. Coincident particles give no direction and only pull together
+// rest cannot tell from stretch: the 17-particle chain of tests/test_rest.c rested 1.9e-6 m
+// from its equilibrium (rbgs 4x4, lavapipe) and 2.7e-5 m (jacobi 1x1, H200); 1.8e-7 and
+// 9e-6 m now. Coincident particles give no direction and only pull together
 // (s t = 0: k (du - t) = -k e).
 vec3 spring_rhs(vec3 du, vec3 t, float k, float rest)
 {
@@ -149,8 +149,8 @@ vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
 // of two products rounded alike (`precise`: no fused multiply-add), so a cloth that moves as
 // a whole (y = cur = u_c, r = 0) moves by exactly 0. From scratch the quotient rounded by an
 // ulp of u every substep, the same way each time, and a freely falling cloth's velocity
-// drifted by it: 5e-5 m in 0.8 s on lavapipe, 1.5e-4 m on an NVIDIA H200 (5e-6 m now on
-// lavapipe). No texel more than before: diag is w + ksum, summed from the k the sweep reads.
+// drifted by it: 5e-5 m in 0.8 s on lavapipe, 1.5e-4 m on an NVIDIA H200 (5.3e-6 m now on
+// both). No texel more than before: diag is w + ksum, summed from the k the sweep reads.
 vec3 jacobi_move(vec4 b, vec3 cur, vec3 acc, float ksum)
 {
     precise vec3 held = b.w * cur;
