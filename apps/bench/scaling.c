@@ -93,16 +93,23 @@ typedef struct measured {
     cvk_sim_stats timing; /* names and dispatch counts */
 } measured;
 
-static bool time_point(bench* b, cvk_sim* sim, measured* out)
+/* Times one point; *diverged is set (with the reason in *err, and true returned) when the
+   scene ran away during it: a timing experiment reports that and goes on to the next point. */
+static bool time_point(bench* b, cvk_sim* sim, measured* out, bool* diverged, cvk_error* err)
 {
     uint32_t total = b->o->warmup + b->o->repeat;
     double frame[1000], wall[1000], pass[CVK_MAX_PASSES][1000];
     uint32_t m = 0, walls = 0;
-    cvk_error err;
+    *diverged = false;
     for (uint32_t f = 0; f < total; f++) {
         double t0 = app_now_ms();
-        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS) {
-            bench_fail(&err);
+        cvk_result r = cvk_sim_step(sim, 1, err);
+        if (r == CVK_ERROR_DIVERGED) {
+            *diverged = true;
+            return true;
+        }
+        if (r != CVK_SUCCESS) {
+            bench_fail(err);
             return false;
         }
         double elapsed = app_now_ms() - t0;
@@ -204,8 +211,10 @@ static bool keep(points* all, const point* p)
     return true;
 }
 
-/* Runs every solver and iteration count on one grid; *fits is false when the grid is too
-   large for the device or the memory (not a failure: the sweep ends there). */
+/* Runs every solver and iteration count on one grid, each from the scene's first state (the
+   same work for every point, and a point that ran away does not leave its state to the
+   next; such a point is reported and left out); *fits is false when the grid is too large
+   for the device or the memory (not a failure: the sweep ends there). */
 static bool run_grid(bench* b, uint32_t n, points* all, bool* fits)
 {
     template_scene ts;
@@ -222,7 +231,15 @@ static bool run_grid(bench* b, uint32_t n, points* all, bool* fits)
         bench_fail(&err);
         return false;
     }
-    bool ok = true;
+    uint64_t count = cvk_sim_particle_count(sim);
+    float* start = malloc(3 * count * sizeof(float));
+    bool ok = start != NULL;
+    if (!ok)
+        app_error("clothvk-bench", "out of memory for %llu positions", (unsigned long long)count);
+    if (ok && cvk_sim_read_positions(sim, start, count, &err) != CVK_SUCCESS) {
+        bench_fail(&err);
+        ok = false;
+    }
     for (uint32_t s = 0; ok && s < b->o->solver_count; s++)
         for (uint32_t k = 0; ok && k < b->o->iteration_count; k++) {
             const bench_solver* solver = &b->o->solvers[s];
@@ -230,12 +247,20 @@ static bool run_grid(bench* b, uint32_t n, points* all, bool* fits)
                                                   b->o->inner);
             point p = {.solver = s, .iterations = b->o->iterations[k], .grid = n,
                        .substeps = ts.scene.substeps, .desc = d};
-            ok = cvk_sim_set_solver(sim, &d, &err) == CVK_SUCCESS;
+            ok = cvk_sim_set_solver(sim, &d, &err) == CVK_SUCCESS &&
+                 cvk_sim_write_positions(sim, start, count, &err) == CVK_SUCCESS;
             if (!ok)
                 bench_fail(&err);
+            bool diverged = false;
             if (ok)
-                ok = time_point(b, sim, &p.m) && keep(all, &p);
+                ok = time_point(b, sim, &p.m, &diverged, &err);
+            if (ok && diverged)
+                printf("%u x %u, %s, %u sweeps: not timed, %s\n", n, n, solver->label,
+                       b->o->iterations[k], err.message);
+            else if (ok)
+                ok = keep(all, &p);
         }
+    free(start);
     cvk_sim_destroy(sim);
     return ok;
 }
@@ -262,7 +287,10 @@ static void print_tables(const bench* b, const uint32_t* grids, uint32_t grid_co
             printf(" %32u", b->o->iterations[k]);
         printf("\n");
         for (uint32_t g = 0; g < grid_count; g++) {
-            if (find_row(t, label, grids[g], b->o->iterations[0]) < 0)
+            bool any = false; /* a point that diverged has no row; its cell shows "-" */
+            for (uint32_t k = 0; k < b->o->iteration_count; k++)
+                any = any || find_row(t, label, grids[g], b->o->iterations[k]) >= 0;
+            if (!any)
                 continue;
             printf("%12llu", (unsigned long long)grids[g] * grids[g]);
             for (uint32_t k = 0; k < b->o->iteration_count; k++) {
