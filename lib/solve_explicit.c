@@ -237,7 +237,7 @@ static cvk_result explicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         r = cvk_vstate_upload_adjacency(s, &ex->adjacency, NULL, error);
     if (r == CVK_SUCCESS)
-        cvk_tear_bind(s, CVK_TEAR_FOR_EXPLICIT, &ex->adjacency, NULL);
+        cvk_tear_bind(s, CVK_TEAR_FOR_EXPLICIT, &ex->adjacency);
     if (r == CVK_SUCCESS)
         r = explicit_write_state(s, ex, s->build.position, NULL, error);
     if (r == CVK_SUCCESS)

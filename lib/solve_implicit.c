@@ -406,7 +406,7 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     if (r == CVK_SUCCESS)
         r = cvk_vstate_upload_adjacency(s, &im->adjacency, NULL, error);
     if (r == CVK_SUCCESS)
-        cvk_tear_bind(s, CVK_TEAR_FOR_IMPLICIT, &im->adjacency, NULL);
+        cvk_tear_bind(s, CVK_TEAR_FOR_IMPLICIT, &im->adjacency);
     if (r == CVK_SUCCESS)
         cvk_attach_bind(s, CVK_ATTACH_FOR_IMPLICIT, &im->v, &im->v); /* velocity, place */
     if (r == CVK_SUCCESS)

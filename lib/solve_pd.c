@@ -117,7 +117,7 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
                 float k = real && !torn ? b->adj_k[e] : 0.0f;
                 neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
                 memcpy(&k_bits[j], &k, sizeof k);
-                length[j] = real && !torn ? b->adj_rest[e] : 0.0f;
+                length[j] = real ? b->adj_rest[e] : 0.0f; /* torn: k = 0 is enough */
             }
         }
     }
@@ -632,7 +632,7 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
         cvk_attach_bind(s, CVK_ATTACH_FOR_PD, &pd->u[0], &pd->u[1]);
         cvk_grab_bind(s, &pd->u[0], &pd->u[1], &pd->y);
         cvk_aero_bind(s, pd->view_u[0]);
-        cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency, &pd->adjacency_rest);
+        cvk_tear_bind(s, CVK_TEAR_FOR_PD, &pd->adjacency);
     }
     if (r == CVK_SUCCESS)
         r = cvk_pd_upload_adjacency(s, pd, NULL, error);

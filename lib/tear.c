@@ -19,18 +19,16 @@
 static const cvk_binding tear_bindings[CVK_TEAR_BINDING_COUNT] = {
     [CVK_TEAR_BINDING_POSITIONS] = TEXEL, [CVK_TEAR_BINDING_TABLE] = TEXEL,
     [CVK_TEAR_BINDING_ALIVE] = STORAGE,   [CVK_TEAR_BINDING_ADJACENCY] = STORAGE,
-    [CVK_TEAR_BINDING_ADJACENCY_REST] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
 
-/* Element indices of adjacency entry e (slot · nf + p) as projective dynamics packs it
-   (pd_common.glsl's quads): its k bits in the uint array, its L in the float array. */
-static void pd_elements(uint32_t e, uint32_t nf, uint32_t* k, uint32_t* l)
+/* The element index of adjacency entry e's (slot · nf + p) k bits in the uint array, as
+   projective dynamics packs it (pd_common.glsl's quads). */
+static uint32_t pd_k_element(uint32_t e, uint32_t nf)
 {
     uint32_t p = e % nf, slot = e / nf, q = slot / 4, j = slot % 4;
-    *k = 4 * ((2 * q + 1) * nf + p) + j;
-    *l = 4 * (q * nf + p) + j;
+    return 4 * ((2 * q + 1) * nf + p) + j;
 }
 
 /* The table: 12 uints per spring that may tear (shaders/shared/layout.h); and the host's
@@ -74,15 +72,15 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
         row[2] = s;
         memcpy(&row[3], &limit2, sizeof limit2);
         uint32_t ends[2] = {sp->a, sp->b};
-        row[10] = row[11] = 0;
+        row[6] = row[7] = row[10] = row[11] = 0;
         for (int e = 0; e < 2; e++) {
             uint32_t at = slot[2 * (size_t)s + e];
             uint32_t entry = at == UINT32_MAX ? UINT32_MAX : at * b->free_count + ends[e];
             t->entry[2 * (size_t)n + e] = entry;
-            row[4 + 2 * e] = row[5 + 2 * e] = row[8 + e] = CVK_TEAR_NONE;
+            row[4 + e] = row[8 + e] = CVK_TEAR_NONE;
             if (entry == UINT32_MAX)
                 continue;
-            pd_elements(entry, b->free_count, &row[4 + 2 * e], &row[5 + 2 * e]);
+            row[4 + e] = pd_k_element(entry, b->free_count);
             row[8 + e] = 4 * entry + 1; /* (neighbour, bits of k, bits of L, 0) */
         }
         n++;
@@ -130,21 +128,17 @@ void cvk_tear_destroy(cvk_sim* s)
     *t = (cvk_tear){0};
 }
 
-void cvk_tear_bind(cvk_sim* s, cvk_tear_family family, const cvk_buffer* adjacency,
-                   const cvk_buffer* adjacency_rest)
+void cvk_tear_bind(cvk_sim* s, cvk_tear_family family, const cvk_buffer* adjacency)
 {
     cvk_tear* t = &s->tear;
     if (t->count == 0)
         return;
-    t->uvec4[family] = adjacency_rest == NULL;
-    if (!adjacency_rest) /* one buffer: the pass never writes L there */
-        adjacency_rest = adjacency;
+    t->uvec4[family] = family != CVK_TEAR_FOR_PD;
     const cvk_resource res[CVK_TEAR_BINDING_COUNT] = {
         [CVK_TEAR_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_TEAR_BINDING_TABLE] = {.view = t->view_table},
         [CVK_TEAR_BINDING_ALIVE] = {.buffer = &s->spring_alive},
         [CVK_TEAR_BINDING_ADJACENCY] = {.buffer = adjacency},
-        [CVK_TEAR_BINDING_ADJACENCY_REST] = {.buffer = adjacency_rest},
     };
     cvk_descriptors_write(s->context, &t->descriptors, family, res);
     t->bound[family] = true;

@@ -2,9 +2,9 @@
    over the springs of the cloths that tear (shaders/tear.comp). A spring whose relative
    stretch |xa − xb| / L − 1 passes its cloth's max_stretch is marked dead in the simulation's
    spring flags (which the mesh generation, the exports and the contact statistics already
-   follow) and its k is set to 0 in both ends' entries of the solver family's adjacency (and
-   L for projective dynamics): the PD sweeps (rbgs, jacobi, chebyshev), their diagonal and
-   the divergence watch then forget it, and the implicit and explicit families take k = 0 as
+   follow) and its k is set to 0 in both ends' entries of the solver family's adjacency: the
+   PD sweeps (rbgs, jacobi, chebyshev), their diagonal and the divergence watch, which
+   multiply what they read of a spring by k, then forget it, and the implicit and explicit families take k = 0 as
    no spring (no force, no damping). Breaking is permanent: nothing sets a flag back, not
    cvk_sim_write_state, not a solver switch (a new family gets the torn state through its
    set_torn, solver.h); a snapshot carries the flags and loading one rebuilds the adjacency
@@ -47,12 +47,11 @@ typedef struct cvk_tear {
 cvk_result cvk_tear_create(struct cvk_sim* sim, const cvk_scene_desc* scene, cvk_error* error);
 void cvk_tear_destroy(struct cvk_sim* sim);
 
-/* Points `family`'s set of the pass at its adjacency: projective dynamics' two buffers
-   (neighbours and bits of k, L), or the one uvec4 buffer of the implicit and explicit
-   families (adjacency_rest NULL; the pass then runs its UVEC4 build). The family calls it when
-   it creates them. */
-void cvk_tear_bind(struct cvk_sim* sim, cvk_tear_family family, const cvk_buffer* adjacency,
-                   const cvk_buffer* adjacency_rest);
+/* Points `family`'s set of the pass at the buffer of its adjacency that holds the bits of k:
+   projective dynamics' uvec4 quads of neighbours and k bits, or the one uvec4 buffer of the
+   implicit and explicit families (the pass then runs its UVEC4 build). The family calls it
+   when it creates them. */
+void cvk_tear_bind(struct cvk_sim* sim, cvk_tear_family family, const cvk_buffer* adjacency);
 
 /* The pass ("tear") with `family`'s set, once the substep's positions are final; none in a
    scene without tearing. */

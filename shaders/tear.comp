@@ -2,10 +2,10 @@
 #extension GL_GOOGLE_include_directive : require
 // Tearing (lib/tear.h), once per substep once its positions are final: every spring of a
 // tearing cloth whose length passes its breaking length is marked dead and its stiffness
-// leaves both ends' adjacency (k, and L for projective dynamics, set to 0), so the solver
-// forgets it: every projective-dynamics sweep, the diagonal and the divergence watch with no
-// test of their own; the implicit and explicit families take k = 0 as no spring (no force, no
-// damping). Each
+// leaves both ends' adjacency (k set to 0), so the solver forgets it: every
+// projective-dynamics sweep, the diagonal and the divergence watch multiply what they read of
+// a spring by k (its rest length stays), and the implicit and explicit families take k = 0 as
+// no spring (no force, no damping). Each
 // invocation writes only its own spring's flag and slots: no order between invocations
 // matters, and the same springs break for every dispatch shape. Tearing again a spring already
 // torn writes the same zeros, so dead springs need no test either.
@@ -19,12 +19,9 @@ layout(std430, set = 0, binding = CVK_TEAR_BINDING_ALIVE) writeonly buffer Alive
 layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY) writeonly buffer Adjacency {
     uint adjacency[];
 };
-layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY_REST) writeonly buffer AdjacencyRest {
-    float adjacency_rest[];
-};
 CVK_DECLARE_PUSH(CVK_TEAR_PUSH_FIELDS)
 
-// Built twice (shaders/meson.build): for projective dynamics' quads (k bits, L) and, with
+// Built twice (shaders/meson.build): for projective dynamics' quads (k bits) and, with
 // UVEC4, for the (neighbour, bits of k, bits of L, 0) entries of the implicit and explicit
 // families. Each reads its own texel of the spring's row, element indices ready: with the
 // indices computed here instead (a division per torn spring) and the layout chosen by a push
@@ -33,18 +30,14 @@ CVK_DECLARE_PUSH(CVK_TEAR_PUSH_FIELDS)
 #ifdef UVEC4
 const uint ROW_TEXEL = 2u; // (k of a, k of b, unused, unused)
 #else
-const uint ROW_TEXEL = 1u; // (k of a, L of a, k of b, L of b)
+const uint ROW_TEXEL = 1u; // the same for the quads
 #endif
 
-// Sets k (and L) of one end's entry to 0: the bits of 0.0 are 0.
-void forget(uint k, uint l)
+// Sets k of one end's entry to 0: the bits of 0.0 are 0.
+void forget(uint k)
 {
-    if (k == CVK_TEAR_NONE)
-        return;
-    adjacency[k] = 0u;
-#ifndef UVEC4
-    adjacency_rest[l] = 0.0;
-#endif
+    if (k != CVK_TEAR_NONE)
+        adjacency[k] = 0u;
 }
 
 void main()
@@ -57,12 +50,7 @@ void main()
             continue;
         uvec4 ends = texelFetch(table, int(3u * i + ROW_TEXEL));
         alive[spring.z] = 0u;
-#ifdef UVEC4
-        forget(ends.x, 0u);
-        forget(ends.y, 0u);
-#else
-        forget(ends.x, ends.y);
-        forget(ends.z, ends.w);
-#endif
+        forget(ends.x);
+        forget(ends.y);
     }
 }

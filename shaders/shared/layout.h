@@ -459,17 +459,17 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 
 /* Per spring that may tear, three uvec4 texels: (a, b, spring index, bits of the squared
    length at which it breaks, m^2); where its stiffness sits in each free end's adjacency as
-   projective dynamics packs it (pd_common.glsl's quads): (k of a, L of a, k of b, L of b)
-   as element indices of the adjacency's uint array and of the L float array; and as the
-   implicit and explicit families pack it (velocity_state.h's (neighbour, bits of k, bits of L,
-   0) per entry): (k of a, k of b, 0, 0). CVK_TEAR_NONE for a pinned end. */
+   projective dynamics packs it (pd_common.glsl's quads): (k of a, k of b, 0, 0) as element
+   indices of the adjacency's uint array; and as the implicit and explicit families pack it
+   (velocity_state.h's (neighbour, bits of k, bits of L, 0) per entry): the same. Every family
+   multiplies whatever it reads of a spring by k, so k = 0 is all a torn spring needs.
+   CVK_TEAR_NONE for a pinned end. */
 #define CVK_TEAR_NONE 0xffffffffu
 #define CVK_TEAR_BINDING_POSITIONS 0    /* texel: vec4 per particle, x after the substep */
 #define CVK_TEAR_BINDING_TABLE 1        /* texel: 2 uvec4 per spring that may tear */
 #define CVK_TEAR_BINDING_ALIVE 2        /* storage: uint per spring, 1 / 0 once torn */
 #define CVK_TEAR_BINDING_ADJACENCY 3    /* storage: the adjacency's neighbours and bits of k */
-#define CVK_TEAR_BINDING_ADJACENCY_REST 4 /* storage: the adjacency's rest lengths L */
-#define CVK_TEAR_BINDING_COUNT 5
+#define CVK_TEAR_BINDING_COUNT 4
 
 /* ---- air: aero_triangles.comp, aero_gather.comp (lib/aero.h) ------------------------------ */
 
