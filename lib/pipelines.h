@@ -65,7 +65,6 @@ typedef struct cvk_spec_recipe {
     X(GRAB, GRAB_COMP, CVK_SPEC_NONE, "grabbed particle -> target") \
     X(PICK, PICK_COMP, CVK_SPEC_NONE, "nearest particle on a ray (outside the frame)") \
     X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \
-    X(TEAR_UVEC4, TEAR_UVEC4_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs (uvec4 adjacency)") \
     X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \

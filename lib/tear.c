@@ -31,13 +31,13 @@ static uint32_t pd_k_element(uint32_t e, uint32_t nf)
     return 4 * ((2 * q + 1) * nf + p) + j;
 }
 
-/* The table: 12 uints per spring that may tear (shaders/shared/layout.h); and the host's
+/* The table: 8 uints per spring that may tear (shaders/shared/layout.h); and the host's
    arrays of them in t. */
 static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk_tear* t,
                             uint32_t* count)
 {
     size_t entries = (size_t)b->max_degree * b->free_count;
-    uint32_t* table = cvk_malloc_array(12 * (size_t)b->spring_count, sizeof *table);
+    uint32_t* table = cvk_malloc_array(8 * (size_t)b->spring_count, sizeof *table);
     /* slot[2s + e]: the slot of end e of spring s, or UINT32_MAX (pinned) */
     uint32_t* slot = cvk_malloc_array(2 * (size_t)b->spring_count, sizeof *slot);
     t->spring = cvk_malloc_array(b->spring_count ? b->spring_count : 1, sizeof *t->spring);
@@ -66,22 +66,21 @@ static uint32_t* make_table(const cvk_build* b, const cvk_scene_desc* scene, cvk
         float limit2 = (float)(length * length);
         t->spring[n] = s;
         t->limit2[n] = limit2;
-        uint32_t* row = &table[12 * (size_t)n];
+        uint32_t* row = &table[8 * (size_t)n];
         row[0] = sp->a;
         row[1] = sp->b;
         row[2] = s;
         memcpy(&row[3], &limit2, sizeof limit2);
         uint32_t ends[2] = {sp->a, sp->b};
-        row[6] = row[7] = row[10] = row[11] = 0;
         for (int e = 0; e < 2; e++) {
             uint32_t at = slot[2 * (size_t)s + e];
             uint32_t entry = at == UINT32_MAX ? UINT32_MAX : at * b->free_count + ends[e];
             t->entry[2 * (size_t)n + e] = entry;
-            row[4 + e] = row[8 + e] = CVK_TEAR_NONE;
+            row[4 + e] = row[6 + e] = CVK_TEAR_NONE;
             if (entry == UINT32_MAX)
                 continue;
             row[4 + e] = pd_k_element(entry, b->free_count);
-            row[8 + e] = 4 * entry + 1; /* (neighbour, bits of k, bits of L, 0) */
+            row[6 + e] = 4 * entry + 1; /* (neighbour, bits of k, bits of L, 0) */
         }
         n++;
     }
@@ -100,7 +99,7 @@ cvk_result cvk_tear_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* e
     uint32_t* table = make_table(&s->build, scene, t, &count);
     if (!table)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the tearing table");
-    cvk_result r = cvk_sim_make_buffer(s, &t->table, 48u * (VkDeviceSize)count, "tearing springs",
+    cvk_result r = cvk_sim_make_buffer(s, &t->table, 32u * (VkDeviceSize)count, "tearing springs",
                                        table, error);
     free(table);
     if (r == CVK_SUCCESS)
@@ -133,7 +132,6 @@ void cvk_tear_bind(cvk_sim* s, cvk_tear_family family, const cvk_buffer* adjacen
     cvk_tear* t = &s->tear;
     if (t->count == 0)
         return;
-    t->uvec4[family] = family != CVK_TEAR_FOR_PD;
     const cvk_resource res[CVK_TEAR_BINDING_COUNT] = {
         [CVK_TEAR_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_TEAR_BINDING_TABLE] = {.view = t->view_table},
@@ -152,10 +150,9 @@ cvk_result cvk_tear_add_passes(cvk_sim* s, cvk_tear_family family, cvk_plan* pla
         return CVK_SUCCESS;
     if (!t->bound[family])
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "tearing: this solver does not tear springs");
-    cvk_tear_push push = {t->count, 0, 0, 0};
+    cvk_tear_push push = {t->count, family != CVK_TEAR_FOR_PD, 0, 0};
     uint32_t pass = cvk_plan_pass(plan, "tear");
-    cvk_pipeline_id pipeline = t->uvec4[family] ? CVK_PIPE_TEAR_UVEC4 : CVK_PIPE_TEAR;
-    cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, t->descriptors.pipeline_layout,
+    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_TEAR, t->descriptors.pipeline_layout,
                                    t->descriptors.sets[family], CVK_DOMAIN_SPRINGS, 0, t->count,
                                    &push, sizeof push);
     if (op)

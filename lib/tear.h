@@ -36,10 +36,9 @@ typedef struct cvk_tear {
     float* limit2;               /* host: each one's squared breaking length, m² */
     uint32_t* entry;             /* host: 2 per spring, its entry in each end's adjacency
                                     (build.h layout; UINT32_MAX for a pinned end) */
-    cvk_buffer table;            /* 3 uvec4 per such spring (shaders/shared/layout.h) */
+    cvk_buffer table;            /* 2 uvec4 per such spring (shaders/shared/layout.h) */
     VkBufferView view_table;
     cvk_descriptors descriptors; /* a set per family, bound to its adjacency by cvk_tear_bind */
-    bool uvec4[CVK_TEAR_FAMILIES]; /* the family packs its adjacency as uvec4 entries */
     bool bound[CVK_TEAR_FAMILIES];
 } cvk_tear;
 
@@ -49,8 +48,8 @@ void cvk_tear_destroy(struct cvk_sim* sim);
 
 /* Points `family`'s set of the pass at the buffer of its adjacency that holds the bits of k:
    projective dynamics' uvec4 quads of neighbours and k bits, or the one uvec4 buffer of the
-   implicit and explicit families (the pass then runs its UVEC4 build). The family calls it
-   when it creates them. */
+   implicit and explicit families (the pass then reads their element indices). The family
+   calls it when it creates them. */
 void cvk_tear_bind(struct cvk_sim* sim, cvk_tear_family family, const cvk_buffer* adjacency);
 
 /* The pass ("tear") with `family`'s set, once the substep's positions are final; none in a

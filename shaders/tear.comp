@@ -21,18 +21,6 @@ layout(std430, set = 0, binding = CVK_TEAR_BINDING_ADJACENCY) writeonly buffer A
 };
 CVK_DECLARE_PUSH(CVK_TEAR_PUSH_FIELDS)
 
-// Built twice (shaders/meson.build): for projective dynamics' quads (k bits) and, with
-// UVEC4, for the (neighbour, bits of k, bits of L, 0) entries of the implicit and explicit
-// families. Each reads its own texel of the spring's row, element indices ready: with the
-// indices computed here instead (a division per torn spring) and the layout chosen by a push
-// constant, the pass took twice its share of tear.json's frame on lavapipe (7 % against 3.5 %),
-// though the branch is seldom taken.
-#ifdef UVEC4
-const uint ROW_TEXEL = 2u; // (k of a, k of b, unused, unused)
-#else
-const uint ROW_TEXEL = 1u; // the same for the quads
-#endif
-
 // Sets k of one end's entry to 0: the bits of 0.0 are 0.
 void forget(uint k)
 {
@@ -44,13 +32,16 @@ void main()
 {
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
-        uvec4 spring = texelFetch(table, int(3u * i));
+        uvec4 spring = texelFetch(table, int(2u * i));
         vec3 d = texelFetch(x, int(spring.x)).xyz - texelFetch(x, int(spring.y)).xyz;
         if (!(dot(d, d) > uintBitsToFloat(spring.w)))
             continue;
-        uvec4 ends = texelFetch(table, int(3u * i + ROW_TEXEL));
+        // Both families' element indices come ready in the row's second texel: the pass only
+        // picks its half (with the indices computed here, a division per torn spring, the
+        // pass took twice its share of tear.json's frame on lavapipe: 7 % against 3.5 %).
+        uvec4 ends = texelFetch(table, int(2u * i + 1u));
         alive[spring.z] = 0u;
-        forget(ends.x);
-        forget(ends.y);
+        forget(pc.entries != 0u ? ends.z : ends.x);
+        forget(pc.entries != 0u ? ends.w : ends.y);
     }
 }

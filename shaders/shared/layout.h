@@ -452,16 +452,16 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 /* Push data of tear.comp. count 0 (the warm-up dispatch) does nothing. */
 #define CVK_TEAR_PUSH_FIELDS                                                       \
     CVK_UINT(count)        /* springs that may tear (of cloths with tearing) */    \
-    CVK_UINT(pad0)                                                                \
+    CVK_UINT(entries)      /* 1: the family packs (neighbour, k, L, 0) entries */ \
     CVK_UINT(pad1)                                                                \
     CVK_UINT(pad2)
 CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 
-/* Per spring that may tear, three uvec4 texels: (a, b, spring index, bits of the squared
-   length at which it breaks, m^2); where its stiffness sits in each free end's adjacency as
-   projective dynamics packs it (pd_common.glsl's quads): (k of a, k of b, 0, 0) as element
-   indices of the adjacency's uint array; and as the implicit and explicit families pack it
-   (velocity_state.h's (neighbour, bits of k, bits of L, 0) per entry): the same. Every family
+/* Per spring that may tear, two uvec4 texels: (a, b, spring index, bits of the squared length
+   at which it breaks, m^2); and where its stiffness sits in each free end's adjacency, as
+   element indices of the adjacency's uint array: (k of a, k of b) as projective dynamics packs
+   it (pd_common.glsl's quads), then (k of a, k of b) as the implicit and explicit families pack
+   it (velocity_state.h's (neighbour, bits of k, bits of L, 0) per entry). Every family
    multiplies whatever it reads of a spring by k, so k = 0 is all a torn spring needs.
    CVK_TEAR_NONE for a pinned end. */
 #define CVK_TEAR_NONE 0xffffffffu
