@@ -437,6 +437,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
                         "rest positions", c->self ? c->rest_xyz : NULL, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
+    if (r == CVK_SUCCESS) /* no candidates yet: no side kept (contact_detect.comp) */
+        r = cvk_sim_fill_buffer(s, &c->contacts, 0xff, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
                         "positions at the last search", NULL, error);

@@ -138,7 +138,8 @@ cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
 /* Puts the device's substep counter at `step` and asks for a search at the next substep. */
 cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* error);
 
-/* After the positions were written from the host: the next substep searches again. */
+/* After the positions were written from the host: the next substep searches again, and the
+   candidates keep no side from before. */
 cvk_result cvk_collide_positions_written(struct cvk_sim* sim, cvk_error* error);
 
 /* Candidate searches run so far (since creation or the last snapshot loaded); 0 without

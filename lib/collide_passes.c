@@ -168,6 +168,10 @@ cvk_result cvk_collide_positions_written(cvk_sim* s, cvk_error* error)
     cvk_collide* c = &s->collide;
     if (!c->self)
         return CVK_SUCCESS;
+    /* The sides the candidates kept belong to the old positions. */
+    cvk_result r = cvk_sim_fill_buffer(s, &c->contacts, 0xff, error);
+    if (r != CVK_SUCCESS)
+        return r;
     uint32_t force = 1;
     memcpy(s->staging.mapped, &force, sizeof force);
     cvk_staging_copy job = {&c->frame, 0, offsetof(cvk_gpu_frame, force), sizeof force};

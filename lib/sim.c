@@ -123,14 +123,20 @@ cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size
     return r;
 }
 
+cvk_result cvk_sim_fill_buffer(cvk_sim* s, cvk_buffer* buffer, unsigned char byte, cvk_error* error)
+{
+    unsigned char* bytes = malloc(buffer->size);
+    if (!bytes)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
+    memset(bytes, byte, buffer->size);
+    cvk_result r = cvk_sim_upload(s, buffer, bytes, buffer->size, error);
+    free(bytes);
+    return r;
+}
+
 cvk_result cvk_sim_clear_buffer(cvk_sim* s, cvk_buffer* buffer, cvk_error* error)
 {
-    void* zeros = calloc(1, buffer->size);
-    if (!zeros)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
-    cvk_result r = cvk_sim_upload(s, buffer, zeros, buffer->size, error);
-    free(zeros);
-    return r;
+    return cvk_sim_fill_buffer(s, buffer, 0, error);
 }
 
 cvk_result cvk_sim_upload(cvk_sim* s, cvk_buffer* dst, const void* data, VkDeviceSize size,

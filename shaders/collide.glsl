@@ -392,15 +392,20 @@ float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out v
 // apart by a twentieth of r per substep: the last correction of a substep becomes velocity
 // (depth / h), and pushing a pair a whole thickness apart in one substep flings the cloth.
 // Returns the corrected xp.
-vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c)
+vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
+                      uint kept_side)
 {
     float r = contact_u.thickness;
     vec3 dir0, w0, dir, w;
-    // The side p starts this substep on, judged now rather than when the candidates were
-    // searched (possibly substeps ago, lib/collide.h): a particle that went round an edge
-    // since is kept on its new side, not pushed back through the face.
+    // The side p belongs on. Over the face, the side the candidate list keeps (judged when
+    // the pair was first found, contact_detect.comp): a particle that crossed the face since
+    // is on the wrong side and is brought back, rather than kept there. Beside an edge or a
+    // corner, the side p starts this substep on: a particle that went round an edge is kept
+    // on its new side, not pushed back through the face.
     vec3 nearest0 = closest_on_triangle(x0p, a0, b0, c0, w0);
-    float side = dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0;
+    bool over_face = w0.x > 0.0 && w0.y > 0.0 && w0.z > 0.0;
+    float side = over_face ? (kept_side != 0u ? -1.0 : 1.0)
+               : (dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0);
     float start = separation(x0p, a0, b0, c0, side, dir0, w0);
     float now = separation(xp, a, b, c, side, dir, w);
     float target = min(r, max(start, 0.0) + 0.05 * r);

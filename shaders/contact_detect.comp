@@ -10,9 +10,11 @@
 // corner, and the triangles around each corner that is neither too far nor near at rest are
 // tested, each once, through the lowest-index corner within reach. Where the cloth is not
 // folded every corner within reach is near at rest, and no triangle is tested at all. The
-// nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle is on;
-// equally near ones by triangle index, so the list depends neither on thread timing nor on the
-// order of the walk.
+// nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle
+// belongs on: where it is over the face, the side the last list held for the pair, if it held
+// it (so a particle that crossed the face since is brought back, pd_contact.glsl), else the
+// side it is on; equally near ones by triangle index, so the list depends neither on thread
+// timing nor on the order of the walk.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -85,6 +87,15 @@ void main()
                 }
             }
         }
+        // The last search's list of p (cleared to none when p's patch went quiet or the
+        // positions were written): a pair found again over the face keeps the side it had.
+        uint last[K];
+        bool live = true;
+        for (uint k = 0u; k < K; k++) {
+            uint e = contact_entry(p * K + k);
+            live = live && e != CVK_NO_CONTACT;
+            last[k] = live ? e : CVK_NO_CONTACT;
+        }
         uint kept[K];
         float dist[K];
         for (uint k = 0u; k < K; k++) {
@@ -123,6 +134,9 @@ void main()
                     if (d >= contact_u.detect_radius)
                         continue;
                     uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
+                    if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
+                        for (uint k = 0u; k < K; k++)
+                            side = (last[k] >> 1u) == t ? (last[k] & 1u) : side;
                     // Insert by distance, keeping the K nearest (ties, as at a corner shared by
                     // several triangles: the lower triangle first, so the list does not depend
                     // on the order of the walk). Every index is a constant once the loop

@@ -398,6 +398,72 @@ static void test_cloth_on_cloth(cvk_context* ctx)
           "collision.exclusion read?)", drop_names[DROP_OVER_SPHERE]);
 }
 
+/* A crossing is undone: the middle of a small cloth lying on a held one (every particle
+   pinned, so nothing but the hand moves it) is dragged through it, `depth` below it, and let
+   go. The pairs kept from before remember the side the particles were on, so contact brings
+   them back; a contact that judged the side again at every substep held them on the far side
+   (34 intersecting pairs 60 frames after letting go). */
+static void test_dragged_through(cvk_context* ctx, float depth)
+{
+    enum { N = 21 };
+    static uint32_t all[N * N][2];
+    for (uint32_t i = 0; i < N * N; i++) {
+        all[i][0] = i % N;
+        all[i][1] = i / N;
+    }
+    cvk_cloth_desc cloths[2] = {flat_cloth(N, 0.4f, 0.5f), flat_cloth(9, 0.16f, 0.53f)};
+    cloths[0].pins = (const uint32_t(*)[2])all;
+    cloths[0].pin_count = N * N;
+    /* Off the held cloth's grid, so that the small cloth's particles lie over its faces. */
+    cloths[1].origin[0] += 0.007f;
+    cloths[1].origin[2] += 0.004f;
+    for (int i = 0; i < 2; i++) {
+        cloths[i].stiffness.structural = cloths[i].stiffness.shear = 1e4f;
+        cloths[i].mass = i == 0 ? 0.04f : 0.01f;
+    }
+    cloths[1].stiffness.bend = 10.0f;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.damping = 0.01f;
+    scene.collision.self = true;
+    scene.collision.friction = 0.3f;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .grab = true}, &sim, &err),
+               err);
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* x = malloc(3 * n * sizeof(float));
+    REQUIRE_OK(cvk_sim_step(sim, 30, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+    cvk_particle middle = {.cloth = 1, .index = 40};
+    const float* start = &x[3 * (N * N + 40)];
+    float from = start[1], target[3] = {start[0], 0.0f, start[2]};
+    for (int f = 1; f <= 20; f++) {
+        target[1] = from + (0.5f - depth - from) * (float)f / 20.0f;
+        REQUIRE_OK(cvk_sim_grab_within(sim, middle, 0.025f, target, &err), err);
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+    }
+    uint64_t held = 0, after = 0;
+    REQUIRE_OK(cvk_sim_count_intersections(sim, &held, &err), err);
+    cvk_sim_release(sim);
+    REQUIRE_OK(cvk_sim_step(sim, 60, &err), err);
+    REQUIRE_OK(cvk_sim_count_intersections(sim, &after, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+    float y = x[3 * (N * N + 40) + 1];
+    printf("dragged %.0f mm through a held cloth: %llu intersecting pairs while held, %llu 60 "
+           "frames after letting go, the middle %.1f mm above the held cloth\n",
+           1e3 * (double)depth, (unsigned long long)held, (unsigned long long)after,
+           1e3 * ((double)y - 0.5));
+    CHECK(held > 0, "dragged %.3g m through: no intersecting pairs (the drag did not cross)",
+          (double)depth);
+    CHECK(after == 0 && y > 0.5f, "dragged %.3g m through and let go: %llu intersecting pairs, "
+          "the middle at %.4g m (the held cloth at 0.5 m)", (double)depth,
+          (unsigned long long)after, (double)y);
+    free(x);
+    cvk_sim_destroy(sim);
+}
+
 /* Edges of the cloth that cut through funnel f's wall: sampled at 33 points, an edge whose
    points change sides (inside or outside the radius e^(y/a)) within the funnel's height. */
 static uint32_t edges_through_funnel(cvk_sim* sim, const cvk_collider_desc* f)
@@ -524,6 +590,8 @@ int main(void)
     cvk_context* ctx = harness_context();
     test_plan_passes(ctx);
     test_cloth_on_cloth(ctx);
+    test_dragged_through(ctx, 0.005f);
+    test_dragged_through(ctx, 0.009f);
     test_funnel_edges(ctx);
     test_friction(ctx);
     test_poses_and_snapshot(ctx);
