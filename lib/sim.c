@@ -76,8 +76,10 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
     return r;
 }
 
-cvk_result cvk_sim_copy_from_staging(cvk_sim* s, const cvk_staging_copy* jobs, uint32_t count,
-                                     cvk_error* error)
+/* One transfer submit, waited for: the staging copies, or (fill non-NULL) every word of one
+   buffer set to `value`; earlier GPU work on them finishes first, later work sees them. */
+static cvk_result transfer(cvk_sim* s, const cvk_staging_copy* jobs, uint32_t count,
+                           const cvk_buffer* fill, uint32_t value, cvk_error* error)
 {
     VkCommandBuffer cmd = s->transfer_cmd;
     cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
@@ -90,6 +92,8 @@ cvk_result cvk_sim_copy_from_staging(cvk_sim* s, const cvk_staging_copy* jobs, u
         VkBufferCopy region = {jobs[i].src_offset, jobs[i].dst_offset, jobs[i].size};
         vkCmdCopyBuffer(cmd, s->staging.buffer, jobs[i].dst->buffer, 1, &region);
     }
+    if (fill)
+        vkCmdFillBuffer(cmd, fill->buffer, 0, VK_WHOLE_SIZE, value);
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
@@ -103,6 +107,12 @@ cvk_result cvk_sim_copy_from_staging(cvk_sim* s, const cvk_staging_copy* jobs, u
     if (r == CVK_SUCCESS)
         s->queries_unreset = false;
     return r;
+}
+
+cvk_result cvk_sim_copy_from_staging(cvk_sim* s, const cvk_staging_copy* jobs, uint32_t count,
+                                     cvk_error* error)
+{
+    return transfer(s, jobs, count, NULL, 0, error);
 }
 
 cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size, const char* what,
@@ -125,13 +135,7 @@ cvk_result cvk_sim_make_buffer(cvk_sim* s, cvk_buffer* buffer, VkDeviceSize size
 
 cvk_result cvk_sim_fill_buffer(cvk_sim* s, cvk_buffer* buffer, unsigned char byte, cvk_error* error)
 {
-    unsigned char* bytes = malloc(buffer->size);
-    if (!bytes)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
-    memset(bytes, byte, buffer->size);
-    cvk_result r = cvk_sim_upload(s, buffer, bytes, buffer->size, error);
-    free(bytes);
-    return r;
+    return transfer(s, NULL, 0, buffer, byte * 0x01010101u, error);
 }
 
 cvk_result cvk_sim_clear_buffer(cvk_sim* s, cvk_buffer* buffer, cvk_error* error)

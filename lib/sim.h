@@ -116,8 +116,8 @@ cvk_result cvk_sim_copy_from_staging(cvk_sim* sim, const cvk_staging_copy* jobs,
 cvk_result cvk_sim_make_buffer(cvk_sim* sim, cvk_buffer* buffer, VkDeviceSize size, const char* what,
                                const void* data, cvk_error* error);
 
-/* Fills every byte of a device buffer with `byte` (clear: with zeros) through the staging
-   buffer. */
+/* Fills every byte of a device buffer (a size of whole words) with `byte` (clear: with
+   zeros) on the device, and waits. */
 cvk_result cvk_sim_fill_buffer(cvk_sim* sim, cvk_buffer* buffer, unsigned char byte,
                                cvk_error* error);
 cvk_result cvk_sim_clear_buffer(cvk_sim* sim, cvk_buffer* buffer, cvk_error* error);

@@ -368,13 +368,13 @@ vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
 // How far p is from triangle (a, b, c) on the side `side` of it, and the direction to push it
 // to increase that: over the face, along the normal (negative when p is behind the face);
 // beside an edge or corner, the distance to it and away from it (a particle passing beside
-// an edge, even below the face's plane, has not crossed the face).
-float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out vec3 w)
+// an edge, even below the face's plane, has not crossed the face). q and w: the triangle's
+// point nearest p and its barycentric weights (closest_on_triangle).
+float separation_at(vec3 p, vec3 q, vec3 w, vec3 a, vec3 b, vec3 c, float side, out vec3 dir)
 {
     vec3 n = cross(b - a, c - a);
     float area2 = length(n);
     n = area2 > 0.0 ? side * n / area2 : vec3(0.0, 1.0, 0.0);
-    vec3 q = closest_on_triangle(p, a, b, c, w);
     vec3 d = p - q;
     float along = dot(d, n);
     dir = n;
@@ -384,6 +384,12 @@ float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out v
     if (dist > 0.0)
         dir = d / dist;
     return dist;
+}
+
+float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out vec3 w)
+{
+    vec3 q = closest_on_triangle(p, a, b, c, w);
+    return separation_at(p, q, w, a, b, c, side, dir);
 }
 
 // One particle–triangle contact: p (start x0p, now xp) kept at the thickness r on the side of
@@ -406,7 +412,7 @@ vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3
     bool over_face = w0.x > 0.0 && w0.y > 0.0 && w0.z > 0.0;
     float side = over_face ? (kept_side != 0u ? -1.0 : 1.0)
                : (dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0);
-    float start = separation(x0p, a0, b0, c0, side, dir0, w0);
+    float start = separation_at(x0p, nearest0, w0, a0, b0, c0, side, dir0);
     float now = separation(xp, a, b, c, side, dir, w);
     float target = min(r, max(start, 0.0) + 0.05 * r);
     float depth = target - now;
