@@ -40,6 +40,8 @@ static void usage(FILE* out)
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
+            "  --search-lanes N    invocations per particle in the self-contact search, dividing\n"
+            "                 the workgroup size (default: the library's choice)\n"
             "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
@@ -60,6 +62,7 @@ typedef struct options {
     bool plan;
     uint32_t workgroup_size;
     uint32_t max_workgroups;
+    uint32_t search_lanes;
 } options;
 
 /* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
@@ -129,6 +132,13 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         } else if (!strcmp(a, "--max-workgroups")) {
             if (!has_value || !app_parse_u32(argv[i + 1], 1, UINT32_MAX, &o->max_workgroups)) {
                 app_error(tool, "--max-workgroups: expected a whole number of at least 1, got %s",
+                          has_value ? argv[i + 1] : "nothing");
+                return APP_EXIT_BAD_INPUT;
+            }
+            i++;
+        } else if (!strcmp(a, "--search-lanes")) {
+            if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->search_lanes)) {
+                app_error(tool, "--search-lanes: expected a whole number from 1 to 1024, got %s",
                           has_value ? argv[i + 1] : "nothing");
                 return APP_EXIT_BAD_INPUT;
             }
@@ -595,7 +605,8 @@ static int run(const options* o)
     int status = APP_EXIT_OK;
     cvk_sim* sim = NULL;
     cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .workgroup_size = o->workgroup_size,
-                                                      .max_workgroups = o->max_workgroups}, &sim, &err);
+                                                      .max_workgroups = o->max_workgroups,
+                                                      .search_lanes = o->search_lanes}, &sim, &err);
     if (r != CVK_SUCCESS) {
         app_error(tool, "%s: %s", o->scene, err.message);
         status = app_creation_status(r);

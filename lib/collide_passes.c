@@ -85,7 +85,10 @@ static void add_compact(cvk_sim* s, cvk_plan* plan, uint32_t phase, const char* 
 {
     cvk_collide* c = &s->collide;
     uint32_t count = phase == 1 ? s->build.particle_count : 1;
-    cvk_contact_push push = {0, count, phase, plan->workgroup_size};
+    /* the search's workgroups take workgroup_size / search_lanes particles each */
+    uint32_t per_group = phase == 2 ? plan->workgroup_size / plan->search_lanes
+                                    : plan->workgroup_size;
+    cvk_contact_push push = {0, count, phase, per_group};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_COMPACT,
                                    c->detect_layout, c->set, CVK_DOMAIN_PARTICLES, 0, count, &push,
                                    sizeof push);
@@ -105,10 +108,12 @@ static void add_lists(cvk_sim* s, cvk_plan* plan)
     cvk_collide* c = &s->collide;
     add_compact(s, plan, 0, "lists emptied");
     for (uint32_t phase = 0; phase < 2 && c->patch_count > 0; phase++) {
-        cvk_contact_push push = {0, c->patch_count, phase, plan->workgroup_size};
+        /* phase 1: search_lanes invocations per patch */
+        uint32_t count = phase == 0 ? c->patch_count : c->patch_count * plan->search_lanes;
+        cvk_contact_push push = {0, count, phase, plan->workgroup_size};
         cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_PATCH,
                                        c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES,
-                                       0, c->patch_count, &push, sizeof push);
+                                       0, count, &push, sizeof push);
         cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
         if (op)
             snprintf(op->note, sizeof op->note, "%u patches: %s", c->patch_count,
@@ -143,7 +148,8 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
         uint32_t pass = cvk_plan_pass(plan, "contacts");
-        cvk_contact_push push = {0, s->build.particle_count, 0, plan->workgroup_size};
+        cvk_contact_push push = {0, s->build.particle_count, 0,
+                                 plan->workgroup_size / plan->search_lanes};
         cvk_op* op = cvk_plan_dispatch_indirect(plan, pass, CVK_PIPE_CONTACT_DETECT,
                                                 c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
                                                 c->lists.buffer, 4u * CVK_LIST_SEARCH_GROUPS,
@@ -151,8 +157,12 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         if (op) {
             op->count = s->build.particle_count;
             op->set1 = c->hash.set;
-            snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m",
-                     (double)c->detect_radius);
+            if (plan->search_lanes > 1)
+                snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m, %u lanes each",
+                         (double)c->detect_radius, plan->search_lanes);
+            else
+                snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m",
+                         (double)c->detect_radius);
         }
         add_compact(s, plan, 3, "contact list -> contact passes' command");
         for (uint32_t i = first; c->detect_every > 1 && i < plan->op_count; i++)

@@ -18,6 +18,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_WIND,           /* the scene has air (lib/aero.h): predict adds its force */
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/tether.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
+    CVK_SPEC_SEARCH_LANES,   /* invocations per particle in the candidate search */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -43,6 +44,9 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
+/* The candidate search and the patches' activity (id 1 of shaders/contact_detect.comp and
+   contact_patch.comp: LANES). */
+#define CVK_SPEC_DETECT {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
@@ -69,8 +73,8 @@ typedef struct cvk_spec_recipe {
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \
-    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "particle-triangle candidates") \
-    X(CONTACT_PATCH, CONTACT_PATCH_COMP, CVK_SPEC_WORKGROUP, "patches: bounds, cones, activity") \
+    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_DETECT, "particle-triangle candidates") \
+    X(CONTACT_PATCH, CONTACT_PATCH_COMP, CVK_SPEC_DETECT, "patches: bounds, cones, activity") \
     X(CONTACT_COMPACT, CONTACT_COMPACT_COMP, CVK_SPEC_WORKGROUP, "search and contact lists") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
@@ -114,6 +118,7 @@ typedef struct cvk_spec_inputs {
     bool wind;
     bool tethers;
     uint32_t tether_slots;
+    uint32_t search_lanes;
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

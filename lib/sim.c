@@ -19,6 +19,11 @@
 /* Measured on lavapipe (2 cores): beyond a few workgroups per dispatch the thread hand-offs
    cost more than they spread. */
 #define CPU_DEVICE_MAX_WORKGROUPS 4u
+/* Invocations per particle in the candidate search on a device that is not a CPU: a GPU runs
+   a particle's walk over the 27 cells as one long chain of dependent reads, and scenes with
+   self-contact have a few thousand particles, too few threads to hide that latency. Measured
+   on an NVIDIA H200 (README "Performance"); on a CPU device each lane costs a loop. */
+#define GPU_SEARCH_LANES 16u
 #define MAX_FRAMES_PER_SUBMIT 256u
 
 double cvk_now_ms(void)
@@ -182,6 +187,7 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
                              uint32_t max_groups, cvk_plan* out, cvk_error* error)
 {
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
+    out->search_lanes = s->search_lanes;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);
@@ -197,7 +203,7 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
 {
     cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, s->collide.types,
                               s->collide.self, s->aero.enabled, s->build.tether_anchor != NULL,
-                              s->build.tether_slots};
+                              s->build.tether_slots, plan->search_lanes};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);
@@ -374,6 +380,25 @@ static uint32_t max_workgroups(const cvk_context* context, const cvk_sim_desc* d
     return max_groups;
 }
 
+/* cvk_sim_desc.search_lanes, resolved against the workgroup size. */
+static cvk_result search_lanes(const cvk_context* context, const cvk_sim_desc* desc,
+                               uint32_t workgroup_size, uint32_t* out, cvk_error* error)
+{
+    uint32_t lanes = desc->search_lanes;
+    if (lanes != 0 && (lanes > workgroup_size || workgroup_size % lanes != 0))
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "search_lanes: %u does not divide the workgroup size %u", lanes,
+                        workgroup_size);
+    if (lanes == 0) {
+        lanes = context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u
+                                                                              : GPU_SEARCH_LANES;
+        while (workgroup_size % lanes != 0)
+            lanes /= 2;
+    }
+    *out = lanes;
+    return CVK_SUCCESS;
+}
+
 static void init_fields(cvk_sim* s, cvk_context* context, const cvk_sim_desc* desc)
 {
     const cvk_scene_desc* scene = desc->scene;
@@ -410,6 +435,10 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     r = cvk_check_scene_limits(context, scene, workgroup_size, error);
     if (r != CVK_SUCCESS)
         return r;
+    uint32_t lanes = 1;
+    r = search_lanes(context, desc, workgroup_size, &lanes, error);
+    if (r != CVK_SUCCESS)
+        return r;
     if (!cvk_family_for(&scene->solver))
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",
                         cvk_method_name(scene->solver.method));
@@ -423,6 +452,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     if (!s)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the simulation");
     init_fields(s, context, desc);
+    s->search_lanes = lanes;
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)

@@ -26,6 +26,7 @@ struct cvk_sim {
     cvk_solver_desc solver;
     cvk_scene_desc params;  /* the scene's step, gravity and damping (no cloths): plan input */
     int timing_request;     /* cvk_sim_desc.timing */
+    uint32_t search_lanes;  /* cvk_sim_desc.search_lanes, resolved */
     cvk_ref_params ref;
 
     cvk_collide collide;    /* colliders, self-contact, the frame state (collide.h) */

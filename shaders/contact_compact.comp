@@ -20,7 +20,7 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 uint groups_for(uint items)
 {
-    uint groups = (items + pc.workgroup_size - 1u) / pc.workgroup_size;
+    uint groups = (items + pc.per_group - 1u) / pc.per_group;
     return min(groups, 65535u);
 }
 

@@ -15,7 +15,15 @@
 // it (so a particle that crossed the face since is brought back, pd_contact.glsl), else the
 // side it is on; equally near ones by triangle index, so the list depends neither on thread
 // timing nor on the order of the walk.
+//
+// LANES invocations share a particle (lib/sim.c: one on a CPU device, several on a GPU, where
+// one invocation's walk is a long chain of dependent reads and a few thousand of them leave
+// the device idle): each walks every LANES-th entry of the cells with its own nearest list,
+// and the first merges the others' lists into its own. A triangle is tested once whichever
+// lane holds its corner, and the lists are ordered by (distance, item), so the merged list is
+// the one a single invocation finds.
 layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint LANES = 1u;
 #include "shared/layout.h"
 #define CONTACT_SET 0
 #include "collide.glsl"
@@ -57,107 +65,169 @@ bool after(float dist_k, uint kept_k, float d, uint item)
     return dist_k > d || (dist_k == d && kept_k > item);
 }
 
+// The other lanes' lists, for the first lane of each particle to merge.
+shared uint lane_kept[gl_WorkGroupSize.x * K];
+shared float lane_dist[gl_WorkGroupSize.x * K];
+
+// (d, item) into the nearest K, if it is among them (ties, as at a corner shared by several
+// triangles: the lower triangle first, so the list does not depend on the order of the walk).
+// Every index is a constant once the loop unrolls: a variable index into a private array is a
+// per-lane memory loop on lavapipe (the search took 1.4x as long with the usual insertion
+// loop).
+// (A macro, not a function: lavapipe copied the arrays of a function's inout parameters at
+// every call, which made the search 1.6x as long.)
+#define INSERT(kept, dist, d_, item_)                                                   \
+    {                                                                                   \
+        float d = (d_);                                                                 \
+        uint item = (item_);                                                            \
+        for (uint k = K - 1u; k > 0u; k--) {                                            \
+            bool shift = after(dist[k - 1u], kept[k - 1u], d, item);                    \
+            bool here = !shift && after(dist[k], kept[k], d, item);                     \
+            kept[k] = shift ? kept[k - 1u] : (here ? item : kept[k]);                   \
+            dist[k] = shift ? dist[k - 1u] : (here ? d : dist[k]);                      \
+        }                                                                               \
+        bool first = after(dist[0], kept[0], d, item);                                  \
+        kept[0] = first ? item : kept[0];                                               \
+        dist[0] = first ? d : dist[0];                                                  \
+    }
+
+// p's list written, and p listed for the contact passes if it has a candidate.
+void write_list(uint p, uint kept[K])
+{
+    for (uint k = 0u; k < K; k++)
+        contacts[p * K + k] = kept[k];
+    if (kept[0] != CVK_NO_CONTACT) // the contact passes visit it (contact_compact.comp)
+        lists[contact_list_base() + atomicAdd(lists[CVK_LIST_CONTACT_COUNT], 1u)] = p;
+}
+
+// The nearest K candidates of particle p among the corners in every LANES-th entry of the
+// cells from `lane` on: p's list (one lane), or this invocation's part of it in shared memory.
+void walk(uint p, uint lane)
+{
+    vec3 xp = contact_x(p);
+    vec4 rp = contact_rest(p);
+    ivec3 home = hash_cell(xp);
+    uint base = contact_u.particle_count + 1u;
+    float reach = 1.0 / hash_params_u.inv_cell; // radius + 1.5 × longest edge / √3
+    float reach2 = reach * reach;
+    float e2 = contact_u.exclusion * contact_u.exclusion;
+    // First the cells that hold a corner to go on from, with nothing else live: on lavapipe
+    // the candidate arrays below cost on every iteration of every loop they are live in, and
+    // where the cloth is not folded there is no such cell at all.
+    uint first_cell = 27u, last_cell = 0u;
+    for (uint n = 0u; n < 27u; n++) {
+        ivec3 cell = hash_neighbour_cell(home, n);
+        uvec2 range = hash_range(cell);
+        for (uint e = range.x + lane; e < range.y; e += LANES) {
+            uvec4 entry = hash_entry_point(e); // the point's index and where it is
+            if (near_corner(xp, rp, cell, entry.w, uintBitsToFloat(entry.xyz), reach2, e2)) {
+                first_cell = min(first_cell, n);
+                last_cell = n;
+            }
+        }
+    }
+    // The last search's list of p (cleared to none when p's patch went quiet or the positions
+    // were written): a pair found again over the face keeps the side it had.
+    uint last[K];
+    bool live = true;
+    for (uint k = 0u; k < K; k++) {
+        uint e = contact_entry(p * K + k);
+        live = live && e != CVK_NO_CONTACT;
+        last[k] = live ? e : CVK_NO_CONTACT;
+    }
+    uint kept[K];
+    float dist[K];
+    for (uint k = 0u; k < K; k++) {
+        kept[k] = CVK_NO_CONTACT;
+        dist[k] = INFINITY;
+    }
+    for (uint n = first_cell; n <= last_cell; n++) {
+        ivec3 cell = hash_neighbour_cell(home, n);
+        uvec2 range = hash_range(cell);
+        for (uint e = range.x + lane; e < range.y; e += LANES) {
+            uvec4 entry = hash_entry_point(e);
+            uint q = entry.w;
+            vec3 xq = uintBitsToFloat(entry.xyz); // for its cell, distance and triangles
+            bool near = near_corner(xp, rp, cell, q, xq, reach2, e2);
+            uint o_end = near ? contact_incident(q + 1u) : 0u;
+            for (uint o = near ? contact_incident(q) : 0u; o < o_end; o++) {
+                uint t = contact_incident(base + o);
+                uvec4 tri = contact_triangle(t);
+                // The other two corners (q is one of the three).
+                uint u = tri.x == q ? tri.y : tri.x;
+                uint v = tri.z == q ? tri.y : tri.z;
+                vec3 xu = contact_x(u), xv = contact_x(v);
+                // Tested once, through its lowest-index corner within reach.
+                if ((u < q && within_reach(xp, xu, reach2)) ||
+                    (v < q && within_reach(xp, xv, reach2)))
+                    continue;
+                if (corner_rest_near(rp, contact_rest(u), e2) ||
+                    corner_rest_near(rp, contact_rest(v), e2))
+                    continue;
+                vec3 a = tri.x == q ? xq : xu;
+                vec3 b = tri.y == q ? xq : (tri.x == q ? xu : xv);
+                vec3 c = tri.z == q ? xq : xv;
+                vec3 w;
+                vec3 closest = closest_on_triangle(xp, a, b, c, w);
+                float d = length(xp - closest);
+                if (d >= contact_u.detect_radius)
+                    continue;
+                uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
+                if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
+                    for (uint k = 0u; k < K; k++)
+                        side = (last[k] >> 1u) == t ? (last[k] & 1u) : side;
+                INSERT(kept, dist, d, (t << 1u) | side)
+            }
+        }
+    }
+    if (LANES == 1u) {
+        write_list(p, kept);
+        return;
+    }
+    uint own = gl_LocalInvocationID.x * K;
+    for (uint k = 0u; k < K; k++) {
+        lane_kept[own + k] = kept[k];
+        lane_dist[own + k] = dist[k];
+    }
+}
+
 void main()
 {
     if (frame.search == 0u || pc.count == 0u)
         return; // adaptive search: the candidates of the last search still hold
+    // The free particles of active patches (contact_compact.comp).
     uint listed = lists[CVK_LIST_SEARCH_COUNT];
-    for (uint i = gl_GlobalInvocationID.x; i < listed; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-        // The free particles of active patches (contact_compact.comp).
-        uint p = lists[uint(CVK_LIST_HEADER) + i];
-        vec3 xp = contact_x(p);
-        vec4 rp = contact_rest(p);
-        ivec3 home = hash_cell(xp);
-        uint base = contact_u.particle_count + 1u;
-        float reach = 1.0 / hash_params_u.inv_cell; // radius + 1.5 × longest edge / √3
-        float reach2 = reach * reach;
-        float e2 = contact_u.exclusion * contact_u.exclusion;
-        // First the cells that hold a corner to go on from, with nothing else live: on
-        // lavapipe the candidate arrays below cost on every iteration of every loop they are
-        // live in, and where the cloth is not folded there is no such cell at all.
-        uint first_cell = 27u, last_cell = 0u;
-        for (uint n = 0u; n < 27u; n++) {
-            ivec3 cell = hash_neighbour_cell(home, n);
-            uvec2 range = hash_range(cell);
-            for (uint e = range.x; e < range.y; e++) {
-                uvec4 entry = hash_entry_point(e); // the point's index and where it is
-                if (near_corner(xp, rp, cell, entry.w, uintBitsToFloat(entry.xyz), reach2, e2)) {
-                    first_cell = min(first_cell, n);
-                    last_cell = n;
-                }
+    if (LANES == 1u) {
+        for (uint i = gl_GlobalInvocationID.x; i < listed; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+            walk(lists[uint(CVK_LIST_HEADER) + i], 0u);
+        return;
+    }
+    // LANES consecutive invocations per particle; every invocation of the workgroup goes
+    // round the loop equally often (the barriers).
+    uint per_group = gl_WorkGroupSize.x / LANES;
+    uint lane = gl_LocalInvocationID.x % LANES;
+    for (uint first = gl_WorkGroupID.x * per_group; first < listed;
+         first += gl_NumWorkGroups.x * per_group) {
+        uint i = first + gl_LocalInvocationID.x / LANES;
+        uint p = i < listed ? lists[uint(CVK_LIST_HEADER) + i] : 0u;
+        if (i < listed)
+            walk(p, lane);
+        barrier();
+        if (i < listed && lane == 0u) {
+            uint own = gl_LocalInvocationID.x * K;
+            uint kept[K];
+            float dist[K];
+            for (uint k = 0u; k < K; k++) {
+                kept[k] = lane_kept[own + k];
+                dist[k] = lane_dist[own + k];
             }
-        }
-        // The last search's list of p (cleared to none when p's patch went quiet or the
-        // positions were written): a pair found again over the face keeps the side it had.
-        uint last[K];
-        bool live = true;
-        for (uint k = 0u; k < K; k++) {
-            uint e = contact_entry(p * K + k);
-            live = live && e != CVK_NO_CONTACT;
-            last[k] = live ? e : CVK_NO_CONTACT;
-        }
-        uint kept[K];
-        float dist[K];
-        for (uint k = 0u; k < K; k++) {
-            kept[k] = CVK_NO_CONTACT;
-            dist[k] = INFINITY;
-        }
-        for (uint n = first_cell; n <= last_cell; n++) {
-            ivec3 cell = hash_neighbour_cell(home, n);
-            uvec2 range = hash_range(cell);
-            for (uint e = range.x; e < range.y; e++) {
-                uvec4 entry = hash_entry_point(e);
-                uint q = entry.w;
-                vec3 xq = uintBitsToFloat(entry.xyz); // for its cell, distance and triangles
-                bool near = near_corner(xp, rp, cell, q, xq, reach2, e2);
-                uint o_end = near ? contact_incident(q + 1u) : 0u;
-                for (uint o = near ? contact_incident(q) : 0u; o < o_end; o++) {
-                    uint t = contact_incident(base + o);
-                    uvec4 tri = contact_triangle(t);
-                    // The other two corners (q is one of the three).
-                    uint u = tri.x == q ? tri.y : tri.x;
-                    uint v = tri.z == q ? tri.y : tri.z;
-                    vec3 xu = contact_x(u), xv = contact_x(v);
-                    // Tested once, through its lowest-index corner within reach.
-                    if ((u < q && within_reach(xp, xu, reach2)) ||
-                        (v < q && within_reach(xp, xv, reach2)))
-                        continue;
-                    if (corner_rest_near(rp, contact_rest(u), e2) ||
-                        corner_rest_near(rp, contact_rest(v), e2))
-                        continue;
-                    vec3 a = tri.x == q ? xq : xu;
-                    vec3 b = tri.y == q ? xq : (tri.x == q ? xu : xv);
-                    vec3 c = tri.z == q ? xq : xv;
-                    vec3 w;
-                    vec3 closest = closest_on_triangle(xp, a, b, c, w);
-                    float d = length(xp - closest);
-                    if (d >= contact_u.detect_radius)
-                        continue;
-                    uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
-                    if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
-                        for (uint k = 0u; k < K; k++)
-                            side = (last[k] >> 1u) == t ? (last[k] & 1u) : side;
-                    // Insert by distance, keeping the K nearest (ties, as at a corner shared by
-                    // several triangles: the lower triangle first, so the list does not depend
-                    // on the order of the walk). Every index is a constant once the loop
-                    // unrolls: a variable index into a private array is a per-lane memory loop
-                    // on lavapipe (the search took 1.4x as long with the usual insertion loop).
-                    uint item = (t << 1u) | side;
-                    for (uint k = K - 1u; k > 0u; k--) {
-                        bool shift = after(dist[k - 1u], kept[k - 1u], d, item);
-                        bool here = !shift && after(dist[k], kept[k], d, item);
-                        kept[k] = shift ? kept[k - 1u] : (here ? item : kept[k]);
-                        dist[k] = shift ? dist[k - 1u] : (here ? d : dist[k]);
-                    }
-                    bool first = after(dist[0], kept[0], d, item);
-                    kept[0] = first ? item : kept[0];
-                    dist[0] = first ? d : dist[0];
-                }
+            for (uint j = 1u; j < LANES; j++) {
+                uint other = own + j * K;
+                for (uint k = 0u; k < K && lane_kept[other + k] != CVK_NO_CONTACT; k++)
+                    INSERT(kept, dist, lane_dist[other + k], lane_kept[other + k])
             }
+            write_list(p, kept);
         }
-        for (uint k = 0u; k < K; k++)
-            contacts[p * K + k] = kept[k];
-        if (kept[0] != CVK_NO_CONTACT) // the contact passes visit it (contact_compact.comp)
-            lists[contact_list_base() + atomicAdd(lists[CVK_LIST_CONTACT_COUNT], 1u)] = p;
+        barrier();
     }
 }

@@ -6,8 +6,12 @@
 // to it; -1 when it has a degenerate or squeezed triangle or normals that cancel); phase 1: whether it is
 // active — not flat itself, or some other patch within the detection radius of its box that
 // is not a rest neighbour, or a neighbour that does not stay flat with it. Each patch's
-// result depends on the data alone, not on the order of invocations.
+// result depends on the data alone, not on the order of invocations. In phase 1 LANES
+// invocations share a patch (lib/sim.c: several on a GPU, where one invocation's loop over every
+// other patch is a long chain of dependent reads): each looks at every LANES-th patch, and the
+// patch is active if one of them finds it so (phase 0 clears the flag).
 layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint LANES = 1u;
 #include "shared/layout.h"
 #define CONTACT_SET 0
 #include "collide.glsl"
@@ -48,8 +52,11 @@ void main()
         return;
     uint patches = contact_u.patch_count;
     uint offsets = contact_u.particle_count, ids = offsets + patches + 1u;
-    for (uint a = gl_GlobalInvocationID.x; a < pc.count; a += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+    for (uint item = gl_GlobalInvocationID.x; item < pc.count; item += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         if (pc.phase == 0u) {
+            uint a = item;
+            if (LANES > 1u)
+                patch_active[a] = 0u;
             uint first = patch_table(offsets + a), end = patch_table(offsets + a + 1u);
             vec3 low = vec3(3.0e38), high = vec3(-3.0e38), sum = vec3(0.0);
             bool broken = false;
@@ -75,6 +82,7 @@ void main()
             patch_bounds[3u * a + 2u] = vec4(axis, cosine);
             continue;
         }
+        uint a = item / LANES, lane = item % LANES;
         vec3 low = texelFetch(patch_bounds_t, int(3u * a)).xyz;
         vec3 high = texelFetch(patch_bounds_t, int(3u * a + 1u)).xyz;
         vec4 cone = texelFetch(patch_bounds_t, int(3u * a + 2u));
@@ -83,7 +91,7 @@ void main()
         uint near = contact_u.patch_neighbours;
         uint near_first = patch_table(near + a), near_end = patch_table(near + a + 1u);
         bool busy = !(acos(clamp(cone.w, -1.0, 1.0)) <= limit);
-        for (uint b = 0u; b < patches && !busy; b++) {
+        for (uint b = lane; b < patches && !busy; b += LANES) {
             vec3 low_b = texelFetch(patch_bounds_t, int(3u * b)).xyz;
             vec3 high_b = texelFetch(patch_bounds_t, int(3u * b + 1u)).xyz;
             bool overlap = all(lessThanEqual(low - r, high_b)) && all(lessThanEqual(low_b - r, high));
@@ -98,6 +106,9 @@ void main()
                            acos(clamp(cone_b.w, -1.0, 1.0));
             busy = !adjacent || !(spread <= limit);
         }
-        patch_active[a] = busy ? 1u : 0u;
+        if (LANES == 1u)
+            patch_active[a] = busy ? 1u : 0u;
+        else if (busy)
+            atomicOr(patch_active[a], 1u);
     }
 }

@@ -323,6 +323,12 @@ CASES = [
     {"name": "no workgroups", "argv": [SMALL, "--max-workgroups", "0"], "status": 2,
      "stderr": tooltest.tool_line("clothvk-sim", "--max-workgroups: expected a whole number of at "
                                   "least 1, got 0")},
+    {"name": "no search lanes", "argv": [SMALL, "--search-lanes", "0"], "status": 2,
+     "stderr": tooltest.tool_line("clothvk-sim", "--search-lanes: expected a whole number from 1 "
+                                  "to 1024, got 0")},
+    {"name": "search lanes that do not divide the workgroup",
+     "argv": [SMALL, "--search-lanes", "3"], "status": 2,
+     "stderr": error(SMALL, "search_lanes: 3 does not divide the workgroup size 64")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,

@@ -19,12 +19,14 @@
 typedef struct shape {
     uint32_t workgroup_size;
     uint32_t max_workgroups; /* 0: the library's choice */
+    uint32_t search_lanes;   /* 0: the library's choice */
 } shape;
 
-/* The first shape is the library's default; it also runs a second time. */
+/* The first shape is the library's default; it also runs a second time. Lanes share a
+   particle's candidate search (one on a CPU device by default, several on a GPU). */
 static const shape shapes[] = {
-    {0, 0},  {8, 1},   {8, 3},   {8, 0},   {32, 1},  {32, 3},  {32, 0},
-    {64, 1}, {64, 3},  {256, 1}, {256, 3}, {256, 0},
+    {0, 0, 0},  {8, 1, 0},   {8, 3, 8},   {8, 0, 2},   {32, 1, 4},  {32, 3, 1},  {32, 0, 32},
+    {64, 1, 8}, {64, 3, 16}, {256, 1, 0}, {256, 3, 64}, {256, 0, 1},
 };
 #define SHAPE_COUNT (sizeof shapes / sizeof shapes[0])
 
@@ -132,7 +134,8 @@ static outcome run(cvk_context* ctx, const cvk_scene_desc* scene, shape sh, cvk_
     outcome o = {0};
     cvk_sim* sim = NULL;
     cvk_sim_desc desc = {.scene = scene, .workgroup_size = sh.workgroup_size,
-                         .max_workgroups = sh.max_workgroups, .timing = -1};
+                         .max_workgroups = sh.max_workgroups, .search_lanes = sh.search_lanes,
+                         .timing = -1};
     if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
         return o;
     if (cvk_sim_step(sim, FRAMES, err) == CVK_SUCCESS) {
@@ -147,11 +150,13 @@ static outcome run(cvk_context* ctx, const cvk_scene_desc* scene, shape sh, cvk_
 
 static const char* shape_text(shape sh, char* text, size_t size)
 {
-    char wg[16], mw[16];
+    char wg[16], mw[16], sl[16];
     snprintf(wg, sizeof wg, "%u", sh.workgroup_size);
     snprintf(mw, sizeof mw, "%u", sh.max_workgroups);
-    snprintf(text, size, "workgroup size %s, max workgroups %s", sh.workgroup_size ? wg : "default",
-             sh.max_workgroups ? mw : "default");
+    snprintf(sl, sizeof sl, "%u", sh.search_lanes);
+    snprintf(text, size, "workgroup size %s, max workgroups %s, search lanes %s",
+             sh.workgroup_size ? wg : "default", sh.max_workgroups ? mw : "default",
+             sh.search_lanes ? sl : "default");
     return text;
 }
 
@@ -171,7 +176,7 @@ static void check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scen
                          cvk_linear_solver linear, const float* start)
 {
     scene.solver.linear = linear;
-    char what[96], text[64];
+    char what[96], text[96];
     snprintf(what, sizeof what, "%s, %s", name, cvk_linear_solver_name(linear));
     cvk_error err;
     outcome first = run(ctx, &scene, shapes[0], &err);

@@ -598,6 +598,11 @@ typedef struct cvk_sim_desc {
     bool grab;                   /* true: the frame has the grab pass from the start, so frames
                                     you record now follow cvk_sim_grab; false: the first
                                     cvk_sim_grab adds it (see there) */
+    uint32_t search_lanes;       /* invocations that share one particle's candidate search
+                                    (self-contact), dividing workgroup_size; 0 = the
+                                    library's choice: 1 on CPU devices, 16 elsewhere (fewer
+                                    where 16 does not divide workgroup_size). The candidates do
+                                    not depend on it */
 } cvk_sim_desc;
 
 CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,

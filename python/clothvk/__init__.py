@@ -249,7 +249,7 @@ class Simulation(_Owner):
     """A simulation of a scene on a context (the scene is copied; it may be closed after)."""
 
     def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True,
-                 grab=False):
+                 grab=False, search_lanes=0):
         self.context = context
         desc = ffi.new("cvk_sim_desc*")
         desc.scene = scene._desc
@@ -257,6 +257,7 @@ class Simulation(_Owner):
         desc.max_workgroups = max_workgroups
         desc.timing = 0 if timing else -1
         desc.grab = grab
+        desc.search_lanes = search_lanes
         out = ffi.new("cvk_sim**")
         err = ffi.new("cvk_error*")
         _check(lib.cvk_sim_create(context._live(), desc, out, err), err)

@@ -322,6 +322,7 @@ typedef struct cvk_sim_desc {
     uint32_t max_workgroups;
     int timing;
     bool grab;
+    uint32_t search_lanes;
 } cvk_sim_desc;
 
 cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,

@@ -375,7 +375,7 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
     CVK_UINT(first)             \
     CVK_UINT(count)             \
     CVK_UINT(phase)             \
-    CVK_UINT(workgroup_size) /* the listed dispatches': for the group counts written */
+    CVK_UINT(per_group) /* items per workgroup of the listed dispatch whose command is written */
 CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 
 /* Bindings of the contact set (set 1 of the solver pipelines, set 0 of the contact passes). */
