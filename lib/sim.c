@@ -380,18 +380,27 @@ static uint32_t max_workgroups(const cvk_context* context, const cvk_sim_desc* d
     return max_groups;
 }
 
-/* cvk_sim_desc.search_lanes, resolved against the workgroup size. */
+/* cvk_sim_desc.search_lanes, resolved against the workgroup size and the shared memory the
+   lanes' lists take (shaders/contact_detect.comp: a uint and a float per candidate). */
 static cvk_result search_lanes(const cvk_context* context, const cvk_sim_desc* desc,
                                uint32_t workgroup_size, uint32_t* out, cvk_error* error)
 {
     uint32_t lanes = desc->search_lanes;
+    uint64_t shared = (uint64_t)workgroup_size * CVK_CONTACTS_PER_PARTICLE * 8u;
+    uint32_t limit = context->properties.limits.maxComputeSharedMemorySize;
     if (lanes != 0 && (lanes > workgroup_size || workgroup_size % lanes != 0))
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "search_lanes: %u does not divide the workgroup size %u", lanes,
                         workgroup_size);
+    if (lanes > 1 && shared > limit)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "search_lanes: %u lanes in workgroups of %u need %llu bytes of shared "
+                        "memory, more than this device's %u; use one lane or smaller workgroups",
+                        lanes, workgroup_size, (unsigned long long)shared, limit);
     if (lanes == 0) {
-        lanes = context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u
-                                                                              : GPU_SEARCH_LANES;
+        lanes = context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU || shared > limit
+                    ? 1u
+                    : GPU_SEARCH_LANES;
         while (workgroup_size % lanes != 0)
             lanes /= 2;
     }

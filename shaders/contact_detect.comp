@@ -65,9 +65,11 @@ bool after(float dist_k, uint kept_k, float d, uint item)
     return dist_k > d || (dist_k == d && kept_k > item);
 }
 
-// The other lanes' lists, for the first lane of each particle to merge.
-shared uint lane_kept[gl_WorkGroupSize.x * K];
-shared float lane_dist[gl_WorkGroupSize.x * K];
+// The lanes' lists, for the first lane of each particle to merge (8 K bytes per invocation:
+// lib/sim.c keeps one lane where the device's shared memory does not hold them).
+const uint SHARED_LISTS = (LANES > 1u ? gl_WorkGroupSize.x : 1u) * K;
+shared uint lane_kept[SHARED_LISTS];
+shared float lane_dist[SHARED_LISTS];
 
 // (d, item) into the nearest K, if it is among them (ties, as at a corner shared by several
 // triangles: the lower triangle first, so the list does not depend on the order of the walk).

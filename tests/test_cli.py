@@ -329,6 +329,11 @@ CASES = [
     {"name": "search lanes that do not divide the workgroup",
      "argv": [SMALL, "--search-lanes", "3"], "status": 2,
      "stderr": error(SMALL, "search_lanes: 3 does not divide the workgroup size 64")},
+    {"name": "search lanes whose lists do not fit in shared memory",
+     "argv": [SMALL, "--search-lanes", "2", "--workgroup-size", "512"], "status": 2,
+     "stderr": error(SMALL, "search_lanes: 2 lanes in workgroups of 512 need 65536 bytes of "
+                            "shared memory, more than this device's 32768; use one lane or "
+                            "smaller workgroups")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,

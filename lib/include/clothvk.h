@@ -601,8 +601,9 @@ typedef struct cvk_sim_desc {
     uint32_t search_lanes;       /* invocations that share one particle's candidate search
                                     (self-contact), dividing workgroup_size; 0 = the
                                     library's choice: 1 on CPU devices, 16 elsewhere (fewer
-                                    where 16 does not divide workgroup_size). The candidates do
-                                    not depend on it */
+                                    where 16 does not divide workgroup_size; 1 where the lanes'
+                                    lists, 128 bytes per invocation, exceed the device's shared
+                                    memory). The candidates do not depend on it */
 } cvk_sim_desc;
 
 CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
