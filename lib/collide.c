@@ -446,7 +446,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = cvk_sim_make_buffer(s, &c->patch_table_buffer, c->self ? 4u * c->patch_table_size : 16u,
                                 "contact patches", c->patch_table, error);
     if (r == CVK_SUCCESS)
-        r = cvk_sim_make_buffer(s, &c->patch_bounds, 48u * patches, "patch bounds", NULL, error);
+        r = cvk_sim_make_buffer(s, &c->patch_bounds,
+                                48u * (patches + (c->self && s->search_lanes > 1 ? tc : 0u)),
+                                "patch and triangle bounds", NULL, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->patch_active, 4u * patches, "active patches", NULL, error);
     if (r == CVK_SUCCESS)

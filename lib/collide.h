@@ -110,7 +110,10 @@ typedef struct cvk_collide {
     uint32_t* patch_table;       /* the table on the host too (shared/layout.h) */
     size_t patch_table_size;     /* uints */
     cvk_buffer patch_table_buffer;
-    cvk_buffer patch_bounds;     /* vec4 × 3 per patch: low, high, normal cone */
+    cvk_buffer patch_bounds;     /* vec4 × 3 per patch: low, high, normal cone; then, with
+                                    search lanes, vec4 × 3 per triangle: low, high, unit normal
+                                    and whether it is degenerate or squeezed
+                                    (shaders/contact_patch.comp) */
     cvk_buffer patch_active;     /* uint per patch */
     cvk_buffer lists;            /* the work lists (shared/layout.h: CVK_LIST_*) */
     VkBufferView view_triangles, view_incident, view_rest, view_contacts; /* texel views */

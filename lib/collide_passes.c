@@ -107,17 +107,20 @@ static void add_lists(cvk_sim* s, cvk_plan* plan)
 {
     cvk_collide* c = &s->collide;
     add_compact(s, plan, 0, "lists emptied");
-    for (uint32_t phase = 0; phase < 2 && c->patch_count > 0; phase++) {
-        /* phase 1: search_lanes invocations per patch */
-        uint32_t count = phase == 0 ? c->patch_count : c->patch_count * plan->search_lanes;
+    static const char* const notes[3] = {"triangles' boxes, normals", "boxes, normal cones",
+                                         "active or not"};
+    for (uint32_t phase = plan->search_lanes > 1 ? 0 : 1; phase < 3 && c->patch_count > 0; phase++) {
+        /* phase 0: one invocation per triangle; 2: search_lanes per patch */
+        uint32_t count = phase == 0   ? s->build.triangle_count
+                         : phase == 1 ? c->patch_count
+                                      : c->patch_count * plan->search_lanes;
         cvk_contact_push push = {0, count, phase, plan->workgroup_size};
         cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_PATCH,
                                        c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES,
                                        0, count, &push, sizeof push);
         cvk_hash_one_item_each(plan, op); /* lavapipe's loop budget: see hash.h */
         if (op)
-            snprintf(op->note, sizeof op->note, "%u patches: %s", c->patch_count,
-                     phase == 0 ? "boxes, normal cones" : "active or not");
+            snprintf(op->note, sizeof op->note, "%u patches: %s", c->patch_count, notes[phase]);
     }
     add_compact(s, plan, 1, "search list, where each particle is seen");
     add_compact(s, plan, 2, "search command; hash built if any listed");

@@ -11,12 +11,13 @@
    40 x 40 and a 100 x 100 grid, the difference over 8400 particles): 168 with 4 springs per
    particle, 280 with 12 (14 per spring slot over 112), 458 with self-contact (+179: the hash's
    keys, ranges, candidates; +20 since for the patch table and the work lists, counted from
-   their sizes), 844 with implicit Euler (+564 at 12 slots: 3x3 blocks per slot
+   their sizes, and +96 for the triangles' boxes and normals, 48 bytes a triangle, which only
+   GPUs hold: search lanes, lib/collide.h), 844 with implicit Euler (+564 at 12 slots: 3x3 blocks per slot
    and the CG vectors, 47 per slot; the contact filter added 16 since). The coefficients round each up by about a tenth, so the
    estimate bounds what is made without overstating it by more than a few tens of percent. */
 #define DEVICE_BASE 125u
 #define DEVICE_PER_SLOT 16u
-#define DEVICE_SELF 224u
+#define DEVICE_SELF 330u
 #define DEVICE_IMPLICIT_PER_SLOT 52u
 /* Explicit integrators, from their buffer sizes (not measured): velocities, the RK2 stage,
    accelerations and the Adams-Bashforth history are 160 bytes, the adjacency 16 per slot;

@@ -1,15 +1,21 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The surface patches at a search (lib/collide.h, "Patches"), one patch per invocation:
-// phase 0: its bounding box over its triangles' corners at x_n and its normal cone (the
-// normalised sum of its triangles' unit normals as the axis, the smallest cosine of a normal
-// to it; -1 when it has a degenerate or squeezed triangle or normals that cancel); phase 1: whether it is
-// active — not flat itself, or some other patch within the detection radius of its box that
-// is not a rest neighbour, or a neighbour that does not stay flat with it. Each patch's
-// result depends on the data alone, not on the order of invocations. In phase 1 LANES
-// invocations share a patch (lib/sim.c: several on a GPU, where one invocation's loop over every
-// other patch is a long chain of dependent reads): each looks at every LANES-th patch, and the
-// patch is active if one of them finds it so (phase 0 clears the flag).
+// The surface patches at a search (lib/collide.h, "Patches"), in phases:
+// 0 (with LANES > 1 only), one triangle per invocation: its bounding box at x_n, its unit
+//   normal, and whether it is degenerate or squeezed (3 vec4 per triangle in patch_bounds,
+//   after the patches' entries);
+// 1, one patch per invocation: its bounding box over its triangles' and its normal cone (the
+//   normalised sum of its triangles' unit normals, in the patch's order, as the axis, the
+//   smallest cosine of a normal to it; -1 when it has a degenerate or squeezed triangle or
+//   normals that cancel), from phase 0's entries or, with one lane, measured here;
+// 2: whether it is active — not flat itself, or some other patch within the detection radius
+//   of its box that is not a rest neighbour, or a neighbour that does not stay flat with it.
+// Each patch's result depends on the data alone, not on the order of invocations or on LANES
+// (phase 0 and 1 do the same arithmetic). LANES > 1 means a GPU (lib/sim.c), where a patch's
+// loop measuring its triangles was one long chain of dependent reads (phase 0 takes them
+// apart; on lavapipe its writes cost more than the loop) and so was its loop over every other
+// patch: in phase 2 LANES invocations share a patch, each looking at every LANES-th other
+// patch, and the patch is active if one of them finds it so (phase 1 clears the flag).
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint LANES = 1u;
 #include "shared/layout.h"
@@ -52,8 +58,21 @@ void main()
         return;
     uint patches = contact_u.patch_count;
     uint offsets = contact_u.particle_count, ids = offsets + patches + 1u;
+    uint triangles = 3u * patches; // where the triangles' entries start in patch_bounds
     for (uint item = gl_GlobalInvocationID.x; item < pc.count; item += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         if (pc.phase == 0u) {
+            uint t = item;
+            uvec4 tri = contact_triangle(t);
+            vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
+            bool degenerate;
+            vec3 n = unit_normal(t, degenerate);
+            bool broken = degenerate || squeezed(tri, x0, x1, x2);
+            patch_bounds[triangles + 3u * t] = vec4(min(x0, min(x1, x2)), 0.0);
+            patch_bounds[triangles + 3u * t + 1u] = vec4(max(x0, max(x1, x2)), 0.0);
+            patch_bounds[triangles + 3u * t + 2u] = vec4(n, broken ? 1.0 : 0.0);
+            continue;
+        }
+        if (pc.phase == 1u) {
             uint a = item;
             if (LANES > 1u)
                 patch_active[a] = 0u;
@@ -62,20 +81,32 @@ void main()
             bool broken = false;
             for (uint i = first; i < end; i++) {
                 uint t = patch_table(ids + i);
-                uvec4 tri = contact_triangle(t);
-                vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
-                low = min(low, min(x0, min(x1, x2)));
-                high = max(high, max(x0, max(x1, x2)));
-                bool degenerate;
-                sum += unit_normal(t, degenerate);
-                broken = broken || degenerate || squeezed(tri, x0, x1, x2);
+                if (LANES == 1u) { // measured here (the same arithmetic as phase 0)
+                    uvec4 tri = contact_triangle(t);
+                    vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
+                    low = min(low, min(x0, min(x1, x2)));
+                    high = max(high, max(x0, max(x1, x2)));
+                    bool degenerate;
+                    sum += unit_normal(t, degenerate);
+                    broken = broken || degenerate || squeezed(tri, x0, x1, x2);
+                } else { // gathered from phase 0
+                    int e = int(triangles + 3u * t);
+                    low = min(low, texelFetch(patch_bounds_t, e).xyz);
+                    high = max(high, texelFetch(patch_bounds_t, e + 1).xyz);
+                    vec4 n = texelFetch(patch_bounds_t, e + 2);
+                    sum += n.xyz;
+                    broken = broken || n.w != 0.0;
+                }
             }
             float len = length(sum);
             vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);
             float cosine = broken || !(len > 0.0) ? -1.0 : 1.0;
             for (uint i = first; i < end && cosine > -1.0; i++) {
+                uint t = patch_table(ids + i);
                 bool degenerate;
-                cosine = min(cosine, dot(unit_normal(patch_table(ids + i), degenerate), axis));
+                vec3 n = LANES == 1u ? unit_normal(t, degenerate)
+                                     : texelFetch(patch_bounds_t, int(triangles + 3u * t + 2u)).xyz;
+                cosine = min(cosine, dot(n, axis));
             }
             patch_bounds[3u * a] = vec4(low, 0.0);
             patch_bounds[3u * a + 1u] = vec4(high, 0.0);
