@@ -65,8 +65,9 @@ bool after(float dist_k, uint kept_k, float d, uint item)
     return dist_k > d || (dist_k == d && kept_k > item);
 }
 
-// The lanes' lists, for the first lane of each particle to merge (8 K bytes per invocation:
-// lib/sim.c keeps one lane where the device's shared memory does not hold them).
+// The lanes' lists, for the first lane of each particle to merge (a uint and a float per
+// candidate, 128 bytes per invocation: lib/sim.c keeps one lane where the device's shared
+// memory does not hold them).
 const uint SHARED_LISTS = (LANES > 1u ? gl_WorkGroupSize.x : 1u) * K;
 shared uint lane_kept[SHARED_LISTS];
 shared float lane_dist[SHARED_LISTS];
@@ -78,19 +79,19 @@ shared float lane_dist[SHARED_LISTS];
 // loop).
 // (A macro, not a function: lavapipe copied the arrays of a function's inout parameters at
 // every call, which made the search 1.6x as long.)
-#define INSERT(kept, dist, d_, item_)                                                   \
+#define INSERT(kept, dist, D, ITEM)                                                      \
     {                                                                                   \
-        float d = (d_);                                                                 \
-        uint item = (item_);                                                            \
-        for (uint k = K - 1u; k > 0u; k--) {                                            \
-            bool shift = after(dist[k - 1u], kept[k - 1u], d, item);                    \
-            bool here = !shift && after(dist[k], kept[k], d, item);                     \
-            kept[k] = shift ? kept[k - 1u] : (here ? item : kept[k]);                   \
-            dist[k] = shift ? dist[k - 1u] : (here ? d : dist[k]);                      \
+        float new_d = (D);                                                              \
+        uint new_item = (ITEM);                                                         \
+        for (uint s = K - 1u; s > 0u; s--) {                                            \
+            bool shift = after(dist[s - 1u], kept[s - 1u], new_d, new_item);            \
+            bool here = !shift && after(dist[s], kept[s], new_d, new_item);             \
+            kept[s] = shift ? kept[s - 1u] : (here ? new_item : kept[s]);               \
+            dist[s] = shift ? dist[s - 1u] : (here ? new_d : dist[s]);                  \
         }                                                                               \
-        bool first = after(dist[0], kept[0], d, item);                                  \
-        kept[0] = first ? item : kept[0];                                               \
-        dist[0] = first ? d : dist[0];                                                  \
+        bool front = after(dist[0], kept[0], new_d, new_item);                          \
+        kept[0] = front ? new_item : kept[0];                                           \
+        dist[0] = front ? new_d : dist[0];                                              \
     }
 
 // p's list written, and p listed for the contact passes if it has a candidate.

@@ -1,6 +1,7 @@
 /* Determinism as a promise, in the manner of Box2D's determinism test: a grid cloth and an
    irregular mesh cloth are stepped for a fixed number of frames under several compute shapes
-   (workgroup sizes × workgroups per dispatch) with each GPU solver, and one hash of the final
+   (workgroup sizes × workgroups per dispatch × invocations per particle in the self-contact
+   search) with each GPU solver, and one hash of the final
    positions (FNV-1a 64 over the float bytes of cvk_sim_read_positions) must be the same for
    every shape and again on a second run of the first shape.
 
