@@ -23,6 +23,10 @@ layout(constant_id = 1) const uint LANES = 1u;
 #include "collide.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
+// Phase 1 with lanes reads this many triangles' entries before using them: the reads do not
+// depend on each other, so a GPU keeps them in flight together.
+const uint BATCH = 8u;
+
 vec3 unit_normal(uint t, out bool degenerate)
 {
     uvec4 tri = contact_triangle(t);
@@ -79,9 +83,9 @@ void main()
             uint first = patch_table(offsets + a), end = patch_table(offsets + a + 1u);
             vec3 low = vec3(3.0e38), high = vec3(-3.0e38), sum = vec3(0.0);
             bool broken = false;
-            for (uint i = first; i < end; i++) {
-                uint t = patch_table(ids + i);
-                if (LANES == 1u) { // measured here (the same arithmetic as phase 0)
+            if (LANES == 1u) { // measured here (the same arithmetic as phase 0)
+                for (uint i = first; i < end; i++) {
+                    uint t = patch_table(ids + i);
                     uvec4 tri = contact_triangle(t);
                     vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
                     low = min(low, min(x0, min(x1, x2)));
@@ -89,24 +93,42 @@ void main()
                     bool degenerate;
                     sum += unit_normal(t, degenerate);
                     broken = broken || degenerate || squeezed(tri, x0, x1, x2);
-                } else { // gathered from phase 0
-                    int e = int(triangles + 3u * t);
-                    low = min(low, texelFetch(patch_bounds_t, e).xyz);
-                    high = max(high, texelFetch(patch_bounds_t, e + 1).xyz);
-                    vec4 n = texelFetch(patch_bounds_t, e + 2);
-                    sum += n.xyz;
-                    broken = broken || n.w != 0.0;
+                }
+            } else { // gathered from phase 0, BATCH triangles' reads at a time, summed in order
+                for (uint i = first; i < end; i += BATCH) {
+                    vec4 n[BATCH];
+                    vec3 lo[BATCH], hi[BATCH];
+                    for (uint j = 0u; j < BATCH; j++) {
+                        int e = int(triangles + 3u * patch_table(ids + min(i + j, end - 1u)));
+                        lo[j] = texelFetch(patch_bounds_t, e).xyz;
+                        hi[j] = texelFetch(patch_bounds_t, e + 1).xyz;
+                        n[j] = texelFetch(patch_bounds_t, e + 2);
+                    }
+                    for (uint j = 0u; j < BATCH; j++)
+                        if (i + j < end) {
+                            low = min(low, lo[j]);
+                            high = max(high, hi[j]);
+                            sum += n[j].xyz;
+                            broken = broken || n[j].w != 0.0;
+                        }
                 }
             }
             float len = length(sum);
             vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);
             float cosine = broken || !(len > 0.0) ? -1.0 : 1.0;
-            for (uint i = first; i < end && cosine > -1.0; i++) {
-                uint t = patch_table(ids + i);
-                bool degenerate;
-                vec3 n = LANES == 1u ? unit_normal(t, degenerate)
-                                     : texelFetch(patch_bounds_t, int(triangles + 3u * t + 2u)).xyz;
-                cosine = min(cosine, dot(n, axis));
+            if (LANES == 1u) {
+                for (uint i = first; i < end && cosine > -1.0; i++) {
+                    bool degenerate;
+                    cosine = min(cosine, dot(unit_normal(patch_table(ids + i), degenerate), axis));
+                }
+            } else {
+                for (uint i = first; i < end && cosine > -1.0; i += BATCH) {
+                    vec3 n[BATCH];
+                    for (uint j = 0u; j < BATCH; j++)
+                        n[j] = texelFetch(patch_bounds_t, int(triangles + 3u * patch_table(ids + min(i + j, end - 1u)) + 2u)).xyz;
+                    for (uint j = 0u; j < BATCH; j++)
+                        cosine = min(cosine, dot(n[j], axis)); // a repeated last one changes nothing
+                }
             }
             patch_bounds[3u * a] = vec4(low, 0.0);
             patch_bounds[3u * a + 1u] = vec4(high, 0.0);
