@@ -30,12 +30,13 @@ typedef struct rest_scene {
    soft (a substep's implicit solve takes only s = (omega h)^2 ~ 1e-4 of the way to the
    equilibrium, and damping 2 % of the velocity), and a float state rests off the exact
    equilibrium: after 80,000 substeps 1.2e-7 to 1.7e-6 m with 16 sweeps a substep (at rest
-   after 30,000), up to 4e-6 m with one sweep (9e-6 m on an NVIDIA H200; the slowest, at rest
-   after 70,000); gs-cpu, in double, 2.6e-8 m (the float rounding of the positions read).
+   after 30,000), up to 4e-6 m with one sweep (9e-6 m on an NVIDIA H200; not at rest, see
+   below); gs-cpu, in double, 2.6e-8 m (the float rounding of the positions read).
    Before the spring term was written as a difference (shaders/pd_common.glsl spring_rhs:
    a few ulp of k L of force in every spring, which the soft modes cannot tell from stretch)
-   1.9e-6 to 1.4e-5 m, 2.7e-5 m on the H200; why one sweep still rests farther is not
-   established (README "At rest, at the equilibrium"). Without the rest memory: 3.0e-3 to
+   1.9e-6 to 1.4e-5 m, 2.7e-5 m on the H200. One sweep a substep does not come to rest at all
+   but sticks and slips (README "At rest, at the equilibrium"): the figure at the frame below
+   is a phase of that cycle. Without the rest memory: 3.0e-3 to
    5.4e-2 m. */
 static void make_chain(rest_scene* r)
 {
