@@ -86,7 +86,7 @@ static void add_compact(cvk_sim* s, cvk_plan* plan, uint32_t phase, const char* 
     cvk_collide* c = &s->collide;
     uint32_t count = phase == 1 ? s->build.particle_count : 1;
     /* the search's workgroups take workgroup_size / search_lanes particles each */
-    uint32_t per_group = phase == 2 ? plan->workgroup_size / plan->search_lanes
+    uint32_t per_group = phase == 2 ? plan->workgroup_size / s->search_lanes
                                     : plan->workgroup_size;
     cvk_contact_push push = {0, count, phase, per_group};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_COMPACT,
@@ -109,11 +109,11 @@ static void add_lists(cvk_sim* s, cvk_plan* plan)
     add_compact(s, plan, 0, "lists emptied");
     static const char* const notes[3] = {"triangles' boxes, normals", "boxes, normal cones",
                                          "active or not"};
-    for (uint32_t phase = plan->search_lanes > 1 ? 0 : 1; phase < 3 && c->patch_count > 0; phase++) {
+    for (uint32_t phase = s->search_lanes > 1 ? 0 : 1; phase < 3 && c->patch_count > 0; phase++) {
         /* phase 0: one invocation per triangle; 2: search_lanes per patch */
         uint32_t count = phase == 0   ? s->build.triangle_count
                          : phase == 1 ? c->patch_count
-                                      : c->patch_count * plan->search_lanes;
+                                      : c->patch_count * s->search_lanes;
         cvk_contact_push push = {0, count, phase, plan->workgroup_size};
         cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), CVK_PIPE_CONTACT_PATCH,
                                        c->descriptors.pipeline_layout, c->set, CVK_DOMAIN_PARTICLES,
@@ -152,7 +152,7 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
             return r;
         uint32_t pass = cvk_plan_pass(plan, "contacts");
         cvk_contact_push push = {0, s->build.particle_count, 0,
-                                 plan->workgroup_size / plan->search_lanes};
+                                 plan->workgroup_size / s->search_lanes};
         cvk_op* op = cvk_plan_dispatch_indirect(plan, pass, CVK_PIPE_CONTACT_DETECT,
                                                 c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
                                                 c->lists.buffer, 4u * CVK_LIST_SEARCH_GROUPS,
@@ -160,9 +160,9 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         if (op) {
             op->count = s->build.particle_count;
             op->set1 = c->hash.set;
-            if (plan->search_lanes > 1)
+            if (s->search_lanes > 1)
                 snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m, %u lanes each",
-                         (double)c->detect_radius, plan->search_lanes);
+                         (double)c->detect_radius, s->search_lanes);
             else
                 snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m",
                          (double)c->detect_radius);

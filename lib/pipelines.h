@@ -19,7 +19,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/tether.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
     CVK_SPEC_SEARCH_LANES,   /* invocations per particle in the candidate search, per patch in
-                                the patches' activity test (cvk_plan.search_lanes) */
+                                the patches' activity test (cvk_sim.search_lanes) */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {

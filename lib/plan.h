@@ -71,9 +71,6 @@ typedef struct cvk_plan {
     uint32_t substeps;
     uint32_t workgroup_size;
     uint32_t max_groups;
-    uint32_t search_lanes;      /* invocations per particle in the candidate search (a
-                                   divisor of workgroup_size; cvk_sim_desc.search_lanes; 1
-                                   after cvk_plan_init) */
     bool uses[CVK_PIPE_COUNT];
     bool has_transfer;          /* some op fills, copies or dispatches indirectly */
     bool host;                  /* the family steps on the host: no operations are recorded */

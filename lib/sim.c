@@ -187,7 +187,6 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
                              uint32_t max_groups, cvk_plan* out, cvk_error* error)
 {
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
-    out->search_lanes = s->search_lanes;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);
@@ -203,7 +202,7 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
 {
     cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, s->collide.types,
                               s->collide.self, s->aero.enabled, s->build.tether_anchor != NULL,
-                              s->build.tether_slots, plan->search_lanes};
+                              s->build.tether_slots, s->search_lanes};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);

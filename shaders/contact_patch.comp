@@ -27,14 +27,20 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 // depend on each other, so a GPU keeps them in flight together.
 const uint BATCH = 8u;
 
-vec3 unit_normal(uint t, out bool degenerate)
+// The unit normal of triangle (a, b, c); 0 when it is degenerate.
+vec3 unit_normal_of(vec3 a, vec3 b, vec3 c, out bool degenerate)
 {
-    uvec4 tri = contact_triangle(t);
-    vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
     vec3 n = cross(b - a, c - a);
     float len = length(n);
     degenerate = !(len > 0.0);
     return degenerate ? vec3(0.0) : n / len;
+}
+
+vec3 unit_normal(uint t)
+{
+    uvec4 tri = contact_triangle(t);
+    bool degenerate;
+    return unit_normal_of(contact_x(tri.x), contact_x(tri.y), contact_x(tri.z), degenerate);
 }
 
 // Whether one of the triangle's two shorter edges at rest is now shorter than
@@ -56,6 +62,19 @@ bool squeezed(uvec4 tri, vec3 a, vec3 b, vec3 c)
     return (shorter.x && !skip_x) || (shorter.y && !skip_y) || (shorter.z && !skip_z);
 }
 
+// Triangle t at x_n: its bounding box, its unit normal, and whether it is degenerate or
+// squeezed (phase 0 writes these; phase 1 with one lane uses them at once).
+void measure(uint t, out vec3 low, out vec3 high, out vec3 normal, out bool broken)
+{
+    uvec4 tri = contact_triangle(t);
+    vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
+    low = min(x0, min(x1, x2));
+    high = max(x0, max(x1, x2));
+    bool degenerate;
+    normal = unit_normal_of(x0, x1, x2, degenerate);
+    broken = degenerate || squeezed(tri, x0, x1, x2);
+}
+
 void main()
 {
     if (frame.search == 0u || pc.count == 0u)
@@ -66,13 +85,11 @@ void main()
     for (uint item = gl_GlobalInvocationID.x; item < pc.count; item += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         if (pc.phase == 0u) {
             uint t = item;
-            uvec4 tri = contact_triangle(t);
-            vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
-            bool degenerate;
-            vec3 n = unit_normal(t, degenerate);
-            bool broken = degenerate || squeezed(tri, x0, x1, x2);
-            patch_bounds[triangles + 3u * t] = vec4(min(x0, min(x1, x2)), 0.0);
-            patch_bounds[triangles + 3u * t + 1u] = vec4(max(x0, max(x1, x2)), 0.0);
+            vec3 low, high, n;
+            bool broken;
+            measure(t, low, high, n, broken);
+            patch_bounds[triangles + 3u * t] = vec4(low, 0.0);
+            patch_bounds[triangles + 3u * t + 1u] = vec4(high, 0.0);
             patch_bounds[triangles + 3u * t + 2u] = vec4(n, broken ? 1.0 : 0.0);
             continue;
         }
@@ -83,16 +100,15 @@ void main()
             uint first = patch_table(offsets + a), end = patch_table(offsets + a + 1u);
             vec3 low = vec3(3.0e38), high = vec3(-3.0e38), sum = vec3(0.0);
             bool broken = false;
-            if (LANES == 1u) { // measured here (the same arithmetic as phase 0)
+            if (LANES == 1u) { // measured here
                 for (uint i = first; i < end; i++) {
-                    uint t = patch_table(ids + i);
-                    uvec4 tri = contact_triangle(t);
-                    vec3 x0 = contact_x(tri.x), x1 = contact_x(tri.y), x2 = contact_x(tri.z);
-                    low = min(low, min(x0, min(x1, x2)));
-                    high = max(high, max(x0, max(x1, x2)));
-                    bool degenerate;
-                    sum += unit_normal(t, degenerate);
-                    broken = broken || degenerate || squeezed(tri, x0, x1, x2);
+                    vec3 lo, hi, n;
+                    bool bad;
+                    measure(patch_table(ids + i), lo, hi, n, bad);
+                    low = min(low, lo);
+                    high = max(high, hi);
+                    sum += n;
+                    broken = broken || bad;
                 }
             } else { // gathered from phase 0, BATCH triangles' reads at a time, summed in order
                 for (uint i = first; i < end; i += BATCH) {
@@ -117,10 +133,8 @@ void main()
             vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);
             float cosine = broken || !(len > 0.0) ? -1.0 : 1.0;
             if (LANES == 1u) {
-                for (uint i = first; i < end && cosine > -1.0; i++) {
-                    bool degenerate;
-                    cosine = min(cosine, dot(unit_normal(patch_table(ids + i), degenerate), axis));
-                }
+                for (uint i = first; i < end && cosine > -1.0; i++)
+                    cosine = min(cosine, dot(unit_normal(patch_table(ids + i)), axis));
             } else {
                 for (uint i = first; i < end && cosine > -1.0; i += BATCH) {
                     vec3 n[BATCH];
