@@ -411,6 +411,24 @@ bool cvk_collide_rest_near(const cvk_collide* c, uint32_t p, const uint32_t tri[
     return false;
 }
 
+/* Edge contact's list entries (shared/layout.h, CVK_EDGE_PAIR) hold an edge of any triangle
+   and one of the particle's own edges in 31 bits. */
+static cvk_result check_edge_limits(const cvk_build* b, const cloth_tables* t, cvk_error* error)
+{
+    if (b->triangle_count > CVK_EDGE_MAX_TRIANGLES)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "collision.edges: the cloths have %u triangles, more than the %u edge "
+                        "contact can address", b->triangle_count, CVK_EDGE_MAX_TRIANGLES);
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        if (t->incident[p + 1] - t->incident[p] > CVK_EDGE_MAX_TRIANGLES_AROUND)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "collision.edges: a particle of cloth %u is a corner of %u triangles, "
+                            "more than the %u edge contact can address",
+                            cvk_build_cloth_of(b, p), t->incident[p + 1] - t->incident[p],
+                            CVK_EDGE_MAX_TRIANGLES_AROUND);
+    return CVK_SUCCESS;
+}
+
 static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     const cvk_build* b = &s->build;
@@ -419,6 +437,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     bool tables = c->self || (c->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
     if (tables)
         r = make_cloth_tables(b, &t, error);
+    if (r == CVK_SUCCESS && c->edges)
+        r = check_edge_limits(b, &t, error);
     if (r == CVK_SUCCESS && c->self)
         r = make_rest(b, c, error);
     if (r == CVK_SUCCESS && c->self)
@@ -495,6 +515,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .patch_count = c->patch_count,
         .patch_neighbours = c->patch_neighbours,
         .flat_cos = cosf(CVK_FLAT_DEGREES * (3.14159265f / 180.0f)),
+        .edge_exclusion = c->edge_exclusion,
     };
     /* the frame state, then the motion bounds of the adaptive search (empty) */
     struct {
@@ -555,6 +576,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     cvk_collide* c = &s->collide;
     *c = (cvk_collide){0};
     c->self = scene->collision.self;
+    c->edges = c->self && scene->collision.edges;
     c->colliding = c->self || scene->collider_count > 0;
     c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
                                                      : default_thickness(&s->build);
@@ -568,6 +590,11 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
                                                      : CVK_EXCLUSION_THICKNESSES * c->thickness;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     c->detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
+    /* Edge pairs within one cloth are kept only between parts that were apart at rest (a
+       fold's layers, a crease over a border): next to each other the particle–triangle pairs
+       hold a fold, and a flat cloth's neighbouring edges would fill the edge places and cost
+       the search for nothing. */
+    c->edge_exclusion = c->exclusion + 1.5f * cvk_collide_longest_edge(&s->build);
     c->types = cvk_scene_collider_types(scene);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)

@@ -77,6 +77,7 @@ struct cvk_sim;
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */
     bool self;                   /* particle–triangle contact between cloths */
+    bool edges;                  /* edge–edge contact too (collision.edges; with self only) */
     uint32_t types;              /* bit t: colliders of type t (a funnel, a surface rather
                                     than a solid, has the cloth's edges kept off it too, so
                                     the triangle tables are built for it) */
@@ -100,6 +101,9 @@ typedef struct cvk_collide {
     cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
     float* rest_xyz;             /* the same on the host (self-contact only) */
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
+    float edge_exclusion;        /* m: edge pairs of one cloth with ends this near at rest are
+                                    never in contact (collision.edges: the exclusion plus 1.5
+                                    longest edges, so a flat cloth has no edge pairs of its own) */
     float detect_radius;         /* m: candidates are kept within it */
     cvk_buffer contacts;         /* CVK_CONTACTS_PER_PARTICLE uint per particle */
     cvk_buffer searched;         /* vec4 per particle: its position at the last search */
@@ -135,6 +139,9 @@ void cvk_collide_destroy(struct cvk_sim* sim);
    particle–triangle candidates ("contacts"). Nothing when the scene does not collide. */
 cvk_result cvk_collide_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);
 
+/* The longest edge of any cloth triangle at rest (m). */
+float cvk_collide_longest_edge(const cvk_build* build);
+
 /* The hash and the detection pass's layout (self-contact only); called by cvk_collide_create. */
 cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
 
@@ -156,6 +163,10 @@ uint64_t cvk_collide_snapshot_size(const struct cvk_sim* sim);
 cvk_result cvk_collide_save_snapshot(struct cvk_sim* sim, unsigned char* data, cvk_error* error);
 cvk_result cvk_collide_load_snapshot(struct cvk_sim* sim, const unsigned char* data,
                                      cvk_error* error);
+/* Whether the contact state `data` can be loaded into this simulation (before anything is):
+   edge pairs only where the scene has edge contact. */
+cvk_result cvk_collide_check_snapshot(const struct cvk_sim* sim, const unsigned char* data,
+                                      cvk_error* error);
 
 /* The patches (collide_patches.c) from the rest mesh: triangles (4 uint per triangle, internal
    corners) and the triangles around each particle (particle_count + 1 offsets, then ids). */

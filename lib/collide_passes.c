@@ -12,8 +12,7 @@
 #include "error.h"
 #include "sim.h"
 
-/* The longest edge of any cloth triangle at rest. */
-static float longest_edge(const cvk_build* b)
+float cvk_collide_longest_edge(const cvk_build* b)
 {
     float longest = 0.0f;
     for (uint32_t t = 0; t < b->triangle_count; t++)
@@ -34,9 +33,12 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
        farthest any point of it is from its nearest corner: at most the longest edge / √3 (the
        circumradius of an equilateral triangle; less for any other shape of that longest edge).
        Cells that large keep that corner among the 27 cells around p while the cloth stretches
-       up to 50 %. */
+       up to 50 %. Edge contact (collision.edges) searches the same cells: an edge pair is
+       found where an end of one edge is within that reach of an end of the other, which holds
+       for edges crossing at right angles near their middles up to about 20 % stretch (wider
+       cells, for every pair, made flat cloth search again: README, "Edge against edge"). */
     float cell = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness +
-                 1.5f / sqrtf(3.0f) * longest_edge(&s->build);
+                 1.5f / sqrtf(3.0f) * cvk_collide_longest_edge(&s->build);
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
                           &s->positions};
     cvk_result r = cvk_hash_create(s->context, &desc, &c->hash, error);
@@ -161,11 +163,11 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
             op->count = s->build.particle_count;
             op->set1 = c->hash.set;
             if (s->search_lanes > 1)
-                snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m, %u lanes each",
-                         (double)c->detect_radius, s->search_lanes);
+                snprintf(op->note, sizeof op->note, "listed: pairs%s within %.3g m, %u lanes",
+                         c->edges ? " and edges" : "", (double)c->detect_radius, s->search_lanes);
             else
-                snprintf(op->note, sizeof op->note, "listed: pairs within %.3g m",
-                         (double)c->detect_radius);
+                snprintf(op->note, sizeof op->note, "listed: pairs%s within %.3g m",
+                         c->edges ? " and edges" : "", (double)c->detect_radius);
         }
         add_compact(s, plan, 3, "contact list -> contact passes' command");
         for (uint32_t i = first; c->detect_every > 1 && i < plan->op_count; i++)
@@ -245,12 +247,33 @@ cvk_result cvk_collide_save_snapshot(cvk_sim* s, unsigned char* data, cvk_error*
     return r;
 }
 
+cvk_result cvk_collide_check_snapshot(const cvk_sim* s, const unsigned char* data,
+                                     cvk_error* error)
+{
+    cvk_buffer* buffers[4];
+    VkDeviceSize sizes[4];
+    if (snapshot_parts(s, buffers, sizes) == 0 || s->collide.edges)
+        return CVK_SUCCESS;
+    /* Edge pairs are read only by a contact pass built for them. */
+    const unsigned char* kept = data + sizes[0] + sizes[1];
+    for (VkDeviceSize i = 0; i < sizes[2] / 4u; i++) {
+        uint32_t e;
+        memcpy(&e, kept + 4u * i, sizeof e);
+        if (e != CVK_NO_CONTACT && (e & CVK_EDGE_PAIR) != 0u)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "cvk_sim_load_snapshot: the snapshot holds edge contact candidates "
+                            "(collision.edges); this simulation has no edge contact");
+    }
+    return CVK_SUCCESS;
+}
+
 cvk_result cvk_collide_load_snapshot(cvk_sim* s, const unsigned char* data, cvk_error* error)
 {
     cvk_buffer* buffers[4];
     VkDeviceSize sizes[4];
     cvk_result r = CVK_SUCCESS;
-    for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); r == CVK_SUCCESS && i < n; i++) {
+    uint32_t parts = snapshot_parts(s, buffers, sizes);
+    for (uint32_t i = 0; r == CVK_SUCCESS && i < parts; i++) {
         r = cvk_sim_upload(s, buffers[i], data, sizes[i], error);
         data += sizes[i];
     }

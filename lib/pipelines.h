@@ -20,6 +20,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
     CVK_SPEC_SEARCH_LANES,   /* invocations per particle in the candidate search, per patch in
                                 the patches' activity test (cvk_sim.search_lanes) */
+    CVK_SPEC_EDGE_CONTACT,   /* the scene has edge–edge contact (collision.edges) */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -34,9 +35,10 @@ typedef struct cvk_spec_recipe {
 /* The checking first sweeps (id 3: TETHERS of shaders/pd_common.glsl). */
 #define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                  CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
-/* The contact pass (ids 3, 4 of shaders/pd_contact.glsl; id 2 unused). */
-#define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
-                             CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
+/* The contact pass (ids 3, 4, 5 of shaders/pd_contact.glsl; id 2 unused). */
+#define CVK_SPEC_PD_CONTACT {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                             CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
+                             CVK_SPEC_EDGE_CONTACT}}
 /* The prediction (id 3 of shaders/predict.comp; id 2 unused). */
 #define CVK_SPEC_PREDICT {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND}}
@@ -46,8 +48,9 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 /* The candidate search and the patches' activity (id 1 of shaders/contact_detect.comp and
-   contact_patch.comp: LANES). */
-#define CVK_SPEC_DETECT {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES}}
+   contact_patch.comp: LANES; id 2 of the search: EDGES). */
+#define CVK_SPEC_DETECT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES, \
+                         CVK_SPEC_EDGE_CONTACT}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
@@ -120,6 +123,7 @@ typedef struct cvk_spec_inputs {
     bool tethers;
     uint32_t tether_slots;
     uint32_t search_lanes;
+    bool edge_contact;
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

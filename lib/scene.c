@@ -41,7 +41,7 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .render = cvk_default_render_desc(),
         /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
         .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f,
-                      .detect_every = 0, .exclusion = 0.0f},
+                      .detect_every = 0, .exclusion = 0.0f, .edges = false},
         .colliders = NULL,
         .collider_count = 0,
         .attachments = NULL,
@@ -768,6 +768,9 @@ static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_
     if (c->static_friction < c->friction)
         return cvk_issue_at(issue, "collision.static_friction", "must be at least friction (%g), got %g", c->friction,
                         c->static_friction);
+    if (c->edges && !c->self)
+        return cvk_issue_at(issue, "collision.edges",
+                            "edge contact is between the cloths' edges: it needs \"self\": true");
     return true;
 }
 

@@ -290,6 +290,7 @@ static const cvk_field collision_fields[] = {
     {.key = "static_friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, static_friction)},
     {.key = "detect_every", .read = cvk_read_uint, .offset = offsetof(cvk_collision_desc, detect_every)},
     {.key = "exclusion", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, exclusion)},
+    {.key = "edges", .read = cvk_read_bool, .offset = offsetof(cvk_collision_desc, edges)},
 };
 static const cvk_table collision_table = FIELDS(collision_fields);
 

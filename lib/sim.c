@@ -202,7 +202,7 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
 {
     cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, s->collide.types,
                               s->collide.self, s->aero.enabled, s->build.tether_anchor != NULL,
-                              s->build.tether_slots, s->search_lanes};
+                              s->build.tether_slots, s->search_lanes, s->collide.edges};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);
@@ -380,12 +380,15 @@ static uint32_t max_workgroups(const cvk_context* context, const cvk_sim_desc* d
 }
 
 /* cvk_sim_desc.search_lanes, resolved against the workgroup size and the shared memory the
-   lanes' lists take (shaders/contact_detect.comp: a uint and a float per candidate). */
+   lanes' lists take (shaders/contact_detect.comp: a uint and a float per candidate, and per
+   edge pair with collision.edges). */
 static cvk_result search_lanes(const cvk_context* context, const cvk_sim_desc* desc,
                                uint32_t workgroup_size, uint32_t* out, cvk_error* error)
 {
     uint32_t lanes = desc->search_lanes;
-    uint64_t shared = (uint64_t)workgroup_size * CVK_CONTACTS_PER_PARTICLE * 8u;
+    bool edges = desc->scene->collision.self && desc->scene->collision.edges;
+    uint64_t shared = (uint64_t)workgroup_size *
+                      (CVK_CONTACTS_PER_PARTICLE + (edges ? CVK_EDGE_CONTACTS_PER_PARTICLE : 0)) * 8u;
     uint32_t limit = context->properties.limits.maxComputeSharedMemorySize;
     if (lanes != 0 && (lanes > workgroup_size || workgroup_size % lanes != 0))
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,

@@ -210,7 +210,8 @@ static void put_header(text* t, const cvk_sim* s)
     const cvk_collide* c = &s->collide;
     if (c->colliding) {
         put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s",
-            c->thickness, c->friction, c->static_friction, c->self ? "on" : "off");
+            c->thickness, c->friction, c->static_friction,
+            c->edges ? "on with edges" : c->self ? "on" : "off");
         if (c->self && c->detect_every == 0)
             put(t, " (candidates searched when a particle moved %.3g m since the last search)",
                 (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));

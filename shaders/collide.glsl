@@ -365,6 +365,88 @@ vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
     return a + v * ab + t * ac;
 }
 
+// The nearest points c1 = p1 + s (q1 - p1) and c2 = p2 + t (q2 - p2) of two segments
+// (Ericson 2005, §5.1.9; s = 0 where the segments are parallel).
+void closest_segments(vec3 p1, vec3 q1, vec3 p2, vec3 q2, precise out float s,
+                      precise out float t, precise out vec3 c1, precise out vec3 c2)
+{
+    precise vec3 d1 = q1 - p1, d2 = q2 - p2, r = p2 - p1;
+    precise float a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, -r);
+    s = 0.0;
+    t = 0.0;
+    if (a > 0.0 && e > 0.0) {
+        precise float b = dot(d1, d2), c = dot(d1, -r);
+        precise float denom = a * e - b * b;
+        s = denom > 0.0 ? clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+        t = (b * s + f) / e;
+        if (t < 0.0) {
+            t = 0.0;
+            s = clamp(-c / a, 0.0, 1.0);
+        } else if (t > 1.0) {
+            t = 1.0;
+            s = clamp((b - c) / a, 0.0, 1.0);
+        }
+    } else if (a > 0.0) {
+        s = clamp(dot(d1, r) / a, 0.0, 1.0);
+    } else if (e > 0.0) {
+        t = clamp(dot(d2, -r) / e, 0.0, 1.0);
+    }
+    c1 = p1 + s * d1;
+    c2 = p2 + t * d2;
+}
+
+// Corner k (0, 1 or 2) of a triangle, without indexing the vector by a variable.
+uint corner_of(uvec4 t, uint k)
+{
+    return k == 0u ? t.x : (k == 1u ? t.y : t.z);
+}
+
+// Distance from p to segment (a, b).
+float point_segment_distance(vec3 p, vec3 a, vec3 b)
+{
+    vec3 ab = b - a;
+    float len2 = dot(ab, ab);
+    float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return length(p - (a + t * ab));
+}
+
+// Whether the nearest points of two edges lie inside both, where the edges can pass through
+// each other (elsewhere one goes round the other's end).
+bool edges_inside(float s, float t)
+{
+    return s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+}
+
+// The side (1: negative) edge (p0, p1) is on of edge (a, b): the sign of the nearest points'
+// offset along the edges' common normal (p1 - p0) × (b - a).
+uint edge_side(vec3 p0, vec3 p1, vec3 a, vec3 b, vec3 c1, vec3 c2)
+{
+    precise float along = dot(c1 - c2, cross(p1 - p0, b - a));
+    return along < 0.0 ? 1u : 0u;
+}
+
+// How far edge (p0, p1) is from edge (a, b) on the side `side` (±1) of it, and the direction
+// to push the first to increase that: where the nearest points are inside both edges and the
+// edges are more than about 6° from parallel, along their common normal (negative once they
+// have passed through each other); elsewhere the distance between the nearest points, away
+// from the second. s, t: where the nearest points are on each.
+float edge_separation(vec3 p0, vec3 p1, vec3 a, vec3 b, float side, out vec3 dir, out float s,
+                      out float t)
+{
+    vec3 c1, c2;
+    closest_segments(p0, p1, a, b, s, t, c1, c2);
+    vec3 m = cross(p1 - p0, b - a);
+    float lm = length(m);
+    vec3 d = c1 - c2;
+    float dist = length(d);
+    if (edges_inside(s, t) && lm > 0.1 * length(p1 - p0) * length(b - a)) {
+        dir = side * m / lm;
+        return dot(d, dir);
+    }
+    dir = dist > 0.0 ? d / dist : (lm > 0.0 ? side * m / lm : vec3(0.0, 1.0, 0.0));
+    return dist;
+}
+
 // How far p is from triangle (a, b, c) on the side `side` of it, and the direction to push it
 // to increase that: over the face, along the normal (negative when p is behind the face);
 // beside an edge or corner, the distance to it and away from it (a particle passing beside
@@ -432,4 +514,32 @@ vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3
     else
         xp -= tangential * min(1.0, contact_u.friction * depth / t);
     return xp;
+}
+
+// p's move for the edge pair (its edge p–r against edge a–b of another triangle; collision.edges),
+// x0p, r0, a0, b0 where the four ends started the substep, xp, r, a, b where they are now. As
+// for a triangle: the edges kept a thickness apart on their side — where their nearest points
+// are inside both, the side the candidate list keeps (judged when the pair was found), so edges
+// that passed through each other since are brought back; elsewhere the side they start the
+// substep on — and a pair that starts nearer is eased apart. p takes its share: each end of
+// both edges finds the pair from its own side and moves by its weight at the nearest points
+// over their sum of squares (equal masses), so the four moves together close the gap.
+vec3 collide_edge(vec3 x0p, vec3 xp, vec3 r0, vec3 r, vec3 a0, vec3 b0, vec3 a, vec3 b,
+                  uint kept_side)
+{
+    float th = contact_u.thickness;
+    float s0, t0, s, t;
+    vec3 c1, c2, dir0, dir;
+    closest_segments(x0p, r0, a0, b0, s0, t0, c1, c2);
+    float side = edges_inside(s0, t0) ? (kept_side != 0u ? -1.0 : 1.0)
+                                      : (edge_side(x0p, r0, a0, b0, c1, c2) != 0u ? -1.0 : 1.0);
+    float start = edge_separation(x0p, r0, a0, b0, side, dir0, s0, t0);
+    float now = edge_separation(xp, r, a, b, side, dir, s, t);
+    float target = min(th, max(start, 0.0) + 0.05 * th);
+    float depth = target - now;
+    if (depth <= 0.0 || now < -th)
+        return xp;
+    float wp = 1.0 - s;
+    float sum = wp * wp + s * s + (1.0 - t) * (1.0 - t) + t * t;
+    return xp + (depth * wp / sum) * dir;
 }

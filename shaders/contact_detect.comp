@@ -24,6 +24,8 @@
 // the one a single invocation finds.
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint LANES = 1u;
+// collision.edges: edge pairs too (below).
+layout(constant_id = 2) const bool EDGES = false;
 #include "shared/layout.h"
 #define CONTACT_SET 0
 #include "collide.glsl"
@@ -59,6 +61,31 @@ bool near_corner(vec3 xp, vec4 rp, ivec3 cell, uint q, vec3 xq, float reach2, fl
            !corner_rest_near(rp, contact_rest(q), e2);
 }
 
+// The triangle of p's own edge slot i, and p's corner in it.
+uvec4 own_triangle(uint p, uint i, out uint pk)
+{
+    uint base = contact_u.particle_count + 1u;
+    uvec4 pt = contact_triangle(contact_incident(base + contact_incident(p) + i / 2u));
+    pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
+    return pt;
+}
+
+// Whether slot i's triangle has a border edge into p (odd slots exist only there).
+bool own_border(uint p, uint i)
+{
+    uint pk;
+    uvec4 pt = own_triangle(p, i, pk);
+    return (pt.w & (1u << ((pk + 2u) % 3u))) != 0u;
+}
+
+// The far end of p's own edge slot i: the next corner, or the one before.
+uint own_end(uint p, uint i)
+{
+    uint pk;
+    uvec4 pt = own_triangle(p, i, pk);
+    return corner_of(pt, (pk + 1u + (i & 1u)) % 3u);
+}
+
 // Whether the kept candidate (dist_k, kept_k) comes after (d, item) in the list.
 bool after(float dist_k, uint kept_k, float d, uint item)
 {
@@ -68,7 +95,12 @@ bool after(float dist_k, uint kept_k, float d, uint item)
 // The lanes' lists, for the first lane of each particle to merge (a uint and a float per
 // candidate, 128 bytes per invocation: lib/sim.c keeps one lane where the device's shared
 // memory does not hold them).
-const uint SHARED_LISTS = (LANES > 1u ? gl_WorkGroupSize.x : 1u) * K;
+// collision.edges: the nearest KE edge pairs, kept apart from the triangles and written after
+// them (as many of the K places as they fill; the triangles keep the others). In shared
+// memory after each invocation's triangles.
+const uint KE = EDGES ? uint(CVK_EDGE_CONTACTS_PER_PARTICLE) : 1u;
+const uint SLOTS = K + (EDGES ? KE : 0u);
+const uint SHARED_LISTS = (LANES > 1u ? gl_WorkGroupSize.x : 1u) * SLOTS;
 shared uint lane_kept[SHARED_LISTS];
 shared float lane_dist[SHARED_LISTS];
 
@@ -79,11 +111,12 @@ shared float lane_dist[SHARED_LISTS];
 // loop).
 // (A macro, not a function: lavapipe copied the arrays of a function's inout parameters at
 // every call, which made the search 1.6x as long.)
-#define INSERT(kept, dist, D, ITEM)                                                      \
+#define INSERT(kept, dist, D, ITEM) INSERT_N(kept, dist, K, D, ITEM)
+#define INSERT_N(kept, dist, N, D, ITEM)                                                 \
     {                                                                                   \
         float new_d = (D);                                                              \
         uint new_item = (ITEM);                                                         \
-        for (uint s = K - 1u; s > 0u; s--) {                                            \
+        for (uint s = (N) - 1u; s > 0u; s--) {                                          \
             bool shift = after(dist[s - 1u], kept[s - 1u], new_d, new_item);            \
             bool here = !shift && after(dist[s], kept[s], new_d, new_item);             \
             kept[s] = shift ? kept[s - 1u] : (here ? new_item : kept[s]);               \
@@ -94,12 +127,23 @@ shared float lane_dist[SHARED_LISTS];
         dist[0] = front ? new_d : dist[0];                                              \
     }
 
-// p's list written, and p listed for the contact passes if it has a candidate.
-void write_list(uint p, uint kept[K])
+// p's list written (its triangles, then its edge pairs: as many triangles as leave room for
+// the edge pairs), and p listed for the contact passes if it has a candidate.
+void write_list(uint p, uint kept[K], uint ekept[KE])
 {
+    uint edges = 0u, triangles = 0u;
+    for (uint k = 0u; k < KE; k++)
+        edges += EDGES && ekept[k] != CVK_NO_CONTACT ? 1u : 0u;
     for (uint k = 0u; k < K; k++)
-        contacts[p * K + k] = kept[k];
-    if (kept[0] != CVK_NO_CONTACT) // the contact passes visit it (contact_compact.comp)
+        triangles += kept[k] != CVK_NO_CONTACT ? 1u : 0u;
+    uint start = min(triangles, K - edges); // where the edge pairs go
+    for (uint k = 0u; k < K; k++) {
+        uint e = CVK_NO_CONTACT;
+        for (uint m = 0u; m < KE; m++) // every index a constant (see INSERT)
+            e = k - start == m ? ekept[m] : e;
+        contacts[p * K + k] = k < start ? kept[k] : (k - start < edges ? e : CVK_NO_CONTACT);
+    }
+    if (kept[0] != CVK_NO_CONTACT || edges > 0u) // the contact passes visit it (contact_compact.comp)
         lists[contact_list_base() + atomicAdd(lists[CVK_LIST_CONTACT_COUNT], 1u)] = p;
 }
 
@@ -114,6 +158,7 @@ void walk(uint p, uint lane)
     float reach = 1.0 / hash_params_u.inv_cell; // radius + 1.5 × longest edge / √3
     float reach2 = reach * reach;
     float e2 = contact_u.exclusion * contact_u.exclusion;
+    float ee2 = contact_u.edge_exclusion * contact_u.edge_exclusion; // edge pairs
     // First the cells that hold a corner to go on from, with nothing else live: on lavapipe
     // the candidate arrays below cost on every iteration of every loop they are live in, and
     // where the cloth is not folded there is no such cell at all.
@@ -144,6 +189,21 @@ void walk(uint p, uint lane)
         kept[k] = CVK_NO_CONTACT;
         dist[k] = INFINITY;
     }
+    uint ekept[KE];
+    float edist[KE];
+    for (uint k = 0u; k < KE; k++) {
+        ekept[k] = CVK_NO_CONTACT;
+        edist[k] = INFINITY;
+    }
+    // collision.edges: the radius plus p's longest edge, beyond which no edge can be within
+    // the radius of one of p's edges.
+    float own_reach = 0.0;
+    for (uint o = contact_incident(p); EDGES && o < contact_incident(p + 1u); o++) {
+        uvec4 pt = contact_triangle(contact_incident(base + o));
+        own_reach = max(own_reach, max(distance(xp, contact_x(pt.x)),
+                                       max(distance(xp, contact_x(pt.y)), distance(xp, contact_x(pt.z)))));
+    }
+    own_reach += contact_u.detect_radius;
     for (uint n = first_cell; n <= last_cell; n++) {
         ivec3 cell = hash_neighbour_cell(home, n);
         uvec2 range = hash_range(cell);
@@ -181,16 +241,73 @@ void walk(uint p, uint lane)
                         side = (last[k] >> 1u) == t ? (last[k] & 1u) : side;
                 INSERT(kept, dist, d, (t << 1u) | side)
             }
+            // Edge pairs (collision.edges): each edge at q (once: from its triangle that runs it
+            // from the lower index to the higher, or its border triangle; tested through its
+            // end with the lower index within reach) against each of p's own edges, no end of
+            // either near an end of the other at rest (within the edge exclusion, wider than
+            // the triangles': lib/collide.c). Found where an end of the edge is within
+            // the reach of p (lib/collide_passes.c: edges crossing at right angles near their
+            // middles, up to about 20 % stretch).
+            vec4 rq = contact_rest(q);
+            bool edges_at_q = EDGES && near && !corner_rest_near(rp, rq, ee2);
+            uint q_end = edges_at_q ? o_end : 0u;
+            for (uint o = edges_at_q ? contact_incident(q) : 0u; o < q_end; o++) {
+                uint t = contact_incident(base + o);
+                uvec4 tri = contact_triangle(t);
+                uint k0 = tri.x == q ? 0u : (tri.y == q ? 1u : 2u);
+                for (uint w = 0u; w < 2u; w++) {
+                    uint j = w == 0u ? k0 : (k0 + 2u) % 3u; // edge j: corner j to corner j + 1
+                    uint from = corner_of(tri, j), to = corner_of(tri, (j + 1u) % 3u);
+                    uint b = w == 0u ? to : from; // the edge's other end
+                    vec3 xb = contact_x(b);
+                    vec4 rb = contact_rest(b);
+                    vec3 fa = w == 0u ? xq : xb, fb = w == 0u ? xb : xq;
+                    bool test = from != to && (from < to || (tri.w & (1u << j)) != 0u) &&
+                                !(b < q && within_reach(xp, xb, reach2)) &&
+                                !corner_rest_near(rp, rb, ee2) &&
+                                point_segment_distance(xp, fa, fb) < own_reach;
+                    // p's own edges against it (lavapipe ends a shader's loops after 65535
+                    // iterations in all, hash.h: only edges that can be within the radius of
+                    // one of them come here).
+                    uint slots = test ? 2u * (contact_incident(p + 1u) - contact_incident(p)) : 0u;
+                    for (uint i = 0u; i < slots; i++) {
+                        if ((i & 1u) != 0u && !own_border(p, i))
+                            continue;
+                        uint r = own_end(p, i);
+                        vec4 rr = contact_rest(r);
+                        if (r == q || r == b || corner_rest_near(rr, rq, ee2) ||
+                            corner_rest_near(rr, rb, ee2))
+                            continue;
+                        vec3 xr = contact_x(r);
+                        float s, u;
+                        vec3 c1, c2;
+                        closest_segments(xp, xr, fa, fb, s, u, c1, c2);
+                        precise float d = length(c1 - c2);
+                        if (d >= contact_u.detect_radius)
+                            continue;
+                        uint item = CVK_EDGE_PAIR | (i << CVK_EDGE_OWN_SHIFT) | ((3u * t + j) << 1u);
+                        uint side = edge_side(xp, xr, fa, fb, c1, c2);
+                        if (edges_inside(s, u))
+                            for (uint k = 0u; k < K; k++)
+                                side = (last[k] >> 1u) == (item >> 1u) ? (last[k] & 1u) : side;
+                        INSERT_N(ekept, edist, KE, d, item | side)
+                    }
+                }
+            }
         }
     }
     if (LANES == 1u) {
-        write_list(p, kept);
+        write_list(p, kept, ekept);
         return;
     }
-    uint own = gl_LocalInvocationID.x * K;
+    uint own = gl_LocalInvocationID.x * SLOTS;
     for (uint k = 0u; k < K; k++) {
         lane_kept[own + k] = kept[k];
         lane_dist[own + k] = dist[k];
+    }
+    for (uint k = 0u; EDGES && k < KE; k++) {
+        lane_kept[own + K + k] = ekept[k];
+        lane_dist[own + K + k] = edist[k];
     }
 }
 
@@ -217,7 +334,7 @@ void main()
             walk(p, lane);
         barrier();
         if (i < listed && lane == 0u) {
-            uint own = gl_LocalInvocationID.x * K;
+            uint own = gl_LocalInvocationID.x * SLOTS;
             uint kept[K];
             float dist[K];
             for (uint k = 0u; k < K; k++) {
@@ -225,11 +342,22 @@ void main()
                 dist[k] = lane_dist[own + k];
             }
             for (uint j = 1u; j < LANES; j++) {
-                uint other = own + j * K;
+                uint other = own + j * SLOTS;
                 for (uint k = 0u; k < K && lane_kept[other + k] != CVK_NO_CONTACT; k++)
                     INSERT(kept, dist, lane_dist[other + k], lane_kept[other + k])
             }
-            write_list(p, kept);
+            uint ekept[KE];
+            float edist[KE];
+            for (uint k = 0u; k < KE; k++) {
+                ekept[k] = EDGES ? lane_kept[own + K + k] : CVK_NO_CONTACT;
+                edist[k] = EDGES ? lane_dist[own + K + k] : INFINITY;
+            }
+            for (uint j = 1u; EDGES && j < LANES; j++) {
+                uint other = own + j * SLOTS + K;
+                for (uint k = 0u; k < KE && lane_kept[other + k] != CVK_NO_CONTACT; k++)
+                    INSERT_N(ekept, edist, KE, lane_dist[other + k], lane_kept[other + k])
+            }
+            write_list(p, kept, ekept);
         }
         barrier();
     }

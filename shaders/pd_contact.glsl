@@ -8,6 +8,8 @@
 #include "collide.glsl"
 
 layout(constant_id = 4) const bool SELF = false;
+// collision.edges: the lists hold edge pairs too (shared/layout.h, CVK_EDGE_PAIR).
+layout(constant_id = 5) const bool EDGES = false;
 const bool COLLIDERS = COLLIDER_TYPES != 0u;
 // Self-contact alone: the pass visits only the particles the last search listed with
 // candidates (lib/collide.h, "Patches"); with colliders it visits every particle.
@@ -63,6 +65,23 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
     return u + most;
 }
 
+// p's move for the edge pair e of its list (collide_edge); the other ends from the iterate
+// before (src), as a triangle's corners.
+vec3 edge_pair(uint p, vec3 x0, vec3 xp, uint e)
+{
+    uint base = contact_u.particle_count + 1u;
+    uint own = (e & ~CVK_EDGE_PAIR) >> CVK_EDGE_OWN_SHIFT;
+    uvec4 pt = contact_triangle(contact_incident(base + contact_incident(p) + own / 2u));
+    uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
+    uint r = corner_of(pt, (pk + 1u + (own & 1u)) % 3u);
+    uint f = (e >> 1u) & ((1u << (CVK_EDGE_OWN_SHIFT - 1)) - 1u);
+    uvec4 tri = contact_triangle(f / 3u);
+    uint a = corner_of(tri, f % 3u), b = corner_of(tri, (f % 3u + 1u) % 3u);
+    vec3 r0 = fetch(x_read, r), a0 = fetch(x_read, a), b0 = fetch(x_read, b);
+    return collide_edge(x0, xp, r0, r0 + fetch(src, r), a0, b0, a0 + fetch(src, a),
+                        b0 + fetch(src, b), e & 1u);
+}
+
 vec3 pd_contact(uint p, vec3 u)
 {
     vec3 x0 = fetch(x_read, p);
@@ -78,6 +97,10 @@ vec3 pd_contact(uint p, vec3 u)
             n++;
         for (uint k = n; k-- > 0u;) {
             uint e = contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE) + k);
+            if (EDGES && (e & CVK_EDGE_PAIR) != 0u) {
+                xp = edge_pair(p, x0, xp, e);
+                continue;
+            }
             uvec4 t = contact_triangle(e >> 1u);
             vec3 a0 = fetch(x_read, t.x), b0 = fetch(x_read, t.y), c0 = fetch(x_read, t.z);
             xp = collide_triangle(x0, xp, a0, b0, c0, a0 + fetch(src, t.x), b0 + fetch(src, t.y),

@@ -83,6 +83,17 @@ def json_contacts(stdout, workdir):
     return problems
 
 
+def json_pairs(ok, what):
+    """--json: contacts.intersecting_pairs passes ok(n)."""
+    def check(stdout, workdir):
+        try:
+            n = json.loads(stdout)["contacts"]["intersecting_pairs"]
+        except (ValueError, KeyError, TypeError) as e:
+            return [f"no contacts.intersecting_pairs in the JSON: {e!r}"]
+        return [] if is_int(n) and ok(n) else [f"contacts.intersecting_pairs is {n!r}; expected {what}"]
+    return check
+
+
 def is_int(v):
     return isinstance(v, int) and not isinstance(v, bool)
 
@@ -239,6 +250,10 @@ CASES = [
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
                      "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)")},
+    {"name": "edge contact without self-contact", "argv": [SMALL, "--set", "collision.edges=true"],
+     "status": 2,
+     "stderr": error(SMALL, "collision.edges (from --set): edge contact is between the cloths' "
+                     "edges: it needs \"self\": true")},
     {"name": "wrong type", "argv": [scene("wrong-type.json")], "status": 2,
      "stderr": error(scene("wrong-type.json"), "dt: expected a number, got the string \"fast\"")},
     {"name": "negative mass", "argv": [scene("negative-mass.json")], "status": 2,
@@ -389,6 +404,18 @@ CASES = [
                        "(candidates searched when a particle moved 0.00266 m since the last search)",
                        "  colliders dispatch", "  hash     dispatch", "  contacts dispatch",
                        "  contact  dispatch")},
+    {"name": "--plan with edge contact", "argv": [asset("ribbons.json"), "--plan"], "status": 0,
+     "check": plan_has("collision: thickness 0.006 m, friction 0.4 (static 0.5), self-contact on "
+                       "with edges (", "  contacts indirect particle-triangle candidates particles, "
+                       "groups from the device (offset 16), listed: pairs and edges within 0.015 m")},
+    {"name": "--json ribbons with edge contact", "argv": [asset("ribbons.json"), "--frames", "60",
+                                                          "--json"], "status": 0,
+     "check": json_pairs(lambda n: n == 0, "no intersecting pair: the ribbons lie on each other")},
+    {"name": "--json ribbons without edge contact", "argv": [asset("ribbons.json"), "--frames", "60",
+                                                             "--set", "collision.edges=false",
+                                                             "--json"], "status": 0,
+     "check": json_pairs(lambda n: n > 0, "intersecting pairs: without edge contact the upper "
+                         "ribbons fall through the lower ones (the case above could not fail)")},
     {"name": "--json contacts", "argv": [asset("drape.json"), "--set", "cloths.0.grid=[12,12]",
                                          "--set", "cloths.0.origin=[1,0.05,1]",
                                          "--frames", "40", "--json"], "status": 0,

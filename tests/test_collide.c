@@ -554,6 +554,73 @@ static void test_funnel_edges(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* Edge against edge: a narrow strip dropped across another lying on the ground, placed so
+   that no particle of either is ever over a face of the other (their crossing is a square
+   that holds none of their particles: only their edges meet). Particle–triangle contact
+   alone lets the upper strip fall through the lower one onto the ground; with
+   collision.edges it lies on it, a thickness above, and no triangles intersect. Returns the
+   height of the upper strip's particles next to the crossing (the lowest of them). */
+static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
+{
+    cvk_cloth_desc strips[2] = {cvk_default_cloth_desc(), cvk_default_cloth_desc()};
+    /* below: 6 x 2 particles along x, 0.1 m wide (z in ±0.05), particles at x = ±0.1 nearest
+       the crossing; above: 2 x 6 along z, 0.12 m wide (x in ±0.06), particles at z = ±0.1 */
+    strips[0].grid[0] = 6, strips[0].grid[1] = 2;
+    strips[0].size[0] = 1.0f, strips[0].size[1] = 0.1f;
+    strips[0].origin[0] = -0.5f, strips[0].origin[1] = 0.02f, strips[0].origin[2] = -0.05f;
+    strips[1].grid[0] = 2, strips[1].grid[1] = 6;
+    strips[1].size[0] = 0.12f, strips[1].size[1] = 1.0f;
+    strips[1].origin[0] = -0.06f, strips[1].origin[1] = 0.1f, strips[1].origin[2] = -0.5f;
+    for (int i = 0; i < 2; i++) {
+        strips[i].mass = 0.05f;
+        strips[i].stiffness.structural = strips[i].stiffness.shear = 1e5f;
+        strips[i].stiffness.bend = 1e4f;
+    }
+    cvk_collider_desc ground = collider(CVK_COLLIDER_PLANE);
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = strips;
+    scene.cloth_count = 2;
+    scene.colliders = &ground;
+    scene.collider_count = 1;
+    scene.damping = 0.01f;
+    scene.collision.self = true;
+    scene.collision.thickness = 0.01f;
+    scene.collision.edges = edges;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 60, &err), err);
+    float* x = harness_read_all(sim);
+    float lowest = INFINITY;
+    for (uint32_t k = 0; k < 12; k++) {
+        const float* p = &x[3 * (12 + k)];
+        if (fabsf(p[2]) < 0.15f) /* the four next to the crossing */
+            lowest = fminf(lowest, p[1]);
+    }
+    REQUIRE_OK(cvk_sim_count_intersections(sim, pairs, &err), err);
+    free(x);
+    cvk_sim_destroy(sim);
+    return lowest;
+}
+
+static void test_edges(cvk_context* ctx)
+{
+    uint64_t with_pairs = 0, without_pairs = 0;
+    float with = strip_across(ctx, true, &with_pairs);
+    float without = strip_across(ctx, false, &without_pairs);
+    printf("a strip dropped across another on the ground: next to the crossing at %.5f m with "
+           "edge contact (%llu intersecting pairs), %.5f m without (%llu)\n", with,
+           (unsigned long long)with_pairs, without, (unsigned long long)without_pairs);
+    /* the lower strip lies a thickness up (0.01 m), the upper one a thickness above it */
+    CHECK(with > 0.02f - TOLERANCE && with < 0.021f && with_pairs == 0,
+          "a strip dropped across another with edge contact ends at %.5f m (expected 0.02) with "
+          "%llu intersecting pairs", with, (unsigned long long)with_pairs);
+    CHECK(without < 0.0101f && without_pairs > 0,
+          "without edge contact the upper strip should fall through (the test's premise): it "
+          "ends at %.5f m with %llu intersecting pairs", without,
+          (unsigned long long)without_pairs);
+}
+
 /* The plan records collision passes only when the scene collides. */
 static void test_plan_passes(cvk_context* ctx)
 {
@@ -593,6 +660,7 @@ int main(void)
     test_dragged_through(ctx, 0.005f);
     test_dragged_through(ctx, 0.009f);
     test_funnel_edges(ctx);
+    test_edges(ctx);
     test_friction(ctx);
     test_poses_and_snapshot(ctx);
     test_fast_sphere(ctx);

@@ -13,6 +13,8 @@
 #include <stdint.h>
 #include <unistd.h>
 
+#include <string.h>
+
 #include "harness.h"
 
 #define FRAMES 6
@@ -185,11 +187,18 @@ static void check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scen
     if (!first.ok)
         return;
     check_moved(what, &first, start);
-    uint32_t same = 0;
+    uint32_t same = 0, refused = 0;
     for (size_t s = 0; s <= SHAPE_COUNT; s++) {
         shape sh = shapes[s % SHAPE_COUNT]; /* the last is the second run of the first shape */
         outcome o = run(ctx, &scene, sh, &err);
         shape_text(sh, text, sizeof text);
+        /* Lanes whose lists need more shared memory than the device has are refused by name
+           (edge pairs add theirs), which is right; every other shape must run. */
+        if (!o.ok && err.result == CVK_ERROR_DEVICE_LIMIT && sh.search_lanes > 1 &&
+            strstr(err.message, "shared memory") != NULL) {
+            refused++;
+            continue;
+        }
         CHECK(o.ok, "%s, %s: %s", what, text, err.message);
         if (o.ok) {
             CHECK(o.hash == first.hash,
@@ -201,8 +210,10 @@ static void check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scen
         }
         free(o.xyz);
     }
-    printf("%s: hash %016llx after %d frames, the same for %u of %zu shapes and runs\n", what,
-           (unsigned long long)first.hash, FRAMES, same, SHAPE_COUNT + 1);
+    printf("%s: hash %016llx after %d frames, the same for %u of %zu shapes and runs (%u "
+           "refused for shared memory)\n", what, (unsigned long long)first.hash, FRAMES, same,
+           SHAPE_COUNT + 1, refused);
+    CHECK(refused <= 1, "%s: %u shapes refused", what, refused);
     free(first.xyz);
 }
 
@@ -269,6 +280,16 @@ static void check_contact_scene(cvk_context* ctx, const cvk_scene_desc* base)
     scene.collider_count = 2;
     scene.collision.self = true;
     check_scene(ctx, "two cloths, sphere, moving box, self-contact", &scene, 2 * 16 * 16);
+    /* Edge pairs in the lists too (collision.edges): one solver is enough for the search. */
+    scene.collision.edges = true;
+    cvk_error err;
+    uint64_t count = 0;
+    float* start = initial_positions(ctx, &scene, &count, &err);
+    CHECK(start != NULL, "edge contact: %s", err.message);
+    if (start)
+        check_solver(ctx, "two cloths, sphere, moving box, self-contact with edges", scene,
+                     CVK_LINEAR_RBGS, start);
+    free(start);
 }
 
 /* A cloth caught in a funnel's neck, its corners on the wall from the start: the funnel's

@@ -51,6 +51,7 @@ static void check_default_collision(const cvk_scene_desc* d)
     CHECK_FLOAT(d->collision.friction, 0.3f);
     CHECK_FLOAT(d->collision.static_friction, 0.4f);
     CHECK_FLOAT(d->collision.exclusion, 0.0f);
+    CHECK(!d->collision.edges);
     CHECK(d->colliders == NULL);
     CHECK_INT(d->collider_count, 0);
 }
@@ -457,7 +458,12 @@ static void test_json_types(void)
                    "friction, static_friction, color, keyframes, loop, file, transform)");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 0.01, 'margin': 0.01}}",
                    "t.json: collision.margin: unknown key (expected one of: self, thickness, friction, "
-                   "static_friction, detect_every, exclusion)");
+                   "static_friction, detect_every, exclusion, edges)");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'edges': true}}",
+                   "t.json: collision.edges: edge contact is between the cloths' edges: it needs "
+                   "\"self\": true");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'self': true, 'edges': 'yes'}}",
+                   "t.json: collision.edges: expected true or false, got the string \"yes\"");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'exclusion': -0.01}}",
                    "t.json: collision.exclusion: must be at least 0, got -0.01");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'exclusion': '1 cm'}}",

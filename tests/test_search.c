@@ -384,6 +384,232 @@ static void test_candidates(cvk_context* ctx)
            (unsigned long long)ties);
 }
 
+/* ---- edge pairs (collision.edges) ---- */
+
+/* Nearest points of segments p1q1 and p2q2 in double (Ericson 2005, §5.1.9): the distance, and
+   where they are on each (s, t), the points in c1, c2. */
+static double segment_distance(const double p1[3], const double q1[3], const double p2[3],
+                               const double q2[3], double* s, double* t, double c1[3], double c2[3])
+{
+    double d1[3], d2[3], r[3];
+    for (int k = 0; k < 3; k++) {
+        d1[k] = q1[k] - p1[k];
+        d2[k] = q2[k] - p2[k];
+        r[k] = p1[k] - p2[k];
+    }
+    double a = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+    double e = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2];
+    double f = d2[0] * r[0] + d2[1] * r[1] + d2[2] * r[2];
+    double c = d1[0] * r[0] + d1[1] * r[1] + d1[2] * r[2];
+    double b = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
+    double denom = a * e - b * b;
+    *s = denom > 0.0 ? fmin(fmax((b * f - c * e) / denom, 0.0), 1.0) : 0.0;
+    *t = (b * *s + f) / e;
+    if (*t < 0.0) {
+        *t = 0.0;
+        *s = fmin(fmax(-c / a, 0.0), 1.0);
+    } else if (*t > 1.0) {
+        *t = 1.0;
+        *s = fmin(fmax((b - c) / a, 0.0), 1.0);
+    }
+    double d2sum = 0.0;
+    for (int k = 0; k < 3; k++) {
+        c1[k] = p1[k] + *s * d1[k];
+        c2[k] = p2[k] + *t * d2[k];
+        d2sum += (c1[k] - c2[k]) * (c1[k] - c2[k]);
+    }
+    return sqrt(d2sum);
+}
+
+/* Edge pairs' exclusion (collide.h: wider than the triangles'). */
+static bool rest_near(const cvk_collide* c, uint32_t p, uint32_t q)
+{
+    const float* rp = &c->rest_xyz[4 * (size_t)p];
+    const float* rq = &c->rest_xyz[4 * (size_t)q];
+    float d[3] = {rp[0] - rq[0], rp[1] - rq[1], rp[2] - rq[2]};
+    return rp[3] == rq[3] &&
+           d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < c->edge_exclusion * c->edge_exclusion;
+}
+
+static double distance3(const float* a, const float* b)
+{
+    double d[3] = {(double)a[0] - b[0], (double)a[1] - b[1], (double)a[2] - b[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+/* Whether some triangle runs the edge from u to v (internal indices). */
+static bool runs(const uint32_t* tri, uint32_t tc, uint32_t u, uint32_t v)
+{
+    for (uint32_t t = 0; t < tc; t++)
+        for (int k = 0; k < 3; k++)
+            if (tri[3 * t + k] == u && tri[3 * t + (k + 1) % 3] == v)
+                return true;
+    return false;
+}
+
+/* Two cloths, the second turned 35° about the vertical, lying within the detection radius of
+   each other with every particle jittered: their edges cross at many angles. After a search,
+   every edge pair within the radius that the search promises (an end of the other edge within
+   the hash's reach of the particle, lib/collide_passes.c; neither near the other at rest) is
+   among the particle's kept candidates, or it keeps as many edge pairs as it can
+   (CVK_EDGE_CONTACTS_PER_PARTICLE), all at most that far; every kept edge pair
+   is such a pair, once, with the side its own edge is on. Distances on the host in double. */
+static void test_edge_candidates(cvk_context* ctx)
+{
+    const uint32_t n = 16, K = CVK_CONTACTS_PER_PARTICLE;
+    const float size = 0.4f;
+    uint64_t pairs = 0, kept_edges = 0, missing = 0, wrong = 0, found_pairs = 0;
+    for (uint32_t seed = 1; seed <= 2; seed++) {
+        cvk_cloth_desc cloths[2] = {flat_cloth(n, size, 0.5f), flat_cloth(n, size, 0.5f)};
+        cvk_scene_desc scene = cvk_default_scene_desc();
+        scene.cloths = cloths;
+        scene.cloth_count = 2;
+        scene.substeps = 1;
+        scene.collision.self = true;
+        scene.collision.edges = true;
+        cvk_error err;
+        cvk_sim* sim = NULL;
+        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        const cvk_collide* c = &sim->collide;
+        const cvk_build* b = &sim->build;
+        uint32_t state = seed * 104729u;
+        float* xyz = malloc(3 * 2 * (size_t)n * n * sizeof(float));
+        double turn = 35.0 * 3.14159265358979 / 180.0;
+        for (uint32_t cl = 0; cl < 2; cl++)
+            for (uint32_t i = 0; i < n * n; i++) {
+                float u = size * (float)(i % n) / (float)(n - 1) - 0.5f * size;
+                float v = size * (float)(i / n) / (float)(n - 1) - 0.5f * size;
+                float* x = &xyz[3 * ((size_t)cl * n * n + i)];
+                x[0] = cl ? (float)(cos(turn) * u - sin(turn) * v) : u;
+                x[2] = cl ? (float)(sin(turn) * u + cos(turn) * v) : v;
+                x[1] = 0.5f + (cl ? uniform(&state, 1.4f, 2.2f) * c->thickness : 0.0f) +
+                       uniform(&state, -0.3f, 0.3f) * c->thickness;
+                x[0] += uniform(&state, -0.25f, 0.25f) * c->thickness;
+                x[2] += uniform(&state, -0.25f, 0.25f) * c->thickness;
+            }
+        REQUIRE_OK(cvk_sim_write_positions(sim, xyz, 2 * (uint64_t)n * n, &err), err);
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        uint64_t bytes = cvk_collide_snapshot_size(sim);
+        unsigned char* snap = malloc(bytes);
+        REQUIRE_OK(cvk_collide_save_snapshot(sim, snap, &err), err);
+        const float* seen = (const float*)(snap + sizeof(cvk_gpu_frame));
+        const uint32_t* kept = (const uint32_t*)(snap + sizeof(cvk_gpu_frame) +
+                                                 16u * (size_t)b->particle_count);
+        double radius = (double)CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
+        double reach = (double)c->hash.cell_size, slack = 1e-5 * radius;
+        uint32_t tc = b->triangle_count;
+        uint32_t* tri = malloc(3 * (size_t)tc * sizeof(uint32_t));
+        for (size_t i = 0; i < 3 * (size_t)tc; i++)
+            tri[i] = b->internal_of[b->triangles[i]];
+        for (uint32_t p = 0; p < b->free_count; p++) {
+            const uint32_t* mine = &kept[(size_t)K * p];
+            uint32_t count = 0;
+            while (count < K && mine[count] != CVK_NO_CONTACT)
+                count++;
+            double farthest_edge = 0.0;
+            uint32_t edge_count = 0;
+            /* p's own edge slots: its triangles in index order (the device's table) */
+            uint32_t own_end[2 * CVK_EDGE_MAX_TRIANGLES_AROUND], own_count = 0;
+            for (uint32_t t = 0; t < tc; t++)
+                for (int k = 0; k < 3; k++)
+                    if (tri[3 * t + k] == p) {
+                        uint32_t next = tri[3 * t + (k + 1) % 3], prev = tri[3 * t + (k + 2) % 3];
+                        own_end[own_count++] = next;
+                        own_end[own_count++] = runs(tri, tc, p, prev) ? UINT32_MAX : prev;
+                    }
+            double xp[3] = {seen[4 * (size_t)p], seen[4 * (size_t)p + 1], seen[4 * (size_t)p + 2]};
+            for (uint32_t k = 0; k < count; k++) {
+                uint32_t e = mine[k];
+                if ((e & CVK_EDGE_PAIR) == 0u) { /* a triangle: test_candidates */
+                    wrong += edge_count > 0; /* triangles first, then edge pairs */
+                    continue;
+                }
+                kept_edges++;
+                uint32_t slot = (e & ~CVK_EDGE_PAIR) >> CVK_EDGE_OWN_SHIFT;
+                uint32_t f = (e >> 1) & ((1u << (CVK_EDGE_OWN_SHIFT - 1)) - 1u), t = f / 3, j = f % 3;
+                if (slot >= own_count || own_end[slot] == UINT32_MAX || t >= tc) {
+                    wrong++;
+                    continue;
+                }
+                uint32_t r = own_end[slot], fa = tri[3 * t + j], fb = tri[3 * t + (j + 1) % 3];
+                double xr[3], xa[3], xb[3], s, u, c1[3], c2[3];
+                for (int m = 0; m < 3; m++) {
+                    xr[m] = seen[4 * (size_t)r + m];
+                    xa[m] = seen[4 * (size_t)fa + m];
+                    xb[m] = seen[4 * (size_t)fb + m];
+                }
+                double d = segment_distance(xp, xr, xa, xb, &s, &u, c1, c2);
+                farthest_edge = fmax(farthest_edge, d);
+                edge_count++;
+                bool canonical = fa < fb || !runs(tri, tc, fb, fa);
+                bool excluded = fa == p || fa == r || fb == p || fb == r || rest_near(c, p, fa) ||
+                                rest_near(c, p, fb) || rest_near(c, r, fa) || rest_near(c, r, fb);
+                bool twice = false;
+                for (uint32_t m = 0; m < k; m++)
+                    twice |= (mine[m] >> 1) == (e >> 1);
+                double m_[3] = {(xr[1] - xp[1]) * (xb[2] - xa[2]) - (xr[2] - xp[2]) * (xb[1] - xa[1]),
+                                (xr[2] - xp[2]) * (xb[0] - xa[0]) - (xr[0] - xp[0]) * (xb[2] - xa[2]),
+                                (xr[0] - xp[0]) * (xb[1] - xa[1]) - (xr[1] - xp[1]) * (xb[0] - xa[0])};
+                double along = (c1[0] - c2[0]) * m_[0] + (c1[1] - c2[1]) * m_[1] + (c1[2] - c2[2]) * m_[2];
+                double scale = sqrt(m_[0] * m_[0] + m_[1] * m_[1] + m_[2] * m_[2]);
+                bool bad_side = fabs(along) > slack * scale && (along < 0.0) != ((e & 1u) == 1u);
+                if (d >= radius + slack || !canonical || excluded || twice || bad_side)
+                    wrong++;
+            }
+            for (uint32_t slot = 0; slot < own_count; slot++) {
+                uint32_t r = own_end[slot];
+                if (r == UINT32_MAX)
+                    continue;
+                double xr[3] = {seen[4 * (size_t)r], seen[4 * (size_t)r + 1], seen[4 * (size_t)r + 2]};
+                for (uint32_t t = 0; t < tc; t++)
+                    for (uint32_t j = 0; j < 3; j++) {
+                        uint32_t fa = tri[3 * t + j], fb = tri[3 * t + (j + 1) % 3];
+                        if (!(fa < fb || !runs(tri, tc, fb, fa)))
+                            continue;
+                        if (fa == p || fa == r || fb == p || fb == r || rest_near(c, p, fa) ||
+                            rest_near(c, p, fb) || rest_near(c, r, fa) || rest_near(c, r, fb))
+                            continue;
+                        /* the promise: an end of the other edge within reach of p */
+                        if (distance3(&seen[4 * (size_t)p], &seen[4 * (size_t)fa]) >= reach * (1.0 - 1e-5) &&
+                            distance3(&seen[4 * (size_t)p], &seen[4 * (size_t)fb]) >= reach * (1.0 - 1e-5))
+                            continue;
+                        double xa[3], xb[3], s, u, c1[3], c2[3];
+                        for (int m = 0; m < 3; m++) {
+                            xa[m] = seen[4 * (size_t)fa + m];
+                            xb[m] = seen[4 * (size_t)fb + m];
+                        }
+                        double d = segment_distance(xp, xr, xa, xb, &s, &u, c1, c2);
+                        if (d >= radius - slack)
+                            continue;
+                        pairs++;
+                        uint32_t want = CVK_EDGE_PAIR | (slot << CVK_EDGE_OWN_SHIFT) | ((3u * t + j) << 1);
+                        bool found = false;
+                        for (uint32_t k = 0; k < count; k++)
+                            found |= (mine[k] >> 1) == (want >> 1);
+                        found_pairs += found;
+                        if (!found && !(edge_count == CVK_EDGE_CONTACTS_PER_PARTICLE &&
+                                        farthest_edge <= d + slack))
+                            missing++;
+                    }
+            }
+        }
+        free(tri);
+        free(snap);
+        free(xyz);
+        cvk_sim_destroy(sim);
+    }
+    printf("edge candidates: %llu pairs within the radius, %llu of them kept (%llu kept in all), "
+           "the others behind full lists\n", (unsigned long long)pairs,
+           (unsigned long long)found_pairs, (unsigned long long)kept_edges);
+    CHECK(pairs > 1000 && found_pairs > 1000, "%llu edge pairs within the radius, %llu found: "
+          "the cloths did not meet", (unsigned long long)pairs, (unsigned long long)found_pairs);
+    CHECK(missing == 0, "%llu of %llu edge pairs within the detection radius are neither kept "
+          "nor beyond a full list of nearer ones", (unsigned long long)missing,
+          (unsigned long long)pairs);
+    CHECK(wrong == 0, "%llu kept edge pairs are too far, not the edge's own entry, near at rest, "
+          "kept twice, on the wrong side or before a triangle", (unsigned long long)wrong);
+}
+
 /* Patches (collide.h): a flat cloth moving fast in space lists no particle to search and has
    no candidates; with another cloth stacked on it, folded, or squeezed within its plane, it
    lists the particles of its active patches, as the host's reference of the activity says. */
@@ -522,5 +748,6 @@ int main(void)
     test_rest_and_motion(ctx);
     test_snapshot(ctx);
     test_candidates(ctx);
+    test_edge_candidates(ctx);
     return harness_finish(ctx);
 }

@@ -178,6 +178,53 @@ static void refusals(cvk_context* ctx)
 }
 
 /* Device solvers share their state's layout; gs-cpu keeps doubles on the host. */
+/* Edge contact's candidates (collision.edges) load only where the contact pass reads them: a
+   strip lying across another (only their edges meet, tests/test_collide.c), saved with edges
+   and loaded into the same scene without. Refused, nothing changed; with edges it resumes. */
+static void edge_pairs(cvk_context* ctx)
+{
+    cvk_cloth_desc strips[2] = {cvk_default_cloth_desc(), cvk_default_cloth_desc()};
+    strips[0].grid[0] = 6, strips[0].grid[1] = 2;
+    strips[0].size[0] = 1.0f, strips[0].size[1] = 0.1f;
+    strips[0].origin[0] = -0.5f, strips[0].origin[1] = 0.5f, strips[0].origin[2] = -0.05f;
+    strips[1].grid[0] = 2, strips[1].grid[1] = 6;
+    strips[1].size[0] = 0.12f, strips[1].size[1] = 1.0f;
+    strips[1].origin[0] = -0.06f, strips[1].origin[1] = 0.515f, strips[1].origin[2] = -0.5f;
+    uint32_t pins[2][2] = {{0, 0}, {5, 1}};
+    strips[0].pins = (const uint32_t(*)[2])pins;
+    strips[0].pin_count = 2;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = strips;
+    scene.cloth_count = 2;
+    scene.collision.self = true;
+    scene.collision.thickness = 0.01f;
+    scene.collision.edges = true;
+    cvk_sim* with = make_sim(ctx, &scene);
+    scene.collision.edges = false;
+    cvk_sim* without = make_sim(ctx, &scene);
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_step(with, 1, &err), err);
+    REQUIRE_OK(cvk_sim_step(without, 1, &err), err);
+    uint64_t size, before_size, again_size;
+    unsigned char* snap = save(with, &size);
+    unsigned char* before = save(without, &before_size);
+    check_refusal(cvk_sim_load_snapshot(without, snap, size, &err), &err,
+                  CVK_ERROR_INVALID_ARGUMENT,
+                  "cvk_sim_load_snapshot: the snapshot holds edge contact candidates "
+                  "(collision.edges); this simulation has no edge contact",
+                  "edge pairs into a simulation without edge contact");
+    unsigned char* again = save(without, &again_size);
+    CHECK(again_size == before_size && memcmp(again, before, before_size) == 0,
+          "the refused load of edge pairs changed the simulation's state");
+    REQUIRE_OK(cvk_sim_load_snapshot(with, snap, size, &err), err);
+    printf("edge pairs: refused without edge contact, loaded with it\n");
+    free(again);
+    free(before);
+    free(snap);
+    cvk_sim_destroy(with);
+    cvk_sim_destroy(without);
+}
+
 static void across_solvers(cvk_context* ctx)
 {
     swinging w, host;
@@ -222,6 +269,7 @@ int main(void)
     for (size_t i = 0; i < sizeof solvers / sizeof solvers[0]; i++)
         resume_is_exact(ctx, solvers[i]);
     refusals(ctx);
+    edge_pairs(ctx);
     across_solvers(ctx);
     return harness_finish(ctx);
 }

@@ -409,6 +409,10 @@ typedef struct cvk_collision_desc {
                                     edge a flat cloth has no candidates and the search is several
                                     times cheaper, but folds tighter than the exclusion can pass
                                     through themselves: for cloths with bending stiffness */
+    bool edges;                  /* with self: edge–edge contact too, keeping the cloths' edges
+                                    a thickness apart where they pass each other with no
+                                    particle near a face (narrow strips crossing, a fold's
+                                    crease across a border); a wider search. Usually false */
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {

@@ -197,6 +197,7 @@ typedef struct cvk_collision_desc {
     float static_friction;
     uint32_t detect_every;
     float exclusion;
+    bool edges;
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {

@@ -331,6 +331,16 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 /* Particle–triangle contacts kept per particle per substep. */
 #define CVK_CONTACTS_PER_PARTICLE 16 /* two layers' worth (a particle in a stack) */
 #define CVK_NO_CONTACT 0xffffffffu
+/* An entry is triangle << 1 | side, or with collision.edges an edge pair (lib/collide.h):
+   CVK_EDGE_PAIR | own edge << CVK_EDGE_OWN_SHIFT | (3 × triangle + edge) << 1 | side, where the
+   own edge counts the particle's edges in the order of its triangles (two slots a triangle:
+   the edge to the next corner, then the one from the corner before where that is a border)
+   and edge e of a triangle runs from its corner e to corner e + 1. */
+#define CVK_EDGE_PAIR 0x80000000u
+#define CVK_EDGE_CONTACTS_PER_PARTICLE 4 /* of the 16, at most this many edge pairs */
+#define CVK_EDGE_OWN_SHIFT 25
+#define CVK_EDGE_MAX_TRIANGLES_AROUND 31u   /* two own edge slots each, in 6 bits */
+#define CVK_EDGE_MAX_TRIANGLES 5592404u     /* 3 × triangle + edge in 24 bits */
 
 #define CVK_GPU_CONTACT_PARAMS_FIELDS                                                       \
     CVK_UINT(collider_count)                                                                \
@@ -347,7 +357,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_UINT(patch_count)     /* surface patches (lib/collide.h), at least 1 */             \
     CVK_UINT(patch_neighbours)/* in the patch table: where the neighbour offsets start */   \
     CVK_FLOAT(flat_cos)       /* a patch pair within this cone (cosine) is flat */         \
-    CVK_UINT(pad3)                                                                          \
+    CVK_FLOAT(edge_exclusion) /* m: edge pairs of one cloth with ends this near at rest are skipped */ \
     CVK_UINT(pad4)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
