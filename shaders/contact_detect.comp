@@ -78,6 +78,15 @@ bool own_border(uint p, uint i)
     return (pt.w & (1u << ((pk + 2u) % 3u))) != 0u;
 }
 
+// Whether p's own edge slot i is a border: an odd slot always, an even one (the edge to the
+// next corner) where its triangle's bit says so.
+bool own_edge_border(uint p, uint i)
+{
+    uint pk;
+    uvec4 pt = own_triangle(p, i, pk);
+    return (i & 1u) != 0u || (pt.w & (1u << pk)) != 0u;
+}
+
 // The far end of p's own edge slot i: the next corner, or the one before.
 uint own_end(uint p, uint i)
 {
@@ -92,12 +101,11 @@ bool after(float dist_k, uint kept_k, float d, uint item)
     return dist_k > d || (dist_k == d && kept_k > item);
 }
 
-// The lanes' lists, for the first lane of each particle to merge (a uint and a float per
-// candidate, 128 bytes per invocation: lib/sim.c keeps one lane where the device's shared
-// memory does not hold them).
 // collision.edges: the nearest KE edge pairs, kept apart from the triangles and written after
-// them (as many of the K places as they fill; the triangles keep the others). In shared
-// memory after each invocation's triangles.
+// them (as many of the K places as they fill; the triangles keep the others).
+// The lanes' lists, for the first lane of each particle to merge (a uint and a float per
+// candidate, 128 bytes per invocation, 160 with edge pairs after the triangles: lib/sim.c
+// keeps one lane where the device's shared memory does not hold them).
 const uint KE = EDGES ? uint(CVK_EDGE_CONTACTS_PER_PARTICLE) : 1u;
 const uint SLOTS = K + (EDGES ? KE : 0u);
 const uint SHARED_LISTS = (LANES > 1u ? gl_WorkGroupSize.x : 1u) * SLOTS;
@@ -204,6 +212,12 @@ void walk(uint p, uint lane)
                                        max(distance(xp, contact_x(pt.y)), distance(xp, contact_x(pt.z)))));
     }
     own_reach += contact_u.detect_radius;
+    bool p_border = false; // p has an edge on a border
+    for (uint o = contact_incident(p); EDGES && o < contact_incident(p + 1u); o++) {
+        uvec4 pt = contact_triangle(contact_incident(base + o));
+        uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
+        p_border = p_border || (pt.w & ((1u << pk) | (1u << ((pk + 2u) % 3u)))) != 0u;
+    }
     for (uint n = first_cell; n <= last_cell; n++) {
         ivec3 cell = hash_neighbour_cell(home, n);
         uvec2 range = hash_range(cell);
@@ -243,11 +257,13 @@ void walk(uint p, uint lane)
             }
             // Edge pairs (collision.edges): each edge at q (once: from its triangle that runs it
             // from the lower index to the higher, or its border triangle; tested through its
-            // end with the lower index within reach) against each of p's own edges, no end of
-            // either near an end of the other at rest (within the edge exclusion, wider than
-            // the triangles': lib/collide.c). Found where an end of the edge is within
-            // the reach of p (lib/collide_passes.c: edges crossing at right angles near their
-            // middles, up to about 20 % stretch).
+            // end with the lower index within reach) against each of p's own edges, one of the
+            // two a border (beyond a border no face holds the other cloth's particles off; two
+            // interior edges, two creases crossing, are left to the particle–triangle pairs
+            // around them), no end of either near an end of the other at rest (within the edge
+            // exclusion, wider than the triangles': lib/collide.c). Found where an end of the
+            // edge is within the reach of p (lib/collide_passes.c: edges crossing at right
+            // angles near their middles, up to about 20 % stretch).
             vec4 rq = contact_rest(q);
             bool edges_at_q = EDGES && near && !corner_rest_near(rp, rq, ee2);
             uint q_end = edges_at_q ? o_end : 0u;
@@ -262,7 +278,8 @@ void walk(uint p, uint lane)
                     vec3 xb = contact_x(b);
                     vec4 rb = contact_rest(b);
                     vec3 fa = w == 0u ? xq : xb, fb = w == 0u ? xb : xq;
-                    bool test = from != to && (from < to || (tri.w & (1u << j)) != 0u) &&
+                    bool border = (tri.w & (1u << j)) != 0u;
+                    bool test = from != to && (from < to || border) && (border || p_border) &&
                                 !(b < q && within_reach(xp, xb, reach2)) &&
                                 !corner_rest_near(rp, rb, ee2) &&
                                 point_segment_distance(xp, fa, fb) < own_reach;
@@ -271,7 +288,8 @@ void walk(uint p, uint lane)
                     // one of them come here).
                     uint slots = test ? 2u * (contact_incident(p + 1u) - contact_incident(p)) : 0u;
                     for (uint i = 0u; i < slots; i++) {
-                        if ((i & 1u) != 0u && !own_border(p, i))
+                        if (((i & 1u) != 0u && !own_border(p, i)) ||
+                            !(border || own_edge_border(p, i)))
                             continue;
                         uint r = own_end(p, i);
                         vec4 rr = contact_rest(r);
