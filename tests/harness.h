@@ -199,4 +199,21 @@ static inline harness_energy_run harness_energy_watch(cvk_sim* sim, uint32_t fra
         cvk_scene_destroy(scene_);                                                              \
     } while (0)
 
+/* Two narrow strips, the second laid across the first (the square where they cross holds no
+   particle of either, so only their edges meet: collision.edges): below, 6 x 2 particles along
+   x, 1 m by 0.1 m (z in ±0.05; the particles nearest the crossing at x = ±0.1) at height
+   below_y; above, 2 x 6 along z, 0.12 m by 1 m (x in ±0.06; particles at z = ±0.1) at
+   above_y. */
+static inline void harness_strips_across(cvk_cloth_desc strips[2], float below_y, float above_y)
+{
+    strips[0] = cvk_default_cloth_desc();
+    strips[1] = cvk_default_cloth_desc();
+    strips[0].grid[0] = 6, strips[0].grid[1] = 2;
+    strips[0].size[0] = 1.0f, strips[0].size[1] = 0.1f;
+    strips[0].origin[0] = -0.5f, strips[0].origin[1] = below_y, strips[0].origin[2] = -0.05f;
+    strips[1].grid[0] = 2, strips[1].grid[1] = 6;
+    strips[1].size[0] = 0.12f, strips[1].size[1] = 1.0f;
+    strips[1].origin[0] = -0.06f, strips[1].origin[1] = above_y, strips[1].origin[2] = -0.5f;
+}
+
 #endif

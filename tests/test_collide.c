@@ -562,15 +562,8 @@ static void test_funnel_edges(cvk_context* ctx)
    height of the upper strip's particles next to the crossing (the lowest of them). */
 static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
 {
-    cvk_cloth_desc strips[2] = {cvk_default_cloth_desc(), cvk_default_cloth_desc()};
-    /* below: 6 x 2 particles along x, 0.1 m wide (z in ±0.05), particles at x = ±0.1 nearest
-       the crossing; above: 2 x 6 along z, 0.12 m wide (x in ±0.06), particles at z = ±0.1 */
-    strips[0].grid[0] = 6, strips[0].grid[1] = 2;
-    strips[0].size[0] = 1.0f, strips[0].size[1] = 0.1f;
-    strips[0].origin[0] = -0.5f, strips[0].origin[1] = 0.02f, strips[0].origin[2] = -0.05f;
-    strips[1].grid[0] = 2, strips[1].grid[1] = 6;
-    strips[1].size[0] = 0.12f, strips[1].size[1] = 1.0f;
-    strips[1].origin[0] = -0.06f, strips[1].origin[1] = 0.1f, strips[1].origin[2] = -0.5f;
+    cvk_cloth_desc strips[2];
+    harness_strips_across(strips, 0.02f, 0.1f);
     for (int i = 0; i < 2; i++) {
         strips[i].mass = 0.05f;
         strips[i].stiffness.structural = strips[i].stiffness.shear = 1e5f;

@@ -183,13 +183,8 @@ static void refusals(cvk_context* ctx)
    and loaded into the same scene without. Refused, nothing changed; with edges it resumes. */
 static void edge_pairs(cvk_context* ctx)
 {
-    cvk_cloth_desc strips[2] = {cvk_default_cloth_desc(), cvk_default_cloth_desc()};
-    strips[0].grid[0] = 6, strips[0].grid[1] = 2;
-    strips[0].size[0] = 1.0f, strips[0].size[1] = 0.1f;
-    strips[0].origin[0] = -0.5f, strips[0].origin[1] = 0.5f, strips[0].origin[2] = -0.05f;
-    strips[1].grid[0] = 2, strips[1].grid[1] = 6;
-    strips[1].size[0] = 0.12f, strips[1].size[1] = 1.0f;
-    strips[1].origin[0] = -0.06f, strips[1].origin[1] = 0.515f, strips[1].origin[2] = -0.5f;
+    cvk_cloth_desc strips[2];
+    harness_strips_across(strips, 0.5f, 0.515f);
     uint32_t pins[2][2] = {{0, 0}, {5, 1}};
     strips[0].pins = (const uint32_t(*)[2])pins;
     strips[0].pin_count = 2;
