@@ -11,9 +11,8 @@
    and then sorts each cell by particle index), so the dispatch shape cannot reorder a
    floating-point sum. A shape that changes the hash breaks that rule. */
 #include <stdint.h>
-#include <unistd.h>
-
 #include <string.h>
+#include <unistd.h>
 
 #include "harness.h"
 
