@@ -305,10 +305,18 @@ void walk(uint p, uint lane)
                             continue;
                         uint item = CVK_EDGE_PAIR | (i << CVK_EDGE_OWN_SHIFT) | ((3u * t + j) << 1u);
                         uint side = edge_side(xp, xr, fa, fb, c1, c2);
-                        if (edges_inside(s, u))
-                            for (uint k = 0u; k < K; k++)
-                                side = (last[k] >> 1u) == (item >> 1u) ? (last[k] & 1u) : side;
-                        INSERT_N(ekept, edist, KE, d, item | side)
+                        bool remembered = false;
+                        for (uint k = 0u; k < K; k++) {
+                            bool same = (last[k] >> 1u) == (item >> 1u);
+                            remembered = remembered || same;
+                            side = same && edges_inside(s, u) ? (last[k] & 1u) : side;
+                        }
+                        // A pair the last list held comes first, so that it keeps its side
+                        // while it stays within the radius: with only KE places, a pair that
+                        // fell out behind nearer ones and came back was judged afresh, on the
+                        // far side once the edges had been pushed through each other.
+                        INSERT_N(ekept, edist, KE, remembered ? d - contact_u.detect_radius : d,
+                                 item | side)
                     }
                 }
             }

@@ -614,6 +614,72 @@ static void test_edges(cvk_context* ctx)
           (unsigned long long)without_pairs);
 }
 
+/* Edges that passed through each other come back: a strip held taut (its ends pinned) across
+   another held one, only their edges meeting, has its middle dragged `depth` below the held
+   strip and let go. The edge pairs keep the side they were found on (contact_detect.comp), so
+   the contact brings the middle back over it. */
+static void test_edges_dragged_through(cvk_context* ctx, float depth)
+{
+    cvk_cloth_desc strips[2];
+    harness_strips_across(strips, 0.5f, 0.51f);
+    static const uint32_t below[12][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0},
+                                          {0, 1}, {1, 1}, {2, 1}, {3, 1}, {4, 1}, {5, 1}};
+    static const uint32_t ends[4][2] = {{0, 0}, {1, 0}, {0, 5}, {1, 5}};
+    strips[0].pins = below;
+    strips[0].pin_count = 12;
+    strips[1].pins = ends;
+    strips[1].pin_count = 4;
+    strips[1].mass = 0.02f;
+    strips[1].stiffness.structural = strips[1].stiffness.shear = 1e4f;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = strips;
+    scene.cloth_count = 2;
+    scene.damping = 0.01f;
+    scene.collision.self = true;
+    scene.collision.thickness = 0.01f;
+    scene.collision.edges = true;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .grab = true}, &sim, &err),
+               err);
+    REQUIRE_OK(cvk_sim_step(sim, 30, &err), err);
+    float* x = harness_read_all(sim);
+    /* the middle: particles 4 to 7 of the upper strip (z = ±0.1), picked through the first */
+    cvk_particle middle = {.cloth = 1, .index = 4};
+    const float* start = &x[3 * (12 + 4)];
+    float from = start[1], target[3] = {start[0], 0.0f, start[2]};
+    for (int f = 1; f <= 20; f++) {
+        target[1] = from + (0.5f - depth - from) * (float)f / 20.0f;
+        REQUIRE_OK(cvk_sim_grab_within(sim, middle, 0.24f, target, &err), err);
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+    }
+    free(x);
+    x = harness_read_all(sim);
+    float held = -INFINITY; /* the highest of the middle while held: below the other strip */
+    for (uint32_t k = 4; k < 8; k++)
+        held = fmaxf(held, x[3 * (12 + k) + 1]);
+    uint64_t after = 0;
+    cvk_sim_release(sim);
+    REQUIRE_OK(cvk_sim_step(sim, 60, &err), err);
+    REQUIRE_OK(cvk_sim_count_intersections(sim, &after, &err), err);
+    free(x);
+    x = harness_read_all(sim);
+    float lowest = INFINITY;
+    for (uint32_t k = 4; k < 8; k++)
+        lowest = fminf(lowest, x[3 * (12 + k) + 1]);
+    printf("a strip's middle dragged %.0f mm through another across it: held %.1f mm below it, "
+           "60 frames after letting go %.1f mm above it, %llu intersecting pairs\n",
+           1e3 * (double)depth, 1e3 * (0.5 - (double)held), 1e3 * ((double)lowest - 0.5),
+           (unsigned long long)after);
+    CHECK(held < 0.5f - 0.5f * depth, "a strip dragged %.3g m through another: its middle held "
+          "at %.4g m, not through the other at 0.5 m", (double)depth, (double)held);
+    CHECK(after == 0 && lowest > 0.5f, "a strip dragged %.3g m through another and let go: %llu "
+          "intersecting pairs, its middle at %.4g m (the other at 0.5 m)", (double)depth,
+          (unsigned long long)after, (double)lowest);
+    free(x);
+    cvk_sim_destroy(sim);
+}
+
 /* The plan records collision passes only when the scene collides. */
 static void test_plan_passes(cvk_context* ctx)
 {
@@ -654,6 +720,8 @@ int main(void)
     test_dragged_through(ctx, 0.009f);
     test_funnel_edges(ctx);
     test_edges(ctx);
+    test_edges_dragged_through(ctx, 0.005f);
+    test_edges_dragged_through(ctx, 0.009f);
     test_friction(ctx);
     test_poses_and_snapshot(ctx);
     test_fast_sphere(ctx);
