@@ -419,21 +419,13 @@ static cvk_result check_edge_limits(const cvk_build* b, const cloth_tables* t, c
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "collision.edges: the cloths have %u triangles, more than the %u edge "
                         "contact can address", b->triangle_count, CVK_EDGE_MAX_TRIANGLES);
-    /* A particle's own edges: one to the next corner of each of its triangles, and one from
-       the corner before where that edge is a border (contact_detect.comp). */
-    for (uint32_t p = 0; p < b->particle_count; p++) {
-        uint32_t edges = 0;
-        for (uint32_t o = t->incident[p]; o < t->incident[p + 1]; o++) {
-            const uint32_t* tri = &t->triangles[4 * (size_t)t->incident[b->particle_count + 1 + o]];
-            int k = tri[0] == p ? 0 : tri[1] == p ? 1 : 2;
-            edges += 1 + ((tri[3] >> ((k + 2) % 3)) & 1u);
-        }
-        if (edges > CVK_EDGE_MAX_OWN)
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        if (t->incident[p + 1] - t->incident[p] > CVK_EDGE_MAX_TRIANGLES_AROUND)
             return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                            "collision.edges: a particle of cloth %u has %u edges, more than the "
-                            "%u edge contact handles", cvk_build_cloth_of(b, p), edges,
-                            CVK_EDGE_MAX_OWN);
-    }
+                            "collision.edges: a particle of cloth %u is a corner of %u triangles, "
+                            "more than the %u edge contact can address",
+                            cvk_build_cloth_of(b, p), t->incident[p + 1] - t->incident[p],
+                            CVK_EDGE_MAX_TRIANGLES_AROUND);
     return CVK_SUCCESS;
 }
 

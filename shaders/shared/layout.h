@@ -339,7 +339,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 #define CVK_EDGE_PAIR 0x80000000u
 #define CVK_EDGE_CONTACTS_PER_PARTICLE 4 /* of the 16, at most this many edge pairs */
 #define CVK_EDGE_OWN_SHIFT 25
-#define CVK_EDGE_MAX_OWN 12u                /* a particle's own edges (contact_detect.comp) */
+#define CVK_EDGE_MAX_TRIANGLES_AROUND 31u   /* two own edge slots each, in 6 bits */
 #define CVK_EDGE_MAX_TRIANGLES 5592404u     /* 3 × triangle + edge in 24 bits */
 
 #define CVK_GPU_CONTACT_PARAMS_FIELDS                                                       \
