@@ -411,6 +411,21 @@ bool cvk_collide_rest_near(const cvk_collide* c, uint32_t p, const uint32_t tri[
     return false;
 }
 
+/* The longest edge of any cloth triangle at rest. */
+static float longest_edge(const cvk_build* b)
+{
+    float longest = 0.0f;
+    for (uint32_t t = 0; t < b->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            const float* p = &b->position[3 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
+            const float* q =
+                &b->position[3 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
+            float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+            longest = fmaxf(longest, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        }
+    return longest;
+}
+
 /* Edge contact's list entries (shared/layout.h, CVK_EDGE_PAIR) hold an edge of any triangle
    and one of the particle's own edges in 31 bits. */
 static cvk_result check_edge_limits(const cvk_build* b, const cloth_tables* t, cvk_error* error)
@@ -594,7 +609,8 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
        fold's layers, a crease over a border): next to each other the particle–triangle pairs
        hold a fold, and a flat cloth's neighbouring edges would fill the edge places and cost
        the search for nothing. */
-    c->edge_exclusion = c->exclusion + 1.5f * cvk_collide_longest_edge(&s->build);
+    c->longest_edge = longest_edge(&s->build);
+    c->edge_exclusion = c->exclusion + 1.5f * c->longest_edge;
     c->types = cvk_scene_collider_types(scene);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)

@@ -101,6 +101,7 @@ typedef struct cvk_collide {
     cvk_buffer rest;             /* vec4 per particle: rest position, cloth index */
     float* rest_xyz;             /* the same on the host (self-contact only) */
     float exclusion;             /* m: pairs nearer than this at rest are never in contact */
+    float longest_edge;          /* m: the longest edge of any cloth triangle at rest */
     float edge_exclusion;        /* m: edge pairs of one cloth with ends this near at rest are
                                     never in contact (collision.edges: the exclusion plus 1.5
                                     longest edges, so a flat cloth has no edge pairs of its own) */
@@ -138,9 +139,6 @@ void cvk_collide_destroy(struct cvk_sim* sim);
    poses ("colliders"), and with self-contact the hash of the positions ("hash") and the
    particle–triangle candidates ("contacts"). Nothing when the scene does not collide. */
 cvk_result cvk_collide_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);
-
-/* The longest edge of any cloth triangle at rest (m). */
-float cvk_collide_longest_edge(const cvk_build* build);
 
 /* The hash and the detection pass's layout (self-contact only); called by cvk_collide_create. */
 cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);

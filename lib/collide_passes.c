@@ -12,20 +12,6 @@
 #include "error.h"
 #include "sim.h"
 
-float cvk_collide_longest_edge(const cvk_build* b)
-{
-    float longest = 0.0f;
-    for (uint32_t t = 0; t < b->triangle_count; t++)
-        for (int k = 0; k < 3; k++) {
-            const float* p = &b->position[3 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
-            const float* q =
-                &b->position[3 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
-            float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-            longest = fmaxf(longest, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
-        }
-    return longest;
-}
-
 cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 {
     cvk_collide* c = &s->collide;
@@ -38,7 +24,7 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
        for edges crossing at right angles near their middles up to about 20 % stretch (wider
        cells, for every pair, made flat cloth search again: README, "Edge against edge"). */
     float cell = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness +
-                 1.5f / sqrtf(3.0f) * cvk_collide_longest_edge(&s->build);
+                 1.5f / sqrtf(3.0f) * c->longest_edge;
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
                           &s->positions};
     cvk_result r = cvk_hash_create(s->context, &desc, &c->hash, error);

@@ -132,12 +132,18 @@ vec3 box_normal(cvk_gpu_collider c, vec3 l)
     return quat_rotate(c.c, normalize(n));
 }
 
+// The point of segment (a, b) nearest p.
+vec3 closest_on_segment(vec3 p, vec3 a, vec3 b)
+{
+    vec3 ab = b - a;
+    float len2 = dot(ab, ab);
+    float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return a + t * ab;
+}
+
 vec3 capsule_closest(cvk_gpu_collider c, vec3 l)
 {
-    vec3 ab = c.b.xyz - c.a.xyz;
-    float len2 = dot(ab, ab);
-    float t = len2 > 0.0 ? clamp(dot(l - c.a.xyz, ab) / len2, 0.0, 1.0) : 0.0;
-    return c.a.xyz + t * ab;
+    return closest_on_segment(l, c.a.xyz, c.b.xyz);
 }
 
 // The funnel: radius e^(y/a) for -height <= y <= 0 around the vertical axis through the apex.
@@ -401,13 +407,20 @@ uint corner_of(uvec4 t, uint k)
     return k == 0u ? t.x : (k == 1u ? t.y : t.z);
 }
 
-// Distance from p to segment (a, b).
-float point_segment_distance(vec3 p, vec3 a, vec3 b)
+// p's own edges (collision.edges): slot 2i is the edge of p's i-th triangle (in the incidence
+// table's order) to its next corner, slot 2i + 1 the edge from its corner before, which only a
+// border has there (no triangle runs it the other way). False where the slot holds no edge;
+// else the far end in r and whether the edge is a border.
+bool own_edge(uint p, uint slot, out uint r, out bool border)
 {
-    vec3 ab = b - a;
-    float len2 = dot(ab, ab);
-    float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return length(p - (a + t * ab));
+    uvec4 pt = contact_triangle(contact_incident(contact_u.particle_count + 1u +
+                                                 contact_incident(p) + slot / 2u));
+    uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
+    uint next = slot & 1u; // 0: the edge to the next corner; 1: from the one before
+    r = corner_of(pt, (pk + 1u + next) % 3u);
+    // the border bit of edge k runs from corner k to k + 1 (lib/collide.c)
+    border = (pt.w & (1u << ((pk + 2u * next) % 3u))) != 0u;
+    return next == 0u || border;
 }
 
 // Whether the nearest points of two edges lie inside both, where the edges can pass through
@@ -429,12 +442,10 @@ uint edge_side(vec3 p0, vec3 p1, vec3 a, vec3 b, vec3 c1, vec3 c2)
 // to push the first to increase that: where the nearest points are inside both edges and the
 // edges are more than about 6° from parallel, along their common normal (negative once they
 // have passed through each other); elsewhere the distance between the nearest points, away
-// from the second. s, t: where the nearest points are on each.
-float edge_separation(vec3 p0, vec3 p1, vec3 a, vec3 b, float side, out vec3 dir, out float s,
-                      out float t)
+// from the second. s, t, c1, c2: the nearest points (closest_segments).
+float edge_separation_at(vec3 p0, vec3 p1, vec3 a, vec3 b, float s, float t, vec3 c1, vec3 c2,
+                         float side, out vec3 dir)
 {
-    vec3 c1, c2;
-    closest_segments(p0, p1, a, b, s, t, c1, c2);
     vec3 m = cross(p1 - p0, b - a);
     float lm = length(m);
     vec3 d = c1 - c2;
@@ -533,8 +544,9 @@ vec3 collide_edge(vec3 x0p, vec3 xp, vec3 r0, vec3 r, vec3 a0, vec3 b0, vec3 a, 
     closest_segments(x0p, r0, a0, b0, s0, t0, c1, c2);
     float side = edges_inside(s0, t0) ? (kept_side != 0u ? -1.0 : 1.0)
                                       : (edge_side(x0p, r0, a0, b0, c1, c2) != 0u ? -1.0 : 1.0);
-    float start = edge_separation(x0p, r0, a0, b0, side, dir0, s0, t0);
-    float now = edge_separation(xp, r, a, b, side, dir, s, t);
+    float start = edge_separation_at(x0p, r0, a0, b0, s0, t0, c1, c2, side, dir0);
+    closest_segments(xp, r, a, b, s, t, c1, c2);
+    float now = edge_separation_at(xp, r, a, b, s, t, c1, c2, side, dir);
     float target = min(th, max(start, 0.0) + 0.05 * th);
     float depth = target - now;
     if (depth <= 0.0 || now < -th)

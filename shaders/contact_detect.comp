@@ -61,40 +61,6 @@ bool near_corner(vec3 xp, vec4 rp, ivec3 cell, uint q, vec3 xq, float reach2, fl
            !corner_rest_near(rp, contact_rest(q), e2);
 }
 
-// The triangle of p's own edge slot i, and p's corner in it.
-uvec4 own_triangle(uint p, uint i, out uint pk)
-{
-    uint base = contact_u.particle_count + 1u;
-    uvec4 pt = contact_triangle(contact_incident(base + contact_incident(p) + i / 2u));
-    pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
-    return pt;
-}
-
-// Whether slot i's triangle has a border edge into p (odd slots exist only there).
-bool own_border(uint p, uint i)
-{
-    uint pk;
-    uvec4 pt = own_triangle(p, i, pk);
-    return (pt.w & (1u << ((pk + 2u) % 3u))) != 0u;
-}
-
-// Whether p's own edge slot i is a border: an odd slot always, an even one (the edge to the
-// next corner) where its triangle's bit says so.
-bool own_edge_border(uint p, uint i)
-{
-    uint pk;
-    uvec4 pt = own_triangle(p, i, pk);
-    return (i & 1u) != 0u || (pt.w & (1u << pk)) != 0u;
-}
-
-// The far end of p's own edge slot i: the next corner, or the one before.
-uint own_end(uint p, uint i)
-{
-    uint pk;
-    uvec4 pt = own_triangle(p, i, pk);
-    return corner_of(pt, (pk + 1u + (i & 1u)) % 3u);
-}
-
 // Whether the kept candidate (dist_k, kept_k) comes after (d, item) in the list.
 bool after(float dist_k, uint kept_k, float d, uint item)
 {
@@ -204,20 +170,19 @@ void walk(uint p, uint lane)
         edist[k] = INFINITY;
     }
     // collision.edges: the radius plus p's longest edge, beyond which no edge can be within
-    // the radius of one of p's edges.
+    // the radius of one of p's edges, and whether one of them is a border.
+    uint own_slots = EDGES ? 2u * (contact_incident(p + 1u) - contact_incident(p)) : 0u;
     float own_reach = 0.0;
-    for (uint o = contact_incident(p); EDGES && o < contact_incident(p + 1u); o++) {
-        uvec4 pt = contact_triangle(contact_incident(base + o));
-        own_reach = max(own_reach, max(distance(xp, contact_x(pt.x)),
-                                       max(distance(xp, contact_x(pt.y)), distance(xp, contact_x(pt.z)))));
+    bool p_border = false;
+    for (uint i = 0u; i < own_slots; i++) {
+        uint r;
+        bool on_border;
+        if (own_edge(p, i, r, on_border)) {
+            own_reach = max(own_reach, distance(xp, contact_x(r)));
+            p_border = p_border || on_border;
+        }
     }
     own_reach += contact_u.detect_radius;
-    bool p_border = false; // p has an edge on a border
-    for (uint o = contact_incident(p); EDGES && o < contact_incident(p + 1u); o++) {
-        uvec4 pt = contact_triangle(contact_incident(base + o));
-        uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
-        p_border = p_border || (pt.w & ((1u << pk) | (1u << ((pk + 2u) % 3u)))) != 0u;
-    }
     for (uint n = first_cell; n <= last_cell; n++) {
         ivec3 cell = hash_neighbour_cell(home, n);
         uvec2 range = hash_range(cell);
@@ -282,16 +247,15 @@ void walk(uint p, uint lane)
                     bool test = from != to && (from < to || border) && (border || p_border) &&
                                 !(b < q && within_reach(xp, xb, reach2)) &&
                                 !corner_rest_near(rp, rb, ee2) &&
-                                point_segment_distance(xp, fa, fb) < own_reach;
+                                distance(xp, closest_on_segment(xp, fa, fb)) < own_reach;
                     // p's own edges against it (lavapipe ends a shader's loops after 65535
                     // iterations in all, hash.h: only edges that can be within the radius of
                     // one of them come here).
-                    uint slots = test ? 2u * (contact_incident(p + 1u) - contact_incident(p)) : 0u;
-                    for (uint i = 0u; i < slots; i++) {
-                        if (((i & 1u) != 0u && !own_border(p, i)) ||
-                            !(border || own_edge_border(p, i)))
+                    for (uint i = 0u; i < (test ? own_slots : 0u); i++) {
+                        uint r;
+                        bool own_border;
+                        if (!own_edge(p, i, r, own_border) || !(border || own_border))
                             continue;
-                        uint r = own_end(p, i);
                         vec4 rr = contact_rest(r);
                         if (r == q || r == b || corner_rest_near(rr, rq, ee2) ||
                             corner_rest_near(rr, rb, ee2))

@@ -69,11 +69,9 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
 // before (src), as a triangle's corners.
 vec3 edge_pair(uint p, vec3 x0, vec3 xp, uint e)
 {
-    uint base = contact_u.particle_count + 1u;
-    uint own = (e & ~CVK_EDGE_PAIR) >> CVK_EDGE_OWN_SHIFT;
-    uvec4 pt = contact_triangle(contact_incident(base + contact_incident(p) + own / 2u));
-    uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
-    uint r = corner_of(pt, (pk + 1u + (own & 1u)) % 3u);
+    uint r;
+    bool border;
+    own_edge(p, (e & ~CVK_EDGE_PAIR) >> CVK_EDGE_OWN_SHIFT, r, border);
     uint f = (e >> 1u) & ((1u << (CVK_EDGE_OWN_SHIFT - 1)) - 1u);
     uvec4 tri = contact_triangle(f / 3u);
     uint a = corner_of(tri, f % 3u), b = corner_of(tri, (f % 3u + 1u) % 3u);

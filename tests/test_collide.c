@@ -554,6 +554,20 @@ static void test_funnel_edges(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* Two strips (harness_strips_across) with self-contact a centimetre thick, and edge contact
+   or not. */
+static cvk_scene_desc strips_scene(cvk_cloth_desc strips[2], bool edges)
+{
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = strips;
+    scene.cloth_count = 2;
+    scene.damping = 0.01f;
+    scene.collision.self = true;
+    scene.collision.thickness = 0.01f;
+    scene.collision.edges = edges;
+    return scene;
+}
+
 /* Edge against edge: a narrow strip dropped across another lying on the ground, placed so
    that no particle of either is ever over a face of the other (their crossing is a square
    that holds none of their particles: only their edges meet). Particle–triangle contact
@@ -570,15 +584,9 @@ static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
         strips[i].stiffness.bend = 1e4f;
     }
     cvk_collider_desc ground = collider(CVK_COLLIDER_PLANE);
-    cvk_scene_desc scene = cvk_default_scene_desc();
-    scene.cloths = strips;
-    scene.cloth_count = 2;
+    cvk_scene_desc scene = strips_scene(strips, edges);
     scene.colliders = &ground;
     scene.collider_count = 1;
-    scene.damping = 0.01f;
-    scene.collision.self = true;
-    scene.collision.thickness = 0.01f;
-    scene.collision.edges = edges;
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
@@ -631,13 +639,7 @@ static void test_edges_dragged_through(cvk_context* ctx, float depth)
     strips[1].pin_count = 4;
     strips[1].mass = 0.02f;
     strips[1].stiffness.structural = strips[1].stiffness.shear = 1e4f;
-    cvk_scene_desc scene = cvk_default_scene_desc();
-    scene.cloths = strips;
-    scene.cloth_count = 2;
-    scene.damping = 0.01f;
-    scene.collision.self = true;
-    scene.collision.thickness = 0.01f;
-    scene.collision.edges = true;
+    cvk_scene_desc scene = strips_scene(strips, true);
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .grab = true}, &sim, &err),
