@@ -453,7 +453,7 @@ static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const c
         .stride = nf,
         .sweeps = solver->outer_iterations * solver->inner_iterations,
         .tol2 = (float)((double)solver->tolerance * solver->tolerance),
-        .sweep_groups = cvk_plan_groups(plan, nf),
+        .sweep_groups = cvk_plan_groups_of(plan, CVK_PIPE_GS, nf),
         .contact_groups = contact.groups,
         .reduce_groups = cvk_plan_groups(plan, CVK_PD_PARTIALS),
     };

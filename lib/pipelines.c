@@ -57,10 +57,19 @@ const char* cvk_pipeline_label(cvk_pipeline_id id)
     return id < CVK_PIPE_COUNT ? recipes[id].label : "?";
 }
 
+bool cvk_pipeline_streams_particles(cvk_pipeline_id id)
+{
+    return id < CVK_PIPE_COUNT && recipes[id].spec.count > 0 &&
+           recipes[id].spec.source[0] == CVK_SPEC_PARTICLE_WORKGROUP_SIZE;
+}
+
 static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs)
 {
     switch (source) {
     case CVK_SPEC_WORKGROUP_SIZE: return inputs->workgroup_size;
+    case CVK_SPEC_PARTICLE_WORKGROUP_SIZE:
+        return inputs->particle_workgroup_size ? inputs->particle_workgroup_size
+                                               : inputs->workgroup_size;
     case CVK_SPEC_MAX_DEGREE: return inputs->max_degree;
     case CVK_SPEC_TRUE: return 1;
     case CVK_SPEC_FALSE: return 0;

@@ -10,6 +10,8 @@
 /* Where each specialisation constant (ids 0, 1, 2, ...) takes its value from. */
 typedef enum cvk_spec_source {
     CVK_SPEC_WORKGROUP_SIZE, /* local_size_x_id = 0 */
+    CVK_SPEC_PARTICLE_WORKGROUP_SIZE, /* local_size_x_id = 0 of the passes that stream over
+                                         particles (sweeps, prediction, finalize, tethers) */
     CVK_SPEC_MAX_DEGREE,     /* springs per particle, at most (build) */
     CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
     CVK_SPEC_FALSE,          /* a boolean switch left false */
@@ -28,25 +30,26 @@ typedef struct cvk_spec_recipe {
     cvk_spec_source source[6];
 } cvk_spec_recipe;
 
-#define CVK_SPEC_PD {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
+#define CVK_SPEC_PD {2, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
 /* The tether pass (id 2 of shaders/pd_tether.comp: the slots it reads). */
-#define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
-#define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+#define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
+#define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
 /* The checking first sweeps (id 3: TETHERS of shaders/pd_common.glsl). */
-#define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+#define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                  CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
 /* The contact pass (ids 3, 4, 5 of shaders/pd_contact.glsl; id 2 unused). */
 #define CVK_SPEC_PD_CONTACT {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
                              CVK_SPEC_EDGE_CONTACT}}
 /* The prediction (id 3 of shaders/predict.comp; id 2 unused). */
-#define CVK_SPEC_PREDICT {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+#define CVK_SPEC_PREDICT {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND}}
 /* The implicit passes (id 2 of shaders/implicit_common.glsl: the contact filter is compiled in
    only for a scene with colliders). */
 #define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
+#define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
 /* The candidate search and the patches' activity (id 1 of shaders/contact_detect.comp and
    contact_patch.comp: LANES; id 2 of the search: EDGES). */
 #define CVK_SPEC_DETECT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES, \
@@ -64,7 +67,7 @@ typedef struct cvk_spec_recipe {
     X(JACOBI_FIRST_CHECK, PD_JACOBI_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "jacobi + local step + residual") \
     X(PD_REDUCE, PD_REDUCE_COMP, CVK_SPEC_WORKGROUP, "residual: partial sums")  \
     X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
-    X(PD_COPY, PD_COPY_COMP, CVK_SPEC_WORKGROUP, "u0 = u1 (stopped in u1)")    \
+    X(PD_COPY, PD_COPY_COMP, CVK_SPEC_PARTICLE_WORKGROUP, "u0 = u1 (stopped in u1)")    \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
@@ -112,10 +115,14 @@ typedef enum cvk_pipeline_id {
 } cvk_pipeline_id;
 
 const char* cvk_pipeline_label(cvk_pipeline_id id);
+/* Whether pipeline `id` runs with the particle passes' workgroup size (its local size is
+   CVK_SPEC_PARTICLE_WORKGROUP_SIZE), so its dispatches count groups of that size. */
+bool cvk_pipeline_streams_particles(cvk_pipeline_id id);
 
 /* The values the recipes draw from. */
 typedef struct cvk_spec_inputs {
     uint32_t workgroup_size;
+    uint32_t particle_workgroup_size; /* 0: workgroup_size */
     uint32_t max_degree;
     uint32_t collider_types; /* bit t: colliders of type t */
     bool self_contact;

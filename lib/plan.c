@@ -12,6 +12,7 @@ void cvk_plan_init(cvk_plan* plan, uint32_t substeps, uint32_t workgroup_size, u
     *plan = (cvk_plan){
         .substeps = substeps,
         .workgroup_size = workgroup_size,
+        .particle_workgroup_size = workgroup_size,
         .max_groups = max_groups ? max_groups : 1,
     };
 }
@@ -124,14 +125,27 @@ cvk_op* cvk_plan_dispatch(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipelin
     set_dispatch(plan, op, pipeline, layout, set, domain, push, push_bytes);
     op->first = first;
     op->count = count;
-    op->groups = cvk_plan_groups(plan, count);
+    op->groups = cvk_plan_groups_of(plan, pipeline, count);
     return op;
+}
+
+static uint32_t groups_of_size(const cvk_plan* plan, uint32_t size, uint32_t count)
+{
+    uint32_t groups = (count + size - 1) / size;
+    return groups < plan->max_groups ? groups : plan->max_groups;
 }
 
 uint32_t cvk_plan_groups(const cvk_plan* plan, uint32_t count)
 {
-    uint32_t groups = (count + plan->workgroup_size - 1) / plan->workgroup_size;
-    return groups < plan->max_groups ? groups : plan->max_groups;
+    return groups_of_size(plan, plan->workgroup_size, count);
+}
+
+uint32_t cvk_plan_groups_of(const cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t count)
+{
+    return groups_of_size(plan, cvk_pipeline_streams_particles(pipeline)
+                                    ? plan->particle_workgroup_size
+                                    : plan->workgroup_size,
+                          count);
 }
 
 cvk_op* cvk_plan_dispatch_indirect(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,

@@ -70,6 +70,8 @@ typedef struct cvk_plan {
     uint32_t pass_count, pass_capacity;
     uint32_t substeps;
     uint32_t workgroup_size;
+    uint32_t particle_workgroup_size; /* of the pipelines that stream over particles
+                                         (cvk_pipeline_streams_particles); init: workgroup_size */
     uint32_t max_groups;
     bool uses[CVK_PIPE_COUNT];
     bool has_transfer;          /* some op fills, copies or dispatches indirectly */
@@ -94,6 +96,8 @@ uint32_t cvk_plan_find_pass(const cvk_plan* plan, const char* name);
 /* Workgroups of a direct dispatch over `count` items: one invocation per item, at most
    max_groups (invocations stride over the rest). */
 uint32_t cvk_plan_groups(const cvk_plan* plan, uint32_t count);
+/* The same for dispatches of `pipeline`, whose workgroups may be of the particle passes' size. */
+uint32_t cvk_plan_groups_of(const cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t count);
 cvk_op* cvk_plan_dispatch(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,
                           VkPipelineLayout layout, VkDescriptorSet set, cvk_domain domain,
                           uint32_t first, uint32_t count, const void* push, uint32_t push_bytes);

@@ -19,6 +19,20 @@
 /* Measured on lavapipe (2 cores): beyond a few workgroups per dispatch the thread hand-offs
    cost more than they spread. */
 #define CPU_DEVICE_MAX_WORKGROUPS 4u
+/* On a CPU device a workgroup runs as a loop over SIMD vectors of subgroupSize lanes, and the
+   passes that stream over particles (the sweeps above all) ran fastest with workgroups of one
+   vector: a 100 x 100 rbgs sweep on lavapipe (8 lanes, LP_NUM_THREADS=0) took 64-67 us with
+   workgroups of 8 against 70-80 with 64 (README "Performance"). The contact and hash passes
+   keep the workgroup size: with 8 the contact pass was slower. */
+static uint32_t particle_workgroup_size(const cvk_context* context, const cvk_sim_desc* desc,
+                                        uint32_t workgroup_size)
+{
+    if (desc->workgroup_size != 0 ||
+        context->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU)
+        return workgroup_size;
+    uint32_t lanes = context->subgroup_size;
+    return lanes >= 4 && lanes <= workgroup_size ? lanes : workgroup_size;
+}
 /* Invocations per particle in the candidate search on a device that is not a CPU: a GPU runs
    a particle's walk over the 27 cells as one long chain of dependent reads, and scenes with
    self-contact have a few thousand particles, too few threads to hide that latency. Measured
@@ -187,6 +201,8 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
                              uint32_t max_groups, cvk_plan* out, cvk_error* error)
 {
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
+    if (s->particle_workgroup_size)
+        out->particle_workgroup_size = s->particle_workgroup_size;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);
@@ -200,9 +216,16 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
 /* Creates the pipelines `plan` uses and dispatches the new ones once. */
 cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* error)
 {
-    cvk_spec_inputs inputs = {plan->workgroup_size, s->build.max_degree, s->collide.types,
-                              s->collide.self, s->aero.enabled, s->build.tether_anchor != NULL,
-                              s->build.tether_slots, s->search_lanes, s->collide.edges};
+    cvk_spec_inputs inputs = {.workgroup_size = plan->workgroup_size,
+                              .particle_workgroup_size = plan->particle_workgroup_size,
+                              .max_degree = s->build.max_degree,
+                              .collider_types = s->collide.types,
+                              .self_contact = s->collide.self,
+                              .wind = s->aero.enabled,
+                              .tethers = s->build.tether_anchor != NULL,
+                              .tether_slots = s->build.tether_slots,
+                              .search_lanes = s->search_lanes,
+                              .edge_contact = s->collide.edges};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->context, &s->pipelines, &inputs, &created,
                                               error);
@@ -464,6 +487,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the simulation");
     init_fields(s, context, desc);
     s->search_lanes = lanes;
+    s->particle_workgroup_size = particle_workgroup_size(context, desc, workgroup_size);
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)

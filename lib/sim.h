@@ -26,6 +26,8 @@ struct cvk_sim {
     cvk_solver_desc solver;
     cvk_scene_desc params;  /* the scene's step, gravity and damping (no cloths): plan input */
     int timing_request;     /* cvk_sim_desc.timing */
+    uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
+                                         prediction, finalize, tethers): cvk_plan */
     uint32_t search_lanes;  /* cvk_sim_desc.search_lanes, resolved: a divisor of the workgroup
                                size, fixed for the simulation's life (the patch buffers'
                                size depends on it, lib/collide.h) */

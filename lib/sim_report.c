@@ -243,8 +243,11 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
         put(&t, "= %u %s", all, kind);
     else
         put(&t, "less those run every few substeps only = %u %s", all, kind);
-    put(&t, ", workgroup size %u, at most %u workgroups per dispatch%s\n", plan->workgroup_size,
-        plan->max_groups, s->timing ? ", timestamps per pass" : "");
+    put(&t, ", workgroup size %u", plan->workgroup_size);
+    if (plan->particle_workgroup_size != plan->workgroup_size)
+        put(&t, " (%u for the passes over particles)", plan->particle_workgroup_size);
+    put(&t, ", at most %u workgroups per dispatch%s\n", plan->max_groups,
+        s->timing ? ", timestamps per pass" : "");
     put(&t, "per substep:\n");
     for (uint32_t i = 0; i < plan->op_count; i++)
         put_op(&t, plan, &plan->ops[i]);
