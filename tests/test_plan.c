@@ -4,14 +4,18 @@
      of the finalize pipeline (x += u, reading u1) moves every free particle by exactly 1 m per component
      and leaves the pinned ones where they were: each kind did its part, in order;
    - the operation list grows past any initial capacity, and pass names are registered once,
-     in order, with their operation counts. */
+     in order, with their operation counts;
+   - the dispatch shape: on a CPU device the passes that stream over particles run in
+     workgroups of the device's subgroup size and the others in the workgroup size (64), on
+     other devices all in the workgroup size, and a workgroup size asked for is used for all;
+     every dispatch's group count follows from its pipeline's size. */
 #include <string.h>
 
 #include "harness.h"
 
 #include "solve_pd.h"
 
-static cvk_sim* make_sim(cvk_context* ctx)
+static cvk_sim* make_sim_sized(cvk_context* ctx, uint32_t workgroup_size)
 {
     cvk_cloth_desc cloth = cvk_default_cloth_desc();
     cloth.grid[0] = 9;
@@ -21,8 +25,15 @@ static cvk_sim* make_sim(cvk_context* ctx)
     scene.cloth_count = 1;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .workgroup_size = workgroup_size},
+                              &sim, &err),
+               err);
     return sim;
+}
+
+static cvk_sim* make_sim(cvk_context* ctx)
+{
+    return make_sim_sized(ctx, 0);
 }
 
 /* Fill, fill, copy, indirect dispatch: one substep, recorded and run once. */
@@ -129,10 +140,59 @@ static void test_growth(void)
     cvk_plan_destroy(&plan);
 }
 
+/* The group count every direct dispatch of `plan` should have: one invocation per item in
+   workgroups of its pipeline's size, at most max_groups. */
+static void check_groups(const cvk_plan* plan, const char* what)
+{
+    uint32_t wrong = 0, streaming = 0, other = 0;
+    for (uint32_t i = 0; i < plan->op_count; i++) {
+        const cvk_op* op = &plan->ops[i];
+        if (op->kind != CVK_OP_DISPATCH)
+            continue;
+        bool particles = cvk_pipeline_streams_particles(op->pipeline);
+        uint32_t size = particles ? plan->particle_workgroup_size : plan->workgroup_size;
+        uint32_t groups = (op->count + size - 1) / size;
+        if (groups > plan->max_groups)
+            groups = plan->max_groups;
+        wrong += op->groups != groups;
+        streaming += particles;
+        other += !particles;
+    }
+    CHECK(wrong == 0 && streaming > 0, "%s: %u of the dispatches have the wrong group count "
+          "(%u over particles, %u others)", what, wrong, streaming, other);
+}
+
+static void test_shapes(cvk_context* ctx)
+{
+    cvk_sim* sim = make_sim(ctx);
+    bool cpu = ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    uint32_t lanes = ctx->subgroup_size;
+    uint32_t expected = cpu && lanes >= 4 && lanes <= 64 ? lanes : 64;
+    CHECK(sim->plan.workgroup_size == 64 && sim->plan.particle_workgroup_size == expected,
+          "default shape: workgroups of %u, %u over particles (expected 64 and %u on a%s device "
+          "with subgroups of %u)",
+          sim->plan.workgroup_size, sim->plan.particle_workgroup_size, expected,
+          cpu ? " CPU" : "nother", lanes);
+    CHECK(cvk_pipeline_streams_particles(CVK_PIPE_GS) &&
+              cvk_pipeline_streams_particles(CVK_PIPE_FINALIZE) &&
+              !cvk_pipeline_streams_particles(CVK_PIPE_PD_CONTACT) &&
+              !cvk_pipeline_streams_particles(CVK_PIPE_HASH_COUNT),
+          "the sweeps and finalize stream over particles, the contact and hash passes do not");
+    check_groups(&sim->plan, "default shape");
+    cvk_sim_destroy(sim);
+    sim = make_sim_sized(ctx, 32);
+    CHECK(sim->plan.workgroup_size == 32 && sim->plan.particle_workgroup_size == 32,
+          "workgroup size 32 asked for: %u, %u over particles", sim->plan.workgroup_size,
+          sim->plan.particle_workgroup_size);
+    check_groups(&sim->plan, "workgroup size 32");
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     test_growth();
     test_transfer_kinds(ctx);
+    test_shapes(ctx);
     return harness_finish(ctx);
 }
