@@ -3,7 +3,9 @@
 // Contact after the last sweep of every outer iteration, in place on the iterate that sweep
 // wrote (dst): u <- the displacement that keeps the particle out of colliders and off other
 // cloths (pd_contact.glsl). The next outer iteration's local step starts from it, and the last
-// one leaves the substep's displacement free of penetration.
+// one leaves the substep's displacement free of penetration. w marks a particle this pass
+// moved: the next outer iteration's first sweep does not over-relax it (pd_gauss_seidel.comp);
+// every other pass writes w = 0.
 #include "pd_common.glsl"
 #include "pd_contact.glsl"
 
@@ -15,12 +17,16 @@ void main()
         uint listed = pc.count == 0u ? 0u : lists[CVK_LIST_CONTACT_COUNT];
         for (uint i = gl_GlobalInvocationID.x; i < listed; i += invocation_stride()) {
             uint p = lists[contact_list_base() + i];
-            dst[p] = vec4(pd_contact(p, fetch(dst_read, p)), 0.0);
+            vec3 u = fetch(dst_read, p);
+            vec3 moved = pd_contact(p, u);
+            dst[p] = vec4(moved, any(notEqual(moved, u)) ? 1.0 : 0.0);
         }
         return;
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        dst[p] = vec4(pd_contact(p, fetch(dst_read, p)), 0.0);
+        vec3 u = fetch(dst_read, p);
+        vec3 moved = pd_contact(p, u);
+        dst[p] = vec4(moved, any(notEqual(moved, u)) ? 1.0 : 0.0);
     }
 }

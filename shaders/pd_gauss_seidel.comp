@@ -8,6 +8,13 @@
 // those of lower colours (index < pc.first) were already written to dst in this sweep.
 // Built a second time with RESIDUAL: the first sweep of an outer iteration that a convergence
 // check follows, which also writes each particle's squared residual at src (pd_common.glsl).
+// FIRST does not over-relax a particle the contact pass before it moved (it marked the
+// particle's w, pd_contact.comp): the springs pull such a particle back by about kappa d of
+// the contact's push d (kappa = sum k / (m/h^2 + sum k), near 1 for a stiff cloth), and omega
+// kappa d > d put it back past where it was, into the contact, which pushed it out further
+// after the next outer iteration; the last push of a substep becomes velocity. ribbons.json
+// diverged so at omega 1.7 on lavapipe (1.6 on an NVIDIA H100), box-stack.json stretched a
+// spring ten times on the H100 (README "Never exploding").
 #include "pd_common.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;
@@ -20,14 +27,18 @@ void main()
         vec4 b;
         vec3 cur;
         float ksum;
+        float omega = pc.omega;
         if (FIRST) {
-            cur = fetch(src, p);
+            vec4 start = texelFetch(src, int(p));
+            cur = start.xyz;
+            if (start.w != 0.0)
+                omega = min(omega, 1.0);
             b = local_step(p, cur, pc.first, acc, ksum);
         } else {
             b = texelFetch(rhs_read, int(p));
             cur = fetch(dst_read, p);
             acc = neighbour_sum(dst_read, p, cur, ksum);
         }
-        dst[p] = vec4(cur + pc.omega * jacobi_move(b, cur, acc, ksum), 0.0);
+        dst[p] = vec4(cur + omega * jacobi_move(b, cur, acc, ksum), 0.0);
     }
 }
