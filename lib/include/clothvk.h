@@ -594,7 +594,9 @@ typedef struct cvk_sim cvk_sim;
 /* Zero means default for every field but scene. */
 typedef struct cvk_sim_desc {
     const cvk_scene_desc* scene; /* copied; need not outlive the call */
-    uint32_t workgroup_size;     /* compute workgroup size, 0 = the library's choice (64) */
+    uint32_t workgroup_size;     /* compute workgroup size for every pass, 0 = the library's
+                                    choice: 64, and on CPU devices the device's subgroup size
+                                    for the passes that stream over particles (the sweeps) */
     uint32_t max_workgroups;     /* workgroups per dispatch, 0 = the library's choice: a few on
                                     CPU devices, where each costs a thread hand-off, one per
                                     workgroup_size particles elsewhere */
