@@ -258,8 +258,7 @@ cvk_result cvk_collide_load_snapshot(cvk_sim* s, const unsigned char* data, cvk_
     cvk_buffer* buffers[4];
     VkDeviceSize sizes[4];
     cvk_result r = CVK_SUCCESS;
-    uint32_t parts = snapshot_parts(s, buffers, sizes);
-    for (uint32_t i = 0; r == CVK_SUCCESS && i < parts; i++) {
+    for (uint32_t i = 0, n = snapshot_parts(s, buffers, sizes); r == CVK_SUCCESS && i < n; i++) {
         r = cvk_sim_upload(s, buffers[i], data, sizes[i], error);
         data += sizes[i];
     }

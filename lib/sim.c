@@ -201,8 +201,7 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
                              uint32_t max_groups, cvk_plan* out, cvk_error* error)
 {
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
-    if (s->particle_workgroup_size)
-        out->particle_workgroup_size = s->particle_workgroup_size;
+    out->particle_workgroup_size = s->particle_workgroup_size;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);

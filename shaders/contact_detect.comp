@@ -101,6 +101,19 @@ shared float lane_dist[SHARED_LISTS];
         dist[0] = front ? new_d : dist[0];                                              \
     }
 
+// The first lane's N places from `at` in its slots (own) with the other lanes' merged in; a
+// macro for the reason INSERT is one.
+#define MERGE_LANES(kept, dist, N, at)                                                   \
+    for (uint k = 0u; k < (N); k++) {                                                   \
+        kept[k] = lane_kept[own + (at) + k];                                            \
+        dist[k] = lane_dist[own + (at) + k];                                            \
+    }                                                                                   \
+    for (uint j = 1u; j < LANES; j++) {                                                 \
+        uint other = own + j * SLOTS + (at);                                            \
+        for (uint k = 0u; k < (N) && lane_kept[other + k] != CVK_NO_CONTACT; k++)       \
+            INSERT_N(kept, dist, N, lane_dist[other + k], lane_kept[other + k])         \
+    }
+
 // p's list written (its triangles, then its edge pairs: as many triangles as leave room for
 // the edge pairs), and p listed for the contact passes if it has a candidate.
 void write_list(uint p, uint kept[K], uint ekept[KE])
@@ -327,25 +340,14 @@ void main()
             uint own = gl_LocalInvocationID.x * SLOTS;
             uint kept[K];
             float dist[K];
-            for (uint k = 0u; k < K; k++) {
-                kept[k] = lane_kept[own + k];
-                dist[k] = lane_dist[own + k];
-            }
-            for (uint j = 1u; j < LANES; j++) {
-                uint other = own + j * SLOTS;
-                for (uint k = 0u; k < K && lane_kept[other + k] != CVK_NO_CONTACT; k++)
-                    INSERT(kept, dist, lane_dist[other + k], lane_kept[other + k])
-            }
+            MERGE_LANES(kept, dist, K, 0u)
             uint ekept[KE];
             float edist[KE];
-            for (uint k = 0u; k < KE; k++) {
-                ekept[k] = EDGES ? lane_kept[own + K + k] : CVK_NO_CONTACT;
-                edist[k] = EDGES ? lane_dist[own + K + k] : INFINITY;
-            }
-            for (uint j = 1u; EDGES && j < LANES; j++) {
-                uint other = own + j * SLOTS + K;
-                for (uint k = 0u; k < KE && lane_kept[other + k] != CVK_NO_CONTACT; k++)
-                    INSERT_N(ekept, edist, KE, lane_dist[other + k], lane_kept[other + k])
+            if (EDGES) {
+                MERGE_LANES(ekept, edist, KE, K)
+            } else {
+                ekept[0] = CVK_NO_CONTACT;
+                edist[0] = INFINITY;
             }
             write_list(p, kept, ekept);
         }

@@ -9,6 +9,14 @@
 #include "pd_common.glsl"
 #include "pd_contact.glsl"
 
+// p's displacement kept out of contact, w marking whether that moved it.
+void contact_one(uint p)
+{
+    vec3 u = fetch(dst_read, p);
+    vec3 moved = pd_contact(p, u);
+    dst[p] = vec4(moved, any(notEqual(moved, u)) ? 1.0 : 0.0);
+}
+
 void main()
 {
     if (LISTED) {
@@ -16,17 +24,11 @@ void main()
         // search (contact_compact.comp).
         uint listed = pc.count == 0u ? 0u : lists[CVK_LIST_CONTACT_COUNT];
         for (uint i = gl_GlobalInvocationID.x; i < listed; i += invocation_stride()) {
-            uint p = lists[contact_list_base() + i];
-            vec3 u = fetch(dst_read, p);
-            vec3 moved = pd_contact(p, u);
-            dst[p] = vec4(moved, any(notEqual(moved, u)) ? 1.0 : 0.0);
+            contact_one(lists[contact_list_base() + i]);
         }
         return;
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
-        uint p = pc.first + i;
-        vec3 u = fetch(dst_read, p);
-        vec3 moved = pd_contact(p, u);
-        dst[p] = vec4(moved, any(notEqual(moved, u)) ? 1.0 : 0.0);
+        contact_one(pc.first + i);
     }
 }
