@@ -454,6 +454,10 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = make_cloth_tables(b, &t, error);
     if (r == CVK_SUCCESS && c->edges)
         r = check_edge_limits(b, &t, error);
+    if (r == CVK_SUCCESS && c->self && b->triangle_count > CVK_MAX_SELF_TRIANGLES)
+        r = cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                     "collision.self: the cloths have %u triangles, more than the %u self-contact "
+                     "can address", b->triangle_count, CVK_MAX_SELF_TRIANGLES);
     if (r == CVK_SUCCESS && c->self)
         r = make_rest(b, c, error);
     if (r == CVK_SUCCESS && c->self)
@@ -488,7 +492,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = cvk_sim_make_buffer(s, &c->patch_active, 4u * patches, "active patches", NULL, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_make_buffer(s, &c->lists,
-                                c->self ? 4u * (CVK_LIST_HEADER + 2u * (VkDeviceSize)b->particle_count) : 16u,
+                                c->self ? 4u * cvk_collide_lists_size(b->particle_count, b->cloth_count) : 16u,
                                 "contact work lists", NULL, error);
     if (r == CVK_SUCCESS)
         r = cvk_sim_clear_buffer(s, &c->lists, error);
@@ -531,6 +535,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .patch_neighbours = c->patch_neighbours,
         .flat_cos = cosf(CVK_FLAT_DEGREES * (3.14159265f / 180.0f)),
         .edge_exclusion = c->edge_exclusion,
+        .cloth_count = b->cloth_count,
     };
     /* the frame state, then the motion bounds of the adaptive search (empty) */
     struct {

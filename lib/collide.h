@@ -37,6 +37,19 @@
    visits only them in its contact passes. A flat cloth moving in space thus costs neither a
    hash build nor a walk, nor a contact pass.
 
+   Untangling: contact keeps a pair on the side it was found on, so a region that went
+   through another surface (a fold's tip pushed through a layer, particles written from the
+   host on the wrong side) would be held there. After each search, the edges of the listed
+   particles are tested against their candidate triangles; the cut edges divide each cloth
+   into regions (labels propagated across uncut edges and pointer-jumped on the device,
+   CVK_UNTANGLE_ROUNDS rounds), and a region that converged and is at most half its cloth's
+   largest is the part that went through (global intersection analysis, Baraff, Witkin and
+   Kass 2003; "the small region is the wrong one"). Its pairs with the faces over it of the
+   cloths that cut it are listed with the other side and marked (CVK_UNTANGLE_PAIR), and the
+   contact pass brings them back by at most a tenth of a thickness a substep, from any depth
+   (shaders/untangle.comp). With no cut edge the step costs one pass over the listed
+   particles and a few empty dispatches.
+
    The module owns one descriptor set, the contact set, which every solver family's pipelines
    bind as set 1 (shaders/collide.glsl declares it); a scene without colliders and without
    self-contact still gets a small set (so layouts stay one shape) but records no collision
@@ -48,6 +61,7 @@
 #include "hash.h"
 #include "motion.h"
 #include "sdf.h"
+#include "shared/layout.h"
 
 struct cvk_sim;
 
@@ -165,6 +179,13 @@ cvk_result cvk_collide_load_snapshot(struct cvk_sim* sim, const unsigned char* d
    edge pairs only where the scene has edge contact. */
 cvk_result cvk_collide_check_snapshot(const struct cvk_sim* sim, const unsigned char* data,
                                       cvk_error* error);
+
+/* uints in the work-list buffer of a simulation with self-contact: header, search and contact
+   lists (what a snapshot carries), then the untangling step's arrays (shared/layout.h). */
+static inline uint64_t cvk_collide_lists_size(uint64_t particles, uint64_t cloths)
+{
+    return CVK_LIST_HEADER + (2u + CVK_UNTANGLE_ARRAYS) * particles + 2u * cloths;
+}
 
 /* The patches (collide_patches.c) from the rest mesh: triangles (4 uint per triangle, internal
    corners) and the triangles around each particle (particle_count + 1 offsets, then ids). */

@@ -114,6 +114,54 @@ static void add_lists(cvk_sim* s, cvk_plan* plan)
     add_compact(s, plan, 2, "search command; hash built if any listed");
 }
 
+/* One phase of shaders/untangle.comp: 0 and 7 over the search's contact list, 1 one
+   invocation (the command of the others), the others over every particle through that
+   command. */
+static void add_untangle(cvk_sim* s, cvk_plan* plan, uint32_t phase, const char* note)
+{
+    cvk_collide* c = &s->collide;
+    uint32_t pass = cvk_plan_pass(plan, "contacts");
+    cvk_contact_push push = {0, s->build.particle_count, phase, plan->workgroup_size};
+    cvk_op* op;
+    if (phase == 1) {
+        op = cvk_plan_dispatch(plan, pass, CVK_PIPE_UNTANGLE, c->descriptors.pipeline_layout,
+                               c->set, CVK_DOMAIN_PARTICLES, 0, 1, &push, sizeof push);
+        if (op)
+            op->groups = 1;
+    } else {
+        bool listed = phase == 0 || phase == 7;
+        VkDeviceSize offset = 4u * (listed ? CVK_LIST_CONTACT_GROUPS : CVK_LIST_UNTANGLE_GROUPS);
+        op = cvk_plan_dispatch_indirect(plan, pass, CVK_PIPE_UNTANGLE,
+                                        c->descriptors.pipeline_layout, c->set,
+                                        CVK_DOMAIN_PARTICLES, c->lists.buffer, offset, &push,
+                                        sizeof push);
+        if (op)
+            op->count = s->build.particle_count;
+    }
+    if (op) {
+        /* the indirect commands share the buffer every phase writes */
+        op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+        snprintf(op->note, sizeof op->note, "%s", note);
+    }
+}
+
+/* The untangling step after a search (collide.h, "Untangling"): cut edges, the regions they
+   bound (CVK_UNTANGLE_ROUNDS rounds of labels with pointer jumping), the enclosed regions'
+   pairs marked, and the arrays cleared. */
+static void add_untangling(cvk_sim* s, cvk_plan* plan)
+{
+    add_untangle(s, plan, 0, "untangling: own edges through listed faces");
+    add_untangle(s, plan, 1, "untangling: command (none without a cut edge)");
+    _Static_assert(CVK_UNTANGLE_ROUNDS % 2 == 0, "the last round writes the first array");
+    for (uint32_t round = 0; round < CVK_UNTANGLE_ROUNDS; round++)
+        add_untangle(s, plan, round == 0 ? 2 : (round % 2 ? 3 : 4),
+                     "untangling: lowest label's label across uncut edges");
+    add_untangle(s, plan, 5, "untangling: regions' sizes, cutters, converged");
+    add_untangle(s, plan, 6, "untangling: each cloth's largest region");
+    add_untangle(s, plan, 7, "untangling: enclosed particles' pairs marked");
+    add_untangle(s, plan, 8, "untangling: cleared");
+}
+
 cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
     cvk_collide* c = &s->collide;
@@ -156,6 +204,7 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
                          c->edges ? " and edges" : "", (double)c->detect_radius);
         }
         add_compact(s, plan, 3, "contact list -> contact passes' command");
+        add_untangling(s, plan);
         for (uint32_t i = first; c->detect_every > 1 && i < plan->op_count; i++)
             plan->ops[i].every = c->detect_every; /* candidates for the substeps until the next */
     }

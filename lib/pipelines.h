@@ -83,6 +83,7 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_DETECT, "particle-triangle candidates") \
     X(CONTACT_PATCH, CONTACT_PATCH_COMP, CVK_SPEC_DETECT, "patches: bounds, cones, activity") \
     X(CONTACT_COMPACT, CONTACT_COMPACT_COMP, CVK_SPEC_WORKGROUP, "search and contact lists") \
+    X(UNTANGLE, UNTANGLE_COMP, CVK_SPEC_WORKGROUP, "untangling: regions through other surfaces") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
     X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \

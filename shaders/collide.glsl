@@ -501,17 +501,22 @@ vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3
     // is on the wrong side and is brought back, rather than kept there. Beside an edge or a
     // corner, the side p starts this substep on: a particle that went round an edge is kept
     // on its new side, not pushed back through the face.
+    // A pair of the untangling step (untangle.comp, CVK_UNTANGLE_PAIR): p went through the
+    // face with the region around it, and is brought back to the kept side (beside an edge
+    // too) by at most a tenth of the thickness a substep (the last correction of a substep
+    // becomes velocity), from however deep.
+    bool untangle = (kept_side & CVK_UNTANGLE_PAIR) != 0u;
     vec3 nearest0 = closest_on_triangle(x0p, a0, b0, c0, w0);
     bool over_face = w0.x > 0.0 && w0.y > 0.0 && w0.z > 0.0;
-    float side = over_face ? (kept_side != 0u ? -1.0 : 1.0)
+    float side = over_face || untangle ? ((kept_side & 1u) != 0u ? -1.0 : 1.0)
                : (dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0);
     float start = separation_at(x0p, nearest0, w0, a0, b0, c0, side, dir0);
     float now = separation(xp, a, b, c, side, dir, w);
-    float target = min(r, max(start, 0.0) + 0.05 * r);
+    float target = untangle ? min(r, start + 0.1 * r) : min(r, max(start, 0.0) + 0.05 * r);
     float depth = target - now;
     // Beyond 2r inside, the pair crossed more than a substep can explain (an inverted or
     // stretched triangle, a side judged while nearly coplanar): leave it rather than fling p.
-    if (depth <= 0.0 || now < -r)
+    if (depth <= 0.0 || (now < -r && !untangle))
         return xp;
     xp += depth * dir;
     // Friction relative to the triangle's own motion at the contact point.

@@ -12,9 +12,9 @@
 // folded every corner within reach is near at rest, and no triangle is tested at all. The
 // nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle
 // belongs on: where it is over the face, the side the last list held for the pair, if it held
-// it (so a particle that crossed the face since is brought back, pd_contact.glsl), else the
-// side it is on; equally near ones by triangle index, so the list depends neither on thread
-// timing nor on the order of the walk.
+// it (so a particle that crossed the face since is brought back, pd_contact.glsl; with the
+// untangling step's mark, untangle.comp), else the side it is on; equally near ones by
+// triangle index, so the list depends neither on thread timing nor on the order of the walk.
 //
 // LANES invocations share a particle (lib/sim.c: one on a CPU device, several on a GPU, where
 // one invocation's walk is a long chain of dependent reads and a few thousand of them leave
@@ -228,10 +228,15 @@ void walk(uint p, uint lane)
                 if (d >= contact_u.detect_radius)
                     continue;
                 uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
-                if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
-                    for (uint k = 0u; k < K; k++)
-                        side = (last[k] >> 1u) == t ? (last[k] & 1u) : side;
-                INSERT(kept, dist, d, (t << 1u) | side)
+                uint item = t << 1u;
+                if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0) {
+                    for (uint k = 0u; k < K; k++) {
+                        bool same = ((last[k] & ~CVK_UNTANGLE_PAIR) >> 1u) == t;
+                        side = same ? (last[k] & 1u) : side;
+                        item |= same ? (last[k] & CVK_UNTANGLE_PAIR) : 0u;
+                    }
+                }
+                INSERT(kept, dist, d, item | side)
             }
             // Edge pairs (collision.edges): each edge at q (once: from its triangle that runs it
             // from the lower index to the higher, or its border triangle; tested through its

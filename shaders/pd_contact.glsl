@@ -99,10 +99,10 @@ vec3 pd_contact(uint p, vec3 u)
                 xp = edge_pair(p, x0, xp, e);
                 continue;
             }
-            uvec4 t = contact_triangle(e >> 1u);
+            uvec4 t = contact_triangle((e & ~CVK_UNTANGLE_PAIR) >> 1u);
             vec3 a0 = fetch(x_read, t.x), b0 = fetch(x_read, t.y), c0 = fetch(x_read, t.z);
             xp = collide_triangle(x0, xp, a0, b0, c0, a0 + fetch(src, t.x), b0 + fetch(src, t.y),
-                                  c0 + fetch(src, t.z), e & 1u);
+                                  c0 + fetch(src, t.z), e & (CVK_UNTANGLE_PAIR | 1u));
         }
         // At most half a thickness of push in one pass, however many triangles push: a
         // particle crowded by several layers was otherwise thrown by their summed corrections.

@@ -464,6 +464,89 @@ static void test_dragged_through(cvk_context* ctx, float depth)
     cvk_sim_destroy(sim);
 }
 
+/* A tangle undone: a small cloth lies on a held one (every particle pinned), and a block of
+   its middle is written `depth` below the held cloth, through it, with nothing before to tell
+   which side it came from (positions written from the host keep no side: contact alone holds
+   it there, a thickness below). The untangling step finds the block enclosed by the held
+   cloth's faces and brings it back up. */
+static void test_untangled(cvk_context* ctx, float depth, uint32_t block)
+{
+    enum { N = 21, M = 9 };
+    static uint32_t all[N * N][2];
+    for (uint32_t i = 0; i < N * N; i++) {
+        all[i][0] = i % N;
+        all[i][1] = i / N;
+    }
+    cvk_cloth_desc cloths[2] = {flat_cloth(N, 0.4f, 0.5f), flat_cloth(M, 0.16f, 0.52f)};
+    cloths[0].pins = (const uint32_t(*)[2])all;
+    cloths[0].pin_count = N * N;
+    cloths[1].origin[0] += 0.007f; /* off the held cloth's grid: over its faces */
+    cloths[1].origin[2] += 0.004f;
+    for (int i = 0; i < 2; i++) {
+        cloths[i].stiffness.structural = cloths[i].stiffness.shear = 1e4f;
+        cloths[i].mass = i == 0 ? 0.04f : 0.01f;
+    }
+    cloths[1].stiffness.bend = 10.0f;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.damping = 0.01f;
+    scene.collision.self = true;
+    scene.collision.friction = 0.3f;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* x = malloc(3 * n * sizeof(float));
+    REQUIRE_OK(cvk_sim_step(sim, 30, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+    uint32_t lo = (M - block) / 2;
+    for (uint32_t j = lo; j < lo + block; j++)
+        for (uint32_t i = lo; i < lo + block; i++)
+            x[3 * (N * N + j * M + i) + 1] = 0.5f - depth;
+    REQUIRE_OK(cvk_sim_write_positions(sim, x, n, &err), err);
+    uint64_t before = 0, after = 0;
+    REQUIRE_OK(cvk_sim_count_intersections(sim, &before, &err), err);
+    /* After the first frame's searches: the pairs marked by the untangling step are exactly
+       those of the block's particles. */
+    REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+    size_t entries = (size_t)n * CVK_CONTACTS_PER_PARTICLE;
+    uint32_t* kept = malloc(4 * entries);
+    REQUIRE_OK(cvk_buffer_download(sim->context, &sim->submitter, sim->transfer_cmd,
+                                   &sim->collide.contacts, kept, 4 * entries, &err), err);
+    uint32_t marked = 0, astray = 0;
+    for (uint32_t u = N * N; u < n; u++) {
+        uint32_t i = (u - N * N) % M, j = (u - N * N) / M, p = sim->build.internal_of[u];
+        bool any = false;
+        for (uint32_t k = 0; k < CVK_CONTACTS_PER_PARTICLE; k++) {
+            uint32_t e = kept[(size_t)p * CVK_CONTACTS_PER_PARTICLE + k];
+            any |= e != CVK_NO_CONTACT && !(e & CVK_EDGE_PAIR) && (e & CVK_UNTANGLE_PAIR);
+        }
+        bool in_block = i >= lo && i < lo + block && j >= lo && j < lo + block;
+        marked += any && in_block;
+        astray += any && !in_block;
+    }
+    free(kept);
+    CHECK(marked == block * block && astray == 0, "written %.3g m through: %u of the %u "
+          "particles written through have pairs marked by the untangling step, %u others",
+          (double)depth, marked, block * block, astray);
+    REQUIRE_OK(cvk_sim_step(sim, 59, &err), err);
+    REQUIRE_OK(cvk_sim_count_intersections(sim, &after, &err), err);
+    REQUIRE_OK(cvk_sim_read_positions(sim, x, n, &err), err);
+    float y = x[3 * (N * N + (M / 2) * M + M / 2) + 1];
+    printf("a small cloth's middle %u x %u written %.0f mm through a held cloth: %llu "
+           "intersecting pairs, %u particles with pairs marked for untangling (%u others), 60 "
+           "frames later %llu pairs, the middle %.1f mm above the held cloth\n",
+           block, block, 1e3 * (double)depth, (unsigned long long)before, marked, astray,
+           (unsigned long long)after, 1e3 * ((double)y - 0.5));
+    CHECK(before > 0, "written %.3g m through: no intersecting pairs", (double)depth);
+    CHECK(after == 0 && y > 0.5f, "written %.3g m through: %llu intersecting pairs 60 frames "
+          "later, the middle at %.4g m (the held cloth at 0.5 m)", (double)depth,
+          (unsigned long long)after, (double)y);
+    free(x);
+    cvk_sim_destroy(sim);
+}
+
 /* Edges of the cloth that cut through funnel f's wall: sampled at 33 points, an edge whose
    points change sides (inside or outside the radius e^(y/a)) within the funnel's height. */
 static uint32_t edges_through_funnel(cvk_sim* sim, const cvk_collider_desc* f)
@@ -720,6 +803,8 @@ int main(void)
     test_cloth_on_cloth(ctx);
     test_dragged_through(ctx, 0.005f);
     test_dragged_through(ctx, 0.009f);
+    test_untangled(ctx, 0.005f, 1);
+    test_untangled(ctx, 0.008f, 3);
     test_funnel_edges(ctx);
     test_edges(ctx);
     test_edges_dragged_through(ctx, 0.005f);

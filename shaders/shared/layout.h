@@ -341,6 +341,11 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 #define CVK_EDGE_OWN_SHIFT 25
 #define CVK_EDGE_MAX_TRIANGLES_AROUND 31u   /* two own edge slots each, in 6 bits */
 #define CVK_EDGE_MAX_TRIANGLES 5592404u     /* 3 × triangle + edge in 24 bits */
+/* A particle–triangle entry (no CVK_EDGE_PAIR) with this bit is held by the untangling step
+   (shaders/untangle.comp): the particle lies in a region of its cloth that another surface
+   encloses, and the side it belongs on is the one it is not on. */
+#define CVK_UNTANGLE_PAIR 0x40000000u
+#define CVK_MAX_SELF_TRIANGLES 536870911u   /* triangle << 1 below the untangle bit */
 
 #define CVK_GPU_CONTACT_PARAMS_FIELDS                                                       \
     CVK_UINT(collider_count)                                                                \
@@ -358,7 +363,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_UINT(patch_neighbours)/* in the patch table: where the neighbour offsets start */   \
     CVK_FLOAT(flat_cos)       /* a patch pair within this cone (cosine) is flat */         \
     CVK_FLOAT(edge_exclusion) /* m: edge pairs of one cloth with ends this near at rest are skipped */ \
-    CVK_UINT(pad4)
+    CVK_UINT(cloth_count)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
 /* The patch table (uint, lib/collide.h): [0, particle_count): each particle's patch
@@ -376,6 +381,22 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 #define CVK_LIST_SEARCH_GROUPS 4  /* x, y, z */
 #define CVK_LIST_CONTACT_GROUPS 8 /* x, y, z */
 #define CVK_LIST_HEADER 16        /* the search list starts here; the contact list n later */
+/* The untangling step's state (shaders/untangle.comp) in the same buffer: its count of cut
+   edges and indirect command in the header, then from CVK_LIST_HEADER + 2n its arrays, n each
+   (CVK_UNTANGLE_*), then per cloth the largest converged region and whether one did not
+   converge. Zero between searches (the step clears what it used). */
+#define CVK_LIST_UNTANGLE_CUTS 2
+#define CVK_LIST_UNTANGLE_GROUPS 12 /* x, y, z */
+#define CVK_UNTANGLE_CUT_LOW 0      /* bit i: the particle's own edge i crosses a face */
+#define CVK_UNTANGLE_CUT_HIGH 1     /* own edges 32 to 61 */
+#define CVK_UNTANGLE_CUTTERS 2      /* bit c % 32: a face of cloth c crosses one of its edges */
+#define CVK_UNTANGLE_LABEL 3        /* the region's label (its lowest particle, once converged) */
+#define CVK_UNTANGLE_LABEL_NEXT 4
+#define CVK_UNTANGLE_SIZE 5         /* per label: particles; CVK_UNTANGLE_SPLIT: not converged */
+#define CVK_UNTANGLE_REGION_CUTTERS 6 /* per label: the cutters of its particles */
+#define CVK_UNTANGLE_ARRAYS 7
+#define CVK_UNTANGLE_SPLIT 0x80000000u
+#define CVK_UNTANGLE_ROUNDS 8       /* label propagation and pointer jumping per search */
 
 /* Push data of the contact passes (collider_poses, contact_check, contact_patch,
    contact_compact, contact_detect): items [first, first + count); the phase of a pass that has
