@@ -398,23 +398,21 @@ static void test_cloth_on_cloth(cvk_context* ctx)
           "collision.exclusion read?)", drop_names[DROP_OVER_SPHERE]);
 }
 
-/* A crossing is undone: the middle of a small cloth lying on a held one (every particle
-   pinned, so nothing but the hand moves it) is dragged through it, `depth` below it, and let
-   go. The pairs kept from before remember the side the particles were on, so contact brings
-   them back; a contact that judged the side again at every substep held them on the far side
-   (34 intersecting pairs 60 frames after letting go). */
-static void test_dragged_through(cvk_context* ctx, float depth)
+/* A held cloth (HELD_N × HELD_N particles, 0.4 m, every one pinned, at 0.5 m) and a small one
+   (SMALL_M × SMALL_M, 0.16 m, bending stiffness 10) lying at height y, off the held cloth's
+   grid so that its particles lie over the held one's faces; self-contact with friction 0.3. */
+enum { HELD_N = 21, SMALL_M = 9 };
+static cvk_scene_desc held_and_small(cvk_cloth_desc cloths[2], float y)
 {
-    enum { N = 21 };
-    static uint32_t all[N * N][2];
-    for (uint32_t i = 0; i < N * N; i++) {
-        all[i][0] = i % N;
-        all[i][1] = i / N;
+    static uint32_t all[HELD_N * HELD_N][2];
+    for (uint32_t i = 0; i < HELD_N * HELD_N; i++) {
+        all[i][0] = i % HELD_N;
+        all[i][1] = i / HELD_N;
     }
-    cvk_cloth_desc cloths[2] = {flat_cloth(N, 0.4f, 0.5f), flat_cloth(9, 0.16f, 0.53f)};
+    cloths[0] = flat_cloth(HELD_N, 0.4f, 0.5f);
+    cloths[1] = flat_cloth(SMALL_M, 0.16f, y);
     cloths[0].pins = (const uint32_t(*)[2])all;
-    cloths[0].pin_count = N * N;
-    /* Off the held cloth's grid, so that the small cloth's particles lie over its faces. */
+    cloths[0].pin_count = HELD_N * HELD_N;
     cloths[1].origin[0] += 0.007f;
     cloths[1].origin[2] += 0.004f;
     for (int i = 0; i < 2; i++) {
@@ -428,6 +426,19 @@ static void test_dragged_through(cvk_context* ctx, float depth)
     scene.damping = 0.01f;
     scene.collision.self = true;
     scene.collision.friction = 0.3f;
+    return scene;
+}
+
+/* A crossing is undone: the middle of a small cloth lying on a held one (every particle
+   pinned, so nothing but the hand moves it) is dragged through it, `depth` below it, and let
+   go. The pairs kept from before remember the side the particles were on, so contact brings
+   them back; a contact that judged the side again at every substep held them on the far side
+   (34 intersecting pairs 60 frames after letting go). */
+static void test_dragged_through(cvk_context* ctx, float depth)
+{
+    enum { N = HELD_N };
+    cvk_cloth_desc cloths[2];
+    cvk_scene_desc scene = held_and_small(cloths, 0.53f);
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .grab = true}, &sim, &err),
@@ -471,28 +482,9 @@ static void test_dragged_through(cvk_context* ctx, float depth)
    cloth's faces and brings it back up. */
 static void test_untangled(cvk_context* ctx, float depth, uint32_t block)
 {
-    enum { N = 21, M = 9 };
-    static uint32_t all[N * N][2];
-    for (uint32_t i = 0; i < N * N; i++) {
-        all[i][0] = i % N;
-        all[i][1] = i / N;
-    }
-    cvk_cloth_desc cloths[2] = {flat_cloth(N, 0.4f, 0.5f), flat_cloth(M, 0.16f, 0.52f)};
-    cloths[0].pins = (const uint32_t(*)[2])all;
-    cloths[0].pin_count = N * N;
-    cloths[1].origin[0] += 0.007f; /* off the held cloth's grid: over its faces */
-    cloths[1].origin[2] += 0.004f;
-    for (int i = 0; i < 2; i++) {
-        cloths[i].stiffness.structural = cloths[i].stiffness.shear = 1e4f;
-        cloths[i].mass = i == 0 ? 0.04f : 0.01f;
-    }
-    cloths[1].stiffness.bend = 10.0f;
-    cvk_scene_desc scene = cvk_default_scene_desc();
-    scene.cloths = cloths;
-    scene.cloth_count = 2;
-    scene.damping = 0.01f;
-    scene.collision.self = true;
-    scene.collision.friction = 0.3f;
+    enum { N = HELD_N, M = SMALL_M };
+    cvk_cloth_desc cloths[2];
+    cvk_scene_desc scene = held_and_small(cloths, 0.52f);
     cvk_error err;
     cvk_sim* sim;
     REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
