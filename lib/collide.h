@@ -42,9 +42,10 @@
    host on the wrong side) would be held there. After each search, the edges of the listed
    particles are tested against their candidate triangles; the cut edges divide each cloth
    into regions (labels propagated across uncut edges and pointer-jumped on the device,
-   CVK_UNTANGLE_ROUNDS rounds), and a region that converged and is at most half its cloth's
-   largest is the part that went through (global intersection analysis, Baraff, Witkin and
-   Kass 2003; "the small region is the wrong one"). Its pairs with the faces over it of the
+   CVK_UNTANGLE_ROUNDS rounds), and a region that converged and is at most a quarter of its
+   cloth's largest (CVK_UNTANGLE_SMALLER) is the part that went through (global intersection
+   analysis, Baraff, Witkin and Kass 2003; "the small region is the wrong one"). Its pairs
+   with the faces over it of the
    cloths that cut it are listed with the other side and marked (CVK_UNTANGLE_PAIR), and the
    contact pass brings them back by at most a tenth of a thickness a substep, from any depth
    (shaders/untangle.comp). With no cut edge the step costs one pass over the listed

@@ -27,8 +27,9 @@
 //   label across an uncut edge has not converged in the rounds recorded and counts as large;
 // 6 (every region's lowest particle): the largest converged region of each cloth;
 // 7 (the particles with candidates): the pairs of a particle in an enclosed region (a
-//   converged region at most half its cloth's largest) with the faces over it of the cloths
-//   that cut the region, marked and given the side the particle is not on;
+//   converged region at most a quarter of its cloth's largest, CVK_UNTANGLE_SMALLER) with
+//   the faces over it of the cloths that cut the region, marked and given the side the
+//   particle is not on;
 // 8 (every particle): the arrays cleared for the next search.
 // Every phase is a function of the one before (labels are double-buffered, the counts are
 // atomic sums), so the result does not depend on thread timing or dispatch shape.
@@ -174,15 +175,16 @@ void per_particle(uint p)
 }
 
 // Phase 7: the cloths (bit c % 32) whose faces enclose p's region, where that region
-// converged and is at most half its cloth's largest (a region that did not converge counts as
-// large, and so does every region of a cloth where one did not).
+// converged and is at most 1 / CVK_UNTANGLE_SMALLER of its cloth's largest (a region that did
+// not converge counts as large, and so does every region of a cloth where one did not).
 uint enclosing(uint p)
 {
     uint l = lists[at(CVK_UNTANGLE_LABEL, p)];
     uint size = lists[at(CVK_UNTANGLE_SIZE, l)];
     uint cloth = cloth_of(p);
     uint largest = lists[cloth_at(1u, cloth)] != 0u ? 0xffffffffu : lists[cloth_at(0u, cloth)];
-    bool enclosed = (size & CVK_UNTANGLE_SPLIT) == 0u && size <= largest / 2u;
+    bool enclosed = (size & CVK_UNTANGLE_SPLIT) == 0u &&
+                    size <= largest / uint(CVK_UNTANGLE_SMALLER);
     return enclosed ? lists[at(CVK_UNTANGLE_REGION_CUTTERS, l)] : 0u;
 }
 

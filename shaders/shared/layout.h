@@ -397,6 +397,9 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 #define CVK_UNTANGLE_ARRAYS 7
 #define CVK_UNTANGLE_SPLIT 0x80000000u
 #define CVK_UNTANGLE_ROUNDS 8       /* label propagation and pointer jumping per search */
+/* A settled region this many times smaller than its cloth's largest (or more) went through
+   (a strip cut in two by a crossing has two large ends: neither is). */
+#define CVK_UNTANGLE_SMALLER 4
 
 /* Push data of the contact passes (collider_poses, contact_check, contact_patch,
    contact_compact, contact_detect): items [first, first + count); the phase of a pass that has
