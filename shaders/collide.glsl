@@ -407,6 +407,16 @@ uint corner_of(uvec4 t, uint k)
     return k == 0u ? t.x : (k == 1u ? t.y : t.z);
 }
 
+// The own-edge slots of p (own_edge below): two per triangle around it.
+uint own_slots(uint p) { return 2u * (contact_incident(p + 1u) - contact_incident(p)); }
+
+// The side bit of a candidate pair (1: behind the face): x's side of triangle (a, b, c), q the
+// triangle's point nearest x.
+uint triangle_side(vec3 x, vec3 q, vec3 a, vec3 b, vec3 c)
+{
+    return dot(x - q, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
+}
+
 // p's own edges (collision.edges): slot 2i is the edge of p's i-th triangle (in the incidence
 // table's order) to its next corner, slot 2i + 1 the edge from its corner before, which only a
 // border has there (no triangle runs it the other way). False where the slot holds no edge;

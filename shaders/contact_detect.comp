@@ -184,10 +184,10 @@ void walk(uint p, uint lane)
     }
     // collision.edges: the radius plus p's longest edge, beyond which no edge can be within
     // the radius of one of p's edges, and whether one of them is a border.
-    uint own_slots = EDGES ? 2u * (contact_incident(p + 1u) - contact_incident(p)) : 0u;
+    uint slots = EDGES ? own_slots(p) : 0u;
     float own_reach = 0.0;
     bool p_border = false;
-    for (uint i = 0u; i < own_slots; i++) {
+    for (uint i = 0u; i < slots; i++) {
         uint r;
         bool on_border;
         if (own_edge(p, i, r, on_border)) {
@@ -227,7 +227,7 @@ void walk(uint p, uint lane)
                 float d = length(xp - closest);
                 if (d >= contact_u.detect_radius)
                     continue;
-                uint side = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
+                uint side = triangle_side(xp, closest, a, b, c);
                 uint item = t << 1u;
                 if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0) {
                     for (uint k = 0u; k < K; k++) {
@@ -269,7 +269,7 @@ void walk(uint p, uint lane)
                     // p's own edges against it (lavapipe ends a shader's loops after 65535
                     // iterations in all, hash.h: only edges that can be within the radius of
                     // one of them come here).
-                    for (uint i = 0u; i < (test ? own_slots : 0u); i++) {
+                    for (uint i = 0u; i < (test ? slots : 0u); i++) {
                         uint r;
                         bool own_border;
                         if (!own_edge(p, i, r, own_border) || !(border || own_border))

@@ -30,7 +30,7 @@
 //   converged region at most a quarter of its cloth's largest, CVK_UNTANGLE_SMALLER) with
 //   the faces over it of the cloths that cut the region, marked and given the side the
 //   particle is not on;
-// 8 (every particle): the arrays cleared for the next search.
+// 8 (every particle): the accumulated arrays cleared for the next search.
 // Every phase is a function of the one before (labels are double-buffered, the counts are
 // atomic sums), so the result does not depend on thread timing or dispatch shape.
 layout(local_size_x_id = 0) in;
@@ -83,8 +83,6 @@ bool is_cut(uint p, uint slot)
     return (word & (1u << (slot & 31u))) != 0u;
 }
 
-uint own_slots(uint p) { return 2u * (contact_incident(p + 1u) - contact_incident(p)); }
-
 // Phase 0: p's own edges against p's candidate triangles.
 void find_cuts(uint p)
 {
@@ -97,13 +95,15 @@ void find_cuts(uint p)
         if ((e & CVK_EDGE_PAIR) != 0u)
             continue;
         uvec4 tri = contact_triangle((e & ~CVK_UNTANGLE_PAIR) >> 1u);
+        if (p == tri.x || p == tri.y || p == tri.z) // a small collision.exclusion lets these in
+            continue;
         vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
         uint cloth_bit = 1u << (cloth_of(tri.x) & 31u);
         for (uint i = 0u; i < slots; i++) {
             uint r;
             bool border;
             if (!own_edge(p, i, r, border) || r == tri.x || r == tri.y || r == tri.z ||
-                p == tri.x || p == tri.y || p == tri.z || !cuts(xp, contact_x(r), a, b, c))
+                !cuts(xp, contact_x(r), a, b, c))
                 continue;
             mark(p, i, cloth_bit);
             for (uint j = 0u, rs = own_slots(r); j < rs; j++) { // the same edge from r
@@ -111,7 +111,7 @@ void find_cuts(uint p)
                 if (own_edge(r, j, back, border) && back == p)
                     mark(r, j, cloth_bit);
             }
-            atomicAdd(lists[CVK_LIST_UNTANGLE_CUTS], 1u);
+            lists[CVK_LIST_UNTANGLE_CUTS] = 1u; // a flag: every writer writes the same
         }
     }
 }
@@ -164,9 +164,12 @@ void per_particle(uint p)
         uint size = lists[at(CVK_UNTANGLE_SIZE, p)];
         if (lists[at(CVK_UNTANGLE_LABEL, p)] == p && (size & CVK_UNTANGLE_SPLIT) == 0u)
             atomicMax(lists[cloth_at(0u, cloth_of(p))], size);
-    } else if (phase == 8u) {
-        for (uint a = 0u; a < uint(CVK_UNTANGLE_ARRAYS); a++)
-            lists[at(a, p)] = 0u;
+    } else if (phase == 8u) { // the labels are written whole by the rounds before any read
+        lists[at(CVK_UNTANGLE_CUT_LOW, p)] = 0u;
+        lists[at(CVK_UNTANGLE_CUT_HIGH, p)] = 0u;
+        lists[at(CVK_UNTANGLE_CUTTERS, p)] = 0u;
+        lists[at(CVK_UNTANGLE_SIZE, p)] = 0u;
+        lists[at(CVK_UNTANGLE_REGION_CUTTERS, p)] = 0u;
         if (p < contact_u.cloth_count) {
             lists[cloth_at(0u, p)] = 0u;
             lists[cloth_at(1u, p)] = 0u;
@@ -209,7 +212,7 @@ void mark_pairs(uint p)
         vec3 closest = closest_on_triangle(xp, a, b, c, w);
         if (!(w.x > 0.0 && w.y > 0.0 && w.z > 0.0))
             continue; // beside the face: the side it starts each substep on (collide_triangle)
-        uint other = dot(xp - closest, cross(b - a, c - a)) < 0.0 ? 0u : 1u;
+        uint other = 1u - triangle_side(xp, closest, a, b, c);
         contacts[p * K + k] = (t << 1u) | CVK_UNTANGLE_PAIR | other;
     }
 }

@@ -381,10 +381,11 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 #define CVK_LIST_SEARCH_GROUPS 4  /* x, y, z */
 #define CVK_LIST_CONTACT_GROUPS 8 /* x, y, z */
 #define CVK_LIST_HEADER 16        /* the search list starts here; the contact list n later */
-/* The untangling step's state (shaders/untangle.comp) in the same buffer: its count of cut
-   edges and indirect command in the header, then from CVK_LIST_HEADER + 2n its arrays, n each
-   (CVK_UNTANGLE_*), then per cloth the largest converged region and whether one did not
-   converge. Zero between searches (the step clears what it used). */
+/* The untangling step's state (shaders/untangle.comp) in the same buffer: whether an edge is
+   cut and its indirect command in the header, then from CVK_LIST_HEADER + 2n its arrays, n
+   each (CVK_UNTANGLE_*), then per cloth the largest converged region and whether one did not
+   converge. What it accumulates is zero between searches (the step clears it; the labels are
+   written whole before they are read). */
 #define CVK_LIST_UNTANGLE_CUTS 2
 #define CVK_LIST_UNTANGLE_GROUPS 12 /* x, y, z */
 #define CVK_UNTANGLE_CUT_LOW 0      /* bit i: the particle's own edge i crosses a face */
