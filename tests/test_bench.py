@@ -58,8 +58,8 @@ COLUMNS = {
                 "total_ms", "total_ms_min", "total_ms_max", "ns_per_point", "neighbours_per_point",
                 "dispatches", "device"],
     "contact-steps": ["dt", "steps", "max_penetration", "max_intersecting_pairs",
-                      "end_intersecting_pairs", "end_max_stretch", "nan", "gpu_ms_per_step",
-                      "tunnelling_free", "device"],
+                      "end_intersecting_pairs", "end_max_stretch", "nan", "diverged_step",
+                      "gpu_ms_per_step", "tunnelling_free", "device"],
     "explicit-stability": ["measure", "integrator", "damping_model", "dt", "kd", "measured",
                            "unstable_at", "predicted", "measured_over_predicted", "seed",
                            "lambda_d", "lambda_k", "runs", "steps", "device"],
@@ -267,9 +267,20 @@ def contact_step_rows(rows):
         if float(r["max_penetration"]) > 1e-4 or r["nan"] != "0":
             problems.append(f"contact-steps.csv at h = {r['dt']}: penetration "
                             f"{r['max_penetration']} m, {r['nan']} NaN")
-        if r["tunnelling_free"] not in ("0", "1"):
-            problems.append(f"contact-steps.csv: tunnelling_free is {r['tunnelling_free']!r}")
+        if r["tunnelling_free"] not in ("0", "1") or r["diverged_step"] != "0":
+            problems.append(f"contact-steps.csv: tunnelling_free is {r['tunnelling_free']!r}, "
+                            f"diverged_step {r['diverged_step']!r}")
     return problems
+
+
+def contact_step_diverged(rows):
+    """A small hanging cloth with one sweep runs away at h = 1 s in its second step and holds
+    at h = 0.01 s: the sweep reports the first with the step it diverged at, not tunnelling-free,
+    and goes on to the other (the h are run in increasing order)."""
+    got = [(r["dt"], r["steps"], r["diverged_step"], r["tunnelling_free"]) for r in rows]
+    want = [("0.01", "200", "0", "1"), ("1", "2", "2", "0")]
+    return [] if got == want else [f"contact-steps.csv (dt, steps, diverged_step, "
+                                   f"tunnelling_free): expected {want}, got {got}"]
 
 
 def explicit_limits(rows):
@@ -344,6 +355,11 @@ GOOD = [
               "--set", "cloths.0.origin=[-0.5,0.62,-0.5]", "--dt", "0.004,0.008",
               "--time", "0.04"] + QUICK,
      "experiment": "contact-steps", "check": contact_step_rows},
+    {"name": "contact-steps, an h that diverges",
+     "argv": ["contact-steps"] + TINY_HANGING + ["--set", "collision.self=true",
+              "--set", "solver.outer_iterations=1", "--set", "solver.inner_iterations=1",
+              "--dt", "1,0.01", "--time", "2"] + QUICK,
+     "experiment": "contact-steps", "check": contact_step_diverged},
     {"name": "explicit-stability",
      "argv": ["explicit-stability", asset("seed001.json"), "--set", "cloths.0.grid=[6,6]",
               "--set", "cloths.0.mass=1", "--set", "cloths.0.pins=[[0,0],[1,0],[2,0],[3,0],[4,0],[5,0]]",

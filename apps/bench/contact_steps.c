@@ -4,7 +4,8 @@
    intersecting cloth triangle pairs (exact, on the host) are measured, and their maxima over
    the run are reported with the end state's stretch and the GPU time per step. The largest h
    with no penetration beyond the thickness and no intersecting pair is the step the scene
-   can take without tunnelling. */
+   can take without tunnelling. An h at which the scene runs away is reported as such (the
+   step it diverged at, the maxima until then) and the sweep goes on to the next h. */
 #include <math.h>
 #include <stdio.h>
 
@@ -13,13 +14,14 @@
 
 static const char* const columns[] = {
     "dt", "steps", "max_penetration", "max_intersecting_pairs", "end_intersecting_pairs",
-    "end_max_stretch", "nan", "gpu_ms_per_step", "tunnelling_free",
+    "end_max_stretch", "nan", "diverged_step", "gpu_ms_per_step", "tunnelling_free",
 };
 
 typedef struct outcome {
     double penetration, stretch, gpu_ms;
     uint64_t pairs, end_pairs, nan;
     uint32_t steps;
+    uint32_t diverged; /* the step (from 1) at which the scene ran away; 0: it did not */
 } outcome;
 
 static bool run_step(bench* b, double dt, outcome* out)
@@ -36,8 +38,12 @@ static bool run_step(bench* b, double dt, outcome* out)
     bool ok = true;
     for (uint32_t s = 0; ok && s < out->steps; s++) {
         cvk_sim_stats st;
-        ok = cvk_sim_step(sim, 1, &err) == CVK_SUCCESS &&
-             cvk_sim_get_stats(sim, &st, &err) == CVK_SUCCESS;
+        cvk_result r = cvk_sim_step(sim, 1, &err);
+        if (r == CVK_ERROR_DIVERGED) {
+            out->diverged = s + 1; /* not tunnelling-free; the next h is run all the same */
+            break;
+        }
+        ok = r == CVK_SUCCESS && cvk_sim_get_stats(sim, &st, &err) == CVK_SUCCESS;
         if (!ok)
             break;
         out->penetration = fmax(out->penetration, st.max_penetration);
@@ -49,7 +55,8 @@ static bool run_step(bench* b, double dt, outcome* out)
     }
     if (!ok)
         bench_fail(&err);
-    out->gpu_ms /= out->steps ? out->steps : 1;
+    uint32_t timed = out->diverged ? out->diverged - 1 : out->steps;
+    out->gpu_ms = timed ? out->gpu_ms / timed : NAN;
     cvk_sim_destroy(sim);
     return ok;
 }
@@ -70,7 +77,7 @@ int bench_contact_steps(bench* b)
         outcome o;
         if (!run_step(b, b->o->dts[i], &o))
             return APP_EXIT_FAILURE;
-        bool clean = o.penetration <= 1e-4 && o.pairs == 0 && o.nan == 0;
+        bool clean = o.penetration <= 1e-4 && o.pairs == 0 && o.nan == 0 && !o.diverged;
         if (clean && b->o->dts[i] > largest)
             largest = b->o->dts[i];
         bench_table_row(&b->table);
@@ -81,11 +88,15 @@ int bench_contact_steps(bench* b)
         bench_table_int(&b->table, "end_intersecting_pairs", o.end_pairs);
         bench_table_num(&b->table, "end_max_stretch", o.stretch);
         bench_table_int(&b->table, "nan", o.nan);
+        bench_table_int(&b->table, "diverged_step", o.diverged);
         bench_table_num(&b->table, "gpu_ms_per_step", o.gpu_ms);
         bench_table_int(&b->table, "tunnelling_free", clean ? 1 : 0);
-        printf("%10.6f %6u %14.3g %10llu %10llu %9.3f %9.3f\n", b->o->dts[i], o.steps,
+        printf("%10.6f %6u %14.3g %10llu %10llu %9.3f %9.3f", b->o->dts[i], o.steps,
                o.penetration, (unsigned long long)o.pairs, (unsigned long long)o.end_pairs,
                o.stretch, o.gpu_ms);
+        if (o.diverged)
+            printf("  diverged at step %u (maxima until then)", o.diverged);
+        printf("\n");
     }
     if (largest > 0.0)
         printf("largest h with no penetration (beyond 0.1 mm) and no intersecting pair: %g s\n",
