@@ -13,7 +13,8 @@
    cloth that moves as one needs no search), so every pair within two thicknesses at the start
    of any substep (what one substep can bring into contact, as when searching every substep) is
    still among the candidates. The device decides (contact_check.comp,
-   contact_decide.comp); the hash build and the search do nothing at the other substeps. A cloth
+   contact_decide.comp); the hash build (dispatched indirectly, with no workgroups: hash.h)
+   and the search do nothing at the other substeps. A cloth
    at rest then costs no search at all. collision.detect_every = k searches every k substeps
    instead, whatever moved.
 

@@ -183,7 +183,8 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         if (c->detect_every == 0)
             add_search_decision(s, plan);
         add_lists(s, plan);
-        cvk_result r = cvk_hash_add_passes(&c->hash, plan, s->build.particle_count, error);
+        cvk_result r = cvk_hash_add_passes(&c->hash, plan, s->build.particle_count, true,
+                                              error);
         if (r != CVK_SUCCESS)
             return r;
         uint32_t pass = cvk_plan_pass(plan, "contacts");

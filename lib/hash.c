@@ -29,6 +29,10 @@
 #include "shared/layout.h"
 
 _Static_assert(sizeof(cvk_hash_params) == 32, "cvk_hash_params: 32 bytes in GLSL");
+_Static_assert(sizeof(cvk_hash_params) == CVK_HASH_COMMANDS_OFFSET,
+               "the build's commands follow the parameters");
+_Static_assert(sizeof(cvk_hash_commands_push) == sizeof(cvk_hash_push),
+               "the commands pass shares the build's push range");
 _Static_assert(sizeof(cvk_hash_push) == 32, "cvk_hash_push: 32 bytes in GLSL");
 _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes in GLSL");
 
@@ -113,7 +117,8 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         VkDeviceSize bytes;
         const char* what;
     } list[] = {
-        {&hash->params, sizeof(cvk_hash_params), "hash parameters"},
+        /* the parameters, then a build's indirect commands (shaders/shared/layout.h) */
+        {&hash->params, CVK_HASH_COMMANDS_OFFSET + 12 * CVK_HASH_BUILD_PASSES, "hash parameters"},
         {&hash->keys, 4 * (VkDeviceSize)hash->capacity, "hash keys"},
         {&hash->starts, 4 * (slots + 1), "hash slot starts"},
         {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
@@ -121,7 +126,9 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         {&hash->sorted, 16 * (VkDeviceSize)hash->capacity, "hash points by slot"},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
-        cvk_result r = cvk_buffer_create(context, list[i].bytes, usage, CVK_MEMORY_DEVICE,
+        VkBufferUsageFlags extra = list[i].buffer == &hash->params
+                                       ? VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT : 0;
+        cvk_result r = cvk_buffer_create(context, list[i].bytes, usage | extra, CVK_MEMORY_DEVICE,
                                          list[i].what, list[i].buffer, error);
         if (r != CVK_SUCCESS)
             return r;
@@ -243,27 +250,20 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
 }
 
 /* One build dispatch over `items` of `domain`. */
-static cvk_op* add_dispatch(const cvk_hash* hash, cvk_plan* plan, uint32_t pass,
-                            cvk_pipeline_id pipeline, cvk_domain domain, uint32_t items,
-                            const cvk_hash_push* push, const char* note)
+static uint32_t one_item_each(const cvk_plan* plan, uint32_t items)
 {
-    cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, hash->layout, hash->set, domain, 0, items,
-                                   push, sizeof *push);
-    if (op)
-        snprintf(op->note, sizeof op->note, "%s", note);
-    return op;
+    uint32_t groups = (items + plan->workgroup_size - 1) / plan->workgroup_size;
+    return groups < MAX_GROUPS ? groups : MAX_GROUPS;
 }
 
 void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op)
 {
-    if (!op)
-        return;
-    uint32_t groups = (op->count + plan->workgroup_size - 1) / plan->workgroup_size;
-    op->groups = groups < MAX_GROUPS ? groups : MAX_GROUPS;
+    if (op)
+        op->groups = one_item_each(plan, op->count);
 }
 
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
-                               cvk_error* error)
+                               bool on_device, cvk_error* error)
 {
     if (count > hash->capacity)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
@@ -273,24 +273,63 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
     uint32_t chunk = chunk_for(hash->table_size);
     cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
                           hash->cell_size, 1.0f / hash->cell_size, 0, 0};
-    /* with points, one invocation writes the parameters; without, all zero the starts */
-    add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CLEAR, CVK_DOMAIN_CELLS,
-                 count ? 1 : hash->table_size, &push,
-                 count ? "parameters" : "parameters, starts := 0 (no points)");
-    if (count > 0) {
-        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_COUNT, CVK_DOMAIN_PARTICLES, count, &push,
-                     "keys, counts per slot");
-        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_CHUNK_SUMS, CVK_DOMAIN_CELLS, push.chunks,
-                     &push, "sums of chunks of slots");
-        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCAN_CHUNKS, CVK_DOMAIN_CELLS, 1, &push,
-                     "scan of the chunk sums");
-        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCAN, CVK_DOMAIN_CELLS, push.chunks, &push,
-                     "starts per slot");
-        add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SCATTER, CVK_DOMAIN_PARTICLES, count, &push,
-                     "entries by slot");
-        cvk_op* sort = add_dispatch(hash, plan, pass, CVK_PIPE_HASH_SORT, CVK_DOMAIN_PARTICLES,
-                                    count, &push, "entries in index order per slot");
-        cvk_hash_one_item_each(plan, sort);
+    /* The build's passes, in the order of their commands (shaders/shared/layout.h). With
+       points, one invocation of the clear writes the parameters; without, all zero the starts
+       and nothing else runs. */
+    struct {
+        cvk_pipeline_id pipeline;
+        cvk_domain domain;
+        uint32_t items;
+        const char* note;
+    } passes[CVK_HASH_BUILD_PASSES] = {
+        {CVK_PIPE_HASH_CLEAR, CVK_DOMAIN_CELLS, count ? 1 : hash->table_size,
+         count ? "parameters" : "parameters, starts := 0 (no points)"},
+        {CVK_PIPE_HASH_COUNT, CVK_DOMAIN_PARTICLES, count, "keys, counts per slot"},
+        {CVK_PIPE_HASH_CHUNK_SUMS, CVK_DOMAIN_CELLS, push.chunks, "sums of chunks of slots"},
+        {CVK_PIPE_HASH_SCAN_CHUNKS, CVK_DOMAIN_CELLS, 1, "scan of the chunk sums"},
+        {CVK_PIPE_HASH_SCAN, CVK_DOMAIN_CELLS, push.chunks, "starts per slot"},
+        {CVK_PIPE_HASH_SCATTER, CVK_DOMAIN_PARTICLES, count, "entries by slot"},
+        {CVK_PIPE_HASH_SORT, CVK_DOMAIN_PARTICLES, count, "entries in index order per slot"},
+    };
+    uint32_t recorded = count ? CVK_HASH_BUILD_PASSES : 1;
+    uint32_t groups[CVK_HASH_BUILD_PASSES] = {0};
+    for (uint32_t i = 0; i < recorded; i++)
+        groups[i] = passes[i].pipeline == CVK_PIPE_HASH_SORT
+                        ? one_item_each(plan, passes[i].items)
+                        : cvk_plan_groups_of(plan, passes[i].pipeline, passes[i].items);
+    if (on_device) {
+        cvk_hash_commands_push commands = {groups[0], groups[1], groups[2], groups[3],
+                                           groups[4], groups[5], groups[6], 0};
+        cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_HASH_COMMANDS, hash->layout,
+                                       hash->set, CVK_DOMAIN_CELLS, 0, 1, &commands,
+                                       sizeof commands);
+        if (op) {
+            op->groups = 1;
+            op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+            snprintf(op->note, sizeof op->note, "the passes' workgroups, none if not building");
+        }
+    }
+    for (uint32_t i = 0; i < recorded; i++) {
+        cvk_op* op;
+        if (on_device) {
+            op = cvk_plan_dispatch_indirect(plan, pass, passes[i].pipeline, hash->layout,
+                                            hash->set, passes[i].domain, hash->params.buffer,
+                                            CVK_HASH_COMMANDS_OFFSET + 12u * i, &push,
+                                            sizeof push);
+            if (op) {
+                op->count = passes[i].items;
+                /* the passes write the parameters, whose buffer holds the commands the next
+                   passes read (the validation layer tracks the buffer as the set binds it) */
+                op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+            }
+        } else {
+            op = cvk_plan_dispatch(plan, pass, passes[i].pipeline, hash->layout, hash->set,
+                                   passes[i].domain, 0, passes[i].items, &push, sizeof push);
+            if (op)
+                op->groups = groups[i];
+        }
+        if (op)
+            snprintf(op->note, sizeof op->note, "%s", passes[i].note);
     }
     return cvk_plan_check(plan, error);
 }

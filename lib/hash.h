@@ -12,8 +12,9 @@
 
    A build can be skipped on the device: its passes do nothing while the parameters' `build`
    is 0 (1 from creation). A module that decides on the device when the points have moved
-   enough to need a new build writes it (lib/collide.c's adaptive search); queries then read
-   the last build. */
+   enough to need a new build writes it (lib/collide.c's adaptive search; cvk_hash_add_passes
+   with on_device then dispatches the passes indirectly, with no workgroups while it is 0);
+   queries then read the last build. */
 #ifndef CVK_HASH_H
 #define CVK_HASH_H
 
@@ -54,9 +55,16 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 /* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
    clear, count, scan, scatter, sort. After its last op (barrier compute -> compute) starts and
    entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
-   is recorded, which leaves every start 0 and the parameters' count 0. */
+   is recorded, which leaves every start 0 and the parameters' count 0.
+   With `on_device` the build is for a module that opens and closes it on the device (the
+   parameters' `build`, written before these ops by a dispatch followed by a compute barrier):
+   a first dispatch of one invocation writes the passes' indirect commands, with the workgroups
+   they would have directly while the build is open and none while it is closed, and the passes
+   are dispatched through them, so a closed build costs no workgroups (on lavapipe with its
+   default threads a dispatch of workgroups that return at once still costs their hand-off to
+   the worker threads). */
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
-                               cvk_error* error);
+                               bool on_device, cvk_error* error);
 
 /* Gives dispatch `op` (may be NULL) one item per invocation, up to 65535 workgroups, instead of
    the plan's cap. For passes whose items loop over hash slots (the sort, neighbour queries,

@@ -33,6 +33,7 @@
 
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) buffer HashParams {
     cvk_hash_params hash_params;
+    uint hash_commands[]; // a build decided on the device: its passes' indirect commands
 };
 layout(std140, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS_READ) uniform HashParamsRead {
     cvk_hash_params hash_params_u;

@@ -70,7 +70,7 @@ static void make_plan(const hash_case* c, const cvk_hash* hash, const cvk_descri
 {
     cvk_error err;
     cvk_plan_init(plan, 1, WORKGROUP, c->max_groups);
-    REQUIRE_OK(cvk_hash_add_passes(hash, plan, c->count, &err), err);
+    REQUIRE_OK(cvk_hash_add_passes(hash, plan, c->count, false, &err), err);
     cvk_hash_query_push push = {c->count, radius2_of(c->radius)};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "neighbours"),
                                    CVK_PIPE_HASH_NEIGHBOURS, query->pipeline_layout,
@@ -396,7 +396,7 @@ static void check_refused(fixture* f)
     REQUIRE_OK(cvk_hash_create(f->ctx, &good, &hash, &err), err);
     cvk_plan plan;
     cvk_plan_init(&plan, 1, WORKGROUP, 8);
-    cvk_result r = cvk_hash_add_passes(&hash, &plan, 5, &err);
+    cvk_result r = cvk_hash_add_passes(&hash, &plan, 5, false, &err);
     CHECK(r == CVK_ERROR_INVALID_ARGUMENT &&
               strcmp(err.message, "hash: 5 points to hash; the hash was made for at most 4") == 0,
           "5 points in a hash of 4: %s (%s)", cvk_result_name(r), err.message);

@@ -100,7 +100,7 @@ static void make_plan(run* r, uint32_t n, cvk_error* err, cvk_result* result)
                               ? CPU_MAX_GROUPS
                               : ctx->properties.limits.maxComputeWorkGroupCount[0];
     cvk_plan_init(&r->plan, 1, WORKGROUP, max_groups);
-    *result = cvk_hash_add_passes(&r->hash, &r->plan, n, err);
+    *result = cvk_hash_add_passes(&r->hash, &r->plan, n, false, err);
     if (*result != CVK_SUCCESS)
         return;
     for (uint32_t i = 0; i < r->plan.op_count; i++) {

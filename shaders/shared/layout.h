@@ -547,6 +547,24 @@ CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
 
+/* A build decided on the device (lib/hash.h, cvk_hash_add_passes with on_device) dispatches
+   its passes indirectly, with the commands (3 uints each: workgroups, 1, 1) in the parameters'
+   buffer after cvk_hash_params, one per pass in the order clear, count, chunk sums, scan
+   chunks, scan, scatter, sort; shaders/hash_commands.comp writes them from its push data, with
+   no workgroups while the build is closed. */
+#define CVK_HASH_BUILD_PASSES 7
+#define CVK_HASH_COMMANDS_OFFSET 32 /* bytes: sizeof(cvk_hash_params) */
+#define CVK_HASH_COMMANDS_PUSH_FIELDS                                                   \
+    CVK_UINT(clear)        /* workgroups of each pass while the build is open */          \
+    CVK_UINT(count)                                                                     \
+    CVK_UINT(chunk_sums)                                                                \
+    CVK_UINT(scan_chunks)                                                               \
+    CVK_UINT(scan)                                                                      \
+    CVK_UINT(scatter)                                                                   \
+    CVK_UINT(sort)                                                                      \
+    CVK_UINT(pad0)
+CVK_PUSH_BLOCK(cvk_hash_commands_push, CVK_HASH_COMMANDS_PUSH_FIELDS)
+
 /* The build passes' push data (shaders/hash_*.comp). The scan works in chunks of `chunk` slots. */
 #define CVK_HASH_PUSH_FIELDS                                                            \
     CVK_UINT(points)       /* points hashed */                                           \
