@@ -249,7 +249,7 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
     memset(hash, 0, sizeof *hash);
 }
 
-/* One build dispatch over `items` of `domain`. */
+/* Workgroups that give each of `items` an invocation of its own (cvk_hash_one_item_each). */
 static uint32_t one_item_each(const cvk_plan* plan, uint32_t items)
 {
     uint32_t groups = (items + plan->workgroup_size - 1) / plan->workgroup_size;

@@ -53,7 +53,8 @@ cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_
 void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 
 /* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
-   clear, count, scan, scatter, sort. After its last op (barrier compute -> compute) starts and
+   clear, count, scan, scatter, sort. After its last op (barrier compute -> compute, and
+   -> indirect with on_device) starts and
    entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
    is recorded, which leaves every start 0 and the parameters' count 0.
    With `on_device` the build is for a module that opens and closes it on the device (the
