@@ -318,9 +318,10 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
                                             sizeof push);
             if (op) {
                 op->count = passes[i].items;
-                /* the passes write the parameters, whose buffer holds the commands the next
-                   passes read (the validation layer tracks the buffer as the set binds it) */
-                op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+                /* the clear writes the parameters, whose buffer holds the commands the next
+                   passes read */
+                if (passes[i].pipeline == CVK_PIPE_HASH_CLEAR)
+                    op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
             }
         } else {
             op = cvk_plan_dispatch(plan, pass, passes[i].pipeline, hash->layout, hash->set,

@@ -10,11 +10,11 @@
    from a buffer it is given (vec4 per point, xyz used), so a solver can hash its predicted
    positions and a test random ones.
 
-   A build can be skipped on the device: its passes do nothing while the parameters' `build`
-   is 0 (1 from creation). A module that decides on the device when the points have moved
-   enough to need a new build writes it (lib/collide.c's adaptive search; cvk_hash_add_passes
-   with on_device then dispatches the passes indirectly, with no workgroups while it is 0);
-   queries then read the last build. */
+   A build can be skipped on the device: recorded with on_device (cvk_hash_add_passes), its
+   passes are dispatched indirectly, with no workgroups while the parameters' `build` is 0 (1
+   from creation). A module that decides on the device when the points have moved enough to
+   need a new build writes it (lib/collide.c's adaptive search); queries then read the last
+   build. A build recorded without on_device always runs. */
 #ifndef CVK_HASH_H
 #define CVK_HASH_H
 

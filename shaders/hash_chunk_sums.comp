@@ -8,8 +8,6 @@
 
 void main()
 {
-    if (hash_skip())
-        return;
     for (uint c = gl_GlobalInvocationID.x; c < pc.chunks; c += hash_stride()) {
         uint first = c * pc.chunk;
         uint sum = 0u;

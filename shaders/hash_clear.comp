@@ -10,8 +10,6 @@
 
 void main()
 {
-    if (hash_skip())
-        return;
     if (gl_GlobalInvocationID.x == 0u) {
         hash_params.cell_size = pc.cell_size;
         hash_params.inv_cell = pc.inv_cell;

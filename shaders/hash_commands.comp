@@ -3,7 +3,7 @@
 // The indirect commands of a hash build decided on the device (lib/hash.h): each pass's
 // workgroups (the push data, as the plan would dispatch them directly) while the parameters
 // open the build, none while they close it, so a skipped build costs its seven dispatches no
-// workgroups (the passes' own check of `build` stays, for builds dispatched directly).
+// workgroups. This is the only reader of `build`: a build dispatched directly always runs.
 layout(local_size_x = 1) in;
 #include "hash_common.glsl"
 CVK_DECLARE_PUSH(CVK_HASH_COMMANDS_PUSH_FIELDS)

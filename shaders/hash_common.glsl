@@ -60,11 +60,6 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) writeonly buff
 };
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ) uniform usamplerBuffer hash_sorted_read;
 
-#ifdef HASH_BUILD
-// A build skipped on the device (lib/hash.h): every pass of it returns at once.
-bool hash_skip() { return hash_params_u.build == 0u; }
-#endif
-
 // The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
 // device round alike (a multiplication is correctly rounded; a division need not be), clamped
 // so the conversion to int is defined. lib/hash.c computes the same.

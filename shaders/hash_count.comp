@@ -7,8 +7,6 @@
 
 void main()
 {
-    if (hash_skip())
-        return;
     for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
         uint s = hash_slot(hash_cell(hash_point(p)));
         hash_keys[p] = s;

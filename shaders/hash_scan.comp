@@ -7,8 +7,6 @@
 
 void main()
 {
-    if (hash_skip())
-        return;
     for (uint c = gl_GlobalInvocationID.x; c < pc.chunks; c += hash_stride()) {
         uint running = hash_scratch[pc.slots + c];
         uint first = c * pc.chunk;

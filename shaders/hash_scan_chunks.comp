@@ -8,8 +8,6 @@
 
 void main()
 {
-    if (hash_skip())
-        return;
     if (gl_GlobalInvocationID.x != 0u)
         return;
     uint running = 0u;

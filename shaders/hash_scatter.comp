@@ -9,8 +9,6 @@
 
 void main()
 {
-    if (hash_skip())
-        return;
     uint unsorted = pc.slots + pc.chunks;
     for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
         uint s = hash_keys[p];

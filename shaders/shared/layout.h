@@ -541,7 +541,7 @@ CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
     CVK_FLOAT(inv_cell)    /* 1 / cell_size, 1/m: cells are floor(p · inv_cell) */        \
     CVK_UINT(table_size)   /* slots, a power of two */                                   \
     CVK_UINT(count)        /* points hashed by the last build */                         \
-    CVK_UINT(build)        /* 0: the build passes do nothing (1 from creation) */        \
+    CVK_UINT(build)        /* 0: a build recorded on_device gets no workgroups (1 from creation) */ \
     CVK_UINT(pad0)                                                                      \
     CVK_UINT(pad1)                                                                      \
     CVK_UINT(pad2)
