@@ -5,7 +5,7 @@
 #define CVK_TEST_ATTACH_SCENE_H
 
 #include "harness.h"
-#include "motion.h"
+#include "scene/motion.h"
 
 #define W 6
 #define H 5

@@ -5,7 +5,7 @@
    Not a test: it asserts nothing about time. */
 #include <time.h>
 
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
 
 enum { SWEEPS = 200, FRAMES = 12 };

@@ -4,7 +4,7 @@
 #ifndef CVK_TEST_RECORDED_H
 #define CVK_TEST_RECORDED_H
 
-#include "gpu.h"
+#include "core/gpu.h"
 #include "harness.h"
 
 /* A submitter and one command buffer holding `frames` frames of `sim`; the caller destroys

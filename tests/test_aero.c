@@ -9,7 +9,8 @@
 
 #include "harness.h"
 #include "recorded.h"
-#include "sim.h"
+#include "sim/sim.h"
+#include "solvers/reference.h"
 
 #define W 6
 #define H 5
@@ -125,7 +126,7 @@ static void host_reference(cvk_context* ctx)
             xi[3 * p + c] = x[3 * user + c];
             ui[3 * p + c] = p < b->free_count
                                 ? (float)((double)v[3 * user + c] * s.scene.dt -
-                                          0.5 * sim->ref.gravity_h2[c])
+                                          0.5 * cvk_ref_params_of(&sim->params).gravity_h2[c])
                                 : 0.0f;
         }
     }

@@ -1,10 +1,10 @@
 /* The grid generator and what cvk_topology_create adds for every generator: counts, triangles
    whose edge springs join their own corners and whose winding faces u_axis × v_axis, masses,
    and pins by grid coordinate, by vertex index and by box, with their exact errors. */
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "metrics.h"
-#include "topology.h"
+#include "topology/metrics.h"
+#include "topology/topology.h"
 
 static cvk_cloth_desc grid_cloth(uint32_t w, uint32_t h, bool structural, bool shear, bool bend)
 {

@@ -2,10 +2,10 @@
    moving, a fast sphere through a cloth), Coulomb friction on an incline against
    g (sin θ − μ cos θ), the device's poses against the host's keyframes, and the clock kept by
    snapshots. */
-#include "collide.h"
+#include "contact/collide.h"
 #include "harness.h"
 #include "shared/layout.h"
-#include "sim.h"
+#include "sim/sim.h"
 
 #define PI 3.14159265358979323846
 
@@ -46,8 +46,8 @@ static float deepest(cvk_sim* sim, uint32_t k, double t, cvk_error* err)
             uint32_t user = info.first_particle + i;
             if (sim->build.internal_of[user] >= sim->build.free_count)
                 continue;
-            float d = cvk_collide_distance(&sim->collide, k, t, &xyz[3 * (size_t)user], NULL);
-            worst = fmaxf(worst, sim->collide.thickness - d);
+            float d = cvk_collide_distance(sim->collide, k, t, &xyz[3 * (size_t)user], NULL);
+            worst = fmaxf(worst, sim->collide->thickness - d);
         }
     }
     free(xyz);
@@ -284,9 +284,9 @@ static void test_poses_and_snapshot(cvk_context* ctx)
     for (int round = 0; round < 2; round++) {
         REQUIRE_OK(cvk_sim_step(sim, 7, &err), err); /* 12 frames, 48 substeps: 0.096 s, t1 */
         cvk_gpu_pose pose;
-        REQUIRE_OK(cvk_buffer_download(ctx, &sim->submitter, sim->transfer_cmd,
-                                       &sim->collide.poses, &pose, sizeof pose, &err), err);
-        cvk_pose host = cvk_collide_pose(&sim->collide, 0, 48 * (double)scene.dt);
+        REQUIRE_OK(cvk_buffer_download(ctx, &sim->device.submitter, sim->device.transfer_cmd,
+                                       &sim->collide->poses, &pose, sizeof pose, &err), err);
+        cvk_pose host = cvk_collide_pose(sim->collide, 0, 48 * (double)scene.dt);
         float worst = 0.0f;
         for (int k = 0; k < 3; k++)
             worst = fmaxf(worst, fabsf(pose.translation1[k] - host.translation[k]));
@@ -504,8 +504,8 @@ static void test_untangled(cvk_context* ctx, float depth, uint32_t block)
     REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
     size_t entries = (size_t)n * CVK_CONTACTS_PER_PARTICLE;
     uint32_t* kept = malloc(4 * entries);
-    REQUIRE_OK(cvk_buffer_download(sim->context, &sim->submitter, sim->transfer_cmd,
-                                   &sim->collide.contacts, kept, 4 * entries, &err), err);
+    REQUIRE_OK(cvk_buffer_download(sim->device.context, &sim->device.submitter, sim->device.transfer_cmd,
+                                   &sim->collide->contacts, kept, 4 * entries, &err), err);
     uint32_t marked = 0, astray = 0;
     for (uint32_t u = N * N; u < n; u++) {
         uint32_t i = (u - N * N) % M, j = (u - N * N) / M, p = sim->build.internal_of[u];

@@ -1,9 +1,9 @@
 /* Collider meshes for the renderer (lib/collider_mesh.c): counts, closed and consistently
    wound surfaces, unit normals pointing out of the solid, and the enclosed volume of the
    sphere, box and capsule within 2 % of the analytic value. Host only. */
-#include "collider_mesh.h"
+#include "contact/collider_mesh.h"
 #include "harness.h"
-#include "motion.h"
+#include "scene/motion.h"
 
 #define PI 3.14159265358979323846
 

@@ -2,8 +2,8 @@
    colour, each colour is one contiguous range, pinned particles come last, and the padded
    adjacency lists exactly each particle's springs. The general colouring (lib/colour.c) is
    valid, balanced, deterministic and within its colour bounds on random meshes and graphs. */
-#include "build.h"
-#include "colour.h"
+#include "topology/build.h"
+#include "topology/colour.h"
 #include "harness.h"
 
 typedef struct shape {

@@ -7,7 +7,7 @@
      message. */
 #include <string.h>
 
-#include "context.h"
+#include "core/context.h"
 #include "harness.h"
 
 static cvk_scene_desc small_scene(cvk_cloth_desc* cloth)

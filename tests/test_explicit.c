@@ -11,9 +11,9 @@
    - a snapshot resumes Adams-Bashforth bit for bit. */
 #include <float.h>
 
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "solve_explicit.h"
+#include "solvers/solve_explicit.h"
 
 /* Float rounding over 8 substeps: 1e-4 of the largest displacement (the force's rounding)
    plus 4 ulp of the largest coordinate per substep (a position rounds each time it moves).
@@ -38,7 +38,8 @@ static void scene_keys(void)
           s->damping_model, s->kd);
     cvk_scene_destroy(scene);
     cvk_scene_desc d = cvk_default_scene_desc();
-    cvk_explicit_params ep = cvk_explicit_params_of(&d, &d.solver);
+    cvk_step_params step_params = cvk_step_params_of(&d);
+    cvk_explicit_params ep = cvk_explicit_params_of(&step_params, &d.solver);
     CHECK(d.solver.integrator == CVK_INTEGRATOR_NONE && d.solver.damping_model == CVK_DAMPING_NONE &&
               ep.integrator == CVK_INTEGRATOR_EULER && ep.damping_model == CVK_DAMPING_SPRING,
           "defaults: integrator %d (%d), damping model %d (%d)", d.solver.integrator,
@@ -128,7 +129,8 @@ static void host_frame(const cvk_scene_desc* scene, const float* xyz, const floa
             st.x[3 * p + c] = xyz[3 * b.user_of[p] + c];
             st.v[3 * p + c] = p < b.free_count ? v[3 * b.user_of[p] + c] : 0.0;
         }
-    cvk_explicit_params ep = cvk_explicit_params_of(scene, &scene->solver);
+    cvk_step_params step_params = cvk_step_params_of(scene);
+    cvk_explicit_params ep = cvk_explicit_params_of(&step_params, &scene->solver);
     for (uint32_t s = 0; s < scene->substeps; s++)
         CHECK(cvk_ref_explicit_substep(&b, &ep, &st), "out of memory");
     for (uint32_t p = 0; p < b.particle_count; p++)

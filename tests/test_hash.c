@@ -6,7 +6,7 @@
 #include <stdint.h>
 
 #include "harness.h"
-#include "hash.h"
+#include "contact/hash.h"
 #include "shared/layout.h"
 
 #define GRID 1024.0f /* points per m along each axis */

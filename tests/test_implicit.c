@@ -6,9 +6,9 @@
    - seed 000 §6.1: strongly compressed springs without the clamp make the system indefinite
      (CG breaks down, Jacobi leaves the finite numbers); with the clamp both stay finite;
    - a hanging cloth settles, and the energy of a damped run never grows over 1,000 frames. */
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "solve_implicit.h"
+#include "solvers/solve_implicit.h"
 
 /* Float rounding over one substep with up to 5 iterations: velocities are compared relative
    to the largest velocity change of the substep. Measured below 1e-5; an iteration more or
@@ -104,7 +104,8 @@ static cvk_implicit_report host_substep(const cvk_scene_desc* scene, const float
             hx[3 * p + c] = xyz[3 * b.user_of[p] + c];
             hv[3 * p + c] = p < b.free_count ? v[3 * b.user_of[p] + c] : 0.0;
         }
-    cvk_implicit_params ip = cvk_implicit_params_of(scene, &scene->solver);
+    cvk_step_params step_params = cvk_step_params_of(scene);
+    cvk_implicit_params ip = cvk_implicit_params_of(&step_params, &scene->solver);
     cvk_implicit_report rep;
     CHECK(cvk_ref_implicit_substep(&b, &ip, hx, hv, &rep), "out of memory");
     /* back to user order */
@@ -329,7 +330,8 @@ static void compression(cvk_context* ctx)
     cvk_build b;
     REQUIRE_OK(cvk_build_create(&scene, &b, &err), err);
     bool breakdown, finite;
-    cvk_implicit_params ip = cvk_implicit_params_of(&scene, &scene.solver);
+    cvk_step_params step_params = cvk_step_params_of(&scene);
+    cvk_implicit_params ip = cvk_implicit_params_of(&step_params, &scene.solver);
 
     ip.clamp = false;
     host_run(&b, &ip, 1, &breakdown, &finite);

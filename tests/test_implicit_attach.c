@@ -13,9 +13,9 @@
 #include <stdint.h>
 
 #include "attach_scene.h"
-#include "build.h"
+#include "topology/build.h"
 #include "recorded.h"
-#include "solve_implicit.h"
+#include "solvers/solve_implicit.h"
 
 /* As tests/test_implicit.c: one substep with a fixed number of iterations, float against
    double, relative to the substep's largest velocity change. */
@@ -158,7 +158,8 @@ static void equals_reference(cvk_context* ctx, cvk_linear_solver linear)
     cvk_error err;
     cvk_build b;
     REQUIRE_OK(cvk_build_create(&s.scene, &b, &err), err);
-    cvk_implicit_params ip = cvk_implicit_params_of(&s.scene, &s.scene.solver);
+    cvk_step_params step_params = cvk_step_params_of(&s.scene);
+    cvk_implicit_params ip = cvk_implicit_params_of(&step_params, &s.scene.solver);
     size_t n = b.particle_count;
     float *x = malloc(3 * n * sizeof(float)), *v = malloc(3 * n * sizeof(float));
     float *x1 = malloc(3 * n * sizeof(float)), *v1 = malloc(3 * n * sizeof(float));

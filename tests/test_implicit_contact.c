@@ -14,9 +14,9 @@
    - a snapshot taken on a moving tilted plane steps on to the same bits;
    - friction on a 30° incline: held above tan 30°, sliding at g (sin θ − μ cos θ) below;
    - self-contact with implicit is refused with its message. */
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "solve_implicit.h"
+#include "solvers/solve_implicit.h"
 
 /* Float rounding over one substep with up to 5 iterations, relative to the largest change of
    the substep (as tests/test_implicit.c). */
@@ -119,7 +119,8 @@ static uint32_t host_substeps(const plane_case* pc, const float* x0, const float
             x[3 * p + c] = x0[3 * b.user_of[p] + c];
             v[3 * p + c] = p < b.free_count ? v0[3 * b.user_of[p] + c] : 0.0;
         }
-    cvk_implicit_params ip = cvk_implicit_params_of(&pc->scene, &pc->scene.solver);
+    cvk_step_params step_params = cvk_step_params_of(&pc->scene);
+    cvk_implicit_params ip = cvk_implicit_params_of(&step_params, &pc->scene.solver);
     ip.planes = (const double(*)[6])pc->host_plane;
     ip.plane_count = 1;
     ip.thickness = THICKNESS;

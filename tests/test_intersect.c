@@ -10,8 +10,8 @@
    - through the library: a flat cloth has cvk_sim_count_intersections == 0, and the contact
      figures of cloths over a plane and over each other against direct counts. */
 #include "harness.h"
-#include "intersect.h"
-#include "sim.h"
+#include "contact/intersect.h"
+#include "sim/sim.h"
 
 /* ---- the predicate on hand-made cases ---------------------------------------------------- */
 
@@ -448,7 +448,7 @@ static void contact_figures(cvk_context* ctx)
     const cvk_build* b = &sim->build;
     /* The figures are the host's own: measure the pairs between cloths without asking the
        device to resolve them. */
-    sim->collide.self = true;
+    sim->collide->self = true;
     size_t n = b->particle_count;
     float* xyz = malloc(3 * n * sizeof(float));
     memcpy(xyz, b->position, 3 * n * sizeof(float));
@@ -474,13 +474,13 @@ static void contact_figures(cvk_context* ctx)
           st.max_penetration);
     CHECK(st.collider_contacts == b->free_count, "%llu of %u particles touch the plane",
           (unsigned long long)st.collider_contacts, b->free_count);
-    sim->collide.self = false;
-    sim->collide.colliding = false;
+    sim->collide->self = false;
+    sim->collide->colliding = false;
     REQUIRE_OK(cvk_sim_contact_stats(sim, xyz, &st, &err), err);
     CHECK(st.collider_contacts == 0 && st.self_contacts == 0 && st.max_penetration == 0.0,
           "without collision the figures are %llu, %llu, %g", (unsigned long long)st.collider_contacts,
           (unsigned long long)st.self_contacts, st.max_penetration);
-    sim->collide.colliding = true;
+    sim->collide->colliding = true;
     free(xyz);
     cvk_sim_destroy(sim);
 }

@@ -10,7 +10,7 @@
 #include <sys/resource.h>
 
 #include "harness.h"
-#include "memory.h"
+#include "sim/memory.h"
 
 typedef struct config {
     const char* name;

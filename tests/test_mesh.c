@@ -12,7 +12,7 @@
      validation. */
 #include "harness.h"
 
-#include "mesh.h"
+#include "render/mesh.h"
 
 /* ---- reading device buffers back ---- */
 

@@ -13,7 +13,7 @@
 
 #include "harness.h"
 
-#include "solve_pd.h"
+#include "solvers/solve_pd.h"
 
 static cvk_sim* make_sim_sized(cvk_context* ctx, uint32_t workgroup_size)
 {
@@ -68,12 +68,12 @@ static void run_transfer_plan(cvk_context* ctx, cvk_sim* sim, cvk_buffer* indire
                err);
 
     VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sim->submitter, &cmd, &err), err);
+    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sim->device.submitter, &cmd, &err), err);
     REQUIRE_OK(cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, &err), err);
     cvk_plan_record_frame(&plan, &sim->pipelines, NULL, cmd);
     REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sim->submitter, &cmd, 1, &err), err);
-    vkFreeCommandBuffers(ctx->device, sim->submitter.pool, 1, &cmd);
+    REQUIRE_OK(cvk_submit_and_wait(ctx, &sim->device.submitter, &cmd, 1, &err), err);
+    vkFreeCommandBuffers(ctx->device, sim->device.submitter.pool, 1, &cmd);
     cvk_plan_destroy(&plan);
 }
 

@@ -23,7 +23,7 @@
 #include <stb_image.h>
 #pragma GCC diagnostic pop
 
-#include "gpu.h"
+#include "core/gpu.h"
 
 enum { W = 160, H = 120 };
 

@@ -15,7 +15,7 @@
    CLOTHVK_TEST_IMAGES to a folder to keep the images. */
 #include "harness.h"
 
-#include "gpu.h"
+#include "core/gpu.h"
 
 enum { W = 240, H = 180 };
 

@@ -7,7 +7,7 @@
    - inside the triangles, away from every edge, both images agree. */
 #include "harness.h"
 
-#include "context.h"
+#include "core/context.h"
 
 enum { W = 320, H = 240, N = 12 };
 

@@ -8,9 +8,9 @@
    - the implicit and explicit methods, whose fixed points are force balance already;
    - a damped free fall is not slowed by the memory.
    Without the rest memory a truncated projective-dynamics solve rests up to centimetres off. */
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "reference.h"
+#include "solvers/reference.h"
 
 
 typedef struct rest_scene {

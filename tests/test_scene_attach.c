@@ -3,7 +3,7 @@
    errors only the cloth's shape can tell). Every message is compared exactly. */
 #include "scene_checks.h"
 
-#include "build.h"
+#include "topology/build.h"
 
 #define GRID "'cloths': [{'grid': [4, 3]}]"
 

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "sdf.h"
+#include "contact/sdf.h"
 
 static const cvk_transform identity = {{1, 1, 1}, {1, 0, 0, 0}, {0, 0, 0}};
 

@@ -6,11 +6,11 @@
 #include <math.h>
 #include <string.h>
 
-#include "collide.h"
+#include "contact/collide.h"
 #include "harness.h"
-#include "intersect.h"
+#include "contact/intersect.h"
 #include "shared/layout.h"
-#include "sim.h"
+#include "sim/sim.h"
 
 /* A cloth of n × n particles, `size` m, horizontal at height y, centred on x = z = 0. */
 static cvk_cloth_desc flat_cloth(uint32_t n, float size, float y)
@@ -242,7 +242,7 @@ static void test_candidates(cvk_context* ctx)
         uint32_t cloth_count = seed > 2 ? 2 : 1;
         cvk_error err;
         cvk_sim* sim = self_contact_sim(ctx, cloths, cloth_count);
-        const cvk_collide* c = &sim->collide;
+        const cvk_collide* c = sim->collide;
         const cvk_build* b = &sim->build;
         float* xyz = malloc(3 * (size_t)n * n * cloth_count * sizeof(float));
         uint32_t state = seed * 7919u;
@@ -477,7 +477,7 @@ static void test_edge_candidates(cvk_context* ctx)
         cvk_error err;
         cvk_sim* sim = NULL;
         REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
-        const cvk_collide* c = &sim->collide;
+        const cvk_collide* c = sim->collide;
         const cvk_build* b = &sim->build;
         uint32_t state = seed * 104729u;
         float* xyz = malloc(3 * 2 * (size_t)n * n * sizeof(float));
@@ -635,7 +635,7 @@ static void test_flat_patches(cvk_context* ctx)
     cloths[1].origin[0] += 5.0f;
     cvk_error err;
     cvk_sim* sim = self_contact_sim(ctx, cloths, 2);
-    const cvk_collide* c = &sim->collide;
+    const cvk_collide* c = sim->collide;
     const cvk_build* b = &sim->build;
     uint64_t bytes = cvk_collide_snapshot_size(sim);
     unsigned char* snap = malloc(bytes);

@@ -4,10 +4,10 @@
    - GPU jacobi and chebyshev equal the host Jacobi / Chebyshev iteration;
    - the residual falls monotonically with iterations on enlarged.json, for rbgs and gs-cpu;
    - the converged solution of a substep by Newton's method equals Gauss-Seidel's fixed point. */
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "solve_pd.h"
-#include "reference.h"
+#include "solvers/solve_pd.h"
+#include "solvers/reference.h"
 
 /* Float rounding over one substep of up to 3 x 7 sweeps. The solver works on displacements,
    so its own rounding is tiny; what remains is reading positions of O(1) m back as floats,
@@ -127,7 +127,8 @@ static void reference_jacobi(const cvk_build* b, const cvk_scene_desc* scene, do
     double* rhs = calloc(4 * n, sizeof(double));
     double* buf[2] = {x, calloc(3 * n, sizeof(double))};
     uint32_t cur = 0;
-    cvk_ref_params params = cvk_ref_params_of(scene);
+    cvk_step_params step_params = cvk_step_params_of(scene);
+    cvk_ref_params params = cvk_ref_params_of(&step_params);
     const cvk_solver_desc* s = &scene->solver;
     bool chebyshev = s->linear == CVK_LINEAR_CHEBYSHEV;
     for (uint32_t f = 0; f < frames * scene->substeps; f++) {
@@ -177,7 +178,8 @@ static void jacobi_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
         REQUIRE_OK(cvk_build_create(&rs.scene, &b, &err), err);
         double* x = malloc(3 * n * sizeof(double));
         double* prev = malloc(3 * n * sizeof(double));
-        cvk_ref_params params = cvk_ref_params_of(&rs.scene);
+        cvk_step_params step_params = cvk_step_params_of(&rs.scene);
+        cvk_ref_params params = cvk_ref_params_of(&step_params);
         for (uint32_t p = 0; p < n; p++)
             for (int c = 0; c < 3; c++) {
                 x[3 * p + c] = start[3 * b.user_of[p] + c];
@@ -259,7 +261,8 @@ static void newton_equals_gauss_seidel(const char* name, const char* const* over
     double* y = malloc(3 * n * sizeof(double));
     double* scratch = malloc(4 * n * sizeof(double));
     double* newton = malloc(3 * n * sizeof(double));
-    cvk_ref_params params = cvk_ref_params_of(scene);
+    cvk_step_params step_params = cvk_step_params_of(scene);
+    cvk_ref_params params = cvk_ref_params_of(&step_params);
     for (size_t i = 0; i < 3 * n; i++) {
         x[i] = b.position[i];
         prev[i] = x[i] + (i / 3 < b.free_count ? 0.5 * params.gravity_h2[i % 3] : 0.0);

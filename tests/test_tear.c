@@ -9,9 +9,9 @@
    or switching solver keeps torn springs torn. */
 #include <stdint.h>
 
-#include "gpu.h"
+#include "core/gpu.h"
 #include "harness.h"
-#include "sim.h"
+#include "sim/sim.h"
 
 #define W 12
 #define H 10

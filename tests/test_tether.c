@@ -8,10 +8,10 @@
    - rbgs with tethers equals gs-cpu with tethers (the host reference) to float rounding. */
 #include <math.h>
 
-#include "build.h"
+#include "topology/build.h"
 #include "harness.h"
-#include "reference.h"
-#include "tether.h"
+#include "solvers/reference.h"
+#include "topology/build.h"
 
 static uint32_t grid_pins[2][2] = {{0, 0}, {11, 0}};
 

@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "topology.h"
+#include "topology/topology.h"
 
 static char temp_dir[256];
 static char written[32][64];

@@ -9,8 +9,8 @@
 
 #include "clothvk.h"
 #include "common.h"
-#include "build.h"
-#include "reference.h"
+#include "topology/build.h"
+#include "solvers/reference.h"
 
 #define BENCH_MAX_LIST 32
 

@@ -9,9 +9,9 @@
 #include <string.h>
 
 #include "bench.h"
-#include "context.h"
-#include "error.h"
-#include "hash.h"
+#include "core/context.h"
+#include "core/error.h"
+#include "contact/hash.h"
 #include "plot.h"
 #include "shared/layout.h"
 

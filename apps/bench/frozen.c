@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "bench.h"
-#include "build.h"
-#include "metrics.h"
-#include "reference.h"
+#include "topology/build.h"
+#include "topology/metrics.h"
+#include "solvers/reference.h"
 
 /* With integration, the substep frozen by default is the first of this frame: on
    hanging.json 80 ms into the fall, when the cloth moves and the springs near the pins are
@@ -127,7 +127,8 @@ bool bench_host_create(const cvk_scene_desc* scene, const float* x0, const float
         app_error("clothvk-bench", "out of memory for the host reference");
         return false;
     }
-    h->params = cvk_ref_params_of(scene);
+    cvk_step_params step_params = cvk_step_params_of(scene);
+    h->params = cvk_ref_params_of(&step_params);
     for (uint32_t p = 0; p < n; p++) {
         size_t user = 3 * (size_t)h->build.user_of[p];
         for (int c = 0; c < 3; c++) {

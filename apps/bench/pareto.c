@@ -14,10 +14,10 @@
 #include <string.h>
 
 #include "bench.h"
-#include "build.h"
-#include "metrics.h"
+#include "topology/build.h"
+#include "topology/metrics.h"
 #include "plot.h"
-#include "reference.h"
+#include "solvers/reference.h"
 
 static const char* const columns[] = {
     "label", "method", "solver", "omega", "tolerance", "substeps", "dt", "iterations", "outer",

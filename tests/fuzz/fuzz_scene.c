@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "build.h"
-#include "sim_limits.h"
+#include "topology/build.h"
+#include "sim/sim_limits.h"
 
 #define MAX_OVERRIDES 16
 #define MAX_FUZZ_PARTICLES 20000u /* keeps one input to milliseconds */

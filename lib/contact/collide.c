@@ -1,0 +1,666 @@
+/* The contact module's objects: the scene's collision settings resolved, colliders copied,
+   mesh colliders turned into fields, the contact set's buffers filled once. Its passes are in
+   collide_passes.c, the host's view of the shapes in collide_host.c. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact/collide.h"
+#include "core/error.h"
+#include "scene/scene.h"
+#include "shared/layout.h"
+#include "plan/state.h"
+#include "core/u64_map.h"
+
+/* Half the shortest structural rest length (any spring's when a cloth has no structural
+   ones): particles then keep a spacing's distance from each other across layers. */
+static float default_thickness(const cvk_build* b)
+{
+    float shortest = INFINITY, any = INFINITY;
+    for (uint32_t i = 0; i < b->spring_count; i++) {
+        float rest = b->springs[i].rest;
+        if (!(rest > 0.0f))
+            continue;
+        any = fminf(any, rest);
+        if (b->springs[i].type == CVK_SPRING_STRUCTURAL)
+            shortest = fminf(shortest, rest);
+    }
+    float length = isfinite(shortest) ? shortest : any;
+    return isfinite(length) ? 0.5f * length : 0.005f;
+}
+
+static char* copy_string(const char* s)
+{
+    if (!s)
+        return NULL;
+    size_t n = strlen(s) + 1;
+    char* c = malloc(n);
+    if (c)
+        memcpy(c, s, n);
+    return c;
+}
+
+static void free_colliders(cvk_collide* c)
+{
+    for (uint32_t i = 0; c->colliders && i < c->collider_count; i++) {
+        free((char*)c->colliders[i].name);
+        free((char*)c->colliders[i].file);
+        free((cvk_keyframe*)c->colliders[i].motion.keyframes);
+        if (c->sdfs)
+            cvk_sdf_destroy(&c->sdfs[i]);
+    }
+    free(c->colliders);
+    free(c->sdfs);
+    c->colliders = NULL;
+    c->sdfs = NULL;
+}
+
+/* Deep copies: the scene's strings and keyframes need not outlive the simulation. */
+static cvk_result copy_colliders(cvk_collide* c, const cvk_scene_desc* scene, cvk_error* error)
+{
+    uint32_t n = scene->collider_count;
+    c->colliders = calloc(n ? n : 1, sizeof *c->colliders);
+    c->sdfs = calloc(n ? n : 1, sizeof *c->sdfs);
+    if (!c->colliders || !c->sdfs)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the colliders");
+    for (uint32_t i = 0; i < n; i++) {
+        const cvk_collider_desc* in = &scene->colliders[i];
+        cvk_collider_desc* out = &c->colliders[i];
+        *out = *in;
+        out->name = NULL;
+        out->file = NULL;
+        out->motion.keyframes = NULL;
+        c->collider_count = i + 1; /* from here on, free_colliders frees this one's copies */
+        out->name = copy_string(in->name);
+        out->file = copy_string(in->file);
+        size_t kf = in->motion.keyframe_count * sizeof(cvk_keyframe);
+        cvk_keyframe* keyframes = kf ? malloc(kf) : NULL;
+        if (kf && keyframes)
+            memcpy(keyframes, in->motion.keyframes, kf);
+        out->motion.keyframes = keyframes;
+        if ((in->name && !out->name) || (in->file && !out->file) || (kf && !keyframes))
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                            "out of host memory for the colliders");
+        if (out->friction < 0.0f)
+            out->friction = c->friction;
+        if (out->static_friction < 0.0f)
+            out->static_friction = fmaxf(c->static_friction, out->friction);
+    }
+    c->collider_count = n;
+    return CVK_SUCCESS;
+}
+
+/* Signed distance fields of the mesh colliders, fine enough for the cloth's thickness. */
+static cvk_result read_meshes(cvk_collide* c, cvk_error* error)
+{
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        const cvk_collider_desc* d = &c->colliders[i];
+        if (d->type != CVK_COLLIDER_MESH)
+            continue;
+        char key[CVK_KEY_PATH_MAX];
+        cvk_key_path(key, "colliders.%u.file", i);
+        cvk_result r = cvk_sdf_from_mesh_file(d->file, &d->transform, 96, 0.5f * c->thickness,
+                                              key, &c->sdfs[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+static void quat_xyzw(const float wxyz[4], float out[4])
+{
+    float q[4];
+    cvk_quat_normalize(wxyz, q);
+    out[0] = q[1];
+    out[1] = q[2];
+    out[2] = q[3];
+    out[3] = q[0];
+}
+
+static void set3(float out[4], const float v[3], float w)
+{
+    out[0] = v[0];
+    out[1] = v[1];
+    out[2] = v[2];
+    out[3] = w;
+}
+
+/* The shape of one collider as the device reads it. */
+static cvk_gpu_collider gpu_shape(const cvk_collide* c, uint32_t i, uint32_t keyframe_first,
+                                  uint32_t sdf_first)
+{
+    const cvk_collider_desc* d = &c->colliders[i];
+    cvk_gpu_collider g = {0};
+    g.type = (uint32_t)d->type;
+    g.keyframe_first = keyframe_first;
+    g.keyframe_count = d->motion.keyframe_count;
+    g.loop = d->motion.loop ? 1u : 0u;
+    g.friction = d->friction;
+    g.static_friction = d->static_friction;
+    g.sdf_first = sdf_first;
+    g.c[3] = 1.0f;
+    switch (d->type) {
+    case CVK_COLLIDER_PLANE: {
+        float n[3] = {d->normal[0], d->normal[1], d->normal[2]};
+        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int k = 0; k < 3; k++)
+            n[k] = len > 0.0f ? n[k] / len : (k == 1 ? 1.0f : 0.0f);
+        set3(g.a, d->point, 0.0f);
+        set3(g.b, n, 0.0f);
+        break;
+    }
+    case CVK_COLLIDER_SPHERE:
+        set3(g.a, d->center, d->radius);
+        break;
+    case CVK_COLLIDER_BOX:
+        set3(g.a, d->center, 0.0f);
+        set3(g.b, d->half_extents, 0.0f);
+        quat_xyzw(d->rotation, g.c);
+        break;
+    case CVK_COLLIDER_CAPSULE:
+        set3(g.a, d->a, d->radius);
+        set3(g.b, d->b, 0.0f);
+        break;
+    case CVK_COLLIDER_FUNNEL:
+        set3(g.a, d->apex, d->funnel_a);
+        g.b[0] = d->height;
+        break;
+    case CVK_COLLIDER_MESH:
+    case CVK_COLLIDER_TYPE_COUNT: {
+        const cvk_sdf* f = &c->sdfs[i];
+        set3(g.a, f->origin, f->voxel);
+        for (int k = 0; k < 3; k++)
+            g.b[k] = (float)f->dims[k];
+        break;
+    }
+    }
+    return g;
+}
+
+typedef struct contact_tables {
+    cvk_gpu_collider* shapes;
+    float* keyframes; /* 8 floats per keyframe */
+    float* sdf;
+    uint32_t keyframe_count;
+    uint64_t sdf_count;
+} contact_tables;
+
+static cvk_result make_collider_tables(const cvk_collide* c, contact_tables* t, cvk_error* error)
+{
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        t->keyframe_count += c->colliders[i].motion.keyframe_count;
+        const cvk_sdf* f = &c->sdfs[i];
+        t->sdf_count += (uint64_t)f->dims[0] * f->dims[1] * f->dims[2];
+    }
+    t->shapes = calloc(c->collider_count ? c->collider_count : 1, sizeof *t->shapes);
+    t->keyframes = calloc(8 * (size_t)(t->keyframe_count ? t->keyframe_count : 1), sizeof(float));
+    t->sdf = calloc(t->sdf_count ? t->sdf_count : 1, sizeof(float));
+    if (!t->shapes || !t->keyframes || !t->sdf)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the colliders");
+    uint32_t k = 0;
+    uint64_t v = 0;
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        const cvk_collider_desc* d = &c->colliders[i];
+        const cvk_sdf* f = &c->sdfs[i];
+        t->shapes[i] = gpu_shape(c, i, k, (uint32_t)v);
+        cvk_motion_pack(&d->motion, &t->keyframes[8 * (size_t)k]);
+        k += d->motion.keyframe_count;
+        uint64_t n = (uint64_t)f->dims[0] * f->dims[1] * f->dims[2];
+        if (n)
+            memcpy(&t->sdf[v], f->values, n * sizeof(float));
+        v += n;
+    }
+    return CVK_SUCCESS;
+}
+
+static void free_tables(contact_tables* t)
+{
+    free(t->shapes);
+    free(t->keyframes);
+    free(t->sdf);
+}
+
+/* The poses at time 0, so the renderer draws the colliders before the first step. */
+static void initial_poses(const cvk_collide* c, cvk_gpu_pose* poses)
+{
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        cvk_pose p = cvk_collide_pose(c, i, 0.0);
+        quat_xyzw(p.rotation, poses[i].rotation0);
+        set3(poses[i].translation0, p.translation, 0.0f);
+        memcpy(poses[i].rotation1, poses[i].rotation0, sizeof poses[i].rotation1);
+        memcpy(poses[i].translation1, poses[i].translation0, sizeof poses[i].translation1);
+    }
+}
+
+/* ---- cloth tables for particle–triangle contact ---------------------------------------- */
+
+typedef struct cloth_tables {
+    uint32_t* triangles; /* 4 per triangle: internal indices, 0 */
+    uint32_t* incident;  /* particle_count + 1 offsets, then triangle ids */
+    size_t incident_count;
+} cloth_tables;
+
+static void free_cloth_tables(cloth_tables* t)
+{
+    free(t->triangles);
+    free(t->incident);
+}
+
+/* Offsets from counts (in place, out[0..n]), then the lists placed by a cursor. */
+static void prefix(uint32_t* table, uint32_t n)
+{
+    uint32_t sum = 0;
+    for (uint32_t p = 0; p <= n; p++) {
+        uint32_t count = table[p];
+        table[p] = sum;
+        sum += count;
+    }
+}
+
+static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_error* error)
+{
+    uint32_t n = b->particle_count, tc = b->triangle_count;
+    t->incident_count = (size_t)n + 1 + 3 * (size_t)tc;
+    t->triangles = calloc(4 * (size_t)(tc ? tc : 1), sizeof(uint32_t));
+    t->incident = calloc(t->incident_count, sizeof(uint32_t));
+    uint32_t* cursor = calloc((size_t)n + 1, sizeof(uint32_t));
+    if (!t->triangles || !t->incident || !cursor) {
+        free(cursor);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the contact tables");
+    }
+    /* Every triangle under each of its corners, in triangle order: the search reaches a
+       triangle through its corners (shaders/contact_detect.comp). */
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = b->internal_of[b->triangles[3 * (size_t)i + k]];
+            t->triangles[4 * (size_t)i + k] = v;
+            t->incident[v]++;
+        }
+    /* w: bit k set where no triangle runs the edge from corner k + 1 back to corner k (a
+       border, or a neighbour wound the other way), so that corner meets the edge only here
+       and only as the one before it (pd_contact.glsl, edges_off_shells). */
+    cvk_u64_map directed = {0};
+    if (!cvk_u64_map_init(&directed, 3 * (size_t)tc)) {
+        cvk_u64_map_free(&directed);
+        free(cursor);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "out of host memory for the contact tables");
+    }
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t key = (uint64_t)t->triangles[4 * (size_t)i + k] << 32 |
+                           t->triangles[4 * (size_t)i + (k + 1) % 3];
+            directed.key[cvk_u64_map_slot(&directed, key)] = key;
+        }
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t back = (uint64_t)t->triangles[4 * (size_t)i + (k + 1) % 3] << 32 |
+                            t->triangles[4 * (size_t)i + k];
+            if (directed.key[cvk_u64_map_slot(&directed, back)] != back)
+                t->triangles[4 * (size_t)i + 3] |= 1u << k;
+        }
+    cvk_u64_map_free(&directed);
+    prefix(t->incident, n);
+    memcpy(cursor, t->incident, ((size_t)n + 1) * sizeof(uint32_t));
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t v = t->triangles[4 * (size_t)i + k];
+            t->incident[n + 1 + cursor[v]++] = i;
+        }
+    free(cursor);
+    return CVK_SUCCESS;
+}
+
+/* ---- buffers and the contact set -------------------------------------------------------- */
+
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+#define UNIFORM {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
+    [CVK_CONTACT_BINDING_FRAME] = STORAGE,
+    [CVK_CONTACT_BINDING_PARAMS] = STORAGE,
+    [CVK_CONTACT_BINDING_SHAPES] = STORAGE,
+    [CVK_CONTACT_BINDING_KEYFRAMES] = STORAGE,
+    [CVK_CONTACT_BINDING_POSES] = STORAGE,
+    [CVK_CONTACT_BINDING_SDF] = STORAGE,
+    [CVK_CONTACT_BINDING_TRIANGLES] = TEXEL,
+    [CVK_CONTACT_BINDING_INCIDENT] = TEXEL,
+    [CVK_CONTACT_BINDING_REST] = TEXEL,
+    [CVK_CONTACT_BINDING_CONTACTS] = STORAGE,
+    [CVK_CONTACT_BINDING_POSITIONS] = TEXEL,
+    [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = UNIFORM,
+    [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = UNIFORM,
+    [CVK_CONTACT_BINDING_POSES_UNIFORM] = UNIFORM,
+    [CVK_CONTACT_BINDING_CONTACTS_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_SEARCHED] = STORAGE,
+    [CVK_CONTACT_BINDING_PATCH_TABLE] = TEXEL,
+    [CVK_CONTACT_BINDING_PATCH_BOUNDS] = STORAGE,
+    [CVK_CONTACT_BINDING_PATCH_BOUNDS_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_PATCH_ACTIVE] = STORAGE,
+    [CVK_CONTACT_BINDING_LISTS] = STORAGE,
+    [CVK_CONTACT_BINDING_SEARCHED_READ] = TEXEL,
+};
+#undef STORAGE
+#undef UNIFORM
+#undef TEXEL
+
+static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    contact_tables t = {0};
+    uint32_t n = CVK_MAX_COLLIDERS; /* the uniform arrays' size (shaders/collide.glsl) */
+    if (c->collider_count > CVK_MAX_COLLIDERS)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "colliders: at most %u, got %u",
+                        CVK_MAX_COLLIDERS, c->collider_count);
+    cvk_gpu_pose* poses = calloc(n, sizeof *poses);
+    cvk_result r = poses ? make_collider_tables(c, &t, error)
+                         : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                                    "out of host memory for the colliders");
+    if (r == CVK_SUCCESS) {
+        initial_poses(c, poses);
+        r = cvk_device_make_buffer(&s->device, &c->poses, n * sizeof(cvk_gpu_pose), "collider poses", poses, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->shapes, n * sizeof(cvk_gpu_collider), "collider shapes", NULL,
+                        error);
+    if (r == CVK_SUCCESS && c->collider_count)
+        r = cvk_device_upload(&s->device, &c->shapes, t.shapes, c->collider_count * sizeof(cvk_gpu_collider),
+                           error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->keyframes, 32u * (VkDeviceSize)(t.keyframe_count ? t.keyframe_count : 1),
+                        "collider keyframes", t.keyframes, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->sdf_values, 4u * (VkDeviceSize)(t.sdf_count ? t.sdf_count : 1),
+                        "collider distance fields", t.sdf, error);
+    free_tables(&t);
+    free(poses);
+    return r;
+}
+
+/* Rest positions (the initial ones scaled by the cloth's rest_scale about its first particle)
+   and cloth index per particle: particles and triangles near each other at rest are not in
+   contact when near now (cvk_collide_rest_near). */
+static cvk_result make_rest(const cvk_build* b, cvk_collide* c, cvk_error* error)
+{
+    c->rest_xyz = malloc(4 * (size_t)(b->particle_count ? b->particle_count : 1) * sizeof(float));
+    if (!c->rest_xyz)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for rest positions");
+    for (uint32_t cloth = 0; cloth < b->cloth_count; cloth++) {
+        const cvk_cloth_range* r = &b->cloths[cloth];
+        const float* origin = &b->position[3 * (size_t)b->internal_of[r->first_user]];
+        for (uint32_t u = r->first_user; u < r->first_user + r->particle_count; u++) {
+            uint32_t p = b->internal_of[u];
+            for (int k = 0; k < 3; k++)
+                c->rest_xyz[4 * (size_t)p + k] =
+                    origin[k] + r->rest_scale * (b->position[3 * (size_t)p + k] - origin[k]);
+            c->rest_xyz[4 * (size_t)p + 3] = (float)cloth;
+        }
+    }
+    return CVK_SUCCESS;
+}
+
+bool cvk_collide_rest_near(const cvk_collide* c, uint32_t p, const uint32_t tri[3])
+{
+    const float* rp = &c->rest_xyz[4 * (size_t)p];
+    for (int k = 0; k < 3; k++) {
+        const float* rv = &c->rest_xyz[4 * (size_t)tri[k]];
+        float d[3] = {rp[0] - rv[0], rp[1] - rv[1], rp[2] - rv[2]};
+        if (rp[3] == rv[3] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < c->exclusion * c->exclusion)
+            return true;
+    }
+    return false;
+}
+
+/* The longest edge of any cloth triangle at rest. */
+static float longest_edge(const cvk_build* b)
+{
+    float longest = 0.0f;
+    for (uint32_t t = 0; t < b->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            const float* p = &b->position[3 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
+            const float* q =
+                &b->position[3 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
+            float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+            longest = fmaxf(longest, sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        }
+    return longest;
+}
+
+/* Edge contact's list entries (shared/layout.h, CVK_EDGE_PAIR) hold an edge of any triangle
+   and one of the particle's own edges in 31 bits. */
+static cvk_result check_edge_limits(const cvk_build* b, const cloth_tables* t, cvk_error* error)
+{
+    if (b->triangle_count > CVK_EDGE_MAX_TRIANGLES)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "collision.edges: the cloths have %u triangles, more than the %u edge "
+                        "contact can address", b->triangle_count, CVK_EDGE_MAX_TRIANGLES);
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        if (t->incident[p + 1] - t->incident[p] > CVK_EDGE_MAX_TRIANGLES_AROUND)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                            "collision.edges: a particle of cloth %u is a corner of %u triangles, "
+                            "more than the %u edge contact can address",
+                            cvk_build_cloth_of(b, p), t->incident[p + 1] - t->incident[p],
+                            CVK_EDGE_MAX_TRIANGLES_AROUND);
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cloth_tables t = {0};
+    cvk_result r = CVK_SUCCESS;
+    bool tables = c->self || (c->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
+    if (tables)
+        r = make_cloth_tables(b, &t, error);
+    if (r == CVK_SUCCESS && c->edges)
+        r = check_edge_limits(b, &t, error);
+    if (r == CVK_SUCCESS && c->self && b->triangle_count > CVK_MAX_SELF_TRIANGLES)
+        r = cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                     "collision.self: the cloths have %u triangles, more than the %u self-contact "
+                     "can address", b->triangle_count, CVK_MAX_SELF_TRIANGLES);
+    if (r == CVK_SUCCESS && c->self)
+        r = make_rest(b, c, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = cvk_collide_make_patches(c, b, t.triangles, t.incident, error);
+    VkDeviceSize patches = c->patch_count ? c->patch_count : 1;
+    VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
+    VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->triangles, tables ? 16u * tc : 16u, "contact triangles",
+                        t.triangles, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->incident, tables ? 4u * t.incident_count : 16u,
+                                "triangles by corner", t.incident, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
+                        "rest positions", c->self ? c->rest_xyz : NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
+    if (r == CVK_SUCCESS) /* no candidates yet: no side kept (contact_detect.comp) */
+        r = cvk_device_fill_buffer(&s->device, &c->contacts, 0xff, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
+                        "positions at the last search", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->patch_table_buffer, c->self ? 4u * c->patch_table_size : 16u,
+                                "contact patches", c->patch_table, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->patch_bounds,
+                                48u * (patches + (c->self && s->search_lanes > 1 ? tc : 0u)),
+                                "patch and triangle bounds", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->patch_active, 4u * patches, "active patches", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->lists,
+                                c->self ? 4u * cvk_collide_lists_size(b->particle_count, b->cloth_count) : 16u,
+                                "contact work lists", NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_clear_buffer(&s->device, &c->lists, error);
+    free_cloth_tables(&t);
+    struct {
+        const cvk_buffer* buffer;
+        VkFormat format;
+        VkBufferView* view;
+    } views[] = {
+        {&c->triangles, VK_FORMAT_R32G32B32A32_UINT, &c->view_triangles},
+        {&c->incident, VK_FORMAT_R32_UINT, &c->view_incident},
+        {&c->rest, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_rest},
+        {&c->contacts, VK_FORMAT_R32_UINT, &c->view_contacts},
+        {&c->patch_table_buffer, VK_FORMAT_R32_UINT, &c->view_patch_table},
+        {&c->patch_bounds, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_patch_bounds},
+        {&c->searched, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_searched},
+    };
+    for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
+        r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
+                                   error);
+    return r;
+}
+
+static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cvk_gpu_contact_params p = {
+        .collider_count = c->collider_count,
+        .particle_count = b->particle_count,
+        .free_count = b->free_count,
+        .triangle_count = b->triangle_count,
+        .thickness = c->thickness,
+        .friction = c->friction,
+        .static_friction = c->static_friction,
+        .dt = s->params.dt,
+        .detect_radius = c->detect_radius,
+        .exclusion = c->exclusion,
+        .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
+        .patch_count = c->patch_count,
+        .patch_neighbours = c->patch_neighbours,
+        .flat_cos = cosf(CVK_FLAT_DEGREES * (3.14159265f / 180.0f)),
+        .edge_exclusion = c->edge_exclusion,
+        .cloth_count = b->cloth_count,
+    };
+    /* the frame state, then the motion bounds of the adaptive search (empty) */
+    struct {
+        cvk_gpu_frame frame;
+        cvk_gpu_motion_bounds bounds;
+    } frame = {
+        .frame = {.search = 1, .force = 1},
+        .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0},
+    };
+    _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
+                   "the frame buffer: the frame state, then the bounds, as std430 lays them out");
+    cvk_result r = cvk_device_make_buffer(&s->device, &c->params, sizeof p, "contact parameters", &p, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->frame, sizeof frame, "frame state", &frame, error);
+    return r;
+}
+
+static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    cvk_result r = cvk_descriptors_create(s->device.context, contact_bindings, CVK_CONTACT_BINDING_COUNT,
+                                          1, VK_SHADER_STAGE_COMPUTE_BIT,
+                                          sizeof(cvk_contact_push), &c->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    c->set_layout = c->descriptors.set_layout;
+    c->set = c->descriptors.sets[0];
+    const cvk_resource res[CVK_CONTACT_BINDING_COUNT] = {
+        [CVK_CONTACT_BINDING_FRAME] = {.buffer = &c->frame},
+        [CVK_CONTACT_BINDING_PARAMS] = {.buffer = &c->params},
+        [CVK_CONTACT_BINDING_SHAPES] = {.buffer = &c->shapes},
+        [CVK_CONTACT_BINDING_KEYFRAMES] = {.buffer = &c->keyframes},
+        [CVK_CONTACT_BINDING_POSES] = {.buffer = &c->poses},
+        [CVK_CONTACT_BINDING_SDF] = {.buffer = &c->sdf_values},
+        [CVK_CONTACT_BINDING_TRIANGLES] = {.view = c->view_triangles},
+        [CVK_CONTACT_BINDING_INCIDENT] = {.view = c->view_incident},
+        [CVK_CONTACT_BINDING_REST] = {.view = c->view_rest},
+        [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
+        [CVK_CONTACT_BINDING_POSITIONS] = {.view = s->view_positions},
+        [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = {.buffer = &c->params},
+        [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = {.buffer = &c->shapes},
+        [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
+        [CVK_CONTACT_BINDING_CONTACTS_READ] = {.view = c->view_contacts},
+        [CVK_CONTACT_BINDING_SEARCHED] = {.buffer = &c->searched},
+        [CVK_CONTACT_BINDING_PATCH_TABLE] = {.view = c->view_patch_table},
+        [CVK_CONTACT_BINDING_PATCH_BOUNDS] = {.buffer = &c->patch_bounds},
+        [CVK_CONTACT_BINDING_PATCH_BOUNDS_READ] = {.view = c->view_patch_bounds},
+        [CVK_CONTACT_BINDING_PATCH_ACTIVE] = {.buffer = &c->patch_active},
+        [CVK_CONTACT_BINDING_LISTS] = {.buffer = &c->lists},
+        [CVK_CONTACT_BINDING_SEARCHED_READ] = {.view = c->view_searched},
+    };
+    cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* error)
+{
+    cvk_collide* c = s->collide;
+    *c = (cvk_collide){0};
+    c->self = scene->collision.self;
+    c->edges = c->self && scene->collision.edges;
+    c->colliding = c->self || scene->collider_count > 0;
+    c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
+                                                     : default_thickness(&s->build);
+    c->friction = scene->collision.friction;
+    c->detect_every = scene->collision.detect_every; /* 0: adaptive */
+    /* By default only pairs that would touch at rest: every other pair of one cloth is a
+       contact, so a fold one or two particles wide (a rolled border, a sheet without bending
+       crumpling at the particle scale) is kept from crossing itself. collision.exclusion
+       trades that for speed (cvk_collision_desc). */
+    c->exclusion = scene->collision.exclusion > 0.0f ? scene->collision.exclusion
+                                                     : CVK_EXCLUSION_THICKNESSES * c->thickness;
+    c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
+    c->detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
+    /* Edge pairs within one cloth are kept only between parts that were apart at rest (a
+       fold's layers, a crease over a border): next to each other the particle–triangle pairs
+       hold a fold, and a flat cloth's neighbouring edges would fill the edge places and cost
+       the search for nothing. */
+    c->longest_edge = longest_edge(&s->build);
+    c->edge_exclusion = c->exclusion + 1.5f * c->longest_edge;
+    c->types = cvk_scene_collider_types(scene);
+    cvk_result r = copy_colliders(c, scene, error);
+    if (r == CVK_SUCCESS)
+        r = read_meshes(c, error);
+    if (r == CVK_SUCCESS)
+        r = create_collider_buffers(s, c, error);
+    if (r == CVK_SUCCESS)
+        r = create_cloth_buffers(s, c, error);
+    if (r == CVK_SUCCESS)
+        r = create_params(s, c, error);
+    if (r == CVK_SUCCESS)
+        r = create_set(s, c, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = cvk_collide_create_detection(s, error);
+    return r;
+}
+
+void cvk_collide_destroy(cvk_sim* s)
+{
+    cvk_collide* c = s->collide;
+    cvk_context* ctx = s->device.context;
+    if (c->detect_layout)
+        vkDestroyPipelineLayout(ctx->device, c->detect_layout, NULL);
+    if (c->hash.capacity)
+        cvk_hash_destroy(ctx, &c->hash);
+    cvk_descriptors_destroy(ctx, &c->descriptors);
+    VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_rest, c->view_contacts,
+                            c->view_patch_table, c->view_patch_bounds, c->view_searched};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(ctx->device, views[i], NULL);
+    cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
+                             &c->params, &c->triangles, &c->incident, &c->rest, &c->contacts,
+                             &c->searched, &c->patch_table_buffer, &c->patch_bounds,
+                             &c->patch_active, &c->lists};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(ctx, buffers[i]);
+    free_colliders(c);
+    free(c->rest_xyz);
+    free(c->patch_table);
+    *c = (cvk_collide){0};
+}
+
+cvk_result cvk_collide_set_step(cvk_sim* s, uint64_t step, cvk_error* error)
+{
+    cvk_gpu_frame frame = {.step = (uint32_t)step, .search = 1, .force = 1};
+    return cvk_device_upload(&s->device, &s->collide->frame, &frame, sizeof frame, error);
+}

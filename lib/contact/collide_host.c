@@ -1,0 +1,139 @@
+/* The colliders as the host sees them: poses by lib/motion.c and signed distances with the
+   formulas of shaders/collide.glsl, for statistics and tests. */
+#include <math.h>
+
+#include "contact/collide.h"
+#include "core/vec3.h"
+
+cvk_pose cvk_collide_pose(const cvk_collide* c, uint32_t index, double t)
+{
+    if (index >= c->collider_count)
+        return cvk_pose_identity();
+    return cvk_motion_pose(&c->colliders[index].motion, t);
+}
+
+static const float up[3] = {0.0f, 1.0f, 0.0f};
+
+static float plane_distance(const cvk_collider_desc* d, const float l[3], float n[3])
+{
+    float normal[3] = {d->normal[0], d->normal[1], d->normal[2]};
+    cvk_normalize3(normal, up);
+    float rel[3] = {l[0] - d->point[0], l[1] - d->point[1], l[2] - d->point[2]};
+    for (int k = 0; k < 3; k++)
+        n[k] = normal[k];
+    return cvk_dot3(normal, rel);
+}
+
+static float sphere_distance(const float centre[3], float radius, const float l[3], float n[3])
+{
+    float rel[3] = {l[0] - centre[0], l[1] - centre[1], l[2] - centre[2]};
+    float len = cvk_length3(rel);
+    for (int k = 0; k < 3; k++)
+        n[k] = rel[k];
+    cvk_normalize3(n, up);
+    return len - radius;
+}
+
+static float box_distance(const cvk_collider_desc* d, const float l[3], float n[3])
+{
+    float q[4], conj[4];
+    cvk_quat_normalize(d->rotation, q);
+    conj[0] = q[0];
+    conj[1] = -q[1];
+    conj[2] = -q[2];
+    conj[3] = -q[3];
+    float rel[3] = {l[0] - d->center[0], l[1] - d->center[1], l[2] - d->center[2]}, b[3];
+    cvk_quat_rotate(conj, rel, b);
+    float e[3], outside[3], local_n[3] = {0};
+    for (int k = 0; k < 3; k++) {
+        e[k] = fabsf(b[k]) - d->half_extents[k];
+        outside[k] = fmaxf(e[k], 0.0f);
+    }
+    float inside = fminf(fmaxf(e[0], fmaxf(e[1], e[2])), 0.0f);
+    float dist = cvk_length3(outside) + inside;
+    if (fmaxf(e[0], fmaxf(e[1], e[2])) > 0.0f) {
+        for (int k = 0; k < 3; k++)
+            local_n[k] = outside[k] * (b[k] < 0.0f ? -1.0f : 1.0f);
+    } else {
+        int axis = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+        local_n[axis] = b[axis] >= 0.0f ? 1.0f : -1.0f;
+    }
+    cvk_normalize3(local_n, up);
+    cvk_quat_rotate(q, local_n, n);
+    return dist;
+}
+
+static float capsule_distance(const cvk_collider_desc* d, const float l[3], float n[3])
+{
+    float ab[3] = {d->b[0] - d->a[0], d->b[1] - d->a[1], d->b[2] - d->a[2]};
+    float al[3] = {l[0] - d->a[0], l[1] - d->a[1], l[2] - d->a[2]};
+    float len2 = cvk_dot3(ab, ab);
+    float t = len2 > 0.0f ? fminf(fmaxf(cvk_dot3(al, ab) / len2, 0.0f), 1.0f) : 0.0f;
+    float closest[3] = {d->a[0] + t * ab[0], d->a[1] + t * ab[1], d->a[2] + t * ab[2]};
+    return sphere_distance(closest, d->radius, l, n);
+}
+
+/* The same Gauss-Newton search as funnel_closest in shaders/collide.glsl. */
+static float funnel_distance(const cvk_collider_desc* d, const float l[3], float n[3])
+{
+    float rel[3] = {l[0] - d->apex[0], l[1] - d->apex[1], l[2] - d->apex[2]};
+    float rho = sqrtf(rel[0] * rel[0] + rel[2] * rel[2]);
+    float radial[3] = {1.0f, 0.0f, 0.0f};
+    if (rho > 0.0f) {
+        radial[0] = rel[0] / rho;
+        radial[2] = rel[2] / rho;
+    }
+    float a = d->funnel_a, h = d->height;
+    float s = fminf(fmaxf(rel[1], -h), 0.0f);
+    for (int i = 0; i < 8; i++) {
+        float r = expf(s / a), dr = r / a;
+        float g = (r - rho) * dr + (s - rel[1]);
+        s = fminf(fmaxf(s - g / (dr * dr + 1.0f), -h), 0.0f);
+    }
+    float to_x = expf(s / a) - rho, to_y = s - rel[1];
+    float away[3] = {-to_x * radial[0], -to_y, -to_x * radial[2]};
+    float r = expf(s / a);
+    float fallback[3] = {radial[0], -r / a, radial[2]};
+    cvk_normalize3(fallback, up);
+    for (int k = 0; k < 3; k++)
+        n[k] = away[k];
+    cvk_normalize3(n, fallback);
+    return sqrtf(to_x * to_x + to_y * to_y);
+}
+
+static float mesh_distance(const cvk_sdf* f, const float l[3], float n[3])
+{
+    float e = 0.5f * f->voxel;
+    for (int k = 0; k < 3; k++) {
+        float hi[3] = {l[0], l[1], l[2]}, lo[3] = {l[0], l[1], l[2]};
+        hi[k] += e;
+        lo[k] -= e;
+        n[k] = cvk_sdf_sample(f, hi) - cvk_sdf_sample(f, lo);
+    }
+    cvk_normalize3(n, up);
+    return cvk_sdf_sample(f, l);
+}
+
+float cvk_collide_distance(const cvk_collide* c, uint32_t index, double t, const float p[3],
+                           float normal[3])
+{
+    float n[3] = {0.0f, 1.0f, 0.0f};
+    if (index >= c->collider_count)
+        return INFINITY;
+    const cvk_collider_desc* d = &c->colliders[index];
+    cvk_pose pose = cvk_collide_pose(c, index, t);
+    float l[3];
+    cvk_pose_apply_inverse(&pose, p, l);
+    float dist;
+    switch (d->type) {
+    case CVK_COLLIDER_PLANE: dist = plane_distance(d, l, n); break;
+    case CVK_COLLIDER_SPHERE: dist = sphere_distance(d->center, d->radius, l, n); break;
+    case CVK_COLLIDER_BOX: dist = box_distance(d, l, n); break;
+    case CVK_COLLIDER_CAPSULE: dist = capsule_distance(d, l, n); break;
+    case CVK_COLLIDER_FUNNEL: dist = funnel_distance(d, l, n); break;
+    default: dist = mesh_distance(&c->sdfs[index], l, n); break;
+    }
+    if (normal)
+        cvk_quat_rotate(pose.rotation, n, normal);
+    return dist;
+}

@@ -1,0 +1,79 @@
+/* The uniform-grid spatial hash on the device (Green 2010, seed 002 §3.4): every point is put in
+   the cell of side cell_size that holds it, cells are hashed into a table of table_size slots (a
+   power of two), and a counting sort groups the points by slot — count, prefix sum, scatter —
+   after which a per-slot sort puts each slot's points in ascending index order, so the result
+   does not depend on thread timing. Queries visit the 27 cells around a point and check each
+   candidate's own cell (two cells may share a slot).
+
+   The module owns its buffers, one descriptor set (shaders/hash_common.glsl declares it, at
+   the set index the including shader chooses) and its pipelines' layout; it reads the points
+   from a buffer it is given (vec4 per point, xyz used), so a solver can hash its predicted
+   positions and a test random ones.
+
+   A build can be skipped on the device: recorded with on_device (cvk_hash_add_passes), its
+   passes are dispatched indirectly, with no workgroups while the parameters' `build` is 0 (1
+   from creation). A module that decides on the device when the points have moved enough to
+   need a new build writes it (lib/collide.c's adaptive search); queries then read the last
+   build. A build recorded without on_device always runs. */
+#ifndef CVK_HASH_H
+#define CVK_HASH_H
+
+#include "plan/plan.h"
+
+typedef struct cvk_hash_desc {
+    uint32_t capacity;          /* points at most, ≥ 1 */
+    float cell_size;            /* m, > 0 */
+    const cvk_buffer* points;   /* vec4 per point, made with VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT
+                                   (read through a texel view); must outlive the hash */
+} cvk_hash_desc;
+
+typedef struct cvk_hash {
+    uint32_t capacity;
+    uint32_t table_size;        /* slots: a power of two ≥ 2 · capacity */
+    float cell_size;
+    cvk_buffer params;          /* cvk_hash_params (shaders/shared/layout.h) */
+    cvk_buffer keys;            /* uint per point: its slot */
+    cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */
+    cvk_buffer entries;         /* uint per point: point indices grouped by slot, ascending in a slot */
+    cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
+    cvk_buffer sorted;          /* uvec4 per point in the entries' order: xyz bits, index */
+    VkBufferView points_view;   /* texel views the shaders read through (R32G32B32A32_SFLOAT, */
+    VkBufferView starts_view;   /* R32_UINT, R32_UINT): on lavapipe a texel fetch is a */
+    VkBufferView entries_view;  /* vectorised gather, a storage-buffer load is not */
+    VkBufferView sorted_view;   /* R32G32B32A32_UINT */
+    VkDescriptorSetLayout set_layout;
+    VkDescriptorPool pool;
+    VkDescriptorSet set;
+    VkPipelineLayout layout;    /* set 0 = the hash's set; push constants cvk_hash_push */
+} cvk_hash;
+
+/* Creates the buffers and the set. On failure nothing is left to destroy. */
+cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_hash* out,
+                           cvk_error* error);
+void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
+
+/* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
+   clear, count, scan, scatter, sort. After its last op (barrier compute -> compute, and
+   -> indirect with on_device) starts and
+   entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
+   is recorded, which leaves every start 0 and the parameters' count 0.
+   With `on_device` the build is for a module that opens and closes it on the device (the
+   parameters' `build`, written before these ops by a dispatch followed by a compute barrier):
+   a first dispatch of one invocation writes the passes' indirect commands, with the workgroups
+   they would have directly while the build is open and none while it is closed, and the passes
+   are dispatched through them, so a closed build costs no workgroups (on lavapipe with its
+   default threads a dispatch of workgroups that return at once still costs their hand-off to
+   the worker threads). */
+cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
+                               bool on_device, cvk_error* error);
+
+/* Gives dispatch `op` (may be NULL) one item per invocation, up to 65535 workgroups, instead of
+   the plan's cap. For passes whose items loop over hash slots (the sort, neighbour queries,
+   contact detection): lavapipe ends a shader's loops silently after 65535 iterations in all,
+   so a few strided workgroups would cut long loops short. */
+void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op);
+
+/* The host reference, for tests: the slot of a point, as the device computes it. */
+uint32_t cvk_hash_slot(const cvk_hash* hash, const float p[3]);
+
+#endif

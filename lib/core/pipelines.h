@@ -1,0 +1,150 @@
+/* The one table of compute pipelines of the step: pipeline id -> shader, specialisation
+   constants, label (for --plan). A family or feature that needs a pipeline adds one line to
+   CVK_PIPELINE_LIST; pipelines are created on first use and kept for the simulation's life. */
+#ifndef CVK_PIPELINES_H
+#define CVK_PIPELINES_H
+
+#include "core/gpu.h"
+#include "core/shaders.h"
+
+/* Where each specialisation constant (ids 0, 1, 2, ...) takes its value from. */
+typedef enum cvk_spec_source {
+    CVK_SPEC_WORKGROUP_SIZE, /* local_size_x_id = 0 */
+    CVK_SPEC_PARTICLE_WORKGROUP_SIZE, /* local_size_x_id = 0 of the passes that stream over
+                                         particles (sweeps, prediction, finalize, tethers) */
+    CVK_SPEC_MAX_DEGREE,     /* springs per particle, at most (build) */
+    CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
+    CVK_SPEC_FALSE,          /* a boolean switch left false */
+    CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
+    CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
+    CVK_SPEC_WIND,           /* the scene has air (lib/aero.h): predict adds its force */
+    CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/tether.h) */
+    CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
+    CVK_SPEC_SEARCH_LANES,   /* invocations per particle in the candidate search, per patch in
+                                the patches' activity test (cvk_sim.search_lanes) */
+    CVK_SPEC_EDGE_CONTACT,   /* the scene has edge–edge contact (collision.edges) */
+} cvk_spec_source;
+
+typedef struct cvk_spec_recipe {
+    uint32_t count;
+    cvk_spec_source source[6];
+} cvk_spec_recipe;
+
+#define CVK_SPEC_PD {2, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
+/* The tether pass (id 2 of shaders/pd_tether.comp: the slots it reads). */
+#define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
+#define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+/* The checking first sweeps (id 3: TETHERS of shaders/pd_common.glsl). */
+#define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                 CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
+/* The contact pass (ids 3, 4, 5 of shaders/pd_contact.glsl; id 2 unused). */
+#define CVK_SPEC_PD_CONTACT {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                             CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
+                             CVK_SPEC_EDGE_CONTACT}}
+/* The prediction (id 3 of shaders/predict.comp; id 2 unused). */
+#define CVK_SPEC_PREDICT {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                          CVK_SPEC_WIND}}
+/* The implicit passes (id 2 of shaders/implicit_common.glsl: the contact filter is compiled in
+   only for a scene with colliders). */
+#define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
+#define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
+#define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
+#define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
+/* The candidate search and the patches' activity (id 1 of shaders/contact_detect.comp and
+   contact_patch.comp: LANES; id 2 of the search: EDGES). */
+#define CVK_SPEC_DETECT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES, \
+                         CVK_SPEC_EDGE_CONTACT}}
+
+/* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
+#define CVK_PIPELINE_LIST(X)                                                    \
+    X(PREDICT, PREDICT_COMP, CVK_SPEC_PREDICT, "predict (Verlet)")              \
+    X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
+    X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
+    X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
+    X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
+    X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
+    X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "gauss-seidel + local step + residual") \
+    X(JACOBI_FIRST_CHECK, PD_JACOBI_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "jacobi + local step + residual") \
+    X(PD_REDUCE, PD_REDUCE_COMP, CVK_SPEC_WORKGROUP, "residual: partial sums")  \
+    X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
+    X(PD_COPY, PD_COPY_COMP, CVK_SPEC_PARTICLE_WORKGROUP, "u0 = u1 (stopped in u1)")    \
+    X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
+    X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
+    X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
+    X(ATTACH, ATTACH_COMP, CVK_SPEC_NONE, "attached particles, frame state") \
+    X(ATTACH_IMPLICIT, ATTACH_IMPLICIT_COMP, CVK_SPEC_NONE, "attached particles: v or x (implicit)") \
+    X(GRAB, GRAB_COMP, CVK_SPEC_NONE, "grabbed particle -> target") \
+    X(PICK, PICK_COMP, CVK_SPEC_NONE, "nearest particle on a ray (outside the frame)") \
+    X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \
+    X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
+    X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
+    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
+    X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \
+    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_DETECT, "particle-triangle candidates") \
+    X(CONTACT_PATCH, CONTACT_PATCH_COMP, CVK_SPEC_DETECT, "patches: bounds, cones, activity") \
+    X(CONTACT_COMPACT, CONTACT_COMPACT_COMP, CVK_SPEC_WORKGROUP, "search and contact lists") \
+    X(UNTANGLE, UNTANGLE_COMP, CVK_SPEC_WORKGROUP, "untangling: regions through other surfaces") \
+    X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
+    X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
+    X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \
+    X(HASH_SCAN_CHUNKS, HASH_SCAN_CHUNKS_COMP, CVK_SPEC_WORKGROUP, "hash: scan chunks") \
+    X(HASH_SCAN, HASH_SCAN_COMP, CVK_SPEC_WORKGROUP, "hash: scan")              \
+    X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
+    X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
+    X(HASH_COMMANDS, HASH_COMMANDS_COMP, CVK_SPEC_NONE, "hash: build or not")   \
+    X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours") \
+    X(IMPLICIT_CONTACT, IMPLICIT_CONTACT_COMP, CVK_SPEC_IMPLICIT, "implicit: held on colliders, S") \
+    X(IMPLICIT_ASSEMBLE, IMPLICIT_ASSEMBLE_COMP, CVK_SPEC_IMPLICIT, "implicit: blocks, b, dv = 0") \
+    X(IMPLICIT_CG_START, IMPLICIT_CG_START_COMP, CVK_SPEC_IMPLICIT, "cg: z = P^-1 r, p = z, r.z") \
+    X(IMPLICIT_CG_RHO0, IMPLICIT_RHO0_COMP, CVK_SPEC_IMPLICIT, "cg: rho0") \
+    X(IMPLICIT_CG_PRODUCT, IMPLICIT_CG_PRODUCT_COMP, CVK_SPEC_IMPLICIT, "cg: q = A p, p.q") \
+    X(IMPLICIT_CG_ALPHA, IMPLICIT_ALPHA_COMP, CVK_SPEC_IMPLICIT, "cg: alpha") \
+    X(IMPLICIT_CG_UPDATE, IMPLICIT_CG_UPDATE_COMP, CVK_SPEC_IMPLICIT, "cg: dv, r, z, r.z") \
+    X(IMPLICIT_CG_BETA, IMPLICIT_BETA_COMP, CVK_SPEC_IMPLICIT, "cg: beta, stop test") \
+    X(IMPLICIT_CG_DIRECTION, IMPLICIT_CG_DIRECTION_COMP, CVK_SPEC_IMPLICIT, "cg: p = z + beta p") \
+    X(IMPLICIT_JACOBI_EVEN, IMPLICIT_JACOBI_EVEN_COMP, CVK_SPEC_IMPLICIT, "block jacobi: dv0 -> dv1") \
+    X(IMPLICIT_JACOBI_ODD, IMPLICIT_JACOBI_ODD_COMP, CVK_SPEC_IMPLICIT, "block jacobi: dv1 -> dv0") \
+    X(IMPLICIT_JACOBI_CHECK, IMPLICIT_JACOBI_CHECK_COMP, CVK_SPEC_IMPLICIT, "block jacobi: stop test") \
+    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_IMPLICIT, "v += dv, x += h v") \
+    X(EXPLICIT_FORCE, EXPLICIT_FORCE_COMP, CVK_SPEC_PD, "explicit: a = f(x, v) / m") \
+    X(EXPLICIT_UPDATE, EXPLICIT_UPDATE_COMP, CVK_SPEC_PD, "explicit: x, v from a (the integrator's rule)")
+
+typedef enum cvk_pipeline_id {
+#define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,
+    CVK_PIPELINE_LIST(CVK_PIPE_ID)
+#undef CVK_PIPE_ID
+    CVK_PIPE_COUNT
+} cvk_pipeline_id;
+
+const char* cvk_pipeline_label(cvk_pipeline_id id);
+/* Whether pipeline `id` runs with the particle passes' workgroup size (its local size is
+   CVK_SPEC_PARTICLE_WORKGROUP_SIZE), so its dispatches count groups of that size. */
+bool cvk_pipeline_streams_particles(cvk_pipeline_id id);
+
+/* The values the recipes draw from. */
+typedef struct cvk_spec_inputs {
+    uint32_t workgroup_size;
+    uint32_t particle_workgroup_size; /* 0: workgroup_size */
+    uint32_t max_degree;
+    uint32_t collider_types; /* bit t: colliders of type t */
+    bool self_contact;
+    bool wind;
+    bool tethers;
+    uint32_t tether_slots;
+    uint32_t search_lanes;
+    bool edge_contact;
+} cvk_spec_inputs;
+
+typedef struct cvk_pipelines {
+    VkPipeline pipeline[CVK_PIPE_COUNT];
+    VkPipelineLayout layout[CVK_PIPE_COUNT]; /* the layout each was created with */
+    bool fresh[CVK_PIPE_COUNT];              /* created since the last warm-up */
+} cvk_pipelines;
+
+/* Creates pipeline `id` with `layout` unless it exists. */
+cvk_result cvk_pipelines_require(cvk_context* context, cvk_pipelines* pipelines,
+                                 cvk_pipeline_id id, VkPipelineLayout layout,
+                                 const cvk_spec_inputs* inputs, cvk_error* error);
+void cvk_pipelines_destroy(cvk_context* context, cvk_pipelines* pipelines);
+
+#endif

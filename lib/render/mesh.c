@@ -1,0 +1,359 @@
+/* Mesh generation: the triangle and adjacency tables are built once on the host; every frame
+   one compute dispatch (shaders/mesh.comp) writes positions, normals and indices from the
+   particles, straight into the buffers that are drawn. */
+#include "render/mesh.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/shaders.h"
+
+/* Mirrors the bindings of shaders/mesh.comp. */
+enum {
+    BINDING_POSITIONS,
+    BINDING_SPRING_ALIVE,
+    BINDING_TRIANGLE_VERTICES,
+    BINDING_TRIANGLE_PARTICLES,
+    BINDING_TRIANGLE_SPRINGS,
+    BINDING_PARTICLE_OF,
+    BINDING_VERTEX_TRIANGLES,
+    BINDING_VERTICES,
+    BINDING_INDICES,
+    BINDING_COUNT
+};
+
+#define VERTEX_STRIDE 32u
+
+/* ---- tables, on the host ----------------------------------------------------------------- */
+
+typedef struct tables {
+    uint32_t* triangle_vertices;  /* 4 per triangle */
+    uint32_t* triangle_particles; /* 4 per triangle */
+    uint32_t* triangle_springs;   /* 4 per triangle */
+    uint32_t* vertex_triangles;   /* max_adjacent per vertex, slot-major */
+} tables;
+
+static void tables_free(tables* t)
+{
+    free(t->triangle_vertices);
+    free(t->triangle_particles);
+    free(t->triangle_springs);
+    free(t->vertex_triangles);
+}
+
+/* The build's triangles, whatever topology they came from, padded to 4 entries for the
+   shader: vertices in user order, their particles, the spring along each edge. */
+static void make_triangles(const cvk_build* b, tables* t, cvk_mesh_range* ranges)
+{
+    for (uint32_t tri = 0; tri < b->triangle_count; tri++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t user = b->triangles[3 * (size_t)tri + e];
+            t->triangle_vertices[4 * (size_t)tri + e] = user;
+            t->triangle_particles[4 * (size_t)tri + e] = b->internal_of[user];
+            t->triangle_springs[4 * (size_t)tri + e] = b->triangle_springs[3 * (size_t)tri + e];
+        }
+    for (uint32_t c = 0; c < b->cloth_count; c++) {
+        ranges[c].first_index = 3u * b->cloths[c].first_triangle;
+        ranges[c].index_count = 3u * b->cloths[c].triangle_count;
+    }
+}
+
+static uint32_t count_triangles(const cvk_build* b)
+{
+    return b->triangle_count;
+}
+
+static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
+{
+    uint32_t* degree = calloc(m->vertex_count, sizeof *degree);
+    if (!degree)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh adjacency");
+    for (uint32_t tri = 0; tri < m->triangle_count; tri++)
+        for (int e = 0; e < 3; e++)
+            degree[t->triangle_vertices[4 * tri + e]]++;
+    m->max_adjacent = 1;
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        if (degree[v] > m->max_adjacent)
+            m->max_adjacent = degree[v];
+    size_t entries = (size_t)m->max_adjacent * m->vertex_count;
+    t->vertex_triangles = malloc(entries * sizeof(uint32_t));
+    if (!t->vertex_triangles) {
+        free(degree);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh adjacency");
+    }
+    memset(t->vertex_triangles, 0xff, entries * sizeof(uint32_t));
+    memset(degree, 0, m->vertex_count * sizeof *degree);
+    for (uint32_t tri = 0; tri < m->triangle_count; tri++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t v = t->triangle_vertices[4 * tri + e];
+            t->vertex_triangles[(size_t)degree[v]++ * m->vertex_count + v] = tri;
+        }
+    free(degree);
+    return CVK_SUCCESS;
+}
+
+static cvk_result make_tables(cvk_mesh* m, tables* t, cvk_error* error)
+{
+    const cvk_build* b = &m->sim->build;
+    size_t tris = m->triangle_count ? m->triangle_count : 1;
+    t->triangle_vertices = calloc(4 * tris, sizeof(uint32_t));
+    t->triangle_particles = calloc(4 * tris, sizeof(uint32_t));
+    t->triangle_springs = calloc(4 * tris, sizeof(uint32_t));
+    m->cloths = calloc(b->cloth_count, sizeof *m->cloths);
+    if (!t->triangle_vertices || !t->triangle_particles || !t->triangle_springs || !m->cloths)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u triangles",
+                        m->triangle_count);
+    make_triangles(b, t, m->cloths);
+    return make_adjacency(m, t, error);
+}
+
+/* ---- device objects ---------------------------------------------------------------------- */
+
+static cvk_result check_limits(const cvk_mesh* m, cvk_error* error)
+{
+    const VkPhysicalDeviceLimits* limits = &m->context->properties.limits;
+    uint64_t entries = (uint64_t)m->max_adjacent * m->vertex_count;
+    if (m->triangle_count > limits->maxTexelBufferElements || entries > limits->maxTexelBufferElements)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%u triangles with up to %u around a vertex need %llu table entries; %s "
+                        "allows %u texel buffer elements (maxTexelBufferElements)",
+                        m->triangle_count, m->max_adjacent, (unsigned long long)entries,
+                        m->context->properties.deviceName, limits->maxTexelBufferElements);
+    /* Both buffers the generation writes are bound whole as storage buffers. */
+    uint64_t index_bytes = 12ull * m->triangle_count;
+    uint64_t vertex_bytes = (uint64_t)VERTEX_STRIDE * m->vertex_count;
+    if (index_bytes > limits->maxStorageBufferRange)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%u triangles need a %llu-byte index buffer; %s allows %u bytes "
+                        "(maxStorageBufferRange)",
+                        m->triangle_count, (unsigned long long)index_bytes,
+                        m->context->properties.deviceName, limits->maxStorageBufferRange);
+    if (vertex_bytes > limits->maxStorageBufferRange)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%u vertices need a %llu-byte vertex buffer; %s allows %u bytes "
+                        "(maxStorageBufferRange)",
+                        m->vertex_count, (unsigned long long)vertex_bytes,
+                        m->context->properties.deviceName, limits->maxStorageBufferRange);
+    return CVK_SUCCESS;
+}
+
+static cvk_result create_buffers(cvk_mesh* m, const cvk_mesh_desc* desc, const tables* t,
+                                 VkCommandBuffer cmd, cvk_error* error)
+{
+    cvk_context* ctx = m->context;
+    VkDeviceSize tris = m->triangle_count;
+    VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    struct {
+        cvk_buffer* buffer;
+        VkDeviceSize size;
+        VkBufferUsageFlags usage;
+        const char* what;
+        const void* data;
+        VkBufferView* view;
+        VkFormat format;
+    } list[] = {
+        {&m->vertices, (VkDeviceSize)m->vertex_count * VERTEX_STRIDE,
+         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | desc->vertex_usage,
+         "mesh vertices", NULL, NULL, VK_FORMAT_UNDEFINED},
+        {&m->indices, tris * 12u,
+         VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | desc->index_usage,
+         "mesh indices", NULL, NULL, VK_FORMAT_UNDEFINED},
+        {&m->triangle_vertices, tris * 16u, table, "triangle vertices", t->triangle_vertices,
+         &m->view_triangle_vertices, VK_FORMAT_R32G32B32A32_UINT},
+        {&m->triangle_particles, tris * 16u, table, "triangle particles", t->triangle_particles,
+         &m->view_triangle_particles, VK_FORMAT_R32G32B32A32_UINT},
+        {&m->triangle_springs, tris * 16u, table, "triangle springs", t->triangle_springs,
+         &m->view_triangle_springs, VK_FORMAT_R32G32B32A32_UINT},
+        {&m->particle_of, (VkDeviceSize)m->vertex_count * 4u, table, "vertex particles",
+         m->sim->build.internal_of, &m->view_particle_of, VK_FORMAT_R32_UINT},
+        {&m->vertex_triangles, (VkDeviceSize)m->max_adjacent * m->vertex_count * 4u, table,
+         "vertex triangles", t->vertex_triangles, &m->view_vertex_triangles, VK_FORMAT_R32_UINT},
+    };
+    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
+        cvk_result r = cvk_buffer_create(ctx, list[i].size, list[i].usage, CVK_MEMORY_DEVICE,
+                                         list[i].what, list[i].buffer, error);
+        if (r == CVK_SUCCESS && list[i].data)
+            r = cvk_buffer_upload(ctx, &m->submitter, cmd, list[i].buffer, list[i].data, list[i].size,
+                                  error);
+        if (r == CVK_SUCCESS && list[i].view)
+            r = cvk_buffer_view_create(ctx, list[i].buffer, list[i].format, list[i].view, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
+static const cvk_binding mesh_bindings[BINDING_COUNT] = {
+    [BINDING_POSITIONS] = TEXEL,          [BINDING_SPRING_ALIVE] = TEXEL,
+    [BINDING_TRIANGLE_VERTICES] = TEXEL,  [BINDING_TRIANGLE_PARTICLES] = TEXEL,
+    [BINDING_TRIANGLE_SPRINGS] = TEXEL,   [BINDING_PARTICLE_OF] = TEXEL,
+    [BINDING_VERTEX_TRIANGLES] = TEXEL,   [BINDING_VERTICES] = STORAGE,
+    [BINDING_INDICES] = STORAGE,
+};
+#undef TEXEL
+#undef STORAGE
+
+static cvk_result create_pipeline(cvk_mesh* m, cvk_error* error)
+{
+    cvk_descriptors d;
+    cvk_result r = cvk_descriptors_create(m->context, mesh_bindings, BINDING_COUNT, 1,
+                                          VK_SHADER_STAGE_COMPUTE_BIT, sizeof(cvk_mesh_push), &d,
+                                          error);
+    if (r != CVK_SUCCESS)
+        return r;
+    m->set_layout = d.set_layout;
+    m->pipeline_layout = d.pipeline_layout;
+    m->descriptor_pool = d.pool;
+    m->set = d.sets[0];
+    const cvk_resource res[BINDING_COUNT] = {
+        [BINDING_POSITIONS] = {.view = m->sim->view_positions},
+        [BINDING_SPRING_ALIVE] = {.view = m->sim->view_spring_alive},
+        [BINDING_TRIANGLE_VERTICES] = {.view = m->view_triangle_vertices},
+        [BINDING_TRIANGLE_PARTICLES] = {.view = m->view_triangle_particles},
+        [BINDING_TRIANGLE_SPRINGS] = {.view = m->view_triangle_springs},
+        [BINDING_PARTICLE_OF] = {.view = m->view_particle_of},
+        [BINDING_VERTEX_TRIANGLES] = {.view = m->view_vertex_triangles},
+        [BINDING_VERTICES] = {.buffer = &m->vertices},
+        [BINDING_INDICES] = {.buffer = &m->indices},
+    };
+    cvk_descriptors_write(m->context, &d, 0, res);
+    cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH_COMP);
+    cvk_spec spec = {.values = {m->sim->plan.workgroup_size, m->max_adjacent}, .count = 2};
+    return cvk_compute_pipeline_create(m->context, spirv.code, spirv.bytes, m->pipeline_layout, &spec,
+                                       spirv.name, &m->pipeline, error);
+}
+
+/* Generates the mesh once, so its buffers hold the starting cloth from the beginning; on
+   lavapipe this also compiles the pipeline outside any timed frame. */
+static cvk_result generate_once(cvk_mesh* m, VkCommandBuffer cmd, cvk_error* error)
+{
+    cvk_result r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_mesh_record(m, cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    /* Whoever draws next records its own barrier; this one covers anything that reads first. */
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT);
+    r = cvk_command_buffer_end(cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return cvk_submit_and_wait(m->context, &m->submitter, &cmd, 1, error);
+}
+
+cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
+                           cvk_error* error)
+{
+    if (!sim || !out_mesh)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_mesh_create needs a simulation and an output pointer");
+    *out_mesh = NULL;
+    cvk_mesh_desc defaults = {0};
+    if (!desc)
+        desc = &defaults;
+    cvk_mesh* m = calloc(1, sizeof *m);
+    if (!m)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh");
+    m->sim = sim;
+    m->context = sim->device.context;
+    m->graphics_queue = sim->device.context->graphics;
+    m->vertex_count = sim->build.particle_count;
+    m->triangle_count = count_triangles(&sim->build);
+    uint32_t items = m->vertex_count > m->triangle_count ? m->vertex_count : m->triangle_count;
+    uint32_t wg = sim->plan.workgroup_size;
+    m->groups = (items + wg - 1) / wg;
+    if (m->groups > sim->plan.max_groups)
+        m->groups = sim->plan.max_groups;
+
+    tables t = {0};
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    cvk_result r = make_tables(m, &t, error);
+    if (r == CVK_SUCCESS)
+        r = check_limits(m, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_submitter_create(m->context, &m->submitter, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(m->context, &m->submitter, &cmd, error);
+    if (r == CVK_SUCCESS)
+        r = create_buffers(m, desc, &t, cmd, error);
+    tables_free(&t);
+    if (r == CVK_SUCCESS)
+        r = create_pipeline(m, error);
+    if (r == CVK_SUCCESS)
+        r = generate_once(m, cmd, error);
+    if (r != CVK_SUCCESS) {
+        cvk_mesh_destroy(m);
+        return r;
+    }
+    *out_mesh = m;
+    return CVK_SUCCESS;
+}
+
+void cvk_mesh_destroy(cvk_mesh* m)
+{
+    if (!m)
+        return;
+    VkDevice dev = m->context->device;
+    if (m->submitter.pool) /* work recorded by cvk_mesh_record may still use the buffers */
+        cvk_queue_idle(m->context);
+    if (m->pipeline)
+        vkDestroyPipeline(dev, m->pipeline, NULL);
+    if (m->descriptor_pool)
+        vkDestroyDescriptorPool(dev, m->descriptor_pool, NULL);
+    if (m->pipeline_layout)
+        vkDestroyPipelineLayout(dev, m->pipeline_layout, NULL);
+    if (m->set_layout)
+        vkDestroyDescriptorSetLayout(dev, m->set_layout, NULL);
+    VkBufferView views[] = {m->view_triangle_vertices, m->view_triangle_particles,
+                            m->view_triangle_springs, m->view_particle_of, m->view_vertex_triangles};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
+        if (views[i])
+            vkDestroyBufferView(dev, views[i], NULL);
+    cvk_buffer* buffers[] = {&m->vertices, &m->indices, &m->triangle_vertices, &m->triangle_particles,
+                             &m->triangle_springs, &m->particle_of, &m->vertex_triangles};
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
+        cvk_buffer_destroy(m->context, buffers[i]);
+    cvk_submitter_destroy(m->context, &m->submitter);
+    free(m->cloths);
+    free(m);
+}
+
+cvk_mesh_buffers cvk_mesh_get_buffers(const cvk_mesh* m)
+{
+    return (cvk_mesh_buffers){
+        .vertex_buffer = m->vertices.buffer,
+        .vertex_count = m->vertex_count,
+        .vertex_stride = VERTEX_STRIDE,
+        .position_offset = 0,
+        .normal_offset = 16,
+        .index_buffer = m->indices.buffer,
+        .index_type = VK_INDEX_TYPE_UINT32,
+        .index_count = 3u * m->triangle_count,
+        .cloth_count = m->sim->build.cloth_count,
+        .cloths = m->cloths,
+    };
+}
+
+cvk_result cvk_mesh_record(cvk_mesh* m, VkCommandBuffer cmd, cvk_error* error)
+{
+    if (!m || !cmd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_mesh_record needs a mesh and a command buffer");
+    VkPipelineStageFlags after = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    if (m->graphics_queue)
+        after |= VK_PIPELINE_STAGE_VERTEX_INPUT_BIT;
+    cvk_cmd_barrier(cmd, after, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    cvk_mesh_push push = {m->vertex_count, m->triangle_count};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipeline_layout, 0, 1, &m->set, 0,
+                            NULL);
+    vkCmdPushConstants(cmd, m->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdDispatch(cmd, m->groups, 1, 1);
+    return CVK_SUCCESS;
+}

@@ -1,0 +1,809 @@
+/* The offscreen renderer (seed 002 §5.4). A frame is, after the mesh generation:
+   - the shadow pass: the cloth's and the colliders' depth from the key light;
+   - the lit pass, in two render passes: the cloth and the colliders (render_colliders.c),
+     lit and shadowed, multisampled over a transparent background; then one sample per pixel,
+     the ground and sky found from each pixel's ray (shadowed only on the patch of ground
+     under the shadow map) with the cloth pass's samples averaged over them in linear light
+     (the resolve), into an sRGB image;
+   - a copy of that image into a host-visible buffer.
+   Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
+   tests and writes every sample) to the part of the image that has edges to smooth.
+   Every object is made once at creation; a frame is one command buffer recorded once. */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "render/render_internal.h"
+#include "scene/scene.h"
+#include "solvers/reference.h"
+
+#define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
+/* The cloth pass stores the square root of its linear colour (see lit_cloth.frag): about as
+   fine as sRGB in the dark, and the composite pass decodes a sample with one multiply instead
+   of an sRGB curve, four samples per pixel. */
+#define CLOTH_FORMAT VK_FORMAT_R8G8B8A8_UNORM
+#define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
+/* Marks the ground patch under the shadow map, so the rest of the ground skips those pixels. */
+#define STENCIL_FORMAT VK_FORMAT_S8_UINT
+/* 16 bits cover a few metres of light depth in 0.1 mm steps, and the constant depth bias
+   means a fixed distance, unlike with a float format. */
+#define SHADOW_FORMAT VK_FORMAT_D16_UNORM
+
+/* Timestamps: start, after the mesh, the shadow pass, the lit pass and the copy. */
+enum { QUERY_COUNT = 5 };
+
+/* ---- checks before anything is made ------------------------------------------------------ */
+
+static void sample_counts(VkSampleCountFlags flags, char* out, size_t size)
+{
+    int count = 0;
+    for (uint32_t s = 1; s <= 64; s *= 2)
+        count += (flags & s) != 0;
+    size_t used = 0;
+    out[0] = '\0';
+    int listed = 0;
+    for (uint32_t s = 1; s <= 64 && used < size; s *= 2) {
+        if (!(flags & s))
+            continue;
+        const char* separator = listed == 0 ? "" : listed == count - 1 ? " or " : ", ";
+        used += (size_t)snprintf(out + used, size - used, "%s%u", separator, s);
+        listed++;
+    }
+}
+
+static cvk_result check_format(const cvk_context* ctx, VkFormat format, VkImageUsageFlags usage,
+                               VkSampleCountFlagBits samples, const char* what, cvk_error* error)
+{
+    VkImageFormatProperties properties;
+    VkResult vr = vkGetPhysicalDeviceImageFormatProperties(ctx->physical_device, format, VK_IMAGE_TYPE_2D,
+                                                           VK_IMAGE_TILING_OPTIMAL, usage, 0, &properties);
+    if (vr != VK_SUCCESS || !(properties.sampleCounts & samples))
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s cannot make the %s image it needs (format %d, %u samples)",
+                        ctx->properties.deviceName, what, (int)format, (unsigned)samples);
+    return CVK_SUCCESS;
+}
+
+static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d, cvk_error* error)
+{
+    if (!ctx->graphics)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "rendering needs a queue that can draw; queue family %u of %s supports compute "
+                        "only (cvk_mesh works there: draw its buffers on a graphics queue)",
+                        ctx->queue_family, ctx->properties.deviceName);
+    if (d->wireframe && !ctx->fill_mode_non_solid)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "render.wireframe: %s cannot draw triangles as lines (no fillModeNonSolid)",
+                        ctx->properties.deviceName);
+    uint32_t max = cvk_context_max_image_size(ctx);
+    if (d->size[0] > max || d->size[1] > max)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.size: %u x %u pixels is more than %s allows (%u x %u)", d->size[0], d->size[1],
+                        ctx->properties.deviceName, max, max);
+    if (d->shadow_map_size > max)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.shadow_map_size: %u texels is more than %s allows (%u)", d->shadow_map_size,
+                        ctx->properties.deviceName, max);
+    const VkPhysicalDeviceLimits* limits = &ctx->properties.limits;
+    VkSampleCountFlags supported = limits->framebufferColorSampleCounts & limits->framebufferDepthSampleCounts;
+    if (!(supported & d->samples)) {
+        char counts[64];
+        sample_counts(supported, counts, sizeof counts);
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT, "render.samples: %s draws %s samples per pixel, not %u",
+                        ctx->properties.deviceName, counts, d->samples);
+    }
+    VkSampleCountFlagBits samples = (VkSampleCountFlagBits)d->samples;
+    if (!(limits->sampledImageColorSampleCounts & samples)) {
+        char counts[64];
+        sample_counts(limits->sampledImageColorSampleCounts, counts, sizeof counts);
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.samples: %s reads back %s samples per pixel, not %u",
+                        ctx->properties.deviceName, counts, d->samples);
+    }
+    cvk_result r = check_format(ctx, CLOTH_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                samples, "cloth", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, STENCIL_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_SAMPLE_COUNT_1_BIT,
+                         "stencil", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_SAMPLE_COUNT_1_BIT, "final", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, DEPTH_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, samples, "depth", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, SHADOW_FORMAT,
+                         VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                         VK_SAMPLE_COUNT_1_BIT, "shadow map", error);
+    return r;
+}
+
+/* ---- images, render passes, framebuffers ---------------------------------------------- */
+
+static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
+{
+    cvk_context* ctx = rd->context;
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
+    cvk_result r = cvk_gpu_image_create(ctx, SHADOW_FORMAT, s, s, VK_SAMPLE_COUNT_1_BIT,
+                                        VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                        VK_IMAGE_ASPECT_DEPTH_BIT, "shadow map", &rd->shadow_map, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, CLOTH_FORMAT, w, h, rd->samples,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "cloth image", &rd->cloth, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, DEPTH_FORMAT, w, h, rd->samples,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                                 VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->cloth_depth, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "image", &rd->image, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, STENCIL_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
+                                     VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                                 VK_IMAGE_ASPECT_STENCIL_BIT, "stencil", &rd->stencil, error);
+    return r;
+}
+
+static cvk_result create_shadow_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription depth = {
+        .format = SHADOW_FORMAT,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+    };
+    VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .pDepthStencilAttachment = &ref,
+    };
+    VkPipelineStageFlags tests = VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's lit pass has read the map before it is cleared again. */
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, tests, 0,
+         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, 0},
+        /* The lit pass samples it. */
+        {0, VK_SUBPASS_EXTERNAL, tests, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 1,
+        .pAttachments = &depth,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->shadow_pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateRenderPass (shadow pass)", vr);
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = rd->shadow_pass,
+        .attachmentCount = 1,
+        .pAttachments = &rd->shadow_map.view,
+        .width = rd->desc.shadow_map_size,
+        .height = rd->desc.shadow_map_size,
+        .layers = 1,
+    };
+    vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, &rd->shadow_framebuffer);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (shadow pass)", vr);
+}
+
+static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const VkImageView* views, uint32_t count,
+                                     VkFramebuffer* out, const char* what, cvk_error* error)
+{
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = pass,
+        .attachmentCount = count,
+        .pAttachments = views,
+        .width = rd->desc.size[0],
+        .height = rd->desc.size[1],
+        .layers = 1,
+    };
+    VkResult vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, out);
+    if (vr != VK_SUCCESS) {
+        return cvk_fail_vk_for(error, "vkCreateFramebuffer", vr, "%s", what);
+    }
+    return CVK_SUCCESS;
+}
+
+/* A pass of one subpass over a colour attachment (0) and a depth/stencil attachment (1), two
+ * external dependencies, and its framebuffer on `views`. */
+static cvk_result create_color_depth_pass(cvk_renderer* rd, const VkAttachmentDescription attachments[2],
+                                          const VkSubpassDependency dependencies[2], const VkImageView views[2],
+                                          VkRenderPass* pass, VkFramebuffer* framebuffer, const char* what,
+                                          cvk_error* error)
+{
+    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference depth = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .colorAttachmentCount = 1,
+        .pColorAttachments = &color,
+        .pDepthStencilAttachment = &depth,
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 2,
+        .pAttachments = attachments,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, pass);
+    if (vr != VK_SUCCESS) {
+        return cvk_fail_vk_for(error, "vkCreateRenderPass", vr, "%s", what);
+    }
+    return create_framebuffer(rd, *pass, views, 2, framebuffer, what, error);
+}
+
+/* Stages and accesses of a pass that writes colour and depth/stencil. */
+#define PASS_OUTPUT_STAGES                                                                          \
+    (VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |   \
+     VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT)
+#define PASS_WRITES (VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT)
+
+/* The cloth, multisampled, over transparent black: the composite pass reads every sample. */
+static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachments[2] = {
+        {
+            .format = CLOTH_FORMAT,
+            .samples = rd->samples,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+        },
+        {
+            .format = DEPTH_FORMAT,
+            .samples = rd->samples,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        },
+    };
+    VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
+    VkAccessFlags writes = PASS_WRITES;
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's writes, and its composite pass's reads of the cloth image. */
+        {VK_SUBPASS_EXTERNAL, 0, output | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, output, writes,
+         writes | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
+        /* The composite pass reads the cloth image. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
+    };
+    VkImageView views[2] = {rd->cloth.view, rd->cloth_depth.view};
+    return create_color_depth_pass(rd, attachments, dependencies, views, &rd->cloth_pass, &rd->cloth_framebuffer,
+                                   "cloth pass", error);
+}
+
+/* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
+static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachments[2] = {
+        {
+            .format = COLOR_FORMAT,
+            .samples = VK_SAMPLE_COUNT_1_BIT,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        },
+        {
+            .format = STENCIL_FORMAT,
+            .samples = VK_SAMPLE_COUNT_1_BIT,
+            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
+            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        },
+    };
+    VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
+    VkAccessFlags writes = PASS_WRITES;
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's copy out of the image, and its writes. */
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_TRANSFER_BIT | output, output, writes,
+         writes | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
+        /* The image is copied out afterwards. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT, 0},
+    };
+    VkImageView views[2] = {rd->image.view, rd->stencil.view};
+    return create_color_depth_pass(rd, attachments, dependencies, views, &rd->composite_pass,
+                                   &rd->composite_framebuffer, "composite pass", error);
+}
+
+/* ---- uniforms, descriptors ----------------------------------------------------------------- */
+
+static void put3(float out[4], const double v[3], float w)
+{
+    out[0] = (float)v[0];
+    out[1] = (float)v[1];
+    out[2] = (float)v[2];
+    out[3] = w;
+}
+
+static void put_color(float out[4], const float c[3])
+{
+    out[0] = c[0];
+    out[1] = c[1];
+    out[2] = c[2];
+    out[3] = 1.0f;
+}
+
+static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
+{
+    const cvk_view* v = &rd->view;
+    const cvk_render_desc* d = &rd->desc;
+    memset(u, 0, sizeof *u);
+    memcpy(u->view_proj, v->view_proj, sizeof u->view_proj);
+    memcpy(u->light_view_proj, v->light_view_proj, sizeof u->light_view_proj);
+    put3(u->eye, v->eye, 1.0f);
+    put3(u->key_direction, v->key_direction, 0.0f);
+    put_color(u->key_color, d->key.color);
+    put3(u->fill_direction, v->fill_direction, 0.0f);
+    put_color(u->fill_color, d->fill.color);
+    put_color(u->ambient, d->ambient);
+    put_color(u->background, d->background);
+    put_color(u->ground_color, d->ground_color);
+    put3(u->ground_plane, v->up, (float)v->ground_height);
+    /* The ground's shading, as shaders/lighting.glsl computes it for a normal of up. */
+    double key = fmax(0.0, v->key_direction[0] * v->up[0] + v->key_direction[1] * v->up[1] +
+                               v->key_direction[2] * v->up[2]);
+    double fill = fmax(0.0, v->fill_direction[0] * v->up[0] + v->fill_direction[1] * v->up[1] +
+                                v->fill_direction[2] * v->up[2]);
+    for (int k = 0; k < 3; k++) {
+        u->ground_unlit[k] = (float)(d->ground_color[k] * (d->ambient[k] + fill * d->fill.color[k]));
+        u->ground_key[k] = (float)(d->ground_color[k] * key * d->key.color[k]);
+    }
+    put3(u->ground_axes[0], v->ground_axes[0], 0.0f);
+    put3(u->ground_axes[1], v->ground_axes[1], 0.0f);
+    put3(u->ray_base, v->ray_base, 0.0f);
+    put3(u->ray_dx, v->ray_dx, 0.0f);
+    put3(u->ray_dy, v->ray_dy, 0.0f);
+    u->fog[0] = (float)v->fog_start;
+    u->fog[1] = (float)v->fog_end;
+    u->fog[2] = d->ground ? 1.0f : 0.0f;
+    u->fog[3] = (float)v->ground_tile;
+    u->shadow[0] = (float)d->shadow_map_size;
+    u->shadow[1] = (float)v->shadow_texel;
+    for (int i = 0; i < 4; i++)
+        put3(u->patch_corners[i], v->patch[i], 1.0f);
+}
+
+void cvk_renderer_set_time(cvk_renderer* rd, double seconds)
+{
+    if (!rd || rd->eye_path.keyframe_count == 0)
+        return;
+    cvk_render_camera_resolve(rd, seconds);
+    cvk_frame_uniforms u;
+    fill_uniforms(rd, &u);
+    memcpy(rd->uniforms.mapped, &u, sizeof u);
+}
+
+static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
+{
+    VkDevice dev = rd->context->device;
+    cvk_result r = cvk_buffer_create(rd->context, sizeof(cvk_frame_uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                     CVK_MEMORY_HOST, "frame constants", &rd->uniforms, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_frame_uniforms u;
+    fill_uniforms(rd, &u);
+    memcpy(rd->uniforms.mapped, &u, sizeof u);
+
+    /* Outside the map (clamped to a border of depth 1) nothing casts a shadow. */
+    VkSamplerCreateInfo sampler = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_NEAREST,
+        .minFilter = VK_FILTER_NEAREST,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
+        .compareEnable = VK_TRUE,
+        .compareOp = VK_COMPARE_OP_LESS_OR_EQUAL,
+        .borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE,
+    };
+    VkResult vr = vkCreateSampler(dev, &sampler, NULL, &rd->shadow_sampler);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateSampler", vr);
+    /* The cloth image is read with texelFetch: the sampler only has to exist. */
+    VkSamplerCreateInfo texel = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = VK_FILTER_NEAREST,
+        .minFilter = VK_FILTER_NEAREST,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+    };
+    vr = vkCreateSampler(dev, &texel, NULL, &rd->cloth_sampler);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateSampler", vr);
+
+    /* Binding 3: the cloth's texture, one set per texture (set 0: the white stand-in). The
+       colliders' poses (binding 4) only where there are colliders to draw. */
+    static const cvk_binding bindings[] = {
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
+    };
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 5 : 4;
+    r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.count,
+                               VK_SHADER_STAGE_FRAGMENT_BIT, 4 * sizeof(float), &rd->descriptors, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    rd->pipeline_layout = rd->descriptors.pipeline_layout;
+    rd->set = rd->descriptors.sets[0];
+    for (uint32_t i = 0; i < rd->textures.count; i++) {
+        const cvk_resource res[] = {
+            {.buffer = &rd->uniforms},
+            {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
+            {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
+            {.image = rd->textures.images[i].view, .sampler = rd->textures.sampler},
+            {.buffer = &rd->mesh->sim->collide->poses},
+        };
+        cvk_descriptors_write(rd->context, &rd->descriptors, i, res);
+    }
+    return CVK_SUCCESS;
+}
+
+/* ---- recording ----------------------------------------------------------------------------- */
+
+static void timestamp(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t query)
+{
+    if (rd->queries)
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, rd->queries, query);
+}
+
+static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored)
+{
+    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
+    VkBuffer buffers[2] = {mesh.vertex_buffer, rd->textures.uv.buffer};
+    VkDeviceSize offsets[2] = {0, 0};
+    /* The texture coordinates only for the lit pipelines, and only when a cloth has a texture. */
+    vkCmdBindVertexBuffers(cmd, 0, colored && rd->textures.uv.buffer ? 2 : 1, buffers, offsets);
+    vkCmdBindIndexBuffer(cmd, mesh.index_buffer, 0, mesh.index_type);
+    const cvk_build* b = &rd->mesh->sim->build;
+    uint32_t bound = 0;
+    for (uint32_t c = 0; c < mesh.cloth_count; c++) {
+        if (mesh.cloths[c].index_count == 0)
+            continue;
+        if (colored) {
+            /* w: 1 where the cloth's texture replaces its colour */
+            uint32_t set = rd->textures.set_of[c];
+            float albedo[4] = {b->cloths[c].color[0], b->cloths[c].color[1], b->cloths[c].color[2],
+                               set ? 1.0f : 0.0f};
+            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof albedo, albedo);
+            if (set != bound) {
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
+                                        &rd->descriptors.sets[set], 0, NULL);
+                bound = set;
+            }
+        }
+        vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
+    }
+    if (bound != 0)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+}
+
+static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer, uint32_t width,
+                       uint32_t height, const VkClearValue* clears, uint32_t clear_count)
+{
+    VkRenderPassBeginInfo begin = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
+        .renderPass = pass,
+        .framebuffer = framebuffer,
+        .renderArea = {{0, 0}, {width, height}},
+        .clearValueCount = clear_count,
+        .pClearValues = clears,
+    };
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+}
+
+static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkClearValue clear = {.depthStencil = {1.0f, 0}};
+    begin_pass(cmd, rd->shadow_pass, rd->shadow_framebuffer, rd->desc.shadow_map_size,
+               rd->desc.shadow_map_size, &clear, 1);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
+    draw_cloths(rd, cmd, false);
+    if (rd->collider_shadow_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_shadow_pipeline);
+        cvk_render_colliders_record(rd, cmd, false);
+    }
+    vkCmdEndRenderPass(cmd);
+}
+
+static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    /* transparent black and the far depth (reversed z); the composite pass clears its stencil */
+    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1];
+    begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
+    draw_cloths(rd, cmd, true);
+    if (rd->wireframe_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->wireframe_pipeline);
+        draw_cloths(rd, cmd, true);
+    }
+    if (rd->collider_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);
+        cvk_render_colliders_record(rd, cmd, true);
+    }
+    vkCmdEndRenderPass(cmd);
+
+    begin_pass(cmd, rd->composite_pass, rd->composite_framebuffer, w, h, clears, 2);
+    /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
+       then everything else, which skips them. */
+    if (rd->desc.ground && rd->view.patch_visible) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->patch_pipeline);
+        vkCmdDraw(cmd, 4, 1, 0, 0);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRenderPass(cmd);
+}
+
+static void record_readback(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkBufferImageCopy region = {
+        .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+        .imageExtent = {rd->desc.size[0], rd->desc.size[1], 1},
+    };
+    vkCmdCopyImageToBuffer(cmd, rd->image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rd->readback.buffer, 1,
+                           &region);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                    VK_ACCESS_HOST_READ_BIT);
+}
+
+cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error* error)
+{
+    if (!rd || !cmd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_renderer_record needs a renderer and a command buffer");
+    if (rd->queries)
+        vkCmdResetQueryPool(cmd, rd->queries, 0, QUERY_COUNT);
+    timestamp(rd, cmd, 0);
+    cvk_result r = cvk_mesh_record(rd->mesh, cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    timestamp(rd, cmd, 1);
+    /* The colliders' vertex shaders also read the poses the simulation wrote. */
+    bool colliders = rd->colliders.draw_count > 0;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | (colliders ? VK_PIPELINE_STAGE_VERTEX_SHADER_BIT : 0),
+                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT |
+                        (colliders ? VK_ACCESS_SHADER_READ_BIT : 0));
+    /* one set for every graphics pipeline of the frame; bindings outlive render passes */
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+    record_shadow_pass(rd, cmd);
+    timestamp(rd, cmd, 2);
+    record_lit_pass(rd, cmd);
+    timestamp(rd, cmd, 3);
+    record_readback(rd, cmd);
+    timestamp(rd, cmd, 4);
+    /* The next simulated frame rewrites the poses: these draws finish reading them first (the
+       mesh generation's own barrier covers only vertex input). */
+    if (colliders)
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+    return CVK_SUCCESS;
+}
+
+/* ---- creation ------------------------------------------------------------------------------ */
+
+static cvk_result create_frame_objects(cvk_renderer* rd, cvk_error* error)
+{
+    VkDeviceSize bytes = (VkDeviceSize)rd->desc.size[0] * rd->desc.size[1] * 4u;
+    cvk_result r = cvk_buffer_create(rd->context, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, CVK_MEMORY_HOST,
+                                     "image readback", &rd->readback, error);
+    if (r == CVK_SUCCESS && rd->context->timestamp_valid_bits) {
+        VkQueryPoolCreateInfo info = {
+            .sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+            .queryType = VK_QUERY_TYPE_TIMESTAMP,
+            .queryCount = QUERY_COUNT,
+        };
+        VkResult vr = vkCreateQueryPool(rd->context->device, &info, NULL, &rd->queries);
+        if (vr != VK_SUCCESS)
+            r = cvk_fail_vk(error, "vkCreateQueryPool", vr);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_submitter_create(rd->context, &rd->submitter, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_allocate(rd->context, &rd->submitter, &rd->frame_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_begin(rd->frame_cmd, VK_COMMAND_BUFFER_USAGE_SIMULTANEOUS_USE_BIT, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_renderer_record(rd, rd->frame_cmd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_command_buffer_end(rd->frame_cmd, error);
+    return r;
+}
+
+static void gravity_of(const cvk_sim* sim, double out[3])
+{
+    cvk_ref_params ref = cvk_ref_params_of(&sim->params);
+    for (int k = 0; k < 3; k++)
+        out[k] = ref.gravity_h2[k];
+}
+
+cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_renderer** out_renderer,
+                               cvk_error* error)
+{
+    if (!mesh || !desc || !out_renderer)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_renderer_create needs a mesh, a render description and an output pointer");
+    *out_renderer = NULL;
+    cvk_scene_issue issue;
+    if (!cvk_render_desc_check(desc, &issue))
+        return cvk_fail_issue(error, &issue);
+    cvk_result r = check_device(mesh->context, desc, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_renderer* rd = calloc(1, sizeof *rd);
+    if (!rd)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the renderer");
+    rd->context = mesh->context;
+    rd->mesh = mesh;
+    rd->desc = *desc;
+    rd->samples = (VkSampleCountFlagBits)desc->samples;
+    gravity_of(mesh->sim, rd->gravity);
+    r = cvk_render_camera_create(rd, desc, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_render_colliders_create(rd, rd->gravity, error);
+    if (r == CVK_SUCCESS) {
+        cvk_render_camera_resolve(rd, 0.0);
+        r = create_images(rd, error);
+    }
+    if (r == CVK_SUCCESS)
+        r = cvk_render_textures_create(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_shadow_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_cloth_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_composite_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_descriptors(rd, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_renderer_create_pipelines(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_frame_objects(rd, error);
+    /* Lavapipe compiles pipelines on first use: one frame now, so no timed frame pays. */
+    if (r == CVK_SUCCESS)
+        r = cvk_renderer_draw(rd, error);
+    if (r != CVK_SUCCESS) {
+        cvk_renderer_destroy(rd);
+        return r;
+    }
+    *out_renderer = rd;
+    return CVK_SUCCESS;
+}
+
+void cvk_renderer_destroy(cvk_renderer* rd)
+{
+    if (!rd)
+        return;
+    VkDevice dev = rd->context->device;
+    if (rd->submitter.pool)
+        cvk_queue_idle(rd->context);
+    VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
+                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
+                              rd->wireframe_pipeline};
+    for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
+        if (pipelines[i])
+            vkDestroyPipeline(dev, pipelines[i], NULL);
+    if (rd->queries)
+        vkDestroyQueryPool(dev, rd->queries, NULL);
+    cvk_descriptors_destroy(rd->context, &rd->descriptors);
+    VkSampler samplers[] = {rd->shadow_sampler, rd->cloth_sampler};
+    for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
+        if (samplers[i])
+            vkDestroySampler(dev, samplers[i], NULL);
+    VkFramebuffer framebuffers[] = {rd->shadow_framebuffer, rd->cloth_framebuffer, rd->composite_framebuffer};
+    for (size_t i = 0; i < sizeof framebuffers / sizeof framebuffers[0]; i++)
+        if (framebuffers[i])
+            vkDestroyFramebuffer(dev, framebuffers[i], NULL);
+    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->composite_pass};
+    for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
+        if (passes[i])
+            vkDestroyRenderPass(dev, passes[i], NULL);
+    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->image, &rd->stencil};
+    for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
+        cvk_gpu_image_destroy(rd->context, images[i]);
+    cvk_buffer_destroy(rd->context, &rd->uniforms);
+    cvk_buffer_destroy(rd->context, &rd->readback);
+    cvk_render_colliders_destroy(rd);
+    cvk_render_textures_destroy(rd);
+    cvk_submitter_destroy(rd->context, &rd->submitter);
+    cvk_render_camera_destroy(rd);
+    free(rd);
+}
+
+/* ---- frames -------------------------------------------------------------------------------- */
+
+cvk_result cvk_renderer_draw(cvk_renderer* rd, cvk_error* error)
+{
+    if (!rd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_draw needs a renderer");
+    return cvk_submit_and_wait(rd->context, &rd->submitter, &rd->frame_cmd, 1, error);
+}
+
+cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
+{
+    return (cvk_image){
+        .pixels = rd->readback.mapped,
+        .width = rd->desc.size[0],
+        .height = rd->desc.size[1],
+        .row_bytes = 4u * rd->desc.size[0],
+    };
+}
+
+cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
+{
+    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0};
+    if (!rd->queries)
+        return t;
+    uint64_t data[2 * QUERY_COUNT];
+    VkResult vr = vkGetQueryPoolResults(rd->context->device, rd->queries, 0, QUERY_COUNT, sizeof data, data,
+                                        2 * sizeof(uint64_t),
+                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
+    if (vr != VK_SUCCESS)
+        return t;
+    for (int q = 0; q < QUERY_COUNT; q++)
+        if (!data[2 * q + 1])
+            return t;
+    uint32_t bits = rd->context->timestamp_valid_bits;
+    uint64_t mask = bits >= 64 ? UINT64_MAX : ((uint64_t)1 << bits) - 1;
+    double period_ms = rd->context->properties.limits.timestampPeriod * 1e-6;
+    double ms[QUERY_COUNT - 1];
+    for (int q = 1; q < QUERY_COUNT; q++)
+        ms[q - 1] = (double)((data[2 * q] - data[2 * (q - 1)]) & mask) * period_ms;
+    t.mesh_ms = ms[0];
+    t.shadow_ms = ms[1];
+    t.lit_ms = ms[2];
+    t.readback_ms = ms[3];
+    t.total_ms = (double)((data[2 * (QUERY_COUNT - 1)] - data[0]) & mask) * period_ms;
+    return t;
+}
+
+cvk_render_view cvk_renderer_get_view(const cvk_renderer* rd)
+{
+    const cvk_view* v = &rd->view;
+    cvk_render_view out = {.fov_y = (float)v->fov_y, .ground_height = (float)v->ground_height};
+    for (int k = 0; k < 3; k++) {
+        out.eye[k] = (float)v->eye[k];
+        out.target[k] = (float)v->target[k];
+        out.up[k] = (float)v->up[k];
+        out.reach_min[k] = (float)v->reach.lo[k];
+        out.reach_max[k] = (float)v->reach.hi[k];
+    }
+    memcpy(out.view_proj, v->view_proj, sizeof out.view_proj);
+    return out;
+}

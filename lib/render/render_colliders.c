@@ -1,0 +1,225 @@
+/* The simulation's colliders as the renderer draws them: every collider's triangles at rest
+   (collider_mesh.h) in one vertex and one index buffer, made once; each frame the vertex
+   shaders move them by the pose the simulation's own recorded work left in its poses buffer
+   (pose 1: the end of the last substep), so a frame submitted again draws moving colliders
+   without a host write. A static plane facing up, when the ground is drawn at an automatic
+   height or at the plane's own, is the ground itself rather than a second surface on top of
+   it. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact/collider_mesh.h"
+#include "core/error.h"
+#include "scene/motion.h"
+#include "render/render_internal.h"
+#include "sim/sim.h"
+
+/* A plane collider is drawn as a square this many times the cloths' size: well past the
+   frame of the automatic camera, and still finite, so the depth range stays tight. */
+#define PLANE_EXTENT_SCALE 8.0
+/* A plane whose normal is within about 0.8° of up can be the ground. */
+#define GROUND_COS 0.9999
+/* A plane within this distance (m) of a given ground height is at that height. */
+#define GROUND_HEIGHT_TOLERANCE 1e-5
+
+static double length3(const float v[3])
+{
+    return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
+}
+
+/* The height (m along up) of a static plane collider facing up, when it becomes the ground. */
+static bool ground_plane(const cvk_renderer* rd, const cvk_collider_desc* c, double* height)
+{
+    if (c->type != CVK_COLLIDER_PLANE || c->motion.keyframe_count > 0 || !rd->desc.ground)
+        return false;
+    double n = length3(c->normal), u = length3(rd->desc.up);
+    if (n == 0.0 || u == 0.0)
+        return false;
+    double along = 0.0, h = 0.0;
+    for (int k = 0; k < 3; k++) {
+        along += (double)c->normal[k] * rd->desc.up[k] / (n * u);
+        h += (double)c->point[k] * rd->desc.up[k] / u;
+    }
+    *height = h;
+    /* A ground at a given height is this plane when they coincide: drawing the plane too would
+       only cover the ground with the same surface (at 4x MSAA, most of the image's cost). */
+    if (!rd->desc.auto_ground_height && fabs(h - rd->desc.ground_height) > GROUND_HEIGHT_TOLERANCE)
+        return false;
+    return along >= GROUND_COS;
+}
+
+/* The mesh's box under a pose, added to `drawn` too. */
+static cvk_box posed_box(const cvk_collider_mesh* m, const cvk_pose* pose, cvk_box* drawn)
+{
+    cvk_box box;
+    cvk_box_empty(&box);
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        float p[3];
+        cvk_pose_apply(pose, &m->xyz[3 * (size_t)v], p);
+        double d[3] = {p[0], p[1], p[2]};
+        cvk_box_add(&box, d);
+    }
+    cvk_box_add(drawn, box.lo);
+    cvk_box_add(drawn, box.hi);
+    return box;
+}
+
+/* Where a collider is drawn at rest and at each keyframe: finite ones into the camera's
+   boxes, all into the drawn box. */
+static cvk_result frame_collider(cvk_render_colliders* rc, const cvk_collider_desc* c, const cvk_collider_mesh* m,
+                                 cvk_error* error)
+{
+    uint32_t poses = 1 + c->motion.keyframe_count;
+    bool finite = c->type != CVK_COLLIDER_PLANE;
+    if (finite) {
+        cvk_box* grown = realloc(rc->boxes, ((size_t)rc->framing.box_count + poses) * sizeof *grown);
+        if (!grown)
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the colliders' bounds");
+        rc->boxes = grown;
+    }
+    for (uint32_t i = 0; i < poses; i++) {
+        double t = i == 0 ? 0.0 : c->motion.keyframes[i - 1].time;
+        cvk_pose pose = cvk_motion_pose(&c->motion, t);
+        cvk_box box = posed_box(m, &pose, &rc->framing.drawn);
+        if (finite)
+            rc->boxes[rc->framing.box_count++] = box;
+    }
+    rc->framing.boxes = rc->boxes;
+    return CVK_SUCCESS;
+}
+
+/* Every drawn collider's mesh (the ground plane has none); `meshes` has one slot per
+   collider. */
+static cvk_result make_meshes(cvk_renderer* rd, const double gravity[3], cvk_collider_mesh* meshes,
+                              cvk_error* error)
+{
+    const cvk_collide* collide = rd->mesh->sim->collide;
+    cvk_render_colliders* rc = &rd->colliders;
+    cvk_box cloths;
+    cvk_reach_box(&rd->mesh->sim->build, gravity, &cloths);
+    float focus[3];
+    double size = 1e-3;
+    for (int k = 0; k < 3; k++) {
+        focus[k] = (float)(0.5 * (cloths.lo[k] + cloths.hi[k]));
+        size = fmax(size, cloths.hi[k] - cloths.lo[k]);
+    }
+    for (uint32_t i = 0; i < collide->collider_count; i++) {
+        const cvk_collider_desc* c = &collide->colliders[i];
+        double height;
+        if (ground_plane(rd, c, &height)) {
+            if (!rc->framing.ground_plane || height > rc->framing.ground_plane_height)
+                rc->framing.ground_plane_height = height;
+            rc->framing.ground_plane = true;
+            continue;
+        }
+        const cvk_sdf* sdf = c->type == CVK_COLLIDER_MESH ? &collide->sdfs[i] : NULL;
+        cvk_result r = cvk_collider_mesh_make(c, sdf, focus, (float)(PLANE_EXTENT_SCALE * size), &meshes[i], error);
+        if (r == CVK_SUCCESS)
+            r = frame_collider(rc, c, &meshes[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    return CVK_SUCCESS;
+}
+
+/* The meshes into the two buffers, and one draw each. */
+static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint32_t count, cvk_error* error)
+{
+    cvk_render_colliders* rc = &rd->colliders;
+    uint64_t vertices = 0, indices = 0;
+    uint32_t draws = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        vertices += meshes[i].vertex_count;
+        indices += 3u * (uint64_t)meshes[i].triangle_count;
+        draws += meshes[i].triangle_count > 0;
+    }
+    if (draws == 0)
+        return CVK_SUCCESS;
+    if (vertices > UINT32_MAX || indices > UINT32_MAX)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "colliders: %llu vertices and %llu indices are more than 32-bit indices can draw",
+                        (unsigned long long)vertices, (unsigned long long)indices);
+    rc->draws = calloc(draws, sizeof *rc->draws);
+    if (!rc->draws)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the collider draws");
+    /* Written once by the host and read by vertex input: host memory spares a staging copy. */
+    cvk_result r = cvk_buffer_create(rd->context, vertices * 6 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+                                     CVK_MEMORY_HOST, "collider vertices", &rc->vertices, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_create(rd->context, indices * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+                              CVK_MEMORY_HOST, "collider indices", &rc->indices, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    float* xyzn = rc->vertices.mapped;
+    uint32_t* index = rc->indices.mapped;
+    uint32_t base = 0, first = 0;
+    const cvk_collide* collide = rd->mesh->sim->collide;
+    for (uint32_t i = 0; i < count; i++) {
+        const cvk_collider_mesh* m = &meshes[i];
+        if (m->triangle_count == 0)
+            continue;
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            memcpy(&xyzn[6 * (size_t)(base + v)], &m->xyz[3 * (size_t)v], 3 * sizeof(float));
+            memcpy(&xyzn[6 * (size_t)(base + v) + 3], &m->normals[3 * (size_t)v], 3 * sizeof(float));
+        }
+        for (uint32_t k = 0; k < 3 * m->triangle_count; k++)
+            index[first + k] = base + m->triangles[k];
+        const float* color = collide->colliders[i].color;
+        rc->draws[rc->draw_count++] = (cvk_collider_draw){
+            .first_index = first,
+            .index_count = 3 * m->triangle_count,
+            .collider = i,
+            .color = {color[0], color[1], color[2], 1.0f},
+        };
+        base += m->vertex_count;
+        first += 3 * m->triangle_count;
+    }
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_render_colliders_create(cvk_renderer* rd, const double gravity[3], cvk_error* error)
+{
+    uint32_t n = rd->mesh->sim->collide->collider_count;
+    cvk_box_empty(&rd->colliders.framing.drawn);
+    if (n == 0)
+        return CVK_SUCCESS;
+    cvk_collider_mesh* meshes = calloc(n, sizeof *meshes);
+    if (!meshes)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the collider meshes");
+    cvk_result r = make_meshes(rd, gravity, meshes, error);
+    if (r == CVK_SUCCESS)
+        r = upload(rd, meshes, n, error);
+    for (uint32_t i = 0; i < n; i++)
+        cvk_collider_mesh_destroy(&meshes[i]);
+    free(meshes);
+    return r;
+}
+
+void cvk_render_colliders_destroy(cvk_renderer* rd)
+{
+    cvk_render_colliders* rc = &rd->colliders;
+    cvk_buffer_destroy(rd->context, &rc->vertices);
+    cvk_buffer_destroy(rd->context, &rc->indices);
+    free(rc->draws);
+    free(rc->boxes);
+    *rc = (cvk_render_colliders){0};
+}
+
+void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored)
+{
+    const cvk_render_colliders* rc = &rd->colliders;
+    if (rc->draw_count == 0)
+        return;
+    VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &rc->vertices.buffer, &offset);
+    vkCmdBindIndexBuffer(cmd, rc->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    for (uint32_t d = 0; d < rc->draw_count; d++) {
+        const cvk_collider_draw* draw = &rc->draws[d];
+        if (colored)
+            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof draw->color,
+                               draw->color);
+        /* The instance index is the collider's: the vertex shaders read its pose with it. */
+        vkCmdDrawIndexed(cmd, draw->index_count, 1, draw->first_index, 0, draw->collider);
+    }
+}

@@ -1,0 +1,96 @@
+/* The renderer object, private to render.c and render_pipelines.c. */
+#ifndef CVK_RENDER_INTERNAL_H
+#define CVK_RENDER_INTERNAL_H
+
+#include "render/camera.h"
+#include "render/mesh.h"
+#include "scene/motion.h"
+#include "shared/frame.h" /* cvk_frame_uniforms, shared with shaders/frame.glsl */
+
+/* One collider's triangles in the shared collider buffers, drawn with instance index
+   `collider` (the vertex shaders read its pose from the simulation's poses buffer). */
+typedef struct cvk_collider_draw {
+    uint32_t first_index, index_count;
+    uint32_t collider;
+    float color[4];                  /* linear RGB, 1 */
+} cvk_collider_draw;
+
+typedef struct cvk_render_colliders {
+    cvk_buffer vertices;             /* 6 floats per vertex: position at rest (m), unit normal */
+    cvk_buffer indices;              /* uint32 */
+    cvk_collider_draw* draws;
+    uint32_t draw_count;
+    cvk_box* boxes;                  /* for the camera: see cvk_view_colliders */
+    cvk_view_colliders framing;
+} cvk_render_colliders;
+
+/* The cloths' textures (lib/render_textures.c): image 0 is a white stand-in for cloths without
+   one; descriptor set i points at image i. */
+typedef struct cvk_render_textures {
+    cvk_gpu_image* images;
+    uint32_t count;
+    uint32_t* set_of;                /* per cloth: its descriptor set, 0 without a texture */
+    VkSampler sampler;
+    cvk_buffer uv;                   /* texture coordinates, 2 floats per vertex; none when no
+                                        cloth has a texture */
+} cvk_render_textures;
+
+struct cvk_renderer {
+    cvk_context* context;
+    cvk_mesh* mesh;
+    cvk_render_desc desc;
+    cvk_view view;
+    double gravity[3];               /* the simulation's, for the reach (cvk_view_resolve) */
+    /* render.camera_keyframes as two translation-only motions, so the camera follows the
+       keyframe rules of lib/motion.c; rd->desc keeps no pointer to the caller's list. */
+    cvk_motion eye_path, target_path;
+    VkSampleCountFlagBits samples;
+
+    cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
+    VkRenderPass shadow_pass, cloth_pass, composite_pass;
+    VkFramebuffer shadow_framebuffer, cloth_framebuffer, composite_framebuffer;
+    VkSampler shadow_sampler, cloth_sampler;
+    cvk_buffer uniforms;
+    cvk_buffer readback;
+
+    VkPipelineLayout pipeline_layout; /* descriptors.pipeline_layout */
+    cvk_descriptors descriptors;     /* the one graphics set and its pipeline layout */
+    VkDescriptorSet set;
+    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
+    VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
+    VkPipeline wireframe_pipeline;   /* none without render.wireframe */
+    cvk_render_colliders colliders;
+    cvk_render_textures textures;
+
+    VkQueryPool queries;
+    cvk_submitter submitter;
+    VkCommandBuffer frame_cmd;
+};
+
+/* The graphics pipelines: shadow, cloth, background and ground patch, and with colliders to
+   draw the colliders' shadow and lit pipelines. */
+cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error);
+
+/* The simulation's colliders as triangles (lib/render_colliders.c): meshes at rest in one
+   vertex and index buffer, one draw per collider, and what the camera frames
+   (rd->colliders.framing). Runs before the view is resolved; reads rd->desc and rd->mesh. */
+cvk_result cvk_render_colliders_create(cvk_renderer* rd, const double gravity[3], cvk_error* error);
+void cvk_render_colliders_destroy(cvk_renderer* rd);
+
+/* Records the collider draws; with `colored`, each one's colour as the push constant. The
+   pipeline is bound by the caller. */
+void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored);
+
+/* Reads every cloth's texture (errors name the key path, "cloths.N.texture"), makes its mips
+   and uploads them with the texture coordinates; needs rd->mesh. */
+cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error);
+void cvk_render_textures_destroy(cvk_renderer* rd);
+
+/* The camera's path (lib/render_camera.c): copied from desc's keyframes (rd->desc keeps no
+   pointer to them), freed, and the view (rd->view) resolved with the camera where it is at
+   `seconds`. Resolving needs rd->mesh, rd->gravity and rd->colliders.framing. */
+cvk_result cvk_render_camera_create(cvk_renderer* rd, const cvk_render_desc* desc, cvk_error* error);
+void cvk_render_camera_destroy(cvk_renderer* rd);
+void cvk_render_camera_resolve(cvk_renderer* rd, double seconds);
+
+#endif

@@ -1,0 +1,237 @@
+/* The renderer's graphics pipelines, each from a recipe: shaders, vertex input, target pass
+   and size, depth, stencil and bias. */
+#include "core/error.h"
+#include "render/render_internal.h"
+#include "core/shaders.h"
+
+/* Slope-scaled depth bias of the shadow pass (in units of the depth format's step). */
+#define SHADOW_BIAS_CONSTANT 2.0f
+#define SHADOW_BIAS_SLOPE 2.5f
+/* The wireframe's bias towards the eye (reversed depth: larger is nearer). A line's sample and
+   its triangle's nearest sample can lie a pixel apart across the edge: a slope factor above 1
+   covers that difference in depth, and the constant the rounding of a float depth. */
+#define WIRE_BIAS_CONSTANT 4.0f
+#define WIRE_BIAS_SLOPE 1.5f
+/* A multisampled line one pixel wide that runs between two pixel rows covers half the samples
+   of each (a faint line beside a dark one); 1.5 pixels always cover three quarters of one. */
+#define WIRE_WIDTH 1.5f
+
+typedef struct pipeline_recipe {
+    const char* what;
+    cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
+    uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal;
+                                        3: and texture coordinates (binding 1) */
+    bool colliders;                  /* the collider buffers' layout, not the cloth mesh's */
+    VkPrimitiveTopology topology;
+    VkRenderPass pass;
+    uint32_t width, height;
+    VkSampleCountFlagBits samples;
+    bool depth_test;
+    VkCompareOp depth_compare;
+    bool depth_bias;
+    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
+    uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
+    bool lines;                      /* triangles drawn as their edges, depth tested, not written */
+} pipeline_recipe;
+
+static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
+{
+    cvk_spirv spirv = cvk_shader(id);
+    return cvk_shader_module_create(ctx, spirv.code, spirv.bytes, spirv.name, out, error);
+}
+
+/* The fixed-function state of one recipe; pointers inside point into the struct itself. */
+typedef struct fixed_state {
+    VkVertexInputBindingDescription bindings[2];
+    VkVertexInputAttributeDescription attributes[3];
+    VkPipelineVertexInputStateCreateInfo vertex_input;
+    VkPipelineInputAssemblyStateCreateInfo assembly;
+    VkViewport viewport;
+    VkRect2D scissor;
+    VkPipelineViewportStateCreateInfo viewport_state;
+    VkPipelineRasterizationStateCreateInfo raster;
+    VkPipelineMultisampleStateCreateInfo multisample;
+    VkPipelineDepthStencilStateCreateInfo depth;
+    VkPipelineColorBlendAttachmentState blend_attachment;
+    VkPipelineColorBlendStateCreateInfo blend;
+} fixed_state;
+
+/* Vertex input, assembly, viewport and scissor over the whole target. */
+static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fixed_state* f)
+{
+    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
+    /* Collider vertices: position then normal, 3 floats each (render_colliders.c). */
+    uint32_t stride = p->colliders ? 6 * sizeof(float) : mesh.vertex_stride;
+    uint32_t position = p->colliders ? 0 : mesh.position_offset;
+    uint32_t normal = p->colliders ? 3 * sizeof(float) : mesh.normal_offset;
+    f->bindings[0] = (VkVertexInputBindingDescription){0, stride, VK_VERTEX_INPUT_RATE_VERTEX};
+    f->bindings[1] = (VkVertexInputBindingDescription){1, 2 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
+    f->attributes[0] = (VkVertexInputAttributeDescription){0, 0, VK_FORMAT_R32G32B32_SFLOAT, position};
+    f->attributes[1] = (VkVertexInputAttributeDescription){1, 0, VK_FORMAT_R32G32B32_SFLOAT, normal};
+    f->attributes[2] = (VkVertexInputAttributeDescription){2, 1, VK_FORMAT_R32G32_SFLOAT, 0};
+    f->vertex_input = (VkPipelineVertexInputStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+        .vertexBindingDescriptionCount = p->attributes == 0 ? 0 : p->attributes == 3 ? 2 : 1,
+        .pVertexBindingDescriptions = f->bindings,
+        .vertexAttributeDescriptionCount = p->attributes,
+        .pVertexAttributeDescriptions = f->attributes,
+    };
+    f->assembly = (VkPipelineInputAssemblyStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+        .topology = p->topology,
+    };
+    f->viewport = (VkViewport){0.0f, 0.0f, (float)p->width, (float)p->height, 0.0f, 1.0f};
+    f->scissor = (VkRect2D){{0, 0}, {p->width, p->height}};
+    f->viewport_state = (VkPipelineViewportStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+        .viewportCount = 1,
+        .pViewports = &f->viewport,
+        .scissorCount = 1,
+        .pScissors = &f->scissor,
+    };
+}
+
+/* Rasterisation, multisampling, depth, stencil and blending. */
+static void raster_state(const pipeline_recipe* p, bool has_fragment, bool wide_lines, fixed_state* f)
+{
+    /* No culling: both faces of the cloth are drawn, and both cast shadows. */
+    f->raster = (VkPipelineRasterizationStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+        .polygonMode = p->lines ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL,
+        .cullMode = VK_CULL_MODE_NONE,
+        .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
+        .depthBiasEnable = p->depth_bias,
+        .depthBiasConstantFactor = !p->depth_bias ? 0.0f : p->lines ? WIRE_BIAS_CONSTANT : SHADOW_BIAS_CONSTANT,
+        .depthBiasSlopeFactor = !p->depth_bias ? 0.0f : p->lines ? WIRE_BIAS_SLOPE : SHADOW_BIAS_SLOPE,
+        .lineWidth = p->lines && wide_lines ? WIRE_WIDTH : 1.0f,
+    };
+    f->multisample = (VkPipelineMultisampleStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+        .rasterizationSamples = p->samples,
+    };
+    VkStencilOpState stencil = {
+        .failOp = VK_STENCIL_OP_KEEP,
+        .passOp = p->stencil > 0 ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
+        .depthFailOp = VK_STENCIL_OP_KEEP,
+        .compareOp = p->stencil > 0 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
+        .compareMask = 0xff,
+        .writeMask = 0xff,
+        .reference = p->stencil > 0 ? 1u : 0u,
+    };
+    f->depth = (VkPipelineDepthStencilStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+        .depthTestEnable = p->depth_test,
+        .depthWriteEnable = p->depth_test && !p->lines,
+        .depthCompareOp = p->depth_compare,
+        .stencilTestEnable = p->stencil != 0,
+        .front = stencil,
+        .back = stencil,
+    };
+    f->blend_attachment = (VkPipelineColorBlendAttachmentState){
+        .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                          VK_COLOR_COMPONENT_A_BIT,
+    };
+    f->blend = (VkPipelineColorBlendStateCreateInfo){
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+        .attachmentCount = has_fragment ? 1 : 0,
+        .pAttachments = &f->blend_attachment,
+    };
+}
+
+static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
+{
+    VkShaderModule modules[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    bool has_fragment = p->fragment != CVK_SHADER_COUNT;
+    cvk_result r = create_module(rd->context, p->vertex, &modules[0], error);
+    if (r == CVK_SUCCESS && has_fragment)
+        r = create_module(rd->context, p->fragment, &modules[1], error);
+    if (r != CVK_SUCCESS) {
+        if (modules[0])
+            vkDestroyShaderModule(rd->context->device, modules[0], NULL);
+        return r;
+    }
+    VkSpecializationMapEntry entries[3];
+    for (uint32_t i = 0; i < 3; i++)
+        entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
+    VkSpecializationInfo spec = {3, entries, sizeof p->spec, p->spec};
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
+         .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
+        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+         .module = modules[1], .pName = "main", .pSpecializationInfo = &spec},
+    };
+    fixed_state f;
+    geometry_state(rd, p, &f);
+    raster_state(p, has_fragment, rd->context->wide_lines, &f);
+    VkGraphicsPipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+        .stageCount = has_fragment ? 2 : 1,
+        .pStages = stages,
+        .pVertexInputState = &f.vertex_input,
+        .pInputAssemblyState = &f.assembly,
+        .pViewportState = &f.viewport_state,
+        .pRasterizationState = &f.raster,
+        .pMultisampleState = &f.multisample,
+        .pDepthStencilState = &f.depth,
+        .pColorBlendState = &f.blend,
+        .layout = rd->pipeline_layout,
+        .renderPass = p->pass,
+    };
+    VkResult vr = vkCreateGraphicsPipelines(rd->context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
+    for (int i = 0; i < 2; i++)
+        if (modules[i])
+            vkDestroyShaderModule(rd->context->device, modules[i], NULL);
+    if (vr != VK_SUCCESS) {
+        *out = VK_NULL_HANDLE;
+        return cvk_fail_vk_for(error, "vkCreateGraphicsPipelines", vr, "%s", p->what);
+    }
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
+{
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
+    bool single = rd->samples == VK_SAMPLE_COUNT_1_BIT;
+    /* With a textured cloth, the cloth's lit pipelines read texture coordinates too. */
+    bool textured = rd->textures.uv.buffer != VK_NULL_HANDLE;
+    cvk_shader_id cloth_vert = textured ? CVK_SHADER_LIT_CLOTH_TEXTURED_VERT : CVK_SHADER_LIT_CLOTH_VERT;
+    uint32_t cloth_attributes = textured ? 3 : 2;
+    cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
+    const pipeline_recipe recipes[] = {
+        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
+        /* Reversed depth: nearer is greater. */
+        {"cloth pass", cloth_vert, CVK_SHADER_LIT_CLOTH_FRAG, cloth_attributes, false,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
+         false, 0, {rd->desc.ground, textured}, false},
+        {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+         rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
+         {false, false, rd->desc.samples}, false},
+        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}, false},
+        /* The colliders: shaded like the cloth (lit_cloth.frag), posed in the vertex shader. */
+        {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true,
+         VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
+        {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, true,
+         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
+         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false},
+    };
+    VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
+                          &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};
+    size_t count = rd->colliders.draw_count > 0 ? 6 : 4;
+    for (size_t i = 0; i < count; i++) {
+        cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    if (!rd->desc.wireframe)
+        return CVK_SUCCESS;
+    const pipeline_recipe wireframe = {
+        "wireframe pass", cloth_vert, CVK_SHADER_WIREFRAME_FRAG, cloth_attributes, false,
+        VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
+        VK_COMPARE_OP_GREATER_OR_EQUAL, true, 0, {rd->desc.ground}, true};
+    return create_pipeline(rd, &wireframe, &rd->wireframe_pipeline, error);
+}
+

@@ -1,0 +1,64 @@
+/* The divergence watch: the device records the first substep at which a particle's position
+   stopped being finite or it ran away (shaders/finalize.comp, shaders/shared/layout.h); the
+   host reads the record after the fence it waits on anyway. */
+#include <string.h>
+
+#include "core/error.h"
+#include "shared/layout.h"
+#include "sim/sim.h"
+
+cvk_result cvk_sim_watch_create(cvk_sim* s, cvk_error* error)
+{
+    cvk_result r = cvk_buffer_create(s->device.context, sizeof(cvk_gpu_watch),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_HOST,
+                                     "divergence watch", &s->watch, error);
+    if (r == CVK_SUCCESS)
+        cvk_sim_watch_reset(s);
+    return r;
+}
+
+void cvk_sim_watch_reset(cvk_sim* s)
+{
+    cvk_gpu_watch fresh = {.substep = 0, .diverged_at = CVK_WATCH_NONE,
+                           .particle = CVK_WATCH_NONE, .reason = 0, .stretched = 0};
+    if (s->watch.mapped)
+        memcpy(s->watch.mapped, &fresh, sizeof fresh);
+    s->watch_frames = s->frames;
+}
+
+static bool read_watch(const cvk_sim* s, cvk_gpu_watch* w)
+{
+    if (!s->watch.mapped)
+        return false;
+    memcpy(w, s->watch.mapped, sizeof *w);
+    return w->diverged_at != CVK_WATCH_NONE && w->particle < s->build.particle_count;
+}
+
+void cvk_sim_watch_stats(const cvk_sim* s, cvk_sim_stats* st)
+{
+    cvk_gpu_watch w;
+    st->diverged = read_watch(s, &w);
+    if (!st->diverged)
+        return;
+    st->diverged_frame = s->watch_frames + (w.diverged_at - 1u) / s->params.substeps;
+    st->diverged_cloth = cvk_build_cloth_of(&s->build, w.particle);
+    st->diverged_nonfinite = (w.reason & CVK_WATCH_NONFINITE) != 0;
+}
+
+cvk_result cvk_sim_watch_check(const cvk_sim* s, cvk_error* error)
+{
+    cvk_sim_stats st = {0};
+    cvk_sim_watch_stats(s, &st);
+    if (!st.diverged)
+        return CVK_SUCCESS;
+    const char* why = st.diverged_nonfinite
+                          ? "a particle's position became NaN or infinite"
+                          : "a particle moved faster than 10000 m/s or a spring stretched "
+                            "past ten times its rest length";
+    return cvk_fail(error, CVK_ERROR_DIVERGED,
+                    "the simulation diverged in frame %llu: %s in cloth %u (\"%s\"); positions "
+                    "stopped advancing there (a smaller dt, more substeps or "
+                    "iterations, or softer springs)",
+                    (unsigned long long)st.diverged_frame, why, st.diverged_cloth,
+                    s->build.cloths[st.diverged_cloth].name);
+}

@@ -1,0 +1,547 @@
+/* The passes of projective dynamics: Verlet prediction, the solve (Gauss-Seidel colour
+   sweeps, or Jacobi / Chebyshev sweeps between two iterates), x += u; and the schedule
+   that keeps a truncated solve stable (see solve_pd.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "contact/hash.h"
+#include "solvers/reference.h"
+#include "solvers/solve_pd.h"
+#include "contact/collide.h"
+#include "features/aero.h"
+#include "features/attach.h"
+#include "features/grab.h"
+#include "features/tear.h"
+
+uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver)
+{
+    uint32_t sweeps = solver->outer_iterations * solver->inner_iterations;
+    if (solver->linear == CVK_LINEAR_CHEBYSHEV && solver->inner_iterations > 1)
+        return solver->inner_iterations;
+    return sweeps;
+}
+
+float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega)
+{
+    if (sweep == 0 && cycle % 2 == 1 && omega > CVK_STABLE_FIRST_OMEGA)
+        return CVK_STABLE_FIRST_OMEGA;
+    return omega;
+}
+
+double cvk_chebyshev_stable_rho(uint32_t m)
+{
+    if (m == 0)
+        return 0.0;
+    return 1.0 / cosh(acosh(3.0) / m);
+}
+
+static uint32_t effective_delay(uint32_t delay)
+{
+    return delay < 1 ? 1 : delay; /* the first Chebyshev step needs an older iterate */
+}
+
+double cvk_chebyshev_weight(uint32_t sweep, uint32_t delay, double rho)
+{
+    delay = effective_delay(delay);
+    if (sweep < delay)
+        return 1.0;
+    double w = 2.0 / (2.0 - rho * rho);
+    for (uint32_t s = delay; s < sweep; s++)
+        w = 4.0 / (4.0 - rho * rho * w);
+    return w;
+}
+
+double cvk_estimate_jacobi_rho(const cvk_build* b, double inv_h2, double omega)
+{
+    uint32_t nf = b->free_count;
+    if (nf == 0)
+        return 0.0;
+    double* diag = malloc(nf * sizeof(double));
+    double* v = malloc(nf * sizeof(double));
+    double* w = malloc(nf * sizeof(double));
+    if (!diag || !v || !w) {
+        free(diag);
+        free(v);
+        free(w);
+        return 0.0;
+    }
+    for (uint32_t p = 0; p < nf; p++) {
+        diag[p] = b->mass[p] * inv_h2;
+        for (uint32_t s = 0; s < b->degree[p]; s++)
+            diag[p] += b->adj_k[(size_t)s * nf + p];
+    }
+    /* A deterministic start vector with components along every mode. */
+    uint32_t seed = 12345u;
+    for (uint32_t p = 0; p < nf; p++) {
+        seed = seed * 1664525u + 1013904223u;
+        v[p] = (double)(seed >> 8) / (double)(1u << 24) - 0.5;
+    }
+    /* G v = (1 − ω) v + ω D⁻¹ Σ k v_c over free neighbours. The spectrum of G can be
+       symmetric (bipartite grids), so iterate on G² and take the square root. */
+    double rho = 0.0;
+    uint32_t iterations = (uint32_t)fmin(400.0, fmax(50.0, 2e8 / ((double)nf * (b->max_degree + 1))));
+    for (uint32_t it = 0; it < iterations; it++) {
+        double norm_before = 0.0, norm_after = 0.0;
+        for (uint32_t p = 0; p < nf; p++)
+            norm_before += v[p] * v[p];
+        for (int twice = 0; twice < 2; twice++) {
+            for (uint32_t p = 0; p < nf; p++) {
+                double sum = 0.0;
+                for (uint32_t s = 0; s < b->degree[p]; s++) {
+                    size_t e = (size_t)s * nf + p;
+                    uint32_t n = b->adj_index[e];
+                    if (n < nf)
+                        sum += b->adj_k[e] * v[n];
+                }
+                w[p] = (1.0 - omega) * v[p] + omega * sum / diag[p];
+            }
+            double* t = v;
+            v = w;
+            w = t;
+        }
+        for (uint32_t p = 0; p < nf; p++)
+            norm_after += v[p] * v[p];
+        if (norm_before <= 0.0 || norm_after <= 0.0)
+            break;
+        rho = pow(norm_after / norm_before, 0.25);
+        double scale = 1.0 / sqrt(norm_after);
+        for (uint32_t p = 0; p < nf; p++)
+            v[p] *= scale;
+    }
+    free(diag);
+    free(v);
+    free(w);
+    return rho < 1.0 ? rho : 0.999999;
+}
+
+double cvk_pd_chebyshev_rho(const cvk_solver_desc* solver, double h, const cvk_build* b,
+                            double estimated, double* estimated_out)
+{
+    uint32_t cycle = cvk_sweep_cycle(solver);
+    uint32_t delay = effective_delay(solver->chebyshev_delay);
+    double rho;
+    if (solver->chebyshev_rho > 0.0f)
+        rho = solver->chebyshev_rho;
+    else if (estimated >= 0.0)
+        rho = estimated;
+    else
+        rho = cvk_estimate_jacobi_rho(b, 1.0 / (h * h), solver->omega);
+    if (estimated_out)
+        *estimated_out = rho;
+    double cap = cvk_chebyshev_stable_rho(cycle > delay ? cycle - delay : 0);
+    return fmin(rho, cap);
+}
+
+typedef struct pd_builder {
+    cvk_sim* sim;
+    cvk_plan* plan;
+    const cvk_pd* pd;
+    const cvk_solver_desc* solver;
+    cvk_pd_push base;
+    VkDescriptorSet contact_set;       /* set 1 of every dispatch */
+    bool contact;                      /* the scene collides: a contact op per outer iteration */
+    bool tethers;                      /* a cloth has tethers: a tether op per outer iteration */
+    uint32_t predict, solve, tether_pass, contact_pass, finalize; /* pass indices */
+    /* With a tolerance: the check's pass and push data, and whether the substep's first check
+       is behind (then the solve's ops are dispatched indirectly: the device may stop them). */
+    bool checking, armed;
+    uint32_t check_pass;
+    cvk_pd_converge_push check;
+} pd_builder;
+
+static const char* const set_note[CVK_PD_SET_COUNT] = {
+    [CVK_PD_SET_U0_TO_U1] = "u0 -> u1",
+    [CVK_PD_SET_U1_TO_U0] = "u1 -> u0",
+    [CVK_PD_SET_U0_TO_U0] = "u0 -> u0",
+};
+
+/* Appends a dispatch over particles [first, first + count); none when count is 0 (a scene
+   whose particles are all pinned has nothing to solve). Returns the op, or NULL. */
+static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, uint32_t pass,
+                      uint32_t first, uint32_t count, float cheb, float omega)
+{
+    cvk_pd_push push = pb->base;
+    push.first = first;
+    push.count = count;
+    push.cheb = cheb;
+    push.omega = omega;
+    cvk_op* op;
+    if (pb->armed && count > 0) {
+        VkDeviceSize slot = pipeline == CVK_PIPE_PD_CONTACT
+                                ? offsetof(cvk_pd_scalars, contact_groups)
+                                : offsetof(cvk_pd_scalars, sweep_groups);
+        op = cvk_plan_dispatch_indirect(pb->plan, pass, pipeline,
+                                        pb->pd->descriptors.pipeline_layout,
+                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
+                                        pb->pd->scalars.buffer, slot, &push, sizeof push);
+        if (op) {
+            op->first = first;
+            op->count = count;
+        }
+    } else {
+        op = cvk_plan_dispatch(pb->plan, pass, pipeline, pb->pd->descriptors.pipeline_layout,
+                               pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES, first, count,
+                               &push, sizeof push);
+    }
+    if (op) {
+        op->set1 = pb->contact_set;
+        snprintf(op->note, sizeof op->note, "%s", set_note[set]);
+    }
+    return op;
+}
+
+/* The solve's details for --plan: iteration, colour, weights that differ from the plain. */
+static void solve_note(pd_builder* pb, cvk_op* op, uint32_t outer, uint32_t inner, int colour,
+                       cvk_pd_set set)
+{
+    if (!op)
+        return;
+    cvk_pd_push pushed;
+    memcpy(&pushed, op->push, sizeof pushed);
+    const cvk_pd_push* push = &pushed;
+    int n = snprintf(op->note, sizeof op->note, "outer %u inner %u", outer + 1, inner + 1);
+    if (colour >= 0 && n > 0 && (size_t)n < sizeof op->note)
+        n += snprintf(op->note + n, sizeof op->note - n, " colour %d", colour);
+    if (push->cheb != 1.0f && n > 0 && (size_t)n < sizeof op->note)
+        n += snprintf(op->note + n, sizeof op->note - n, " cheb %.4f", push->cheb);
+    if (push->omega != pb->solver->omega && n > 0 && (size_t)n < sizeof op->note)
+        n += snprintf(op->note + n, sizeof op->note - n, " omega %g", push->omega);
+    if (n > 0 && (size_t)n < sizeof op->note)
+        snprintf(op->note + n, sizeof op->note - n, ", %s", set_note[set]);
+}
+
+/* Sets reading U[src] and writing U[dst]. */
+static cvk_pd_set set_for(uint32_t src, uint32_t dst)
+{
+    if (src == 0 && dst == 0)
+        return CVK_PD_SET_U0_TO_U0;
+    return src == 0 ? CVK_PD_SET_U0_TO_U1 : CVK_PD_SET_U1_TO_U0;
+}
+
+/* y = u (1 - damping) + h² g, and the first iterate y + rest memory into the buffer that
+   holds it. */
+static void add_predict(pd_builder* pb, const cvk_build* b, uint32_t start)
+{
+    add_op(pb, CVK_PIPE_PREDICT, set_for(0, start), pb->predict, 0, b->free_count, 1.0f,
+           pb->base.omega);
+    cvk_grab_add_op(pb->sim, pb->plan, "after predict: y (w: 2^100), u0, u1");
+}
+
+/* x += u: the substep's displacement, which the solve left in U0, moves the positions. */
+static void add_finalize(pd_builder* pb, const cvk_build* b)
+{
+    /* With attachments the pinned particles too: the attached move by the displacement the
+       attach pass gave them, the others by their u of 0 (x + 0 is x, bit for bit). */
+    uint32_t count = b->attached_count > 0 ? b->particle_count : b->free_count;
+    /* The solved displacement of a grabbed particle, again, where tethers or contact may have
+       moved it after the last sweep (the sweeps themselves hold it: its weight, grab.h). */
+    if (pb->tethers || pb->contact)
+        cvk_grab_add_op(pb->sim, pb->plan, "before finalize: u0, u1");
+    add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f,
+           pb->base.omega);
+}
+
+/* One op of a convergence check over `count` items: dispatched directly before the substep's
+   first check has armed the indirect commands, then through the group count at `groups_at`
+   in the scalars (0 once the solve has stopped). */
+static cvk_op* check_op(pd_builder* pb, cvk_pipeline_id pipeline, VkDeviceSize groups_at,
+                        uint32_t count, const cvk_pd_converge_push* push)
+{
+    const cvk_pd* pd = pb->pd;
+    VkPipelineLayout layout = pd->converge_descriptors.pipeline_layout;
+    VkDescriptorSet set = pd->converge_descriptors.sets[0];
+    if (!pb->armed)
+        return cvk_plan_dispatch(pb->plan, pb->check_pass, pipeline, layout, set,
+                                 CVK_DOMAIN_PARTICLES, 0, count, push, sizeof *push);
+    cvk_op* op = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, pipeline, layout, set,
+                                            CVK_DOMAIN_PARTICLES, pd->scalars.buffer, groups_at,
+                                            push, sizeof *push);
+    if (op)
+        op->count = count;
+    return op;
+}
+
+/* The convergence check that follows the first sweep of outer iteration `outer`, which
+   measured the iterate that outer iteration started from (in u1 when in_u1) and wrote the
+   squared residuals: partial sums, then one invocation that stops the rest of the substep or
+   lets it go on. The first check of a substep (outer 0: the first iterate, the measure the
+   others are relative to) is dispatched directly and arms the indirect commands every later
+   pass of the solve reads; `swept` counts the sweeps run by then. */
+static void add_check(pd_builder* pb, uint32_t outer, bool in_u1, uint32_t swept)
+{
+    cvk_pd_converge_push push = pb->check;
+    push.swept = swept;
+    push.in_u1 = in_u1;
+    push.first_check = outer == 0;
+    push.last_check = outer + 1 == pb->solver->outer_iterations;
+    /* Each op is finished before the next append, which may move the list. */
+    cvk_op* reduce = check_op(pb, CVK_PIPE_PD_REDUCE, offsetof(cvk_pd_scalars, reduce_groups),
+                              CVK_PD_PARTIALS, &push);
+    if (reduce)
+        snprintf(reduce->note, sizeof reduce->note, "residual at the start of outer %u",
+                 outer + 1);
+    cvk_op* decide = check_op(pb, CVK_PIPE_PD_DECIDE, offsetof(cvk_pd_scalars, single_groups), 1,
+                              &push);
+    if (decide) {
+        decide->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+        snprintf(decide->note, sizeof decide->note, "stop below the tolerance, after %u sweeps",
+                 swept);
+    }
+    pb->armed = true;
+}
+
+/* The end of a checked solve: u0 = u1 when it stopped with its solution in u1 (zero groups
+   otherwise); finalize, which reads u0, runs unconditionally. */
+static void add_copy_back(pd_builder* pb, const cvk_build* b)
+{
+    if (!pb->checking || !pb->armed)
+        return;
+    cvk_pd_converge_push push = pb->check;
+    cvk_op* op = cvk_plan_dispatch_indirect(pb->plan, pb->check_pass, CVK_PIPE_PD_COPY,
+                                            pb->pd->descriptors.pipeline_layout,
+                                            pb->pd->descriptors.sets[CVK_PD_SET_U1_TO_U0],
+                                            CVK_DOMAIN_PARTICLES, pb->pd->scalars.buffer,
+                                            offsetof(cvk_pd_scalars, copy_groups), &push,
+                                            sizeof push);
+    if (op) {
+        op->count = b->free_count;
+        snprintf(op->note, sizeof op->note, "when stopped in u1, u1 -> u0");
+    }
+    pb->armed = false;
+}
+
+/* Tethers, then contact, after the last sweep of an outer iteration, in place on what it
+   wrote (set: the same as that sweep's, so triangle corners come from its src). Contact comes
+   last: a tether may pull a particle into a collider, never the other way round. */
+static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint32_t outer)
+{
+    uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
+    bool tether_now = (outer + 1) % every == 0 || outer + 1 == pb->solver->outer_iterations;
+    if (pb->tethers && tether_now) {
+        cvk_op* op = add_op(pb, CVK_PIPE_PD_TETHER, set, pb->tether_pass, 0, b->free_count,
+                            1.0f, pb->base.omega);
+        if (op)
+            snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
+                     set_note[set]);
+    }
+    if (!pb->contact)
+        return;
+    const cvk_collide* c = pb->sim->collide;
+    cvk_op* op;
+    if (c->self && c->collider_count == 0 && !pb->armed) {
+        /* Self-contact alone: only the particles the search listed with candidates, through
+           the command the search wrote (collide.h, "Patches"; pd_contact.glsl: LISTED). */
+        cvk_pd_push push = pb->base;
+        push.first = 0;
+        push.count = b->free_count;
+        push.cheb = 1.0f;
+        op = cvk_plan_dispatch_indirect(pb->plan, pb->contact_pass, CVK_PIPE_PD_CONTACT,
+                                        pb->pd->descriptors.pipeline_layout,
+                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
+                                        c->lists.buffer, 4u * CVK_LIST_CONTACT_GROUPS, &push,
+                                        sizeof push);
+        if (op) {
+            op->count = b->free_count;
+            op->set1 = pb->contact_set;
+        }
+    } else {
+        op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
+                    pb->base.omega);
+        /* Each particle loops over colliders and traces: one particle per invocation keeps
+           lavapipe's per-shader loop budget (hash.h) out of reach. */
+        if (op && !pb->armed)
+            cvk_hash_one_item_each(pb->plan, op);
+    }
+    if (op)
+        snprintf(op->note, sizeof op->note, "after outer %u, in place, %s%s", outer + 1,
+                 set_note[set], op->kind == CVK_OP_DISPATCH_INDIRECT && !pb->armed ? ", listed" : "");
+}
+
+/* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
+   (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
+   writes U0, where finalize and the next prediction find it. */
+static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
+{
+    uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
+    add_predict(pb, b, outer % 2);
+    for (uint32_t o = 0; o < outer; o++) {
+        uint32_t t = (outer - o) % 2, w = 1 - t;
+        for (uint32_t i = 0; i < inner; i++) {
+            cvk_pipeline_id first = pb->checking ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
+            for (uint32_t c = 0; c < b->colour_count; c++) {
+                cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
+                                    pb->solve, b->colour_start[c],
+                                    b->colour_start[c + 1] - b->colour_start[c], 1.0f,
+                                    pb->base.omega);
+                solve_note(pb, op, o, i, (int)c, set_for(t, w));
+            }
+            if (i == 0 && pb->checking)
+                add_check(pb, o, t == 1, o * inner + 1);
+        }
+        add_after_outer(pb, b, set_for(t, w), o);
+    }
+    add_copy_back(pb, b);
+    add_finalize(pb, b);
+}
+
+/* Jacobi and Chebyshev: every sweep reads one buffer and writes the other. */
+static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool chebyshev)
+{
+    const cvk_solver_desc* solver = pb->solver;
+    uint32_t sweeps = solver->outer_iterations * solver->inner_iterations;
+    uint32_t cycle = cvk_sweep_cycle(solver);
+    add_predict(pb, b, sweeps % 2);
+    for (uint32_t s = 0; s < sweeps; s++) {
+        uint32_t src = (sweeps - s) % 2, dst = 1 - src;
+        uint32_t inner = s % solver->inner_iterations;
+        double cheb = chebyshev ? cvk_chebyshev_weight(s % cycle, solver->chebyshev_delay, rho)
+                                : 1.0;
+        float omega = cvk_jacobi_sweep_omega(s % cycle, cycle, solver->omega);
+        uint32_t outer = s / solver->inner_iterations;
+        bool check = inner == 0 && pb->checking;
+        cvk_op* op = add_op(pb, check ? CVK_PIPE_JACOBI_FIRST_CHECK
+                                      : inner == 0 ? CVK_PIPE_JACOBI_FIRST : CVK_PIPE_JACOBI,
+                            set_for(src, dst), pb->solve, 0, b->free_count, (float)cheb, omega);
+        solve_note(pb, op, outer, inner, -1, set_for(src, dst));
+        if (check)
+            add_check(pb, outer, src == 1, s + 1);
+        if (inner + 1 == solver->inner_iterations)
+            add_after_outer(pb, b, set_for(src, dst), outer);
+    }
+    add_copy_back(pb, b);
+    add_finalize(pb, b);
+}
+
+/* Chebyshev's spectral radius is estimated once per omega: it depends only on the scene, h
+   and omega, and costs a power iteration. */
+static double chebyshev_rho(cvk_sim* s, cvk_pd* pd, const cvk_solver_desc* solver)
+{
+    double estimated = -1.0;
+    if (solver->chebyshev_rho <= 0.0f) {
+        if (pd->rho_estimate < 0.0 || pd->rho_omega != solver->omega) {
+            pd->rho_estimate = cvk_estimate_jacobi_rho(&s->build, cvk_ref_params_of(&s->params).inv_h2,
+                                                        solver->omega);
+            pd->rho_omega = solver->omega;
+        }
+        estimated = pd->rho_estimate;
+    }
+    return cvk_pd_chebyshev_rho(solver, s->params.dt, &s->build, estimated,
+                                &pd->chebyshev_rho_estimated);
+}
+
+static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
+{
+    const cvk_step_params* scene = &s->params;
+    double h = scene->dt;
+    cvk_pd_push base = {0};
+    base.stride = s->build.free_count;
+    base.inv_h2 = (float)(1.0 / (h * h));
+    base.max_u2 = (float)(CVK_DIVERGED_SPEED * h * CVK_DIVERGED_SPEED * h);
+    base.omega = solver->omega;
+    base.keep = scene->integrate ? 1.0f - scene->damping : 0.0f;
+    for (int k = 0; k < 3; k++)
+        base.gravity_h2[k] = scene->integrate ? (float)(scene->gravity[k] * h * h) : 0.0f;
+    base.rest_rate = (float)cvk_ref_params_of(scene).rest_rate; /* solve_pd.h */
+    return base;
+}
+
+/* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and
+   free particles. */
+static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const cvk_plan* plan,
+                        cvk_pd_converge_push* check)
+{
+    uint32_t nf = s->build.free_count;
+    cvk_op contact = {.count = nf};
+    cvk_hash_one_item_each(plan, &contact);
+    *check = (cvk_pd_converge_push){
+        .stride = nf,
+        .sweeps = solver->outer_iterations * solver->inner_iterations,
+        .tol2 = (float)((double)solver->tolerance * solver->tolerance),
+        .sweep_groups = cvk_plan_groups_of(plan, CVK_PIPE_GS, nf),
+        .contact_groups = contact.groups,
+        .reduce_groups = cvk_plan_groups(plan, CVK_PD_PARTIALS),
+    };
+    return solver->tolerance > 0.0f && nf > 0 && solver->linear != CVK_LINEAR_GS_CPU;
+}
+
+cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requested,
+                             cvk_plan* plan, cvk_error* error)
+{
+    cvk_pd* pd = self;
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(requested); /* max_iterations: outer */
+    const cvk_solver_desc* solver = &resolved;
+    pd_builder pb = {.sim = s, .plan = plan, .pd = pd, .solver = solver,
+                     .base = base_push(s, solver), .contact_set = s->collide->set,
+                     .contact = s->collide->colliding,
+                     .tethers = s->build.tether_anchor != NULL};
+    pb.checking = plan_checks(s, solver, plan, &pb.check);
+    if (pb.checking)
+        pb.base.rest_rate = 0.0f; /* no rest memory in checked solves (solve_pd.h) */
+    pb.predict = cvk_plan_pass(plan, "predict");
+    if (s->grab->planned && solver->linear != CVK_LINEAR_GS_CPU)
+        cvk_plan_pass(plan, "grab"); /* listed after predict, where it first runs */
+    pb.solve = cvk_plan_pass(plan, "solve");
+    if (pb.tethers)
+        pb.tether_pass = cvk_plan_pass(plan, "tethers");
+    if (pb.contact)
+        pb.contact_pass = cvk_plan_pass(plan, "contact");
+    pb.finalize = cvk_plan_pass(plan, "finalize");
+    if (pb.checking) {
+        /* The frame's count starts at its first substep, first of all: only the frame's
+           opening barrier (which covers transfers) is before it. */
+        pb.check_pass = cvk_plan_pass(plan, "convergence");
+        cvk_op* reset = cvk_plan_fill(plan, pb.check_pass, pd->scalars.buffer,
+                                      offsetof(cvk_pd_scalars, frame_iterations), 4, 0);
+        if (reset) {
+            reset->every = plan->substeps;
+            snprintf(reset->note, sizeof reset->note, "the frame's sweep count = 0");
+        }
+    }
+    pd->chebyshev_rho = pd->chebyshev_rho_estimated = 0.0;
+    if (solver->linear != CVK_LINEAR_GS_CPU) {
+        cvk_result r = cvk_attach_add_passes(s, plan, error);
+        if (r == CVK_SUCCESS)
+            r = cvk_aero_add_passes(s, plan, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    if (pb.checking)
+        snprintf(plan->solver_note, sizeof plan->solver_note,
+                 ", tolerance %g (checked on the device), "
+                 "at most %u sweeps", solver->tolerance, pb.check.sweeps);
+    switch (solver->linear) {
+    case CVK_LINEAR_RBGS:
+        plan_gauss_seidel(&pb, &s->build);
+        break;
+    case CVK_LINEAR_CHEBYSHEV:
+        pd->chebyshev_rho = chebyshev_rho(s, pd, solver);
+        size_t used = strlen(plan->solver_note);
+        snprintf(plan->solver_note + used, sizeof plan->solver_note - used,
+                 ", rho %.6f (estimated %.6f, capped for stability), delay %u", pd->chebyshev_rho,
+                 pd->chebyshev_rho_estimated, solver->chebyshev_delay);
+        plan_jacobi(&pb, &s->build, pd->chebyshev_rho, true);
+        break;
+    case CVK_LINEAR_JACOBI:
+        plan_jacobi(&pb, &s->build, 0.0, false);
+        break;
+    case CVK_LINEAR_CG: /* the implicit family's (scene validation keeps it there) */
+        break;
+    case CVK_LINEAR_GS_CPU:
+        plan->host = true; /* no dispatches */
+        snprintf(plan->host_note, sizeof plan->host_note,
+                 "%u substeps on the host (sequential double-precision Gauss-Seidel, colour "
+                 "order), then one upload of the positions", plan->substeps);
+        break;
+    }
+    if (solver->linear != CVK_LINEAR_GS_CPU) {
+        cvk_result r = cvk_tear_add_passes(s, CVK_TEAR_FOR_PD, plan, error); /* after finalize */
+        if (r != CVK_SUCCESS)
+            return r;
+    } else if (s->tear->count > 0) {
+        cvk_plan_pass(plan, "tear"); /* timed on the host (cvk_tear_host) */
+    }
+    return cvk_plan_check(plan, error);
+}
