@@ -80,7 +80,7 @@ void cvk_grab_add_op(cvk_sim* s, cvk_plan* plan, const char* note)
 {
     if (!s->grab->planned)
         return;
-    cvk_grab_push push = {plan->substeps, CVK_GRAB_WEIGHT, 0, 0};
+    cvk_grab_push push = {s->params.substeps, CVK_GRAB_WEIGHT, 0, 0};
     uint32_t pass = cvk_plan_pass(plan, "grab");
     cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_GRAB, s->grab->descriptors.pipeline_layout,
                                    s->grab->descriptors.sets[0], CVK_DOMAIN_PARTICLES, 0, 1, &push,

@@ -68,7 +68,10 @@ typedef struct cvk_plan {
     const char** pass_names;    /* static strings, in order of first registration */
     uint32_t* pass_dispatches;  /* per substep, by pass */
     uint32_t pass_count, pass_capacity;
-    uint32_t substeps;
+    uint32_t substeps;          /* times the op list repeats in a frame: the step parameters'
+                                   substeps when the plan was made; only the plan's own
+                                   recording and reports read it, everything else reads
+                                   cvk_sim.params */
     uint32_t workgroup_size;
     uint32_t particle_workgroup_size; /* of the pipelines that stream over particles
                                          (cvk_pipeline_streams_particles); init: workgroup_size */

@@ -496,7 +496,7 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
         cvk_op* reset = cvk_plan_fill(plan, pb.check_pass, pd->scalars.buffer,
                                       offsetof(cvk_pd_scalars, frame_iterations), 4, 0);
         if (reset) {
-            reset->every = plan->substeps;
+            reset->every = s->params.substeps;
             snprintf(reset->note, sizeof reset->note, "the frame's sweep count = 0");
         }
     }
@@ -533,7 +533,7 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
         plan->host = true; /* no dispatches */
         snprintf(plan->host_note, sizeof plan->host_note,
                  "%u substeps on the host (sequential double-precision Gauss-Seidel, colour "
-                 "order), then one upload of the positions", plan->substeps);
+                 "order), then one upload of the positions", s->params.substeps);
         break;
     }
     if (solver->linear != CVK_LINEAR_GS_CPU) {

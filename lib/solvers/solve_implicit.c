@@ -333,7 +333,7 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
     cvk_op* reset = cvk_plan_fill(plan, assemble, im->scalars.buffer,
                                   offsetof(cvk_implicit_scalars, frame_iterations), 4, 0);
     if (reset)
-        reset->every = plan->substeps;
+        reset->every = s->params.substeps;
     cvk_op* op = add(&ib, assemble, CVK_PIPE_IMPLICIT_ASSEMBLE, SHAPE_DIRECT,
                      "blocks, b, dv = 0, the solve's dispatch commands", 0);
     if (op)

@@ -530,7 +530,7 @@ static cvk_result pd_step_host(cvk_sim* s, void* self, uint32_t frames, cvk_erro
     cvk_solver_desc solver = cvk_solver_desc_resolve(&s->solver); /* max_iterations: outer */
     for (uint32_t f = 0; f < frames; f++) {
         double predict_ms = 0.0, solve_ms = 0.0, tear_ms = 0.0;
-        for (uint32_t sub = 0; sub < s->plan.substeps; sub++) {
+        for (uint32_t sub = 0; sub < s->params.substeps; sub++) {
             double t0 = cvk_now_ms();
             cvk_ref_predict(&view, &ref, pd->hx, pd->hprev, pd->hy);
             cvk_ref_rest_start(&view, &ref, pd->hrest, pd->hx);
@@ -575,7 +575,7 @@ void cvk_pd_stats(const cvk_sim* s, cvk_sim_stats* st)
     }
     cvk_solver_desc solver = cvk_solver_desc_resolve(&s->solver);
     uint64_t per_frame = (uint64_t)solver.outer_iterations * solver.inner_iterations *
-                         s->plan.substeps;
+                         s->params.substeps;
     st->solver_iterations = s->frames ? (uint32_t)per_frame : 0;
     st->solver_iterations_total = per_frame * s->frames;
 }
