@@ -5,7 +5,7 @@
 # sweeps, omega 1.55, tethers) and with seed 002's (8 substeps of 1/480 s, rbgs 4 x 4, omega 1,
 # no tethers), alternately, on one core of lavapipe (LP_NUM_THREADS=0): residual,
 # largest and 99th-percentile stretch over the structural springs at frame 120, and GPU
-# milliseconds per frame. README "Accuracy against peers" quotes a run of it.
+# milliseconds per frame. docs/performance.md ("Accuracy against peers") quotes a run of it.
 # Usage: bash scripts/peer-hanging.sh [ROUNDS]   (needs a build: bash scripts/build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."

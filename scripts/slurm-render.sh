@@ -75,7 +75,7 @@ done
 
 command -v sbatch >/dev/null || die "sbatch not found: this script submits to a Slurm cluster;" \
     "run it on a host with Slurm's client tools, or with another scheduler run one" \
-    "'clothvk-render SCENE -o OUT --from $bake --frames A:B' per task (see README.md, Baking)"
+    "'clothvk-render SCENE -o OUT --from $bake --frames A:B' per task (see docs/tools.md, Baking)"
 
 render=${CLOTHVK_RENDER:-}
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
