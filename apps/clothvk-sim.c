@@ -1,7 +1,6 @@
 /* clothvk-sim: runs a scene headless and prints statistics. */
 #include <jansson.h>
 #include <math.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -65,99 +64,9 @@ typedef struct options {
     uint32_t search_lanes;
 } options;
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
-static int parse_args(int argc, char** argv, options* o, bool* done)
+/* The options that only make sense together, and --dump's target: checked before any work. */
+static int check_options(options* o)
 {
-    for (int i = 1; i < argc; i++) {
-        const char* a = argv[i];
-        bool has_value = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            *done = true;
-            return APP_EXIT_OK;
-        } else if (!strcmp(a, "--version")) {
-            printf("%s %s\n", tool, cvk_version());
-            *done = true;
-            return APP_EXIT_OK;
-        } else if (!strcmp(a, "--frames")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 0, 100000000, &o->frames)) {
-                app_error(tool, "--frames: expected a whole number from 0 to 100000000, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->frames_set = true;
-            i++;
-        } else if (!strcmp(a, "--set")) {
-            int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
-            if (status != APP_EXIT_OK)
-                return status;
-        } else if (!strcmp(a, "--dump")) {
-            if (!has_value) {
-                app_error(tool, "--dump: expected a file name");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->dump = argv[++i];
-        } else if (!strcmp(a, "--obj")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "--obj: expected an output folder");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->obj = argv[++i];
-        } else if (!strcmp(a, "--pc2")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "--pc2: expected a file name");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->pc2 = argv[++i];
-        } else if (!strcmp(a, "--bake") || !strcmp(a, "--resume")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "%s: expected a bake folder", a);
-                return APP_EXIT_BAD_INPUT;
-            }
-            *(!strcmp(a, "--bake") ? &o->bake : &o->resume) = argv[++i];
-        } else if (!strcmp(a, "--every")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, 100000000, &o->every)) {
-                app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--workgroup-size")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->workgroup_size)) {
-                app_error(tool, "--workgroup-size: expected a whole number from 1 to 1024, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--max-workgroups")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, UINT32_MAX, &o->max_workgroups)) {
-                app_error(tool, "--max-workgroups: expected a whole number of at least 1, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--search-lanes")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->search_lanes)) {
-                app_error(tool, "--search-lanes: expected a whole number from 1 to 1024, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--json")) {
-            o->json = true;
-        } else if (!strcmp(a, "--plan")) {
-            o->plan = true;
-        } else {
-            int status = app_take_scene_argument(tool, a, &o->scene);
-            if (status != APP_EXIT_OK)
-                return status;
-        }
-    }
-    if (!o->scene) {
-        app_error(tool, "no scene file given");
-        usage(stderr);
-        return APP_EXIT_BAD_INPUT;
-    }
     if (o->every && !o->obj && !o->pc2 && !o->bake && !o->resume) {
         app_error(tool, "--every needs --obj DIR, --pc2 FILE or --bake DIR (it says which frames "
                   "go out)");
@@ -180,6 +89,34 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
     return APP_EXIT_OK;
 }
 
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
+static int parse_args(int argc, char** argv, options* o, bool* done)
+{
+    const app_option table[] = {
+        {"--frames", NULL, APP_OPTION_U32, .number = &o->frames, .min = 0, .max = 100000000,
+         .flag = &o->frames_set},
+        {"--set", NULL, APP_OPTION_SET, .overrides = &o->overrides},
+        {"--dump", NULL, APP_OPTION_PATH, .path = &o->dump, .expected = "a file name",
+         .empty_ok = true},
+        {"--obj", NULL, APP_OPTION_PATH, .path = &o->obj, .expected = "an output folder"},
+        {"--pc2", NULL, APP_OPTION_PATH, .path = &o->pc2, .expected = "a file name"},
+        {"--bake", NULL, APP_OPTION_PATH, .path = &o->bake, .expected = "a bake folder"},
+        {"--resume", NULL, APP_OPTION_PATH, .path = &o->resume, .expected = "a bake folder"},
+        {"--every", NULL, APP_OPTION_U32, .number = &o->every, .min = 1, .max = 100000000},
+        {"--workgroup-size", NULL, APP_OPTION_U32, .number = &o->workgroup_size, .min = 1,
+         .max = 1024},
+        {"--max-workgroups", NULL, APP_OPTION_U32, .number = &o->max_workgroups, .min = 1,
+         .max = UINT32_MAX},
+        {"--search-lanes", NULL, APP_OPTION_U32, .number = &o->search_lanes, .min = 1,
+         .max = 1024},
+        {"--json", NULL, APP_OPTION_FLAG, .flag = &o->json},
+        {"--plan", NULL, APP_OPTION_FLAG, .flag = &o->plan},
+    };
+    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], NULL};
+    int status = app_read_command_line(&line, argc, argv, &o->scene, done);
+    return status != APP_EXIT_OK || *done ? status : check_options(o);
+}
+
 typedef struct run_totals {
     uint32_t frames;
     double wall_ms;
@@ -195,20 +132,12 @@ typedef struct run_totals {
 /* Ctrl-C (or SIGTERM) stops the run before the next frame: the OBJ files and bake frames
    written so far are whole (each is renamed into place complete), and the dump and the point
    cache, written only by a run that finished, are not written. */
-static volatile sig_atomic_t interrupted;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    interrupted = 1;
-}
-
 static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc2* pc2,
                       uint32_t every, app_bake* bake, run_totals* t)
 {
     cvk_error err;
     for (uint32_t f = bake ? bake->first : 0; f < frames; f++) {
-        if (interrupted) {
+        if (app_interrupted()) {
             app_error(tool, "interrupted after %u of %u frames; the files written are complete",
                       f, frames);
             return APP_EXIT_FAILURE;
@@ -586,23 +515,14 @@ static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_con
 
 static int run(const options* o)
 {
-    cvk_error err;
     cvk_scene* file = NULL;
-    if (cvk_scene_load(o->scene, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
-    }
+    cvk_context* ctx = NULL;
+    int status = app_open(tool, o->scene, &o->overrides, &file, &ctx);
+    if (status != APP_EXIT_OK)
+        return status;
     const cvk_scene_desc* scene = cvk_scene_get_desc(file);
     uint32_t frames = o->frames_set ? o->frames : scene->frames;
-
-    cvk_context* ctx = NULL;
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
-    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        cvk_scene_destroy(file);
-        return APP_EXIT_FAILURE;
-    }
-    int status = APP_EXIT_OK;
+    cvk_error err;
     cvk_sim* sim = NULL;
     cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .workgroup_size = o->workgroup_size,
                                                       .max_workgroups = o->max_workgroups,
@@ -622,14 +542,7 @@ static int run(const options* o)
         status = simulate(o, scene, ctx, sim, frames);
     }
     cvk_sim_destroy(sim);
-    uint32_t messages = cvk_context_validation_message_count(ctx);
-    if (messages) {
-        app_error(tool, "%u validation messages", messages);
-        status = APP_EXIT_FAILURE;
-    }
-    cvk_context_destroy(ctx);
-    cvk_scene_destroy(file);
-    return status;
+    return app_close(tool, ctx, file, status);
 }
 
 int main(int argc, char** argv)
@@ -638,8 +551,7 @@ int main(int argc, char** argv)
     bool done = false;
     int status = parse_args(argc, argv, &o, &done);
     if (status == APP_EXIT_OK && !done) {
-        signal(SIGINT, on_signal);
-        signal(SIGTERM, on_signal);
+        app_catch_interrupts();
         status = run(&o);
     }
     app_overrides_free(&o.overrides);
