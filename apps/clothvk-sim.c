@@ -203,14 +203,9 @@ static json_t* real_or_null(double v, bool valid)
     return valid && isfinite(v) ? json_real(v) : json_null();
 }
 
-static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
-                       const cvk_sim_stats* st, const run_totals* t)
+/* The solver's settings as the run used them (the defaults resolved), each method's own. */
+static json_t* solver_json(const cvk_scene_desc* scene)
 {
-    bool timed = t->timed_frames > 0;
-    json_t* springs = json_pack("{sIsIsI}", "structural", (json_int_t)st->springs[0], "shear",
-                                (json_int_t)st->springs[1], "bend", (json_int_t)st->springs[2]);
-    json_t* residuals = json_pack("{sfsfsf}", "structural", st->residual_per_type[0], "shear",
-                                  st->residual_per_type[1], "bend", st->residual_per_type[2]);
     json_t* solver = json_pack("{sssssisiso}", "method", cvk_method_name(scene->solver.method),
                                "linear", cvk_linear_solver_name(scene->solver.linear),
                                "outer_iterations", (json_int_t)scene->solver.outer_iterations,
@@ -227,7 +222,6 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(solver, "max_iterations", json_integer(resolved.max_iterations));
     }
     if (solver && scene->solver.method == CVK_METHOD_EXPLICIT) {
-        /* the settings the run used: the defaults resolved */
         cvk_integrator integrator = scene->solver.integrator ? scene->solver.integrator
                                                              : CVK_INTEGRATOR_EULER;
         cvk_damping_model model = scene->solver.damping_model ? scene->solver.damping_model
@@ -240,12 +234,69 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(solver, "damping_model", json_string(cvk_damping_model_name(model)));
         json_object_set_new(solver, "kd", float_json(scene->solver.kd));
     }
+    return solver;
+}
+
+/* The linear solver's iterations (pd: sweeps), for the methods that solve one. */
+static json_t* linear_solver_json(const cvk_scene_desc* scene, const cvk_sim_stats* st)
+{
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(&scene->solver); /* what ran */
+    json_t* linear = json_object();
+    json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
+    json_object_set_new(linear, "iterations_per_substep",
+                        json_real((double)st->solver_iterations_total /
+                                  ((double)st->frames * scene->substeps + (st->frames == 0))));
+    if (scene->solver.method == CVK_METHOD_IMPLICIT)
+        json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
+    else if (resolved.tolerance > 0.0f) /* the last check's measure (solver.tolerance) */
+        json_object_set_new(linear, "residual_last", json_real(st->solver_residual));
+    return linear;
+}
+
+static json_t* contacts_json(const cvk_sim_stats* st)
+{
+    json_t* contacts = json_object();
+    json_object_set_new(contacts, "colliders", json_integer((json_int_t)st->collider_contacts));
+    json_object_set_new(contacts, "self", json_integer((json_int_t)st->self_contacts));
+    json_object_set_new(contacts, "max_penetration", json_real(st->max_penetration));
+    json_object_set_new(contacts, "intersecting_pairs",
+                        json_integer((json_int_t)st->intersecting_pairs));
+    json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
+    return contacts;
+}
+
+/* Each pass's GPU time per frame (null when the device gave no timestamps) and dispatches. */
+static json_t* passes_json(const cvk_sim_stats* st, const run_totals* t)
+{
+    bool timed = t->timed_frames > 0;
     json_t* passes = json_array();
     for (uint32_t p = 0; p < st->pass_count; p++)
         json_array_append_new(passes,
                               json_pack("{ssso si}", "name", st->passes[p].name, "gpu_ms",
                                         real_or_null(t->pass_ms[p] / t->timed_frames, timed),
                                         "dispatches", (json_int_t)st->passes[p].dispatches));
+    return passes;
+}
+
+static json_t* memory_json(const cvk_context* ctx)
+{
+    cvk_context_info info = cvk_context_get_info(ctx);
+    json_t* memory = json_object();
+    json_object_set_new(memory, "device_bytes", json_integer((json_int_t)info.device_bytes));
+    json_object_set_new(memory, "device_peak_bytes",
+                        json_integer((json_int_t)info.device_peak_bytes));
+    json_object_set_new(memory, "host_peak_rss_bytes", json_integer((json_int_t)app_peak_rss()));
+    return memory;
+}
+
+static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
+                       const cvk_sim_stats* st, const run_totals* t)
+{
+    bool timed = t->timed_frames > 0;
+    json_t* springs = json_pack("{sIsIsI}", "structural", (json_int_t)st->springs[0], "shear",
+                                (json_int_t)st->springs[1], "bend", (json_int_t)st->springs[2]);
+    json_t* residuals = json_pack("{sfsfsf}", "structural", st->residual_per_type[0], "shear",
+                                  st->residual_per_type[1], "bend", st->residual_per_type[2]);
     json_t* root = json_object();
     json_object_set_new(root, "scene", json_string(scene->name ? scene->name : "scene"));
     json_object_set_new(root, "device", json_string(cvk_context_get_info(ctx).device_name));
@@ -256,7 +307,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "frames", json_integer(t->frames));
     json_object_set_new(root, "substeps", json_integer(scene->substeps));
     json_object_set_new(root, "dt", float_json(scene->dt));
-    json_object_set_new(root, "solver", solver);
+    json_object_set_new(root, "solver", solver_json(scene));
     json_object_set_new(root, "residual", json_real(st->residual));
     json_object_set_new(root, "residual_normalized", json_real(st->residual_normalized));
     json_object_set_new(root, "residual_per_type", residuals);
@@ -271,41 +322,17 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(root, "diverged_reason",
                             json_string(st->diverged_nonfinite ? "non-finite" : "run-away"));
     }
-    if (scene->solver.method != CVK_METHOD_EXPLICIT) { /* pd: sweeps */
-        json_t* linear = json_object();
-        json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
-        json_object_set_new(linear, "iterations_per_substep",
-                            json_real((double)st->solver_iterations_total /
-                                      ((double)st->frames * scene->substeps + (st->frames == 0))));
-        if (scene->solver.method == CVK_METHOD_IMPLICIT)
-            json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
-        else if (resolved.tolerance > 0.0f) /* the last check's measure (solver.tolerance) */
-            json_object_set_new(linear, "residual_last", json_real(st->solver_residual));
-        json_object_set_new(root, "linear_solver", linear);
-    }
-    if (scene->collider_count > 0 || scene->collision.self) {
-        json_t* contacts = json_object();
-        json_object_set_new(contacts, "colliders", json_integer((json_int_t)st->collider_contacts));
-        json_object_set_new(contacts, "self", json_integer((json_int_t)st->self_contacts));
-        json_object_set_new(contacts, "max_penetration", json_real(st->max_penetration));
-        json_object_set_new(contacts, "intersecting_pairs",
-                            json_integer((json_int_t)st->intersecting_pairs));
-        json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
-        json_object_set_new(root, "contacts", contacts);
-    }
+    if (scene->solver.method != CVK_METHOD_EXPLICIT) /* pd: sweeps */
+        json_object_set_new(root, "linear_solver", linear_solver_json(scene, st));
+    if (scene->collider_count > 0 || scene->collision.self)
+        json_object_set_new(root, "contacts", contacts_json(st));
     json_object_set_new(root, "gpu_ms_per_frame", real_or_null(t->gpu_ms / t->timed_frames, timed));
     json_object_set_new(root, "wall_ms_per_frame",
                         real_or_null(t->wall_ms / t->frames, t->frames > 0));
     json_object_set_new(root, "dispatches_per_frame", json_integer(st->dispatches_per_frame));
     json_object_set_new(root, "dispatches_per_substep", json_integer(st->dispatches_per_substep));
-    json_object_set_new(root, "passes", passes);
-    cvk_context_info info = cvk_context_get_info(ctx);
-    json_t* memory = json_object();
-    json_object_set_new(memory, "device_bytes", json_integer((json_int_t)info.device_bytes));
-    json_object_set_new(memory, "device_peak_bytes",
-                        json_integer((json_int_t)info.device_peak_bytes));
-    json_object_set_new(memory, "host_peak_rss_bytes", json_integer((json_int_t)app_peak_rss()));
-    json_object_set_new(root, "memory", memory);
+    json_object_set_new(root, "passes", passes_json(st, t));
+    json_object_set_new(root, "memory", memory_json(ctx));
     json_object_set_new(root, "validation_messages",
                         json_integer(cvk_context_validation_message_count(ctx)));
     char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
