@@ -749,13 +749,11 @@ static int write_results(bench* b, const experiment* e, bool create)
 static int run(const parsed* p)
 {
     const bench_options* o = &p->o;
-    cvk_error err;
     cvk_scene* file = NULL;
-    if (o->scene_path &&
-        cvk_scene_load(o->scene_path, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
-    }
+    int status = o->scene_path ? app_load_scene(tool, o->scene_path, &o->overrides, &file)
+                               : APP_EXIT_OK;
+    if (status != APP_EXIT_OK)
+        return status;
     if (!o->scene_path && o->overrides.count) {
         app_error(tool, "--set needs a scene file (scaling's built-in scene has none)");
         return APP_EXIT_BAD_INPUT;
@@ -767,13 +765,12 @@ static int run(const parsed* p)
     }
     bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
                .scene_name = o->scene_path ? base_name(o->scene_path) : "built-in"};
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
-    if (cvk_context_create(&ctx_desc, &b.ctx, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
+    status = app_create_context(tool, &b.ctx);
+    if (status != APP_EXIT_OK) {
         cvk_scene_destroy(file);
-        return APP_EXIT_FAILURE;
+        return status;
     }
-    int status = b.scene ? check_scene_fits(&b) : APP_EXIT_OK;
+    status = b.scene ? check_scene_fits(&b) : APP_EXIT_OK;
     if (status != APP_EXIT_OK) {
         cvk_context_destroy(b.ctx);
         cvk_scene_destroy(file);
@@ -781,12 +778,7 @@ static int run(const parsed* p)
     }
     describe_device(&b);
     printf("%s %s on %s\n", p->e->name, b.scene_name, b.device);
-    status = p->e->run(&b);
-    uint32_t messages = cvk_context_validation_message_count(b.ctx);
-    if (messages) {
-        app_error(tool, "%u validation messages", messages);
-        status = APP_EXIT_FAILURE;
-    }
+    status = app_validation_status(tool, b.ctx, p->e->run(&b));
     if (status == APP_EXIT_OK)
         status = write_results(&b, p->e, create);
     bench_table_free(&b.table);
