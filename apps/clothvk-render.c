@@ -3,7 +3,6 @@
    so PNG encoding costs little wall time where a core is free. */
 #include <errno.h>
 #include <pthread.h>
-#include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -103,87 +102,40 @@ static int check_from(const options* o)
     return APP_EXIT_OK;
 }
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
-static int parse_args(int argc, char** argv, options* o, bool* done)
+/* --frames: a count, or A:B with --from. */
+static int take_frames(void* user, const char* option, const char* value)
 {
-    o->every = 1;
-    for (int i = 1; i < argc; i++) {
-        const char* a = argv[i];
-        bool has_value = i + 1 < argc;
-        const char* value = has_value ? argv[i + 1] : "nothing";
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            *done = true;
-            return APP_EXIT_OK;
-        } else if (!strcmp(a, "--version")) {
-            printf("%s %s\n", tool, cvk_version());
-            *done = true;
-            return APP_EXIT_OK;
-        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "%s: expected an output folder", a);
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->out = argv[++i];
-        } else if (!strcmp(a, "--frames") && has_value && strchr(value, ':')) {
-            if (!parse_range(value, o->range)) {
-                app_error(tool, "--frames: expected A:B, whole numbers with A <= B, got %s", value);
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->range_set = true;
-            i++;
-        } else if (!strcmp(a, "--from")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "--from: expected a bake folder");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->from = argv[++i];
-        } else if (!strcmp(a, "--frames")) {
-            if (!has_value || !app_parse_u32(value, 1, 100000000, &o->frames)) {
-                app_error(tool, "--frames: expected a whole number from 1 to 100000000, got %s", value);
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->frames_set = true;
-            i++;
-        } else if (!strcmp(a, "--every")) {
-            if (!has_value || !app_parse_u32(value, 1, 100000000, &o->every)) {
-                app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s", value);
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->every_set = true;
-            i++;
-        } else if (!strcmp(a, "--size")) {
-            if (!has_value || !parse_size(value, o->size)) {
-                app_error(tool, "--size: expected WIDTHxHEIGHT in pixels, each at least 1, got %s", value);
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->size_set = true;
-            o->size_text = argv[++i];
-        } else if (!strcmp(a, "--set")) {
-            int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
-            if (status != APP_EXIT_OK)
-                return status;
-        } else if (!strcmp(a, "--video")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "--video: expected a file name such as clip.mp4");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->video = argv[++i];
-        } else if (!strcmp(a, "--serial")) {
-            o->serial = true;
-        } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
-            o->quiet = true;
-        } else {
-            int status = app_take_scene_argument(tool, a, &o->scene);
-            if (status != APP_EXIT_OK)
-                return status;
+    options* o = user;
+    if (value && strchr(value, ':')) {
+        if (!parse_range(value, o->range)) {
+            app_error(tool, "%s: expected A:B, whole numbers with A <= B, got %s", option, value);
+            return APP_EXIT_BAD_INPUT;
         }
+        o->range_set = true;
+        return APP_EXIT_OK;
     }
-    if (!o->scene) {
-        app_error(tool, "no scene file given");
-        usage(stderr);
+    if (!app_option_u32(tool, option, value, 1, 100000000, &o->frames))
+        return APP_EXIT_BAD_INPUT;
+    o->frames_set = true;
+    return APP_EXIT_OK;
+}
+
+static int take_size(void* user, const char* option, const char* value)
+{
+    options* o = user;
+    if (!value || !parse_size(value, o->size)) {
+        app_error(tool, "%s: expected WIDTHxHEIGHT in pixels, each at least 1, got %s", option,
+                  value ? value : "nothing");
         return APP_EXIT_BAD_INPUT;
     }
+    o->size_set = true;
+    o->size_text = value;
+    return APP_EXIT_OK;
+}
+
+/* The outputs and the options that only make sense together, checked before any work. */
+static int check_options(const options* o)
+{
     if (!o->out && !o->video) {
         app_error(tool, "no output folder given (-o DIR)");
         return APP_EXIT_BAD_INPUT;
@@ -199,6 +151,28 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
     if (o->video && !app_video_available(tool))
         return APP_EXIT_BAD_INPUT;
     return APP_EXIT_OK;
+}
+
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
+static int parse_args(int argc, char** argv, options* o, bool* done)
+{
+    const app_option table[] = {
+        {"-o", "--output", APP_OPTION_PATH, .path = &o->out, .expected = "an output folder"},
+        {"--frames", NULL, APP_OPTION_OTHER, .take = take_frames},
+        {"--from", NULL, APP_OPTION_PATH, .path = &o->from, .expected = "a bake folder"},
+        {"--every", NULL, APP_OPTION_U32, .number = &o->every, .min = 1, .max = 100000000,
+         .flag = &o->every_set},
+        {"--size", NULL, APP_OPTION_OTHER, .take = take_size},
+        {"--set", NULL, APP_OPTION_SET, .overrides = &o->overrides},
+        {"--video", NULL, APP_OPTION_PATH, .path = &o->video,
+         .expected = "a file name such as clip.mp4"},
+        {"--serial", NULL, APP_OPTION_FLAG, .flag = &o->serial},
+        {"--quiet", "-q", APP_OPTION_FLAG, .flag = &o->quiet},
+    };
+    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], o};
+    o->every = 1;
+    int status = app_read_command_line(&line, argc, argv, &o->scene, done);
+    return status != APP_EXIT_OK || *done ? status : check_options(o);
 }
 
 /* ---- the output folder ---------------------------------------------------------------- */
@@ -341,15 +315,6 @@ static void writer_free(writer* w)
 
 /* ---- progress ------------------------------------------------------------------------- */
 
-/* Ctrl-C stops after the image being written is complete: no image is left half-written. */
-static volatile sig_atomic_t interrupted;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    interrupted = 1;
-}
-
 typedef struct totals {
     uint32_t images;
     double sim_ms, render_ms, wall_ms;
@@ -449,7 +414,8 @@ static int render_frames(run_state* s, writer* w, uint32_t count, totals* t)
     cvk_error err;
     bool tty = !s->o->quiet && isatty(STDERR_FILENO);
     double last_print = app_now_ms();
-    for (uint32_t i = 0; i < count && !interrupted; i++) {
+    /* Ctrl-C stops after the image being written is complete: no image is left half-written. */
+    for (uint32_t i = 0; i < count && !app_interrupted(); i++) {
         double t0 = app_now_ms();
         uint32_t frame = s->first + i * s->step;
         if (s->bake) {
@@ -533,7 +499,7 @@ static int render_all(run_state* s, uint32_t frames)
     if (!written) {
         app_error(tool, "%s", w.message);
         status = APP_EXIT_FAILURE;
-    } else if (interrupted) {
+    } else if (app_interrupted()) {
         app_error(tool, "interrupted after %u of %u images", w.written, count);
         status = APP_EXIT_FAILURE;
     } else if (status == APP_EXIT_OK && s->video) {
@@ -584,29 +550,21 @@ static int open_bake(run_state* s, app_bake* bake, uint32_t* frames)
 
 static int run(const options* o)
 {
-    cvk_error err;
     cvk_scene* file = NULL;
-    if (cvk_scene_load(o->scene, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
-    }
-    run_state s = {.o = o, .scene = cvk_scene_get_desc(file), .step = 1};
+    run_state s = {.o = o, .step = 1};
+    int status = app_open(tool, o->scene, &o->overrides, &file, &s.ctx);
+    if (status != APP_EXIT_OK)
+        return status;
+    s.scene = cvk_scene_get_desc(file);
     cvk_render_desc render = s.scene->render;
     if (o->size_set) {
         render.size[0] = o->size[0];
         render.size[1] = o->size[1];
     }
     uint32_t frames = o->frames_set ? o->frames : s.scene->frames;
-
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
-    if (cvk_context_create(&ctx_desc, &s.ctx, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        cvk_scene_destroy(file);
-        return APP_EXIT_FAILURE;
-    }
     /* Everything the input can get wrong (the device's limits included) is checked before the
        folder is made or any frame simulated. */
-    int status = check_size(&s, &render);
+    status = check_size(&s, &render);
     if (status == APP_EXIT_OK)
         status = create_objects(&s, &render);
     app_bake bake = {0};
@@ -630,14 +588,7 @@ static int run(const options* o)
     cvk_renderer_destroy(s.renderer);
     cvk_mesh_destroy(s.mesh);
     cvk_sim_destroy(s.sim);
-    uint32_t messages = cvk_context_validation_message_count(s.ctx);
-    if (messages) {
-        app_error(tool, "%u validation messages", messages);
-        status = APP_EXIT_FAILURE;
-    }
-    cvk_context_destroy(s.ctx);
-    cvk_scene_destroy(file);
-    return status;
+    return app_close(tool, s.ctx, file, status);
 }
 
 int main(int argc, char** argv)
@@ -646,8 +597,7 @@ int main(int argc, char** argv)
     bool done = false;
     int status = parse_args(argc, argv, &o, &done);
     if (status == APP_EXIT_OK && !done) {
-        signal(SIGINT, on_signal);
-        signal(SIGTERM, on_signal);
+        app_catch_interrupts();
         status = run(&o);
     }
     app_overrides_free(&o.overrides);

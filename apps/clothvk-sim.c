@@ -1,7 +1,6 @@
 /* clothvk-sim: runs a scene headless and prints statistics. */
 #include <jansson.h>
 #include <math.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -65,99 +64,9 @@ typedef struct options {
     uint32_t search_lanes;
 } options;
 
-/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
-static int parse_args(int argc, char** argv, options* o, bool* done)
+/* The options that only make sense together, and --dump's target: checked before any work. */
+static int check_options(options* o)
 {
-    for (int i = 1; i < argc; i++) {
-        const char* a = argv[i];
-        bool has_value = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            *done = true;
-            return APP_EXIT_OK;
-        } else if (!strcmp(a, "--version")) {
-            printf("%s %s\n", tool, cvk_version());
-            *done = true;
-            return APP_EXIT_OK;
-        } else if (!strcmp(a, "--frames")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 0, 100000000, &o->frames)) {
-                app_error(tool, "--frames: expected a whole number from 0 to 100000000, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->frames_set = true;
-            i++;
-        } else if (!strcmp(a, "--set")) {
-            int status = app_overrides_add(&o->overrides, tool, has_value ? argv[++i] : "");
-            if (status != APP_EXIT_OK)
-                return status;
-        } else if (!strcmp(a, "--dump")) {
-            if (!has_value) {
-                app_error(tool, "--dump: expected a file name");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->dump = argv[++i];
-        } else if (!strcmp(a, "--obj")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "--obj: expected an output folder");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->obj = argv[++i];
-        } else if (!strcmp(a, "--pc2")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "--pc2: expected a file name");
-                return APP_EXIT_BAD_INPUT;
-            }
-            o->pc2 = argv[++i];
-        } else if (!strcmp(a, "--bake") || !strcmp(a, "--resume")) {
-            if (!has_value || !argv[i + 1][0]) {
-                app_error(tool, "%s: expected a bake folder", a);
-                return APP_EXIT_BAD_INPUT;
-            }
-            *(!strcmp(a, "--bake") ? &o->bake : &o->resume) = argv[++i];
-        } else if (!strcmp(a, "--every")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, 100000000, &o->every)) {
-                app_error(tool, "--every: expected a whole number from 1 to 100000000, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--workgroup-size")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->workgroup_size)) {
-                app_error(tool, "--workgroup-size: expected a whole number from 1 to 1024, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--max-workgroups")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, UINT32_MAX, &o->max_workgroups)) {
-                app_error(tool, "--max-workgroups: expected a whole number of at least 1, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--search-lanes")) {
-            if (!has_value || !app_parse_u32(argv[i + 1], 1, 1024, &o->search_lanes)) {
-                app_error(tool, "--search-lanes: expected a whole number from 1 to 1024, got %s",
-                          has_value ? argv[i + 1] : "nothing");
-                return APP_EXIT_BAD_INPUT;
-            }
-            i++;
-        } else if (!strcmp(a, "--json")) {
-            o->json = true;
-        } else if (!strcmp(a, "--plan")) {
-            o->plan = true;
-        } else {
-            int status = app_take_scene_argument(tool, a, &o->scene);
-            if (status != APP_EXIT_OK)
-                return status;
-        }
-    }
-    if (!o->scene) {
-        app_error(tool, "no scene file given");
-        usage(stderr);
-        return APP_EXIT_BAD_INPUT;
-    }
     if (o->every && !o->obj && !o->pc2 && !o->bake && !o->resume) {
         app_error(tool, "--every needs --obj DIR, --pc2 FILE or --bake DIR (it says which frames "
                   "go out)");
@@ -180,6 +89,34 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
     return APP_EXIT_OK;
 }
 
+/* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
+static int parse_args(int argc, char** argv, options* o, bool* done)
+{
+    const app_option table[] = {
+        {"--frames", NULL, APP_OPTION_U32, .number = &o->frames, .min = 0, .max = 100000000,
+         .flag = &o->frames_set},
+        {"--set", NULL, APP_OPTION_SET, .overrides = &o->overrides},
+        {"--dump", NULL, APP_OPTION_PATH, .path = &o->dump, .expected = "a file name",
+         .empty_ok = true},
+        {"--obj", NULL, APP_OPTION_PATH, .path = &o->obj, .expected = "an output folder"},
+        {"--pc2", NULL, APP_OPTION_PATH, .path = &o->pc2, .expected = "a file name"},
+        {"--bake", NULL, APP_OPTION_PATH, .path = &o->bake, .expected = "a bake folder"},
+        {"--resume", NULL, APP_OPTION_PATH, .path = &o->resume, .expected = "a bake folder"},
+        {"--every", NULL, APP_OPTION_U32, .number = &o->every, .min = 1, .max = 100000000},
+        {"--workgroup-size", NULL, APP_OPTION_U32, .number = &o->workgroup_size, .min = 1,
+         .max = 1024},
+        {"--max-workgroups", NULL, APP_OPTION_U32, .number = &o->max_workgroups, .min = 1,
+         .max = UINT32_MAX},
+        {"--search-lanes", NULL, APP_OPTION_U32, .number = &o->search_lanes, .min = 1,
+         .max = 1024},
+        {"--json", NULL, APP_OPTION_FLAG, .flag = &o->json},
+        {"--plan", NULL, APP_OPTION_FLAG, .flag = &o->plan},
+    };
+    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], NULL};
+    int status = app_read_command_line(&line, argc, argv, &o->scene, done);
+    return status != APP_EXIT_OK || *done ? status : check_options(o);
+}
+
 typedef struct run_totals {
     uint32_t frames;
     double wall_ms;
@@ -195,20 +132,12 @@ typedef struct run_totals {
 /* Ctrl-C (or SIGTERM) stops the run before the next frame: the OBJ files and bake frames
    written so far are whole (each is renamed into place complete), and the dump and the point
    cache, written only by a run that finished, are not written. */
-static volatile sig_atomic_t interrupted;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    interrupted = 1;
-}
-
 static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc2* pc2,
                       uint32_t every, app_bake* bake, run_totals* t)
 {
     cvk_error err;
     for (uint32_t f = bake ? bake->first : 0; f < frames; f++) {
-        if (interrupted) {
+        if (app_interrupted()) {
             app_error(tool, "interrupted after %u of %u frames; the files written are complete",
                       f, frames);
             return APP_EXIT_FAILURE;
@@ -274,14 +203,9 @@ static json_t* real_or_null(double v, bool valid)
     return valid && isfinite(v) ? json_real(v) : json_null();
 }
 
-static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
-                       const cvk_sim_stats* st, const run_totals* t)
+/* The solver's settings as the run used them (the defaults resolved), each method's own. */
+static json_t* solver_json(const cvk_scene_desc* scene)
 {
-    bool timed = t->timed_frames > 0;
-    json_t* springs = json_pack("{sIsIsI}", "structural", (json_int_t)st->springs[0], "shear",
-                                (json_int_t)st->springs[1], "bend", (json_int_t)st->springs[2]);
-    json_t* residuals = json_pack("{sfsfsf}", "structural", st->residual_per_type[0], "shear",
-                                  st->residual_per_type[1], "bend", st->residual_per_type[2]);
     json_t* solver = json_pack("{sssssisiso}", "method", cvk_method_name(scene->solver.method),
                                "linear", cvk_linear_solver_name(scene->solver.linear),
                                "outer_iterations", (json_int_t)scene->solver.outer_iterations,
@@ -298,7 +222,6 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(solver, "max_iterations", json_integer(resolved.max_iterations));
     }
     if (solver && scene->solver.method == CVK_METHOD_EXPLICIT) {
-        /* the settings the run used: the defaults resolved */
         cvk_integrator integrator = scene->solver.integrator ? scene->solver.integrator
                                                              : CVK_INTEGRATOR_EULER;
         cvk_damping_model model = scene->solver.damping_model ? scene->solver.damping_model
@@ -311,12 +234,69 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(solver, "damping_model", json_string(cvk_damping_model_name(model)));
         json_object_set_new(solver, "kd", float_json(scene->solver.kd));
     }
+    return solver;
+}
+
+/* The linear solver's iterations (pd: sweeps), for the methods that solve one. */
+static json_t* linear_solver_json(const cvk_scene_desc* scene, const cvk_sim_stats* st)
+{
+    cvk_solver_desc resolved = cvk_solver_desc_resolve(&scene->solver); /* what ran */
+    json_t* linear = json_object();
+    json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
+    json_object_set_new(linear, "iterations_per_substep",
+                        json_real((double)st->solver_iterations_total /
+                                  ((double)st->frames * scene->substeps + (st->frames == 0))));
+    if (scene->solver.method == CVK_METHOD_IMPLICIT)
+        json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
+    else if (resolved.tolerance > 0.0f) /* the last check's measure (solver.tolerance) */
+        json_object_set_new(linear, "residual_last", json_real(st->solver_residual));
+    return linear;
+}
+
+static json_t* contacts_json(const cvk_sim_stats* st)
+{
+    json_t* contacts = json_object();
+    json_object_set_new(contacts, "colliders", json_integer((json_int_t)st->collider_contacts));
+    json_object_set_new(contacts, "self", json_integer((json_int_t)st->self_contacts));
+    json_object_set_new(contacts, "max_penetration", json_real(st->max_penetration));
+    json_object_set_new(contacts, "intersecting_pairs",
+                        json_integer((json_int_t)st->intersecting_pairs));
+    json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
+    return contacts;
+}
+
+/* Each pass's GPU time per frame (null when the device gave no timestamps) and dispatches. */
+static json_t* passes_json(const cvk_sim_stats* st, const run_totals* t)
+{
+    bool timed = t->timed_frames > 0;
     json_t* passes = json_array();
     for (uint32_t p = 0; p < st->pass_count; p++)
         json_array_append_new(passes,
                               json_pack("{ssso si}", "name", st->passes[p].name, "gpu_ms",
                                         real_or_null(t->pass_ms[p] / t->timed_frames, timed),
                                         "dispatches", (json_int_t)st->passes[p].dispatches));
+    return passes;
+}
+
+static json_t* memory_json(const cvk_context* ctx)
+{
+    cvk_context_info info = cvk_context_get_info(ctx);
+    json_t* memory = json_object();
+    json_object_set_new(memory, "device_bytes", json_integer((json_int_t)info.device_bytes));
+    json_object_set_new(memory, "device_peak_bytes",
+                        json_integer((json_int_t)info.device_peak_bytes));
+    json_object_set_new(memory, "host_peak_rss_bytes", json_integer((json_int_t)app_peak_rss()));
+    return memory;
+}
+
+static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
+                       const cvk_sim_stats* st, const run_totals* t)
+{
+    bool timed = t->timed_frames > 0;
+    json_t* springs = json_pack("{sIsIsI}", "structural", (json_int_t)st->springs[0], "shear",
+                                (json_int_t)st->springs[1], "bend", (json_int_t)st->springs[2]);
+    json_t* residuals = json_pack("{sfsfsf}", "structural", st->residual_per_type[0], "shear",
+                                  st->residual_per_type[1], "bend", st->residual_per_type[2]);
     json_t* root = json_object();
     json_object_set_new(root, "scene", json_string(scene->name ? scene->name : "scene"));
     json_object_set_new(root, "device", json_string(cvk_context_get_info(ctx).device_name));
@@ -327,7 +307,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "frames", json_integer(t->frames));
     json_object_set_new(root, "substeps", json_integer(scene->substeps));
     json_object_set_new(root, "dt", float_json(scene->dt));
-    json_object_set_new(root, "solver", solver);
+    json_object_set_new(root, "solver", solver_json(scene));
     json_object_set_new(root, "residual", json_real(st->residual));
     json_object_set_new(root, "residual_normalized", json_real(st->residual_normalized));
     json_object_set_new(root, "residual_per_type", residuals);
@@ -342,41 +322,17 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
         json_object_set_new(root, "diverged_reason",
                             json_string(st->diverged_nonfinite ? "non-finite" : "run-away"));
     }
-    if (scene->solver.method != CVK_METHOD_EXPLICIT) { /* pd: sweeps */
-        json_t* linear = json_object();
-        json_object_set_new(linear, "iterations_last_frame", json_integer(st->solver_iterations));
-        json_object_set_new(linear, "iterations_per_substep",
-                            json_real((double)st->solver_iterations_total /
-                                      ((double)st->frames * scene->substeps + (st->frames == 0))));
-        if (scene->solver.method == CVK_METHOD_IMPLICIT)
-            json_object_set_new(linear, "breakdowns", json_integer(st->solver_breakdowns));
-        else if (resolved.tolerance > 0.0f) /* the last check's measure (solver.tolerance) */
-            json_object_set_new(linear, "residual_last", json_real(st->solver_residual));
-        json_object_set_new(root, "linear_solver", linear);
-    }
-    if (scene->collider_count > 0 || scene->collision.self) {
-        json_t* contacts = json_object();
-        json_object_set_new(contacts, "colliders", json_integer((json_int_t)st->collider_contacts));
-        json_object_set_new(contacts, "self", json_integer((json_int_t)st->self_contacts));
-        json_object_set_new(contacts, "max_penetration", json_real(st->max_penetration));
-        json_object_set_new(contacts, "intersecting_pairs",
-                            json_integer((json_int_t)st->intersecting_pairs));
-        json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
-        json_object_set_new(root, "contacts", contacts);
-    }
+    if (scene->solver.method != CVK_METHOD_EXPLICIT) /* pd: sweeps */
+        json_object_set_new(root, "linear_solver", linear_solver_json(scene, st));
+    if (scene->collider_count > 0 || scene->collision.self)
+        json_object_set_new(root, "contacts", contacts_json(st));
     json_object_set_new(root, "gpu_ms_per_frame", real_or_null(t->gpu_ms / t->timed_frames, timed));
     json_object_set_new(root, "wall_ms_per_frame",
                         real_or_null(t->wall_ms / t->frames, t->frames > 0));
     json_object_set_new(root, "dispatches_per_frame", json_integer(st->dispatches_per_frame));
     json_object_set_new(root, "dispatches_per_substep", json_integer(st->dispatches_per_substep));
-    json_object_set_new(root, "passes", passes);
-    cvk_context_info info = cvk_context_get_info(ctx);
-    json_t* memory = json_object();
-    json_object_set_new(memory, "device_bytes", json_integer((json_int_t)info.device_bytes));
-    json_object_set_new(memory, "device_peak_bytes",
-                        json_integer((json_int_t)info.device_peak_bytes));
-    json_object_set_new(memory, "host_peak_rss_bytes", json_integer((json_int_t)app_peak_rss()));
-    json_object_set_new(root, "memory", memory);
+    json_object_set_new(root, "passes", passes_json(st, t));
+    json_object_set_new(root, "memory", memory_json(ctx));
     json_object_set_new(root, "validation_messages",
                         json_integer(cvk_context_validation_message_count(ctx)));
     char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
@@ -586,23 +542,14 @@ static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_con
 
 static int run(const options* o)
 {
-    cvk_error err;
     cvk_scene* file = NULL;
-    if (cvk_scene_load(o->scene, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
-    }
+    cvk_context* ctx = NULL;
+    int status = app_open(tool, o->scene, &o->overrides, &file, &ctx);
+    if (status != APP_EXIT_OK)
+        return status;
     const cvk_scene_desc* scene = cvk_scene_get_desc(file);
     uint32_t frames = o->frames_set ? o->frames : scene->frames;
-
-    cvk_context* ctx = NULL;
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
-    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        cvk_scene_destroy(file);
-        return APP_EXIT_FAILURE;
-    }
-    int status = APP_EXIT_OK;
+    cvk_error err;
     cvk_sim* sim = NULL;
     cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .workgroup_size = o->workgroup_size,
                                                       .max_workgroups = o->max_workgroups,
@@ -622,14 +569,7 @@ static int run(const options* o)
         status = simulate(o, scene, ctx, sim, frames);
     }
     cvk_sim_destroy(sim);
-    uint32_t messages = cvk_context_validation_message_count(ctx);
-    if (messages) {
-        app_error(tool, "%u validation messages", messages);
-        status = APP_EXIT_FAILURE;
-    }
-    cvk_context_destroy(ctx);
-    cvk_scene_destroy(file);
-    return status;
+    return app_close(tool, ctx, file, status);
 }
 
 int main(int argc, char** argv)
@@ -638,8 +578,7 @@ int main(int argc, char** argv)
     bool done = false;
     int status = parse_args(argc, argv, &o, &done);
     if (status == APP_EXIT_OK && !done) {
-        signal(SIGINT, on_signal);
-        signal(SIGTERM, on_signal);
+        app_catch_interrupts();
         status = run(&o);
     }
     app_overrides_free(&o.overrides);

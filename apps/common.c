@@ -1,6 +1,7 @@
 #include "common.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,6 +59,98 @@ bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out)
     return true;
 }
 
+bool app_option_u32(const char* tool, const char* option, const char* value, uint32_t min,
+                    uint32_t max, uint32_t* out)
+{
+    if (app_parse_u32(value, min, max, out))
+        return true;
+    const char* got = value ? value : "nothing";
+    if (max == UINT32_MAX)
+        app_error(tool, "%s: expected a whole number of at least %u, got %s", option, min, got);
+    else
+        app_error(tool, "%s: expected a whole number from %u to %u, got %s", option, min, max, got);
+    return false;
+}
+
+bool app_help_or_version(const char* tool, const char* arg, void (*usage)(FILE* out))
+{
+    if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
+        usage(stdout);
+        return true;
+    }
+    if (!strcmp(arg, "--version")) {
+        printf("%s %s\n", tool, cvk_version());
+        return true;
+    }
+    return false;
+}
+
+static const app_option* find_option(const app_command_line* line, const char* arg)
+{
+    for (size_t i = 0; i < line->option_count; i++) {
+        const app_option* o = &line->options[i];
+        if (!strcmp(arg, o->name) || (o->alias && !strcmp(arg, o->alias)))
+            return o;
+    }
+    return NULL;
+}
+
+/* One option with `value`, the argument after it (NULL when it was the last); *used is set
+   when the value was taken. */
+static int take_option(const app_command_line* line, const app_option* o, const char* arg,
+                       const char* value, bool* used)
+{
+    *used = value != NULL && o->kind != APP_OPTION_FLAG;
+    switch (o->kind) {
+    case APP_OPTION_FLAG:
+        *o->flag = true;
+        return APP_EXIT_OK;
+    case APP_OPTION_U32:
+        if (!app_option_u32(line->tool, arg, value, o->min, o->max, o->number))
+            return APP_EXIT_BAD_INPUT;
+        if (o->flag)
+            *o->flag = true;
+        return APP_EXIT_OK;
+    case APP_OPTION_PATH:
+        if (!value || (!value[0] && !o->empty_ok)) {
+            app_error(line->tool, "%s: expected %s", arg, o->expected);
+            return APP_EXIT_BAD_INPUT;
+        }
+        *o->path = value;
+        return APP_EXIT_OK;
+    case APP_OPTION_SET:
+        return app_overrides_add(o->overrides, line->tool, value ? value : "");
+    case APP_OPTION_OTHER:
+        return o->take(line->user, arg, value);
+    }
+    return APP_EXIT_BAD_INPUT;
+}
+
+int app_read_command_line(const app_command_line* line, int argc, char** argv, const char** scene,
+                          bool* done)
+{
+    for (int i = 1; i < argc; i++) {
+        const char* a = argv[i];
+        if (app_help_or_version(line->tool, a, line->usage)) {
+            *done = true;
+            return APP_EXIT_OK;
+        }
+        const app_option* o = find_option(line, a);
+        bool used = false;
+        int status = o ? take_option(line, o, a, i + 1 < argc ? argv[i + 1] : NULL, &used)
+                       : app_take_scene_argument(line->tool, a, scene);
+        if (status != APP_EXIT_OK)
+            return status;
+        i += used;
+    }
+    if (!*scene) {
+        app_error(line->tool, "no scene file given");
+        line->usage(stderr);
+        return APP_EXIT_BAD_INPUT;
+    }
+    return APP_EXIT_OK;
+}
+
 int app_overrides_add(app_overrides* o, const char* tool, const char* item)
 {
     if (!strchr(item, '=') || item[0] == '=') {
@@ -84,6 +177,76 @@ void app_overrides_free(app_overrides* o)
 void app_log_validation(void* tool_name, const char* message)
 {
     fprintf(stderr, "%s: validation: %s\n", (const char*)tool_name, message);
+}
+
+int app_load_scene(const char* tool, const char* path, const app_overrides* overrides,
+                   cvk_scene** out)
+{
+    cvk_error err;
+    if (cvk_scene_load(path, overrides->items, overrides->count, out, &err) == CVK_SUCCESS)
+        return APP_EXIT_OK;
+    app_error(tool, "%s", err.message);
+    return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
+}
+
+int app_create_context(const char* tool, cvk_context** out)
+{
+    cvk_error err;
+    cvk_context_desc desc = {.log = app_log_validation, .log_user = (void*)tool};
+    if (cvk_context_create(&desc, out, &err) == CVK_SUCCESS)
+        return APP_EXIT_OK;
+    app_error(tool, "%s", err.message);
+    return APP_EXIT_FAILURE;
+}
+
+int app_validation_status(const char* tool, const cvk_context* ctx, int status)
+{
+    uint32_t messages = cvk_context_validation_message_count(ctx);
+    if (!messages)
+        return status;
+    app_error(tool, "%u validation messages", messages);
+    return APP_EXIT_FAILURE;
+}
+
+int app_open(const char* tool, const char* path, const app_overrides* overrides, cvk_scene** scene,
+             cvk_context** ctx)
+{
+    int status = app_load_scene(tool, path, overrides, scene);
+    if (status != APP_EXIT_OK)
+        return status;
+    status = app_create_context(tool, ctx);
+    if (status != APP_EXIT_OK) {
+        cvk_scene_destroy(*scene);
+        *scene = NULL;
+    }
+    return status;
+}
+
+int app_close(const char* tool, cvk_context* ctx, cvk_scene* scene, int status)
+{
+    status = app_validation_status(tool, ctx, status);
+    cvk_context_destroy(ctx);
+    cvk_scene_destroy(scene);
+    return status;
+}
+
+static volatile sig_atomic_t interrupted;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
+void app_catch_interrupts(void)
+{
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+}
+
+bool app_interrupted(void)
+{
+    return interrupted != 0;
 }
 
 bool app_output_replaceable(const char* path, char* message, size_t message_size)

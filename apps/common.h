@@ -1,5 +1,6 @@
-/* What the command-line tools share: messages, number parsing, --set collection, atomic
-   file output and the validation-message hook. */
+/* What the command-line tools share: messages, the command line (a table of options), number
+   parsing, --set collection, the scene and context every run starts with, atomic file output
+   and the validation-message hook. */
 #ifndef CVK_APP_COMMON_H
 #define CVK_APP_COMMON_H
 
@@ -48,8 +49,90 @@ typedef struct app_overrides {
 int app_overrides_add(app_overrides* o, const char* tool, const char* item);
 void app_overrides_free(app_overrides* o);
 
+/* ---- the command line -------------------------------------------------------------------- */
+
+/* What an option does with the argument after it. */
+typedef enum app_option_kind {
+    APP_OPTION_FLAG,  /* takes no value: sets *flag */
+    APP_OPTION_U32,   /* a whole number in [min, max] into *number; sets *flag (if any) */
+    APP_OPTION_PATH,  /* a file or folder name into *path */
+    APP_OPTION_SET,   /* key.path=value, added to *overrides */
+    APP_OPTION_OTHER, /* take() reads the value */
+} app_option_kind;
+
+/* One row of a tool's option table. A value is the next argument, whatever it looks like. */
+typedef struct app_option {
+    const char* name;
+    const char* alias;        /* a second name ("-q" for "--quiet"), or NULL */
+    app_option_kind kind;
+    bool* flag;               /* FLAG: set; U32: set when given, or NULL */
+    uint32_t* number;         /* U32 */
+    uint32_t min, max;        /* U32: the range; max UINT32_MAX reads "of at least MIN" */
+    const char** path;        /* PATH */
+    const char* expected;     /* PATH: the message when it is missing, "a file name" */
+    bool empty_ok;            /* PATH: an empty name is taken (writing it fails later) */
+    app_overrides* overrides; /* SET */
+    /* OTHER: value is NULL when the option is the last argument; returns an APP_EXIT status
+       (after one line on stderr when not APP_EXIT_OK). */
+    int (*take)(void* user, const char* option, const char* value);
+} app_option;
+
+/* A tool's command line: its options and what --help prints. */
+typedef struct app_command_line {
+    const char* tool;
+    void (*usage)(FILE* out);
+    const app_option* options;
+    size_t option_count;
+    void* user;               /* passed to the OTHER options' take() */
+} app_command_line;
+
+/* Reads argv by the table, left to right. --help or -h prints the usage on stdout, --version
+ * the version; either sets *done and ends the reading. The one argument no option takes is the
+ * scene file; without one the usage goes to stderr. Returns APP_EXIT_OK, or after one line on
+ * stderr APP_EXIT_BAD_INPUT (APP_EXIT_FAILURE when memory runs out). */
+int app_read_command_line(const app_command_line* line, int argc, char** argv, const char** scene,
+                          bool* done);
+
+/* --help or -h prints `usage` on stdout, --version "tool VERSION"; true for those three. */
+bool app_help_or_version(const char* tool, const char* arg, void (*usage)(FILE* out));
+
+/* A whole-number option's value in [min, max] into *out; otherwise one line "tool: OPTION:
+ * expected a whole number from MIN to MAX, got VALUE" ("of at least MIN" when max is
+ * UINT32_MAX, VALUE "nothing" when NULL) and false. */
+bool app_option_u32(const char* tool, const char* option, const char* value, uint32_t min,
+                    uint32_t max, uint32_t* out);
+
+/* ---- the run ------------------------------------------------------------------------------- */
+
+/* Loads a scene file with the --set overrides. On failure one line, and APP_EXIT_BAD_INPUT
+ * (APP_EXIT_FAILURE when memory ran out). */
+int app_load_scene(const char* tool, const char* path, const app_overrides* overrides,
+                   cvk_scene** out);
+
 /* Log callback for cvk_context_desc: prints validation messages as "tool: validation: ...". */
 void app_log_validation(void* tool_name, const char* message);
+
+/* A context whose validation messages go to stderr (app_log_validation; `tool` must outlive
+ * it). On failure one line and APP_EXIT_FAILURE. */
+int app_create_context(const char* tool, cvk_context** out);
+
+/* `status`, or APP_EXIT_FAILURE after one line "tool: N validation messages" when the context
+ * received any: a run the validation layer spoke about has failed. */
+int app_validation_status(const char* tool, const cvk_context* ctx, int status);
+
+/* What a simulating run starts with: the scene (app_load_scene), then the context
+ * (app_create_context). On failure neither is left to destroy. */
+int app_open(const char* tool, const char* path, const app_overrides* overrides, cvk_scene** scene,
+             cvk_context** ctx);
+
+/* What it ends with: the status after app_validation_status; the context and the scene are
+ * destroyed. */
+int app_close(const char* tool, cvk_context* ctx, cvk_scene* scene, int status);
+
+/* From app_catch_interrupts on, Ctrl-C or SIGTERM only sets what app_interrupted returns: the
+ * tools stop between frames, so every file they wrote is whole. */
+void app_catch_interrupts(void);
+bool app_interrupted(void);
 
 /* Writes a file through a temporary name in the same folder and renames it into place, so
    a reader never sees a partial file. `write` returns false on failure (errno set). On

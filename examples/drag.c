@@ -103,6 +103,105 @@ static int fail(const char* what, const cvk_error* err)
     return 1;
 }
 
+/* What the frames of the script share. */
+typedef struct drag {
+    cvk_sim* sim;
+    cvk_renderer* renderer;
+    cvk_render_view view;   /* the camera the click is made with */
+    float w, h;             /* image size, pixels */
+    cvk_pick_result picked;
+    float start[3];         /* m: where the picked particle was at the click */
+} drag;
+
+/* The click: on the pixel where the middle of the bottom edge is seen now. */
+static bool click(drag* d, cvk_error* err)
+{
+    cvk_cloth_info cloth = cvk_sim_get_cloth(d->sim, 0);
+    uint64_t n = cvk_sim_particle_count(d->sim);
+    float* xyz = malloc(3 * n * sizeof(float));
+    if (!xyz || cvk_sim_read_positions(d->sim, xyz, n, err) != CVK_SUCCESS) {
+        free(xyz);
+        fail("read", err);
+        return false;
+    }
+    uint32_t side = (uint32_t)sqrt((double)cloth.particle_count); /* a square grid */
+    const float* aim = &xyz[3 * (cloth.first_particle + side * (side - 1) + side / 2)];
+    float px[2], dir[3];
+    project(&d->view, aim, d->w, d->h, px);
+    free(xyz);
+    pixel_ray(&d->view, px[0], px[1], d->w, d->h, dir);
+    if (cvk_sim_pick(d->sim, d->view.eye, dir, 0.01f, &d->picked, err) != CVK_SUCCESS) {
+        fail("pick", err);
+        return false;
+    }
+    cvk_pick_result* picked = &d->picked;
+    printf("click at pixel (%.0f, %.0f): %s", px[0], px[1], picked->hit ? "" : "missed\n");
+    if (picked->hit)
+        printf("cloth %u particle %u, %.3f m from the eye, at [%.3f, %.3f, %.3f]\n",
+               picked->particle.cloth, picked->particle.index, picked->distance,
+               picked->position[0], picked->position[1], picked->position[2]);
+    memcpy(d->start, picked->position, sizeof d->start);
+    return true;
+}
+
+static bool get_stats(const drag* d, cvk_sim_stats* stats, cvk_error* err)
+{
+    if (cvk_sim_get_stats(d->sim, stats, err) == CVK_SUCCESS)
+        return true;
+    fail("stats", err);
+    return false;
+}
+
+/* The hand in frame f: the click, the pull along the script, the release. */
+static bool move_hand(drag* d, uint32_t f, cvk_error* err)
+{
+    if (f == DRAG_START && !click(d, err))
+        return false;
+    cvk_sim_stats held;
+    if (d->picked.hit && f >= DRAG_START && f < RELEASE) {
+        float s = hand(f), target[3];
+        for (int k = 0; k < 3; k++)
+            target[k] = d->start[k] + s * pull[k];
+        if (cvk_sim_grab_within(d->sim, d->picked.particle, HAND_RADIUS, target, err) != CVK_SUCCESS) {
+            fail("grab", err);
+            return false;
+        }
+    } else if (d->picked.hit && f == RELEASE) {
+        if (!get_stats(d, &held, err))
+            return false;
+        cvk_sim_release(d->sim);
+        printf("released at frame %u; the largest spring stretch then was %.0f%% (99th "
+               "percentile %.0f%%), %llu springs torn\n", f, 100.0 * held.max_stretch,
+               100.0 * held.p99_stretch, (unsigned long long)held.torn_springs);
+    }
+    if (d->picked.hit && f == DRAG_START + DRAG_FRAMES + HOLD_FRAMES) {
+        if (!get_stats(d, &held, err))
+            return false;
+        printf("fully pulled (frame %u): the largest spring stretch is %.0f%% (99th "
+               "percentile %.0f%%), %llu springs torn\n", f, 100.0 * held.max_stretch,
+               100.0 * held.p99_stretch, (unsigned long long)held.torn_springs);
+    }
+    return true;
+}
+
+/* The frame stepped and drawn, written as OUT_DIR/frame_NNNN.png. */
+static bool step_and_draw(drag* d, const char* out_dir, uint32_t f, cvk_error* err)
+{
+    if (cvk_sim_step(d->sim, 1, err) != CVK_SUCCESS ||
+        cvk_renderer_draw(d->renderer, err) != CVK_SUCCESS) {
+        fail("frame", err);
+        return false;
+    }
+    cvk_image image = cvk_renderer_get_image(d->renderer);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/frame_%04u.png", out_dir, f);
+    if (cvk_image_write_png(&image, path, err) != CVK_SUCCESS) {
+        fail("png", err);
+        return false;
+    }
+    return true;
+}
+
 int main(int argc, char** argv)
 {
     if (argc < 2 || argc > 4) {
@@ -114,9 +213,8 @@ int main(int argc, char** argv)
     cvk_error err;
     cvk_context* ctx = NULL;
     cvk_scene* scene = NULL;
-    cvk_sim* sim = NULL;
     cvk_mesh* mesh = NULL;
-    cvk_renderer* renderer = NULL;
+    drag d = {0};
     int status = 1;
     if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS)
         return fail("context", &err);
@@ -129,98 +227,28 @@ int main(int argc, char** argv)
     uint32_t frames = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : desc->frames;
     /* .grab: the frame has the grab pass from the start (cvk_sim_grab would add it otherwise). */
     cvk_sim_desc sim_desc = {.scene = desc, .grab = true};
-    if (cvk_sim_create(ctx, &sim_desc, &sim, &err) != CVK_SUCCESS ||
-        cvk_mesh_create(sim, NULL, &mesh, &err) != CVK_SUCCESS ||
-        cvk_renderer_create(mesh, &desc->render, &renderer, &err) != CVK_SUCCESS) {
+    if (cvk_sim_create(ctx, &sim_desc, &d.sim, &err) != CVK_SUCCESS ||
+        cvk_mesh_create(d.sim, NULL, &mesh, &err) != CVK_SUCCESS ||
+        cvk_renderer_create(mesh, &desc->render, &d.renderer, &err) != CVK_SUCCESS) {
         fail("setup", &err);
         goto done;
     }
-    cvk_render_view view = cvk_renderer_get_view(renderer);
-    float w = (float)desc->render.size[0], h = (float)desc->render.size[1];
-    cvk_pick_result picked = {0};
-    float start[3] = {0};
-    char path[4096];
-    for (uint32_t f = 0; f < frames; f++) {
-        if (f == DRAG_START) {
-            /* The click: on the pixel where the middle of the bottom edge is seen now. */
-            cvk_cloth_info cloth = cvk_sim_get_cloth(sim, 0);
-            uint64_t n = cvk_sim_particle_count(sim);
-            float* xyz = malloc(3 * n * sizeof(float));
-            if (!xyz || cvk_sim_read_positions(sim, xyz, n, &err) != CVK_SUCCESS) {
-                free(xyz);
-                fail("read", &err);
-                goto done;
-            }
-            uint32_t side = (uint32_t)sqrt((double)cloth.particle_count); /* a square grid */
-            const float* aim = &xyz[3 * (cloth.first_particle + side * (side - 1) + side / 2)];
-            float px[2], dir[3];
-            project(&view, aim, w, h, px);
-            free(xyz);
-            pixel_ray(&view, px[0], px[1], w, h, dir);
-            if (cvk_sim_pick(sim, view.eye, dir, 0.01f, &picked, &err) != CVK_SUCCESS) {
-                fail("pick", &err);
-                goto done;
-            }
-            printf("click at pixel (%.0f, %.0f): %s", px[0], px[1], picked.hit ? "" : "missed\n");
-            if (picked.hit)
-                printf("cloth %u particle %u, %.3f m from the eye, at [%.3f, %.3f, %.3f]\n",
-                       picked.particle.cloth, picked.particle.index, picked.distance,
-                       picked.position[0], picked.position[1], picked.position[2]);
-            memcpy(start, picked.position, sizeof start);
-        }
-        if (picked.hit && f >= DRAG_START && f < RELEASE) {
-            float s = hand(f), target[3];
-            for (int k = 0; k < 3; k++)
-                target[k] = start[k] + s * pull[k];
-            if (cvk_sim_grab_within(sim, picked.particle, HAND_RADIUS, target, &err) != CVK_SUCCESS) {
-                fail("grab", &err);
-                goto done;
-            }
-        } else if (picked.hit && f == RELEASE) {
-            cvk_sim_stats held;
-            if (cvk_sim_get_stats(sim, &held, &err) != CVK_SUCCESS) {
-                fail("stats", &err);
-                goto done;
-            }
-            cvk_sim_release(sim);
-            printf("released at frame %u; the largest spring stretch then was %.0f%% (99th "
-                   "percentile %.0f%%), %llu springs torn\n", f, 100.0 * held.max_stretch,
-                   100.0 * held.p99_stretch, (unsigned long long)held.torn_springs);
-        }
-        if (picked.hit && f == DRAG_START + DRAG_FRAMES + HOLD_FRAMES) {
-            cvk_sim_stats held;
-            if (cvk_sim_get_stats(sim, &held, &err) != CVK_SUCCESS) {
-                fail("stats", &err);
-                goto done;
-            }
-            printf("fully pulled (frame %u): the largest spring stretch is %.0f%% (99th "
-                   "percentile %.0f%%), %llu springs torn\n", f, 100.0 * held.max_stretch,
-                   100.0 * held.p99_stretch, (unsigned long long)held.torn_springs);
-        }
-        if (cvk_sim_step(sim, 1, &err) != CVK_SUCCESS ||
-            cvk_renderer_draw(renderer, &err) != CVK_SUCCESS) {
-            fail("frame", &err);
+    d.view = cvk_renderer_get_view(d.renderer);
+    d.w = (float)desc->render.size[0];
+    d.h = (float)desc->render.size[1];
+    for (uint32_t f = 0; f < frames; f++)
+        if (!move_hand(&d, f, &err) || !step_and_draw(&d, out_dir, f, &err))
             goto done;
-        }
-        cvk_image image = cvk_renderer_get_image(renderer);
-        snprintf(path, sizeof path, "%s/frame_%04u.png", out_dir, f);
-        if (cvk_image_write_png(&image, path, &err) != CVK_SUCCESS) {
-            fail("png", &err);
-            goto done;
-        }
-    }
     cvk_sim_stats stats;
-    if (cvk_sim_get_stats(sim, &stats, &err) != CVK_SUCCESS) {
-        fail("stats", &err);
+    if (!get_stats(&d, &stats, &err))
         goto done;
-    }
     printf("%u frames in %s; at the end: largest spring stretch %.0f%%, %llu NaN\n", frames,
            out_dir, 100.0 * stats.max_stretch, (unsigned long long)stats.nan_count);
     status = 0;
 done:
-    cvk_renderer_destroy(renderer);
+    cvk_renderer_destroy(d.renderer);
     cvk_mesh_destroy(mesh);
-    cvk_sim_destroy(sim);
+    cvk_sim_destroy(d.sim);
     cvk_scene_destroy(scene);
     if (status == 0 && cvk_context_validation_message_count(ctx) > 0) {
         fprintf(stderr, "drag: %u validation messages\n",

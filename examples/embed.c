@@ -304,8 +304,8 @@ static VkShaderModule shader(const app* a, const uint32_t* code, size_t bytes)
     return module;
 }
 
-/* The vertex layout is clothvk's, read from cvk_mesh_get_buffers: nothing is hard-coded. */
-static void create_pipeline(app* a, const cvk_mesh_buffers* mesh)
+/* The pipeline's layout: the camera as push constants, no descriptor set. */
+static void create_layout(app* a)
 {
     VkPushConstantRange push = {VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(camera)};
     VkPipelineLayoutCreateInfo layout = {
@@ -314,6 +314,12 @@ static void create_pipeline(app* a, const cvk_mesh_buffers* mesh)
         .pPushConstantRanges = &push,
     };
     check(vkCreatePipelineLayout(a->device, &layout, NULL, &a->layout), "vkCreatePipelineLayout");
+}
+
+/* The vertex layout is clothvk's, read from cvk_mesh_get_buffers: nothing is hard-coded. */
+static void create_pipeline(app* a, const cvk_mesh_buffers* mesh)
+{
+    create_layout(a);
     VkShaderModule vert = shader(a, spv_embed_vert, sizeof spv_embed_vert);
     VkShaderModule frag = shader(a, spv_embed_frag, sizeof spv_embed_frag);
     VkPipelineShaderStageCreateInfo stages[2] = {

@@ -9,8 +9,7 @@
 
 #include "clothvk.h"
 #include "common.h"
-#include "topology/build.h"
-#include "solvers/reference.h"
+#include "sim/internal.h"
 
 #define BENCH_MAX_LIST 32
 

@@ -9,11 +9,8 @@
 #include <string.h>
 
 #include "bench.h"
-#include "core/context.h"
-#include "core/error.h"
-#include "contact/hash.h"
 #include "plot.h"
-#include "shared/layout.h"
+#include "sim/internal.h"
 
 #define WORKGROUP 64u
 #define CPU_MAX_GROUPS 4u   /* as the simulation on a CPU device (lib/sim.c) */

@@ -6,9 +6,7 @@
 #include <string.h>
 
 #include "bench.h"
-#include "topology/build.h"
-#include "topology/metrics.h"
-#include "solvers/reference.h"
+#include "sim/internal.h"
 
 /* With integration, the substep frozen by default is the first of this frame: on
    hanging.json 80 ms into the fall, when the cloth moves and the springs near the pins are

@@ -320,11 +320,7 @@ static const option_spec* find_option(const char* name)
 static bool parse_u32(const char* option, const char* text, uint32_t low, uint32_t high,
                       uint32_t* out)
 {
-    if (app_parse_u32(text, low, high, out))
-        return true;
-    char expected[96];
-    snprintf(expected, sizeof expected, "a whole number from %u to %u", low, high);
-    return bad_value(option, expected, text);
+    return app_option_u32(tool, option, text, low, high, out);
 }
 
 /* Applies one option with its value; false after printing why. */
@@ -483,32 +479,27 @@ typedef struct parsed {
     bool done; /* --help or --version */
 } parsed;
 
-static int parse_args(int argc, char** argv, parsed* p)
-{
-    bench_options* o = &p->o;
-    *o = (bench_options){
-        .out_dir = ".", .repeat = 3, .warmup = 1, .inner = 1, .plot = true,
-        .max_iterations = 1000, .reference_max = 200,
-        .target_error = 1e-3,
-        .energy_bound = 1.0, .stretch_bound = 10.0, .min_steps = 50,
-    };
-    const char* positional[2] = {NULL, NULL};
-    uint32_t positionals = 0;
+#define MAX_GIVEN 64
+
+/* The command line sorted before any of it is applied: the options with their values in the
+   order given (which ones an experiment takes is known only once it is named), then the
+   experiment and the scene. */
+typedef struct gathered {
     struct {
         const char* name;
         const char* value;
-    } given[64];
-    uint32_t given_count = 0;
+    } given[MAX_GIVEN];
+    uint32_t given_count;
+    const char* positional[2];
+    uint32_t positionals;
+} gathered;
+
+static int gather(int argc, char** argv, gathered* g, bool* done)
+{
     for (int i = 1; i < argc; i++) {
         const char* a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            p->done = true;
-            return APP_EXIT_OK;
-        }
-        if (!strcmp(a, "--version")) {
-            printf("%s %s\n", tool, cvk_version());
-            p->done = true;
+        if (app_help_or_version(tool, a, usage)) {
+            *done = true;
             return APP_EXIT_OK;
         }
         if (a[0] == '-' && a[1]) {
@@ -521,70 +512,110 @@ static int parse_args(int argc, char** argv, parsed* p)
                 app_error(tool, "%s: expected a value", a);
                 return APP_EXIT_BAD_INPUT;
             }
-            if (given_count == 64) {
+            if (g->given_count == MAX_GIVEN) {
                 app_error(tool, "too many options");
                 return APP_EXIT_BAD_INPUT;
             }
-            given[given_count].name = a;
-            given[given_count++].value = spec->has_value ? argv[++i] : NULL;
-        } else if (positionals == 2) {
+            g->given[g->given_count].name = a;
+            g->given[g->given_count++].value = spec->has_value ? argv[++i] : NULL;
+        } else if (g->positionals == 2) {
             app_error(tool, "unexpected argument %s (an experiment and one scene at most)", a);
             return APP_EXIT_BAD_INPUT;
         } else {
-            positional[positionals++] = a;
+            g->positional[g->positionals++] = a;
         }
     }
-    if (!positional[0]) {
+    return APP_EXIT_OK;
+}
+
+/* The experiment named first, and the scene it may need. */
+static int choose_experiment(const gathered* g, parsed* p)
+{
+    if (!g->positional[0]) {
         app_error(tool, "no experiment given");
         usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
-    p->e = find_experiment(positional[0]);
+    p->e = find_experiment(g->positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
                   "stability, scaling, collide, contact-steps or explicit-stability)",
-                  positional[0]);
+                  g->positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
-    o->experiment = p->e->name;
-    o->scene_path = positional[1];
-    if (p->e->needs_scene && !o->scene_path) {
+    p->o.experiment = p->e->name;
+    p->o.scene_path = g->positional[1];
+    if (p->e->needs_scene && !p->o.scene_path) {
         app_error(tool, "%s needs a scene file", p->e->name);
         return APP_EXIT_BAD_INPUT;
     }
-    for (uint32_t g = 0; g < given_count; g++) {
-        const option_spec* spec = find_option(given[g].name);
+    return APP_EXIT_OK;
+}
+
+/* Each option given, if the experiment takes it. */
+static int apply_given(const gathered* g, parsed* p)
+{
+    for (uint32_t i = 0; i < g->given_count; i++) {
+        const option_spec* spec = find_option(g->given[i].name);
         if (!(spec->experiments & p->e->bit)) {
-            app_error(tool, "%s is not an option of %s (see --help)", given[g].name, p->e->name);
+            app_error(tool, "%s is not an option of %s (see --help)", g->given[i].name, p->e->name);
             return APP_EXIT_BAD_INPUT;
         }
-        if (!apply_option(o, given[g].name, given[g].value))
+        if (!apply_option(&p->o, g->given[i].name, g->given[i].value))
             return APP_EXIT_BAD_INPUT;
     }
+    return APP_EXIT_OK;
+}
+
+/* The solver families each experiment measures: implicit Euler in scaling and pareto,
+   explicit integrators in pareto only, and there with their own substeps. */
+static int check_solver_families(const bench_options* o, const experiment* e)
+{
     bool explicit_listed = false;
     for (uint32_t i = 0; i < o->solver_count; i++) {
         const bench_solver* s = &o->solvers[i];
         explicit_listed |= s->method == CVK_METHOD_EXPLICIT;
-        if (s->method == CVK_METHOD_IMPLICIT && p->e->bit != SCALING && p->e->bit != PARETO) {
+        if (s->method == CVK_METHOD_IMPLICIT && e->bit != SCALING && e->bit != PARETO) {
             app_error(tool, "--solvers: %s (implicit Euler) is measured by scaling and pareto only",
                       s->label);
             return APP_EXIT_BAD_INPUT;
         }
-        if (s->method == CVK_METHOD_EXPLICIT && p->e->bit != PARETO) {
+        if (s->method == CVK_METHOD_EXPLICIT && e->bit != PARETO) {
             app_error(tool, "--solvers: %s (explicit) is measured by pareto only (and by "
                       "explicit-stability, which takes no --solvers)", s->label);
             return APP_EXIT_BAD_INPUT;
         }
     }
-    if (p->e->bit == PARETO && explicit_listed != (o->explicit_substep_count > 0)) {
+    if (e->bit == PARETO && explicit_listed != (o->explicit_substep_count > 0)) {
         app_error(tool, explicit_listed ? "pareto: explicit integrators need --explicit-substeps "
                                           "(their steps are far shorter than the others')"
                                         : "pareto: --explicit-substeps without an explicit "
                                           "integrator in --solvers");
         return APP_EXIT_BAD_INPUT;
     }
-    set_defaults(o, p->e);
     return APP_EXIT_OK;
+}
+
+static int parse_args(int argc, char** argv, parsed* p)
+{
+    p->o = (bench_options){
+        .out_dir = ".", .repeat = 3, .warmup = 1, .inner = 1, .plot = true,
+        .max_iterations = 1000, .reference_max = 200,
+        .target_error = 1e-3,
+        .energy_bound = 1.0, .stretch_bound = 10.0, .min_steps = 50,
+    };
+    gathered g = {0};
+    int status = gather(argc, argv, &g, &p->done);
+    if (status != APP_EXIT_OK || p->done)
+        return status;
+    status = choose_experiment(&g, p);
+    if (status == APP_EXIT_OK)
+        status = apply_given(&g, p);
+    if (status == APP_EXIT_OK)
+        status = check_solver_families(&p->o, p->e);
+    if (status == APP_EXIT_OK)
+        set_defaults(&p->o, p->e);
+    return status;
 }
 
 /* ---- the output folder ------------------------------------------------------------------------ */
@@ -718,13 +749,11 @@ static int write_results(bench* b, const experiment* e, bool create)
 static int run(const parsed* p)
 {
     const bench_options* o = &p->o;
-    cvk_error err;
     cvk_scene* file = NULL;
-    if (o->scene_path &&
-        cvk_scene_load(o->scene_path, o->overrides.items, o->overrides.count, &file, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
-        return err.result == CVK_ERROR_OUT_OF_MEMORY ? APP_EXIT_FAILURE : APP_EXIT_BAD_INPUT;
-    }
+    int status = o->scene_path ? app_load_scene(tool, o->scene_path, &o->overrides, &file)
+                               : APP_EXIT_OK;
+    if (status != APP_EXIT_OK)
+        return status;
     if (!o->scene_path && o->overrides.count) {
         app_error(tool, "--set needs a scene file (scaling's built-in scene has none)");
         return APP_EXIT_BAD_INPUT;
@@ -736,13 +765,12 @@ static int run(const parsed* p)
     }
     bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
                .scene_name = o->scene_path ? base_name(o->scene_path) : "built-in"};
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
-    if (cvk_context_create(&ctx_desc, &b.ctx, &err) != CVK_SUCCESS) {
-        app_error(tool, "%s", err.message);
+    status = app_create_context(tool, &b.ctx);
+    if (status != APP_EXIT_OK) {
         cvk_scene_destroy(file);
-        return APP_EXIT_FAILURE;
+        return status;
     }
-    int status = b.scene ? check_scene_fits(&b) : APP_EXIT_OK;
+    status = b.scene ? check_scene_fits(&b) : APP_EXIT_OK;
     if (status != APP_EXIT_OK) {
         cvk_context_destroy(b.ctx);
         cvk_scene_destroy(file);
@@ -750,12 +778,7 @@ static int run(const parsed* p)
     }
     describe_device(&b);
     printf("%s %s on %s\n", p->e->name, b.scene_name, b.device);
-    status = p->e->run(&b);
-    uint32_t messages = cvk_context_validation_message_count(b.ctx);
-    if (messages) {
-        app_error(tool, "%u validation messages", messages);
-        status = APP_EXIT_FAILURE;
-    }
+    status = app_validation_status(tool, b.ctx, p->e->run(&b));
     if (status == APP_EXIT_OK)
         status = write_results(&b, p->e, create);
     bench_table_free(&b.table);

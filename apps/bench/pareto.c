@@ -14,10 +14,8 @@
 #include <string.h>
 
 #include "bench.h"
-#include "topology/build.h"
-#include "topology/metrics.h"
 #include "plot.h"
-#include "solvers/reference.h"
+#include "sim/internal.h"
 
 static const char* const columns[] = {
     "label", "method", "solver", "omega", "tolerance", "substeps", "dt", "iterations", "outer",
