@@ -30,7 +30,7 @@ static void usage(FILE* out)
             "                 as an OBJ with the same vertex order: FILE with its extension\n"
             "                 replaced by .obj\n"
             "  --bake DIR     write the exact state as DIR/frame_0000.snap, ... (numbered as\n"
-            "                 --obj) after DIR/cache.json, which holds the scene (see README)\n"
+            "                 --obj) after DIR/cache.json, which holds the scene (docs/tools.md)\n"
             "  --resume DIR   continue the bake in DIR from its last complete frame to N frames\n"
             "                 (default: the bake's), bit for bit as an uninterrupted bake\n"
             "  --every K      with --obj, --pc2 or --bake: file or sample i holds the state after\n"
