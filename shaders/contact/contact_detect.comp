@@ -12,7 +12,7 @@
 // folded every corner within reach is near at rest, and no triangle is tested at all. The
 // nearest CVK_CONTACTS_PER_PARTICLE are kept, with the side of the triangle the particle
 // belongs on: where it is over the face, the side the last list held for the pair, if it held
-// it (so a particle that crossed the face since is brought back, pd_contact.glsl; with the
+// it (so a particle that crossed the face since is brought back, solvers/pd_contact.glsl; with the
 // untangling step's mark, untangle.comp), else the side it is on; equally near ones by
 // triangle index, so the list depends neither on thread timing nor on the order of the walk.
 //

@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Contact constraints of the implicit solve, per free particle at the start of the substep
-// (the colliders posed at t and t + h by collider_poses.comp). A particle is held on the
+// (the colliders posed at t and t + h by contact/collider_poses.comp). A particle is held on the
 // collider whose surface it would reach first: its gap g = distance - thickness, its velocity
 // relative to the surface along the outward normal n is u (its motion at its present velocity
 // over the substep in the collider's moving frame, as collide_colliders measures it), and it

@@ -125,7 +125,7 @@ vec3 tether_free(vec3 d, vec3 t, float limit)
     return outward > 0.0 ? d - outward * n : d;
 }
 
-// d with every tether of p that holds it applied (shaders/pd_tether.comp's data).
+// d with every tether of p that holds it applied (shaders/solvers/pd_tether.comp's data).
 vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
 {
     if (!TETHERS)

@@ -21,7 +21,7 @@ void main()
 {
     if (LISTED) {
         // Only the particles with candidates (no colliders: nothing else to do), listed by the
-        // search (contact_compact.comp).
+        // search (contact/contact_compact.comp).
         uint listed = pc.count == 0u ? 0u : lists[CVK_LIST_CONTACT_COUNT];
         for (uint i = gl_GlobalInvocationID.x; i < listed; i += invocation_stride()) {
             contact_one(lists[contact_list_base() + i]);

@@ -1,6 +1,6 @@
 // Contact between the projective-dynamics iterations: a particle's displacement is kept off
 // the other cloths' triangles found for it this substep and out of every collider
-// (collide.glsl). Triangle corners are read from src (the iterate before), never from the
+// (contact/collide.glsl). Triangle corners are read from src (the iterate before), never from the
 // buffer being written, so the result does not depend on the order of invocations.
 // Specialised: collider types the scene lacks (COLLIDER_TYPES, id 3) and self-contact
 // (SELF, id 4) compile to nothing — on lavapipe both sides of a branch run.
