@@ -75,6 +75,131 @@ void measure(uint t, out vec3 low, out vec3 high, out vec3 normal, out bool brok
     broken = degenerate || squeezed(tri, x0, x1, x2);
 }
 
+// Phase 0: triangle t's entries (its box, its unit normal, whether it is broken) after the
+// patches' entries, which start at `triangles` in patch_bounds.
+void triangle_entries(uint t, uint triangles)
+{
+    vec3 low, high, n;
+    bool broken;
+    measure(t, low, high, n, broken);
+    patch_bounds[triangles + 3u * t] = vec4(low, 0.0);
+    patch_bounds[triangles + 3u * t + 1u] = vec4(high, 0.0);
+    patch_bounds[triangles + 3u * t + 2u] = vec4(n, broken ? 1.0 : 0.0);
+}
+
+// The box of the patch's triangles (entries first to end of the patch table from ids), the sum
+// of their unit normals in the patch's order, and whether one is broken: measured here with
+// one lane, else gathered from phase 0's entries.
+void patch_box_and_normals(uint first, uint end, uint ids, uint triangles, out vec3 low,
+                           out vec3 high, out vec3 sum, out bool broken)
+{
+    low = vec3(3.0e38);
+    high = vec3(-3.0e38);
+    sum = vec3(0.0);
+    broken = false;
+    if (LANES == 1u) { // measured here
+        for (uint i = first; i < end; i++) {
+            vec3 lo, hi, n;
+            bool bad;
+            measure(patch_table(ids + i), lo, hi, n, bad);
+            low = min(low, lo);
+            high = max(high, hi);
+            sum += n;
+            broken = broken || bad;
+        }
+    } else { // gathered from phase 0, BATCH triangles' reads at a time, summed in order
+        for (uint i = first; i < end; i += BATCH) {
+            vec4 n[BATCH];
+            vec3 lo[BATCH], hi[BATCH];
+            for (uint j = 0u; j < BATCH; j++) {
+                int e = int(triangles + 3u * patch_table(ids + min(i + j, end - 1u)));
+                lo[j] = texelFetch(patch_bounds_t, e).xyz;
+                hi[j] = texelFetch(patch_bounds_t, e + 1).xyz;
+                n[j] = texelFetch(patch_bounds_t, e + 2);
+            }
+            for (uint j = 0u; j < BATCH; j++)
+                if (i + j < end) {
+                    low = min(low, lo[j]);
+                    high = max(high, hi[j]);
+                    sum += n[j].xyz;
+                    broken = broken || n[j].w != 0.0;
+                }
+        }
+    }
+}
+
+// The smallest cosine between the axis and the unit normals of the same triangles, from
+// `cosine` down, stopping at -1 (a cone already marked broken stays so).
+float cone_cosine(uint first, uint end, uint ids, uint triangles, vec3 axis, float cosine)
+{
+    if (LANES == 1u) {
+        for (uint i = first; i < end && cosine > -1.0; i++)
+            cosine = min(cosine, dot(unit_normal(patch_table(ids + i)), axis));
+    } else {
+        for (uint i = first; i < end && cosine > -1.0; i += BATCH) {
+            vec3 n[BATCH];
+            for (uint j = 0u; j < BATCH; j++)
+                n[j] = texelFetch(patch_bounds_t, int(triangles + 3u * patch_table(ids + min(i + j, end - 1u)) + 2u)).xyz;
+            for (uint j = 0u; j < BATCH; j++)
+                cosine = min(cosine, dot(n[j], axis)); // a repeated last one changes nothing
+        }
+    }
+    return cosine;
+}
+
+// Phase 1: patch a's entries, its box and its normal cone (the axis, the smallest cosine of a
+// normal to it), and its activity flag cleared for phase 2's lanes.
+void patch_entries(uint a, uint offsets, uint ids, uint triangles)
+{
+    if (LANES > 1u)
+        patch_active[a] = 0u;
+    uint first = patch_table(offsets + a), end = patch_table(offsets + a + 1u);
+    vec3 low, high, sum;
+    bool broken;
+    patch_box_and_normals(first, end, ids, triangles, low, high, sum, broken);
+    float len = length(sum);
+    vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);
+    float cosine = broken || !(len > 0.0) ? -1.0 : 1.0;
+    cosine = cone_cosine(first, end, ids, triangles, axis, cosine);
+    patch_bounds[3u * a] = vec4(low, 0.0);
+    patch_bounds[3u * a + 1u] = vec4(high, 0.0);
+    patch_bounds[3u * a + 2u] = vec4(axis, cosine);
+}
+
+// Phase 2: whether patch a is active, as far as lane `lane` of it sees (every LANES-th other
+// patch): not flat itself, or near another patch that is not a rest neighbour, or near a
+// neighbour that does not stay flat with it.
+void patch_activity(uint a, uint lane, uint patches)
+{
+    vec3 low = texelFetch(patch_bounds_t, int(3u * a)).xyz;
+    vec3 high = texelFetch(patch_bounds_t, int(3u * a + 1u)).xyz;
+    vec4 cone = texelFetch(patch_bounds_t, int(3u * a + 2u));
+    float limit = acos(contact_u.flat_cos);
+    float r = contact_u.detect_radius;
+    uint near = contact_u.patch_neighbours;
+    uint near_first = patch_table(near + a), near_end = patch_table(near + a + 1u);
+    bool busy = !(acos(clamp(cone.w, -1.0, 1.0)) <= limit);
+    for (uint b = lane; b < patches && !busy; b += LANES) {
+        vec3 low_b = texelFetch(patch_bounds_t, int(3u * b)).xyz;
+        vec3 high_b = texelFetch(patch_bounds_t, int(3u * b + 1u)).xyz;
+        bool overlap = all(lessThanEqual(low - r, high_b)) && all(lessThanEqual(low_b - r, high));
+        if (b == a || !overlap)
+            continue;
+        bool adjacent = false;
+        for (uint k = near_first; k < near_end; k++)
+            adjacent = adjacent || patch_table(near + patches + 1u + k) == b;
+        vec4 cone_b = texelFetch(patch_bounds_t, int(3u * b + 2u));
+        // every normal of b within limit of a's axis: the two stay a height field over it
+        float spread = acos(clamp(dot(cone.xyz, cone_b.xyz), -1.0, 1.0)) +
+                       acos(clamp(cone_b.w, -1.0, 1.0));
+        busy = !adjacent || !(spread <= limit);
+    }
+    if (LANES == 1u)
+        patch_active[a] = busy ? 1u : 0u;
+    else if (busy)
+        atomicOr(patch_active[a], 1u);
+}
+
 void main()
 {
     if (frame.search == 0u || pc.count == 0u)
@@ -83,99 +208,11 @@ void main()
     uint offsets = contact_u.particle_count, ids = offsets + patches + 1u;
     uint triangles = 3u * patches; // where the triangles' entries start in patch_bounds
     for (uint item = gl_GlobalInvocationID.x; item < pc.count; item += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-        if (pc.phase == 0u) {
-            uint t = item;
-            vec3 low, high, n;
-            bool broken;
-            measure(t, low, high, n, broken);
-            patch_bounds[triangles + 3u * t] = vec4(low, 0.0);
-            patch_bounds[triangles + 3u * t + 1u] = vec4(high, 0.0);
-            patch_bounds[triangles + 3u * t + 2u] = vec4(n, broken ? 1.0 : 0.0);
-            continue;
-        }
-        if (pc.phase == 1u) {
-            uint a = item;
-            if (LANES > 1u)
-                patch_active[a] = 0u;
-            uint first = patch_table(offsets + a), end = patch_table(offsets + a + 1u);
-            vec3 low = vec3(3.0e38), high = vec3(-3.0e38), sum = vec3(0.0);
-            bool broken = false;
-            if (LANES == 1u) { // measured here
-                for (uint i = first; i < end; i++) {
-                    vec3 lo, hi, n;
-                    bool bad;
-                    measure(patch_table(ids + i), lo, hi, n, bad);
-                    low = min(low, lo);
-                    high = max(high, hi);
-                    sum += n;
-                    broken = broken || bad;
-                }
-            } else { // gathered from phase 0, BATCH triangles' reads at a time, summed in order
-                for (uint i = first; i < end; i += BATCH) {
-                    vec4 n[BATCH];
-                    vec3 lo[BATCH], hi[BATCH];
-                    for (uint j = 0u; j < BATCH; j++) {
-                        int e = int(triangles + 3u * patch_table(ids + min(i + j, end - 1u)));
-                        lo[j] = texelFetch(patch_bounds_t, e).xyz;
-                        hi[j] = texelFetch(patch_bounds_t, e + 1).xyz;
-                        n[j] = texelFetch(patch_bounds_t, e + 2);
-                    }
-                    for (uint j = 0u; j < BATCH; j++)
-                        if (i + j < end) {
-                            low = min(low, lo[j]);
-                            high = max(high, hi[j]);
-                            sum += n[j].xyz;
-                            broken = broken || n[j].w != 0.0;
-                        }
-                }
-            }
-            float len = length(sum);
-            vec3 axis = len > 0.0 ? sum / len : vec3(0.0, 1.0, 0.0);
-            float cosine = broken || !(len > 0.0) ? -1.0 : 1.0;
-            if (LANES == 1u) {
-                for (uint i = first; i < end && cosine > -1.0; i++)
-                    cosine = min(cosine, dot(unit_normal(patch_table(ids + i)), axis));
-            } else {
-                for (uint i = first; i < end && cosine > -1.0; i += BATCH) {
-                    vec3 n[BATCH];
-                    for (uint j = 0u; j < BATCH; j++)
-                        n[j] = texelFetch(patch_bounds_t, int(triangles + 3u * patch_table(ids + min(i + j, end - 1u)) + 2u)).xyz;
-                    for (uint j = 0u; j < BATCH; j++)
-                        cosine = min(cosine, dot(n[j], axis)); // a repeated last one changes nothing
-                }
-            }
-            patch_bounds[3u * a] = vec4(low, 0.0);
-            patch_bounds[3u * a + 1u] = vec4(high, 0.0);
-            patch_bounds[3u * a + 2u] = vec4(axis, cosine);
-            continue;
-        }
-        uint a = item / LANES, lane = item % LANES;
-        vec3 low = texelFetch(patch_bounds_t, int(3u * a)).xyz;
-        vec3 high = texelFetch(patch_bounds_t, int(3u * a + 1u)).xyz;
-        vec4 cone = texelFetch(patch_bounds_t, int(3u * a + 2u));
-        float limit = acos(contact_u.flat_cos);
-        float r = contact_u.detect_radius;
-        uint near = contact_u.patch_neighbours;
-        uint near_first = patch_table(near + a), near_end = patch_table(near + a + 1u);
-        bool busy = !(acos(clamp(cone.w, -1.0, 1.0)) <= limit);
-        for (uint b = lane; b < patches && !busy; b += LANES) {
-            vec3 low_b = texelFetch(patch_bounds_t, int(3u * b)).xyz;
-            vec3 high_b = texelFetch(patch_bounds_t, int(3u * b + 1u)).xyz;
-            bool overlap = all(lessThanEqual(low - r, high_b)) && all(lessThanEqual(low_b - r, high));
-            if (b == a || !overlap)
-                continue;
-            bool adjacent = false;
-            for (uint k = near_first; k < near_end; k++)
-                adjacent = adjacent || patch_table(near + patches + 1u + k) == b;
-            vec4 cone_b = texelFetch(patch_bounds_t, int(3u * b + 2u));
-            // every normal of b within limit of a's axis: the two stay a height field over it
-            float spread = acos(clamp(dot(cone.xyz, cone_b.xyz), -1.0, 1.0)) +
-                           acos(clamp(cone_b.w, -1.0, 1.0));
-            busy = !adjacent || !(spread <= limit);
-        }
-        if (LANES == 1u)
-            patch_active[a] = busy ? 1u : 0u;
-        else if (busy)
-            atomicOr(patch_active[a], 1u);
+        if (pc.phase == 0u)
+            triangle_entries(item, triangles);
+        else if (pc.phase == 1u)
+            patch_entries(item, offsets, ids, triangles);
+        else
+            patch_activity(item / LANES, item % LANES, patches);
     }
 }
