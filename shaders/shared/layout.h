@@ -39,7 +39,7 @@
 
 CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
-/* Bindings of the projective-dynamics set (shaders/pd_common.glsl). */
+/* Bindings of the projective-dynamics set (shaders/solvers/pd_common.glsl). */
 #define CVK_PD_BINDING_SRC 0           /* texel: displacement iterate read */
 #define CVK_PD_BINDING_DST_READ 1      /* texel: iterate being written, read */
 #define CVK_PD_BINDING_DST 2           /* storage: iterate written */
@@ -47,7 +47,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_Y 4             /* storage */
 #define CVK_PD_BINDING_X_READ 5        /* texel: x_n, w: m/h^2 */
 #define CVK_PD_BINDING_X 6             /* storage */
-#define CVK_PD_BINDING_RHS_READ 7      /* texel: w y + r, w (pd_common.glsl local_step) */
+#define CVK_PD_BINDING_RHS_READ 7      /* texel: w y + r, w (solvers/pd_common.glsl local_step) */
 #define CVK_PD_BINDING_RHS 8           /* storage */
 #define CVK_PD_BINDING_ADJACENCY 9     /* texel: neighbours, bits of k, by quad */
 #define CVK_PD_BINDING_ADJACENCY_REST 10 /* texel: rest lengths, by quad */
@@ -59,7 +59,8 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_REST 16        /* storage: rest memory, mean correction (solve_pd.h) */
 #define CVK_PD_BINDING_COUNT 17
 
-/* Solves that stop when converged (solver.tolerance; lib/pd_passes.c, shaders/pd_converge.comp).
+/* Solves that stop when converged (solver.tolerance; lib/pd_passes.c,
+   shaders/solvers/pd_converge.comp).
    The measure: the first sweep of every outer iteration computes, besides its local step, the
    residual of the springs' system at the iterate it reads, scaled by the diagonal:
    d_p = (b_p + sum_c k_c u_c) / diag_p - u_p (the move one Jacobi sweep would make there), and
@@ -69,8 +70,8 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
    Once below, it zeroes the indirect commands of every later pass of the substep. */
 #define CVK_PD_PARTIALS 256u
 
-/* Bindings of the check's own set (shaders/pd_converge.comp, MODE 0 and 1): the partial sums
-   and residuals (the buffer the checking sweeps write as CVK_PD_BINDING_CONVERGE) and the
+/* Bindings of the check's own set (shaders/solvers/pd_converge.comp, MODE 0 and 1): the partial
+   sums and residuals (the buffer the checking sweeps write as CVK_PD_BINDING_CONVERGE) and the
    cvk_pd_scalars, which hold the indirect commands and which nothing else binds. */
 #define CVK_PD_CONVERGE_BINDING_SUMS 0
 #define CVK_PD_CONVERGE_BINDING_SCALARS 1
@@ -124,7 +125,7 @@ CVK_PUSH_BLOCK(cvk_pd_converge_push, CVK_PD_CONVERGE_PUSH_FIELDS)
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
 
-/* Tethers (lib/tether.h, shaders/pd_tether.comp): a particle is projected onto each of its
+/* Tethers (lib/tether.h, shaders/solvers/pd_tether.comp): a particle is projected onto each of its
    tethers' spheres in turn, at most this many rounds (a round that moves nothing ends it):
    one projection can take it out of another sphere, and repeating them converges into the
    intersection. */
@@ -146,7 +147,7 @@ CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
     CVK_UINT(stretched)    /* set by predict: a spring is past the stretch bound */
 CVK_STRUCT(cvk_gpu_watch, CVK_GPU_WATCH_FIELDS)
 
-/* ---- implicit Euler: implicit_*.comp (lib/solve_implicit.c) ------------------------------- */
+/* ---- implicit Euler: solvers/implicit_*.comp (lib/solve_implicit.c) ----------------------- */
 
 #define CVK_IMPLICIT_PUSH_FIELDS                                                        \
     CVK_UINT(count)        /* particles (or partial sums, for reductions) covered */     \
@@ -193,7 +194,8 @@ CVK_PUSH_BLOCK(cvk_implicit_push, CVK_IMPLICIT_PUSH_FIELDS)
     CVK_UINT(single_z)
 CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 
-/* Bindings of the implicit set (shaders/implicit_common.glsl); storage buffers, vec4 per item. */
+/* Bindings of the implicit set (shaders/solvers/implicit_common.glsl); storage buffers, vec4
+   per item. */
 #define CVK_IMPLICIT_BINDING_X 0          /* positions, all particles */
 #define CVK_IMPLICIT_BINDING_V 1          /* velocities, all particles (w: mass, kg) */
 #define CVK_IMPLICIT_BINDING_ADJACENCY 2  /* per slot (slot-major): neighbour, k, rest (bits) */
@@ -213,11 +215,11 @@ CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 #define CVK_IMPLICIT_BINDING_OFFDIAG_READ 15    /* texel: off-diagonal blocks */
 /* Per free particle: the contact filter of this substep, (n, 1 + k) for a particle held on
    collider k along its unit normal n (S = I - n n^T; -(1 + k) once released), 0 for a free one
-   (implicit_contact.comp, implicit_integrate.comp) */
+   (solvers/implicit_contact.comp, solvers/implicit_integrate.comp) */
 #define CVK_IMPLICIT_BINDING_FILTER 16
 #define CVK_IMPLICIT_BINDING_COUNT 17
 
-/* ---- explicit integrators: explicit_force.comp, explicit_update.comp (lib/solve_explicit.c) - */
+/* ---- explicit integrators: solvers/explicit_{force,update}.comp (lib/solve_explicit.c) ----- */
 
 /* What explicit_update does (mode) */
 #define CVK_EXPLICIT_EULER 0u       /* v' = v + h a, x' = x + h v */
@@ -255,7 +257,7 @@ CVK_PUSH_BLOCK(cvk_explicit_push, CVK_EXPLICIT_PUSH_FIELDS)
 #define CVK_EXPLICIT_BINDING_V_IN 9       /* the force pass's velocities (V or VS) */
 #define CVK_EXPLICIT_BINDING_COUNT 10
 
-/* ---- mesh generation: mesh.comp ------------------------------------------------------------ */
+/* ---- mesh generation: render/mesh.comp ----------------------------------------------------- */
 
 #define CVK_MESH_PUSH_FIELDS \
     CVK_UINT(vertex_count)   \
@@ -263,11 +265,12 @@ CVK_PUSH_BLOCK(cvk_explicit_push, CVK_EXPLICIT_PUSH_FIELDS)
 
 CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 
-/* ---- collisions: the contact set (lib/collide.h, shaders/collide.glsl) ------------------- */
+/* ---- collisions: the contact set (lib/collide.h, shaders/contact/collide.glsl) ----------- */
 
 /* The frame state the recorded work advances itself: substeps simulated so far (simulated
    time at the start of substep n is n · dt), and when cloth contact searches for candidates
-   (adaptive search, lib/collide.h: shaders/contact_check.comp and contact_decide.comp). */
+   (adaptive search, lib/collide.h: shaders/contact/contact_check.comp and
+   contact/contact_decide.comp). */
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
     CVK_UINT(search)   /* 1: this substep searches (the hash build and the search run) */   \
@@ -342,7 +345,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 #define CVK_EDGE_MAX_TRIANGLES_AROUND 31u   /* two own edge slots each, in 6 bits */
 #define CVK_EDGE_MAX_TRIANGLES 5592404u     /* 3 × triangle + edge in 24 bits */
 /* A particle–triangle entry (no CVK_EDGE_PAIR) with this bit is held by the untangling step
-   (shaders/untangle.comp): the particle lies in a region of its cloth that another surface
+   (shaders/contact/untangle.comp): the particle lies in a region of its cloth that another surface
    encloses, and the side it belongs on is the one it is not on. */
 #define CVK_UNTANGLE_PAIR 0x40000000u
 #define CVK_MAX_SELF_TRIANGLES 536870911u   /* triangle << 1 below the untangle bit */
@@ -381,8 +384,8 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 #define CVK_LIST_SEARCH_GROUPS 4  /* x, y, z */
 #define CVK_LIST_CONTACT_GROUPS 8 /* x, y, z */
 #define CVK_LIST_HEADER 16        /* the search list starts here; the contact list n later */
-/* The untangling step's state (shaders/untangle.comp) in the same buffer: whether an edge is
-   cut and its indirect command in the header, then from CVK_LIST_HEADER + 2n its arrays, n
+/* The untangling step's state (shaders/contact/untangle.comp) in the same buffer: whether an
+   edge is cut and its indirect command in the header, then from CVK_LIST_HEADER + 2n its arrays, n
    each (CVK_UNTANGLE_*), then per cloth the largest converged region and whether one did not
    converge. What it accumulates is zero between searches (the step clears it; the labels are
    written whole before they are read). */
@@ -444,10 +447,10 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
 
-/* ---- attachments: attach.comp (lib/attach.h) --------------------------------------------- */
+/* ---- attachments: features/attach.comp (lib/attach.h) ------------------------------------ */
 
 /* One attachment's motion: its keyframes in the attachment keyframe buffer (2 vec4 each, as
-   the colliders'; shaders/motion.glsl). */
+   the colliders'; shaders/scene/motion.glsl). */
 #define CVK_GPU_ATTACHMENT_FIELDS \
     CVK_UINT(keyframe_first)      \
     CVK_UINT(keyframe_count)      \
@@ -464,13 +467,13 @@ CVK_STRUCT(cvk_gpu_attachment, CVK_GPU_ATTACHMENT_FIELDS)
     CVK_UINT(pad1)
 CVK_STRUCT(cvk_gpu_attached, CVK_GPU_ATTACHED_FIELDS)
 
-/* Push data of attach.comp. count 0 (the warm-up dispatch) does nothing, not even advance the
-   frame state. */
+/* Push data of features/attach.comp. count 0 (the warm-up dispatch) does nothing, not even
+   advance the frame state. */
 #define CVK_ATTACH_PUSH_FIELDS                                                     \
     CVK_UINT(count)        /* attached particles */                                \
     CVK_UINT(advance)      /* 1: this pass advances the frame state (no collider pass did) */ \
     CVK_FLOAT(dt)          /* s per substep */                                     \
-    CVK_UINT(place)        /* implicit variant: 0 velocity pass, 1 place pass (attach.comp) */
+    CVK_UINT(place)        /* implicit variant: 0 velocity pass, 1 place pass (features/attach.comp) */
 CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 
 #define CVK_ATTACH_BINDING_FRAME 0       /* cvk_gpu_frame (the contact module's buffer) */
@@ -478,13 +481,13 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 #define CVK_ATTACH_BINDING_ATTACHMENTS 2 /* cvk_gpu_attachment per attachment */
 #define CVK_ATTACH_BINDING_ATTACHED 3    /* cvk_gpu_attached per attached particle */
 #define CVK_ATTACH_BINDING_POSITIONS 4   /* vec4 per particle: x_n */
-#define CVK_ATTACH_BINDING_U0 5          /* pd: the displacement iterates (pd_common.glsl); */
+#define CVK_ATTACH_BINDING_U0 5          /* pd: the displacement iterates (solvers/pd_common.glsl); */
 #define CVK_ATTACH_BINDING_U1 6          /* implicit: both the velocities (w: mass) */
 #define CVK_ATTACH_BINDING_COUNT 7
 
-/* ---- tearing: tear.comp (lib/tear.h) ------------------------------------------------------- */
+/* ---- tearing: features/tear.comp (lib/tear.h) ---------------------------------------------- */
 
-/* Push data of tear.comp. count 0 (the warm-up dispatch) does nothing. */
+/* Push data of features/tear.comp. count 0 (the warm-up dispatch) does nothing. */
 #define CVK_TEAR_PUSH_FIELDS                                                       \
     CVK_UINT(count)        /* springs that may tear (of cloths with tearing) */    \
     CVK_UINT(entries)      /* 1: the family packs (neighbour, k, L, 0) entries */ \
@@ -495,8 +498,8 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 /* Per spring that may tear, two uvec4 texels: (a, b, spring index, bits of the squared length
    at which it breaks, m^2); and where its stiffness sits in each free end's adjacency, as
    element indices of the adjacency's uint array: (k of a, k of b) as projective dynamics packs
-   it (pd_common.glsl's quads), then (k of a, k of b) as the implicit and explicit families pack
-   it (velocity_state.h's (neighbour, bits of k, bits of L, 0) per entry). Every family
+   it (solvers/pd_common.glsl's quads), then (k of a, k of b) as the implicit and explicit families
+   pack it (velocity_state.h's (neighbour, bits of k, bits of L, 0) per entry). Every family
    multiplies whatever it reads of a spring by k, so k = 0 is all a torn spring needs.
    CVK_TEAR_NONE for a pinned end. */
 #define CVK_TEAR_NONE 0xffffffffu
@@ -506,7 +509,7 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 #define CVK_TEAR_BINDING_ADJACENCY 3    /* storage: the adjacency's neighbours and bits of k */
 #define CVK_TEAR_BINDING_COUNT 4
 
-/* ---- air: aero_triangles.comp, aero_gather.comp (lib/aero.h) ------------------------------ */
+/* ---- air: features/aero_triangles.comp, features/aero_gather.comp (lib/aero.h) ------------ */
 
 /* Push data of both air passes. count 0 (the warm-up dispatch) does nothing, not even advance
    the frame state. */
@@ -520,9 +523,9 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
 
 /* Tables read per item are texel buffers (a gather on lavapipe, where a storage load is a loop
-   over the lanes; pd_common.glsl). */
+   over the lanes; solvers/pd_common.glsl). */
 #define CVK_AERO_BINDING_FRAME 0        /* cvk_gpu_frame (the contact module's buffer) */
-#define CVK_AERO_BINDING_POSITIONS 1    /* texel, vec4 per particle: x_n, w: m/h^2 (pd_common.glsl) */
+#define CVK_AERO_BINDING_POSITIONS 1    /* texel, vec4 per particle: x_n, w: m/h^2 (solvers/pd_common.glsl) */
 #define CVK_AERO_BINDING_U 2            /* texel, vec4 per particle: the last displacement (velocity h) */
 #define CVK_AERO_BINDING_TRIANGLES 3    /* texel, uvec4 per triangle: corners (internal), cloth */
 #define CVK_AERO_BINDING_COEFFICIENTS 4 /* vec4 per cloth: rho/2 times drag, lift, friction */
@@ -532,10 +535,10 @@ CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
 #define CVK_AERO_BINDING_FORCES_READ 8  /* texel view of the forces */
 #define CVK_AERO_BINDING_COUNT 9
 
-/* ---- spatial hash (lib/hash.h, shaders/hash_common.glsl) ---------------------------------- */
+/* ---- spatial hash (lib/hash.h, shaders/contact/hash_common.glsl) -------------------------- */
 
 /* The hash's parameters, in a small storage buffer of its set, so a shader that queries the hash
-   needs no push data. Written by the build's first pass (shaders/hash_clear.comp). */
+   needs no push data. Written by the build's first pass (shaders/contact/hash_clear.comp). */
 #define CVK_HASH_PARAMS_FIELDS                                                          \
     CVK_FLOAT(cell_size)   /* m */                                                       \
     CVK_FLOAT(inv_cell)    /* 1 / cell_size, 1/m: cells are floor(p · inv_cell) */        \
@@ -550,8 +553,8 @@ CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
 /* A build decided on the device (lib/hash.h, cvk_hash_add_passes with on_device) dispatches
    its passes indirectly, with the commands (3 uints each: workgroups, 1, 1) in the parameters'
    buffer after cvk_hash_params, one per pass in the order clear, count, chunk sums, scan
-   chunks, scan, scatter, sort; shaders/hash_commands.comp writes them from its push data, with
-   no workgroups while the build is closed. */
+   chunks, scan, scatter, sort; shaders/contact/hash_commands.comp writes them from its push data,
+   with no workgroups while the build is closed. */
 #define CVK_HASH_BUILD_PASSES 7
 #define CVK_HASH_COMMANDS_OFFSET 32 /* bytes: sizeof(cvk_hash_params) */
 #define CVK_HASH_COMMANDS_PUSH_FIELDS                                                   \
@@ -565,7 +568,8 @@ CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
     CVK_UINT(pad0)
 CVK_PUSH_BLOCK(cvk_hash_commands_push, CVK_HASH_COMMANDS_PUSH_FIELDS)
 
-/* The build passes' push data (shaders/hash_*.comp). The scan works in chunks of `chunk` slots. */
+/* The build passes' push data (shaders/contact/hash_*.comp). The scan works in chunks of `chunk`
+   slots. */
 #define CVK_HASH_PUSH_FIELDS                                                            \
     CVK_UINT(points)       /* points hashed */                                           \
     CVK_UINT(slots)        /* table_size */                                              \
@@ -577,7 +581,8 @@ CVK_PUSH_BLOCK(cvk_hash_commands_push, CVK_HASH_COMMANDS_PUSH_FIELDS)
     CVK_UINT(pad1)
 CVK_PUSH_BLOCK(cvk_hash_push, CVK_HASH_PUSH_FIELDS)
 
-/* The neighbour query (shaders/hash_neighbours.comp): per point, the other points within radius. */
+/* The neighbour query (shaders/contact/hash_neighbours.comp): per point, the other points within
+   radius. */
 #define CVK_HASH_QUERY_PUSH_FIELDS                                                      \
     CVK_UINT(count)        /* points queried: [0, count) */                              \
     CVK_FLOAT(radius2)     /* radius^2, m^2; radius at most the cell size */
@@ -607,7 +612,7 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
    defined for far-away points (they share the border cells). */
 #define CVK_HASH_CELL_LIMIT 1073741824.0
 
-/* ---- picking and dragging: grab.comp, pick.comp (lib/grab.h, lib/pick.h) ---------------- */
+/* ---- picking and dragging: features/grab.comp, features/pick.comp (lib/grab.h, lib/pick.h) --- */
 
 /* The grab, written by the host between frames (host-visible, coherent) and read by the
    recorded frame every substep: which particle follows which target. */
@@ -619,12 +624,12 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
     CVK_UINT(pad1)
 CVK_STRUCT(cvk_gpu_grab, CVK_GPU_GRAB_FIELDS)
 
-/* Particles a grab holds at once (grab.comp's workgroup); after the cvk_gpu_grab in the same
-   buffer come CVK_GRAB_MAX vec4: xyz the member's offset from the target, w its internal index
-   as float bits (member 0 is the grabbed particle, offset 0). */
+/* Particles a grab holds at once (features/grab.comp's workgroup); after the cvk_gpu_grab in the
+   same buffer come CVK_GRAB_MAX vec4: xyz the member's offset from the target, w its internal
+   index as float bits (member 0 is the grabbed particle, offset 0). */
 #define CVK_GRAB_MAX 64
 
-/* Push data of grab.comp. substeps 0 (the warm-up dispatch) does nothing. */
+/* Push data of features/grab.comp. substeps 0 (the warm-up dispatch) does nothing. */
 #define CVK_GRAB_PUSH_FIELDS                                                       \
     CVK_UINT(substeps)     /* substeps per frame */                                \
     CVK_FLOAT(weight)      /* m/h^2 the solver sees for the grabbed particle */     \
@@ -635,7 +640,7 @@ CVK_PUSH_BLOCK(cvk_grab_push, CVK_GRAB_PUSH_FIELDS)
 #define CVK_GRAB_BINDING_GRAB 0          /* cvk_gpu_grab (host-visible) */
 #define CVK_GRAB_BINDING_WATCH 1         /* cvk_gpu_watch: its substep count places the substep */
 #define CVK_GRAB_BINDING_POSITIONS 2     /* vec4 per particle: x_n */
-#define CVK_GRAB_BINDING_Y 3             /* the solver's predicted displacement (pd_common.glsl) */
+#define CVK_GRAB_BINDING_Y 3             /* the solver's predicted displacement (solvers/pd_common.glsl) */
 #define CVK_GRAB_BINDING_U0 4            /* the solver's displacement iterates */
 #define CVK_GRAB_BINDING_U1 5
 #define CVK_GRAB_BINDING_COUNT 6
@@ -652,7 +657,7 @@ CVK_PUSH_BLOCK(cvk_grab_push, CVK_GRAB_PUSH_FIELDS)
     CVK_VEC4(position)      /* xyz: that particle's position, m */
 CVK_STRUCT(cvk_gpu_pick, CVK_GPU_PICK_FIELDS)
 
-/* Push data of pick.comp: stage 0 finds the distance, 1 the particle, 2 its position. */
+/* Push data of features/pick.comp: stage 0 finds the distance, 1 the particle, 2 its position. */
 #define CVK_PICK_PUSH_FIELDS                                                       \
     CVK_VEC4(origin)       /* xyz: the ray's origin, m */                           \
     CVK_VEC4(direction)    /* xyz: the ray's unit direction */                      \

@@ -1,0 +1,572 @@
+// The contact set and the contact responses every solver family calls inside its sweeps
+// (lib/collide.h). Include after shared/layout.h; define CONTACT_SET first to bind the set
+// elsewhere than set 1.
+//
+// Colliders are handled in each collider's own frame, where a particle's motion over the
+// substep is the segment from its start position (in the frame at the substep's start) to its
+// end position (in the frame at the substep's end): the segment is traced against the shape
+// thickened by the cloth thickness (sphere tracing on the signed distance, exact for the
+// analytic shapes and a bound for the sampled mesh fields), so a particle that would cross a
+// thin box or be overtaken by a fast sphere within the substep is stopped at the first touch,
+// not only when it ends inside. The end position is then projected onto the tangent plane at
+// the touch, and Coulomb friction takes the tangential part of the relative motion away
+// (all of it while it is within mu_s times the normal correction, mu_k times it otherwise;
+// Macklin et al. 2014 §6.1). Relative motion is measured in the collider's frame, so a moving
+// surface carries the cloth along.
+
+#ifndef CONTACT_SET
+#define CONTACT_SET 1
+#endif
+#ifndef CONTACT_TYPES_ID
+#define CONTACT_TYPES_ID 7
+#endif
+// Bit t set: the scene has colliders of type t (CVK_COLLIDER_*_ID); the others' code is
+// specialised away.
+layout(constant_id = CONTACT_TYPES_ID) const uint COLLIDER_TYPES = 63u;
+#define HAS_TYPE(t) ((COLLIDER_TYPES & (1u << (t))) != 0u)
+
+layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS_UNIFORM) uniform ContactParamsU {
+    cvk_gpu_contact_params contact_u;
+};
+layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SHAPES_UNIFORM) uniform ShapesU {
+    cvk_gpu_collider shapes_u[CVK_MAX_COLLIDERS];
+};
+layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES_UNIFORM) uniform PosesU {
+    cvk_gpu_pose poses_u[CVK_MAX_COLLIDERS];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
+    cvk_gpu_frame frame;
+    cvk_gpu_motion_bounds motion_bounds; // adaptive search (contact_check.comp)
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS) readonly buffer ContactParams {
+    cvk_gpu_contact_params contact;
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SHAPES) readonly buffer Shapes {
+    cvk_gpu_collider shapes[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_KEYFRAMES) readonly buffer Keyframes {
+    vec4 keyframes[]; // 2 per keyframe: (time, translation), rotation (x, y, z, w)
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES) buffer Poses {
+    cvk_gpu_pose poses[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly buffer Fields {
+    float sdf_values[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer Searched {
+    vec4 searched[]; // per particle: where the last candidate search saw it
+};
+// Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
+// where a storage-buffer load is a loop over the lanes).
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INCIDENT) uniform usamplerBuffer incident_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_REST) uniform samplerBuffer rest_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeonly buffer Contacts {
+    uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: triangle << 1 | side
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform usamplerBuffer contacts_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
+// Surface patches and the work lists of a search (lib/collide.h, "Patches").
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_TABLE) uniform usamplerBuffer patch_table_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS) writeonly buffer PatchBounds {
+    vec4 patch_bounds[]; // per patch: low, high, normal cone (axis, cosine of its half-angle)
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS_READ) uniform samplerBuffer patch_bounds_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_ACTIVE) buffer PatchActive {
+    uint patch_active[];
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
+    uint lists[]; // CVK_LIST_*: counts and indirect commands, then the search and contact lists
+};
+
+uvec4 contact_triangle(uint t) { return texelFetch(triangles_t, int(t)); } // internal indices
+// Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.
+uint contact_incident(uint i) { return texelFetch(incident_t, int(i)).x; }
+vec4 contact_rest(uint p) { return texelFetch(rest_t, int(p)); } // rest position, cloth index
+uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
+vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
+uint patch_table(uint i) { return texelFetch(patch_table_t, int(i)).x; }
+// Where the contact list starts in `lists`: after the header and the search list.
+uint contact_list_base() { return uint(CVK_LIST_HEADER) + contact_u.particle_count; }
+
+#include "scene/motion.glsl" // quat_rotate, motion_pose (reads keyframes, above)
+
+// Bits of a float that order as the float does (as unsigned integers), and back: the motion
+// bounds of the adaptive search (contact_check.comp, contact_decide.comp).
+uint ordered(float f)
+{
+    uint u = floatBitsToUint(f);
+    return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+
+float from_ordered(uint u)
+{
+    return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7fffffffu : ~u);
+}
+
+// ---- signed distances of the shapes at rest ------------------------------------------------
+
+float box_distance(cvk_gpu_collider c, vec3 l)
+{
+    vec3 b = quat_rotate_inverse(c.c, l - c.a.xyz);
+    vec3 q = abs(b) - c.b.xyz;
+    return length(max(q, 0.0)) + min(max(q.x, max(q.y, q.z)), 0.0);
+}
+
+vec3 box_normal(cvk_gpu_collider c, vec3 l)
+{
+    vec3 b = quat_rotate_inverse(c.c, l - c.a.xyz);
+    vec3 q = abs(b) - c.b.xyz;
+    vec3 n;
+    if (max(q.x, max(q.y, q.z)) > 0.0) {
+        n = max(q, 0.0) * sign(b);
+    } else { // inside: out through the nearest face
+        if (q.x >= q.y && q.x >= q.z)
+            n = vec3(b.x >= 0.0 ? 1.0 : -1.0, 0.0, 0.0);
+        else if (q.y >= q.z)
+            n = vec3(0.0, b.y >= 0.0 ? 1.0 : -1.0, 0.0);
+        else
+            n = vec3(0.0, 0.0, b.z >= 0.0 ? 1.0 : -1.0);
+    }
+    return quat_rotate(c.c, normalize(n));
+}
+
+// The point of segment (a, b) nearest p.
+vec3 closest_on_segment(vec3 p, vec3 a, vec3 b)
+{
+    vec3 ab = b - a;
+    float len2 = dot(ab, ab);
+    float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return a + t * ab;
+}
+
+vec3 capsule_closest(cvk_gpu_collider c, vec3 l)
+{
+    return closest_on_segment(l, c.a.xyz, c.b.xyz);
+}
+
+// The funnel: radius e^(y/a) for -height <= y <= 0 around the vertical axis through the apex.
+// The nearest point of the profile curve in the particle's half-plane, by Gauss-Newton on the
+// curve's height (clamped to the funnel's range, so the rims are handled too).
+vec2 funnel_closest(cvk_gpu_collider c, vec3 l, out vec3 radial)
+{
+    vec3 d = l - c.a.xyz;
+    float rho = length(d.xz);
+    radial = rho > 0.0 ? vec3(d.x / rho, 0.0, d.z / rho) : vec3(1.0, 0.0, 0.0);
+    float a = c.a.w, h = c.b.x;
+    float s = clamp(d.y, -h, 0.0);
+    for (int i = 0; i < 8; i++) {
+        float r = exp(s / a), dr = r / a;
+        float g = (r - rho) * dr + (s - d.y);
+        s = clamp(s - g / (dr * dr + 1.0), -h, 0.0);
+    }
+    return vec2(exp(s / a), s) - vec2(rho, d.y); // curve point minus particle, in (rho, y)
+}
+
+float mesh_value(cvk_gpu_collider c, ivec3 i)
+{
+    ivec3 dims = ivec3(c.b.xyz);
+    i = clamp(i, ivec3(0), dims - 1);
+    return sdf_values[c.sdf_first + uint(i.x + dims.x * (i.y + dims.y * i.z))];
+}
+
+float mesh_distance(cvk_gpu_collider c, vec3 l)
+{
+    vec3 dims = c.b.xyz;
+    vec3 g = (l - c.a.xyz) / c.a.w;
+    vec3 inside = clamp(g, vec3(0.0), dims - 1.0);
+    float outside = length(g - inside) * c.a.w; // beyond the grid: distance to it, added
+    vec3 base = min(floor(inside), dims - 2.0);
+    vec3 f = inside - base;
+    ivec3 i = ivec3(base);
+    float v00 = mix(mesh_value(c, i), mesh_value(c, i + ivec3(1, 0, 0)), f.x);
+    float v10 = mix(mesh_value(c, i + ivec3(0, 1, 0)), mesh_value(c, i + ivec3(1, 1, 0)), f.x);
+    float v01 = mix(mesh_value(c, i + ivec3(0, 0, 1)), mesh_value(c, i + ivec3(1, 0, 1)), f.x);
+    float v11 = mix(mesh_value(c, i + ivec3(0, 1, 1)), mesh_value(c, i + ivec3(1, 1, 1)), f.x);
+    return mix(mix(v00, v10, f.y), mix(v01, v11, f.y), f.z) + outside;
+}
+
+float shape_distance(cvk_gpu_collider c, vec3 l)
+{
+    if (HAS_TYPE(CVK_COLLIDER_PLANE_ID) && c.type == CVK_COLLIDER_PLANE_ID)
+        return dot(c.b.xyz, l - c.a.xyz);
+    if (HAS_TYPE(CVK_COLLIDER_SPHERE_ID) && c.type == CVK_COLLIDER_SPHERE_ID)
+        return length(l - c.a.xyz) - c.a.w;
+    if (HAS_TYPE(CVK_COLLIDER_BOX_ID) && c.type == CVK_COLLIDER_BOX_ID)
+        return box_distance(c, l);
+    if (HAS_TYPE(CVK_COLLIDER_CAPSULE_ID) && c.type == CVK_COLLIDER_CAPSULE_ID)
+        return length(l - capsule_closest(c, l)) - c.a.w;
+    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && c.type == CVK_COLLIDER_FUNNEL_ID) {
+        vec3 radial;
+        return length(funnel_closest(c, l, radial));
+    }
+    if (HAS_TYPE(CVK_COLLIDER_MESH_ID))
+        return mesh_distance(c, l);
+    return 1e30;
+}
+
+vec3 safe_normalize(vec3 v, vec3 fallback)
+{
+    float len = length(v);
+    return len > 1e-12 ? v / len : fallback;
+}
+
+// The outward unit normal at l (for the funnel: towards l's side of the surface).
+vec3 shape_normal(cvk_gpu_collider c, vec3 l)
+{
+    if (HAS_TYPE(CVK_COLLIDER_PLANE_ID) && c.type == CVK_COLLIDER_PLANE_ID)
+        return c.b.xyz;
+    if (HAS_TYPE(CVK_COLLIDER_SPHERE_ID) && c.type == CVK_COLLIDER_SPHERE_ID)
+        return safe_normalize(l - c.a.xyz, vec3(0.0, 1.0, 0.0));
+    if (HAS_TYPE(CVK_COLLIDER_BOX_ID) && c.type == CVK_COLLIDER_BOX_ID)
+        return box_normal(c, l);
+    if (HAS_TYPE(CVK_COLLIDER_CAPSULE_ID) && c.type == CVK_COLLIDER_CAPSULE_ID)
+        return safe_normalize(l - capsule_closest(c, l), vec3(0.0, 1.0, 0.0));
+    if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && c.type == CVK_COLLIDER_FUNNEL_ID) {
+        vec3 radial;
+        vec2 to_curve = funnel_closest(c, l, radial);
+        vec3 away = -(to_curve.x * radial + vec3(0.0, to_curve.y, 0.0));
+        // On the surface itself: the curve's outward normal (away from the axis).
+        float r = exp(clamp(l.y - c.a.y, -c.b.x, 0.0) / c.a.w);
+        return safe_normalize(away, normalize(radial - vec3(0.0, r / c.a.w, 0.0)));
+    }
+    if (HAS_TYPE(CVK_COLLIDER_MESH_ID)) {
+        float e = 0.5 * c.a.w;
+        vec3 grad = vec3(mesh_distance(c, l + vec3(e, 0, 0)) - mesh_distance(c, l - vec3(e, 0, 0)),
+                         mesh_distance(c, l + vec3(0, e, 0)) - mesh_distance(c, l - vec3(0, e, 0)),
+                         mesh_distance(c, l + vec3(0, 0, e)) - mesh_distance(c, l - vec3(0, 0, e)));
+        return safe_normalize(grad, vec3(0.0, 1.0, 0.0));
+    }
+    return vec3(0.0, 1.0, 0.0);
+}
+
+// The first point of the segment l0 -> l1 within distance r of the shape (sphere tracing), and
+// the normal there; a start already within r is pushed out to r along its normal.
+bool trace_segment(cvk_gpu_collider c, vec3 l0, vec3 l1, float r, out vec3 hit, out vec3 n)
+{
+    vec3 d = l1 - l0;
+    float len = length(d);
+    float s = 0.0;
+    hit = l1;
+    n = vec3(0.0, 1.0, 0.0);
+    for (int i = 0; i < 32; i++) {
+        vec3 l = l0 + s * d;
+        float dist = shape_distance(c, l) - r;
+        if (dist < 1e-3 * r) {
+            n = shape_normal(c, l);
+            hit = dist < 0.0 ? l - dist * n : l;
+            return true;
+        }
+        if (len <= 0.0)
+            return false;
+        float next = s + dist / len;
+        if (next >= 1.0)
+            return false; // the ball of radius dist around l covers the rest of the segment
+        s = next;
+    }
+    float dist = shape_distance(c, l1) - r; // a grazing path: decide by the end alone
+    if (dist >= 0.0)
+        return false;
+    n = shape_normal(c, l1);
+    hit = l1 - dist * n;
+    return true;
+}
+
+// Friction on the end point l1 after a normal correction of `depth` along n: the tangential
+// part of the motion relative to the surface (l1 - l0 in the collider's frame) is removed
+// while it is within mu_s depth (static), shortened by mu_k depth otherwise (kinetic).
+vec3 apply_friction(vec3 l0, vec3 l1, vec3 n, float depth, float mu, float mu_s)
+{
+    vec3 rel = l1 - l0;
+    vec3 tangential = rel - dot(rel, n) * n;
+    float t = length(tangential);
+    if (t <= mu_s * depth)
+        return l1 - tangential;
+    return l1 - tangential * min(1.0, mu * depth / t);
+}
+
+// Contact with collider k for a point that starts the substep at x0 and would end it at
+// x0 + u, kept r off its surface: returns the corrected displacement.
+vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
+{
+    cvk_gpu_collider c = shapes_u[k];
+    cvk_gpu_pose pose = poses_u[k];
+    vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
+    vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+    vec3 hit, n;
+    bool touch;
+    if (COLLIDER_TYPES == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {
+        // a half-space: the projection needs no trace
+        n = c.b.xyz;
+        hit = l1 + (r - dot(n, l1 - c.a.xyz)) * n;
+        touch = dot(n, l1 - c.a.xyz) < r;
+    } else {
+        touch = trace_segment(c, l0, l1, r, hit, n);
+    }
+    if (!touch)
+        return u;
+    float depth = dot(n, hit - l1);
+    if (depth <= 0.0)
+        return u;
+    l1 += depth * n;
+    l1 = apply_friction(l0, l1, n, depth, c.friction, c.static_friction);
+    if (c.type != CVK_COLLIDER_PLANE_ID) {
+        // The tangent plane at the touch is exact for flat faces; at edges, corners and
+        // curved or sampled surfaces the end may still be within r: push it out along
+        // the field's gradient.
+        for (int i = 0; i < 2; i++) {
+            float left = r - shape_distance(c, l1);
+            if (left > 0.0)
+                l1 += left * shape_normal(c, l1);
+        }
+    }
+    return quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
+}
+
+// Collider contact for a particle that starts the substep at x0 and would end it at x0 + u:
+// returns the displacement that keeps it out of every collider.
+vec3 collide_colliders(vec3 x0, vec3 u)
+{
+    for (uint k = 0; k < contact_u.collider_count; k++)
+        u = collide_shape(k, x0, u, contact_u.thickness);
+    return u;
+}
+
+// ---- cloth against cloth -------------------------------------------------------------------
+
+// The point of triangle (a, b, c) nearest p and its barycentric weights (Ericson 2005, 5.1.5).
+vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
+{
+    vec3 ab = b - a, ac = c - a, ap = p - a;
+    float d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0) { w = vec3(1, 0, 0); return a; }
+    vec3 bp = p - b;
+    float d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0.0 && d4 <= d3) { w = vec3(0, 1, 0); return b; }
+    float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        float v = d1 / (d1 - d3);
+        w = vec3(1.0 - v, v, 0.0);
+        return a + v * ab;
+    }
+    vec3 cp = p - c;
+    float d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6) { w = vec3(0, 0, 1); return c; }
+    float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        float v = d2 / (d2 - d6);
+        w = vec3(1.0 - v, 0.0, v);
+        return a + v * ac;
+    }
+    float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+        float v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        w = vec3(0.0, 1.0 - v, v);
+        return b + v * (c - b);
+    }
+    float denom = 1.0 / (va + vb + vc);
+    float v = vb * denom, t = vc * denom;
+    w = vec3(1.0 - v - t, v, t);
+    return a + v * ab + t * ac;
+}
+
+// The nearest points c1 = p1 + s (q1 - p1) and c2 = p2 + t (q2 - p2) of two segments
+// (Ericson 2005, §5.1.9; s = 0 where the segments are parallel).
+void closest_segments(vec3 p1, vec3 q1, vec3 p2, vec3 q2, precise out float s,
+                      precise out float t, precise out vec3 c1, precise out vec3 c2)
+{
+    precise vec3 d1 = q1 - p1, d2 = q2 - p2, r = p2 - p1;
+    precise float a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, -r);
+    s = 0.0;
+    t = 0.0;
+    if (a > 0.0 && e > 0.0) {
+        precise float b = dot(d1, d2), c = dot(d1, -r);
+        precise float denom = a * e - b * b;
+        s = denom > 0.0 ? clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+        t = (b * s + f) / e;
+        if (t < 0.0) {
+            t = 0.0;
+            s = clamp(-c / a, 0.0, 1.0);
+        } else if (t > 1.0) {
+            t = 1.0;
+            s = clamp((b - c) / a, 0.0, 1.0);
+        }
+    } else if (a > 0.0) {
+        s = clamp(dot(d1, r) / a, 0.0, 1.0);
+    } else if (e > 0.0) {
+        t = clamp(dot(d2, -r) / e, 0.0, 1.0);
+    }
+    c1 = p1 + s * d1;
+    c2 = p2 + t * d2;
+}
+
+// Corner k (0, 1 or 2) of a triangle, without indexing the vector by a variable.
+uint corner_of(uvec4 t, uint k)
+{
+    return k == 0u ? t.x : (k == 1u ? t.y : t.z);
+}
+
+// The own-edge slots of p (own_edge below): two per triangle around it.
+uint own_slots(uint p) { return 2u * (contact_incident(p + 1u) - contact_incident(p)); }
+
+// The side bit of a candidate pair (1: behind the face): x's side of triangle (a, b, c), q the
+// triangle's point nearest x.
+uint triangle_side(vec3 x, vec3 q, vec3 a, vec3 b, vec3 c)
+{
+    return dot(x - q, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
+}
+
+// p's own edges (collision.edges): slot 2i is the edge of p's i-th triangle (in the incidence
+// table's order) to its next corner, slot 2i + 1 the edge from its corner before, which only a
+// border has there (no triangle runs it the other way). False where the slot holds no edge;
+// else the far end in r and whether the edge is a border.
+bool own_edge(uint p, uint slot, out uint r, out bool border)
+{
+    uvec4 pt = contact_triangle(contact_incident(contact_u.particle_count + 1u +
+                                                 contact_incident(p) + slot / 2u));
+    uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
+    uint next = slot & 1u; // 0: the edge to the next corner; 1: from the one before
+    r = corner_of(pt, (pk + 1u + next) % 3u);
+    // the border bit of edge k runs from corner k to k + 1 (lib/collide.c)
+    border = (pt.w & (1u << ((pk + 2u * next) % 3u))) != 0u;
+    return next == 0u || border;
+}
+
+// Whether the nearest points of two edges lie inside both, where the edges can pass through
+// each other (elsewhere one goes round the other's end).
+bool edges_inside(float s, float t)
+{
+    return s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+}
+
+// The side (1: negative) edge (p0, p1) is on of edge (a, b): the sign of the nearest points'
+// offset along the edges' common normal (p1 - p0) × (b - a).
+uint edge_side(vec3 p0, vec3 p1, vec3 a, vec3 b, vec3 c1, vec3 c2)
+{
+    precise float along = dot(c1 - c2, cross(p1 - p0, b - a));
+    return along < 0.0 ? 1u : 0u;
+}
+
+// How far edge (p0, p1) is from edge (a, b) on the side `side` (±1) of it, and the direction
+// to push the first to increase that: where the nearest points are inside both edges and the
+// edges are more than about 6° from parallel, along their common normal (negative once they
+// have passed through each other); elsewhere the distance between the nearest points, away
+// from the second. s, t, c1, c2: the nearest points (closest_segments).
+float edge_separation_at(vec3 p0, vec3 p1, vec3 a, vec3 b, float s, float t, vec3 c1, vec3 c2,
+                         float side, out vec3 dir)
+{
+    vec3 m = cross(p1 - p0, b - a);
+    float lm = length(m);
+    vec3 d = c1 - c2;
+    float dist = length(d);
+    if (edges_inside(s, t) && lm > 0.1 * length(p1 - p0) * length(b - a)) {
+        dir = side * m / lm;
+        return dot(d, dir);
+    }
+    dir = dist > 0.0 ? d / dist : (lm > 0.0 ? side * m / lm : vec3(0.0, 1.0, 0.0));
+    return dist;
+}
+
+// How far p is from triangle (a, b, c) on the side `side` of it, and the direction to push it
+// to increase that: over the face, along the normal (negative when p is behind the face);
+// beside an edge or corner, the distance to it and away from it (a particle passing beside
+// an edge, even below the face's plane, has not crossed the face). q and w: the triangle's
+// point nearest p and its barycentric weights (closest_on_triangle).
+float separation_at(vec3 p, vec3 q, vec3 w, vec3 a, vec3 b, vec3 c, float side, out vec3 dir)
+{
+    vec3 n = cross(b - a, c - a);
+    float area2 = length(n);
+    n = area2 > 0.0 ? side * n / area2 : vec3(0.0, 1.0, 0.0);
+    vec3 d = p - q;
+    float along = dot(d, n);
+    dir = n;
+    if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
+        return along;
+    float dist = length(d);
+    if (dist > 0.0)
+        dir = d / dist;
+    return dist;
+}
+
+float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out vec3 w)
+{
+    vec3 q = closest_on_triangle(p, a, b, c, w);
+    return separation_at(p, q, w, a, b, c, side, dir);
+}
+
+// One particle–triangle contact: p (start x0p, now xp) kept at the thickness r on the side of
+// the triangle it started on; the triangle's corners at the start (a0..c0) and now (a..c).
+// A pair that starts the substep closer than r is only kept from coming closer and eased
+// apart by a twentieth of r per substep: the last correction of a substep becomes velocity
+// (depth / h), and pushing a pair a whole thickness apart in one substep flings the cloth.
+// Returns the corrected xp.
+vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
+                      uint kept_side)
+{
+    float r = contact_u.thickness;
+    vec3 dir0, w0, dir, w;
+    // The side p belongs on. Over the face, the side the candidate list keeps (judged when
+    // the pair was first found, contact_detect.comp): a particle that crossed the face since
+    // is on the wrong side and is brought back, rather than kept there. Beside an edge or a
+    // corner, the side p starts this substep on: a particle that went round an edge is kept
+    // on its new side, not pushed back through the face.
+    // A pair of the untangling step (untangle.comp, CVK_UNTANGLE_PAIR): p went through the
+    // face with the region around it, and is brought back to the kept side (beside an edge
+    // too) by at most a tenth of the thickness a substep (the last correction of a substep
+    // becomes velocity), from however deep.
+    bool untangle = (kept_side & CVK_UNTANGLE_PAIR) != 0u;
+    vec3 nearest0 = closest_on_triangle(x0p, a0, b0, c0, w0);
+    bool over_face = w0.x > 0.0 && w0.y > 0.0 && w0.z > 0.0;
+    float side = over_face || untangle ? ((kept_side & 1u) != 0u ? -1.0 : 1.0)
+               : (dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0);
+    float start = separation_at(x0p, nearest0, w0, a0, b0, c0, side, dir0);
+    float now = separation(xp, a, b, c, side, dir, w);
+    float target = untangle ? min(r, start + 0.1 * r) : min(r, max(start, 0.0) + 0.05 * r);
+    float depth = target - now;
+    // Beyond 2r inside, the pair crossed more than a substep can explain (an inverted or
+    // stretched triangle, a side judged while nearly coplanar): leave it rather than fling p.
+    if (depth <= 0.0 || (now < -r && !untangle))
+        return xp;
+    xp += depth * dir;
+    // Friction relative to the triangle's own motion at the contact point.
+    vec3 q = w.x * a + w.y * b + w.z * c;
+    vec3 q0 = w.x * a0 + w.y * b0 + w.z * c0;
+    vec3 rel = (xp - x0p) - (q - q0);
+    vec3 tangential = rel - dot(rel, dir) * dir;
+    float t = length(tangential);
+    if (t <= contact_u.static_friction * depth)
+        xp -= tangential;
+    else
+        xp -= tangential * min(1.0, contact_u.friction * depth / t);
+    return xp;
+}
+
+// p's move for the edge pair (its edge p–r against edge a–b of another triangle; collision.edges),
+// x0p, r0, a0, b0 where the four ends started the substep, xp, r, a, b where they are now. As
+// for a triangle: the edges kept a thickness apart on their side — where their nearest points
+// are inside both, the side the candidate list keeps (judged when the pair was found), so edges
+// that passed through each other since are brought back; elsewhere the side they start the
+// substep on — and a pair that starts nearer is eased apart. p takes its share: each end of
+// both edges finds the pair from its own side and moves by its weight at the nearest points
+// over their sum of squares (equal masses), so the four moves together close the gap.
+vec3 collide_edge(vec3 x0p, vec3 xp, vec3 r0, vec3 r, vec3 a0, vec3 b0, vec3 a, vec3 b,
+                  uint kept_side)
+{
+    float th = contact_u.thickness;
+    float s0, t0, s, t;
+    vec3 c1, c2, dir0, dir;
+    closest_segments(x0p, r0, a0, b0, s0, t0, c1, c2);
+    float side = edges_inside(s0, t0) ? (kept_side != 0u ? -1.0 : 1.0)
+                                      : (edge_side(x0p, r0, a0, b0, c1, c2) != 0u ? -1.0 : 1.0);
+    float start = edge_separation_at(x0p, r0, a0, b0, s0, t0, c1, c2, side, dir0);
+    closest_segments(xp, r, a, b, s, t, c1, c2);
+    float now = edge_separation_at(xp, r, a, b, s, t, c1, c2, side, dir);
+    float target = min(th, max(start, 0.0) + 0.05 * th);
+    float depth = target - now;
+    if (depth <= 0.0 || now < -th)
+        return xp;
+    float wp = 1.0 - s;
+    float sum = wp * wp + s * s + (1.0 - t) * (1.0 - t) + t * t;
+    return xp + (depth * wp / sum) * dir;
+}

@@ -1,0 +1,44 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Cloth pass: lit and shadowed cloth over a transparent background, multisampled; the
+// composite pass puts it over the ground and sky. The colliders (collider.vert) are shaded
+// here too, with their own colour. Both faces are drawn; a back face is lit
+// with the flipped normal, so the side away from the light is dark and the side towards it
+// lit, whichever way the cloth turns (seed 002 lit both faces alike, its §9).
+#include "render/frame.glsl"
+#include "render/lighting.glsl"
+
+// The ground hides what is below it (a cloth without a collider falls through).
+layout(constant_id = 0) const bool CLIP_BELOW_GROUND = true;
+// Some cloth has a texture: read it where the material says so.
+layout(constant_id = 1) const bool TEXTURED = false;
+
+layout(push_constant) uniform Material {
+    vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
+} material;
+
+// The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
+layout(set = 0, binding = 3) uniform sampler2D albedo_map;
+
+layout(location = 0) in vec3 world;
+layout(location = 1) in vec3 world_normal;
+// Centroid: with multisampling a pixel's centre may lie outside a triangle that covers some of
+// its samples, and a coordinate extrapolated there could read beyond the cloth's part of the
+// texture.
+layout(location = 2) centroid in vec2 uv;
+layout(location = 0) out vec4 color;
+
+void main()
+{
+    if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
+        discard;
+    float len = length(world_normal);
+    vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
+    if (!gl_FrontFacing)
+        n = -n;
+    float visible = dot(n, frame.key_direction.xyz) > 0.0 ? key_visibility(world, n) : 0.0;
+    // Stored as the square root of linear light: the composite pass squares it back before
+    // averaging the samples, and 8 bits of it are about as fine in the dark as sRGB.
+    vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
+    color = vec4(sqrt(clamp(shade(world, n, albedo, 0.12, visible), 0.0, 1.0)), 1.0);
+}

@@ -1,0 +1,40 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// x_{n+1} = x_n + u: the one place absolute positions are rounded. u stays in src as the
+// velocity (times h) for the next prediction. The rest memory of a free particle (index below
+// pc.stride) follows the correction this solve made to its prediction:
+// r += rest_rate (u - y - r) (lib/solve_pd.h).
+//
+// The divergence watch costs a few arithmetic operations per particle here, with no pass of its
+// own: a new position that is not finite, or a step longer than pc.max_u2 allows (a speed no
+// cloth reaches, lib/sim.h), is not written, nor is any once predict found a spring stretched
+// past its bound; the first substep where that happens is recorded, and from then on no
+// particle moves.
+#include "solvers/pd_common.glsl"
+
+void main()
+{
+    uint now = watch.substep;
+    if (watch.diverged_at < now)
+        return;
+    bool stretched = watch.stretched != 0u;
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
+        uint p = pc.first + i;
+        vec3 u = fetch(src, p);
+        vec3 next = fetch(x_read, p) + u;
+        bool nonfinite = any(isnan(next)) || any(isinf(next));
+        bool runaway = stretched || (pc.max_u2 > 0.0 && dot(u, u) > pc.max_u2);
+        if (nonfinite || runaway) {
+            atomicMin(watch.diverged_at, now);
+            if (!stretched)
+                atomicMin(watch.particle, p);
+            atomicOr(watch.reason, nonfinite ? CVK_WATCH_NONFINITE : CVK_WATCH_RUNAWAY);
+        } else {
+            x[p].xyz = next;
+            if (pc.rest_rate > 0.0 && p < pc.stride) {
+                vec3 r = rest_memory[p].xyz;
+                rest_memory[p].xyz = r + pc.rest_rate * (u - fetch(y_read, p) - r);
+            }
+        }
+    }
+}

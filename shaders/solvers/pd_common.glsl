@@ -1,0 +1,222 @@
+// Particle state and projective-dynamics data shared by the solver passes.
+//
+// The solver works on displacements: u = x - x_n, where x_n are the positions at the start of
+// the substep. Every quantity an iteration touches is then small (a fraction of a spring), so
+// float rounding is relative to the motion, not to the distance from the origin; absolute
+// positions are rounded once per substep, by the finalize pass, and the solved displacement is
+// kept as the velocity (times h). A cloth far from the origin moves as smoothly as one near it.
+//
+// Arrays are vec4 in internal order: free particles colour by colour, pinned last (their u
+// stays 0). Reads go through uniform texel buffers and writes through storage buffers: on
+// lavapipe a texel fetch is a vectorised gather while a storage-buffer load is a per-lane loop
+// (2x on a 100x100 sweep), and GPUs serve both well.
+//
+// Adjacency comes in quads of slots, padded to a multiple of four: for quad q of particle p,
+// texel (2q) * pc.stride + p of `adjacency` holds four neighbours and texel (2q + 1) * pc.stride
+// + p the bits of their k; texel q * pc.stride + p of `adjacency_rest` holds their rest lengths L. So
+// neighbouring invocations read neighbouring texels, and four springs cost two gathers (a
+// gather costs the same for one component as for four on lavapipe). Padding slots point at p
+// itself with zero stiffness and contribute nothing.
+
+layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const uint MAX_DEGREE = 4;
+const uint QUADS = (MAX_DEGREE + 3u) / 4u;
+
+#include "shared/layout.h"
+
+layout(set = 0, binding = CVK_PD_BINDING_SRC) uniform samplerBuffer src;
+layout(set = 0, binding = CVK_PD_BINDING_DST_READ) uniform samplerBuffer dst_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
+layout(set = 0, binding = CVK_PD_BINDING_Y_READ) uniform samplerBuffer y_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };
+layout(set = 0, binding = CVK_PD_BINDING_X_READ) uniform samplerBuffer x_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_X) writeonly buffer Positions { vec4 x[]; };
+layout(set = 0, binding = CVK_PD_BINDING_RHS_READ) uniform samplerBuffer rhs_read;
+layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec4 rhs[]; };
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST) uniform samplerBuffer adjacency_rest;
+layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
+layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
+layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
+// The rest memory (lib/solve_pd.h): per free particle, the low-passed correction the solves
+// made to their predictions; predict adds it to the first iterate, finalize updates it.
+layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 rest_memory[]; };
+#define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
+#include "solvers/pd_converge.glsl"
+
+// The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
+CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
+
+// The neighbours and stiffnesses of quad q of particle p.
+uvec4 quad_neighbours(uint q, uint p)
+{
+    return texelFetch(adjacency, int(2u * q * pc.stride + p));
+}
+
+vec4 quad_k(uint q, uint p)
+{
+    return uintBitsToFloat(texelFetch(adjacency, int((2u * q + 1u) * pc.stride + p)));
+}
+
+// Invocations stride over the dispatch, so a few workgroups can cover many particles.
+uint invocation_stride()
+{
+    return gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+
+vec3 fetch(samplerBuffer data, uint index)
+{
+    return texelFetch(data, int(index)).xyz;
+}
+
+// One spring's part of the right-hand side in displacement form: k (L t/|t| - e), where
+// e = x_p - x_c at the start of the substep, du = u_p - u_c at the start of the outer
+// iteration and t = e + du (the local step: the spring's best direction, at rest length).
+// Computed as k (du - s t) with s = (|t| - L) / |t| = (t.t - L^2) / ((|t| + L) |t|): the
+// stretch comes from t.t - L^2, sums and products that every Vulkan device rounds
+// correctly, and |t| enters only s's denominator. The direct form k L t/|t| - k e is the
+// difference of two terms of size k L, so the few ulp that a device may err by in a square
+// root or a division (Vulkan allows 2.5 ulp for a division; lavapipe rounds both correctly,
+// NVIDIA's GPUs do not) became a few ulp of k L of force in every spring, which a cloth at
+// rest cannot tell from stretch: the 17-particle chain of tests/test_rest.c rested 1.9e-6 m
+// from its equilibrium (rbgs 4x4, lavapipe) and 2.7e-5 m (jacobi 1x1, H200); 1.8e-7 and
+// 9e-6 m now. Coincident particles give no direction and only pull together
+// (s t = 0: k (du - t) = -k e).
+vec3 spring_rhs(vec3 du, vec3 t, float k, float rest)
+{
+    float tt = dot(t, t);
+    float len = sqrt(tt);
+    float s = len > 0.0 ? (tt - rest * rest) / ((len + rest) * len) : 0.0;
+    return k * (du - s * t);
+}
+
+#ifdef RESIDUAL
+// The rounding of d_p (local_step) relative to the sizes of the terms it is summed from: a
+// spring's stretch comes from t.t - L^2, two terms of size L^2 that cancel, so each spring
+// term carries about an ulp of k L whatever the device; the sums around it add a few more.
+// The check counts only the part of |d_p|^2 above this floor: where d_p is no larger than its
+// rounding, the iterate solves the system as well as float can tell. Without it the measure
+// of a solve from rest (where the first residual is itself small) stalled above the
+// tolerance on devices whose square roots and divisions are not correctly rounded: on an
+// NVIDIA H200 a tolerance of 5 % stopped no solve of tests/test_pd_tolerance.c's cloth.
+const float RESIDUAL_ROUNDING = 4.0 / 16777216.0; // 4 units of 2^-24 of the terms' sizes
+
+float l1(vec3 v)
+{
+    return abs(v.x) + abs(v.y) + abs(v.z);
+}
+
+// The scene has tethers (the tether buffers hold one texel otherwise: nothing to read).
+layout(constant_id = 3) const bool TETHERS = false;
+
+// A tether that holds p takes the part of its correction d that points out of its sphere: the
+// projected residual of the one-sided constraint, which is 0 at the constrained solution
+// (without it a cloth hanging on its tethers never converges: the springs keep pulling the
+// held particles outward). t is the tether's vector from the pin to p in the iterate; p is
+// held when on its sphere to float rounding (the tether pass put it there) or past it. A
+// missing tether points at p itself (t = 0, an unreachable limit).
+vec3 tether_free(vec3 d, vec3 t, float limit)
+{
+    float far = length(t);
+    if (far < limit * (1.0 - 1e-5))
+        return d;
+    vec3 n = t / far;
+    float outward = dot(d, n);
+    return outward > 0.0 ? d - outward * n : d;
+}
+
+// d with every tether of p that holds it applied (shaders/solvers/pd_tether.comp's data).
+vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
+{
+    if (!TETHERS)
+        return d;
+    uvec4 anchor = texelFetch(tether_anchor, int(p));
+    vec4 limit = texelFetch(tether_length, int(p));
+    for (uint j = 0u; j < 4u; j++) {
+        vec3 t = cur - fetch(src, anchor[j]) + xp - fetch(x_read, anchor[j]);
+        d = tether_free(d, t, limit[j]);
+    }
+    return d;
+}
+#endif
+
+// The move one Jacobi step gives particle p from its displacement cur:
+//   (w y + r - w cur + sum_c k_c (u_c - cur)) / (w + sum_c k_c),
+// with b = (w y + r, w) from the local step (w = m/h^2, y the prediction, r the springs'
+// part of the right-hand side), acc = sum_c k_c (u_c - cur) and ksum = sum_c k_c. It equals
+// (w y + r + sum_c k_c u_c) / diag - cur, the update written from scratch, but the
+// neighbours enter as differences of nearby displacements and w y - w cur as the difference
+// of two products rounded alike (`precise`: no fused multiply-add), so a cloth that moves as
+// a whole (y = cur = u_c, r = 0) moves by exactly 0. From scratch the quotient rounded by an
+// ulp of u every substep, the same way each time, and a freely falling cloth's velocity
+// drifted by it: 5e-5 m in 0.8 s on lavapipe, 1.5e-4 m on an NVIDIA H200 (5.3e-6 m now on
+// both). No texel more than before: diag is w + ksum, summed from the k the sweep reads.
+vec3 jacobi_move(vec4 b, vec3 cur, vec3 acc, float ksum)
+{
+    precise vec3 held = b.w * cur;
+    return (b.xyz - held + acc) / (b.w + ksum);
+}
+
+// The local step of particle p at the start of an outer iteration, from the iterate in src
+// (cur is its own): writes and returns b = (w_p y_p + r_p, w_p), r_p the springs' part of the
+// right-hand side, and sets acc = sum_c k_c (u_c - cur) and ksum = sum_c k_c for the first
+// linear sweep (jacobi_move). Neighbours below `swept_below` were already updated in this
+// sweep (Gauss-Seidel colours before this one) and are read from dst_read; the rest from src.
+// RESIDUAL (the checking variants of the first sweeps) also writes |d_p|^2, the squared
+// Jacobi move of the springs' system at src, less what the tethers holding p take
+// (free_of_tethers).
+vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum)
+{
+#ifdef RESIDUAL
+    vec3 src_acc = vec3(0.0);
+    float size = 0.0; // the sum of the sizes of the spring terms
+#endif
+    vec3 xp = fetch(x_read, p);
+    vec4 yp = texelFetch(y_read, int(p));
+    vec3 r = vec3(0.0);
+    ksum = 0.0;
+    acc = vec3(0.0);
+    for (uint q = 0; q < QUADS; q++) {
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
+        vec4 rest = texelFetch(adjacency_rest, int(q * pc.stride + p));
+        for (uint j = 0; j < 4u; j++) {
+            vec3 un = fetch(src, n[j]);
+            vec3 edge = xp - fetch(x_read, n[j]);
+            vec3 du = cur - un;
+            r += spring_rhs(du, edge + du, k[j], rest[j]);
+            ksum += k[j];
+            acc += k[j] * ((n[j] < swept_below ? fetch(dst_read, n[j]) : un) - cur);
+#ifdef RESIDUAL
+            src_acc -= k[j] * du;
+            size += k[j] * (rest[j] + l1(edge) + l1(un));
+#endif
+        }
+    }
+    precise vec3 inertia = yp.w * yp.xyz;
+    vec4 b = vec4(inertia + r, yp.w);
+    rhs[p] = b;
+#ifdef RESIDUAL
+    vec3 d = free_of_tethers(p, xp, cur, jacobi_move(b, cur, src_acc, ksum));
+    float floor = RESIDUAL_ROUNDING * ((size + yp.w * l1(yp.xyz)) / (yp.w + ksum) + l1(cur));
+    residual[p] = max(dot(d, d) - floor * floor, 0.0);
+#endif
+    return b;
+}
+
+// sum_c k_c (u_c - cur) over the springs of p, the neighbours' displacements read from
+// `from` (jacobi_move).
+vec3 neighbour_sum(samplerBuffer from, uint p, vec3 cur, out float ksum)
+{
+    vec3 acc = vec3(0.0);
+    ksum = 0.0;
+    for (uint q = 0; q < QUADS; q++) {
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
+        for (uint j = 0; j < 4u; j++) {
+            acc += k[j] * (fetch(from, n[j]) - cur);
+            ksum += k[j];
+        }
+    }
+    return acc;
+}

@@ -1,0 +1,64 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// One colour of a multi-colour Gauss-Seidel sweep with SOR, in place on dst:
+//   u_p <- u_p + omega ((b_p + sum_c k_c u_c) / (m_p/h^2 + sum_c k_c) - u_p)
+// No two particles of one colour share a spring, so a colour updates in parallel.
+// FIRST (the first sweep of an outer iteration) also computes b_p from src, the iterate at
+// the start of the outer iteration, and reads neighbours of colours not yet swept from src:
+// those of lower colours (index < pc.first) were already written to dst in this sweep.
+// Built a second time with RESIDUAL: the first sweep of an outer iteration that a convergence
+// check follows, which also writes each particle's squared residual at src (pd_common.glsl).
+// FIRST does not over-relax a particle the contact pass before it moved (it marked the
+// particle's w, pd_contact.comp): the springs pull such a particle back by about kappa d of
+// the contact's push d (kappa = sum k / (m/h^2 + sum k), near 1 for a stiff cloth), and omega
+// kappa d > d put it back past where it was, into the contact, which pushed it out further
+// after the next outer iteration; the last push of a substep becomes velocity. ribbons.json
+// diverged so at omega 1.7 on lavapipe (1.6 on an NVIDIA H100), box-stack.json stretched a
+// spring ten times on the H100 (README "Never exploding").
+#include "solvers/pd_common.glsl"
+
+layout(constant_id = 2) const bool FIRST = false;
+
+void main()
+{
+    uint stride = invocation_stride();
+    uint i = gl_GlobalInvocationID.x;
+    // Two particles per pass of the loop where a particle has one quad of springs: a CPU
+    // device runs an invocation's reads one after another, and a particle's eight gathers leave
+    // their latency unhidden; two particles' sixteen overlap (on lavapipe a 100 x 100 sweep of
+    // structural springs 69 -> 64 us). With more quads a particle has reads enough of its own,
+    // and two of them spilled registers (the poncho's sweeps 4.7 -> 5.1 ms a frame). The first
+    // sweep's local step gained nothing.
+    if (!FIRST && QUADS == 1u) {
+        for (; i + stride < pc.count; i += 2u * stride) {
+            uint p = pc.first + i, q = p + stride;
+            vec4 bp = texelFetch(rhs_read, int(p)), bq = texelFetch(rhs_read, int(q));
+            vec3 up = fetch(dst_read, p), uq = fetch(dst_read, q);
+            float kp, kq;
+            vec3 ap = neighbour_sum(dst_read, p, up, kp);
+            vec3 aq = neighbour_sum(dst_read, q, uq, kq);
+            dst[p] = vec4(up + pc.omega * jacobi_move(bp, up, ap, kp), 0.0);
+            dst[q] = vec4(uq + pc.omega * jacobi_move(bq, uq, aq, kq), 0.0);
+        }
+    }
+    for (; i < pc.count; i += stride) {
+        uint p = pc.first + i;
+        vec3 acc;
+        vec4 b;
+        vec3 cur;
+        float ksum;
+        float omega = pc.omega;
+        if (FIRST) {
+            vec4 start = texelFetch(src, int(p));
+            cur = start.xyz;
+            if (start.w != 0.0)
+                omega = min(omega, 1.0);
+            b = local_step(p, cur, pc.first, acc, ksum);
+        } else {
+            b = texelFetch(rhs_read, int(p));
+            cur = fetch(dst_read, p);
+            acc = neighbour_sum(dst_read, p, cur, ksum);
+        }
+        dst[p] = vec4(cur + omega * jacobi_move(b, cur, acc, ksum), 0.0);
+    }
+}
