@@ -596,7 +596,9 @@ static int run(const options* o)
     uint32_t frames = o->frames_set ? o->frames : scene->frames;
 
     cvk_context* ctx = NULL;
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    ctx_desc.log = app_log_validation;
+    ctx_desc.log_user = (void*)tool;
     if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS) {
         app_error(tool, "%s", err.message);
         cvk_scene_destroy(file);

@@ -118,7 +118,8 @@ int main(int argc, char** argv)
     cvk_mesh* mesh = NULL;
     cvk_renderer* renderer = NULL;
     int status = 1;
-    if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS)
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS)
         return fail("context", &err);
     if (cvk_scene_load(scene_path, NULL, 0, &scene, &err) != CVK_SUCCESS) {
         fprintf(stderr, "drag: %s\n", err.message);

@@ -47,7 +47,9 @@ static inline cvk_context* harness_context(void)
 {
     cvk_error err;
     cvk_context* ctx = NULL;
-    cvk_context_desc desc = {.validation = 1, .log = harness_log};
+    cvk_context_desc desc = cvk_default_context_desc();
+    desc.validation = 1;
+    desc.log = harness_log;
     REQUIRE_OK(cvk_context_create(&desc, &ctx, &err), err);
     cvk_context_info info = cvk_context_get_info(ctx);
     CHECK(info.validation, "the validation layer is not on");

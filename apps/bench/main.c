@@ -736,7 +736,9 @@ static int run(const parsed* p)
     }
     bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
                .scene_name = o->scene_path ? base_name(o->scene_path) : "built-in"};
-    cvk_context_desc ctx_desc = {.log = app_log_validation, .log_user = (void*)tool};
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    ctx_desc.log = app_log_validation;
+    ctx_desc.log_user = (void*)tool;
     if (cvk_context_create(&ctx_desc, &b.ctx, &err) != CVK_SUCCESS) {
         app_error(tool, "%s", err.message);
         cvk_scene_destroy(file);

@@ -9,5 +9,6 @@
 #define CVK_COOKIE_SCENE 0x53634e65u      /* "ScNe" */
 #define CVK_COOKIE_CLOTH 0x436c5468u      /* "ClTh" */
 #define CVK_COOKIE_COLLIDER 0x436f4c64u   /* "CoLd" */
+#define CVK_COOKIE_CONTEXT 0x43745874u    /* "CtXt" */
 
 #endif

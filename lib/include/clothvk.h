@@ -11,7 +11,8 @@
  *
  *        cvk_error err;
  *        cvk_context* ctx;
- *        if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS)
+ *        cvk_context_desc desc = cvk_default_context_desc();
+ *        if (cvk_context_create(&desc, &ctx, &err) != CVK_SUCCESS)
  *            fprintf(stderr, "%s\n", err.message);
  *
  *    or it adopts yours: fill instance, physical_device, device, queue_family and queue in

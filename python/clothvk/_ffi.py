@@ -51,8 +51,10 @@ typedef struct cvk_context_desc {
     VkDevice device;
     uint32_t queue_family;
     VkQueue queue;
+    uint32_t cookie_;
 } cvk_context_desc;
 
+cvk_context_desc cvk_default_context_desc(void);
 cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
                               cvk_error* error);
 void cvk_context_destroy(cvk_context* context);

@@ -7,7 +7,8 @@ int main(void)
 {
     cvk_error err;
     cvk_context* ctx;
-    if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS) {
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }

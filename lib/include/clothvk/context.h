@@ -4,6 +4,13 @@
  * $CLOTHVK_DEVICE names by index or name substring), or it adopts yours: fill instance,
  * physical_device, device, queue_family and queue in cvk_context_desc. The library never
  * destroys what it adopted. Everything else is made on a context and destroyed before it.
+ *
+ *     cvk_context_desc desc = cvk_default_context_desc();
+ *     desc.validation = 1;                   // change only what you need
+ *     cvk_error err;
+ *     cvk_context* ctx;
+ *     if (cvk_context_create(&desc, &ctx, &err) != CVK_SUCCESS)
+ *         fprintf(stderr, "%s\n", err.message);
  */
 #ifndef CLOTHVK_CONTEXT_H
 #define CLOTHVK_CONTEXT_H
@@ -23,7 +30,8 @@ typedef struct cvk_context cvk_context;
 /* Receives each validation-layer message (warnings and errors) while validation is on. */
 typedef void (*cvk_log_fn)(void* user, const char* message);
 
-/* Zero means default for every field. */
+/* Start from cvk_default_context_desc(): the library's own instance and device, the validation
+   layer as $CLOTHVK_VALIDATION says, no log callback. */
 typedef struct cvk_context_desc {
     /* Khronos validation layer: 0 = on when $CLOTHVK_VALIDATION is "1", 1 = on, -1 = off.
        Ignored when adopting (enable the layer on your own instance). */
@@ -40,15 +48,21 @@ typedef struct cvk_context_desc {
        support compute; timestamps are used when it supports them. The library submits to
        that queue (and waits for it) in cvk_sim_step, cvk_sim_get_stats, the read, write and
        set calls, cvk_sim_pick, a simulation's first cvk_sim_grab, cvk_mesh_create,
-       cvk_renderer_create and cvk_renderer_draw, and waits for it in every destroy call: like any Vulkan queue it must not be used from another thread
-       at the same time. */
+       cvk_renderer_create and cvk_renderer_draw, and waits for it in every destroy call: like
+       any Vulkan queue it must not be used from another thread at the same time. */
     VkInstance instance;
     VkPhysicalDevice physical_device;
     VkDevice device;
     uint32_t queue_family;
     VkQueue queue;
+    uint32_t cookie_;            /* set by cvk_default_context_desc; do not touch */
 } cvk_context_desc;
 
+/* The defaults: every field above 0 or NULL (each field says what that means). */
+CVK_API cvk_context_desc cvk_default_context_desc(void);
+
+/* desc must come from cvk_default_context_desc(): one that did not (a zero-initialised struct)
+   is refused with CVK_ERROR_INVALID_ARGUMENT, as is NULL. */
 CVK_API cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
                               cvk_error* error);
 CVK_API void cvk_context_destroy(cvk_context* context);
