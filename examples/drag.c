@@ -129,7 +129,9 @@ int main(int argc, char** argv)
     const cvk_scene_desc* desc = cvk_scene_get_desc(scene);
     uint32_t frames = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : desc->frames;
     /* .grab: the frame has the grab pass from the start (cvk_sim_grab would add it otherwise). */
-    cvk_sim_desc sim_desc = {.scene = desc, .grab = true};
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = desc;
+    sim_desc.grab = true;
     if (cvk_sim_create(ctx, &sim_desc, &sim, &err) != CVK_SUCCESS ||
         cvk_mesh_create(sim, NULL, &mesh, &err) != CVK_SUCCESS ||
         cvk_renderer_create(mesh, &desc->render, &renderer, &err) != CVK_SUCCESS) {

@@ -543,7 +543,9 @@ int main(int argc, char** argv)
     scene.cloth_count = 1;
     cvk_sim* sim = NULL;
     cvk_mesh* mesh = NULL;
-    if (cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err) != CVK_SUCCESS ||
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = &scene;
+    if (cvk_sim_create(ctx, &sim_desc, &sim, &err) != CVK_SUCCESS ||
         cvk_mesh_create(sim, NULL, &mesh, &err) != CVK_SUCCESS) {
         fprintf(stderr, "embed: %s\n", err.message);
         return 1;

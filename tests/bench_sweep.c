@@ -32,7 +32,7 @@ static timing measure(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t sw
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 2, &err), err); /* warm-up, not timed */
     double sweep[FRAMES], frame[FRAMES];
     for (int f = 0; f < FRAMES; f++) {

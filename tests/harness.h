@@ -100,6 +100,15 @@ static inline cvk_cloth_desc harness_falling_cloth(void)
     return cloth;
 }
 
+/* cvk_sim_create with the default description for `scene`. */
+static inline cvk_result harness_sim_create(cvk_context* ctx, const cvk_scene_desc* scene,
+                                            cvk_sim** out_sim, cvk_error* err)
+{
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    return cvk_sim_create(ctx, &desc, out_sim, err);
+}
+
 static inline float* harness_read_all(cvk_sim* sim)
 {
     cvk_error err;
@@ -132,7 +141,7 @@ static inline void harness_frame_from(cvk_context* ctx, const cvk_scene_desc* sc
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     REQUIRE_OK(cvk_sim_write_state(sim, xyz, v, n, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
@@ -150,7 +159,7 @@ static inline void harness_random_start(cvk_context* ctx, const cvk_scene_desc* 
 {
     cvk_error err;
     cvk_sim* probe;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &probe, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &probe, &err), err);
     *x0 = harness_read_all(probe);
     cvk_sim_destroy(probe);
     *v0 = malloc(3 * n * sizeof(float));

@@ -44,10 +44,68 @@ static void context_refuses_a_description_without_defaults(void)
                    "cvk_context_create needs a description and an output pointer");
 }
 
+/* ---- the simulation ------------------------------------------------------------------------ */
+
+/* A small scene: one free 12 × 9 cloth. */
+typedef struct small_scene {
+    cvk_cloth_desc cloth;
+    cvk_scene_desc scene;
+} small_scene;
+
+static void small_scene_init(small_scene* s)
+{
+    s->cloth = harness_falling_cloth();
+    s->scene = cvk_default_scene_desc();
+    s->scene.cloths = &s->cloth;
+    s->scene.cloth_count = 1;
+}
+
+static void sim_defaults(void)
+{
+    cvk_sim_desc d = cvk_default_sim_desc();
+    CHECK(d.scene == NULL, "a scene by default");
+    CHECK(d.workgroup_size == 0, "workgroup_size %u, want 0 (the library's choice)",
+          d.workgroup_size);
+    CHECK(d.max_workgroups == 0, "max_workgroups %u, want 0 (the library's choice)",
+          d.max_workgroups);
+    CHECK(d.timing == 0, "timing %d, want 0 (on where supported)", d.timing);
+    CHECK(!d.grab, "grab on by default");
+    CHECK(d.search_lanes == 0, "search_lanes %u, want 0 (the library's choice)", d.search_lanes);
+    CHECK(d.cookie_ != 0, "no cookie");
+}
+
+static void sim_refuses_a_description_without_defaults(cvk_context* ctx)
+{
+    small_scene s;
+    small_scene_init(&s);
+    cvk_error err = {0};
+    cvk_sim* sim = (cvk_sim*)&err; /* anything but NULL: the call must clear it */
+    cvk_sim_desc literal = {.scene = &s.scene};
+    cvk_result r = cvk_sim_create(ctx, &literal, &sim, &err);
+    expect_refused("cvk_sim_create", r, &err,
+                   "cvk_sim_create: the description did not come from cvk_default_sim_desc()");
+    CHECK(sim == NULL, "a simulation came back from a refused description");
+
+    static const char needs[] = "cvk_sim_create needs a context, a description with a scene, "
+                                "and an output pointer";
+    r = cvk_sim_create(ctx, NULL, &sim, &err);
+    expect_refused("cvk_sim_create(NULL)", r, &err, needs);
+    cvk_sim_desc no_scene = cvk_default_sim_desc();
+    r = cvk_sim_create(ctx, &no_scene, &sim, &err);
+    expect_refused("cvk_sim_create without a scene", r, &err, needs);
+
+    cvk_sim_desc d = cvk_default_sim_desc();
+    d.scene = &s.scene;
+    REQUIRE_OK(cvk_sim_create(ctx, &d, &sim, &err), err);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     context_defaults();
     context_refuses_a_description_without_defaults();
+    sim_defaults();
     cvk_context* ctx = harness_context();
+    sim_refuses_a_description_without_defaults(ctx);
     return harness_finish(ctx);
 }

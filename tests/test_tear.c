@@ -79,8 +79,11 @@ static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_sim_desc desc = {.scene = scene, .workgroup_size = workgroup_size,
-                         .max_workgroups = max_workgroups, .timing = -1};
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    desc.workgroup_size = workgroup_size;
+    desc.max_workgroups = max_workgroups;
+    desc.timing = -1;
     REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     return sim;
 }

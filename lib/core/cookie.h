@@ -10,5 +10,6 @@
 #define CVK_COOKIE_CLOTH 0x436c5468u      /* "ClTh" */
 #define CVK_COOKIE_COLLIDER 0x436f4c64u   /* "CoLd" */
 #define CVK_COOKIE_CONTEXT 0x43745874u    /* "CtXt" */
+#define CVK_COOKIE_SIM 0x53694d75u        /* "SiMu" */
 
 #endif

@@ -32,8 +32,10 @@
  *    own command buffer (nothing is submitted and nothing waits inside), or call the blocking
  *    step:
  *
+ *        cvk_sim_desc sim_desc = cvk_default_sim_desc();
+ *        sim_desc.scene = &scene;
  *        cvk_sim* sim;
- *        cvk_sim_create(ctx, &(cvk_sim_desc){ .scene = &scene }, &sim, &err);
+ *        cvk_sim_create(ctx, &sim_desc, &sim, &err);
  *        cvk_sim_record(sim, my_cmd, 1, &err);   // one frame per submission of my_cmd
  *        cvk_sim_step(sim, 10, &err);            // or: ten frames, submitted and waited for
  *

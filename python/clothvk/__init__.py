@@ -251,7 +251,7 @@ class Simulation(_Owner):
     def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True,
                  grab=False, search_lanes=0):
         self.context = context
-        desc = ffi.new("cvk_sim_desc*")
+        desc = ffi.new("cvk_sim_desc*", lib.cvk_default_sim_desc())
         desc.scene = scene._desc
         desc.workgroup_size = workgroup_size
         desc.max_workgroups = max_workgroups

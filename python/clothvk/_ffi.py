@@ -326,8 +326,10 @@ typedef struct cvk_sim_desc {
     int timing;
     bool grab;
     uint32_t search_lanes;
+    uint32_t cookie_;
 } cvk_sim_desc;
 
+cvk_sim_desc cvk_default_sim_desc(void);
 cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
                           cvk_error* error);
 void cvk_sim_destroy(cvk_sim* sim);

@@ -18,7 +18,13 @@ extern "C" {
 
 typedef struct cvk_sim cvk_sim;
 
-/* Zero means default for every field but scene. */
+/* Start from cvk_default_sim_desc() and set scene; the other fields are the library's choices
+   until you change them:
+
+       cvk_sim_desc desc = cvk_default_sim_desc();
+       desc.scene = &scene;
+       cvk_sim* sim;
+       cvk_sim_create(ctx, &desc, &sim, &err); */
 typedef struct cvk_sim_desc {
     const cvk_scene_desc* scene; /* copied; need not outlive the call */
     uint32_t workgroup_size;     /* compute workgroup size for every pass, 0 = the library's
@@ -37,8 +43,15 @@ typedef struct cvk_sim_desc {
                                     where 16 does not divide workgroup_size; 1 where the lanes'
                                     lists, 128 bytes per invocation, exceed the device's shared
                                     memory). The candidates do not depend on it */
+    uint32_t cookie_;            /* set by cvk_default_sim_desc; do not touch */
 } cvk_sim_desc;
 
+/* The defaults: no scene yet, every other field above 0 or false (each says what that means). */
+CVK_API cvk_sim_desc cvk_default_sim_desc(void);
+
+/* desc must come from cvk_default_sim_desc(): one that did not (a zero-initialised struct or a
+   compound literal) is refused with CVK_ERROR_INVALID_ARGUMENT, as are NULL and a description
+   without a scene. The scene is checked as cvk_scene_desc_validate does. */
 CVK_API cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
                           cvk_error* error);
 /* Waits until the context's queue is idle (work you recorded may still use the simulation's
