@@ -100,12 +100,48 @@ static void sim_refuses_a_description_without_defaults(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* ---- the mesh ------------------------------------------------------------------------------ */
+
+static void mesh_defaults(void)
+{
+    cvk_mesh_desc d = cvk_default_mesh_desc();
+    CHECK(d.vertex_usage == 0, "vertex_usage 0x%x, want 0 (nothing added)", d.vertex_usage);
+    CHECK(d.index_usage == 0, "index_usage 0x%x, want 0 (nothing added)", d.index_usage);
+    CHECK(d.cookie_ != 0, "no cookie");
+}
+
+static void mesh_refuses_a_description_without_defaults(cvk_context* ctx)
+{
+    small_scene s;
+    small_scene_init(&s);
+    cvk_error err = {0};
+    cvk_sim* sim;
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
+    cvk_mesh* mesh = (cvk_mesh*)&err; /* anything but NULL: the call must clear it */
+    cvk_mesh_desc literal = {.vertex_usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT};
+    cvk_result r = cvk_mesh_create(sim, &literal, &mesh, &err);
+    expect_refused("cvk_mesh_create", r, &err,
+                   "cvk_mesh_create: the description did not come from cvk_default_mesh_desc()");
+    CHECK(mesh == NULL, "a mesh came back from a refused description");
+
+    /* NULL is the defaults, as before; so is the defaults function's description. */
+    REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
+    cvk_mesh_destroy(mesh);
+    cvk_mesh_desc d = cvk_default_mesh_desc();
+    d.vertex_usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    REQUIRE_OK(cvk_mesh_create(sim, &d, &mesh, &err), err);
+    cvk_mesh_destroy(mesh);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     context_defaults();
     context_refuses_a_description_without_defaults();
     sim_defaults();
+    mesh_defaults();
     cvk_context* ctx = harness_context();
     sim_refuses_a_description_without_defaults(ctx);
+    mesh_refuses_a_description_without_defaults(ctx);
     return harness_finish(ctx);
 }

@@ -31,7 +31,8 @@ int main(void)
     cvk_sim* sim = NULL;
     REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_mesh* mesh = NULL;
-    REQUIRE_OK(cvk_mesh_create(sim, &(cvk_mesh_desc){0}, &mesh, &err), err);
+    cvk_mesh_desc mdesc = cvk_default_mesh_desc();
+    REQUIRE_OK(cvk_mesh_create(sim, &mdesc, &mesh, &err), err);
     cvk_render_desc rdesc = cvk_default_render_desc();
     rdesc.size[0] = 64;
     rdesc.size[1] = 48;

@@ -11,5 +11,6 @@
 #define CVK_COOKIE_COLLIDER 0x436f4c64u   /* "CoLd" */
 #define CVK_COOKIE_CONTEXT 0x43745874u    /* "CtXt" */
 #define CVK_COOKIE_SIM 0x53694d75u        /* "SiMu" */
+#define CVK_COOKIE_MESH 0x4d655368u       /* "MeSh" */
 
 #endif

@@ -17,17 +17,24 @@ extern "C" {
 
 typedef struct cvk_mesh cvk_mesh;
 
-/* Zero means default for every field. */
+/* Start from cvk_default_mesh_desc() (buffers with only the usage the mesh needs), or pass
+   NULL to cvk_mesh_create for the defaults. */
 typedef struct cvk_mesh_desc {
     VkBufferUsageFlags vertex_usage; /* usage added to the vertex buffer's (vertex, storage,
                                         transfer source), e.g. for your own compute pass */
     VkBufferUsageFlags index_usage;  /* usage added to the index buffer's (index, storage,
                                         transfer source) */
+    uint32_t cookie_;                /* set by cvk_default_mesh_desc; do not touch */
 } cvk_mesh_desc;
 
-/* Every cloth's triangles, in the vertex and index buffers the mesh owns. desc may be NULL.
-   The mesh reads the simulation's particles and must be destroyed before it. Works on a
-   compute-only queue (drawing is then up to you, on a queue that can). */
+/* The defaults: no usage added to either buffer. */
+CVK_API cvk_mesh_desc cvk_default_mesh_desc(void);
+
+/* Every cloth's triangles, in the vertex and index buffers the mesh owns. desc may be NULL
+   (the defaults); otherwise it must come from cvk_default_mesh_desc(): one that did not is
+   refused with CVK_ERROR_INVALID_ARGUMENT. The mesh reads the simulation's particles and must
+   be destroyed before it. Works on a compute-only queue (drawing is then up to you, on a
+   queue that can). */
 CVK_API cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
                                    cvk_error* error);
 CVK_API void cvk_mesh_destroy(cvk_mesh* mesh);
