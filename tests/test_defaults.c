@@ -134,14 +134,62 @@ static void mesh_refuses_a_description_without_defaults(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* ---- the renderer -------------------------------------------------------------------------- */
+
+/* The values are checked in test_scene.c (check_default_render); here what the cookie adds. */
+static void render_defaults(void)
+{
+    cvk_render_desc d = cvk_default_render_desc();
+    CHECK(!d.wireframe && d.camera_keyframes == NULL && d.camera_keyframe_count == 0 &&
+              !d.camera_loop,
+          "a wireframe or a moving camera by default");
+    CHECK(d.cookie_ != 0, "no cookie");
+    CHECK(cvk_default_scene_desc().render.cookie_ == d.cookie_,
+          "the scene's render description does not carry the defaults' cookie");
+    cvk_error err;
+    cvk_scene* file;
+    REQUIRE_OK(cvk_scene_parse("{\"cloths\": [{}], \"render\": {\"size\": [64, 48]}}",
+                               "defaults.json", NULL, 0, &file, &err),
+               err);
+    CHECK(cvk_scene_get_desc(file)->render.cookie_ == d.cookie_,
+          "a scene file's render description does not carry the defaults' cookie");
+    cvk_scene_destroy(file);
+}
+
+static void renderer_refuses_a_description_without_defaults(cvk_context* ctx)
+{
+    small_scene s;
+    small_scene_init(&s);
+    cvk_error err = {0};
+    cvk_sim* sim;
+    cvk_mesh* mesh;
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
+    REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
+    cvk_renderer* renderer = (cvk_renderer*)&err; /* anything but NULL: the call must clear it */
+    cvk_render_desc literal = {.size = {64, 48}, .up = {0, 1, 0}, .fov_y = 35.0f, .samples = 1,
+                               .shadow_map_size = 256};
+    cvk_result r = cvk_renderer_create(mesh, &literal, &renderer, &err);
+    expect_refused("cvk_renderer_create", r, &err,
+                   "cvk_renderer_create: the description did not come from "
+                   "cvk_default_render_desc()");
+    CHECK(renderer == NULL, "a renderer came back from a refused description");
+    r = cvk_renderer_create(mesh, NULL, &renderer, &err);
+    expect_refused("cvk_renderer_create(NULL)", r, &err,
+                   "cvk_renderer_create needs a mesh, a render description and an output pointer");
+    cvk_mesh_destroy(mesh);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     context_defaults();
     context_refuses_a_description_without_defaults();
     sim_defaults();
     mesh_defaults();
+    render_defaults();
     cvk_context* ctx = harness_context();
     sim_refuses_a_description_without_defaults(ctx);
     mesh_refuses_a_description_without_defaults(ctx);
+    renderer_refuses_a_description_without_defaults(ctx);
     return harness_finish(ctx);
 }

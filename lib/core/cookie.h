@@ -12,5 +12,6 @@
 #define CVK_COOKIE_CONTEXT 0x43745874u    /* "CtXt" */
 #define CVK_COOKIE_SIM 0x53694d75u        /* "SiMu" */
 #define CVK_COOKIE_MESH 0x4d655368u       /* "MeSh" */
+#define CVK_COOKIE_RENDER 0x52654e64u     /* "ReNd" */
 
 #endif

@@ -72,6 +72,11 @@ cvk_render_desc cvk_default_render_desc(void)
         .ground_color = {0.6f, 0.6f, 0.58f},
         .shadow_map_size = 2048,
         .samples = 4,
+        .wireframe = false,
+        .camera_keyframes = NULL,
+        .camera_keyframe_count = 0,
+        .camera_loop = false,
+        .cookie_ = CVK_COOKIE_RENDER,
     };
 }
 

@@ -267,6 +267,7 @@ typedef struct cvk_render_desc {
     const cvk_camera_keyframe* camera_keyframes;
     uint32_t camera_keyframe_count;
     bool camera_loop;
+    uint32_t cookie_;
 } cvk_render_desc;
 
 typedef struct cvk_gusts_desc {

@@ -103,7 +103,8 @@ typedef struct cvk_renderer cvk_renderer;
    CVK_ERROR_UNSUPPORTED. Fails with CVK_ERROR_DEVICE_LIMIT when the image, the shadow map or
    the sample count is more than the device allows. desc is copied; the mesh must outlive the
    renderer. Everything is created here, pipelines compiled and one frame drawn: no frame
-   creates anything. */
+   creates anything. desc must come from cvk_default_render_desc() (a scene's render does):
+   one that did not is refused with CVK_ERROR_INVALID_ARGUMENT, as is NULL. */
 CVK_API cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc,
                                        cvk_renderer** out_renderer, cvk_error* error);
 CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);

@@ -339,6 +339,7 @@ typedef struct cvk_render_desc {
                                     unused); usually none */
     uint32_t camera_keyframe_count;
     bool camera_loop;            /* repeat the camera's path, period last.time − first.time */
+    uint32_t cookie_;            /* set by cvk_default_render_desc; do not touch */
 } cvk_render_desc;
 
 /* ----------------------------------------------------------------------------------------
