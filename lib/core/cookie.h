@@ -9,6 +9,7 @@
 #define CVK_COOKIE_SCENE 0x53634e65u      /* "ScNe" */
 #define CVK_COOKIE_CLOTH 0x436c5468u      /* "ClTh" */
 #define CVK_COOKIE_COLLIDER 0x436f4c64u   /* "CoLd" */
+#define CVK_COOKIE_ATTACHMENT 0x41744368u /* "AtCh" */
 #define CVK_COOKIE_CONTEXT 0x43745874u    /* "CtXt" */
 #define CVK_COOKIE_SIM 0x53694d75u        /* "SiMu" */
 #define CVK_COOKIE_MESH 0x4d655368u       /* "MeSh" */

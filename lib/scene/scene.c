@@ -143,6 +143,21 @@ cvk_collider_desc cvk_default_collider_desc(void)
     };
 }
 
+cvk_attachment_desc cvk_default_attachment_desc(void)
+{
+    return (cvk_attachment_desc){
+        .cloth = 0,
+        .pins = NULL,
+        .pin_count = 0,
+        .pin_vertices = NULL,
+        .pin_vertex_count = 0,
+        .use_pin_box = false,
+        .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
+        .motion = {.keyframes = NULL, .keyframe_count = 0, .loop = false},
+        .cookie_ = CVK_COOKIE_ATTACHMENT,
+    };
+}
+
 /* ---- small checks: each returns true when fine, else fills the issue and returns false ---- */
 
 /* ---- the scene ---- */

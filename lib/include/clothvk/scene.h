@@ -216,6 +216,7 @@ typedef struct cvk_attachment_desc {
     bool use_pin_box;            /* true: also every particle of the cloth inside pin_box */
     cvk_box3 pin_box;            /* m, at the start; min ≤ max on every axis */
     cvk_motion motion;           /* no keyframes: held where it starts */
+    uint32_t cookie_;            /* set by cvk_default_attachment_desc; do not touch */
 } cvk_attachment_desc;
 
 /* ----------------------------------------------------------------------------------------
@@ -385,8 +386,8 @@ typedef struct cvk_scene_desc {
     const cvk_collider_desc* colliders;
     uint32_t collider_count;     /* 0: nothing to collide with (no collision work is recorded
                                     unless collision.self) */
-    const cvk_attachment_desc* attachments; /* keyframed kinematic particles; zero-initialised
-                                    fields are the defaults */
+    const cvk_attachment_desc* attachments; /* keyframed kinematic particles, each from
+                                    cvk_default_attachment_desc() */
     uint32_t attachment_count;   /* 0: none (no attachment pass is recorded) */
     cvk_wind_desc wind;          /* air: wind, gusts and drag; usually off */
     float air_density;           /* kg/m³, > 0; usually 1.2 */
@@ -405,6 +406,8 @@ CVK_API cvk_solver_desc cvk_solver_desc_resolve(const cvk_solver_desc* solver);
 CVK_API cvk_cloth_desc cvk_default_cloth_desc(void);
 CVK_API cvk_render_desc cvk_default_render_desc(void); /* the same as cvk_default_scene_desc().render */
 CVK_API cvk_collider_desc cvk_default_collider_desc(void); /* a plane through the origin, +y up */
+/* Cloth 0, no particles yet (set pins, pin_vertices or pin_box), no keyframes. */
+CVK_API cvk_attachment_desc cvk_default_attachment_desc(void);
 
 /* "plane", "sphere", "box", "capsule", "funnel", "mesh"; NULL for an unknown value. */
 CVK_API const char* cvk_collider_type_name(cvk_collider_type type);
