@@ -70,8 +70,8 @@
  *   VkResult, the device limit). The library never prints, exits or aborts.
  * - No global state: objects are independent; one object must not be used from two threads
  *   at once.
- * - Descriptions are plain structs: start from cvk_default_*_desc() (or zero where the struct
- *   says zero means default) and change what you need.
+ * - Descriptions are plain structs: start from the description's cvk_default_*_desc() and
+ *   change what you need (see clothvk/base.h).
  */
 #ifndef CLOTHVK_H
 #define CLOTHVK_H

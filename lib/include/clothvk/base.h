@@ -4,6 +4,19 @@
  * Every fallible call returns a cvk_result; on failure the optional cvk_error receives the
  * same code and one sentence naming the cause (the JSON key path, the Vulkan call and its
  * VkResult, the device limit). The library never prints, exits or aborts.
+ *
+ * Descriptions. Every struct you fill for the library (cvk_context_desc, cvk_scene_desc,
+ * cvk_cloth_desc, cvk_collider_desc, cvk_attachment_desc, cvk_render_desc, cvk_sim_desc,
+ * cvk_mesh_desc) starts from its defaults function, and you change only what you need:
+ *
+ *     cvk_sim_desc desc = cvk_default_sim_desc();
+ *     desc.scene = &scene;
+ *
+ * The structs inside them (the solver, collision, wind, a cloth's aero) get their defaults
+ * from the outer one (for cvk_sim_set_solver, start from cvk_sim_get_solver). Each description carries a cookie_ that its defaults function sets; a
+ * description that skipped it (a zero-initialised struct, a compound literal) would have
+ * zeros where the defaults belong, so the call that reads it refuses it with
+ * CVK_ERROR_INVALID_ARGUMENT and a sentence that names the defaults function.
  */
 #ifndef CLOTHVK_BASE_H
 #define CLOTHVK_BASE_H

@@ -295,6 +295,11 @@ typedef struct cvk_collider_desc {
 
 /* ----------------------------------------------------------------------------------------
  * How the scene is drawn: the "render" block of a scene file
+ *
+ * A scene file carries its camera and lights beside its cloths, and cvk_scene_desc is the one
+ * parsed form of a scene file, so the render description is a field of it (render). The
+ * simulation never reads it; cvk_renderer_create takes it (&scene->render), or any other
+ * description from cvk_default_render_desc().
  * ------------------------------------------------------------------------------------- */
 
 /* A directional light: parallel rays, like the sun. */
@@ -381,7 +386,8 @@ typedef struct cvk_scene_desc {
     cvk_solver_desc solver;
     const cvk_cloth_desc* cloths;
     uint32_t cloth_count;        /* ≥ 1 */
-    cvk_render_desc render;      /* read by the renderer only */
+    cvk_render_desc render;      /* the file's "render" block: camera and lights, for
+                                    cvk_renderer_create; the simulation ignores it */
     cvk_collision_desc collision;
     const cvk_collider_desc* colliders;
     uint32_t collider_count;     /* 0: nothing to collide with (no collision work is recorded
