@@ -385,7 +385,9 @@ static int check_size(const run_state* s, const cvk_render_desc* render)
 static int create_objects(run_state* s, const cvk_render_desc* render)
 {
     cvk_error err;
-    cvk_result r = cvk_sim_create(s->ctx, &(cvk_sim_desc){.scene = s->scene}, &s->sim, &err);
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = s->scene;
+    cvk_result r = cvk_sim_create(s->ctx, &sim_desc, &s->sim, &err);
     if (r == CVK_SUCCESS)
         r = cvk_mesh_create(s->sim, NULL, &s->mesh, &err);
     if (r == CVK_SUCCESS)

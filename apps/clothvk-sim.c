@@ -551,9 +551,12 @@ static int run(const options* o)
     uint32_t frames = o->frames_set ? o->frames : scene->frames;
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .workgroup_size = o->workgroup_size,
-                                                      .max_workgroups = o->max_workgroups,
-                                                      .search_lanes = o->search_lanes}, &sim, &err);
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = scene;
+    sim_desc.workgroup_size = o->workgroup_size;
+    sim_desc.max_workgroups = o->max_workgroups;
+    sim_desc.search_lanes = o->search_lanes;
+    cvk_result r = cvk_sim_create(ctx, &sim_desc, &sim, &err);
     if (r != CVK_SUCCESS) {
         app_error(tool, "%s: %s", o->scene, err.message);
         status = app_creation_status(r);

@@ -192,7 +192,9 @@ int app_load_scene(const char* tool, const char* path, const app_overrides* over
 int app_create_context(const char* tool, cvk_context** out)
 {
     cvk_error err;
-    cvk_context_desc desc = {.log = app_log_validation, .log_user = (void*)tool};
+    cvk_context_desc desc = cvk_default_context_desc();
+    desc.log = app_log_validation;
+    desc.log_user = (void*)tool;
     if (cvk_context_create(&desc, out, &err) == CVK_SUCCESS)
         return APP_EXIT_OK;
     app_error(tool, "%s", err.message);

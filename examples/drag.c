@@ -216,7 +216,8 @@ int main(int argc, char** argv)
     cvk_mesh* mesh = NULL;
     drag d = {0};
     int status = 1;
-    if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS)
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS)
         return fail("context", &err);
     if (cvk_scene_load(scene_path, NULL, 0, &scene, &err) != CVK_SUCCESS) {
         fprintf(stderr, "drag: %s\n", err.message);
@@ -226,7 +227,9 @@ int main(int argc, char** argv)
     const cvk_scene_desc* desc = cvk_scene_get_desc(scene);
     uint32_t frames = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : desc->frames;
     /* .grab: the frame has the grab pass from the start (cvk_sim_grab would add it otherwise). */
-    cvk_sim_desc sim_desc = {.scene = desc, .grab = true};
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = desc;
+    sim_desc.grab = true;
     if (cvk_sim_create(ctx, &sim_desc, &d.sim, &err) != CVK_SUCCESS ||
         cvk_mesh_create(d.sim, NULL, &mesh, &err) != CVK_SUCCESS ||
         cvk_renderer_create(mesh, &desc->render, &d.renderer, &err) != CVK_SUCCESS) {

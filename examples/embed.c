@@ -526,13 +526,12 @@ int main(int argc, char** argv)
        device of its own and never destroys these. */
     cvk_error err;
     cvk_context* ctx;
-    cvk_context_desc adopt = {
-        .instance = a.instance,
-        .physical_device = a.physical_device,
-        .device = a.device,
-        .queue_family = a.queue_family,
-        .queue = a.queue,
-    };
+    cvk_context_desc adopt = cvk_default_context_desc();
+    adopt.instance = a.instance;
+    adopt.physical_device = a.physical_device;
+    adopt.device = a.device;
+    adopt.queue_family = a.queue_family;
+    adopt.queue = a.queue;
     if (cvk_context_create(&adopt, &ctx, &err) != CVK_SUCCESS) {
         fprintf(stderr, "embed: %s\n", err.message);
         return 1;
@@ -550,7 +549,9 @@ int main(int argc, char** argv)
     scene.cloth_count = 1;
     cvk_sim* sim = NULL;
     cvk_mesh* mesh = NULL;
-    if (cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err) != CVK_SUCCESS ||
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = &scene;
+    if (cvk_sim_create(ctx, &sim_desc, &sim, &err) != CVK_SUCCESS ||
         cvk_mesh_create(sim, NULL, &mesh, &err) != CVK_SUCCESS) {
         fprintf(stderr, "embed: %s\n", err.message);
         return 1;

@@ -42,12 +42,14 @@ static void attach_make_scene(setup* s, bool collider)
     memcpy(s->cloth.v_axis, (float[3]){0.0f, -1.0f, 0.3f}, sizeof s->cloth.v_axis);
     s->cloth.stiffness.structural = 1e4f;
     s->cloth.stiffness.shear = 1e3f;
-    s->attachments[0] = (cvk_attachment_desc){
-        .cloth = 0, .pins = slide_pins, .pin_count = 2,
-        .motion = {.keyframes = slide, .keyframe_count = 3, .loop = true}};
-    s->attachments[1] = (cvk_attachment_desc){
-        .cloth = 0, .pins = turn_pins, .pin_count = 1,
-        .motion = {.keyframes = turn, .keyframe_count = 2}};
+    s->attachments[0] = cvk_default_attachment_desc();
+    s->attachments[0].pins = slide_pins;
+    s->attachments[0].pin_count = 2;
+    s->attachments[0].motion = (cvk_motion){.keyframes = slide, .keyframe_count = 3, .loop = true};
+    s->attachments[1] = cvk_default_attachment_desc();
+    s->attachments[1].pins = turn_pins;
+    s->attachments[1].pin_count = 1;
+    s->attachments[1].motion = (cvk_motion){.keyframes = turn, .keyframe_count = 2};
     s->scene = cvk_default_scene_desc();
     s->scene.substeps = 4;
     s->scene.cloths = &s->cloth;

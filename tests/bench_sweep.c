@@ -32,7 +32,7 @@ static timing measure(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t sw
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 2, &err), err); /* warm-up, not timed */
     double sweep[FRAMES], frame[FRAMES];
     for (int f = 0; f < FRAMES; f++) {
@@ -102,7 +102,9 @@ int main(void)
 
     cvk_context* ctx;
     /* Timing without the validation layer, whatever the environment says. */
-    REQUIRE_OK(cvk_context_create(&(cvk_context_desc){.validation = -1}, &ctx, &err), err);
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    ctx_desc.validation = -1;
+    REQUIRE_OK(cvk_context_create(&ctx_desc, &ctx, &err), err);
     const char* lp = getenv("LP_NUM_THREADS");
     printf("device: %s%s%s\n", cvk_context_get_info(ctx).device_name, lp ? ", LP_NUM_THREADS=" : "",
            lp ? lp : "");

@@ -47,7 +47,9 @@ static inline cvk_context* harness_context(void)
 {
     cvk_error err;
     cvk_context* ctx = NULL;
-    cvk_context_desc desc = {.validation = 1, .log = harness_log};
+    cvk_context_desc desc = cvk_default_context_desc();
+    desc.validation = 1;
+    desc.log = harness_log;
     REQUIRE_OK(cvk_context_create(&desc, &ctx, &err), err);
     cvk_context_info info = cvk_context_get_info(ctx);
     CHECK(info.validation, "the validation layer is not on");
@@ -98,6 +100,15 @@ static inline cvk_cloth_desc harness_falling_cloth(void)
     return cloth;
 }
 
+/* cvk_sim_create with the default description for `scene`. */
+static inline cvk_result harness_sim_create(cvk_context* ctx, const cvk_scene_desc* scene,
+                                            cvk_sim** out_sim, cvk_error* err)
+{
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    return cvk_sim_create(ctx, &desc, out_sim, err);
+}
+
 static inline float* harness_read_all(cvk_sim* sim)
 {
     cvk_error err;
@@ -130,7 +141,7 @@ static inline void harness_frame_from(cvk_context* ctx, const cvk_scene_desc* sc
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     REQUIRE_OK(cvk_sim_write_state(sim, xyz, v, n, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
@@ -148,7 +159,7 @@ static inline void harness_random_start(cvk_context* ctx, const cvk_scene_desc* 
 {
     cvk_error err;
     cvk_sim* probe;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &probe, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &probe, &err), err);
     *x0 = harness_read_all(probe);
     cvk_sim_destroy(probe);
     *v0 = malloc(3 * n * sizeof(float));

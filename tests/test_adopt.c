@@ -264,7 +264,7 @@ static cvk_sim* make_sim(cvk_context* ctx, cvk_linear_solver linear)
     make_scene(&cloth, &scene, linear);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     return sim;
 }
 
@@ -275,17 +275,22 @@ static const char partial_message[] =
 
 static void adoption_needs_every_handle(app* a)
 {
-    const struct {
+    struct {
         const char* what;
         cvk_context_desc desc;
-    } partial[] = {
-        {"instance and physical_device only",
-         {.instance = a->instance, .physical_device = a->physical_device}},
-        {"all but the queue",
-         {.instance = a->instance, .physical_device = a->physical_device, .device = a->device,
-          .queue_family = a->queue_family}},
-        {"device and queue only", {.device = a->device, .queue = a->queue}},
+    } partial[3] = {
+        {"instance and physical_device only", cvk_default_context_desc()},
+        {"all but the queue", cvk_default_context_desc()},
+        {"device and queue only", cvk_default_context_desc()},
     };
+    partial[0].desc.instance = a->instance;
+    partial[0].desc.physical_device = a->physical_device;
+    partial[1].desc.instance = a->instance;
+    partial[1].desc.physical_device = a->physical_device;
+    partial[1].desc.device = a->device;
+    partial[1].desc.queue_family = a->queue_family;
+    partial[2].desc.device = a->device;
+    partial[2].desc.queue = a->queue;
     for (size_t i = 0; i < sizeof partial / sizeof partial[0]; i++) {
         cvk_error err = {0};
         cvk_context* ctx = NULL;
@@ -304,14 +309,13 @@ static void adoption_needs_every_handle(app* a)
 
 static cvk_context* adopt(app* a)
 {
-    cvk_context_desc desc = {
-        .log = harness_log,
-        .instance = a->instance,
-        .physical_device = a->physical_device,
-        .device = a->device,
-        .queue_family = a->queue_family,
-        .queue = a->queue,
-    };
+    cvk_context_desc desc = cvk_default_context_desc();
+    desc.log = harness_log;
+    desc.instance = a->instance;
+    desc.physical_device = a->physical_device;
+    desc.device = a->device;
+    desc.queue_family = a->queue_family;
+    desc.queue = a->queue;
     cvk_error err;
     cvk_context* ctx;
     REQUIRE_OK(cvk_context_create(&desc, &ctx, &err), err);
@@ -343,7 +347,10 @@ static float* six_recorded_frames(app* a, cvk_context* ctx, float** out_start)
    test picked it, whatever $CLOTHVK_DEVICE says). */
 static float* six_stepped_frames(void)
 {
-    cvk_context_desc desc = {.validation = 1, .device_name = "0", .log = harness_log};
+    cvk_context_desc desc = cvk_default_context_desc();
+    desc.validation = 1;
+    desc.device_name = "0";
+    desc.log = harness_log;
     cvk_error err;
     cvk_context* ctx;
     REQUIRE_OK(cvk_context_create(&desc, &ctx, &err), err);

@@ -44,8 +44,10 @@ static cvk_sim* create(cvk_context* ctx, const setup* s, uint32_t workgroup_size
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_sim_desc desc = {.scene = &s->scene, .workgroup_size = workgroup_size,
-                         .max_workgroups = groups};
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &s->scene;
+    desc.workgroup_size = workgroup_size;
+    desc.max_workgroups = groups;
     REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     return sim;
 }

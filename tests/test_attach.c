@@ -18,7 +18,7 @@ static void follow_keyframes(cvk_context* ctx, bool collider)
     attach_make_scene(&s, collider);
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     float* start = harness_read_all(sim);
     double frame = s.scene.dt * s.scene.substeps, worst = 0.0;
     uint32_t worst_frame = 0, frames = 60; /* 0.48 s: the slide loops twice */
@@ -49,8 +49,8 @@ static void record_equals_step(cvk_context* ctx)
     attach_make_scene(&s, false);
     cvk_error err;
     cvk_sim *stepped = NULL, *recorded = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &stepped, &err), err);
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &recorded, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &stepped, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &recorded, &err), err);
     REQUIRE_OK(cvk_sim_step(stepped, frames, &err), err);
     cvk_submitter sub;
     VkCommandBuffer cmd = harness_record(ctx, recorded, 1, &sub);
@@ -65,7 +65,7 @@ static void record_equals_step(cvk_context* ctx)
           frames, frames, harness_max_diff(a, b, 3 * n));
     /* and the attachments did move: at 0.2 s the slide is back, at 0.1 s (looped) 0.2 m along */
     cvk_sim* fresh = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &fresh, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &fresh, &err), err);
     start = harness_read_all(fresh);
     CHECK(fabs(b[0] - start[0] - 0.192) < 1e-5, "the sliding corner moved %.4g m along x, not 0.192",
           (double)(b[0] - start[0]));
@@ -87,7 +87,7 @@ static void dragged(cvk_context* ctx)
     s.scene.attachment_count = 1; /* the slide alone: the other corner hangs free */
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     float* start = harness_read_all(sim);
     REQUIRE_OK(cvk_sim_step(sim, 6, &err), err); /* 0.048 s */
     uint64_t n = cvk_sim_particle_count(sim);
@@ -119,8 +119,8 @@ static void snapshot(cvk_context* ctx)
                                    .gusts = {.amplitude = 0.5f, .period = 0.1f, .jitter = 20.0f}};
     cvk_error err;
     cvk_sim *a = NULL, *b = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &a, &err), err);
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &b, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &a, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &b, &err), err);
     REQUIRE_OK(cvk_sim_step(a, 9, &err), err);
     uint64_t size = cvk_sim_snapshot_size(a);
     void* data = malloc(size);
@@ -157,7 +157,7 @@ static void solvers(cvk_context* ctx)
     attach_make_scene(&s, false);
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     cvk_solver_desc solver = s.scene.solver;
     solver.linear = CVK_LINEAR_GS_CPU;
     expect_refused(sim, solver, "solver.linear: gs-cpu (the host reference) does not move "
@@ -197,7 +197,7 @@ static void curtain(cvk_context* ctx)
     const cvk_scene_desc* d = cvk_scene_get_desc(scene);
     CHECK(d->attachment_count >= 2, "curtain.json has %u attachments", d->attachment_count);
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = d}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, d, &sim, &err), err);
     float* start = harness_read_all(sim);
     const uint32_t frames = 60; /* 0.96 s: the rings are gathering */
     REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);

@@ -59,7 +59,7 @@ static float run_and_watch(cvk_context* ctx, const cvk_scene_desc* scene, uint32
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     float worst = -INFINITY;
     for (uint32_t step = 1; step <= substeps; step++) {
         REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
@@ -181,7 +181,7 @@ static void test_thin_plate(cvk_context* ctx, float dt)
     scene.solver.outer_iterations = 8;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     float xyz[32 * 32 * 3];
     uint32_t behind = 0, in_path = 0;
     /* Substep by substep until the plate has stopped (later the cloth, flung forward, swings
@@ -227,7 +227,7 @@ static double incline_acceleration(cvk_context* ctx, float mu, float mu_static)
     scene.collision.thickness = thickness;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     float before[75], after[75];
     REQUIRE_OK(cvk_sim_read_positions(sim, before, 25, &err), err);
     uint32_t frames = 30;
@@ -276,7 +276,7 @@ static void test_poses_and_snapshot(cvk_context* ctx)
     scene.substeps = 4;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 5, &err), err);
     uint64_t size = cvk_sim_snapshot_size(sim);
     void* snap = malloc(size);
@@ -351,7 +351,7 @@ static uint64_t drop_intersections(cvk_context* ctx, bool self, drop_kind kind, 
     scene.collision.exclusion = exclusion;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
     uint64_t pairs = 0;
     REQUIRE_OK(cvk_sim_count_intersections(sim, &pairs, &err), err);
@@ -441,8 +441,10 @@ static void test_dragged_through(cvk_context* ctx, float depth)
     cvk_scene_desc scene = held_and_small(cloths, 0.53f);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .grab = true}, &sim, &err),
-               err);
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &scene;
+    desc.grab = true;
+    REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     float* x = malloc(3 * n * sizeof(float));
     REQUIRE_OK(cvk_sim_step(sim, 30, &err), err);
@@ -487,7 +489,7 @@ static void test_untangled(cvk_context* ctx, float depth, uint32_t block)
     cvk_scene_desc scene = held_and_small(cloths, 0.52f);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     float* x = malloc(3 * n * sizeof(float));
     REQUIRE_OK(cvk_sim_step(sim, 30, &err), err);
@@ -608,7 +610,7 @@ static void test_funnel_edges(cvk_context* ctx)
     scene.collision.static_friction = 0.4f;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     uint32_t worst = 0, worst_frame = 0;
     for (uint32_t frame = 1; frame <= 60; frame++) {
         REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
@@ -664,7 +666,7 @@ static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
     scene.collider_count = 1;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 60, &err), err);
     float* x = harness_read_all(sim);
     float lowest = INFINITY;
@@ -717,8 +719,10 @@ static void test_edges_dragged_through(cvk_context* ctx, float depth)
     cvk_scene_desc scene = strips_scene(strips, true);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .grab = true}, &sim, &err),
-               err);
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &scene;
+    desc.grab = true;
+    REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 30, &err), err);
     float* x = harness_read_all(sim);
     /* the middle: particles 4 to 7 of the upper strip (z = ±0.1), picked through the first */
@@ -775,7 +779,7 @@ static void test_plan_passes(cvk_context* ctx)
         const cvk_scene_desc* which = variant == 0 ? &none : &scene;
         cvk_error err;
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = which}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, which, &sim, &err), err);
         for (int k = 0; k < 4; k++) {
             bool expected = variant == 0 ? false
                                          : (k == 0 ? which->collider_count > 0

@@ -135,9 +135,12 @@ static outcome run(cvk_context* ctx, const cvk_scene_desc* scene, shape sh, cvk_
 {
     outcome o = {0};
     cvk_sim* sim = NULL;
-    cvk_sim_desc desc = {.scene = scene, .workgroup_size = sh.workgroup_size,
-                         .max_workgroups = sh.max_workgroups, .search_lanes = sh.search_lanes,
-                         .timing = -1};
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    desc.workgroup_size = sh.workgroup_size;
+    desc.max_workgroups = sh.max_workgroups;
+    desc.search_lanes = sh.search_lanes;
+    desc.timing = -1;
     if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
         return o;
     if (cvk_sim_step(sim, FRAMES, err) == CVK_SUCCESS) {
@@ -221,7 +224,10 @@ static float* initial_positions(cvk_context* ctx, const cvk_scene_desc* scene, u
                                 cvk_error* err)
 {
     cvk_sim* sim = NULL;
-    if (cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene, .timing = -1}, &sim, err) != CVK_SUCCESS)
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    desc.timing = -1;
+    if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
         return NULL;
     *count = cvk_sim_particle_count(sim);
     float* xyz = harness_read_all(sim);

@@ -29,9 +29,10 @@ int main(void)
     cvk_scene_desc scene = small_scene(&cloth);
     cvk_error err = {.message = ""};
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_mesh* mesh = NULL;
-    REQUIRE_OK(cvk_mesh_create(sim, &(cvk_mesh_desc){0}, &mesh, &err), err);
+    cvk_mesh_desc mdesc = cvk_default_mesh_desc();
+    REQUIRE_OK(cvk_mesh_create(sim, &mdesc, &mesh, &err), err);
     cvk_render_desc rdesc = cvk_default_render_desc();
     rdesc.size[0] = 64;
     rdesc.size[1] = 48;
@@ -63,7 +64,7 @@ int main(void)
     r = cvk_renderer_draw(renderer, &err);
     CHECK(r == CVK_ERROR_DEVICE_LOST, "a draw after the loss returned %s", cvk_result_name(r));
     cvk_sim* second = NULL;
-    r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &second, &err);
+    r = harness_sim_create(ctx, &scene, &second, &err);
     CHECK(r == CVK_ERROR_DEVICE_LOST && second == NULL,
           "a simulation created after the loss: %s", cvk_result_name(r));
     CHECK(atomic_load(&ctx->fence_waits) == waits,

@@ -33,7 +33,7 @@ static cvk_sim* falling_cloth(cvk_context* ctx, cvk_linear_solver linear, float 
     scene.solver.linear = linear;
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     return sim;
 }
 
@@ -107,7 +107,7 @@ static void test_step_too_long(cvk_context* ctx, cvk_linear_solver linear, const
     scene.solver.linear = linear;
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_result r = cvk_sim_step(sim, 2, &err);
     cvk_sim_stats st;
     REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
@@ -127,7 +127,7 @@ static void test_hanging(cvk_context* ctx)
     cvk_scene* file;
     REQUIRE_OK(cvk_scene_load(path, NULL, 0, &file, &err), err);
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = cvk_scene_get_desc(file)}, &sim, &err),
+    REQUIRE_OK(harness_sim_create(ctx, cvk_scene_get_desc(file), &sim, &err),
                err);
     REQUIRE_OK(cvk_sim_step(sim, 20, &err), err);
     cvk_sim_stats st;
@@ -153,7 +153,7 @@ static void test_ribbons_over_relaxed(cvk_context* ctx)
         cvk_scene* file;
         REQUIRE_OK(cvk_scene_load(path, &omegas[i], 1, &file, &err), err);
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = cvk_scene_get_desc(file)}, &sim,
+        REQUIRE_OK(harness_sim_create(ctx, cvk_scene_get_desc(file), &sim,
                                   &err),
                    err);
         cvk_result r = cvk_sim_step(sim, 60, &err);

@@ -279,7 +279,7 @@ static bool spring_stable(cvk_context* ctx, const spring_case* sc, double h)
     cvk_scene_desc scene = spring_scene(&cloth, pin, sc->integrator, sc->kd, h);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     double start = SPRING_V0 / sqrt(SPRING_K / SPRING_M), end = 0.0;
     bool diverged = false;
     for (int f = 0; f < 20 && !diverged; f++) {
@@ -361,7 +361,7 @@ static void divergence(cvk_context* ctx)
     cvk_scene_desc scene = hanging_scene(&cloth, pins, 5e-3);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_result r = cvk_sim_step(sim, 10, &err);
     const char* start = "the simulation diverged in frame ";
     CHECK(r == CVK_ERROR_DIVERGED && !strncmp(err.message, start, strlen(start)),
@@ -375,7 +375,7 @@ static void divergence(cvk_context* ctx)
 
     /* The same cloth at a stable step is a success (the check above can fail). */
     scene.dt = 1e-4f;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 10, &err), err);
     cvk_sim_destroy(sim);
 }
@@ -393,7 +393,7 @@ static void damped_energy(cvk_context* ctx)
             scene.solver.damping_model = CVK_DAMPING_VISCOSITY;
         cvk_error err;
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
         harness_energy_run run = harness_energy_watch(sim, 150);
         const char* name = cvk_integrator_name(integrators[k]);
         CHECK(run.rises == 0, "%s: the energy grew in %u of 150 frames, by up to %g J (scale "
@@ -419,7 +419,7 @@ static void snapshot_resumes(cvk_context* ctx)
     scene.solver.integrator = CVK_INTEGRATOR_AB4;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 3, &err), err);
     uint64_t size = cvk_sim_snapshot_size(sim);
     void* snap = malloc(size);

@@ -125,7 +125,7 @@ static void check_mesh(cvk_context* ctx, cvk_linear_solver linear)
     const char* name = cvk_linear_solver_name(linear);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &t.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &t.scene, &sim, &err), err);
     if (linear == CVK_LINEAR_RBGS) {
         check_info(sim);
         check_refusals(sim);

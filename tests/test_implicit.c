@@ -238,7 +238,7 @@ static void pins_stay(cvk_context* ctx, cvk_linear_solver linear)
     scene.solver.linear = linear;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     float* before = harness_read_all(sim);
     REQUIRE_OK(cvk_sim_step(sim, 50, &err), err);
     float* after = harness_read_all(sim);
@@ -353,7 +353,7 @@ static void compression(cvk_context* ctx)
     for (int j = 0; j < 2; j++) {
         scene.solver.linear = j ? CVK_LINEAR_JACOBI : CVK_LINEAR_CG;
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
         size_t n = b.particle_count;
         double* x = malloc(3 * n * sizeof(double));
         float* user = malloc(3 * n * sizeof(float));
@@ -385,7 +385,7 @@ static void energy_and_rest(cvk_context* ctx)
     cvk_scene_desc scene = hanging_scene(&cloth, pins, 10);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     harness_energy_run run = harness_energy_watch(sim, 1000);
     cvk_sim_stats st = run.end;
     double start = run.start;
@@ -415,7 +415,7 @@ static void switch_families(cvk_context* ctx)
     scene.solver.kd = 0.0f; /* a key of implicit, not pd */
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 20, &err), err);
     float x0[3 * 64], v0[3 * 64], x1[3 * 64], v1[3 * 64];
     REQUIRE_OK(cvk_sim_read_state(sim, x0, v0, 64, &err), err);
@@ -444,7 +444,7 @@ static void switch_families(cvk_context* ctx)
     cvk_collider_desc plane = cvk_default_collider_desc();
     scene.colliders = &plane;
     scene.collider_count = 1;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     /* Colliders are filtered (tests/test_implicit_contact.c): the switch is taken. */
     REQUIRE_OK(cvk_sim_set_solver(sim, &implicit, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 2, &err), err);

@@ -35,7 +35,7 @@ static cvk_sim* create(cvk_context* ctx, const cvk_scene_desc* scene)
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     return sim;
 }
 

@@ -163,7 +163,7 @@ static void device_frame(cvk_context* ctx, const cvk_scene_desc* scene, float* x
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     REQUIRE_OK(cvk_sim_write_state(sim, x, v, n, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
@@ -345,7 +345,7 @@ static drop_report run_drop(cvk_context* ctx, const drop_run* d, uint32_t frames
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d->scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d->scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     const cvk_build* b = &sim->build;
     float* x0 = harness_read_all(sim);
@@ -484,7 +484,7 @@ static double slide(cvk_context* ctx, float mu, float mu_s, uint32_t frames)
     }
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d.scene, &sim, &err), err);
     uint64_t count = cvk_sim_particle_count(sim);
     float* x0 = harness_read_all(sim);
     REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
@@ -527,7 +527,7 @@ static void snapshot_on_plane(cvk_context* ctx)
     d.collider.motion.keyframe_count = 2;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d.scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 20, &err), err);
     uint64_t size = cvk_sim_snapshot_size(sim), n = cvk_sim_particle_count(sim);
     void* snap = malloc(size);
@@ -567,7 +567,7 @@ static void refusals(cvk_context* ctx)
     scene.collision.self = true;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_solver_desc implicit = scene.solver;
     implicit.method = CVK_METHOD_IMPLICIT;
     implicit.linear = CVK_LINEAR_CG;

@@ -339,7 +339,7 @@ static void flat_sim(cvk_context* ctx)
     scene.cloth_count = 1;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 2, &err), err);
     uint64_t pairs = 99;
     REQUIRE_OK(cvk_sim_count_intersections(sim, &pairs, &err), err);
@@ -444,7 +444,7 @@ static void contact_figures(cvk_context* ctx)
     scene.collision.thickness = thickness;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     const cvk_build* b = &sim->build;
     /* The figures are the host's own: measure the pairs between cloths without asking the
        device to resolve them. */

@@ -50,7 +50,7 @@ static void run_case(cvk_context* ctx, const limit_case* c)
     scene.solver.inner_iterations = c->inner;
     cvk_error err = {.message = ""};
     cvk_sim* sim = NULL;
-    cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err);
+    cvk_result r = harness_sim_create(ctx, &scene, &sim, &err);
     CHECK(r == c->result && (r == CVK_SUCCESS) == (sim != NULL), "%s: got %s (expected %s)", c->name, cvk_result_name(r),
           cvk_result_name(c->result));
     CHECK(r == CVK_SUCCESS || strcmp(err.message, c->message) == 0, "%s: message\n  %s\nexpected\n  %s", c->name,

@@ -43,7 +43,7 @@ static void test_estimate(cvk_context* ctx, const config* c)
     uint64_t before = cvk_context_get_info(ctx).device_bytes;
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     uint64_t held = cvk_context_get_info(ctx).device_bytes - before;
     cvk_memory_estimate e = cvk_memory_estimate_for(&scene, 10000, c->degree);
     CHECK(e.device_bytes >= held && e.device_bytes <= 2 * held,
@@ -83,7 +83,7 @@ static void test_refusal(cvk_context* ctx)
     cvk_scene_desc scene = grid_scene(&cloth, &c, 2000);
     cvk_error err = {.message = ""};
     cvk_sim* sim = NULL;
-    cvk_result r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err);
+    cvk_result r = harness_sim_create(ctx, &scene, &sim, &err);
     const char* start = "cloths.0.grid: 4000000 particles need about ";
     const char* end = " GiB is free (bound by the address-space limit (RLIMIT_AS))";
     size_t n = strlen(err.message);
@@ -93,7 +93,7 @@ static void test_refusal(cvk_context* ctx)
           "a 2000 x 2000 grid under a tight RLIMIT_AS: %s, \"%s\"", cvk_result_name(r),
           err.message);
     scene = grid_scene(&cloth, &c, 20);
-    r = cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err);
+    r = harness_sim_create(ctx, &scene, &sim, &err);
     CHECK(r == CVK_SUCCESS, "a 20 x 20 grid under the same limit: %s, %s", cvk_result_name(r),
           err.message);
     cvk_sim_destroy(sim);

@@ -88,7 +88,7 @@ static cvk_sim* make_sim(cvk_context* ctx, cvk_cloth_desc* cloths, uint32_t coun
     scene.cloth_count = count;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     return sim;
 }
 

@@ -98,8 +98,11 @@ static run_result run(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t fr
 {
     cvk_error err;
     cvk_sim* sim;
-    cvk_sim_desc desc = {.scene = scene, .workgroup_size = workgroup_size,
-                         .max_workgroups = max_workgroups, .timing = -1};
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    desc.workgroup_size = workgroup_size;
+    desc.max_workgroups = max_workgroups;
+    desc.timing = -1;
     REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
     run_result r = {.xyz = harness_read_all(sim), .count = cvk_sim_particle_count(sim)};
@@ -158,14 +161,14 @@ static void check_plain_plan(cvk_context* ctx)
     cvk_scene_desc d = hanging(&c, 0.0f, 0);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d, &sim, &err), err);
     char text[16384];
     cvk_sim_describe_plan(sim, text, sizeof text);
     CHECK(!strstr(text, "residual") && !strstr(text, "convergence") && !strstr(text, "indirect"),
           "the plan without a tolerance records a check:\n%s", text);
     cvk_sim_destroy(sim);
     d.solver.tolerance = 0.1f;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d, &sim, &err), err);
     cvk_sim_describe_plan(sim, text, sizeof text);
     CHECK(strstr(text, "residual: stop or go on") && strstr(text, "indirect"),
           "the plan with a tolerance records no check:\n%s", text);
@@ -210,7 +213,7 @@ static void check_sweeps_follow_motion(cvk_context* ctx, uint32_t tethers)
     c.tethers = tethers;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d, &sim, &err), err);
     uint32_t sweeps[FRAMES_TO_REST];
     for (uint32_t f = 0; f < FRAMES_TO_REST; f++) {
         cvk_sim_stats st;
@@ -302,7 +305,7 @@ static void check_bound(cvk_context* ctx)
     run_result full = run(ctx, &d, 1, 0, 0);
     cvk_sim* probe;
     cvk_error err;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d}, &probe, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d, &probe, &err), err);
     float* x0 = harness_read_all(probe);
     cvk_sim_destroy(probe);
     double h = d.dt, m = c.mass / 100.0, k = c.stiffness.structural;
@@ -364,7 +367,7 @@ static void check_contact(cvk_context* ctx)
     d.solver.max_iterations = 64;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &d}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &d, &sim, &err), err);
     double worst = 0.0, thickness = 0.5 * c.size[0] / (c.grid[0] - 1); /* the default */
     uint64_t sweeps = 0, frames = 40;
     for (uint32_t f = 0; f < frames; f++) {

@@ -118,7 +118,7 @@ static void pick_matches_host(cvk_context* ctx)
     make_scene(&s, true);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     float* xyz = harness_read_all(sim);
     harness_rng rng = {2024u};
@@ -185,7 +185,7 @@ static void pick_known(cvk_context* ctx)
     make_scene(&s, true);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     float* x = harness_read_all(sim); /* the built grids: cloth 0 in z = 0, cloth 1 in z = -0.3 */
     uint32_t first1 = cvk_sim_get_cloth(sim, 1).first_particle;
     cvk_pick_result got;
@@ -256,7 +256,7 @@ static void pick_refuses(cvk_context* ctx)
     make_scene(&s, false);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     cvk_pick_result got;
     float o[3] = {0, 0, 1};
     EXPECT_MESSAGE(cvk_sim_pick(sim, o, (float[3]){0, 0, 0}, 0.1f, &got, &err),
@@ -286,8 +286,8 @@ static void pick_leaves_frames(cvk_context* ctx)
     make_scene(&s, false);
     cvk_error err;
     cvk_sim *plain, *picked;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &plain, &err), err);
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &picked, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &plain, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &picked, &err), err);
     uint32_t hits = 0;
     for (int f = 0; f < 6; f++) {
         REQUIRE_OK(cvk_sim_step(plain, 1, &err), err);
@@ -333,7 +333,7 @@ static void drag_follows(cvk_context* ctx, cvk_linear_solver linear, float tethe
     const char* name = cvk_linear_solver_name(linear);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 5, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     cvk_particle grabbed = {0, (AH - 1) * AW + AW / 2};
@@ -372,7 +372,7 @@ static void drag_follows(cvk_context* ctx, cvk_linear_solver linear, float tethe
        the same state (velocities through floats: to their rounding). */
     cvk_sim_release(sim);
     cvk_sim* free_sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &free_sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &free_sim, &err), err);
     REQUIRE_OK(cvk_sim_write_state(free_sim, x, v, n, &err), err);
     float held[3];
     memcpy(held, &x[3 * grabbed.index], sizeof held);
@@ -411,7 +411,7 @@ static void hand_follows(cvk_context* ctx)
     make_scene(&s, true);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 5, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     /* the second row's middle: the radius reaches the pinned top row and past it */
@@ -504,9 +504,11 @@ static void record_equals_step(cvk_context* ctx)
     make_scene(&s, false);
     cvk_error err;
     cvk_sim *stepped, *recorded;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &stepped, &err), err);
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene, .grab = true}, &recorded,
-                              &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &stepped, &err), err);
+    cvk_sim_desc grab_desc = cvk_default_sim_desc();
+    grab_desc.scene = &s.scene;
+    grab_desc.grab = true;
+    REQUIRE_OK(cvk_sim_create(ctx, &grab_desc, &recorded, &err), err);
     cvk_submitter sub;
     VkCommandBuffer cmd = harness_record(ctx, recorded, 1, &sub);
     cvk_particle grabbed = {0, (AH - 1) * AW + 2};
@@ -557,7 +559,7 @@ static void drag_beats_contact(cvk_context* ctx)
     s.scene.collider_count = 1;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     uint64_t n = cvk_sim_particle_count(sim);
     cvk_particle grabbed = {0, (AH - 1) * AW + AW / 2};
     float* x = harness_read_all(sim);
@@ -593,7 +595,7 @@ static void grab_refuses(cvk_context* ctx)
     make_scene(&s, true);
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     float t[3] = {0, 0.5f, 0.2f};
     EXPECT_MESSAGE(cvk_sim_grab(sim, (cvk_particle){0, 3}, t, &err), CVK_ERROR_INVALID_ARGUMENT,
                    "cvk_sim_grab: particle 3 of cloth 0 (\"hanging\") is pinned; only free "
@@ -626,13 +628,15 @@ static void grab_refuses(cvk_context* ctx)
     s.scene.substeps = 1;
     s.scene.dt = 1.0f / 60.0f;
     cvk_sim* bad = NULL;
-    EXPECT_MESSAGE(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene, .grab = true}, &bad,
-                                  &err),
+    cvk_sim_desc grab_desc = cvk_default_sim_desc();
+    grab_desc.scene = &s.scene;
+    grab_desc.grab = true;
+    EXPECT_MESSAGE(cvk_sim_create(ctx, &grab_desc, &bad, &err),
                    CVK_ERROR_UNSUPPORTED,
                    "cvk_sim_desc.grab: the implicit method cannot hold a grabbed particle; use "
                    "the pd method with rbgs, jacobi or chebyshev");
     CHECK(bad == NULL, "a failed creation returned a simulation");
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s.scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s.scene, &sim, &err), err);
     EXPECT_MESSAGE(cvk_sim_grab(sim, (cvk_particle){0, AW}, t, &err), CVK_ERROR_UNSUPPORTED,
                    "cvk_sim_grab: the implicit method cannot hold a grabbed particle; use the pd "
                    "method with rbgs, jacobi or chebyshev");

@@ -25,9 +25,10 @@ static cvk_sim* make_sim_sized(cvk_context* ctx, uint32_t workgroup_size)
     scene.cloth_count = 1;
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene, .workgroup_size = workgroup_size},
-                              &sim, &err),
-               err);
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &scene;
+    desc.workgroup_size = workgroup_size;
+    REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     return sim;
 }
 

@@ -77,7 +77,7 @@ static void setup_scene(setup* s, cvk_context* ctx, uint32_t cloth_count, const 
     s->scene.cloth_count = cloth_count;
     s->scene.render = *render;
     cvk_error err;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s->scene}, &s->sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
     REQUIRE_OK(cvk_renderer_create(s->mesh, &s->scene.render, &s->renderer, &err), err);
 }
@@ -307,7 +307,7 @@ static void default_view_frames(cvk_context* ctx)
     cvk_sim* sim;
     cvk_mesh* mesh;
     cvk_renderer* renderer;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
     REQUIRE_OK(cvk_renderer_create(mesh, &scene.render, &renderer, &err), err);
     cvk_render_view v = cvk_renderer_get_view(renderer);
@@ -460,7 +460,7 @@ static void refusals(cvk_context* ctx)
     cvk_error err;
     cvk_sim* sim;
     cvk_mesh* mesh;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
     const char* device = cvk_context_get_info(ctx).device_name;
     uint32_t max = cvk_context_get_info(ctx).max_image_size;

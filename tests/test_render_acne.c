@@ -110,7 +110,7 @@ static void render(cvk_context* ctx, const placed* cloth, const view_desc* v, ui
     cvk_sim* sim;
     cvk_mesh* mesh;
     cvk_renderer* renderer;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     uint64_t n = (uint64_t)cloth->nu * cloth->nv;
     REQUIRE_OK(cvk_sim_write_positions(sim, cloth->xyz, n, &err), err);
     REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);

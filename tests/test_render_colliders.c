@@ -84,7 +84,7 @@ static void setup_scene(setup* s, cvk_context* ctx, const cvk_render_desc* rende
     s->scene.collider_count = s->collider_count;
     s->scene.render = *render;
     cvk_error err;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s->scene}, &s->sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
     REQUIRE_OK(cvk_renderer_create(s->mesh, &s->scene.render, &s->renderer, &err), err);
 }

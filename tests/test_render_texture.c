@@ -97,7 +97,7 @@ static void setup_scene(setup* s, cvk_context* ctx, const char* texture, float s
     memcpy(r->target, (const float[3]){0.0f, 1.0f, 0.0f}, 3 * sizeof(float));
     memcpy(r->key.direction, (const float[3]){0.2f, 0.3f, 1.0f}, 3 * sizeof(float));
     cvk_error err;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s->scene}, &s->sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
     REQUIRE_OK(cvk_renderer_create(s->mesh, r, &s->renderer, &err), err);
     REQUIRE_OK(cvk_renderer_draw(s->renderer, &err), err);

@@ -48,7 +48,7 @@ static void setup_scene(setup* s, cvk_context* ctx, bool wireframe)
     r->shadow_map_size = 512;
     r->wireframe = wireframe;
     cvk_error err;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &s->scene}, &s->sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
     REQUIRE_OK(cvk_renderer_create(s->mesh, &s->scene.render, &s->renderer, &err), err);
     REQUIRE_OK(cvk_renderer_draw(s->renderer, &err), err);

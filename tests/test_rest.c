@@ -156,7 +156,7 @@ static float* settle(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t fra
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
     float* xyz = harness_read_all(sim);
     cvk_sim_destroy(sim);

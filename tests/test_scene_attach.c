@@ -12,6 +12,22 @@ static void test_default(void)
     cvk_scene_desc d = cvk_default_scene_desc();
     CHECK(d.attachments == NULL);
     CHECK_INT(d.attachment_count, 0);
+    /* An attachment's defaults: what a zeroed one meant (a scene file's missing keys). */
+    cvk_attachment_desc a = cvk_default_attachment_desc();
+    CHECK_INT(a.cloth, 0);
+    CHECK(a.pins == NULL);
+    CHECK_INT(a.pin_count, 0);
+    CHECK(a.pin_vertices == NULL);
+    CHECK_INT(a.pin_vertex_count, 0);
+    CHECK(!a.use_pin_box);
+    for (int k = 0; k < 3; k++) {
+        CHECK_FLOAT(a.pin_box.min[k], 0.0f);
+        CHECK_FLOAT(a.pin_box.max[k], 0.0f);
+    }
+    CHECK(a.motion.keyframes == NULL);
+    CHECK_INT(a.motion.keyframe_count, 0);
+    CHECK(!a.motion.loop);
+    CHECK(a.cookie_ != 0);
 }
 
 static void test_parse(void)
@@ -98,9 +114,14 @@ static void test_validate_desc(void)
     fixture_init(&f);
     f.cloths[0].grid[0] = 4;
     f.cloths[0].grid[1] = 3;
-    cvk_attachment_desc a = {.cloth = 0, .pin_count = 1};
-    f.scene.attachments = &a;
+    cvk_attachment_desc zero = {.cloth = 0, .pin_count = 1};
+    f.scene.attachments = &zero;
     f.scene.attachment_count = 1;
+    EXPECT_DESC_INVALID(&f.scene, "attachments.0: attachment description was not made by "
+                                  "cvk_default_attachment_desc()");
+    cvk_attachment_desc a = cvk_default_attachment_desc();
+    a.pin_count = 1;
+    f.scene.attachments = &a;
     EXPECT_DESC_INVALID(&f.scene, "attachments.0.pins: is NULL but pin_count is 1");
     f.scene.attachments = NULL;
     EXPECT_DESC_INVALID(&f.scene, "attachments: is NULL but attachment_count is 1");

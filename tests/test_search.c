@@ -50,7 +50,7 @@ static cvk_sim* ground_scene(cvk_context* ctx, float y, float vy)
     scene.collision.self = true;
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     return sim;
 }
 
@@ -98,7 +98,7 @@ static void test_rest_and_motion(cvk_context* ctx)
     scene.cloth_count = 2;
     scene.collision.self = true;
     cvk_sim* pair = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &pair, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &pair, &err), err);
     REQUIRE_OK(cvk_sim_step(pair, 3, &err), err);
     CHECK(searches(pair) == 3ull * substeps, "two cloths approaching at 20 m/s searched %llu "
           "times in 3 frames of %u substeps (expected every substep)",
@@ -122,7 +122,7 @@ static void test_snapshot(cvk_context* ctx)
     scene.collision.self = true;
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 8, &err), err);
     uint64_t size = cvk_sim_snapshot_size(sim);
     CHECK(size > cvk_collide_snapshot_size(sim) && cvk_collide_snapshot_size(sim) > 0,
@@ -220,7 +220,7 @@ static cvk_sim* self_contact_sim(cvk_context* ctx, const cvk_cloth_desc* cloths,
     scene.collision.self = true;
     cvk_error err;
     cvk_sim* sim = NULL;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     return sim;
 }
 
@@ -476,7 +476,7 @@ static void test_edge_candidates(cvk_context* ctx)
         scene.collision.edges = true;
         cvk_error err;
         cvk_sim* sim = NULL;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
         const cvk_collide* c = sim->collide;
         const cvk_build* b = &sim->build;
         uint32_t state = seed * 104729u;

@@ -65,7 +65,7 @@ static float* run(cvk_context* ctx, const cvk_scene_desc* scene, const float* st
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     REQUIRE_OK(cvk_sim_write_positions(sim, start, cvk_sim_particle_count(sim), &err), err);
     REQUIRE_OK(cvk_sim_step(sim, frames, &err), err);
     float* out = harness_read_all(sim);
@@ -82,7 +82,7 @@ static void rbgs_equals_gs_cpu(cvk_context* ctx)
         make_random_scene(&rng, &rs);
         cvk_error err;
         cvk_sim* probe;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &rs.scene}, &probe, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &rs.scene, &probe, &err), err);
         float* start = shaken_positions(probe, &rng);
         uint64_t n = cvk_sim_particle_count(probe);
         cvk_sim_destroy(probe);
@@ -166,7 +166,7 @@ static void jacobi_equals_reference(cvk_context* ctx, cvk_linear_solver linear)
         rs.scene.solver.inner_iterations = 2 + harness_next(&rng) % 6;
         cvk_error err;
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &rs.scene}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &rs.scene, &sim, &err), err);
         uint64_t n = cvk_sim_particle_count(sim);
         float* start = shaken_positions(sim, &rng);
         REQUIRE_OK(cvk_sim_write_positions(sim, start, n, &err), err);
@@ -218,7 +218,7 @@ static void residual_falls(cvk_context* ctx, cvk_linear_solver linear)
     cvk_scene_desc scene = *cvk_scene_get_desc(file);
     scene.solver.linear = linear;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_sim_stats st;
     REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
     double first = st.residual, last = st.residual;
@@ -322,7 +322,7 @@ static void all_pinned(cvk_context* ctx)
             scene.solver.linear = solvers[i];
             cvk_error err;
             cvk_sim* sim;
-            REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+            REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
             float* before = harness_read_all(sim);
             REQUIRE_OK(cvk_sim_step(sim, 3, &err), err);
             float* after = harness_read_all(sim);

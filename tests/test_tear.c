@@ -51,9 +51,10 @@ static void make_scene(setup* s, bool dragged, float max_stretch)
     s->cloth.pins = (const uint32_t(*)[2])s->pins;
     s->cloth.pin_count = W;
     s->cloth.tearing.max_stretch = max_stretch;
-    s->attachment = (cvk_attachment_desc){
-        .cloth = 0, .pins = drag_pins, .pin_count = 2,
-        .motion = {.keyframes = drag, .keyframe_count = 2}};
+    s->attachment = cvk_default_attachment_desc();
+    s->attachment.pins = drag_pins;
+    s->attachment.pin_count = 2;
+    s->attachment.motion = (cvk_motion){.keyframes = drag, .keyframe_count = 2};
     s->scene = cvk_default_scene_desc();
     s->scene.substeps = 4;
     s->scene.cloths = &s->cloth;
@@ -79,8 +80,11 @@ static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_sim_desc desc = {.scene = scene, .workgroup_size = workgroup_size,
-                         .max_workgroups = max_workgroups, .timing = -1};
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    desc.workgroup_size = workgroup_size;
+    desc.max_workgroups = max_workgroups;
+    desc.timing = -1;
     REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     return sim;
 }

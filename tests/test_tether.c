@@ -189,7 +189,7 @@ static void tethers_hold(cvk_context* ctx, cvk_linear_solver linear)
         scene = scene_of(&cloth, 1);
         scene.solver.linear = linear;
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
         for (int frame = 0; frame < 40; frame++) {
             REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
             float* xyz = harness_read_all(sim);
@@ -233,7 +233,7 @@ static float* matches_reference(cvk_context* ctx, uint32_t every)
             expected += (o + 1) % every == 0 || o + 1 == scene.solver.outer_iterations;
         expected *= scene.substeps;
         cvk_sim* sim;
-        REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+        REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
         REQUIRE_OK(cvk_sim_step(sim, 10, &err), err);
         xyz[host] = harness_read_all(sim);
         if (!host) {
@@ -262,7 +262,7 @@ static void other_families_refused(cvk_context* ctx)
     cvk_scene_desc scene = scene_of(&cloth, 1);
     cvk_sim* sim;
     cvk_error err;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
     cvk_solver_desc implicit = scene.solver;
     implicit.method = CVK_METHOD_IMPLICIT;
     implicit.linear = CVK_LINEAR_CG;

@@ -93,7 +93,7 @@ static bench_stability_run run(cvk_context* ctx, const cvk_scene_desc* scene, ui
 {
     cvk_error err;
     cvk_sim* sim;
-    REQUIRE_OK(cvk_sim_create(ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err), err);
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
     bench_stability_run r;
     CHECK(bench_run_stability(sim, scene, steps, energy_bound, stretch_bound, &r, &err),
           "bench_run_stability failed: %s", err.message);

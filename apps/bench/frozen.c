@@ -65,7 +65,9 @@ cvk_sim* bench_sim_create(bench* b, const cvk_scene_desc* scene)
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    if (cvk_sim_create(b->ctx, &(cvk_sim_desc){.scene = scene}, &sim, &err) != CVK_SUCCESS) {
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    if (cvk_sim_create(b->ctx, &desc, &sim, &err) != CVK_SUCCESS) {
         bench_fail(&err);
         return NULL;
     }

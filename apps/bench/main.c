@@ -705,8 +705,10 @@ static int check_scene_fits(bench* b)
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_result r = cvk_sim_create(b->ctx, &(cvk_sim_desc){.scene = b->scene, .timing = -1}, &sim,
-                                  &err);
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = b->scene;
+    desc.timing = -1;
+    cvk_result r = cvk_sim_create(b->ctx, &desc, &sim, &err);
     cvk_sim_destroy(sim);
     if (r == CVK_SUCCESS)
         return APP_EXIT_OK;

@@ -221,7 +221,9 @@ static bool run_grid(bench* b, uint32_t n, points* all, bool* fits)
     make_scene(b, n, &ts);
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_result r = cvk_sim_create(b->ctx, &(cvk_sim_desc){.scene = &ts.scene}, &sim, &err);
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &ts.scene;
+    cvk_result r = cvk_sim_create(b->ctx, &desc, &sim, &err);
     *fits = r == CVK_SUCCESS;
     if (r == CVK_ERROR_DEVICE_LIMIT || r == CVK_ERROR_OUT_OF_MEMORY) {
         printf("%u x %u does not fit: %s\n", n, n, err.message);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/cookie.h"
 #include "core/error.h"
 
 static const char validation_layer[] = "VK_LAYER_KHRONOS_validation";
@@ -305,6 +306,22 @@ static bool adopting(const cvk_context_desc* desc)
     return desc->instance || desc->physical_device || desc->device || desc->queue;
 }
 
+cvk_context_desc cvk_default_context_desc(void)
+{
+    return (cvk_context_desc){
+        .validation = 0,         /* as $CLOTHVK_VALIDATION says */
+        .device_name = NULL,     /* $CLOTHVK_DEVICE, else the first device */
+        .log = NULL,
+        .log_user = NULL,
+        .instance = VK_NULL_HANDLE, /* no adoption: the library makes its own */
+        .physical_device = VK_NULL_HANDLE,
+        .device = VK_NULL_HANDLE,
+        .queue_family = 0,
+        .queue = VK_NULL_HANDLE,
+        .cookie_ = CVK_COOKIE_CONTEXT,
+    };
+}
+
 cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
                               cvk_error* error)
 {
@@ -312,6 +329,9 @@ cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_co
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_context_create needs a description and an output pointer");
     *out_context = NULL;
+    if (desc->cookie_ != CVK_COOKIE_CONTEXT)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_context_create: the description "
+                        "did not come from cvk_default_context_desc()");
     if (adopting(desc) && !(desc->instance && desc->physical_device && desc->device && desc->queue))
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "to adopt a device, set all of instance, physical_device, device, "

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/cookie.h"
 #include "core/error.h"
 #include "core/shaders.h"
 
@@ -246,6 +247,15 @@ static cvk_result generate_once(cvk_mesh* m, VkCommandBuffer cmd, cvk_error* err
     return cvk_submit_and_wait(m->context, &m->submitter, &cmd, 1, error);
 }
 
+cvk_mesh_desc cvk_default_mesh_desc(void)
+{
+    return (cvk_mesh_desc){
+        .vertex_usage = 0,
+        .index_usage = 0,
+        .cookie_ = CVK_COOKIE_MESH,
+    };
+}
+
 cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
                            cvk_error* error)
 {
@@ -253,9 +263,12 @@ cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** o
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_mesh_create needs a simulation and an output pointer");
     *out_mesh = NULL;
-    cvk_mesh_desc defaults = {0};
+    cvk_mesh_desc defaults = cvk_default_mesh_desc();
     if (!desc)
         desc = &defaults;
+    if (desc->cookie_ != CVK_COOKIE_MESH)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_mesh_create: the description "
+                        "did not come from cvk_default_mesh_desc()");
     cvk_mesh* m = calloc(1, sizeof *m);
     if (!m)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh");

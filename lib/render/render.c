@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/cookie.h"
 #include "core/error.h"
 #include "render/render_internal.h"
 #include "scene/scene.h"
@@ -660,6 +661,9 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_renderer_create needs a mesh, a render description and an output pointer");
     *out_renderer = NULL;
+    if (desc->cookie_ != CVK_COOKIE_RENDER)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_create: the description "
+                        "did not come from cvk_default_render_desc()");
     cvk_scene_issue issue;
     if (!cvk_render_desc_check(desc, &issue))
         return cvk_fail_issue(error, &issue);

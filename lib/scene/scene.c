@@ -1,17 +1,13 @@
 /* Scene descriptions: defaults and validation with messages that name the key path. */
 #include "scene/scene.h"
 
+#include "core/cookie.h"
 #include "core/error.h"
 
 #include <inttypes.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
-
-/* Arbitrary tags: a description whose cookie differs skipped cvk_default_*_desc(). */
-static const uint32_t scene_cookie = 0x53634e65u;
-static const uint32_t cloth_cookie = 0x436c5468u;
-static const uint32_t collider_cookie = 0x436f4c64u;
 
 cvk_scene_desc cvk_default_scene_desc(void)
 {
@@ -49,7 +45,7 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .wind = {.enabled = false, .velocity = {0.0f, 0.0f, 0.0f},
                  .gusts = {.amplitude = 0.0f, .period = 2.0f, .jitter = 0.0f}},
         .air_density = 1.2f,
-        .cookie_ = scene_cookie,
+        .cookie_ = CVK_COOKIE_SCENE,
     };
 }
 
@@ -76,6 +72,11 @@ cvk_render_desc cvk_default_render_desc(void)
         .ground_color = {0.6f, 0.6f, 0.58f},
         .shadow_map_size = 2048,
         .samples = 4,
+        .wireframe = false,
+        .camera_keyframes = NULL,
+        .camera_keyframe_count = 0,
+        .camera_loop = false,
+        .cookie_ = CVK_COOKIE_RENDER,
     };
 }
 
@@ -108,7 +109,7 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .tethers = 0.0f,
         .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},
         .tearing = {.max_stretch = 0.0f},
-        .cookie_ = cloth_cookie,
+        .cookie_ = CVK_COOKIE_CLOTH,
     };
 }
 
@@ -138,7 +139,22 @@ cvk_collider_desc cvk_default_collider_desc(void)
         .static_friction = -1.0f,
         .motion = {.keyframes = NULL, .keyframe_count = 0, .loop = false},
         .color = {0.55f, 0.55f, 0.6f},
-        .cookie_ = collider_cookie,
+        .cookie_ = CVK_COOKIE_COLLIDER,
+    };
+}
+
+cvk_attachment_desc cvk_default_attachment_desc(void)
+{
+    return (cvk_attachment_desc){
+        .cloth = 0,
+        .pins = NULL,
+        .pin_count = 0,
+        .pin_vertices = NULL,
+        .pin_vertex_count = 0,
+        .use_pin_box = false,
+        .pin_box = {.min = {0.0f, 0.0f, 0.0f}, .max = {0.0f, 0.0f, 0.0f}},
+        .motion = {.keyframes = NULL, .keyframe_count = 0, .loop = false},
+        .cookie_ = CVK_COOKIE_ATTACHMENT,
     };
 }
 
@@ -445,7 +461,7 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
     char base[CVK_KEY_PATH_MAX];
     char path[CVK_KEY_PATH_MAX];
     cvk_key_join_index(base, "cloths", index);
-    if (c->cookie_ != cloth_cookie)
+    if (c->cookie_ != CVK_COOKIE_CLOTH)
         return cvk_issue_at(issue, base, "cloth description was not made by cvk_default_cloth_desc()");
     return check_name(issue, cvk_key_join(path, base, "name"), c->name) &&
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
@@ -675,7 +691,7 @@ static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk
     char base[CVK_KEY_PATH_MAX];
     char path[CVK_KEY_PATH_MAX];
     cvk_key_join_index(base, "colliders", index);
-    if (c->cookie_ != collider_cookie)
+    if (c->cookie_ != CVK_COOKIE_COLLIDER)
         return cvk_issue_at(issue, base, "collider description was not made by cvk_default_collider_desc()");
     return check_name(issue, cvk_key_join(path, base, "name"), c->name) && check_collider_shape(c, base, issue) &&
            check_collider_friction(c, scene, base, issue) &&
@@ -709,7 +725,7 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
 
 bool cvk_scene_desc_check(const cvk_scene_desc* desc, cvk_scene_issue* issue)
 {
-    if (desc->cookie_ != scene_cookie)
+    if (desc->cookie_ != CVK_COOKIE_SCENE)
         return cvk_issue_at(issue, "", "scene description was not made by cvk_default_scene_desc()");
     if (!check_name(issue, "name", desc->name) || !check_timing(desc, issue) ||
         !cvk_solver_desc_check(&desc->solver, issue))

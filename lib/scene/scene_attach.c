@@ -2,6 +2,7 @@
    follow the rules of their cloth's pins, the motion those of a collider's. */
 #include <inttypes.h>
 
+#include "core/cookie.h"
 #include "scene/scene.h"
 
 cvk_cloth_desc cvk_attachment_pins_as_cloth(const cvk_cloth_desc* cloth,
@@ -22,6 +23,9 @@ static bool check_attachment(const cvk_scene_desc* d, uint32_t index, cvk_scene_
     const cvk_attachment_desc* a = &d->attachments[index];
     char base[CVK_KEY_PATH_MAX];
     cvk_key_path(base, "attachments.%" PRIu32, index);
+    if (a->cookie_ != CVK_COOKIE_ATTACHMENT)
+        return cvk_issue_at(issue, base, "attachment description was not made by "
+                            "cvk_default_attachment_desc()");
     if (a->cloth >= d->cloth_count) {
         char path[CVK_KEY_PATH_MAX];
         cvk_key_path(path, "%s.cloth", base);

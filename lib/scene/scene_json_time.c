@@ -58,7 +58,7 @@ cvk_result cvk_read_attachments(cvk_reader* rd, const cvk_field* f, json_t* valu
     char element[CVK_KEY_PATH_MAX];
     for (size_t i = 0; i < count; i++) {
         cvk_json_join_index(element, path, i);
-        attachments[i] = (cvk_attachment_desc){0};
+        attachments[i] = cvk_default_attachment_desc();
         cvk_result r = cvk_read_object(rd, &attachment_table, json_array_get(value, i), element, &attachments[i]);
         if (r != CVK_SUCCESS)
             return r;

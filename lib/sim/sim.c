@@ -10,6 +10,7 @@
 
 #include "contact/collide.h"
 #include "core/checked.h"
+#include "core/cookie.h"
 #include "core/error.h"
 #include "scene/scene.h"
 #include "sim/sim_limits.h"
@@ -355,14 +356,32 @@ static void init_fields(cvk_sim* s, cvk_context* context, const cvk_sim_desc* de
     s->family = cvk_family_for(&scene->solver);
 }
 
+cvk_sim_desc cvk_default_sim_desc(void)
+{
+    return (cvk_sim_desc){
+        .scene = NULL,
+        .workgroup_size = 0,     /* the library's choice */
+        .max_workgroups = 0,     /* the library's choice */
+        .timing = 0,             /* on where supported */
+        .grab = false,           /* the first cvk_sim_grab adds the grab pass */
+        .search_lanes = 0,       /* the library's choice */
+        .cookie_ = CVK_COOKIE_SIM,
+    };
+}
+
 cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
                           cvk_error* error)
 {
-    if (!context || !desc || !desc->scene || !out_sim)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "cvk_sim_create needs a context, a description with a scene, and an "
-                        "output pointer");
+    static const char needs[] = "cvk_sim_create needs a context, a description with a scene, "
+                                "and an output pointer";
+    if (!context || !desc || !out_sim)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", needs);
     *out_sim = NULL;
+    if (desc->cookie_ != CVK_COOKIE_SIM)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_sim_create: the description did "
+                        "not come from cvk_default_sim_desc()");
+    if (!desc->scene)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", needs);
     const cvk_scene_desc* scene = desc->scene;
     cvk_result r = cvk_scene_desc_validate(scene, error);
     if (r != CVK_SUCCESS)

@@ -124,7 +124,7 @@ class Context(_Owner):
             messages.append(ffi.string(message).decode(errors="replace"))
 
         self._device = ffi.new("char[]", str(device).encode()) if device is not None else None
-        desc = ffi.new("cvk_context_desc*")
+        desc = ffi.new("cvk_context_desc*", lib.cvk_default_context_desc())
         desc.validation = {None: 0, True: 1, False: -1}[validation]
         desc.device_name = self._device if self._device is not None else ffi.NULL
         desc.log = log
@@ -251,7 +251,7 @@ class Simulation(_Owner):
     def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True,
                  grab=False, search_lanes=0):
         self.context = context
-        desc = ffi.new("cvk_sim_desc*")
+        desc = ffi.new("cvk_sim_desc*", lib.cvk_default_sim_desc())
         desc.scene = scene._desc
         desc.workgroup_size = workgroup_size
         desc.max_workgroups = max_workgroups

@@ -51,8 +51,10 @@ typedef struct cvk_context_desc {
     VkDevice device;
     uint32_t queue_family;
     VkQueue queue;
+    uint32_t cookie_;
 } cvk_context_desc;
 
+cvk_context_desc cvk_default_context_desc(void);
 cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
                               cvk_error* error);
 void cvk_context_destroy(cvk_context* context);
@@ -188,6 +190,7 @@ typedef struct cvk_attachment_desc {
     bool use_pin_box;
     cvk_box3 pin_box;
     cvk_motion motion;
+    uint32_t cookie_;
 } cvk_attachment_desc;
 
 typedef struct cvk_collision_desc {
@@ -265,6 +268,7 @@ typedef struct cvk_render_desc {
     const cvk_camera_keyframe* camera_keyframes;
     uint32_t camera_keyframe_count;
     bool camera_loop;
+    uint32_t cookie_;
 } cvk_render_desc;
 
 typedef struct cvk_gusts_desc {
@@ -324,8 +328,10 @@ typedef struct cvk_sim_desc {
     int timing;
     bool grab;
     uint32_t search_lanes;
+    uint32_t cookie_;
 } cvk_sim_desc;
 
+cvk_sim_desc cvk_default_sim_desc(void);
 cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_sim** out_sim,
                           cvk_error* error);
 void cvk_sim_destroy(cvk_sim* sim);
@@ -446,13 +452,14 @@ cvk_image cvk_renderer_get_image(const cvk_renderer* renderer);
 cvk_result cvk_image_write_png(const cvk_image* image, const char* path, cvk_error* error);
 """
 
-# Structs declared above, for the layout test.
+# Structs declared above, for the layout test: all of them.
 STRUCTS = (
     "cvk_error", "cvk_context_desc", "cvk_context_info", "cvk_solver_desc", "cvk_stiffness",
-    "cvk_transform", "cvk_box3", "cvk_cloth_desc", "cvk_keyframe", "cvk_motion",
-    "cvk_collision_desc", "cvk_collider_desc", "cvk_light", "cvk_render_desc", "cvk_scene_desc",
-    "cvk_sim_desc", "cvk_cloth_info", "cvk_pass_stats", "cvk_sim_stats", "cvk_image",
-    "cvk_particle", "cvk_pick_result",
+    "cvk_transform", "cvk_box3", "cvk_aero_desc", "cvk_tearing_desc", "cvk_cloth_desc",
+    "cvk_keyframe", "cvk_motion", "cvk_attachment_desc", "cvk_collision_desc",
+    "cvk_collider_desc", "cvk_light", "cvk_camera_keyframe", "cvk_render_desc",
+    "cvk_gusts_desc", "cvk_wind_desc", "cvk_scene_desc", "cvk_sim_desc", "cvk_cloth_info",
+    "cvk_pass_stats", "cvk_sim_stats", "cvk_image", "cvk_particle", "cvk_pick_result",
 )
 
 ffi = cffi.FFI()

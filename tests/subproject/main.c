@@ -7,7 +7,8 @@ int main(void)
 {
     cvk_error err;
     cvk_context* ctx;
-    if (cvk_context_create(&(cvk_context_desc){0}, &ctx, &err) != CVK_SUCCESS) {
+    cvk_context_desc ctx_desc = cvk_default_context_desc();
+    if (cvk_context_create(&ctx_desc, &ctx, &err) != CVK_SUCCESS) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
@@ -18,7 +19,9 @@ int main(void)
     scene.cloth_count = 1;
     cvk_sim* sim;
     int status = 1;
-    if (cvk_sim_create(ctx, &(cvk_sim_desc){.scene = &scene}, &sim, &err) == CVK_SUCCESS) {
+    cvk_sim_desc sim_desc = cvk_default_sim_desc();
+    sim_desc.scene = &scene;
+    if (cvk_sim_create(ctx, &sim_desc, &sim, &err) == CVK_SUCCESS) {
         if (cvk_sim_step(sim, 1, &err) == CVK_SUCCESS) {
             printf("consumer: %llu particles, 1 frame\n", (unsigned long long)cvk_sim_particle_count(sim));
             status = 0;
