@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-render --from BAKE --frames A:B: images from a bake equal a direct render's, byte for byte.
 
-    python3 tests/test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
+    python3 tests/tools/test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
 
 A small scene is baked for F frames (every 1 and every 2) and rendered directly with --frames F
 (--every 1: frame_0000.png ... frame_{F-1}.png). Then:

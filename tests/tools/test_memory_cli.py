@@ -5,7 +5,7 @@ with exit status 1, one line naming the key, the figure and the limit, nothing o
 no file written -- not an out-of-memory kill or a crash half-way through creation. And
 clothvk-sim --json reports the memory a run held.
 
-    python3 tests/test_memory_cli.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
+    python3 tests/tools/test_memory_cli.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
 
 Under AddressSanitizer (which reserves terabytes of address space) the limit cannot be
 imposed: the refusal cases are skipped there and the --json case still runs.

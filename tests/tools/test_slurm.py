@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """scripts/slurm-render.sh on a real single-node Slurm cluster: every image equals a local render's.
 
-    python3 tests/test_slurm.py PATH/TO/clothvk-sim PATH/TO/clothvk-render PATH/TO/slurm-render.sh
+    python3 tests/tools/test_slurm.py PATH/TO/clothvk-sim PATH/TO/clothvk-render PATH/TO/slurm-render.sh
 
 The test starts munged, slurmctld and slurmd (Debian's munge and slurm-wlm) on localhost, with a
 generated key and slurm.conf and every socket, pid, log and state file in a temporary folder

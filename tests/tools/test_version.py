@@ -2,7 +2,7 @@
 """--version on every tool: "TOOL VERSION" on stdout, nothing on stderr, exit status 0, where
 VERSION is the project version in meson.build (the one the library is built as).
 
-    python3 tests/test_version.py MESON_BUILD TOOL...
+    python3 tests/tools/test_version.py MESON_BUILD TOOL...
 """
 import os
 import re

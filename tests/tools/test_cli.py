@@ -2,7 +2,7 @@
 """clothvk-sim as a person meets it: exact messages and exit statuses for bad input, and the
 output of --plan, --json and --dump for good input.
 
-    python3 tests/test_cli.py PATH/TO/clothvk-sim
+    python3 tests/tools/test_cli.py PATH/TO/clothvk-sim
 
 Every run has a fresh temporary directory as its working directory. A bad-input case is run
 with "--dump out.csv" added; it must exit with status 2, print exactly one line on stderr

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-sim --obj DIR [--every K]: the OBJ frames a user hands to another tool.
 
-    python3 tests/test_obj.py PATH/TO/clothvk-sim
+    python3 tests/tools/test_obj.py PATH/TO/clothvk-sim
 
 Good input: a scene of two grid cloths (one named, one not) is run with --frames 7 --every 3.
 The files must be DIR/frame_0000.obj to frame_0002.obj (clothvk-render's rule: file i holds the

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-render --video FILE: the images piped into ffmpeg, encoded as a video.
 
-    python3 tests/test_video.py PATH/TO/clothvk-render
+    python3 tests/tools/test_video.py PATH/TO/clothvk-render
 
 Always: without ffmpeg on PATH, --video is refused before any work with one line saying how to
 get it (exit status 2, nothing written), and so is --video without a name.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-sim --pc2 FILE [--every K]: the point cache a user hands to Blender, 3ds Max or Maya.
 
-    python3 tests/test_pc2.py PATH/TO/clothvk-sim
+    python3 tests/tools/test_pc2.py PATH/TO/clothvk-sim
 
 Good input: a scene of two grid cloths is run with --frames 7 --every 3 --pc2 out/anim.pc2. The
 folder must then hold exactly anim.pc2 and anim.obj (no temporary file). The PC2 file is read

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-sim --bake DIR / --resume DIR: a bake resumed gives the bits of an uninterrupted one.
 
-    python3 tests/test_bake.py PATH/TO/clothvk-sim
+    python3 tests/tools/test_bake.py PATH/TO/clothvk-sim
 
 Good input, on a small swinging cloth:
 - a bake of F frames holds cache.json (format, version, the scene text copied whole, frames, every,

@@ -1,7 +1,7 @@
 """What the scripts that test the command-line tools share: running a tool, the one stderr line
 of bad input, "nothing written", --dump CSVs, and the closing "N of M cases passed" line.
 
-The scripts run as `python3 tests/test_x.py TOOL...`, so this folder is on sys.path and
+The scripts run as `python3 tests/tools/test_x.py TOOL...`, so this folder is on sys.path and
 `import tooltest` finds this file. Plain standard library, like the scripts.
 
 A case is a function that returns a list of problems, each a sentence saying what was expected
@@ -18,7 +18,7 @@ import time
 import zlib
 
 # The source tree, for its scenes and assets: meson says where; by hand, the folder above this one.
-ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.environ.get("CLOTHVK_SOURCE_ROOT") or os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 # The one part of a tool's message that depends on the machine: lavapipe's device name, which
 # carries the LLVM version and the vector width, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".

@@ -3,7 +3,7 @@
 treatment as a bad scene, i.e. one line naming the scene file, the key path and the problem,
 exit status 2 and nothing written. Also one good mesh scene, the shipped poncho.
 
-    python3 tests/test_mesh_cli.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
+    python3 tests/tools/test_mesh_cli.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
 
 Every case runs in a fresh temporary directory, its working directory, into which it first
 writes its inputs: in/scene.json and the mesh files under in/meshes/. The scene is passed as

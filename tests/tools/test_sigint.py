@@ -5,7 +5,7 @@ must exit with status 1 and one line on stderr ("interrupted after N of M ..."),
 must hold all its vertices and faces, every PNG must decode, no temporary file may remain, and
 the dump (written only by a finished run) must not exist.
 
-    python3 tests/test_sigint.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
+    python3 tests/tools/test_sigint.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
 """
 import glob
 import os

@@ -3,7 +3,7 @@
 bad scene and an unusable output folder; the images and the summary for good input; the same
 scene rendered twice gives the same PNG bytes.
 
-    python3 tests/test_render_cli.py PATH/TO/clothvk-render
+    python3 tests/tools/test_render_cli.py PATH/TO/clothvk-render
 
 Every run has a fresh temporary directory as its working directory. A bad-input case must exit
 with status 2, print exactly one line on stderr (compared whole), print nothing on stdout and

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-bench as a person meets it: every experiment on a tiny grid, and bad input.
 
-    python3 tests/test_bench.py PATH/TO/clothvk-bench
+    python3 tests/tools/test_bench.py PATH/TO/clothvk-bench
 
 Each run has a fresh temporary directory as its working directory and writes into -o out
 (created by the tool). A good case must exit with status 0, say on its first line which
