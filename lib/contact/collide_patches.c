@@ -113,22 +113,14 @@ static uint32_t group(const cvk_collide* c, const cvk_build* b, const uint32_t* 
     return count;
 }
 
-cvk_result cvk_collide_make_patches(cvk_collide* c, const cvk_build* b, const uint32_t* triangles,
-                                    const uint32_t* incident, cvk_error* error)
+/* Groups the triangles into patches: cubes of CVK_PATCH_EDGES mean rest edges, grown by half
+   until there are at most CVK_MAX_PATCHES (or after 64 tries); returns the patch count. */
+static uint32_t choose_patches(const cvk_collide* c, const cvk_build* b, const uint32_t* triangles,
+                               const uint32_t* incident, double* boxes, uint32_t* parent,
+                               int64_t* keys, uint32_t* patch_of_triangle)
 {
-    uint32_t n = b->particle_count, tc = b->triangle_count;
-    uint32_t* parent = malloc(sizeof(uint32_t) * (tc ? tc : 1));
-    int64_t* keys = malloc(4 * sizeof(int64_t) * (tc ? tc : 1));
-    uint32_t* patch_of_triangle = malloc(sizeof(uint32_t) * (tc ? tc : 1));
-    double* boxes = malloc(6 * sizeof(double) * (b->cloth_count ? b->cloth_count : 1));
-    uint64_t* pairs = NULL;
-    cvk_result r = CVK_SUCCESS;
-    if (!parent || !keys || !patch_of_triangle || !boxes) {
-        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact patches");
-        goto done;
-    }
     cloth_boxes(c, b, boxes);
-    double side = CVK_PATCH_EDGES * mean_edge(c, triangles, tc);
+    double side = CVK_PATCH_EDGES * mean_edge(c, triangles, b->triangle_count);
     uint32_t count = 0;
     for (int attempt = 0; attempt < 64; attempt++, side *= 1.5) {
         count = group(c, b, triangles, incident, boxes, side > 0.0 ? side : 1.0, parent, keys,
@@ -136,38 +128,53 @@ cvk_result cvk_collide_make_patches(cvk_collide* c, const cvk_build* b, const ui
         if (count <= CVK_MAX_PATCHES)
             break;
     }
-    /* Rest neighbours: patches with triangles around one particle or around two particles of
-       one triangle (so patches meeting only at a corner of their cubes are neighbours too),
-       each pair once per direction. */
-    size_t pair_count = 0, pair_capacity = 16;
-    pairs = malloc(pair_capacity * sizeof *pairs);
-    if (!pairs) {
-        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact patches");
-        goto done;
+    return count;
+}
+
+enum { NEAR_MAX = 32 };
+
+/* The patches of the triangles around particle p's triangles' corners, each once, in order
+   of first sight (at most NEAR_MAX); returns how many. */
+static uint32_t near_patches(const cvk_build* b, const uint32_t* triangles,
+                             const uint32_t* incident, const uint32_t* patch_of_triangle,
+                             uint32_t p, uint32_t near[NEAR_MAX])
+{
+    uint32_t n = b->particle_count, near_count = 0;
+    for (uint32_t i = incident[p]; i < incident[p + 1]; i++) {
+        const uint32_t* tri = &triangles[4 * (size_t)incident[n + 1 + i]];
+        for (int k = 0; k < 3; k++)
+            for (uint32_t j = incident[tri[k]]; j < incident[tri[k] + 1]; j++) {
+                uint32_t a = patch_of_triangle[incident[n + 1 + j]];
+                bool seen = false;
+                for (uint32_t m = 0; m < near_count; m++)
+                    seen = seen || near[m] == a;
+                if (!seen && near_count < NEAR_MAX)
+                    near[near_count++] = a;
+            }
     }
-    enum { NEAR_MAX = 32 };
-    for (uint32_t p = 0; p < n; p++) {
-        uint32_t near[NEAR_MAX], near_count = 0;
-        for (uint32_t i = incident[p]; i < incident[p + 1]; i++) {
-            const uint32_t* tri = &triangles[4 * (size_t)incident[n + 1 + i]];
-            for (int k = 0; k < 3; k++)
-                for (uint32_t j = incident[tri[k]]; j < incident[tri[k] + 1]; j++) {
-                    uint32_t a = patch_of_triangle[incident[n + 1 + j]];
-                    bool seen = false;
-                    for (uint32_t m = 0; m < near_count; m++)
-                        seen = seen || near[m] == a;
-                    if (!seen && near_count < NEAR_MAX)
-                        near[near_count++] = a;
-                }
-        }
+    return near_count;
+}
+
+/* Rest neighbours: patches with triangles around one particle or around two particles of one
+   triangle (so patches meeting only at a corner of their cubes are neighbours too), each pair
+   once per direction as patch << 32 | neighbour, sorted. Returns them in a new array, their
+   count in *unique; NULL when out of memory. */
+static uint64_t* neighbour_pairs(const cvk_build* b, const uint32_t* triangles,
+                                 const uint32_t* incident, const uint32_t* patch_of_triangle,
+                                 size_t* unique)
+{
+    size_t pair_count = 0, pair_capacity = 16;
+    uint64_t* pairs = malloc(pair_capacity * sizeof *pairs);
+    for (uint32_t p = 0; pairs && p < b->particle_count; p++) {
+        uint32_t near[NEAR_MAX];
+        uint32_t near_count = near_patches(b, triangles, incident, patch_of_triangle, p, near);
         for (uint32_t i = 0; i < near_count; i++)
             for (uint32_t j = 0; j < i; j++) {
                 if (pair_count + 2 > pair_capacity) {
                     uint64_t* grown = realloc(pairs, 2 * pair_capacity * sizeof *pairs);
                     if (!grown) {
-                        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                                     "out of host memory for the contact patches");
-                        goto done;
+                        free(pairs);
+                        return NULL;
                     }
                     pairs = grown;
                     pair_capacity *= 2;
@@ -176,18 +183,28 @@ cvk_result cvk_collide_make_patches(cvk_collide* c, const cvk_build* b, const ui
                 pairs[pair_count++] = (uint64_t)near[j] << 32 | near[i];
             }
     }
+    if (!pairs)
+        return NULL;
     qsort(pairs, pair_count, sizeof *pairs, compare_u64);
-    size_t unique = 0;
+    size_t distinct = 0;
     for (size_t i = 0; i < pair_count; i++)
-        if (unique == 0 || pairs[i] != pairs[unique - 1])
-            pairs[unique++] = pairs[i];
-    /* The table: particles' patches, triangle offsets and ids, neighbour offsets and ids. */
+        if (distinct == 0 || pairs[i] != pairs[distinct - 1])
+            pairs[distinct++] = pairs[i];
+    *unique = distinct;
+    return pairs;
+}
+
+/* The table (shared/layout.h) into c: particles' patches, triangle offsets and ids, neighbour
+   offsets and ids. False when out of memory. */
+static bool write_table(cvk_collide* c, const cvk_build* b, const uint32_t* incident,
+                        const uint32_t* patch_of_triangle, uint32_t count, const uint64_t* pairs,
+                        size_t unique)
+{
+    uint32_t n = b->particle_count, tc = b->triangle_count;
     size_t size = (size_t)n + (count + 1) + tc + (count + 1) + unique;
     uint32_t* table = calloc(size, sizeof *table);
-    if (!table) {
-        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact patches");
-        goto done;
-    }
+    if (!table)
+        return false;
     for (uint32_t p = 0; p < n; p++) /* the patch of its lowest triangle */
         table[p] = incident[p] < incident[p + 1] ? patch_of_triangle[incident[n + 1 + incident[p]]]
                                                  : CVK_NO_PATCH;
@@ -215,26 +232,148 @@ cvk_result cvk_collide_make_patches(cvk_collide* c, const cvk_build* b, const ui
     c->patch_neighbours = at;
     c->patch_table = table;
     c->patch_table_size = size;
-done:
+    return true;
+}
+
+cvk_result cvk_collide_make_patches(cvk_collide* c, const cvk_build* b, const uint32_t* triangles,
+                                    const uint32_t* incident, cvk_error* error)
+{
+    uint32_t tc = b->triangle_count;
+    uint32_t* parent = malloc(sizeof(uint32_t) * (tc ? tc : 1));
+    int64_t* keys = malloc(4 * sizeof(int64_t) * (tc ? tc : 1));
+    uint32_t* patch_of_triangle = malloc(sizeof(uint32_t) * (tc ? tc : 1));
+    double* boxes = malloc(6 * sizeof(double) * (b->cloth_count ? b->cloth_count : 1));
+    uint64_t* pairs = NULL;
+    bool ok = parent && keys && patch_of_triangle && boxes;
+    if (ok) {
+        uint32_t count = choose_patches(c, b, triangles, incident, boxes, parent, keys,
+                                        patch_of_triangle);
+        size_t unique = 0;
+        pairs = neighbour_pairs(b, triangles, incident, patch_of_triangle, &unique);
+        ok = pairs && write_table(c, b, incident, patch_of_triangle, count, pairs, unique);
+    }
     free(parent);
     free(keys);
     free(patch_of_triangle);
     free(boxes);
     free(pairs);
-    return r;
+    if (!ok)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact patches");
+    return CVK_SUCCESS;
 }
 
 /* ---- the host's reference of a search's patch activity ---------------------------------- */
 
+/* Triangle t's corners at x into v and its normal (the edges' cross product) into nv; returns
+   the normal's length, 0 when one of its two shorter edges at rest is squeezed within its
+   plane: then it counts as degenerate (the longest, the first of equals, does not count). */
+static double triangle_normal(const cvk_collide* c, const cvk_build* b, const float* x,
+                              uint32_t t, const float* v[3], double nv[3])
+{
+    for (int k = 0; k < 3; k++)
+        v[k] = &x[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
+    double e1[3], e2[3];
+    for (int m = 0; m < 3; m++) {
+        e1[m] = (double)v[1][m] - v[0][m];
+        e2[m] = (double)v[2][m] - v[0][m];
+    }
+    nv[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nv[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nv[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+    double now[3], rest[3];
+    for (int k = 0; k < 3; k++) {
+        const float* r0 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
+        const float* r1 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
+        now[k] = rest[k] = 0.0;
+        for (int m = 0; m < 3; m++) {
+            double e = (double)v[(k + 1) % 3][m] - v[k][m], r = (double)r1[m] - r0[m];
+            now[k] += e * e;
+            rest[k] += r * r;
+        }
+    }
+    int longest = rest[0] >= rest[1] && rest[0] >= rest[2] ? 0 : rest[1] >= rest[2] ? 1 : 2;
+    for (int k = 0; k < 3; k++)
+        if (k != longest && now[k] < CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE * rest[k])
+            len = 0.0;
+    return len;
+}
+
+/* Patch a's box at x (low, high) and normal cone (unit axis: the mean of its triangles' unit
+   normals; then the least cosine between the axis and a normal, −1 when a triangle is
+   degenerate or there is no axis), in two passes over its triangles. */
+static void patch_bounds(const cvk_collide* c, const cvk_build* b, const float* x, uint32_t a,
+                         double box[6], double cone[4])
+{
+    uint32_t n = b->particle_count;
+    const uint32_t* offsets = &c->patch_table[n];
+    const uint32_t* ids = &c->patch_table[(size_t)n + c->patch_count + 1];
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (int m = 0; m < 3; m++) {
+        box[m] = INFINITY;
+        box[m + 3] = -INFINITY;
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        double len_sum = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        if (pass == 1) {
+            for (int m = 0; m < 3; m++)
+                cone[m] = len_sum > 0.0 ? sum[m] / len_sum : 0.0;
+            cone[3] = len_sum > 0.0 ? 1.0 : -1.0;
+        }
+        for (uint32_t i = offsets[a]; i < offsets[a + 1]; i++) {
+            const float* v[3];
+            double nv[3];
+            double len = triangle_normal(c, b, x, ids[i], v, nv);
+            if (pass == 0) {
+                for (int k = 0; k < 3; k++)
+                    for (int m = 0; m < 3; m++) {
+                        box[m] = fmin(box[m], v[k][m]);
+                        box[m + 3] = fmax(box[m + 3], v[k][m]);
+                    }
+                for (int m = 0; m < 3 && len > 0.0; m++)
+                    sum[m] += nv[m] / len;
+            } else {
+                double d = len > 0.0 ? (nv[0] * cone[0] + nv[1] * cone[1] + nv[2] * cone[2]) / len
+                                     : -1.0;
+                cone[3] = fmin(cone[3], d);
+            }
+        }
+    }
+}
+
+/* Whether patch a is active: its cone is wider than `limit` (radians), or its box comes within
+   `radius` of another patch's that is not its rest neighbour, or is one and the two cones
+   together are wider than `limit`. */
+static bool patch_active(const cvk_collide* c, uint32_t a, double (*box)[6], double (*cone)[4],
+                         double limit, double radius)
+{
+    uint32_t count = c->patch_count;
+    const uint32_t* near = &c->patch_table[c->patch_neighbours];
+    const uint32_t* near_ids = &c->patch_table[(size_t)c->patch_neighbours + count + 1];
+    bool on = acos(fmax(-1.0, fmin(1.0, cone[a][3]))) > limit;
+    for (uint32_t d = 0; d < count && !on; d++) {
+        if (d == a)
+            continue;
+        bool overlap = true;
+        for (int m = 0; m < 3; m++)
+            overlap = overlap && box[a][m] - radius <= box[d][m + 3] &&
+                      box[d][m] - radius <= box[a][m + 3];
+        if (!overlap)
+            continue;
+        bool adjacent = false;
+        for (uint32_t k = near[a]; k < near[a + 1]; k++)
+            adjacent = adjacent || near_ids[k] == d;
+        double axes = cone[a][0] * cone[d][0] + cone[a][1] * cone[d][1] + cone[a][2] * cone[d][2];
+        on = !adjacent || acos(fmax(-1.0, fmin(1.0, axes))) +
+                                  acos(fmax(-1.0, fmin(1.0, cone[d][3]))) > limit;
+    }
+    return on;
+}
+
 void cvk_collide_patch_activity(const cvk_collide* c, const cvk_build* b, const float* x,
                                 double slack, uint8_t* active)
 {
-    uint32_t n = b->particle_count, count = c->patch_count;
-    const uint32_t* table = c->patch_table;
-    const uint32_t* offsets = &table[n];
-    const uint32_t* ids = &table[(size_t)n + count + 1];
-    const uint32_t* near = &table[c->patch_neighbours];
-    const uint32_t* near_ids = &table[(size_t)c->patch_neighbours + count + 1];
+    uint32_t count = c->patch_count;
     double(*box)[6] = malloc(sizeof *box * (count ? count : 1));
     double(*cone)[4] = malloc(sizeof *cone * (count ? count : 1));
     if (!box || !cone) {
@@ -243,88 +382,12 @@ void cvk_collide_patch_activity(const cvk_collide* c, const cvk_build* b, const 
         free(cone);
         return;
     }
-    for (uint32_t a = 0; a < count; a++) {
-        double sum[3] = {0.0, 0.0, 0.0};
-        for (int m = 0; m < 3; m++) {
-            box[a][m] = INFINITY;
-            box[a][m + 3] = -INFINITY;
-        }
-        for (int pass = 0; pass < 2; pass++) {
-            double len_sum = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
-            if (pass == 1) {
-                for (int m = 0; m < 3; m++)
-                    cone[a][m] = len_sum > 0.0 ? sum[m] / len_sum : 0.0;
-                cone[a][3] = len_sum > 0.0 ? 1.0 : -1.0;
-            }
-            for (uint32_t i = offsets[a]; i < offsets[a + 1]; i++) {
-                uint32_t t = ids[i];
-                const float* v[3];
-                for (int k = 0; k < 3; k++)
-                    v[k] = &x[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
-                double e1[3], e2[3];
-                for (int m = 0; m < 3; m++) {
-                    e1[m] = (double)v[1][m] - v[0][m];
-                    e2[m] = (double)v[2][m] - v[0][m];
-                }
-                double nv[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                                e1[0] * e2[1] - e1[1] * e2[0]};
-                double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
-                /* One of its two shorter edges at rest squeezed within its plane: as a
-                   degenerate triangle (the longest, the first of equals, does not count). */
-                double now[3], rest[3];
-                for (int k = 0; k < 3; k++) {
-                    const float* r0 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + k]]];
-                    const float* r1 = &c->rest_xyz[4 * (size_t)b->internal_of[b->triangles[3 * (size_t)t + (k + 1) % 3]]];
-                    now[k] = rest[k] = 0.0;
-                    for (int m = 0; m < 3; m++) {
-                        double e = (double)v[(k + 1) % 3][m] - v[k][m], r = (double)r1[m] - r0[m];
-                        now[k] += e * e;
-                        rest[k] += r * r;
-                    }
-                }
-                int longest = rest[0] >= rest[1] && rest[0] >= rest[2] ? 0 : rest[1] >= rest[2] ? 1 : 2;
-                for (int k = 0; k < 3; k++)
-                    if (k != longest && now[k] < CVK_PATCH_SQUEEZE * CVK_PATCH_SQUEEZE * rest[k])
-                        len = 0.0;
-                if (pass == 0) {
-                    for (int k = 0; k < 3; k++)
-                        for (int m = 0; m < 3; m++) {
-                            box[a][m] = fmin(box[a][m], v[k][m]);
-                            box[a][m + 3] = fmax(box[a][m + 3], v[k][m]);
-                        }
-                    for (int m = 0; m < 3 && len > 0.0; m++)
-                        sum[m] += nv[m] / len;
-                } else {
-                    double d = len > 0.0 ? (nv[0] * cone[a][0] + nv[1] * cone[a][1] +
-                                            nv[2] * cone[a][2]) / len
-                                         : -1.0;
-                    cone[a][3] = fmin(cone[a][3], d);
-                }
-            }
-        }
-    }
+    for (uint32_t a = 0; a < count; a++)
+        patch_bounds(c, b, x, a, box[a], cone[a]);
     double limit = (double)CVK_FLAT_DEGREES * (3.14159265358979323846 / 180.0) * (1.0 - slack);
     double radius = (double)c->detect_radius * (1.0 + slack);
-    for (uint32_t a = 0; a < count; a++) {
-        bool on = acos(fmax(-1.0, fmin(1.0, cone[a][3]))) > limit;
-        for (uint32_t d = 0; d < count && !on; d++) {
-            if (d == a)
-                continue;
-            bool overlap = true;
-            for (int m = 0; m < 3; m++)
-                overlap = overlap && box[a][m] - radius <= box[d][m + 3] &&
-                          box[d][m] - radius <= box[a][m + 3];
-            if (!overlap)
-                continue;
-            bool adjacent = false;
-            for (uint32_t k = near[a]; k < near[a + 1]; k++)
-                adjacent = adjacent || near_ids[k] == d;
-            double axes = cone[a][0] * cone[d][0] + cone[a][1] * cone[d][1] + cone[a][2] * cone[d][2];
-            on = !adjacent || acos(fmax(-1.0, fmin(1.0, axes))) +
-                                      acos(fmax(-1.0, fmin(1.0, cone[d][3]))) > limit;
-        }
-        active[a] = on ? 1 : 0;
-    }
+    for (uint32_t a = 0; a < count; a++)
+        active[a] = patch_active(c, a, box, cone, limit, radius) ? 1 : 0;
     free(box);
     free(cone);
 }

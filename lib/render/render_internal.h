@@ -1,4 +1,4 @@
-/* The renderer object, private to render.c and render_pipelines.c. */
+/* The renderer object, private to the renderer's files (render.c and render_*.c). */
 #ifndef CVK_RENDER_INTERNAL_H
 #define CVK_RENDER_INTERNAL_H
 
@@ -66,6 +66,9 @@ struct cvk_renderer {
     cvk_submitter submitter;
     VkCommandBuffer frame_cmd;
 };
+
+/* Timestamps of a frame: start, after the mesh, the shadow pass, the lit pass and the copy. */
+enum { CVK_RENDER_QUERY_COUNT = 5 };
 
 /* The graphics pipelines: shadow, cloth, background and ground patch, and with colliders to
    draw the colliders' shadow and lit pipelines. */

@@ -121,6 +121,8 @@ cvk_result cvk_read_attachments(cvk_reader* rd, const cvk_field* f, json_t* valu
 /* dest is the wind: "wind" turns the air on and reads cvk_wind_table. */
 cvk_result cvk_read_wind(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
 extern const cvk_table cvk_wind_table;
+/* The top level of a scene file (lib/scene_json.c). */
+extern const cvk_table cvk_scene_table;
 
 /* ---- text ---- */
 

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "shared/layout.h"
+#include "solvers/family_objects.h"
 #include "solvers/solve_explicit.h"
 #include "solvers/velocity_state.h"
 #include "features/tear.h"
@@ -18,7 +19,9 @@ typedef struct cvk_explicit {
     VkCommandBuffer readback_cmd; /* positions and velocities -> staging */
 } cvk_explicit;
 
-static cvk_result create_buffers(cvk_sim* s, cvk_explicit* ex, cvk_error* error)
+/* The family's buffers (family_objects.h); returns how many. */
+static size_t buffer_table(const cvk_sim* s, cvk_explicit* ex,
+                           cvk_family_buffer out[CVK_FAMILY_MAX_BUFFERS])
 {
     const cvk_build* b = &s->build;
     VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
@@ -26,25 +29,18 @@ static cvk_result create_buffers(cvk_sim* s, cvk_explicit* ex, cvk_error* error)
     VkDeviceSize slots16 = nf16 * (b->max_degree ? b->max_degree : 1);
     VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                              VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-    struct {
-        cvk_buffer* buffer;
-        VkDeviceSize size;
-        const char* what;
-    } list[] = {
-        {&ex->v, n16, "velocities"},
-        {&ex->xs, nf16, "RK2 stage positions"},
-        {&ex->vs, nf16, "RK2 stage velocities"},
-        {&ex->adjacency, slots16, "explicit adjacency"},
-        {&ex->acc, nf16, "accelerations"},
-        {&ex->history, CVK_EXPLICIT_HISTORY * nf16, "Adams-Bashforth history"},
+    const cvk_family_buffer list[] = {
+        {&ex->v, n16, use, CVK_MEMORY_DEVICE, "velocities", NULL, 0},
+        {&ex->xs, nf16, use, CVK_MEMORY_DEVICE, "RK2 stage positions", NULL, 0},
+        {&ex->vs, nf16, use, CVK_MEMORY_DEVICE, "RK2 stage velocities", NULL, 0},
+        {&ex->adjacency, slots16, use, CVK_MEMORY_DEVICE, "explicit adjacency", NULL, 0},
+        {&ex->acc, nf16, use, CVK_MEMORY_DEVICE, "accelerations", NULL, 0},
+        {&ex->history, CVK_EXPLICIT_HISTORY * nf16, use, CVK_MEMORY_DEVICE,
+         "Adams-Bashforth history", NULL, 0},
     };
-    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
-        cvk_result r = cvk_buffer_create(s->device.context, list[i].size, use, CVK_MEMORY_DEVICE,
-                                         list[i].what, list[i].buffer, error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
-    return CVK_SUCCESS;
+    _Static_assert(sizeof list / sizeof list[0] <= CVK_FAMILY_MAX_BUFFERS, "a longer table");
+    memcpy(out, list, sizeof list);
+    return sizeof list / sizeof list[0];
 }
 
 static cvk_result create_sets(cvk_sim* s, cvk_explicit* ex, cvk_error* error)
@@ -105,10 +101,9 @@ static cvk_result explicit_save_snapshot(cvk_sim* s, void* self, void* data, cvk
 {
     cvk_explicit* ex = self;
     uint64_t state = 32u * (uint64_t)s->build.particle_count;
-    cvk_result r = cvk_submit_and_wait(s->device.context, &s->device.submitter, &ex->readback_cmd, 1, error);
+    cvk_result r = cvk_vstate_save(s, ex->readback_cmd, data, error);
     if (r != CVK_SUCCESS)
         return r;
-    memcpy(data, s->device.staging.mapped, state);
     return cvk_buffer_download(s->device.context, &s->device.submitter, s->device.transfer_cmd, &ex->history,
                                (unsigned char*)data + state, ex->history.size, error);
 }
@@ -124,12 +119,10 @@ static cvk_result explicit_load_snapshot(cvk_sim* s, void* self, const void* dat
                         (unsigned long long)explicit_snapshot_size(s, self),
                         (unsigned long long)size);
     uint64_t state = 32u * (uint64_t)s->build.particle_count;
+    /* The history first: its upload goes through the staging buffer too. */
     cvk_result r = cvk_device_upload(&s->device, &ex->history, (const unsigned char*)data + state,
                                   ex->history.size, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    memcpy(s->device.staging.mapped, data, state);
-    return cvk_vstate_upload_staged(s, &ex->v, error);
+    return r == CVK_SUCCESS ? cvk_vstate_load(s, &ex->v, data, error) : r;
 }
 
 /* ---- passes ------------------------------------------------------------------------------ */
@@ -206,12 +199,10 @@ static void explicit_destroy(cvk_sim* s, void* self)
     cvk_explicit* ex = self;
     if (!ex)
         return;
-    cvk_descriptors_destroy(s->device.context, &ex->descriptors);
-    cvk_buffer* buffers[] = {&ex->v, &ex->xs, &ex->vs, &ex->adjacency, &ex->acc, &ex->history};
-    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
-        cvk_buffer_destroy(s->device.context, buffers[i]);
-    if (ex->readback_cmd)
-        vkFreeCommandBuffers(s->device.context->device, s->device.submitter.pool, 1, &ex->readback_cmd);
+    cvk_family_buffer list[CVK_FAMILY_MAX_BUFFERS];
+    size_t count = buffer_table(s, ex, list);
+    cvk_descriptors* sets[] = {&ex->descriptors};
+    cvk_family_destroy(s, sets, 1, list, count, ex->readback_cmd);
     free(ex);
 }
 
@@ -230,19 +221,17 @@ static cvk_result explicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     cvk_explicit* ex = calloc(1, sizeof *ex);
     if (!ex)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
-    cvk_result r = create_buffers(s, ex, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_command_buffer_allocate(s->device.context, &s->device.submitter, &ex->readback_cmd, error);
+    cvk_family_buffer list[CVK_FAMILY_MAX_BUFFERS];
+    size_t count = buffer_table(s, ex, list);
+    cvk_result r = cvk_family_create(s, list, count, &ex->readback_cmd, error);
     if (r == CVK_SUCCESS)
         r = create_sets(s, ex, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_vstate_upload_adjacency(s, &ex->adjacency, NULL, error);
+    if (r == CVK_SUCCESS) /* Adams-Bashforth starts from Euler steps */
+        r = cvk_device_clear_buffer(&s->device, &ex->history, error);
     if (r == CVK_SUCCESS)
         cvk_tear_bind(s, CVK_TEAR_FOR_EXPLICIT, &ex->adjacency);
     if (r == CVK_SUCCESS)
-        r = explicit_write_state(s, ex, s->build.position, NULL, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_vstate_record_readback(s, ex->readback_cmd, &ex->v, error);
+        r = cvk_vstate_start(s, &ex->v, &ex->adjacency, ex->readback_cmd, error);
     if (r != CVK_SUCCESS) {
         explicit_destroy(s, ex);
         return r;

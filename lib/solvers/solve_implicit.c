@@ -10,6 +10,7 @@
 #include "features/attach.h"
 #include "core/error.h"
 #include "shared/layout.h"
+#include "solvers/family_objects.h"
 #include "solvers/solve_implicit.h"
 #include "solvers/velocity_state.h"
 #include "contact/collide.h"
@@ -31,53 +32,43 @@ typedef struct cvk_implicit {
     uint32_t partial_count;       /* invocations of each reduction pass */
 } cvk_implicit;
 
-static cvk_result create_buffers(cvk_sim* s, cvk_implicit* im, cvk_error* error)
+/* The family's buffers (family_objects.h); returns how many. */
+static size_t buffer_table(const cvk_sim* s, cvk_implicit* im,
+                           cvk_family_buffer out[CVK_FAMILY_MAX_BUFFERS])
 {
     const cvk_build* b = &s->build;
     VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
     VkDeviceSize nf16 = (VkDeviceSize)(b->free_count ? b->free_count : 1) * 16u;
     VkDeviceSize slots16 = nf16 * (b->max_degree ? b->max_degree : 1);
+    VkDeviceSize partials = (VkDeviceSize)PARTIALS_CAPACITY(b->free_count) * 4u;
     VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                              VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-    struct {
-        cvk_buffer* buffer;
-        VkDeviceSize size;
-        cvk_memory_kind memory;
-        const char* what;
-    } list[] = {
-        {&im->v, n16, CVK_MEMORY_DEVICE, "velocities"},
-        {&im->adjacency, slots16, CVK_MEMORY_DEVICE, "implicit adjacency"},
-        {&im->diag, 4 * nf16, CVK_MEMORY_DEVICE, "diagonal blocks"},
-        {&im->offdiag, 2 * slots16, CVK_MEMORY_DEVICE, "off-diagonal blocks"},
-        {&im->rhs, nf16, CVK_MEMORY_DEVICE, "implicit right-hand side"},
-        {&im->dv[0], nf16, CVK_MEMORY_DEVICE, "velocity change"},
-        {&im->dv[1], nf16, CVK_MEMORY_DEVICE, "velocity change (second iterate)"},
-        {&im->r, nf16, CVK_MEMORY_DEVICE, "CG residual"},
-        {&im->z, nf16, CVK_MEMORY_DEVICE, "CG preconditioned residual"},
-        {&im->p, nf16, CVK_MEMORY_DEVICE, "CG direction"},
-        {&im->q, nf16, CVK_MEMORY_DEVICE, "CG product"},
-        {&im->filter, nf16, CVK_MEMORY_DEVICE, "contact filter"},
-        {&im->partials, (VkDeviceSize)PARTIALS_CAPACITY(b->free_count) * 4u, CVK_MEMORY_DEVICE,
-         "partial sums"},
-        {&im->scalars, sizeof(cvk_implicit_scalars), CVK_MEMORY_HOST, "solver scalars"},
-    };
-    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
-        VkBufferUsageFlags usage = use;
-        if (list[i].buffer == &im->scalars) /* holds the solve's indirect dispatches */
-            usage |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
-        if (list[i].buffer == &im->p || list[i].buffer == &im->offdiag)
-            usage |= VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-        cvk_result r = cvk_buffer_create(s->device.context, list[i].size, usage, list[i].memory,
-                                         list[i].what, list[i].buffer, error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
-    memset(im->scalars.mapped, 0, sizeof(cvk_implicit_scalars));
+    /* p and the off-diagonal blocks are the product's texel reads; the scalars hold the
+       solve's indirect dispatches. */
+    VkBufferUsageFlags texel = use | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    VkBufferUsageFlags indirect = use | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT;
-    cvk_result r = cvk_buffer_view_create(s->device.context, &im->p, vec4, &im->view_p, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_buffer_view_create(s->device.context, &im->offdiag, vec4, &im->view_offdiag, error);
-    return r;
+    cvk_memory_kind device = CVK_MEMORY_DEVICE;
+    const cvk_family_buffer list[] = {
+        {&im->v, n16, use, device, "velocities", NULL, 0},
+        {&im->adjacency, slots16, use, device, "implicit adjacency", NULL, 0},
+        {&im->diag, 4 * nf16, use, device, "diagonal blocks", NULL, 0},
+        {&im->offdiag, 2 * slots16, texel, device, "off-diagonal blocks", &im->view_offdiag, vec4},
+        {&im->rhs, nf16, use, device, "implicit right-hand side", NULL, 0},
+        {&im->dv[0], nf16, use, device, "velocity change", NULL, 0},
+        {&im->dv[1], nf16, use, device, "velocity change (second iterate)", NULL, 0},
+        {&im->r, nf16, use, device, "CG residual", NULL, 0},
+        {&im->z, nf16, use, device, "CG preconditioned residual", NULL, 0},
+        {&im->p, nf16, texel, device, "CG direction", &im->view_p, vec4},
+        {&im->q, nf16, use, device, "CG product", NULL, 0},
+        {&im->filter, nf16, use, device, "contact filter", NULL, 0},
+        {&im->partials, partials, use, device, "partial sums", NULL, 0},
+        {&im->scalars, sizeof(cvk_implicit_scalars), indirect, CVK_MEMORY_HOST, "solver scalars",
+         NULL, 0},
+    };
+    _Static_assert(sizeof list / sizeof list[0] <= CVK_FAMILY_MAX_BUFFERS, "a longer table");
+    memcpy(out, list, sizeof list);
+    return sizeof list / sizeof list[0];
 }
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
@@ -149,10 +140,7 @@ static uint64_t implicit_snapshot_size(const cvk_sim* s, const void* self)
 static cvk_result implicit_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* error)
 {
     cvk_implicit* im = self;
-    cvk_result r = cvk_submit_and_wait(s->device.context, &s->device.submitter, &im->readback_cmd, 1, error);
-    if (r == CVK_SUCCESS)
-        memcpy(data, s->device.staging.mapped, implicit_snapshot_size(s, self));
-    return r;
+    return cvk_vstate_save(s, im->readback_cmd, data, error);
 }
 
 static cvk_result implicit_load_snapshot(cvk_sim* s, void* self, const void* data, uint64_t size,
@@ -165,8 +153,7 @@ static cvk_result implicit_load_snapshot(cvk_sim* s, void* self, const void* dat
                         (unsigned long long)implicit_snapshot_size(s, self),
                         (unsigned long long)size);
     cvk_implicit* im = self;
-    memcpy(s->device.staging.mapped, data, size);
-    return cvk_vstate_upload_staged(s, &im->v, error);
+    return cvk_vstate_load(s, &im->v, data, error);
 }
 
 void cvk_implicit_stats(const cvk_sim* s, cvk_sim_stats* st)
@@ -369,18 +356,10 @@ static void implicit_destroy(cvk_sim* s, void* self)
     cvk_implicit* im = self;
     if (!im)
         return;
-    cvk_descriptors_destroy(s->device.context, &im->descriptors);
-    VkBufferView views[] = {im->view_p, im->view_offdiag};
-    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
-        if (views[i])
-            vkDestroyBufferView(s->device.context->device, views[i], NULL);
-    cvk_buffer* buffers[] = {&im->v, &im->adjacency, &im->diag, &im->offdiag, &im->rhs,
-                             &im->dv[0], &im->dv[1], &im->r, &im->z, &im->p, &im->q,
-                             &im->partials, &im->scalars, &im->filter};
-    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
-        cvk_buffer_destroy(s->device.context, buffers[i]);
-    if (im->readback_cmd)
-        vkFreeCommandBuffers(s->device.context->device, s->device.submitter.pool, 1, &im->readback_cmd);
+    cvk_family_buffer list[CVK_FAMILY_MAX_BUFFERS];
+    size_t count = buffer_table(s, im, list);
+    cvk_descriptors* sets[] = {&im->descriptors};
+    cvk_family_destroy(s, sets, 1, list, count, im->readback_cmd);
     free(im);
 }
 
@@ -399,23 +378,21 @@ static cvk_result implicit_create(cvk_sim* s, const cvk_solver_desc* solver, voi
     cvk_implicit* im = calloc(1, sizeof *im);
     if (!im)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the solver");
-    cvk_result r = create_buffers(s, im, error);
+    cvk_family_buffer list[CVK_FAMILY_MAX_BUFFERS];
+    size_t count = buffer_table(s, im, list);
+    cvk_result r = cvk_family_create(s, list, count, &im->readback_cmd, error);
     if (r == CVK_SUCCESS)
-        r = cvk_command_buffer_allocate(s->device.context, &s->device.submitter, &im->readback_cmd, error);
+        memset(im->scalars.mapped, 0, sizeof(cvk_implicit_scalars));
     if (r == CVK_SUCCESS)
         r = create_set(s, im, error);
     if (r == CVK_SUCCESS)
         r = cvk_device_clear_buffer(&s->device, &im->filter, error); /* nothing held before contact */
-    if (r == CVK_SUCCESS)
-        r = cvk_vstate_upload_adjacency(s, &im->adjacency, NULL, error);
-    if (r == CVK_SUCCESS)
+    if (r == CVK_SUCCESS) {
         cvk_tear_bind(s, CVK_TEAR_FOR_IMPLICIT, &im->adjacency);
-    if (r == CVK_SUCCESS)
         cvk_attach_bind(s, CVK_ATTACH_FOR_IMPLICIT, &im->v, &im->v); /* velocity, place */
+    }
     if (r == CVK_SUCCESS)
-        r = implicit_write_state(s, im, s->build.position, NULL, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_vstate_record_readback(s, im->readback_cmd, &im->v, error);
+        r = cvk_vstate_start(s, &im->v, &im->adjacency, im->readback_cmd, error);
     if (r != CVK_SUCCESS) {
         implicit_destroy(s, im);
         return r;

@@ -7,6 +7,7 @@
 
 #include "core/checked.h"
 #include "core/error.h"
+#include "solvers/family_objects.h"
 #include "solvers/solve_pd.h"
 #include "solvers/reference.h"
 #include "topology/build.h"
@@ -29,7 +30,9 @@ static uint32_t adjacency_quads(uint32_t max_degree)
     return max_degree ? (max_degree + 3u) / 4u : 1u;
 }
 
-static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
+/* The family's buffers (family_objects.h); returns how many. */
+static size_t buffer_table(const cvk_sim* s, cvk_pd* pd,
+                           cvk_family_buffer out[CVK_FAMILY_MAX_BUFFERS])
 {
     const cvk_build* b = &s->build;
     VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
@@ -44,55 +47,34 @@ static cvk_result create_buffers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     /* Tearing (tear.h) zeroes the k of broken springs in place. */
     VkBufferUsageFlags adjacency = table | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT;
-    struct {
-        cvk_buffer* buffer;
-        VkDeviceSize size;
-        VkBufferUsageFlags usage;
-        const char* what;
-        VkBufferView* view;
-        VkFormat format;
-    } list[] = {
-        {&pd->u[0], n16, motion, "displacements", &pd->view_u[0], vec4},
-        {&pd->u[1], n16, state, "displacements (second iterate)", &pd->view_u[1], vec4},
-        {&pd->y, n16, state, "predicted displacements", &pd->view_y, vec4},
-        {&pd->rhs, nf * 16u, state, "right-hand side", &pd->view_rhs, vec4},
-        {&pd->adjacency, quads * 32u, adjacency, "adjacency", &pd->view_adjacency,
-         VK_FORMAT_R32G32B32A32_UINT},
-        {&pd->adjacency_rest, quads * 16u, adjacency, "adjacency rest lengths", &pd->view_adjacency_rest, vec4},
-        {&pd->tether_anchor, tethers * 16u, table, "tether pins", &pd->view_tether_anchor,
-         VK_FORMAT_R32G32B32A32_UINT},
-        {&pd->tether_length, tethers * 16u, table, "tether lengths", &pd->view_tether_length,
-         vec4},
+    VkBufferUsageFlags rest = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                              VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VkBufferUsageFlags scalars = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    VkFormat vec4 = VK_FORMAT_R32G32B32A32_SFLOAT, uvec4 = VK_FORMAT_R32G32B32A32_UINT;
+    cvk_memory_kind device = CVK_MEMORY_DEVICE;
+    const cvk_family_buffer list[] = {
+        {&pd->rest, nf * 16u, rest, device, "rest memory", NULL, 0},
+        {&pd->u[0], n16, motion, device, "displacements", &pd->view_u[0], vec4},
+        {&pd->u[1], n16, state, device, "displacements (second iterate)", &pd->view_u[1], vec4},
+        {&pd->y, n16, state, device, "predicted displacements", &pd->view_y, vec4},
+        {&pd->rhs, nf * 16u, state, device, "right-hand side", &pd->view_rhs, vec4},
+        {&pd->adjacency, quads * 32u, adjacency, device, "adjacency", &pd->view_adjacency, uvec4},
+        {&pd->adjacency_rest, quads * 16u, adjacency, device, "adjacency rest lengths",
+         &pd->view_adjacency_rest, vec4},
+        {&pd->tether_anchor, tethers * 16u, table, device, "tether pins",
+         &pd->view_tether_anchor, uvec4},
+        {&pd->tether_length, tethers * 16u, table, device, "tether lengths",
+         &pd->view_tether_length, vec4},
+        {&pd->sums, 4u * (CVK_PD_PARTIALS + nf), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, device,
+         "residuals", NULL, 0},
+        {&pd->scalars, sizeof(cvk_pd_scalars), scalars, CVK_MEMORY_HOST, "convergence state",
+         NULL, 0},
     };
-    cvk_result r = cvk_buffer_create(s->device.context, nf * 16u,
-                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                         VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                         VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                     CVK_MEMORY_DEVICE, "rest memory", &pd->rest, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
-        cvk_result r = cvk_buffer_create(s->device.context, list[i].size, list[i].usage,
-                                         CVK_MEMORY_DEVICE, list[i].what, list[i].buffer, error);
-        if (r == CVK_SUCCESS)
-            r = cvk_buffer_view_create(s->device.context, list[i].buffer, list[i].format, list[i].view,
-                                       error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
-    r = cvk_buffer_create(s->device.context, 4u * (CVK_PD_PARTIALS + nf),
-                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_DEVICE, "residuals",
-                          &pd->sums, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_buffer_create(s->device.context, sizeof(cvk_pd_scalars),
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                  VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                              CVK_MEMORY_HOST, "convergence state", &pd->scalars, error);
-    if (r == CVK_SUCCESS)
-        memset(pd->scalars.mapped, 0, sizeof(cvk_pd_scalars));
-    return r;
+    _Static_assert(sizeof list / sizeof list[0] <= CVK_FAMILY_MAX_BUFFERS, "a longer table");
+    memcpy(out, list, sizeof list);
+    return sizeof list / sizeof list[0];
 }
 
 /* The adjacency as the GPU reads it: texel (2q) * nf + p: neighbours of slots 4q..4q+3,
@@ -401,17 +383,7 @@ static cvk_result read_displacement_state(cvk_sim* s, cvk_pd* pd, float* xyz, fl
         }
         return CVK_SUCCESS;
     }
-    cvk_result r = cvk_submit_and_wait(s->device.context, &s->device.submitter, &pd->readback_cmd, 1, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    const float* x = s->device.staging.mapped;
-    const float* u = x + 4 * n;
-    for (size_t p = 0; p < n; p++)
-        for (int c = 0; c < 3; c++) {
-            xyz[3 * p + c] = x[4 * p + c];
-            disp[3 * p + c] = u[4 * p + c];
-        }
-    return CVK_SUCCESS;
+    return cvk_vstate_read(s, pd->readback_cmd, xyz, disp, error); /* positions, then u[0] */
 }
 
 /* Verlet's velocity at the end of a substep from its displacement u = x_n − x_{n−1}:
@@ -592,22 +564,10 @@ static void pd_destroy(cvk_sim* s, void* self)
     cvk_pd* pd = self;
     if (!pd)
         return;
-    VkDevice dev = s->device.context->device;
-    cvk_descriptors_destroy(s->device.context, &pd->descriptors);
-    cvk_descriptors_destroy(s->device.context, &pd->converge_descriptors);
-    VkBufferView views[] = {pd->view_u[0], pd->view_u[1], pd->view_y, pd->view_rhs,
-                            pd->view_adjacency, pd->view_adjacency_rest,
-                            pd->view_tether_anchor, pd->view_tether_length};
-    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
-        if (views[i])
-            vkDestroyBufferView(dev, views[i], NULL);
-    cvk_buffer* buffers[] = {&pd->u[0], &pd->u[1], &pd->y, &pd->rhs, &pd->adjacency,
-                             &pd->adjacency_rest, &pd->tether_anchor, &pd->tether_length,
-                             &pd->sums, &pd->scalars, &pd->rest};
-    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
-        cvk_buffer_destroy(s->device.context, buffers[i]);
-    if (pd->readback_cmd)
-        vkFreeCommandBuffers(dev, s->device.submitter.pool, 1, &pd->readback_cmd);
+    cvk_family_buffer list[CVK_FAMILY_MAX_BUFFERS];
+    size_t count = buffer_table(s, pd, list);
+    cvk_descriptors* sets[] = {&pd->descriptors, &pd->converge_descriptors};
+    cvk_family_destroy(s, sets, 2, list, count, pd->readback_cmd);
     free(pd->hx);
     free(pd->hprev);
     free(pd->hy);
@@ -634,10 +594,12 @@ static cvk_result pd_create(cvk_sim* s, const cvk_solver_desc* solver, void** se
                                             "out of host memory for positions");
     if (r == CVK_SUCCESS)
         r = pd_prepare(s, pd, solver, error);
+    cvk_family_buffer list[CVK_FAMILY_MAX_BUFFERS];
+    size_t count = buffer_table(s, pd, list);
     if (r == CVK_SUCCESS)
-        r = create_buffers(s, pd, error);
+        r = cvk_family_create(s, list, count, &pd->readback_cmd, error);
     if (r == CVK_SUCCESS)
-        r = cvk_command_buffer_allocate(s->device.context, &s->device.submitter, &pd->readback_cmd, error);
+        memset(pd->scalars.mapped, 0, sizeof(cvk_pd_scalars));
     if (r == CVK_SUCCESS)
         r = create_sets(s, pd, error);
     if (r == CVK_SUCCESS) { /* the passes other modules add to this family's substep */

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "solvers/solve_pd.h"
+#include "solvers/velocity_state.h"
 
 enum { PD_DEVICE = 1, PD_HOST = 2 };
 #define PD_PREFIX 8u
@@ -43,9 +44,7 @@ cvk_result cvk_pd_save_snapshot(cvk_sim* s, void* self, void* data, cvk_error* e
         memcpy(out + 6 * n * sizeof(double), pd->hrest, 3 * n * sizeof(double));
         return CVK_SUCCESS;
     }
-    cvk_result r = cvk_submit_and_wait(s->device.context, &s->device.submitter, &pd->readback_cmd, 1, error);
-    if (r == CVK_SUCCESS)
-        memcpy(out, s->device.staging.mapped, 32u * n); /* positions, then u[0] (cvk_vstate_record_readback) */
+    cvk_result r = cvk_vstate_save(s, pd->readback_cmd, out, error); /* positions, then u[0] */
     if (r == CVK_SUCCESS)
         r = cvk_buffer_download(s->device.context, &s->device.submitter, s->device.transfer_cmd, &pd->rest,
                                 out + 32u * n, pd->rest.size, error);

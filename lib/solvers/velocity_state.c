@@ -98,3 +98,30 @@ cvk_result cvk_vstate_read(cvk_sim* s, VkCommandBuffer cmd, float* xyz, float* v
         }
     return CVK_SUCCESS;
 }
+
+cvk_result cvk_vstate_start(cvk_sim* s, cvk_buffer* v, cvk_buffer* adjacency,
+                            VkCommandBuffer readback_cmd, cvk_error* error)
+{
+    cvk_result r = cvk_vstate_upload_adjacency(s, adjacency, NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_vstate_write(s, v, s->build.position, NULL, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_vstate_record_readback(s, readback_cmd, v, error);
+    return r;
+}
+
+cvk_result cvk_vstate_save(cvk_sim* s, VkCommandBuffer readback_cmd, void* data,
+                           cvk_error* error)
+{
+    cvk_result r = cvk_submit_and_wait(s->device.context, &s->device.submitter, &readback_cmd, 1,
+                                       error);
+    if (r == CVK_SUCCESS)
+        memcpy(data, s->device.staging.mapped, 32u * (size_t)s->build.particle_count);
+    return r;
+}
+
+cvk_result cvk_vstate_load(cvk_sim* s, cvk_buffer* v, const void* data, cvk_error* error)
+{
+    memcpy(s->device.staging.mapped, data, 32u * (size_t)s->build.particle_count);
+    return cvk_vstate_upload_staged(s, v, error);
+}

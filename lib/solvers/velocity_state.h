@@ -23,6 +23,16 @@ cvk_result cvk_vstate_upload_staged(cvk_sim* sim, cvk_buffer* v, cvk_error* erro
    the springs whose flag in `alive` is 0 (torn, lib/tear.h; alive NULL: none) with k = 0. */
 cvk_result cvk_vstate_upload_adjacency(cvk_sim* sim, cvk_buffer* adjacency, const uint32_t* alive,
                                        cvk_error* error);
+/* The end of the family's create, after its buffers and sets: the build's adjacency, the
+   state at rest at the build's positions, and `readback_cmd` recorded to read positions and
+   `v` back. */
+cvk_result cvk_vstate_start(cvk_sim* sim, cvk_buffer* v, cvk_buffer* adjacency,
+                            VkCommandBuffer readback_cmd, cvk_error* error);
+/* Snapshots begin with positions[n] vec4 then v[n] vec4, exactly as held (32 n bytes):
+   copied into `data` through `readback_cmd`, and back from it. */
+cvk_result cvk_vstate_save(cvk_sim* sim, VkCommandBuffer readback_cmd, void* data,
+                           cvk_error* error);
+cvk_result cvk_vstate_load(cvk_sim* sim, cvk_buffer* v, const void* data, cvk_error* error);
 /* set_torn of the implicit and explicit families (solver.h): the spring flags, and
    `adjacency` as cvk_vstate_upload_adjacency makes it. */
 cvk_result cvk_vstate_set_torn(cvk_sim* sim, cvk_buffer* adjacency, const uint32_t* alive,

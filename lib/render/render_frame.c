@@ -1,0 +1,213 @@
+/* A frame of the renderer (render.c has the passes' design): its commands, recorded once at
+   creation into one command buffer (the mesh generation, the shadow pass, the lit pass, the
+   copy into the readback buffer, a timestamp after each), then drawn, and what a drawn frame
+   gives: the image, the timings and the view. */
+#include <stdint.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "render/render_internal.h"
+
+/* ---- recording ----------------------------------------------------------------------------- */
+
+static void timestamp(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t query)
+{
+    if (rd->queries)
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, rd->queries, query);
+}
+
+static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored)
+{
+    cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
+    VkBuffer buffers[2] = {mesh.vertex_buffer, rd->textures.uv.buffer};
+    VkDeviceSize offsets[2] = {0, 0};
+    /* The texture coordinates only for the lit pipelines, and only when a cloth has a texture. */
+    vkCmdBindVertexBuffers(cmd, 0, colored && rd->textures.uv.buffer ? 2 : 1, buffers, offsets);
+    vkCmdBindIndexBuffer(cmd, mesh.index_buffer, 0, mesh.index_type);
+    const cvk_build* b = &rd->mesh->sim->build;
+    uint32_t bound = 0;
+    for (uint32_t c = 0; c < mesh.cloth_count; c++) {
+        if (mesh.cloths[c].index_count == 0)
+            continue;
+        if (colored) {
+            /* w: 1 where the cloth's texture replaces its colour */
+            uint32_t set = rd->textures.set_of[c];
+            float albedo[4] = {b->cloths[c].color[0], b->cloths[c].color[1], b->cloths[c].color[2],
+                               set ? 1.0f : 0.0f};
+            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof albedo, albedo);
+            if (set != bound) {
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
+                                        &rd->descriptors.sets[set], 0, NULL);
+                bound = set;
+            }
+        }
+        vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
+    }
+    if (bound != 0)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+}
+
+static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer, uint32_t width,
+                       uint32_t height, const VkClearValue* clears, uint32_t clear_count)
+{
+    VkRenderPassBeginInfo begin = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO,
+        .renderPass = pass,
+        .framebuffer = framebuffer,
+        .renderArea = {{0, 0}, {width, height}},
+        .clearValueCount = clear_count,
+        .pClearValues = clears,
+    };
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+}
+
+static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkClearValue clear = {.depthStencil = {1.0f, 0}};
+    begin_pass(cmd, rd->shadow_pass, rd->shadow_framebuffer, rd->desc.shadow_map_size,
+               rd->desc.shadow_map_size, &clear, 1);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
+    draw_cloths(rd, cmd, false);
+    if (rd->collider_shadow_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_shadow_pipeline);
+        cvk_render_colliders_record(rd, cmd, false);
+    }
+    vkCmdEndRenderPass(cmd);
+}
+
+static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    /* transparent black and the far depth (reversed z); the composite pass clears its stencil */
+    VkClearValue clears[2] = {{.color = {{0.0f, 0.0f, 0.0f, 0.0f}}}, {.depthStencil = {0.0f, 0}}};
+    uint32_t w = rd->desc.size[0], h = rd->desc.size[1];
+    begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
+    draw_cloths(rd, cmd, true);
+    if (rd->wireframe_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->wireframe_pipeline);
+        draw_cloths(rd, cmd, true);
+    }
+    if (rd->collider_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);
+        cvk_render_colliders_record(rd, cmd, true);
+    }
+    vkCmdEndRenderPass(cmd);
+
+    begin_pass(cmd, rd->composite_pass, rd->composite_framebuffer, w, h, clears, 2);
+    /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
+       then everything else, which skips them. */
+    if (rd->desc.ground && rd->view.patch_visible) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->patch_pipeline);
+        vkCmdDraw(cmd, 4, 1, 0, 0);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRenderPass(cmd);
+}
+
+static void record_readback(const cvk_renderer* rd, VkCommandBuffer cmd)
+{
+    VkBufferImageCopy region = {
+        .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+        .imageExtent = {rd->desc.size[0], rd->desc.size[1], 1},
+    };
+    vkCmdCopyImageToBuffer(cmd, rd->image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, rd->readback.buffer, 1,
+                           &region);
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                    VK_ACCESS_HOST_READ_BIT);
+}
+
+cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error* error)
+{
+    if (!rd || !cmd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "cvk_renderer_record needs a renderer and a command buffer");
+    if (rd->queries)
+        vkCmdResetQueryPool(cmd, rd->queries, 0, CVK_RENDER_QUERY_COUNT);
+    timestamp(rd, cmd, 0);
+    cvk_result r = cvk_mesh_record(rd->mesh, cmd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    timestamp(rd, cmd, 1);
+    /* The colliders' vertex shaders also read the poses the simulation wrote. */
+    bool colliders = rd->colliders.draw_count > 0;
+    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | (colliders ? VK_PIPELINE_STAGE_VERTEX_SHADER_BIT : 0),
+                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT |
+                        (colliders ? VK_ACCESS_SHADER_READ_BIT : 0));
+    /* one set for every graphics pipeline of the frame; bindings outlive render passes */
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+    record_shadow_pass(rd, cmd);
+    timestamp(rd, cmd, 2);
+    record_lit_pass(rd, cmd);
+    timestamp(rd, cmd, 3);
+    record_readback(rd, cmd);
+    timestamp(rd, cmd, 4);
+    /* The next simulated frame rewrites the poses: these draws finish reading them first (the
+       mesh generation's own barrier covers only vertex input). */
+    if (colliders)
+        cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_VERTEX_SHADER_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0);
+    return CVK_SUCCESS;
+}
+
+/* ---- frames -------------------------------------------------------------------------------- */
+
+cvk_result cvk_renderer_draw(cvk_renderer* rd, cvk_error* error)
+{
+    if (!rd)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_draw needs a renderer");
+    return cvk_submit_and_wait(rd->context, &rd->submitter, &rd->frame_cmd, 1, error);
+}
+
+cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
+{
+    return (cvk_image){
+        .pixels = rd->readback.mapped,
+        .width = rd->desc.size[0],
+        .height = rd->desc.size[1],
+        .row_bytes = 4u * rd->desc.size[0],
+    };
+}
+
+cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
+{
+    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0};
+    if (!rd->queries)
+        return t;
+    uint64_t data[2 * CVK_RENDER_QUERY_COUNT];
+    VkResult vr = vkGetQueryPoolResults(rd->context->device, rd->queries, 0, CVK_RENDER_QUERY_COUNT, sizeof data, data,
+                                        2 * sizeof(uint64_t),
+                                        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WITH_AVAILABILITY_BIT);
+    if (vr != VK_SUCCESS)
+        return t;
+    for (int q = 0; q < CVK_RENDER_QUERY_COUNT; q++)
+        if (!data[2 * q + 1])
+            return t;
+    uint32_t bits = rd->context->timestamp_valid_bits;
+    uint64_t mask = bits >= 64 ? UINT64_MAX : ((uint64_t)1 << bits) - 1;
+    double period_ms = rd->context->properties.limits.timestampPeriod * 1e-6;
+    double ms[CVK_RENDER_QUERY_COUNT - 1];
+    for (int q = 1; q < CVK_RENDER_QUERY_COUNT; q++)
+        ms[q - 1] = (double)((data[2 * q] - data[2 * (q - 1)]) & mask) * period_ms;
+    t.mesh_ms = ms[0];
+    t.shadow_ms = ms[1];
+    t.lit_ms = ms[2];
+    t.readback_ms = ms[3];
+    t.total_ms = (double)((data[2 * (CVK_RENDER_QUERY_COUNT - 1)] - data[0]) & mask) * period_ms;
+    return t;
+}
+
+cvk_render_view cvk_renderer_get_view(const cvk_renderer* rd)
+{
+    const cvk_view* v = &rd->view;
+    cvk_render_view out = {.fov_y = (float)v->fov_y, .ground_height = (float)v->ground_height};
+    for (int k = 0; k < 3; k++) {
+        out.eye[k] = (float)v->eye[k];
+        out.target[k] = (float)v->target[k];
+        out.up[k] = (float)v->up[k];
+        out.reach_min[k] = (float)v->reach.lo[k];
+        out.reach_max[k] = (float)v->reach.hi[k];
+    }
+    memcpy(out.view_proj, v->view_proj, sizeof out.view_proj);
+    return out;
+}
