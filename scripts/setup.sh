@@ -19,7 +19,7 @@ packages=(
     python3-pytest                             # its tests
     ffmpeg                                     # clothvk-render --video (a separate process;
                                                # optional at run time)
-    slurm-wlm munge                            # tests/test_slurm.py starts a one-node Slurm
+    slurm-wlm munge                            # tests/tools/test_slurm.py starts a one-node Slurm
                                                # cluster (scripts/slurm-render.sh)
     clang                                      # scripts/fuzz.sh: libFuzzer harnesses
 )

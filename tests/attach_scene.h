@@ -1,4 +1,4 @@
-/* The attachment tests' scene (tests/test_attach.c, tests/test_implicit_attach.c): a W × H
+/* The attachment tests' scene (tests/features/test_attach.c, tests/solvers/test_implicit_attach.c): a W × H
    cloth hanging in the x-y plane whose top corners are attached, one pair sliding (looping),
    the other turning, and how far its attached particles are from their keyframes. */
 #ifndef CVK_TEST_ATTACH_SCENE_H

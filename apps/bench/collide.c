@@ -1,4 +1,4 @@
-/* collide: GPU time of the spatial hash (lib/hash.h) and of a neighbour query over it against
+/* collide: GPU time of the spatial hash (lib/contact/hash.h) and of a neighbour query over it against
    point count, per pass. Points are random in a cube holding one point per cell on average
    (cell size 1 cm, like a cloth's thickness against its spacing); the query counts, for every
    point, the others within one cell size over the 27 cells around it. Each operation of the
@@ -13,7 +13,7 @@
 #include "sim/internal.h"
 
 #define WORKGROUP 64u
-#define CPU_MAX_GROUPS 4u   /* as the simulation on a CPU device (lib/sim.c) */
+#define CPU_MAX_GROUPS 4u   /* as the simulation on a CPU device (lib/sim/sim.c) */
 #define SPACING 0.01f       /* m: cell size, query radius and mean point spacing */
 
 /* The build's operations by pipeline label, then the query. */

@@ -1,6 +1,6 @@
 /* The explicit integrators' stability on one mode of the linearised cloth, for
    explicit-stability's predictions: a mode with damping rate d (1/s) and stiffness k (1/s²),
-   x'' = −k x − d x', as the methods of lib/solve_explicit.c advance it. */
+   x'' = −k x − d x', as the methods of lib/solvers/solve_explicit.c advance it. */
 #include <complex.h>
 #include <math.h>
 

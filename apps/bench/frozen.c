@@ -1,6 +1,6 @@
 /* Solver settings, simulations, and one substep frozen in time: the state a convergence or
    budget experiment replays again and again, and its converged solution x* from the
-   double-precision host solver (lib/reference.c). */
+   double-precision host solver (lib/solvers/reference.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -26,7 +26,7 @@ static const char* const columns[] = {
 #define BYTES_PER_PARTICLE 600.0
 #define MAX_PINS 64
 
-/* The collision passes (lib/collide_passes.c, the families' contact pass) and their columns. */
+/* The collision passes (lib/contact/collide_passes.c, the families' contact pass) and their columns. */
 #define CONTACT_PASSES 4
 static const char* const contact_pass[CONTACT_PASSES] = {"colliders", "hash", "contacts",
                                                           "contact"};

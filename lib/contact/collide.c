@@ -270,7 +270,7 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
                         "out of host memory for the contact tables");
     }
     /* Every triangle under each of its corners, in triangle order: the search reaches a
-       triangle through its corners (shaders/contact_detect.comp). */
+       triangle through its corners (shaders/contact/contact_detect.comp). */
     for (uint32_t i = 0; i < tc; i++)
         for (int k = 0; k < 3; k++) {
             uint32_t v = b->internal_of[b->triangles[3 * (size_t)i + k]];
@@ -348,7 +348,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
 static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     contact_tables t = {0};
-    uint32_t n = CVK_MAX_COLLIDERS; /* the uniform arrays' size (shaders/collide.glsl) */
+    uint32_t n = CVK_MAX_COLLIDERS; /* the uniform arrays' size (shaders/contact/collide.glsl) */
     if (c->collider_count > CVK_MAX_COLLIDERS)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "colliders: at most %u, got %u",
                         CVK_MAX_COLLIDERS, c->collider_count);

@@ -49,11 +49,11 @@
    with the faces over it of the
    cloths that cut it are listed with the other side and marked (CVK_UNTANGLE_PAIR), and the
    contact pass brings them back by at most a tenth of a thickness a substep, from any depth
-   (shaders/untangle.comp). With no cut edge the step costs one pass over the listed
+   (shaders/contact/untangle.comp). With no cut edge the step costs one pass over the listed
    particles and a few empty dispatches.
 
    The module owns one descriptor set, the contact set, which every solver family's pipelines
-   bind as set 1 (shaders/collide.glsl declares it); a scene without colliders and without
+   bind as set 1 (shaders/contact/collide.glsl declares it); a scene without colliders and without
    self-contact still gets a small set (so layouts stay one shape) but records no collision
    pass and compiles no contact code (specialisation constant CONTACT). */
 #ifndef CVK_COLLIDE_H
@@ -134,7 +134,7 @@ typedef struct cvk_collide {
     cvk_buffer patch_bounds;     /* vec4 × 3 per patch: low, high, normal cone; then, with
                                     search lanes, vec4 × 3 per triangle: low, high, unit normal
                                     and whether it is degenerate or squeezed
-                                    (shaders/contact_patch.comp) */
+                                    (shaders/contact/contact_patch.comp) */
     cvk_buffer patch_active;     /* uint per patch */
     cvk_buffer lists;            /* the work lists (shared/layout.h: CVK_LIST_*) */
     VkBufferView view_triangles, view_incident, view_rest, view_contacts; /* texel views */

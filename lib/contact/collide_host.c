@@ -1,5 +1,5 @@
-/* The colliders as the host sees them: poses by lib/motion.c and signed distances with the
-   formulas of shaders/collide.glsl, for statistics and tests. */
+/* The colliders as the host sees them: poses by lib/scene/motion.c and signed distances with the
+   formulas of shaders/contact/collide.glsl, for statistics and tests. */
 #include <math.h>
 
 #include "contact/collide.h"
@@ -73,7 +73,7 @@ static float capsule_distance(const cvk_collider_desc* d, const float l[3], floa
     return sphere_distance(closest, d->radius, l, n);
 }
 
-/* The same Gauss-Newton search as funnel_closest in shaders/collide.glsl. */
+/* The same Gauss-Newton search as funnel_closest in shaders/contact/collide.glsl. */
 static float funnel_distance(const cvk_collider_desc* d, const float l[3], float n[3])
 {
     float rel[3] = {l[0] - d->apex[0], l[1] - d->apex[1], l[2] - d->apex[2]};

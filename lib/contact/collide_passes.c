@@ -67,7 +67,7 @@ static void add_search_decision(cvk_sim* s, cvk_plan* plan)
     }
 }
 
-/* One phase of shaders/contact_compact.comp (phase 1 over every particle, the others one
+/* One phase of shaders/contact/contact_compact.comp (phase 1 over every particle, the others one
    invocation). Phases 2 and 3 write indirect commands. */
 static void add_compact(cvk_sim* s, cvk_plan* plan, uint32_t phase, const char* note)
 {
@@ -114,7 +114,7 @@ static void add_lists(cvk_sim* s, cvk_plan* plan)
     add_compact(s, plan, 2, "search command; hash built if any listed");
 }
 
-/* One phase of shaders/untangle.comp: 0 and 7 over the search's contact list, 1 one
+/* One phase of shaders/contact/untangle.comp: 0 and 7 over the search's contact list, 1 one
    invocation (the command of the others), the others over every particle through that
    command. */
 static void add_untangle(cvk_sim* s, cvk_plan* plan, uint32_t phase, const char* note)

@@ -1,6 +1,6 @@
 /* Surface patches for the candidate search (collide.h, "Patches"): made once on the host from
    the rest mesh, and the host's reference of the activity a search computes on the device
-   (shaders/contact_patch.comp). */
+   (shaders/contact/contact_patch.comp). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

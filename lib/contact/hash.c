@@ -335,7 +335,7 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
     return cvk_plan_check(plan, error);
 }
 
-/* As hash_cell in shaders/hash_common.glsl: a correctly rounded product, floored, clamped. */
+/* As hash_cell in shaders/contact/hash_common.glsl: a correctly rounded product, floored, clamped. */
 static int32_t cell_coordinate(float p, float inv_cell)
 {
     float limit = (float)CVK_HASH_CELL_LIMIT;

@@ -5,7 +5,7 @@
    does not depend on thread timing. Queries visit the 27 cells around a point and check each
    candidate's own cell (two cells may share a slot).
 
-   The module owns its buffers, one descriptor set (shaders/hash_common.glsl declares it, at
+   The module owns its buffers, one descriptor set (shaders/contact/hash_common.glsl declares it, at
    the set index the including shader chooses) and its pipelines' layout; it reads the points
    from a buffer it is given (vec4 per point, xyz used), so a solver can hash its predicted
    positions and a test random ones.
@@ -13,7 +13,7 @@
    A build can be skipped on the device: recorded with on_device (cvk_hash_add_passes), its
    passes are dispatched indirectly, with no workgroups while the parameters' `build` is 0 (1
    from creation). A module that decides on the device when the points have moved enough to
-   need a new build writes it (lib/collide.c's adaptive search); queries then read the last
+   need a new build writes it (lib/contact/collide.c's adaptive search); queries then read the last
    build. A build recorded without on_device always runs. */
 #ifndef CVK_HASH_H
 #define CVK_HASH_H

@@ -1,5 +1,5 @@
 /* Mesh colliders as signed distance fields: the mesh is read by the cloth mesh reader
-   (lib/topology_mesh.c, so the same files, welding and messages), checked closed and
+   (lib/topology/topology_mesh.c, so the same files, welding and messages), checked closed and
    consistently wound, and sampled on a dense grid.
 
    Every sample's distance is exact: the nearest triangle is found through a bounding volume

@@ -1,6 +1,6 @@
 /* Mesh colliders: a closed triangle mesh read through the cloth mesh reader (Assimp) and turned
    into a signed distance field on a regular grid at load time (negative inside), sampled
-   trilinearly on the host here and on the device in shaders/collide.glsl (same layout). */
+   trilinearly on the host here and on the device in shaders/contact/collide.glsl (same layout). */
 #ifndef CVK_SDF_H
 #define CVK_SDF_H
 

@@ -1,4 +1,4 @@
-/* Size arithmetic that refuses to wrap. Counts in a scene are bounded (lib/scene.h), but the
+/* Size arithmetic that refuses to wrap. Counts in a scene are bounded (lib/scene/scene.h), but the
    sizes made from them are products of several, and one unchecked product that wraps turns
    into a short allocation and a write past its end (substeps = 1431655765 once did). Every
    count × size on the way to an allocation goes through these. */

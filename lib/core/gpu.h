@@ -57,7 +57,7 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
                                        const cvk_spec* spec, const char* what,
                                        VkPipeline* out, cvk_error* error);
 
-/* Descriptor boilerplate from one binding table (lib/descriptors.c): binding i of the set has
+/* Descriptor boilerplate from one binding table (lib/core/descriptors.c): binding i of the set has
    bindings[i].type and is read by bindings[i].stages (0: the compute stage). */
 typedef struct cvk_binding {
     VkDescriptorType type;
@@ -96,7 +96,7 @@ cvk_result cvk_descriptors_create(cvk_context* context, const cvk_binding* bindi
                                   cvk_descriptors* out, cvk_error* error);
 /* The same, with a pipeline layout of set 0 = this table's layout followed by extra_layouts
    (sets 1, 2, ...: another module's sets that its shaders also read, such as the contact set
-   of lib/collide.h). The caller keeps the extra layouts alive. */
+   of lib/contact/collide.h). The caller keeps the extra layouts alive. */
 cvk_result cvk_descriptors_create_with(cvk_context* context, const cvk_binding* bindings,
                                        uint32_t binding_count, uint32_t set_count,
                                        VkShaderStageFlags push_stages, uint32_t push_bytes,

@@ -17,8 +17,8 @@ typedef enum cvk_spec_source {
     CVK_SPEC_FALSE,          /* a boolean switch left false */
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
-    CVK_SPEC_WIND,           /* the scene has air (lib/aero.h): predict adds its force */
-    CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/tether.h) */
+    CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
+    CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/topology/build.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
     CVK_SPEC_SEARCH_LANES,   /* invocations per particle in the candidate search, per patch in
                                 the patches' activity test (cvk_sim.search_lanes) */
@@ -31,26 +31,26 @@ typedef struct cvk_spec_recipe {
 } cvk_spec_recipe;
 
 #define CVK_SPEC_PD {2, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
-/* The tether pass (id 2 of shaders/pd_tether.comp: the slots it reads). */
+/* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 #define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
-/* The checking first sweeps (id 3: TETHERS of shaders/pd_common.glsl). */
+/* The checking first sweeps (id 3: TETHERS of shaders/solvers/pd_common.glsl). */
 #define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                  CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
-/* The contact pass (ids 3, 4, 5 of shaders/pd_contact.glsl; id 2 unused). */
+/* The contact pass (ids 3, 4, 5 of shaders/solvers/pd_contact.glsl; id 2 unused). */
 #define CVK_SPEC_PD_CONTACT {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
                              CVK_SPEC_EDGE_CONTACT}}
-/* The prediction (id 3 of shaders/predict.comp; id 2 unused). */
+/* The prediction (id 3 of shaders/solvers/predict.comp; id 2 unused). */
 #define CVK_SPEC_PREDICT {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND}}
-/* The implicit passes (id 2 of shaders/implicit_common.glsl: the contact filter is compiled in
+/* The implicit passes (id 2 of shaders/solvers/implicit_common.glsl: the contact filter is compiled in
    only for a scene with colliders). */
 #define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
-/* The candidate search and the patches' activity (id 1 of shaders/contact_detect.comp and
+/* The candidate search and the patches' activity (id 1 of shaders/contact/contact_detect.comp and
    contact_patch.comp: LANES; id 2 of the search: EDGES). */
 #define CVK_SPEC_DETECT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES, \
                          CVK_SPEC_EDGE_CONTACT}}

@@ -1,5 +1,5 @@
 /* Air on the device: the tables of the two air passes, their set and ops, and the host
-   reference of the same forces (lib/aero.h). */
+   reference of the same forces (lib/features/aero.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -2,7 +2,7 @@
    computes the aerodynamic force on every triangle from the air's velocity relative to it (the
    wind at that time, gusts included, minus the triangle's velocity), its area and its normal;
    a second sums each free particle's share over its triangles in a fixed order (deterministic,
-   no float atomics) into h² F / m, which the prediction adds (shaders/predict.comp, WIND). The
+   no float atomics) into h² F / m, which the prediction adds (shaders/solvers/predict.comp, WIND). The
    model (cvk_aero_desc): pressure drag on the normal part of the relative velocity, skin
    friction on the tangential part, and lift across the flow growing as cos θ sin θ, after
    NvCloth's wind (drag and lift coefficients, a force per triangle, a third on each corner).

@@ -1,5 +1,5 @@
 /* Attachments on the device: the tables the attach pass reads, its descriptor set and its
-   op (lib/attach.h). */
+   op (lib/features/attach.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -17,7 +17,7 @@ struct cvk_sim;
 
 /* Which family's iterates a descriptor set of the pass writes: one set each, so that a family
    being created beside another (a solver switch that may still fail) never rebinds the
-   running one's (as lib/tear.h). */
+   running one's (as lib/features/tear.h). */
 typedef enum cvk_attach_family {
     CVK_ATTACH_FOR_PD,
     CVK_ATTACH_FOR_IMPLICIT,

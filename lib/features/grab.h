@@ -1,6 +1,6 @@
 /* Dragging a particle (cvk_sim_grab, cvk_sim_release): the host writes which free particle
    follows which target into a small host-visible buffer between frames, and one pass of the
-   recorded frame reads it every substep (shaders/grab.comp): the particle moves in a straight
+   recorded frame reads it every substep (shaders/features/grab.comp): the particle moves in a straight
    line from where the frame found it to the target, evenly over the frame's substeps, and is
    infinitely heavy for the projective-dynamics solve meanwhile (its m/h^2 becomes
    CVK_GRAB_WEIGHT), so the cloth is dragged, not teleported, and a released particle keeps the

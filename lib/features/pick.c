@@ -1,4 +1,4 @@
-/* Picking on the device (lib/pick.h, shaders/pick.comp). */
+/* Picking on the device (lib/features/pick.h, shaders/features/pick.comp). */
 #include <math.h>
 #include <string.h>
 

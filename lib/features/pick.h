@@ -1,5 +1,5 @@
 /* Picking (cvk_sim_pick): the nearest particle a ray passes within a radius of, computed on the
-   device by shaders/pick.comp, outside the frame: a query of its own, recorded, submitted and
+   device by shaders/features/pick.comp, outside the frame: a query of its own, recorded, submitted and
    waited for, that leaves the recorded frame as it is. Its objects are made on the first pick. */
 #ifndef CVK_PICK_H
 #define CVK_PICK_H

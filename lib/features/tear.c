@@ -1,5 +1,5 @@
 /* Tearing on the device: the table of springs that may tear, the pass's descriptor set and op,
-   and the spring flags' readback and snapshot part (lib/tear.h). */
+   and the spring flags' readback and snapshot part (lib/features/tear.h). */
 #include "features/tear.h"
 
 #include <math.h>

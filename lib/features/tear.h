@@ -1,5 +1,5 @@
 /* Tearing (cvk_tearing_desc): one pass per substep, once the substep's positions are final,
-   over the springs of the cloths that tear (shaders/tear.comp). A spring whose relative
+   over the springs of the cloths that tear (shaders/features/tear.comp). A spring whose relative
    stretch |xa − xb| / L − 1 passes its cloth's max_stretch is marked dead in the simulation's
    spring flags (which the mesh generation, the exports and the contact statistics already
    follow) and its k is set to 0 in both ends' entries of the solver family's adjacency: the

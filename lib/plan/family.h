@@ -47,7 +47,7 @@ typedef struct cvk_family_api {
     cvk_result (*save_snapshot)(cvk_sim* sim, void* self, void* data, cvk_error* error);
     cvk_result (*load_snapshot)(cvk_sim* sim, void* self, const void* data, uint64_t size,
                                 cvk_error* error);
-    /* Takes the torn state `alive` (uint per spring of the build, 0 = torn; lib/tear.h): the
+    /* Takes the torn state `alive` (uint per spring of the build, 0 = torn; lib/features/tear.h): the
        simulation's spring flags and the family's adjacency without the dead springs. */
     cvk_result (*set_torn)(cvk_sim* sim, void* self, const uint32_t* alive, cvk_error* error);
 } cvk_family_api;

@@ -36,7 +36,7 @@ struct cvk_sim {
                                          prediction, finalize, tethers): cvk_plan */
     uint32_t search_lanes;  /* cvk_sim_desc.search_lanes, resolved: a divisor of the workgroup
                                size, fixed for the simulation's life (the patch buffers'
-                               size depends on it, lib/collide.h) */
+                               size depends on it, lib/contact/collide.h) */
 
     struct cvk_collide* collide; /* colliders, self-contact, the frame state (collide.h) */
     struct cvk_attach* attach; /* keyframed attached particles (attach.h) */
@@ -74,9 +74,9 @@ struct cvk_sim {
     float* scratch_v; /* velocities, same layout */
 };
 
-/* The divergence watch (shaders/finalize.comp): a particle whose step is longer than
+/* The divergence watch (shaders/solvers/finalize.comp): a particle whose step is longer than
    CVK_DIVERGED_SPEED · h in one substep has run away. 10000 m/s is the bound on a cloth's
-   initial velocity (lib/scene.h) and thirty times the speed of sound: a sane cloth does not
+   initial velocity (lib/scene/scene.h) and thirty times the speed of sound: a sane cloth does not
    reach it, while a blown-up solve passes it within a few substeps. It trips falsely only for
    motion that fast, such as a free fall in vacuum for over 1000 s at 9.81 m/s². */
 #define CVK_DIVERGED_SPEED 1e4 /* m/s */

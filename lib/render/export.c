@@ -2,7 +2,7 @@
    (positions, normals, triangles) read back for export through an application's own pipeline
    or clothvk-sim --obj.
 
-   The normals follow the definition of shaders/mesh.comp (the area-weighted average of the
+   The normals follow the definition of shaders/render/mesh.comp (the area-weighted average of the
    live triangles' normals: the plain sum of their cross products (v1 − v0) × (v2 − v0),
    normalised; zero where there is none) but are summed on the host in double, so that an
    export needs no mesh object and its normals do not depend on a device's rounding. */

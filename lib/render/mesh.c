@@ -1,5 +1,5 @@
 /* Mesh generation: the triangle and adjacency tables are built once on the host; every frame
-   one compute dispatch (shaders/mesh.comp) writes positions, normals and indices from the
+   one compute dispatch (shaders/render/mesh.comp) writes positions, normals and indices from the
    particles, straight into the buffers that are drawn. */
 #include "render/mesh.h"
 
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/shaders.h"
 
-/* Mirrors the bindings of shaders/mesh.comp. */
+/* Mirrors the bindings of shaders/render/mesh.comp. */
 enum {
     BINDING_POSITIONS,
     BINDING_SPRING_ALIVE,

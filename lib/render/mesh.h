@@ -5,7 +5,7 @@
 #include "core/gpu.h"
 #include "sim/sim.h"
 
-#include "shared/layout.h" /* cvk_mesh_push, shared with shaders/mesh.comp */
+#include "shared/layout.h" /* cvk_mesh_push, shared with shaders/render/mesh.comp */
 
 struct cvk_mesh {
     cvk_sim* sim;

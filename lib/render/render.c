@@ -369,7 +369,7 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     put_color(u->background, d->background);
     put_color(u->ground_color, d->ground_color);
     put3(u->ground_plane, v->up, (float)v->ground_height);
-    /* The ground's shading, as shaders/lighting.glsl computes it for a normal of up. */
+    /* The ground's shading, as shaders/render/lighting.glsl computes it for a normal of up. */
     double key = fmax(0.0, v->key_direction[0] * v->up[0] + v->key_direction[1] * v->up[1] +
                                v->key_direction[2] * v->up[2]);
     double fill = fmax(0.0, v->fill_direction[0] * v->up[0] + v->fill_direction[1] * v->up[1] +

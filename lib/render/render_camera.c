@@ -1,5 +1,5 @@
 /* The renderer's camera over time: render.camera_keyframes kept as two translation-only
-   motions (the eye's and the target's), so a camera follows the keyframe rules of lib/motion.c
+   motions (the eye's and the target's), so a camera follows the keyframe rules of lib/scene/motion.c
    (straight lines between keyframes, held outside them, an optional loop), and the view
    resolved for a time. */
 #include <inttypes.h>

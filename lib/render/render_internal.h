@@ -5,7 +5,7 @@
 #include "render/camera.h"
 #include "render/mesh.h"
 #include "scene/motion.h"
-#include "shared/frame.h" /* cvk_frame_uniforms, shared with shaders/frame.glsl */
+#include "shared/frame.h" /* cvk_frame_uniforms, shared with shaders/render/frame.glsl */
 
 /* One collider's triangles in the shared collider buffers, drawn with instance index
    `collider` (the vertex shaders read its pose from the simulation's poses buffer). */
@@ -24,7 +24,7 @@ typedef struct cvk_render_colliders {
     cvk_view_colliders framing;
 } cvk_render_colliders;
 
-/* The cloths' textures (lib/render_textures.c): image 0 is a white stand-in for cloths without
+/* The cloths' textures (lib/render/render_textures.c): image 0 is a white stand-in for cloths without
    one; descriptor set i points at image i. */
 typedef struct cvk_render_textures {
     cvk_gpu_image* images;
@@ -42,7 +42,7 @@ struct cvk_renderer {
     cvk_view view;
     double gravity[3];               /* the simulation's, for the reach (cvk_view_resolve) */
     /* render.camera_keyframes as two translation-only motions, so the camera follows the
-       keyframe rules of lib/motion.c; rd->desc keeps no pointer to the caller's list. */
+       keyframe rules of lib/scene/motion.c; rd->desc keeps no pointer to the caller's list. */
     cvk_motion eye_path, target_path;
     VkSampleCountFlagBits samples;
 
@@ -74,7 +74,7 @@ enum { CVK_RENDER_QUERY_COUNT = 5 };
    draw the colliders' shadow and lit pipelines. */
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error);
 
-/* The simulation's colliders as triangles (lib/render_colliders.c): meshes at rest in one
+/* The simulation's colliders as triangles (lib/render/render_colliders.c): meshes at rest in one
    vertex and index buffer, one draw per collider, and what the camera frames
    (rd->colliders.framing). Runs before the view is resolved; reads rd->desc and rd->mesh. */
 cvk_result cvk_render_colliders_create(cvk_renderer* rd, const double gravity[3], cvk_error* error);
@@ -89,7 +89,7 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
 cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error);
 void cvk_render_textures_destroy(cvk_renderer* rd);
 
-/* The camera's path (lib/render_camera.c): copied from desc's keyframes (rd->desc keeps no
+/* The camera's path (lib/render/render_camera.c): copied from desc's keyframes (rd->desc keeps no
    pointer to them), freed, and the view (rd->view) resolved with the camera where it is at
    `seconds`. Resolving needs rd->mesh, rd->gravity and rd->colliders.framing. */
 cvk_result cvk_render_camera_create(cvk_renderer* rd, const cvk_render_desc* desc, cvk_error* error);

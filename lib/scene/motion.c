@@ -1,5 +1,5 @@
 /* Keyframe interpolation: linear translation, slerp rotation, held outside the range, an
-   optional loop. Kept in float arithmetic in the same order as shaders/motion.glsl so the host
+   optional loop. Kept in float arithmetic in the same order as shaders/scene/motion.glsl so the host
    and the device agree to rounding. */
 #include <math.h>
 

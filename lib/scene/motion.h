@@ -1,5 +1,5 @@
 /* Keyframed rigid motion on the host (the device evaluates the same rules in
-   shaders/motion.glsl): a pose is a unit quaternion and a translation, x' = t + q x q*. */
+   shaders/scene/motion.glsl): a pose is a unit quaternion and a translation, x' = t + q x q*. */
 #ifndef CVK_MOTION_H
 #define CVK_MOTION_H
 
@@ -21,7 +21,7 @@ void cvk_quat_rotate(const float q[4], const float p[3], float out[3]);
 void cvk_pose_apply(const cvk_pose* pose, const float p[3], float out[3]);
 void cvk_pose_apply_inverse(const cvk_pose* pose, const float p[3], float out[3]);
 
-/* The keyframes as the device reads them (shaders/motion.glsl): 8 floats per keyframe, time,
+/* The keyframes as the device reads them (shaders/scene/motion.glsl): 8 floats per keyframe, time,
    translation, then the normalised rotation as (x, y, z, w). */
 void cvk_motion_pack(const cvk_motion* motion, float* out);
 

@@ -31,26 +31,26 @@ bool cvk_solver_desc_check(const cvk_solver_desc* solver, cvk_scene_issue* issue
 /* The same for a render description alone; paths start with "render.". */
 bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue);
 
-/* Attachments (lib/scene_attach.c): each names a cloth of the scene, attaches at least one
+/* Attachments (lib/scene/scene_attach.c): each names a cloth of the scene, attaches at least one
    particle by pins valid for that cloth, and moves by a valid motion; and the solver moves them
    (cvk_attachments_solver_check, also for cvk_sim_set_solver). */
 bool cvk_attachments_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attachment_count,
                                   cvk_scene_issue* issue);
 
-/* Air (lib/scene_air.c): the wind block and air_density, and the solver it needs; a cloth's
+/* Air (lib/scene/scene_air.c): the wind block and air_density, and the solver it needs; a cloth's
    aero coefficients (paths start with base). */
 bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
 bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
-/* Tearing (lib/scene_tear.c): each cloth's max_stretch, and tearing apart from tethers. */
+/* Tearing (lib/scene/scene_tear.c): each cloth's max_stretch, and tearing apart from tethers. */
 bool cvk_tearing_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 /* Whether some cloth of the scene tears. */
 bool cvk_scene_tears(const cvk_scene_desc* desc);
 /* Bit t set: the scene has a collider of type t (cvk_collider_type). */
 uint32_t cvk_scene_collider_types(const cvk_scene_desc* desc);
 /* Largest tearing max_stretch: the divergence watch stops a solve whose spring reaches ten
-   times its rest length (CVK_DIVERGED_STRETCH in lib/sim.h), a stretch of 9. */
+   times its rest length (CVK_DIVERGED_STRETCH in lib/sim/sim.h), a stretch of 9. */
 #define CVK_MAX_TEAR_STRETCH 9.0
 
 /* Fastest mean wind, m/s: ten times a hurricane's; a typo is refused. */

@@ -446,7 +446,7 @@ static cvk_result read_colliders(cvk_reader* rd, const cvk_field* f, json_t* val
 }
 
 /* solver.tolerance and solver.max_iterations: 0 is the description's "the method's default",
-   not a value to write (lib/scene.c, check_stopping, has the rest of the rule). */
+   not a value to write (lib/scene/scene.c, check_stopping, has the rest of the rule). */
 static cvk_result read_tolerance(cvk_reader* rd, const cvk_field* f, json_t* value,
                                  const char* path, void* dest)
 {

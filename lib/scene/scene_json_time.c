@@ -1,5 +1,5 @@
 /* The scene keys of things that change over time: attachments (a cloth's particles moved by
-   keyframes) and the air (wind, gusts). The tables of lib/scene_json.c name these readers. */
+   keyframes) and the air (wind, gusts). The tables of lib/scene/scene_json.c name these readers. */
 #include <inttypes.h>
 #include <stddef.h>
 #include <string.h>

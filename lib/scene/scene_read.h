@@ -109,7 +109,7 @@ cvk_result cvk_read_nested(cvk_reader* rd, const cvk_field* f, json_t* value, co
 /* A table of the fields in `array`. */
 #define FIELDS(array) {.fields = array, .count = sizeof array / sizeof array[0]}
 
-/* ---- readers the scene tables share (lib/scene_json.c, lib/scene_json_time.c) ---- */
+/* ---- readers the scene tables share (lib/scene/scene_json.c, lib/scene/scene_json_time.c) ---- */
 
 /* dest is a cloth: "pins" ([i, j] pairs or vertex indices) and "pin_box" (turns use_pin_box on). */
 cvk_result cvk_read_pins(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
@@ -121,7 +121,7 @@ cvk_result cvk_read_attachments(cvk_reader* rd, const cvk_field* f, json_t* valu
 /* dest is the wind: "wind" turns the air on and reads cvk_wind_table. */
 cvk_result cvk_read_wind(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
 extern const cvk_table cvk_wind_table;
-/* The top level of a scene file (lib/scene_json.c). */
+/* The top level of a scene file (lib/scene/scene_json.c). */
 extern const cvk_table cvk_scene_table;
 
 /* ---- text ---- */
@@ -131,7 +131,7 @@ extern const cvk_table cvk_scene_table;
    failure: jerr says why, or *out_of_memory is set. */
 json_t* cvk_json_parse(const char* text, size_t size, json_error_t* jerr, bool* out_of_memory);
 
-/* Applies one override "key.path=value" (lib/scene_set.c) to the tree at root, creating what
+/* Applies one override "key.path=value" (lib/scene/scene_set.c) to the tree at root, creating what
    the path lacks, and adds the path to rd->set_paths, which must have room for it. */
 cvk_result cvk_reader_apply_override(cvk_reader* rd, json_t* root, const char* text);
 

@@ -12,7 +12,7 @@
    particle, 280 with 12 (14 per spring slot over 112), 458 with self-contact (+179: the hash's
    keys, ranges, candidates; +20 since for the patch table and the work lists, counted from
    their sizes, and +96 for the triangles' boxes and normals, 48 bytes a triangle, which only
-   GPUs hold: search lanes, lib/collide.h), 844 with implicit Euler (+564 at 12 slots: 3x3 blocks per slot
+   GPUs hold: search lanes, lib/contact/collide.h), 844 with implicit Euler (+564 at 12 slots: 3x3 blocks per slot
    and the CG vectors, 47 per slot; the contact filter added 16 since). The coefficients round each up by about a tenth, so the
    estimate bounds what is made without overstating it by more than a few tens of percent. */
 #define DEVICE_BASE 125u
@@ -28,7 +28,7 @@
 /* A funnel without self-contact: the triangle tables its edge test reads (16 bytes per
    triangle, about two per particle, and 4 per triangle corner), rounded up. */
 #define DEVICE_SHELLS 64u
-#define DEVICE_TETHERS 32u /* four pins and four lengths (lib/tether.h) */
+#define DEVICE_TETHERS 32u /* four pins and four lengths (lib/topology/build.h) */
 #define DEVICE_FIXED (64u << 10) /* uniforms, staging, queries: about 10 KB measured */
 /* Host bytes per particle beside the device's (resident set of clothvk-sim less its device
    memory on lavapipe, same grids): about 210 with 4 slots, 420 with 12; self-contact about
@@ -37,7 +37,7 @@
 #define HOST_PER_SLOT 30u
 #define HOST_SELF 256u
 #define HOST_FIXED (8u << 20)
-/* The tethers' search (lib/tether.c) while it runs: labels, lengths, the spring graph. */
+/* The tethers' search (lib/topology/tether.c) while it runs: labels, lengths, the spring graph. */
 #define HOST_TETHERS 200u
 
 static bool any_tethers(const cvk_scene_desc* scene)

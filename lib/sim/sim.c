@@ -303,7 +303,7 @@ static uint32_t max_workgroups(const cvk_context* context, const cvk_sim_desc* d
 }
 
 /* cvk_sim_desc.search_lanes, resolved against the workgroup size and the shared memory the
-   lanes' lists take (shaders/contact_detect.comp: a uint and a float per candidate, and per
+   lanes' lists take (shaders/contact/contact_detect.comp: a uint and a float per candidate, and per
    edge pair with collision.edges). */
 static cvk_result search_lanes(const cvk_context* context, const cvk_sim_desc* desc,
                                uint32_t workgroup_size, uint32_t* out, cvk_error* error)

@@ -1,5 +1,5 @@
 /* The divergence watch: the device records the first substep at which a particle's position
-   stopped being finite or it ran away (shaders/finalize.comp, shaders/shared/layout.h); the
+   stopped being finite or it ran away (shaders/solvers/finalize.comp, shaders/shared/layout.h); the
    host reads the record after the fence it waits on anyway. */
 #include <string.h>
 

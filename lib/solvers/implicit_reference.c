@@ -1,5 +1,5 @@
 /* The implicit Euler substep on the host, in double precision: the ground truth the device's
-   assembly, CG and Jacobi are compared with (same formulas as shaders/implicit_assemble.comp,
+   assembly, CG and Jacobi are compared with (same formulas as shaders/solvers/implicit_assemble.comp,
    same iteration and stopping rule as implicit_scalars.comp). Never on the fast path. */
 #include <math.h>
 #include <stdlib.h>
@@ -33,7 +33,7 @@ static void add_outer(sym* s, const double* n, double a, double t)
 }
 
 /* The block-Jacobi preconditioner as L D Lᵀ with pivots clamped at m (see
-   shaders/implicit_common.glsl): m[0..2] = l10, l20, l21; m[3..5] = 1/d. */
+   shaders/solvers/implicit_common.glsl): m[0..2] = l10, l20, l21; m[3..5] = 1/d. */
 static sym factor(const sym* a, double mass)
 {
     const double* m = a->m;

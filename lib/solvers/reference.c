@@ -147,7 +147,7 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params
         for (uint32_t i = 0; i < solver->inner_iterations; i++)
             cvk_ref_gauss_seidel_sweep(b, scratch, solver->omega, x);
         if ((o + 1) % every == 0 || o + 1 == solver->outer_iterations)
-            cvk_ref_tethers(b, x); /* as the device's tether pass (lib/pd_passes.c) */
+            cvk_ref_tethers(b, x); /* as the device's tether pass (lib/solvers/pd_passes.c) */
     }
 }
 

@@ -82,7 +82,7 @@ static const cvk_binding implicit_bindings[CVK_IMPLICIT_BINDING_COUNT] = {
 
 static cvk_result create_set(cvk_sim* s, cvk_implicit* im, cvk_error* error)
 {
-    /* Set 1 is the contact set: the contact pass reads the colliders (shaders/collide.glsl). */
+    /* Set 1 is the contact set: the contact pass reads the colliders (shaders/contact/collide.glsl). */
     cvk_result r = cvk_descriptors_create_with(s->device.context, implicit_bindings,
                                                CVK_IMPLICIT_BINDING_COUNT, 1,
                                                VK_SHADER_STAGE_COMPUTE_BIT,

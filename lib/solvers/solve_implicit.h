@@ -20,7 +20,7 @@ typedef struct cvk_implicit_params {
     cvk_linear_solver linear; /* CVK_LINEAR_CG or CVK_LINEAR_JACOBI */
     bool clamp;           /* clamp the compressive part of each spring block (keeps A SPD) */
     /* The host reference's colliders: static planes, each a point and a unit outward normal
-       (m), kept `thickness` (m) away as shaders/implicit_contact.comp keeps every collider. */
+       (m), kept `thickness` (m) away as shaders/solvers/implicit_contact.comp keeps every collider. */
     const double (*planes)[6];
     uint32_t plane_count;
     double thickness;

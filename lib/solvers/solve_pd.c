@@ -86,7 +86,7 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
     const cvk_build* b = &s->build;
     size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
     /* Without springs (max_degree 0) the one quad of padding is still written: the prediction's
-       divergence watch reads slot 0 of every particle (shaders/predict.comp). */
+       divergence watch reads slot 0 of every particle (shaders/solvers/predict.comp). */
     if (nf == 0)
         return CVK_SUCCESS;
     uint32_t* pairs = malloc(quads * nf * 8 * sizeof(uint32_t));
@@ -215,7 +215,7 @@ static cvk_result create_converge_set(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 
 static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
 {
-    /* Set 1 is the contact set: the sweeps resolve contact (shaders/pd_contact.glsl). */
+    /* Set 1 is the contact set: the sweeps resolve contact (shaders/solvers/pd_contact.glsl). */
     cvk_result r = cvk_descriptors_create_with(s->device.context, pd_bindings, CVK_PD_BINDING_COUNT,
                                                CVK_PD_SET_COUNT, VK_SHADER_STAGE_COMPUTE_BIT,
                                                sizeof(cvk_pd_push), &s->collide->set_layout, 1,
@@ -388,7 +388,7 @@ static cvk_result read_displacement_state(cvk_sim* s, cvk_pd* pd, float* xyz, fl
 
 /* Verlet's velocity at the end of a substep from its displacement u = x_n − x_{n−1}:
    v = u / h + h g / 2, so a particle at rest (u = −½ h² g) has v = 0. Pinned: u / h, which is
-   0 but for attached particles (their motion over the substep: lib/attach.h). */
+   0 but for attached particles (their motion over the substep: lib/features/attach.h). */
 static void velocities_of(const cvk_sim* s, const float* u, float* v)
 {
     const cvk_ref_params ref = cvk_ref_params_of(&s->params);

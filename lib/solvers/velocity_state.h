@@ -7,7 +7,7 @@
 #include "plan/state.h"
 
 /* Records into `cmd`: positions then `v` -> staging (2 vec4 per particle); v is the
-   velocities here, PD's last displacements in lib/solve_pd.c. */
+   velocities here, PD's last displacements in lib/solvers/solve_pd.c. */
 cvk_result cvk_vstate_record_readback(cvk_sim* sim, VkCommandBuffer cmd, const cvk_buffer* v,
                                       cvk_error* error);
 /* Positions and velocities (3 floats per particle, velocity NULL: at rest; pinned particles
@@ -20,7 +20,7 @@ cvk_result cvk_vstate_read(cvk_sim* sim, VkCommandBuffer cmd, float* xyz, float*
 /* Uploads the staging buffer's first 2 vec4 per particle into positions and `v`. */
 cvk_result cvk_vstate_upload_staged(cvk_sim* sim, cvk_buffer* v, cvk_error* error);
 /* The build's adjacency, slot-major: entry s·nf + p = (neighbour, bits of k, bits of L, 0);
-   the springs whose flag in `alive` is 0 (torn, lib/tear.h; alive NULL: none) with k = 0. */
+   the springs whose flag in `alive` is 0 (torn, lib/features/tear.h; alive NULL: none) with k = 0. */
 cvk_result cvk_vstate_upload_adjacency(cvk_sim* sim, cvk_buffer* adjacency, const uint32_t* alive,
                                        cvk_error* error);
 /* The end of the family's create, after its buffers and sets: the build's adjacency, the

@@ -1,4 +1,4 @@
-/* One build path for every cloth: topologies (lib/topology.h) in, particles in solver order,
+/* One build path for every cloth: topologies (lib/topology/topology.h) in, particles in solver order,
    springs, adjacency and triangles out. */
 #include "topology/build.h"
 

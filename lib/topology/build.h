@@ -1,5 +1,5 @@
 /* Scene description -> particles, springs, triangles, colouring and adjacency, on the host,
-   once. Every cloth comes through one path: its topology (lib/topology.h: a grid generator or
+   once. Every cloth comes through one path: its topology (lib/topology/topology.h: a grid generator or
    a mesh file) gives positions, masses, pins, triangles and typed springs.
 
    User order: cloth by cloth, each in its topology's order (grids row by row, meshes in file

@@ -8,7 +8,7 @@
    costs O(V + E) with bucket queues. One iterated greedy pass (Culberson, 1992) runs first
    fit again class by class, last class first: that can only keep or lower the count, and a
    class only a few vertices needed often disappears (8 colours to 7 on two of the random
-   graphs of tests/test_colouring.c; more passes, in this or largest-class-first order,
+   graphs of tests/topology/test_colouring.c; more passes, in this or largest-class-first order,
    lowered no count there). First fit fills colour 0 first, so the sizes come out uneven
    (largest/smallest 1.5 to 1000 on those graphs); the sweeps then move each vertex to a
    smaller colour its neighbours leave free (the "shuffling" balancing of Lu et al., "Balanced
@@ -30,7 +30,7 @@
 _Static_assert(CVK_MAX_COLOURS == 32, "colour masks hold 32 colours");
 
 /* Sweeps over all vertices; each move strictly lowers the sum of squared colour sizes, and
-   the random graphs and meshes of tests/test_colouring.c settle in two to six sweeps. */
+   the random graphs and meshes of tests/topology/test_colouring.c settle in two to six sweeps. */
 #define BALANCE_SWEEPS 8
 
 /* Adjacency of the free vertices, compressed rows: the neighbours of v are

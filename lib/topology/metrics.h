@@ -19,7 +19,7 @@ typedef struct cvk_metrics {
    outside, so they carry no kinetic or gravitational energy. */
 void cvk_metrics_compute(const cvk_build* build, const float* xyz, const float* velocity,
                          const float gravity[3], cvk_metrics* out);
-/* The same over the live springs only: alive (uint per spring, 0 = torn; lib/tear.h) may be
+/* The same over the live springs only: alive (uint per spring, 0 = torn; lib/features/tear.h) may be
    NULL (all live). A torn spring pulls nothing, so it has no residual, stretch or energy. */
 void cvk_metrics_compute_live(const cvk_build* build, const float* xyz, const float* velocity,
                               const float gravity[3], const uint32_t* alive, cvk_metrics* out);

@@ -1,5 +1,5 @@
 /* The shape of one cloth, whatever it came from: positions, triangles and typed springs.
-   The grid generator and the mesh-file reader both produce it; lib/build.c turns the
+   The grid generator and the mesh-file reader both produce it; lib/topology/build.c turns the
    topologies of a scene into particles, colours and adjacency, one path for every cloth.
 
    Indices here are local to the cloth (0 .. vertex_count − 1) and in user order: a grid row
@@ -67,8 +67,8 @@ cvk_result cvk_topology_select(const cvk_cloth_desc* pins, const char* base,
 
 /* The two generators behind cvk_topology_create. Each fills position, triangles,
    triangle_springs, springs (of non-zero stiffness only) and, for grids, colour; mass and
-   pinned are filled afterwards by cvk_topology_create for both. lib/topology.c holds the grid,
-   lib/topology_mesh.c the mesh reader (Assimp). */
+   pinned are filled afterwards by cvk_topology_create for both. lib/topology/topology.c holds the grid,
+   lib/topology/topology_mesh.c the mesh reader (Assimp). */
 cvk_result cvk_topology_grid(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,
                              cvk_error* error);
 cvk_result cvk_topology_mesh(const cvk_cloth_desc* cloth, uint32_t index, cvk_topology* out,

@@ -1,5 +1,5 @@
 // The contact set and the contact responses every solver family calls inside its sweeps
-// (lib/collide.h). Include after shared/layout.h; define CONTACT_SET first to bind the set
+// (lib/contact/collide.h). Include after shared/layout.h; define CONTACT_SET first to bind the set
 // elsewhere than set 1.
 //
 // Colliders are handled in each collider's own frame, where a particle's motion over the
@@ -66,7 +66,7 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeo
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform usamplerBuffer contacts_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
-// Surface patches and the work lists of a search (lib/collide.h, "Patches").
+// Surface patches and the work lists of a search (lib/contact/collide.h, "Patches").
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_TABLE) uniform usamplerBuffer patch_table_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS) writeonly buffer PatchBounds {
     vec4 patch_bounds[]; // per patch: low, high, normal cone (axis, cosine of its half-angle)
@@ -428,7 +428,7 @@ bool own_edge(uint p, uint slot, out uint r, out bool border)
     uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
     uint next = slot & 1u; // 0: the edge to the next corner; 1: from the one before
     r = corner_of(pt, (pk + 1u + next) % 3u);
-    // the border bit of edge k runs from corner k to k + 1 (lib/collide.c)
+    // the border bit of edge k runs from corner k to k + 1 (lib/contact/collide.c)
     border = (pt.w & (1u << ((pk + 2u * next) % 3u))) != 0u;
     return next == 0u || border;
 }

@@ -3,7 +3,7 @@
 // The colliders' poses at the start and end of this substep, from their keyframes and the
 // frame state, then the frame state advanced by one substep: the recorded work keeps its own
 // time, so a command buffer submitted again and again moves the colliders on. One workgroup.
-// Keyframes follow lib/motion.c (shaders/scene/motion.glsl).
+// Keyframes follow lib/scene/motion.c (shaders/scene/motion.glsl).
 layout(local_size_x = 64) in;
 
 #include "shared/layout.h"

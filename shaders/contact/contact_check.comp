@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Adaptive candidate search, first half (lib/collide.h), one pass over the particles: the
+// Adaptive candidate search, first half (lib/contact/collide.h), one pass over the particles: the
 // bounds of every displacement since the last search (d = x - where the search saw the
 // particle), per axis. No d is farther from the bounds' centre than half their diagonal, and
 // two particles' displacements differ by at most twice that (contact_decide.comp): a cloth

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The work lists of a search (lib/collide.h, "Patches"), in phases:
+// The work lists of a search (lib/contact/collide.h, "Patches"), in phases:
 // 0 (one invocation): both lists emptied;
 // 1 (every particle): where the search sees it (the adaptive search's reference); a free
 //   particle of an active patch, or on no triangle, is listed to search, any other has no

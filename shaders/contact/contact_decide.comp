@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Adaptive candidate search, second half (lib/collide.h): one invocation decides whether this
+// Adaptive candidate search, second half (lib/contact/collide.h): one invocation decides whether this
 // substep searches — when asked to (the first substep, positions written from the host) or when
 // half the diagonal of the displacements' bounds since the last search (contact_check.comp),
 // which bounds how far any is from their centre, is more than search_after — and opens or

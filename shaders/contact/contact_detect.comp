@@ -1,11 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Particle–triangle candidates, at a search (lib/collide.h): for each free particle, the
+// Particle–triangle candidates, at a search (lib/contact/collide.h): for each free particle, the
 // triangles of any cloth within the detection radius at the start of the substep (x_n),
 // skipping triangles of its own cloth that were near it at rest. A triangle within the radius
 // has a corner within the radius plus 1.5 × the longest edge / √3 (the farthest any point of a
 // triangle is from its nearest corner, with the cloth stretched by up to 50 %;
-// lib/collide_passes.c),
+// lib/contact/collide_passes.c),
 // the hash's cell size: the walk over the 27 cells around the particle visits every such
 // corner, and the triangles around each corner that is neither too far nor near at rest are
 // tested, each once, through the lowest-index corner within reach. Where the cloth is not
@@ -16,7 +16,7 @@
 // untangling step's mark, untangle.comp), else the side it is on; equally near ones by
 // triangle index, so the list depends neither on thread timing nor on the order of the walk.
 //
-// LANES invocations share a particle (lib/sim.c: one on a CPU device, several on a GPU, where
+// LANES invocations share a particle (lib/sim/sim.c: one on a CPU device, several on a GPU, where
 // one invocation's walk is a long chain of dependent reads and a few thousand of them leave
 // the device idle): each walks every LANES-th entry of the cells with its own nearest list,
 // and the first merges the others' lists into its own. A triangle is tested once whichever
@@ -45,7 +45,7 @@ bool within_reach(vec3 xp, vec3 x, float reach2)
     return d2 < reach2;
 }
 
-// Of one cloth and near at rest (lib/collide.c, cvk_collide_rest_near) for one corner.
+// Of one cloth and near at rest (lib/contact/collide.c, cvk_collide_rest_near) for one corner.
 bool corner_rest_near(vec4 rp, vec4 rq, float e2)
 {
     vec3 d = rq.xyz - rp.xyz;
@@ -70,7 +70,7 @@ bool after(float dist_k, uint kept_k, float d, uint item)
 // collision.edges: the nearest KE edge pairs, kept apart from the triangles and written after
 // them (as many of the K places as they fill; the triangles keep the others).
 // The lanes' lists, for the first lane of each particle to merge (a uint and a float per
-// candidate, 128 bytes per invocation, 160 with edge pairs after the triangles: lib/sim.c
+// candidate, 128 bytes per invocation, 160 with edge pairs after the triangles: lib/sim/sim.c
 // keeps one lane where the device's shared memory does not hold them).
 const uint KE = EDGES ? uint(CVK_EDGE_CONTACTS_PER_PARTICLE) : 1u;
 const uint SLOTS = K + (EDGES ? KE : 0u);
@@ -261,8 +261,8 @@ void triangles_at(Walker walker, uint q, vec3 xq, bool near, uint o_end)
 // index within reach) against each of p's own edges, one of the two a border (beyond a border
 // no face holds the other cloth's particles off; two interior edges, two creases crossing, are
 // left to the particle–triangle pairs around them), no end of either near an end of the other
-// at rest (within the edge exclusion, wider than the triangles': lib/collide.c). Found where
-// an end of the edge is within the reach of p (lib/collide_passes.c: edges crossing at right
+// at rest (within the edge exclusion, wider than the triangles': lib/contact/collide.c). Found where
+// an end of the edge is within the reach of p (lib/contact/collide_passes.c: edges crossing at right
 // angles near their middles, up to about 20 % stretch). Into p's nearest edge pairs.
 void edge_pairs_at(Walker walker, uint q, vec3 xq, bool near, uint o_end)
 {

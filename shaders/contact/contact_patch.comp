@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The surface patches at a search (lib/collide.h, "Patches"), in phases:
+// The surface patches at a search (lib/contact/collide.h, "Patches"), in phases:
 // 0 (with LANES > 1 only), one triangle per invocation: its bounding box at x_n, its unit
 //   normal, and whether it is degenerate or squeezed (3 vec4 per triangle in patch_bounds,
 //   after the patches' entries);
@@ -11,7 +11,7 @@
 // 2: whether it is active — not flat itself, or some other patch within the detection radius
 //   of its box that is not a rest neighbour, or a neighbour that does not stay flat with it.
 // Each patch's result depends on the data alone, not on the order of invocations or on LANES
-// (phase 0 and 1 do the same arithmetic). LANES > 1 means a GPU (lib/sim.c), where a patch's
+// (phase 0 and 1 do the same arithmetic). LANES > 1 means a GPU (lib/sim/sim.c), where a patch's
 // loop measuring its triangles was one long chain of dependent reads (phase 0 takes them
 // apart; on lavapipe its writes cost more than the loop) and so was its loop over every other
 // patch: in phase 2 LANES invocations share a patch, each looking at every LANES-th other

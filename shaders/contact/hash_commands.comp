@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The indirect commands of a hash build decided on the device (lib/hash.h): each pass's
+// The indirect commands of a hash build decided on the device (lib/contact/hash.h): each pass's
 // workgroups (the push data, as the plan would dispatch them directly) while the parameters
 // open the build, none while they close it, so a skipped build costs its seven dispatches no
 // workgroups. This is the only reader of `build`: a build dispatched directly always runs.

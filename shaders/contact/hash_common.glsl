@@ -1,4 +1,4 @@
-// The spatial hash (lib/hash.h): its descriptor set and the queries a shader makes of it.
+// The spatial hash (lib/contact/hash.h): its descriptor set and the queries a shader makes of it.
 //
 // An including shader picks the set index with `#define HASH_SET n` before the include
 // (default 0) and declares its own workgroup size and push data; the hash's parameters come
@@ -62,7 +62,7 @@ layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ) uniform usamplerB
 
 // The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
 // device round alike (a multiplication is correctly rounded; a division need not be), clamped
-// so the conversion to int is defined. lib/hash.c computes the same.
+// so the conversion to int is defined. lib/contact/hash.c computes the same.
 ivec3 hash_cell(vec3 p)
 {
     vec3 c = floor(p * hash_params_u.inv_cell);

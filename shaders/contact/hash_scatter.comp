@@ -3,7 +3,7 @@
 // The hash build, scatter: each point takes a place of its slot's range in the unsorted copy of
 // the entries at the end of scratch, counting the slot's count down (atomic); the order within
 // a slot depends on timing until the sort pass. Every count ends at 0, ready for the next build
-// without a clear (lib/hash.c zeroes them once, at creation).
+// without a clear (lib/contact/hash.c zeroes them once, at creation).
 #define HASH_BUILD
 #include "contact/hash_common.glsl"
 

@@ -4,7 +4,7 @@
 // (in scratch); each point's place in its slot is the number of the slot's points with a
 // smaller index, so entries come out in ascending point order whatever the timing (and with
 // them, a copy of each point with its index, for queries). One point
-// per invocation (lib/hash.c): the loop is as long as the point's slot is full, and lavapipe
+// per invocation (lib/contact/hash.c): the loop is as long as the point's slot is full, and lavapipe
 // ends a shader's loops after 65535 iterations in all.
 #define HASH_BUILD
 #include "contact/hash_common.glsl"

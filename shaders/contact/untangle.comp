@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The untangling step of a search (lib/collide.h, "Untangling"): which particles lie in a
+// The untangling step of a search (lib/contact/collide.h, "Untangling"): which particles lie in a
 // region of their cloth that has passed through another surface, found from the positions
 // alone (global intersection analysis, Baraff, Witkin and Kass 2003), so the search can hold
 // them back towards the side they came from instead of keeping them where they are.

@@ -1,6 +1,6 @@
-// The air passes' set (lib/aero.h) and the wind at a time: the mean wind turned about the up
+// The air passes' set (lib/features/aero.h) and the wind at a time: the mean wind turned about the up
 // axis and scaled by the gusts, deterministic functions of simulated time (cvk_gusts_desc;
-// lib/aero.c evaluates the same on the host).
+// lib/features/aero.c evaluates the same on the host).
 #include "shared/layout.h"
 
 layout(std430, set = 0, binding = CVK_AERO_BINDING_FRAME) buffer Frame { cvk_gpu_frame frame; };

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The air's force on each triangle at the start of the substep (lib/aero.h, cvk_aero_desc):
+// The air's force on each triangle at the start of the substep (lib/features/aero.h, cvk_aero_desc):
 // the air's velocity relative to the triangle v (the wind minus the mean of its corners'
 // velocities u / h), its unit normal n and area A give
 //   F = A (d |v.n| v_n + f |v| v_t + l (v.n) |v_t| lift),  v_n = (v.n) n,  v_t = v - v_n,

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Attachments (lib/attach.h): every attached particle moves over this substep as its keyframed
+// Attachments (lib/features/attach.h): every attached particle moves over this substep as its keyframed
 // motion says, to target = pose(t + dt) · start. The time comes from the frame state; without
 // a collider pass (which counts the substep first) the first attach pass of the substep counts
 // it. One workgroup.

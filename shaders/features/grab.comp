@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The grabbed particle (lib/grab.h): it moves in a straight line from where the frame found it
+// The grabbed particle (lib/features/grab.h): it moves in a straight line from where the frame found it
 // to the host's target, evenly over the frame's substeps, so its displacement this substep is
 // what is left of the way divided by the substeps left, u = (target - x_n) / (S - s). The
 // solver must hold it there, infinitely heavy: the prediction's w, m/h^2, becomes pc.weight
@@ -12,7 +12,7 @@
 // around it, each at its own offset from the target (a hand rather than a fingertip).
 //
 // The substep s within the frame comes from the divergence watch, which predict counted before
-// this pass and which restarts only between frames (lib/sim_watch.c).
+// this pass and which restarts only between frames (lib/sim/sim_watch.c).
 #include "shared/layout.h"
 
 layout(local_size_x = CVK_GRAB_MAX) in;

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Picking (lib/pick.h, seed 002 §5.3.8): every particle checks whether the ray passes within
+// Picking (lib/features/pick.h, seed 002 §5.3.8): every particle checks whether the ray passes within
 // pc.radius of it, in front of the origin, and the hits compete for the smallest distance along
 // the ray, t = (x - o).d. Deterministic without float atomics, in three dispatches: stage 0
 // takes the atomicMin of t's bits (a non-negative float's bits order like the float), stage 1

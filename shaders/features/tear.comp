@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Tearing (lib/tear.h), once per substep once its positions are final: every spring of a
+// Tearing (lib/features/tear.h), once per substep once its positions are final: every spring of a
 // tearing cloth whose length passes its breaking length is marked dead and its stiffness
 // leaves both ends' adjacency (k set to 0), so the solver forgets it: every
 // projective-dynamics sweep, the diagonal and the divergence watch multiply what they read of

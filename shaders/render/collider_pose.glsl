@@ -1,6 +1,6 @@
 // A collider's pose as the simulation's recorded work left it (pose 1: the end of the last
 // substep), read from the contact module's poses buffer; the draw's instance index is the
-// collider's index (lib/render_colliders.c), so a frame submitted again draws colliders where
+// collider's index (lib/render/render_colliders.c), so a frame submitted again draws colliders where
 // the simulation moved them, with no host write.
 #include "shared/layout.h"
 

@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Cloth pass: straight from the mesh's vertex buffer; built a second time with TEXTURED, which
-// also reads the texture coordinates (a second vertex buffer, lib/render_textures.c).
+// also reads the texture coordinates (a second vertex buffer, lib/render/render_textures.c).
 #include "render/frame.glsl"
 
 layout(location = 0) in vec3 position;

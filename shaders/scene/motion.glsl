@@ -1,7 +1,7 @@
-// Keyframed rigid motion on the device: the rules of lib/motion.c (linear translation, slerp
+// Keyframed rigid motion on the device: the rules of lib/scene/motion.c (linear translation, slerp
 // rotation, held outside the range, an optional loop), for colliders and attachments alike.
 // The includer declares `vec4 keyframes[]` first: 2 per keyframe, (time, translation) and the
-// rotation (x, y, z, w), as lib/motion.c packs them (cvk_motion_pack).
+// rotation (x, y, z, w), as lib/scene/motion.c packs them (cvk_motion_pack).
 #ifndef CVK_MOTION_GLSL
 #define CVK_MOTION_GLSL
 

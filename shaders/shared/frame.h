@@ -1,5 +1,5 @@
 /* The constants of a rendered frame, shared by every render pass: declared once for C
-   (cvk_frame_uniforms, lib/render.c fills it) and GLSL (the Frame block of render/frame.glsl).
+   (cvk_frame_uniforms, lib/render/render.c fills it) and GLSL (the Frame block of render/frame.glsl).
    std140: every member is a vec4, an array of vec4 or a mat4, so C's packing is GLSL's. */
 #ifndef CVK_SHARED_FRAME_H
 #define CVK_SHARED_FRAME_H

@@ -1,6 +1,6 @@
 /* Structs and binding numbers that C and GLSL both read, declared once. A shader includes this
    file (GL_GOOGLE_include_directive) and gets GLSL blocks; C gets structs with the same layout,
-   checked by static asserts in lib/pipelines.c. Push constants use std430-like packing: scalars
+   checked by static asserts in lib/core/pipelines.c. Push constants use std430-like packing: scalars
    at 4 bytes, vec4 at 16; keep vec4 members on 16-byte offsets. */
 #ifndef CVK_SHARED_LAYOUT_H
 #define CVK_SHARED_LAYOUT_H
@@ -35,7 +35,7 @@
     CVK_FLOAT(cheb)        /* Chebyshev weight of this sweep; 1 = plain sweep */         \
     CVK_FLOAT(keep)        /* 1 - damping (0 when integration is off) */                 \
     CVK_VEC4(gravity_h2)   /* h^2 g, m (0 when integration is off) */                 \
-    CVK_FLOAT(rest_rate)   /* rest memory's rate (lib/solve_pd.h); 0: none */
+    CVK_FLOAT(rest_rate)   /* rest memory's rate (lib/solvers/solve_pd.h); 0: none */
 
 CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
@@ -59,7 +59,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_BINDING_REST 16        /* storage: rest memory, mean correction (solve_pd.h) */
 #define CVK_PD_BINDING_COUNT 17
 
-/* Solves that stop when converged (solver.tolerance; lib/pd_passes.c,
+/* Solves that stop when converged (solver.tolerance; lib/solvers/pd_passes.c,
    shaders/solvers/pd_converge.comp).
    The measure: the first sweep of every outer iteration computes, besides its local step, the
    residual of the springs' system at the iterate it reads, scaled by the diagonal:
@@ -125,13 +125,13 @@ CVK_PUSH_BLOCK(cvk_pd_converge_push, CVK_PD_CONVERGE_PUSH_FIELDS)
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
 
-/* Tethers (lib/tether.h, shaders/solvers/pd_tether.comp): a particle is projected onto each of its
+/* Tethers (lib/topology/build.h, shaders/solvers/pd_tether.comp): a particle is projected onto each of its
    tethers' spheres in turn, at most this many rounds (a round that moves nothing ends it):
    one projection can take it out of another sphere, and repeating them converges into the
    intersection. */
 #define CVK_TETHER_ROUNDS 2u
 
-/* The divergence watch (lib/sim.h): predict counts substeps and flags a spring stretched past
+/* The divergence watch (lib/sim/sim.h): predict counts substeps and flags a spring stretched past
    CVK_DIVERGED_STRETCH in the positions it starts from (nothing writes them while it runs);
    finalize records the first substep at which a particle's new position is not finite, its
    step exceeds max_u2 or predict raised the flag, and from then on moves no particle.
@@ -147,7 +147,7 @@ CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
     CVK_UINT(stretched)    /* set by predict: a spring is past the stretch bound */
 CVK_STRUCT(cvk_gpu_watch, CVK_GPU_WATCH_FIELDS)
 
-/* ---- implicit Euler: solvers/implicit_*.comp (lib/solve_implicit.c) ----------------------- */
+/* ---- implicit Euler: solvers/implicit_*.comp (lib/solvers/solve_implicit.c) ----------------------- */
 
 #define CVK_IMPLICIT_PUSH_FIELDS                                                        \
     CVK_UINT(count)        /* particles (or partial sums, for reductions) covered */     \
@@ -219,7 +219,7 @@ CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 #define CVK_IMPLICIT_BINDING_FILTER 16
 #define CVK_IMPLICIT_BINDING_COUNT 17
 
-/* ---- explicit integrators: solvers/explicit_{force,update}.comp (lib/solve_explicit.c) ----- */
+/* ---- explicit integrators: solvers/explicit_{force,update}.comp (lib/solvers/solve_explicit.c) ----- */
 
 /* What explicit_update does (mode) */
 #define CVK_EXPLICIT_EULER 0u       /* v' = v + h a, x' = x + h v */
@@ -265,11 +265,11 @@ CVK_PUSH_BLOCK(cvk_explicit_push, CVK_EXPLICIT_PUSH_FIELDS)
 
 CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 
-/* ---- collisions: the contact set (lib/collide.h, shaders/contact/collide.glsl) ----------- */
+/* ---- collisions: the contact set (lib/contact/collide.h, shaders/contact/collide.glsl) ----------- */
 
 /* The frame state the recorded work advances itself: substeps simulated so far (simulated
    time at the start of substep n is n · dt), and when cloth contact searches for candidates
-   (adaptive search, lib/collide.h: shaders/contact/contact_check.comp and
+   (adaptive search, lib/contact/collide.h: shaders/contact/contact_check.comp and
    contact/contact_decide.comp). */
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
@@ -283,7 +283,7 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
 /* After the frame state in its buffer: the bounds of the particles' displacements since the
-   last search (per axis, order-preserving bits of the floats: lib/collide.h), gathered and used
+   last search (per axis, order-preserving bits of the floats: lib/contact/collide.h), gathered and used
    within one substep and reset by its decision, so snapshots need not carry them. */
 #define CVK_GPU_MOTION_BOUNDS_FIELDS \
     CVK_UINT(low_x)                  \
@@ -334,7 +334,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 /* Particle–triangle contacts kept per particle per substep. */
 #define CVK_CONTACTS_PER_PARTICLE 16 /* two layers' worth (a particle in a stack) */
 #define CVK_NO_CONTACT 0xffffffffu
-/* An entry is triangle << 1 | side, or with collision.edges an edge pair (lib/collide.h):
+/* An entry is triangle << 1 | side, or with collision.edges an edge pair (lib/contact/collide.h):
    CVK_EDGE_PAIR | own edge << CVK_EDGE_OWN_SHIFT | (3 × triangle + edge) << 1 | side, where the
    own edge counts the particle's edges in the order of its triangles (two slots a triangle:
    the edge to the next corner, then the one from the corner before where that is a border)
@@ -362,19 +362,19 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(detect_radius)  /* m: particle–triangle pairs nearer than this are kept */    \
     CVK_FLOAT(exclusion)      /* m: pairs with a corner this near at rest are skipped */    \
     CVK_FLOAT(search_after)   /* m: adaptive search when a particle moved this far since */ \
-    CVK_UINT(patch_count)     /* surface patches (lib/collide.h), at least 1 */             \
+    CVK_UINT(patch_count)     /* surface patches (lib/contact/collide.h), at least 1 */             \
     CVK_UINT(patch_neighbours)/* in the patch table: where the neighbour offsets start */   \
     CVK_FLOAT(flat_cos)       /* a patch pair within this cone (cosine) is flat */         \
     CVK_FLOAT(edge_exclusion) /* m: edge pairs of one cloth with ends this near at rest are skipped */ \
     CVK_UINT(cloth_count)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
-/* The patch table (uint, lib/collide.h): [0, particle_count): each particle's patch
+/* The patch table (uint, lib/contact/collide.h): [0, particle_count): each particle's patch
    (CVK_NO_PATCH: on no triangle); from particle_count: patch_count + 1 offsets into the
    triangle ids that follow them; from patch_neighbours: patch_count + 1 offsets into the ids
    of the rest-adjacent patches that follow them. */
 #define CVK_NO_PATCH 0xffffffffu
-/* A patch with an edge shorter than this fraction of its rest length is active (lib/collide.h). */
+/* A patch with an edge shorter than this fraction of its rest length is active (lib/contact/collide.h). */
 #define CVK_PATCH_SQUEEZE 0.6
 /* The work lists (uint): a header, then the particles that search (free, in an active patch)
    and the particles with candidates after the search (those the contact pass visits). The
@@ -447,7 +447,7 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
 
-/* ---- attachments: features/attach.comp (lib/attach.h) ------------------------------------ */
+/* ---- attachments: features/attach.comp (lib/features/attach.h) ------------------------------------ */
 
 /* One attachment's motion: its keyframes in the attachment keyframe buffer (2 vec4 each, as
    the colliders'; shaders/scene/motion.glsl). */
@@ -485,7 +485,7 @@ CVK_PUSH_BLOCK(cvk_attach_push, CVK_ATTACH_PUSH_FIELDS)
 #define CVK_ATTACH_BINDING_U1 6          /* implicit: both the velocities (w: mass) */
 #define CVK_ATTACH_BINDING_COUNT 7
 
-/* ---- tearing: features/tear.comp (lib/tear.h) ---------------------------------------------- */
+/* ---- tearing: features/tear.comp (lib/features/tear.h) ---------------------------------------------- */
 
 /* Push data of features/tear.comp. count 0 (the warm-up dispatch) does nothing. */
 #define CVK_TEAR_PUSH_FIELDS                                                       \
@@ -509,7 +509,7 @@ CVK_PUSH_BLOCK(cvk_tear_push, CVK_TEAR_PUSH_FIELDS)
 #define CVK_TEAR_BINDING_ADJACENCY 3    /* storage: the adjacency's neighbours and bits of k */
 #define CVK_TEAR_BINDING_COUNT 4
 
-/* ---- air: features/aero_triangles.comp, features/aero_gather.comp (lib/aero.h) ------------ */
+/* ---- air: features/aero_triangles.comp, features/aero_gather.comp (lib/features/aero.h) ------------ */
 
 /* Push data of both air passes. count 0 (the warm-up dispatch) does nothing, not even advance
    the frame state. */
@@ -535,7 +535,7 @@ CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
 #define CVK_AERO_BINDING_FORCES_READ 8  /* texel view of the forces */
 #define CVK_AERO_BINDING_COUNT 9
 
-/* ---- spatial hash (lib/hash.h, shaders/contact/hash_common.glsl) -------------------------- */
+/* ---- spatial hash (lib/contact/hash.h, shaders/contact/hash_common.glsl) -------------------------- */
 
 /* The hash's parameters, in a small storage buffer of its set, so a shader that queries the hash
    needs no push data. Written by the build's first pass (shaders/contact/hash_clear.comp). */
@@ -550,7 +550,7 @@ CVK_PUSH_BLOCK(cvk_aero_push, CVK_AERO_PUSH_FIELDS)
     CVK_UINT(pad2)
 CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
 
-/* A build decided on the device (lib/hash.h, cvk_hash_add_passes with on_device) dispatches
+/* A build decided on the device (lib/contact/hash.h, cvk_hash_add_passes with on_device) dispatches
    its passes indirectly, with the commands (3 uints each: workgroups, 1, 1) in the parameters'
    buffer after cvk_hash_params, one per pass in the order clear, count, chunk sums, scan
    chunks, scan, scatter, sort; shaders/contact/hash_commands.comp writes them from its push data,
@@ -612,7 +612,7 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
    defined for far-away points (they share the border cells). */
 #define CVK_HASH_CELL_LIMIT 1073741824.0
 
-/* ---- picking and dragging: features/grab.comp, features/pick.comp (lib/grab.h, lib/pick.h) --- */
+/* ---- picking and dragging: features/grab.comp, features/pick.comp (lib/features/grab.h, lib/features/pick.h) --- */
 
 /* The grab, written by the host between frames (host-visible, coherent) and read by the
    recorded frame every substep: which particle follows which target. */

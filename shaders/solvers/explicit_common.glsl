@@ -1,4 +1,4 @@
-// Data of the explicit integrators (lib/solve_explicit.c): a mass-spring cloth advanced by
+// Data of the explicit integrators (lib/solvers/solve_explicit.c): a mass-spring cloth advanced by
 // forward Euler, TVD-RK2, 4th-order Adams-Bashforth or position Verlet (seed 001 §2.3.4).
 // Every step is one or two force passes (explicit_force.comp) and one or two updates
 // (explicit_update.comp). Pinned particles sit after the free ones and are never dispatched.

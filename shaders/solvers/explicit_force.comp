@@ -29,7 +29,7 @@ void main()
             float l = length(d);
             vec3 n = l > 0.0 ? d / l : vec3(0.0);
             f -= k * (l - rest) * n;
-            float kd = k > 0.0 ? pc.kd : 0.0; // a torn spring (k = 0, lib/tear.h) damps no more
+            float kd = k > 0.0 ? pc.kd : 0.0; // a torn spring (k = 0, lib/features/tear.h) damps no more
             if (pc.viscosity != 0u)
                 f -= kd * dvel;
             else

@@ -3,11 +3,11 @@
 // x_{n+1} = x_n + u: the one place absolute positions are rounded. u stays in src as the
 // velocity (times h) for the next prediction. The rest memory of a free particle (index below
 // pc.stride) follows the correction this solve made to its prediction:
-// r += rest_rate (u - y - r) (lib/solve_pd.h).
+// r += rest_rate (u - y - r) (lib/solvers/solve_pd.h).
 //
 // The divergence watch costs a few arithmetic operations per particle here, with no pass of its
 // own: a new position that is not finite, or a step longer than pc.max_u2 allows (a speed no
-// cloth reaches, lib/sim.h), is not written, nor is any once predict found a spring stretched
+// cloth reaches, lib/sim/sim.h), is not written, nor is any once predict found a spring stretched
 // past its bound; the first substep where that happens is recorded, and from then on no
 // particle moves.
 #include "solvers/pd_common.glsl"

@@ -52,7 +52,7 @@ void main()
             if (pc.clamp != 0u)
                 t = max(t, 0.0);
             vec3 dvel = vp - v[slot.x].xyz;
-            float kd = k > 0.0 ? pc.kd : 0.0; // a torn spring (k = 0, lib/tear.h) damps no more
+            float kd = k > 0.0 ? pc.kd : 0.0; // a torn spring (k = 0, lib/features/tear.h) damps no more
             f -= (k * (l - rest) + kd * dot(dvel, n)) * n;
             vec4 k0 = vec4(0.0), k1 = vec4(0.0);
             add_outer(k0, k1, n, k, k * t);

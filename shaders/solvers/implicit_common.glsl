@@ -1,4 +1,4 @@
-// Data of the implicit Euler passes (lib/solve_implicit.c): backward Euler linearised once per
+// Data of the implicit Euler passes (lib/solvers/solve_implicit.c): backward Euler linearised once per
 // substep (Baraff & Witkin 1998), (M - h dF/dv - h^2 dF/dx) dv = h (f + h dF/dx v), solved for
 // the free particles by filtered preconditioned CG or by block Jacobi.
 //

@@ -38,7 +38,7 @@ layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST) uniform samplerBuffer a
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
-// The rest memory (lib/solve_pd.h): per free particle, the low-passed correction the solves
+// The rest memory (lib/solvers/solve_pd.h): per free particle, the low-passed correction the solves
 // made to their predictions; predict adds it to the first iterate, finalize updates it.
 layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 rest_memory[]; };
 #define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
@@ -78,7 +78,7 @@ vec3 fetch(samplerBuffer data, uint index)
 // difference of two terms of size k L, so the few ulp that a device may err by in a square
 // root or a division (Vulkan allows 2.5 ulp for a division; lavapipe rounds both correctly,
 // NVIDIA's GPUs do not) became a few ulp of k L of force in every spring, which a cloth at
-// rest cannot tell from stretch: the 17-particle chain of tests/test_rest.c rested 1.9e-6 m
+// rest cannot tell from stretch: the 17-particle chain of tests/solvers/test_rest.c rested 1.9e-6 m
 // from its equilibrium (rbgs 4x4, lavapipe) and 2.7e-5 m (jacobi 1x1, H200); 1.8e-7 and
 // 9e-6 m now. Coincident particles give no direction and only pull together
 // (s t = 0: k (du - t) = -k e).
@@ -98,7 +98,7 @@ vec3 spring_rhs(vec3 du, vec3 t, float k, float rest)
 // rounding, the iterate solves the system as well as float can tell. Without it the measure
 // of a solve from rest (where the first residual is itself small) stalled above the
 // tolerance on devices whose square roots and divisions are not correctly rounded: on an
-// NVIDIA H200 a tolerance of 5 % stopped no solve of tests/test_pd_tolerance.c's cloth.
+// NVIDIA H200 a tolerance of 5 % stopped no solve of tests/solvers/test_pd_tolerance.c's cloth.
 const float RESIDUAL_ROUNDING = 4.0 / 16777216.0; // 4 units of 2^-24 of the terms' sizes
 
 float l1(vec3 v)

@@ -12,7 +12,7 @@ layout(constant_id = 4) const bool SELF = false;
 layout(constant_id = 5) const bool EDGES = false;
 const bool COLLIDERS = COLLIDER_TYPES != 0u;
 // Self-contact alone: the pass visits only the particles the last search listed with
-// candidates (lib/collide.h, "Patches"); with colliders it visits every particle.
+// candidates (lib/contact/collide.h, "Patches"); with colliders it visits every particle.
 const bool LISTED = SELF && !COLLIDERS;
 
 // A funnel is a surface with two sides, and a particle's contact alone lets an edge cut
@@ -45,7 +45,7 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
             // The edge to the next corner in the triangle's winding: each edge of p once, as
             // the triangles on either side wind it the other way; and the edge to the corner
             // before where no triangle has it the other way round (a border: the table's w
-            // marks it, lib/collide.c).
+            // marks it, lib/contact/collide.c).
             uint k0 = t.x == p ? 0u : (t.y == p ? 1u : 2u);
             uint next = t[(k0 + 1u) % 3u], prev = t[(k0 + 2u) % 3u];
             bool border = (t.w & (1u << ((k0 + 2u) % 3u))) != 0u;

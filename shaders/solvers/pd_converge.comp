@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The convergence check of a projective-dynamics solve with a tolerance (lib/pd_converge.c):
+// The convergence check of a projective-dynamics solve with a tolerance (lib/solvers/pd_passes.c):
 //   MODE 0 (reduce): partial sum j (0 <= j < CVK_PD_PARTIALS) of the squared residuals the
 //                    checking sweep wrote, over particles j, j + P, j + 2P, ... in order: the
 //                    same bits whatever the workgroup size or count;

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Tethers after the last sweep of every outer iteration, in place on the iterate that sweep
 // wrote (dst), before contact: a free particle farther from one of its pins than that tether's
-// length (lib/tether.h) is moved onto the sphere of that radius around the pin, pin by pin,
+// length (lib/topology/build.h) is moved onto the sphere of that radius around the pin, pin by pin,
 // nearest first. Each particle moves only itself and reads only pinned particles, which no
 // pass of the solve writes: the result does not depend on the order of invocations.
 #include "solvers/pd_common.glsl"

@@ -3,7 +3,7 @@
 // Verlet prediction in displacement form: the last substep's displacement u (in src) carries
 // the velocity, so the predicted displacement is y = u (1 - damping) + h^2 g (+ h^2 F / m of
 // the air, WIND), the inertial target of the solve. The first iterate is y plus the rest
-// memory (the low-passed correction the solves made to their predictions, lib/solve_pd.h):
+// memory (the low-passed correction the solves made to their predictions, lib/solvers/solve_pd.h):
 // at rest that is the equilibrium itself, which a truncated solve keeps; without it the solve
 // would rest where its sweeps leave h^2 g partly uncorrected. Pinned particles are never
 // dispatched.
@@ -16,11 +16,11 @@
 // four fetches where the first four would cost seven.
 #include "solvers/pd_common.glsl"
 
-// The air's h^2 F / m (lib/aero.h), when the scene has a "wind" block.
+// The air's h^2 F / m (lib/features/aero.h), when the scene has a "wind" block.
 layout(constant_id = 3) const bool WIND = false;
 layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL) uniform samplerBuffer air;
 
-const float RUNAWAY_STRETCH = 10.0; // lib/sim.h, CVK_DIVERGED_STRETCH
+const float RUNAWAY_STRETCH = 10.0; // lib/sim/sim.h, CVK_DIVERGED_STRETCH
 
 bool overstretched(uint p, vec3 xp)
 {

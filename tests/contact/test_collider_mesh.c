@@ -1,4 +1,4 @@
-/* Collider meshes for the renderer (lib/collider_mesh.c): counts, closed and consistently
+/* Collider meshes for the renderer (lib/contact/collider_mesh.c): counts, closed and consistently
    wound surfaces, unit normals pointing out of the solid, and the enclosed volume of the
    sphere, box and capsule within 2 % of the analytic value. Host only. */
 #include "contact/collider_mesh.h"

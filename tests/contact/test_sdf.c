@@ -1,4 +1,4 @@
-/* Mesh colliders as signed distance fields (lib/sdf.c): an icosphere and a box against their
+/* Mesh colliders as signed distance fields (lib/contact/sdf.c): an icosphere and a box against their
    analytic distances, the sign inside and far outside, sampling beyond the grid, the chair
    asset, and the messages for open and missing meshes. Meshes are written into a temporary
    folder. */

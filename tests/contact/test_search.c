@@ -1,4 +1,4 @@
-/* The adaptive search for cloth-contact candidates (lib/collide.h): a cloth at rest stops
+/* The adaptive search for cloth-contact candidates (lib/contact/collide.h): a cloth at rest stops
    searching, so does one moving fast as one, cloths approaching fast search at every substep, positions written from the host make the
    next substep search, and a snapshot carries the contact state so that stepping on from it
    gives the same bits as never having stopped; on folded cloths, the candidates a search keeps
@@ -456,7 +456,7 @@ static bool runs(const uint32_t* tri, uint32_t tc, uint32_t u, uint32_t v)
 /* Two cloths, the second turned 35° about the vertical, lying within the detection radius of
    each other with every particle jittered: their edges cross at many angles. After a search,
    every edge pair within the radius that the search promises (one of the two a border, an end
-   of the other edge within the hash's reach of the particle, lib/collide_passes.c; neither near
+   of the other edge within the hash's reach of the particle, lib/contact/collide_passes.c; neither near
    the other at rest) is
    among the particle's kept candidates, or it keeps as many edge pairs as it can
    (CVK_EDGE_CONTACTS_PER_PARTICLE), all at most that far; every kept edge pair

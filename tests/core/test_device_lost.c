@@ -1,4 +1,4 @@
-/* Device loss (lib/gpu.c: cvk_queue_submit, cvk_fence_wait): the context's test injection makes
+/* Device loss (lib/core/gpu.c: cvk_queue_submit, cvk_fence_wait): the context's test injection makes
    a fence wait report VK_ERROR_DEVICE_LOST, as a driver reset would. Then
    - the call that saw it returns CVK_ERROR_DEVICE_LOST with a sentence that says so;
    - every later call that would submit or wait (step, read-back, draw, a new simulation's

@@ -1,4 +1,4 @@
-/* The memory estimate (lib/memory.c) against what the library really allocates, and the
+/* The memory estimate (lib/sim/memory.c) against what the library really allocates, and the
    refusal of a scene that does not fit:
    - for PD with 4 and 12 springs per particle, self-contact and implicit Euler, the estimate
      of device memory is at least what the context holds after creating the simulation and at

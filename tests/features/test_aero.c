@@ -1,4 +1,4 @@
-/* Air on the device (lib/aero.h): the per-particle force the device computes equals the host
+/* Air on the device (lib/features/aero.h): the per-particle force the device computes equals the host
    reference's (double precision, same model) on a small cloth in a gusty wind at a time inside
    the gusts; known truths of the model — a flat cloth facing a steady wind is pushed along it
    with ½ ρ drag A v², a cloth parallel to it feels only the small skin friction ½ ρ friction A v²,

@@ -1,4 +1,4 @@
-/* Attachments on the device (lib/attach.h): attached particles are where their keyframes put
+/* Attachments on the device (lib/features/attach.h): attached particles are where their keyframes put
    their start positions at every frame (with and without a collider pass counting time), a
    frame recorded once and submitted N times gives the bits of cvk_sim_step(N) while they move,
    the cloth is dragged (the attached particles carry the motion's velocity, the rest follows
@@ -150,7 +150,7 @@ static void expect_refused(cvk_sim* sim, cvk_solver_desc solver, const char* mes
 }
 
 /* Solvers that do not move attached particles are refused by name; the others are taken
-   (implicit's: tests/test_implicit_attach.c). */
+   (implicit's: tests/solvers/test_implicit_attach.c). */
 static void solvers(cvk_context* ctx)
 {
     setup s;

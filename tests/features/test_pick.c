@@ -1,4 +1,4 @@
-/* Picking and dragging (lib/pick.h, lib/grab.h): the device's pick equals a double-precision
+/* Picking and dragging (lib/features/pick.h, lib/features/grab.h): the device's pick equals a double-precision
    host search on random rays over two cloths (hits, misses, rays from behind, ties broken by
    the first particle, radius 0), bad rays are refused with their message, picking leaves the
    frames alone; a grabbed particle is at its target at the end of every frame, moved evenly

@@ -1,4 +1,4 @@
-/* Tearing on the device (lib/tear.h): the same springs tear in every run, dispatch shape and
+/* Tearing on the device (lib/features/tear.h): the same springs tear in every run, dispatch shape and
    device solver; each substep's decisions are those of a host check on the positions the pass
    saw; a torn spring pulls no more (its free end falls exactly as a free body); the mesh and
    the export lose exactly the triangles along torn springs; a cloth below its threshold tears
@@ -416,7 +416,7 @@ static void other_families_same_springs(cvk_context* ctx)
         }
         const char* name = cvk_method_name(solvers[k].method);
         /* The implicit family's CG sums partial dot products per workgroup: its positions
-           depend on the dispatch shape by float rounding (tests/test_determinism.c covers
+           depend on the dispatch shape by float rounding (tests/sim/test_determinism.c covers
            projective dynamics only); its tearing decisions must not. */
         double tolerance = solvers[k].method == CVK_METHOD_IMPLICIT ? 1e-6 : 0.0;
         uint32_t* first = NULL;

@@ -98,7 +98,7 @@ static void test_bad_json(void)
     EXPECT_INVALID("{" GRID ", 'solver': {'method': 'explicit'}, 'attachments': [{'pins': [[0, 0]]}]}",
                    "t.json: solver.method: explicit does not move attached particles; remove "
                    "\"attachments\", or use pd or implicit");
-    /* implicit moves attached particles (lib/attach.h): its scene is taken */
+    /* implicit moves attached particles (lib/features/attach.h): its scene is taken */
     cvk_scene* implicit = PARSE_OK("{" GRID ", 'solver': {'method': 'implicit', 'linear': 'cg'},"
                                    " 'attachments': [{'pins': [[0, 0]]}]}");
     if (implicit)

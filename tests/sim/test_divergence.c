@@ -1,4 +1,4 @@
-/* The divergence watch (shaders/predict.comp, shaders/finalize.comp, lib/sim_watch.c):
+/* The divergence watch (shaders/solvers/predict.comp, shaders/solvers/finalize.comp, lib/sim/sim_watch.c):
    - a cloth falling with 9981 m/s and gaining 1 m/s per 0.1 s substep moves 1000.05 m in its
      20th substep (the first gains half a substep's worth), 10000.5 m/s (from 9980.5 m/s it
      moved exactly 1000 m, on the bound, and only the rounding of the solve tipped it over):
@@ -141,7 +141,7 @@ static void test_hanging(cvk_context* ctx)
    each other onto a log diverged at omega 1.7 (frame 28) and 1.8 on lavapipe, and at 1.6 on
    an NVIDIA H100, while the first sweep after each contact pass was over-relaxed too: a
    particle pushed out by the contact was pulled back past where it had been, and the next pass
-   pushed it further (lib/pd_passes.c, gs_omega). Now they fall, cross and rest. */
+   pushed it further (lib/solvers/pd_passes.c, gs_omega). Now they fall, cross and rest. */
 static void test_ribbons_over_relaxed(cvk_context* ctx)
 {
     const char* root = getenv("CLOTHVK_SOURCE_ROOT");

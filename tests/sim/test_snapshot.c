@@ -31,7 +31,7 @@ static void make_swinging(swinging* w, uint32_t columns, cvk_linear_solver linea
     w->scene.cloths = &w->cloth;
     w->scene.cloth_count = 1;
     w->scene.solver.linear = linear;
-    w->scene.damping = 0.02f; /* a rest memory to carry (lib/solve_pd.h) */
+    w->scene.damping = 0.02f; /* a rest memory to carry (lib/solvers/solve_pd.h) */
 }
 
 static cvk_sim* make_sim(cvk_context* ctx, const cvk_scene_desc* scene)
@@ -179,7 +179,7 @@ static void refusals(cvk_context* ctx)
 
 /* Device solvers share their state's layout; gs-cpu keeps doubles on the host. */
 /* Edge contact's candidates (collision.edges) load only where the contact pass reads them: a
-   strip lying across another (only their edges meet, tests/test_collide.c), saved with edges
+   strip lying across another (only their edges meet, tests/contact/test_collide.c), saved with edges
    and loaded into the same scene without. Refused, nothing changed; with edges it resumes. */
 static void edge_pairs(cvk_context* ctx)
 {

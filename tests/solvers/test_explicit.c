@@ -1,4 +1,4 @@
-/* The explicit family (lib/solve_explicit.c, shaders/explicit_*.comp):
+/* The explicit family (lib/solvers/solve_explicit.c, shaders/explicit_*.comp):
    - the scene keys, their defaults and messages;
    - every integrator on the device equals the host double-precision reference (both damping
      models) over 8 substeps of a small random cloth;

@@ -1,4 +1,4 @@
-/* The implicit Euler family (lib/solve_implicit.c, shaders/implicit_*.comp):
+/* The implicit Euler family (lib/solvers/solve_implicit.c, shaders/implicit_*.comp):
    - the scene keys and their messages;
    - device CG and block Jacobi equal the host double-precision reference, iteration count by
      iteration count, on small random cloths, and stop after the same number of iterations;
@@ -445,7 +445,7 @@ static void switch_families(cvk_context* ctx)
     scene.colliders = &plane;
     scene.collider_count = 1;
     REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
-    /* Colliders are filtered (tests/test_implicit_contact.c): the switch is taken. */
+    /* Colliders are filtered (tests/solvers/test_implicit_contact.c): the switch is taken. */
     REQUIRE_OK(cvk_sim_set_solver(sim, &implicit, &err), err);
     REQUIRE_OK(cvk_sim_step(sim, 2, &err), err);
     cvk_sim_destroy(sim);

@@ -1,4 +1,4 @@
-/* Attachments with implicit Euler (lib/attach.h, shaders/attach.comp -DIMPLICIT=1), with cg and
+/* Attachments with implicit Euler (lib/features/attach.h, shaders/features/attach.comp -DIMPLICIT=1), with cg and
    with block Jacobi:
    - every frame the attached particles are where their keyframes put their start positions
      (with and without a collider pass counting time);
@@ -17,7 +17,7 @@
 #include "recorded.h"
 #include "solvers/solve_implicit.h"
 
-/* As tests/test_implicit.c: one substep with a fixed number of iterations, float against
+/* As tests/solvers/test_implicit.c: one substep with a fixed number of iterations, float against
    double, relative to the substep's largest velocity change. */
 #define SAME_TO_ROUNDING 1e-4
 

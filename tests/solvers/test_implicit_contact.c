@@ -1,5 +1,5 @@
-/* Implicit Euler with colliders (shaders/implicit_contact.comp, the contact filter S = I − n nᵀ
-   in shaders/implicit_common.glsl, the release in implicit_integrate.comp):
+/* Implicit Euler with colliders (shaders/solvers/implicit_contact.comp, the contact filter S = I − n nᵀ
+   in shaders/solvers/implicit_common.glsl, the release in implicit_integrate.comp):
    - device CG and block Jacobi equal the host double-precision reference, iteration count by
      iteration count, on small random cloths that start partly inside a tilted plane and move
      at random (holding, moving out, the filtered solve and the release), and over four
@@ -19,7 +19,7 @@
 #include "solvers/solve_implicit.h"
 
 /* Float rounding over one substep with up to 5 iterations, relative to the largest change of
-   the substep (as tests/test_implicit.c). */
+   the substep (as tests/solvers/test_implicit.c). */
 #define SAME_TO_ROUNDING 1e-4
 /* m: a held particle ends its substep on the surface (thickness away) to float rounding of
    coordinates near 1 m (a few ulps of 6e-8). */

@@ -1,10 +1,10 @@
 /* At rest, a damped cloth is at its true static equilibrium: a chain pinned at both ends and a
    cloth pinned at two corners settle to the exact discrete equilibrium of their springs and
    gravity, computed on the host to convergence in double precision (Newton's method on the
-   static energy, lib/newton.c), within float rounding of the positions:
+   static energy, lib/solvers/newton.c), within float rounding of the positions:
    - projective dynamics with every linear solver (rbgs at omega 1 and 1.7, jacobi, chebyshev,
      gs-cpu) and every iteration count from 1 x 1 to 8 x 8 for the cloth, 1 x 1 and 4 x 4 for
-     the chain (the rest memory, lib/solve_pd.h);
+     the chain (the rest memory, lib/solvers/solve_pd.h);
    - the implicit and explicit methods, whose fixed points are force balance already;
    - a damped free fall is not slowed by the memory.
    Without the rest memory a truncated projective-dynamics solve rests up to centimetres off. */
@@ -32,7 +32,7 @@ typedef struct rest_scene {
    equilibrium: after 80,000 substeps 1.2e-7 to 1.7e-6 m with 16 sweeps a substep (at rest
    after 30,000), up to 4e-6 m with one sweep (9e-6 m on an NVIDIA H200; not at rest, see
    below); gs-cpu, in double, 2.6e-8 m (the float rounding of the positions read).
-   Before the spring term was written as a difference (shaders/pd_common.glsl spring_rhs:
+   Before the spring term was written as a difference (shaders/solvers/pd_common.glsl spring_rhs:
    a few ulp of k L of force in every spring, which the soft modes cannot tell from stretch)
    1.9e-6 to 1.4e-5 m, 2.7e-5 m on the H200. One sweep a substep does not come to rest at all
    but sticks and slips (README "At rest, at the equilibrium"): the figure at the frame below
@@ -109,7 +109,7 @@ static void finish_scene(rest_scene* r)
 }
 
 /* The static equilibrium of `scene` near `start` (user order): proximal Newton steps on the
-   static energy E(x) − Σ m g·x, each the substep energy of lib/newton.c with a step H = 1 s and
+   static energy E(x) − Σ m g·x, each the substep energy of lib/solvers/newton.c with a step H = 1 s and
    prediction x_k + H² g (whose mass term then adds exactly −m g), until a step moves no
    coordinate by more than 1e-13 m. Returns user-order doubles. */
 static double* host_equilibrium(const cvk_scene_desc* scene, const float* start)

@@ -1,6 +1,6 @@
 /* Colouring and renumbering: on every scene kind, no spring joins two free particles of one
    colour, each colour is one contiguous range, pinned particles come last, and the padded
-   adjacency lists exactly each particle's springs. The general colouring (lib/colour.c) is
+   adjacency lists exactly each particle's springs. The general colouring (lib/topology/colour.c) is
    valid, balanced, deterministic and within its colour bounds on random meshes and graphs. */
 #include "topology/build.h"
 #include "topology/colour.h"

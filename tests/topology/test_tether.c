@@ -1,4 +1,4 @@
-/* Tethers (lib/tether.h):
+/* Tethers (lib/topology/build.h):
    - the build gives every free particle of a grid its nearest pins and the straight rest
      distance to them, times the scale; a mesh cloth the shortest path along its springs
      (checked against Bellman-Ford); a cloth without pins, or without tethers, none;

@@ -1,4 +1,4 @@
-/* The mesh-file reader (lib/topology_mesh.c): counts of the example meshes, welding, file
+/* The mesh-file reader (lib/topology/topology_mesh.c): counts of the example meshes, welding, file
    order, the transform, quads, bend springs, other formats, and every bad input with its exact
    message. Test files are written into a temporary folder at run time. */
 #include <errno.h>
