@@ -13,7 +13,8 @@ and a stray file is refused with exactly those breaks, then checks LIB_DIR."""
 import os
 import re
 import sys
-import tempfile
+
+import house
 
 LAYERS = ["core", "scene", "topology", "plan", "contact", "features", "solvers", "sim", "render"]
 BELOW_ALL = ("include/", "shared/", "shader_list.h")
@@ -101,41 +102,21 @@ def self_test():
         "scene/d.c": '#include "scene/d.h"\n#include "core/c.h"\n#include "core/zz.h"\n',
         "stray.c": "",
     }
-    with tempfile.TemporaryDirectory() as root:
-        for name, text in files.items():
-            os.makedirs(os.path.dirname(os.path.join(root, name)), exist_ok=True)
-            with open(os.path.join(root, name), "w", encoding="utf-8") as f:
-                f.write(text)
-        got = sorted(check(root))
-    want = sorted([
+    want = [
         "lib/stray.c: a source outside the layer folders",
         'lib/core/c.c:1: core/ includes "scene/d.h" from scene/, a layer above it',
         'lib/scene/d.c:3: includes "core/zz.h", which does not exist',
         "include circle: core/a -> core/b -> core/a",
         "include circle: core/c -> scene/d -> core/c",
-    ])
-    if got != want:
-        print("layers: the self-test expected\n  " + "\n  ".join(want) + "\ngot\n  " +
-              "\n  ".join(got))
-        return False
-    return True
+    ]
+    return house.self_test("layers", check, files, want)
 
 
 def main():
-    args = sys.argv[1:]
-    if args[:1] == ["--self-test"]:
-        args = args[1:]
-        if not self_test():
-            return 1
-    lib = args[0] if args else os.path.join(os.path.dirname(__file__), "..", "lib")
-    errors = check(lib)
-    for e in errors:
-        print(e)
-    if errors:
-        print(f"layers: {len(errors)} break(s) of the layer rule")
-        return 1
-    print(f"layers: {len(modules(lib))} modules in {len(LAYERS)} layers, no upward include, no circle")
-    return 0
+    lib = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib")
+    return house.main("layers", check, lib, lambda root: (
+        f"layers: {len(modules(root))} modules in {len(LAYERS)} layers, no upward include, "
+        "no circle"), self_test)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,8 @@ file or function over its limit."""
 import os
 import re
 import sys
-import tempfile
+
+import house
 
 MAX_FILE = 800
 MAX_FUNCTION = 80
@@ -77,39 +78,18 @@ def self_test():
         "shaders/short.comp": "void main()\n{\n}\n",
         "lib/core/big.h": "\n" * (MAX_FILE + 1),
     }
-    with tempfile.TemporaryDirectory() as root:
-        for name, text in files.items():
-            os.makedirs(os.path.dirname(os.path.join(root, name)), exist_ok=True)
-            with open(os.path.join(root, name), "w", encoding="utf-8") as f:
-                f.write(text)
-        got = sorted(check(root))
-    want = sorted([
+    want = [
         f"lib/core/big.h: {MAX_FILE + 1} lines, more than {MAX_FILE}",
         f"lib/core/long.c:1: longest is {MAX_FUNCTION + 3} lines, more than {MAX_FUNCTION}",
-    ])
-    if got != want:
-        print("sizes: the self-test expected\n  " + "\n  ".join(want) + "\ngot\n  " +
-              "\n  ".join(got))
-        return False
-    return True
+    ]
+    return house.self_test("sizes", check, files, want)
 
 
 def main():
-    args = sys.argv[1:]
-    if "--self-test" in args:
-        args.remove("--self-test")
-        if not self_test():
-            return 1
-    root = args[0] if args else os.path.join(os.path.dirname(__file__), "..")
-    errors = check(root)
-    for e in errors:
-        print(e)
-    if errors:
-        print(f"sizes: {len(errors)} over the limits")
-        return 1
-    print(f"sizes: no file of {', '.join(FILE_DIRS)} over {MAX_FILE} lines, no function over "
-          f"{MAX_FUNCTION}")
-    return 0
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    return house.main("sizes", check, root, lambda _: (
+        f"sizes: no file of {', '.join(FILE_DIRS)} over {MAX_FILE} lines, no function over "
+        f"{MAX_FUNCTION}"), self_test)
 
 
 if __name__ == "__main__":
