@@ -235,15 +235,23 @@ static void initial_poses(const cvk_collide* c, cvk_gpu_pose* poses)
 /* ---- cloth tables for particle–triangle contact ---------------------------------------- */
 
 typedef struct cloth_tables {
-    uint32_t* triangles; /* 4 per triangle: internal indices, 0 */
-    uint32_t* incident;  /* particle_count + 1 offsets, then triangle ids */
+    uint32_t* triangles;      /* 4 per triangle: internal indices, border bits */
+    uint32_t* incident;       /* particle_count + 1 offsets, then triangle ids */
     size_t incident_count;
+    uint32_t edge_count;
+    uint32_t* edges;          /* 4 per edge: its ends (lower first), 0, 0 */
+    uint32_t* triangle_edges; /* 4 per triangle: edge k from corner k to k + 1, 0 */
+    uint32_t* particle_edges; /* particle_count + 1 offsets, then edge ids */
+    size_t particle_edges_count;
 } cloth_tables;
 
 static void free_cloth_tables(cloth_tables* t)
 {
     free(t->triangles);
     free(t->incident);
+    free(t->edges);
+    free(t->triangle_edges);
+    free(t->particle_edges);
 }
 
 /* Offsets from counts (in place, out[0..n]), then the lists placed by a cursor. */
@@ -257,6 +265,79 @@ static void prefix(uint32_t* table, uint32_t n)
     }
 }
 
+/* w of each triangle: bit k set where no triangle runs the edge from corner k + 1 back to
+   corner k (a border, or a neighbour wound the other way), so that corner meets the edge only
+   here and only as the one before it (pd_contact.glsl, edges_off_shells). */
+static bool mark_borders(uint32_t* triangles, uint32_t tc)
+{
+    cvk_u64_map directed = {0};
+    if (!cvk_u64_map_init(&directed, 3 * (size_t)tc)) {
+        cvk_u64_map_free(&directed);
+        return false;
+    }
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t key = (uint64_t)triangles[4 * (size_t)i + k] << 32 |
+                           triangles[4 * (size_t)i + (k + 1) % 3];
+            directed.key[cvk_u64_map_slot(&directed, key)] = key;
+        }
+    for (uint32_t i = 0; i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint64_t back = (uint64_t)triangles[4 * (size_t)i + (k + 1) % 3] << 32 |
+                            triangles[4 * (size_t)i + k];
+            if (directed.key[cvk_u64_map_slot(&directed, back)] != back)
+                triangles[4 * (size_t)i + 3] |= 1u << k;
+        }
+    cvk_u64_map_free(&directed);
+    return true;
+}
+
+/* The triangles' edges, each once (numbered in order of first appearance), which edges each
+   triangle has, and the edges at each particle. */
+static bool make_edges(cloth_tables* t, uint32_t n, uint32_t tc)
+{
+    cvk_u64_map ids = {0};
+    t->edges = malloc(12 * (size_t)(tc ? tc : 1) * sizeof(uint32_t));
+    t->triangle_edges = calloc(4 * (size_t)(tc ? tc : 1), sizeof(uint32_t));
+    bool ok = t->edges && t->triangle_edges && cvk_u64_map_init(&ids, 3 * (size_t)tc);
+    for (uint32_t i = 0; ok && i < tc; i++)
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = t->triangles[4 * (size_t)i + k], b = t->triangles[4 * (size_t)i + (k + 1) % 3];
+            uint64_t key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+            size_t slot = cvk_u64_map_slot(&ids, key);
+            if (ids.key[slot] != key) {
+                ids.key[slot] = key;
+                ids.value[slot] = t->edge_count;
+                uint32_t* e = &t->edges[4 * (size_t)t->edge_count++];
+                e[0] = a < b ? a : b;
+                e[1] = a < b ? b : a;
+                e[2] = e[3] = 0;
+            }
+            t->triangle_edges[4 * (size_t)i + k] = (uint32_t)ids.value[slot];
+        }
+    cvk_u64_map_free(&ids);
+    t->particle_edges_count = (size_t)n + 1 + 2 * (size_t)t->edge_count;
+    t->particle_edges = ok ? calloc(t->particle_edges_count, sizeof(uint32_t)) : NULL;
+    uint32_t* cursor = ok ? calloc((size_t)n + 1, sizeof(uint32_t)) : NULL;
+    if (!t->particle_edges || !cursor) {
+        free(cursor);
+        return false;
+    }
+    for (uint32_t e = 0; e < t->edge_count; e++) {
+        t->particle_edges[t->edges[4 * (size_t)e]]++;
+        t->particle_edges[t->edges[4 * (size_t)e + 1]]++;
+    }
+    prefix(t->particle_edges, n);
+    memcpy(cursor, t->particle_edges, ((size_t)n + 1) * sizeof(uint32_t));
+    for (uint32_t e = 0; e < t->edge_count; e++)
+        for (int k = 0; k < 2; k++) {
+            uint32_t v = t->edges[4 * (size_t)e + k];
+            t->particle_edges[n + 1 + cursor[v]++] = e;
+        }
+    free(cursor);
+    return true;
+}
+
 static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_error* error)
 {
     uint32_t n = b->particle_count, tc = b->triangle_count;
@@ -264,43 +345,21 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
     t->triangles = calloc(4 * (size_t)(tc ? tc : 1), sizeof(uint32_t));
     t->incident = calloc(t->incident_count, sizeof(uint32_t));
     uint32_t* cursor = calloc((size_t)n + 1, sizeof(uint32_t));
-    if (!t->triangles || !t->incident || !cursor) {
-        free(cursor);
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "out of host memory for the contact tables");
-    }
-    /* Every triangle under each of its corners, in triangle order: the search reaches a
+    bool ok = t->triangles && t->incident && cursor;
+    /* Every triangle under each of its corners, in triangle order: detection reaches a
        triangle through its corners (shaders/contact/contact_detect.comp). */
-    for (uint32_t i = 0; i < tc; i++)
+    for (uint32_t i = 0; ok && i < tc; i++)
         for (int k = 0; k < 3; k++) {
             uint32_t v = b->internal_of[b->triangles[3 * (size_t)i + k]];
             t->triangles[4 * (size_t)i + k] = v;
             t->incident[v]++;
         }
-    /* w: bit k set where no triangle runs the edge from corner k + 1 back to corner k (a
-       border, or a neighbour wound the other way), so that corner meets the edge only here
-       and only as the one before it (pd_contact.glsl, edges_off_shells). */
-    cvk_u64_map directed = {0};
-    if (!cvk_u64_map_init(&directed, 3 * (size_t)tc)) {
-        cvk_u64_map_free(&directed);
+    ok = ok && mark_borders(t->triangles, tc) && make_edges(t, n, tc);
+    if (!ok) {
         free(cursor);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                         "out of host memory for the contact tables");
     }
-    for (uint32_t i = 0; i < tc; i++)
-        for (int k = 0; k < 3; k++) {
-            uint64_t key = (uint64_t)t->triangles[4 * (size_t)i + k] << 32 |
-                           t->triangles[4 * (size_t)i + (k + 1) % 3];
-            directed.key[cvk_u64_map_slot(&directed, key)] = key;
-        }
-    for (uint32_t i = 0; i < tc; i++)
-        for (int k = 0; k < 3; k++) {
-            uint64_t back = (uint64_t)t->triangles[4 * (size_t)i + (k + 1) % 3] << 32 |
-                            t->triangles[4 * (size_t)i + k];
-            if (directed.key[cvk_u64_map_slot(&directed, back)] != back)
-                t->triangles[4 * (size_t)i + 3] |= 1u << k;
-        }
-    cvk_u64_map_free(&directed);
     prefix(t->incident, n);
     memcpy(cursor, t->incident, ((size_t)n + 1) * sizeof(uint32_t));
     for (uint32_t i = 0; i < tc; i++)
@@ -326,7 +385,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_SDF] = STORAGE,
     [CVK_CONTACT_BINDING_TRIANGLES] = TEXEL,
     [CVK_CONTACT_BINDING_INCIDENT] = TEXEL,
-    [CVK_CONTACT_BINDING_REST] = TEXEL,
+    [CVK_CONTACT_BINDING_EDGES] = TEXEL,
     [CVK_CONTACT_BINDING_CONTACTS] = STORAGE,
     [CVK_CONTACT_BINDING_POSITIONS] = TEXEL,
     [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = UNIFORM,
@@ -334,12 +393,14 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_POSES_UNIFORM] = UNIFORM,
     [CVK_CONTACT_BINDING_CONTACTS_READ] = TEXEL,
     [CVK_CONTACT_BINDING_SEARCHED] = STORAGE,
-    [CVK_CONTACT_BINDING_PATCH_TABLE] = TEXEL,
-    [CVK_CONTACT_BINDING_PATCH_BOUNDS] = STORAGE,
-    [CVK_CONTACT_BINDING_PATCH_BOUNDS_READ] = TEXEL,
-    [CVK_CONTACT_BINDING_PATCH_ACTIVE] = STORAGE,
+    [CVK_CONTACT_BINDING_TRIANGLE_EDGES] = TEXEL,
+    [CVK_CONTACT_BINDING_EDGE_CONTACTS] = STORAGE,
+    [CVK_CONTACT_BINDING_EDGE_CONTACTS_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_NEAREST] = STORAGE,
     [CVK_CONTACT_BINDING_LISTS] = STORAGE,
     [CVK_CONTACT_BINDING_SEARCHED_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_PARTICLE_EDGES] = TEXEL,
+    [CVK_CONTACT_BINDING_PREVIOUS] = STORAGE,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -377,40 +438,6 @@ static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error*
     return r;
 }
 
-/* Rest positions (the initial ones scaled by the cloth's rest_scale about its first particle)
-   and cloth index per particle: particles and triangles near each other at rest are not in
-   contact when near now (cvk_collide_rest_near). */
-static cvk_result make_rest(const cvk_build* b, cvk_collide* c, cvk_error* error)
-{
-    c->rest_xyz = malloc(4 * (size_t)(b->particle_count ? b->particle_count : 1) * sizeof(float));
-    if (!c->rest_xyz)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for rest positions");
-    for (uint32_t cloth = 0; cloth < b->cloth_count; cloth++) {
-        const cvk_cloth_range* r = &b->cloths[cloth];
-        const float* origin = &b->position[3 * (size_t)b->internal_of[r->first_user]];
-        for (uint32_t u = r->first_user; u < r->first_user + r->particle_count; u++) {
-            uint32_t p = b->internal_of[u];
-            for (int k = 0; k < 3; k++)
-                c->rest_xyz[4 * (size_t)p + k] =
-                    origin[k] + r->rest_scale * (b->position[3 * (size_t)p + k] - origin[k]);
-            c->rest_xyz[4 * (size_t)p + 3] = (float)cloth;
-        }
-    }
-    return CVK_SUCCESS;
-}
-
-bool cvk_collide_rest_near(const cvk_collide* c, uint32_t p, const uint32_t tri[3])
-{
-    const float* rp = &c->rest_xyz[4 * (size_t)p];
-    for (int k = 0; k < 3; k++) {
-        const float* rv = &c->rest_xyz[4 * (size_t)tri[k]];
-        float d[3] = {rp[0] - rv[0], rp[1] - rv[1], rp[2] - rv[2]};
-        if (rp[3] == rv[3] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < c->exclusion * c->exclusion)
-            return true;
-    }
-    return false;
-}
-
 /* The longest edge of any cloth triangle at rest. */
 static float longest_edge(const cvk_build* b)
 {
@@ -426,23 +453,35 @@ static float longest_edge(const cvk_build* b)
     return longest;
 }
 
-/* Edge contact's list entries (shared/layout.h, CVK_EDGE_PAIR) hold an edge of any triangle
-   and one of the particle's own edges in 31 bits. */
-static cvk_result check_edge_limits(const cvk_build* b, const cloth_tables* t, cvk_error* error)
+/* Each particle's bound 0 where it starts (detection at the first substep sets them), and its
+   position a substep before: where it is. */
+static cvk_result upload_start(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
-    if (b->triangle_count > CVK_EDGE_MAX_TRIANGLES)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "collision.edges: the cloths have %u triangles, more than the %u edge "
-                        "contact can address", b->triangle_count, CVK_EDGE_MAX_TRIANGLES);
-    for (uint32_t p = 0; p < b->particle_count; p++)
-        if (t->incident[p + 1] - t->incident[p] > CVK_EDGE_MAX_TRIANGLES_AROUND)
-            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                            "collision.edges: a particle of cloth %u is a corner of %u triangles, "
-                            "more than the %u edge contact can address",
-                            cvk_build_cloth_of(b, p), t->incident[p + 1] - t->incident[p],
-                            CVK_EDGE_MAX_TRIANGLES_AROUND);
-    return CVK_SUCCESS;
+    const cvk_build* b = &s->build;
+    float* x = malloc(16u * (size_t)(b->particle_count ? b->particle_count : 1));
+    if (!x)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact state");
+    for (uint32_t p = 0; p < b->particle_count; p++) {
+        for (int k = 0; k < 3; k++)
+            x[4 * (size_t)p + k] = b->position[3 * (size_t)p + k];
+        x[4 * (size_t)p + 3] = 0.0f;
+    }
+    VkDeviceSize bytes = 16u * (VkDeviceSize)b->particle_count;
+    cvk_result r = cvk_device_upload(&s->device, &c->searched, x, bytes, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_device_upload(&s->device, &c->previous, x, bytes, error);
+    free(x);
+    return r;
 }
+
+typedef struct buffer_job {
+    cvk_buffer* buffer;
+    VkDeviceSize bytes;
+    bool self_only;     /* made only with self-contact, else with the triangle tables (16 bytes
+                           otherwise) */
+    const char* label;
+    const void* data;
+} buffer_job;
 
 static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
@@ -452,50 +491,45 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     bool tables = c->self || (c->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
     if (tables)
         r = make_cloth_tables(b, &t, error);
-    if (r == CVK_SUCCESS && c->edges)
-        r = check_edge_limits(b, &t, error);
-    if (r == CVK_SUCCESS && c->self && b->triangle_count > CVK_MAX_SELF_TRIANGLES)
+    if (r == CVK_SUCCESS && c->self &&
+        (b->triangle_count > CVK_MAX_FEATURES || t.edge_count > CVK_MAX_FEATURES ||
+         b->particle_count > CVK_MAX_FEATURES))
         r = cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                     "collision.self: the cloths have %u triangles, more than the %u self-contact "
-                     "can address", b->triangle_count, CVK_MAX_SELF_TRIANGLES);
-    if (r == CVK_SUCCESS && c->self)
-        r = make_rest(b, c, error);
-    if (r == CVK_SUCCESS && c->self)
-        r = cvk_collide_make_patches(c, b, t.triangles, t.incident, error);
-    VkDeviceSize patches = c->patch_count ? c->patch_count : 1;
+                     "collision.self: the cloths have %u triangles and %u edges, more than the "
+                     "%u self-contact can address", b->triangle_count, t.edge_count,
+                     CVK_MAX_FEATURES);
+    c->edge_count = t.edge_count;
+    VkDeviceSize n = b->particle_count ? b->particle_count : 1;
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
-    VkDeviceSize contacts = (VkDeviceSize)b->particle_count * CVK_CONTACTS_PER_PARTICLE * 4u;
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->triangles, tables ? 16u * tc : 16u, "contact triangles",
-                        t.triangles, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->incident, tables ? 4u * t.incident_count : 16u,
-                                "triangles by corner", t.incident, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->rest, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
-                        "rest positions", c->self ? c->rest_xyz : NULL, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->contacts, c->self ? contacts : 16u, "contacts", NULL, error);
-    if (r == CVK_SUCCESS) /* no candidates yet: no side kept (contact_detect.comp) */
+    VkDeviceSize ec = t.edge_count ? t.edge_count : 1;
+    buffer_job jobs[] = {
+        {&c->triangles, 16u * tc, false, "contact triangles", t.triangles},
+        {&c->incident, 4u * t.incident_count, false, "triangles by corner", t.incident},
+        {&c->edges, 16u * ec, true, "contact edges", t.edges},
+        {&c->triangle_edges, 16u * tc, true, "edges by triangle", t.triangle_edges},
+        {&c->particle_edges, 4u * t.particle_edges_count, true, "edges by end", t.particle_edges},
+        {&c->contacts, 4u * CVK_CONTACTS_PER_PARTICLE * n, true, "contacts", NULL},
+        {&c->edge_contacts, 4u * CVK_CONTACTS_PER_EDGE * ec, true, "edge contacts", NULL},
+        {&c->nearest, 4u * (n + ec), true, "nearest distances", NULL},
+        {&c->searched, 16u * n, true, "positions at detection and bounds", NULL},
+        {&c->previous, 16u * n, true, "positions a substep before", NULL},
+        {&c->lists, 4u * CVK_LIST_HEADER, true, "detection commands", NULL},
+    };
+    for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
+        bool small = jobs[i].self_only ? !c->self : !tables;
+        r = cvk_device_make_buffer(&s->device, jobs[i].buffer, small ? 16u : jobs[i].bytes,
+                                   jobs[i].label, small ? NULL : jobs[i].data, error);
+    }
+    if (r == CVK_SUCCESS) /* no contacts yet */
         r = cvk_device_fill_buffer(&s->device, &c->contacts, 0xff, error);
     if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->searched, c->self ? 16u * (VkDeviceSize)b->particle_count : 16u,
-                        "positions at the last search", NULL, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->patch_table_buffer, c->self ? 4u * c->patch_table_size : 16u,
-                                "contact patches", c->patch_table, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->patch_bounds,
-                                48u * (patches + (c->self && s->search_lanes > 1 ? tc : 0u)),
-                                "patch and triangle bounds", NULL, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->patch_active, 4u * patches, "active patches", NULL, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->lists,
-                                c->self ? 4u * cvk_collide_lists_size(b->particle_count, b->cloth_count) : 16u,
-                                "contact work lists", NULL, error);
+        r = cvk_device_fill_buffer(&s->device, &c->edge_contacts, 0xff, error);
+    if (r == CVK_SUCCESS) /* 0x7f7f7f7f: 3.4e38 as a float, beyond any distance: none yet */
+        r = cvk_device_fill_buffer(&s->device, &c->nearest, 0x7f, error);
     if (r == CVK_SUCCESS)
         r = cvk_device_clear_buffer(&s->device, &c->lists, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = upload_start(s, c, error);
     free_cloth_tables(&t);
     struct {
         const cvk_buffer* buffer;
@@ -504,11 +538,12 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     } views[] = {
         {&c->triangles, VK_FORMAT_R32G32B32A32_UINT, &c->view_triangles},
         {&c->incident, VK_FORMAT_R32_UINT, &c->view_incident},
-        {&c->rest, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_rest},
         {&c->contacts, VK_FORMAT_R32_UINT, &c->view_contacts},
-        {&c->patch_table_buffer, VK_FORMAT_R32_UINT, &c->view_patch_table},
-        {&c->patch_bounds, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_patch_bounds},
         {&c->searched, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_searched},
+        {&c->edges, VK_FORMAT_R32G32B32A32_UINT, &c->view_edges},
+        {&c->triangle_edges, VK_FORMAT_R32G32B32A32_UINT, &c->view_triangle_edges},
+        {&c->particle_edges, VK_FORMAT_R32_UINT, &c->view_particle_edges},
+        {&c->edge_contacts, VK_FORMAT_R32_UINT, &c->view_edge_contacts},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
@@ -516,7 +551,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     return r;
 }
 
-static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
+static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_error* error)
 {
     const cvk_build* b = &s->build;
     cvk_gpu_contact_params p = {
@@ -528,23 +563,26 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, cvk_error* error)
         .friction = c->friction,
         .static_friction = c->static_friction,
         .dt = s->params.dt,
-        .detect_radius = c->detect_radius,
-        .exclusion = c->exclusion,
-        .search_after = CVK_SEARCH_AFTER_THICKNESSES * c->thickness,
-        .patch_count = c->patch_count,
-        .patch_neighbours = c->patch_neighbours,
-        .flat_cos = cosf(CVK_FLAT_DEGREES * (3.14159265f / 180.0f)),
-        .edge_exclusion = c->edge_exclusion,
+        .radius = c->radius,
+        .reach = c->radius + c->longest / sqrtf(3.0f),
+        .gamma = CVK_BOUND_GAMMA,
+        .redetect = CVK_REDETECT_FRACTION,
+        .edge_count = c->edge_count,
+        /* a kinematic particle (pinned, attached) cannot follow a common shift */
+        .shift = b->free_count == b->particle_count && !kinematic,
+        .longest = c->longest,
         .cloth_count = b->cloth_count,
     };
-    /* the frame state, then the motion bounds of the adaptive search (empty) */
+    /* the frame state, then the motion bounds (empty) */
     struct {
         cvk_gpu_frame frame;
         cvk_gpu_motion_bounds bounds;
     } frame = {
         .frame = {.search = 1, .force = 1},
         .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
-                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0},
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY,
+                   CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0, 0, 0},
     };
     _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
                    "the frame buffer: the frame state, then the bounds, as std430 lays them out");
@@ -572,7 +610,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_SDF] = {.buffer = &c->sdf_values},
         [CVK_CONTACT_BINDING_TRIANGLES] = {.view = c->view_triangles},
         [CVK_CONTACT_BINDING_INCIDENT] = {.view = c->view_incident},
-        [CVK_CONTACT_BINDING_REST] = {.view = c->view_rest},
+        [CVK_CONTACT_BINDING_EDGES] = {.view = c->view_edges},
         [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
         [CVK_CONTACT_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = {.buffer = &c->params},
@@ -580,12 +618,14 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
         [CVK_CONTACT_BINDING_CONTACTS_READ] = {.view = c->view_contacts},
         [CVK_CONTACT_BINDING_SEARCHED] = {.buffer = &c->searched},
-        [CVK_CONTACT_BINDING_PATCH_TABLE] = {.view = c->view_patch_table},
-        [CVK_CONTACT_BINDING_PATCH_BOUNDS] = {.buffer = &c->patch_bounds},
-        [CVK_CONTACT_BINDING_PATCH_BOUNDS_READ] = {.view = c->view_patch_bounds},
-        [CVK_CONTACT_BINDING_PATCH_ACTIVE] = {.buffer = &c->patch_active},
+        [CVK_CONTACT_BINDING_TRIANGLE_EDGES] = {.view = c->view_triangle_edges},
+        [CVK_CONTACT_BINDING_EDGE_CONTACTS] = {.buffer = &c->edge_contacts},
+        [CVK_CONTACT_BINDING_EDGE_CONTACTS_READ] = {.view = c->view_edge_contacts},
+        [CVK_CONTACT_BINDING_NEAREST] = {.buffer = &c->nearest},
         [CVK_CONTACT_BINDING_LISTS] = {.buffer = &c->lists},
         [CVK_CONTACT_BINDING_SEARCHED_READ] = {.view = c->view_searched},
+        [CVK_CONTACT_BINDING_PARTICLE_EDGES] = {.view = c->view_particle_edges},
+        [CVK_CONTACT_BINDING_PREVIOUS] = {.buffer = &c->previous},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -596,26 +636,13 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     cvk_collide* c = s->collide;
     *c = (cvk_collide){0};
     c->self = scene->collision.self;
-    c->edges = c->self && scene->collision.edges;
     c->colliding = c->self || scene->collider_count > 0;
     c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
                                                      : default_thickness(&s->build);
+    c->radius = CVK_RADIUS_THICKNESSES * c->thickness;
     c->friction = scene->collision.friction;
-    c->detect_every = scene->collision.detect_every; /* 0: adaptive */
-    /* By default only pairs that would touch at rest: every other pair of one cloth is a
-       contact, so a fold one or two particles wide (a rolled border, a sheet without bending
-       crumpling at the particle scale) is kept from crossing itself. collision.exclusion
-       trades that for speed (cvk_collision_desc). */
-    c->exclusion = scene->collision.exclusion > 0.0f ? scene->collision.exclusion
-                                                     : CVK_EXCLUSION_THICKNESSES * c->thickness;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
-    c->detect_radius = CVK_DETECT_RADIUS_THICKNESSES(c->detect_every) * c->thickness;
-    /* Edge pairs within one cloth are kept only between parts that were apart at rest (a
-       fold's layers, a crease over a border): next to each other the particle–triangle pairs
-       hold a fold, and a flat cloth's neighbouring edges would fill the edge places and cost
-       the search for nothing. */
-    c->longest_edge = longest_edge(&s->build);
-    c->edge_exclusion = c->exclusion + 1.5f * c->longest_edge;
+    c->longest = 1.5f * longest_edge(&s->build);
     c->types = cvk_scene_collider_types(scene);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)
@@ -625,7 +652,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     if (r == CVK_SUCCESS)
         r = create_cloth_buffers(s, c, error);
     if (r == CVK_SUCCESS)
-        r = create_params(s, c, error);
+        r = create_params(s, c, scene->attachment_count > 0, error);
     if (r == CVK_SUCCESS)
         r = create_set(s, c, error);
     if (r == CVK_SUCCESS && c->self)
@@ -642,20 +669,20 @@ void cvk_collide_destroy(cvk_sim* s)
     if (c->hash.capacity)
         cvk_hash_destroy(ctx, &c->hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
-    VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_rest, c->view_contacts,
-                            c->view_patch_table, c->view_patch_bounds, c->view_searched};
+    VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_contacts,
+                            c->view_searched, c->view_edges, c->view_triangle_edges,
+                            c->view_particle_edges, c->view_edge_contacts};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
     cvk_buffer* buffers[] = {&c->frame, &c->poses, &c->shapes, &c->keyframes, &c->sdf_values,
-                             &c->params, &c->triangles, &c->incident, &c->rest, &c->contacts,
-                             &c->searched, &c->patch_table_buffer, &c->patch_bounds,
-                             &c->patch_active, &c->lists};
+                             &c->params, &c->triangles, &c->incident, &c->edges,
+                             &c->triangle_edges, &c->particle_edges, &c->contacts,
+                             &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
+                             &c->lists};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);
-    free(c->rest_xyz);
-    free(c->patch_table);
     *c = (cvk_collide){0};
 }
 

@@ -20,9 +20,6 @@ typedef enum cvk_spec_source {
     CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/topology/build.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
-    CVK_SPEC_SEARCH_LANES,   /* invocations per particle in the candidate search, per patch in
-                                the patches' activity test (cvk_sim.search_lanes) */
-    CVK_SPEC_EDGE_CONTACT,   /* the scene has edge–edge contact (collision.edges) */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -38,9 +35,8 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                  CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
 /* The contact pass (ids 3, 4, 5 of shaders/solvers/pd_contact.glsl; id 2 unused). */
-#define CVK_SPEC_PD_CONTACT {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
-                             CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
-                             CVK_SPEC_EDGE_CONTACT}}
+#define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                             CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
 /* The prediction (id 3 of shaders/solvers/predict.comp; id 2 unused). */
 #define CVK_SPEC_PREDICT {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND}}
@@ -50,10 +46,6 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
-/* The candidate search and the patches' activity (id 1 of shaders/contact/contact_detect.comp and
-   contact_patch.comp: LANES; id 2 of the search: EDGES). */
-#define CVK_SPEC_DETECT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_SEARCH_LANES, \
-                         CVK_SPEC_EDGE_CONTACT}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
@@ -78,12 +70,11 @@ typedef struct cvk_spec_recipe {
     X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \
     X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
-    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moved since the last search") \
-    X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "search or not") \
-    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_DETECT, "particle-triangle candidates") \
-    X(CONTACT_PATCH, CONTACT_PATCH_COMP, CVK_SPEC_DETECT, "patches: bounds, cones, activity") \
-    X(CONTACT_COMPACT, CONTACT_COMPACT_COMP, CVK_SPEC_WORKGROUP, "search and contact lists") \
-    X(UNTANGLE, UNTANGLE_COMP, CVK_SPEC_WORKGROUP, "untangling: regions through other surfaces") \
+    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_WORKGROUP, "moves against the bounds") \
+    X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
+    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
+    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
+    X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_WORKGROUP, "detection: bounds") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
     X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \
@@ -131,8 +122,6 @@ typedef struct cvk_spec_inputs {
     bool wind;
     bool tethers;
     uint32_t tether_slots;
-    uint32_t search_lanes;
-    bool edge_contact;
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

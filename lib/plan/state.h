@@ -34,9 +34,6 @@ struct cvk_sim {
     int timing_request;     /* cvk_sim_desc.timing */
     uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
                                          prediction, finalize, tethers): cvk_plan */
-    uint32_t search_lanes;  /* cvk_sim_desc.search_lanes, resolved: a divisor of the workgroup
-                               size, fixed for the simulation's life (the patch buffers'
-                               size depends on it, lib/contact/collide.h) */
 
     struct cvk_collide* collide; /* colliders, self-contact, the frame state (collide.h) */
     struct cvk_attach* attach; /* keyframed attached particles (attach.h) */

@@ -34,11 +34,6 @@ static uint32_t particle_workgroup_size(const cvk_context* context, const cvk_si
     uint32_t lanes = context->subgroup_size;
     return lanes >= 4 && lanes <= workgroup_size ? lanes : workgroup_size;
 }
-/* Invocations per particle in the candidate search on a device that is not a CPU: a GPU runs
-   a particle's walk over the 27 cells as one long chain of dependent reads, and scenes with
-   self-contact have a few thousand particles, too few threads to hide that latency. Measured
-   on an NVIDIA H200 (README "Performance"); on a CPU device each lane costs a loop. */
-#define GPU_SEARCH_LANES 16u
 #define MAX_FRAMES_PER_SUBMIT 256u
 
 /* ---- shared buffers and uploads ------------------------------------------------------ */
@@ -122,9 +117,7 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
                               .self_contact = s->collide->self,
                               .wind = s->aero->enabled,
                               .tethers = s->build.tether_anchor != NULL,
-                              .tether_slots = s->build.tether_slots,
-                              .search_lanes = s->search_lanes,
-                              .edge_contact = s->collide->edges};
+                              .tether_slots = s->build.tether_slots};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->device.context, &s->pipelines, &inputs, &created,
                                               error);
@@ -302,36 +295,6 @@ static uint32_t max_workgroups(const cvk_context* context, const cvk_sim_desc* d
     return max_groups;
 }
 
-/* cvk_sim_desc.search_lanes, resolved against the workgroup size and the shared memory the
-   lanes' lists take (shaders/contact/contact_detect.comp: a uint and a float per candidate, and per
-   edge pair with collision.edges). */
-static cvk_result search_lanes(const cvk_context* context, const cvk_sim_desc* desc,
-                               uint32_t workgroup_size, uint32_t* out, cvk_error* error)
-{
-    uint32_t lanes = desc->search_lanes;
-    bool edges = desc->scene->collision.self && desc->scene->collision.edges;
-    uint64_t shared = (uint64_t)workgroup_size *
-                      (CVK_CONTACTS_PER_PARTICLE + (edges ? CVK_EDGE_CONTACTS_PER_PARTICLE : 0)) * 8u;
-    uint32_t limit = context->properties.limits.maxComputeSharedMemorySize;
-    if (lanes != 0 && (lanes > workgroup_size || workgroup_size % lanes != 0))
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "search_lanes: %u does not divide the workgroup size %u", lanes,
-                        workgroup_size);
-    if (lanes > 1 && shared > limit)
-        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
-                        "search_lanes: %u lanes in workgroups of %u need %llu bytes of shared "
-                        "memory, more than this device's %u; use one lane or smaller workgroups",
-                        lanes, workgroup_size, (unsigned long long)shared, limit);
-    if (lanes == 0) {
-        lanes = context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU || shared > limit
-                    ? 1u
-                    : GPU_SEARCH_LANES;
-        while (workgroup_size % lanes != 0)
-            lanes /= 2;
-    }
-    *out = lanes;
-    return CVK_SUCCESS;
-}
 
 /* The simulation and its modules' states in one allocation; the simulation comes first, so
    freeing it frees them all. */
@@ -390,10 +353,6 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     r = cvk_check_scene_limits(context, scene, workgroup_size, error);
     if (r != CVK_SUCCESS)
         return r;
-    uint32_t lanes = 1;
-    r = search_lanes(context, desc, workgroup_size, &lanes, error);
-    if (r != CVK_SUCCESS)
-        return r;
     if (!cvk_family_for(&scene->solver))
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "solver.method: no solver family for %s",
                         cvk_method_name(scene->solver.method));
@@ -414,7 +373,6 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     s->pick = &block->pick;
     s->tear = &block->tear;
     init_fields(s, context, desc);
-    s->search_lanes = lanes;
     s->particle_workgroup_size = particle_workgroup_size(context, desc, workgroup_size);
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);

@@ -204,8 +204,7 @@ static uint32_t first_in(const point_grid* g, uint64_t cell)
 
 
 /* Particle p (free) is a corner of triangle v or joined by a spring to one: the pair is close
-   in the rest mesh and not a contact. With self-contact on, the device's own rule decides
-   instead (cvk_collide_rest_near: a corner near p at rest). */
+   in the rest mesh and not a contact. */
 static bool near_in_mesh(const cvk_build* b, uint32_t p, const uint32_t* v)
 {
     if (p == v[0] || p == v[1] || p == v[2])
@@ -233,8 +232,7 @@ static uint64_t pairs_in_range(const triangle_query* q, const point_grid* g, uin
     uint64_t pairs = 0;
     for (uint32_t i = first; i < end; i++) {
         uint32_t p = g->points[i].particle;
-        if (q->collide->rest_xyz ? cvk_collide_rest_near(q->collide, p, q->v)
-                                 : near_in_mesh(q->build, p, q->v))
+        if (near_in_mesh(q->build, p, q->v))
             continue;
         const float* x = &q->xyz[3 * (size_t)p];
         double pd[3] = {x[0], x[1], x[2]};

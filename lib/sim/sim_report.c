@@ -211,12 +211,10 @@ static void put_header(text* t, const cvk_sim* s)
     if (c->colliding) {
         put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s",
             c->thickness, c->friction, c->static_friction,
-            c->edges ? "on with edges" : c->self ? "on" : "off");
-        if (c->self && c->detect_every == 0)
-            put(t, " (candidates searched when a particle moved %.3g m since the last search)",
-                (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));
-        else if (c->self)
-            put(t, " (candidates searched every %u substeps)", c->detect_every);
+            c->self ? "on" : "off");
+        if (c->self)
+            put(t, " (contact radius %.4g m, bounds %.2g of the nearest distance)",
+                (double)c->radius, (double)CVK_BOUND_GAMMA);
         put(t, ", %u colliders", c->collider_count);
         for (uint32_t i = 0; i < c->collider_count; i++)
             put(t, "%s%s%s", i ? ", " : ": ", cvk_collider_type_name(c->colliders[i].type),

@@ -172,8 +172,6 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
                      tear ? "self-contact or tearing" : "self-contact");
     const unsigned char* state = (const unsigned char*)data + HEADER_SIZE;
     uint64_t family = r == CVK_SUCCESS ? h.state_size - contact - tear : 0;
-    if (r == CVK_SUCCESS && contact > 0)
-        r = cvk_collide_check_snapshot(s, state + family, error);
     if (r == CVK_SUCCESS)
         r = s->family->load_snapshot(s, s->family_state, state, family, error);
     if (r == CVK_SUCCESS) /* torn springs stay torn: flags and adjacency as they were */

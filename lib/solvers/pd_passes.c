@@ -237,8 +237,9 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
        attach pass gave them, the others by their u of 0 (x + 0 is x, bit for bit). */
     uint32_t count = b->attached_count > 0 ? b->particle_count : b->free_count;
     /* The solved displacement of a grabbed particle, again, where tethers or contact may have
-       moved it after the last sweep (the sweeps themselves hold it: its weight, grab.h). */
-    if (pb->tethers || pb->contact)
+       moved it after the last sweep (the sweeps themselves hold it: its weight, grab.h) —
+       except with self-contact, where the hand too is kept within the particle's bound. */
+    if ((pb->tethers || pb->contact) && !pb->sim->collide->self)
         cvk_grab_add_op(pb->sim, pb->plan, "before finalize: u0, u1");
     add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f,
            pb->base.omega);
@@ -329,35 +330,18 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
     }
     if (!pb->contact)
         return;
-    const cvk_collide* c = pb->sim->collide;
-    cvk_op* op;
-    if (c->self && c->collider_count == 0 && !pb->armed) {
-        /* Self-contact alone: only the particles the search listed with candidates, through
-           the command the search wrote (collide.h, "Patches"; pd_contact.glsl: LISTED). */
-        cvk_pd_push push = pb->base;
-        push.first = 0;
-        push.count = b->free_count;
-        push.cheb = 1.0f;
-        op = cvk_plan_dispatch_indirect(pb->plan, pb->contact_pass, CVK_PIPE_PD_CONTACT,
-                                        pb->pd->descriptors.pipeline_layout,
-                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
-                                        c->lists.buffer, 4u * CVK_LIST_CONTACT_GROUPS, &push,
-                                        sizeof push);
-        if (op) {
-            op->count = b->free_count;
-            op->set1 = pb->contact_set;
-        }
-    } else {
-        op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, b->free_count, 1.0f,
-                    pb->base.omega);
-        /* Each particle loops over colliders and traces: one particle per invocation keeps
-           lavapipe's per-shader loop budget (hash.h) out of reach. */
-        if (op && !pb->armed)
-            cvk_hash_one_item_each(pb->plan, op);
-    }
+    /* With self-contact the attached particles too: kept within their bounds (collide.h). */
+    uint32_t count = pb->sim->collide->self && b->attached_count > 0 ? b->particle_count
+                                                                      : b->free_count;
+    cvk_op* op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, count, 1.0f,
+                        pb->base.omega);
+    /* Each particle loops over colliders and traces: one particle per invocation keeps
+       lavapipe's per-shader loop budget (hash.h) out of reach. */
+    if (op && !pb->armed)
+        cvk_hash_one_item_each(pb->plan, op);
     if (op)
-        snprintf(op->note, sizeof op->note, "after outer %u, in place, %s%s", outer + 1,
-                 set_note[set], op->kind == CVK_OP_DISPATCH_INDIRECT && !pb->armed ? ", listed" : "");
+        snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
+                 set_note[set]);
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer

@@ -54,41 +54,45 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly bu
     float sdf_values[];
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer Searched {
-    vec4 searched[]; // per particle: where the last candidate search saw it
+    vec4 searched[]; // per particle: where the last detection saw it, w: its bound (m)
 };
 // Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
 // where a storage-buffer load is a loop over the lanes).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INCIDENT) uniform usamplerBuffer incident_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_REST) uniform samplerBuffer rest_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGES) uniform usamplerBuffer edges_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeonly buffer Contacts {
-    uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: triangle << 1 | side
+    uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: feature << 2 | kind
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform usamplerBuffer contacts_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
-// Surface patches and the work lists of a search (lib/contact/collide.h, "Patches").
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_TABLE) uniform usamplerBuffer patch_table_t;
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS) writeonly buffer PatchBounds {
-    vec4 patch_bounds[]; // per patch: low, high, normal cone (axis, cosine of its half-angle)
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLE_EDGES) uniform usamplerBuffer triangle_edges_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS) writeonly buffer EdgeContacts {
+    uint edge_contacts[]; // CVK_CONTACTS_PER_EDGE per edge: other edges
 };
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_BOUNDS_READ) uniform samplerBuffer patch_bounds_t;
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PATCH_ACTIVE) buffer PatchActive {
-    uint patch_active[];
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS_READ) uniform usamplerBuffer edge_contacts_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST) buffer Nearest {
+    uint nearest[]; // per particle, then per edge: the nearest distance found (float bits)
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
-    uint lists[]; // CVK_LIST_*: counts and indirect commands, then the search and contact lists
+    uint lists[]; // CVK_LIST_*: detection's indirect commands
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARTICLE_EDGES) uniform usamplerBuffer particle_edges_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
+    vec4 previous[]; // per particle: its position at the start of the substep before
 };
 
 uvec4 contact_triangle(uint t) { return texelFetch(triangles_t, int(t)); } // internal indices
 // Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.
 uint contact_incident(uint i) { return texelFetch(incident_t, int(i)).x; }
-vec4 contact_rest(uint p) { return texelFetch(rest_t, int(p)); } // rest position, cloth index
+uvec2 contact_edge(uint e) { return texelFetch(edges_t, int(e)).xy; } // its ends, internal
+uvec4 contact_triangle_edges(uint t) { return texelFetch(triangle_edges_t, int(t)); }
+// Edges by end: [p] .. [p + 1] are offsets (from particle_count + 1) of those at p.
+uint particle_edge(uint i) { return texelFetch(particle_edges_t, int(i)).x; }
 uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
+uint edge_entry(uint i) { return texelFetch(edge_contacts_t, int(i)).x; }
 vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
-uint patch_table(uint i) { return texelFetch(patch_table_t, int(i)).x; }
-// Where the contact list starts in `lists`: after the header and the search list.
-uint contact_list_base() { return uint(CVK_LIST_HEADER) + contact_u.particle_count; }
 
 #include "scene/motion.glsl" // quat_rotate, motion_pose (reads keyframes, above)
 
@@ -407,166 +411,38 @@ uint corner_of(uvec4 t, uint k)
     return k == 0u ? t.x : (k == 1u ? t.y : t.z);
 }
 
-// The own-edge slots of p (own_edge below): two per triangle around it.
-uint own_slots(uint p) { return 2u * (contact_incident(p + 1u) - contact_incident(p)); }
-
-// The side bit of a candidate pair (1: behind the face): x's side of triangle (a, b, c), q the
-// triangle's point nearest x.
-uint triangle_side(vec3 x, vec3 q, vec3 a, vec3 b, vec3 c)
+// A feature of a contact list entry (shared/layout.h): its corners (internal indices) and how
+// many there are (3 for a face, 2 for an edge, 1 for a vertex).
+uint feature_corners(uint entry, out uvec3 v)
 {
-    return dot(x - q, cross(b - a, c - a)) < 0.0 ? 1u : 0u;
-}
-
-// p's own edges (collision.edges): slot 2i is the edge of p's i-th triangle (in the incidence
-// table's order) to its next corner, slot 2i + 1 the edge from its corner before, which only a
-// border has there (no triangle runs it the other way). False where the slot holds no edge;
-// else the far end in r and whether the edge is a border.
-bool own_edge(uint p, uint slot, out uint r, out bool border)
-{
-    uvec4 pt = contact_triangle(contact_incident(contact_u.particle_count + 1u +
-                                                 contact_incident(p) + slot / 2u));
-    uint pk = pt.x == p ? 0u : (pt.y == p ? 1u : 2u);
-    uint next = slot & 1u; // 0: the edge to the next corner; 1: from the one before
-    r = corner_of(pt, (pk + 1u + next) % 3u);
-    // the border bit of edge k runs from corner k to k + 1 (lib/contact/collide.c)
-    border = (pt.w & (1u << ((pk + 2u * next) % 3u))) != 0u;
-    return next == 0u || border;
-}
-
-// Whether the nearest points of two edges lie inside both, where the edges can pass through
-// each other (elsewhere one goes round the other's end).
-bool edges_inside(float s, float t)
-{
-    return s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
-}
-
-// The side (1: negative) edge (p0, p1) is on of edge (a, b): the sign of the nearest points'
-// offset along the edges' common normal (p1 - p0) × (b - a).
-uint edge_side(vec3 p0, vec3 p1, vec3 a, vec3 b, vec3 c1, vec3 c2)
-{
-    precise float along = dot(c1 - c2, cross(p1 - p0, b - a));
-    return along < 0.0 ? 1u : 0u;
-}
-
-// How far edge (p0, p1) is from edge (a, b) on the side `side` (±1) of it, and the direction
-// to push the first to increase that: where the nearest points are inside both edges and the
-// edges are more than about 6° from parallel, along their common normal (negative once they
-// have passed through each other); elsewhere the distance between the nearest points, away
-// from the second. s, t, c1, c2: the nearest points (closest_segments).
-float edge_separation_at(vec3 p0, vec3 p1, vec3 a, vec3 b, float s, float t, vec3 c1, vec3 c2,
-                         float side, out vec3 dir)
-{
-    vec3 m = cross(p1 - p0, b - a);
-    float lm = length(m);
-    vec3 d = c1 - c2;
-    float dist = length(d);
-    if (edges_inside(s, t) && lm > 0.1 * length(p1 - p0) * length(b - a)) {
-        dir = side * m / lm;
-        return dot(d, dir);
+    uint kind = entry & 3u, f = entry >> 2u;
+    if (kind == CVK_FEATURE_FACE) {
+        v = contact_triangle(f).xyz;
+        return 3u;
     }
-    dir = dist > 0.0 ? d / dist : (lm > 0.0 ? side * m / lm : vec3(0.0, 1.0, 0.0));
-    return dist;
+    if (kind == CVK_FEATURE_EDGE) {
+        v = uvec3(contact_edge(f), 0u);
+        return 2u;
+    }
+    v = uvec3(f, 0u, 0u);
+    return 1u;
 }
 
-// How far p is from triangle (a, b, c) on the side `side` of it, and the direction to push it
-// to increase that: over the face, along the normal (negative when p is behind the face);
-// beside an edge or corner, the distance to it and away from it (a particle passing beside
-// an edge, even below the face's plane, has not crossed the face). q and w: the triangle's
-// point nearest p and its barycentric weights (closest_on_triangle).
-float separation_at(vec3 p, vec3 q, vec3 w, vec3 a, vec3 b, vec3 c, float side, out vec3 dir)
+// The point of a feature with `count` corners (a, b, c) nearest x.
+vec3 feature_closest(vec3 x, uint count, vec3 a, vec3 b, vec3 c)
 {
-    vec3 n = cross(b - a, c - a);
-    float area2 = length(n);
-    n = area2 > 0.0 ? side * n / area2 : vec3(0.0, 1.0, 0.0);
-    vec3 d = p - q;
-    float along = dot(d, n);
-    dir = n;
-    if (w.x > 0.0 && w.y > 0.0 && w.z > 0.0)
-        return along;
-    float dist = length(d);
-    if (dist > 0.0)
-        dir = d / dist;
-    return dist;
+    vec3 w;
+    return count == 3u ? closest_on_triangle(x, a, b, c, w)
+                       : (count == 2u ? closest_on_segment(x, a, b) : a);
 }
 
-float separation(vec3 p, vec3 a, vec3 b, vec3 c, float side, out vec3 dir, out vec3 w)
+// The displacement bound (lib/contact/collide.h): x kept within searched.w of where detection
+// saw the particle plus the common shift.
+vec3 within_bound(uint p, vec3 x)
 {
-    vec3 q = closest_on_triangle(p, a, b, c, w);
-    return separation_at(p, q, w, a, b, c, side, dir);
-}
-
-// One particle–triangle contact: p (start x0p, now xp) kept at the thickness r on the side of
-// the triangle it started on; the triangle's corners at the start (a0..c0) and now (a..c).
-// A pair that starts the substep closer than r is only kept from coming closer and eased
-// apart by a twentieth of r per substep: the last correction of a substep becomes velocity
-// (depth / h), and pushing a pair a whole thickness apart in one substep flings the cloth.
-// Returns the corrected xp.
-vec3 collide_triangle(vec3 x0p, vec3 xp, vec3 a0, vec3 b0, vec3 c0, vec3 a, vec3 b, vec3 c,
-                      uint kept_side)
-{
-    float r = contact_u.thickness;
-    vec3 dir0, w0, dir, w;
-    // The side p belongs on. Over the face, the side the candidate list keeps (judged when
-    // the pair was first found, contact_detect.comp): a particle that crossed the face since
-    // is on the wrong side and is brought back, rather than kept there. Beside an edge or a
-    // corner, the side p starts this substep on: a particle that went round an edge is kept
-    // on its new side, not pushed back through the face.
-    // A pair of the untangling step (untangle.comp, CVK_UNTANGLE_PAIR): p went through the
-    // face with the region around it, and is brought back to the kept side (beside an edge
-    // too) by at most a tenth of the thickness a substep (the last correction of a substep
-    // becomes velocity), from however deep.
-    bool untangle = (kept_side & CVK_UNTANGLE_PAIR) != 0u;
-    vec3 nearest0 = closest_on_triangle(x0p, a0, b0, c0, w0);
-    bool over_face = w0.x > 0.0 && w0.y > 0.0 && w0.z > 0.0;
-    float side = over_face || untangle ? ((kept_side & 1u) != 0u ? -1.0 : 1.0)
-               : (dot(x0p - nearest0, cross(b0 - a0, c0 - a0)) < 0.0 ? -1.0 : 1.0);
-    float start = separation_at(x0p, nearest0, w0, a0, b0, c0, side, dir0);
-    float now = separation(xp, a, b, c, side, dir, w);
-    float target = untangle ? min(r, start + 0.1 * r) : min(r, max(start, 0.0) + 0.05 * r);
-    float depth = target - now;
-    // Beyond 2r inside, the pair crossed more than a substep can explain (an inverted or
-    // stretched triangle, a side judged while nearly coplanar): leave it rather than fling p.
-    if (depth <= 0.0 || (now < -r && !untangle))
-        return xp;
-    xp += depth * dir;
-    // Friction relative to the triangle's own motion at the contact point.
-    vec3 q = w.x * a + w.y * b + w.z * c;
-    vec3 q0 = w.x * a0 + w.y * b0 + w.z * c0;
-    vec3 rel = (xp - x0p) - (q - q0);
-    vec3 tangential = rel - dot(rel, dir) * dir;
-    float t = length(tangential);
-    if (t <= contact_u.static_friction * depth)
-        xp -= tangential;
-    else
-        xp -= tangential * min(1.0, contact_u.friction * depth / t);
-    return xp;
-}
-
-// p's move for the edge pair (its edge p–r against edge a–b of another triangle; collision.edges),
-// x0p, r0, a0, b0 where the four ends started the substep, xp, r, a, b where they are now. As
-// for a triangle: the edges kept a thickness apart on their side — where their nearest points
-// are inside both, the side the candidate list keeps (judged when the pair was found), so edges
-// that passed through each other since are brought back; elsewhere the side they start the
-// substep on — and a pair that starts nearer is eased apart. p takes its share: each end of
-// both edges finds the pair from its own side and moves by its weight at the nearest points
-// over their sum of squares (equal masses), so the four moves together close the gap.
-vec3 collide_edge(vec3 x0p, vec3 xp, vec3 r0, vec3 r, vec3 a0, vec3 b0, vec3 a, vec3 b,
-                  uint kept_side)
-{
-    float th = contact_u.thickness;
-    float s0, t0, s, t;
-    vec3 c1, c2, dir0, dir;
-    closest_segments(x0p, r0, a0, b0, s0, t0, c1, c2);
-    float side = edges_inside(s0, t0) ? (kept_side != 0u ? -1.0 : 1.0)
-                                      : (edge_side(x0p, r0, a0, b0, c1, c2) != 0u ? -1.0 : 1.0);
-    float start = edge_separation_at(x0p, r0, a0, b0, s0, t0, c1, c2, side, dir0);
-    closest_segments(xp, r, a, b, s, t, c1, c2);
-    float now = edge_separation_at(xp, r, a, b, s, t, c1, c2, side, dir);
-    float target = min(th, max(start, 0.0) + 0.05 * th);
-    float depth = target - now;
-    if (depth <= 0.0 || now < -th)
-        return xp;
-    float wp = 1.0 - s;
-    float sum = wp * wp + s * s + (1.0 - t) * (1.0 - t) + t * t;
-    return xp + (depth * wp / sum) * dir;
+    vec4 seen = texelFetch(searched_t, int(p));
+    vec3 centre = seen.xyz + vec3(frame.shift_x, frame.shift_y, frame.shift_z);
+    vec3 d = x - centre;
+    float len2 = dot(d, d);
+    return len2 > seen.w * seen.w ? centre + d * (seen.w / sqrt(len2)) : x;
 }

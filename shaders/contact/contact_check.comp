@@ -1,39 +1,71 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Adaptive candidate search, first half (lib/contact/collide.h), one pass over the particles: the
-// bounds of every displacement since the last search (d = x - where the search saw the
-// particle), per axis. No d is farther from the bounds' centre than half their diagonal, and
-// two particles' displacements differ by at most twice that (contact_decide.comp): a cloth
-// that moves as one needs no search. Atomic min and max on order-preserving bits of the
-// floats, so the result does not depend on thread timing.
+// The decision to detect, over the particles (lib/contact/collide.h), in two phases around
+// contact_decide.comp's:
+// 0: each particle's displacement since detection extrapolated over the substep by its last
+//    substep's (e = x_n - seen + (x_n - x_before)) and its last substep's (v), bounded per axis
+//    (atomic min and max on order-preserving bits: the result does not depend on thread
+//    timing);
+// 1: whether some particle's e is farther than `redetect` of its bound from the shift the
+//    substep would have without detecting (e's centre; contact_decide.comp phase 0); x_n
+//    kept as the next substep's x_before.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
 #include "contact/collide.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
+const float BIG = 3.0e38;
+
+void bound_axes(vec3 low, vec3 high, vec3 vlow, vec3 vhigh)
+{
+    if (low.x > high.x)
+        return;
+    atomicMin(motion_bounds.e_low_x, ordered(low.x));
+    atomicMin(motion_bounds.e_low_y, ordered(low.y));
+    atomicMin(motion_bounds.e_low_z, ordered(low.z));
+    atomicMax(motion_bounds.e_high_x, ordered(high.x));
+    atomicMax(motion_bounds.e_high_y, ordered(high.y));
+    atomicMax(motion_bounds.e_high_z, ordered(high.z));
+    atomicMin(motion_bounds.v_low_x, ordered(vlow.x));
+    atomicMin(motion_bounds.v_low_y, ordered(vlow.y));
+    atomicMin(motion_bounds.v_low_z, ordered(vlow.z));
+    atomicMax(motion_bounds.v_high_x, ordered(vhigh.x));
+    atomicMax(motion_bounds.v_high_y, ordered(vhigh.y));
+    atomicMax(motion_bounds.v_high_z, ordered(vhigh.z));
+}
+
 void main()
 {
+    if (pc.count == 0u)
+        return;
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    vec3 low = vec3(3.0e38), high = vec3(-3.0e38);
-    bool finite = true;
+    if (pc.phase == 1u) {
+        vec3 next = vec3(motion_bounds.next_x, motion_bounds.next_y, motion_bounds.next_z);
+        bool exceed = false;
+        for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
+            uint p = pc.first + i;
+            vec4 seen = texelFetch(searched_t, int(p));
+            vec3 x = contact_x(p);
+            vec3 e = 2.0 * x - previous[p].xyz - seen.xyz - next;
+            previous[p] = vec4(x, 0.0); // the next substep's x_before
+            exceed = exceed || !(length(e) <= contact_u.redetect * seen.w);
+        }
+        if (exceed)
+            atomicOr(motion_bounds.exceed, 1u);
+        return;
+    }
+    vec3 low = vec3(BIG), high = vec3(-BIG), vlow = vec3(BIG), vhigh = vec3(-BIG);
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
         uint p = pc.first + i;
-        vec3 d = contact_x(p) - texelFetch(searched_t, int(p)).xyz;
-        finite = finite && all(lessThanEqual(abs(d), vec3(3.0e38)));
-        low = min(low, d);
-        high = max(high, d);
+        vec3 x = contact_x(p);
+        vec3 v = x - previous[p].xyz;
+        vec3 e = x - texelFetch(searched_t, int(p)).xyz + v;
+        bool finite = all(lessThanEqual(abs(e), vec3(BIG))) && all(lessThanEqual(abs(v), vec3(BIG)));
+        low = min(low, finite ? e : vec3(-BIG));
+        high = max(high, finite ? e : vec3(BIG));
+        vlow = min(vlow, finite ? v : vec3(-BIG));
+        vhigh = max(vhigh, finite ? v : vec3(BIG));
     }
-    if (!finite) { // a cloth that blew up: bounds no search can be skipped for
-        low = vec3(-3.0e38);
-        high = vec3(3.0e38);
-    }
-    if (low.x <= high.x) {
-        atomicMin(motion_bounds.low_x, ordered(low.x));
-        atomicMin(motion_bounds.low_y, ordered(low.y));
-        atomicMin(motion_bounds.low_z, ordered(low.z));
-        atomicMax(motion_bounds.high_x, ordered(high.x));
-        atomicMax(motion_bounds.high_y, ordered(high.y));
-        atomicMax(motion_bounds.high_z, ordered(high.z));
-    }
+    bound_axes(low, high, vlow, vhigh);
 }

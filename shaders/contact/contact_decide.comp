@@ -1,11 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Adaptive candidate search, second half (lib/contact/collide.h): one invocation decides whether this
-// substep searches — when asked to (the first substep, positions written from the host) or when
-// half the diagonal of the displacements' bounds since the last search (contact_check.comp),
-// which bounds how far any is from their centre, is more than search_after — and opens or
-// closes the hash build (set 1) and the search (contact_detect.comp) accordingly. The bounds
-// are reset for contact_check.comp at the next substep.
+// The decision to detect (lib/contact/collide.h), one invocation, in two phases around
+// contact_check.comp's:
+// 0: the shift the substep would have without detecting — the centre of the bounds of the
+//    extrapolated displacements (none where a particle is kinematic: params.shift 0);
+// 1: detect when asked to (the first substep, positions written from the host) or when some
+//    particle would leave its bound: open or close the hash build (set 1) and write detection's
+//    indirect commands; the shift for the substep (after a detection: the centre of the last
+//    substep's displacements, the motion expected of all); the bounds reset.
 layout(local_size_x = 1) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -14,27 +16,57 @@ layout(local_size_x = 1) in;
 #include "contact/hash_common.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
+vec3 centre(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz)
+{
+    if (contact.shift == 0u || lx == CVK_MOTION_LOW_EMPTY)
+        return vec3(0.0);
+    vec3 low = vec3(from_ordered(lx), from_ordered(ly), from_ordered(lz));
+    vec3 high = vec3(from_ordered(hx), from_ordered(hy), from_ordered(hz));
+    vec3 c = 0.5 * (low + high);
+    return all(lessThanEqual(abs(c), vec3(1.0e30))) ? c : vec3(0.0);
+}
+
+uint groups_for(uint items)
+{
+    return min((items + pc.per_group - 1u) / pc.per_group, 65535u);
+}
+
 void main()
 {
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
-    // The farthest any displacement since the last search can be from the bounds' centre:
-    // half their diagonal (infinite where contact_check.comp met a non-finite one).
-    float moved = 0.0;
-    if (motion_bounds.low_x != CVK_MOTION_LOW_EMPTY) {
-        vec3 low = vec3(from_ordered(motion_bounds.low_x), from_ordered(motion_bounds.low_y),
-                        from_ordered(motion_bounds.low_z));
-        vec3 high = vec3(from_ordered(motion_bounds.high_x), from_ordered(motion_bounds.high_y),
-                         from_ordered(motion_bounds.high_z));
-        moved = 0.5 * length(high - low);
+    if (pc.phase == 0u) {
+        vec3 next = centre(motion_bounds.e_low_x, motion_bounds.e_low_y, motion_bounds.e_low_z,
+                           motion_bounds.e_high_x, motion_bounds.e_high_y, motion_bounds.e_high_z);
+        motion_bounds.next_x = next.x;
+        motion_bounds.next_y = next.y;
+        motion_bounds.next_z = next.z;
+        return;
     }
-    bool search = frame.force != 0u || !(moved <= contact.search_after);
+    bool search = frame.force != 0u || motion_bounds.exceed != 0u;
+    // After positions were written from the host the last substep's displacement means
+    // nothing: no shift.
+    vec3 shift = frame.force != 0u ? vec3(0.0)
+               : search ? centre(motion_bounds.v_low_x, motion_bounds.v_low_y,
+                                 motion_bounds.v_low_z, motion_bounds.v_high_x,
+                                 motion_bounds.v_high_y, motion_bounds.v_high_z)
+                        : vec3(motion_bounds.next_x, motion_bounds.next_y, motion_bounds.next_z);
+    frame.shift_x = shift.x;
+    frame.shift_y = shift.y;
+    frame.shift_z = shift.z;
     frame.search = search ? 1u : 0u;
     hash_params.build = search ? 1u : 0u;
-    if (!search) // the search's indirect dispatch does nothing (contact_compact.comp arms it)
-        lists[CVK_LIST_SEARCH_GROUPS] = 0u;
+    lists[CVK_LIST_PARTICLE_GROUPS] = search ? groups_for(contact.particle_count) : 0u;
+    lists[CVK_LIST_PARTICLE_GROUPS + 1] = 1u;
+    lists[CVK_LIST_PARTICLE_GROUPS + 2] = 1u;
+    lists[CVK_LIST_EDGE_GROUPS] = search ? groups_for(contact.edge_count) : 0u;
+    lists[CVK_LIST_EDGE_GROUPS + 1] = 1u;
+    lists[CVK_LIST_EDGE_GROUPS + 2] = 1u;
     frame.searches += search ? 1u : 0u;
     frame.force = 0u;
-    motion_bounds.low_x = motion_bounds.low_y = motion_bounds.low_z = CVK_MOTION_LOW_EMPTY;
-    motion_bounds.high_x = motion_bounds.high_y = motion_bounds.high_z = CVK_MOTION_HIGH_EMPTY;
+    motion_bounds.e_low_x = motion_bounds.e_low_y = motion_bounds.e_low_z = CVK_MOTION_LOW_EMPTY;
+    motion_bounds.v_low_x = motion_bounds.v_low_y = motion_bounds.v_low_z = CVK_MOTION_LOW_EMPTY;
+    motion_bounds.e_high_x = motion_bounds.e_high_y = motion_bounds.e_high_z = CVK_MOTION_HIGH_EMPTY;
+    motion_bounds.v_high_x = motion_bounds.v_high_y = motion_bounds.v_high_z = CVK_MOTION_HIGH_EMPTY;
+    motion_bounds.exceed = 0u;
 }

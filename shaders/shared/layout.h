@@ -268,32 +268,42 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 /* ---- collisions: the contact set (lib/contact/collide.h, shaders/contact/collide.glsl) ----------- */
 
 /* The frame state the recorded work advances itself: substeps simulated so far (simulated
-   time at the start of substep n is n · dt), and when cloth contact searches for candidates
-   (adaptive search, lib/contact/collide.h: shaders/contact/contact_check.comp and
-   contact/contact_decide.comp). */
+   time at the start of substep n is n · dt), and for cloth contact when detection runs and the
+   common shift of the displacement bounds (lib/contact/collide.h: contact_check.comp and
+   contact_decide.comp). */
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
-    CVK_UINT(search)   /* 1: this substep searches (the hash build and the search run) */   \
+    CVK_UINT(search)   /* 1: this substep detects (the hash build and the detection run) */ \
     CVK_UINT(pad3)     /* unused: the fields after it keep their offsets */              \
-    CVK_UINT(force)    /* 1: search at the next substep whatever moved (start, state written) */ \
-    CVK_UINT(searches) /* searches so far */                                                \
-    CVK_UINT(pad0)                                                                          \
-    CVK_UINT(pad1)                                                                          \
-    CVK_UINT(pad2)
+    CVK_UINT(force)    /* 1: detect at the next substep whatever moved (start, state written) */ \
+    CVK_UINT(searches) /* detections so far */                                              \
+    CVK_FLOAT(shift_x) /* m: the common shift M of the bounds (collide.h): every particle */ \
+    CVK_FLOAT(shift_y) /* stays within its bound of where detection saw it plus M */        \
+    CVK_FLOAT(shift_z)
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
-/* After the frame state in its buffer: the bounds of the particles' displacements since the
-   last search (per axis, order-preserving bits of the floats: lib/contact/collide.h), gathered and used
-   within one substep and reset by its decision, so snapshots need not carry them. */
+/* After the frame state in its buffer: what the decision at the start of a substep gathers
+   (contact_check.comp) — per axis, order-preserving bits of the floats, the bounds of each
+   particle's displacement since detection extrapolated over the substep (e) and of its last
+   substep's displacement (v); whether some particle would leave its bound; the shift for the
+   substep if it does not detect. Reset by the decision, so snapshots need not carry them. */
 #define CVK_GPU_MOTION_BOUNDS_FIELDS \
-    CVK_UINT(low_x)                  \
-    CVK_UINT(low_y)                  \
-    CVK_UINT(low_z)                  \
-    CVK_UINT(high_x)                 \
-    CVK_UINT(high_y)                 \
-    CVK_UINT(high_z)                 \
-    CVK_UINT(pad0)                   \
-    CVK_UINT(pad1)
+    CVK_UINT(e_low_x)                \
+    CVK_UINT(e_low_y)                \
+    CVK_UINT(e_low_z)                \
+    CVK_UINT(e_high_x)               \
+    CVK_UINT(e_high_y)               \
+    CVK_UINT(e_high_z)               \
+    CVK_UINT(v_low_x)                \
+    CVK_UINT(v_low_y)                \
+    CVK_UINT(v_low_z)                \
+    CVK_UINT(v_high_x)               \
+    CVK_UINT(v_high_y)               \
+    CVK_UINT(v_high_z)               \
+    CVK_UINT(exceed)                 \
+    CVK_FLOAT(next_x)                \
+    CVK_FLOAT(next_y)                \
+    CVK_FLOAT(next_z)
 CVK_STRUCT(cvk_gpu_motion_bounds, CVK_GPU_MOTION_BOUNDS_FIELDS)
 #define CVK_MOTION_LOW_EMPTY 0xffffffffu /* the bounds' reset state: low above high */
 #define CVK_MOTION_HIGH_EMPTY 0u
@@ -331,89 +341,50 @@ CVK_STRUCT(cvk_gpu_pose, CVK_GPU_POSE_FIELDS)
     CVK_VEC4(c)  /* box rotation (x, y, z, w) */
 CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 
-/* Particle–triangle contacts kept per particle per substep. */
-#define CVK_CONTACTS_PER_PARTICLE 16 /* two layers' worth (a particle in a stack) */
+/* Cloth contact (lib/contact/collide.h): per particle, the nearest features (a triangle's
+   face, an edge or a vertex) within the contact radius at the last detection, nearest first;
+   per edge, the nearest other edges. An entry is feature << 2 | kind. */
+#define CVK_CONTACTS_PER_PARTICLE 8
+#define CVK_CONTACTS_PER_EDGE 4
 #define CVK_NO_CONTACT 0xffffffffu
-/* An entry is triangle << 1 | side, or with collision.edges an edge pair (lib/contact/collide.h):
-   CVK_EDGE_PAIR | own edge << CVK_EDGE_OWN_SHIFT | (3 × triangle + edge) << 1 | side, where the
-   own edge counts the particle's edges in the order of its triangles (two slots a triangle:
-   the edge to the next corner, then the one from the corner before where that is a border)
-   and edge e of a triangle runs from its corner e to corner e + 1. */
-#define CVK_EDGE_PAIR 0x80000000u
-#define CVK_EDGE_CONTACTS_PER_PARTICLE 4 /* of the 16, at most this many edge pairs */
-#define CVK_EDGE_OWN_SHIFT 25
-#define CVK_EDGE_MAX_TRIANGLES_AROUND 31u   /* two own edge slots each, in 6 bits */
-#define CVK_EDGE_MAX_TRIANGLES 5592404u     /* 3 × triangle + edge in 24 bits */
-/* A particle–triangle entry (no CVK_EDGE_PAIR) with this bit is held by the untangling step
-   (shaders/contact/untangle.comp): the particle lies in a region of its cloth that another surface
-   encloses, and the side it belongs on is the one it is not on. */
-#define CVK_UNTANGLE_PAIR 0x40000000u
-#define CVK_MAX_SELF_TRIANGLES 536870911u   /* triangle << 1 below the untangle bit */
+#define CVK_FEATURE_FACE 0u
+#define CVK_FEATURE_EDGE 1u
+#define CVK_FEATURE_VERTEX 2u
+#define CVK_MAX_FEATURES 1073741823u /* feature indices in 30 bits */
 
 #define CVK_GPU_CONTACT_PARAMS_FIELDS                                                       \
     CVK_UINT(collider_count)                                                                \
     CVK_UINT(particle_count)                                                                \
     CVK_UINT(free_count)                                                                    \
     CVK_UINT(triangle_count)                                                                \
-    CVK_FLOAT(thickness)      /* m */                                                       \
+    CVK_FLOAT(thickness)      /* m: kept between cloth features and off colliders */       \
     CVK_FLOAT(friction)       /* between cloths */                                          \
     CVK_FLOAT(static_friction)                                                              \
     CVK_FLOAT(dt)             /* s per substep */                                           \
-    CVK_FLOAT(detect_radius)  /* m: particle–triangle pairs nearer than this are kept */    \
-    CVK_FLOAT(exclusion)      /* m: pairs with a corner this near at rest are skipped */    \
-    CVK_FLOAT(search_after)   /* m: adaptive search when a particle moved this far since */ \
-    CVK_UINT(patch_count)     /* surface patches (lib/contact/collide.h), at least 1 */             \
-    CVK_UINT(patch_neighbours)/* in the patch table: where the neighbour offsets start */   \
-    CVK_FLOAT(flat_cos)       /* a patch pair within this cone (cosine) is flat */         \
-    CVK_FLOAT(edge_exclusion) /* m: edge pairs of one cloth with ends this near at rest are skipped */ \
+    CVK_FLOAT(radius)         /* m: the contact radius (features nearer are listed) */      \
+    CVK_FLOAT(reach)          /* m: a listed feature has a corner this near (hash cells) */  \
+    CVK_FLOAT(gamma)          /* the bound: this fraction of the nearest distance */        \
+    CVK_FLOAT(redetect)       /* detect when a move would pass this fraction of a bound */ \
+    CVK_UINT(edge_count)                                                                    \
+    CVK_UINT(shift)           /* 1: the bounds may share a common shift (no kinematic particle) */ \
+    CVK_FLOAT(longest)        /* m: the longest an edge may be (1.5 × at rest) */           \
     CVK_UINT(cloth_count)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
-/* The patch table (uint, lib/contact/collide.h): [0, particle_count): each particle's patch
-   (CVK_NO_PATCH: on no triangle); from particle_count: patch_count + 1 offsets into the
-   triangle ids that follow them; from patch_neighbours: patch_count + 1 offsets into the ids
-   of the rest-adjacent patches that follow them. */
-#define CVK_NO_PATCH 0xffffffffu
-/* A patch with an edge shorter than this fraction of its rest length is active (lib/contact/collide.h). */
-#define CVK_PATCH_SQUEEZE 0.6
-/* The work lists (uint): a header, then the particles that search (free, in an active patch)
-   and the particles with candidates after the search (those the contact pass visits). The
-   header's counts and indirect dispatch commands are written on the device. */
-#define CVK_LIST_SEARCH_COUNT 0
-#define CVK_LIST_CONTACT_COUNT 1
-#define CVK_LIST_SEARCH_GROUPS 4  /* x, y, z */
-#define CVK_LIST_CONTACT_GROUPS 8 /* x, y, z */
-#define CVK_LIST_HEADER 16        /* the search list starts here; the contact list n later */
-/* The untangling step's state (shaders/contact/untangle.comp) in the same buffer: whether an
-   edge is cut and its indirect command in the header, then from CVK_LIST_HEADER + 2n its arrays, n
-   each (CVK_UNTANGLE_*), then per cloth the largest converged region and whether one did not
-   converge. What it accumulates is zero between searches (the step clears it; the labels are
-   written whole before they are read). */
-#define CVK_LIST_UNTANGLE_CUTS 2
-#define CVK_LIST_UNTANGLE_GROUPS 12 /* x, y, z */
-#define CVK_UNTANGLE_CUT_LOW 0      /* bit i: the particle's own edge i crosses a face */
-#define CVK_UNTANGLE_CUT_HIGH 1     /* own edges 32 to 61 */
-#define CVK_UNTANGLE_CUTTERS 2      /* bit c % 32: a face of cloth c crosses one of its edges */
-#define CVK_UNTANGLE_LABEL 3        /* the region's label (its lowest particle, once converged) */
-#define CVK_UNTANGLE_LABEL_NEXT 4
-#define CVK_UNTANGLE_SIZE 5         /* per label: particles; CVK_UNTANGLE_SPLIT: not converged */
-#define CVK_UNTANGLE_REGION_CUTTERS 6 /* per label: the cutters of its particles */
-#define CVK_UNTANGLE_ARRAYS 7
-#define CVK_UNTANGLE_SPLIT 0x80000000u
-#define CVK_UNTANGLE_ROUNDS 8       /* label propagation and pointer jumping per search */
-/* A settled region this many times smaller than its cloth's largest (or more) went through
-   (a strip cut in two by a crossing has two large ends: neither is). */
-#define CVK_UNTANGLE_SMALLER 4
+/* The work list header (uint): the indirect commands of detection, written on the device. */
+#define CVK_LIST_PARTICLE_GROUPS 0 /* x, y, z: detection and bounds over the particles */
+#define CVK_LIST_EDGE_GROUPS 4     /* x, y, z: detection over the edges */
+#define CVK_LIST_HEADER 8
 
-/* Push data of the contact passes (collider_poses, contact_check, contact_patch,
-   contact_compact, contact_detect): items [first, first + count); the phase of a pass that has
-   several. A dispatch with count 0 (the pipelines' warm-up) does nothing, not even advance the
-   frame state. */
+/* Push data of the contact passes (collider_poses, contact_check, contact_decide,
+   contact_detect, contact_edges, contact_bound): items [first, first + count); the phase of a
+   pass that has several. A dispatch with count 0 (the pipelines' warm-up) does nothing, not
+   even advance the frame state. */
 #define CVK_CONTACT_PUSH_FIELDS \
     CVK_UINT(first)             \
     CVK_UINT(count)             \
     CVK_UINT(phase)             \
-    CVK_UINT(per_group) /* items per workgroup of the listed dispatch whose command is written */
+    CVK_UINT(per_group) /* items per workgroup of the dispatches whose commands are written */
 CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 
 /* Bindings of the contact set (set 1 of the solver pipelines, set 0 of the contact passes). */
@@ -425,7 +396,7 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SDF 5
 #define CVK_CONTACT_BINDING_TRIANGLES 6
 #define CVK_CONTACT_BINDING_INCIDENT 7
-#define CVK_CONTACT_BINDING_REST 8
+#define CVK_CONTACT_BINDING_EDGES 8 /* texel, uvec4 per edge: its ends (internal), 0, 0 */
 #define CVK_CONTACT_BINDING_CONTACTS 9
 #define CVK_CONTACT_BINDING_POSITIONS 10
 /* The same params, shapes and poses as uniform buffers, for the solver sweeps: on lavapipe a
@@ -435,14 +406,16 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SHAPES_UNIFORM 12
 #define CVK_CONTACT_BINDING_POSES_UNIFORM 13
 #define CVK_CONTACT_BINDING_CONTACTS_READ 14 /* texel view of the contacts */
-#define CVK_CONTACT_BINDING_SEARCHED 15 /* vec4 per particle: where the last search saw it */
-#define CVK_CONTACT_BINDING_PATCH_TABLE 16 /* texel, uint: the patch table (above) */
-#define CVK_CONTACT_BINDING_PATCH_BOUNDS 17 /* vec4 × 3 per patch: low, high, cone (axis, cos) */
-#define CVK_CONTACT_BINDING_PATCH_BOUNDS_READ 18 /* texel view of the same */
-#define CVK_CONTACT_BINDING_PATCH_ACTIVE 19 /* uint per patch: its particles search */
-#define CVK_CONTACT_BINDING_LISTS 20 /* the work lists (above) */
-#define CVK_CONTACT_BINDING_SEARCHED_READ 21 /* texel view of where the last search saw them */
-#define CVK_CONTACT_BINDING_COUNT 22
+#define CVK_CONTACT_BINDING_SEARCHED 15 /* vec4 per particle: where detection saw it, w: its bound */
+#define CVK_CONTACT_BINDING_TRIANGLE_EDGES 16 /* texel, uvec4 per triangle: its edges, 0 */
+#define CVK_CONTACT_BINDING_EDGE_CONTACTS 17 /* uint per edge × CVK_CONTACTS_PER_EDGE */
+#define CVK_CONTACT_BINDING_EDGE_CONTACTS_READ 18 /* texel view of the same */
+#define CVK_CONTACT_BINDING_NEAREST 19 /* uint per particle, then per edge: nearest distance's bits */
+#define CVK_CONTACT_BINDING_LISTS 20 /* the work list header (above) */
+#define CVK_CONTACT_BINDING_SEARCHED_READ 21 /* texel view of where detection saw them */
+#define CVK_CONTACT_BINDING_PARTICLE_EDGES 22 /* texel, uint: n + 1 offsets, then edge ids */
+#define CVK_CONTACT_BINDING_PREVIOUS 23 /* vec4 per particle: its position a substep before */
+#define CVK_CONTACT_BINDING_COUNT 24
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u

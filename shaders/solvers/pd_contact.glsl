@@ -8,12 +8,7 @@
 #include "contact/collide.glsl"
 
 layout(constant_id = 4) const bool SELF = false;
-// collision.edges: the lists hold edge pairs too (shared/layout.h, CVK_EDGE_PAIR).
-layout(constant_id = 5) const bool EDGES = false;
 const bool COLLIDERS = COLLIDER_TYPES != 0u;
-// Self-contact alone: the pass visits only the particles the last search listed with
-// candidates (lib/contact/collide.h, "Patches"); with colliders it visits every particle.
-const bool LISTED = SELF && !COLLIDERS;
 
 // A funnel is a surface with two sides, and a particle's contact alone lets an edge cut
 // through it: a particle carried below the rim and round it to the outside stays outside
@@ -65,19 +60,75 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
     return u + most;
 }
 
-// p's move for the edge pair e of its list (collide_edge); the other ends from the iterate
-// before (src), as a triangle's corners.
-vec3 edge_pair(uint p, vec3 x0, vec3 xp, uint e)
+// Where corner q is in the iterate before (src): triangle corners and edge ends are read from
+// it, never from the buffer being written, so the result does not depend on the order of
+// invocations.
+vec3 iterate_x(uint q)
 {
-    uint r;
-    bool border;
-    own_edge(p, (e & ~CVK_EDGE_PAIR) >> CVK_EDGE_OWN_SHIFT, r, border);
-    uint f = (e >> 1u) & ((1u << (CVK_EDGE_OWN_SHIFT - 1)) - 1u);
-    uvec4 tri = contact_triangle(f / 3u);
-    uint a = corner_of(tri, f % 3u), b = corner_of(tri, (f % 3u + 1u) % 3u);
-    vec3 r0 = fetch(x_read, r), a0 = fetch(x_read, a), b0 = fetch(x_read, b);
-    return collide_edge(x0, xp, r0, r0 + fetch(src, r), a0, b0, a0 + fetch(src, a),
-                        b0 + fetch(src, b), e & 1u);
+    return fetch(x_read, q) + fetch(src, q);
+}
+
+// Cloth contact of p at xp (lib/contact/collide.h): half of what keeps it a thickness off each
+// feature listed for it (the other half is the feature's side's: its particles find p's
+// features in their own lists), with Coulomb friction against the feature's motion over the
+// substep; then half of what keeps each of p's edges off the edges listed for it, shared by
+// the edge's ends as the nearest point divides it.
+vec3 cloth_push(uint p, vec3 x0, vec3 xp)
+{
+    const uint K = uint(CVK_CONTACTS_PER_PARTICLE), KE = uint(CVK_CONTACTS_PER_EDGE);
+    float thickness = contact_u.thickness;
+    vec3 push = vec3(0.0);
+    for (uint k = 0u; k < K; k++) {
+        uint entry = contact_entry(p * K + k);
+        if (entry == CVK_NO_CONTACT)
+            break;
+        uvec3 v;
+        uint count = feature_corners(entry, v);
+        vec3 a = iterate_x(v.x), b = count > 1u ? iterate_x(v.y) : a;
+        vec3 c = count > 2u ? iterate_x(v.z) : b;
+        vec3 near = feature_closest(xp, count, a, b, c);
+        vec3 gap = xp - near;
+        float d = length(gap);
+        if (!(d < thickness) || d == 0.0)
+            continue;
+        vec3 n = gap / d;
+        float depth = 0.5 * (thickness - d);
+        // The feature's motion over the substep at that point: its corners' displacements
+        // weighted as the nearest point divides the feature.
+        vec3 a0 = fetch(x_read, v.x), b0 = count > 1u ? fetch(x_read, v.y) : a0;
+        vec3 c0 = count > 2u ? fetch(x_read, v.z) : b0;
+        vec3 near0 = feature_closest(near, count, a0, b0, c0);
+        vec3 slide = (xp - x0) - (near - near0);
+        vec3 tangent = slide - dot(slide, n) * n;
+        float t = length(tangent);
+        float stop = t <= contact_u.static_friction * depth ? 1.0
+                   : min(1.0, contact_u.friction * depth / t);
+        push += depth * n - stop * tangent;
+    }
+    uint base = contact_u.particle_count + 1u;
+    for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
+        uint e = particle_edge(base + o);
+        uvec2 ends = contact_edge(e);
+        uint q = ends.x == p ? ends.y : ends.x;
+        vec3 xq = iterate_x(q);
+        for (uint k = 0u; k < KE; k++) {
+            uint f = edge_entry(e * KE + k);
+            if (f == CVK_NO_CONTACT)
+                break;
+            uvec2 cd = contact_edge(f);
+            float s, t;
+            vec3 c1, c2;
+            closest_segments(xp, xq, iterate_x(cd.x), iterate_x(cd.y), s, t, c1, c2);
+            float d = length(c1 - c2);
+            if (!(d < thickness) || d == 0.0 || s <= 0.0 || s >= 1.0 || t <= 0.0 || t >= 1.0)
+                continue;
+            push += (1.0 - s) * 0.5 * (thickness - d) / d * (c1 - c2);
+        }
+    }
+    // At most half a thickness of push in one pass, however many features push: a particle
+    // crowded by several layers would be thrown by their summed corrections.
+    float most = 0.5 * thickness, len = length(push);
+    return len > most ? push * (most / len) : push;
 }
 
 vec3 pd_contact(uint p, vec3 u)
@@ -85,31 +136,8 @@ vec3 pd_contact(uint p, vec3 u)
     vec3 x0 = fetch(x_read, p);
     if (SELF) {
         vec3 xp = x0 + u;
-        // Farthest first (the list is nearest first), so the nearest triangle has the last
-        // word: a particle that crossed a face is also beside its neighbours' edges, which
-        // push it away from them, further through, and taken after the face they undid its
-        // correction (a patch dragged 7 mm through a cloth and let go stayed through).
-        uint n = 0u;
-        while (n < uint(CVK_CONTACTS_PER_PARTICLE) &&
-               contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE) + n) != CVK_NO_CONTACT)
-            n++;
-        for (uint k = n; k-- > 0u;) {
-            uint e = contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE) + k);
-            if (EDGES && (e & CVK_EDGE_PAIR) != 0u) {
-                xp = edge_pair(p, x0, xp, e);
-                continue;
-            }
-            uvec4 t = contact_triangle((e & ~CVK_UNTANGLE_PAIR) >> 1u);
-            vec3 a0 = fetch(x_read, t.x), b0 = fetch(x_read, t.y), c0 = fetch(x_read, t.z);
-            xp = collide_triangle(x0, xp, a0, b0, c0, a0 + fetch(src, t.x), b0 + fetch(src, t.y),
-                                  c0 + fetch(src, t.z), e & (CVK_UNTANGLE_PAIR | 1u));
-        }
-        // At most half a thickness of push in one pass, however many triangles push: a
-        // particle crowded by several layers was otherwise thrown by their summed corrections.
-        vec3 push = xp - (x0 + u);
-        float length_push = length(push);
-        float most = 0.5 * contact_u.thickness;
-        u += length_push > most ? push * (most / length_push) : push;
+        xp = within_bound(p, xp + cloth_push(p, x0, xp));
+        u = xp - x0;
     }
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
         u = edges_off_shells(p, x0, u);
