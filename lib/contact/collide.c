@@ -564,7 +564,6 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_
         .static_friction = c->static_friction,
         .dt = s->params.dt,
         .radius = c->radius,
-        .reach = c->radius + c->longest / sqrtf(3.0f),
         .gamma = CVK_BOUND_GAMMA,
         .redetect = CVK_REDETECT_FRACTION,
         .edge_count = c->edge_count,

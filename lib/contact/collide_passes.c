@@ -63,10 +63,10 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 /* Detection's passes, dispatched through the commands the decision wrote (no workgroups at a
    substep that does not detect). */
 static void add_detection(cvk_sim* s, cvk_plan* plan, const char* pass, cvk_pipeline_id pipeline,
-                          uint32_t count, uint32_t slot, const char* note)
+                          uint32_t count, uint32_t slot, uint32_t phase, const char* note)
 {
     cvk_collide* c = s->collide;
-    cvk_contact_push push = {0, count, 0, plan->workgroup_size};
+    cvk_contact_push push = {0, count, phase, plan->workgroup_size};
     cvk_op* op = cvk_plan_dispatch_indirect(plan, cvk_plan_pass(plan, pass), pipeline,
                                             c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
                                             c->lists.buffer, 4u * slot, &push, sizeof push);
@@ -90,12 +90,14 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     cvk_result r = cvk_hash_add_passes(&c->hash, plan, n, true, error);
     if (r != CVK_SUCCESS)
         return r;
+    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
+                  CVK_LIST_EDGE_GROUPS, 1, "the longest edge");
     snprintf(note, sizeof note, "vertices against faces within %.3g m", (double)c->radius);
-    add_detection(s, plan, "detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, note);
+    add_detection(s, plan, "detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, note);
     snprintf(note, sizeof note, "edges against edges within %.3g m", (double)c->radius);
-    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, note);
+    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0, note);
     snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
-    add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n, CVK_LIST_PARTICLE_GROUPS, note);
+    add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n, CVK_LIST_PARTICLE_GROUPS, 0, note);
     return CVK_SUCCESS;
 }
 

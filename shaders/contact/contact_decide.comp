@@ -55,6 +55,7 @@ void main()
     frame.shift_y = shift.y;
     frame.shift_z = shift.z;
     frame.search = search ? 1u : 0u;
+    frame.longest = 0u; // measured by detection (contact_edges.comp phase 1)
     hash_params.build = search ? 1u : 0u;
     lists[CVK_LIST_PARTICLE_GROUPS] = search ? groups_for(contact.particle_count) : 0u;
     lists[CVK_LIST_PARTICLE_GROUPS + 1] = 1u;

@@ -3,8 +3,9 @@
 // Detection, vertex against faces (lib/contact/collide.h): for every particle p, every triangle
 // not around p whose nearest point is within the contact radius of p at the start of the
 // substep (x_n). A triangle that near has a corner within the reach (the radius plus the
-// farthest a point of a triangle is from its nearest corner, with the cloth stretched by up to
-// 50 %), and the walk over the 27 hash cells around p visits every such corner; the triangles
+// farthest a point of a triangle is from its nearest corner, from the longest edge measured
+// by contact_edges.comp), and the walk over the 27 hash cells around p visits every such
+// corner while no edge is stretched beyond 1.5 times the longest at rest; the triangles
 // around each are tested once, through their lowest-index corner within reach. Each pair found:
 //   - p's nearest distance and each corner's (an atomic minimum on the float's bits, which
 //     order as the non-negative floats do, so the result does not depend on thread timing)
@@ -124,7 +125,10 @@ void detect(uint p)
         kept[k] = CVK_NO_CONTACT;
         dist[k] = INFINITY;
     }
-    float reach2 = contact_u.reach * contact_u.reach;
+    // A triangle within the radius has a corner within the radius plus its longest edge / √3
+    // (the farthest a point of it is from its nearest corner).
+    float reach = contact_u.radius + uintBitsToFloat(frame.longest) * 0.57735027;
+    float reach2 = reach * reach;
     float nearest_p = INFINITY;
     ivec3 home = hash_cell(xp);
     for (uint n = 0u; n < 27u; n++) {

@@ -3,7 +3,8 @@
 // Detection, edge against edge (lib/contact/collide.h): for every edge e, every edge sharing no
 // end with it whose nearest point is within the contact radius of e at the start of the
 // substep. Such an edge f has an end within the radius plus half of each edge's length of e's
-// midpoint (the hash's cell size bounds that with the cloth stretched by up to 50 %); the
+// midpoint (measured: phase 1; the hash's cell size bounds that while no edge is stretched
+// beyond 1.5 times the longest at rest); the
 // walk over the 27 cells around the midpoint visits every such end, and the edges at each are
 // tested once, through their lower end within reach. e's nearest distance is kept for the
 // bounds of its ends (contact_bound.comp: f finds e too, so no atomics are needed), and its
@@ -91,7 +92,7 @@ void detect(uint e)
         kept[k] = CVK_NO_CONTACT;
         dist[k] = INFINITY;
     }
-    float reach = contact_u.radius + 0.5 * (distance(xa, xb) + contact_u.longest);
+    float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
     float reach2 = reach * reach;
     float nearest_e = INFINITY;
     ivec3 home = hash_cell(m);
@@ -110,10 +111,26 @@ void detect(uint e)
         edge_contacts[e * K + k] = kept[k];
 }
 
+// Phase 1, before detection: the longest edge now, which bounds how near a corner of a near
+// feature is (an atomic maximum on the float's bits, which order as non-negative floats do).
+void measure_longest()
+{
+    float longest = 0.0;
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uvec2 ab = contact_edge(pc.first + i);
+        longest = max(longest, distance(contact_x(ab.x), contact_x(ab.y)));
+    }
+    atomicMax(frame.longest, floatBitsToUint(longest));
+}
+
 void main()
 {
     if (pc.count == 0u)
         return;
+    if (pc.phase == 1u) {
+        measure_longest();
+        return;
+    }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
         detect(pc.first + i);
 }

@@ -274,7 +274,7 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 #define CVK_GPU_FRAME_FIELDS                                                                 \
     CVK_UINT(step)                                                                          \
     CVK_UINT(search)   /* 1: this substep detects (the hash build and the detection run) */ \
-    CVK_UINT(pad3)     /* unused: the fields after it keep their offsets */              \
+    CVK_UINT(longest)  /* detecting: the longest edge now (float bits, contact_edges.comp) */ \
     CVK_UINT(force)    /* 1: detect at the next substep whatever moved (start, state written) */ \
     CVK_UINT(searches) /* detections so far */                                              \
     CVK_FLOAT(shift_x) /* m: the common shift M of the bounds (collide.h): every particle */ \
@@ -362,12 +362,12 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(static_friction)                                                              \
     CVK_FLOAT(dt)             /* s per substep */                                           \
     CVK_FLOAT(radius)         /* m: the contact radius (features nearer are listed) */      \
-    CVK_FLOAT(reach)          /* m: a listed feature has a corner this near (hash cells) */  \
+    CVK_UINT(pad1)                                                                          \
     CVK_FLOAT(gamma)          /* the bound: this fraction of the nearest distance */        \
     CVK_FLOAT(redetect)       /* detect when a move would pass this fraction of a bound */ \
     CVK_UINT(edge_count)                                                                    \
     CVK_UINT(shift)           /* 1: the bounds may share a common shift (no kinematic particle) */ \
-    CVK_FLOAT(longest)        /* m: the longest an edge may be (1.5 × at rest) */           \
+    CVK_FLOAT(longest)        /* m: the longest an edge may be for the hash's cells (1.5 × at rest) */ \
     CVK_UINT(cloth_count)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
