@@ -401,6 +401,8 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_SEARCHED_READ] = TEXEL,
     [CVK_CONTACT_BINDING_PARTICLE_EDGES] = TEXEL,
     [CVK_CONTACT_BINDING_PREVIOUS] = STORAGE,
+    [CVK_CONTACT_BINDING_SIDES] = STORAGE,
+    [CVK_CONTACT_BINDING_SIDES_READ] = TEXEL,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -474,6 +476,18 @@ static cvk_result upload_start(cvk_sim* s, cvk_collide* c, cvk_error* error)
     return r;
 }
 
+/* The side lists' counts start at 0. */
+static cvk_result clear_side_counts(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    uint32_t n = s->build.particle_count;
+    uint32_t* zero = calloc(n ? n : 1, sizeof(uint32_t));
+    if (!zero)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact state");
+    cvk_result r = cvk_device_upload(&s->device, &c->sides, zero, 4u * (VkDeviceSize)n, error);
+    free(zero);
+    return r;
+}
+
 typedef struct buffer_job {
     cvk_buffer* buffer;
     VkDeviceSize bytes;
@@ -514,6 +528,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->searched, 16u * n, true, "positions at detection and bounds", NULL},
         {&c->previous, 16u * n, true, "positions a substep before", NULL},
         {&c->lists, 4u * CVK_LIST_HEADER, true, "detection commands", NULL},
+        {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
         bool small = jobs[i].self_only ? !c->self : !tables;
@@ -528,6 +543,10 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = cvk_device_fill_buffer(&s->device, &c->nearest, 0x7f, error);
     if (r == CVK_SUCCESS)
         r = cvk_device_clear_buffer(&s->device, &c->lists, error);
+    if (r == CVK_SUCCESS) /* counts 0 (below: the first n), pairs none */
+        r = cvk_device_fill_buffer(&s->device, &c->sides, 0xff, error);
+    if (r == CVK_SUCCESS && c->self)
+        r = clear_side_counts(s, c, error);
     if (r == CVK_SUCCESS && c->self)
         r = upload_start(s, c, error);
     free_cloth_tables(&t);
@@ -544,6 +563,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->triangle_edges, VK_FORMAT_R32G32B32A32_UINT, &c->view_triangle_edges},
         {&c->particle_edges, VK_FORMAT_R32_UINT, &c->view_particle_edges},
         {&c->edge_contacts, VK_FORMAT_R32_UINT, &c->view_edge_contacts},
+        {&c->sides, VK_FORMAT_R32_UINT, &c->view_sides},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
@@ -625,6 +645,8 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_SEARCHED_READ] = {.view = c->view_searched},
         [CVK_CONTACT_BINDING_PARTICLE_EDGES] = {.view = c->view_particle_edges},
         [CVK_CONTACT_BINDING_PREVIOUS] = {.buffer = &c->previous},
+        [CVK_CONTACT_BINDING_SIDES] = {.buffer = &c->sides},
+        [CVK_CONTACT_BINDING_SIDES_READ] = {.view = c->view_sides},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -670,7 +692,7 @@ void cvk_collide_destroy(cvk_sim* s)
     cvk_descriptors_destroy(ctx, &c->descriptors);
     VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_contacts,
                             c->view_searched, c->view_edges, c->view_triangle_edges,
-                            c->view_particle_edges, c->view_edge_contacts};
+                            c->view_particle_edges, c->view_edge_contacts, c->view_sides};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
@@ -678,7 +700,7 @@ void cvk_collide_destroy(cvk_sim* s)
                              &c->params, &c->triangles, &c->incident, &c->edges,
                              &c->triangle_edges, &c->particle_edges, &c->contacts,
                              &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
-                             &c->lists};
+                             &c->lists, &c->sides};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);

@@ -81,10 +81,13 @@ typedef struct cvk_collide {
     cvk_buffer nearest;          /* uint per particle, then per edge (float bits) */
     cvk_buffer searched;         /* vec4 per particle: where detection saw it, w: its bound */
     cvk_buffer previous;         /* vec4 per particle: its position a substep before */
+    cvk_buffer sides;            /* per particle a count, then CVK_SIDES_PER_PARTICLE pairs
+                                    (vertex, entry) in which it is a corner of the feature */
     cvk_buffer lists;            /* detection's indirect commands (shared/layout.h: CVK_LIST_*) */
     cvk_hash hash;               /* only with self-contact */
     VkBufferView view_triangles, view_incident, view_contacts, view_searched;
     VkBufferView view_edges, view_triangle_edges, view_particle_edges, view_edge_contacts;
+    VkBufferView view_sides;
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */

@@ -15,12 +15,14 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 {
     cvk_collide* c = s->collide;
     /* An edge within the radius of another has an end within the radius plus half of each
-       edge's length of the other's midpoint (contact_edges.comp): cells that large keep that
-       end among the 27 cells around the midpoint while the cloth stretches up to 50 %; a
-       triangle within the radius of a vertex has a corner nearer than that. */
+       edge's length of the other's midpoint (contact_edges.comp), and a triangle within the
+       radius of a vertex has a corner nearer than that: cells of the radius plus the longest
+       edge keep those ends and corners among the 27 cells around. The decision writes that
+       size from the longest edge measured at each detection (contact_decide.comp); this is the
+       first, with the cloth stretched by up to 50 %. */
     float cell = c->radius + c->longest;
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
-                          &s->positions};
+                          &s->positions, true};
     cvk_result r = cvk_hash_create(s->device.context, &desc, &c->hash, error);
     if (r != CVK_SUCCESS)
         return r;
@@ -55,7 +57,7 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
     op->set1 = c->hash.set;
     if (decide)
         op->groups = 1;
-    if (decide && phase == 1)
+    if (decide && phase >= 1)
         op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     snprintf(op->note, sizeof op->note, "%s", note);
 }
@@ -87,11 +89,12 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
     add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, note);
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, "detect or not: commands, shift");
+    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
+                  CVK_LIST_EDGE_GROUPS, 1, "the longest edge");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, "cells: the radius + the longest edge");
     cvk_result r = cvk_hash_add_passes(&c->hash, plan, n, true, error);
     if (r != CVK_SUCCESS)
         return r;
-    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, 1, "the longest edge");
     snprintf(note, sizeof note, "vertices against faces within %.3g m", (double)c->radius);
     add_detection(s, plan, "detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, note);
     snprintf(note, sizeof note, "edges against edges within %.3g m", (double)c->radius);
@@ -152,7 +155,7 @@ cvk_result cvk_collide_searches(cvk_sim* s, uint64_t* out, cvk_error* error)
 }
 
 /* The parts of the contact state in a snapshot, in order. */
-#define SNAPSHOT_PARTS 6
+#define SNAPSHOT_PARTS 7
 static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[SNAPSHOT_PARTS],
                                VkDeviceSize sizes[SNAPSHOT_PARTS])
 {
@@ -172,6 +175,8 @@ static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[SNAPSHOT_PA
     sizes[4] = 16u * n;
     buffers[5] = (cvk_buffer*)&c->lists;
     sizes[5] = 4u * CVK_LIST_HEADER;
+    buffers[6] = (cvk_buffer*)&c->sides;
+    sizes[6] = 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE);
     return SNAPSHOT_PARTS;
 }
 

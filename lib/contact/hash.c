@@ -190,7 +190,10 @@ static cvk_result zero_counts(cvk_context* context, cvk_hash* hash, cvk_error* e
         r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
     if (r == CVK_SUCCESS) {
         vkCmdFillBuffer(cmd, hash->scratch.buffer, 0, VK_WHOLE_SIZE, 0);
-        cvk_hash_params params = {.build = 1};
+        cvk_hash_params params = {.cell_size = hash->cell_size,
+                                  .inv_cell = 1.0f / hash->cell_size,
+                                  .table_size = hash->table_size,
+                                  .build = 1};
         vkCmdUpdateBuffer(cmd, hash->params.buffer, 0, sizeof params, &params);
         /* for whatever reads first (a frame opens with its own barrier, but not every user's) */
         cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -214,6 +217,7 @@ cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_
     out->capacity = desc->capacity;
     out->table_size = table_size_for(desc->capacity);
     out->cell_size = desc->cell_size;
+    out->cell_on_device = desc->cell_on_device;
     r = create_buffers(context, out, desc->points, error);
     if (r == CVK_SUCCESS)
         r = zero_counts(context, out, error);
@@ -272,7 +276,8 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
     uint32_t pass = cvk_plan_pass(plan, "hash");
     uint32_t chunk = chunk_for(hash->table_size);
     cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
-                          hash->cell_size, 1.0f / hash->cell_size, 0, 0};
+                          hash->cell_on_device ? 0.0f : hash->cell_size,
+                          hash->cell_on_device ? 0.0f : 1.0f / hash->cell_size, 0, 0};
     /* The build's passes, in the order of their commands (shaders/shared/layout.h). With
        points, one invocation of the clear writes the parameters; without, all zero the starts
        and nothing else runs. */

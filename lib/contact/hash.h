@@ -25,12 +25,15 @@ typedef struct cvk_hash_desc {
     float cell_size;            /* m, > 0 */
     const cvk_buffer* points;   /* vec4 per point, made with VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT
                                    (read through a texel view); must outlive the hash */
+    bool cell_on_device;        /* the parameters' cell size is written on the device before
+                                   each build (cell_size is only the first); builds keep it */
 } cvk_hash_desc;
 
 typedef struct cvk_hash {
     uint32_t capacity;
     uint32_t table_size;        /* slots: a power of two ≥ 2 · capacity */
     float cell_size;
+    bool cell_on_device;
     cvk_buffer params;          /* cvk_hash_params (shaders/shared/layout.h) */
     cvk_buffer keys;            /* uint per point: its slot */
     cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */

@@ -27,13 +27,18 @@ typedef struct cvk_spec_recipe {
     cvk_spec_source source[6];
 } cvk_spec_recipe;
 
-#define CVK_SPEC_PD {2, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE}}
+/* Id 5 of shaders/solvers/pd_common.glsl, BOUNDED: sweeps keep particles within their bounds
+   (self-contact). */
+#define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                         CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
-#define CVK_SPEC_PD_FIRST {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE}}
+#define CVK_SPEC_PD_FIRST {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
+                               CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The checking first sweeps (id 3: TETHERS of shaders/solvers/pd_common.glsl). */
-#define CVK_SPEC_PD_FIRST_CHECK {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
-                                 CVK_SPEC_TRUE, CVK_SPEC_TETHERS}}
+#define CVK_SPEC_PD_FIRST_CHECK {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                 CVK_SPEC_TRUE, CVK_SPEC_TETHERS, CVK_SPEC_FALSE, \
+                                 CVK_SPEC_SELF_CONTACT}}
 /* The contact pass (ids 3, 4, 5 of shaders/solvers/pd_contact.glsl; id 2 unused). */
 #define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}

@@ -34,10 +34,7 @@ layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SHAPES_UNIFORM) 
 layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES_UNIFORM) uniform PosesU {
     cvk_gpu_pose poses_u[CVK_MAX_COLLIDERS];
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
-    cvk_gpu_frame frame;
-    cvk_gpu_motion_bounds motion_bounds; // adaptive search (contact_check.comp)
-};
+#include "contact/bounds.glsl" // the frame state, where detection saw each particle, the bounds
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS) readonly buffer ContactParams {
     cvk_gpu_contact_params contact;
 };
@@ -74,11 +71,14 @@ layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS_READ) unif
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST) buffer Nearest {
     uint nearest[]; // per particle, then per edge: the nearest distance found (float bits)
 };
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
     uint lists[]; // CVK_LIST_*: detection's indirect commands
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARTICLE_EDGES) uniform usamplerBuffer particle_edges_t;
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES) buffer Sides {
+    uint sides[]; // per particle a count, then per particle its pairs as a corner (vertex, entry)
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES_READ) uniform usamplerBuffer sides_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
     vec4 previous[]; // per particle: its position at the start of the substep before
 };
@@ -91,6 +91,12 @@ uvec4 contact_triangle_edges(uint t) { return texelFetch(triangle_edges_t, int(t
 // Edges by end: [p] .. [p + 1] are offsets (from particle_count + 1) of those at p.
 uint particle_edge(uint i) { return texelFetch(particle_edges_t, int(i)).x; }
 uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
+// Pair k of particle q's side list (vertex, entry); vertex CVK_NO_CONTACT past the last.
+uvec2 side_pair(uint q, uint k)
+{
+    uint at = contact_u.particle_count + 2u * (q * uint(CVK_SIDES_PER_PARTICLE) + k);
+    return uvec2(texelFetch(sides_t, int(at)).x, texelFetch(sides_t, int(at + 1u)).x);
+}
 uint edge_entry(uint i) { return texelFetch(edge_contacts_t, int(i)).x; }
 vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
 
@@ -428,21 +434,20 @@ uint feature_corners(uint entry, out uvec3 v)
     return 1u;
 }
 
-// The point of a feature with `count` corners (a, b, c) nearest x.
-vec3 feature_closest(vec3 x, uint count, vec3 a, vec3 b, vec3 c)
+// The point of a feature with `count` corners (a, b, c) nearest x, and the corners' weights
+// in it.
+vec3 feature_closest(vec3 x, uint count, vec3 a, vec3 b, vec3 c, out vec3 w)
 {
-    vec3 w;
-    return count == 3u ? closest_on_triangle(x, a, b, c, w)
-                       : (count == 2u ? closest_on_segment(x, a, b) : a);
+    if (count == 3u)
+        return closest_on_triangle(x, a, b, c, w);
+    if (count == 2u) {
+        vec3 ab = b - a;
+        float len2 = dot(ab, ab);
+        float t = len2 > 0.0 ? clamp(dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
+        w = vec3(1.0 - t, t, 0.0);
+        return a + t * ab;
+    }
+    w = vec3(1.0, 0.0, 0.0);
+    return a;
 }
 
-// The displacement bound (lib/contact/collide.h): x kept within searched.w of where detection
-// saw the particle plus the common shift.
-vec3 within_bound(uint p, vec3 x)
-{
-    vec4 seen = texelFetch(searched_t, int(p));
-    vec3 centre = seen.xyz + vec3(frame.shift_x, frame.shift_y, frame.shift_z);
-    vec3 d = x - centre;
-    float len2 = dot(d, d);
-    return len2 > seen.w * seen.w ? centre + d * (seen.w / sqrt(len2)) : x;
-}

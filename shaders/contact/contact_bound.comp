@@ -3,12 +3,41 @@
 // Detection's last pass (lib/contact/collide.h): each particle's bound, gamma times the
 // nearest distance from it, from a face around it or from an edge at it to anything not
 // adjacent that detection found within the contact radius (the radius where nothing was), and
-// where it is now; its nearest distance is cleared for the next detection.
+// where it is now; its nearest distance is cleared for the next detection, and its list of the
+// pairs in which it is a feature's corner sorted.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
 #include "contact/collide.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
+
+const uint KS = uint(CVK_SIDES_PER_PARTICLE);
+
+// p's side list (contact_detect.comp) in ascending (vertex, entry) order, whatever order the
+// atomics gave it, the rest marked empty, and its count cleared for the next detection. A
+// particle that is a corner in more pairs than the list holds keeps those that came first.
+void sort_sides(uint p)
+{
+    uint count = min(sides[p], KS);
+    uint base = contact_u.particle_count + 2u * p * KS;
+    for (uint i = 1u; i < count; i++) {
+        uint v = sides[base + 2u * i], e = sides[base + 2u * i + 1u];
+        uint j = i;
+        while (j > 0u) {
+            uint pv = sides[base + 2u * (j - 1u)], pe = sides[base + 2u * (j - 1u) + 1u];
+            if (pv < v || (pv == v && pe <= e))
+                break;
+            sides[base + 2u * j] = pv;
+            sides[base + 2u * j + 1u] = pe;
+            j--;
+        }
+        sides[base + 2u * j] = v;
+        sides[base + 2u * j + 1u] = e;
+    }
+    for (uint i = count; i < KS; i++)
+        sides[base + 2u * i] = CVK_NO_CONTACT;
+    sides[p] = 0u;
+}
 
 void main()
 {
@@ -21,6 +50,7 @@ void main()
         for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++)
             d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + particle_edge(base + o)]));
         searched[p] = vec4(contact_x(p), contact_u.gamma * d);
+        sort_sides(p);
         nearest[p] = 0x7f7f7f7fu; // 3.4e38: none yet (as lib/contact/collide.c fills it)
     }
 }

@@ -143,8 +143,24 @@ void detect(uint p)
     }
     if (nearest_p < INFINITY)
         atomicMin(nearest[p], floatBitsToUint(nearest_p));
-    for (uint k = 0u; k < K; k++)
+    for (uint k = 0u; k < K; k++) {
         contacts[p * K + k] = kept[k];
+        if (kept[k] == CVK_NO_CONTACT)
+            continue;
+        // The pair on the feature's side: listed under each of its corners (in the order of
+        // the atomics; contact_bound.comp sorts each list).
+        uvec3 v;
+        uint count = feature_corners(kept[k], v);
+        for (uint j = 0u; j < count; j++) {
+            uint q = j == 0u ? v.x : (j == 1u ? v.y : v.z);
+            uint at = atomicAdd(sides[q], 1u);
+            if (at < uint(CVK_SIDES_PER_PARTICLE)) {
+                uint base = contact_u.particle_count + 2u * (q * uint(CVK_SIDES_PER_PARTICLE) + at);
+                sides[base] = p;
+                sides[base + 1u] = kept[k];
+            }
+        }
+    }
 }
 
 void main()

@@ -11,8 +11,10 @@
 void main()
 {
     if (gl_GlobalInvocationID.x == 0u) {
-        hash_params.cell_size = pc.cell_size;
-        hash_params.inv_cell = pc.inv_cell;
+        if (pc.cell_size > 0.0) { // 0: written on the device before the build (hash.h)
+            hash_params.cell_size = pc.cell_size;
+            hash_params.inv_cell = pc.inv_cell;
+        }
         hash_params.table_size = pc.slots;
         hash_params.count = pc.points;
         if (pc.points == 0u)

@@ -346,6 +346,9 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
    per edge, the nearest other edges. An entry is feature << 2 | kind. */
 #define CVK_CONTACTS_PER_PARTICLE 8
 #define CVK_CONTACTS_PER_EDGE 4
+/* Per particle, the pairs in which it is a corner of the feature (the other side's vertex and
+   its entry): the face's side of a vertex–feature pair. */
+#define CVK_SIDES_PER_PARTICLE 16
 #define CVK_NO_CONTACT 0xffffffffu
 #define CVK_FEATURE_FACE 0u
 #define CVK_FEATURE_EDGE 1u
@@ -415,7 +418,10 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SEARCHED_READ 21 /* texel view of where detection saw them */
 #define CVK_CONTACT_BINDING_PARTICLE_EDGES 22 /* texel, uint: n + 1 offsets, then edge ids */
 #define CVK_CONTACT_BINDING_PREVIOUS 23 /* vec4 per particle: its position a substep before */
-#define CVK_CONTACT_BINDING_COUNT 24
+#define CVK_CONTACT_BINDING_SIDES 24 /* uint per particle (counts), then CVK_SIDES_PER_PARTICLE
+                                        pairs (vertex, entry) per particle */
+#define CVK_CONTACT_BINDING_SIDES_READ 25 /* texel view of the same (R32_UINT) */
+#define CVK_CONTACT_BINDING_COUNT 26
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u

@@ -44,6 +44,11 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 
 #define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
 #include "solvers/pd_converge.glsl"
 
+// Self-contact: every sweep keeps each particle within its bound (lib/contact/collide.h), so
+// no iterate has cloth through cloth and contact's push always starts from the right side.
+layout(constant_id = 5) const bool BOUNDED = false;
+#include "contact/bounds.glsl"
+
 // The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
 
@@ -67,6 +72,15 @@ uint invocation_stride()
 vec3 fetch(samplerBuffer data, uint index)
 {
     return texelFetch(data, int(index)).xyz;
+}
+
+// p's displacement u kept within its bound (nothing without self-contact).
+vec3 bounded(uint p, vec3 u)
+{
+    if (!BOUNDED)
+        return u;
+    vec3 x0 = fetch(x_read, p);
+    return within_bound(p, x0 + u) - x0;
 }
 
 // One spring's part of the right-hand side in displacement form: k (L t/|t| - e), where

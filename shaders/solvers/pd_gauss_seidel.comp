@@ -37,8 +37,8 @@ void main()
             float kp, kq;
             vec3 ap = neighbour_sum(dst_read, p, up, kp);
             vec3 aq = neighbour_sum(dst_read, q, uq, kq);
-            dst[p] = vec4(up + pc.omega * jacobi_move(bp, up, ap, kp), 0.0);
-            dst[q] = vec4(uq + pc.omega * jacobi_move(bq, uq, aq, kq), 0.0);
+            dst[p] = vec4(bounded(p, up + pc.omega * jacobi_move(bp, up, ap, kp)), 0.0);
+            dst[q] = vec4(bounded(q, uq + pc.omega * jacobi_move(bq, uq, aq, kq)), 0.0);
         }
     }
     for (; i < pc.count; i += stride) {
@@ -59,6 +59,6 @@ void main()
             cur = fetch(dst_read, p);
             acc = neighbour_sum(dst_read, p, cur, ksum);
         }
-        dst[p] = vec4(cur + omega * jacobi_move(b, cur, acc, ksum), 0.0);
+        dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0);
     }
 }

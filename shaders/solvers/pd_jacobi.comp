@@ -29,6 +29,6 @@ void main()
             vec3 older = fetch(dst_read, p);
             u = pc.cheb * (u - older) + older;
         }
-        dst[p] = vec4(u, 0.0);
+        dst[p] = vec4(bounded(p, u), 0.0);
     }
 }

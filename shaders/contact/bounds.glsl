@@ -1,0 +1,27 @@
+// The displacement bounds of cloth contact (lib/contact/collide.h) as every pass that moves a
+// particle reads them: where detection saw each particle and its bound, and the common shift,
+// from the contact set (CONTACT_SET, default 1). Include after shared/layout.h.
+#ifndef CONTACT_BOUNDS_GLSL
+#define CONTACT_BOUNDS_GLSL
+
+#ifndef CONTACT_SET
+#define CONTACT_SET 1
+#endif
+
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
+    cvk_gpu_frame frame;
+    cvk_gpu_motion_bounds motion_bounds; // the decision to detect (contact_check.comp)
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
+
+// x kept within searched.w of where detection saw the particle plus the common shift.
+vec3 within_bound(uint p, vec3 x)
+{
+    vec4 seen = texelFetch(searched_t, int(p));
+    vec3 centre = seen.xyz + vec3(frame.shift_x, frame.shift_y, frame.shift_z);
+    vec3 d = x - centre;
+    float len2 = dot(d, d);
+    return len2 > seen.w * seen.w ? centre + d * (seen.w / sqrt(len2)) : x;
+}
+
+#endif
