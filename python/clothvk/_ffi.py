@@ -196,8 +196,10 @@ typedef struct cvk_attachment_desc {
 typedef struct cvk_collision_desc {
     bool self;
     float thickness;
+    float radius;
     float friction;
     float static_friction;
+    bool allow_intersecting_start;
     uint32_t detect_every;
     float exclusion;
     bool edges;
