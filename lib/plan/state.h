@@ -37,6 +37,10 @@ struct cvk_sim {
     uint32_t search_lanes;  /* cvk_sim_desc.search_lanes, resolved: a divisor of the workgroup
                                size, fixed for the simulation's life (the patch buffers'
                                size depends on it, lib/contact/collide.h) */
+    float contact_radius;   /* m: collision.radius resolved against the contact's thickness */
+    const char* notes[CVK_COLLISION_NOTES_MAX]; /* cvk_sim_note: static sentences, one per
+                                                   scene key set that has no effect */
+    uint32_t note_count;
 
     struct cvk_collide* collide; /* colliders, self-contact, the frame state (collide.h) */
     struct cvk_attach* attach; /* keyframed attached particles (attach.h) */

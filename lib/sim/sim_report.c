@@ -133,6 +133,18 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     return cvk_sim_contact_stats(s, s->scratch, st, error);
 }
 
+/* ---- notes ------------------------------------------------------------------------------- */
+
+uint32_t cvk_sim_note_count(const cvk_sim* s)
+{
+    return s ? s->note_count : 0;
+}
+
+const char* cvk_sim_note(const cvk_sim* s, uint32_t index)
+{
+    return s && index < s->note_count ? s->notes[index] : NULL;
+}
+
 /* ---- the printed plan ------------------------------------------------------------------ */
 
 typedef struct text {
@@ -210,13 +222,9 @@ static void put_header(text* t, const cvk_sim* s)
     const cvk_collide* c = s->collide;
     if (c->colliding) {
         put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s",
-            c->thickness, c->friction, c->static_friction,
-            c->edges ? "on with edges" : c->self ? "on" : "off");
-        if (c->self && c->detect_every == 0)
-            put(t, " (candidates searched when a particle moved %.3g m since the last search)",
-                (double)(CVK_SEARCH_AFTER_THICKNESSES * c->thickness));
-        else if (c->self)
-            put(t, " (candidates searched every %u substeps)", c->detect_every);
+            c->thickness, c->friction, c->static_friction, c->self ? "on" : "off");
+        if (c->self)
+            put(t, " within a radius of %.4g m", s->contact_radius);
         put(t, ", %u colliders", c->collider_count);
         for (uint32_t i = 0; i < c->collider_count; i++)
             put(t, "%s%s%s", i ? ", " : ": ", cvk_collider_type_name(c->colliders[i].type),
