@@ -474,6 +474,8 @@ static void test_edge_candidates(cvk_context* ctx)
         scene.substeps = 1;
         scene.collision.self = true;
         scene.collision.edges = true;
+        /* Made on top of each other; the positions below replace the start. */
+        scene.collision.allow_intersecting_start = true;
         cvk_error err;
         cvk_sim* sim = NULL;
         REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
