@@ -520,7 +520,7 @@ static cvk_result scan_soup(const float* xyz, uint32_t vertex_count, const uint3
     if (!ok) {
         free_soup(&s);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "intersection count: out of host memory for the grid of %u triangles",
+                        "intersection test: out of host memory for the grid of %u triangles",
                         triangle_count);
     }
     for (size_t first = 0, end; first < s.entry_count; first = end) {
