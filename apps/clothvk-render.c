@@ -389,6 +389,8 @@ static int create_objects(run_state* s, const cvk_render_desc* render)
     sim_desc.scene = s->scene;
     cvk_result r = cvk_sim_create(s->ctx, &sim_desc, &s->sim, &err);
     if (r == CVK_SUCCESS)
+        app_print_notes(tool, s->sim);
+    if (r == CVK_SUCCESS)
         r = cvk_mesh_create(s->sim, NULL, &s->mesh, &err);
     if (r == CVK_SUCCESS)
         r = cvk_renderer_create(s->mesh, render, &s->renderer, &err);

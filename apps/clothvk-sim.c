@@ -289,7 +289,15 @@ static json_t* memory_json(const cvk_context* ctx)
     return memory;
 }
 
-static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
+static json_t* notes_json(const cvk_sim* sim)
+{
+    json_t* notes = json_array();
+    for (uint32_t i = 0; i < cvk_sim_note_count(sim); i++)
+        json_array_append_new(notes, json_string(cvk_sim_note(sim, i)));
+    return notes;
+}
+
+static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx, const cvk_sim* sim,
                        const cvk_sim_stats* st, const run_totals* t)
 {
     bool timed = t->timed_frames > 0;
@@ -335,6 +343,7 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx,
     json_object_set_new(root, "memory", memory_json(ctx));
     json_object_set_new(root, "validation_messages",
                         json_integer(cvk_context_validation_message_count(ctx)));
+    json_object_set_new(root, "notes", notes_json(sim));
     char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
     if (text)
         printf("%s\n", text);
@@ -483,7 +492,7 @@ static int report(const options* o, const cvk_scene_desc* scene, const cvk_conte
         return APP_EXIT_FAILURE;
     }
     if (o->json)
-        print_json(scene, ctx, &st, totals);
+        print_json(scene, ctx, sim, &st, totals);
     else
         print_summary(scene, ctx, &st, totals);
     if (o->obj && !o->json)
@@ -557,6 +566,8 @@ static int run(const options* o)
     sim_desc.max_workgroups = o->max_workgroups;
     sim_desc.search_lanes = o->search_lanes;
     cvk_result r = cvk_sim_create(ctx, &sim_desc, &sim, &err);
+    if (r == CVK_SUCCESS && !o->json) /* --json lists them in its object */
+        app_print_notes(tool, sim);
     if (r != CVK_SUCCESS) {
         app_error(tool, "%s: %s", o->scene, err.message);
         status = app_creation_status(r);

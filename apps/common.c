@@ -330,6 +330,12 @@ uint64_t app_peak_rss(void)
     return (uint64_t)usage.ru_maxrss * 1024u; /* kilobytes on Linux */
 }
 
+void app_print_notes(const char* tool, const cvk_sim* sim)
+{
+    for (uint32_t i = 0; i < cvk_sim_note_count(sim); i++)
+        app_error(tool, "note: %s", cvk_sim_note(sim, i));
+}
+
 int app_creation_status(cvk_result r)
 {
     bool bad = r == CVK_ERROR_INVALID_ARGUMENT || r == CVK_ERROR_DEVICE_LIMIT || r == CVK_ERROR_IO;

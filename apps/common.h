@@ -35,6 +35,9 @@ int app_take_scene_argument(const char* tool, const char* arg, const char** scen
  * limit) are bad input, the rest a failure. */
 int app_creation_status(cvk_result r);
 
+/* Prints the simulation's notes (cvk_sim_note) on stderr, one line "tool: note: ..." each. */
+void app_print_notes(const char* tool, const cvk_sim* sim);
+
 /* Parses a whole decimal number in [min, max]; false on anything else. */
 bool app_parse_u32(const char* text, uint32_t min, uint32_t max, uint32_t* out);
 

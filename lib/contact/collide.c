@@ -660,7 +660,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->colliding = c->self || scene->collider_count > 0;
     c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
                                                      : default_thickness(&s->build);
-    c->radius = CVK_RADIUS_THICKNESSES * c->thickness;
+    c->radius = cvk_collision_radius(&scene->collision, c->thickness);
     c->friction = scene->collision.friction;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     c->longest = 1.5f * longest_edge(&s->build);

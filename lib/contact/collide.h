@@ -45,8 +45,6 @@ struct cvk_sim;
 #define CVK_BOUND_GAMMA 0.45f
 /* Detect when a particle's extrapolated move would pass this fraction of its bound. */
 #define CVK_REDETECT_FRACTION 0.9f
-/* The contact radius by default: this many thicknesses. */
-#define CVK_RADIUS_THICKNESSES 1.4f
 
 typedef struct cvk_collide {
     bool colliding;              /* colliders or self-contact: contact passes are recorded */

@@ -457,10 +457,15 @@ static void load(const soup* s, uint32_t i, float out[9])
         memcpy(&out[3 * k], &s->xyz[3 * (size_t)v[k]], 3 * sizeof(float));
 }
 
+/* What a walk over the grid found: how many pairs intersect, and the lowest of them. */
+typedef struct scan {
+    uint64_t pairs;
+    uint32_t first, second; /* the lowest pair so far (triangle indices), when pairs > 0 */
+} scan;
+
 /* Pairs among entries [first, end) of one cell. */
-static uint64_t count_cell(const soup* s, size_t first, size_t end)
+static void scan_cell(const soup* s, size_t first, size_t end, scan* out)
 {
-    uint64_t pairs = 0;
     uint64_t cell = s->entries[first].cell;
     for (size_t x = first; x < end; x++) {
         uint32_t i = s->entries[x].index;
@@ -473,10 +478,17 @@ static uint64_t count_cell(const soup* s, size_t first, size_t end)
             float a[9], b[9];
             load(s, i, a);
             load(s, j, b);
-            pairs += cvk_triangles_intersect(a, b);
+            if (!cvk_triangles_intersect(a, b))
+                continue;
+            /* Entries of a cell are sorted by kept index, so i < j, and kept is increasing. */
+            uint32_t lo = s->kept[i], hi = s->kept[j];
+            if (out->pairs == 0 || lo < out->first || (lo == out->first && hi < out->second)) {
+                out->first = lo;
+                out->second = hi;
+            }
+            out->pairs++;
         }
     }
-    return pairs;
 }
 
 static void free_soup(soup* s)
@@ -487,11 +499,11 @@ static void free_soup(soup* s)
     free(s->entries);
 }
 
-cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
-                                        const uint32_t* triangles, uint32_t triangle_count,
-                                        uint64_t* out_pairs, cvk_error* error)
+/* Every pair of the soup, each tested once (in the cell of its boxes' overlap's low corner). */
+static cvk_result scan_soup(const float* xyz, uint32_t vertex_count, const uint32_t* triangles,
+                            uint32_t triangle_count, scan* out, cvk_error* error)
 {
-    *out_pairs = 0;
+    *out = (scan){0};
     soup s = {.xyz = xyz, .triangles = triangles};
     size_t n = triangle_count ? triangle_count : 1;
     s.kept = malloc(n * sizeof *s.kept);
@@ -508,17 +520,52 @@ cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
     if (!ok) {
         free_soup(&s);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "intersection count: out of host memory for the grid of %u triangles",
+                        "intersection test: out of host memory for the grid of %u triangles",
                         triangle_count);
     }
-    uint64_t pairs = 0;
     for (size_t first = 0, end; first < s.entry_count; first = end) {
         for (end = first + 1; end < s.entry_count && s.entries[end].cell == s.entries[first].cell;)
             end++;
-        pairs += count_cell(&s, first, end);
+        scan_cell(&s, first, end, out);
     }
     free_soup(&s);
-    *out_pairs = pairs;
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
+                                        const uint32_t* triangles, uint32_t triangle_count,
+                                        uint64_t* out_pairs, cvk_error* error)
+{
+    scan found;
+    cvk_result r = scan_soup(xyz, vertex_count, triangles, triangle_count, &found, error);
+    *out_pairs = r == CVK_SUCCESS ? found.pairs : 0;
+    return r;
+}
+
+static void centroid(const float* xyz, const uint32_t* v, double out[3])
+{
+    for (int c = 0; c < 3; c++)
+        out[c] = ((double)xyz[3 * (size_t)v[0] + c] + xyz[3 * (size_t)v[1] + c] +
+                  xyz[3 * (size_t)v[2] + c]) / 3.0;
+}
+
+cvk_result cvk_first_intersecting_pair(const float* xyz, uint32_t vertex_count,
+                                       const uint32_t* triangles, uint32_t triangle_count,
+                                       cvk_intersecting_pair* out, cvk_error* error)
+{
+    *out = (cvk_intersecting_pair){0};
+    scan found;
+    cvk_result r = scan_soup(xyz, vertex_count, triangles, triangle_count, &found, error);
+    if (r != CVK_SUCCESS || found.pairs == 0)
+        return r;
+    out->found = true;
+    out->first = found.first;
+    out->second = found.second;
+    double a[3], b[3];
+    centroid(xyz, &triangles[3 * (size_t)found.first], a);
+    centroid(xyz, &triangles[3 * (size_t)found.second], b);
+    for (int c = 0; c < 3; c++)
+        out->near[c] = (float)(0.5 * (a[c] + b[c]));
     return CVK_SUCCESS;
 }
 

@@ -1,7 +1,7 @@
 /* Exact host-side check of a triangle soup for self-intersection: pairs of triangles that share
    no vertex and intersect (touching counts; coplanar overlaps count). A uniform grid over the
    triangles' boxes keeps it near-linear. Used by cvk_sim_count_intersections, the statistics,
-   the tests and the benchmark. */
+   the tests and the benchmark, and (the first pair) by the clean-start check of cvk_sim_create. */
 #ifndef CVK_INTERSECT_H
 #define CVK_INTERSECT_H
 
@@ -12,6 +12,20 @@
 cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
                                         const uint32_t* triangles, uint32_t triangle_count,
                                         uint64_t* out_pairs, cvk_error* error);
+
+/* The lowest intersecting pair of the same soup (the same predicate and grid as the count,
+   as near-linear): of the pairs that share no vertex and intersect, the one with the smallest
+   first index, and of those the smallest second. found is false when there is none. */
+typedef struct cvk_intersecting_pair {
+    bool found;
+    uint32_t first, second;  /* triangle indices, first < second */
+    float near[3];           /* m: the midpoint of the two triangles' centroids, within a
+                                triangle's size of where they meet */
+} cvk_intersecting_pair;
+
+cvk_result cvk_first_intersecting_pair(const float* xyz, uint32_t vertex_count,
+                                       const uint32_t* triangles, uint32_t triangle_count,
+                                       cvk_intersecting_pair* out, cvk_error* error);
 
 /* Whether two triangles (9 floats each) intersect: the exact predicate the count uses. */
 bool cvk_triangles_intersect(const float a[9], const float b[9]);

@@ -34,6 +34,9 @@ struct cvk_sim {
     int timing_request;     /* cvk_sim_desc.timing */
     uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
                                          prediction, finalize, tethers): cvk_plan */
+    const char* notes[CVK_COLLISION_NOTES_MAX]; /* cvk_sim_note: static sentences, one per
+                                                   scene key set that has no effect */
+    uint32_t note_count;
 
     struct cvk_collide* collide; /* colliders, self-contact, the frame state (collide.h) */
     struct cvk_attach* attach; /* keyframed attached particles (attach.h) */

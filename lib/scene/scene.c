@@ -36,7 +36,9 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .cloth_count = 0,
         .render = cvk_default_render_desc(),
         /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
-        .collision = {.self = false, .thickness = 0.0f, .friction = 0.3f, .static_friction = 0.4f,
+        /* radius 0: twice the thickness. */
+        .collision = {.self = false, .thickness = 0.0f, .radius = 0.0f, .friction = 0.3f,
+                      .static_friction = 0.4f, .allow_intersecting_start = false,
                       .detect_every = 0, .exclusion = 0.0f, .edges = false},
         .colliders = NULL,
         .collider_count = 0,
@@ -591,27 +593,7 @@ bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)
     return check_render(desc, issue);
 }
 
-/* ---- collisions: the scene's defaults and each collider; base is "colliders.N" ---- */
-
-static bool check_collision(const cvk_collision_desc* c, uint32_t substeps, cvk_scene_issue* issue)
-{
-    if (c->detect_every > substeps)
-        return cvk_issue_at(issue, "collision.detect_every",
-                        "must be 0 (adaptive) or between 1 and substeps (%u), got %u", substeps,
-                        c->detect_every);
-    if (!cvk_check_at_least(issue, "collision.thickness", c->thickness, 0.0) ||
-        !cvk_check_at_least(issue, "collision.friction", c->friction, 0.0) ||
-        !cvk_check_at_least(issue, "collision.exclusion", c->exclusion, 0.0) ||
-        !cvk_check_finite(issue, "collision.static_friction", c->static_friction))
-        return false;
-    if (c->static_friction < c->friction)
-        return cvk_issue_at(issue, "collision.static_friction", "must be at least friction (%g), got %g", c->friction,
-                        c->static_friction);
-    if (c->edges && !c->self)
-        return cvk_issue_at(issue, "collision.edges",
-                            "edge contact is between the cloths' edges: it needs \"self\": true");
-    return true;
-}
+/* ---- colliders (the collision block is in scene_collision.c); base is "colliders.N" ---- */
 
 static bool check_box_shape(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
 {
@@ -701,7 +683,7 @@ static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk
 
 static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
 {
-    if (!check_collision(&d->collision, d->substeps, issue))
+    if (!cvk_collision_check(&d->collision, issue))
         return false;
     if (d->collider_count > CVK_MAX_COLLIDERS)
         return cvk_issue_at(issue, "colliders", "at most %u colliders, got %" PRIu32, CVK_MAX_COLLIDERS,

@@ -43,6 +43,21 @@ bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attach
 bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
 bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
+/* Collision (lib/scene/scene_collision.c): the collision block's keys; a given radius against
+   a thickness (the scene's, or the default the simulation resolved when the scene gives none);
+   the radius a thickness resolves to (0: twice the thickness); and one sentence for each key of
+   an earlier contact the block sets, which has no effect (static strings; returns how many). */
+#define CVK_COLLISION_NOTES_MAX 3u
+bool cvk_collision_check(const cvk_collision_desc* collision, cvk_scene_issue* issue);
+bool cvk_collision_radius_check(const cvk_collision_desc* collision, float thickness,
+                                cvk_scene_issue* issue);
+float cvk_collision_radius(const cvk_collision_desc* collision, float thickness);
+/* The contact radius by default: this many thicknesses — less than a grid cloth's nearest rest
+   distance from a particle to a feature not around it (about 1.41 default thicknesses), so a
+   flat cloth lists no pairs of its own. */
+#define CVK_RADIUS_THICKNESSES 1.4f
+uint32_t cvk_collision_notes(const cvk_collision_desc* collision,
+                             const char* notes[CVK_COLLISION_NOTES_MAX]);
 /* Tearing (lib/scene/scene_tear.c): each cloth's max_stretch, and tearing apart from tethers. */
 bool cvk_tearing_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 /* Whether some cloth of the scene tears. */

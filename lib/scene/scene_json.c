@@ -264,8 +264,12 @@ static cvk_result read_cloths(cvk_reader* rd, const cvk_field* f, json_t* value,
 static const cvk_field collision_fields[] = {
     {.key = "self", .read = cvk_read_bool, .offset = offsetof(cvk_collision_desc, self)},
     {.key = "thickness", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, thickness)},
+    {.key = "radius", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, radius)},
     {.key = "friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, friction)},
     {.key = "static_friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, static_friction)},
+    {.key = "allow_intersecting_start", .read = cvk_read_bool,
+     .offset = offsetof(cvk_collision_desc, allow_intersecting_start)},
+    /* No effect (cvk_collision_desc): read so that old scenes load, and named in the notes. */
     {.key = "detect_every", .read = cvk_read_uint, .offset = offsetof(cvk_collision_desc, detect_every)},
     {.key = "exclusion", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, exclusion)},
     {.key = "edges", .read = cvk_read_bool, .offset = offsetof(cvk_collision_desc, edges)},

@@ -230,6 +230,16 @@ static cvk_result set_initial_velocity(cvk_sim* s, const cvk_scene_desc* scene, 
     return s->family->write_state(s, s->family_state, s->scratch, s->scratch_v, error);
 }
 
+/* The contact radius: given with a default thickness, checked against the thickness the
+   contact resolved. */
+static cvk_result resolve_radius(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* error)
+{
+    cvk_scene_issue issue;
+    if (!cvk_collision_radius_check(&scene->collision, s->collide->thickness, &issue))
+        return cvk_fail_issue(error, &issue);
+    return CVK_SUCCESS;
+}
+
 static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32_t workgroup_size,
                                  uint32_t max_groups, bool grab, cvk_error* error)
 {
@@ -249,6 +259,8 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
         r = upload_spring_flags(s, error);
     if (r == CVK_SUCCESS)
         r = cvk_collide_create(s, scene, error);
+    if (r == CVK_SUCCESS)
+        r = resolve_radius(s, scene, error);
     if (r == CVK_SUCCESS)
         r = cvk_attach_create(s, scene, error);
     if (r == CVK_SUCCESS)
@@ -317,6 +329,7 @@ static void init_fields(cvk_sim* s, cvk_context* context, const cvk_sim_desc* de
     s->solver = scene->solver;
     s->timing_request = desc->timing;
     s->family = cvk_family_for(&scene->solver);
+    s->note_count = cvk_collision_notes(&scene->collision, s->notes);
 }
 
 cvk_sim_desc cvk_default_sim_desc(void)
@@ -378,6 +391,8 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)
         r = cvk_check_derived(scene, &s->build, scene->dt, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_sim_check_clean_start(s, scene, error);
     if (r == CVK_SUCCESS)
         r = create_objects(s, scene, workgroup_size, max_workgroups(context, desc), desc->grab,
                            error);

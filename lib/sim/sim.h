@@ -33,6 +33,13 @@ cvk_result cvk_sim_read_internal(cvk_sim* sim, cvk_error* error);
 cvk_result cvk_sim_contact_stats(cvk_sim* sim, const float* xyz_internal, cvk_sim_stats* st,
                                  cvk_error* error);
 
+/* With collision.self and without collision.allow_intersecting_start, CVK_ERROR_INVALID_ARGUMENT
+   when two triangles that share no particle intersect in the build's initial positions: one
+   sentence naming the cloths, the lowest such pair (cvk_first_intersecting_pair; triangles
+   numbered within their cloth in build order) and where. */
+cvk_result cvk_sim_check_clean_start(const cvk_sim* sim, const cvk_scene_desc* scene,
+                                     cvk_error* error);
+
 /* ---- shared by sim.c and sim_state.c ---- */
 
 /* Timestamp queries of one frame; pass[q] (q ≥ 1) is the pass query q closes. */

@@ -63,6 +63,58 @@ cvk_result cvk_sim_count_intersections(cvk_sim* s, uint64_t* out_pairs, cvk_erro
     return r;
 }
 
+/* ---- the clean start ------------------------------------------------------------------------ */
+
+static uint32_t cloth_of_triangle(const cvk_build* b, uint32_t t)
+{
+    uint32_t c = 0;
+    while (c + 1 < b->cloth_count && t >= b->cloths[c + 1].first_triangle)
+        c++;
+    return c;
+}
+
+static cvk_result fail_intersecting(const cvk_build* b, const cvk_intersecting_pair* p,
+                                    cvk_error* error)
+{
+    uint32_t ca = cloth_of_triangle(b, p->first), cb = cloth_of_triangle(b, p->second);
+    uint32_t ta = p->first - b->cloths[ca].first_triangle;
+    uint32_t tb = p->second - b->cloths[cb].first_triangle;
+    const char* na = b->cloths[ca].name;
+    const char* nb = b->cloths[cb].name;
+    static const char fix[] = "set collision.allow_intersecting_start to simulate anyway";
+    if (ca == cb)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "collision: cloth \"%s\" intersects itself at the start (triangles %u "
+                        "and %u, near (%.3f, %.3f, %.3f)); %s", na, ta, tb, (double)p->near[0],
+                        (double)p->near[1], (double)p->near[2], fix);
+    return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                    "collision: cloths \"%s\" and \"%s\" intersect at the start (triangle %u of "
+                    "\"%s\" and triangle %u of \"%s\", near (%.3f, %.3f, %.3f)); %s", na, nb, ta,
+                    na, tb, nb, (double)p->near[0], (double)p->near[1], (double)p->near[2], fix);
+}
+
+cvk_result cvk_sim_check_clean_start(const cvk_sim* s, const cvk_scene_desc* scene,
+                                     cvk_error* error)
+{
+    if (!scene->collision.self || scene->collision.allow_intersecting_start)
+        return CVK_SUCCESS;
+    const cvk_build* b = &s->build;
+    size_t n = 3 * (size_t)b->triangle_count;
+    uint32_t* tri = malloc((n ? n : 1) * sizeof *tri);
+    if (!tri)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "collision: out of host memory for %u triangles", b->triangle_count);
+    for (size_t i = 0; i < n; i++)
+        tri[i] = b->internal_of[b->triangles[i]];
+    cvk_intersecting_pair pair;
+    cvk_result r = cvk_first_intersecting_pair(b->position, b->particle_count, tri,
+                                               b->triangle_count, &pair, error);
+    free(tri);
+    if (r == CVK_SUCCESS && pair.found)
+        r = fail_intersecting(b, &pair, error);
+    return r;
+}
+
 /* ---- colliders ---------------------------------------------------------------------------- */
 
 static void collider_stats(cvk_sim* s, const float* xyz, cvk_sim_stats* st)

@@ -133,6 +133,18 @@ cvk_result cvk_sim_get_stats(cvk_sim* s, cvk_sim_stats* st, cvk_error* error)
     return cvk_sim_contact_stats(s, s->scratch, st, error);
 }
 
+/* ---- notes ------------------------------------------------------------------------------- */
+
+uint32_t cvk_sim_note_count(const cvk_sim* s)
+{
+    return s ? s->note_count : 0;
+}
+
+const char* cvk_sim_note(const cvk_sim* s, uint32_t index)
+{
+    return s && index < s->note_count ? s->notes[index] : NULL;
+}
+
 /* ---- the printed plan ------------------------------------------------------------------ */
 
 typedef struct text {

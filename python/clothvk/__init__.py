@@ -368,6 +368,12 @@ class Simulation(_Owner):
             })
         return result
 
+    @property
+    def notes(self):
+        """The notes on the scene: one sentence for each key it sets that has no effect."""
+        sim = self._live()
+        return [_text(lib.cvk_sim_note(sim, i)) for i in range(lib.cvk_sim_note_count(sim))]
+
     def stats(self):
         """The fields of cvk_sim_stats as a dict (passes: a list of dicts)."""
         st = ffi.new("cvk_sim_stats*")

@@ -196,8 +196,10 @@ typedef struct cvk_attachment_desc {
 typedef struct cvk_collision_desc {
     bool self;
     float thickness;
+    float radius;
     float friction;
     float static_friction;
+    bool allow_intersecting_start;
     uint32_t detect_every;
     float exclusion;
     bool edges;
@@ -428,6 +430,8 @@ typedef struct cvk_sim_stats {
 } cvk_sim_stats;
 
 cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
+uint32_t cvk_sim_note_count(const cvk_sim* sim);
+const char* cvk_sim_note(const cvk_sim* sim, uint32_t index);
 cvk_result cvk_sim_get_stats(cvk_sim* sim, cvk_sim_stats* out_stats, cvk_error* error);
 size_t cvk_sim_describe_plan(const cvk_sim* sim, char* text, size_t capacity);
 

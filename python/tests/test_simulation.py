@@ -78,6 +78,14 @@ def test_override_reaches_the_solver(ctx):
         assert "solver: pd / jacobi" in sim.plan(), sim.plan()
 
 
+def test_notes_name_keys_without_effect(ctx):
+    scene = clothvk.Scene.load(SCENES / "hanging.json", overrides={**SMALL, "collision.edges": True})
+    with clothvk.Simulation(ctx, scene) as sim:
+        assert sim.notes == ["collision.edges has no effect: edge-edge contact is always on"]
+    with clothvk.Simulation(ctx, clothvk.Scene.load(SCENES / "hanging.json", overrides=SMALL)) as sim:
+        assert sim.notes == []
+
+
 def test_close_order_and_use_after_close(ctx, small_scene):
     with clothvk.Context() as own:
         sim = clothvk.Simulation(own, small_scene)

@@ -6,7 +6,8 @@
      random pairs in general position;
    - the grid count against the O(n²) count on random triangle soups with shared vertices and
      torn triangles, several seeds; a flat cloth (level and tilted) has no pair, a cloth folded
-     through itself has some;
+     through itself has some; the first pair (cvk_first_intersecting_pair) is the O(n²) loop's
+     first, and a 160 x 160 cloth is checked in well under a second;
    - through the library: a flat cloth has cvk_sim_count_intersections == 0, and the contact
      figures of cloths over a plane and over each other against direct counts. */
 #include "harness.h"
@@ -192,6 +193,39 @@ static uint64_t brute_force(const float* xyz, const uint32_t* tri, uint32_t coun
     return pairs;
 }
 
+/* The lowest intersecting pair by the O(n²) loop: the first i, then the first j. */
+static bool brute_force_first(const float* xyz, const uint32_t* tri, uint32_t count, uint32_t* first,
+                              uint32_t* second)
+{
+    for (uint32_t i = 0; i < count; i++)
+        for (uint32_t j = i + 1; j < count; j++) {
+            const uint32_t* u = &tri[3 * (size_t)i];
+            const uint32_t* v = &tri[3 * (size_t)j];
+            if ((u[0] == u[1] && u[1] == u[2]) || (v[0] == v[1] && v[1] == v[2]) || shares(u, v))
+                continue;
+            float a[9], b[9];
+            for (int k = 0; k < 3; k++) {
+                memcpy(&a[3 * k], &xyz[3 * (size_t)u[k]], 3 * sizeof(float));
+                memcpy(&b[3 * k], &xyz[3 * (size_t)v[k]], 3 * sizeof(float));
+            }
+            if (cvk_triangles_intersect(a, b)) {
+                *first = i;
+                *second = j;
+                return true;
+            }
+        }
+    return false;
+}
+
+static cvk_intersecting_pair first_pair(const float* xyz, uint32_t vertices, const uint32_t* tri,
+                                        uint32_t triangles)
+{
+    cvk_error err;
+    cvk_intersecting_pair pair;
+    REQUIRE_OK(cvk_first_intersecting_pair(xyz, vertices, tri, triangles, &pair, &err), err);
+    return pair;
+}
+
 static uint64_t count(const float* xyz, uint32_t vertices, const uint32_t* tri, uint32_t triangles)
 {
     cvk_error err;
@@ -233,6 +267,12 @@ static void random_soup(uint32_t seed)
           (unsigned long long)expected);
     printf("soup, seed %u: %llu intersecting pairs (O(n^2): %llu)\n", seed,
            (unsigned long long)got, (unsigned long long)expected);
+    uint32_t first = 0, second = 0;
+    bool found = brute_force_first(xyz, tri, TRIANGLES, &first, &second);
+    cvk_intersecting_pair pair = first_pair(xyz, vertices, tri, TRIANGLES);
+    CHECK(pair.found == found && pair.first == first && pair.second == second,
+          "seed %u: the grid's first pair is %s(%u, %u), the O(n^2) loop's %s(%u, %u)", seed,
+          pair.found ? "" : "none ", pair.first, pair.second, found ? "" : "none ", first, second);
     free(xyz);
     free(tri);
 }
@@ -255,7 +295,8 @@ static void shared_vertex_excluded(void)
    at (u, v) ∈ [0, 1]². */
 typedef void (*shape_fn)(double u, double v, float out[3]);
 
-static uint64_t grid_count(uint32_t n, shape_fn shape, double* ms)
+/* n x n particles on `shape`, two triangles per quad. */
+static uint32_t grid_soup(uint32_t n, shape_fn shape, float** out_xyz, uint32_t** out_tri)
 {
     float* xyz = malloc(3 * (size_t)n * n * sizeof(float));
     uint32_t cells = (n - 1) * (n - 1);
@@ -271,6 +312,16 @@ static uint64_t grid_count(uint32_t n, shape_fn shape, double* ms)
             memcpy(&tri[3 * (size_t)t], quad, sizeof quad);
             t += 2;
         }
+    *out_xyz = xyz;
+    *out_tri = tri;
+    return t;
+}
+
+static uint64_t grid_count(uint32_t n, shape_fn shape, double* ms)
+{
+    float* xyz;
+    uint32_t* tri;
+    uint32_t t = grid_soup(n, shape, &xyz, &tri);
     double start = cvk_now_ms();
     uint64_t pairs = count(xyz, n * n, tri, t);
     *ms = cvk_now_ms() - start;
@@ -316,6 +367,33 @@ static void grids(void)
     uint64_t fold = grid_count(41, folded, &ms);
     CHECK(fold > 0, "a cloth folded through itself has no intersecting pair");
     printf("folded 41 x 41 cloth: %llu pairs in %.1f ms\n", (unsigned long long)fold, ms);
+}
+
+/* The clean-start check's cost on the 160 x 160 drape cloth (contact-drape.json's largest):
+   near-linear through the grid, so well under a second. */
+static void first_pair_cost(void)
+{
+    float* xyz;
+    uint32_t* tri;
+    uint32_t t = grid_soup(160, tilted, &xyz, &tri);
+    double start = cvk_now_ms();
+    cvk_intersecting_pair pair = first_pair(xyz, 160 * 160, tri, t);
+    double ms = cvk_now_ms() - start;
+    CHECK(!pair.found, "a tilted flat 160 x 160 cloth intersects itself (triangles %u and %u)",
+          pair.first, pair.second);
+    CHECK(ms < 1000.0, "the first pair of a 160 x 160 cloth took %.0f ms", ms);
+    printf("first pair of a flat 160 x 160 cloth (%u triangles): none, in %.1f ms\n", t, ms);
+    free(xyz);
+    free(tri);
+    t = grid_soup(41, folded, &xyz, &tri);
+    uint32_t first = 0, second = 0;
+    bool found = brute_force_first(xyz, tri, t, &first, &second);
+    pair = first_pair(xyz, 41 * 41, tri, t);
+    CHECK(found && pair.found && pair.first == first && pair.second == second,
+          "folded 41 x 41 cloth: the grid's first pair is (%u, %u), the O(n^2) loop's (%u, %u)",
+          pair.first, pair.second, first, second);
+    free(xyz);
+    free(tri);
 }
 
 /* ---- through the library ------------------------------------------------------------------ */
@@ -493,6 +571,7 @@ int main(void)
     for (uint32_t seed = 1; seed <= 5; seed++)
         random_soup(seed * 2654435761u);
     grids();
+    first_pair_cost();
     cvk_context* ctx = harness_context();
     flat_sim(ctx);
     contact_figures(ctx);

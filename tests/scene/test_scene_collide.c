@@ -48,8 +48,11 @@ static void check_default_collision(const cvk_scene_desc* d)
 {
     CHECK(!d->collision.self);
     CHECK_FLOAT(d->collision.thickness, 0.0f);
+    CHECK_FLOAT(d->collision.radius, 0.0f);
     CHECK_FLOAT(d->collision.friction, 0.3f);
     CHECK_FLOAT(d->collision.static_friction, 0.4f);
+    CHECK(!d->collision.allow_intersecting_start);
+    CHECK_INT(d->collision.detect_every, 0);
     CHECK_FLOAT(d->collision.exclusion, 0.0f);
     CHECK(!d->collision.edges);
     CHECK(d->colliders == NULL);
@@ -121,6 +124,12 @@ static void test_validate_collision(void)
     EXPECT_DESC_INVALID(&f.scene, "collision.thickness: must be at least 0, got -0.01");
     f.scene.collision.thickness = NAN;
     EXPECT_DESC_INVALID(&f.scene, "collision.thickness: must be a finite number, got nan");
+    f.scene.collision.thickness = INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "collision.thickness: must be a finite number, got inf");
+    f.scene.collision.thickness = 1.5f;
+    EXPECT_DESC_INVALID(&f.scene, "collision.thickness: must be at most 1 m, got 1.5");
+    f.scene.collision.thickness = 1.0f; /* a metre is the most */
+    EXPECT_DESC_VALID(&f.scene);
     f.scene.collision.thickness = 0.005f;
     EXPECT_DESC_VALID(&f.scene);
     f.scene.collision.friction = -0.1f;
@@ -133,6 +142,58 @@ static void test_validate_collision(void)
     EXPECT_DESC_VALID(&f.scene);
     f.scene.collision.friction = f.scene.collision.static_friction = 0.0f;
     EXPECT_DESC_VALID(&f.scene);
+}
+
+/* The contact radius: finite, at most a metre, more than a given thickness (a default
+   thickness is known only from the build: tests/sim/test_clean_start.c). */
+static void test_validate_radius(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.scene.collision.radius = -0.01f;
+    EXPECT_DESC_INVALID(&f.scene, "collision.radius: must be at least 0, got -0.01");
+    f.scene.collision.radius = NAN;
+    EXPECT_DESC_INVALID(&f.scene, "collision.radius: must be a finite number, got nan");
+    f.scene.collision.radius = -INFINITY;
+    EXPECT_DESC_INVALID(&f.scene, "collision.radius: must be a finite number, got -inf");
+    f.scene.collision.radius = 2.0f;
+    EXPECT_DESC_INVALID(&f.scene, "collision.radius: must be at most 1 m, got 2");
+    f.scene.collision.radius = 0.001f; /* the thickness is the default: checked at creation */
+    EXPECT_DESC_VALID(&f.scene);
+    f.scene.collision.thickness = 0.005f;
+    EXPECT_DESC_INVALID(&f.scene, "collision.radius: 0.001 is not more than the thickness 0.005 "
+                                  "(contact acts between the thickness and the radius)");
+    f.scene.collision.radius = 0.005f;
+    EXPECT_DESC_INVALID(&f.scene, "collision.radius: 0.005 is not more than the thickness 0.005 "
+                                  "(contact acts between the thickness and the radius)");
+    f.scene.collision.radius = 0.006f;
+    EXPECT_DESC_VALID(&f.scene);
+    f.scene.collision.radius = 0.0f; /* twice the thickness */
+    EXPECT_DESC_VALID(&f.scene);
+}
+
+/* The keys of the earlier contact load and are checked no more: they have no effect (the
+   simulation's notes name them, tests/sim/test_clean_start.c). */
+static void test_keys_without_effect(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.scene.collision.edges = true; /* without self: once an error */
+    f.scene.collision.exclusion = 0.1f;
+    f.scene.collision.detect_every = 1000; /* more than substeps: once an error */
+    EXPECT_DESC_VALID(&f.scene);
+    cvk_scene* scene = PARSE_OK("{'cloths': [{}], 'collision': {'edges': true, 'exclusion': 0.1, "
+                                "'detect_every': 9, 'allow_intersecting_start': true, "
+                                "'radius': 0.02}}");
+    if (scene) {
+        const cvk_collision_desc* c = &cvk_scene_get_desc(scene)->collision;
+        CHECK(c->edges);
+        CHECK_FLOAT(c->exclusion, 0.1f);
+        CHECK_INT(c->detect_every, 9);
+        CHECK(c->allow_intersecting_start);
+        CHECK_FLOAT(c->radius, 0.02f);
+    }
+    cvk_scene_destroy(scene);
 }
 
 static void test_validate_collider_list(void)
@@ -457,20 +518,21 @@ static void test_json_types(void)
                    "t.json: colliders.0.center: unknown key for a mesh collider (expected one of: type, name, "
                    "friction, static_friction, color, keyframes, loop, file, transform)");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 0.01, 'margin': 0.01}}",
-                   "t.json: collision.margin: unknown key (expected one of: self, thickness, friction, "
-                   "static_friction, detect_every, exclusion, edges)");
-    EXPECT_INVALID("{'cloths': [{}], 'collision': {'edges': true}}",
-                   "t.json: collision.edges: edge contact is between the cloths' edges: it needs "
-                   "\"self\": true");
+                   "t.json: collision.margin: unknown key (expected one of: self, thickness, radius, friction, "
+                   "static_friction, allow_intersecting_start, detect_every, exclusion, edges)");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'self': true, 'edges': 'yes'}}",
                    "t.json: collision.edges: expected true or false, got the string \"yes\"");
-    EXPECT_INVALID("{'cloths': [{}], 'collision': {'exclusion': -0.01}}",
-                   "t.json: collision.exclusion: must be at least 0, got -0.01");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'radius': '2 cm'}}",
+                   "t.json: collision.radius: expected a number, got the string \"2 cm\"");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'allow_intersecting_start': 1}}",
+                   "t.json: collision.allow_intersecting_start: expected true or false, got the number 1");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 0.01, 'radius': 0.005}}",
+                   "t.json: collision.radius: 0.005 is not more than the thickness 0.01 (contact acts "
+                   "between the thickness and the radius)");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 3}}",
+                   "t.json: collision.thickness: must be at most 1 m, got 3");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'exclusion': '1 cm'}}",
                    "t.json: collision.exclusion: expected a number, got the string \"1 cm\"");
-    EXPECT_INVALID("{'cloths': [{}], 'collision': {'detect_every': 9}}",
-                   "t.json: collision.detect_every: must be 0 (adaptive) or between 1 and "
-                   "substeps (8), got 9");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'self': 1}}",
                    "t.json: collision.self: expected true or false, got the number 1");
     EXPECT_INVALID("{'cloths': [{'velocity': [1, 2]}]}",
@@ -655,6 +717,8 @@ int main(void)
     test_defaults();
     test_names();
     test_validate_collision();
+    test_validate_radius();
+    test_keys_without_effect();
     test_validate_collider_list();
     test_validate_shapes();
     test_validate_friction();

@@ -41,6 +41,8 @@ def error(path, message):
 
 
 SMALL = scene("small.json")  # valid: 4 x 3 grid, pins [0,0] and [3,0], u_axis [0,0,2]
+CROSSING = scene("crossing.json")  # two 11 x 11 cloths crossing each other, with self-contact
+EDGES_NOTE = "clothvk-sim: note: collision.edges has no effect: edge-edge contact is always on"
 ROPE = scene("rope.json")    # valid: 1 x 20 grid, pinned at [0,0]
 HANGING = asset("hanging.json")
 STENCIL = asset("hanging-stencil.json")
@@ -92,6 +94,21 @@ def json_pairs(ok, what):
             return [f"no contacts.intersecting_pairs in the JSON: {e!r}"]
         return [] if is_int(n) and ok(n) else [f"contacts.intersecting_pairs is {n!r}; expected {what}"]
     return check
+
+
+def json_notes(expected):
+    """--json: "notes" is exactly `expected`."""
+    def check(stdout, workdir):
+        problems = []
+        stats = parse_json(stdout, problems)
+        if stats is not None and stats.get("notes") != expected:
+            problems.append(f"notes is {stats.get('notes')!r}, expected {expected!r}")
+        return problems
+    return check
+
+
+def json_all(*checks):
+    return lambda stdout, workdir: [p for c in checks for p in c(stdout, workdir)]
 
 
 def is_int(v):
@@ -250,10 +267,18 @@ CASES = [
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
                      "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)")},
-    {"name": "edge contact without self-contact", "argv": [SMALL, "--set", "collision.edges=true"],
+    # The contact radius against a given thickness (read), and against the default thickness
+    # (half of small.json's shortest spring, 0.2 m: known once the simulation is built).
+    {"name": "contact radius within the thickness",
+     "argv": [SMALL, "--set", "collision.radius=0.001", "--set", "collision.thickness=0.005"],
      "status": 2,
-     "stderr": error(SMALL, "collision.edges (from --set): edge contact is between the cloths' "
-                     "edges: it needs \"self\": true")},
+     "stderr": error(SMALL, "collision.radius (from --set): 0.001 is not more than the thickness "
+                     "0.005 (contact acts between the thickness and the radius)")},
+    {"name": "contact radius within the default thickness",
+     "argv": [SMALL, "--set", "collision.radius=0.05", "--set", "collision.self=true"], "status": 2,
+     "stderr": error(SMALL, "collision.radius: 0.05 is not more than the thickness 0.1, half the "
+                     "shortest structural rest length (contact acts between the thickness and the "
+                     "radius)")},
     {"name": "wrong type", "argv": [scene("wrong-type.json")], "status": 2,
      "stderr": error(scene("wrong-type.json"), "dt: expected a number, got the string \"fast\"")},
     {"name": "negative mass", "argv": [scene("negative-mass.json")], "status": 2,
@@ -341,14 +366,6 @@ CASES = [
     {"name": "no search lanes", "argv": [SMALL, "--search-lanes", "0"], "status": 2,
      "stderr": tooltest.tool_line("clothvk-sim", "--search-lanes: expected a whole number from 1 "
                                   "to 1024, got 0")},
-    {"name": "search lanes that do not divide the workgroup",
-     "argv": [SMALL, "--search-lanes", "3"], "status": 2,
-     "stderr": error(SMALL, "search_lanes: 3 does not divide the workgroup size 64")},
-    {"name": "search lanes whose lists do not fit in shared memory",
-     "argv": [SMALL, "--search-lanes", "2", "--workgroup-size", "512"], "status": 2,
-     "stderr": error(SMALL, "search_lanes: 2 lanes in workgroups of 512 need 65536 bytes of "
-                            "shared memory, more than this device's 32768; use one lane or "
-                            "smaller workgroups")},
     {"name": "NaN in the file", "argv": [scene("nan.json")], "status": 2,
      "stderr": error(scene("nan.json"), "cloths.0.origin.1: must be a finite number, got NaN")},
     {"name": "NaN via --set", "argv": [SMALL, "--set", "dt=NaN"], "status": 2,
@@ -401,27 +418,43 @@ CASES = [
      "check": plan_has("colours: 5")},
     {"name": "--plan with contact", "argv": [asset("drape.json"), "--plan"], "status": 0,
      "check": plan_has("collision: thickness 0.01064 m, friction 0.3 (static 0.4), self-contact on "
-                       "(candidates searched when a particle moved 0.00266 m since the last search)",
+                       "within a radius of 0.02128 m,",
                        "  colliders dispatch", "  hash     dispatch", "  contacts dispatch",
                        "  contact  dispatch")},
     {"name": "--plan with edge contact", "argv": [asset("ribbons.json"), "--plan"], "status": 0,
+     "notes": [EDGES_NOTE],
      "check": plan_has("collision: thickness 0.006 m, friction 0.4 (static 0.5), self-contact on "
-                       "with edges (", "  contacts indirect particle-triangle candidates particles, "
+                       "within a radius of 0.012 m,", "  contacts indirect particle-triangle candidates particles, "
                        "groups from the device (offset 16), listed: pairs and edges within 0.015 m")},
     {"name": "--json ribbons with edge contact", "argv": [asset("ribbons.json"), "--frames", "60",
                                                           "--json"], "status": 0,
      "check": json_pairs(lambda n: n == 0, "no intersecting pair: the ribbons lie on each other")},
-    {"name": "--json ribbons without edge contact", "argv": [asset("ribbons.json"), "--frames", "60",
-                                                             "--set", "collision.edges=false",
-                                                             "--json"], "status": 0,
-     "check": json_pairs(lambda n: n > 0, "intersecting pairs: without edge contact the upper "
-                         "ribbons fall through the lower ones (the case above could not fail)")},
+    {"name": "--json ribbons with collision.edges=false (no effect)",
+     "argv": [asset("ribbons.json"), "--frames", "60", "--set", "collision.edges=false", "--json"],
+     "status": 0,
+     "check": json_pairs(lambda n: n == 0, "no intersecting pair: edge-edge contact is always on")},
     {"name": "--json contacts", "argv": [asset("drape.json"), "--set", "cloths.0.grid=[12,12]",
                                          "--set", "cloths.0.origin=[1,0.05,1]",
                                          "--frames", "40", "--json"], "status": 0,
      "check": json_contacts},
     {"name": "--json", "argv": [SMALL, "--set", "cloths.0.grid=[10,10]", "--frames", "3", "--json"], "status": 0,
      "check": json_stats(particles=100, structural=180, frames=3)},
+    # The clean start: cloths that cross at the start are refused, naming the first pair;
+    # collision.allow_intersecting_start simulates them anyway. Keys that no longer have an
+    # effect are noted: on stderr, or in --json's "notes".
+    {"name": "cloths crossing at the start", "argv": [CROSSING], "status": 2,
+     "stderr": error(CROSSING, "collision: cloths \"a\" and \"b\" intersect at the start "
+                               "(triangle 101 of \"a\" and triangle 80 of \"b\", near (-0.425, "
+                               "0.992, 0.558)); set collision.allow_intersecting_start to simulate "
+                               "anyway")},
+    {"name": "cloths crossing at the start, allowed",
+     "argv": [CROSSING, "--set", "collision.allow_intersecting_start=true", "--json"], "status": 0,
+     "check": json_all(json_pairs(lambda n: n > 0, "the cloths still cross"), json_notes([]))},
+    {"name": "a key without effect", "argv": [SMALL, "--set", "collision.edges=true", "--frames", "1"],
+     "status": 0, "notes": [EDGES_NOTE]},
+    {"name": "a key without effect, --json",
+     "argv": [SMALL, "--set", "collision.edges=true", "--frames", "1", "--json"], "status": 0,
+     "check": json_notes([EDGES_NOTE[len("clothvk-sim: note: "):]])},
     {"name": "--dump before any step", "argv": [SMALL, "--frames", "0", "--dump", DUMP], "status": 0,
      "check": dump_grid(SMALL, first_two_at_rest=True)},
     {"name": "1 x N rope", "argv": [ROPE, "--frames", "10", "--dump", DUMP], "status": 0,
@@ -471,7 +504,8 @@ def run_case(case):
                 return lines and one_line and tooltest.line_matches(lines[0], case["stderr"])
             return tooltest.refusal_problems(p, case["stderr"], [], tooltest.listing(workdir),
                                              case["status"], stderr_ok)
-        return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"))
+        return tooltest.accepted_problems(p, case["status"], workdir, case.get("check"),
+                                          case.get("notes", ()))
 
 
 def same_dump(argv_a, argv_b):

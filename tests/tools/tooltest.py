@@ -133,14 +133,16 @@ def refused_run(tool, argv, expected, files=(), prefix="clothvk-"):
         return refusal_problems(p, expected, before, listing(workdir))
 
 
-def accepted_problems(p, status, workdir, check=None):
-    """Problems with a run `p` of good input: exit `status`, nothing on stderr, and what
-    check(stdout, workdir) finds when the run exited with 0."""
+def accepted_problems(p, status, workdir, check=None, stderr_lines=()):
+    """Problems with a run `p` of good input: exit `status`, nothing on stderr but
+    `stderr_lines` (the notes a scene earns, each compared whole), and what check(stdout,
+    workdir) finds when the run exited with 0."""
     problems = []
     if p.returncode != status:
         problems.append(f"expected exit status {status}, got {p.returncode}")
-    if p.stderr:
-        problems.append("expected nothing on stderr, got:\n    " + "\n    ".join(p.stderr.splitlines()))
+    if p.stderr.splitlines() != list(stderr_lines):
+        problems.append(f"expected {len(stderr_lines)} lines on stderr {list(stderr_lines)!r}, "
+                        "got:\n    " + "\n    ".join(p.stderr.splitlines()))
     if check and p.returncode == 0:
         problems += check(p.stdout, workdir)
     return problems

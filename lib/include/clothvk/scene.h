@@ -225,32 +225,25 @@ typedef struct cvk_attachment_desc {
 
 /* Contact between cloths (self- and cloth-cloth) and the defaults of every collider. */
 typedef struct cvk_collision_desc {
-    bool self;                   /* particle–triangle contact between and within cloths;
-                                    usually false */
+    bool self;                   /* contact between and within cloths; usually false */
     float thickness;             /* m: the distance kept between a particle and any surface
-                                    (collider or cloth); 0 = half the shortest rest length of
-                                    any structural spring (the default) */
+                                    (collider or cloth), at most 1; 0 = half the shortest rest
+                                    length of any structural spring (the default) */
+    float radius;                /* m: the contact radius: pairs of cloth primitives nearer
+                                    than this are tracked by contact, and each particle's
+                                    displacement bound is measured within it; more than the
+                                    thickness, at most 1; 0 = twice the thickness (the
+                                    default) */
     float friction;              /* Coulomb kinetic coefficient, ≥ 0; usually 0.3 */
     float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
-    uint32_t detect_every;       /* 0 (the default): search for cloth-contact candidates (the
-                                    hash and the query) only at substeps that start with some
-                                    particle a quarter thickness from where the last search saw
-                                    it — as safe as searching every substep, and free for a
-                                    cloth at rest; k (1 to substeps): every k substeps whatever
-                                    moved (k > 1 is cheaper, but layers approaching faster than
-                                    about a thickness per k substeps may pass through) */
-    float exclusion;             /* m: a particle is never in contact with a triangle of its
-                                    own cloth that had a corner within this distance of it at
-                                    rest; 0 = 1.5 thicknesses (the default: in a grid, only the
-                                    particle's own triangles, so folds one particle wide are
-                                    held apart). Past the detection radius plus the longest
-                                    edge a flat cloth has no candidates and the search is several
-                                    times cheaper, but folds tighter than the exclusion can pass
-                                    through themselves: for cloths with bending stiffness */
-    bool edges;                  /* with self: edge–edge contact too, keeping the cloths' edges
-                                    a thickness apart where they pass each other with no
-                                    particle near a face (narrow strips crossing, a fold's
-                                    crease across a border); a wider search. Usually false */
+    bool allow_intersecting_start; /* with self: false (the default) refuses a scene whose
+                                    cloths intersect at the start (cvk_sim_create names the
+                                    first pair); true simulates it anyway */
+    /* Keys of an earlier contact, kept so that old scenes load; they have no effect, and a
+       simulation lists each one a scene sets in its notes (cvk_sim_note). */
+    uint32_t detect_every;       /* no effect; 0 */
+    float exclusion;             /* no effect; 0 */
+    bool edges;                  /* no effect (edge–edge contact is always on); false */
 } cvk_collision_desc;
 
 typedef enum cvk_collider_type {

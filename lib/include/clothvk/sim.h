@@ -37,12 +37,8 @@ typedef struct cvk_sim_desc {
     bool grab;                   /* true: the frame has the grab pass from the start, so frames
                                     you record now follow cvk_sim_grab; false: the first
                                     cvk_sim_grab adds it (see there) */
-    uint32_t search_lanes;       /* invocations that share one particle's candidate search
-                                    (self-contact), dividing workgroup_size; 0 = the
-                                    library's choice: 1 on CPU devices, 16 elsewhere (fewer
-                                    where 16 does not divide workgroup_size; 1 where the lanes'
-                                    lists, 128 bytes per invocation, exceed the device's shared
-                                    memory). The candidates do not depend on it */
+    uint32_t search_lanes;       /* no effect: a setting of an earlier contact's search,
+                                    kept so that programs that set it still build; 0 */
     uint32_t cookie_;            /* set by cvk_default_sim_desc; do not touch */
 } cvk_sim_desc;
 
@@ -310,6 +306,15 @@ CVK_API void cvk_sim_release(cvk_sim* sim);
    on the host from the current positions (waits like cvk_sim_read_positions). Torn triangles
    are skipped. A cloth that does not pass through itself or another has 0. */
 CVK_API cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
+
+/* Notes on the scene the simulation was made from: one sentence for each key it sets that has
+   no effect (collision.edges, collision.exclusion, collision.detect_every: keys of an earlier
+   contact, read so that old scenes load), such as "collision.edges has no effect: edge-edge
+   contact is always on". cvk_sim_note returns note `index` (0 to cvk_sim_note_count − 1), or
+   NULL past the end or for a NULL simulation; the text lives as long as the simulation. The
+   tools print them (clothvk-sim: "note: ..." lines on stderr, "notes" in --json). */
+CVK_API uint32_t cvk_sim_note_count(const cvk_sim* sim);
+CVK_API const char* cvk_sim_note(const cvk_sim* sim, uint32_t index);
 
 /* Reads positions back (as cvk_sim_read_positions) and computes the statistics. For frames
    you recorded yourself, call it once their submission has completed. */
