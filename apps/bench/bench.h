@@ -253,6 +253,9 @@ bench_verdict bench_classify(const bench_watch* w, const cvk_sim_stats* now, dou
 
 /* ---- experiments ---------------------------------------------------------------------------- */
 
+/* --help: the experiments and their options (usage.c). */
+void bench_usage(FILE* out);
+
 /* Each returns APP_EXIT_OK or APP_EXIT_FAILURE (after printing why). */
 int bench_convergence(bench* b);
 int bench_budget(bench* b);
