@@ -23,7 +23,8 @@ enum {
     COLLIDE = 1 << 5,
     CONTACT_STEPS = 1 << 6,
     EXPLICIT = 1 << 7,
-    ALL = 0xff,
+    ENSEMBLE = 1 << 8,
+    ALL = 0x1ff,
 };
 
 typedef struct experiment {
@@ -32,17 +33,20 @@ typedef struct experiment {
     bool needs_scene;
     int (*run)(bench* b);
     int width, height; /* of the plot, pixels */
+    int (*check)(const bench_options* o); /* more input to check before anything runs; NULL */
 } experiment;
 
 static const experiment experiments[] = {
-    {"convergence", CONVERGENCE, true, bench_convergence, 1500, 500},
-    {"budget", BUDGET, true, bench_budget, 1000, 500},
-    {"pareto", PARETO, true, bench_pareto, 1400, 550},
-    {"stability", STABILITY, true, bench_stability, 1500, 560},
-    {"scaling", SCALING, false, bench_scaling, 1200, 550},
-    {"collide", COLLIDE, false, bench_collide, 1000, 600},
-    {"contact-steps", CONTACT_STEPS, true, bench_contact_steps, 1000, 550},
-    {"explicit-stability", EXPLICIT, true, bench_explicit_stability, 1000, 550},
+    {"convergence", CONVERGENCE, true, bench_convergence, 1500, 500, NULL},
+    {"budget", BUDGET, true, bench_budget, 1000, 500, NULL},
+    {"pareto", PARETO, true, bench_pareto, 1400, 550, NULL},
+    {"stability", STABILITY, true, bench_stability, 1500, 560, NULL},
+    {"scaling", SCALING, false, bench_scaling, 1200, 550, NULL},
+    {"collide", COLLIDE, false, bench_collide, 1000, 600, NULL},
+    {"contact-steps", CONTACT_STEPS, true, bench_contact_steps, 1000, 550, NULL},
+    {"explicit-stability", EXPLICIT, true, bench_explicit_stability, 1000, 550, NULL},
+    {"contact-ensemble", ENSEMBLE, false, bench_contact_ensemble, 1400, 600,
+     bench_contact_ensemble_check},
 };
 
 /* ---- value parsing: each prints the one line and returns false -------------------------- */
@@ -231,6 +235,10 @@ static const option_spec option_specs[] = {
     {"--min-steps", STABILITY | EXPLICIT, true},
     {"--grids", SCALING, true},
     {"--points", COLLIDE, true},
+    {"--scenes", ENSEMBLE, true},
+    {"--frames", ENSEMBLE, true},
+    {"--variants", ENSEMBLE, true},
+    {"--require-clean", ENSEMBLE, false},
 };
 
 static const option_spec* find_option(const char* name)
@@ -245,6 +253,26 @@ static bool parse_u32(const char* option, const char* text, uint32_t low, uint32
                       uint32_t* out)
 {
     return app_option_u32(tool, option, text, low, high, out);
+}
+
+/* contact-ensemble's options; false after printing why. */
+static bool apply_ensemble_option(bench_options* o, const char* name, const char* v)
+{
+    if (!strcmp(name, "--scenes")) {
+        if (!v || !*v || strstr(v, ",,") || v[0] == ',' || v[strlen(v) - 1] == ',')
+            return bad_value(name, "a comma-separated list of scene files", v);
+        o->scenes = v;
+        return true;
+    }
+    if (!strcmp(name, "--frames"))
+        return parse_u32(name, v, 1, 1000000, &o->frames);
+    if (!strcmp(name, "--variants"))
+        return parse_u32(name, v, 1, 1000, &o->variants);
+    if (!strcmp(name, "--require-clean")) {
+        o->require_clean = true;
+        return true;
+    }
+    return false;
 }
 
 /* Applies one option with its value; false after printing why. */
@@ -325,7 +353,7 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         o->plot = false;
         return true;
     }
-    return false;
+    return apply_ensemble_option(o, name, v);
 }
 
 static const experiment* find_experiment(const char* name)
@@ -463,7 +491,8 @@ static int choose_experiment(const gathered* g, parsed* p)
     p->e = find_experiment(g->positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
-                  "stability, scaling, collide, contact-steps or explicit-stability)",
+                  "stability, scaling, collide, contact-steps, explicit-stability or "
+                  "contact-ensemble)",
                   g->positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
@@ -539,6 +568,8 @@ static int parse_args(int argc, char** argv, parsed* p)
         status = check_solver_families(&p->o, p->e);
     if (status == APP_EXIT_OK)
         set_defaults(&p->o, p->e);
+    if (status == APP_EXIT_OK && p->e->check)
+        status = p->e->check(&p->o);
     return status;
 }
 
@@ -680,7 +711,7 @@ static int run(const parsed* p)
                                : APP_EXIT_OK;
     if (status != APP_EXIT_OK)
         return status;
-    if (!o->scene_path && o->overrides.count) {
+    if (!o->scene_path && o->overrides.count && p->e->bit != ENSEMBLE) {
         app_error(tool, "--set needs a scene file (scaling's built-in scene has none)");
         return APP_EXIT_BAD_INPUT;
     }
@@ -690,7 +721,8 @@ static int run(const parsed* p)
         return APP_EXIT_BAD_INPUT;
     }
     bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
-               .scene_name = o->scene_path ? base_name(o->scene_path) : "built-in"};
+               .scene_name = o->scene_path ? base_name(o->scene_path)
+                             : p->e->bit == ENSEMBLE ? "(scenes below)" : "built-in"};
     status = app_create_context(tool, &b.ctx);
     if (status != APP_EXIT_OK) {
         cvk_scene_destroy(file);
@@ -707,6 +739,10 @@ static int run(const parsed* p)
     status = app_validation_status(tool, b.ctx, p->e->run(&b));
     if (status == APP_EXIT_OK)
         status = write_results(&b, p->e, create);
+    if (status == APP_EXIT_OK && b.check_failed[0]) { /* the results are written all the same */
+        app_error(tool, "%s", b.check_failed);
+        status = APP_EXIT_FAILURE;
+    }
     bench_table_free(&b.table);
     bench_text_free(&b.plot);
     cvk_context_destroy(b.ctx);

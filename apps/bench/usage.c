@@ -3,7 +3,8 @@
 
 #include "bench.h"
 
-void bench_usage(FILE* out)
+/* The experiments, the options of all, and those of the frozen-substep and Pareto ones. */
+static void usage_first(FILE* out)
 {
     fprintf(out,
         "usage: clothvk-bench EXPERIMENT [SCENE] [options] [-o DIR]\n"
@@ -19,6 +20,8 @@ void bench_usage(FILE* out)
         "  contact-steps SCENE  penetration and intersecting pairs against the time step\n"
         "  explicit-stability SCENE  seed 001 §3: largest stable kd and h of the explicit\n"
         "                      integrators, measured and predicted from the stiffest mode\n"
+        "  contact-ensemble [SCENE]  intersecting cloth triangle pairs after every frame of\n"
+        "                      each scene with self-contact x 9 variants of its settings\n"
         "options (all experiments):\n"
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
@@ -56,6 +59,11 @@ void bench_usage(FILE* out)
         "  --explicit-substeps LIST  explicit: substeps per frame (1 to 10000)\n"
         "  --reference-substeps N  the reference's substeps per frame (default 4 x the largest\n"
         "                      of --substeps)\n");
+}
+
+void bench_usage(FILE* out)
+{
+    usage_first(out);
     fprintf(out,
         "stability:\n"
         "  --dt LIST           time steps, s (default 0.0005,0.001,0.002,0.004,0.008,0.016,0.0333333)\n"
@@ -76,5 +84,11 @@ void bench_usage(FILE* out)
         "  --iterations LIST   sweeps per substep (default 10,30,50,70)\n"
         "collide:\n"
         "  --points LIST       point counts (default 1000,10000,100000; 1000000 fits lavapipe)\n"
+        "contact-ensemble (--set applies to every scene):\n"
+        "  --scenes LIST       scene files a.json,b.json (default: SCENE, or the twelve showcases\n"
+        "                      with contact under assets/scenes/, from the repository root)\n"
+        "  --frames N          frames per run (default: each scene's own frame count)\n"
+        "  --variants N        the first N variants of each scene (default: all 9)\n"
+        "  --require-clean     exit 1 when any run had an intersecting pair or stopped early\n"
         "environment: CLOTHVK_DEVICE, CLOTHVK_VALIDATION=1, CLOTHVK_GNUPLOT, LP_NUM_THREADS (lavapipe)\n");
 }
