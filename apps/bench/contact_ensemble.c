@@ -105,7 +105,8 @@ static uint32_t make_variants(const cvk_scene_desc* s, variant* v)
     add_item(&v[4], "damping=%.7g", d > 0.0 ? fmin(2.0 * d, 0.999) : 0.002);
     if (d <= 0.0)
         v[4].note = "no damping to double: 0.002";
-    add_item(&v[5], "collision.friction=0");
+    add_item(&v[5], "collision.friction=0"); /* frictionless: the static coefficient too */
+    add_item(&v[5], "collision.static_friction=0");
     add_item(&v[6], "collision.static_friction=%.7g", fmax(f, 0.6));
     add_item(&v[6], "collision.friction=0.6");
     v[5].note = v[6].note = "colliders with their own friction keep it";
