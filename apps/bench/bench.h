@@ -119,6 +119,12 @@ typedef struct bench_options {
     /* collide */
     uint32_t points[BENCH_MAX_LIST];
     uint32_t point_count;
+
+    /* contact-ensemble */
+    const char* scenes;         /* comma-separated scene files; NULL: SCENE, or the showcases */
+    uint32_t frames;            /* frames per run; 0: each scene's own */
+    uint32_t variants;          /* variants per scene at most; 0: all */
+    bool require_clean;         /* exit 1 unless every run was free of intersecting pairs */
 } bench_options;
 
 /* What an experiment works with. */
@@ -131,6 +137,9 @@ typedef struct bench {
     bench_table table;
     bench_text plot;             /* gnuplot commands after the common preamble */
     int plot_height;             /* pixels; 0: the experiment's usual size */
+    char check_failed[256];      /* set: a check the options asked for failed; the results are
+                                    written, then this line goes to stderr and the exit status
+                                    is 1 */
 } bench;
 
 /* ---- timing ------------------------------------------------------------------------------ */
@@ -253,6 +262,9 @@ bench_verdict bench_classify(const bench_watch* w, const cvk_sim_stats* now, dou
 
 /* ---- experiments ---------------------------------------------------------------------------- */
 
+/* --help: the experiments and their options (usage.c). */
+void bench_usage(FILE* out);
+
 /* Each returns APP_EXIT_OK or APP_EXIT_FAILURE (after printing why). */
 int bench_convergence(bench* b);
 int bench_budget(bench* b);
@@ -262,6 +274,10 @@ int bench_scaling(bench* b);
 int bench_collide(bench* b);
 int bench_contact_steps(bench* b);
 int bench_explicit_stability(bench* b);
+int bench_contact_ensemble(bench* b);
+/* Its scenes load (with --set), and not both SCENE and --scenes: else one line and
+   APP_EXIT_BAD_INPUT (APP_EXIT_FAILURE when out of memory). */
+int bench_contact_ensemble_check(const bench_options* o);
 
 /* Stability of one configuration, for the experiment and the tests: steps the simulation
    `steps` substeps (checking every few) and classifies it. */

@@ -23,7 +23,8 @@ enum {
     COLLIDE = 1 << 5,
     CONTACT_STEPS = 1 << 6,
     EXPLICIT = 1 << 7,
-    ALL = 0xff,
+    ENSEMBLE = 1 << 8,
+    ALL = 0x1ff,
 };
 
 typedef struct experiment {
@@ -32,94 +33,21 @@ typedef struct experiment {
     bool needs_scene;
     int (*run)(bench* b);
     int width, height; /* of the plot, pixels */
+    int (*check)(const bench_options* o); /* more input to check before anything runs; NULL */
 } experiment;
 
 static const experiment experiments[] = {
-    {"convergence", CONVERGENCE, true, bench_convergence, 1500, 500},
-    {"budget", BUDGET, true, bench_budget, 1000, 500},
-    {"pareto", PARETO, true, bench_pareto, 1400, 550},
-    {"stability", STABILITY, true, bench_stability, 1500, 560},
-    {"scaling", SCALING, false, bench_scaling, 1200, 550},
-    {"collide", COLLIDE, false, bench_collide, 1000, 600},
-    {"contact-steps", CONTACT_STEPS, true, bench_contact_steps, 1000, 550},
-    {"explicit-stability", EXPLICIT, true, bench_explicit_stability, 1000, 550},
+    {"convergence", CONVERGENCE, true, bench_convergence, 1500, 500, NULL},
+    {"budget", BUDGET, true, bench_budget, 1000, 500, NULL},
+    {"pareto", PARETO, true, bench_pareto, 1400, 550, NULL},
+    {"stability", STABILITY, true, bench_stability, 1500, 560, NULL},
+    {"scaling", SCALING, false, bench_scaling, 1200, 550, NULL},
+    {"collide", COLLIDE, false, bench_collide, 1000, 600, NULL},
+    {"contact-steps", CONTACT_STEPS, true, bench_contact_steps, 1000, 550, NULL},
+    {"explicit-stability", EXPLICIT, true, bench_explicit_stability, 1000, 550, NULL},
+    {"contact-ensemble", ENSEMBLE, false, bench_contact_ensemble, 1400, 600,
+     bench_contact_ensemble_check},
 };
-
-static void usage(FILE* out)
-{
-    fprintf(out,
-        "usage: clothvk-bench EXPERIMENT [SCENE] [options] [-o DIR]\n"
-        "Writes DIR/EXPERIMENT.csv, DIR/EXPERIMENT.png (and the gnuplot script EXPERIMENT.gp)\n"
-        "and prints a summary with the device it ran on. --version prints the version.\n"
-        "experiments:\n"
-        "  convergence SCENE  residual and solve error against iterations on one frozen substep\n"
-        "  budget SCENE       iterations, residual and solve error within GPU-time budgets\n"
-        "  pareto SCENE       error against GPU time per frame over solver x iterations x substeps\n"
-        "  stability SCENE    stable region over h x stiffness (x damping), largest stable h, extremes\n"
-        "  scaling [SCENE]    ms per frame and per pass against particle and iteration counts\n"
-        "  collide            spatial hash build and neighbour query: ms per pass against points\n"
-        "  contact-steps SCENE  penetration and intersecting pairs against the time step\n"
-        "  explicit-stability SCENE  seed 001 §3: largest stable kd and h of the explicit\n"
-        "                      integrators, measured and predicted from the stiffest mode\n"
-        "options (all experiments):\n"
-        "  -o DIR              output folder, created if missing (default: .)\n"
-        "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
-        "  --solvers LIST      NAME[:OMEGA],... of jacobi, chebyshev, rbgs, gs-cpu\n"
-        "                      (scaling also: cg, implicit-jacobi: implicit Euler, --iterations\n"
-        "                      CG iterations or Jacobi sweeps per step, all run)\n"
-        "  --inner N           linear sweeps per local step (default 1); iterations count sweeps\n"
-        "  --repeat R          timed runs per point: median and min-max (default 3)\n"
-        "  --warmup W          untimed runs before them (default 1)\n"
-        "  --no-plot           write the CSV only\n"
-        "convergence, budget:\n"
-        "  --frame F           freeze the first substep of frame F (default 0 without integration,\n"
-        "                      5 with), reached with the scene's own solver\n"
-        "  --max-iterations K  convergence: iterations up to K (default 1000)\n"
-        "  --ms LIST           budget: budgets in ms (default 1,2,4,8)\n"
-        "  --reference-tolerance M, --reference-max-iterations K\n"
-        "                      x*, the converged solution of the substep, by Newton's method:\n"
-        "                      until a step is below M m (default 1e-10), K steps at most (200)\n"
-        "pareto:\n"
-        "  --iterations LIST   sweeps per substep (default 1,2,4,8,16,32)\n"
-        "  --substeps LIST     substeps per frame (default 2,4,8); h = frame time / substeps\n"
-        "  --time T            simulated seconds before the errors are taken (default 0.25)\n"
-        "  --target E          name the cheapest setting within E m of the reference (default 1e-3)\n"
-        "  --target-residual R the same for the residual, m^2 (default: twice the reference's)\n"
-        "  --reference-tolerance M, --reference-max-iterations K  as for convergence (default\n"
-        "                      1e-8 m, 200); the reference is the converged solve at h / 4\n"
-        "  --stretch-bound S   settings that stretch a spring by more than S are unstable and on\n"
-        "                      no front (default 10 = 1000%%)\n"
-        "  --solvers           also cg and implicit-jacobi (implicit Euler: each --substeps x\n"
-        "                      --tolerances, at most --max-iterations per substep, default 1000)\n"
-        "                      and euler, rk2, adams-bashforth, verlet (explicit, the scene's\n"
-        "                      solver.kd: each of --explicit-substeps, which they need)\n"
-        "  --tolerances LIST   implicit: relative residuals where the solve stops (default\n"
-        "                      0.01,0.001)\n"
-        "  --explicit-substeps LIST  explicit: substeps per frame (1 to 10000)\n"
-        "  --reference-substeps N  the reference's substeps per frame (default 4 x the largest\n"
-        "                      of --substeps)\n");
-    fprintf(out,
-        "stability:\n"
-        "  --dt LIST           time steps, s (default 0.0005,0.001,0.002,0.004,0.008,0.016,0.0333333)\n"
-        "  --stiffness LIST    structural N/m (default 1e3,1e4,1e5,1e6,1e7,1e8)\n"
-        "  --damping LIST      (default 0)\n"
-        "  --iterations LIST   sweeps per substep (default: the scene's outer x inner)\n"
-        "  --time T            simulated seconds per run (default 0.5), at least --min-steps\n"
-        "                      steps (default 50)\n"
-        "  --energy-bound G    unstable when the energy grows by G energy scales (default 1)\n"
-        "  --stretch-bound S   unstable when a spring stretches by S (default 10 = 1000%%)\n"
-        "  --limit-ratio Q     bisection precision of the largest stable h (default 1.05)\n"
-        "explicit-stability (also --time, default 1, --min-steps, --energy-bound,\n"
-        "                    --stretch-bound, --limit-ratio (default 1.02) as for stability):\n"
-        "  --kd KD             damping for the largest stable h, N s/m (default 10)\n"
-        "scaling:\n");
-    fprintf(out,
-        "  --grids LIST        N for N x N grids (default 32,64,...,2048 and the largest that fits)\n"
-        "  --iterations LIST   sweeps per substep (default 10,30,50,70)\n"
-        "collide:\n"
-        "  --points LIST       point counts (default 1000,10000,100000; 1000000 fits lavapipe)\n"
-        "environment: CLOTHVK_DEVICE, CLOTHVK_VALIDATION=1, CLOTHVK_GNUPLOT, LP_NUM_THREADS (lavapipe)\n");
-}
 
 /* ---- value parsing: each prints the one line and returns false -------------------------- */
 
@@ -307,6 +235,10 @@ static const option_spec option_specs[] = {
     {"--min-steps", STABILITY | EXPLICIT, true},
     {"--grids", SCALING, true},
     {"--points", COLLIDE, true},
+    {"--scenes", ENSEMBLE, true},
+    {"--frames", ENSEMBLE, true},
+    {"--variants", ENSEMBLE, true},
+    {"--require-clean", ENSEMBLE, false},
 };
 
 static const option_spec* find_option(const char* name)
@@ -321,6 +253,26 @@ static bool parse_u32(const char* option, const char* text, uint32_t low, uint32
                       uint32_t* out)
 {
     return app_option_u32(tool, option, text, low, high, out);
+}
+
+/* contact-ensemble's options; false after printing why. */
+static bool apply_ensemble_option(bench_options* o, const char* name, const char* v)
+{
+    if (!strcmp(name, "--scenes")) {
+        if (!v || !*v || strstr(v, ",,") || v[0] == ',' || v[strlen(v) - 1] == ',')
+            return bad_value(name, "a comma-separated list of scene files", v);
+        o->scenes = v;
+        return true;
+    }
+    if (!strcmp(name, "--frames"))
+        return parse_u32(name, v, 1, 1000000, &o->frames);
+    if (!strcmp(name, "--variants"))
+        return parse_u32(name, v, 1, 1000, &o->variants);
+    if (!strcmp(name, "--require-clean")) {
+        o->require_clean = true;
+        return true;
+    }
+    return false;
 }
 
 /* Applies one option with its value; false after printing why. */
@@ -401,7 +353,7 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         o->plot = false;
         return true;
     }
-    return false;
+    return apply_ensemble_option(o, name, v);
 }
 
 static const experiment* find_experiment(const char* name)
@@ -498,7 +450,7 @@ static int gather(int argc, char** argv, gathered* g, bool* done)
 {
     for (int i = 1; i < argc; i++) {
         const char* a = argv[i];
-        if (app_help_or_version(tool, a, usage)) {
+        if (app_help_or_version(tool, a, bench_usage)) {
             *done = true;
             return APP_EXIT_OK;
         }
@@ -533,13 +485,14 @@ static int choose_experiment(const gathered* g, parsed* p)
 {
     if (!g->positional[0]) {
         app_error(tool, "no experiment given");
-        usage(stderr);
+        bench_usage(stderr);
         return APP_EXIT_BAD_INPUT;
     }
     p->e = find_experiment(g->positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
-                  "stability, scaling, collide, contact-steps or explicit-stability)",
+                  "stability, scaling, collide, contact-steps, explicit-stability or "
+                  "contact-ensemble)",
                   g->positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
@@ -615,6 +568,8 @@ static int parse_args(int argc, char** argv, parsed* p)
         status = check_solver_families(&p->o, p->e);
     if (status == APP_EXIT_OK)
         set_defaults(&p->o, p->e);
+    if (status == APP_EXIT_OK && p->e->check)
+        status = p->e->check(&p->o);
     return status;
 }
 
@@ -756,7 +711,7 @@ static int run(const parsed* p)
                                : APP_EXIT_OK;
     if (status != APP_EXIT_OK)
         return status;
-    if (!o->scene_path && o->overrides.count) {
+    if (!o->scene_path && o->overrides.count && p->e->bit != ENSEMBLE) {
         app_error(tool, "--set needs a scene file (scaling's built-in scene has none)");
         return APP_EXIT_BAD_INPUT;
     }
@@ -766,7 +721,8 @@ static int run(const parsed* p)
         return APP_EXIT_BAD_INPUT;
     }
     bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
-               .scene_name = o->scene_path ? base_name(o->scene_path) : "built-in"};
+               .scene_name = o->scene_path ? base_name(o->scene_path)
+                             : p->e->bit == ENSEMBLE ? "(scenes below)" : "built-in"};
     status = app_create_context(tool, &b.ctx);
     if (status != APP_EXIT_OK) {
         cvk_scene_destroy(file);
@@ -783,6 +739,10 @@ static int run(const parsed* p)
     status = app_validation_status(tool, b.ctx, p->e->run(&b));
     if (status == APP_EXIT_OK)
         status = write_results(&b, p->e, create);
+    if (status == APP_EXIT_OK && b.check_failed[0]) { /* the results are written all the same */
+        app_error(tool, "%s", b.check_failed);
+        status = APP_EXIT_FAILURE;
+    }
     bench_table_free(&b.table);
     bench_text_free(&b.plot);
     cvk_context_destroy(b.ctx);

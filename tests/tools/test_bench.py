@@ -63,9 +63,13 @@ COLUMNS = {
     "explicit-stability": ["measure", "integrator", "damping_model", "dt", "kd", "measured",
                            "unstable_at", "predicted", "measured_over_predicted", "seed",
                            "lambda_d", "lambda_k", "runs", "steps", "device"],
+    "contact-ensemble": ["scene", "variant", "settings", "frame_time", "frames", "frames_run",
+                         "frames_with_pairs", "max_pairs", "end_pairs", "first_pair_frame",
+                         "end_max_stretch", "diverged_frame", "step_ms", "count_ms", "error",
+                         "device"],
 }
 TEXT = {"label", "method", "solver", "kind", "case", "reason", "device", "measure", "integrator",
-        "damping_model", "seed"}
+        "damping_model", "seed", "scene", "variant", "settings", "error"}
 
 
 def may_be_empty(experiment, row, column):
@@ -88,6 +92,8 @@ def may_be_empty(experiment, row, column):
             return row["method"] != "implicit"
         if column.startswith("frame_ms") or column in ("residual", "trajectory_error"):
             return row["stable"] == "0"
+    if experiment == "contact-ensemble" and column in ("end_max_stretch", "step_ms", "count_ms"):
+        return row["frames_run"] == "0"  # a run that never started measured nothing
     if experiment == "scaling" and column in CONTACT_COLUMNS:
         return True  # passes of a colliding scene, checked by contact_pass_columns
     if experiment == "stability":
@@ -305,6 +311,33 @@ def explicit_limits(rows):
     return problems
 
 
+ENSEMBLE_VARIANTS = ["scene", "omega-low", "omega-high", "damping+0.01", "damping-x2",
+                     "friction-0", "friction-0.6", "dt-x2", "dt-x4"]
+
+
+def ensemble_rows(scenes, variants, frames):
+    """One row per scene x variant, in order, each run through all its frames without an error.
+    The pairs are not checked: they are what the experiment measures."""
+    def check(rows):
+        want = [(s, v, str(frames)) for s in scenes for v in ENSEMBLE_VARIANTS[:variants]]
+        got = [(r["scene"], r["variant"], r["frames_run"]) for r in rows]
+        problems = [] if got == want else [f"contact-ensemble.csv (scene, variant, frames_run): "
+                                           f"expected {want}, got {got}"]
+        for r in rows:
+            if r["error"] or r["diverged_frame"] != "-1":
+                problems.append(f"contact-ensemble.csv: {r['scene']} {r['variant']} stopped: "
+                                f"{r['error']}")
+            if int(r["frames_with_pairs"]) > frames or \
+                    (r["first_pair_frame"] == "-1") != (r["frames_with_pairs"] == "0"):
+                problems.append(f"contact-ensemble.csv: {r['variant']}: frames_with_pairs "
+                                f"{r['frames_with_pairs']}, first_pair_frame {r['first_pair_frame']}")
+        return problems[:5]
+    return check
+
+
+# A small cloth over the drape's ball and the four cloths of sphere-hit, each 8 x 8.
+TINY_CONTACT = ["--set", "cloths.0.grid=[8,8]"]
+
 GOOD = [
     {"name": "convergence on enlarged.json",
      "argv": ["convergence"] + TINY_ENLARGED + ["--max-iterations", "30"] + QUICK,
@@ -365,6 +398,14 @@ GOOD = [
               "--set", "cloths.0.mass=1", "--set", "cloths.0.pins=[[0,0],[1,0],[2,0],[3,0],[4,0],[5,0]]",
               "--time", "0.3", "--limit-ratio", "1.1"],
      "experiment": "explicit-stability", "check": explicit_limits},
+    {"name": "contact-ensemble, every variant",
+     "argv": ["contact-ensemble", asset("drape.json")] + TINY_CONTACT + ["--frames", "3"],
+     "experiment": "contact-ensemble", "check": ensemble_rows(["drape.json"], 9, 3)},
+    {"name": "contact-ensemble, two scenes, three variants",
+     "argv": ["contact-ensemble", "--scenes", asset("drape.json") + "," + asset("ribbons.json"),
+              "--frames", "2", "--variants", "3"] + TINY_CONTACT,
+     "experiment": "contact-ensemble",
+     "check": ensemble_rows(["drape.json", "ribbons.json"], 3, 2)},
 ]
 
 SOLVERS = ("a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with "
@@ -374,7 +415,7 @@ BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
     {"name": "unknown experiment", "argv": ["speed", HANGING],
      "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
-               'stability, scaling, collide, contact-steps or explicit-stability)'},
+               'stability, scaling, collide, contact-steps, explicit-stability or contact-ensemble)'},
     {"name": "missing scene", "argv": ["convergence"],
      "stderr": "clothvk-bench: convergence needs a scene file"},
     {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],
@@ -434,6 +475,15 @@ BAD = [
      "stderr": "clothvk-bench: -o afile/out: cannot use it as a folder: Not a directory"},
     {"name": "-o under a missing folder", "argv": ["scaling", "-o", "missing/out"],
      "stderr": "clothvk-bench: -o missing/out: cannot create the folder: missing is not a folder"},
+    {"name": "contact-ensemble, a scene missing",
+     "argv": ["contact-ensemble", "--scenes", asset("drape.json") + ",nope.json"],
+     "stderr": "clothvk-bench: nope.json: cannot open: No such file or directory"},
+    {"name": "contact-ensemble, an empty item in --scenes",
+     "argv": ["contact-ensemble", "--scenes", "a.json,,b.json"],
+     "stderr": "clothvk-bench: --scenes: expected a comma-separated list of scene files, got a.json,,b.json"},
+    {"name": "contact-ensemble, SCENE and --scenes",
+     "argv": ["contact-ensemble", HANGING, "--scenes", HANGING],
+     "stderr": "clothvk-bench: contact-ensemble: a SCENE or --scenes, not both"},
     {"name": "-o without a value", "argv": ["scaling", "-o"], "stderr": "clothvk-bench: -o: expected a value"},
 ]
 
@@ -511,11 +561,32 @@ def no_gnuplot():
         return problems
 
 
+def require_clean():
+    """--require-clean: a run that stops early (here every variant of a small cloth at 3 s
+    steps diverges in its second frame) is no clean run: the CSV is written all the same, then
+    one line on stderr and exit status 1."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-bench-") as workdir:
+        p = run(["contact-ensemble"] + TINY_HANGING + ["--set", "collision.self=true",
+                 "--set", "dt=3", "--set", "substeps=1", "--frames", "2", "--variants", "2",
+                 "--require-clean", "--no-plot", "-o", "out"], workdir)
+        problems = [] if p.returncode == 1 else [f"exit status {p.returncode}, expected 1"]
+        expected = "clothvk-bench: --require-clean: 0 of 2 runs had an intersecting pair, 2 stopped early"
+        if p.stderr.strip() not in (expected, expected.replace(" 0 of", " 1 of"),
+                                    expected.replace(" 0 of", " 2 of")):
+            problems.append(f"expected stderr: {expected}\n    got: {p.stderr.strip()}")
+        csv_problems, rows = check_csv(workdir, "contact-ensemble")
+        problems += csv_problems
+        if [r["diverged_frame"] for r in rows] != ["1", "1"]:
+            problems.append(f"diverged_frame: expected 1 and 1, got {[r['diverged_frame'] for r in rows]}")
+        return problems
+
+
 def main():
     report = tooltest.Cases("bench")
     cases = [(c["name"], lambda c=c: good_case(c)) for c in GOOD]
     cases += [(c["name"], lambda c=c: bad_case(c)) for c in BAD]
     cases.append(("no gnuplot", no_gnuplot))
+    cases.append(("contact-ensemble --require-clean", require_clean))
     for name, check in cases:
         report.add(name, check())
     return report.finish(before_closing=None if HAS_GNUPLOT else "gnuplot is not installed: plots were not checked")
