@@ -39,8 +39,7 @@ static void usage(FILE* out)
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
-            "  --search-lanes N    invocations per particle in the self-contact search, dividing\n"
-            "                 the workgroup size (default: the library's choice)\n"
+            "  --search-lanes N    accepted for older scripts; no effect\n"
             "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }

@@ -9,15 +9,17 @@
 
 /* Per-particle device bytes, measured with clothvk's Python package (device_peak_bytes of a
    40 x 40 and a 100 x 100 grid, the difference over 8400 particles): 168 with 4 springs per
-   particle, 280 with 12 (14 per spring slot over 112), 458 with self-contact (+179: the hash's
-   keys, ranges, candidates; +20 since for the patch table and the work lists, counted from
-   their sizes, and +96 for the triangles' boxes and normals, 48 bytes a triangle, which only
-   GPUs hold: search lanes, lib/contact/collide.h), 844 with implicit Euler (+564 at 12 slots: 3x3 blocks per slot
-   and the CG vectors, 47 per slot; the contact filter added 16 since). The coefficients round each up by about a tenth, so the
-   estimate bounds what is made without overstating it by more than a few tens of percent. */
+   particle, 280 with 12 (14 per spring slot over 112), 844 with implicit Euler (+564 at 12
+   slots: 3x3 blocks per slot and the CG vectors, 47 per slot; the contact filter added 16
+   since). Self-contact, from its buffers' sizes for a grid (two triangles and three edges a
+   particle) and the 10000-particle measure of tests/core/test_memory.c: about 455 — the hash
+   (about 50), the triangle and edge tables (170), the lists of features, edges and pairs by
+   corner (212), where detection saw each particle and the particle a substep before (32). The
+   coefficients round each up by about a tenth, so the estimate bounds what is made without
+   overstating it by more than a few tens of percent. */
 #define DEVICE_BASE 125u
 #define DEVICE_PER_SLOT 16u
-#define DEVICE_SELF 330u
+#define DEVICE_SELF 500u
 #define DEVICE_IMPLICIT_PER_SLOT 52u
 /* Explicit integrators, from their buffer sizes (not measured): velocities, the RK2 stage,
    accelerations and the Adams-Bashforth history are 160 bytes, the adjacency 16 per slot;
@@ -32,7 +34,7 @@
 #define DEVICE_FIXED (64u << 10) /* uniforms, staging, queries: about 10 KB measured */
 /* Host bytes per particle beside the device's (resident set of clothvk-sim less its device
    memory on lavapipe, same grids): about 210 with 4 slots, 420 with 12; self-contact about
-   +215 more (and the patch table's host copy, 12). */
+   +215 more. */
 #define HOST_BASE 120u
 #define HOST_PER_SLOT 30u
 #define HOST_SELF 256u

@@ -1,7 +1,8 @@
-// Contact between the projective-dynamics iterations: a particle's displacement is kept off
-// the other cloths' triangles found for it this substep and out of every collider
-// (contact/collide.glsl). Triangle corners are read from src (the iterate before), never from the
-// buffer being written, so the result does not depend on the order of invocations.
+// Contact between the projective-dynamics iterations: a particle's displacement is kept a
+// thickness off the cloth features listed at the last detection, within its bound, and out of
+// every collider (contact/collide.glsl, lib/contact/collide.h). The other side's particles are
+// read from src (the iterate before), never from the buffer being written, so the result does
+// not depend on the order of invocations.
 // Specialised: collider types the scene lacks (COLLIDER_TYPES, id 3) and self-contact
 // (SELF, id 4) compile to nothing — on lavapipe both sides of a branch run.
 #define CONTACT_TYPES_ID 3
