@@ -141,6 +141,8 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
     uint base = contact_u.particle_count + 1u;
     for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
         uint e = particle_edge(base + o);
+        if (edge_entry(e * KE) == CVK_NO_CONTACT)
+            continue; // the common case: nothing near the edge
         uvec2 ends = contact_edge(e);
         uint q = ends.x == p ? ends.y : ends.x;
         vec3 xq = iterate_x(q);

@@ -1,0 +1,73 @@
+#!/usr/bin/env python3
+"""The contact scenes' figures (docs/figures/contact-baseline/, docs/figures/contact-ogc/): each
+scene run whole on one lavapipe core with a given build's clothvk-sim, its `--json` turned into
+one CSV row. Run two builds in one sitting to compare them:
+
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv [--sizes 20,40,80]
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+COLUMNS = ["scene", "particles", "ms per frame", "ms per frame without self-contact",
+           "contacts group ms", "contact pass ms", "solve ms", "dispatches per frame",
+           "detections", "intersecting pairs at the end", "largest stretch at the end %"]
+# Passes of the contact's detection (the old build's: "contacts" and "hash").
+GROUP = ("contacts", "hash", "detect faces", "detect edges", "bounds")
+
+
+def run(sim, scene, sets):
+    argv = [sim, os.path.join(ROOT, "assets", "scenes", scene), "--json"]
+    for s in sets:
+        argv += ["--set", s]
+    env = dict(os.environ, LP_NUM_THREADS="0")
+    out = subprocess.run(argv, env=env, capture_output=True, text=True, check=True).stdout
+    return json.loads(out)
+
+
+def passes(d, names):
+    return sum(p["gpu_ms"] for p in d["passes"] if p["name"] in names)
+
+
+def row(sim, name, scene, sets, alone):
+    d = run(sim, scene, sets)
+    without = run(sim, scene, sets + ["collision.self=false"]) if alone else None
+    c = d["contacts"]
+    return [name, d["particles"], round(d["gpu_ms_per_frame"], 1),
+            round(without["gpu_ms_per_frame"], 1) if without else "",
+            round(passes(d, GROUP), 1), round(passes(d, ("contact",)), 1),
+            round(passes(d, ("solve",)), 1), d["dispatches_per_frame"], c.get("searches", ""),
+            c["intersecting_pairs"], round(100 * d["max_stretch"], 1)]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("build")
+    parser.add_argument("out")
+    parser.add_argument("--sizes", default="20,40,80")
+    a = parser.parse_args()
+    sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
+    rows = []
+    for n in (int(s) for s in a.sizes.split(",")):
+        rows.append(row(sim, f"drape {n}x{n}", "contact-drape.json", [f"cloths.0.grid=[{n},{n}]"],
+                        True))
+        print(rows[-1], file=sys.stderr)
+    rows.append(row(sim, "drape 40x40, one substep", "contact-drape.json",
+                    ["substeps=1", "dt=0.0166666667"], False))
+    print(rows[-1], file=sys.stderr)
+    rows.append(row(sim, "pile of six 20x20", "contact-pile.json", [], False))
+    print(rows[-1], file=sys.stderr)
+    rows.append(row(sim, "twist", "contact-twist.json", [], False))
+    print(rows[-1], file=sys.stderr)
+    with open(a.out, "w", newline="") as f:
+        out = csv.writer(f, lineterminator="\n")
+        out.writerow(COLUMNS)
+        out.writerows(rows)
+
+
+if __name__ == "__main__":
+    main()
