@@ -174,22 +174,27 @@ static bool shares(const uint32_t* u, const uint32_t* v)
     return false;
 }
 
+/* Whether triangles i and j of the soup intersect (neither torn, no shared vertex). */
+static bool pair_intersects(const float* xyz, const uint32_t* tri, uint32_t i, uint32_t j)
+{
+    const uint32_t* u = &tri[3 * (size_t)i];
+    const uint32_t* v = &tri[3 * (size_t)j];
+    if ((u[0] == u[1] && u[1] == u[2]) || (v[0] == v[1] && v[1] == v[2]) || shares(u, v))
+        return false;
+    float a[9], b[9];
+    for (int k = 0; k < 3; k++) {
+        memcpy(&a[3 * k], &xyz[3 * (size_t)u[k]], 3 * sizeof(float));
+        memcpy(&b[3 * k], &xyz[3 * (size_t)v[k]], 3 * sizeof(float));
+    }
+    return cvk_triangles_intersect(a, b);
+}
+
 static uint64_t brute_force(const float* xyz, const uint32_t* tri, uint32_t count)
 {
     uint64_t pairs = 0;
     for (uint32_t i = 0; i < count; i++)
-        for (uint32_t j = i + 1; j < count; j++) {
-            const uint32_t* u = &tri[3 * (size_t)i];
-            const uint32_t* v = &tri[3 * (size_t)j];
-            if ((u[0] == u[1] && u[1] == u[2]) || (v[0] == v[1] && v[1] == v[2]) || shares(u, v))
-                continue;
-            float a[9], b[9];
-            for (int k = 0; k < 3; k++) {
-                memcpy(&a[3 * k], &xyz[3 * (size_t)u[k]], 3 * sizeof(float));
-                memcpy(&b[3 * k], &xyz[3 * (size_t)v[k]], 3 * sizeof(float));
-            }
-            pairs += cvk_triangles_intersect(a, b);
-        }
+        for (uint32_t j = i + 1; j < count; j++)
+            pairs += pair_intersects(xyz, tri, i, j);
     return pairs;
 }
 
@@ -198,22 +203,12 @@ static bool brute_force_first(const float* xyz, const uint32_t* tri, uint32_t co
                               uint32_t* second)
 {
     for (uint32_t i = 0; i < count; i++)
-        for (uint32_t j = i + 1; j < count; j++) {
-            const uint32_t* u = &tri[3 * (size_t)i];
-            const uint32_t* v = &tri[3 * (size_t)j];
-            if ((u[0] == u[1] && u[1] == u[2]) || (v[0] == v[1] && v[1] == v[2]) || shares(u, v))
-                continue;
-            float a[9], b[9];
-            for (int k = 0; k < 3; k++) {
-                memcpy(&a[3 * k], &xyz[3 * (size_t)u[k]], 3 * sizeof(float));
-                memcpy(&b[3 * k], &xyz[3 * (size_t)v[k]], 3 * sizeof(float));
-            }
-            if (cvk_triangles_intersect(a, b)) {
+        for (uint32_t j = i + 1; j < count; j++)
+            if (pair_intersects(xyz, tri, i, j)) {
                 *first = i;
                 *second = j;
                 return true;
             }
-        }
     return false;
 }
 
