@@ -392,7 +392,7 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
                    ((double)st->frames * scene->substeps + (st->frames == 0)));
     if (scene->collider_count > 0 || scene->collision.self)
         printf("  contacts: %llu with colliders, %llu between cloths; deepest penetration %.3g mm, "
-               "%llu intersecting triangle pairs; %llu candidate searches\n",
+               "%llu intersecting triangle pairs; %llu detections\n",
                (unsigned long long)st->collider_contacts, (unsigned long long)st->self_contacts,
                1e3 * st->max_penetration, (unsigned long long)st->intersecting_pairs,
                (unsigned long long)st->contact_searches);

@@ -80,7 +80,7 @@ def json_contacts(stdout, workdir):
     if not problems and c["colliders"] == 0:
         problems.append("the cloth lies on the ground after 40 frames, yet no collider contact")
     if not problems and not 1 <= c["searches"] < 40 * 8:
-        problems.append(f"{c['searches']} candidate searches in 40 frames of 8 substeps: the cloth "
+        problems.append(f"{c['searches']} detections in 40 frames of 8 substeps: the cloth "
                         "comes to rest on the ground, so fewer than one a substep, at least one")
     return problems
 

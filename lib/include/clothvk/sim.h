@@ -209,9 +209,9 @@ typedef struct cvk_sim_stats {
                                     (0 when none is; thickness not counted) */
     uint64_t intersecting_pairs; /* non-adjacent cloth triangle pairs that intersect
                                     (cvk_sim_count_intersections); 0 without collision */
-    uint64_t contact_searches;   /* searches for cloth-contact candidates so far (since creation
-                                    or the last snapshot loaded; adaptive by default, see
-                                    collision.detect_every); 0 without self-contact */
+    uint64_t contact_searches;   /* cloth-contact detections so far (since creation or the
+                                    last snapshot loaded; each runs when a particle's move would
+                                    pass its bound); 0 without self-contact */
     /* The linear solver: implicit's, and pd's sweeps (counted on the device with a tolerance;
        without one, every sweep the plan records). */
     uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps (pd: sweeps) of the last
