@@ -476,18 +476,6 @@ static cvk_result upload_start(cvk_sim* s, cvk_collide* c, cvk_error* error)
     return r;
 }
 
-/* The side lists' counts start at 0. */
-static cvk_result clear_side_counts(cvk_sim* s, cvk_collide* c, cvk_error* error)
-{
-    uint32_t n = s->build.particle_count;
-    uint32_t* zero = calloc(n ? n : 1, sizeof(uint32_t));
-    if (!zero)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact state");
-    cvk_result r = cvk_device_upload(&s->device, &c->sides, zero, 4u * (VkDeviceSize)n, error);
-    free(zero);
-    return r;
-}
-
 typedef struct buffer_job {
     cvk_buffer* buffer;
     VkDeviceSize bytes;
@@ -543,10 +531,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         r = cvk_device_fill_buffer(&s->device, &c->nearest, 0x7f, error);
     if (r == CVK_SUCCESS)
         r = cvk_device_clear_buffer(&s->device, &c->lists, error);
-    if (r == CVK_SUCCESS) /* counts 0 (below: the first n), pairs none */
-        r = cvk_device_fill_buffer(&s->device, &c->sides, 0xff, error);
-    if (r == CVK_SUCCESS && c->self)
-        r = clear_side_counts(s, c, error);
+    if (r == CVK_SUCCESS) /* counts 0; the pairs are written by the first substep's detection
+                             (frame.force), before any contact pass reads them */
+        r = cvk_device_clear_buffer(&s->device, &c->sides, error);
     if (r == CVK_SUCCESS && c->self)
         r = upload_start(s, c, error);
     free_cloth_tables(&t);

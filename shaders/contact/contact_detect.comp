@@ -4,8 +4,8 @@
 // not around p whose nearest point is within the contact radius of p at the start of the
 // substep (x_n). A triangle that near has a corner within the reach (the radius plus the
 // farthest a point of a triangle is from its nearest corner, from the longest edge measured
-// by contact_edges.comp), and the walk over the 27 hash cells around p visits every such
-// corner while no edge is stretched beyond 1.5 times the longest at rest; the triangles
+// by contact_edges.comp; the hash's cells are wider, contact_decide.comp), and the walk over
+// the 27 hash cells around p visits every such corner; the triangles
 // around each are tested once, through their lowest-index corner within reach. Each pair found:
 //   - p's nearest distance and each corner's (an atomic minimum on the float's bits, which
 //     order as the non-negative floats do, so the result does not depend on thread timing)
@@ -22,47 +22,12 @@ layout(local_size_x_id = 0) in;
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const uint K = uint(CVK_CONTACTS_PER_PARTICLE);
-const float INFINITY = 3.0e38;
+const bool DEDUP = true;
 
 uint kept[K];
 float dist[K];
 
-// Whether the kept (dist_k, kept_k) comes after (d, item).
-bool after(float dist_k, uint kept_k, float d, uint item)
-{
-    return dist_k > d || (dist_k == d && kept_k > item);
-}
-
-// (d, item) into the nearest K unless it is there already (a corner or an edge reached through
-// several triangles). Every index a constant once the loop unrolls: a variable index into a
-// private array is a per-lane memory loop on lavapipe; a macro, since lavapipe copies a
-// function's inout arrays at every call.
-#define INSERT(D, ITEM)                                                                   \
-    {                                                                                     \
-        float new_d = (D);                                                                \
-        uint new_item = (ITEM);                                                           \
-        bool present = false;                                                             \
-        for (uint s = 0u; s < K; s++)                                                     \
-            present = present || kept[s] == new_item;                                     \
-        for (uint s = K - 1u; s > 0u && !present; s--) {                                  \
-            bool shift = after(dist[s - 1u], kept[s - 1u], new_d, new_item);              \
-            bool here = !shift && after(dist[s], kept[s], new_d, new_item);               \
-            kept[s] = shift ? kept[s - 1u] : (here ? new_item : kept[s]);                 \
-            dist[s] = shift ? dist[s - 1u] : (here ? new_d : dist[s]);                    \
-        }                                                                                 \
-        bool front = !present && after(dist[0], kept[0], new_d, new_item);                \
-        kept[0] = front ? new_item : kept[0];                                             \
-        dist[0] = front ? new_d : dist[0];                                                \
-    }
-
-// Within reach: the walk's test and the once-only test, one expression (precise: both give
-// the same answer for the same corner).
-bool within_reach(vec3 xp, vec3 x, float reach2)
-{
-    precise vec3 d = x - xp;
-    precise float d2 = dot(d, d);
-    return d2 < reach2;
-}
+#include "contact/nearest.glsl"
 
 // The feature of triangle t that its point nearest p lies on, from the barycentric weights.
 uint feature_of(uint t, uvec4 tri, vec3 w)
@@ -121,10 +86,7 @@ float triangles_at(uint p, vec3 xp, uint q, vec3 xq, float reach2, float nearest
 void detect(uint p)
 {
     vec3 xp = contact_x(p);
-    for (uint k = 0u; k < K; k++) {
-        kept[k] = CVK_NO_CONTACT;
-        dist[k] = INFINITY;
-    }
+    clear_nearest();
     // A triangle within the radius has a corner within the radius plus its longest edge / √3
     // (the farthest a point of it is from its nearest corner).
     float reach = contact_u.radius + uintBitsToFloat(frame.longest) * 0.57735027;

@@ -3,9 +3,8 @@
 // Detection, edge against edge (lib/contact/collide.h): for every edge e, every edge sharing no
 // end with it whose nearest point is within the contact radius of e at the start of the
 // substep. Such an edge f has an end within the radius plus half of each edge's length of e's
-// midpoint (measured: phase 1; the hash's cell size bounds that while no edge is stretched
-// beyond 1.5 times the longest at rest); the
-// walk over the 27 cells around the midpoint visits every such end, and the edges at each are
+// midpoint (the longest edge measured in phase 1; the hash's cells are that wide,
+// contact_decide.comp), so the walk over the 27 cells around the midpoint visits every such end, and the edges at each are
 // tested once, through their lower end within reach. e's nearest distance is kept for the
 // bounds of its ends (contact_bound.comp: f finds e too, so no atomics are needed), and its
 // list keeps the nearest CVK_CONTACTS_PER_EDGE whose nearest points lie inside both edges
@@ -20,38 +19,12 @@ layout(local_size_x_id = 0) in;
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const uint K = uint(CVK_CONTACTS_PER_EDGE);
-const float INFINITY = 3.0e38;
+const bool DEDUP = false;
 
 uint kept[K];
 float dist[K];
 
-bool after(float dist_k, uint kept_k, float d, uint item)
-{
-    return dist_k > d || (dist_k == d && kept_k > item);
-}
-
-// (d, item) into the nearest K (each edge is tested once: no duplicates).
-#define INSERT(D, ITEM)                                                                   \
-    {                                                                                     \
-        float new_d = (D);                                                                \
-        uint new_item = (ITEM);                                                           \
-        for (uint s = K - 1u; s > 0u; s--) {                                              \
-            bool shift = after(dist[s - 1u], kept[s - 1u], new_d, new_item);              \
-            bool here = !shift && after(dist[s], kept[s], new_d, new_item);               \
-            kept[s] = shift ? kept[s - 1u] : (here ? new_item : kept[s]);                 \
-            dist[s] = shift ? dist[s - 1u] : (here ? new_d : dist[s]);                    \
-        }                                                                                 \
-        bool front = after(dist[0], kept[0], new_d, new_item);                            \
-        kept[0] = front ? new_item : kept[0];                                             \
-        dist[0] = front ? new_d : dist[0];                                                \
-    }
-
-bool within_reach(vec3 m, vec3 x, float reach2)
-{
-    precise vec3 d = x - m;
-    precise float d2 = dot(d, d);
-    return d2 < reach2;
-}
+#include "contact/nearest.glsl"
 
 // The edges at end q (q within reach of e's midpoint m) within the radius of e = (a, b).
 float edges_at(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint q, vec3 xq, float reach2,
@@ -88,10 +61,7 @@ void detect(uint e)
     uvec2 ab = contact_edge(e);
     vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
     vec3 m = 0.5 * (xa + xb);
-    for (uint k = 0u; k < K; k++) {
-        kept[k] = CVK_NO_CONTACT;
-        dist[k] = INFINITY;
-    }
+    clear_nearest();
     float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
     float reach2 = reach * reach;
     float nearest_e = INFINITY;

@@ -570,9 +570,8 @@ static void test_funnel_edges(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
-/* Two strips (harness_strips_across) with self-contact a centimetre thick, and edge contact
-   or not. */
-static cvk_scene_desc strips_scene(cvk_cloth_desc strips[2], bool edges)
+/* Two strips (harness_strips_across) with self-contact a centimetre thick. */
+static cvk_scene_desc strips_scene(cvk_cloth_desc strips[2])
 {
     cvk_scene_desc scene = cvk_default_scene_desc();
     scene.cloths = strips;
@@ -580,7 +579,6 @@ static cvk_scene_desc strips_scene(cvk_cloth_desc strips[2], bool edges)
     scene.damping = 0.01f;
     scene.collision.self = true;
     scene.collision.thickness = 0.01f;
-    scene.collision.edges = edges;
     return scene;
 }
 
@@ -590,7 +588,7 @@ static cvk_scene_desc strips_scene(cvk_cloth_desc strips[2], bool edges)
    would let the upper strip fall through the lower one onto the ground; edge–edge contact
    keeps it on it, a thickness above, with no triangles intersecting. Returns the height of
    the upper strip's particles next to the crossing (the lowest of them). */
-static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
+static float strip_across(cvk_context* ctx, uint64_t* pairs)
 {
     cvk_cloth_desc strips[2];
     harness_strips_across(strips, 0.02f, 0.1f);
@@ -600,7 +598,7 @@ static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
         strips[i].stiffness.bend = 1e4f;
     }
     cvk_collider_desc ground = collider(CVK_COLLIDER_PLANE);
-    cvk_scene_desc scene = strips_scene(strips, edges);
+    cvk_scene_desc scene = strips_scene(strips);
     scene.colliders = &ground;
     scene.collider_count = 1;
     cvk_error err;
@@ -623,7 +621,7 @@ static float strip_across(cvk_context* ctx, bool edges, uint64_t* pairs)
 static void test_edges(cvk_context* ctx)
 {
     uint64_t pairs = 0;
-    float height = strip_across(ctx, true, &pairs);
+    float height = strip_across(ctx, &pairs);
     printf("a strip dropped across another on the ground: next to the crossing at %.5f m "
            "(%llu intersecting pairs)\n", height, (unsigned long long)pairs);
     /* the lower strip lies a thickness up (0.01 m), the upper one a thickness above it */
@@ -649,7 +647,7 @@ static void test_edges_dragged_through(cvk_context* ctx, float depth)
     strips[1].pin_count = 4;
     strips[1].mass = 0.02f;
     strips[1].stiffness.structural = strips[1].stiffness.shear = 1e4f;
-    cvk_scene_desc scene = strips_scene(strips, true);
+    cvk_scene_desc scene = strips_scene(strips);
     cvk_error err;
     cvk_sim* sim;
     cvk_sim_desc desc = cvk_default_sim_desc();
