@@ -12,6 +12,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer Co
     cvk_gpu_frame frame;
     cvk_gpu_motion_bounds motion_bounds; // the decision to detect (contact_check.comp)
 };
+// Per particle: where detection saw it (xyz) and its bound (|w|), w negative where the
+// particle is in some pair detection listed (contact_bound.comp).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
 
 // x kept within searched.w of where detection saw the particle plus the common shift.
@@ -20,8 +22,8 @@ vec3 within_bound(uint p, vec3 x)
     vec4 seen = texelFetch(searched_t, int(p));
     vec3 centre = seen.xyz + vec3(frame.shift_x, frame.shift_y, frame.shift_z);
     vec3 d = x - centre;
-    float len2 = dot(d, d);
-    return len2 > seen.w * seen.w ? centre + d * (seen.w / sqrt(len2)) : x;
+    float len2 = dot(d, d), bound = abs(seen.w);
+    return len2 > bound * bound ? centre + d * (bound / sqrt(len2)) : x;
 }
 
 #endif

@@ -51,7 +51,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly bu
     float sdf_values[];
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer Searched {
-    vec4 searched[]; // per particle: where the last detection saw it, w: its bound (m)
+    vec4 searched[]; // per particle: where the last detection saw it, |w|: its bound (m),
+                     // w < 0: the particle is in a listed pair (contact_bound.comp)
 };
 // Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
 // where a storage-buffer load is a loop over the lanes).

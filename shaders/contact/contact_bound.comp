@@ -47,9 +47,14 @@ void main()
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint p = pc.first + i;
         float d = min(contact_u.radius, uintBitsToFloat(nearest[p]));
-        for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++)
-            d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + particle_edge(base + o)]));
-        searched[p] = vec4(contact_x(p), contact_u.gamma * d);
+        // Whether p is in any pair: the contact pass skips the others' lists (pd_contact.glsl).
+        bool listed = sides[p] != 0u || contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE)) != CVK_NO_CONTACT;
+        for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
+            uint e = particle_edge(base + o);
+            d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + e]));
+            listed = listed || edge_entry(e * uint(CVK_CONTACTS_PER_EDGE)) != CVK_NO_CONTACT;
+        }
+        searched[p] = vec4(contact_x(p), listed ? -contact_u.gamma * d : contact_u.gamma * d);
         sort_sides(p);
         nearest[p] = 0x7f7f7f7fu; // 3.4e38: none yet (as lib/contact/collide.c fills it)
     }

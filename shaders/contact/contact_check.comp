@@ -49,7 +49,7 @@ void main()
             vec3 x = contact_x(p);
             vec3 e = 2.0 * x - previous[p].xyz - seen.xyz - next;
             previous[p] = vec4(x, 0.0); // the next substep's x_before
-            exceed = exceed || !(length(e) <= contact_u.redetect * seen.w);
+            exceed = exceed || !(length(e) <= contact_u.redetect * abs(seen.w));
         }
         if (exceed)
             atomicOr(motion_bounds.exceed, 1u);

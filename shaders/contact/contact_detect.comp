@@ -83,6 +83,21 @@ float triangles_at(uint p, vec3 xp, uint q, vec3 xq, float reach2, float nearest
     return nearest_p;
 }
 
+// Corners found within reach, tested a batch at a time: on SIMD hardware a loop body runs
+// whenever one lane needs it, so the triangles are tested in a loop over the corners a lane
+// found, not inside the walk over every hash entry (about 4 entries of 5 are not within reach).
+const uint BATCH = 16u;
+uint found[BATCH];
+
+float test_batch(uint p, vec3 xp, uint count, float reach2, float nearest_p)
+{
+    for (uint i = 0u; i < count; i++) {
+        uint q = found[i];
+        nearest_p = triangles_at(p, xp, q, contact_x(q), reach2, nearest_p);
+    }
+    return nearest_p;
+}
+
 void detect(uint p)
 {
     vec3 xp = contact_x(p);
@@ -93,16 +108,31 @@ void detect(uint p)
     float reach2 = reach * reach;
     float nearest_p = INFINITY;
     ivec3 home = hash_cell(xp);
-    for (uint n = 0u; n < 27u; n++) {
-        ivec3 cell = hash_neighbour_cell(home, n);
-        uvec2 range = hash_range(cell);
-        for (uint e = range.x; e < range.y; e++) {
-            uvec4 entry = hash_entry_point(e);
-            vec3 xq = uintBitsToFloat(entry.xyz);
-            if (hash_cell(xq) == cell && within_reach(xp, xq, reach2))
-                nearest_p = triangles_at(p, xp, entry.w, xq, reach2, nearest_p);
+    // One loop over the entries of the 27 cells (nested loops run, on SIMD hardware, the
+    // longest inner loop of the lanes at every cell).
+    uint n = 0u, count = 0u;
+    ivec3 cell = hash_neighbour_cell(home, 0u);
+    uvec2 range = hash_range(cell);
+    for (;;) {
+        if (range.x == range.y) {
+            if (++n == 27u)
+                break;
+            cell = hash_neighbour_cell(home, n);
+            range = hash_range(cell);
+            continue;
+        }
+        uvec4 entry = hash_entry_point(range.x++);
+        vec3 xq = uintBitsToFloat(entry.xyz);
+        if (hash_cell(xq) == cell && within_reach(xp, xq, reach2)) {
+            found[count] = entry.w;
+            count++;
+        }
+        if (count == BATCH) {
+            nearest_p = test_batch(p, xp, count, reach2, nearest_p);
+            count = 0u;
         }
     }
+    nearest_p = test_batch(p, xp, count, reach2, nearest_p);
     if (nearest_p < INFINITY)
         atomicMin(nearest[p], floatBitsToUint(nearest_p));
     for (uint k = 0u; k < K; k++) {

@@ -116,7 +116,10 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
     uint count;
     vec3 n, w, near;
     float s;
-    for (uint k = 0u; k < K; k++) {
+    // Loops of no iterations where p is in no pair (most particles): on SIMD hardware a
+    // branch's body runs whenever one lane takes it, a loop's only while one lane iterates.
+    bool listed = (floatBitsToUint(texelFetch(searched_t, int(p)).w) >> 31) != 0u;
+    for (uint k = 0u; k < (listed ? K : 0u); k++) {
         uint entry = contact_entry(p * K + k);
         if (entry == CVK_NO_CONTACT)
             break;
@@ -127,7 +130,7 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
         vec3 near0 = w.x * a0 + w.y * b0 + w.z * c0;
         push += s * n + friction((xp - x0) - (near - near0), n, s);
     }
-    for (uint k = 0u; k < KS; k++) {
+    for (uint k = 0u; k < (listed ? KS : 0u); k++) {
         uvec2 pair = side_pair(p, k);
         if (pair.x == CVK_NO_CONTACT)
             break;
@@ -139,7 +142,7 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
         push += -s * wp * n + wp * friction((xp - x0) - (xv - v0), -n, s * wp);
     }
     uint base = contact_u.particle_count + 1u;
-    for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
+    for (uint o = particle_edge(p); o < (listed ? particle_edge(p + 1u) : 0u); o++) {
         uint e = particle_edge(base + o);
         if (edge_entry(e * KE) == CVK_NO_CONTACT)
             continue; // the common case: nothing near the edge
