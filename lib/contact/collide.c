@@ -403,6 +403,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_PREVIOUS] = STORAGE,
     [CVK_CONTACT_BINDING_SIDES] = STORAGE,
     [CVK_CONTACT_BINDING_SIDES_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_MIDPOINTS] = STORAGE,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -517,6 +518,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->previous, 16u * n, true, "positions a substep before", NULL},
         {&c->lists, 4u * CVK_LIST_HEADER, true, "detection commands", NULL},
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
+        {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
         bool small = jobs[i].self_only ? !c->self : !tables;
@@ -634,6 +636,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_PREVIOUS] = {.buffer = &c->previous},
         [CVK_CONTACT_BINDING_SIDES] = {.buffer = &c->sides},
         [CVK_CONTACT_BINDING_SIDES_READ] = {.view = c->view_sides},
+        [CVK_CONTACT_BINDING_MIDPOINTS] = {.buffer = &c->midpoints},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -676,6 +679,8 @@ void cvk_collide_destroy(cvk_sim* s)
         vkDestroyPipelineLayout(ctx->device, c->detect_layout, NULL);
     if (c->hash.capacity)
         cvk_hash_destroy(ctx, &c->hash);
+    if (c->edge_hash.capacity)
+        cvk_hash_destroy(ctx, &c->edge_hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
     VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_contacts,
                             c->view_searched, c->view_edges, c->view_triangle_edges,
@@ -687,7 +692,7 @@ void cvk_collide_destroy(cvk_sim* s)
                              &c->params, &c->triangles, &c->incident, &c->edges,
                              &c->triangle_edges, &c->particle_edges, &c->contacts,
                              &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
-                             &c->lists, &c->sides};
+                             &c->lists, &c->sides, &c->midpoints};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);

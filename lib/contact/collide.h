@@ -82,7 +82,9 @@ typedef struct cvk_collide {
     cvk_buffer sides;            /* per particle a count, then CVK_SIDES_PER_PARTICLE pairs
                                     (vertex, entry) in which it is a corner of the feature */
     cvk_buffer lists;            /* detection's indirect commands (shared/layout.h: CVK_LIST_*) */
-    cvk_hash hash;               /* only with self-contact */
+    cvk_buffer midpoints;        /* vec4 per edge: its midpoint at the last detection */
+    cvk_hash hash;               /* only with self-contact: the particles' positions */
+    cvk_hash edge_hash;          /* only with self-contact: the edges' midpoints */
     VkBufferView view_triangles, view_incident, view_contacts, view_searched;
     VkBufferView view_edges, view_triangle_edges, view_particle_edges, view_edge_contacts;
     VkBufferView view_sides;

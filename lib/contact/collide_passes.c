@@ -26,6 +26,13 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
     cvk_result r = cvk_hash_create(s->device.context, &desc, &c->hash, error);
     if (r != CVK_SUCCESS)
         return r;
+    /* The edges' midpoints, which edge–edge detection walks (contact_edges.comp): an edge
+       within the radius of another has its midpoint within the radius plus half of each
+       edge's length of the other's, within the same cells. */
+    cvk_hash_desc edge_desc = {c->edge_count ? c->edge_count : 1, cell, &c->midpoints, true};
+    r = cvk_hash_create(s->device.context, &edge_desc, &c->edge_hash, error);
+    if (r != CVK_SUCCESS)
+        return r;
     VkDescriptorSetLayout layouts[2] = {c->set_layout, c->hash.set_layout};
     VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_contact_push)};
     VkPipelineLayoutCreateInfo info = {
@@ -43,7 +50,7 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 /* One phase of contact_check.comp (over every particle) or contact_decide.comp (one
    invocation; phase 1 writes indirect commands). */
 static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t phase,
-                         const char* note)
+                         const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
@@ -54,7 +61,7 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
                                    sizeof push);
     if (!op)
         return;
-    op->set1 = c->hash.set;
+    op->set1 = hash->set;
     if (decide)
         op->groups = 1;
     if (decide && phase >= 1)
@@ -65,7 +72,8 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 /* Detection's passes, dispatched through the commands the decision wrote (no workgroups at a
    substep that does not detect). */
 static void add_detection(cvk_sim* s, cvk_plan* plan, const char* pass, cvk_pipeline_id pipeline,
-                          uint32_t count, uint32_t slot, uint32_t phase, const char* note)
+                          uint32_t count, uint32_t slot, uint32_t phase, const cvk_hash* hash,
+                          const char* note)
 {
     cvk_collide* c = s->collide;
     cvk_contact_push push = {0, count, phase, plan->workgroup_size};
@@ -75,7 +83,7 @@ static void add_detection(cvk_sim* s, cvk_plan* plan, const char* pass, cvk_pipe
     if (!op)
         return;
     op->count = count;
-    op->set1 = c->hash.set;
+    op->set1 = hash->set;
     snprintf(op->note, sizeof op->note, "%s", note);
 }
 
@@ -83,24 +91,31 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
     cvk_collide* c = s->collide;
     uint32_t n = s->build.particle_count;
-    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, "bounds of the extrapolated moves");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, "the shift without detection");
+    const cvk_hash *points = &c->hash, *midpoints = &c->edge_hash;
+    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, points, "bounds of the extrapolated moves");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, points, "the shift without detection");
     char note[96];
     snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
-    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, note);
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, "detect or not: commands, shift");
+    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, points, note);
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, points, "detect or not: commands, shift");
     add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, 1, "the longest edge");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, "cells: the radius + the longest edge");
-    cvk_result r = cvk_hash_add_passes(&c->hash, plan, n, true, error);
+                  CVK_LIST_EDGE_GROUPS, 1, points, "the longest edge, the midpoints");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, points, "cells: the radius + the longest edge");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, midpoints, "the same for the midpoints");
+    cvk_result r = cvk_hash_add_passes(points, plan, n, true, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
     if (r != CVK_SUCCESS)
         return r;
     snprintf(note, sizeof note, "vertices against faces within %.3g m", (double)c->radius);
-    add_detection(s, plan, "detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, note);
+    add_detection(s, plan, "detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0,
+                  points, note);
     snprintf(note, sizeof note, "edges against edges within %.3g m", (double)c->radius);
-    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0, note);
+    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
+                  CVK_LIST_EDGE_GROUPS, 0, midpoints, note);
     snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
-    add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n, CVK_LIST_PARTICLE_GROUPS, 0, note);
+    add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n, CVK_LIST_PARTICLE_GROUPS, 0, points,
+                  note);
     return CVK_SUCCESS;
 }
 

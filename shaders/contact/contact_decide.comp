@@ -4,7 +4,8 @@
 // contact_check.comp's:
 // 0: the shift the substep would have without detecting — the centre of the bounds of the
 //    extrapolated displacements (none where a particle is kinematic: params.shift 0);
-// 2 (after contact_edges.comp measured the longest edge): the hash's cells for detection;
+// 2 (after contact_edges.comp measured the longest edge), once for each hash: its cells for
+//    detection, and whether it builds;
 // 1: detect when asked to (the first substep, positions written from the host) or when some
 //    particle would leave its bound: open or close the hash build (set 1) and write detection's
 //    indirect commands; the shift for the substep (after a detection: the centre of the last
@@ -41,12 +42,14 @@ void main()
         // phase 1), so the walk over 27 cells finds every pair within the radius however the
         // cloth stretches (up to a cell 16 times the first, past which the walks would visit
         // most of a scene blown apart).
+        // Run once for each hash (the particles', the edge midpoints'), each bound as set 1.
         if (frame.search != 0u) {
             float cell = contact.radius + uintBitsToFloat(frame.longest);
             cell = clamp(cell, contact.radius, 16.0 * (contact.radius + contact.longest));
             hash_params.cell_size = cell;
             hash_params.inv_cell = 1.0 / cell;
         }
+        hash_params.build = frame.search;
         return;
     }
     if (pc.phase == 0u) {

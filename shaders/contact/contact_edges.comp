@@ -2,14 +2,15 @@
 #extension GL_GOOGLE_include_directive : require
 // Detection, edge against edge (lib/contact/collide.h): for every edge e, every edge sharing no
 // end with it whose nearest point is within the contact radius of e at the start of the
-// substep. Such an edge f has an end within the radius plus half of each edge's length of e's
-// midpoint (the longest edge measured in phase 1; the hash's cells are that wide,
-// contact_decide.comp), so the walk over the 27 cells around the midpoint visits every such end, and the edges at each are
-// tested once, through their lower end within reach. e's nearest distance is kept for the
-// bounds of its ends (contact_bound.comp: f finds e too, so no atomics are needed), and its
-// list keeps the nearest CVK_CONTACTS_PER_EDGE whose nearest points lie inside both edges
-// (where they do not, the pair is a vertex against an edge or a vertex, which the faces'
-// detection lists: contact_detect.comp), nearest first, equal distances by edge.
+// substep. Such an edge f has its midpoint within the radius plus half of each edge's length of
+// e's midpoint (the longest edge measured in phase 1, which also writes the midpoints the edge
+// hash is built from; its cells are that wide, contact_decide.comp), so the walk over the 27
+// cells of the edge hash around e's midpoint visits every such edge, each once. e's nearest
+// distance is kept for the bounds of its ends (contact_bound.comp: f finds e too, so no
+// atomics are needed), and its list keeps the nearest CVK_CONTACTS_PER_EDGE whose nearest
+// points lie inside both edges (where they do not, the pair is a vertex against an edge or a
+// vertex, which the faces' detection lists: contact_detect.comp), nearest first, equal
+// distances by edge.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -17,6 +18,10 @@ layout(local_size_x_id = 0) in;
 #define HASH_SET 1
 #include "contact/hash_common.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
+
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) writeonly buffer Midpoints {
+    vec4 midpoints[];
+};
 
 const uint K = uint(CVK_CONTACTS_PER_EDGE);
 const bool DEDUP = false;
@@ -26,34 +31,21 @@ float dist[K];
 
 #include "contact/nearest.glsl"
 
-// The edges at end q (q within reach of e's midpoint m) within the radius of e = (a, b).
-float edges_at(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint q, vec3 xq, float reach2,
-               float nearest_e)
+// Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius.
+float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e)
 {
-    uint base = contact_u.particle_count + 1u;
-    for (uint o = particle_edge(q); o < particle_edge(q + 1u); o++) {
-        uint f = particle_edge(base + o);
-        uvec2 cd = contact_edge(f);
-        if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
-            continue; // sharing an end: adjacent
-        uint r = cd.x == q ? cd.y : cd.x; // the other end
-        vec3 xr = contact_x(r);
-        if (r < q && within_reach(m, xr, reach2))
-            continue; // tested through its lower end
-        // Every point of an edge is within half its length of its midpoint.
-        if (distance(m, 0.5 * (xq + xr)) >= contact_u.radius + 0.5 * (distance(xa, xb) + distance(xq, xr)))
-            continue;
-        float s, t;
-        vec3 c1, c2;
-        closest_segments(xa, xb, xq, xr, s, t, c1, c2);
-        float d = length(c1 - c2);
-        if (!(d < contact_u.radius))
-            continue;
-        nearest_e = min(nearest_e, d);
-        if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)
-            INSERT(d, f);
-    }
-    return nearest_e;
+    uvec2 cd = contact_edge(f);
+    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
+        return nearest_e; // sharing an end: adjacent (or e itself)
+    float s, t;
+    vec3 c1, c2;
+    closest_segments(xa, xb, contact_x(cd.x), contact_x(cd.y), s, t, c1, c2);
+    float d = length(c1 - c2);
+    if (!(d < contact_u.radius))
+        return nearest_e;
+    if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)
+        INSERT(d, f);
+    return min(nearest_e, d);
 }
 
 void detect(uint e)
@@ -66,15 +58,23 @@ void detect(uint e)
     float reach2 = reach * reach;
     float nearest_e = INFINITY;
     ivec3 home = hash_cell(m);
-    for (uint n = 0u; n < 27u; n++) {
-        ivec3 cell = hash_neighbour_cell(home, n);
-        uvec2 range = hash_range(cell);
-        for (uint i = range.x; i < range.y; i++) {
-            uvec4 entry = hash_entry_point(i);
-            vec3 xq = uintBitsToFloat(entry.xyz);
-            if (hash_cell(xq) == cell && within_reach(m, xq, reach2))
-                nearest_e = edges_at(e, ab, xa, xb, m, entry.w, xq, reach2, nearest_e);
+    // One loop over the entries of the 27 cells (nested loops run, on SIMD hardware, the
+    // longest inner loop of the lanes at every cell).
+    uint n = 0u;
+    ivec3 cell = hash_neighbour_cell(home, 0u);
+    uvec2 range = hash_range(cell);
+    for (;;) {
+        if (range.x == range.y) {
+            if (++n == 27u)
+                break;
+            cell = hash_neighbour_cell(home, n);
+            range = hash_range(cell);
+            continue;
         }
+        uvec4 entry = hash_entry_point(range.x++);
+        vec3 mf = uintBitsToFloat(entry.xyz);
+        if (hash_cell(mf) == cell && within_reach(m, mf, reach2))
+            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e);
     }
     nearest[contact_u.particle_count + e] = floatBitsToUint(nearest_e);
     for (uint k = 0u; k < K; k++)
@@ -82,13 +82,16 @@ void detect(uint e)
 }
 
 // Phase 1, before detection: the longest edge now, which bounds how near a corner of a near
-// feature is (an atomic maximum on the float's bits, which order as non-negative floats do).
+// feature is (an atomic maximum on the float's bits, which order as non-negative floats do),
+// and the midpoints.
 void measure_longest()
 {
     float longest = 0.0;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uvec2 ab = contact_edge(pc.first + i);
-        longest = max(longest, distance(contact_x(ab.x), contact_x(ab.y)));
+        vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
+        longest = max(longest, distance(xa, xb));
+        midpoints[pc.first + i] = vec4(0.5 * (xa + xb), 0.0);
     }
     atomicMax(frame.longest, floatBitsToUint(longest));
 }

@@ -421,7 +421,9 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SIDES 24 /* uint per particle (counts), then CVK_SIDES_PER_PARTICLE
                                         pairs (vertex, entry) per particle */
 #define CVK_CONTACT_BINDING_SIDES_READ 25 /* texel view of the same (R32_UINT) */
-#define CVK_CONTACT_BINDING_COUNT 26
+#define CVK_CONTACT_BINDING_MIDPOINTS 26 /* vec4 per edge: its midpoint at detection (the edge
+                                            hash's points) */
+#define CVK_CONTACT_BINDING_COUNT 27
 
 /* Colliders per scene at most: the uniform arrays above hold this many. */
 #define CVK_MAX_COLLIDERS 64u
