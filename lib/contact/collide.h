@@ -9,8 +9,9 @@
    point lies on: a face, an edge or a vertex) or an edge–edge pair (nearest points inside both
    edges) closer than the thickness is pushed apart along the line between the nearest points,
    so a large thickness leaves no artefacts. No cloth passes through cloth because of bounds,
-   not continuous collision detection: detection (the hash of the positions, then every vertex
-   against the faces and every edge against the edges within the contact radius, all pairs,
+   not continuous collision detection: detection (hashes of the positions and of the edges'
+   midpoints, then every vertex against the faces and every edge against the edges within the
+   contact radius, all pairs,
    shaders/contact/contact_detect.comp and contact_edges.comp) gives each vertex v the nearest
    distance d_v from it, from the faces around it and from its edges to anything not adjacent
    (the radius where nothing is nearer), and the bound b_v = gamma d_v with gamma < 1/2

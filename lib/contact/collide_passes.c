@@ -14,12 +14,11 @@
 cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 {
     cvk_collide* c = s->collide;
-    /* An edge within the radius of another has an end within the radius plus half of each
-       edge's length of the other's midpoint (contact_edges.comp), and a triangle within the
-       radius of a vertex has a corner nearer than that: cells of the radius plus the longest
-       edge keep those ends and corners among the 27 cells around. The decision writes that
-       size from the longest edge measured at each detection (contact_decide.comp); this is the
-       first, with the cloth stretched by up to 50 %. */
+    /* The cells: the radius plus the longest edge (midpoints) or that over sqrt 3 (particles),
+       so the 27 cells around a point hold every midpoint or corner a pair within the radius
+       needs (contact_edges.comp, contact_detect.comp). The decision writes them from the longest
+       edge measured at each detection (contact_decide.comp, before every build); this is only
+       the first, with the cloth stretched by up to 50 %. */
     float cell = c->radius + c->longest;
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
                           &s->positions, true};
@@ -100,8 +99,10 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, points, "detect or not: commands, shift");
     add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
                   CVK_LIST_EDGE_GROUPS, 1, points, "the longest edge, the midpoints");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, points, "cells: the radius + the longest edge");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, midpoints, "the same for the midpoints");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, points,
+                 "particle cells: the radius + the longest edge / sqrt 3");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
+                 "midpoint cells: the radius + the longest edge");
     cvk_result r = cvk_hash_add_passes(points, plan, n, true, error);
     if (r == CVK_SUCCESS)
         r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);

@@ -4,8 +4,9 @@
 // contact_check.comp's:
 // 0: the shift the substep would have without detecting — the centre of the bounds of the
 //    extrapolated displacements (none where a particle is kinematic: params.shift 0);
-// 2 (after contact_edges.comp measured the longest edge), once for each hash: its cells for
-//    detection, and whether it builds;
+// 2 and 3 (after contact_edges.comp measured the longest edge): the cells of the particles'
+//    hash (2) or of the midpoints' (3), whichever is bound as set 1, for detection, and
+//    whether it builds;
 // 1: detect when asked to (the first substep, positions written from the host) or when some
 //    particle would leave its bound: open or close the hash build (set 1) and write detection's
 //    indirect commands; the shift for the substep (after a detection: the centre of the last
@@ -37,14 +38,17 @@ void main()
 {
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
-    if (pc.phase == 2u) {
+    if (pc.phase >= 2u) {
         // Detecting: cells as wide as the reach from the longest edge now (contact_edges.comp
         // phase 1), so the walk over 27 cells finds every pair within the radius however the
         // cloth stretches (up to a cell 16 times the first, past which the walks would visit
-        // most of a scene blown apart).
-        // Run once for each hash (the particles', the edge midpoints'), each bound as set 1.
+        // most of a scene blown apart): a triangle within the radius of a vertex has a corner
+        // within the radius plus its longest edge / √3 of it (contact_detect.comp), an edge
+        // within the radius of another its midpoint within the radius plus half of each
+        // edge's length (contact_edges.comp).
         if (frame.search != 0u) {
-            float cell = contact.radius + uintBitsToFloat(frame.longest);
+            float longest = uintBitsToFloat(frame.longest);
+            float cell = contact.radius + (pc.phase == 2u ? 0.57735027 * longest : longest);
             cell = clamp(cell, contact.radius, 16.0 * (contact.radius + contact.longest));
             hash_params.cell_size = cell;
             hash_params.inv_cell = 1.0 / cell;
