@@ -67,6 +67,7 @@ typedef struct cvk_spec_recipe {
     X(PD_COPY, PD_COPY_COMP, CVK_SPEC_PARTICLE_WORKGROUP, "u0 = u1 (stopped in u1)")    \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
+    X(PD_STRAIN, PD_STRAIN_COMP, CVK_SPEC_PD, "strain limit (one colour)")              \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
     X(ATTACH, ATTACH_COMP, CVK_SPEC_NONE, "attached particles, frame state") \
     X(ATTACH_IMPLICIT, ATTACH_IMPLICIT_COMP, CVK_SPEC_NONE, "attached particles: v or x (implicit)") \

@@ -259,6 +259,25 @@ static bool check_explicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
     return true;
 }
 
+/* m/m: a spring allowed past ten times its rest length is no limit (a typo for a percentage). */
+#define MAX_STRAIN_LIMIT 10.0
+
+static bool check_strain_limit(const cvk_solver_desc* s, cvk_scene_issue* issue)
+{
+    if (!cvk_check_finite(issue, "solver.strain_limit", s->strain_limit))
+        return false;
+    if (s->strain_limit < 0.0f || s->strain_limit > MAX_STRAIN_LIMIT)
+        return cvk_issue_at(issue, "solver.strain_limit", "must be between 0 and %g, got %g",
+                            MAX_STRAIN_LIMIT, (double)s->strain_limit);
+    if (s->strain_limit > 0.0f &&
+        (s->method != CVK_METHOD_PD || s->linear == CVK_LINEAR_GS_CPU))
+        return cvk_issue_at(issue, "solver.strain_limit", "only the pd solvers on the device "
+                            "(rbgs, jacobi, chebyshev) limit strain; this scene uses %s",
+                            s->method != CVK_METHOD_PD ? cvk_method_name(s->method)
+                                                       : cvk_linear_solver_name(s->linear));
+    return true;
+}
+
 bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
 {
     if (!cvk_method_name(s->method))
@@ -278,7 +297,8 @@ bool cvk_solver_desc_check(const cvk_solver_desc* s, cvk_scene_issue* issue)
                         s->inner_iterations, sweeps, CVK_MAX_SWEEPS);
     return cvk_check_open(issue, "solver.omega", s->omega, 0.0, 2.0) &&
            cvk_check_half_open(issue, "solver.chebyshev_rho", s->chebyshev_rho, 0.0, 1.0) &&
-           check_implicit(s, issue) && check_stopping(s, issue) && check_explicit(s, issue);
+           check_strain_limit(s, issue) && check_implicit(s, issue) &&
+           check_stopping(s, issue) && check_explicit(s, issue);
 }
 
 /* ---- one cloth; base is "cloths.N" ---- */

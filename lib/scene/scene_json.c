@@ -487,6 +487,7 @@ static const cvk_field solver_fields[] = {
     {.key = "damping_model", .read = read_damping_model,
      .offset = offsetof(cvk_solver_desc, damping_model)},
     {.key = "tether_every", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, tether_every)},
+    {.key = "strain_limit", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, strain_limit)},
 };
 static const cvk_table solver_table = FIELDS(solver_fields);
 

@@ -145,6 +145,7 @@ typedef struct pd_builder {
     bool contact;                      /* the scene collides: a contact op per outer iteration */
     bool tethers;                      /* a cloth has tethers: a tether op per outer iteration */
     uint32_t predict, solve, tether_pass, contact_pass, finalize; /* pass indices */
+    uint32_t strain_pass;              /* with solver.strain_limit: one op per colour per outer */
     /* With a tolerance: the check's pass and push data, and whether the substep's first check
        is behind (then the solve's ops are dispatched indirectly: the device may stop them). */
     bool checking, armed;
@@ -319,6 +320,16 @@ static void add_copy_back(pd_builder* pb, const cvk_build* b)
    last: a tether may pull a particle into a collider, never the other way round. */
 static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, uint32_t outer)
 {
+    /* Strain limiting first, colour by colour (a particle reads only other colours, which
+       its dispatch does not write: shaders/solvers/pd_strain.comp). */
+    for (uint32_t c = 0; pb->solver->strain_limit > 0.0f && c < b->colour_count; c++) {
+        uint32_t first = b->colour_start[c], count = b->colour_start[c + 1] - first;
+        cvk_op* op = add_op(pb, CVK_PIPE_PD_STRAIN, set, pb->strain_pass, first, count, 1.0f,
+                            1.0f + pb->solver->strain_limit);
+        if (op)
+            snprintf(op->note, sizeof op->note, "after outer %u, colour %u, in place, %s",
+                     outer + 1, c, set_note[set]);
+    }
     uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
     bool tether_now = (outer + 1) % every == 0 || outer + 1 == pb->solver->outer_iterations;
     if (pb->tethers && tether_now) {
@@ -468,6 +479,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
     if (s->grab->planned && solver->linear != CVK_LINEAR_GS_CPU)
         cvk_plan_pass(plan, "grab"); /* listed after predict, where it first runs */
     pb.solve = cvk_plan_pass(plan, "solve");
+    if (solver->strain_limit > 0.0f)
+        pb.strain_pass = cvk_plan_pass(plan, "strain limit");
     if (pb.tethers)
         pb.tether_pass = cvk_plan_pass(plan, "tethers");
     if (pb.contact)

@@ -111,6 +111,7 @@ typedef struct cvk_solver_desc {
     cvk_integrator integrator;
     cvk_damping_model damping_model;
     uint32_t tether_every;
+    float strain_limit;
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {

@@ -37,7 +37,8 @@ void main()
         uvec4 anchor = texelFetch(tether_anchor, int(p));
         vec4 limit = texelFetch(tether_length, int(p));
         vec3 xp = fetch(x_read, p);
-        vec3 u = fetch(dst_read, p);
+        vec4 start = texelFetch(dst_read, int(p));
+        vec3 u = start.xyz;
         vec3 b0 = fetch(dst_read, anchor.x) - (xp - fetch(x_read, anchor.x));
         vec3 b1 = SLOTS > 1u ? fetch(dst_read, anchor.y) - (xp - fetch(x_read, anchor.y)) : b0;
         vec3 b2 = SLOTS > 2u ? fetch(dst_read, anchor.z) - (xp - fetch(x_read, anchor.z)) : b0;
@@ -58,7 +59,7 @@ void main()
             if (!again)
                 break;
         }
-        if (moved)
-            dst[p] = vec4(u, 0.0);
+        if (moved) // w kept: the strain limit's mark (pd_strain.comp)
+            dst[p] = vec4(u, start.w);
     }
 }

@@ -74,6 +74,10 @@ typedef struct cvk_solver_desc {
     uint32_t tether_every;      /* pd with tethers: the tether pass after every this many outer
                                    iterations and after the last; 0 or 1 = after each (the
                                    default); 2 halves the pass's cost for a little stretch */
+    float strain_limit;         /* pd on the device (rbgs, jacobi, chebyshev): after every outer
+                                   iteration a spring longer than (1 + strain_limit) times its
+                                   rest length is shortened to it, within the contact bounds;
+                                   0 = none (the default), e.g. 0.05 for 5 % */
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
