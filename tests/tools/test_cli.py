@@ -263,10 +263,10 @@ CASES = [
                      "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)")},
     {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
      "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
     # The contact radius against a given thickness (read), and against the default thickness
     # (half of small.json's shortest spring, 0.2 m: known once the simulation is built).
     {"name": "contact radius within the thickness",
