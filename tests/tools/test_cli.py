@@ -267,6 +267,15 @@ CASES = [
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
                      "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
+    # Strain limiting: out of range, and with a solver that does not limit strain.
+    {"name": "strain limit out of range", "argv": [SMALL, "--set", "solver.strain_limit=11"],
+     "status": 2,
+     "stderr": error(SMALL, "solver.strain_limit (from --set): must be between 0 and 10, got 11")},
+    {"name": "strain limit with gs-cpu",
+     "argv": [SMALL, "--set", "solver.strain_limit=0.05", "--set", "solver.linear=\"gs-cpu\""],
+     "status": 2,
+     "stderr": error(SMALL, "solver.strain_limit (from --set): only the pd solvers on the device "
+                     "(rbgs, jacobi, chebyshev) limit strain; this scene uses gs-cpu")},
     # The contact radius against a given thickness (read), and against the default thickness
     # (half of small.json's shortest spring, 0.2 m: known once the simulation is built).
     {"name": "contact radius within the thickness",
