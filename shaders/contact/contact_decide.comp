@@ -8,8 +8,8 @@
 //    hash (2) or of the midpoints' (3), whichever is bound as set 1, for detection, and
 //    whether it builds;
 // 1: detect when asked to (the first substep, positions written from the host) or when some
-//    particle would leave its bound: open or close the hash build (set 1) and write detection's
-//    indirect commands; the shift for the substep (after a detection: the centre of the last
+//    particle would leave its bound: write detection's indirect commands (phases 2 and 3 open
+//    or close the hashes' builds); the shift for the substep (after a detection: the centre of the last
 //    substep's displacements, the motion expected of all); the bounds reset.
 layout(local_size_x = 1) in;
 #include "shared/layout.h"
@@ -77,7 +77,6 @@ void main()
     frame.shift_z = shift.z;
     frame.search = search ? 1u : 0u;
     frame.longest = 0u; // measured by detection (contact_edges.comp phase 1)
-    hash_params.build = search ? 1u : 0u;
     lists[CVK_LIST_PARTICLE_GROUPS] = search ? groups_for(contact.particle_count) : 0u;
     lists[CVK_LIST_PARTICLE_GROUPS + 1] = 1u;
     lists[CVK_LIST_PARTICLE_GROUPS + 2] = 1u;

@@ -107,23 +107,12 @@ void detect(uint p)
     float reach = contact_u.radius + uintBitsToFloat(frame.longest) * 0.57735027;
     float reach2 = reach * reach;
     float nearest_p = INFINITY;
-    ivec3 home = hash_cell(xp);
-    // One loop over the entries of the 27 cells (nested loops run, on SIMD hardware, the
-    // longest inner loop of the lanes at every cell).
-    uint n = 0u, count = 0u;
-    ivec3 cell = hash_neighbour_cell(home, 0u);
-    uvec2 range = hash_range(cell);
-    for (;;) {
-        if (range.x == range.y) {
-            if (++n == 27u)
-                break;
-            cell = hash_neighbour_cell(home, n);
-            range = hash_range(cell);
-            continue;
-        }
-        uvec4 entry = hash_entry_point(range.x++);
-        vec3 xq = uintBitsToFloat(entry.xyz);
-        if (hash_cell(xq) == cell && within_reach(xp, xq, reach2)) {
+    hash_walk w = hash_walk_begin(xp);
+    uvec4 entry;
+    bool here;
+    uint count = 0u;
+    while (hash_walk_step(w, entry, here)) {
+        if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2)) {
             found[count] = entry.w;
             count++;
         }

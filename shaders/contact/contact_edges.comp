@@ -57,25 +57,12 @@ void detect(uint e)
     float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
     float reach2 = reach * reach;
     float nearest_e = INFINITY;
-    ivec3 home = hash_cell(m);
-    // One loop over the entries of the 27 cells (nested loops run, on SIMD hardware, the
-    // longest inner loop of the lanes at every cell).
-    uint n = 0u;
-    ivec3 cell = hash_neighbour_cell(home, 0u);
-    uvec2 range = hash_range(cell);
-    for (;;) {
-        if (range.x == range.y) {
-            if (++n == 27u)
-                break;
-            cell = hash_neighbour_cell(home, n);
-            range = hash_range(cell);
-            continue;
-        }
-        uvec4 entry = hash_entry_point(range.x++);
-        vec3 mf = uintBitsToFloat(entry.xyz);
-        if (hash_cell(mf) == cell && within_reach(m, mf, reach2))
+    hash_walk w = hash_walk_begin(m);
+    uvec4 entry;
+    bool here;
+    while (hash_walk_step(w, entry, here))
+        if (here && within_reach(m, uintBitsToFloat(entry.xyz), reach2))
             nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e);
-    }
     nearest[contact_u.particle_count + e] = floatBitsToUint(nearest_e);
     for (uint k = 0u; k < K; k++)
         edge_contacts[e * K + k] = kept[k];

@@ -20,7 +20,16 @@
 //         }
 //     }
 //
-// Every point within one cell size of x is found this way, each once.
+// Every point within one cell size of x is found this way, each once. On SIMD hardware the
+// nested loops run, at every cell, the longest inner loop of the lanes; a walk whose body is
+// costly steps through the same entries in one loop instead (hash_walk_step):
+//
+//     hash_walk w = hash_walk_begin(x);
+//     uvec4 entry;
+//     bool here;
+//     while (hash_walk_step(w, entry, here))
+//         if (here)
+//             ... point entry.w at uintBitsToFloat(entry.xyz) ...
 
 #ifndef HASH_COMMON_GLSL
 #define HASH_COMMON_GLSL
@@ -110,6 +119,42 @@ vec3 hash_point(uint q)
 uvec4 hash_entry_point(uint e)
 {
     return texelFetch(hash_sorted_read, int(e));
+}
+
+// The walk over the 27 cells around a point, one entry per step.
+struct hash_walk {
+    ivec3 home, cell;
+    uvec2 range; // the entries of the visited cell's slot not yet stepped over
+    uint n;      // the visited cell, 0..26
+};
+
+hash_walk hash_walk_begin(vec3 x)
+{
+    hash_walk w;
+    w.home = hash_cell(x);
+    w.n = 0u;
+    w.cell = hash_neighbour_cell(w.home, 0u);
+    w.range = hash_range(w.cell);
+    return w;
+}
+
+// One step: false once the 27 cells are done; else `entry` (its point's xyz as float bits, its
+// index in w) with `here` true where the entry lies in the visited cell, or `here` false at a
+// step that moved on to the next cell or met an entry of another cell sharing the slot.
+bool hash_walk_step(inout hash_walk w, out uvec4 entry, out bool here)
+{
+    entry = uvec4(0u);
+    here = false;
+    if (w.range.x == w.range.y) {
+        if (++w.n == 27u)
+            return false;
+        w.cell = hash_neighbour_cell(w.home, w.n);
+        w.range = hash_range(w.cell);
+        return true;
+    }
+    entry = hash_entry_point(w.range.x++);
+    here = hash_cell(uintBitsToFloat(entry.xyz)) == w.cell;
+    return true;
 }
 
 // Whether point q lies in `cell` (and not in another cell that shares its slot).
