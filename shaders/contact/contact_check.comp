@@ -12,10 +12,28 @@
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
+#define CONTACT_TYPES_ID 1
 #include "contact/collide.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const float BIG = 3.0e38;
+
+// Whether x is within the thickness, the radius and `travel` of some collider at the start or
+// the end of the substep: a collider may stop it while the others move on, so a detection
+// takes no shift (contact_decide.comp).
+bool near_collider(vec3 x, float travel)
+{
+    float reach = contact_u.thickness + contact_u.radius + travel;
+    bool near = false;
+    for (uint k = 0u; k < contact_u.collider_count; k++) {
+        cvk_gpu_pose pose = poses_u[k];
+        vec3 l0 = quat_rotate_inverse(pose.rotation0, x - pose.translation0.xyz);
+        vec3 l1 = quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz);
+        float d = min(shape_distance(shapes_u[k], l0), shape_distance(shapes_u[k], l1));
+        near = near || !(d >= reach);
+    }
+    return near;
+}
 
 void bound_axes(vec3 low, vec3 high, vec3 vlow, vec3 vhigh)
 {
@@ -56,10 +74,12 @@ void main()
         return;
     }
     vec3 low = vec3(BIG), high = vec3(-BIG), vlow = vec3(BIG), vhigh = vec3(-BIG);
+    bool near = false;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
         uint p = pc.first + i;
         vec3 x = contact_x(p);
         vec3 v = x - previous[p].xyz;
+        near = near || near_collider(x, 2.0 * length(v));
         vec3 e = x - texelFetch(searched_t, int(p)).xyz + v;
         bool finite = all(lessThanEqual(abs(e), vec3(BIG))) && all(lessThanEqual(abs(v), vec3(BIG)));
         low = min(low, finite ? e : vec3(-BIG));
@@ -68,4 +88,6 @@ void main()
         vhigh = max(vhigh, finite ? v : vec3(BIG));
     }
     bound_axes(low, high, vlow, vhigh);
+    if (near)
+        atomicOr(motion_bounds.near, 1u);
 }

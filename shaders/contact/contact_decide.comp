@@ -9,8 +9,9 @@
 //    whether it builds;
 // 1: detect when asked to (the first substep, positions written from the host) or when some
 //    particle would leave its bound: write detection's indirect commands (phases 2 and 3 open
-//    or close the hashes' builds); the shift for the substep (after a detection: the centre of the last
-//    substep's displacements, the motion expected of all); the bounds reset.
+//    or close the hashes' builds); the shift for the substep (after a detection: the centre
+//    of the last substep's displacements, the motion expected of all, or none when a particle
+//    is near a collider); the bounds reset.
 layout(local_size_x = 1) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -66,11 +67,16 @@ void main()
     }
     bool search = frame.force != 0u || motion_bounds.exceed != 0u;
     // After positions were written from the host the last substep's displacement means
-    // nothing: no shift.
+    // nothing: no shift. Nor when a particle is near a collider: the shift, checked against
+    // no bound at a detection, could carry a particle the collider stops into the collider,
+    // and its push out would then move it past its bound (the substeps that do not detect
+    // take a shift every particle's extrapolated move fits: contact_check.comp phase 1).
     vec3 shift = frame.force != 0u ? vec3(0.0)
-               : search ? centre(motion_bounds.v_low_x, motion_bounds.v_low_y,
-                                 motion_bounds.v_low_z, motion_bounds.v_high_x,
-                                 motion_bounds.v_high_y, motion_bounds.v_high_z)
+               : search ? (motion_bounds.near != 0u
+                               ? vec3(0.0)
+                               : centre(motion_bounds.v_low_x, motion_bounds.v_low_y,
+                                        motion_bounds.v_low_z, motion_bounds.v_high_x,
+                                        motion_bounds.v_high_y, motion_bounds.v_high_z))
                         : vec3(motion_bounds.next_x, motion_bounds.next_y, motion_bounds.next_z);
     frame.shift_x = shift.x;
     frame.shift_y = shift.y;
@@ -90,4 +96,5 @@ void main()
     motion_bounds.e_high_x = motion_bounds.e_high_y = motion_bounds.e_high_z = CVK_MOTION_HIGH_EMPTY;
     motion_bounds.v_high_x = motion_bounds.v_high_y = motion_bounds.v_high_z = CVK_MOTION_HIGH_EMPTY;
     motion_bounds.exceed = 0u;
+    motion_bounds.near = 0u;
 }

@@ -285,8 +285,9 @@ CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 /* After the frame state in its buffer: what the decision at the start of a substep gathers
    (contact_check.comp) — per axis, order-preserving bits of the floats, the bounds of each
    particle's displacement since detection extrapolated over the substep (e) and of its last
-   substep's displacement (v); whether some particle would leave its bound; the shift for the
-   substep if it does not detect. Reset by the decision, so snapshots need not carry them. */
+   substep's displacement (v); whether some particle would leave its bound; whether some
+   particle is near a collider (no shift at a detection then); the shift for the substep if it
+   does not detect. Reset by the decision, so snapshots need not carry them. */
 #define CVK_GPU_MOTION_BOUNDS_FIELDS \
     CVK_UINT(e_low_x)                \
     CVK_UINT(e_low_y)                \
@@ -301,6 +302,7 @@ CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
     CVK_UINT(v_high_y)               \
     CVK_UINT(v_high_z)               \
     CVK_UINT(exceed)                 \
+    CVK_UINT(near)                   \
     CVK_FLOAT(next_x)                \
     CVK_FLOAT(next_y)                \
     CVK_FLOAT(next_z)
