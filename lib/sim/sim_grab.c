@@ -31,6 +31,7 @@ cvk_result cvk_sim_particle_internal(const cvk_sim* s, cvk_particle particle, co
 static cvk_result grab_start(cvk_sim* s, cvk_particle particle, const float target[3],
                              const char* call, uint32_t* p, cvk_error* error)
 {
+    *p = UINT32_MAX; /* no particle until the checks pass: *p is defined on every return */
     if (!s || !target)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s needs a simulation and a target",
                         call);

@@ -98,13 +98,17 @@ static uint32_t weld_find(const weld_grid* g, const float* position, const float
     return best;
 }
 
-static void weld_insert(weld_grid* g, const float p[3], uint32_t particle)
+/* false when p is outside the grid's cells: never for a used vertex, which lies in the box
+   the cells were made for. */
+static bool weld_insert(weld_grid* g, const float p[3], uint32_t particle)
 {
     int64_t c[3];
-    cell_of(g, p, c); /* a particle lies in the box: always in range */
+    if (!cell_of(g, p, c))
+        return false;
     size_t b = cvk_hash_u64(cell_key(c[0], c[1], c[2])) & g->mask;
     g->next[particle] = g->head[b];
     g->head[b] = particle;
+    return true;
 }
 
 /* Walks the used vertices in file order: each becomes the first particle within the tolerance,
@@ -131,8 +135,10 @@ static cvk_result weld_walk(cvk_mesh_reader* r, weld_grid* g)
                                 "%s: %s has more than %llu vertices after welding, the most "
                                 "particles a scene may hold", r->key, r->path,
                                 (unsigned long long)CVK_MAX_PARTICLES);
+            if (!weld_insert(g, p, r->vertex_count))
+                return cvk_mesh_bad(r, "vertex %u lies outside the box of the vertices faces use",
+                                    r->vertex_count);
             memcpy(&r->position[3 * (size_t)r->vertex_count], p, sizeof p);
-            weld_insert(g, p, r->vertex_count);
             *slot = r->vertex_count++;
         }
     }
