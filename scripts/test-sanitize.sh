@@ -4,8 +4,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+# shellcheck disable=SC2086
 [ -f build-sanitize/build.ninja ] ||
-    meson setup build-sanitize -Db_sanitize=address,undefined -Db_lundef=false >/dev/null
+    meson setup build-sanitize -Db_sanitize=address,undefined -Db_lundef=false \
+        ${CLOTHVK_SETUP_OPTIONS:-} >/dev/null
 meson compile -C build-sanitize >/dev/null
 meson test -C build-sanitize --print-errorlogs --suite unit --wrapper "$PWD/tests/sanitize.sh" "$@"
 # The tools' tests (bad input, divergence, images, experiments) against the sanitized tools.
