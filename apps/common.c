@@ -85,24 +85,43 @@ bool app_help_or_version(const char* tool, const char* arg, void (*usage)(FILE* 
     return false;
 }
 
-static const app_option* find_option(const app_command_line* line, const char* arg)
+const char* app_option_split(const char* arg, size_t* name_length)
+{
+    const char* equals = strncmp(arg, "--", 2) == 0 ? strchr(arg, '=') : NULL;
+    *name_length = equals ? (size_t)(equals - arg) : strlen(arg);
+    return equals ? equals + 1 : NULL;
+}
+
+/* The row whose name or alias is the first `length` characters of arg; *name is set to that
+   name or alias. */
+static const app_option* find_option(const app_command_line* line, const char* arg, size_t length,
+                                     const char** name)
 {
     for (size_t i = 0; i < line->option_count; i++) {
         const app_option* o = &line->options[i];
-        if (!strcmp(arg, o->name) || (o->alias && !strcmp(arg, o->alias)))
-            return o;
+        const char* names[2] = {o->name, o->alias};
+        for (int k = 0; k < 2; k++) {
+            if (names[k] && strlen(names[k]) == length && !strncmp(arg, names[k], length)) {
+                *name = names[k];
+                return o;
+            }
+        }
     }
     return NULL;
 }
 
-/* One option with `value`, the argument after it (NULL when it was the last); *used is set
-   when the value was taken. */
+/* One option with `value`, given after '=' (inline) or the argument after it (NULL when it was
+   the last); *used is set when the argument after it was taken. */
 static int take_option(const app_command_line* line, const app_option* o, const char* arg,
-                       const char* value, bool* used)
+                       const char* value, bool inline_value, bool* used)
 {
-    *used = value != NULL && o->kind != APP_OPTION_FLAG;
+    *used = value != NULL && !inline_value && o->kind != APP_OPTION_FLAG;
     switch (o->kind) {
     case APP_OPTION_FLAG:
+        if (inline_value) {
+            app_error(line->tool, "%s takes no value, got %s=%s", arg, arg, value);
+            return APP_EXIT_BAD_INPUT;
+        }
         *o->flag = true;
         return APP_EXIT_OK;
     case APP_OPTION_U32:
@@ -135,9 +154,13 @@ int app_read_command_line(const app_command_line* line, int argc, char** argv, c
             *done = true;
             return APP_EXIT_OK;
         }
-        const app_option* o = find_option(line, a);
+        size_t length = 0;
+        const char* inline_value = app_option_split(a, &length);
+        const char* name = NULL;
+        const app_option* o = find_option(line, a, length, &name);
+        const char* value = inline_value ? inline_value : i + 1 < argc ? argv[i + 1] : NULL;
         bool used = false;
-        int status = o ? take_option(line, o, a, i + 1 < argc ? argv[i + 1] : NULL, &used)
+        int status = o ? take_option(line, o, name, value, inline_value != NULL, &used)
                        : app_take_scene_argument(line->tool, a, scene);
         if (status != APP_EXIT_OK)
             return status;

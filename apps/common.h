@@ -63,7 +63,8 @@ typedef enum app_option_kind {
     APP_OPTION_OTHER, /* take() reads the value */
 } app_option_kind;
 
-/* One row of a tool's option table. A value is the next argument, whatever it looks like. */
+/* One row of a tool's option table. A value is the next argument, whatever it looks like, or
+   what follows the '=' of a long option written GNU style ("--frames=2"). */
 typedef struct app_option {
     const char* name;
     const char* alias;        /* a second name ("-q" for "--quiet"), or NULL */
@@ -88,6 +89,10 @@ typedef struct app_command_line {
     size_t option_count;
     void* user;               /* passed to the OTHER options' take() */
 } app_command_line;
+
+/* A long option written "--name=value": the length of "--name" and the value after the first
+   '='. Any other argument: its whole length and NULL. */
+const char* app_option_split(const char* arg, size_t* name_length);
 
 /* Reads argv by the table, left to right. --help or -h prints the usage on stdout, --version
  * the version; either sets *done and ends the reading. The one argument no option takes is the

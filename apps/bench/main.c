@@ -241,10 +241,11 @@ static const option_spec option_specs[] = {
     {"--require-clean", ENSEMBLE, false},
 };
 
-static const option_spec* find_option(const char* name)
+/* The option named by the first `length` characters of name. */
+static const option_spec* find_option(const char* name, size_t length)
 {
     for (size_t i = 0; i < sizeof option_specs / sizeof option_specs[0]; i++)
-        if (!strcmp(option_specs[i].name, name))
+        if (strlen(option_specs[i].name) == length && !strncmp(option_specs[i].name, name, length))
             return &option_specs[i];
     return NULL;
 }
@@ -455,12 +456,18 @@ static int gather(int argc, char** argv, gathered* g, bool* done)
             return APP_EXIT_OK;
         }
         if (a[0] == '-' && a[1]) {
-            const option_spec* spec = find_option(a);
+            size_t length = 0;
+            const char* inline_value = app_option_split(a, &length);
+            const option_spec* spec = find_option(a, length);
             if (!spec) {
                 app_error(tool, "unknown option %s (see --help)", a);
                 return APP_EXIT_BAD_INPUT;
             }
-            if (spec->has_value && i + 1 >= argc) {
+            if (!spec->has_value && inline_value) {
+                app_error(tool, "%s takes no value, got %s", spec->name, a);
+                return APP_EXIT_BAD_INPUT;
+            }
+            if (spec->has_value && !inline_value && i + 1 >= argc) {
                 app_error(tool, "%s: expected a value", a);
                 return APP_EXIT_BAD_INPUT;
             }
@@ -468,8 +475,10 @@ static int gather(int argc, char** argv, gathered* g, bool* done)
                 app_error(tool, "too many options");
                 return APP_EXIT_BAD_INPUT;
             }
-            g->given[g->given_count].name = a;
-            g->given[g->given_count++].value = spec->has_value ? argv[++i] : NULL;
+            g->given[g->given_count].name = spec->name;
+            g->given[g->given_count++].value = !spec->has_value ? NULL
+                                               : inline_value   ? inline_value
+                                                                : argv[++i];
         } else if (g->positionals == 2) {
             app_error(tool, "unexpected argument %s (an experiment and one scene at most)", a);
             return APP_EXIT_BAD_INPUT;
@@ -509,7 +518,7 @@ static int choose_experiment(const gathered* g, parsed* p)
 static int apply_given(const gathered* g, parsed* p)
 {
     for (uint32_t i = 0; i < g->given_count; i++) {
-        const option_spec* spec = find_option(g->given[i].name);
+        const option_spec* spec = find_option(g->given[i].name, strlen(g->given[i].name));
         if (!(spec->experiments & p->e->bit)) {
             app_error(tool, "%s is not an option of %s (see --help)", g->given[i].name, p->e->name);
             return APP_EXIT_BAD_INPUT;

@@ -419,6 +419,18 @@ CASES = [
      "stderr": "clothvk-sim: --frames: expected a whole number from 0 to 100000000, got -3"},
     {"name": "--set without =", "argv": [SMALL, "--set", "dt"], "status": 2,
      "stderr": "clothvk-sim: --set dt: expected key.path=value"},
+    # GNU style: a long option's value after '=' is read as the next argument would be.
+    {"name": "--frames= not a number", "argv": [SMALL, "--frames=abc"], "status": 2,
+     "stderr": "clothvk-sim: --frames: expected a whole number from 0 to 100000000, got abc"},
+    {"name": "--set= without =", "argv": [SMALL, "--set=dt"], "status": 2,
+     "stderr": "clothvk-sim: --set dt: expected key.path=value"},
+    {"name": "--set= an unknown key", "argv": [SMALL, "--set=solver.iterationz=8"], "status": 2,
+     "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
+    {"name": "a flag with a value", "argv": [SMALL, "--json=yes"], "status": 2,
+     "stderr": "clothvk-sim: --json takes no value, got --json=yes"},
+    {"name": "--frames= empty", "argv": [SMALL, "--frames="], "status": 2,
+     "stderr": "clothvk-sim: --frames: expected a whole number from 0 to 100000000, got "},
 
     # Good input.
     {"name": "--plan red-black", "argv": [HANGING, "--plan"], "status": 0,
@@ -467,6 +479,9 @@ CASES = [
      "argv": [SMALL, "--set", "collision.edges=true", "--frames", "1", "--json"], "status": 0,
      "check": json_notes([EDGES_NOTE[len("clothvk-sim: note: "):]])},
     {"name": "--dump before any step", "argv": [SMALL, "--frames", "0", "--dump", DUMP], "status": 0,
+     "check": dump_grid(SMALL, first_two_at_rest=True)},
+    {"name": "--frames=0 --dump=FILE --set=KEY=VALUE",
+     "argv": [SMALL, "--frames=0", f"--dump={DUMP}", "--set=cloths.0.grid=[4,3]"], "status": 0,
      "check": dump_grid(SMALL, first_two_at_rest=True)},
     {"name": "1 x N rope", "argv": [ROPE, "--frames", "10", "--dump", DUMP], "status": 0,
      "check": dump_grid(ROPE, first_two_at_rest=False)},

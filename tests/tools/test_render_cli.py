@@ -117,6 +117,15 @@ CASES = [
      "stderr": error("--frames: expected a whole number from 1 to 100000000, got 0")},
     {"name": "unknown option", "argv": [SMALL, "-o", "out", "--fps", "30"], "status": 2,
      "stderr": error("unknown option --fps (see --help)")},
+    # GNU style: --option=value as --option value.
+    {"name": "frames=0", "argv": [SMALL, "--output=out", "--frames=0"], "status": 2,
+     "stderr": error("--frames: expected a whole number from 1 to 100000000, got 0")},
+    {"name": "size=0x720", "argv": [SMALL, "-o", "out", "--size=0x720"], "status": 2,
+     "stderr": error("--size: expected WIDTHxHEIGHT in pixels, each at least 1, got 0x720")},
+    {"name": "a flag with a value", "argv": [SMALL, "-o", "out", "--quiet=yes"], "status": 2,
+     "stderr": error("--quiet takes no value, got --quiet=yes")},
+    {"name": "unknown option with a value", "argv": [SMALL, "-o", "out", "--fps=30"], "status": 2,
+     "stderr": error("unknown option --fps=30 (see --help)")},
     # The scene.
     {"name": "unknown render key", "argv": [SMALL, "-o", "out", "--set", "render.fov=40"], "status": 2,
      "stderr": error(f"{SMALL}: render.fov (from --set): unknown key (expected one of: size, eye, target, up, "
@@ -158,6 +167,9 @@ CASES = [
          rf"readback {NUMBER}\), png {NUMBER} ms \(beside the next image's work\); {NUMBER} ms wall"))},
     {"name": "--quiet", "argv": [SMALL, "-o", "q", "--frames", "2", "--size", "64x48", "--quiet"], "status": 0,
      "check": quiet_check},
+    {"name": "--quiet, values after =", "argv": [SMALL, "--output=q", "--frames=2", "--size=64x48",
+                                                  "--every=1", "--set=render.samples=1", "--quiet"],
+     "status": 0, "check": quiet_check},
     {"name": "existing folder, images replaced", "argv": [SMALL, "-o", "f", "--frames", "1", "--size", "64x48"],
      "status": 0, "folders": ["f"], "files": ["f/frame_0000.png"],
      "check": folder_check("f", ["frame_0000.png"], 64, 48)},
