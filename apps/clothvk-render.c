@@ -148,7 +148,7 @@ static int check_options(const options* o)
                   "frames to PNGs and encode those");
         return APP_EXIT_BAD_INPUT;
     }
-    if (o->video && !app_video_available(tool))
+    if (o->video && (!app_video_available(tool) || !app_video_name_ok(tool, o->video)))
         return APP_EXIT_BAD_INPUT;
     return APP_EXIT_OK;
 }

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,20 +60,37 @@ static char* temp_name(const char* path)
     return out;
 }
 
-static int check_name(const char* tool, const char* path)
+/* The containers ffmpeg writes with the encoders it picks for them by default, each checked
+   with yuv420p frames (tests/tools/test_video.py); ffmpeg would refuse another extension only
+   once the frames are drawn. */
+static const char* const containers[] = {".mp4", ".mkv", ".mov", ".webm", ".avi", ".gif"};
+
+bool app_video_name_ok(const char* tool, const char* path)
 {
-    struct stat st;
-    if (!extension(path)) {
+    const char* ext = extension(path);
+    if (!ext) {
         app_error(tool, "--video %s: expected a name whose extension names the format, such as "
                   "clip.mp4", path);
-        return APP_EXIT_BAD_INPUT;
+        return false;
     }
+    bool known = false;
+    for (size_t i = 0; i < sizeof containers / sizeof containers[0]; i++)
+        known |= strcasecmp(ext, containers[i]) == 0;
+    if (!known) {
+        app_error(tool, "--video %s: unknown video format %s (expected .mp4, .mkv, .mov, .webm, "
+                  ".avi or .gif)", path, ext);
+        return false;
+    }
+    struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         app_error(tool, "--video %s: is a folder; expected a file name such as clip.mp4", path);
-        return APP_EXIT_BAD_INPUT;
+        return false;
     }
-    if (!app_output_option_ok(tool, "--video", path))
-        return APP_EXIT_BAD_INPUT;
+    return app_output_option_ok(tool, "--video", path);
+}
+
+static int make_folder(const char* tool, const char* path)
+{
     char* folder = app_folder_of(path);
     if (!folder) {
         app_error(tool, "out of memory");
@@ -123,7 +141,7 @@ int app_video_open(app_video* v, const char* tool, const char* path, uint32_t wi
     v->fd = -1;
     v->width = width;
     v->height = height;
-    int status = check_name(tool, path);
+    int status = app_video_name_ok(tool, path) ? make_folder(tool, path) : APP_EXIT_BAD_INPUT;
     if (status != APP_EXIT_OK)
         return status;
     v->temp_path = temp_name(path);

@@ -24,6 +24,11 @@ typedef struct app_video {
 /* Before any work: true when ffmpeg is on PATH; otherwise one line saying how to get it. */
 bool app_video_available(const char* tool);
 
+/* Before any work: true when `path` names a video this tool can write (an extension of a
+   container ffmpeg encodes, .mp4 .mkv .mov .webm .avi .gif; not a folder, a device or a link);
+   otherwise one line. */
+bool app_video_name_ok(const char* tool, const char* path);
+
 /* Checks the name and makes the video's folder (APP_EXIT_BAD_INPUT, one line, on failure),
    then starts ffmpeg for frames of width × height pixels at `fps` frames per second
    (APP_EXIT_FAILURE when that fails). Call app_video_free in every case. */

@@ -13,8 +13,9 @@ a video of 3 frames of 160 x 90 at 1 / (dt · substeps · 20) frames per second 
 Each video frame, decoded by ffmpeg, must match its PNG up to the encoder's loss (mean absolute
 difference per channel under 3 of 255, where it measures about 1.5; red and blue swapped gives
 about 8) and be nearer its own PNG than the other two (the cloth falls between them). An odd size is padded to even (yuv420p), --video
-without -o writes the video alone, and a format ffmpeg does not know fails with exit status 1
-and leaves no video and no temporary file.
+without -o writes the video alone, .webm (any case), .gif, .avi and .mov give videos of their
+frames, and an extension outside that list is refused before any work, exit status 2, nothing
+written.
 """
 import json
 import os
@@ -54,7 +55,8 @@ def probe(path):
                        capture_output=True, text=True, timeout=120)
     stream = json.loads(p.stdout)["streams"][0]
     num, den = stream["avg_frame_rate"].split("/")
-    return int(stream["nb_read_frames"]), stream["width"], stream["height"], float(num) / float(den)
+    rate = float(num) / float(den) if float(den) else 0.0  # a GIF has no average rate: 0/0
+    return int(stream["nb_read_frames"]), stream["width"], stream["height"], rate
 
 
 def decode(path, index=None):
@@ -138,18 +140,20 @@ def video_only_odd_size():
         return []
 
 
-def unknown_format():
-    with tempfile.TemporaryDirectory(prefix="clothvk-video-") as workdir:
-        p = run(TINY + ["--size", "32x32", "--frames", "1", "--video", "clip.notaformat", "--quiet"], workdir)
-        problems = []
-        if p.returncode != 1:
-            problems.append(f"expected exit status 1, got {p.returncode}")
-        last = error("clip.notaformat: ffmpeg failed (exit status 1)")
-        if not p.stderr.splitlines() or p.stderr.splitlines()[-1] != last:
-            problems.append(f"expected the last line of stderr {last!r}, got {p.stderr.strip()!r}")
-        if tooltest.listing(workdir):
-            problems.append(f"expected nothing left, found {tooltest.listing(workdir)}")
-        return problems
+def other_containers():
+    """The other containers of the list, the extension in any case: each a video of its frames."""
+    problems = []
+    for name in ("clip.WEBM", "clip.gif", "clip.avi", "clip.mov"):
+        with tempfile.TemporaryDirectory(prefix="clothvk-video-") as workdir:
+            p = run(TINY + ["--size", "32x32", "--frames", "2", "--video", name, "--quiet"], workdir)
+            if p.returncode != 0 or p.stderr:
+                problems.append(f"{name}: exit status {p.returncode}, stderr: {p.stderr.strip()}")
+            elif tooltest.listing(workdir) != [name]:
+                problems.append(f"{name}: found {tooltest.listing(workdir)}, expected {name} alone")
+            elif probe(os.path.join(workdir, name))[:3] != (2, 32, 32):
+                problems.append(f"{name}: (frames, width, height) is "
+                                f"{probe(os.path.join(workdir, name))[:3]}, expected (2, 32, 32)")
+    return problems
 
 
 def main():
@@ -164,8 +168,13 @@ def main():
                     error("--video clip: expected a name whose extension names the format, such as clip.mp4"))),
                    ("--video name of a folder", bad_name(["--video", "taken.mp4"], ["taken.mp4"],
                     error("--video taken.mp4: is a folder; expected a file name such as clip.mp4"))),
+                   # A container outside the list is refused before any work (ffmpeg would
+                   # refuse it only once frames were drawn); nothing is made, not even its folder.
+                   ("--video of an unknown format", bad_name(["-o", "frames", "--video", "out/clip.xyz"], [],
+                    error("--video out/clip.xyz: unknown video format .xyz (expected .mp4, .mkv, .mov, "
+                          ".webm, .avi or .gif)"))),
                    ("-o and --video", with_pngs), ("--video alone, odd size", video_only_odd_size),
-                   ("a format ffmpeg does not know", unknown_format)]
+                   ("--video .WEBM and .gif", other_containers)]
     else:
         skipped = " (skipped the encoding cases: ffmpeg or ffprobe is not on PATH; apt-get install ffmpeg)"
     for name, check in checks:
