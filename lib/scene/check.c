@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 __attribute__((format(printf, 3, 4)))
 bool cvk_issue_at(cvk_scene_issue* issue, const char* path, const char* format, ...)
@@ -37,6 +38,28 @@ const char* cvk_key_join_index(char out[CVK_KEY_PATH_MAX], const char* base, uin
     return out;
 }
 
+static cvk_number_text shortest_text(double v, bool single)
+{
+    cvk_number_text t;
+    for (int digits = 6; digits <= 17; digits++) {
+        snprintf(t.text, sizeof t.text, "%.*g", digits, v);
+        double back = strtod(t.text, NULL);
+        if (single ? (float)back == (float)v : back == v)
+            break;
+    }
+    return t;
+}
+
+cvk_number_text cvk_float_text(double v)
+{
+    return shortest_text(v, true);
+}
+
+cvk_number_text cvk_double_text(double v)
+{
+    return shortest_text(v, false);
+}
+
 bool cvk_check_finite(cvk_scene_issue* issue, const char* path, double v)
 {
     if (isfinite(v))
@@ -60,14 +83,47 @@ bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, doubl
 {
     if (!cvk_check_finite(issue, path, v))
         return false;
-    return v > low || cvk_issue_at(issue, path, "must be greater than %g, got %g", low, v);
+    return v > low || cvk_issue_at(issue, path, "must be greater than %s, got %s",
+                                   cvk_float_text(low).text, cvk_float_text(v).text);
 }
 
 bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low)
 {
     if (!cvk_check_finite(issue, path, v))
         return false;
-    return v >= low || cvk_issue_at(issue, path, "must be at least %g, got %g", low, v);
+    return v >= low || cvk_issue_at(issue, path, "must be at least %s, got %s",
+                                    cvk_float_text(low).text, cvk_float_text(v).text);
+}
+
+bool cvk_check_position(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n)
+{
+    char element[CVK_KEY_PATH_MAX];
+    for (uint32_t i = 0; i < n; i++) {
+        cvk_key_join_index(element, path, i);
+        if (!cvk_check_finite(issue, element, v[i]))
+            return false;
+        if (fabs(v[i]) > CVK_MAX_COORDINATE)
+            return cvk_issue_at(issue, element, "must be at most %g m from the origin "
+                                "(single-precision metres), got %s", CVK_MAX_COORDINATE,
+                                cvk_float_text(v[i]).text);
+    }
+    return true;
+}
+
+bool cvk_check_length(cvk_scene_issue* issue, const char* path, double v)
+{
+    if (!cvk_check_greater(issue, path, v, 0.0))
+        return false;
+    return v <= CVK_MAX_COORDINATE ||
+           cvk_issue_at(issue, path, "must be at most %g m (single-precision metres), got %s",
+                        CVK_MAX_COORDINATE, cvk_float_text(v).text);
+}
+
+bool cvk_check_scale(cvk_scene_issue* issue, const char* path, double v)
+{
+    if (!cvk_check_finite(issue, path, v))
+        return false;
+    return v != 0.0 || cvk_issue_at(issue, path, "must not be zero, got 0");
 }
 
 bool cvk_check_count(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low)
@@ -92,7 +148,8 @@ bool cvk_check_half_open(cvk_scene_issue* issue, const char* path, double v, dou
         return false;
     if (v >= low && v < high)
         return true;
-    return cvk_issue_at(issue, path, "must be at least %g and less than %g, got %g", low, high, v);
+    return cvk_issue_at(issue, path, "must be at least %s and less than %s, got %s",
+                        cvk_float_text(low).text, cvk_float_text(high).text, cvk_float_text(v).text);
 }
 
 /* low < v < high */
@@ -102,7 +159,8 @@ bool cvk_check_open(cvk_scene_issue* issue, const char* path, double v, double l
         return false;
     if (v > low && v < high)
         return true;
-    return cvk_issue_at(issue, path, "must be greater than %g and less than %g, got %g", low, high, v);
+    return cvk_issue_at(issue, path, "must be greater than %s and less than %s, got %s",
+                        cvk_float_text(low).text, cvk_float_text(high).text, cvk_float_text(v).text);
 }
 
 /* low <= v <= high, element by element */
@@ -115,7 +173,9 @@ bool cvk_check_closed_array(cvk_scene_issue* issue, const char* path, const floa
         if (!cvk_check_finite(issue, element, v[i]))
             return false;
         if (v[i] < low || v[i] > high)
-            return cvk_issue_at(issue, element, "must be between %g and %g, got %g", low, high, v[i]);
+            return cvk_issue_at(issue, element, "must be between %s and %s, got %s",
+                                cvk_float_text(low).text, cvk_float_text(high).text,
+                                cvk_float_text(v[i]).text);
     }
     return true;
 }
@@ -190,9 +250,10 @@ static bool check_keyframe(const cvk_keyframe* k, const char* base, const cvk_ke
     if (!cvk_check_at_least(issue, cvk_key_join(path, base, "time"), k->time, 0.0))
         return false;
     if (previous && !(k->time > previous->time))
-        return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", previous->time,
-                        k->time);
-    return cvk_check_finite_array(issue, cvk_key_join(path, base, "translation"), k->translation, 3) &&
+        return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%s), "
+                            "got %s", cvk_float_text(previous->time).text,
+                            cvk_float_text(k->time).text);
+    return cvk_check_position(issue, cvk_key_join(path, base, "translation"), k->translation, 3) &&
            cvk_check_quaternion(issue, cvk_key_join(path, base, "rotation"), k->rotation);
 }
 

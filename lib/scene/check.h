@@ -17,6 +17,21 @@ typedef struct cvk_scene_issue {
 
 #define CVK_MAX_KEYFRAMES 10000u
 
+/* Largest position coordinate and length, m (a mesh's vertices after its transform too): at
+   1e5 m single precision resolves 2^-7 m, about 8 mm, as coarse as a cloth's contact thickness;
+   further out contact and springs are rounding noise, and lengths past 1e19 m overflow when
+   squared (a sphere of radius 1e38 made NaN of its cloth). */
+#define CVK_MAX_COORDINATE 1e5
+
+/* A number as text with as few significant digits as tell it apart from its neighbours, 6 at
+   least (as %g): two floats (or doubles) that differ never print alike, so a message shows why
+   a value was refused (0.1f is "0.1", 1.00000012f is "1.00000012"). */
+typedef struct cvk_number_text {
+    char text[32];
+} cvk_number_text;
+cvk_number_text cvk_float_text(double v);  /* a float's value */
+cvk_number_text cvk_double_text(double v); /* a double's (a number of JSON text) */
+
 /* Formats a key path ("cloths.0.mass") into out, cutting what does not fit: keys that users
    write may be longer than any path clothvk makes itself. */
 void cvk_key_path(char out[CVK_KEY_PATH_MAX], const char* format, ...) __attribute__((format(printf, 2, 3)));
@@ -38,6 +53,12 @@ bool cvk_check_finite(cvk_scene_issue* issue, const char* path, double v);
 bool cvk_check_finite_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n);
 bool cvk_check_greater(cvk_scene_issue* issue, const char* path, double v, double low);
 bool cvk_check_at_least(cvk_scene_issue* issue, const char* path, double v, double low);
+/* Positions: each of n coordinates finite and at most CVK_MAX_COORDINATE in magnitude; a length
+   (a radius, a half extent): greater than 0 and at most CVK_MAX_COORDINATE; a mesh's scale
+   factor: finite and not 0. */
+bool cvk_check_position(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n);
+bool cvk_check_length(cvk_scene_issue* issue, const char* path, double v);
+bool cvk_check_scale(cvk_scene_issue* issue, const char* path, double v);
 /* Counts: low <= v, and low <= v <= high. */
 bool cvk_check_count(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low);
 bool cvk_check_count_range(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low,

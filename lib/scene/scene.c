@@ -168,9 +168,11 @@ static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
 {
     if (!cvk_check_greater(issue, "dt", d->dt, 0.0))
         return false;
-    if (d->dt < CVK_MIN_DT)
+    /* dt is a float: 1e-6 written in a scene is the float nearest it, a little less. */
+    if (d->dt < (float)CVK_MIN_DT)
         return cvk_issue_at(issue, "dt", "must be at least %g s (1/dt² must fit single precision "
-                        "with room for masses and stiffnesses), got %g", CVK_MIN_DT, d->dt);
+                        "with room for masses and stiffnesses), got %s", CVK_MIN_DT,
+                        cvk_float_text(d->dt).text);
     return cvk_check_count_range(issue, "substeps", d->substeps, 1, CVK_MAX_SUBSTEPS) &&
            cvk_check_count(issue, "frames", d->frames, 1) &&
            cvk_check_finite_array(issue, "gravity", d->gravity, 3) &&
@@ -336,6 +338,8 @@ static bool check_size(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
             return cvk_issue_at(issue, element,
                             "must be greater than 0 (the grid has %" PRIu32 " particles along it), got %g",
                             c->grid[i], c->size[i]);
+        if (c->size[i] > 0 && !cvk_check_length(issue, element, c->size[i]))
+            return false;
     }
     return true;
 }
@@ -402,15 +406,12 @@ static bool check_transform(const cvk_transform* t, const char* base, cvk_scene_
     char element[CVK_KEY_PATH_MAX];
     cvk_key_join(path, base, "transform.scale");
     for (uint32_t i = 0; i < 3; i++) {
-        cvk_key_join_index(element, path, i);
-        if (!cvk_check_finite(issue, element, t->scale[i]))
+        if (!cvk_check_scale(issue, cvk_key_join_index(element, path, i), t->scale[i]))
             return false;
-        if (t->scale[i] == 0.0f)
-            return cvk_issue_at(issue, element, "must not be zero, got 0");
     }
     if (!cvk_check_quaternion(issue, cvk_key_join(path, base, "transform.rotation"), t->rotation))
         return false;
-    return cvk_check_finite_array(issue, cvk_key_join(path, base, "transform.translation"), t->translation, 3);
+    return cvk_check_position(issue, cvk_key_join(path, base, "transform.translation"), t->translation, 3);
 }
 
 static bool check_file_name(cvk_scene_issue* issue, const char* path, const char* file)
@@ -426,7 +427,7 @@ static bool check_shape(const cvk_cloth_desc* c, const char* base, uint64_t* tot
     if (c->mesh)
         return check_file_name(issue, cvk_key_join(path, base, "mesh"), c->mesh);
     return check_grid(c, base, total, issue) && check_size(c, base, issue) &&
-           cvk_check_finite_array(issue, cvk_key_join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
+           cvk_check_position(issue, cvk_key_join(path, base, "origin"), c->origin, 3) && check_axes(c, base, issue);
 }
 
 /* Names are printed by the tools and written into OBJ files (an "o" line): a control
@@ -543,8 +544,8 @@ static bool check_render_size(const cvk_render_desc* r, cvk_scene_issue* issue)
 
 static bool check_camera(const cvk_render_desc* r, cvk_scene_issue* issue)
 {
-    if (!cvk_check_finite_array(issue, "render.eye", r->eye, 3) ||
-        !cvk_check_finite_array(issue, "render.target", r->target, 3) ||
+    if (!cvk_check_position(issue, "render.eye", r->eye, 3) ||
+        !cvk_check_position(issue, "render.target", r->target, 3) ||
         !check_direction(issue, "render.up", r->up) || !cvk_check_open(issue, "render.fov_y", r->fov_y, 0.0, 180.0))
         return false;
     if (r->auto_eye || r->auto_target || r->camera_keyframe_count > 0)
@@ -578,10 +579,10 @@ static bool check_camera_keyframes(const cvk_render_desc* r, cvk_scene_issue* is
         if (!cvk_check_at_least(issue, cvk_key_join(path, element, "time"), k->time, 0.0))
             return false;
         if (i > 0 && !(k->time > k[-1].time))
-            return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%g), got %g", k[-1].time,
-                            k->time);
-        if (!cvk_check_finite_array(issue, cvk_key_join(path, element, "eye"), k->eye, 3) ||
-            !cvk_check_finite_array(issue, cvk_key_join(path, element, "target"), k->target, 3))
+            return cvk_issue_at(issue, path, "must be greater than the previous keyframe's time (%s), got %s",
+                            cvk_float_text(k[-1].time).text, cvk_float_text(k->time).text);
+        if (!cvk_check_position(issue, cvk_key_join(path, element, "eye"), k->eye, 3) ||
+            !cvk_check_position(issue, cvk_key_join(path, element, "target"), k->target, 3))
             return false;
         float view[3] = {k->target[0] - k->eye[0], k->target[1] - k->eye[1], k->target[2] - k->eye[2]};
         double vv = dot3(view, view), uu = dot3(r->up, r->up), vu = dot3(view, r->up);
@@ -619,11 +620,11 @@ static bool check_box_shape(const cvk_collider_desc* c, const char* base, cvk_sc
 {
     char path[CVK_KEY_PATH_MAX];
     char element[CVK_KEY_PATH_MAX];
-    if (!cvk_check_finite_array(issue, cvk_key_join(path, base, "center"), c->center, 3))
+    if (!cvk_check_position(issue, cvk_key_join(path, base, "center"), c->center, 3))
         return false;
     cvk_key_join(path, base, "half_extents");
     for (uint32_t i = 0; i < 3; i++) {
-        if (!cvk_check_greater(issue, cvk_key_join_index(element, path, i), c->half_extents[i], 0.0))
+        if (!cvk_check_length(issue, cvk_key_join_index(element, path, i), c->half_extents[i]))
             return false;
     }
     return cvk_check_quaternion(issue, cvk_key_join(path, base, "rotation"), c->rotation);
@@ -646,20 +647,20 @@ static bool check_collider_shape(const cvk_collider_desc* c, const char* base, c
     char path[CVK_KEY_PATH_MAX];
     switch (c->type) {
     case CVK_COLLIDER_PLANE:
-        return cvk_check_finite_array(issue, cvk_key_join(path, base, "point"), c->point, 3) &&
+        return cvk_check_position(issue, cvk_key_join(path, base, "point"), c->point, 3) &&
                check_direction(issue, cvk_key_join(path, base, "normal"), c->normal);
     case CVK_COLLIDER_SPHERE:
-        return cvk_check_finite_array(issue, cvk_key_join(path, base, "center"), c->center, 3) &&
-               cvk_check_greater(issue, cvk_key_join(path, base, "radius"), c->radius, 0.0);
+        return cvk_check_position(issue, cvk_key_join(path, base, "center"), c->center, 3) &&
+               cvk_check_length(issue, cvk_key_join(path, base, "radius"), c->radius);
     case CVK_COLLIDER_BOX: return check_box_shape(c, base, issue);
     case CVK_COLLIDER_CAPSULE:
-        return cvk_check_finite_array(issue, cvk_key_join(path, base, "a"), c->a, 3) &&
-               cvk_check_finite_array(issue, cvk_key_join(path, base, "b"), c->b, 3) &&
-               cvk_check_greater(issue, cvk_key_join(path, base, "radius"), c->radius, 0.0);
+        return cvk_check_position(issue, cvk_key_join(path, base, "a"), c->a, 3) &&
+               cvk_check_position(issue, cvk_key_join(path, base, "b"), c->b, 3) &&
+               cvk_check_length(issue, cvk_key_join(path, base, "radius"), c->radius);
     case CVK_COLLIDER_FUNNEL:
-        return cvk_check_finite_array(issue, cvk_key_join(path, base, "apex"), c->apex, 3) &&
-               cvk_check_greater(issue, cvk_key_join(path, base, "a"), c->funnel_a, 0.0) &&
-               cvk_check_greater(issue, cvk_key_join(path, base, "height"), c->height, 0.0);
+        return cvk_check_position(issue, cvk_key_join(path, base, "apex"), c->apex, 3) &&
+               cvk_check_length(issue, cvk_key_join(path, base, "a"), c->funnel_a) &&
+               cvk_check_length(issue, cvk_key_join(path, base, "height"), c->height);
     case CVK_COLLIDER_MESH: return check_mesh_shape(c, base, issue);
     case CVK_COLLIDER_TYPE_COUNT: break;
     }

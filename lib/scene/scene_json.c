@@ -166,7 +166,8 @@ cvk_result cvk_read_pin_box(cvk_reader* rd, const cvk_field* f, json_t* value, c
 
 /* ---- a mesh cloth's transform ---- */
 
-/* One number scales every axis alike. */
+/* One number scales every axis alike; it is checked here, where its key path is its own
+   ("transform.scale", not the "transform.scale.0" validation would name). */
 static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     float* scale = dest;
@@ -175,8 +176,13 @@ static cvk_result read_scale(cvk_reader* rd, const cvk_field* f, json_t* value, 
     if (!json_is_number(value) && !cvk_json_is_nonfinite(value))
         return cvk_reader_fail_type(rd, path, "a number or an array of 3 numbers", value);
     cvk_result r = cvk_read_float(rd, f, value, path, &scale[0]);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_scene_issue issue;
+    if (!cvk_check_scale(&issue, path, scale[0]))
+        return cvk_reader_fail_problem(rd, issue.path, issue.problem);
     scale[1] = scale[2] = scale[0];
-    return r;
+    return CVK_SUCCESS;
 }
 
 static const cvk_field stiffness_fields[] = {

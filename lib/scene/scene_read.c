@@ -129,7 +129,7 @@ const char* cvk_json_describe(const json_t* value, char* buffer, size_t size)
         return buffer;
     case JSON_INTEGER:
     case JSON_REAL:
-        snprintf(buffer, size, "the number %g", json_number_value(value));
+        snprintf(buffer, size, "the number %s", cvk_double_text(json_number_value(value)).text);
         return buffer;
     case JSON_TRUE: return "true";
     case JSON_FALSE: return "false";
@@ -201,16 +201,9 @@ cvk_result cvk_read_bool(cvk_reader* rd, const cvk_field* f, json_t* value, cons
     return CVK_SUCCESS;
 }
 
-/* Out of float range becomes ±inf, which validation reports as not finite. */
-static float to_float(double v)
-{
-    if (v > FLT_MAX)
-        return INFINITY;
-    if (v < -FLT_MAX)
-        return -INFINITY;
-    return (float)v;
-}
-
+/* A number that would not read as itself in single precision is refused as written: past
+   float's range it would become infinite, and so near 0 that it rounds to 0 it would be
+   refused (or taken) as the 0 nobody wrote (keyframe times 0 and 1e-300: "got 0"). */
 cvk_result cvk_read_float(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
@@ -218,7 +211,16 @@ cvk_result cvk_read_float(cvk_reader* rd, const cvk_field* f, json_t* value, con
         return cvk_reader_fail_at(rd, path, "must be a finite number, got %s", json_string_value(value));
     if (!json_is_number(value))
         return cvk_reader_fail_type(rd, path, "a number", value);
-    *(float*)dest = to_float(json_number_value(value));
+    double v = json_number_value(value);
+    if (fabs(v) > FLT_MAX)
+        return cvk_reader_fail_at(rd, path, "is too large for single precision (at most %s in "
+                                  "magnitude), got %s", cvk_float_text(FLT_MAX).text,
+                                  cvk_double_text(v).text);
+    if (v != 0.0 && (float)v == 0.0f)
+        return cvk_reader_fail_at(rd, path, "is too near 0 for single precision, which reads it as "
+                                  "0 (the least magnitude is %s), got %s",
+                                  cvk_float_text(FLT_TRUE_MIN).text, cvk_double_text(v).text);
+    *(float*)dest = (float)v;
     return CVK_SUCCESS;
 }
 
@@ -228,12 +230,14 @@ cvk_result cvk_read_uint(cvk_reader* rd, const cvk_field* f, json_t* value, cons
     if (!json_is_number(value))
         return cvk_reader_fail_type(rd, path, "a whole number", value);
     double v = json_number_value(value);
+    cvk_number_text text = cvk_double_text(v);
     if (v != floor(v))
-        return cvk_reader_fail_at(rd, path, "expected a whole number, got %g", v);
+        return cvk_reader_fail_at(rd, path, "expected a whole number, got %s", text.text);
     if (v < 0)
-        return cvk_reader_fail_at(rd, path, "must be at least %" PRIu32 ", got %g", f->min, v);
+        return cvk_reader_fail_at(rd, path, "must be at least %" PRIu32 ", got %s", f->min, text.text);
     if (v > UINT32_MAX)
-        return cvk_reader_fail_at(rd, path, "must be at most %" PRIu32 ", got %g", UINT32_MAX, v);
+        return cvk_reader_fail_at(rd, path, "must be at most %" PRIu32 ", got %s", UINT32_MAX,
+                                  text.text);
     *(uint32_t*)dest = (uint32_t)v;
     return CVK_SUCCESS;
 }
@@ -368,7 +372,10 @@ cvk_result cvk_read_nested(cvk_reader* rd, const cvk_field* f, json_t* value, co
 
 /* ---- JSON text, with bare NaN and Infinity accepted as strings ---- */
 
-enum { json_flags = JSON_REJECT_DUPLICATES | JSON_DECODE_ANY };
+/* Integers are read as doubles: every reader takes numbers as doubles, and an integer too long
+   for jansson's 64 bits (99999999999999999999) is then a number past its key's bound, not a
+   syntax error or, through --set, a string. */
+enum { json_flags = JSON_REJECT_DUPLICATES | JSON_DECODE_ANY | JSON_DECODE_INT_AS_REAL };
 
 /* Text with the bare NaN/Infinity words found so far wrapped in quotes. */
 typedef struct quoted_text {

@@ -177,14 +177,16 @@ static bool has_empty_part(const char* path)
 }
 
 /* JSON where it parses (bare NaN and Infinity included), else the raw text as a string, so that a
-   shell-stripped `--set solver.linear=jacobi` works. NULL when neither works. */
-static json_t* parse_override_value(const char* text, bool* out_of_memory)
+   shell-stripped `--set solver.linear=jacobi` works. NULL when neither works, or when the text
+   is JSON but for a number past double's range (*too_large): not a string someone meant. */
+static json_t* parse_override_value(const char* text, bool* out_of_memory, bool* too_large)
 {
     json_error_t jerr;
     json_t* value = cvk_json_parse(text, strlen(text), &jerr, out_of_memory);
     if (value || *out_of_memory)
         return value;
-    return json_string(text);
+    *too_large = json_error_code(&jerr) == json_error_numeric_overflow;
+    return *too_large ? NULL : json_string(text);
 }
 
 cvk_result cvk_reader_apply_override(cvk_reader* rd, json_t* root, const char* text)
@@ -201,8 +203,11 @@ cvk_result cvk_reader_apply_override(cvk_reader* rd, json_t* root, const char* t
     walk w = {.rd = rd, .path = path};
     if (has_empty_part(path))
         return fail_walk(&w, "the key path has an empty part");
-    bool out_of_memory = false;
-    json_t* value = parse_override_value(equals + 1, &out_of_memory);
+    bool out_of_memory = false, too_large = false;
+    json_t* value = parse_override_value(equals + 1, &out_of_memory, &too_large);
+    if (too_large)
+        return fail_walk(&w, "%s holds a number too large to read (beyond double precision)",
+                         equals + 1);
     if (!value)
         return out_of_memory ? cvk_reader_fail_memory(rd)
                              : fail_walk(&w, "the value is neither JSON nor UTF-8 text");

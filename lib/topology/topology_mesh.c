@@ -314,11 +314,10 @@ static void transform_positions(const cvk_transform* t, const float* in, float* 
     }
 }
 
-/* The simulation works in metres in single precision: positions beyond MAX_COORDINATE are
-   resolved to worse than 0.1 mm (2^-24 · 1e6 m ≈ 0.06 m at 1e6 m; spring lengths, squared,
-   overflow far sooner at 1e30), and a cloth smaller than MIN_EXTENT has springs whose squared
-   lengths approach float's smallest numbers. Either gives garbage, not a simulation. */
-#define MAX_COORDINATE 1e5
+/* The simulation works in metres in single precision: positions beyond CVK_MAX_COORDINATE (the
+   scene keys' bound too, scene/check.h) are rounding noise, and a cloth smaller than MIN_EXTENT
+   has springs whose squared lengths approach float's smallest numbers. Either gives garbage,
+   not a simulation. */
 #define MIN_EXTENT 1e-4
 
 static cvk_result check_extent(cvk_mesh_reader* r, const float* position)
@@ -327,10 +326,10 @@ static cvk_result check_extent(cvk_mesh_reader* r, const float* position)
     for (uint32_t v = 0; v < r->vertex_count; v++)
         for (int k = 0; k < 3; k++) {
             double x = position[3 * (size_t)v + k];
-            if (!(fabs(x) <= MAX_COORDINATE))
+            if (!(fabs(x) <= CVK_MAX_COORDINATE))
                 return cvk_mesh_bad(r, "vertex %u lies %g m from the origin on axis %c (after the "
                                 "transform); positions are single-precision metres, at most "
-                                "%g m", v, fabs(x), "xyz"[k], MAX_COORDINATE);
+                                "%g m", v, fabs(x), "xyz"[k], CVK_MAX_COORDINATE);
             lo[k] = fmin(lo[k], x);
             hi[k] = fmax(hi[k], x);
         }

@@ -143,6 +143,12 @@ static void test_validate_scene(void)
     EXPECT_DESC_INVALID(&f.scene, "dt: must be a finite number, got inf");
     f.scene.dt = NAN;
     EXPECT_DESC_INVALID(&f.scene, "dt: must be a finite number, got nan");
+    /* The bound is 1e-6 as a float (a little less than 1e-6), as the docs promise 1e-6. */
+    f.scene.dt = 1e-6f;
+    EXPECT_DESC_VALID(&f.scene);
+    f.scene.dt = 9.9e-7f;
+    EXPECT_DESC_INVALID(&f.scene, "dt: must be at least 1e-06 s (1/dt² must fit single precision "
+                        "with room for masses and stiffnesses), got 9.9e-07");
 
     fixture_init(&f);
     f.scene.substeps = 0;
@@ -583,9 +589,11 @@ static void test_nonfinite_json(void)
     EXPECT_INVALID("{'cloths': [{'mass': inf}]}", "t.json: cloths.0.mass: must be a finite number, got inf");
     EXPECT_INVALID("{'substeps': NaN, 'cloths': [{}]}", "t.json: substeps: expected a whole number, got NaN");
     EXPECT_INVALID("{'gravity': NaN, 'cloths': [{}]}", "t.json: gravity: expected an array of 3 numbers, got NaN");
-    /* Beyond float range: stored as infinity and caught as not finite. */
-    EXPECT_INVALID("{'dt': 1e39, 'cloths': [{}]}", "t.json: dt: must be a finite number, got inf");
-    EXPECT_INVALID("{'gravity': [0, -1e39, 0], 'cloths': [{}]}", "t.json: gravity.1: must be a finite number, got -inf");
+    /* Beyond float range: refused as written, not as the infinity it would become. */
+    EXPECT_INVALID("{'dt': 1e39, 'cloths': [{}]}", "t.json: dt: is too large for single precision "
+                   "(at most 3.4028235e+38 in magnitude), got 1e+39");
+    EXPECT_INVALID("{'gravity': [0, -1e39, 0], 'cloths': [{}]}", "t.json: gravity.1: is too large "
+                   "for single precision (at most 3.4028235e+38 in magnitude), got -1e+39");
     /* Other bare words stay syntax errors. */
     EXPECT_ERROR("{'dt': NaNx, 'cloths': [{}]}", CVK_ERROR_PARSE, "t.json:1:11: malformed JSON: invalid token near 'NaNx'");
     EXPECT_ERROR("{'dt': Inf1}", CVK_ERROR_PARSE, "t.json:1:10: malformed JSON: invalid token near 'Inf'");
@@ -597,6 +605,83 @@ static void test_nonfinite_json(void)
     cvk_scene* scene = PARSE_OK("{'name': 'NaN', 'cloths': [{}]}");
     if (scene)
         CHECK_STR(cvk_scene_get_desc(scene)->name, "NaN");
+    cvk_scene_destroy(scene);
+}
+
+/* Numbers as written: one that would not read as itself in single precision is refused as
+   written; integers of any length are numbers, past their bound with their value; values are
+   printed with the digits that tell them apart. */
+static void test_numbers_json(void)
+{
+    EXPECT_INVALID("{'cloths': [{'mass': 1e-50}]}", "t.json: cloths.0.mass: is too near 0 for single "
+                   "precision, which reads it as 0 (the least magnitude is 1.4013e-45), got 1e-50");
+    EXPECT_INVALID("{'colliders': [{'type': 'sphere', 'keyframes': [{'time': 0}, {'time': 1e-300}]}], "
+                   "'cloths': [{}]}", "t.json: colliders.0.keyframes.1.time: is too near 0 for single "
+                   "precision, which reads it as 0 (the least magnitude is 1.4013e-45), got 1e-300");
+    EXPECT_INVALID("{'frames': 99999999999999999999, 'cloths': [{}]}",
+                   "t.json: frames: must be at most 4294967295, got 1e+20");
+    EXPECT_INVALID("{'frames': 4294967296, 'cloths': [{}]}",
+                   "t.json: frames: must be at most 4294967295, got 4294967296");
+    EXPECT_INVALID("{'substeps': -99999999999999999999, 'cloths': [{}]}",
+                   "t.json: substeps: must be at least 1, got -1e+20");
+    EXPECT_SET_ERROR("{'cloths': [{}]}", "frames=99999999999999999999",
+                     "t.json: frames (from --set): must be at most 4294967295, got 1e+20");
+    EXPECT_SET_ERROR("{'cloths': [{}]}", "frames=1e30",
+                     "t.json: frames (from --set): must be at most 4294967295, got 1e+30");
+    EXPECT_SET_ERROR("{'cloths': [{}]}", "dt=1e400",
+                     "t.json: --set dt: 1e400 holds a number too large to read (beyond double precision)");
+    EXPECT_INVALID("{'damping': 1.0000002, 'cloths': [{}]}",
+                   "t.json: damping: must be at least 0 and less than 1, got 1.0000002");
+    EXPECT_INVALID("{'colliders': [{'type': 'sphere', 'keyframes': [{'time': 1.0000002}, "
+                   "{'time': 1.0000001}]}], 'cloths': [{}]}",
+                   "t.json: colliders.0.keyframes.1.time: must be greater than the previous "
+                   "keyframe's time (1.0000002), got 1.0000001");
+    EXPECT_INVALID("{'render': {'camera_keyframes': [{'time': 2.0000002, 'eye': [0, 1, 3], "
+                   "'target': [0, 0, 0]}, {'time': 2, 'eye': [0, 1, 3], 'target': [0, 0, 0]}]}, "
+                   "'cloths': [{}]}",
+                   "t.json: render.camera_keyframes.1.time: must be greater than the previous "
+                   "keyframe's time (2.0000002), got 2");
+    cvk_scene* scene = PARSE_OK("{'dt': 1e-6, 'frames': 4294967295, 'cloths': [{}]}");
+    if (scene)
+        CHECK_INT(cvk_scene_get_desc(scene)->frames, 4294967295u);
+    cvk_scene_destroy(scene);
+}
+
+/* Positions and lengths: finite, and at most 1e5 m (CVK_MAX_COORDINATE) in magnitude. */
+static void test_scale_json(void)
+{
+    const char* far = "must be at most 100000 m from the origin (single-precision metres), got";
+    const char* big = "must be at most 100000 m (single-precision metres), got";
+    char expected[512];
+    snprintf(expected, sizeof expected, "t.json: colliders.0.radius: %s 1e+38", big);
+    EXPECT_INVALID("{'colliders': [{'type': 'sphere', 'radius': 1e38}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: colliders.0.center.2: %s -200000", far);
+    EXPECT_INVALID("{'colliders': [{'type': 'sphere', 'center': [0, 0, -2e5]}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: colliders.0.half_extents.1: %s 1e+06", big);
+    EXPECT_INVALID("{'colliders': [{'type': 'box', 'half_extents': [1, 1e6, 1]}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: colliders.0.b.0: %s 3e+07", far);
+    EXPECT_INVALID("{'colliders': [{'type': 'capsule', 'b': [3e7, 0, 0]}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: colliders.0.height: %s 1e+10", big);
+    EXPECT_INVALID("{'colliders': [{'type': 'funnel', 'height': 1e10}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: colliders.0.point.1: %s -1e+30", far);
+    EXPECT_INVALID("{'colliders': [{'type': 'plane', 'point': [0, -1e30, 0]}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: colliders.0.keyframes.1.translation.0: %s 100001", far);
+    EXPECT_INVALID("{'colliders': [{'type': 'plane', 'keyframes': [{'time': 0}, {'time': 1, "
+                   "'translation': [100001, 0, 0]}]}], 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: cloths.0.size.0: %s 1e+06", big);
+    EXPECT_INVALID("{'cloths': [{'size': [1e6, 1]}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: cloths.0.origin.1: %s 200000", far);
+    EXPECT_INVALID("{'cloths': [{'origin': [0, 2e5, 0]}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: cloths.0.transform.translation.2: %s 1e+20", far);
+    EXPECT_INVALID("{'cloths': [{'mesh': 'a.obj', 'transform': {'translation': [0, 0, 1e20]}}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: render.eye.0: %s 1e+09", far);
+    EXPECT_INVALID("{'render': {'eye': [1e9, 0, 0], 'target': [0, 0, 0]}, 'cloths': [{}]}", expected);
+    snprintf(expected, sizeof expected, "t.json: attachments.0.keyframes.0.translation.1: %s 500000", far);
+    EXPECT_INVALID("{'attachments': [{'cloth': 0, 'pins': [[0, 0]], 'keyframes': [{'time': 0, "
+                   "'translation': [0, 5e5, 0]}]}], 'cloths': [{}]}", expected);
+    /* At the bound itself: taken. */
+    cvk_scene* scene = PARSE_OK("{'colliders': [{'type': 'sphere', 'center': [1e5, -1e5, 0], "
+                                "'radius': 1e5}], 'cloths': [{'origin': [-1e5, 0, 1e5], 'size': [1e5, 1e5]}]}");
     cvk_scene_destroy(scene);
 }
 
@@ -957,6 +1042,8 @@ int main(void)
     test_full_json();
     test_malformed_json();
     test_nonfinite_json();
+    test_numbers_json();
+    test_scale_json();
     test_unknown_keys();
     test_wrong_types();
     test_invalid_values_json();

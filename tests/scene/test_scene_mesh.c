@@ -179,8 +179,17 @@ static void test_mesh_json_errors(void)
                    "t.json: cloths.0.transform.scale: expected an array of 3 numbers, got an array of 2");
     EXPECT_INVALID("{'cloths': [{'transform': {'scale': NaN}}]}",
                    "t.json: cloths.0.transform.scale: must be a finite number, got NaN");
+    /* One number is named by its own key path, not as the first of three. */
     EXPECT_INVALID("{'cloths': [{'transform': {'scale': 0}}]}",
-                   "t.json: cloths.0.transform.scale.0: must not be zero, got 0");
+                   "t.json: cloths.0.transform.scale: must not be zero, got 0");
+    EXPECT_INVALID("{'cloths': [{'transform': {'scale': [1, 0, 1]}}]}",
+                   "t.json: cloths.0.transform.scale.1: must not be zero, got 0");
+    EXPECT_INVALID("{'colliders': [{'type': 'mesh', 'file': 'a.obj', 'transform': {'scale': 0}}], "
+                   "'cloths': [{}]}",
+                   "t.json: colliders.0.transform.scale: must not be zero, got 0");
+    EXPECT_INVALID("{'cloths': [{'transform': {'scale': -1e39}}]}",
+                   "t.json: cloths.0.transform.scale: is too large for single precision (at most "
+                   "3.4028235e+38 in magnitude), got -1e+39");
     EXPECT_INVALID("{'cloths': [{'transform': {'rotation': [1, 0, 0]}}]}",
                    "t.json: cloths.0.transform.rotation: expected an array of 4 numbers, got an array of 3");
     EXPECT_INVALID("{'cloths': [{'transform': {'rotation': [0, 0, 0, 0]}}]}",
@@ -252,7 +261,7 @@ static void test_mesh_overrides(void)
 
     const char* base = "{'cloths': [{}]}";
     EXPECT_SET_ERROR(base, "cloths.0.transform.scale=0",
-                     "t.json: cloths.0.transform.scale.0 (from --set): must not be zero, got 0");
+                     "t.json: cloths.0.transform.scale (from --set): must not be zero, got 0");
     EXPECT_SET_ERROR(base, "cloths.0.transform.skew=1",
                      "t.json: cloths.0.transform.skew (from --set): unknown key (expected one of: scale, rotation, "
                      "translation)");
