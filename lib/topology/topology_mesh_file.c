@@ -85,6 +85,40 @@ static cvk_result count_faces(cvk_mesh_reader* r)
     return CVK_SUCCESS;
 }
 
+/* A PLY file declares its element counts in its header, and Assimp reserves memory for them
+   before it reads an element: 4e9 declared faces ended in "std::bad_alloc". So the counts are
+   read first: each at most CVK_MAX_PARTICLES (more vertices than a scene may hold, or faces
+   beyond what any cloth of them has), and together no more than the bytes after the header
+   hold, an element with a property taking one at least (a binary uchar). */
+static cvk_result check_ply_counts(cvk_mesh_reader* r, FILE* file, uint64_t file_size)
+{
+    char line[256];
+    if (!fgets(line, sizeof line, file) || strncmp(line, "ply", 3) != 0 || !strchr("\r\n", line[3]))
+        return CVK_SUCCESS; /* not PLY: its reader has no counts to trust */
+    unsigned long long count = 0, least_bytes = 0;
+    char element[64] = "";
+    while (fgets(line, sizeof line, file)) {
+        if (strncmp(line, "end_header", 10) == 0) {
+            long header = ftell(file);
+            uint64_t after = header >= 0 && (uint64_t)header < file_size ? file_size - (uint64_t)header : 0;
+            if (least_bytes > after)
+                return cvk_mesh_bad(r, "its header declares %llu elements in all, more than the "
+                                    "%llu bytes after it hold (a count is wrong or the file is cut "
+                                    "short)", least_bytes, (unsigned long long)after);
+            return CVK_SUCCESS;
+        }
+        if (sscanf(line, "element %63s %llu", element, &count) == 2 && count > CVK_MAX_PARTICLES)
+            return cvk_mesh_bad(r, "the mesh is too large: its header declares %llu %s elements, "
+                                "and a mesh may have at most %llu", count, element,
+                                (unsigned long long)CVK_MAX_PARTICLES);
+        if (strncmp(line, "property ", 9) == 0 && element[0]) {
+            least_bytes += count; /* the element's first property: its elements take bytes */
+            element[0] = '\0';
+        }
+    }
+    return CVK_SUCCESS; /* no end to the header: Assimp says what is wrong */
+}
+
 /* Imports the file. Node transforms are applied afterwards (aiProcess_PreTransformVertices),
    once the file is known to hold faces: Assimp fails that step on a file of bare vertices, which
    deserves "no triangles", not "cannot read". Neither triangulation nor vertex joining is asked
@@ -108,7 +142,10 @@ cvk_result cvk_mesh_open(cvk_mesh_reader* r)
     FILE* file = fopen(r->path, "rb");
     if (!file)
         return cvk_mesh_cannot_read(r, strerror(errno));
+    cvk_result counts = check_ply_counts(r, file, (uint64_t)st.st_size);
     fclose(file);
+    if (counts != CVK_SUCCESS)
+        return counts;
     r->scene = aiImportFile(r->path, 0);
     if (!r->scene)
         return cvk_mesh_cannot_read(r, aiGetErrorString());

@@ -48,6 +48,10 @@ FAN = 17000
 DISC = "v 0 0 0\n" + "".join(f"v {math.cos(2 * math.pi * i / FAN):.9f} {math.sin(2 * math.pi * i / FAN):.9f} 0\n"
                              for i in range(FAN)) + \
     "".join(f"f 1 {2 + i} {2 + (i + 1) % FAN}\n" for i in range(FAN))
+# A triangle whose header declares 4e9 faces (Assimp's reader reserved memory for them).
+HUGE_PLY = ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 4000000000\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
 # Bytes that are no PLY file (no "ply" magic), fixed so the reader's reason is the same every run.
 GARBAGE = bytes(range(256)) * 4
 
@@ -91,6 +95,11 @@ BAD = [
     {"name": "garbage bytes in a .ply file", "meshes": {"cloth.ply": GARBAGE},
      "scene": mesh_scene({"mesh": "meshes/cloth.ply"}),
      "prefix": f"cloths.0.mesh: cannot read {resolved('cloth.ply')}: "},
+    # A PLY header's counts are checked before Assimp reserves memory for them.
+    {"name": "a PLY header declaring 4e9 faces", "meshes": {"cloth.ply": HUGE_PLY},
+     "scene": mesh_scene({"mesh": "meshes/cloth.ply"}), "tools": ["clothvk-sim", "clothvk-render"],
+     "message": f"cloths.0.mesh: {resolved('cloth.ply')}: the mesh is too large: its header declares "
+                "4000000000 face elements, and a mesh may have at most 1073741824"},
     {"name": "no triangles (vertices and lines only)", "meshes": {"cloth.obj": LINES_ONLY}, "scene": mesh_scene({}),
      "message": f"cloths.0.mesh: {resolved('cloth.obj')} has no triangles"},
     {"name": "NaN coordinate", "meshes": {"cloth.obj": NAN_VERTEX}, "scene": mesh_scene({}),

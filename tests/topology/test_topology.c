@@ -577,6 +577,22 @@ static void check_bad_input(void)
                    "property float y\nproperty float z\nelement face 1\n"
                    "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n"
                    "3 0 1 7\n", ": face 0 refers to vertex 7 of a mesh of 3 vertices");
+    /* Counts in a PLY header are checked before Assimp reserves memory for them (4e9 faces
+       were "std::bad_alloc"). */
+    expect_invalid("huge.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                   "property float y\nproperty float z\nelement face 4000000000\n"
+                   "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n"
+                   "3 0 1 2\n", ": the mesh is too large: its header declares 4000000000 face "
+                   "elements, and a mesh may have at most 1073741824");
+    expect_invalid("vertices.ply", "ply\nformat binary_little_endian 1.0\n"
+                   "element vertex 1073741825\nproperty float x\nend_header\n",
+                   ": the mesh is too large: its header declares 1073741825 vertex elements, and "
+                   "a mesh may have at most 1073741824");
+    expect_invalid("short.ply", "ply\nformat ascii 1.0\ncomment 50 faces, none given\n"
+                   "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                   "element face 50\nproperty list uchar int vertex_indices\nend_header\n"
+                   "0 0 0\n1 0 0\n", ": its header declares 53 elements in all, more than the "
+                   "12 bytes after it hold (a count is wrong or the file is cut short)");
 }
 
 int main(void)
