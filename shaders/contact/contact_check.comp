@@ -7,8 +7,9 @@
 //    (atomic min and max on order-preserving bits: the result does not depend on thread
 //    timing);
 // 1: whether some particle's e is farther than `redetect` of its bound from the shift the
-//    substep would have without detecting (e's centre; contact_decide.comp phase 0); x_n
-//    kept as the next substep's x_before.
+//    substep would have without detecting (e's centre; contact_decide.comp phase 0), or that
+//    shift would centre its bound too near a collider; x_n kept as the next substep's
+//    x_before.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -17,6 +18,22 @@ layout(local_size_x_id = 0) in;
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const float BIG = 3.0e38;
+
+// Whether x is nearer than `gap` to some collider (or inside it) at the start or the end of the
+// substep: a particle whose bound (of radius b) is centred nearer than the thickness - b could
+// be pushed out of its bound by the collider (pd_contact.glsl), so the substep detects instead
+// (and takes no shift).
+bool inside_collider(vec3 x, float gap)
+{
+    bool inside = false;
+    for (uint k = 0u; k < contact_u.collider_count; k++) {
+        cvk_gpu_pose pose = poses_u[k];
+        vec3 l0 = quat_rotate_inverse(pose.rotation0, x - pose.translation0.xyz);
+        vec3 l1 = quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz);
+        inside = inside || min(shape_distance(shapes_u[k], l0), shape_distance(shapes_u[k], l1)) < gap;
+    }
+    return inside;
+}
 
 // Whether x is within the thickness, the radius and `travel` of some collider at the start or
 // the end of the substep: a collider may stop it while the others move on, so a detection
@@ -67,7 +84,8 @@ void main()
             vec3 x = contact_x(p);
             vec3 e = 2.0 * x - previous[p].xyz - seen.xyz - next;
             previous[p] = vec4(x, 0.0); // the next substep's x_before
-            exceed = exceed || !(length(e) <= contact_u.redetect * abs(seen.w));
+            exceed = exceed || !(length(e) <= contact_u.redetect * abs(seen.w)) ||
+                     inside_collider(seen.xyz + next, contact_u.thickness - abs(seen.w));
         }
         if (exceed)
             atomicOr(motion_bounds.exceed, 1u);

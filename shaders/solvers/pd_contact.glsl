@@ -172,6 +172,17 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
     return len > most ? push * (most / len) : push;
 }
 
+// Whether x (at the end of the substep) is outside every collider's own surface.
+bool outside_colliders(vec3 x)
+{
+    bool outside = true;
+    for (uint k = 0u; k < contact_u.collider_count; k++) {
+        cvk_gpu_pose pose = poses_u[k];
+        outside = outside && shape_distance(shapes_u[k], quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz)) >= 0.0;
+    }
+    return outside;
+}
+
 vec3 pd_contact(uint p, vec3 u)
 {
     vec3 x0 = fetch(x_read, p);
@@ -182,7 +193,19 @@ vec3 pd_contact(uint p, vec3 u)
     }
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
         u = edges_off_shells(p, x0, u);
-    if (COLLIDERS)
-        u = collide_colliders(x0, u);
+    if (COLLIDERS) {
+        vec3 pushed = collide_colliders(x0, u);
+        // A collider's push must not take a particle past its bound (lib/contact/collide.h):
+        // the pushed place is brought back within it where that leaves the particle outside
+        // every collider's surface (within the thickness of it at most: the bound is under
+        // the thickness). Where it would not — a collider that moved onto where detection saw
+        // the particle, or a funnel, a surface the bound could reach across — the collider
+        // wins, and the particle, past its bound, makes the next substep detect.
+        if (SELF && !HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && any(notEqual(pushed, u))) {
+            vec3 back = within_bound(p, x0 + pushed);
+            pushed = outside_colliders(back) ? back - x0 : pushed;
+        }
+        u = pushed;
+    }
     return u;
 }
