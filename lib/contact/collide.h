@@ -19,7 +19,11 @@
    plus a shift M common to all particles (the cloths' common motion, which changes no distance):
    two features that were d apart then each moved at most gamma d relative to the other's
    frame, so they stay more than (1 - 2 gamma) d apart and never cross. A start free of
-   intersections stays free. At the start of each substep the device decides (contact_check.comp,
+   intersections stays free. Colliders push after the bound: the push is brought back within it
+   where the particle stays outside every collider (pd_contact.glsl), the shift is 0 at a
+   detection while a particle is near a collider, and a substep detects rather than centre a
+   bound nearer a collider than the thickness less the bound (contact_check.comp). At the start
+   of each substep the device decides (contact_check.comp,
    contact_decide.comp) whether some particle's move, extrapolated from its last substep, would
    pass `redetect` of its bound from the shift the substep would take; only then does detection
    run (the hash build and the passes are dispatched indirectly, with no workgroups otherwise),

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""`clothvk-bench contact-ensemble`'s CSV as the figures' CSV (docs/figures/contact-ogc/):
+
+    python3 scripts/ensemble_table.py BENCH.csv [BENCH.csv ...] OUT.csv [--showcases]
+
+ensemble.csv's rows name the variant and its settings; with --showcases (the scenes at their
+own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one.
+"""
+import argparse
+import csv
+import os
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def common(r):
+    frames = "%s of %s" % (r["frames_run"], r["frames"])
+    stretch = "%.1f" % (100.0 * float(r["end_max_stretch"]))
+    return frames, r["frames_with_pairs"], r["max_pairs"], stretch, "%.0f" % float(r["step_ms"])
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("inputs", nargs="+")
+    ap.add_argument("--showcases", action="store_true")
+    a = ap.parse_args()
+    *inputs, out = a.inputs
+    rows = [r for path in inputs for r in read(path)]
+    if a.showcases:
+        notes = {}
+        if os.path.exists(out):
+            notes = {r["scene"]: r["note"] for r in read(out)}
+        header = ["scene", "frames run", "frames with an intersecting pair",
+                  "most pairs in a frame", "largest stretch at the end %",
+                  "wall ms per frame (loaded)", "note"]
+        body = []
+        for r in rows:
+            note = r["error"] or notes.get(r["scene"], "")
+            if int(r["diverged_frame"]) >= 0:
+                note = "diverged at frame %s" % r["diverged_frame"]
+            body.append([r["scene"], *common(r), note])
+    else:
+        header = ["scene", "variant", "settings", "frames run",
+                  "frames with an intersecting pair", "most pairs in a frame",
+                  "largest stretch at the end %", "wall ms per frame"]
+        body = [[r["scene"], r["variant"], r["settings"], *common(r)] for r in rows]
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(header)
+        w.writerows(body)
+
+
+if __name__ == "__main__":
+    main()
