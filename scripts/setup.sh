@@ -11,7 +11,7 @@ packages=(
     vulkan-validationlayers                    # every test runs with validation on
     libjansson-dev                             # scene files (JSON)
     libstb-dev                                 # PNG output (stb_image_write)
-    zlib1g-dev                                 # fast deflate for the PNG output
+    zlib1g-dev                                 # fast deflate for the PNG output; snapshot CRC-32
     libassimp-dev                              # mesh files for cloths (OBJ, glTF 2, PLY, STL)
     gnuplot-nox                                # clothvk-bench's plots (optional at run time:
                                                # the CSV is always written)

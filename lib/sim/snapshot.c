@@ -4,7 +4,7 @@
    spring flags (tear.h: uint32 per spring, 1 or 0 once torn). Loading refuses, with one sentence and
    changing nothing, anything that would not resume this simulation exactly.
 
-   Header, 64 bytes, native byte order (little-endian on every machine clothvk runs on):
+   Header, 72 bytes, native byte order (little-endian on every machine clothvk runs on):
      0  char[8]  "CVKSNAP\0"
      8  uint32   format version (CVK_SNAPSHOT_VERSION)
      12 uint32   particle count
@@ -13,23 +13,49 @@
                  springs in internal order (another scene, or another build order, differs)
      32 uint64   bytes of state after the header (family, then contact, then tearing)
      40 char[12] solver family ("pd")
-     52 char[12] linear solver when taken ("rbgs", ...), for messages */
+     52 char[12] linear solver when taken ("rbgs", ...), for messages
+     64 uint32   CRC-32 (zlib's crc32) over every other byte: the header without this field,
+                 then the state; a flipped bit anywhere is refused as damage
+     68 uint32   0 (the state starts 8-byte aligned) */
 #include <stdio.h>
 #include <string.h>
+#include <zlib.h>
 
 #include "core/error.h"
 #include "sim/sim.h"
 #include "solvers/solver.h"
 
-#define CVK_SNAPSHOT_VERSION 3u /* 2: the projective-dynamics rest memory; 3: the contact work lists */
-#define HEADER_SIZE 64u
+/* 2: the projective-dynamics rest memory; 3: the contact work lists; 4: the CRC-32 */
+#define CVK_SNAPSHOT_VERSION 4u
+#define HEADER_SIZE 72u
+#define CRC_OFFSET 64u
 static const char magic[8] = "CVKSNAP";
 
 typedef struct header {
     uint32_t version, particles;
     uint64_t frames, hash, state_size;
     char family[12], solver[12];
+    uint32_t crc;
 } header;
+
+/* zlib's crc32 over a buffer of any size (its length argument is 32-bit). */
+static uLong crc_more(uLong crc, const unsigned char* p, uint64_t size)
+{
+    while (size > 0) {
+        uInt chunk = size > (1u << 30) ? (1u << 30) : (uInt)size;
+        crc = crc32(crc, p, chunk);
+        p += chunk;
+        size -= chunk;
+    }
+    return crc;
+}
+
+/* The checksum of a whole snapshot: every byte but the CRC field's own. */
+static uint32_t snapshot_crc(const unsigned char* data, uint64_t size)
+{
+    uLong crc = crc_more(crc32(0L, Z_NULL, 0), data, CRC_OFFSET);
+    return (uint32_t)crc_more(crc, data + CRC_OFFSET + 4, size - CRC_OFFSET - 4);
+}
 
 static uint64_t fnv1a(uint64_t h, const void* data, size_t size)
 {
@@ -88,6 +114,7 @@ static void read_header(const unsigned char* in, header* h)
     memcpy(&h->state_size, in + 32, 8);
     memcpy(h->family, in + 40, sizeof h->family);
     memcpy(h->solver, in + 52, sizeof h->solver);
+    memcpy(&h->crc, in + CRC_OFFSET, 4);
     h->family[sizeof h->family - 1] = h->solver[sizeof h->solver - 1] = '\0';
 }
 
@@ -117,6 +144,10 @@ cvk_result cvk_sim_save_snapshot(cvk_sim* s, void* data, uint64_t size, cvk_erro
         r = cvk_collide_save_snapshot(s, state + family, error);
     if (r == CVK_SUCCESS)
         r = cvk_tear_save_snapshot(s, state + family + cvk_collide_snapshot_size(s), error);
+    if (r == CVK_SUCCESS) {
+        uint32_t crc = snapshot_crc(data, size);
+        memcpy((unsigned char*)data + CRC_OFFSET, &crc, 4);
+    }
     return r;
 }
 
@@ -134,6 +165,16 @@ static cvk_result check_header(const cvk_sim* s, const unsigned char* in, uint64
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "%s: the snapshot has format version %u; this library reads version %u",
                         call, h->version, CVK_SNAPSHOT_VERSION);
+    if (size - HEADER_SIZE != h->state_size)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%s: the snapshot is %llu bytes; its header says %llu (truncated or "
+                        "padded)", call, (unsigned long long)size,
+                        (unsigned long long)(HEADER_SIZE + h->state_size));
+    uint32_t crc = snapshot_crc(in, size);
+    if (crc != h->crc)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "%s: the snapshot is damaged: its CRC-32 is %08x, its header says %08x",
+                        call, crc, h->crc);
     if (strcmp(h->family, s->family->name) != 0)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "%s: the snapshot holds the state of solver family \"%s\"; this "
@@ -145,11 +186,6 @@ static cvk_result check_header(const cvk_sim* s, const unsigned char* in, uint64
                         "%016llx; this simulation: %u particles, %016llx)",
                         call, h->particles, (unsigned long long)h->hash,
                         s->build.particle_count, (unsigned long long)hash);
-    if (size - HEADER_SIZE != h->state_size)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "%s: the snapshot is %llu bytes; its header says %llu (truncated or "
-                        "padded)", call, (unsigned long long)size,
-                        (unsigned long long)(HEADER_SIZE + h->state_size));
     return CVK_SUCCESS;
 }
 

@@ -3,7 +3,8 @@
      A equals B bit for bit, frame counter included, for rbgs, jacobi, chebyshev and gs-cpu;
    - a device solver's snapshot loads into another device solver, gs-cpu's not into rbgs;
    - a snapshot of another scene, a truncated one, bytes that are not a snapshot and a save
-     buffer of the wrong size are refused with their sentences, changing nothing. */
+     buffer of the wrong size are refused with their sentences, changing nothing; so are a bit
+     flipped in the header or anywhere in the state (the CRC-32) and format version 3. */
 #include "harness.h"
 
 #define N_FRAMES 5
@@ -149,6 +150,34 @@ static void refusals(cvk_context* ctx)
     check_refusal(cvk_sim_load_snapshot(a, snap, 10, &err), &err, CVK_ERROR_INVALID_ARGUMENT,
                   "cvk_sim_load_snapshot: the data is not a clothvk snapshot (10 bytes without "
                   "its header)", "ten bytes");
+    /* One flipped bit anywhere, header or state, is damage; the CRC-32 field is at byte 64. */
+    uint32_t crc;
+    memcpy(&crc, snap + 64, 4);
+    const uint64_t flips[] = {16, 72, size / 2, size - 1}; /* frames, state start, middle, end */
+    for (int i = 0; i < 4; i++) {
+        snap[flips[i]] ^= 0x10;
+        cvk_result r = cvk_sim_load_snapshot(a, snap, size, &err);
+        snap[flips[i]] ^= 0x10;
+        CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "a bit flipped at byte %llu: returned %s",
+              (unsigned long long)flips[i], cvk_result_name(r));
+        unsigned computed = 0;
+        sscanf(err.message, "cvk_sim_load_snapshot: the snapshot is damaged: its CRC-32 is %8x",
+               &computed);
+        char expected_damage[160];
+        snprintf(expected_damage, sizeof expected_damage, "cvk_sim_load_snapshot: the snapshot "
+                 "is damaged: its CRC-32 is %08x, its header says %08x", computed, crc);
+        CHECK(strcmp(err.message, expected_damage) == 0 && computed != crc,
+              "a bit flipped at byte %llu: message \"%s\"", (unsigned long long)flips[i],
+              err.message);
+    }
+    /* A snapshot of format version 3 (no checksum) is refused by its version. */
+    uint32_t version = 3, current;
+    memcpy(&current, snap + 8, 4);
+    memcpy(snap + 8, &version, 4);
+    check_refusal(cvk_sim_load_snapshot(a, snap, size, &err), &err, CVK_ERROR_UNSUPPORTED,
+                  "cvk_sim_load_snapshot: the snapshot has format version 3; this library reads "
+                  "version 4", "a version-3 snapshot");
+    memcpy(snap + 8, &current, 4);
     uint64_t hash_a, hash_b;
     memcpy(&hash_a, snap + 24, 8);
     memcpy(&hash_b, other_snap + 24, 8);
@@ -169,7 +198,8 @@ static void refusals(cvk_context* ctx)
     unsigned char* again = save(a, &again_size);
     CHECK(again_size == size && memcmp(again, snap, size) == 0,
           "a refused load changed the simulation's state");
-    printf("refusals: truncated, not a snapshot, another scene, wrong save size\n");
+    printf("refusals: truncated, damaged (4 bit flips), version 3, not a snapshot, another scene, "
+           "wrong save size\n");
     free(again);
     free(snap);
     free(other_snap);

@@ -109,19 +109,21 @@ CVK_API cvk_result cvk_sim_write_state(cvk_sim* sim, const float* xyz, const flo
                                uint64_t count, cvk_error* error);
 
 /* Exact snapshots, for resuming a run bit for bit (cvk_sim_read_state goes through float
-   velocities and is not exact). A snapshot is an opaque byte string: a 64-byte header (magic
+   velocities and is not exact). A snapshot is an opaque byte string: a 72-byte header (magic
    "CVKSNAP", format version, particle count, frames simulated, a hash of the scene as built,
-   the solver family and linear solver) and the solver's state as it holds it (for the device
-   solvers positions and last displacements, vec4 floats; for gs-cpu its double arrays).
+   the solver family and linear solver, a CRC-32 of every other byte) and the solver's state as
+   it holds it (for the device solvers positions and last displacements, vec4 floats; for
+   gs-cpu its double arrays).
    cvk_sim_snapshot_size is its size in bytes under the current solver (0 for NULL).
    cvk_sim_save_snapshot waits like cvk_sim_read_positions; `size` must be that size.
    cvk_sim_load_snapshot puts the state and the frame counter back, so stepping on gives the
    bits the saved simulation would have given. It refuses, with CVK_ERROR_INVALID_ARGUMENT
    (CVK_ERROR_UNSUPPORTED for another format version) and changing nothing: data that is not a
-   snapshot, one of another scene (particle count or build hash differ), a size other than
-   the header says (truncated), and state the current solver cannot take exactly: a device
-   solver's snapshot loads into any device solver (rbgs, jacobi, chebyshev), gs-cpu's only
-   into gs-cpu. Byte order is the machine's. */
+   snapshot, one of another format version (3 and before carry no checksum), a size other than
+   the header says (truncated), a checksum other than the header says (damaged), one of
+   another scene (particle count or build hash differ), and state the current solver cannot
+   take exactly: a device solver's snapshot loads into any device solver (rbgs, jacobi,
+   chebyshev), gs-cpu's only into gs-cpu. Byte order is the machine's. */
 CVK_API uint64_t cvk_sim_snapshot_size(const cvk_sim* sim);
 CVK_API cvk_result cvk_sim_save_snapshot(cvk_sim* sim, void* data, uint64_t size, cvk_error* error);
 CVK_API cvk_result cvk_sim_load_snapshot(cvk_sim* sim, const void* data, uint64_t size,
