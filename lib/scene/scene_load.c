@@ -14,7 +14,8 @@
 
 struct cvk_scene {
     cvk_scene_desc desc;
-    cvk_blocks blocks; /* everything desc points to */
+    const char* json;  /* the text with the overrides applied, canonical (cvk_scene_get_json) */
+    cvk_blocks blocks; /* everything desc and json point to */
 };
 
 void cvk_scene_destroy(cvk_scene* scene)
@@ -28,6 +29,11 @@ void cvk_scene_destroy(cvk_scene* scene)
 const cvk_scene_desc* cvk_scene_get_desc(const cvk_scene* scene)
 {
     return scene ? &scene->desc : NULL;
+}
+
+const char* cvk_scene_get_json(const cvk_scene* scene)
+{
+    return scene ? scene->json : NULL;
 }
 
 /* ---- the text ---- */
@@ -87,14 +93,25 @@ static cvk_result convert(cvk_reader* rd, json_t* root, cvk_scene_desc* desc, bo
     return CVK_SUCCESS;
 }
 
-static cvk_result build_scene(cvk_reader* rd, const char* text, size_t size, cvk_scene_desc* desc,
+/* Keys sorted, no spaces, every real with the 17 digits that read back as it: two trees that
+   hold the same values give the same text. */
+static cvk_result keep_canonical(cvk_reader* rd, const json_t* root, const char** out_json)
+{
+    char* text = json_dumps(root, JSON_COMPACT | JSON_SORT_KEYS | JSON_REAL_PRECISION(17));
+    *out_json = cvk_blocks_keep(rd->blocks, text);
+    return *out_json ? CVK_SUCCESS : cvk_reader_fail_memory(rd);
+}
+
+static cvk_result build_scene(cvk_reader* rd, const char* text, size_t size, cvk_scene* scene,
                               bool name_from_source, const char* const* overrides, uint32_t override_count)
 {
     json_t* root = NULL;
     cvk_result r = load_root(rd, text, size, &root);
     if (r != CVK_SUCCESS)
         return r;
-    r = convert(rd, root, desc, name_from_source, overrides, override_count);
+    r = convert(rd, root, &scene->desc, name_from_source, overrides, override_count);
+    if (r == CVK_SUCCESS)
+        r = keep_canonical(rd, root, &scene->json);
     json_decref(root);
     return r;
 }
@@ -128,7 +145,7 @@ static cvk_result parse_scene(const char* text, size_t size, const char* source,
     } else {
         scene->desc = cvk_default_scene_desc();
         rd.blocks = &scene->blocks;
-        r = build_scene(&rd, text, size, &scene->desc, name_from_source, overrides, override_count);
+        r = build_scene(&rd, text, size, scene, name_from_source, overrides, override_count);
     }
     free(set_paths);
     if (r != CVK_SUCCESS) {

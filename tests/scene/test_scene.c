@@ -804,6 +804,24 @@ static void test_overrides(void)
     cvk_scene_destroy(scene);
 }
 
+/* cvk_scene_get_json: one canonical line, whatever the spacing, key order or spelling of the
+   numbers in the file and in the overrides. */
+static void test_canonical_json(void)
+{
+    const char* const sets[] = {"cloths.0.grid=[12,12]", "dt=0.003"};
+    const char* const spaced[] = {"cloths.0.grid=[12, 12]", "dt=3e-3"};
+    cvk_scene* a = PARSE_OK_SET("{'frames': 3, 'cloths': [{'mass': 0.5}], 'dt': 0.002}", sets);
+    cvk_scene* b = PARSE_OK_SET("{ 'cloths' : [ { 'mass' : 5e-1 } ] ,\n 'dt': 2, 'frames': 3 }", spaced);
+    if (a && b) {
+        CHECK_STR(cvk_scene_get_json(a),
+                  "{\"cloths\":[{\"grid\":[12.0,12.0],\"mass\":0.5}],\"dt\":0.0030000000000000001,\"frames\":3.0}");
+        CHECK_STR(cvk_scene_get_json(b), cvk_scene_get_json(a));
+    }
+    cvk_scene_destroy(a);
+    cvk_scene_destroy(b);
+    CHECK(cvk_scene_get_json(NULL) == NULL);
+}
+
 static void test_override_errors(void)
 {
     const char* base = "{'cloths': [{}]}";
@@ -1048,6 +1066,7 @@ int main(void)
     test_wrong_types();
     test_invalid_values_json();
     test_overrides();
+    test_canonical_json();
     test_override_errors();
     test_files();
     test_shipped_scenes();

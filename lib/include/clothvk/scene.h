@@ -447,6 +447,10 @@ CVK_API cvk_result cvk_scene_parse(const char* json_text, const char* source_nam
                            const char* const* overrides, uint32_t override_count,
                            cvk_scene** out_scene, cvk_error* error);
 CVK_API const cvk_scene_desc* cvk_scene_get_desc(const cvk_scene* scene);
+/* The scene as read, in one canonical line: the file's JSON with the overrides applied, keys
+   sorted, no spaces, every number as a real in 17 digits (so "cloths.0.grid=[12,12]" and
+   "[12, 12.0]" give the same text). Defaults are not filled in. Owned by the scene; NULL for NULL. */
+CVK_API const char* cvk_scene_get_json(const cvk_scene* scene);
 CVK_API void cvk_scene_destroy(cvk_scene* scene);
 
 #ifdef __cplusplus
