@@ -1,11 +1,13 @@
 /* Baked caches (format in bake.h): cache.json, then one exact snapshot per K-th frame. */
 #include "bake.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <jansson.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define STR2(x) #x
 #define STR(x) STR2(x)
@@ -97,15 +99,39 @@ static double shortest(float v)
     return v;
 }
 
+static uint64_t fnv1a(uint64_t h, const void* data, size_t size)
+{
+    const unsigned char* p = data;
+    for (size_t i = 0; i < size; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+/* The run a bake holds: FNV-1a over the resolved scene, dt, substeps and K. Two runs with the
+   same hash write the same frames. */
+static void run_hash(const app_bake_desc* desc, uint32_t every, char out[17])
+{
+    uint64_t h = fnv1a(0xcbf29ce484222325ull, desc->resolved, strlen(desc->resolved) + 1);
+    h = fnv1a(h, &desc->scene->dt, sizeof desc->scene->dt);
+    h = fnv1a(h, &desc->scene->substeps, sizeof desc->scene->substeps);
+    h = fnv1a(h, &every, sizeof every);
+    snprintf(out, 17, "%016llx", (unsigned long long)h);
+}
+
 static int write_cache(app_bake* b, const app_bake_desc* desc)
 {
+    char run[17];
+    run_hash(desc, b->every, run);
     json_t* overrides = json_array();
     for (uint32_t i = 0; i < desc->overrides->count; i++)
         json_array_append_new(overrides, json_string(desc->overrides->items[i]));
     json_t* root = json_pack(
-        "{ss si ss ss ss so si si sf si si sI}", "format", APP_BAKE_FORMAT, "version",
+        "{ss si ss ss ss so ss ss si si sf si si sI}", "format", APP_BAKE_FORMAT, "version",
         APP_BAKE_VERSION, "clothvk_version", CLOTHVK_VERSION_TEXT, "scene", b->scene_text,
-        "scene_file", desc->scene_path, "overrides", overrides, "frames", (int)b->frames, "every",
+        "scene_file", desc->scene_path, "overrides", overrides, "resolved", desc->resolved, "run",
+        run, "frames", (int)b->frames, "every",
         (int)b->every, "dt", shortest(desc->scene->dt), "substeps", (int)desc->scene->substeps,
         "particles", (int)cvk_sim_particle_count(b->sim), "snapshot_bytes", (json_int_t)b->size);
     char message[512];
@@ -119,6 +145,62 @@ static int write_cache(app_bake* b, const app_bake_desc* desc)
     return APP_EXIT_OK;
 }
 
+/* "frame_0007.snap", "frame_12345.snap": a name frame_path writes, exactly. */
+static bool is_frame_name(const char* name)
+{
+    char* end;
+    if (strncmp(name, "frame_", 6) != 0 || name[6] < '0' || name[6] > '9')
+        return false;
+    errno = 0;
+    unsigned long number = strtoul(name + 6, &end, 10);
+    if (errno || number > UINT32_MAX || strcmp(end, ".snap") != 0)
+        return false;
+    char again[32];
+    snprintf(again, sizeof again, "frame_%04u.snap", (unsigned)number);
+    return strcmp(again, name) == 0;
+}
+
+/* The names a bake writes in its folder (cache.json and frame files) must be regular files:
+   anything else (a link, a folder) is refused before anything is written, naming the path.
+   With `remove`, the frame files are then deleted: a new bake owns the folder, and a frame
+   left by an earlier bake would be taken for one of this bake's by a resume. */
+static int own_folder(app_bake* b, bool remove)
+{
+    DIR* dir = opendir(b->folder);
+    if (!dir)
+        return APP_EXIT_OK; /* no folder yet (app_make_output_folder names other problems) */
+    size_t length = strlen(b->folder) + 2;
+    int status = APP_EXIT_OK;
+    for (int pass = 0; pass < (remove ? 2 : 1) && status == APP_EXIT_OK; pass++) {
+        rewinddir(dir);
+        struct dirent* entry;
+        while (status == APP_EXIT_OK && (entry = readdir(dir))) {
+            bool frame = is_frame_name(entry->d_name);
+            if (!frame && strcmp(entry->d_name, "cache.json") != 0)
+                continue;
+            char* path = malloc(length + strlen(entry->d_name));
+            if (!path) {
+                app_error(b->tool, "out of memory");
+                status = APP_EXIT_FAILURE;
+                break;
+            }
+            sprintf(path, "%s/%s", b->folder, entry->d_name);
+            char message[768];
+            if (pass == 0 && !app_output_replaceable(path, message, sizeof message)) {
+                app_error(b->tool, "%s", message);
+                status = APP_EXIT_BAD_INPUT;
+            } else if (pass == 1 && frame && unlink(path) != 0 && errno != ENOENT) {
+                app_error(b->tool, "%s: cannot remove the earlier bake's frame: %s", path,
+                          strerror(errno));
+                status = APP_EXIT_FAILURE;
+            }
+            free(path);
+        }
+    }
+    closedir(dir);
+    return status;
+}
+
 int app_bake_start(app_bake* b, const char* tool, cvk_sim* sim, const char* folder,
                    const app_bake_desc* desc)
 {
@@ -127,22 +209,129 @@ int app_bake_start(app_bake* b, const char* tool, cvk_sim* sim, const char* fold
         return status;
     b->frames = desc->frames;
     b->every = desc->every ? desc->every : 1;
+    status = own_folder(b, false);
+    if (status != APP_EXIT_OK)
+        return status;
     if (!app_make_output_folder(tool, folder))
         return APP_EXIT_BAD_INPUT;
-    return write_cache(b, desc);
+    status = own_folder(b, true);
+    return status == APP_EXIT_OK ? write_cache(b, desc) : status;
 }
 
-/* The --set items of cache.json against this run's. */
-static bool same_overrides(json_t* list, const app_overrides* o)
+/* A JSON value for a message: numbers as the shortest decimal that reads back as them,
+   cut at about 60 characters. */
+static void show_value(const json_t* v, char* out, size_t size)
 {
-    if (!json_is_array(list) || json_array_size(list) != o->count)
-        return false;
-    for (uint32_t i = 0; i < o->count; i++) {
-        const char* item = json_string_value(json_array_get(list, i));
-        if (!item || strcmp(item, o->items[i]) != 0)
-            return false;
+    if (!v) {
+        snprintf(out, size, "not set");
+        return;
     }
-    return true;
+    if (json_is_number(v)) {
+        double x = json_number_value(v);
+        for (int digits = 1; digits <= 17; digits++) {
+            snprintf(out, size, "%.*g", digits, x);
+            if (strtod(out, NULL) == x)
+                return;
+        }
+        return;
+    }
+    if (json_is_array(v) || json_is_object(v)) { /* elements shortest too, keys in order */
+        size_t used = (size_t)snprintf(out, size, "%c", json_is_array(v) ? '[' : '{');
+        size_t n = json_is_array(v) ? json_array_size(v) : json_object_size(v);
+        void* it = json_is_object(v) ? json_object_iter((json_t*)v) : NULL;
+        for (size_t i = 0; i < n && used + 4 < size; i++) {
+            char item[96];
+            show_value(json_is_array(v) ? json_array_get(v, i) : json_object_iter_value(it), item,
+                       sizeof item);
+            if (json_is_object(v))
+                used += (size_t)snprintf(out + used, size - used, "%s\"%s\":%s", i ? "," : "",
+                                         json_object_iter_key(it), item);
+            else
+                used += (size_t)snprintf(out + used, size - used, "%s%s", i ? "," : "", item);
+            it = it ? json_object_iter_next((json_t*)v, it) : NULL;
+        }
+        if (used + 2 < size)
+            snprintf(out + used, size - used, "%c", json_is_array(v) ? ']' : '}');
+    } else {
+        char* text = json_dumps(v, JSON_ENCODE_ANY);
+        snprintf(out, size, "%s", text ? text : "?");
+        free(text);
+    }
+    if (strlen(out) > 60)
+        strcpy(out + 57, "...");
+}
+
+/* The differences between the bake's resolved scene and this run's. */
+typedef struct scene_diff {
+    char text[1024]; /* the first three, "path is A in the bake, B here; ..." */
+    uint32_t count;
+} scene_diff;
+
+static void note_difference(scene_diff* d, const char* path, const json_t* baked,
+                            const json_t* here)
+{
+    if (d->count++ >= 3)
+        return;
+    char a[80], b[80];
+    show_value(baked, a, sizeof a);
+    show_value(here, b, sizeof b);
+    size_t used = strlen(d->text);
+    snprintf(d->text + used, sizeof d->text - used, "%s%s is %s in the bake, %s here",
+             used ? "; " : "", path, a, b);
+}
+
+/* Walks both trees; a key path is the one --set takes (cloths.0.grid). */
+static void compare_values(scene_diff* d, const char* path, const json_t* baked,
+                           const json_t* here)
+{
+    char sub[512];
+    if (json_is_object(baked) && json_is_object(here)) {
+        const char* key;
+        json_t* value;
+        json_object_foreach((json_t*)baked, key, value) {
+            snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
+            compare_values(d, sub, value, json_object_get(here, key));
+        }
+        json_object_foreach((json_t*)here, key, value) {
+            snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
+            if (!json_object_get(baked, key))
+                note_difference(d, sub, NULL, value);
+        }
+    } else if (json_is_array(baked) && json_is_array(here)) {
+        size_t n = json_array_size(baked) > json_array_size(here) ? json_array_size(baked)
+                                                                 : json_array_size(here);
+        for (size_t i = 0; i < n; i++) {
+            snprintf(sub, sizeof sub, "%s.%zu", path, i);
+            compare_values(d, sub, json_array_get(baked, i), json_array_get(here, i));
+        }
+    } else if (!baked || !here || !json_equal((json_t*)baked, (json_t*)here)) {
+        note_difference(d, path, baked, here);
+    }
+}
+
+/* The resolved scene in cache.json against this run's (cvk_scene_get_json): false, with the
+   differing key paths and both values printed, when they differ. */
+static bool same_scene(app_bake* b, const char* baked, const char* here)
+{
+    if (strcmp(baked, here) == 0)
+        return true;
+    json_t* a = json_loads(baked, 0, NULL);
+    json_t* c = json_loads(here, 0, NULL);
+    scene_diff d = {.count = 0};
+    if (a && c)
+        compare_values(&d, "", a, c);
+    json_decref(a);
+    json_decref(c);
+    if (!a || !c)
+        app_error(b->tool, "%s: baked from another scene (its cache.json's \"resolved\" is not "
+                  "JSON)", b->folder);
+    else if (d.count > 3)
+        app_error(b->tool, "%s: baked from another scene: %s; and %u more differences", b->folder,
+                  d.text, d.count - 3);
+    else
+        app_error(b->tool, "%s: baked from another scene: %s", b->folder,
+                  d.count ? d.text : "the same values written differently");
+    return false;
 }
 
 /* cache.json's checks, in the order a user can act on. */
@@ -150,7 +339,8 @@ static int check_cache(app_bake* b, json_t* root, const app_bake_desc* desc)
 {
     const char* format = json_string_value(json_object_get(root, "format"));
     json_int_t version = json_integer_value(json_object_get(root, "version"));
-    const char* scene = json_string_value(json_object_get(root, "scene"));
+    const char* resolved = json_string_value(json_object_get(root, "resolved"));
+    const char* run = json_string_value(json_object_get(root, "run"));
     json_int_t frames = json_integer_value(json_object_get(root, "frames"));
     json_int_t every = json_integer_value(json_object_get(root, "every"));
     if (!format || strcmp(format, APP_BAKE_FORMAT) != 0) {
@@ -163,25 +353,27 @@ static int check_cache(app_bake* b, json_t* root, const app_bake_desc* desc)
                   b->folder, (long long)version, APP_BAKE_VERSION);
         return APP_EXIT_BAD_INPUT;
     }
-    if (!scene || !json_is_integer(json_object_get(root, "frames")) || frames < 0 ||
+    if (!resolved || !run || !json_is_integer(json_object_get(root, "frames")) || frames < 0 ||
         frames > 100000000 || every < 1 || every > 100000000) {
-        app_error(b->tool, "%s/cache.json: not a clothvk bake (\"scene\", \"frames\" or \"every\" "
-                  "missing or out of range)", b->folder);
+        app_error(b->tool, "%s/cache.json: not a clothvk bake (\"resolved\", \"run\", \"frames\" "
+                  "or \"every\" missing or out of range)", b->folder);
         return APP_EXIT_BAD_INPUT;
     }
-    if (strcmp(scene, b->scene_text) != 0) {
-        app_error(b->tool, "%s: baked from another scene (the scene text in its cache.json differs "
-                  "from %s)", b->folder, desc->scene_path);
+    if (!same_scene(b, resolved, desc->resolved))
         return APP_EXIT_BAD_INPUT;
-    }
-    if (!same_overrides(json_object_get(root, "overrides"), desc->overrides)) {
-        app_error(b->tool, "%s: baked with other --set items than given here (see its cache.json)",
-                  b->folder);
-        return APP_EXIT_BAD_INPUT;
-    }
     if (desc->every && desc->every != (uint32_t)every) {
         app_error(b->tool, "--every %u: %s was baked with --every %lld", desc->every, b->folder,
                   (long long)every);
+        return APP_EXIT_BAD_INPUT;
+    }
+    char here[17];
+    run_hash(desc, (uint32_t)every, here);
+    if (strcmp(run, here) != 0) { /* the same scene text: a default dt or substeps changed */
+        app_error(b->tool, "%s: baked as run %s (dt %g s, %lld substeps); this clothvk makes run "
+                  "%s of the scene (dt %g s, %u substeps)", b->folder, run,
+                  json_number_value(json_object_get(root, "dt")),
+                  json_integer_value(json_object_get(root, "substeps")), here,
+                  shortest(desc->scene->dt), desc->scene->substeps);
         return APP_EXIT_BAD_INPUT;
     }
     b->frames = (uint32_t)frames;
@@ -230,6 +422,8 @@ int app_bake_resume(app_bake* b, const char* tool, cvk_sim* sim, const char* fol
                     const app_bake_desc* desc)
 {
     int status = app_bake_open(b, tool, sim, folder, desc);
+    if (status == APP_EXIT_OK)
+        status = own_folder(b, false);
     if (status != APP_EXIT_OK)
         return status;
     if (desc->frames)
@@ -240,10 +434,21 @@ int app_bake_resume(app_bake* b, const char* tool, cvk_sim* sim, const char* fol
                   frame_path(b, 0));
         return APP_EXIT_BAD_INPUT;
     }
-    status = app_bake_load(b, (uint32_t)last * b->every);
+    b->first = (uint32_t)last * b->every;
+    status = app_bake_load(b, b->first);
     if (status != APP_EXIT_OK)
         return status;
-    b->first = (uint32_t)last * b->every;
+    cvk_sim_stats st;
+    cvk_error err;
+    if (cvk_sim_get_stats(sim, &st, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return APP_EXIT_FAILURE;
+    }
+    if (st.frames != b->first) { /* the file's header against its place in the bake */
+        app_error(tool, "%s: holds the state after %llu frames, not %u: not a frame of this bake",
+                  frame_path(b, (uint32_t)last), (unsigned long long)st.frames, b->first);
+        return APP_EXIT_BAD_INPUT;
+    }
     return write_cache(b, desc);
 }
 

@@ -35,13 +35,14 @@
 #include "common.h"
 
 #define APP_BAKE_FORMAT "clothvk-bake"
-#define APP_BAKE_VERSION 1
+#define APP_BAKE_VERSION 2
 
 /* What a bake is of: cache.json says it, a resume and a render check it. */
 typedef struct app_bake_desc {
     const char* scene_path;
     const app_overrides* overrides;
     const cvk_scene_desc* scene;
+    const char* resolved; /* cvk_scene_get_json of the scene */
     uint32_t frames; /* of the whole bake */
     uint32_t every;  /* 0 where not given: 1 for a new bake, the cache's for a resume */
 } app_bake_desc;

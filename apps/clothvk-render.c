@@ -355,6 +355,7 @@ static void progress(const totals* t, uint32_t count, bool tty, double* last_pri
 typedef struct run_state {
     const options* o;
     const cvk_scene_desc* scene;
+    const char* scene_json; /* cvk_scene_get_json, for --from's check */
     cvk_context* ctx;
     cvk_sim* sim;
     cvk_mesh* mesh;
@@ -539,7 +540,7 @@ static int check_result(run_state* s)
 static int open_bake(run_state* s, app_bake* bake, uint32_t* frames)
 {
     const options* o = s->o;
-    app_bake_desc desc = {o->scene, &o->overrides, s->scene, 0, 0};
+    app_bake_desc desc = {o->scene, &o->overrides, s->scene, s->scene_json, 0, 0};
     int status = app_bake_open(bake, tool, s->sim, o->from, &desc);
     if (status != APP_EXIT_OK)
         return status;
@@ -560,6 +561,7 @@ static int run(const options* o)
     if (status != APP_EXIT_OK)
         return status;
     s.scene = cvk_scene_get_desc(file);
+    s.scene_json = cvk_scene_get_json(file);
     cvk_render_desc render = s.scene->render;
     if (o->size_set) {
         render.size[0] = o->size[0];

@@ -460,10 +460,11 @@ static void print_obj_summary(const options* o, const app_obj_frames* out, uint3
 
 /* --bake: a new cache; --resume: the simulation at the bake's last complete frame, and the
    frame count the bake's unless given. */
-static int open_bake(const options* o, const cvk_scene_desc* scene, cvk_sim* sim,
-                     uint32_t* frames, app_bake* bake)
+static int open_bake(const options* o, const cvk_scene* file, cvk_sim* sim, uint32_t* frames,
+                     app_bake* bake)
 {
-    app_bake_desc desc = {o->scene, &o->overrides, scene, *frames, o->every_given};
+    app_bake_desc desc = {o->scene, &o->overrides, cvk_scene_get_desc(file),
+                          cvk_scene_get_json(file), *frames, o->every_given};
     if (o->bake)
         return app_bake_start(bake, tool, sim, o->bake, &desc);
     desc.frames = o->frames_set ? *frames : 0;
@@ -517,12 +518,13 @@ static int report(const options* o, const cvk_scene_desc* scene, const cvk_conte
 /* The frames (OBJ files, point cache), then statistics and the dump. Output folders are made
    once the scene has been built, so that bad input leaves nothing behind; the point cache is
    renamed into place only when the run succeeded. */
-static int simulate(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+static int simulate(const options* o, const cvk_scene* file, const cvk_context* ctx,
                     cvk_sim* sim, uint32_t frames)
 {
+    const cvk_scene_desc* scene = cvk_scene_get_desc(file);
     app_bake bake = {0};
     bool baking = o->bake || o->resume;
-    int status = baking ? open_bake(o, scene, sim, &frames, &bake) : APP_EXIT_OK;
+    int status = baking ? open_bake(o, file, sim, &frames, &bake) : APP_EXIT_OK;
     app_obj_frames out = {0};
     app_pc2 pc2 = {0};
     if (status == APP_EXIT_OK && o->pc2)
@@ -579,7 +581,7 @@ static int run(const options* o)
             free(text);
         }
     } else {
-        status = simulate(o, scene, ctx, sim, frames);
+        status = simulate(o, file, ctx, sim, frames);
     }
     cvk_sim_destroy(sim);
     return app_close(tool, ctx, file, status);
