@@ -1,16 +1,19 @@
 /* Baked caches: the simulation's exact state at every K-th frame, in a folder, so that a run
    can be resumed bit for bit and frames can be drawn later without simulating.
 
-   Format "clothvk-bake", version 1. A folder DIR holds:
+   Format "clothvk-bake", version 2. A folder DIR holds:
 
    DIR/cache.json, written first (and again when a resume extends the bake), atomically:
      {
        "format": "clothvk-bake",
-       "version": 1,                       this format's version
+       "version": 2,                       this format's version
        "clothvk_version": "0.1.0",         the library that baked it
        "scene": "...",                     the scene file's text, copied in full
        "scene_file": "scenes/hanging.json" the path it was read from (for people)
-       "overrides": ["dt=0.001", ...],     the --set items, in order
+       "overrides": ["dt=0.001", ...],     the --set items, in order (for people)
+       "resolved": "{\"cloths\":...}",       the scene as read (cvk_scene_get_json): what a resume
+                                           and a render compare, key path by key path
+       "run": "0123456789abcdef",          FNV-1a over resolved, dt, substeps and every
        "frames": 300,                      frames of the whole bake
        "every": 1,                         K: frame file i holds the state after i*K frames
        "dt": 0.002, "substeps": 8,         step (s) and substeps per frame, for readers
@@ -20,11 +23,13 @@
    DIR/frame_0000.snap, frame_0001.snap, ...: file i holds the state after i*K frames, for every
      i*K < frames (frame_0000: before the first step), numbered as clothvk-sim --obj and
      clothvk-render number theirs (at least four digits). Each is one cvk_sim_save_snapshot
-     (see clothvk.h: a 64-byte header with magic "CVKSNAP", format version, particle count,
-     frame count and a hash of the built scene, then the solver's state exactly as it holds
-     it), written through a temporary file renamed into place: an interrupted bake leaves
+     (see clothvk.h: a 72-byte header with magic "CVKSNAP", format version, particle count,
+     frame count, a hash of the built scene and a CRC-32, then the solver's state exactly as it
+     holds it), written through a temporary file renamed into place: an interrupted bake leaves
      every finished frame whole. Mesh files the scene names are not copied; the hash in each
-     frame refuses a frame whose scene has changed since. */
+     frame refuses a frame whose scene has changed since.
+   A new bake owns DIR: cache.json and the frame names must be regular files (checked before
+   anything is written), and the frame files an earlier bake left are removed. */
 #ifndef CVK_APP_BAKE_H
 #define CVK_APP_BAKE_H
 
@@ -65,8 +70,9 @@ typedef struct app_bake {
 int app_bake_start(app_bake* b, const char* tool, cvk_sim* sim, const char* folder,
                    const app_bake_desc* desc);
 
-/* Continues the bake in `folder`: checks that its cache.json is of this scene (text and
-   --set items) and `desc->every` (when given) is its K, loads the last complete frame into
+/* Continues the bake in `folder`: checks that its cache.json is of this scene (the resolved
+   scene and the run hash), that `desc->every` (when given) is its K and that its frame names
+   are regular files, loads the last complete frame (its header counting its place) into
    `sim`, and rewrites cache.json for `desc->frames` (0: the cache's). b->first, b->every and
    b->frames say where the run goes on. Bad input: one line, APP_EXIT_BAD_INPUT, nothing
    written. */

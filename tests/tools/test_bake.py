@@ -9,10 +9,14 @@ Good input, on a small swinging cloth:
 - a bake of F/2 frames resumed to F gives the same files, byte for byte (cache.json included), and
   the same --dump as the uninterrupted bake;
 - a full bake whose last frame file is deleted (an interrupted bake) and then resumed: the same;
-- the same two with --every 3 (files 0, 1, 2 for 8 frames) and with a --set item.
+- the same two with --every 3 (files 0, 1, 2 for 8 frames) and with a --set item;
+- a bake of 5 frames with dt 0.003 over one of 12 with dt 0.002 (and over another scene's) leaves
+  frame_0000 ... frame_0004 only, and resumed to 12 frames equals an uninterrupted bake;
+- a --set item spelled with a space (cloths.0.grid=[8, 6]) resumes a bake made with [8,6].
 Bad input: exit status 2, exactly one line on stderr (compared whole) and the bake folder as it was:
-no folder, another scene's bake, a frame file cut short, other --set items, another --every,
---bake with --resume.
+no folder, another scene's bake and other --set items (naming the key paths and both values), a
+frame file cut short, one bit flipped in a frame (the CRC-32), another --every, --bake with
+--resume, a link named as a frame for --bake and --resume, a folder named cache.json.
 """
 import filecmp
 import json
@@ -20,6 +24,7 @@ import os
 import shutil
 import sys
 import tempfile
+import zlib
 
 import tooltest
 
@@ -64,10 +69,13 @@ def check_layout(folder, scene_text, frames, every, extra):
     expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(count)]
     check(sorted(files) == expected, f"{folder}: files {sorted(files)}, expected {expected}")
     cache = json.loads(files.get("cache.json", b"{}"))
-    want = {"format": "clothvk-bake", "version": 1, "scene": scene_text, "frames": frames,
+    want = {"format": "clothvk-bake", "version": 2, "scene": scene_text, "frames": frames,
             "every": every, "substeps": 4, "particles": 48, "overrides": extra}
     for key, value in want.items():
         check(cache.get(key) == value, f"{folder}/cache.json: {key} is {cache.get(key)!r}, expected {value!r}")
+    check(isinstance(cache.get("resolved"), str) and json.loads(cache["resolved"])["dt"] == 0.002,
+          f"{folder}/cache.json: resolved is {cache.get('resolved')!r}, expected the scene as read")
+    check(len(cache.get("run", "")) == 16, f"{folder}/cache.json: run is {cache.get('run')!r}")
     size = cache.get("snapshot_bytes")
     for name, data in files.items():
         if name.endswith(".snap"):
@@ -115,8 +123,8 @@ def bad_inputs(tmp, scene, other, full):
     other_bake = os.path.join(tmp, "other")
     ok([other, "--frames", "2", "--bake", other_bake], "another scene's bake")
     refused([scene, "--resume", other_bake],
-            f"clothvk-sim: {other_bake}: baked from another scene (the scene text in its cache.json "
-            f"differs from {scene})", other_bake, "another scene's bake")
+            f"clothvk-sim: {other_bake}: baked from another scene: dt is 0.001 in the bake, 0.002 here",
+            other_bake, "another scene's bake")
     corrupt = os.path.join(tmp, "corrupt")
     shutil.copytree(full, corrupt)
     last = os.path.join(corrupt, f"frame_{FRAMES - 1:04d}.snap")
@@ -127,13 +135,75 @@ def bad_inputs(tmp, scene, other, full):
             f"clothvk-sim: {last}: cvk_sim_load_snapshot: the snapshot is {size - 100} bytes; its "
             f"header says {size} (truncated or padded)", corrupt, "a frame file cut short")
     refused([scene, "--resume", full, "--set", "damping=0.01"],
-            f"clothvk-sim: {full}: baked with other --set items than given here (see its cache.json)",
+            f"clothvk-sim: {full}: baked from another scene: damping is not set in the bake, 0.01 here",
             full, "other --set items")
+    refused([scene, "--resume", full, "--set", "cloths.0.grid=[8, 7]", "--set", "dt=0.003"],
+            f"clothvk-sim: {full}: baked from another scene: cloths.0.grid.1 is 6 in the bake, 7 here; "
+            "dt is 0.002 in the bake, 0.003 here", full, "two values differ")
+    damaged = os.path.join(tmp, "damaged")
+    shutil.copytree(full, damaged)
+    last = os.path.join(damaged, f"frame_{FRAMES - 1:04d}.snap")
+    with open(last, "r+b") as f:
+        data = bytearray(f.read())
+        data[size // 2] ^= 0x04
+        f.seek(0)
+        f.write(data)
+    stored = int.from_bytes(data[64:68], "little")
+    computed = zlib.crc32(bytes(data[:64] + data[68:]))
+    refused([scene, "--resume", damaged],
+            f"clothvk-sim: {last}: cvk_sim_load_snapshot: the snapshot is damaged: its CRC-32 is "
+            f"{computed:08x}, its header says {stored:08x}", damaged, "one bit flipped in a frame")
+    linked = os.path.join(tmp, "linked")
+    os.mkdir(linked)
+    elsewhere = os.path.join(tmp, "elsewhere.txt")
+    with open(elsewhere, "w") as f:
+        f.write("not a frame\n")
+    os.symlink(elsewhere, os.path.join(linked, "frame_0001.snap"))
+    refused([scene, "--bake", linked],
+            f"clothvk-sim: {linked}/frame_0001.snap: exists and is not a regular file (a link); it "
+            "is not replaced", linked, "--bake into a folder with a link named as a frame")
+    with open(elsewhere) as f:
+        check(f.read() == "not a frame\n", "--bake into a folder with a link: its target changed")
+    shutil.copytree(full, os.path.join(tmp, "linked-bake"))
+    linked_bake = os.path.join(tmp, "linked-bake")
+    os.remove(os.path.join(linked_bake, "frame_0003.snap"))
+    os.symlink(elsewhere, os.path.join(linked_bake, "frame_0003.snap"))
+    refused([scene, "--resume", linked_bake],
+            f"clothvk-sim: {linked_bake}/frame_0003.snap: exists and is not a regular file (a link); "
+            "it is not replaced", linked_bake, "--resume of a bake with a link named as a frame")
+    folder_cache = os.path.join(tmp, "folder-cache")
+    os.makedirs(os.path.join(folder_cache, "cache.json"))
+    r = run([scene, "--bake", folder_cache])
+    check(r.returncode == 2 and r.stderr == f"clothvk-sim: {folder_cache}/cache.json: exists and "
+          "is not a regular file (a folder); it is not replaced\n",
+          f"--bake with a folder named cache.json: exit {r.returncode}, {r.stderr!r}")
+    check(tooltest.listing(folder_cache) == ["cache.json"],
+          f"--bake with a folder named cache.json: wrote {tooltest.listing(folder_cache)}")
     refused([scene, "--resume", full, "--every", "2"],
             f"clothvk-sim: --every 2: {full} was baked with --every 1", full, "another --every")
     refused([scene, "--bake", full, "--resume", full],
             "clothvk-sim: --bake and --resume: give one (--resume continues a bake)", full,
             "--bake with --resume")
+
+
+def rebakes(tmp, scene, other_grid):
+    """A bake over an earlier, longer one (another dt; another scene) leaves only its own frames,
+    and resuming it gives the bits of an uninterrupted bake, not the earlier bake's leftovers."""
+    direct = os.path.join(tmp, "rebake-direct")
+    ok([scene, "--frames", "12", "--set", "dt=0.003", "--bake", direct, "--dump", direct + ".csv"],
+       "rebake: the uninterrupted bake")
+    for tag, first in (("dt", [scene, "--frames", "12"]), ("scene", [other_grid, "--frames", "12"])):
+        folder = os.path.join(tmp, f"rebake-{tag}")
+        ok(first + ["--bake", folder], f"rebake ({tag}): the first bake")
+        ok([scene, "--frames", "5", "--set", "dt=0.003", "--bake", folder], f"rebake ({tag}): the second")
+        names = sorted(tooltest.contents(folder))
+        expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(5)]
+        check(names == expected, f"rebake ({tag}): files {names} after the second bake, expected {expected}")
+        ok([scene, "--frames", "12", "--set", "dt=0.003", "--resume", folder, "--dump", folder + ".csv"],
+           f"rebake ({tag}): resume")
+        same_bake(direct, folder, f"rebake ({tag}): resumed")
+        check(filecmp.cmp(direct + ".csv", folder + ".csv", shallow=False),
+              f"rebake ({tag}): the resumed --dump differs from the uninterrupted bake's")
 
 
 def main():
@@ -144,9 +214,17 @@ def main():
             f.write(SCENE_TEXT)
         with open(other, "w") as f:
             f.write(OTHER_TEXT)
+        other_grid = os.path.join(tmp, "other-grid.json")
+        with open(other_grid, "w") as f:
+            json.dump(dict(SCENE, cloths=[dict(CLOTH, grid=[7, 6], pins=[[0, 0], [6, 0]])]), f)
+        rebakes(tmp, scene, other_grid)
         full = resumes(tmp, scene, 1, [])
         resumes(tmp, scene, 3, [])
         resumes(tmp, scene, 1, ["solver.linear=\"jacobi\""])
+        spaced = os.path.join(tmp, "spaced")
+        ok([scene, "--frames", "4", "--bake", spaced, "--set", "cloths.0.grid=[8,6]"], "bake with a --set")
+        ok([scene, "--frames", str(FRAMES), "--resume", spaced, "--set", "cloths.0.grid=[8, 6]"],
+           "resume with the --set item spelled with a space")
         bad_inputs(tmp, scene, other, full)
     return CHECKS.finish("bake: resumed bakes equal uninterrupted ones; bad input refused")
 

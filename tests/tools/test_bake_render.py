@@ -11,7 +11,8 @@ A small scene is baked for F frames (every 1 and every 2) and rendered directly 
 - without --frames, every frame the bake holds (all of them; 0, 2, 4 for the --every 2 bake);
 - a frame the bake does not hold (frame 1 of the --every 2 bake, frame F of either) is refused:
   exit 2, one line, no output folder made; so are --frames A:B without --from, --every with
-  --from, a missing bake and another scene's bake.
+  --from, a missing bake and another scene's bake (naming the key path and both values);
+- a --set item that leaves the scene as baked (dt=4e-3 where the file says 0.004) is no other scene.
 """
 import json
 import os
@@ -113,8 +114,14 @@ def main():
                 f"clothvk-render: {missing}: no bake here ({missing}/cache.json: No such file or "
                 "directory)", "a missing bake")
         refused(tmp, [scene, "--from", other_bake],
-                f"clothvk-render: {other_bake}: baked from another scene (the scene text in its "
-                f"cache.json differs from {scene})", "another scene's bake")
+                f"clothvk-render: {other_bake}: baked from another scene: dt is 0.002 in the bake, "
+                "0.004 here", "another scene's bake")
+        same = os.path.join(tmp, "same-scene-set")
+        run(RENDER, [scene, "-o", same, "--from", bake, "--frames", "3:3", "--quiet", "--set", "dt=4e-3"],
+            "--from with a --set item that leaves the scene as baked")
+        got = tooltest.contents(same)
+        check(list(got) == ["frame_0003.png"] and got["frame_0003.png"] == direct["frame_0003.png"],
+              f"--from with --set dt=4e-3: images {sorted(got)}, expected frame_0003.png as the direct one")
     return CHECKS.finish("bake-render: images from bakes equal the direct render's; bad input refused")
 
 
