@@ -27,6 +27,8 @@ bool inside_collider(vec3 x, float gap)
 {
     bool inside = false;
     for (uint k = 0u; k < contact_u.collider_count; k++) {
+        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
+            continue; // a funnel's push wins anyway (pd_contact.glsl)
         cvk_gpu_pose pose = poses_u[k];
         vec3 l0 = quat_rotate_inverse(pose.rotation0, x - pose.translation0.xyz);
         vec3 l1 = quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz);
@@ -37,12 +39,16 @@ bool inside_collider(vec3 x, float gap)
 
 // Whether x is within the thickness, the radius and `travel` of some collider at the start or
 // the end of the substep: a collider may stop it while the others move on, so a detection
-// takes no shift (contact_decide.comp).
+// takes no shift (contact_decide.comp). Funnels are left out of both tests: a funnel's push
+// is not held to the bound (pd_contact.glsl), and these rules would only slow the cloth
+// pouring through one.
 bool near_collider(vec3 x, float travel)
 {
     float reach = contact_u.thickness + contact_u.radius + travel;
     bool near = false;
     for (uint k = 0u; k < contact_u.collider_count; k++) {
+        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
+            continue;
         cvk_gpu_pose pose = poses_u[k];
         vec3 l0 = quat_rotate_inverse(pose.rotation0, x - pose.translation0.xyz);
         vec3 l1 = quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz);
