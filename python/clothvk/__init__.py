@@ -15,33 +15,79 @@
 A thin layer over libclothvk (cffi, ABI mode): every object owns one library object and
 destroys it in close() (or at the end of a with block, or when collected); closing a
 context closes its simulations, and closing a simulation closes its renderers, in the order
-the library needs. Failures raise clothvk.Error with the library's sentence.
+the library needs. Failures raise clothvk.Error with the library's sentence; a scene's are
+also FileNotFoundError, KeyError or ValueError (SceneNotFoundError, ScenePathError,
+SceneValueError), and bad arguments raise TypeError or ValueError before the library is called.
 """
 
+import errno as _errno
 import json
+import os
+import re
+import time
 
 import numpy as np
 
 from ._ffi import ffi, lib
 
-__all__ = ["Error", "Context", "Scene", "Simulation", "Renderer"]
+__all__ = ["Error", "SceneNotFoundError", "ScenePathError", "SceneValueError", "Context",
+           "Scene", "Simulation", "Renderer"]
+
+__version__ = ffi.string(lib.cvk_version()).decode()
+
+
+def __dir__():
+    # The public names only: the modules and the cffi objects this one uses stay reachable
+    # (clothvk.lib, clothvk.ffi) but do not crowd dir(clothvk) or tab completion.
+    return sorted(__all__ + ["__version__"])
 
 
 class Error(RuntimeError):
     """A failed library call: message is the library's sentence, result the name of its
-    cvk_result ("CVK_ERROR_INVALID_ARGUMENT"), code its number."""
+    cvk_result ("CVK_ERROR_INVALID_ARGUMENT"), code its number. The scene errors below are
+    subclasses that are also the built-in exception a Python caller would catch."""
 
-    def __init__(self, message, result, code):
+    def __init__(self, message, result=None, code=None):
         super().__init__(message)
         self.message = message
         self.result = result
         self.code = code
+
+    def __str__(self):  # KeyError would quote it, OSError would prefix "[Errno 2]"
+        return self.message
+
+
+class SceneNotFoundError(Error, FileNotFoundError):
+    """Scene.load's file does not exist (errno ENOENT, filename the path given)."""
+
+
+class ScenePathError(Error, KeyError):
+    """A key path the scene format does not have: an unknown key, or an index past the end of
+    an array. key_path is the path as Python indexes the scene's JSON: ("cloths", 0, "mass")."""
+
+
+class SceneValueError(Error, ValueError):
+    """A scene that is not valid JSON, a value of the wrong kind or out of range, or an override
+    that is not key=value. key_path as for ScenePathError, or None where no key is at fault."""
 
 
 def _check(code, err):
     if code != lib.CVK_SUCCESS:
         name = ffi.string(lib.cvk_result_name(code)).decode()
         raise Error(ffi.string(err.message).decode(errors="replace"), name, int(code))
+
+
+def _whole(value, what, maximum=None):
+    """A count or index given from Python: a whole number, at least 0 (and at most maximum),
+    said in Python's words rather than as cffi's OverflowError."""
+    if isinstance(value, bool) or not hasattr(value, "__index__"):
+        raise TypeError(f"{what} must be a whole number, got {type(value).__name__} {value!r}")
+    value = value.__index__()
+    if value < 0:
+        raise ValueError(f"{what} must be at least 0, got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{what} must be at most {maximum}, got {value}")
+    return value
 
 
 def _text(pointer):
@@ -160,30 +206,108 @@ def _override_strings(overrides):
     if overrides is None:
         return []
     if isinstance(overrides, dict):
+        for key in overrides:
+            if not isinstance(key, str):
+                raise TypeError(f"overrides: a key must be a dotted key path string such as "
+                                f"\"solver.omega\", got {type(key).__name__} {key!r}")
+            if not key:
+                raise ValueError("overrides: a key must not be empty")
+            if "=" in key:
+                raise ValueError(f"overrides: the key {key!r} holds '='; the value goes in the "
+                                 "dict's value")
         return [f"{k}={v if isinstance(v, str) else json.dumps(v)}" for k, v in overrides.items()]
+    if isinstance(overrides, (str, bytes)):
+        raise TypeError("overrides must be a dict or a list of \"key=value\" strings, got a "
+                        "single string")
     return [str(o) for o in overrides]
 
 
+def _key_path(dotted):
+    """"cloths.0.mass" -> ("cloths", 0, "mass"): the path as Python indexes the scene's JSON."""
+    return tuple(int(part) if part.isdigit() else part for part in dotted.split("."))
+
+
+# The library's scene messages: "source: key.path: problem", with " (from --set)" after a path an
+# override wrote, and "source: --set key.path: problem" for an override that names no place.
+_PATH_MESSAGE = re.compile(r"(?P<path>[\w.-]+)(?P<set> \(from --set\))?: (?P<problem>.*)", re.S)
+_SET_VALUE_PROBLEMS = ("expected key.path=value", "the value is neither JSON nor UTF-8 text")
+
+
+def _scene_error(message, result, code, source, overrides):
+    """The exception for a scene that failed to load: ScenePathError (a KeyError) for a key path
+    the format does not have, SceneValueError (a ValueError) for the rest, each with key_path;
+    the library's "--set" wording becomes the overrides argument's."""
+    prefix = f"{source}: "
+    if not message.startswith(prefix):  # "source:line:column: malformed JSON"
+        return _with_path(SceneValueError(message, result, code), None)
+    rest = message[len(prefix):]
+    if rest.startswith("--set "):
+        entry = rest[len("--set "):]
+        # What the library names (a key path, or a whole entry without "="), and how the
+        # caller wrote it: a dict key, or an entry of the list.
+        if isinstance(overrides, dict):
+            names = {key: f"overrides[{key!r}]" for key in overrides}
+        else:
+            names = {}
+            for text in _override_strings(overrides):
+                names.setdefault(text.split("=", 1)[0], f"overrides entry {text!r}")
+                names.setdefault(text, f"overrides entry {text!r}")
+        for given in sorted(names, key=len, reverse=True):
+            if entry.startswith(given + ": "):
+                problem = entry[len(given) + 2:]
+                name = names[given]
+                text = f"{prefix}{name}: {problem}"
+                if problem.startswith(_SET_VALUE_PROBLEMS) or "holds a number too large" in problem:
+                    return _with_path(SceneValueError(text, result, code), None)
+                return _with_path(ScenePathError(text, result, code), _key_path(given))
+        return _with_path(SceneValueError(message, result, code), None)
+    match = _PATH_MESSAGE.fullmatch(rest)
+    if not match:  # "the top level must be an object"
+        return _with_path(SceneValueError(message, result, code), None)
+    origin = " (from overrides)" if match["set"] else ""
+    text = f"{prefix}{match['path']}{origin}: {match['problem']}"
+    kind = ScenePathError if match["problem"].startswith("unknown key") else SceneValueError
+    return _with_path(kind(text, result, code), _key_path(match["path"]))
+
+
+def _with_path(error, key_path):
+    error.key_path = key_path
+    return error
+
+
 class Scene(_Owner):
-    """A scene read from JSON (the format in README.md); it owns its description."""
+    """A scene read from JSON (the format in docs/scene-format.md); it owns its description."""
 
     def __init__(self, ptr):
         self._h = _Handle(ptr, lib.cvk_scene_destroy)
 
     @classmethod
-    def _make(cls, call, overrides):
+    def _make(cls, call, source, overrides, path=None):
         strings = [ffi.new("char[]", s.encode()) for s in _override_strings(overrides)]
         array = ffi.new("const char*[]", strings) if strings else ffi.NULL
         out = ffi.new("cvk_scene**")
         err = ffi.new("cvk_error*")
-        _check(call(array, len(strings), out, err), err)
-        return cls(out[0])
+        code = call(array, len(strings), out, err)
+        if code == lib.CVK_SUCCESS:
+            return cls(out[0])
+        message = ffi.string(err.message).decode(errors="replace")
+        result = ffi.string(lib.cvk_result_name(code)).decode()
+        if code == lib.CVK_ERROR_IO and path is not None and not os.path.lexists(path):
+            error = SceneNotFoundError(message, result, int(code))
+            error.errno, error.strerror, error.filename = \
+                _errno.ENOENT, os.strerror(_errno.ENOENT), path
+            raise error
+        if code in (lib.CVK_ERROR_INVALID_ARGUMENT, lib.CVK_ERROR_PARSE):
+            raise _scene_error(message, result, int(code), source, overrides)
+        raise Error(message, result, int(code))
 
     @classmethod
     def load(cls, path, overrides=None):
         """Reads a scene file; overrides replace keys by dotted path before validation."""
-        p = ffi.new("char[]", str(path).encode())
-        return cls._make(lambda a, n, out, err: lib.cvk_scene_load(p, a, n, out, err), overrides)
+        path = os.fspath(path)
+        p = ffi.new("char[]", os.fsencode(path))
+        return cls._make(lambda a, n, out, err: lib.cvk_scene_load(p, a, n, out, err),
+                         path, overrides, path=path)
 
     @classmethod
     def parse(cls, text, source_name="scene", overrides=None):
@@ -191,7 +315,7 @@ class Scene(_Owner):
         t = ffi.new("char[]", text.encode())
         s = ffi.new("char[]", source_name.encode())
         return cls._make(lambda a, n, out, err: lib.cvk_scene_parse(t, s, a, n, out, err),
-                         overrides)
+                         source_name, overrides)
 
     @property
     def _desc(self):
@@ -245,6 +369,14 @@ def _ptr(cdecl, array):
     return ffi.from_buffer(cdecl, array) if array is not None else ffi.NULL
 
 
+# Simulation.step's chunks: it doubles a chunk of frames while one takes under half of this
+# long, up to _MAX_CHUNK frames. 2**31 frames in one cvk_sim_step on lavapipe held 3.4 GB of
+# queued submissions after 30 s and did not answer Ctrl-C.
+_CHUNK_SECONDS = 0.1
+_U32_MAX = 2**32 - 1
+_MAX_CHUNK = 4096
+
+
 class Simulation(_Owner):
     """A simulation of a scene on a context (the scene is copied; it may be closed after)."""
 
@@ -253,20 +385,33 @@ class Simulation(_Owner):
         self.context = context
         desc = ffi.new("cvk_sim_desc*", lib.cvk_default_sim_desc())
         desc.scene = scene._desc
-        desc.workgroup_size = workgroup_size
-        desc.max_workgroups = max_workgroups
+        desc.workgroup_size = _whole(workgroup_size, "workgroup_size", _U32_MAX)
+        desc.max_workgroups = _whole(max_workgroups, "max_workgroups", _U32_MAX)
         desc.timing = 0 if timing else -1
         desc.grab = grab
-        desc.search_lanes = search_lanes
+        desc.search_lanes = _whole(search_lanes, "search_lanes", _U32_MAX)
         out = ffi.new("cvk_sim**")
         err = ffi.new("cvk_error*")
         _check(lib.cvk_sim_create(context._live(), desc, out, err), err)
         self._h = _Handle(out[0], lib.cvk_sim_destroy, parent=context._h)
 
     def step(self, frames=1):
-        """Advances `frames` frames and waits until they are done."""
+        """Advances `frames` frames (any whole number) and waits until they are done. The frames
+        go to the library in chunks of about a tenth of a second each, waited for one by one:
+        memory stays bounded for any count (the driver holds every submission until it ran),
+        and Ctrl-C raises KeyboardInterrupt between chunks, with the frames done so far kept
+        (stats()["frames"] counts them). Chunks change no bit of the result."""
+        frames = _whole(frames, "frames")
+        sim = self._live()
         err = ffi.new("cvk_error*")
-        _check(lib.cvk_sim_step(self._live(), frames, err), err)
+        chunk = 1
+        while frames > 0:
+            count = min(frames, chunk)
+            start = time.monotonic()
+            _check(lib.cvk_sim_step(sim, count, err), err)
+            frames -= count
+            if time.monotonic() - start < _CHUNK_SECONDS / 2 and chunk < _MAX_CHUNK:
+                chunk *= 2
 
     @property
     def particle_count(self):
@@ -343,7 +488,8 @@ class Simulation(_Owner):
         radius (m), the free particles of the cloth within it are held too, at their offsets
         (cvk_sim_grab_within)."""
         err = ffi.new("cvk_error*")
-        particle = ffi.new("cvk_particle*", {"cloth": cloth, "index": index})
+        particle = ffi.new("cvk_particle*", {"cloth": _whole(cloth, "cloth", _U32_MAX),
+                                             "index": _whole(index, "index", _U32_MAX)})
         target = [float(v) for v in target]
         if radius:
             _check(lib.cvk_sim_grab_within(self._live(), particle[0], float(radius), target, err),

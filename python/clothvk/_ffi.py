@@ -37,6 +37,7 @@ typedef struct cvk_error {
 } cvk_error;
 
 const char* cvk_result_name(cvk_result result);
+const char* cvk_version(void);
 
 typedef struct cvk_context cvk_context;
 typedef void (*cvk_log_fn)(void* user, const char* message);
