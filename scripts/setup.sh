@@ -17,6 +17,8 @@ packages=(
                                                # the CSV is always written)
     python3-cffi python3-numpy                 # the Python package (python/)
     python3-pytest                             # its tests
+    python3-mesonpy python3-venv               # scripts/test-pip.sh: pip install . in a venv,
+                                               # nothing downloaded
     ffmpeg                                     # clothvk-render --video (a separate process;
                                                # optional at run time)
     slurm-wlm munge                            # tests/tools/test_slurm.py starts a one-node Slurm

@@ -473,15 +473,17 @@ ffi.cdef(CDEF)
 
 
 def library_candidates():
-    """Where libclothvk is looked for, in order: $CLOTHVK_LIBRARY, the build tree of the
-    repository this package sits in (build/lib), then the system's library path."""
+    """Where libclothvk is looked for, in order: $CLOTHVK_LIBRARY, the package's own folder
+    (where pip install puts it), the build tree of the repository this package sits in
+    (build/lib), then the system's library path."""
     found = []
     explicit = os.environ.get("CLOTHVK_LIBRARY")
     if explicit:
         return [explicit]
-    build_lib = pathlib.Path(__file__).resolve().parents[2] / "build" / "lib" / "libclothvk.so"
-    if build_lib.exists():
-        found.append(str(build_lib))
+    here = pathlib.Path(__file__).resolve().parent
+    for candidate in (here / "libclothvk.so", here.parents[1] / "build" / "lib" / "libclothvk.so"):
+        if candidate.exists():
+            found.append(str(candidate))
     system = ctypes.util.find_library("clothvk")
     if system:
         found.append(system)
