@@ -15,7 +15,8 @@ Good input, on a small swinging cloth:
 - a --set item spelled with a space (cloths.0.grid=[8, 6]) resumes a bake made with [8,6].
 Bad input: exit status 2, exactly one line on stderr (compared whole) and the bake folder as it was:
 no folder, another scene's bake and other --set items (naming the key paths and both values), a
-frame file cut short, one bit flipped in a frame (the CRC-32), another --every, --bake with
+frame file cut short, one bit flipped in a frame (the CRC-32), the same scene under another run
+hash in cache.json, another --every, --bake with
 --resume, a link named as a frame for --bake and --resume, a folder named cache.json.
 """
 import filecmp
@@ -179,6 +180,19 @@ def bad_inputs(tmp, scene, other, full):
           f"--bake with a folder named cache.json: exit {r.returncode}, {r.stderr!r}")
     check(tooltest.listing(folder_cache) == ["cache.json"],
           f"--bake with a folder named cache.json: wrote {tooltest.listing(folder_cache)}")
+    # The same scene with another run hash: what a clothvk whose default dt or substeps changed
+    # would find (the scene text alone does not say the run).
+    rehashed = os.path.join(tmp, "rehashed")
+    shutil.copytree(full, rehashed)
+    with open(os.path.join(rehashed, "cache.json")) as f:
+        cache = json.load(f)
+    run_here, cache["run"] = cache["run"], "0123456789abcdef"
+    with open(os.path.join(rehashed, "cache.json"), "w") as f:
+        json.dump(cache, f, indent=2)
+    refused([scene, "--resume", rehashed],
+            f"clothvk-sim: {rehashed}: baked as run 0123456789abcdef (dt 0.002 s, 4 substeps); this "
+            f"clothvk makes run {run_here} of the scene (dt 0.002 s, 4 substeps)", rehashed,
+            "the same scene, another run hash")
     refused([scene, "--resume", full, "--every", "2"],
             f"clothvk-sim: --every 2: {full} was baked with --every 1", full, "another --every")
     refused([scene, "--bake", full, "--resume", full],
