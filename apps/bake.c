@@ -405,12 +405,12 @@ int app_bake_open(app_bake* b, const char* tool, cvk_sim* sim, const char* folde
 }
 
 /* The number of the last frame file of an unbroken run from frame_0000 among those a bake of
-   `frames` frames writes; -1 when frame_0000 is missing. */
+   `frames` frames writes (i*every <= frames); -1 when frame_0000 is missing. */
 static int64_t last_complete(app_bake* b, uint32_t frames)
 {
     int64_t last = -1;
     struct stat st;
-    for (uint64_t i = 0; i * b->every < frames || i == 0; i++) {
+    for (uint64_t i = 0; i * b->every <= frames; i++) {
         if (stat(frame_path(b, (uint32_t)i), &st) != 0)
             break;
         last = (int64_t)i;
@@ -477,15 +477,17 @@ bool app_bake_frame(app_bake* b, uint32_t frame)
     return true;
 }
 
+uint32_t app_bake_last_frame(const app_bake* b)
+{
+    return b->frames / b->every * b->every;
+}
+
 static bool holds(const app_bake* b, uint32_t frame)
 {
-    if (frame % b->every == 0 && frame < b->frames)
+    if (frame % b->every == 0 && frame <= b->frames)
         return true;
-    if (b->frames == 0)
-        app_error(b->tool, "%s: frame %u is not in the bake (it holds none)", b->folder, frame);
-    else
-        app_error(b->tool, "%s: frame %u is not in the bake (it holds frames 0 to %u, every %u)",
-                  b->folder, frame, (b->frames - 1) / b->every * b->every, b->every);
+    app_error(b->tool, "%s: frame %u is not in the bake (it holds frames 0 to %u, every %u)",
+              b->folder, frame, app_bake_last_frame(b), b->every);
     return false;
 }
 

@@ -1,12 +1,13 @@
 /* Baked caches: the simulation's exact state at every K-th frame, in a folder, so that a run
    can be resumed bit for bit and frames can be drawn later without simulating.
 
-   Format "clothvk-bake", version 2. A folder DIR holds:
+   Format "clothvk-bake", version 3 (version 2 held frames 0 to N-1 of a bake of N frames; its
+   last frame was simulated and thrown away). A folder DIR holds:
 
    DIR/cache.json, written first (and again when a resume extends the bake), atomically:
      {
        "format": "clothvk-bake",
-       "version": 2,                       this format's version
+       "version": 3,                       this format's version
        "clothvk_version": "0.1.0",         the library that baked it
        "scene": "...",                     the scene file's text, copied in full
        "scene_file": "scenes/hanging.json" the path it was read from (for people)
@@ -14,14 +15,15 @@
        "resolved": "{\"cloths\":...}",       the scene as read (cvk_scene_get_json): what a resume
                                            and a render compare, key path by key path
        "run": "0123456789abcdef",          FNV-1a over resolved, dt, substeps and every
-       "frames": 300,                      frames of the whole bake
+       "frames": 300,                      frames the whole bake simulates
        "every": 1,                         K: frame file i holds the state after i*K frames
        "dt": 0.002, "substeps": 8,         step (s) and substeps per frame, for readers
        "particles": 1600,                  particles over all cloths
        "snapshot_bytes": 51264             the size of every frame file
      }
    DIR/frame_0000.snap, frame_0001.snap, ...: file i holds the state after i*K frames, for every
-     i*K < frames (frame_0000: before the first step), numbered as clothvk-sim --obj and
+     i*K <= frames (frame_0000: before the first step; with K dividing the frames, the last file
+     is the state --dump writes), numbered as clothvk-sim --obj and
      clothvk-render number theirs (at least four digits). Each is one cvk_sim_save_snapshot
      (see clothvk.h: a 72-byte header with magic "CVKSNAP", format version, particle count,
      frame count, a hash of the built scene and a CRC-32, then the solver's state exactly as it
@@ -40,7 +42,7 @@
 #include "common.h"
 
 #define APP_BAKE_FORMAT "clothvk-bake"
-#define APP_BAKE_VERSION 2
+#define APP_BAKE_VERSION 3
 
 /* What a bake is of: cache.json says it, a resume and a render check it. */
 typedef struct app_bake_desc {
@@ -84,13 +86,16 @@ int app_bake_resume(app_bake* b, const char* tool, cvk_sim* sim, const char* fol
 int app_bake_open(app_bake* b, const char* tool, cvk_sim* sim, const char* folder,
                   const app_bake_desc* desc);
 
-/* Before frame `frame` is stepped (the state after `frame` frames): writes its file when
-   frame is a multiple of K and the file is not the one this run resumed from. False, with
-   one line printed, when saving or writing fails. */
+/* With the state after `frame` frames (before frame `frame` is stepped, and after the last):
+   writes its file when frame is a multiple of K and the file is not the one this run resumed
+   from. False, with one line printed, when saving or writing fails. */
 bool app_bake_frame(app_bake* b, uint32_t frame);
 
+/* The last frame the bake holds: the largest multiple of K not above its frames. */
+uint32_t app_bake_last_frame(const app_bake* b);
+
 /* Checks, before any work, that the bake holds frames first, first + step, ..., last (each
-   a multiple of K, below its frames, its file present). Bad input: one line,
+   a multiple of K, not above its frames, its file present). Bad input: one line,
    APP_EXIT_BAD_INPUT. */
 int app_bake_check_frames(app_bake* b, uint32_t first, uint32_t last, uint32_t step);
 

@@ -27,7 +27,8 @@ static void usage(FILE* out)
             "  --from BAKE    draw frames from a bake (clothvk-sim --bake) without simulating:\n"
             "                 --frames A:B draws frames A to B, each named as a direct render\n"
             "                 with --every 1 names it (default: every frame the bake holds)\n"
-            "  --every K      write every K-th simulated frame, starting with frame 0 (default 1)\n"
+            "  --every K      draw the state after i*K frames for every i*K <= N: the start,\n"
+            "                 then every K-th simulated frame (default 1)\n"
             "  --size WxH     image size in pixels (default: the scene's render.size, 1280x720)\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --video FILE   also encode the images into a video with ffmpeg (FILE.mp4, at the\n"
@@ -487,7 +488,9 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
 
 static int render_all(run_state* s, uint32_t frames)
 {
-    uint32_t count = s->bake ? frames : (frames + s->o->every - 1) / s->o->every;
+    /* Simulating N frames draws the start and then every K-th state, the last one included:
+       frames 0, K, ..., up to N (the bake's and clothvk-sim's --obj rule). */
+    uint32_t count = s->bake ? frames : frames / s->o->every + 1;
     cvk_image first = cvk_renderer_get_image(s->renderer);
     writer w;
     /* Without -o (a video only) the writer is given no image; its folder is never used. */
@@ -547,8 +550,7 @@ static int open_bake(run_state* s, app_bake* bake, uint32_t* frames)
     s->bake = bake;
     s->first = o->range_set ? o->range[0] : 0;
     s->step = o->range_set ? 1 : bake->every;
-    uint32_t last = o->range_set ? o->range[1]
-                                 : bake->frames ? (bake->frames - 1) / bake->every * bake->every : 0;
+    uint32_t last = o->range_set ? o->range[1] : app_bake_last_frame(bake);
     *frames = (last - s->first) / s->step + 1;
     return app_bake_check_frames(bake, s->first, last, s->step);
 }

@@ -34,8 +34,8 @@ static void usage(FILE* out)
             "  --resume DIR   continue the bake in DIR from its last complete frame to N frames\n"
             "                 (default: the bake's), bit for bit as an uninterrupted bake\n"
             "  --every K      with --obj, --pc2 or --bake: file or sample i holds the state after\n"
-            "                 i*K frames, for every i*K < N (i = 0: before the first step);\n"
-            "                 default 1\n"
+            "                 i*K frames, for every i*K <= N (i = 0: before the first step; the\n"
+            "                 last is --dump's state when K divides N); default 1\n"
             "  --plan         print the step plan and exit\n"
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
@@ -126,8 +126,9 @@ typedef struct run_totals {
 } run_totals;
 
 /* Steps `frames` frames. With OBJ or PC2 output, file or sample i holds the state after
-   i·every frames, for every i·every < frames (clothvk-render's rule for its images); a bake
-   starts at its first missing frame and writes its own frames; writing is not timed. */
+   i·every frames, for every i·every <= frames: the start, then one state per K simulated
+   frames up to the last, which (K dividing the frames) is the state --dump writes. A bake
+   starts at its last complete frame and writes its own frames; writing is not timed. */
 /* Ctrl-C (or SIGTERM) stops the run before the next frame: the OBJ files and bake frames
    written so far are whole (each is renamed into place complete), and the dump and the point
    cache, written only by a run that finished, are not written. */
@@ -135,18 +136,20 @@ static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc
                       uint32_t every, app_bake* bake, run_totals* t)
 {
     cvk_error err;
-    for (uint32_t f = bake ? bake->first : 0; f < frames; f++) {
-        if (app_interrupted()) {
-            app_error(tool, "interrupted after %u of %u frames; the files written are complete",
-                      f, frames);
-            return APP_EXIT_FAILURE;
-        }
+    for (uint32_t f = bake ? bake->first : 0;; f++) {
         if (out && f % every == 0 && !app_obj_frames_write(out, f / every, f))
             return APP_EXIT_FAILURE;
         if (pc2 && f % every == 0 && !app_pc2_write(pc2))
             return APP_EXIT_FAILURE;
         if (bake && !app_bake_frame(bake, f))
             return APP_EXIT_FAILURE;
+        if (f == frames)
+            return APP_EXIT_OK;
+        if (app_interrupted()) {
+            app_error(tool, "interrupted after %u of %u frames; the files written are complete",
+                      f, frames);
+            return APP_EXIT_FAILURE;
+        }
         double t0 = app_now_ms();
         cvk_result r = cvk_sim_step(sim, 1, &err);
         if (r == CVK_ERROR_DIVERGED) {
@@ -170,7 +173,6 @@ static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc
         for (uint32_t p = 0; p < timing.pass_count && p < CVK_MAX_PASSES; p++)
             t->pass_ms[p] += timing.passes[p].gpu_ms;
     }
-    return APP_EXIT_OK;
 }
 
 /* A float printed with the digits it has: 0.002, not 0.00200000009. */
@@ -451,11 +453,9 @@ static int dump_positions(cvk_sim* sim, const char* path)
 
 static void print_obj_summary(const options* o, const app_obj_frames* out, uint32_t frames)
 {
-    if (out->written == 0)
-        printf("  no OBJ file in %s: no frame simulated\n", o->obj);
-    else
-        printf("  %u OBJ files in %s (frames 0 to %u of %u, every %u)\n", out->written, o->obj,
-               (out->written - 1) * o->every, frames, o->every);
+    /* A finished run wrote at least the start (frame 0, or a resume's first frame). */
+    printf("  %u OBJ file%s in %s (frames 0 to %u of %u, every %u)\n", out->written,
+           out->written == 1 ? "" : "s", o->obj, (out->written - 1) * o->every, frames, o->every);
 }
 
 /* --bake: a new cache; --resume: the simulation at the bake's last complete frame, and the
@@ -476,8 +476,7 @@ static int open_bake(const options* o, const cvk_scene* file, cvk_sim* sim, uint
 static void print_bake_summary(const app_bake* b)
 {
     printf("  %u snapshots written in %s (the bake: frames 0 to %u of %u, every %u)\n",
-           b->written, b->folder, b->frames ? (b->frames - 1) / b->every * b->every : 0,
-           b->frames, b->every);
+           b->written, b->folder, app_bake_last_frame(b), b->frames, b->every);
 }
 
 /* Statistics after the frames, and the failure a non-finite coordinate makes. */

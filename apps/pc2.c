@@ -190,12 +190,10 @@ static bool close_file(app_pc2* p)
 
 static void print_summary(const app_pc2* p, uint32_t frames)
 {
-    if (p->samples == 0)
-        printf("  PC2 %s: no sample (no frame simulated), rest mesh %s\n", p->path, p->obj_path);
-    else
-        printf("  PC2 %s: %u samples of %llu points (frames 0 to %u of %u, every %u), rest mesh "
-               "%s\n", p->path, p->samples, (unsigned long long)p->points,
-               (p->samples - 1) * p->every, frames, p->every, p->obj_path);
+    /* A finished run wrote at least the start, sample 0. */
+    printf("  PC2 %s: %u sample%s of %llu points (frames 0 to %u of %u, every %u), rest mesh %s\n",
+           p->path, p->samples, p->samples == 1 ? "" : "s", (unsigned long long)p->points,
+           (p->samples - 1) * p->every, frames, p->every, p->obj_path);
 }
 
 int app_pc2_finish(app_pc2* p, uint32_t frames, bool summary)

@@ -64,9 +64,9 @@ EOF
 [[ $frames =~ ^[0-9]+$ && $every =~ ^[1-9][0-9]*$ ]] || \
     die "$bake/cache.json: not a clothvk bake (no \"format\": \"clothvk-bake\" with frames and every)"
 
-# The bake holds frame i*every in frame_%04d.snap numbered i, for every i*every < frames.
-held=$(( (frames + every - 1) / every ))
-[ "$held" -gt 0 ] || die "$bake: the bake holds no frames (frames is 0)"
+# The bake holds frame i*every in frame_%04d.snap numbered i, for every i*every <= frames (the
+# start, then one file per K frames up to the last; bake format version 3).
+held=$(( frames / every + 1 ))
 for (( i = 0; i < held; i++ )); do
     snap=$(printf '%s/frame_%04d.snap' "$bake" "$i")
     [ -f "$snap" ] || die "$bake: the bake is incomplete ($snap is missing; finish it with" \

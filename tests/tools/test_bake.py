@@ -4,15 +4,18 @@
     python3 tests/tools/test_bake.py PATH/TO/clothvk-sim
 
 Good input, on a small swinging cloth:
-- a bake of F frames holds cache.json (format, version, the scene text copied whole, frames, every,
-  particles, snapshot size) and frame_0000.snap ... frame_{F-1}.snap, nothing else;
+- a bake of F frames holds cache.json (format, version 3, the scene text copied whole, frames,
+  every, particles, snapshot size) and frame_0000.snap ... frame_{F}.snap (the start and the state
+  after every frame: the last is the state --dump writes), nothing else;
 - a bake of F/2 frames resumed to F gives the same files, byte for byte (cache.json included), and
   the same --dump as the uninterrupted bake;
 - a full bake whose last frame file is deleted (an interrupted bake) and then resumed: the same;
-- the same two with --every 3 (files 0, 1, 2 for 8 frames) and with a --set item;
+- the same two with --every 3 (files 0, 1, 2 for frames 0, 3, 6 of 8) and with a --set item;
 - a bake of 5 frames with dt 0.003 over one of 12 with dt 0.002 (and over another scene's) leaves
-  frame_0000 ... frame_0004 only, and resumed to 12 frames equals an uninterrupted bake;
-- a --set item spelled with a space (cloths.0.grid=[8, 6]) resumes a bake made with [8,6].
+  frame_0000 ... frame_0005 only, and resumed to 12 frames equals an uninterrupted bake;
+- a --set item spelled with a space (cloths.0.grid=[8, 6]) resumes a bake made with [8,6];
+- a complete bake resumed simulates nothing, writes no frame, and its --dump (the last frame
+  file, loaded) equals the uninterrupted bake's: the bake's last state is --dump's.
 Bad input: exit status 2, exactly one line on stderr (compared whole) and the bake folder as it was:
 no folder, another scene's bake and other --set items (naming the key paths and both values), a
 frame file cut short, one bit flipped in a frame (the CRC-32), the same scene under another run
@@ -66,11 +69,11 @@ def same_bake(a, b, what):
 
 def check_layout(folder, scene_text, frames, every, extra):
     files = tooltest.contents(folder)
-    count = (frames + every - 1) // every
+    count = frames // every + 1
     expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(count)]
     check(sorted(files) == expected, f"{folder}: files {sorted(files)}, expected {expected}")
     cache = json.loads(files.get("cache.json", b"{}"))
-    want = {"format": "clothvk-bake", "version": 2, "scene": scene_text, "frames": frames,
+    want = {"format": "clothvk-bake", "version": 3, "scene": scene_text, "frames": frames,
             "every": every, "substeps": 4, "particles": 48, "overrides": extra}
     for key, value in want.items():
         check(cache.get(key) == value, f"{folder}/cache.json: {key} is {cache.get(key)!r}, expected {value!r}")
@@ -128,7 +131,7 @@ def bad_inputs(tmp, scene, other, full):
             other_bake, "another scene's bake")
     corrupt = os.path.join(tmp, "corrupt")
     shutil.copytree(full, corrupt)
-    last = os.path.join(corrupt, f"frame_{FRAMES - 1:04d}.snap")
+    last = os.path.join(corrupt, f"frame_{FRAMES:04d}.snap")
     size = os.path.getsize(last)
     with open(last, "r+b") as f:
         f.truncate(size - 100)
@@ -143,7 +146,7 @@ def bad_inputs(tmp, scene, other, full):
             "dt is 0.002 in the bake, 0.003 here", full, "two values differ")
     damaged = os.path.join(tmp, "damaged")
     shutil.copytree(full, damaged)
-    last = os.path.join(damaged, f"frame_{FRAMES - 1:04d}.snap")
+    last = os.path.join(damaged, f"frame_{FRAMES:04d}.snap")
     with open(last, "r+b") as f:
         data = bytearray(f.read())
         data[size // 2] ^= 0x04
@@ -211,13 +214,26 @@ def rebakes(tmp, scene, other_grid):
         ok(first + ["--bake", folder], f"rebake ({tag}): the first bake")
         ok([scene, "--frames", "5", "--set", "dt=0.003", "--bake", folder], f"rebake ({tag}): the second")
         names = sorted(tooltest.contents(folder))
-        expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(5)]
+        expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(6)]
         check(names == expected, f"rebake ({tag}): files {names} after the second bake, expected {expected}")
         ok([scene, "--frames", "12", "--set", "dt=0.003", "--resume", folder, "--dump", folder + ".csv"],
            f"rebake ({tag}): resume")
         same_bake(direct, folder, f"rebake ({tag}): resumed")
         check(filecmp.cmp(direct + ".csv", folder + ".csv", shallow=False),
               f"rebake ({tag}): the resumed --dump differs from the uninterrupted bake's")
+
+
+def complete(scene, full):
+    before = tooltest.contents(full)
+    r = ok([scene, "--resume", full, "--dump", full + "-again.csv"], "complete bake resumed")
+    check(r.stdout.startswith("flag: 0 frames of 4 substeps") and
+          f"  0 snapshots written in {full} (the bake: frames 0 to {FRAMES} of {FRAMES}, every 1)"
+          in r.stdout.splitlines(), f"complete bake resumed: printed {r.stdout!r}")
+    check(filecmp.cmp(full + ".csv", full + "-again.csv", shallow=False),
+          f"complete bake resumed: the --dump from frame_{FRAMES:04d}.snap differs from the bake's own")
+    after = tooltest.contents(full)
+    check(sorted(after) == sorted(before) and all(after[n] == before[n] for n in before if n != "cache.json"),
+          "complete bake resumed: frame files changed")
 
 
 def main():
@@ -233,6 +249,7 @@ def main():
             json.dump(dict(SCENE, cloths=[dict(CLOTH, grid=[7, 6], pins=[[0, 0], [6, 0]])]), f)
         rebakes(tmp, scene, other_grid)
         full = resumes(tmp, scene, 1, [])
+        complete(scene, full)
         resumes(tmp, scene, 3, [])
         resumes(tmp, scene, 1, ["solver.linear=\"jacobi\""])
         spaced = os.path.join(tmp, "spaced")

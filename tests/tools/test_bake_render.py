@@ -4,12 +4,14 @@
     python3 tests/tools/test_bake_render.py PATH/TO/clothvk-sim PATH/TO/clothvk-render
 
 A small scene is baked for F frames (every 1 and every 2) and rendered directly with --frames F
-(--every 1: frame_0000.png ... frame_{F-1}.png). Then:
+(--every 1: frame_0000.png ... frame_{F}.png, the start and the state after each frame, as the
+bake holds them). Then:
 - --from the bake with --frames 1:4 writes exactly frame_0001.png ... frame_0004.png, each equal
   byte for byte to the direct render's image of that frame; --frames 5:5 and 0:0, run separately,
   give frame_0005.png and frame_0000.png equal to theirs;
-- without --frames, every frame the bake holds (all of them; 0, 2, 4 for the --every 2 bake);
-- a frame the bake does not hold (frame 1 of the --every 2 bake, frame F of either) is refused:
+- without --frames, every frame the bake holds (all of them, 0 to F; 0, 2, 4, 6 for the --every 2
+  bake of F = 6);
+- a frame the bake does not hold (frame 1 of the --every 2 bake, frame F + 1 of either) is refused:
   exit 2, one line, no output folder made; so are --frames A:B without --from, --every with
   --from, a missing bake and another scene's bake (naming the key path and both values);
 - a --set item that leaves the scene as baked (dt=4e-3 where the file says 0.004) is no other scene.
@@ -79,23 +81,23 @@ def main():
         direct_dir = os.path.join(tmp, "direct")
         run(RENDER, [scene, "-o", direct_dir, "--quiet"], "direct render")
         direct = tooltest.contents(direct_dir)
-        check(len(direct) == FRAMES, f"the direct render wrote {len(direct)} images, not {FRAMES}")
-        check(len(set(direct.values())) == FRAMES, "the direct render's images are not all "
+        check(len(direct) == FRAMES + 1, f"the direct render wrote {len(direct)} images, not {FRAMES + 1}")
+        check(len(set(direct.values())) == FRAMES + 1, "the direct render's images are not all "
               "different: the cloth does not move, nothing is tested")
 
         from_bake(tmp, scene, bake, [1, 2, 3, 4], direct, "--frames 1:4")
         from_bake(tmp, scene, bake, [5], direct, "--frames 5:5")
         from_bake(tmp, scene, bake, [0], direct, "--frames 0:0")
-        from_bake(tmp, scene, bake, list(range(FRAMES)), direct, "all frames")
-        from_bake(tmp, scene, bake2, [0, 2, 4], direct, "all frames every 2")
+        from_bake(tmp, scene, bake, list(range(FRAMES + 1)), direct, "all frames")
+        from_bake(tmp, scene, bake2, [0, 2, 4, 6], direct, "all frames every 2")
         from_bake(tmp, scene, bake2, [2], direct, "--frames 2:2 every 2")
 
         refused(tmp, [scene, "--from", bake2, "--frames", "1:3"],
-                f"clothvk-render: {bake2}: frame 1 is not in the bake (it holds frames 0 to 4, every 2)",
+                f"clothvk-render: {bake2}: frame 1 is not in the bake (it holds frames 0 to 6, every 2)",
                 "a frame an every-2 bake does not hold")
-        refused(tmp, [scene, "--from", bake, "--frames", f"4:{FRAMES}"],
-                f"clothvk-render: {bake}: frame {FRAMES} is not in the bake (it holds frames 0 to "
-                f"{FRAMES - 1}, every 1)", "a frame past the bake")
+        refused(tmp, [scene, "--from", bake, "--frames", f"4:{FRAMES + 1}"],
+                f"clothvk-render: {bake}: frame {FRAMES + 1} is not in the bake (it holds frames 0 "
+                f"to {FRAMES}, every 1)", "a frame past the bake")
         refused(tmp, [scene, "--frames", "1:4"],
                 "clothvk-render: --frames A:B needs --from BAKE (without it --frames is a count)",
                 "--frames A:B without --from")

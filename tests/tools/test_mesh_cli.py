@@ -185,7 +185,8 @@ def good_square():
         if p.returncode != 0 or p.stderr:
             problems.append(f"exit status {p.returncode}, stderr: {p.stderr.strip() or '(nothing)'}")
         made = sorted(set(tooltest.listing(workdir)) - {"in", SCENE, "in/meshes", "in/meshes/cloth.obj"})
-        expected = ["frames", "frames/frame_0000.obj", "frames/frame_0001.obj", "out.csv"]
+        expected = ["frames", "frames/frame_0000.obj", "frames/frame_0001.obj",
+                    "frames/frame_0002.obj", "out.csv"]
         if made != expected:
             problems.append(f"expected {expected} written, found {made}")
         return problems

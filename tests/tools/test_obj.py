@@ -3,19 +3,21 @@
 
     python3 tests/tools/test_obj.py PATH/TO/clothvk-sim
 
-Good input: a scene of two grid cloths (one named, one not) is run with --frames 7 --every 3.
-The files must be DIR/frame_0000.obj to frame_0002.obj (clothvk-render's rule: file i holds the
-state after 3·i frames, for every 3·i < 7) and nothing else. Every file must parse: one header
-comment, then per cloth "o NAME", one "v" and one "vn" line per particle and one "f a//a b//b c//c"
-line per triangle, numbered from 1 over the whole file, the triangles of a grid cell being
-(a, b, c), (b, d, c) with a = [i, j], b = [i+1, j], c = [i, j+1], d = [i+1, j+1], row by row.
-Normals must be unit vectors and equal the area-weighted average of the triangles' normals,
-computed here from the file's own positions. Frame 0 must be the scene's initial grid.
+Good input: a scene of two grid cloths (one named, one not) is run with --frames 6 --every 3.
+The files must be DIR/frame_0000.obj to frame_0002.obj (file i holds the state after 3·i frames,
+for every 3·i <= 6: the start, then every third simulated frame up to the last) and nothing else.
+Every file must parse: one header comment, then per cloth "o NAME", one "v" and one "vn" line per
+particle and one "f a//a b//b c//c" line per triangle, numbered from 1 over the whole file, the
+triangles of a grid cell being (a, b, c), (b, d, c) with a = [i, j], b = [i+1, j], c = [i, j+1],
+d = [i+1, j+1], row by row. Normals must be unit vectors and equal the area-weighted average of
+the triangles' normals, computed here from the file's own positions. Frame 0 must be the scene's
+initial grid.
 
-The last file holds the state after 6 frames, while --dump writes the state after all 7: so its
-positions are compared with the --dump of a second run of 6 frames, which the simulation's
-determinism makes bit-identical. Both files print the same float32 with "%.9g", which round-trips
-a float32 exactly, so the comparison is exact equality, not a tolerance.
+The last file is the state after all 6 frames, the one --dump of the same run writes: one run has
+one last state. Both files print the same float32 with "%.9g", which round-trips a float32
+exactly, so the comparison is exact equality, not a tolerance. With --frames 7 --every 3 the files
+are the same three (7 is not a multiple of 3) and --dump holds the state after 7. --frames 0
+writes frame_0000.obj alone, the start.
 
 Bad input: exit status 2, exactly one line on stderr (compared whole), nothing on stdout, and the
 working directory as it was (no output folder, no OBJ file, no --dump file, no temporary file).
@@ -139,6 +141,11 @@ def parse_obj(path):
     return header, objects, positions, normals, problems
 
 
+def read_positions(path):
+    """The v lines of an OBJ file, as floats."""
+    return parse_obj(path)[2]
+
+
 def check_frame(path, frame):
     """Problems with one OBJ file of the two-cloth scene at `frame` frames."""
     name = os.path.basename(path)
@@ -198,13 +205,13 @@ def run(argv, cwd):
 
 
 def good_run(scene):
-    """--frames 7 --every 3: three files, the last compared with a 6-frame --dump."""
+    """--frames 6 --every 3: three files, the last equal to the same run's --dump."""
     with tempfile.TemporaryDirectory(prefix="clothvk-obj-") as workdir:
-        p = run([scene, "--frames", "7", "--every", "3", "--obj", "out/frames", "--dump", DUMP], workdir)
+        p = run([scene, "--frames", "6", "--every", "3", "--obj", "out/frames", "--dump", DUMP], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
         problems = []
-        summary = "  3 OBJ files in out/frames (frames 0 to 6 of 7, every 3)"
+        summary = "  3 OBJ files in out/frames (frames 0 to 6 of 6, every 3)"
         if summary not in p.stdout.splitlines():
             problems.append(f"no summary line {summary!r} in:\n{p.stdout}")
         folder = os.path.join(workdir, "out", "frames")
@@ -222,28 +229,39 @@ def good_run(scene):
         problems += check_frame_zero(frames[0], os.path.join(folder, names[0]))
         if frames[0] == frames[2]:
             problems.append("frames 0 and 6 have the same positions: the cloths did not move")
-        p = run([scene, "--frames", "6", "--dump", "six.csv"], workdir)
-        if p.returncode != 0 or p.stderr:
-            return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
-        dumped = tooltest.read_csv(os.path.join(workdir, "six.csv"))
+        dumped = tooltest.read_csv(os.path.join(workdir, DUMP))
         if dumped != frames[2]:
             gap = tooltest.worst(dumped, frames[2])
-            problems.append(f"frame_0002.obj differs from the --dump of 6 frames by {gap:.3g} m "
+            problems.append(f"frame_0002.obj differs from the same run's --dump by {gap:.3g} m "
                             f"({len(frames[2])} and {len(dumped)} positions)")
-        if tooltest.read_csv(os.path.join(workdir, DUMP)) == frames[2]:
+        p = run([scene, "--frames", "7", "--every", "3", "--obj", "seven", "--dump", "seven.csv"], workdir)
+        if p.returncode != 0 or p.stderr:
+            return problems + [f"the 7-frame run failed ({p.returncode}): {p.stderr.strip()}"]
+        found = sorted(os.listdir(os.path.join(workdir, "seven")))
+        if found != names:
+            problems.append(f"--frames 7 --every 3 wrote {found}, expected {names}")
+        elif read_positions(os.path.join(workdir, "seven", names[2])) != frames[2]:
+            problems.append("--frames 7 --every 3: frame_0002.obj is not the state after 6 frames")
+        if tooltest.read_csv(os.path.join(workdir, "seven.csv")) == frames[2]:
             problems.append("the 7-frame --dump equals frame 6: --obj changed how far the run went")
         return problems
 
 
 def no_frames(scene):
-    """--frames 0: the folder is made, no frame is simulated, so no file is written."""
+    """--frames 0: the folder is made and holds the start, frame_0000.obj, equal to --dump."""
     with tempfile.TemporaryDirectory(prefix="clothvk-obj-") as workdir:
-        p = run([scene, "--frames", "0", "--obj", "none"], workdir)
+        p = run([scene, "--frames", "0", "--obj", "none", "--dump", "zero.csv"], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
         found = tooltest.listing(workdir)
-        line = "  no OBJ file in none: no frame simulated"
-        problems = [] if found == ["none"] else [f"expected only the empty folder none, found {found}"]
+        expected = ["none", "none/frame_0000.obj", "zero.csv"]
+        if found != expected:
+            return [f"expected {expected}, found {found}"]
+        problems = []
+        if read_positions(os.path.join(workdir, "none", "frame_0000.obj")) != \
+                tooltest.read_csv(os.path.join(workdir, "zero.csv")):
+            problems.append("frame_0000.obj of --frames 0 differs from its --dump")
+        line = "  1 OBJ file in none (frames 0 to 0 of 0, every 1)"
         return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
 
 
@@ -283,7 +301,7 @@ def main():
         scene = os.path.join(scene_dir, "two-cloths.json")
         with open(scene, "w") as f:
             f.write(SCENE_TEXT)
-        checks = [("frames 0, 3 and 6 of 7, every 3", lambda: good_run(scene)),
+        checks = [("frames 0, 3 and 6 of 6, every 3", lambda: good_run(scene)),
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))
                    for name, argv, files, expected in bad_cases(scene)]

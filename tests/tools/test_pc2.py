@@ -3,17 +3,18 @@
 
     python3 tests/tools/test_pc2.py PATH/TO/clothvk-sim
 
-Good input: a scene of two grid cloths is run with --frames 7 --every 3 --pc2 out/anim.pc2. The
+Good input: a scene of two grid cloths is run with --frames 6 --every 3 --pc2 out/anim.pc2. The
 folder must then hold exactly anim.pc2 and anim.obj (no temporary file). The PC2 file is read
 back with struct: header "POINTCACHE2\\0", version 1, numPoints = every particle of both cloths,
-startFrame 0, sampleRate 3, numSamples 3 (frames 0, 3 and 6: every 3·i < 7, the rule of --obj),
+startFrame 0, sampleRate 3, numSamples 3 (frames 0, 3 and 6: every 3·i <= 6, the rule of --obj),
 and its size must be the header plus exactly those samples.
 
-Sample 0 must equal the rest OBJ's v lines and the scene's initial grids; the last sample holds
-the state after 6 frames, so it is compared with the --dump of a second run of 6 frames. The
-cache holds float32 and the text files print float32 with "%.9g", which round-trips exactly: each
-text number is rounded to float32 and the comparison is exact equality, not a tolerance. A run
-with both --obj and --pc2 must give sample i equal to frame_000i.obj, for every i.
+Sample 0 must equal the rest OBJ's v lines and the scene's initial grids; the last sample is the
+state after all 6 frames, equal to the same run's --dump (one run, one last state). The cache
+holds float32 and the text files print float32 with "%.9g", which round-trips exactly: each text
+number is rounded to float32 and the comparison is exact equality, not a tolerance. A run with
+both --obj and --pc2 must give sample i equal to frame_000i.obj, for every i (5 samples for 4
+frames). --frames 0 writes one sample, the start.
 
 Bad input: exit status 2, exactly one line on stderr (compared whole), nothing on stdout, and the
 working directory as it was (no folder, no cache, no OBJ, no --dump file, no temporary file).
@@ -105,13 +106,13 @@ def run(argv, cwd):
 
 
 def good_run(scene):
-    """--frames 7 --every 3: samples 0, 3 and 6; the last compared with a 6-frame --dump."""
+    """--frames 6 --every 3: samples 0, 3 and 6; the last equal to the same run's --dump."""
     with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
-        p = run([scene, "--frames", "7", "--every", "3", "--pc2", "out/anim.pc2", "--dump", DUMP], workdir)
+        p = run([scene, "--frames", "6", "--every", "3", "--pc2", "out/anim.pc2", "--dump", DUMP], workdir)
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
         problems = []
-        summary = (f"  PC2 out/anim.pc2: 3 samples of {POINTS} points (frames 0 to 6 of 7, every 3), "
+        summary = (f"  PC2 out/anim.pc2: 3 samples of {POINTS} points (frames 0 to 6 of 6, every 3), "
                    "rest mesh out/anim.obj")
         if summary not in p.stdout.splitlines():
             problems.append(f"no summary line {summary!r} in:\n{p.stdout}")
@@ -131,16 +132,11 @@ def good_run(scene):
             problems.append(f"sample 0 differs from the initial grids by {gap:.3g} m")
         if samples[0] == samples[2]:
             problems.append("samples 0 and 2 are equal: the cloths did not move")
-        p = run([scene, "--frames", "6", "--dump", "six.csv"], workdir)
-        if p.returncode != 0 or p.stderr:
-            return problems + [f"the 6-frame run failed ({p.returncode}): {p.stderr.strip()}"]
-        dumped = read_csv(os.path.join(workdir, "six.csv"))
+        dumped = read_csv(os.path.join(workdir, DUMP))
         if dumped != samples[2]:
             gap = tooltest.worst(dumped, samples[2])
-            problems.append(f"sample 2 differs from the --dump of 6 frames by {gap:.3g} m "
+            problems.append(f"sample 2 differs from the same run's --dump by {gap:.3g} m "
                             f"({len(samples[2])} and {len(dumped)} positions)")
-        if read_csv(os.path.join(workdir, DUMP)) == samples[2]:
-            problems.append("the 7-frame --dump equals sample 2: --pc2 changed how far the run went")
         return problems
 
 
@@ -151,7 +147,7 @@ def with_obj(scene):
         if p.returncode != 0 or p.stderr:
             return [f"exit status {p.returncode}, stderr: {p.stderr.strip()}"]
         header, samples, problems = read_pc2(os.path.join(workdir, "anim.pc2"))
-        problems += check_header(header, 4, 1)
+        problems += check_header(header, 5, 1)
         for i, sample in enumerate(samples):
             frame = obj_positions(os.path.join(workdir, "frames", f"frame_{i:04d}.obj"))
             if frame != sample:
@@ -160,7 +156,8 @@ def with_obj(scene):
 
 
 def no_frames(scene):
-    """--frames 0 and a name without an extension: a cache of no sample, and NAME.obj."""
+    """--frames 0 and a name without an extension: a cache of one sample (the start, equal to
+    NAME.obj's v lines), and NAME.obj."""
     with tempfile.TemporaryDirectory(prefix="clothvk-pc2-") as workdir:
         p = run([scene, "--frames", "0", "--pc2", "cache"], workdir)
         if p.returncode != 0 or p.stderr:
@@ -169,8 +166,10 @@ def no_frames(scene):
         if found != ["cache", "cache.obj"]:
             return [f"expected cache and cache.obj, found {found}"]
         header, samples, problems = read_pc2(os.path.join(workdir, "cache"))
-        problems += check_header(header, 0, 1)
-        line = "  PC2 cache: no sample (no frame simulated), rest mesh cache.obj"
+        problems += check_header(header, 1, 1)
+        if not problems and samples[0] != obj_positions(os.path.join(workdir, "cache.obj")):
+            problems.append("the one sample of --frames 0 differs from cache.obj")
+        line = f"  PC2 cache: 1 sample of {POINTS} points (frames 0 to 0 of 0, every 1), rest mesh cache.obj"
         return problems + ([] if line in p.stdout.splitlines() else [f"no line {line!r} in:\n{p.stdout}"])
 
 
@@ -222,7 +221,7 @@ def main():
         scene = os.path.join(scene_dir, "two-cloths.json")
         with open(scene, "w") as f:
             f.write(SCENE_TEXT)
-        checks = [("samples 0, 3 and 6 of 7, every 3", lambda: good_run(scene)),
+        checks = [("samples 0, 3 and 6 of 6, every 3", lambda: good_run(scene)),
                   ("--obj and --pc2 together", lambda: with_obj(scene)),
                   ("--frames 0", lambda: no_frames(scene))]
         checks += [(name, (lambda a=argv, fs=files, e=expected: run_bad(a, fs, e)))

@@ -75,7 +75,8 @@ def folder_check(folder, names, width, height, also=None):
 
 def quiet_check(stdout, workdir):
     return ([f"--quiet printed {stdout!r}"] if stdout else []) + \
-        expect_images(os.path.join(workdir, "q"), ["frame_0000.png", "frame_0001.png"], 64, 48)
+        expect_images(os.path.join(workdir, "q"), ["frame_0000.png", "frame_0001.png", "frame_0002.png"],
+                      64, 48)
 
 
 FRAMES = [f"frame_{i:04d}.png" for i in range(4)]
@@ -172,7 +173,7 @@ CASES = [
      "status": 0, "check": quiet_check},
     {"name": "existing folder, images replaced", "argv": [SMALL, "-o", "f", "--frames", "1", "--size", "64x48"],
      "status": 0, "folders": ["f"], "files": ["f/frame_0000.png"],
-     "check": folder_check("f", ["frame_0000.png"], 64, 48)},
+     "check": folder_check("f", ["frame_0000.png", "frame_0001.png"], 64, 48)},
 ]
 
 
@@ -217,7 +218,9 @@ def determinism():
             if p.returncode != 0 or p.stderr:
                 return [f"run into {out} failed ({p.returncode}): {p.stderr.strip()}"]
         names = images(os.path.join(workdir, "one"))
-        if names != ["frame_0000.png", "frame_0001.png"] or names != images(os.path.join(workdir, "two")):
+        # --frames 8 --every 4: the states after 0, 4 and 8 frames.
+        if names != ["frame_0000.png", "frame_0001.png", "frame_0002.png"] or \
+                names != images(os.path.join(workdir, "two")):
             return [f"unexpected images: {names}"]
         problems = []
         for name in names:

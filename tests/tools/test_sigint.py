@@ -44,8 +44,8 @@ def interrupt(argv, cwd, pattern, wanted):
         problems.append(f"exit status {p.returncode} after SIGINT, expected 1")
     lines = err.splitlines()
     if len(lines) != 1 or not re.fullmatch(
-            r"clothvk-(sim|render): interrupted after [0-9]+ of 2000 (frames; the files written "
-            r"are complete|images)", lines[0]):
+            r"clothvk-(sim: interrupted after [0-9]+ of 2000 frames; the files written are "
+            r"complete|render: interrupted after [0-9]+ of 2001 images)", lines[0]):
         problems.append(f"stderr: {err.strip()!r}")
     leftovers = [n for n in os.listdir(cwd) if ".tmp" in n] + \
                 [n for n in glob.glob(os.path.join(cwd, "*", "*")) if ".tmp" in n]

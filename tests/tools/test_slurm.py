@@ -8,7 +8,7 @@ generated key and slurm.conf and every socket, pid, log and state file in a temp
 (SLURM_CONF points sbatch and the daemons at it; the controller and the node are 127.0.0.1, on
 free ports; slurmd listens on 127.0.0.1 only, slurmctld on every address since Slurm 22.05 has no
 bind address for it, but every message needs this run's random munge key). It bakes a small scene for 6 frames twice (--every 1 and --every 2), submits each
-bake with slurm-render.sh --chunk 2 (3 and 2 array tasks), waits for the arrays, and checks that
+bake with slurm-render.sh --chunk 2 (4 and 2 array tasks: frames 0 to 6, and 0, 2, 4, 6), waits for the arrays, and checks that
 every task COMPLETED and that the images are exactly the frames each bake holds, each equal byte
 for byte to the one a local `clothvk-render SCENE --frames 6` writes. Then it stops every daemon
 it started and removes the folder, and fails if any of its processes is still running.
@@ -263,7 +263,7 @@ def render_on_cluster(tmp, env):
     for every in (1, 2):
         bake = os.path.join(tmp, f"bake{every}")
         run_local([SIM, scene, "--bake", bake, "--every", str(every)], f"bake --every {every}")
-        held = list(range(0, FRAMES, every))
+        held = list(range(0, FRAMES + 1, every))  # the start, then every K-th frame to the last
         job = submit(env, scene, bake, os.path.join(tmp, f"out{every}"), os.path.join(tmp, "logs"))
         if job:
             cases.append((every, job, held, -(-len(held) // CHUNK)))
