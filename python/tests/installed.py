@@ -11,7 +11,7 @@ import clothvk
 from clothvk import _ffi
 
 package = pathlib.Path(clothvk.__file__).resolve().parent
-assert package.is_relative_to(pathlib.Path(sys.prefix).resolve()), \
+assert pathlib.Path(sys.prefix).resolve() in package.parents, \
     f"clothvk imported from {package}, not from the environment {sys.prefix}"
 library = pathlib.Path(_ffi.library_candidates()[0])
 assert library == package / "libclothvk.so", f"opened {library}, not the package's own library"
