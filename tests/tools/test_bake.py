@@ -13,6 +13,10 @@ Good input, on a small swinging cloth:
 - the same two with --every 3 (files 0, 1, 2 for frames 0, 3, 6 of 8) and with a --set item;
 - a bake of 5 frames with dt 0.003 over one of 12 with dt 0.002 (and over another scene's) leaves
   frame_0000 ... frame_0005 only, and resumed to 12 frames equals an uninterrupted bake;
+- one bake folder taken through six cycles over three scenes and two dt, each changing both the
+  scene and dt (a bake of 8 frames re-baked with 1 to 6 frames of the next scene and dt, then
+  resumed to 8): after each bake and each resume the folder holds exactly the files of the new
+  run, each byte for byte as its uninterrupted bake's (cache.json too, once resumed);
 - a --set item spelled with a space (cloths.0.grid=[8, 6]) resumes a bake made with [8,6];
 - a complete bake resumed simulates nothing, writes no frame, and its --dump (the last frame
   file, loaded) equals the uninterrupted bake's: the bake's last state is --dump's.
@@ -223,6 +227,43 @@ def rebakes(tmp, scene, other_grid):
               f"rebake ({tag}): the resumed --dump differs from the uninterrupted bake's")
 
 
+def cycles(tmp, scenes):
+    """One bake folder through every (scene, dt) of three scenes and two dt, each cycle changing
+    both: a bake of FRAMES frames of one run is re-baked with fewer frames of the next run, which
+    must leave only its own files (each frame's bytes those of the next run's uninterrupted bake),
+    then resumed to FRAMES, which must equal that uninterrupted bake, cache.json included."""
+    runs = [(0, "0.002"), (1, "0.003"), (2, "0.002"), (0, "0.003"), (1, "0.002"), (2, "0.003")]
+    fewer = [3, 5, 1, 6, 2, 4]
+    direct = {}
+    for index, dt in runs:
+        folder = os.path.join(tmp, f"cycle-direct-{index}-{dt}")
+        ok([scenes[index], "--frames", str(FRAMES), "--set", f"dt={dt}", "--bake", folder],
+           f"cycle: the uninterrupted bake of scene {index} at dt {dt}")
+        direct[index, dt] = tooltest.contents(folder)
+    sizes = {len(files["frame_0000.snap"]) for files in direct.values()}
+    check(len(sizes) == 3, f"cycle: the three scenes' snapshots are {sorted(sizes)} bytes, expected three sizes")
+    folder = os.path.join(tmp, "cycle")
+    index, dt = runs[0]
+    ok([scenes[index], "--frames", str(FRAMES), "--set", f"dt={dt}", "--bake", folder], "cycle: the first bake")
+    check(tooltest.contents(folder) == direct[index, dt], "cycle: the first bake differs from the uninterrupted one")
+    for cycle, frames in enumerate(fewer):
+        index, dt = runs[(cycle + 1) % len(runs)]
+        what = f"cycle {cycle + 1} (scene {index}, dt {dt}, a bake of {frames} frame{'s' * (frames != 1)})"
+        args = [scenes[index], "--set", f"dt={dt}"]
+        ok(args + ["--frames", str(frames), "--bake", folder], f"{what}: the bake")
+        files, want = tooltest.contents(folder), direct[index, dt]
+        expected = ["cache.json"] + [f"frame_{i:04d}.snap" for i in range(frames + 1)]
+        check(sorted(files) == expected, f"{what}: files {sorted(files)} after the bake, expected {expected}")
+        stale = [name for name in files if name != "cache.json" and files[name] != want.get(name)]
+        check(not stale, f"{what}: {stale} after the bake differ from the uninterrupted bake's")
+        ok(args + ["--frames", str(FRAMES), "--resume", folder], f"{what}: resume to {FRAMES} frames")
+        files = tooltest.contents(folder)
+        check(sorted(files) == sorted(want), f"{what}: files {sorted(files)} after the resume, "
+              f"expected {sorted(want)}")
+        differ = [name for name in want if files.get(name) != want[name]]
+        check(not differ, f"{what}: {differ} after the resume differ from the uninterrupted bake's")
+
+
 def complete(scene, full):
     before = tooltest.contents(full)
     r = ok([scene, "--resume", full, "--dump", full + "-again.csv"], "complete bake resumed")
@@ -248,6 +289,10 @@ def main():
         with open(other_grid, "w") as f:
             json.dump(dict(SCENE, cloths=[dict(CLOTH, grid=[7, 6], pins=[[0, 0], [6, 0]])]), f)
         rebakes(tmp, scene, other_grid)
+        third = os.path.join(tmp, "third.json")
+        with open(third, "w") as f:
+            json.dump(dict(SCENE, substeps=3, cloths=[dict(CLOTH, grid=[5, 5], pins=[[0, 0], [4, 0]])]), f)
+        cycles(tmp, [scene, other_grid, third])
         full = resumes(tmp, scene, 1, [])
         complete(scene, full)
         resumes(tmp, scene, 3, [])
