@@ -269,8 +269,8 @@ static bool check_strain_limit(const cvk_solver_desc* s, cvk_scene_issue* issue)
     if (!cvk_check_finite(issue, "solver.strain_limit", s->strain_limit))
         return false;
     if (s->strain_limit < 0.0f || s->strain_limit > MAX_STRAIN_LIMIT)
-        return cvk_issue_at(issue, "solver.strain_limit", "must be between 0 and %g, got %g",
-                            MAX_STRAIN_LIMIT, (double)s->strain_limit);
+        return cvk_issue_at(issue, "solver.strain_limit", "must be between 0 and %g, got %s",
+                            MAX_STRAIN_LIMIT, cvk_float_text(s->strain_limit).text);
     if (s->strain_limit > 0.0f &&
         (s->method != CVK_METHOD_PD || s->linear == CVK_LINEAR_GS_CPU))
         return cvk_issue_at(issue, "solver.strain_limit", "only the pd solvers on the device "
@@ -333,11 +333,11 @@ static bool check_size(const cvk_cloth_desc* c, const char* base, cvk_scene_issu
         if (!cvk_check_finite(issue, element, c->size[i]))
             return false;
         if (c->grid[i] == 1 && c->size[i] < 0)
-            return cvk_issue_at(issue, element, "must be at least 0, got %g", c->size[i]);
+            return cvk_issue_at(issue, element, "must be at least 0, got %s", cvk_float_text(c->size[i]).text);
         if (c->grid[i] > 1 && c->size[i] <= 0)
             return cvk_issue_at(issue, element,
-                            "must be greater than 0 (the grid has %" PRIu32 " particles along it), got %g",
-                            c->grid[i], c->size[i]);
+                            "must be greater than 0 (the grid has %" PRIu32 " particles along it), got %s",
+                            c->grid[i], cvk_float_text(c->size[i]).text);
         if (c->size[i] > 0 && !cvk_check_length(issue, element, c->size[i]))
             return false;
     }
@@ -450,8 +450,9 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
     double speed = sqrt(dot3(v, v));
     if (speed <= CVK_MAX_VELOCITY)
         return true;
-    return cvk_issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%g, %g, %g])",
-                    CVK_MAX_VELOCITY, speed, v[0], v[1], v[2]);
+    return cvk_issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%s, %s, %s])",
+                    CVK_MAX_VELOCITY, speed, cvk_float_text(v[0]).text,
+                    cvk_float_text(v[1]).text, cvk_float_text(v[2]).text);
 }
 
 /* 0 (none) or a scale of the rest distance from 1 (exactly) to CVK_MAX_TETHER_SCALE. */
@@ -464,7 +465,7 @@ static bool check_tethers(const cvk_cloth_desc* c, const char* base, cvk_scene_i
     if (c->tethers == 0.0f || (c->tethers >= 1.0f && c->tethers <= CVK_MAX_TETHER_SCALE))
         return true;
     return cvk_issue_at(issue, path, "must be 0 (no tethers) or from 1 to %g (a scale of the rest "
-                    "distance to the pins), got %g", CVK_MAX_TETHER_SCALE, c->tethers);
+                    "distance to the pins), got %s", CVK_MAX_TETHER_SCALE, cvk_float_text(c->tethers).text);
 }
 
 static bool check_texture(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
@@ -682,10 +683,12 @@ static bool check_collider_friction(const cvk_collider_desc* c, const cvk_collis
     if (fixed >= kinetic)
         return true;
     if (c->static_friction < 0)
-        return cvk_issue_at(issue, static_path, "is not given, and collision.static_friction (%g) is below this "
-                        "collider's friction (%g): give a static_friction of at least %g", fixed, kinetic, kinetic);
-    return cvk_issue_at(issue, static_path, "must be at least %s (%g), got %g",
-                    c->friction < 0 ? "collision.friction" : "friction", kinetic, fixed);
+        return cvk_issue_at(issue, static_path, "is not given, and collision.static_friction (%s) is below this "
+                        "collider's friction (%s): give a static_friction of at least %s", cvk_float_text(fixed).text,
+                        cvk_float_text(kinetic).text, cvk_float_text(kinetic).text);
+    return cvk_issue_at(issue, static_path, "must be at least %s (%s), got %s",
+                    c->friction < 0 ? "collision.friction" : "friction", cvk_float_text(kinetic).text,
+                    cvk_float_text(fixed).text);
 }
 
 static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk_collision_desc* scene,

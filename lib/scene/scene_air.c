@@ -8,7 +8,7 @@ static bool check_at_most(cvk_scene_issue* issue, const char* path, double v, do
 {
     if (!cvk_check_at_least(issue, path, v, low))
         return false;
-    return v <= high || cvk_issue_at(issue, path, "must be at most %g, got %g", high, v);
+    return v <= high || cvk_issue_at(issue, path, "must be at most %g, got %s", high, cvk_float_text(v).text);
 }
 
 bool cvk_aero_check(const cvk_aero_desc* a, const char* base, cvk_scene_issue* issue)
@@ -49,8 +49,8 @@ bool cvk_wind_check(const cvk_scene_desc* d, cvk_scene_issue* issue)
                         (double)w->velocity[1] * w->velocity[1] +
                         (double)w->velocity[2] * w->velocity[2]);
     if (speed > CVK_MAX_WIND)
-        return cvk_issue_at(issue, "wind.velocity", "must be at most %g m/s fast, got %g m/s",
-                            CVK_MAX_WIND, speed);
+        return cvk_issue_at(issue, "wind.velocity", "must be at most %g m/s fast, got %s m/s",
+                            CVK_MAX_WIND, cvk_double_text(speed).text);
     return check_at_most(issue, "wind.gusts.amplitude", w->gusts.amplitude, 0.0, 1.0) &&
            cvk_check_greater(issue, "wind.gusts.period", w->gusts.period, 0.0) &&
            check_at_most(issue, "wind.gusts.jitter", w->gusts.jitter, 0.0, 90.0) &&

@@ -12,7 +12,7 @@ static bool check_distance(cvk_scene_issue* issue, const char* path, float v)
     if (!cvk_check_at_least(issue, path, v, 0.0))
         return false;
     return v <= MAX_CONTACT_DISTANCE ||
-           cvk_issue_at(issue, path, "must be at most %g m, got %g", MAX_CONTACT_DISTANCE, v);
+           cvk_issue_at(issue, path, "must be at most %g m, got %s", MAX_CONTACT_DISTANCE, cvk_float_text(v).text);
 }
 
 bool cvk_collision_check(const cvk_collision_desc* c, cvk_scene_issue* issue)
@@ -23,8 +23,8 @@ bool cvk_collision_check(const cvk_collision_desc* c, cvk_scene_issue* issue)
         !cvk_check_finite(issue, "collision.static_friction", c->static_friction))
         return false;
     if (c->static_friction < c->friction)
-        return cvk_issue_at(issue, "collision.static_friction", "must be at least friction (%g), got %g",
-                            c->friction, c->static_friction);
+        return cvk_issue_at(issue, "collision.static_friction", "must be at least friction (%s), got %s",
+                            cvk_float_text(c->friction).text, cvk_float_text(c->static_friction).text);
     /* A default thickness is known only from the build: checked then. */
     if (c->thickness > 0.0f)
         return cvk_collision_radius_check(c, c->thickness, issue);

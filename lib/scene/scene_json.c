@@ -329,7 +329,7 @@ static cvk_result read_coefficient(cvk_reader* rd, const cvk_field* f, json_t* v
     if (r != CVK_SUCCESS)
         return r;
     if (v < 0.0f && isfinite(v))
-        return cvk_reader_fail_at(rd, path, "must be at least 0, got %g (leave it out for collision.%s)", v, f->key);
+        return cvk_reader_fail_at(rd, path, "must be at least 0, got %s (leave it out for collision.%s)", cvk_float_text(v).text, f->key);
     *(float*)dest = v;
     return CVK_SUCCESS;
 }

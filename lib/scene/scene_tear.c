@@ -21,8 +21,8 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, cvk_scene_issue
         return false;
     if (v > CVK_MAX_TEAR_STRETCH)
         return cvk_issue_at(issue, path, "must be at most %g (a spring %g times its rest length "
-                            "is a diverged solve), got %g", CVK_MAX_TEAR_STRETCH,
-                            CVK_MAX_TEAR_STRETCH + 1.0, v);
+                            "is a diverged solve), got %s", CVK_MAX_TEAR_STRETCH,
+                            CVK_MAX_TEAR_STRETCH + 1.0, cvk_float_text(v).text);
     if (v > 0.0f && c->tethers != 0.0f) {
         cvk_key_path(path, "cloths.%u.tearing", index);
         return cvk_issue_at(issue, path, "a cloth with tethers cannot tear (a tether would pull "
