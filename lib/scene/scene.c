@@ -450,8 +450,8 @@ static bool check_velocity(const cvk_cloth_desc* c, const char* base, cvk_scene_
     double speed = sqrt(dot3(v, v));
     if (speed <= CVK_MAX_VELOCITY)
         return true;
-    return cvk_issue_at(issue, path, "must be at most %g m/s in magnitude, got %g m/s ([%s, %s, %s])",
-                    CVK_MAX_VELOCITY, speed, cvk_float_text(v[0]).text,
+    return cvk_issue_at(issue, path, "must be at most %g m/s in magnitude, got %s m/s ([%s, %s, %s])",
+                    CVK_MAX_VELOCITY, cvk_float_text(speed).text, cvk_float_text(v[0]).text,
                     cvk_float_text(v[1]).text, cvk_float_text(v[2]).text);
 }
 

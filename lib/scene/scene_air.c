@@ -50,7 +50,7 @@ bool cvk_wind_check(const cvk_scene_desc* d, cvk_scene_issue* issue)
                         (double)w->velocity[2] * w->velocity[2]);
     if (speed > CVK_MAX_WIND)
         return cvk_issue_at(issue, "wind.velocity", "must be at most %g m/s fast, got %s m/s",
-                            CVK_MAX_WIND, cvk_double_text(speed).text);
+                            CVK_MAX_WIND, cvk_float_text(speed).text);
     return check_at_most(issue, "wind.gusts.amplitude", w->gusts.amplitude, 0.0, 1.0) &&
            cvk_check_greater(issue, "wind.gusts.period", w->gusts.period, 0.0) &&
            check_at_most(issue, "wind.gusts.jitter", w->gusts.jitter, 0.0, 90.0) &&

@@ -388,7 +388,7 @@ static void test_validate_velocity(void)
                         "cloths.0.velocity: must be at most 10000 m/s in magnitude, got 10002 m/s ([6000, 200, 8000])");
     f.cloths[0].velocity[1] = 1e4f;
     EXPECT_DESC_INVALID(&f.scene,
-                        "cloths.0.velocity: must be at most 10000 m/s in magnitude, got 14142.1 m/s ([6000, 10000, 8000])");
+                        "cloths.0.velocity: must be at most 10000 m/s in magnitude, got 14142.136 m/s ([6000, 10000, 8000])");
 }
 
 /* ---- JSON ---- */
