@@ -3,7 +3,8 @@
 
     python3 scripts/ensemble_table.py BENCH.csv [BENCH.csv ...] OUT.csv [--showcases]
 
-ensemble.csv's rows name the variant and its settings; with --showcases (the scenes at their
+ensemble.csv's rows name the variant and its settings (and, where a run stopped early, why);
+with --showcases (the scenes at their
 own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one.
 """
 import argparse
@@ -47,6 +48,12 @@ def main():
                   "frames with an intersecting pair", "most pairs in a frame",
                   "largest stretch at the end %", "wall ms per frame"]
         body = [[r["scene"], r["variant"], r["settings"], *common(r)] for r in rows]
+        # Runs that stopped early say why, in a last column only where one did.
+        stops = ["diverged at frame %s" % r["diverged_frame"] if int(r["diverged_frame"]) >= 0
+                 else r["error"] for r in rows]
+        if any(stops):
+            header.append("note")
+            body = [b + [note] for b, note in zip(body, stops)]
     with open(out, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(header)
