@@ -335,6 +335,31 @@ vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
     return quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
 }
 
+// Signed distance from x to collider k as posed at the start (pose 0) or end (1) of the substep.
+float posed_distance(uint k, vec3 x, uint pose)
+{
+    cvk_gpu_pose p = poses_u[k];
+    vec3 l = pose == 0u ? quat_rotate_inverse(p.rotation0, x - p.translation0.xyz)
+                        : quat_rotate_inverse(p.rotation1, x - p.translation1.xyz);
+    return shape_distance(shapes_u[k], l);
+}
+
+// The least distance from x to a collider other than a funnel, at the end of the substep or,
+// with `both`, at its start too (the bounds' collider rules: lib/contact/collide.h; a funnel's
+// push is not held to the bound).
+float nearest_solid(vec3 x, bool both)
+{
+    float d = 3.0e38;
+    for (uint k = 0u; k < contact_u.collider_count; k++) {
+        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
+            continue;
+        d = min(d, posed_distance(k, x, 1u));
+        if (both)
+            d = min(d, posed_distance(k, x, 0u));
+    }
+    return d;
+}
+
 // Collider contact for a particle that starts the substep at x0 and would end it at x0 + u:
 // returns the displacement that keeps it out of every collider.
 vec3 collide_colliders(vec3 x0, vec3 u)

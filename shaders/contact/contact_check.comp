@@ -19,45 +19,6 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
 const float BIG = 3.0e38;
 
-// Whether x is nearer than `gap` to some collider (or inside it) at the start or the end of the
-// substep: a particle whose bound (of radius b) is centred nearer than the thickness - b could
-// be pushed out of its bound by the collider (pd_contact.glsl), so the substep detects instead
-// (and takes no shift).
-bool inside_collider(vec3 x, float gap)
-{
-    bool inside = false;
-    for (uint k = 0u; k < contact_u.collider_count; k++) {
-        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
-            continue; // a funnel's push wins anyway (pd_contact.glsl)
-        cvk_gpu_pose pose = poses_u[k];
-        vec3 l0 = quat_rotate_inverse(pose.rotation0, x - pose.translation0.xyz);
-        vec3 l1 = quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz);
-        inside = inside || min(shape_distance(shapes_u[k], l0), shape_distance(shapes_u[k], l1)) < gap;
-    }
-    return inside;
-}
-
-// Whether x is within the thickness, the radius and `travel` of some collider at the start or
-// the end of the substep: a collider may stop it while the others move on, so a detection
-// takes no shift (contact_decide.comp). Funnels are left out of both tests: a funnel's push
-// is not held to the bound (pd_contact.glsl), and these rules would only slow the cloth
-// pouring through one.
-bool near_collider(vec3 x, float travel)
-{
-    float reach = contact_u.thickness + contact_u.radius + travel;
-    bool near = false;
-    for (uint k = 0u; k < contact_u.collider_count; k++) {
-        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
-            continue;
-        cvk_gpu_pose pose = poses_u[k];
-        vec3 l0 = quat_rotate_inverse(pose.rotation0, x - pose.translation0.xyz);
-        vec3 l1 = quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz);
-        float d = min(shape_distance(shapes_u[k], l0), shape_distance(shapes_u[k], l1));
-        near = near || !(d >= reach);
-    }
-    return near;
-}
-
 void bound_axes(vec3 low, vec3 high, vec3 vlow, vec3 vhigh)
 {
     if (low.x > high.x)
@@ -90,8 +51,11 @@ void main()
             vec3 x = contact_x(p);
             vec3 e = 2.0 * x - previous[p].xyz - seen.xyz - next;
             previous[p] = vec4(x, 0.0); // the next substep's x_before
+            // Nor may the shift centre the bound nearer a collider than the thickness less
+            // the bound: the collider's push could then take the particle past its bound
+            // (pd_contact.glsl).
             exceed = exceed || !(length(e) <= contact_u.redetect * abs(seen.w)) ||
-                     inside_collider(seen.xyz + next, contact_u.thickness - abs(seen.w));
+                     nearest_solid(seen.xyz + next, true) < contact_u.thickness - abs(seen.w);
         }
         if (exceed)
             atomicOr(motion_bounds.exceed, 1u);
@@ -103,7 +67,11 @@ void main()
         uint p = pc.first + i;
         vec3 x = contact_x(p);
         vec3 v = x - previous[p].xyz;
-        near = near || near_collider(x, 2.0 * length(v));
+        // Within the thickness, the radius and twice its last move of a collider: one may
+        // stop it while the others move on, so a detection takes no shift
+        // (contact_decide.comp). Funnels are left out: their push is not held to the bound.
+        float reach = contact_u.thickness + contact_u.radius + 2.0 * length(v);
+        near = near || !(nearest_solid(x, true) >= reach);
         vec3 e = x - texelFetch(searched_t, int(p)).xyz + v;
         bool finite = all(lessThanEqual(abs(e), vec3(BIG))) && all(lessThanEqual(abs(v), vec3(BIG)));
         low = min(low, finite ? e : vec3(-BIG));

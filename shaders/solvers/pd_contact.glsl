@@ -172,17 +172,6 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
     return len > most ? push * (most / len) : push;
 }
 
-// Whether x (at the end of the substep) is outside every collider's own surface.
-bool outside_colliders(vec3 x)
-{
-    bool outside = true;
-    for (uint k = 0u; k < contact_u.collider_count; k++) {
-        cvk_gpu_pose pose = poses_u[k];
-        outside = outside && shape_distance(shapes_u[k], quat_rotate_inverse(pose.rotation1, x - pose.translation1.xyz)) >= 0.0;
-    }
-    return outside;
-}
-
 vec3 pd_contact(uint p, vec3 u)
 {
     vec3 x0 = fetch(x_read, p);
@@ -203,7 +192,7 @@ vec3 pd_contact(uint p, vec3 u)
         // wins, and the particle, past its bound, makes the next substep detect.
         if (SELF && !HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && any(notEqual(pushed, u))) {
             vec3 back = within_bound(p, x0 + pushed);
-            pushed = outside_colliders(back) ? back - x0 : pushed;
+            pushed = nearest_solid(back, false) >= 0.0 ? back - x0 : pushed;
         }
         u = pushed;
     }
