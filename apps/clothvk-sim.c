@@ -9,6 +9,7 @@
 #include "bake.h"
 #include "obj.h"
 #include "pc2.h"
+#include "wedge.h"
 
 static const char tool[] = "clothvk-sim";
 
@@ -18,6 +19,9 @@ static void usage(FILE* out)
             "usage: clothvk-sim SCENE [--frames N] [--set key.path=value]... [--json]\n"
             "                   [--dump FILE.csv] [--obj DIR] [--pc2 FILE.pc2]\n"
             "                   [--bake DIR | --resume DIR] [--every K] [--plan]\n"
+            "       clothvk-sim SCENE --wedge key.path=v1,v2,... [--wedges FILE]... -o DIR\n"
+            "                   [--jobs N | --wedge-index K | --wedge-count] [--wedge-preview]\n"
+            "       clothvk-sim --wedge-gather DIR\n"
             "  --frames N     frames to simulate (default: the scene's \"frames\")\n"
             "  --set k=v      override a scene key by its dotted JSON path, value as JSON\n"
             "  --json         print one JSON object of statistics\n"
@@ -40,6 +44,21 @@ static void usage(FILE* out)
             "  --workgroup-size N  compute workgroup size (default: the library's choice)\n"
             "  --max-workgroups N  workgroups per dispatch (default: the library's choice)\n"
             "  --search-lanes N    accepted for older scripts; no effect\n"
+            "  --wedge k=v1,v2,...  vary a key over values (JSON, as --set takes them); the\n"
+            "                 variants are the product of every --wedge (docs/tools.md, Wedges)\n"
+            "  --wedges FILE  explicit variants: a JSON list of objects key.path -> value\n"
+            "  -o DIR         the wedge's folder: DIR/v0000/ ... per variant, DIR/wedges.csv,\n"
+            "                 DIR/contact-sheet.png\n"
+            "  --jobs N       run the variants N at a time on this machine (default 1), then\n"
+            "                 gather them\n"
+            "  --wedge-index K  run variant K only (a Slurm array task: scripts/slurm-wedge.sh)\n"
+            "  --wedge-count  print how many variants there are and exit\n"
+            "  --wedge-limit N  refuse more than N variants (default 1000)\n"
+            "  --wedge-time-limit S  stop a variant after S seconds (a timed-out row)\n"
+            "  --wedge-preview  draw each variant's last frame (DIR/vNNNN/last.png)\n"
+            "  --wedge-bake   bake each variant (DIR/vNNNN/bake)\n"
+            "  --wedge-gather DIR  write DIR/wedges.csv and DIR/contact-sheet.png from the\n"
+            "                 variant folders\n"
             "  --version      print the version and exit\n"
             "environment: CLOTHVK_DEVICE (device index or name), CLOTHVK_VALIDATION=1\n");
 }
@@ -61,11 +80,39 @@ typedef struct options {
     uint32_t workgroup_size;
     uint32_t max_workgroups;
     uint32_t search_lanes;
+    app_wedge_options wedge;
+    app_wedge_run* wedge_run; /* set while one variant of a wedge runs */
 } options;
 
 /* The options that only make sense together, and --dump's target: checked before any work. */
+static int check_wedge_options(const options* o)
+{
+    const app_wedge_options* w = &o->wedge;
+    if (!w->axis_count && !w->file) {
+        app_error(tool, "the wedge options need --wedge key.path=v1,v2,... or --wedges FILE");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (o->json || o->dump || o->obj || o->pc2 || o->bake || o->resume || o->every || o->plan) {
+        app_error(tool, "a wedge writes each variant's statistics into its folder: --json, "
+                  "--dump, --obj, --pc2, --bake, --resume, --every and --plan do not go with "
+                  "--wedge (see --wedge-bake)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (w->index_set + w->jobs_set + w->count > 1) {
+        app_error(tool, "--wedge-index, --jobs and --wedge-count: give one");
+        return APP_EXIT_BAD_INPUT;
+    }
+    if (!w->count && !w->out) {
+        app_error(tool, "a wedge needs an output folder (-o DIR)");
+        return APP_EXIT_BAD_INPUT;
+    }
+    return APP_EXIT_OK;
+}
+
 static int check_options(options* o)
 {
+    if (app_wedge_requested(&o->wedge) || o->wedge.out)
+        return check_wedge_options(o);
     if (o->every && !o->obj && !o->pc2 && !o->bake && !o->resume) {
         app_error(tool, "--every needs --obj DIR, --pc2 FILE or --bake DIR (it says which frames "
                   "go out)");
@@ -86,6 +133,16 @@ static int check_options(options* o)
     if (!o->every)
         o->every = 1;
     return APP_EXIT_OK;
+}
+
+static int take_wedge(void* user, const char* option, const char* value)
+{
+    options* o = user;
+    if (!value) {
+        app_error(tool, "%s: expected key.path=v1,v2,...", option);
+        return APP_EXIT_BAD_INPUT;
+    }
+    return app_wedge_add_axis(&o->wedge, tool, value);
 }
 
 /* Returns APP_EXIT_OK or APP_EXIT_BAD_INPUT; `done` is set for --help and --version. */
@@ -109,9 +166,23 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         {"--search-lanes", NULL, APP_OPTION_U32, .number = &o->search_lanes, .min = 1,
          .max = 1024},
         {"--json", NULL, APP_OPTION_FLAG, .flag = &o->json},
+        {"--wedge", NULL, APP_OPTION_OTHER, .take = take_wedge},
+        {"--wedges", NULL, APP_OPTION_PATH, .path = &o->wedge.file, .expected = "a JSON file"},
+        {"-o", "--output", APP_OPTION_PATH, .path = &o->wedge.out, .expected = "an output folder"},
+        {"--jobs", NULL, APP_OPTION_U32, .number = &o->wedge.jobs, .min = 1, .max = 1024,
+         .flag = &o->wedge.jobs_set},
+        {"--wedge-index", NULL, APP_OPTION_U32, .number = &o->wedge.index, .min = 0,
+         .max = UINT32_MAX - 1, .flag = &o->wedge.index_set},
+        {"--wedge-count", NULL, APP_OPTION_FLAG, .flag = &o->wedge.count},
+        {"--wedge-limit", NULL, APP_OPTION_U32, .number = &o->wedge.limit, .min = 1,
+         .max = 1000000},
+        {"--wedge-time-limit", NULL, APP_OPTION_U32, .number = &o->wedge.time_limit_s, .min = 1,
+         .max = 100000000},
+        {"--wedge-preview", NULL, APP_OPTION_FLAG, .flag = &o->wedge.preview},
+        {"--wedge-bake", NULL, APP_OPTION_FLAG, .flag = &o->wedge.bake},
         {"--plan", NULL, APP_OPTION_FLAG, .flag = &o->plan},
     };
-    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], NULL};
+    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], o};
     int status = app_read_command_line(&line, argc, argv, &o->scene, done);
     return status != APP_EXIT_OK || *done ? status : check_options(o);
 }
@@ -123,6 +194,7 @@ typedef struct run_totals {
     double gpu_ms;
     double pass_ms[CVK_MAX_PASSES];
     bool diverged; /* the library stopped the run; the report says where and when */
+    bool timed_out; /* a wedge variant passed its time limit (between frames) */
 } run_totals;
 
 /* Steps `frames` frames. With OBJ or PC2 output, file or sample i holds the state after
@@ -133,7 +205,7 @@ typedef struct run_totals {
    written so far are whole (each is renamed into place complete), and the dump and the point
    cache, written only by a run that finished, are not written. */
 static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc2* pc2,
-                      uint32_t every, app_bake* bake, run_totals* t)
+                      uint32_t every, app_bake* bake, double deadline_ms, run_totals* t)
 {
     cvk_error err;
     for (uint32_t f = bake ? bake->first : 0;; f++) {
@@ -151,6 +223,10 @@ static int run_frames(cvk_sim* sim, uint32_t frames, app_obj_frames* out, app_pc
             return APP_EXIT_FAILURE;
         }
         double t0 = app_now_ms();
+        if (deadline_ms > 0 && t0 > deadline_ms) {
+            t->timed_out = true; /* the statistics of the frames run are still reported */
+            return APP_EXIT_OK;
+        }
         cvk_result r = cvk_sim_step(sim, 1, &err);
         if (r == CVK_ERROR_DIVERGED) {
             t->wall_ms += app_now_ms() - t0;
@@ -298,8 +374,8 @@ static json_t* notes_json(const cvk_sim* sim)
     return notes;
 }
 
-static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx, const cvk_sim* sim,
-                       const cvk_sim_stats* st, const run_totals* t)
+static json_t* stats_json(const cvk_scene_desc* scene, const cvk_context* ctx, const cvk_sim* sim,
+                          const cvk_sim_stats* st, const run_totals* t)
 {
     bool timed = t->timed_frames > 0;
     json_t* springs = json_pack("{sIsIsI}", "structural", (json_int_t)st->springs[0], "shear",
@@ -345,11 +421,34 @@ static void print_json(const cvk_scene_desc* scene, const cvk_context* ctx, cons
     json_object_set_new(root, "validation_messages",
                         json_integer(cvk_context_validation_message_count(ctx)));
     json_object_set_new(root, "notes", notes_json(sim));
-    char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
-    if (text)
-        printf("%s\n", text);
-    free(text);
+    return root;
+}
+
+static bool write_json(FILE* file, void* user)
+{
+    return json_dumpf(user, file, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9)) ==
+               0 && fputc('\n', file) != EOF;
+}
+
+/* The --json object on stdout, or (a wedge variant) into its file. */
+static int print_json(const options* o, const cvk_scene_desc* scene, const cvk_context* ctx,
+                      const cvk_sim* sim, const cvk_sim_stats* st, const run_totals* t)
+{
+    json_t* root = stats_json(scene, ctx, sim, st, t);
+    int status = APP_EXIT_OK;
+    char message[600];
+    if (o->wedge_run && !app_write_atomic(o->wedge_run->stats_path, write_json, root, message,
+                                          sizeof message)) {
+        app_error(tool, "%s", message);
+        status = APP_EXIT_FAILURE;
+    } else if (!o->wedge_run) {
+        char* text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
+        if (text)
+            printf("%s\n", text);
+        free(text);
+    }
     json_decref(root);
+    return status;
 }
 
 static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
@@ -490,10 +589,20 @@ static int report(const options* o, const cvk_scene_desc* scene, const cvk_conte
         app_error(tool, "%s", err.message);
         return APP_EXIT_FAILURE;
     }
-    if (o->json)
-        print_json(scene, ctx, sim, &st, totals);
+    int written = APP_EXIT_OK;
+    if (o->json || o->wedge_run)
+        written = print_json(o, scene, ctx, sim, &st, totals);
     else
         print_summary(scene, ctx, &st, totals);
+    if (o->wedge_run) {
+        o->wedge_run->frames_done = totals->frames;
+        o->wedge_run->frames = frames;
+        o->wedge_run->diverged = st.diverged;
+        o->wedge_run->diverged_frame = st.diverged_frame;
+        o->wedge_run->timed_out = totals->timed_out;
+    }
+    if (written != APP_EXIT_OK)
+        return written;
     if (o->obj && !o->json)
         print_obj_summary(o, out, frames);
     if (bake && !o->json)
@@ -509,6 +618,11 @@ static int report(const options* o, const cvk_scene_desc* scene, const cvk_conte
     if (st.nan_count) {
         app_error(tool, "%s: the simulation produced %llu non-finite coordinates", o->scene,
                   (unsigned long long)st.nan_count);
+        return APP_EXIT_FAILURE;
+    }
+    if (totals->timed_out) {
+        app_error(tool, "%s: passed its time limit of %u s after %u of %u frames; stopped there",
+                  o->scene, o->wedge_run->time_limit_s, totals->frames, frames);
         return APP_EXIT_FAILURE;
     }
     return APP_EXIT_OK;
@@ -535,12 +649,20 @@ static int simulate(const options* o, const cvk_scene* file, const cvk_context* 
     run_totals totals = {0};
     if (status == APP_EXIT_OK)
         status = run_frames(sim, frames, o->obj ? &out : NULL, o->pc2 ? &pc2 : NULL, o->every,
-                            baking ? &bake : NULL, &totals);
+                            baking ? &bake : NULL, o->wedge_run ? o->wedge_run->deadline_ms : 0,
+                            &totals);
     app_obj_frames_free(&out);
     app_bake done = bake; /* its counts, for the summary */
     app_bake_free(&bake);
+    /* A wedge's preview: the last frame of a run that did not blow up (a timed-out one too). */
+    bool preview = status == APP_EXIT_OK && o->wedge_run && o->wedge_run->preview_path &&
+                   !totals.diverged;
     if (status == APP_EXIT_OK)
         status = report(o, scene, ctx, sim, frames, &totals, &out, baking ? &done : NULL);
+    if (preview && (status == APP_EXIT_OK || totals.timed_out)) {
+        int drawn = app_wedge_preview(tool, sim, scene, totals.frames, o->wedge_run->preview_path);
+        status = status == APP_EXIT_OK ? drawn : status;
+    }
     if (status == APP_EXIT_OK && o->pc2)
         status = app_pc2_finish(&pc2, frames, !o->json);
     app_pc2_free(&pc2);
@@ -586,15 +708,68 @@ static int run(const options* o)
     return app_close(tool, ctx, file, status);
 }
 
+/* One variant of a wedge: the scene with its overrides, statistics into its folder. */
+static int run_variant(void* user, const app_overrides* overrides, app_wedge_run* wedge_run)
+{
+    const options* base = user;
+    options o = *base;
+    o.overrides = *overrides;
+    o.wedge_run = wedge_run;
+    o.bake = wedge_run->bake_path;
+    o.every = 1;
+    return run(&o);
+}
+
+static int run_wedge(options* o)
+{
+    app_wedge w;
+    int status = app_wedge_build(&w, tool, o->scene, &o->overrides, &o->wedge);
+    if (status == APP_EXIT_OK && o->wedge.count)
+        printf("%u\n", w.count);
+    else if (status == APP_EXIT_OK && o->wedge.index_set)
+        status = app_wedge_run_index(&w, &o->overrides, &o->wedge, o->wedge.index, run_variant, o);
+    else if (status == APP_EXIT_OK)
+        status = app_wedge_run_all(&w, &o->overrides, &o->wedge, run_variant, o);
+    app_wedge_free(&w);
+    return status;
+}
+
+/* clothvk-sim --wedge-gather DIR, alone on its command line. */
+static bool gather_command(int argc, char** argv, int* status)
+{
+    for (int i = 1; i < argc; i++) {
+        size_t length = 0;
+        const char* value = app_option_split(argv[i], &length);
+        if (length != strlen("--wedge-gather") || strncmp(argv[i], "--wedge-gather", length))
+            continue;
+        const char* folder = value ? value : i + 1 < argc ? argv[i + 1] : NULL;
+        if (argc != (value ? 2 : 3)) {
+            app_error(tool, "--wedge-gather DIR takes no other arguments");
+            *status = APP_EXIT_BAD_INPUT;
+        } else if (!folder || !folder[0]) {
+            app_error(tool, "--wedge-gather: expected a wedge folder");
+            *status = APP_EXIT_BAD_INPUT;
+        } else {
+            *status = app_wedge_gather(tool, folder);
+        }
+        return true;
+    }
+    return false;
+}
+
 int main(int argc, char** argv)
 {
+    int status = APP_EXIT_OK;
+    if (gather_command(argc, argv, &status))
+        return status;
     options o = {0};
     bool done = false;
-    int status = parse_args(argc, argv, &o, &done);
+    status = parse_args(argc, argv, &o, &done);
     if (status == APP_EXIT_OK && !done) {
         app_catch_interrupts();
-        status = run(&o);
+        status = app_wedge_requested(&o.wedge) || o.wedge.out ? run_wedge(&o) : run(&o);
     }
     app_overrides_free(&o.overrides);
+    app_wedge_options_free(&o.wedge);
     return status;
 }
