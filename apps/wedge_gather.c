@@ -179,12 +179,19 @@ static void put_csv(FILE* f, const char* text)
     fputc('"', f);
 }
 
-/* A varied value as written, a string without its JSON quotes. */
-static void put_value(FILE* f, const char* text)
+/* A varied value as written, a string without its JSON quotes, into out. */
+static void value_display(const char* text, char* out, size_t size)
 {
     json_t* parsed = text ? json_loads(text, JSON_DECODE_ANY, NULL) : NULL;
-    put_csv(f, json_is_string(parsed) ? json_string_value(parsed) : text ? text : "");
+    snprintf(out, size, "%s", json_is_string(parsed) ? json_string_value(parsed) : text ? text : "");
     json_decref(parsed);
+}
+
+static void put_value(FILE* f, const char* text)
+{
+    char shown[1024];
+    value_display(text, shown, sizeof shown);
+    put_csv(f, shown);
 }
 
 static const json_t* stat_value(const json_t* stats, const char* path)
@@ -375,13 +382,18 @@ static int write_sheet(const char* tool, const char* out, const json_t* keys, co
         json_array_foreach(keys, k, key) {
             const char* v = json_string_value(json_object_get(rows[i].values,
                                                               json_string_value(key)));
-            snprintf(line, sizeof line, "%s=%s", json_string_value(key), v ? v : "(scene's)");
+            char shown[256];
+            value_display(v, shown, sizeof shown);
+            snprintf(line, sizeof line, "%s=%s", json_string_value(key), v ? shown : "(scene's)");
             text(&s, x, ty, line, TILE_W, label);
             ty += LINE_H;
         }
         if (rows[i].diverged_frame >= 0)
             snprintf(line, sizeof line, "v%04u %s at frame %lld", i, rows[i].state,
                      (long long)rows[i].diverged_frame);
+        else if (!strcmp(rows[i].state, "timed-out") && rows[i].frames >= 0)
+            snprintf(line, sizeof line, "v%04u %s after %lld frames", i, rows[i].state,
+                     (long long)rows[i].frames);
         else
             snprintf(line, sizeof line, "v%04u %s", i, rows[i].state);
         text(&s, x, ty, line, TILE_W, strcmp(rows[i].state, "ok") ? bad : good);

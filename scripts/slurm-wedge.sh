@@ -127,7 +127,7 @@ scontrol -o show job $id | awk '{
     }
     if (task ~ /^[0-9]+\$/)
         printf "%s\t%s\tSlurm job ${id}_%s: %s, reason %s, exit code %s\n", task, state, task, state, reason, code
-}' > "\$out/states.tsv.tmp" && mv "\$out/states.tsv.tmp" "\$out/states.tsv"
+}' | sort -n > "\$out/states.tsv.tmp" && mv "\$out/states.tsv.tmp" "\$out/states.tsv"
 exec $(printf '%q' "$sim") --wedge-gather "\$out"
 EOF
 )

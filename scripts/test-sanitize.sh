@@ -12,6 +12,6 @@ meson compile -C build-sanitize >/dev/null
 meson test -C build-sanitize --print-errorlogs --suite unit --wrapper "$PWD/tests/sanitize.sh" "$@"
 # The tools' tests (bad input, divergence, images, experiments) against the sanitized tools.
 [ $# -gt 0 ] || meson test -C build-sanitize --print-errorlogs --wrapper "$PWD/tests/sanitize-tools.sh" \
-    cli render-cli bench sigint memory-cli
+    cli render-cli bench sigint memory-cli wedge-cli
 # The libFuzzer harnesses, 30 s each (scripts/fuzz.sh; clang).
 [ $# -gt 0 ] || bash scripts/fuzz.sh 30

@@ -139,8 +139,9 @@ def start_cluster(tmp, env, check):
     ]
     for cmd in commands:
         r = subprocess.run(cmd, env=env, capture_output=True, text=True)
-        if not check(r.returncode == 0, f"{os.path.basename(cmd[0])}: exit {r.returncode}: "
-                     f"{(r.stdout + r.stderr).strip()}"):
+        check(r.returncode == 0, f"{os.path.basename(cmd[0])}: exit {r.returncode}: "
+              f"{(r.stdout + r.stderr).strip()}")
+        if r.returncode != 0:
             return False
     return True
 
@@ -237,7 +238,8 @@ class Cluster:
 @contextlib.contextmanager
 def running(check, failed=lambda: False):
     """Yields a Cluster, or None when it did not start (check has been told why). `failed`
-    says whether the test failed, for the daemons' logs."""
+    says whether the test failed, for the daemons' logs. check(cond, message) records a failed
+    check; what it returns is not used."""
     tmp = tempfile.mkdtemp(prefix="clothvk-slurm-")
     env = slurm_env(tmp)
     try:
