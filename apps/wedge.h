@@ -76,6 +76,10 @@ int app_wedge_build(app_wedge* w, const char* tool, const char* scene, const app
                     const app_wedge_options* o);
 void app_wedge_free(app_wedge* w);
 
+/* The "key=value" items of one variant (an object key -> value text of the manifest), in its
+   key order: a new array of strings. */
+json_t* app_wedge_variant_items(const json_t* variant);
+
 /* What running one variant takes and gives back (filled by the tool's runner). */
 typedef struct app_wedge_run {
     const char* stats_path;   /* write the --json object here */
