@@ -605,7 +605,7 @@ static int report(const options* o, const cvk_scene_desc* scene, const cvk_conte
         return written;
     if (o->obj && !o->json)
         print_obj_summary(o, out, frames);
-    if (bake && !o->json)
+    if (bake && !o->json && !o->wedge_run) /* a wedge prints one line at its end */
         print_bake_summary(bake);
     if (st.diverged) {
         app_error(tool, "%s: diverged in frame %llu, cloth %u: %s; stopped there", o->scene,

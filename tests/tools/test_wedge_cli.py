@@ -10,8 +10,8 @@ Good input (wedge_cases.py's scene and wedges):
   --json` runs of the same variants in every column but the timing ones (values, status, frames,
   every statistic), each variant folder holds status.json, scene.json, stats.json, log.txt and
   last.png, and the contact sheet is 3 x 2 tiles (804 x 442 pixels);
-- --wedge-index 4 alone into a new folder: the manifest and v0004 only, its stats.json the same
-  as the --jobs run's but for the timings;
+- --wedge-index 4 --wedge-bake alone into a new folder: the manifest and v0004 only, with its
+  bake of frames 0 to 4, its stats.json the same as the --jobs run's but for the timings;
 - the failing wedge (--wedges FILE, --jobs 3, --wedge-time-limit 2): a row that ran, a row that
   diverged in frame 0 with its message, and a row that timed out with the frames it ran;
 - --wedge-gather on a folder whose variants did not end by themselves: a variant whose status
@@ -148,12 +148,16 @@ def good_input(tmp, scene, failing):
         check(False, f"--jobs 2: contact sheet: {e}")
 
     one = os.path.join(tmp, "one")
-    r = tooltest.run_tool(SIM, [scene] + wedge_cases.WEDGE + ["-o", one, "--wedge-index", "4"],
-                          tmp, timeout=120)
+    r = tooltest.run_tool(SIM, [scene] + wedge_cases.WEDGE + ["-o", one, "--wedge-index", "4",
+                                                               "--wedge-bake"], tmp, timeout=120)
     check(r.returncode == 0 and r.stdout == "" and r.stderr == "",
           f"--wedge-index 4: exit {r.returncode}: {r.stdout!r} {r.stderr!r}")
-    check(sorted(os.listdir(one)) == ["v0004", "wedge.json"], f"--wedge-index 4 wrote "
-          f"{sorted(os.listdir(one))}")
+    want_files = ["v0004", "v0004/bake", "v0004/bake/cache.json"] + \
+        [f"v0004/bake/frame_{f:04d}.snap" for f in range(5)] + \
+        [f"v0004/{name}" for name in ("log.txt", "scene.json", "stats.json", "status.json")] + \
+        ["wedge.json"]
+    check(tooltest.listing(one) == sorted(want_files),
+          f"--wedge-index 4 --wedge-bake wrote {tooltest.listing(one)}")
     stats = []
     for d in (one, out):
         with open(os.path.join(d, "v0004", "stats.json")) as f:
