@@ -101,7 +101,8 @@ def refused(argv, files, expected, tool=SIM, out=True):
                 f.write(text)
         before = tooltest.listing(workdir)
         args = argv + (["-o", "out"] if out else [])
-        p = tooltest.run_tool(tool, args, workdir, timeout=120)
+        env = dict(os.environ, CLOTHVK_SIM=SIM)  # for slurm-wedge.sh: the clothvk-sim under test
+        p = tooltest.run_tool(tool, args, workdir, env=env, timeout=120)
         problems = tooltest.refusal_problems(p, expected, before, tooltest.listing(workdir))
         check(not problems, f"{' '.join(args)}: " + "; ".join(problems))
 
