@@ -24,6 +24,8 @@ packages=(
     slurm-wlm munge                            # tests/tools/test_slurm.py starts a one-node Slurm
                                                # cluster (scripts/slurm-render.sh)
     clang                                      # scripts/fuzz.sh: libFuzzer harnesses
+    g++ libbullet-dev                          # peers/bullet: the Bullet soft-body harness
+                                               # (built only when both are found)
 )
 
 missing=()
