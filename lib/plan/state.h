@@ -37,6 +37,9 @@ struct cvk_sim {
     const char* notes[CVK_COLLISION_NOTES_MAX]; /* cvk_sim_note: static sentences, one per
                                                    scene key set that has no effect */
     uint32_t note_count;
+    uint32_t instance_count;      /* the scene's instances, for cvk_sim_describe_plan: how many, */
+    bool instances_listed;        /* whether their offsets were listed, */
+    float instance_offset1[3];    /* and copy 1's offset, m */
 
     struct cvk_collide* collide; /* colliders, self-contact, the frame state (collide.h) */
     struct cvk_attach* attach; /* keyframed attached particles (attach.h) */

@@ -89,6 +89,11 @@ cvk_cloth_desc cvk_attachment_pins_as_cloth(const cvk_cloth_desc* cloth,
    scene's device buffers hold (CVK_MAX_PARTICLES, and the device's own limits before that). */
 #define CVK_MAX_MESH_BYTES (UINT64_C(1) << 30)
 
+/* Most copies an "instances" block makes, and most cloths its copies hold together: a million
+   cloths are a million descriptions on the host before the device is asked (whose own limits,
+   checked at creation, come first for anything but the smallest cloths). */
+#define CVK_MAX_INSTANCES (1u << 20)
+
 /* Most particles one scene may hold, over all its cloths. */
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
 

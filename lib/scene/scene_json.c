@@ -607,5 +607,6 @@ static const cvk_field scene_fields[] = {
     {.key = "attachments", .read = cvk_read_attachments, .offset = 0},
     {.key = "wind", .read = cvk_read_wind, .offset = offsetof(cvk_scene_desc, wind), .nested = &cvk_wind_table},
     {.key = "air_density", .read = cvk_read_float, .offset = offsetof(cvk_scene_desc, air_density)},
+    {.key = "instances", .read = cvk_read_instances, .offset = 0},
 };
 const cvk_table cvk_scene_table = FIELDS(scene_fields);

@@ -85,6 +85,9 @@ static cvk_result convert(cvk_reader* rd, json_t* root, cvk_scene_desc* desc, bo
         r = set_default_name(rd, desc);
     if (r == CVK_SUCCESS)
         r = cvk_read_object(rd, &cvk_scene_table, root, "", desc);
+    json_t* instances = json_object_get(root, "instances");
+    if (r == CVK_SUCCESS && instances)
+        r = cvk_reader_expand_instances(rd, instances, desc);
     if (r != CVK_SUCCESS)
         return r;
     cvk_scene_issue issue;

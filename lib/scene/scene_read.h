@@ -121,6 +121,12 @@ cvk_result cvk_read_attachments(cvk_reader* rd, const cvk_field* f, json_t* valu
 /* dest is the wind: "wind" turns the air on and reads cvk_wind_table. */
 cvk_result cvk_read_wind(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
 extern const cvk_table cvk_wind_table;
+/* dest is the scene: "instances" (count, spacing, offsets) into desc->instances. */
+cvk_result cvk_read_instances(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest);
+/* The "instances" block (block, read into desc->instances) checked against the scene as
+   written and, for more than one copy, expanded: desc then lists every copy's cloths,
+   colliders and attachments (lib/scene/scene_instances.c). */
+cvk_result cvk_reader_expand_instances(cvk_reader* rd, json_t* block, cvk_scene_desc* desc);
 /* The top level of a scene file (lib/scene/scene_json.c). */
 extern const cvk_table cvk_scene_table;
 

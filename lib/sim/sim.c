@@ -330,6 +330,11 @@ static void init_fields(cvk_sim* s, cvk_context* context, const cvk_sim_desc* de
     s->timing_request = desc->timing;
     s->family = cvk_family_for(&scene->solver);
     s->note_count = cvk_collision_notes(&scene->collision, s->notes);
+    s->instance_count = scene->instances.count;
+    s->instances_listed = scene->instances.offsets != NULL;
+    for (int a = 0; a < 3 && scene->instances.count > 1; a++)
+        s->instance_offset1[a] = scene->instances.offsets ? scene->instances.offsets[1][a]
+                                                          : scene->instances.spacing[a];
 }
 
 cvk_sim_desc cvk_default_sim_desc(void)

@@ -62,6 +62,8 @@ cvk_result cvk_check_scene_limits(const cvk_context* context, const cvk_scene_de
         degree = d > degree ? d : degree;
     }
     const char* where = scene->cloth_count == 1 ? "cloths.0.grid" : "cloths";
+    if (scene->instances.count > 1)
+        where = "instances.count";
     return check_counts(context, scene, where, total, degree, error);
 }
 
@@ -72,6 +74,8 @@ cvk_result cvk_check_build_limits(void* limits, uint32_t particle_count, uint32_
     const char* where = "cloths";
     if (l->scene->cloth_count == 1)
         where = l->scene->cloths[0].mesh ? "cloths.0.mesh" : "cloths.0.grid";
+    if (l->scene->instances.count > 1)
+        where = "instances.count";
     return check_counts(l->context, l->scene, where, particle_count, max_degree, error);
 }
 

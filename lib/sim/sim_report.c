@@ -198,6 +198,26 @@ static void put_op(text* t, const cvk_plan* plan, const cvk_op* op)
     put(t, "\n");
 }
 
+/* The copies of an "instances" block: what each holds, and where. */
+static void put_instances(text* t, const cvk_sim* s)
+{
+    uint32_t n = s->instance_count;
+    if (n < 2)
+        return;
+    const cvk_build* b = &s->build;
+    uint32_t cloths = b->cloth_count / n, colliders = s->collide->collider_count / n;
+    const float* o = s->instance_offset1;
+    put(t, "instances: %u copies of %u cloth%s (%u particles) and %u collider%s, "
+        "stepped together in the dispatches below; copy k: cloths %u k.., particles %u k.. "
+        "(output order), ", n, cloths,
+        cloths == 1 ? "" : "s", b->particle_count / n, colliders, colliders == 1 ? "" : "s",
+        cloths, b->particle_count / n);
+    if (s->instances_listed)
+        put(t, "offsets listed (copy 1 at [%g, %g, %g] m)\n", o[0], o[1], o[2]);
+    else
+        put(t, "offset k x [%g, %g, %g] m\n", o[0], o[1], o[2]);
+}
+
 static void put_header(text* t, const cvk_sim* s)
 {
     const cvk_build* b = &s->build;
@@ -233,6 +253,7 @@ static void put_header(text* t, const cvk_sim* s)
                 c->colliders[i].motion.keyframe_count ? " (moving)" : "");
         put(t, "\n");
     }
+    put_instances(t, s);
 }
 
 size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)

@@ -369,6 +369,24 @@ typedef struct cvk_wind_desc {
 } cvk_wind_desc;
 
 /* ----------------------------------------------------------------------------------------
+ * Instances: the "instances" block of a scene file
+ * ------------------------------------------------------------------------------------- */
+
+/* Copies of the whole scene side by side: its cloths, colliders and attachments repeated count
+   times, copy k translated by offsets[k] (k · spacing without offsets), each copy's colliders
+   and attachments acting on its own cloths only, so that thousands of small cloths step in the
+   same passes (the same dispatches per frame) as one. cvk_scene_load expands the block when it
+   reads the file: the description then holds all the copies in order, copy k's cloths at
+   k · n … k · n + n − 1 for n = cloth_count / count (colliders and attachments alike), and
+   this field records how they were made. A description built in code lists its cloths itself
+   and leaves count at 0. */
+typedef struct cvk_instances_desc {
+    uint32_t count;              /* copies; 0 or 1 = the scene as written (the default) */
+    float spacing[3];            /* m from copy k to copy k + 1 when offsets is NULL */
+    const float (*offsets)[3];   /* m, copy k's translation, count of them; NULL: k · spacing */
+} cvk_instances_desc;
+
+/* ----------------------------------------------------------------------------------------
  * The scene: everything above in one description
  * ------------------------------------------------------------------------------------- */
 
@@ -394,6 +412,7 @@ typedef struct cvk_scene_desc {
     uint32_t attachment_count;   /* 0: none (no attachment pass is recorded) */
     cvk_wind_desc wind;          /* air: wind, gusts and drag; usually off */
     float air_density;           /* kg/m³, > 0; usually 1.2 */
+    cvk_instances_desc instances; /* how a file's "instances" block expanded; count 0: none */
     uint32_t cookie_;            /* set by cvk_default_scene_desc; do not touch */
 } cvk_scene_desc;
 

@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""The "instances" block through clothvk-sim: bad blocks refused, the plan, the copies' places.
+
+    python3 tests/tools/test_instances.py PATH/TO/clothvk-sim
+
+Each bad block (a count of 0, negative, not whole, past the format's bound or the device's
+limits; offsets that disagree with the count; copies that would reach past 1e5 m; copies with
+self-contact, too many colliders in all, or rotating attachments) is refused: exit status 2, the
+one stderr line naming the scene file and the key path with the problem (compared whole, the
+device's limit by its pattern), nothing on stdout and nothing written. --plan prints the copies'
+layout and the same dispatches per frame for 1 and 64 copies; --frames 0 --dump puts copy k
+where copy 0 is plus its offset.
+"""
+import json
+import os
+import re
+import sys
+import tempfile
+
+import tooltest
+
+(SIM,) = tooltest.tool_paths("clothvk-sim")
+
+SCENE = {"name": "rows", "dt": 0.002, "substeps": 2, "frames": 2,
+         "solver": {"outer_iterations": 1, "inner_iterations": 2},
+         "cloths": [{"grid": [8, 6], "size": [0.4, 0.3], "origin": [-0.2, 1.0, 0.0],
+                     "pins": [[0, 0], [7, 0]], "stiffness": {"structural": 1e4}}],
+         "colliders": [{"type": "sphere", "center": [0, 0.7, 0.1], "radius": 0.1}],
+         "instances": {"count": 3, "spacing": [1.0, 0, 0]}}
+
+ATTACH = ('attachments=[{"cloth": 0, "pins": [[0, 0]], "keyframes": ['
+          '{"time": 0, "rotation": [1, 0, 0, 0]}, {"time": 1, "rotation": [0, 1, 0, 0]}]}]')
+
+# (--set items, key path in the message, problem)
+REFUSED = [
+    (["instances.count=0"], "instances.count", "must be at least 1, got 0"),
+    (["instances.count=-2"], "instances.count", "must be at least 1, got -2"),
+    (["instances.count=2.5"], "instances.count", "expected a whole number, got 2.5"),
+    (["instances.count=1048577"], "instances.count", "must be at most 1048576, got 1048577"),
+    (["instances={}"], "instances.count", "required: how many copies of the scene"),
+    (["instances=4"], "instances", "expected an object (count, spacing or offsets), got the number 4"),
+    (["instances.offsets=[[0, 0, 0], [1, 0, 0]]"], "instances.offsets",
+     "has 2 offsets for 3 copies (instances.count); give one per copy"),
+    (["instances.offsets=[[0, 0, 0], [1, 0]]"], "instances.offsets.1",
+     "expected an array of 3 numbers, got an array of 2"),
+    (["instances.offsets=[]"], "instances.offsets",
+     "expected a non-empty array of [x, y, z] offsets, got an array of 0"),
+    (["instances.spacing=[60000, 0, 0]"], "instances.spacing",
+     "3 copies 60000 m apart reach 120000 m, more than 100000 m from the origin"),
+    (["instances.count=65"], "instances.count",
+     "65 copies of 1 collider make 65, more than the 64 a scene holds"),
+    (["collision.self=true"], "collision.self",
+     "must be false in a scene of 3 copies (instances.count): copies never touch one another"),
+    ([ATTACH], "attachments.0.keyframes.1.rotation",
+     "turns the attached particles about the world origin, which would move each of the 3 "
+     "copies (instances.count) differently; copies take attachments that only translate"),
+]
+
+# Past what the device holds (lavapipe: 8388608 particles): 65536 copies of 256 particles.
+DEVICE = (["instances.count=65536", "cloths.0.grid=[16, 16]", "instances.spacing=[0, 0, 0]",
+           "colliders=[]"], r"instances\.count: 16777216 particles .*")
+
+
+def refused(scene, sets, path, problem):
+    argv = [scene, "--frames", "0", "--dump", "out.csv"] + sum((["--set", s] for s in sets), [])
+    line = tooltest.tool_line("clothvk-sim", f"{scene}: {path} (from --set): {problem}")
+    return tooltest.refused_run(SIM, argv, line)
+
+
+def refused_by_device(scene):
+    sets, pattern = DEVICE
+    argv = [scene, "--frames", "0", "--dump", "out.csv"] + sum((["--set", s] for s in sets), [])
+    expected = tooltest.tool_line("clothvk-sim", f"{scene}: ") + pattern
+    with tempfile.TemporaryDirectory(prefix="clothvk-instances-") as workdir:
+        before = tooltest.listing(workdir)
+        p = tooltest.run_tool(SIM, argv, workdir, timeout=120)
+        return tooltest.refusal_problems(
+            p, expected, before, tooltest.listing(workdir),
+            stderr_ok=lambda lines: len(lines) == 1 and re.fullmatch(re.escape(
+                tooltest.tool_line("clothvk-sim", f"{scene}: ")) + pattern, lines[0]) is not None)
+
+
+def plan(scene, sets):
+    argv = [scene, "--plan", "--frames", "0"] + sum((["--set", s] for s in sets), [])
+    p = tooltest.run_tool(SIM, argv, timeout=120)
+    return p, p.stdout.splitlines()
+
+
+def dispatches(lines):
+    for line in lines:
+        found = re.match(r"per frame: .* = ([0-9]+) dispatches", line)
+        if found:
+            return int(found.group(1))
+    return None
+
+
+def plan_problems(scene):
+    problems = []
+    one, one_lines = plan(scene, ["instances.count=1"])
+    many, many_lines = plan(scene, ["instances.count=64"])
+    for p in (one, many):
+        if p.returncode != 0 or p.stderr:
+            problems.append(f"--plan: exit {p.returncode}, stderr {p.stderr.strip()!r}")
+    layout = ("instances: 64 copies of 1 cloth (48 particles) and 1 collider, stepped together "
+              "in the dispatches below; copy k: cloths 1 k.., particles 48 k.. (output order), "
+              "offset k x [1, 0, 0] m")
+    if layout not in many_lines:
+        problems.append(f"64 copies: expected the line {layout!r} in --plan, got:\n    "
+                        + "\n    ".join(many_lines[:8]))
+    if any(line.startswith("instances:") for line in one_lines):
+        problems.append("1 copy: --plan printed an instances line")
+    if dispatches(one_lines) is None or dispatches(one_lines) != dispatches(many_lines):
+        problems.append(f"dispatches per frame: {dispatches(one_lines)} for 1 copy, "
+                        f"{dispatches(many_lines)} for 64")
+    return problems
+
+
+def places(scene, sets, offsets):
+    """Copy k's start = copy 0's + offsets[k], within float rounding of the grid's positions."""
+    with tempfile.TemporaryDirectory(prefix="clothvk-instances-") as workdir:
+        argv = [scene, "--frames", "0", "--dump", "out.csv"] + sum((["--set", s] for s in sets), [])
+        p = tooltest.run_tool(SIM, argv, workdir, timeout=120)
+        problems = tooltest.accepted_problems(p, 0, workdir)
+        if problems:
+            return problems
+        rows = tooltest.read_csv(os.path.join(workdir, "out.csv"))
+    n = 48
+    if len(rows) != n * len(offsets):
+        return [f"expected {n * len(offsets)} particles, got {len(rows)}"]
+    for k, o in enumerate(offsets):
+        moved = [[x + d for x, d in zip(p, o)] for p in rows[:n]]
+        diff = tooltest.worst(rows[k * n:(k + 1) * n], moved)
+        if diff > 1e-6:
+            problems.append(f"copy {k} is {diff:g} m from copy 0 moved by {o}")
+    return problems
+
+
+def main():
+    cases = tooltest.Cases("instances")
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = os.path.join(tmp, "rows.json")
+        with open(scene, "w") as f:
+            json.dump(SCENE, f, indent=2)
+        for sets, path, problem in REFUSED:
+            cases.add(f"{' '.join(sets)} refused", refused(scene, sets, path, problem))
+        cases.add("past the device's limits refused", refused_by_device(scene))
+        cases.add("--plan: the layout, the same dispatches for 1 and 64 copies", plan_problems(scene))
+        cases.add("spacing: copy k at k x spacing",
+                  places(scene, [], [[0, 0, 0], [1, 0, 0], [2, 0, 0]]))
+        cases.add("offsets: copy k at its offset",
+                  places(scene, ["instances={\"offsets\": [[0, 0, 0], [0, 0, 3], [-2, 1, 0.5]]}"],
+                         [[0, 0, 0], [0, 0, 3], [-2, 1, 0.5]]))
+    return cases.finish()
+
+
+sys.exit(main())
