@@ -125,6 +125,10 @@ typedef struct bench_options {
     uint32_t frames;            /* frames per run; 0: each scene's own */
     uint32_t variants;          /* variants per scene at most; 0: all */
     bool require_clean;         /* exit 1 unless every run was free of intersecting pairs */
+
+    /* batch (frames: timed frames per count; 0: 10) */
+    uint32_t counts[BENCH_MAX_LIST]; /* copies of the scene (instances.count), sorted */
+    uint32_t count_count;       /* 0: 1, 2, 4, ..., 8192 */
 } bench_options;
 
 /* What an experiment works with. */
@@ -278,6 +282,15 @@ int bench_contact_ensemble(bench* b);
 /* Its scenes load (with --set), and not both SCENE and --scenes: else one line and
    APP_EXIT_BAD_INPUT (APP_EXIT_FAILURE when out of memory). */
 int bench_contact_ensemble_check(const bench_options* o);
+/* batch (batch.c): N copies of a scene for each N of --counts; its check loads the scene with
+   the largest count (one line and APP_EXIT_BAD_INPUT when that fails). The built-in scene's
+   text, for the tests. */
+int bench_batch(bench* b);
+int bench_batch_check(const bench_options* o);
+/* The largest count fits the device: else one line and APP_EXIT_BAD_INPUT, before anything
+   is printed, measured or written. */
+int bench_batch_fits(bench* b);
+const char* bench_batch_builtin(void);
 
 /* Stability of one configuration, for the experiment and the tests: steps the simulation
    `steps` substeps (checking every few) and classifies it. */

@@ -24,7 +24,8 @@ enum {
     CONTACT_STEPS = 1 << 6,
     EXPLICIT = 1 << 7,
     ENSEMBLE = 1 << 8,
-    ALL = 0x1ff,
+    BATCH = 1 << 9,
+    ALL = 0x3ff,
 };
 
 typedef struct experiment {
@@ -47,6 +48,7 @@ static const experiment experiments[] = {
     {"explicit-stability", EXPLICIT, true, bench_explicit_stability, 1000, 550, NULL},
     {"contact-ensemble", ENSEMBLE, false, bench_contact_ensemble, 1400, 600,
      bench_contact_ensemble_check},
+    {"batch", BATCH, false, bench_batch, 1200, 500, bench_batch_check},
 };
 
 /* ---- value parsing: each prints the one line and returns false -------------------------- */
@@ -236,7 +238,8 @@ static const option_spec option_specs[] = {
     {"--grids", SCALING, true},
     {"--points", COLLIDE, true},
     {"--scenes", ENSEMBLE, true},
-    {"--frames", ENSEMBLE, true},
+    {"--frames", ENSEMBLE | BATCH, true},
+    {"--counts", BATCH, true},
     {"--variants", ENSEMBLE, true},
     {"--require-clean", ENSEMBLE, false},
 };
@@ -348,6 +351,8 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         return parse_u32(name, v, 1, 10000000, &o->min_steps);
     if (!strcmp(name, "--grids"))
         return parse_u32_list(name, v, 2, 65535, o->grids, &o->grid_count);
+    if (!strcmp(name, "--counts"))
+        return parse_u32_list(name, v, 1, 1u << 20, o->counts, &o->count_count);
     if (!strcmp(name, "--points"))
         return parse_u32_list(name, v, 1, 16777216, o->points, &o->point_count);
     if (!strcmp(name, "--no-plot")) {
@@ -420,6 +425,8 @@ static void set_defaults(bench_options* o, const experiment* e)
     }
     if (o->damping_count == 0)
         o->damping_count = 1; /* damping[0] = 0 */
+    if (e->bit == BATCH && o->frames == 0)
+        o->frames = 10;
     /* x* of one substep to far below float rounding; a reference trajectory to far below the
        errors it measures, for a fraction of the time */
     if (o->reference_tolerance == 0.0)
@@ -500,8 +507,8 @@ static int choose_experiment(const gathered* g, parsed* p)
     p->e = find_experiment(g->positional[0]);
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
-                  "stability, scaling, collide, contact-steps, explicit-stability or "
-                  "contact-ensemble)",
+                  "stability, scaling, collide, contact-steps, explicit-stability, "
+                  "contact-ensemble or batch)",
                   g->positional[0]);
         return APP_EXIT_BAD_INPUT;
     }
@@ -720,7 +727,7 @@ static int run(const parsed* p)
                                : APP_EXIT_OK;
     if (status != APP_EXIT_OK)
         return status;
-    if (!o->scene_path && o->overrides.count && p->e->bit != ENSEMBLE) {
+    if (!o->scene_path && o->overrides.count && p->e->bit != ENSEMBLE && p->e->bit != BATCH) {
         app_error(tool, "--set needs a scene file (scaling's built-in scene has none)");
         return APP_EXIT_BAD_INPUT;
     }
@@ -731,13 +738,17 @@ static int run(const parsed* p)
     }
     bench b = {.o = o, .scene = file ? cvk_scene_get_desc(file) : NULL,
                .scene_name = o->scene_path ? base_name(o->scene_path)
-                             : p->e->bit == ENSEMBLE ? "(scenes below)" : "built-in"};
+                             : p->e->bit == ENSEMBLE ? "(scenes below)"
+                             : p->e->bit == BATCH    ? "built-in napkin"
+                                                     : "built-in"};
     status = app_create_context(tool, &b.ctx);
     if (status != APP_EXIT_OK) {
         cvk_scene_destroy(file);
         return status;
     }
-    status = b.scene ? check_scene_fits(&b) : APP_EXIT_OK;
+    status = p->e->bit == BATCH ? bench_batch_fits(&b)
+             : b.scene          ? check_scene_fits(&b)
+                                : APP_EXIT_OK;
     if (status != APP_EXIT_OK) {
         cvk_context_destroy(b.ctx);
         cvk_scene_destroy(file);

@@ -22,6 +22,8 @@ static void usage_first(FILE* out)
         "                      integrators, measured and predicted from the stiffest mode\n"
         "  contact-ensemble [SCENE]  intersecting cloth triangle pairs after every frame of\n"
         "                      each scene with self-contact x 9 variants of its settings\n"
+        "  batch [SCENE]       N copies of the scene (instances.count; default a 16 x 16\n"
+        "                      napkin): ms per frame, steps and particle steps per second\n"
         "options (all experiments):\n"
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
@@ -90,5 +92,8 @@ void bench_usage(FILE* out)
         "  --frames N          frames per run (default: each scene's own frame count)\n"
         "  --variants N        the first N variants of each scene (default: all 9)\n"
         "  --require-clean     exit 1 when any run had an intersecting pair or stopped early\n"
+        "batch (--set applies to every count; --warmup frames before the timed ones):\n"
+        "  --counts LIST       copies N (default 1,2,4,...,8192)\n"
+        "  --frames F          timed frames per count (default 10)\n"
         "environment: CLOTHVK_DEVICE, CLOTHVK_VALIDATION=1, CLOTHVK_GNUPLOT, LP_NUM_THREADS (lavapipe)\n");
 }

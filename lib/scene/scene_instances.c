@@ -42,8 +42,6 @@ static bool check_block(const cvk_scene_desc* d, bool has_count, uint32_t offset
                         cvk_scene_issue* issue)
 {
     const cvk_instances_desc* in = &d->instances;
-    if (!has_count && !in->offsets)
-        return cvk_issue_at(issue, "instances.count", "required: how many copies of the scene");
     if (has_count && in->offsets && in->count != offset_count)
         return cvk_issue_at(issue, "instances.offsets", "has %" PRIu32 " offsets for %" PRIu32
                             " copies (instances.count); give one per copy", offset_count,
@@ -189,8 +187,8 @@ cvk_result cvk_reader_expand_instances(cvk_reader* rd, json_t* block, cvk_scene_
     json_t* offsets = json_object_get(block, "offsets");
     uint32_t offset_count = (uint32_t)json_array_size(offsets);
     bool has_count = json_object_get(block, "count") != NULL;
-    if (!has_count)
-        desc->instances.count = offset_count;
+    if (!has_count) /* one copy per offset, or the scene as written */
+        desc->instances.count = desc->instances.offsets ? offset_count : 1;
     cvk_scene_issue issue;
     if (!check_block(desc, has_count, offset_count, &issue))
         return cvk_reader_fail_problem(rd, issue.path, issue.problem);

@@ -67,6 +67,9 @@ COLUMNS = {
                          "frames_with_pairs", "max_pairs", "end_pairs", "first_pair_frame",
                          "end_max_stretch", "diverged_frame", "step_ms", "count_ms", "error",
                          "device"],
+    "batch": ["count", "cloths", "particles", "substeps", "dispatches_per_frame", "frames",
+              "wall_ms", "wall_ms_min", "wall_ms_max", "frame_ms", "ms_per_copy",
+              "copy_steps_per_s", "particle_steps_per_s", "device"],
 }
 TEXT = {"label", "method", "solver", "kind", "case", "reason", "device", "measure", "integrator",
         "damping_model", "seed", "scene", "variant", "settings", "error"}
@@ -317,6 +320,27 @@ ENSEMBLE_VARIANTS = ["scene", "omega-low", "omega-high", "damping+0.01", "dampin
                      "friction-0", "friction-0.6", "dt-x2", "dt-x4"]
 
 
+def batch_rows(counts, per_copy):
+    """One row per count with count x per_copy particles, the same dispatches per frame for
+    every count, and throughputs that agree with the wall time."""
+    def check(rows):
+        got = [(int(r["count"]), int(r["particles"])) for r in rows]
+        want = [(n, n * per_copy) for n in counts]
+        if got != want:
+            return [f"batch.csv (count, particles): {got}, expected {want}"]
+        problems = []
+        if len({r["dispatches_per_frame"] for r in rows}) != 1:
+            problems.append("batch.csv: dispatches_per_frame differ: "
+                            f"{[r['dispatches_per_frame'] for r in rows]}")
+        for r in rows:
+            steps = int(r["count"]) * int(r["substeps"]) * 1000.0 / float(r["wall_ms"])
+            if abs(float(r["copy_steps_per_s"]) - steps) > 1e-4 * steps:
+                problems.append(f"batch.csv: copy_steps_per_s {r['copy_steps_per_s']} for "
+                                f"{r['count']} copies at {r['wall_ms']} ms, expected {steps:.6g}")
+        return problems
+    return check
+
+
 def ensemble_rows(scenes, variants, frames):
     """One row per scene x variant, in order, each run through all its frames without an error.
     The pairs are not checked: they are what the experiment measures."""
@@ -404,6 +428,15 @@ GOOD = [
               "--set", "cloths.0.mass=1", "--set", "cloths.0.pins=[[0,0],[1,0],[2,0],[3,0],[4,0],[5,0]]",
               "--time", "0.3", "--limit-ratio", "1.1"],
      "experiment": "explicit-stability", "check": explicit_limits},
+    {"name": "batch, built-in napkin",
+     "argv": ["batch", "--counts", "3,1", "--frames", "1", "--warmup", "0"],
+     "experiment": "batch", "check": batch_rows([1, 3], 256)},
+    {"name": "batch, a scene with a collider",
+     "argv": ["batch", HANGING, "--set", "cloths.0.grid=[6,6]", "--set", "cloths.0.pins=[[0,0],[5,0]]",
+              "--set",
+              'colliders=[{"type": "sphere", "center": [0, 0.5, 0], "radius": 0.2}]',
+              "--set", "instances.spacing=[2, 0, 0]", "--counts", "1,2", "--frames", "1"],
+     "experiment": "batch", "check": batch_rows([1, 2], 36)},
     {"name": "contact-ensemble, every variant",
      "argv": ["contact-ensemble", asset("drape.json")] + TINY_CONTACT + ["--frames", "3"],
      "experiment": "contact-ensemble", "check": ensemble_rows(["drape.json"], 9, 3)},
@@ -421,7 +454,8 @@ BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
     {"name": "unknown experiment", "argv": ["speed", HANGING],
      "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
-               'stability, scaling, collide, contact-steps, explicit-stability or contact-ensemble)'},
+               'stability, scaling, collide, contact-steps, explicit-stability, contact-ensemble '
+               'or batch)'},
     {"name": "missing scene", "argv": ["convergence"],
      "stderr": "clothvk-bench: convergence needs a scene file"},
     {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],
@@ -498,6 +532,17 @@ BAD = [
     {"name": "contact-ensemble, SCENE and --scenes",
      "argv": ["contact-ensemble", HANGING, "--scenes", HANGING],
      "stderr": "clothvk-bench: contact-ensemble: a SCENE or --scenes, not both"},
+    {"name": "batch, a count of 0", "argv": ["batch", "--counts", "0,4"],
+     "stderr": "clothvk-bench: --counts: expected a comma-separated list of whole numbers from 1 "
+               "to 1048576, got 0,4"},
+    {"name": "batch, past the device",
+     "argv": ["batch", "--counts", "1,65536", "--set", "cloths.0.grid=[16,16]"],
+     "stderr_start": "clothvk-bench: built-in napkin: instances.count: 16777216 particles are "
+                     "too many for "},
+    {"name": "batch, offsets against the counts",
+     "argv": ["batch", "--counts", "2", "--set", "instances.offsets=[[0, 0, 0]]"],
+     "stderr": "clothvk-bench: built-in napkin: instances.offsets (from --set): has 1 offsets "
+               "for 2 copies (instances.count); give one per copy"},
     {"name": "-o without a value", "argv": ["scaling", "-o"], "stderr": "clothvk-bench: -o: expected a value"},
 ]
 

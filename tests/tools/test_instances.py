@@ -37,7 +37,6 @@ REFUSED = [
     (["instances.count=-2"], "instances.count", "must be at least 1, got -2"),
     (["instances.count=2.5"], "instances.count", "expected a whole number, got 2.5"),
     (["instances.count=1048577"], "instances.count", "must be at most 1048576, got 1048577"),
-    (["instances={}"], "instances.count", "required: how many copies of the scene"),
     (["instances=4"], "instances", "expected an object (count, spacing or offsets), got the number 4"),
     (["instances.offsets=[[0, 0, 0], [1, 0, 0]]"], "instances.offsets",
      "has 2 offsets for 3 copies (instances.count); give one per copy"),
