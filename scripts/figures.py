@@ -372,6 +372,19 @@ def scaling_ns_view(folder):
     return markdown(["particles"] + [f"{label_name(l)} {i}" for l, i in keys], out)
 
 
+def batch_view(folder):
+    """A clothvk-bench batch run: per count of copies, the particles and dispatches per frame,
+    the wall time per frame and per copy, and the cloth and particle steps per second."""
+    out = []
+    for r in sorted(read_dicts(folder, "batch"), key=lambda r: num(r["count"])):
+        out.append([f"{int(num(r['count'])):,}", f"{int(num(r['particles'])):,}",
+                    r["dispatches_per_frame"], ms_or_s(num(r["wall_ms"])),
+                    ms_or_s(num(r["ms_per_copy"])), sig(num(r["copy_steps_per_s"])),
+                    sig(num(r["particle_steps_per_s"]))])
+    return markdown(["copies", "particles", "dispatches per frame", "wall time per frame",
+                     "per copy", "cloth steps per s", "particle steps per s"], out)
+
+
 def implicit_scaling_view(solver):
     rows = [r for r in read_dicts("implicit-scaling", "scaling") if r["label"] == solver]
     seed = {(r["particles"], r["iterations"]): r for r in read_dicts("implicit-scaling", "seed000")
@@ -440,6 +453,8 @@ VIEWS = {
     "implicit-scaling:cg": lambda: implicit_scaling_view("cg"),
     "implicit-scaling:implicit-jacobi": lambda: implicit_scaling_view("implicit-jacobi"),
     "soak:summary": lambda: soak_view("soak"),
+    "batch:napkins": lambda: batch_view("batch"),
+    "batch-threads:napkins": lambda: batch_view("batch-threads"),
 }
 
 

@@ -259,9 +259,11 @@ static bool parse_u32(const char* option, const char* text, uint32_t low, uint32
     return app_option_u32(tool, option, text, low, high, out);
 }
 
-/* contact-ensemble's options; false after printing why. */
+/* contact-ensemble's and batch's options; false after printing why. */
 static bool apply_ensemble_option(bench_options* o, const char* name, const char* v)
 {
+    if (!strcmp(name, "--counts"))
+        return parse_u32_list(name, v, 1, 1u << 20, o->counts, &o->count_count);
     if (!strcmp(name, "--scenes")) {
         if (!v || !*v || strstr(v, ",,") || v[0] == ',' || v[strlen(v) - 1] == ',')
             return bad_value(name, "a comma-separated list of scene files", v);
@@ -351,8 +353,6 @@ static bool apply_option(bench_options* o, const char* name, const char* v)
         return parse_u32(name, v, 1, 10000000, &o->min_steps);
     if (!strcmp(name, "--grids"))
         return parse_u32_list(name, v, 2, 65535, o->grids, &o->grid_count);
-    if (!strcmp(name, "--counts"))
-        return parse_u32_list(name, v, 1, 1u << 20, o->counts, &o->count_count);
     if (!strcmp(name, "--points"))
         return parse_u32_list(name, v, 1, 16777216, o->points, &o->point_count);
     if (!strcmp(name, "--no-plot")) {

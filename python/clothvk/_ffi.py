@@ -287,6 +287,12 @@ typedef struct cvk_wind_desc {
     cvk_gusts_desc gusts;
 } cvk_wind_desc;
 
+typedef struct cvk_instances_desc {
+    uint32_t count;
+    float spacing[3];
+    const float (*offsets)[3];
+} cvk_instances_desc;
+
 typedef struct cvk_scene_desc {
     const char* name;
     float dt;
@@ -306,6 +312,7 @@ typedef struct cvk_scene_desc {
     uint32_t attachment_count;
     cvk_wind_desc wind;
     float air_density;
+    cvk_instances_desc instances;
     uint32_t cookie_;
 } cvk_scene_desc;
 
@@ -464,7 +471,8 @@ STRUCTS = (
     "cvk_transform", "cvk_box3", "cvk_aero_desc", "cvk_tearing_desc", "cvk_cloth_desc",
     "cvk_keyframe", "cvk_motion", "cvk_attachment_desc", "cvk_collision_desc",
     "cvk_collider_desc", "cvk_light", "cvk_camera_keyframe", "cvk_render_desc",
-    "cvk_gusts_desc", "cvk_wind_desc", "cvk_scene_desc", "cvk_sim_desc", "cvk_cloth_info",
+    "cvk_gusts_desc", "cvk_wind_desc", "cvk_instances_desc", "cvk_scene_desc", "cvk_sim_desc",
+    "cvk_cloth_info",
     "cvk_pass_stats", "cvk_sim_stats", "cvk_image", "cvk_particle", "cvk_pick_result",
 )
 

@@ -689,7 +689,7 @@ static void test_unknown_keys(void)
 {
     EXPECT_INVALID("{'iterationz': 3, 'cloths': [{}]}",
                    "t.json: iterationz: unknown key (expected one of: name, dt, substeps, frames, integrate, "
-                   "gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)");
+                   "gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density, instances)");
     EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
                    "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)");

@@ -260,7 +260,7 @@ CASES = [
      "stderr": "clothvk-sim: " + scene("malformed.json") + ":4:10: malformed JSON: '}' expected near '\"cloths\"'"},
     {"name": "unknown top-level key", "argv": [scene("unknown-key.json")], "status": 2,
      "stderr": error(scene("unknown-key.json"), "gravityy: unknown key (expected one of: name, dt, substeps, "
-                     "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density)")},
+                     "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density, instances)")},
     {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
      "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
                      "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},

@@ -109,6 +109,10 @@ BOUNDS = [
      [("render.shadow_map_size=15", "render.shadow_map_size", "must be from 16 to 16384, got 15"),
       ("render.shadow_map_size=16385", "render.shadow_map_size", "must be from 16 to 16384, got 16385")],
      []),
+    ("instances.count", "1 to 1048576", ["instances.count=1", "instances.count=2"],
+     [("instances.count=0", "instances.count", "must be at least 1, got 0"),
+      ("instances.count=1048577", "instances.count", "must be at most 1048576, got 1048577")],
+     []),
     ("render.fov_y", "in (0, 180)", ["render.fov_y=179.99998"],
      [("render.fov_y=180", "render.fov_y", "must be greater than 0 and less than 180, got 180")], []),
 ]
