@@ -90,7 +90,6 @@ static bool check_block(const cvk_scene_desc* d, bool has_count, uint32_t offset
         for (uint32_t k = 0; k < m->keyframe_count; k++) {
             const float* q = m->keyframes[k].rotation;
             if (q[1] != 0.0f || q[2] != 0.0f || q[3] != 0.0f) {
-                char path[CVK_KEY_PATH_MAX];
                 cvk_key_path(path, "attachments.%" PRIu32 ".keyframes.%" PRIu32 ".rotation", a, k);
                 return cvk_issue_at(issue, path, "turns the attached particles about the world "
                                     "origin, which would move each of the %" PRIu32 " copies "
