@@ -18,6 +18,7 @@ if [ ! -x "$bullet" ]; then
     # meson builds it when it finds bullet and a C++ compiler; otherwise build it here.
     pkg-config --exists bullet || { echo "run.sh: Bullet not found (apt-get install libbullet-dev)" >&2; exit 2; }
     bullet=$(mktemp -d)/bullet-hanging
+    # shellcheck disable=SC2046 # pkg-config's flags are separate words
     c++ -O2 -std=c++17 -o "$bullet" peers/bullet/hanging.cpp $(pkg-config --cflags --libs bullet)
 fi
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -n1)
