@@ -42,7 +42,7 @@ CHECKS = tooltest.Checks()
 check = CHECKS.check
 
 SCENE_KEYS = ("name, dt, substeps, frames, integrate, gravity, damping, solver, cloths, render, "
-              "collision, colliders, attachments, wind, air_density")
+              "collision, colliders, attachments, wind, air_density, instances")
 
 # (arguments after the scene, files to write first {name: text}, the one stderr line)
 BAD = [
