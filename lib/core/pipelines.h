@@ -60,6 +60,7 @@ typedef struct cvk_spec_recipe {
     X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
+    X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD, "gauss-seidel, fused sweeps, one workgroup") \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "gauss-seidel + local step + residual") \

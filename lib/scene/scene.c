@@ -244,6 +244,8 @@ static bool check_explicit(const cvk_solver_desc* s, cvk_scene_issue* issue)
     if (!cvk_damping_model_name(s->damping_model))
         return cvk_issue_at(issue, "solver.damping_model", "unknown damping model %d",
                         (int)s->damping_model);
+    if (!cvk_fuse_name(s->fuse))
+        return cvk_issue_at(issue, "solver.fuse", "unknown fuse mode %d", (int)s->fuse);
     if (!explicit_method && s->integrator != CVK_INTEGRATOR_NONE)
         return cvk_issue_at(issue, "solver.integrator", "is a key of the explicit method; remove it "
                         "or set \"method\": \"explicit\" (method is %s)",

@@ -32,6 +32,22 @@ static cvk_result read_method(cvk_reader* rd, const cvk_field* f, json_t* value,
     return r;
 }
 
+static const char* fuse_name(int v)
+{
+    return v >= 0 ? cvk_fuse_name((cvk_fuse)v) : NULL;
+}
+
+static cvk_result read_fuse(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
+                            void* dest)
+{
+    (void)f;
+    int v = 0;
+    cvk_result r = cvk_read_enum(rd, value, path, "fuse mode", fuse_name, &v);
+    if (r == CVK_SUCCESS)
+        *(cvk_fuse*)dest = (cvk_fuse)v;
+    return r;
+}
+
 static cvk_result read_linear(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
 {
     (void)f;
@@ -494,6 +510,7 @@ static const cvk_field solver_fields[] = {
      .offset = offsetof(cvk_solver_desc, damping_model)},
     {.key = "tether_every", .read = cvk_read_uint, .offset = offsetof(cvk_solver_desc, tether_every)},
     {.key = "strain_limit", .read = cvk_read_float, .offset = offsetof(cvk_solver_desc, strain_limit)},
+    {.key = "fuse", .read = read_fuse, .offset = offsetof(cvk_solver_desc, fuse)},
 };
 static const cvk_table solver_table = FIELDS(solver_fields);
 

@@ -52,6 +52,16 @@ const char* cvk_integrator_name(cvk_integrator integrator)
     return NULL;
 }
 
+const char* cvk_fuse_name(cvk_fuse fuse)
+{
+    switch (fuse) {
+    case CVK_FUSE_AUTO: return "auto";
+    case CVK_FUSE_ON: return "on";
+    case CVK_FUSE_OFF: return "off";
+    }
+    return NULL;
+}
+
 const char* cvk_damping_model_name(cvk_damping_model model)
 {
     switch (model) {

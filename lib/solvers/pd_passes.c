@@ -151,6 +151,7 @@ typedef struct pd_builder {
     bool checking, armed;
     uint32_t check_pass;
     cvk_pd_converge_push check;
+    bool fused;                        /* rbgs: one fused dispatch per outer iteration (pd_fused.c) */
 } pd_builder;
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {
@@ -364,6 +365,18 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
     add_predict(pb, b, outer % 2);
     for (uint32_t o = 0; o < outer; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
+        if (pb->fused) {
+            cvk_pd_fused_push push = cvk_pd_fused_push_of(&pb->base, b, inner);
+            cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
+                                          pb->pd->descriptors.sets[set_for(t, w)], &push);
+            if (op) {
+                op->set1 = pb->contact_set;
+                snprintf(op->note, sizeof op->note, "outer %u: %u sweeps x %u colours fused, %s",
+                         o + 1, inner, b->colour_count, set_note[set_for(t, w)]);
+            }
+            add_after_outer(pb, b, set_for(t, w), o);
+            continue;
+        }
         for (uint32_t i = 0; i < inner; i++) {
             cvk_pipeline_id first = pb->checking ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
             for (uint32_t c = 0; c < b->colour_count; c++) {
@@ -473,6 +486,10 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
                      .contact = s->collide->colliding,
                      .tethers = s->build.tether_anchor != NULL};
     pb.checking = plan_checks(s, solver, plan, &pb.check);
+    const char* unfused = cvk_pd_fuse_refusal(&s->build, solver,
+                                              s->device.context->properties.deviceType,
+                                              pb.checking);
+    pb.fused = unfused == NULL;
     if (pb.checking)
         pb.base.rest_rate = 0.0f; /* no rest memory in checked solves (solve_pd.h) */
     pb.predict = cvk_plan_pass(plan, "predict");
@@ -510,8 +527,15 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
                  ", tolerance %g (checked on the device), "
                  "at most %u sweeps", solver->tolerance, pb.check.sweeps);
     switch (solver->linear) {
-    case CVK_LINEAR_RBGS:
+    case CVK_LINEAR_RBGS: {
+        size_t used = strlen(plan->solver_note);
+        snprintf(plan->solver_note + used, sizeof plan->solver_note - used, ", %s",
+                 pb.fused ? "sweeps fused (one dispatch per outer iteration)" : "sweeps not fused: ");
+        used = strlen(plan->solver_note);
+        if (!pb.fused)
+            snprintf(plan->solver_note + used, sizeof plan->solver_note - used, "%s", unfused);
         plan_gauss_seidel(&pb, &s->build);
+    }
         break;
     case CVK_LINEAR_CHEBYSHEV:
         pd->chebyshev_rho = chebyshev_rho(s, pd, solver);

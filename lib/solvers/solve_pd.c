@@ -218,7 +218,7 @@ static cvk_result create_sets(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     /* Set 1 is the contact set: the sweeps resolve contact (shaders/solvers/pd_contact.glsl). */
     cvk_result r = cvk_descriptors_create_with(s->device.context, pd_bindings, CVK_PD_BINDING_COUNT,
                                                CVK_PD_SET_COUNT, VK_SHADER_STAGE_COMPUTE_BIT,
-                                               sizeof(cvk_pd_push), &s->collide->set_layout, 1,
+                                               sizeof(cvk_pd_fused_push), &s->collide->set_layout, 1,
                                                &pd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;

@@ -109,6 +109,25 @@ cvk_result cvk_pd_load_snapshot(cvk_sim* sim, void* self, const void* data, uint
 cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
                              cvk_plan* plan, cvk_error* error);
 
+/* Fused sweeps (pd_fused.c, shaders/solvers/pd_fused.comp). rbgs runs every sweep of an outer
+   iteration (the local step's first sweep, then inner_iterations sweeps of every colour, colours
+   in order) in one dispatch of one workgroup, whose invocations stride over each colour with a
+   workgroup barrier between colours: the same floating-point operations in the same order per
+   particle as the unfused dispatches, so the same iterate bit for bit. The passes between outer
+   iterations (strain limit, tethers, contact) stay dispatches of their own after each fused
+   one, and every fused sweep keeps particles within their contact bounds as the unfused do.
+   Returns why the plan does not fuse (a sentence), or NULL when it does. */
+const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver,
+                                VkPhysicalDeviceType device_type, bool checking);
+
+/* The push data of the fused pass over every colour of `b`, `sweeps` sweeps. */
+cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
+                                       uint32_t sweeps);
+
+/* Appends the fused pass: one workgroup. */
+cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,
+                         VkDescriptorSet set, const cvk_pd_fused_push* push);
+
 /* The pd family's part of the statistics: sweeps of the last frame and since creation, counted
    on the device when the plan checks for convergence, else the sweeps the plan records. */
 void cvk_pd_stats(const cvk_sim* sim, cvk_sim_stats* st);

@@ -85,6 +85,7 @@ typedef enum cvk_integrator {
     CVK_INTEGRATOR_AB4 = 3,
     CVK_INTEGRATOR_VERLET = 4,
 } cvk_integrator;
+typedef enum cvk_fuse { CVK_FUSE_AUTO = 0, CVK_FUSE_ON = 1, CVK_FUSE_OFF = 2 } cvk_fuse;
 typedef enum cvk_damping_model {
     CVK_DAMPING_NONE = 0,
     CVK_DAMPING_SPRING = 1,
@@ -113,6 +114,7 @@ typedef struct cvk_solver_desc {
     cvk_damping_model damping_model;
     uint32_t tether_every;
     float strain_limit;
+    cvk_fuse fuse;
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {

@@ -9,6 +9,7 @@
 #define CVK_UINT(name) uint name;
 #define CVK_FLOAT(name) float name;
 #define CVK_VEC4(name) vec4 name;
+#define CVK_UVEC4(name) uvec4 name;
 /* A shader declares its one push block itself: CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS). */
 #define CVK_PUSH_BLOCK(type, fields)
 #define CVK_DECLARE_PUSH(fields) layout(push_constant) uniform Push { fields } pc;
@@ -19,6 +20,7 @@
 #define CVK_UINT(name) uint32_t name;
 #define CVK_FLOAT(name) float name;
 #define CVK_VEC4(name) float name[4];
+#define CVK_UVEC4(name) uint32_t name[4];
 #define CVK_PUSH_BLOCK(type, fields) typedef struct type { fields } type;
 #define CVK_STRUCT(type, fields) typedef struct type { fields } type;
 #endif
@@ -38,6 +40,26 @@
     CVK_FLOAT(rest_rate)   /* rest memory's rate (lib/solvers/solve_pd.h); 0: none */
 
 CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
+
+/* The fused Gauss-Seidel pass (shaders/solvers/pd_fused.comp): every sweep of one outer
+   iteration, colour by colour, in one workgroup. cvk_pd_push first (first: 0, count: the free
+   particles), then the sweeps, the colours and the end of each colour, two 16-bit ends to a
+   uint: colour c ends at half c % 2 of uint (c / 2) % 4 of ends[c / 8]. So at most
+   CVK_PD_FUSED_MAX_COLOURS colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes:
+   Vulkan's guaranteed push constant size. */
+#define CVK_PD_FUSED_MAX_COLOURS 32u
+#define CVK_PD_FUSED_MAX_PARTICLES 65535u
+#define CVK_PD_FUSED_PUSH_FIELDS                                                        \
+    CVK_PD_PUSH_FIELDS                                                                  \
+    CVK_UINT(sweeps)       /* sweeps of the outer iteration (inner_iterations) */       \
+    CVK_UINT(colours)      /* colours, at most CVK_PD_FUSED_MAX_COLOURS */              \
+    CVK_UINT(pad_fused)                                                                 \
+    CVK_UVEC4(ends0)       /* colour ends 0..7 */                                       \
+    CVK_UVEC4(ends1)       /* 8..15 */                                                  \
+    CVK_UVEC4(ends2)       /* 16..23 */                                                 \
+    CVK_UVEC4(ends3)       /* 24..31 */
+
+CVK_PUSH_BLOCK(cvk_pd_fused_push, CVK_PD_FUSED_PUSH_FIELDS)
 
 /* Bindings of the projective-dynamics set (shaders/solvers/pd_common.glsl). */
 #define CVK_PD_BINDING_SRC 0           /* texel: displacement iterate read */

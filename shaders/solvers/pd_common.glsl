@@ -26,13 +26,26 @@ const uint QUADS = (MAX_DEGREE + 3u) / 4u;
 
 layout(set = 0, binding = CVK_PD_BINDING_SRC) uniform samplerBuffer src;
 layout(set = 0, binding = CVK_PD_BINDING_DST_READ) uniform samplerBuffer dst_read;
+#ifdef PD_FUSED
+// The fused sweeps (pd_fused.comp) read back what other invocations of their workgroup wrote
+// in this dispatch: through the storage buffer (coherent, after memoryBarrierBuffer and
+// barrier), never a texel buffer, whose cache need not see those writes.
+layout(std430, set = 0, binding = CVK_PD_BINDING_DST) coherent buffer Dst { vec4 dst[]; };
+#define FETCH_DST(i) (dst[i].xyz)
+#else
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
+#define FETCH_DST(i) fetch(dst_read, i)
+#endif
 layout(set = 0, binding = CVK_PD_BINDING_Y_READ) uniform samplerBuffer y_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };
 layout(set = 0, binding = CVK_PD_BINDING_X_READ) uniform samplerBuffer x_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_X) writeonly buffer Positions { vec4 x[]; };
 layout(set = 0, binding = CVK_PD_BINDING_RHS_READ) uniform samplerBuffer rhs_read;
+#ifdef PD_FUSED
+layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) coherent buffer Rhs { vec4 rhs[]; };
+#else
 layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec4 rhs[]; };
+#endif
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST) uniform samplerBuffer adjacency_rest;
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
@@ -49,8 +62,13 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 
 layout(constant_id = 5) const bool BOUNDED = false;
 #include "contact/bounds.glsl"
 
-// The push constants: cvk_pd_push, declared with the C side in shared/layout.h.
+// The push constants: cvk_pd_push (cvk_pd_fused_push, which begins with it, for the fused
+// sweeps), declared with the C side in shared/layout.h.
+#ifdef PD_FUSED
+CVK_DECLARE_PUSH(CVK_PD_FUSED_PUSH_FIELDS)
+#else
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
+#endif
 
 // The neighbours and stiffnesses of quad q of particle p.
 uvec4 quad_neighbours(uint q, uint p)
@@ -200,7 +218,7 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
             vec3 du = cur - un;
             r += spring_rhs(du, edge + du, k[j], rest[j]);
             ksum += k[j];
-            acc += k[j] * ((n[j] < swept_below ? fetch(dst_read, n[j]) : un) - cur);
+            acc += k[j] * ((n[j] < swept_below ? FETCH_DST(n[j]) : un) - cur);
 #ifdef RESIDUAL
             src_acc -= k[j] * du;
             size += k[j] * (rest[j] + l1(edge) + l1(un));
@@ -217,6 +235,24 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
 #endif
     return b;
 }
+
+#ifdef PD_FUSED
+// neighbour_sum(dst_read, ...) with the neighbours read through the storage buffer.
+vec3 neighbour_sum_dst(uint p, vec3 cur, out float ksum)
+{
+    vec3 acc = vec3(0.0);
+    ksum = 0.0;
+    for (uint q = 0; q < QUADS; q++) {
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
+        for (uint j = 0; j < 4u; j++) {
+            acc += k[j] * (FETCH_DST(n[j]) - cur);
+            ksum += k[j];
+        }
+    }
+    return acc;
+}
+#endif
 
 // sum_c k_c (u_c - cur) over the springs of p, the neighbours' displacements read from
 // `from` (jacobi_move).

@@ -51,6 +51,15 @@ typedef enum cvk_linear_solver {
     CVK_LINEAR_CG,         /* filtered block-Jacobi preconditioned conjugate gradient (implicit) */
 } cvk_linear_solver;
 
+/* Whether rbgs runs the sweeps of an outer iteration fused into one dispatch of one workgroup
+   (docs/performance.md, "Fused sweeps"): the same bits as one dispatch per colour and sweep. */
+typedef enum cvk_fuse {
+    CVK_FUSE_AUTO = 0, /* fused on GPUs (discrete, integrated, virtual) where the scene allows,
+                          not on CPU devices, whose workgroup barriers cost more than dispatches */
+    CVK_FUSE_ON,       /* fused wherever the scene allows, on any device */
+    CVK_FUSE_OFF,      /* one dispatch per colour and sweep */
+} cvk_fuse;
+
 typedef struct cvk_solver_desc {
     cvk_method method;          /* CVK_METHOD_PD */
     cvk_linear_solver linear;   /* usually CVK_LINEAR_RBGS */
@@ -78,6 +87,7 @@ typedef struct cvk_solver_desc {
                                    iteration a spring longer than (1 + strain_limit) times its
                                    rest length is shortened to it, within the contact bounds;
                                    0 = none (the default), e.g. 0.05 for 5 % */
+    cvk_fuse fuse;              /* rbgs: fused sweeps (auto, on, off); usually CVK_FUSE_AUTO */
 } cvk_solver_desc;
 
 typedef struct cvk_stiffness {
@@ -444,6 +454,8 @@ CVK_API const char* cvk_method_name(cvk_method method);
 CVK_API const char* cvk_integrator_name(cvk_integrator integrator);
 /* "spring", "viscosity" ("none" for NONE); NULL for an unknown value. */
 CVK_API const char* cvk_damping_model_name(cvk_damping_model model);
+/* "auto", "on", "off"; NULL for a value out of range. */
+CVK_API const char* cvk_fuse_name(cvk_fuse fuse);
 
 /* ----------------------------------------------------------------------------------------
  * Scene files

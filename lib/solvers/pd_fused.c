@@ -1,0 +1,61 @@
+/* Fused Gauss-Seidel sweeps (shaders/solvers/pd_fused.comp): where they run, and their op. */
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "solvers/solve_pd.h"
+
+_Static_assert(sizeof(cvk_pd_fused_push) == 128, "cvk_pd_fused_push: 128 bytes in GLSL");
+_Static_assert(offsetof(cvk_pd_fused_push, sweeps) == 52, "cvk_pd_fused_push.sweeps at 52");
+_Static_assert(offsetof(cvk_pd_fused_push, ends0) == 64, "cvk_pd_fused_push.ends0: a uvec4 at 64");
+_Static_assert(sizeof(cvk_pd_fused_push) <= CVK_PUSH_MAX_BYTES, "within the guaranteed push size");
+
+const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver,
+                                VkPhysicalDeviceType device_type, bool checking)
+{
+    if (solver->fuse == CVK_FUSE_OFF)
+        return "solver.fuse off";
+    if (solver->linear != CVK_LINEAR_RBGS)
+        return "not rbgs";
+    if (checking)
+        return "a checked solve (tolerance)";
+    if (b->free_count == 0)
+        return "no free particles";
+    if (b->free_count > CVK_PD_FUSED_MAX_PARTICLES)
+        return "over 65535 free particles";
+    if (b->colour_count == 0 || b->colour_count > CVK_PD_FUSED_MAX_COLOURS)
+        return "over 32 colours";
+    if (b->colour_start[0] != 0)
+        return "colours not from particle 0";
+    if (solver->fuse == CVK_FUSE_AUTO && device_type == VK_PHYSICAL_DEVICE_TYPE_CPU)
+        return "solver.fuse auto on a CPU device";
+    return NULL;
+}
+
+cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
+                                       uint32_t sweeps)
+{
+    cvk_pd_fused_push push;
+    memset(&push, 0, sizeof push);
+    memcpy(&push, base, sizeof *base);
+    push.first = 0;
+    push.count = b->free_count;
+    push.sweeps = sweeps;
+    push.colours = b->colour_count;
+    uint32_t* ends[4] = {push.ends0, push.ends1, push.ends2, push.ends3};
+    for (uint32_t c = 0; c < b->colour_count && c < CVK_PD_FUSED_MAX_COLOURS; c++) {
+        uint32_t end = b->colour_start[c + 1] & 0xffffu;
+        ends[c / 8][(c % 8) / 2] |= c % 2 == 0 ? end : end << 16;
+    }
+    return push;
+}
+
+cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,
+                         VkDescriptorSet set, const cvk_pd_fused_push* push)
+{
+    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_GS_FUSED, layout, set,
+                                   CVK_DOMAIN_PARTICLES, 0, push->count, push, sizeof *push);
+    if (op)
+        op->groups = 1; /* one workgroup: its barriers order the colours */
+    return op;
+}

@@ -1,0 +1,56 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Every sweep of one Gauss-Seidel outer iteration in one dispatch of ONE workgroup: the
+// sweeps of pd_gauss_seidel.comp (the first with the local step, as FIRST), colour by colour,
+// with a workgroup barrier after each colour instead of a dispatch and a pipeline barrier.
+// Each particle gets the same floating-point operations in the same order as there (the same
+// functions of pd_common.glsl), colours in the same order, so the iterate is the same bit for
+// bit; only the reads of what this dispatch wrote (the iterate being swept, the right-hand
+// side) go through the storage buffers, coherent, after memoryBarrierBuffer() and barrier().
+// The workgroup's invocations stride over each colour; no invocation waits on another
+// workgroup, so this is correct on any conformant device. lib/solvers/pd_fused.c decides where
+// it runs (one workgroup's worth of work, no pass between the sweeps of an outer iteration).
+#define PD_FUSED 1
+#include "solvers/pd_common.glsl"
+
+// The end of colour c (shared/layout.h: two 16-bit ends to a uint).
+uint colour_end(uint c)
+{
+    uvec4 group = c < 8u ? pc.ends0 : c < 16u ? pc.ends1 : c < 24u ? pc.ends2 : pc.ends3;
+    uint word = group[(c % 8u) / 2u];
+    return (c % 2u) == 0u ? (word & 0xffffu) : (word >> 16u);
+}
+
+void main()
+{
+    uint lanes = gl_WorkGroupSize.x;
+    uint lane = gl_LocalInvocationID.x;
+    for (uint sweep = 0u; sweep < pc.sweeps; sweep++) {
+        uint begin = 0u;
+        for (uint c = 0u; c < pc.colours; c++) {
+            uint end = colour_end(c);
+            for (uint p = begin + lane; p < end; p += lanes) {
+                vec3 acc;
+                vec4 b;
+                vec3 cur;
+                float ksum;
+                float omega = pc.omega;
+                if (sweep == 0u) {
+                    vec4 start = texelFetch(src, int(p));
+                    cur = start.xyz;
+                    if (start.w != 0.0)
+                        omega = min(omega, 1.0);
+                    b = local_step(p, cur, begin, acc, ksum);
+                } else {
+                    b = rhs[p];
+                    cur = dst[p].xyz;
+                    acc = neighbour_sum_dst(p, cur, ksum);
+                }
+                dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0);
+            }
+            memoryBarrierBuffer();
+            barrier();
+            begin = end;
+        }
+    }
+}
