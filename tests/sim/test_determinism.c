@@ -12,7 +12,13 @@
    depends only on the data, never on which invocation or workgroup computes it; no pass
    reduces across invocations in floating point (the spatial hash counts with integer atomics
    and then sorts each cell by particle index), so the dispatch shape cannot reorder a
-   floating-point sum. A shape that changes the hash breaks that rule. */
+   floating-point sum. A shape that changes the hash breaks that rule.
+
+   rbgs runs twice: with solver.fuse off (one dispatch per colour and sweep) and on (every
+   sweep of an outer iteration in one dispatch of one workgroup, lib/solvers/solve_pd.h), and
+   the fused hash must equal the unfused one: the same operations in the same order per
+   particle, so the same bits, under every shape, and for the instances under every thread
+   count too. */
 #include <dirent.h>
 #include <math.h>
 #include <stdint.h>
@@ -36,7 +42,18 @@ static const shape shapes[] = {
 };
 #define SHAPE_COUNT (sizeof shapes / sizeof shapes[0])
 
-static const cvk_linear_solver solvers[] = {CVK_LINEAR_RBGS, CVK_LINEAR_JACOBI, CVK_LINEAR_CHEBYSHEV};
+typedef struct variant {
+    cvk_linear_solver linear;
+    cvk_fuse fuse;
+} variant;
+
+/* The fused rbgs follows the unfused one, whose hash it must give. */
+static const variant variants[] = {
+    {CVK_LINEAR_RBGS, CVK_FUSE_OFF},
+    {CVK_LINEAR_RBGS, CVK_FUSE_ON},
+    {CVK_LINEAR_JACOBI, CVK_FUSE_AUTO},
+    {CVK_LINEAR_CHEBYSHEV, CVK_FUSE_AUTO},
+};
 
 static uint64_t fnv1a64(const void* data, size_t bytes)
 {
@@ -146,6 +163,14 @@ static outcome run(cvk_context* ctx, const cvk_scene_desc* scene, shape sh, cvk_
     desc.timing = -1;
     if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
         return o;
+    /* The plan fuses the sweeps exactly when asked to (these scenes allow it). */
+    if (scene->solver.linear == CVK_LINEAR_RBGS && scene->solver.fuse != CVK_FUSE_AUTO) {
+        static char text[16384];
+        cvk_sim_describe_plan(sim, text, sizeof text);
+        const char* expected = scene->solver.fuse == CVK_FUSE_ON ? "sweeps fused"
+                                                                 : "sweeps not fused";
+        CHECK(strstr(text, expected) != NULL, "the plan does not say \"%s\":\n%s", expected, text);
+    }
     if (cvk_sim_step(sim, FRAMES, err) == CVK_SUCCESS) {
         o.count = cvk_sim_particle_count(sim);
         o.xyz = harness_read_all(sim);
@@ -177,18 +202,21 @@ static void check_moved(const char* what, const outcome* o, const float* start)
     CHECK(moved > 1e-3, "%s: the cloth moved only %g m in %d frames", what, moved, FRAMES);
 }
 
-/* One scene and solver under every shape, then the first shape again. */
-static void check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scene,
-                         cvk_linear_solver linear, const float* start)
+/* One scene and solver under every shape, then the first shape again; returns the hash of
+   the first shape (0 when it failed). */
+static uint64_t check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scene,
+                             variant v, const float* start)
 {
-    scene.solver.linear = linear;
+    scene.solver.linear = v.linear;
+    scene.solver.fuse = v.fuse;
     char what[96], text[96];
-    snprintf(what, sizeof what, "%s, %s", name, cvk_linear_solver_name(linear));
+    snprintf(what, sizeof what, "%s, %s%s", name, cvk_linear_solver_name(v.linear),
+             v.linear != CVK_LINEAR_RBGS ? "" : v.fuse == CVK_FUSE_ON ? " fused" : " unfused");
     cvk_error err;
     outcome first = run(ctx, &scene, shapes[0], &err);
     CHECK(first.ok, "%s: %s", what, err.message);
     if (!first.ok)
-        return;
+        return 0;
     check_moved(what, &first, start);
     uint32_t same = 0;
     for (size_t s = 0; s <= SHAPE_COUNT; s++) {
@@ -209,6 +237,7 @@ static void check_solver(cvk_context* ctx, const char* name, cvk_scene_desc scen
     printf("%s: hash %016llx after %d frames, the same for %u of %zu shapes and runs\n", what,
            (unsigned long long)first.hash, FRAMES, same, SHAPE_COUNT + 1);
     free(first.xyz);
+    return first.hash;
 }
 
 /* Initial positions of a scene (a simulation that has not stepped), or NULL with the reason. */
@@ -227,9 +256,10 @@ static float* initial_positions(cvk_context* ctx, const cvk_scene_desc* scene, u
     return xyz;
 }
 
-/* `particles`: how many the scene must have (the mesh file's vertices). */
-static void check_scene(cvk_context* ctx, const char* name, const cvk_scene_desc* scene,
-                        uint64_t particles)
+/* `particles`: how many the scene must have (the mesh file's vertices); `variant_count`: the
+   first so many of `variants`. */
+static void check_variants(cvk_context* ctx, const char* name, const cvk_scene_desc* scene,
+                           uint64_t particles, size_t variant_count)
 {
     cvk_error err;
     uint64_t count = 0;
@@ -239,9 +269,22 @@ static void check_scene(cvk_context* ctx, const char* name, const cvk_scene_desc
         return;
     CHECK(count == particles, "%s: %llu particles, expected %llu", name, (unsigned long long)count,
           (unsigned long long)particles);
-    for (size_t k = 0; k < sizeof solvers / sizeof solvers[0]; k++)
-        check_solver(ctx, name, *scene, solvers[k], start);
+    uint64_t unfused = 0;
+    for (size_t k = 0; k < variant_count; k++) {
+        uint64_t hash = check_solver(ctx, name, *scene, variants[k], start);
+        if (variants[k].linear == CVK_LINEAR_RBGS && variants[k].fuse == CVK_FUSE_OFF)
+            unfused = hash;
+        if (variants[k].linear == CVK_LINEAR_RBGS && variants[k].fuse == CVK_FUSE_ON)
+            CHECK(hash == unfused, "%s: rbgs fused gave hash %016llx, unfused %016llx", name,
+                  (unsigned long long)hash, (unsigned long long)unfused);
+    }
     free(start);
+}
+
+static void check_scene(cvk_context* ctx, const char* name, const cvk_scene_desc* scene,
+                        uint64_t particles)
+{
+    check_variants(ctx, name, scene, particles, sizeof variants / sizeof variants[0]);
 }
 
 /* Contact: two cloths falling onto a sphere and onto each other while a keyframed box sweeps
@@ -302,6 +345,32 @@ static void check_funnel_scene(cvk_context* ctx, const cvk_scene_desc* base)
     check_scene(ctx, "a cloth in a funnel's neck", &scene, 16 * 16);
 }
 
+/* The passes between outer iterations: strain limiting, tethers and contact with a plane after
+   every outer iteration, between the fused dispatches as between the unfused sweeps (rbgs
+   only: the other solvers have no fused path). */
+static void check_between_scene(cvk_context* ctx, const cvk_scene_desc* base)
+{
+    static const uint32_t pins[2][2] = {{0, 0}, {15, 0}};
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = cloth.grid[1] = 16;
+    cloth.size[0] = cloth.size[1] = 0.5f;
+    cloth.origin[1] = 0.3f;
+    cloth.stiffness.shear = 1e4f;
+    cloth.pins = pins;
+    cloth.pin_count = 2;
+    cloth.tethers = 1.0f;
+    cvk_collider_desc ground = cvk_default_collider_desc();
+    ground.type = CVK_COLLIDER_PLANE;
+    ground.point[1] = 0.28f; /* 3 mm below the thickness (half a spring): hit in a few frames */
+    cvk_scene_desc scene = *base;
+    scene.cloths = &cloth;
+    scene.cloth_count = 1;
+    scene.colliders = &ground;
+    scene.collider_count = 1;
+    scene.solver.strain_limit = 0.05f;
+    check_variants(ctx, "strain limit, tethers, a plane", &scene, 16 * 16, 2); /* rbgs */
+}
+
 /* ---- instances ----------------------------------------------------------------------------- */
 
 /* Three copies of a 12 × 12 cloth falling onto a sphere while a box that turns as it slides
@@ -348,7 +417,8 @@ static int lavapipe_threads(void)
 }
 
 /* The default shape's hash again on fresh contexts with other lavapipe thread counts
-   (LP_NUM_THREADS, read when a context opens the device). */
+   (LP_NUM_THREADS, read when a context opens the device), with rbgs's sweeps as the scene has
+   them (solver.fuse auto: unfused on lavapipe) and fused. */
 static void check_thread_counts(const cvk_scene_desc* scene, uint64_t hash)
 {
     const char* before = getenv("LP_NUM_THREADS");
@@ -357,15 +427,22 @@ static void check_thread_counts(const cvk_scene_desc* scene, uint64_t hash)
     for (size_t t = 0; t < sizeof threads / sizeof threads[0]; t++) {
         setenv("LP_NUM_THREADS", threads[t], 1);
         cvk_context* ctx = harness_context();
-        cvk_error err;
-        outcome o = run(ctx, scene, shapes[0], &err);
-        CHECK(o.ok, "instances, LP_NUM_THREADS=%s: %s", threads[t], err.message);
-        if (o.ok)
-            CHECK(o.hash == hash, "instances, LP_NUM_THREADS=%s: hash %016llx, expected %016llx",
-                  threads[t], (unsigned long long)o.hash, (unsigned long long)hash);
-        printf("instances, LP_NUM_THREADS=%s (%d lavapipe threads running): hash %016llx\n",
-               threads[t], lavapipe_threads(), (unsigned long long)o.hash);
-        free(o.xyz);
+        for (int fused = 0; fused < 2; fused++) {
+            cvk_scene_desc s = *scene;
+            if (fused)
+                s.solver.fuse = CVK_FUSE_ON;
+            const char* how = fused ? ", fused" : "";
+            cvk_error err;
+            outcome o = run(ctx, &s, shapes[0], &err);
+            CHECK(o.ok, "instances%s, LP_NUM_THREADS=%s: %s", how, threads[t], err.message);
+            if (o.ok)
+                CHECK(o.hash == hash, "instances%s, LP_NUM_THREADS=%s: hash %016llx, expected "
+                      "%016llx", how, threads[t], (unsigned long long)o.hash,
+                      (unsigned long long)hash);
+            printf("instances%s, LP_NUM_THREADS=%s (%d lavapipe threads running): hash %016llx\n",
+                   how, threads[t], lavapipe_threads(), (unsigned long long)o.hash);
+            free(o.xyz);
+        }
         CHECK(cvk_context_validation_message_count(ctx) == 0, "LP_NUM_THREADS=%s: %u validation "
               "messages", threads[t], cvk_context_validation_message_count(ctx));
         cvk_context_destroy(ctx);
@@ -463,6 +540,7 @@ int main(void)
     }
     check_contact_scene(ctx, &scene);
     check_funnel_scene(ctx, &scene);
+    check_between_scene(ctx, &scene);
     check_instances(ctx);
     return harness_finish(ctx);
 }
