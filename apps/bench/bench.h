@@ -279,6 +279,7 @@ int bench_collide(bench* b);
 int bench_contact_steps(bench* b);
 int bench_explicit_stability(bench* b);
 int bench_contact_ensemble(bench* b);
+int bench_fused(bench* b);
 /* Its scenes load (with --set), and not both SCENE and --scenes: else one line and
    APP_EXIT_BAD_INPUT (APP_EXIT_FAILURE when out of memory). */
 int bench_contact_ensemble_check(const bench_options* o);

@@ -25,7 +25,8 @@ enum {
     EXPLICIT = 1 << 7,
     ENSEMBLE = 1 << 8,
     BATCH = 1 << 9,
-    ALL = 0x3ff,
+    FUSED = 1 << 10,
+    ALL = 0x7ff,
 };
 
 typedef struct experiment {
@@ -49,6 +50,7 @@ static const experiment experiments[] = {
     {"contact-ensemble", ENSEMBLE, false, bench_contact_ensemble, 1400, 600,
      bench_contact_ensemble_check},
     {"batch", BATCH, false, bench_batch, 1200, 500, bench_batch_check},
+    {"fused", FUSED, true, bench_fused, 1000, 500, NULL},
 };
 
 /* ---- value parsing: each prints the one line and returns false -------------------------- */
@@ -238,7 +240,7 @@ static const option_spec option_specs[] = {
     {"--grids", SCALING, true},
     {"--points", COLLIDE, true},
     {"--scenes", ENSEMBLE, true},
-    {"--frames", ENSEMBLE | BATCH, true},
+    {"--frames", ENSEMBLE | BATCH | FUSED, true},
     {"--counts", BATCH, true},
     {"--variants", ENSEMBLE, true},
     {"--require-clean", ENSEMBLE, false},
@@ -508,7 +510,7 @@ static int choose_experiment(const gathered* g, parsed* p)
     if (!p->e) {
         app_error(tool, "unknown experiment \"%s\" (expected convergence, budget, pareto, "
                   "stability, scaling, collide, contact-steps, explicit-stability, "
-                  "contact-ensemble or batch)",
+                  "contact-ensemble, batch or fused)",
                   g->positional[0]);
         return APP_EXIT_BAD_INPUT;
     }

@@ -24,6 +24,8 @@ static void usage_first(FILE* out)
         "                      each scene with self-contact x 9 variants of its settings\n"
         "  batch [SCENE]       N copies of the scene (instances.count; default a 16 x 16\n"
         "                      napkin): ms per frame, steps and particle steps per second\n"
+        "  fused SCENE        dispatches and ms per frame with rbgs's sweeps unfused and fused\n"
+        "                      (solver.fuse off, on), alternated --repeat times; same bits?\n"
         "options (all experiments):\n"
         "  -o DIR              output folder, created if missing (default: .)\n"
         "  --set k=v           override a scene key by its dotted JSON path (repeatable)\n"
@@ -95,5 +97,7 @@ void bench_usage(FILE* out)
         "batch (--set applies to every count; --warmup frames before the timed ones):\n"
         "  --counts LIST       copies N (default 1,2,4,...,8192)\n"
         "  --frames F          timed frames per count (default 10)\n"
+        "fused:\n"
+        "  --frames N          timed frames per run, after --warmup untimed ones (default 30)\n"
         "environment: CLOTHVK_DEVICE, CLOTHVK_VALIDATION=1, CLOTHVK_GNUPLOT, LP_NUM_THREADS (lavapipe)\n");
 }
