@@ -20,6 +20,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/topology/build.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
+    CVK_SPEC_FUSED_WORKGROUP_SIZE, /* local_size_x_id = 0 of the fused sweeps (one workgroup) */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -31,6 +32,9 @@ typedef struct cvk_spec_recipe {
    (self-contact). */
 #define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                          CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
+/* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size. */
+#define CVK_SPEC_PD_FUSED {6, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                               CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 #define CVK_SPEC_PD_FIRST {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
@@ -60,7 +64,7 @@ typedef struct cvk_spec_recipe {
     X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
-    X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD, "gauss-seidel, fused sweeps, one workgroup") \
+    X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps, one workgroup") \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "gauss-seidel + local step + residual") \
@@ -125,6 +129,7 @@ bool cvk_pipeline_streams_particles(cvk_pipeline_id id);
 typedef struct cvk_spec_inputs {
     uint32_t workgroup_size;
     uint32_t particle_workgroup_size; /* 0: workgroup_size */
+    uint32_t fused_workgroup_size;    /* 0: workgroup_size */
     uint32_t max_degree;
     uint32_t collider_types; /* bit t: colliders of type t */
     bool self_contact;

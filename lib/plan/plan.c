@@ -13,6 +13,7 @@ void cvk_plan_init(cvk_plan* plan, uint32_t substeps, uint32_t workgroup_size, u
         .substeps = substeps,
         .workgroup_size = workgroup_size,
         .particle_workgroup_size = workgroup_size,
+        .fused_workgroup_size = workgroup_size,
         .max_groups = max_groups ? max_groups : 1,
     };
 }

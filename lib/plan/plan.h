@@ -76,6 +76,8 @@ typedef struct cvk_plan {
     uint32_t workgroup_size;
     uint32_t particle_workgroup_size; /* of the pipelines that stream over particles
                                          (cvk_pipeline_streams_particles); init: workgroup_size */
+    uint32_t fused_workgroup_size; /* of the fused sweeps' one workgroup (lib/solvers/solve_pd.h);
+                                      init: workgroup_size */
     uint32_t max_groups;
     bool uses[CVK_PIPE_COUNT];
     bool has_transfer;          /* some op fills, copies or dispatches indirectly */

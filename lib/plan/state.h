@@ -34,6 +34,7 @@ struct cvk_sim {
     int timing_request;     /* cvk_sim_desc.timing */
     uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
                                          prediction, finalize, tethers): cvk_plan */
+    uint32_t fused_workgroup_size;    /* of the fused sweeps' one workgroup: cvk_plan */
     const char* notes[CVK_COLLISION_NOTES_MAX]; /* cvk_sim_note: static sentences, one per
                                                    scene key set that has no effect */
     uint32_t note_count;

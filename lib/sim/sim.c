@@ -34,6 +34,23 @@ static uint32_t particle_workgroup_size(const cvk_context* context, const cvk_si
     uint32_t lanes = context->subgroup_size;
     return lanes >= 4 && lanes <= workgroup_size ? lanes : workgroup_size;
 }
+/* The fused sweeps (lib/solvers/solve_pd.h) run in one workgroup whose invocations stride over
+   each colour: as large as the device allows, up to 1024 (a colour of a 10k-particle cloth in
+   three passes), unless the caller chose a workgroup size, which they then take too. */
+#define FUSED_WORKGROUP_MAX 1024u
+static uint32_t fused_workgroup_size(const cvk_context* context, const cvk_sim_desc* desc,
+                                     uint32_t workgroup_size)
+{
+    if (desc->workgroup_size != 0)
+        return workgroup_size;
+    const VkPhysicalDeviceLimits* limits = &context->properties.limits;
+    uint32_t size = FUSED_WORKGROUP_MAX;
+    if (size > limits->maxComputeWorkGroupSize[0])
+        size = limits->maxComputeWorkGroupSize[0];
+    if (size > limits->maxComputeWorkGroupInvocations)
+        size = limits->maxComputeWorkGroupInvocations;
+    return size;
+}
 #define MAX_FRAMES_PER_SUBMIT 256u
 
 /* ---- shared buffers and uploads ------------------------------------------------------ */
@@ -97,6 +114,7 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
 {
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
     out->particle_workgroup_size = s->particle_workgroup_size;
+    out->fused_workgroup_size = s->fused_workgroup_size;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);
@@ -112,6 +130,7 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
 {
     cvk_spec_inputs inputs = {.workgroup_size = plan->workgroup_size,
                               .particle_workgroup_size = plan->particle_workgroup_size,
+                              .fused_workgroup_size = plan->fused_workgroup_size,
                               .max_degree = s->build.max_degree,
                               .collider_types = s->collide->types,
                               .self_contact = s->collide->self,
@@ -392,6 +411,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     s->tear = &block->tear;
     init_fields(s, context, desc);
     s->particle_workgroup_size = particle_workgroup_size(context, desc, workgroup_size);
+    s->fused_workgroup_size = fused_workgroup_size(context, desc, workgroup_size);
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)

@@ -371,8 +371,10 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                                           pb->pd->descriptors.sets[set_for(t, w)], &push);
             if (op) {
                 op->set1 = pb->contact_set;
-                snprintf(op->note, sizeof op->note, "outer %u: %u sweeps x %u colours fused, %s",
-                         o + 1, inner, b->colour_count, set_note[set_for(t, w)]);
+                snprintf(op->note, sizeof op->note,
+                         "outer %u: %u sweeps x %u colours fused, one workgroup of %u, %s", o + 1,
+                         inner, b->colour_count, pb->plan->fused_workgroup_size,
+                         set_note[set_for(t, w)]);
             }
             add_after_outer(pb, b, set_for(t, w), o);
             continue;

@@ -692,7 +692,7 @@ static void test_unknown_keys(void)
                    "gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density, instances)");
     EXPECT_INVALID("{'solver': {'iterationz': 3}, 'cloths': [{}]}",
                    "t.json: solver.iterationz: unknown key (expected one of: method, linear, outer_iterations, "
-                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)");
+                   "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
                    "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing)");
@@ -863,7 +863,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR(base, "solver.iterationz=3",
                      "t.json: solver.iterationz (from --set): unknown key (expected one of: method, linear, "
                      "outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, "
-                     "max_iterations, kd, integrator, damping_model, tether_every, strain_limit)");
+                     "max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)");
     EXPECT_SET_ERROR(base, "cloths=[]", "t.json: cloths (from --set): a scene needs at least one cloth");
     /* A bad value in the file does not, even when other keys were set. */
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "frames=10", "t.json: cloths.0.mass: must be greater than 0, got -0.1");

@@ -263,10 +263,10 @@ CASES = [
                      "frames, integrate, gravity, damping, solver, cloths, render, collision, colliders, attachments, wind, air_density, instances)")},
     {"name": "unknown nested key", "argv": [scene("unknown-nested-key.json")], "status": 2,
      "stderr": error(scene("unknown-nested-key.json"), "solver.iterationz: unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)")},
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)")},
     # Strain limiting: out of range, and with a solver that does not limit strain.
     {"name": "strain limit out of range", "argv": [SMALL, "--set", "solver.strain_limit=11"],
      "status": 2,
@@ -445,7 +445,7 @@ CASES = [
      "stderr": "clothvk-sim: --set dt: expected key.path=value"},
     {"name": "--set= an unknown key", "argv": [SMALL, "--set=solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
-                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit)")},
+                     "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)")},
     {"name": "a flag with a value", "argv": [SMALL, "--json=yes"], "status": 2,
      "stderr": "clothvk-sim: --json takes no value, got --json=yes"},
     {"name": "--frames= empty", "argv": [SMALL, "--frames="], "status": 2,
