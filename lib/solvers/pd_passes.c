@@ -397,6 +397,25 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
     add_finalize(pb, b);
 }
 
+/* rbgs, its sweeps fused where pd_fused.c allows; --plan's solver line says which and why. */
+static void plan_rbgs(pd_builder* pb)
+{
+    cvk_sim* s = pb->sim;
+    const char* unfused = cvk_pd_fuse_refusal(&s->build, pb->solver,
+                                              s->device.context->properties.deviceType,
+                                              pb->checking);
+    pb->fused = unfused == NULL;
+    char* note = pb->plan->solver_note;
+    size_t used = strlen(note);
+    if (pb->fused)
+        snprintf(note + used, sizeof pb->plan->solver_note - used,
+                 ", sweeps fused (one dispatch per outer iteration)");
+    else
+        snprintf(note + used, sizeof pb->plan->solver_note - used, ", sweeps not fused: %s",
+                 unfused);
+    plan_gauss_seidel(pb, &s->build);
+}
+
 /* Jacobi and Chebyshev: every sweep reads one buffer and writes the other. */
 static void plan_jacobi(pd_builder* pb, const cvk_build* b, double rho, bool chebyshev)
 {
@@ -488,10 +507,6 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
                      .contact = s->collide->colliding,
                      .tethers = s->build.tether_anchor != NULL};
     pb.checking = plan_checks(s, solver, plan, &pb.check);
-    const char* unfused = cvk_pd_fuse_refusal(&s->build, solver,
-                                              s->device.context->properties.deviceType,
-                                              pb.checking);
-    pb.fused = unfused == NULL;
     if (pb.checking)
         pb.base.rest_rate = 0.0f; /* no rest memory in checked solves (solve_pd.h) */
     pb.predict = cvk_plan_pass(plan, "predict");
@@ -529,15 +544,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
                  ", tolerance %g (checked on the device), "
                  "at most %u sweeps", solver->tolerance, pb.check.sweeps);
     switch (solver->linear) {
-    case CVK_LINEAR_RBGS: {
-        size_t used = strlen(plan->solver_note);
-        snprintf(plan->solver_note + used, sizeof plan->solver_note - used, ", %s",
-                 pb.fused ? "sweeps fused (one dispatch per outer iteration)" : "sweeps not fused: ");
-        used = strlen(plan->solver_note);
-        if (!pb.fused)
-            snprintf(plan->solver_note + used, sizeof plan->solver_note - used, "%s", unfused);
-        plan_gauss_seidel(&pb, &s->build);
-    }
+    case CVK_LINEAR_RBGS:
+        plan_rbgs(&pb);
         break;
     case CVK_LINEAR_CHEBYSHEV:
         pd->chebyshev_rho = chebyshev_rho(s, pd, solver);

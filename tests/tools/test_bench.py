@@ -70,9 +70,11 @@ COLUMNS = {
     "batch": ["count", "cloths", "particles", "substeps", "dispatches_per_frame", "frames",
               "wall_ms", "wall_ms_min", "wall_ms_max", "frame_ms", "ms_per_copy",
               "copy_steps_per_s", "particle_steps_per_s", "device"],
+    "fused": ["round", "fuse", "frames", "dispatches_per_frame", "wall_ms_per_frame",
+              "gpu_ms_per_frame", "same_bits", "device"],
 }
 TEXT = {"label", "method", "solver", "kind", "case", "reason", "device", "measure", "integrator",
-        "damping_model", "seed", "scene", "variant", "settings", "error"}
+        "damping_model", "seed", "scene", "variant", "settings", "error", "fuse"}
 
 
 def may_be_empty(experiment, row, column):
@@ -294,6 +296,20 @@ def contact_step_diverged(rows):
                                    f"tunnelling_free): expected {want}, got {got}"]
 
 
+def fused_rows(rows):
+    """Two rounds of the small hanging cloth (8 substeps of 4 x 4 sweeps over its 2 colours):
+    unfused then fused each round, the same bits both ways; per substep predict and finalize,
+    and 32 sweep dispatches unfused (272 a frame) or one per outer iteration fused (48)."""
+    got = [(r["round"], r["fuse"], r["frames"], r["same_bits"]) for r in rows]
+    want = [("1", "off", "2", "1"), ("1", "on", "2", "1"), ("2", "off", "2", "1"),
+            ("2", "on", "2", "1")]
+    if got != want:
+        return [f"fused.csv (round, fuse, frames, same_bits): expected {want}, got {got}"]
+    got = [r["dispatches_per_frame"] for r in rows]
+    want = ["272", "48", "272", "48"]
+    return [] if got == want else [f"fused.csv dispatches_per_frame: expected {want}, got {got}"]
+
+
 def explicit_limits(rows):
     """Seed 001 §3 on a small cloth: every limit the bisection brackets lies within 10 % of
     the one predicted from the stiffest mode, and Adams-Bashforth's h is 0.3 / 2 of Euler's."""
@@ -423,6 +439,9 @@ GOOD = [
               "--set", "solver.outer_iterations=1", "--set", "solver.inner_iterations=1",
               "--dt", "1,0.01", "--time", "2"] + QUICK,
      "experiment": "contact-steps", "check": contact_step_diverged},
+    {"name": "fused",
+     "argv": ["fused"] + TINY_HANGING + ["--frames", "2", "--repeat", "2", "--warmup", "0"],
+     "experiment": "fused", "check": fused_rows},
     {"name": "explicit-stability",
      "argv": ["explicit-stability", asset("seed001.json"), "--set", "cloths.0.grid=[6,6]",
               "--set", "cloths.0.mass=1", "--set", "cloths.0.pins=[[0,0],[1,0],[2,0],[3,0],[4,0],[5,0]]",
@@ -454,8 +473,8 @@ BAD = [
     {"name": "no experiment", "argv": [], "usage": True, "stderr": "clothvk-bench: no experiment given"},
     {"name": "unknown experiment", "argv": ["speed", HANGING],
      "stderr": 'clothvk-bench: unknown experiment "speed" (expected convergence, budget, pareto, '
-               'stability, scaling, collide, contact-steps, explicit-stability, contact-ensemble '
-               'or batch)'},
+               'stability, scaling, collide, contact-steps, explicit-stability, contact-ensemble, '
+               'batch or fused)'},
     {"name": "missing scene", "argv": ["convergence"],
      "stderr": "clothvk-bench: convergence needs a scene file"},
     {"name": "scene file missing", "argv": ["budget", os.path.join(ROOT, "tests", "scenes", "nope.json")],
