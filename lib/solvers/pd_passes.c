@@ -403,7 +403,7 @@ static void plan_rbgs(pd_builder* pb)
     cvk_sim* s = pb->sim;
     const char* unfused = cvk_pd_fuse_refusal(&s->build, pb->solver,
                                               s->device.context->properties.deviceType,
-                                              pb->checking);
+                                              pb->plan->fused_workgroup_size, pb->checking);
     pb->fused = unfused == NULL;
     char* note = pb->plan->solver_note;
     size_t used = strlen(note);

@@ -116,9 +116,11 @@ cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* so
    particle as the unfused dispatches, so the same iterate bit for bit. The passes between outer
    iterations (strain limit, tethers, contact) stay dispatches of their own after each fused
    one, and every fused sweep keeps particles within their contact bounds as the unfused do.
-   Returns why the plan does not fuse (a sentence), or NULL when it does. */
+   Returns why the plan does not fuse (a sentence), or NULL when it does; `workgroup_size` is
+   the fused pass's (cvk_plan.fused_workgroup_size). */
 const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver,
-                                VkPhysicalDeviceType device_type, bool checking);
+                                VkPhysicalDeviceType device_type, uint32_t workgroup_size,
+                                bool checking);
 
 /* The push data of the fused pass over every colour of `b`, `sweeps` sweeps. */
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
