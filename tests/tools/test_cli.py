@@ -267,6 +267,14 @@ CASES = [
     {"name": "unknown nested key via --set", "argv": [SMALL, "--set", "solver.iterationz=8"], "status": 2,
      "stderr": error(SMALL, "solver.iterationz (from --set): unknown key (expected one of: method, "
                      "linear, outer_iterations, inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)")},
+    # Fused sweeps: a mode that does not exist.
+    {"name": "unknown fuse mode", "argv": [SMALL, "--set", 'solver.fuse="maybe"'],
+     "status": 2,
+     "stderr": error(SMALL, 'solver.fuse (from --set): unknown fuse mode "maybe" (expected auto, '
+                     'on or off)')},
+    {"name": "fuse mode not a string", "argv": [SMALL, "--set", "solver.fuse=1"],
+     "status": 2,
+     "stderr": error(SMALL, "solver.fuse (from --set): expected a string, got the number 1")},
     # Strain limiting: out of range, and with a solver that does not limit strain.
     {"name": "strain limit out of range", "argv": [SMALL, "--set", "solver.strain_limit=11"],
      "status": 2,
@@ -454,6 +462,15 @@ CASES = [
     # Good input.
     {"name": "--plan red-black", "argv": [HANGING, "--plan"], "status": 0,
      "check": plan_has("colours: 2 (red-black)", "per frame: 8 substeps x 34 dispatches")},
+    {"name": "--plan fused", "argv": [HANGING, "--plan", "--set", 'solver.fuse="on"'], "status": 0,
+     "check": plan_has("solver: pd / rbgs, 4 outer x 4 inner, omega 1, sweeps fused (one dispatch "
+                       "per outer iteration)", "per frame: 8 substeps x 6 dispatches",
+                       "  solve    dispatch gauss-seidel, fused sweeps, one workgroup particles "
+                       "0..9997, 1 groups, outer 4: 4 sweeps x 2 colours fused, one workgroup of "
+                       "1024, u1 -> u0")},
+    {"name": "--plan fuse auto on lavapipe", "argv": [HANGING, "--plan"], "status": 0,
+     "check": plan_has("solver: pd / rbgs, 4 outer x 4 inner, omega 1, sweeps not fused: "
+                       "solver.fuse auto on a CPU device")},
     {"name": "--plan full stencil", "argv": [STENCIL, "--plan"], "status": 0,
      "check": plan_has("colours: 5")},
     {"name": "--plan with contact", "argv": [asset("drape.json"), "--plan"], "status": 0,
