@@ -152,7 +152,7 @@ static cvk_result setup(run* r, uint32_t n, cvk_error* err)
         res = cvk_buffer_upload(r->ctx, &r->submitter, r->cmd, &r->points, host,
                                 16 * (VkDeviceSize)n, err);
     free(host);
-    cvk_hash_desc desc = {n, SPACING, &r->points, false};
+    cvk_hash_desc desc = {n, SPACING, &r->points, false, NULL};
     if (res == CVK_SUCCESS)
         res = cvk_hash_create(r->ctx, &desc, &r->hash, err);
     if (res == CVK_SUCCESS)

@@ -404,6 +404,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_SIDES] = STORAGE,
     [CVK_CONTACT_BINDING_SIDES_READ] = TEXEL,
     [CVK_CONTACT_BINDING_MIDPOINTS] = STORAGE,
+    [CVK_CONTACT_BINDING_INSTANCES] = TEXEL,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -412,10 +413,16 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
 static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     contact_tables t = {0};
-    uint32_t n = CVK_MAX_COLLIDERS; /* the uniform arrays' size (shaders/contact/collide.glsl) */
-    if (c->collider_count > CVK_MAX_COLLIDERS)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "colliders: at most %u, got %u",
-                        CVK_MAX_COLLIDERS, c->collider_count);
+    /* at least the uniform arrays' size (shaders/contact/collide.glsl); more colliders than they
+       hold are read from the storage buffers, and the uniform bindings get a stub */
+    uint32_t n = c->collider_count > CVK_UNIFORM_COLLIDERS ? c->collider_count : CVK_UNIFORM_COLLIDERS;
+    cvk_result stub = CVK_SUCCESS;
+    if (c->collider_count > CVK_UNIFORM_COLLIDERS)
+        stub = cvk_device_make_buffer(&s->device, &c->uniform_stub,
+                                      CVK_UNIFORM_COLLIDERS * sizeof(cvk_gpu_collider),
+                                      "collider uniform stub", NULL, error);
+    if (stub != CVK_SUCCESS)
+        return stub;
     cvk_gpu_pose* poses = calloc(n, sizeof *poses);
     cvk_result r = poses ? make_collider_tables(c, &t, error)
                          : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
@@ -477,6 +484,54 @@ static cvk_result upload_start(cvk_sim* s, cvk_collide* c, cvk_error* error)
     return r;
 }
 
+uint32_t cvk_collide_instance_count(const cvk_build* b, const cvk_scene_desc* scene)
+{
+    uint32_t n = scene->instances.count;
+    if (n <= 1 || b->cloth_count % n != 0 || scene->collider_count % n != 0)
+        return 1;
+    return n;
+}
+
+/* Each particle's instance (lib/scene/scene_instances.c lays the copies out one after
+   another, so a particle's cloth tells its copy). */
+static cvk_result find_instances(cvk_sim* s, cvk_collide* c, const cvk_scene_desc* scene,
+                                 cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    uint32_t n = cvk_collide_instance_count(b, scene);
+    c->instance_count = 1;
+    c->instance_colliders = c->collider_count;
+    if (n == 1)
+        return CVK_SUCCESS;
+    c->instance_of = malloc((b->particle_count ? b->particle_count : 1) * sizeof *c->instance_of);
+    if (!c->instance_of)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "instances: out of host memory for %u particles", b->particle_count);
+    uint32_t cloths = b->cloth_count / n;
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        c->instance_of[p] = cvk_build_cloth_of(b, p) / cloths;
+    c->instance_count = n;
+    c->instance_colliders = c->collider_count / n;
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_collide_triangle_instances(const cvk_build* b, uint32_t instance_count,
+                                          uint32_t** out, cvk_error* error)
+{
+    *out = NULL;
+    if (instance_count <= 1)
+        return CVK_SUCCESS;
+    uint32_t* t = malloc((b->triangle_count ? b->triangle_count : 1) * sizeof *t);
+    if (!t)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "instances: out of host memory for %u triangles", b->triangle_count);
+    uint32_t cloths = b->cloth_count / instance_count;
+    for (uint32_t i = 0; i < b->triangle_count; i++)
+        t[i] = cvk_build_cloth_of_user(b, b->triangles[3 * (size_t)i]) / cloths;
+    *out = t;
+    return CVK_SUCCESS;
+}
+
 typedef struct buffer_job {
     cvk_buffer* buffer;
     VkDeviceSize bytes;
@@ -502,6 +557,17 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
                      "%u self-contact can address", b->triangle_count, t.edge_count,
                      CVK_MAX_FEATURES);
     c->edge_count = t.edge_count;
+    /* the edges' instances: the edge hash's salts (collide_passes.c) */
+    uint32_t* edge_instances = NULL;
+    bool salted = c->self && c->instance_of;
+    if (r == CVK_SUCCESS && salted) {
+        edge_instances = malloc((t.edge_count ? t.edge_count : 1) * sizeof *edge_instances);
+        if (!edge_instances)
+            r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                         "instances: out of host memory for %u edges", t.edge_count);
+        for (uint32_t e = 0; edge_instances && e < t.edge_count; e++)
+            edge_instances[e] = c->instance_of[t.edges[4 * (size_t)e]];
+    }
     VkDeviceSize n = b->particle_count ? b->particle_count : 1;
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
     VkDeviceSize ec = t.edge_count ? t.edge_count : 1;
@@ -519,9 +585,14 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->lists, 4u * CVK_LIST_HEADER, true, "detection commands", NULL},
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
+        {&c->instances, 4u * n, false, "particle instances", c->instance_of},
+        {&c->edge_instances, 4u * ec, true, "edge instances", edge_instances},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
-        bool small = jobs[i].self_only ? !c->self : !tables;
+        bool small = jobs[i].buffer == &c->instances        ? false
+                     : jobs[i].buffer == &c->edge_instances ? !salted
+                     : jobs[i].self_only                    ? !c->self
+                                                            : !tables;
         r = cvk_device_make_buffer(&s->device, jobs[i].buffer, small ? 16u : jobs[i].bytes,
                                    jobs[i].label, small ? NULL : jobs[i].data, error);
     }
@@ -536,6 +607,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     if (r == CVK_SUCCESS) /* counts 0; the pairs are written by the first substep's detection
                              (frame.force), before any contact pass reads them */
         r = cvk_device_clear_buffer(&s->device, &c->sides, error);
+    free(edge_instances);
+    if (r == CVK_SUCCESS && !c->instance_of) /* one instance: 0 for every particle */
+        r = cvk_device_clear_buffer(&s->device, &c->instances, error);
     if (r == CVK_SUCCESS && c->self)
         r = upload_start(s, c, error);
     free_cloth_tables(&t);
@@ -553,6 +627,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->particle_edges, VK_FORMAT_R32_UINT, &c->view_particle_edges},
         {&c->edge_contacts, VK_FORMAT_R32_UINT, &c->view_edge_contacts},
         {&c->sides, VK_FORMAT_R32_UINT, &c->view_sides},
+        {&c->instances, VK_FORMAT_R32_UINT, &c->view_instances},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
@@ -580,6 +655,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_
         .shift = b->free_count == b->particle_count && !kinematic,
         .longest = c->longest,
         .cloth_count = b->cloth_count,
+        .instance_colliders = c->instance_colliders,
     };
     /* the frame state, then the motion bounds (empty) */
     struct {
@@ -622,8 +698,8 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_CONTACTS] = {.buffer = &c->contacts},
         [CVK_CONTACT_BINDING_POSITIONS] = {.view = s->view_positions},
         [CVK_CONTACT_BINDING_PARAMS_UNIFORM] = {.buffer = &c->params},
-        [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = {.buffer = &c->shapes},
-        [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = &c->poses},
+        [CVK_CONTACT_BINDING_SHAPES_UNIFORM] = {.buffer = c->uniform_stub.size ? &c->uniform_stub : &c->shapes},
+        [CVK_CONTACT_BINDING_POSES_UNIFORM] = {.buffer = c->uniform_stub.size ? &c->uniform_stub : &c->poses},
         [CVK_CONTACT_BINDING_CONTACTS_READ] = {.view = c->view_contacts},
         [CVK_CONTACT_BINDING_SEARCHED] = {.buffer = &c->searched},
         [CVK_CONTACT_BINDING_TRIANGLE_EDGES] = {.view = c->view_triangle_edges},
@@ -637,6 +713,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_SIDES] = {.buffer = &c->sides},
         [CVK_CONTACT_BINDING_SIDES_READ] = {.view = c->view_sides},
         [CVK_CONTACT_BINDING_MIDPOINTS] = {.buffer = &c->midpoints},
+        [CVK_CONTACT_BINDING_INSTANCES] = {.view = c->view_instances},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -654,8 +731,11 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->friction = scene->collision.friction;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     c->longest = 1.5f * longest_edge(&s->build);
-    c->types = cvk_scene_collider_types(scene);
+    c->types = cvk_scene_collider_types(scene) |
+               (scene->collider_count > CVK_UNIFORM_COLLIDERS ? CVK_COLLIDERS_IN_STORAGE : 0u);
     cvk_result r = copy_colliders(c, scene, error);
+    if (r == CVK_SUCCESS)
+        r = find_instances(s, c, scene, error);
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS)
@@ -684,7 +764,8 @@ void cvk_collide_destroy(cvk_sim* s)
     cvk_descriptors_destroy(ctx, &c->descriptors);
     VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_contacts,
                             c->view_searched, c->view_edges, c->view_triangle_edges,
-                            c->view_particle_edges, c->view_edge_contacts, c->view_sides};
+                            c->view_particle_edges, c->view_edge_contacts, c->view_sides,
+                            c->view_instances};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
@@ -692,10 +773,12 @@ void cvk_collide_destroy(cvk_sim* s)
                              &c->params, &c->triangles, &c->incident, &c->edges,
                              &c->triangle_edges, &c->particle_edges, &c->contacts,
                              &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
-                             &c->lists, &c->sides, &c->midpoints};
+                             &c->lists, &c->sides, &c->midpoints, &c->instances,
+                             &c->edge_instances, &c->uniform_stub};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);
+    free(c->instance_of);
     *c = (cvk_collide){0};
 }
 

@@ -56,7 +56,8 @@ typedef struct cvk_collide {
     bool self;                   /* contact between and within cloths */
     uint32_t types;              /* bit t: colliders of type t (a funnel, a surface rather
                                     than a solid, has the cloth's edges kept off it too, so
-                                    the triangle tables are built for it) */
+                                    the triangle tables are built for it); and
+                                    CVK_COLLIDERS_IN_STORAGE */
     float thickness;             /* m, resolved (collision.thickness or its default) */
     float radius;                /* m: the contact radius, resolved */
     float longest;               /* m: the longest an edge may be (1.5 × the longest at rest) */
@@ -69,6 +70,8 @@ typedef struct cvk_collide {
     cvk_buffer frame;            /* cvk_gpu_frame, then cvk_gpu_motion_bounds */
     cvk_buffer poses;            /* cvk_gpu_pose per collider (at least one element) */
     cvk_buffer shapes;           /* cvk_gpu_collider per collider */
+    cvk_buffer uniform_stub;     /* bound as the uniform arrays when there are more colliders
+                                    than they hold (the shaders then read shapes and poses) */
     cvk_buffer keyframes;        /* 2 vec4 per keyframe: (time, translation), rotation (x, y, z, w) */
     cvk_buffer sdf_values;       /* every mesh collider's field, back to back */
     cvk_buffer params;           /* cvk_gpu_contact_params */
@@ -88,11 +91,21 @@ typedef struct cvk_collide {
                                     (vertex, entry) in which it is a corner of the feature */
     cvk_buffer lists;            /* detection's indirect commands (shared/layout.h: CVK_LIST_*) */
     cvk_buffer midpoints;        /* vec4 per edge: its midpoint at the last detection */
+    /* The scene's instances (copies that never touch one another: lib/scene/scene_instances.c
+       lays them out copy by copy, each with cloth_count / instance_count cloths and
+       collider_count / instance_count colliders): a particle meets its own copy's colliders
+       and cloth features only. */
+    uint32_t instance_count;     /* 1 when the scene is not copied */
+    uint32_t instance_colliders; /* colliders per instance */
+    uint32_t* instance_of;       /* per particle (internal): its instance; NULL with one */
+    cvk_buffer instances;        /* the same on the device (zeros with one instance) */
+    cvk_buffer edge_instances;   /* uint per edge: its instance (self-contact with several
+                                    instances; 16 bytes otherwise) */
     cvk_hash hash;               /* only with self-contact: the particles' positions */
     cvk_hash edge_hash;          /* only with self-contact: the edges' midpoints */
     VkBufferView view_triangles, view_incident, view_contacts, view_searched;
     VkBufferView view_edges, view_triangle_edges, view_particle_edges, view_edge_contacts;
-    VkBufferView view_sides;
+    VkBufferView view_sides, view_instances;
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */
@@ -131,6 +144,16 @@ uint64_t cvk_collide_snapshot_size(const struct cvk_sim* sim);
 cvk_result cvk_collide_save_snapshot(struct cvk_sim* sim, unsigned char* data, cvk_error* error);
 cvk_result cvk_collide_load_snapshot(struct cvk_sim* sim, const unsigned char* data,
                                      cvk_error* error);
+
+/* The scene's instances as the device keeps them apart: scene->instances.count when its cloths
+   and colliders divide evenly into that many copies (as a file's "instances" block expands),
+   else 1. */
+uint32_t cvk_collide_instance_count(const cvk_build* build, const cvk_scene_desc* scene);
+
+/* Per triangle (scene order): its instance, for the host's pair tests; NULL (and CVK_SUCCESS)
+   with one instance. The caller frees it. */
+cvk_result cvk_collide_triangle_instances(const cvk_build* build, uint32_t instance_count,
+                                          uint32_t** out, cvk_error* error);
 
 /* The pose of collider `index` at simulated time t (s), as the device computes it. */
 cvk_pose cvk_collide_pose(const cvk_collide* collide, uint32_t index, double t);

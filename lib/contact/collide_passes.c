@@ -20,15 +20,19 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
        edge measured at each detection (contact_decide.comp, before every build); this is only
        the first, with the cloth stretched by up to 50 %. */
     float cell = c->radius + c->longest;
+    /* Salted with the instances (several copies), so that copies at one place fill different
+       slots and detection walks past few of another copy's points. */
+    bool salted = c->instance_of != NULL;
     cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
-                          &s->positions, true};
+                          &s->positions, true, salted ? &c->instances : NULL};
     cvk_result r = cvk_hash_create(s->device.context, &desc, &c->hash, error);
     if (r != CVK_SUCCESS)
         return r;
     /* The edges' midpoints, which edge–edge detection walks (contact_edges.comp): an edge
        within the radius of another has its midpoint within the radius plus half of each
        edge's length of the other's, within the same cells. */
-    cvk_hash_desc edge_desc = {c->edge_count ? c->edge_count : 1, cell, &c->midpoints, true};
+    cvk_hash_desc edge_desc = {c->edge_count ? c->edge_count : 1, cell, &c->midpoints, true,
+                               salted ? &c->edge_instances : NULL};
     r = cvk_hash_create(s->device.context, &edge_desc, &c->edge_hash, error);
     if (r != CVK_SUCCESS)
         return r;

@@ -48,6 +48,7 @@ static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
     [CVK_HASH_BINDING_STARTS_READ] = TEXEL,  [CVK_HASH_BINDING_ENTRIES_READ] = TEXEL,
     [CVK_HASH_BINDING_PARAMS_READ] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0},
     [CVK_HASH_BINDING_SORTED] = STORAGE,     [CVK_HASH_BINDING_SORTED_READ] = TEXEL,
+    [CVK_HASH_BINDING_SALTS] = TEXEL,
 };
 #undef STORAGE
 #undef TEXEL
@@ -105,7 +106,7 @@ static cvk_result check_desc(const cvk_context* context, const cvk_hash_desc* de
 }
 
 static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk_buffer* points,
-                                 cvk_error* error)
+                                 const cvk_buffer* salts, cvk_error* error)
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
@@ -124,6 +125,7 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
         {&hash->scratch, 4 * (slots + chunk_count(hash) + hash->capacity), "hash scratch"},
         {&hash->sorted, 16 * (VkDeviceSize)hash->capacity, "hash points by slot"},
+        {&hash->zero_salt, 16, "hash zero salt"},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         VkBufferUsageFlags extra = list[i].buffer == &hash->params
@@ -144,6 +146,9 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
     if (r == CVK_SUCCESS)
         r = cvk_buffer_view_create(context, &hash->sorted, VK_FORMAT_R32G32B32A32_UINT,
                                    &hash->sorted_view, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_view_create(context, salts ? salts : &hash->zero_salt, VK_FORMAT_R32_UINT,
+                                   &hash->salts_view, error);
     return r;
 }
 
@@ -171,6 +176,7 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
         [CVK_HASH_BINDING_PARAMS_READ] = {.buffer = &hash->params},
         [CVK_HASH_BINDING_SORTED] = {.buffer = &hash->sorted},
         [CVK_HASH_BINDING_SORTED_READ] = {.view = hash->sorted_view},
+        [CVK_HASH_BINDING_SALTS] = {.view = hash->salts_view},
     };
     cvk_descriptors_write(context, &d, 0, res);
     return CVK_SUCCESS;
@@ -190,6 +196,7 @@ static cvk_result zero_counts(cvk_context* context, cvk_hash* hash, cvk_error* e
         r = cvk_command_buffer_begin(cmd, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, error);
     if (r == CVK_SUCCESS) {
         vkCmdFillBuffer(cmd, hash->scratch.buffer, 0, VK_WHOLE_SIZE, 0);
+        vkCmdFillBuffer(cmd, hash->zero_salt.buffer, 0, VK_WHOLE_SIZE, 0);
         cvk_hash_params params = {.cell_size = hash->cell_size,
                                   .inv_cell = 1.0f / hash->cell_size,
                                   .table_size = hash->table_size,
@@ -218,7 +225,7 @@ cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_
     out->table_size = table_size_for(desc->capacity);
     out->cell_size = desc->cell_size;
     out->cell_on_device = desc->cell_on_device;
-    r = create_buffers(context, out, desc->points, error);
+    r = create_buffers(context, out, desc->points, desc->salts, error);
     if (r == CVK_SUCCESS)
         r = zero_counts(context, out, error);
     if (r == CVK_SUCCESS)
@@ -244,12 +251,15 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
         vkDestroyBufferView(context->device, hash->entries_view, NULL);
     if (hash->sorted_view)
         vkDestroyBufferView(context->device, hash->sorted_view, NULL);
+    if (hash->salts_view)
+        vkDestroyBufferView(context->device, hash->salts_view, NULL);
     cvk_buffer_destroy(context, &hash->params);
     cvk_buffer_destroy(context, &hash->keys);
     cvk_buffer_destroy(context, &hash->starts);
     cvk_buffer_destroy(context, &hash->entries);
     cvk_buffer_destroy(context, &hash->scratch);
     cvk_buffer_destroy(context, &hash->sorted);
+    cvk_buffer_destroy(context, &hash->zero_salt);
     memset(hash, 0, sizeof *hash);
 }
 

@@ -27,6 +27,11 @@ typedef struct cvk_hash_desc {
                                    (read through a texel view); must outlive the hash */
     bool cell_on_device;        /* the parameters' cell size is written on the device before
                                    each build (cell_size is only the first); builds keep it */
+    const cvk_buffer* salts;    /* uint per point mixed into its slot (a texel view reads it),
+                                   or NULL: 0 for every point. Points of different salts in one
+                                   cell mostly take different slots, so a query that wants one
+                                   salt's points walks past few others (hash_walk_begin's
+                                   salt); must outlive the hash */
 } cvk_hash_desc;
 
 typedef struct cvk_hash {
@@ -44,6 +49,8 @@ typedef struct cvk_hash {
     VkBufferView starts_view;   /* R32_UINT, R32_UINT): on lavapipe a texel fetch is a */
     VkBufferView entries_view;  /* vectorised gather, a storage-buffer load is not */
     VkBufferView sorted_view;   /* R32G32B32A32_UINT */
+    cvk_buffer zero_salt;       /* one zero uint: the salts without desc.salts */
+    VkBufferView salts_view;    /* R32_UINT */
     VkDescriptorSetLayout set_layout;
     VkDescriptorPool pool;
     VkDescriptorSet set;
@@ -76,7 +83,7 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
    so a few strided workgroups would cut long loops short. */
 void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op);
 
-/* The host reference, for tests: the slot of a point, as the device computes it. */
+/* The host reference, for tests: the slot of a point of salt 0, as the device computes it. */
 uint32_t cvk_hash_slot(const cvk_hash* hash, const float p[3]);
 
 #endif

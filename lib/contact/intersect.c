@@ -308,6 +308,7 @@ struct entry {
 typedef struct soup {
     const float* xyz;
     const uint32_t* triangles;
+    const uint32_t* groups;   /* per triangle, or NULL: pairs of one group only */
     uint32_t count;       /* triangles kept (not torn, finite, indices in range) */
     uint32_t* kept;       /* their indices */
     float* box;           /* 6 floats per kept triangle: min xyz, max xyz */
@@ -472,6 +473,8 @@ static void scan_cell(const soup* s, size_t first, size_t end, scan* out)
         const uint32_t* vi = &s->triangles[3 * (size_t)s->kept[i]];
         for (size_t y = x + 1; y < end; y++) {
             uint32_t j = s->entries[y].index;
+            if (s->groups && s->groups[s->kept[i]] != s->groups[s->kept[j]])
+                continue;
             if (!tested_here(s, i, j, cell) ||
                 share_vertex(vi, &s->triangles[3 * (size_t)s->kept[j]]))
                 continue;
@@ -501,10 +504,11 @@ static void free_soup(soup* s)
 
 /* Every pair of the soup, each tested once (in the cell of its boxes' overlap's low corner). */
 static cvk_result scan_soup(const float* xyz, uint32_t vertex_count, const uint32_t* triangles,
-                            uint32_t triangle_count, scan* out, cvk_error* error)
+                            const uint32_t* groups, uint32_t triangle_count, scan* out,
+                            cvk_error* error)
 {
     *out = (scan){0};
-    soup s = {.xyz = xyz, .triangles = triangles};
+    soup s = {.xyz = xyz, .triangles = triangles, .groups = groups};
     size_t n = triangle_count ? triangle_count : 1;
     s.kept = malloc(n * sizeof *s.kept);
     s.box = malloc(6 * n * sizeof *s.box);
@@ -533,11 +537,12 @@ static cvk_result scan_soup(const float* xyz, uint32_t vertex_count, const uint3
 }
 
 cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
-                                        const uint32_t* triangles, uint32_t triangle_count,
-                                        uint64_t* out_pairs, cvk_error* error)
+                                        const uint32_t* triangles, const uint32_t* groups,
+                                        uint32_t triangle_count, uint64_t* out_pairs,
+                                        cvk_error* error)
 {
     scan found;
-    cvk_result r = scan_soup(xyz, vertex_count, triangles, triangle_count, &found, error);
+    cvk_result r = scan_soup(xyz, vertex_count, triangles, groups, triangle_count, &found, error);
     *out_pairs = r == CVK_SUCCESS ? found.pairs : 0;
     return r;
 }
@@ -550,12 +555,13 @@ static void centroid(const float* xyz, const uint32_t* v, double out[3])
 }
 
 cvk_result cvk_first_intersecting_pair(const float* xyz, uint32_t vertex_count,
-                                       const uint32_t* triangles, uint32_t triangle_count,
-                                       cvk_intersecting_pair* out, cvk_error* error)
+                                       const uint32_t* triangles, const uint32_t* groups,
+                                       uint32_t triangle_count, cvk_intersecting_pair* out,
+                                       cvk_error* error)
 {
     *out = (cvk_intersecting_pair){0};
     scan found;
-    cvk_result r = scan_soup(xyz, vertex_count, triangles, triangle_count, &found, error);
+    cvk_result r = scan_soup(xyz, vertex_count, triangles, groups, triangle_count, &found, error);
     if (r != CVK_SUCCESS || found.pairs == 0)
         return r;
     out->found = true;

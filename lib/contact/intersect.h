@@ -7,10 +7,12 @@
 
 #include "clothvk.h"
 
-/* Triangles with three equal indices (torn) are skipped. CVK_ERROR_OUT_OF_MEMORY is the only
-   failure. */
+/* Triangles with three equal indices (torn) are skipped. groups (NULL: one group) gives each
+   triangle a group, and only pairs of one group are tested (the scene's instances, which never
+   touch one another). CVK_ERROR_OUT_OF_MEMORY is the only failure. */
 cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
-                                        const uint32_t* triangles, uint32_t triangle_count,
+                                        const uint32_t* triangles, const uint32_t* groups,
+                                        uint32_t triangle_count,
                                         uint64_t* out_pairs, cvk_error* error);
 
 /* The lowest intersecting pair of the same soup (the same predicate and grid as the count,
@@ -24,7 +26,8 @@ typedef struct cvk_intersecting_pair {
 } cvk_intersecting_pair;
 
 cvk_result cvk_first_intersecting_pair(const float* xyz, uint32_t vertex_count,
-                                       const uint32_t* triangles, uint32_t triangle_count,
+                                       const uint32_t* triangles, const uint32_t* groups,
+                                       uint32_t triangle_count,
                                        cvk_intersecting_pair* out, cvk_error* error);
 
 /* Whether two triangles (9 floats each) intersect: the exact predicate the count uses. */

@@ -98,10 +98,11 @@ cvk_cloth_desc cvk_attachment_pins_as_cloth(const cvk_cloth_desc* cloth,
 #define CVK_MAX_PARTICLES (UINT64_C(1) << 30)
 
 /* Bounds on what sizes the device's collider buffers (one record per collider, its keyframes
-   uploaded whole and searched per substep), so that a typo in a count is refused up front: 64
-   colliders is far more than a scene draws, 10000 keyframes is almost three minutes at 60
-   keyframes a second. */
-/* CVK_MAX_COLLIDERS (64): shaders/shared/layout.h, where the uniform arrays are sized by it. */
+   uploaded whole and searched per substep), so that a typo in a count is refused up front: a
+   particle meets only its own instance's colliders, so their number costs memory, not time;
+   10000 keyframes is almost three minutes at 60 keyframes a second. */
+#define CVK_MAX_COLLIDERS (1u << 20) /* as many as CVK_MAX_INSTANCES copies of one; the device's
+                                        storage buffers may hold fewer (checked at creation) */
 
 /* Largest tether scale: a tether ten times its rest distance no longer holds anything. */
 #define CVK_MAX_TETHER_SCALE 10.0

@@ -1,7 +1,9 @@
 /* A scene file's "instances" block: the scene's cloths, colliders and attachments repeated,
    copy k translated by its offset. Checked on the scene as written, then expanded in place,
    before the whole description is checked; the copies are plain cloths, colliders and
-   attachments, so every pass runs over all of them in the dispatches it runs over one. */
+   attachments laid out copy by copy, so every pass runs over all of them in the dispatches it
+   runs over one, and a particle's cloth tells its copy: it meets only that copy's colliders
+   and, with self-contact, that copy's cloths (lib/contact/collide.h). */
 #include "scene/scene_read.h"
 
 #include <inttypes.h>
@@ -81,10 +83,6 @@ static bool check_block(const cvk_scene_desc* d, bool has_count, uint32_t offset
                             " collider%s make %" PRIu64 ", more than the %u a scene holds",
                             in->count, d->collider_count, d->collider_count == 1 ? "" : "s",
                             (uint64_t)d->collider_count * in->count, CVK_MAX_COLLIDERS);
-    if (d->collision.self)
-        return cvk_issue_at(issue, "collision.self", "must be false in a scene of %" PRIu32
-                            " copies (instances.count): copies never touch one another",
-                            in->count);
     for (uint32_t a = 0; a < d->attachment_count; a++) {
         const cvk_motion* m = &d->attachments[a].motion;
         for (uint32_t k = 0; k < m->keyframe_count; k++) {

@@ -53,11 +53,15 @@ cvk_result cvk_sim_count_intersections(cvk_sim* s, uint64_t* out_pairs, cvk_erro
         r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                      "cvk_sim_count_intersections: out of host memory for %u particles",
                      b->particle_count);
+    uint32_t* groups = NULL;
     if (r == CVK_SUCCESS)
         r = cvk_sim_read_mesh(s, xyz, NULL, tri, n, b->triangle_count, error);
     if (r == CVK_SUCCESS)
-        r = cvk_count_intersecting_pairs(xyz, b->particle_count, tri, b->triangle_count,
+        r = cvk_collide_triangle_instances(b, s->collide->instance_count, &groups, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_count_intersecting_pairs(xyz, b->particle_count, tri, groups, b->triangle_count,
                                          out_pairs, error);
+    free(groups);
     free(xyz);
     free(tri);
     return r;
@@ -107,8 +111,13 @@ cvk_result cvk_sim_check_clean_start(const cvk_sim* s, const cvk_scene_desc* sce
     for (size_t i = 0; i < n; i++)
         tri[i] = b->internal_of[b->triangles[i]];
     cvk_intersecting_pair pair;
-    cvk_result r = cvk_first_intersecting_pair(b->position, b->particle_count, tri,
-                                               b->triangle_count, &pair, error);
+    uint32_t* groups = NULL;
+    cvk_result r = cvk_collide_triangle_instances(b, cvk_collide_instance_count(b, scene), &groups,
+                                                  error);
+    if (r == CVK_SUCCESS)
+        r = cvk_first_intersecting_pair(b->position, b->particle_count, tri, groups,
+                                        b->triangle_count, &pair, error);
+    free(groups);
     free(tri);
     if (r == CVK_SUCCESS && pair.found)
         r = fail_intersecting(b, &pair, error);
@@ -124,7 +133,8 @@ static void collider_stats(cvk_sim* s, const float* xyz, cvk_sim_stats* st)
     for (uint32_t p = 0; p < s->build.free_count; p++) {
         const float* x = &xyz[3 * (size_t)p];
         double nearest = INFINITY;
-        for (uint32_t k = 0; k < c->collider_count; k++)
+        uint32_t first = c->instance_of ? c->instance_of[p] * c->instance_colliders : 0;
+        for (uint32_t k = first; k < first + c->instance_colliders; k++)
             nearest = fmin(nearest, cvk_collide_distance(c, k, t, x, NULL));
         if (nearest < c->thickness + CONTACT_MARGIN)
             st->collider_contacts++;
@@ -286,6 +296,9 @@ static uint64_t pairs_in_range(const triangle_query* q, const point_grid* g, uin
         uint32_t p = g->points[i].particle;
         if (near_in_mesh(q->build, p, q->v))
             continue;
+        const uint32_t* instance_of = q->collide->instance_of;
+        if (instance_of && instance_of[p] != instance_of[q->v[0]])
+            continue; /* copies never touch one another */
         const float* x = &q->xyz[3 * (size_t)p];
         double pd[3] = {x[0], x[1], x[2]};
         if (cvk_point_triangle_distance2(pd, q->corner[0], q->corner[1], q->corner[2]) < q->thickness * q->thickness)
@@ -372,9 +385,13 @@ cvk_result cvk_sim_contact_stats(cvk_sim* s, const float* xyz_internal, cvk_sim_
     cvk_result r = live_triangles(s, &tri, error);
     if (r == CVK_SUCCESS && s->collide->self)
         r = self_stats(s, xyz_internal, tri, st, error);
+    uint32_t* groups = NULL;
     if (r == CVK_SUCCESS)
-        r = cvk_count_intersecting_pairs(xyz_internal, s->build.particle_count, tri,
+        r = cvk_collide_triangle_instances(&s->build, s->collide->instance_count, &groups, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_count_intersecting_pairs(xyz_internal, s->build.particle_count, tri, groups,
                                          s->build.triangle_count, &st->intersecting_pairs, error);
+    free(groups);
     free(tri);
     return r;
 }

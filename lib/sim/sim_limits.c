@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "sim/memory.h"
+#include "shared/layout.h"
 
 /* The adjacency takes two texels per quad of spring slots (see solve_pd.c). */
 static uint64_t adjacency_texels(uint64_t particles, uint32_t max_degree)
@@ -61,6 +62,15 @@ cvk_result cvk_check_scene_limits(const cvk_context* context, const cvk_scene_de
         uint32_t d = grid_degree_bound(cloth);
         degree = d > degree ? d : degree;
     }
+    /* One record per collider in a storage buffer (shared/layout.h), read per particle. */
+    uint64_t collider_bytes = (uint64_t)scene->collider_count * sizeof(cvk_gpu_collider);
+    if (collider_bytes > limits->maxStorageBufferRange)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "%s: %u colliders need %llu bytes of collider records, more than %s's "
+                        "storage buffers hold (maxStorageBufferRange %u bytes)",
+                        scene->instances.count > 1 ? "instances.count" : "colliders",
+                        scene->collider_count, (unsigned long long)collider_bytes,
+                        context->properties.deviceName, limits->maxStorageBufferRange);
     const char* where = scene->cloth_count == 1 ? "cloths.0.grid" : "cloths";
     if (scene->instances.count > 1)
         where = "instances.count";

@@ -248,7 +248,11 @@ static void put_header(text* t, const cvk_sim* s)
             put(t, " (contact radius %.4g m, bounds %.2g of the nearest distance)",
                 (double)c->radius, (double)CVK_BOUND_GAMMA);
         put(t, ", %u colliders", c->collider_count);
-        for (uint32_t i = 0; i < c->collider_count; i++)
+        if (c->instance_count > 1)
+            put(t, " (%u a copy, each particle testing its copy's)", c->instance_colliders);
+        if (c->collider_count > CVK_UNIFORM_COLLIDERS)
+            put(t, " read from storage buffers");
+        for (uint32_t i = 0; i < c->instance_colliders; i++) /* one copy's */
             put(t, "%s%s%s", i ? ", " : ": ", cvk_collider_type_name(c->colliders[i].type),
                 c->colliders[i].motion.keyframe_count ? " (moving)" : "");
         put(t, "\n");

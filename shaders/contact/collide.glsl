@@ -22,17 +22,21 @@
 #endif
 // Bit t set: the scene has colliders of type t (CVK_COLLIDER_*_ID); the others' code is
 // specialised away.
+// Bit 31 (CVK_COLLIDERS_IN_STORAGE): more colliders than the uniform arrays hold; they are read
+// from the storage buffers.
 layout(constant_id = CONTACT_TYPES_ID) const uint COLLIDER_TYPES = 63u;
 #define HAS_TYPE(t) ((COLLIDER_TYPES & (1u << (t))) != 0u)
+const uint COLLIDER_TYPE_BITS = COLLIDER_TYPES & ~CVK_COLLIDERS_IN_STORAGE;
+const bool STORAGE_COLLIDERS = (COLLIDER_TYPES & CVK_COLLIDERS_IN_STORAGE) != 0u;
 
 layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS_UNIFORM) uniform ContactParamsU {
     cvk_gpu_contact_params contact_u;
 };
 layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SHAPES_UNIFORM) uniform ShapesU {
-    cvk_gpu_collider shapes_u[CVK_MAX_COLLIDERS];
+    cvk_gpu_collider shapes_u[CVK_UNIFORM_COLLIDERS];
 };
 layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES_UNIFORM) uniform PosesU {
-    cvk_gpu_pose poses_u[CVK_MAX_COLLIDERS];
+    cvk_gpu_pose poses_u[CVK_UNIFORM_COLLIDERS];
 };
 #include "contact/bounds.glsl" // the frame state, where detection saw each particle, the bounds
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS) readonly buffer ContactParams {
@@ -47,6 +51,20 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_KEYFRAMES) reado
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSES) buffer Poses {
     cvk_gpu_pose poses[];
 };
+// Collider k's shape and pose: from the uniform arrays, or with more colliders than they hold
+// from the storage buffers (a specialisation constant: the other side compiles to nothing).
+cvk_gpu_collider collider_shape(uint k)
+{
+    if (STORAGE_COLLIDERS)
+        return shapes[k];
+    return shapes_u[k];
+}
+cvk_gpu_pose collider_pose(uint k)
+{
+    if (STORAGE_COLLIDERS)
+        return poses[k];
+    return poses_u[k];
+}
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly buffer Fields {
     float sdf_values[];
 };
@@ -80,6 +98,7 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES) buffer Si
     uint sides[]; // per particle a count, then per particle its pairs as a corner (vertex, entry)
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES_READ) uniform usamplerBuffer sides_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INSTANCES) uniform usamplerBuffer instances_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
     vec4 previous[]; // per particle: its position at the start of the substep before
 };
@@ -100,6 +119,14 @@ uvec2 side_pair(uint q, uint k)
 }
 uint edge_entry(uint i) { return texelFetch(edge_contacts_t, int(i)).x; }
 vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
+// Particle p's instance (the scene's copy: copies never touch one another), and the range
+// [x, y) of the colliders it meets: its instance's.
+uint contact_instance(uint p) { return texelFetch(instances_t, int(p)).x; }
+uvec2 collider_range(uint p)
+{
+    uint first = contact_instance(p) * contact_u.instance_colliders;
+    return uvec2(first, first + contact_u.instance_colliders);
+}
 
 #include "scene/motion.glsl" // quat_rotate, motion_pose (reads keyframes, above)
 
@@ -301,13 +328,13 @@ vec3 apply_friction(vec3 l0, vec3 l1, vec3 n, float depth, float mu, float mu_s)
 // x0 + u, kept r off its surface: returns the corrected displacement.
 vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
 {
-    cvk_gpu_collider c = shapes_u[k];
-    cvk_gpu_pose pose = poses_u[k];
+    cvk_gpu_collider c = collider_shape(k);
+    cvk_gpu_pose pose = collider_pose(k);
     vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
     vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
     vec3 hit, n;
     bool touch;
-    if (COLLIDER_TYPES == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {
+    if (COLLIDER_TYPE_BITS == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {
         // a half-space: the projection needs no trace
         n = c.b.xyz;
         hit = l1 + (r - dot(n, l1 - c.a.xyz)) * n;
@@ -338,20 +365,21 @@ vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
 // Signed distance from x to collider k as posed at the start (pose 0) or end (1) of the substep.
 float posed_distance(uint k, vec3 x, uint pose)
 {
-    cvk_gpu_pose p = poses_u[k];
+    cvk_gpu_pose p = collider_pose(k);
     vec3 l = pose == 0u ? quat_rotate_inverse(p.rotation0, x - p.translation0.xyz)
                         : quat_rotate_inverse(p.rotation1, x - p.translation1.xyz);
-    return shape_distance(shapes_u[k], l);
+    return shape_distance(collider_shape(k), l);
 }
 
-// The least distance from x to a collider other than a funnel, at the end of the substep or,
-// with `both`, at its start too (the bounds' collider rules: lib/contact/collide.h; a funnel's
-// push is not held to the bound).
-float nearest_solid(vec3 x, bool both)
+// The least distance from x to a collider of particle p's instance other than a funnel, at the
+// end of the substep or, with `both`, at its start too (the bounds' collider rules:
+// lib/contact/collide.h; a funnel's push is not held to the bound).
+float nearest_solid(uint p, vec3 x, bool both)
 {
     float d = 3.0e38;
-    for (uint k = 0u; k < contact_u.collider_count; k++) {
-        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && shapes_u[k].type == CVK_COLLIDER_FUNNEL_ID)
+    uvec2 range = collider_range(p);
+    for (uint k = range.x; k < range.y; k++) {
+        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && collider_shape(k).type == CVK_COLLIDER_FUNNEL_ID)
             continue;
         d = min(d, posed_distance(k, x, 1u));
         if (both)
@@ -360,11 +388,12 @@ float nearest_solid(vec3 x, bool both)
     return d;
 }
 
-// Collider contact for a particle that starts the substep at x0 and would end it at x0 + u:
-// returns the displacement that keeps it out of every collider.
-vec3 collide_colliders(vec3 x0, vec3 u)
+// Collider contact for particle p that starts the substep at x0 and would end it at x0 + u:
+// returns the displacement that keeps it out of every collider of its instance.
+vec3 collide_colliders(uint p, vec3 x0, vec3 u)
 {
-    for (uint k = 0; k < contact_u.collider_count; k++)
+    uvec2 range = collider_range(p);
+    for (uint k = range.x; k < range.y; k++)
         u = collide_shape(k, x0, u, contact_u.thickness);
     return u;
 }

@@ -55,7 +55,7 @@ void main()
             // the bound: the collider's push could then take the particle past its bound
             // (pd_contact.glsl).
             exceed = exceed || !(length(e) <= contact_u.redetect * abs(seen.w)) ||
-                     nearest_solid(seen.xyz + next, true) < contact_u.thickness - abs(seen.w);
+                     nearest_solid(p, seen.xyz + next, true) < contact_u.thickness - abs(seen.w);
         }
         if (exceed)
             atomicOr(motion_bounds.exceed, 1u);
@@ -71,7 +71,7 @@ void main()
         // stop it while the others move on, so a detection takes no shift
         // (contact_decide.comp). Funnels are left out: their push is not held to the bound.
         float reach = contact_u.thickness + contact_u.radius + 2.0 * length(v);
-        near = near || !(nearest_solid(x, true) >= reach);
+        near = near || !(nearest_solid(p, x, true) >= reach);
         vec3 e = x - texelFetch(searched_t, int(p)).xyz + v;
         bool finite = all(lessThanEqual(abs(e), vec3(BIG))) && all(lessThanEqual(abs(v), vec3(BIG)));
         low = min(low, finite ? e : vec3(-BIG));

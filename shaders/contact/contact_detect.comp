@@ -5,7 +5,8 @@
 // substep (x_n). A triangle that near has a corner within the reach (the radius plus the
 // farthest a point of a triangle is from its nearest corner, from the longest edge measured
 // by contact_edges.comp; the hash's cells are wider, contact_decide.comp), and the walk over
-// the 27 hash cells around p visits every such corner; the triangles
+// the 27 hash cells around p visits every such corner (of p's instance: the scene's copies
+// never touch one another, and a corner of another is passed over); the triangles
 // around each are tested once, through their lowest-index corner within reach. Each pair found:
 //   - p's nearest distance and each corner's (an atomic minimum on the float's bits, which
 //     order as the non-negative floats do, so the result does not depend on thread timing)
@@ -107,12 +108,14 @@ void detect(uint p)
     float reach = contact_u.radius + uintBitsToFloat(frame.longest) * 0.57735027;
     float reach2 = reach * reach;
     float nearest_p = INFINITY;
-    hash_walk w = hash_walk_begin(xp);
+    uint instance = contact_instance(p); // copies never touch one another
+    hash_walk w = hash_walk_begin(xp, instance); // the slots of p's instance's corners
     uvec4 entry;
     bool here;
     uint count = 0u;
     while (hash_walk_step(w, entry, here)) {
-        if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2)) {
+        if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2) &&
+            contact_instance(entry.w) == instance) {
             found[count] = entry.w;
             count++;
         }

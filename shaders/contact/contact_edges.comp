@@ -37,6 +37,8 @@ float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float neares
     uvec2 cd = contact_edge(f);
     if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
         return nearest_e; // sharing an end: adjacent (or e itself)
+    if (contact_instance(cd.x) != contact_instance(ab.x))
+        return nearest_e; // another instance: copies never touch one another
     float s, t;
     vec3 c1, c2;
     closest_segments(xa, xb, contact_x(cd.x), contact_x(cd.y), s, t, c1, c2);
@@ -57,7 +59,7 @@ void detect(uint e)
     float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
     float reach2 = reach * reach;
     float nearest_e = INFINITY;
-    hash_walk w = hash_walk_begin(m);
+    hash_walk w = hash_walk_begin(m, contact_instance(ab.x)); // the slots of e's instance's edges
     uvec4 entry;
     bool here;
     while (hash_walk_step(w, entry, here))

@@ -68,6 +68,7 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) writeonly buff
     uvec4 hash_sorted[]; // per entry: its point's xyz (float bits), its index
 };
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ) uniform usamplerBuffer hash_sorted_read;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_SALTS) uniform usamplerBuffer hash_salts;
 
 // The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
 // device round alike (a multiplication is correctly rounded; a division need not be), clamped
@@ -81,14 +82,28 @@ ivec3 hash_cell(vec3 p)
 // The slot of a cell: Teschner et al.'s primes, XORed, then a multiply-xorshift finaliser so the
 // low bits the mask keeps depend on every bit of the cell. Integer math only: the host's
 // cvk_hash_slot is the same function.
-uint hash_slot(ivec3 cell)
+// A salt (the point's, hash_salt) is mixed in before the finaliser, so points of different
+// salts in one cell mostly take different slots; salt 0 leaves the slot as it was.
+uint hash_slot(ivec3 cell, uint salt)
 {
     uvec3 u = uvec3(cell);
-    uint h = (u.x * 73856093u) ^ (u.y * 19349663u) ^ (u.z * 83492791u);
+    uint h = (u.x * 73856093u) ^ (u.y * 19349663u) ^ (u.z * 83492791u) ^ (salt * 0x9e3779b1u);
     h ^= h >> 16;
     h *= 0x7feb352du;
     h ^= h >> 15;
     return h & (hash_params_u.table_size - 1u);
+}
+
+uint hash_slot(ivec3 cell)
+{
+    return hash_slot(cell, 0u);
+}
+
+// Point p's salt (lib/contact/hash.h: 0 for every point of a hash made without salts, whose
+// salts are one texel of zeros, so a point past the texels has salt 0).
+uint hash_salt(uint p)
+{
+    return p < uint(textureSize(hash_salts)) ? texelFetch(hash_salts, int(p)).x : 0u;
 }
 
 // Cell n (0..26) of the 3x3x3 block around `home`.
@@ -98,10 +113,15 @@ ivec3 hash_neighbour_cell(ivec3 home, uint n)
 }
 
 // The entries [x, y) of the slot of `cell`: points of that cell and of any cell sharing its slot.
+uvec2 hash_range(ivec3 cell, uint salt)
+{
+    int s = int(hash_slot(cell, salt));
+    return uvec2(texelFetch(hash_starts_read, s).x, texelFetch(hash_starts_read, s + 1).x);
+}
+
 uvec2 hash_range(ivec3 cell)
 {
-    int s = int(hash_slot(cell));
-    return uvec2(texelFetch(hash_starts_read, s).x, texelFetch(hash_starts_read, s + 1).x);
+    return hash_range(cell, 0u);
 }
 
 uint hash_entry(uint e)
@@ -122,20 +142,29 @@ uvec4 hash_entry_point(uint e)
 }
 
 // The walk over the 27 cells around a point, one entry per step.
+// With a salt, the slots that salt's points take (others of other salts may share them: the
+// caller tells them apart).
 struct hash_walk {
     ivec3 home, cell;
     uvec2 range; // the entries of the visited cell's slot not yet stepped over
     uint n;      // the visited cell, 0..26
+    uint salt;
 };
 
-hash_walk hash_walk_begin(vec3 x)
+hash_walk hash_walk_begin(vec3 x, uint salt)
 {
     hash_walk w;
     w.home = hash_cell(x);
     w.n = 0u;
+    w.salt = salt;
     w.cell = hash_neighbour_cell(w.home, 0u);
-    w.range = hash_range(w.cell);
+    w.range = hash_range(w.cell, salt);
     return w;
+}
+
+hash_walk hash_walk_begin(vec3 x)
+{
+    return hash_walk_begin(x, 0u);
 }
 
 // One step: false once the 27 cells are done; else `entry` (its point's xyz as float bits, its
@@ -149,7 +178,7 @@ bool hash_walk_step(inout hash_walk w, out uvec4 entry, out bool here)
         if (++w.n == 27u)
             return false;
         w.cell = hash_neighbour_cell(w.home, w.n);
-        w.range = hash_range(w.cell);
+        w.range = hash_range(w.cell, w.salt);
         return true;
     }
     entry = hash_entry_point(w.range.x++);

@@ -389,7 +389,8 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(static_friction)                                                              \
     CVK_FLOAT(dt)             /* s per substep */                                           \
     CVK_FLOAT(radius)         /* m: the contact radius (features nearer are listed) */      \
-    CVK_UINT(pad1)                                                                          \
+    CVK_UINT(instance_colliders) /* colliders per instance: instance i's are               \
+                                    [i × this, (i + 1) × this) (all of them with one) */      \
     CVK_FLOAT(gamma)          /* the bound: this fraction of the nearest distance */        \
     CVK_FLOAT(redetect)       /* detect when a move would pass this fraction of a bound */ \
     CVK_UINT(edge_count)                                                                    \
@@ -447,10 +448,15 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_SIDES_READ 25 /* texel view of the same (R32_UINT) */
 #define CVK_CONTACT_BINDING_MIDPOINTS 26 /* vec4 per edge: its midpoint at detection (the edge
                                             hash's points) */
-#define CVK_CONTACT_BINDING_COUNT 27
+#define CVK_CONTACT_BINDING_INSTANCES 27 /* texel, uint per particle (internal): its instance
+                                          (the scene's "instances" copy; 0 with one) */
+#define CVK_CONTACT_BINDING_COUNT 28
 
-/* Colliders per scene at most: the uniform arrays above hold this many. */
-#define CVK_MAX_COLLIDERS 64u
+/* Colliders the uniform arrays above hold. A scene with more reads the storage buffers instead
+   (bit CVK_COLLIDERS_IN_STORAGE of the collider types' specialisation constant): one collider a
+   particle at a time there, its instance's (lib/contact/collide.h). */
+#define CVK_UNIFORM_COLLIDERS 64u
+#define CVK_COLLIDERS_IN_STORAGE 0x80000000u
 
 /* ---- attachments: features/attach.comp (lib/features/attach.h) ------------------------------------ */
 
@@ -611,7 +617,10 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
                                            point's xyz (float bits) and its index */
 #define CVK_HASH_BINDING_SORTED_READ 10 /* texel (rgba32ui): sorted, as queries read it (one
                                            fetch per entry instead of the entry, then its point) */
-#define CVK_HASH_BINDING_COUNT 11
+#define CVK_HASH_BINDING_SALTS 11       /* texel (r32ui): per point a salt mixed into its slot
+                                           (the scene's instance, so copies at one place fill
+                                           different slots); one zero texel without */
+#define CVK_HASH_BINDING_COUNT 12
 
 /* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
    defined for far-away points (they share the border cells). */

@@ -30,9 +30,10 @@ void main()
         float best = HOLD_SLACK * thickness, gap = 0.0, speed = 0.0;
         vec3 normal = vec3(0.0);
         uint which = 0u; // 1 + the collider it is held on
-        for (uint k = 0u; k < contact_u.collider_count; k++) {
-            cvk_gpu_collider c = shapes_u[k];
-            cvk_gpu_pose pose = poses_u[k];
+        uvec2 range = collider_range(p);
+        for (uint k = range.x; k < range.y; k++) {
+            cvk_gpu_collider c = collider_shape(k);
+            cvk_gpu_pose pose = collider_pose(k);
             // Where the particle is in the collider's frame now and, at its present
             // velocity, at the end of the substep (as collide_colliders measures motion).
             vec3 l0 = quat_rotate_inverse(pose.rotation0, xp - pose.translation0.xyz);

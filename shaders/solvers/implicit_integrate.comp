@@ -20,8 +20,8 @@
 // normal impulse `push` on mass m.
 vec3 friction(uint k, vec3 xp, vec3 vel, vec3 n, float push, float m)
 {
-    cvk_gpu_collider c = shapes_u[k];
-    cvk_gpu_pose pose = poses_u[k];
+    cvk_gpu_collider c = collider_shape(k);
+    cvk_gpu_pose pose = collider_pose(k);
     vec3 l = quat_rotate_inverse(pose.rotation0, xp - pose.translation0.xyz);
     vec3 surface = (quat_rotate(pose.rotation1, l) + pose.translation1.xyz - xp) / pc.h;
     vec3 rel = vel - surface;

@@ -25,16 +25,17 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
     uint base = contact_u.particle_count + 1u;
     float r = 0.5 * contact_u.thickness;
     vec3 most = vec3(0.0);
-    for (uint k = 0u; k < contact_u.collider_count; k++) {
-        if (shapes_u[k].type != CVK_COLLIDER_FUNNEL_ID)
+    uvec2 range = collider_range(p);
+    for (uint k = range.x; k < range.y; k++) {
+        if (collider_shape(k).type != CVK_COLLIDER_FUNNEL_ID)
             continue;
         // In the funnel's frame every point of a midpoint's path is within max(|m0 - x0|,
         // |m1 - x1|) of p's path, and p's path within |l1 - l0| of l0: an edge whose bound
         // keeps it beyond r is not traced (a trace costs up to 32 of the funnel's distances).
-        cvk_gpu_pose pose = poses_u[k];
+        cvk_gpu_pose pose = collider_pose(k);
         vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
         vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
-        float slack = shape_distance(shapes_u[k], l0) - length(l1 - l0) - r;
+        float slack = shape_distance(collider_shape(k), l0) - length(l1 - l0) - r;
         uint o_begin = contact_incident(p), o_end = contact_incident(p + 1u);
         for (uint o = o_begin; o < o_end; o++) {
             uvec4 t = contact_triangle(contact_incident(base + o));
@@ -183,7 +184,7 @@ vec3 pd_contact(uint p, vec3 u)
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
         u = edges_off_shells(p, x0, u);
     if (COLLIDERS) {
-        vec3 pushed = collide_colliders(x0, u);
+        vec3 pushed = collide_colliders(p, x0, u);
         // A collider's push must not take a particle past its bound (lib/contact/collide.h):
         // the pushed place is brought back within it where that leaves the particle outside
         // every collider's surface (within the thickness of it at most: the bound is under
@@ -192,7 +193,7 @@ vec3 pd_contact(uint p, vec3 u)
         // wins, and the particle, past its bound, makes the next substep detect.
         if (SELF && !HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && any(notEqual(pushed, u))) {
             vec3 back = within_bound(p, x0 + pushed);
-            pushed = nearest_solid(back, false) >= 0.0 ? back - x0 : pushed;
+            pushed = nearest_solid(p, back, false) >= 0.0 ? back - x0 : pushed;
         }
         u = pushed;
     }

@@ -124,7 +124,7 @@ static hash_result run_device(fixture* f, const hash_case* c, uint32_t* table_si
                                  16 * (VkDeviceSize)c->capacity, &err), err);
     free(host_points);
     cvk_hash hash;
-    cvk_hash_desc desc = {c->capacity, c->cell_size, &points, false};
+    cvk_hash_desc desc = {c->capacity, c->cell_size, &points, false, NULL};
     REQUIRE_OK(cvk_hash_create(f->ctx, &desc, &hash, &err), err);
     *table_size = hash.table_size;
     cvk_descriptors query;
@@ -385,14 +385,14 @@ static void check_refused(fixture* f)
     REQUIRE_OK(cvk_buffer_create(f->ctx, 16 * 8, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
                                  CVK_MEMORY_DEVICE, "points", &points, &err), err);
     cvk_hash hash;
-    cvk_hash_desc bad[] = {{0, 0.1f, &points, false}, {4, 0.0f, &points, false}, {4, -1.0f, &points, false},
-                           {4, NAN, &points, false}, {9, 0.1f, &points, false}, {4, 0.1f, NULL, false}};
+    cvk_hash_desc bad[] = {{0, 0.1f, &points, false, NULL}, {4, 0.0f, &points, false, NULL}, {4, -1.0f, &points, false, NULL},
+                           {4, NAN, &points, false, NULL}, {9, 0.1f, &points, false, NULL}, {4, 0.1f, NULL, false, NULL}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         cvk_result r = cvk_hash_create(f->ctx, &bad[i], &hash, &err);
         CHECK(r == CVK_ERROR_INVALID_ARGUMENT && strncmp(err.message, "hash: ", 6) == 0,
               "bad description %zu: %s (%s)", i, cvk_result_name(r), err.message);
     }
-    cvk_hash_desc good = {4, 0.1f, &points, false};
+    cvk_hash_desc good = {4, 0.1f, &points, false, NULL};
     REQUIRE_OK(cvk_hash_create(f->ctx, &good, &hash, &err), err);
     cvk_plan plan;
     cvk_plan_init(&plan, 1, WORKGROUP, 8);

@@ -217,7 +217,7 @@ static cvk_intersecting_pair first_pair(const float* xyz, uint32_t vertices, con
 {
     cvk_error err;
     cvk_intersecting_pair pair;
-    REQUIRE_OK(cvk_first_intersecting_pair(xyz, vertices, tri, triangles, &pair, &err), err);
+    REQUIRE_OK(cvk_first_intersecting_pair(xyz, vertices, tri, NULL, triangles, &pair, &err), err);
     return pair;
 }
 
@@ -225,7 +225,7 @@ static uint64_t count(const float* xyz, uint32_t vertices, const uint32_t* tri, 
 {
     cvk_error err;
     uint64_t pairs = 0;
-    REQUIRE_OK(cvk_count_intersecting_pairs(xyz, vertices, tri, triangles, &pairs, &err), err);
+    REQUIRE_OK(cvk_count_intersecting_pairs(xyz, vertices, tri, NULL, triangles, &pairs, &err), err);
     return pairs;
 }
 
@@ -558,8 +558,33 @@ static void contact_figures(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* Groups (the scene's instances): two crossing triangles count only in one group, and the
+   first pair is the lowest of one group. */
+static void groups_kept_apart(void)
+{
+    /* triangles 0 and 1 cross (one flat, one upright through it), 2 is 0 again */
+    const float xyz[] = {-1, 0, -1, 1, 0, -1, 0, 0, 1,       /* flat in y = 0 */
+                         0, -1, 0, 0, 1, 0, 0.2f, 0, -0.5f,  /* upright through it */
+                         -1, 0, -1, 1, 0, -1, 0, 0, 1};
+    const uint32_t tri[] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    cvk_error err;
+    uint64_t pairs = 0;
+    const uint32_t apart[] = {0, 1, 1}, together[] = {0, 0, 1};
+    REQUIRE_OK(cvk_count_intersecting_pairs(xyz, 9, tri, NULL, 3, &pairs, &err), err);
+    CHECK(pairs == 3, "one group: %llu pairs, expected 3 (0-1, 0-2, 1-2)", (unsigned long long)pairs);
+    REQUIRE_OK(cvk_count_intersecting_pairs(xyz, 9, tri, apart, 3, &pairs, &err), err);
+    CHECK(pairs == 1, "groups 0, 1, 1: %llu pairs, expected 1 (1-2)", (unsigned long long)pairs);
+    REQUIRE_OK(cvk_count_intersecting_pairs(xyz, 9, tri, together, 3, &pairs, &err), err);
+    CHECK(pairs == 1, "groups 0, 0, 1: %llu pairs, expected 1 (0-1)", (unsigned long long)pairs);
+    cvk_intersecting_pair pair;
+    REQUIRE_OK(cvk_first_intersecting_pair(xyz, 9, tri, apart, 3, &pair, &err), err);
+    CHECK(pair.found && pair.first == 1 && pair.second == 2, "groups 0, 1, 1: first pair %u-%u",
+          pair.first, pair.second);
+}
+
 int main(void)
 {
+    groups_kept_apart();
     hand_made_cases();
     random_pairs();
     shared_vertex_excluded();

@@ -205,15 +205,16 @@ static void test_validate_collider_list(void)
     f.base.scene.collider_count = 0; /* nothing to collide with */
     EXPECT_DESC_VALID(&f.base.scene);
 
-    /* 64 is the most; the device's collider buffers are sized by it. */
+    /* More than the 64 the uniform arrays hold is fine (they are read from storage buffers);
+       past CVK_MAX_COLLIDERS the count is refused before any is read. */
     static cvk_collider_desc many[65];
     for (int i = 0; i < 65; i++)
         many[i] = cvk_default_collider_desc();
     f.base.scene.colliders = many;
-    f.base.scene.collider_count = 64;
-    EXPECT_DESC_VALID(&f.base.scene);
     f.base.scene.collider_count = 65;
-    EXPECT_DESC_INVALID(&f.base.scene, "colliders: at most 64 colliders, got 65");
+    EXPECT_DESC_VALID(&f.base.scene);
+    f.base.scene.collider_count = (1u << 20) + 1;
+    EXPECT_DESC_INVALID(&f.base.scene, "colliders: at most 1048576 colliders, got 1048577");
 
     collide_init(&f, CVK_COLLIDER_PLANE);
     f.base.scene.collider_count = 2;
@@ -561,21 +562,6 @@ static void test_json_values(void)
                    "t.json: colliders.0.center.1: must be a finite number, got NaN");
     EXPECT_INVALID("{'cloths': [{'velocity': [0, 0, -2e4]}]}",
                    "t.json: cloths.0.velocity: must be at most 10000 m/s in magnitude, got 20000 m/s ([0, 0, -20000])");
-    EXPECT_INVALID("{'cloths': [{}], 'colliders': [" /* 65 */
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},"
-                   "{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'},{'type':'plane'}]}",
-                   "t.json: colliders: at most 64 colliders, got 65");
 }
 
 static void test_json_friction(void)

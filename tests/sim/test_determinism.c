@@ -6,7 +6,8 @@
    every shape and again on a second run of the first shape. A scene of instances (three
    copies of a cloth with its colliders) gets the same test, its hash again under three
    lavapipe thread counts, and each copy is checked against the single cloth's run moved by its
-   offset.
+   offset; so does a scene of three copies at one place with self-contact, each copy bit for
+   bit the single cloth's self-contact run (copies never touch one another).
 
    Why it should hold: every pass is a loop over particles in which each particle's result
    depends only on the data, never on which invocation or workgroup computes it; no pass
@@ -510,6 +511,51 @@ static void check_instances(cvk_context* ctx)
     cvk_scene_destroy(single);
 }
 
+/* The same cloth, sphere and box with self-contact, three copies at one place (spacing 0):
+   copies never touch one another (detection, the bounds and the colliders each copy meets are
+   its own), so every copy must be the single cloth's self-contact run bit for bit, and the
+   scene's hash the same under every dispatch shape and thread count. */
+#define SELF_SCENE INSTANCE_SCENE ", \"collision\": {\"self\": true}"
+
+static void check_instances_self(cvk_context* ctx)
+{
+    char text[2048];
+    snprintf(text, sizeof text, "%s, \"instances\": {\"count\": %d, \"spacing\": [0, 0, 0]}}",
+             SELF_SCENE, INSTANCES);
+    cvk_scene* copies = parse_scene(text, "instances with self-contact");
+    cvk_scene* single = parse_scene(SELF_SCENE "}", "single with self-contact");
+    if (!copies || !single) {
+        cvk_scene_destroy(copies);
+        cvk_scene_destroy(single);
+        return;
+    }
+    const cvk_scene_desc* desc = cvk_scene_get_desc(copies);
+    check_scene(ctx, "instances: 3 copies at one place, self-contact, sphere and moving box",
+                desc, INSTANCES * 12 * 12);
+    cvk_error err;
+    outcome many = run(ctx, desc, shapes[0], &err);
+    CHECK(many.ok, "instances with self-contact: %s", err.message);
+    outcome one = run(ctx, cvk_scene_get_desc(single), shapes[0], &err);
+    CHECK(one.ok, "single with self-contact: %s", err.message);
+    if (many.ok && one.ok && many.count == INSTANCES * one.count) {
+        for (int k = 0; k < INSTANCES; k++) {
+            uint64_t differ = 0;
+            for (uint64_t i = 0; i < 3 * one.count; i++)
+                differ += memcmp(&many.xyz[3 * k * one.count + i], &one.xyz[i], sizeof(float)) != 0;
+            CHECK(differ == 0, "self-contact copy %d: %llu of %llu coordinates differ from the "
+                  "single cloth's run", k, (unsigned long long)differ,
+                  (unsigned long long)(3 * one.count));
+            printf("instances with self-contact: copy %d has %llu coordinates unlike the single "
+                   "cloth's run\n", k, (unsigned long long)differ);
+        }
+        check_thread_counts(desc, many.hash);
+    }
+    free(many.xyz);
+    free(one.xyz);
+    cvk_scene_destroy(copies);
+    cvk_scene_destroy(single);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -542,5 +588,6 @@ int main(void)
     check_funnel_scene(ctx, &scene);
     check_between_scene(ctx, &scene);
     check_instances(ctx);
+    check_instances_self(ctx);
     return harness_finish(ctx);
 }
