@@ -455,6 +455,7 @@ VIEWS = {
     "soak:summary": lambda: soak_view("soak"),
     "batch:napkins": lambda: batch_view("batch"),
     "batch-threads:napkins": lambda: batch_view("batch-threads"),
+    "batch-self:napkins": lambda: batch_view("batch-self"),
 }
 
 

@@ -541,6 +541,32 @@ typedef struct buffer_job {
     const void* data;
 } buffer_job;
 
+/* The particles' instances (zeros with one), and with self-contact and several instances the
+   edges' (from their first ends'): the hashes' salts (collide_passes.c). */
+static cvk_result create_instance_buffers(cvk_sim* s, cvk_collide* c, const cloth_tables* t,
+                                          cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    cvk_result r = cvk_device_make_buffer(&s->device, &c->instances,
+                                          4u * (VkDeviceSize)(b->particle_count ? b->particle_count : 1),
+                                          "particle instances", c->instance_of, error);
+    if (r == CVK_SUCCESS && !c->instance_of) /* one instance: 0 for every particle */
+        r = cvk_device_clear_buffer(&s->device, &c->instances, error);
+    bool salted = c->self && c->instance_of;
+    uint32_t* e = salted ? malloc((t->edge_count ? t->edge_count : 1) * sizeof *e) : NULL;
+    if (r == CVK_SUCCESS && salted && !e)
+        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                     "instances: out of host memory for %u edges", t->edge_count);
+    for (uint32_t i = 0; e && i < t->edge_count; i++)
+        e[i] = c->instance_of[t->edges[4 * (size_t)i]];
+    if (r == CVK_SUCCESS)
+        r = cvk_device_make_buffer(&s->device, &c->edge_instances,
+                                   salted ? 4u * (VkDeviceSize)(t->edge_count ? t->edge_count : 1) : 16u,
+                                   "edge instances", e, error);
+    free(e);
+    return r;
+}
+
 static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     const cvk_build* b = &s->build;
@@ -557,17 +583,6 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
                      "%u self-contact can address", b->triangle_count, t.edge_count,
                      CVK_MAX_FEATURES);
     c->edge_count = t.edge_count;
-    /* the edges' instances: the edge hash's salts (collide_passes.c) */
-    uint32_t* edge_instances = NULL;
-    bool salted = c->self && c->instance_of;
-    if (r == CVK_SUCCESS && salted) {
-        edge_instances = malloc((t.edge_count ? t.edge_count : 1) * sizeof *edge_instances);
-        if (!edge_instances)
-            r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                         "instances: out of host memory for %u edges", t.edge_count);
-        for (uint32_t e = 0; edge_instances && e < t.edge_count; e++)
-            edge_instances[e] = c->instance_of[t.edges[4 * (size_t)e]];
-    }
     VkDeviceSize n = b->particle_count ? b->particle_count : 1;
     VkDeviceSize tc = b->triangle_count ? b->triangle_count : 1;
     VkDeviceSize ec = t.edge_count ? t.edge_count : 1;
@@ -585,14 +600,9 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->lists, 4u * CVK_LIST_HEADER, true, "detection commands", NULL},
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
-        {&c->instances, 4u * n, false, "particle instances", c->instance_of},
-        {&c->edge_instances, 4u * ec, true, "edge instances", edge_instances},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
-        bool small = jobs[i].buffer == &c->instances        ? false
-                     : jobs[i].buffer == &c->edge_instances ? !salted
-                     : jobs[i].self_only                    ? !c->self
-                                                            : !tables;
+        bool small = jobs[i].self_only ? !c->self : !tables;
         r = cvk_device_make_buffer(&s->device, jobs[i].buffer, small ? 16u : jobs[i].bytes,
                                    jobs[i].label, small ? NULL : jobs[i].data, error);
     }
@@ -607,9 +617,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     if (r == CVK_SUCCESS) /* counts 0; the pairs are written by the first substep's detection
                              (frame.force), before any contact pass reads them */
         r = cvk_device_clear_buffer(&s->device, &c->sides, error);
-    free(edge_instances);
-    if (r == CVK_SUCCESS && !c->instance_of) /* one instance: 0 for every particle */
-        r = cvk_device_clear_buffer(&s->device, &c->instances, error);
+    if (r == CVK_SUCCESS)
+        r = create_instance_buffers(s, c, &t, error);
     if (r == CVK_SUCCESS && c->self)
         r = upload_start(s, c, error);
     free_cloth_tables(&t);
