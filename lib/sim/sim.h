@@ -34,7 +34,8 @@ cvk_result cvk_sim_contact_stats(cvk_sim* sim, const float* xyz_internal, cvk_si
                                  cvk_error* error);
 
 /* With collision.self and without collision.allow_intersecting_start, CVK_ERROR_INVALID_ARGUMENT
-   when two triangles that share no particle intersect in the build's initial positions: one
+   when two triangles of one instance (cvk_collide_instance_count) that share no particle
+   intersect in the build's initial positions: one
    sentence naming the cloths, the lowest such pair (cvk_first_intersecting_pair; triangles
    numbered within their cloth in build order) and where. */
 cvk_result cvk_sim_check_clean_start(const cvk_sim* sim, const cvk_scene_desc* scene,

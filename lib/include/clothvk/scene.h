@@ -385,12 +385,14 @@ typedef struct cvk_wind_desc {
 
 /* Copies of the whole scene side by side: its cloths, colliders and attachments repeated count
    times, copy k translated by offsets[k] (k · spacing without offsets), each copy's colliders
-   and attachments acting on its own cloths only, so that thousands of small cloths step in the
-   same passes (the same dispatches per frame) as one. cvk_scene_load expands the block when it
-   reads the file: the description then holds all the copies in order, copy k's cloths at
-   k · n … k · n + n − 1 for n = cloth_count / count (colliders and attachments alike), and
-   this field records how they were made. A description built in code lists its cloths itself
-   and leaves count at 0. */
+   and attachments acting on its own cloths only and, with collision.self, no contact between
+   copies (copies may overlap), so that thousands of small cloths step in the same passes (the
+   same dispatches per frame) as one. cvk_scene_load expands the block when it reads the file:
+   the description then holds all the copies in order, copy k's cloths at k · n … k · n + n − 1
+   for n = cloth_count / count (colliders and attachments alike), and this field records how
+   they were made. A description built in code lists its cloths itself and leaves count at 0;
+   a count > 1 whose cloths and colliders are laid out so (both divisible by count) keeps its
+   copies apart the same way. */
 typedef struct cvk_instances_desc {
     uint32_t count;              /* copies; 0 or 1 = the scene as written (the default) */
     float spacing[3];            /* m from copy k to copy k + 1 when offsets is NULL */

@@ -306,7 +306,8 @@ CVK_API void cvk_sim_release(cvk_sim* sim);
 
 /* The number of pairs of cloth triangles that share no particle and intersect, computed exactly
    on the host from the current positions (waits like cvk_sim_read_positions). Torn triangles
-   are skipped. A cloth that does not pass through itself or another has 0. */
+   are skipped; a scene's instances (copies that never touch) pair a copy's triangles with its
+   own only. A cloth that does not pass through itself or another has 0. */
 CVK_API cvk_result cvk_sim_count_intersections(cvk_sim* sim, uint64_t* out_pairs, cvk_error* error);
 
 /* Notes on the scene the simulation was made from: one sentence for each key it sets that has
