@@ -319,7 +319,7 @@ static void writer_free(writer* w)
 typedef struct totals {
     uint32_t images;
     double sim_ms, render_ms, wall_ms;
-    double mesh_ms, shadow_ms, lit_ms, readback_ms;
+    double mesh_ms, shadow_ms, ao_ms, lit_ms, readback_ms;
     uint32_t timed;
 } totals;
 
@@ -411,6 +411,7 @@ static void add_timing(const cvk_renderer* renderer, totals* t)
     t->timed++;
     t->mesh_ms += rt.mesh_ms;
     t->shadow_ms += rt.shadow_ms;
+    t->ao_ms += rt.ao_ms;
     t->lit_ms += rt.lit_ms;
     t->readback_ms += rt.readback_ms;
 }
@@ -480,8 +481,8 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
                last, frames, s->o->every, wall_ms * 1e-3, t->sim_ms / t->images,
                t->render_ms / t->images);
     if (t->timed)
-        printf(" (mesh %.1f, shadow %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
-               t->shadow_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
+        printf(" (mesh %.1f, shadow %.1f, ao %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
+               t->shadow_ms / t->timed, t->ao_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
     printf(", png %.1f ms (%s); %.1f ms wall\n", w->png_ms / (w->written ? w->written : 1),
            s->o->serial ? "alone" : "beside the next image's work", wall_ms / t->images);
 }

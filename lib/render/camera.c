@@ -393,6 +393,7 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size)
     from_rows(rows, m);
     to_float(m, v->light_view_proj);
     v->shadow_texel = 2.0 * half / shadow_map_size;
+    v->shadow_depth = depth;
 
     /* The map's square, sent along the light onto the ground. */
     double elevation = dot(l, v->up);

@@ -25,6 +25,7 @@ typedef struct cvk_view {
     double key_direction[3];           /* unit, towards the key light */
     double fill_direction[3];          /* unit, towards the fill light */
     double shadow_texel;               /* m covered by one shadow-map texel */
+    double shadow_depth;               /* m of light depth from 0 to 1 in the shadow map */
     double ground_height;              /* m along up */
     double ground_tile;                /* side of the ground's checkerboard squares, m */
     double ground_axes[2][3];          /* along the ground, 1 / ground_tile long: checker space */

@@ -33,6 +33,20 @@
 /* 16 bits cover a few metres of light depth in 0.1 mm steps, and the constant depth bias
    means a fixed distance, unlike with a float format. */
 #define SHADOW_FORMAT VK_FORMAT_D16_UNORM
+/* Ambient occlusion: the light left and the depth along the view, per half-resolution texel. */
+#define OCCLUSION_FORMAT VK_FORMAT_R32G32_SFLOAT
+/* How much of the occlusion darkens (1: a tap straight above hides all of its share), and the
+   radius without render.ao_radius, as a share of the diagonal of what the camera frames. */
+#define AO_STRENGTH 1.6
+#define AO_RADIUS_SHARE 0.04
+/* Sky light: the share of render.background the sky adds to render.ambient, and the share of
+   the light reaching the ground that it sends back up. */
+#define SKY_SHARE 0.12
+#define BOUNCE_SHARE 0.15
+/* Soft shadows: how far from a blocker (m) the search for it reaches at most, and the widest
+   penumbra radius, in shadow-map texels (the search square's half side). */
+#define SOFT_REACH 1.0
+#define SOFT_MAX_TEXELS 24.0
 
 /* ---- checks before anything is made ------------------------------------------------------ */
 
@@ -101,6 +115,13 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
                         "render.samples: %s reads back %s samples per pixel, not %u",
                         ctx->properties.deviceName, counts, d->samples);
     }
+    if (!(limits->sampledImageDepthSampleCounts & samples)) {
+        char counts[64];
+        sample_counts(limits->sampledImageDepthSampleCounts, counts, sizeof counts);
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "render.samples: %s reads back depths of %s samples per pixel, not %u",
+                        ctx->properties.deviceName, counts, d->samples);
+    }
     cvk_result r = check_format(ctx, CLOTH_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                 samples, "cloth", error);
     if (r == CVK_SUCCESS)
@@ -110,7 +131,11 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
         r = check_format(ctx, COLOR_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_SAMPLE_COUNT_1_BIT, "final", error);
     if (r == CVK_SUCCESS)
-        r = check_format(ctx, DEPTH_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, samples, "depth", error);
+        r = check_format(ctx, DEPTH_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                         samples, "depth", error);
+    if (r == CVK_SUCCESS)
+        r = check_format(ctx, OCCLUSION_FORMAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                         VK_SAMPLE_COUNT_1_BIT, "ambient occlusion", error);
     if (r == CVK_SUCCESS)
         r = check_format(ctx, SHADOW_FORMAT,
                          VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
@@ -133,9 +158,12 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
                                  VK_IMAGE_ASPECT_COLOR_BIT, "cloth image", &rd->cloth, error);
     if (r == CVK_SUCCESS)
         r = cvk_gpu_image_create(ctx, DEPTH_FORMAT, w, h, rd->samples,
-                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT |
-                                     VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+                                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                  VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->cloth_depth, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_gpu_image_create(ctx, OCCLUSION_FORMAT, cvk_render_half(w), cvk_render_half(h), VK_SAMPLE_COUNT_1_BIT,
+                                 VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, "ambient occlusion image", &rd->occlusion, error);
     if (r == CVK_SUCCESS)
         r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
@@ -273,11 +301,11 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
             .format = DEPTH_FORMAT,
             .samples = rd->samples,
             .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+            .storeOp = rd->desc.ao ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE,
             .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
             .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
             .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
         },
     };
     VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
@@ -286,13 +314,64 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
         /* The previous frame's writes, and its composite pass's reads of the cloth image. */
         {VK_SUBPASS_EXTERNAL, 0, output | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, output, writes,
          writes | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT, 0},
-        /* The composite pass reads the cloth image. */
-        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
-         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
+        /* The occlusion and composite passes read the cloth image and its depths. */
+        {0, VK_SUBPASS_EXTERNAL, output, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, writes, VK_ACCESS_SHADER_READ_BIT, 0},
     };
     VkImageView views[2] = {rd->cloth.view, rd->cloth_depth.view};
     return create_color_depth_pass(rd, attachments, dependencies, views, &rd->cloth_pass, &rd->cloth_framebuffer,
                                    "cloth pass", error);
+}
+
+/* Half resolution, one colour attachment, every texel drawn. */
+static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
+{
+    VkAttachmentDescription attachment = {
+        .format = OCCLUSION_FORMAT,
+        .samples = VK_SAMPLE_COUNT_1_BIT,
+        .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
+        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+    };
+    VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass = {
+        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
+        .colorAttachmentCount = 1,
+        .pColorAttachments = &ref,
+    };
+    VkSubpassDependency dependencies[] = {
+        /* The previous frame's composite pass has read the image before it is drawn again. */
+        {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+         0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, 0},
+        /* The composite pass reads it. */
+        {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+         VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
+    };
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 1,
+        .pAttachments = &attachment,
+        .subpassCount = 1,
+        .pSubpasses = &subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->occlusion_pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateRenderPass (ambient occlusion pass)", vr);
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = rd->occlusion_pass,
+        .attachmentCount = 1,
+        .pAttachments = &rd->occlusion.view,
+        .width = cvk_render_half(rd->desc.size[0]),
+        .height = cvk_render_half(rd->desc.size[1]),
+        .layers = 1,
+    };
+    vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, &rd->occlusion_framebuffer);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (ambient occlusion pass)", vr);
 }
 
 /* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
@@ -374,10 +453,18 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
                                v->key_direction[2] * v->up[2]);
     double fill = fmax(0.0, v->fill_direction[0] * v->up[0] + v->fill_direction[1] * v->up[1] +
                                 v->fill_direction[2] * v->up[2]);
+    /* With sky light: the sky gives the ambient and a share of the background's colour from
+       above; the ground sends up a share of what reaches it. */
     for (int k = 0; k < 3; k++) {
-        u->ground_unlit[k] = (float)(d->ground_color[k] * (d->ambient[k] + fill * d->fill.color[k]));
+        double sky = d->ambient[k] + SKY_SHARE * d->background[k];
+        double received = d->ambient[k] + fill * d->fill.color[k] + key * d->key.color[k];
+        u->sky[k] = (float)sky;
+        u->bounce[k] = (float)(BOUNCE_SHARE * d->ground_color[k] * received);
+        double around = d->sky_light ? sky : d->ambient[k];
+        u->ground_unlit[k] = (float)(d->ground_color[k] * (around + fill * d->fill.color[k]));
         u->ground_key[k] = (float)(d->ground_color[k] * key * d->key.color[k]);
     }
+    u->sky[3] = d->sky_light ? 1.0f : 0.0f;
     put3(u->ground_axes[0], v->ground_axes[0], 0.0f);
     put3(u->ground_axes[1], v->ground_axes[1], 0.0f);
     put3(u->ray_base, v->ray_base, 0.0f);
@@ -389,6 +476,26 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->fog[3] = (float)v->ground_tile;
     u->shadow[0] = (float)d->shadow_map_size;
     u->shadow[1] = (float)v->shadow_texel;
+    /* Soft shadows: penumbra radius = distance to the blocker · tan(angle / 2), in texels; the
+       search reaches the widest penumbra a blocker SOFT_REACH m away casts, within
+       SOFT_MAX_TEXELS. */
+    double spread = tan(0.5 * d->key_angle * 3.14159265358979 / 180.0) / v->shadow_texel;
+    u->soft[0] = (float)spread;
+    u->soft[1] = (float)fmin(fmax(spread * SOFT_REACH, 2.0), SOFT_MAX_TEXELS);
+    u->soft[2] = (float)v->shadow_depth;
+    u->soft[3] = d->soft_shadows && d->key_angle > 0.0f ? 1.0f : 0.0f;
+    u->ao[0] = (float)(v->near * v->far);
+    u->ao[1] = (float)(v->far - v->near);
+    u->ao[2] = (float)v->near;
+    double diagonal = 0.0;
+    for (int k = 0; k < 3; k++)
+        diagonal += (v->reach.hi[k] - v->reach.lo[k]) * (v->reach.hi[k] - v->reach.lo[k]);
+    u->ao[3] = d->ao_radius > 0.0f ? d->ao_radius : (float)(AO_RADIUS_SHARE * sqrt(diagonal));
+    u->ao_size[0] = (float)d->size[0];
+    u->ao_size[1] = (float)d->size[1];
+    u->ao_size[2] = (float)AO_STRENGTH;
+    u->ao_size[3] = d->ao ? 1.0f : 0.0f;
+    u->post[0] = d->tone_map ? 1.0f : 0.0f;
     for (int i = 0; i < 4; i++)
         put3(u->patch_corners[i], v->patch[i], 1.0f);
 }
@@ -403,22 +510,14 @@ void cvk_renderer_set_time(cvk_renderer* rd, double seconds)
     memcpy(rd->uniforms.mapped, &u, sizeof u);
 }
 
-static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
+/* The shadow map's two samplers (comparisons, raw depths) and the one for texel reads. */
+static cvk_result create_samplers(cvk_renderer* rd, cvk_error* error)
 {
-    VkDevice dev = rd->context->device;
-    cvk_result r = cvk_buffer_create(rd->context, sizeof(cvk_frame_uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                                     CVK_MEMORY_HOST, "frame constants", &rd->uniforms, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    cvk_frame_uniforms u;
-    fill_uniforms(rd, &u);
-    memcpy(rd->uniforms.mapped, &u, sizeof u);
-
     /* Outside the map (clamped to a border of depth 1) nothing casts a shadow. */
     VkSamplerCreateInfo sampler = {
         .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-        .magFilter = VK_FILTER_NEAREST,
-        .minFilter = VK_FILTER_NEAREST,
+        .magFilter = rd->shadow_filter,
+        .minFilter = rd->shadow_filter,
         .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
         .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
         .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER,
@@ -427,7 +526,14 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
         .compareOp = VK_COMPARE_OP_LESS_OR_EQUAL,
         .borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE,
     };
+    VkDevice dev = rd->context->device;
     VkResult vr = vkCreateSampler(dev, &sampler, NULL, &rd->shadow_sampler);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateSampler", vr);
+    /* The same map's raw depths, for the blocker search of the soft shadows. */
+    sampler.compareEnable = VK_FALSE;
+    sampler.magFilter = sampler.minFilter = VK_FILTER_NEAREST;
+    vr = vkCreateSampler(dev, &sampler, NULL, &rd->shadow_depth_sampler);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
     /* The cloth image is read with texelFetch: the sampler only has to exist. */
@@ -443,17 +549,37 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     vr = vkCreateSampler(dev, &texel, NULL, &rd->cloth_sampler);
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreateSampler", vr);
+    return CVK_SUCCESS;
+}
 
-    /* Binding 3: the cloth's texture, one set per texture (set 0: the white stand-in). The
-       colliders' poses (binding 4) only where there are colliders to draw. */
+static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
+{
+    cvk_result r = cvk_buffer_create(rd->context, sizeof(cvk_frame_uniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                     CVK_MEMORY_HOST, "frame constants", &rd->uniforms, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_frame_uniforms u;
+    fill_uniforms(rd, &u);
+    memcpy(rd->uniforms.mapped, &u, sizeof u);
+
+    r = create_samplers(rd, error);
+    if (r != CVK_SUCCESS)
+        return r;
+
+    /* Binding 3: the cloth's texture, one set per texture (set 0: the white stand-in); 4: the
+       shadow map's raw depths; 5: the cloth pass's depths; 6: the ambient occlusion image. The
+       colliders' poses (binding 7) only where there are colliders to draw. */
     static const cvk_binding bindings[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
     };
-    uint32_t binding_count = rd->colliders.draw_count > 0 ? 5 : 4;
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 8 : 7;
     r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.count,
                                VK_SHADER_STAGE_FRAGMENT_BIT, 4 * sizeof(float), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
@@ -466,6 +592,11 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
             {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
             {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
             {.image = rd->textures.images[i].view, .sampler = rd->textures.sampler},
+            {.image = rd->shadow_map.view, .sampler = rd->shadow_depth_sampler},
+            {.image = rd->cloth_depth.view, .sampler = rd->cloth_sampler},
+            /* Without render.ao the composite pass never reads it: any image in the right
+               layout will do (the white stand-in). */
+            {.image = rd->desc.ao ? rd->occlusion.view : rd->textures.images[0].view, .sampler = rd->cloth_sampler},
             {.buffer = &rd->mesh->sim->collide->poses},
         };
         cvk_descriptors_write(rd->context, &rd->descriptors, i, res);
@@ -533,6 +664,11 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     rd->mesh = mesh;
     rd->desc = *desc;
     rd->samples = (VkSampleCountFlagBits)desc->samples;
+    VkFormatProperties shadow_props;
+    vkGetPhysicalDeviceFormatProperties(mesh->context->physical_device, SHADOW_FORMAT, &shadow_props);
+    rd->shadow_filter = (shadow_props.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT)
+                            ? VK_FILTER_LINEAR
+                            : VK_FILTER_NEAREST;
     gravity_of(mesh->sim, rd->gravity);
     r = cvk_render_camera_create(rd, desc, error);
     if (r == CVK_SUCCESS)
@@ -547,6 +683,8 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
         r = create_shadow_pass(rd, error);
     if (r == CVK_SUCCESS)
         r = create_cloth_pass(rd, error);
+    if (r == CVK_SUCCESS)
+        r = create_occlusion_pass(rd, error);
     if (r == CVK_SUCCESS)
         r = create_composite_pass(rd, error);
     if (r == CVK_SUCCESS)
@@ -575,26 +713,28 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         cvk_queue_idle(rd->context);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
                               rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
-                              rd->wireframe_pipeline};
+                              rd->wireframe_pipeline,  rd->occlusion_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);
     if (rd->queries)
         vkDestroyQueryPool(dev, rd->queries, NULL);
     cvk_descriptors_destroy(rd->context, &rd->descriptors);
-    VkSampler samplers[] = {rd->shadow_sampler, rd->cloth_sampler};
+    VkSampler samplers[] = {rd->shadow_sampler, rd->shadow_depth_sampler, rd->cloth_sampler};
     for (size_t i = 0; i < sizeof samplers / sizeof samplers[0]; i++)
         if (samplers[i])
             vkDestroySampler(dev, samplers[i], NULL);
-    VkFramebuffer framebuffers[] = {rd->shadow_framebuffer, rd->cloth_framebuffer, rd->composite_framebuffer};
+    VkFramebuffer framebuffers[] = {rd->shadow_framebuffer, rd->cloth_framebuffer, rd->occlusion_framebuffer,
+                                    rd->composite_framebuffer};
     for (size_t i = 0; i < sizeof framebuffers / sizeof framebuffers[0]; i++)
         if (framebuffers[i])
             vkDestroyFramebuffer(dev, framebuffers[i], NULL);
-    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->composite_pass};
+    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->occlusion_pass, rd->composite_pass};
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
         if (passes[i])
             vkDestroyRenderPass(dev, passes[i], NULL);
-    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->image, &rd->stencil};
+    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->occlusion, &rd->image,
+                               &rd->stencil};
     for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
         cvk_gpu_image_destroy(rd->context, images[i]);
     cvk_buffer_destroy(rd->context, &rd->uniforms);

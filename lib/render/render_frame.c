@@ -92,6 +92,16 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
         cvk_render_colliders_record(rd, cmd, true);
     }
     vkCmdEndRenderPass(cmd);
+    timestamp(rd, cmd, 3);
+
+    if (rd->occlusion_pipeline) {
+        begin_pass(cmd, rd->occlusion_pass, rd->occlusion_framebuffer, cvk_render_half(w), cvk_render_half(h),
+                   NULL, 0);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->occlusion_pipeline);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+        vkCmdEndRenderPass(cmd);
+    }
+    timestamp(rd, cmd, 4);
 
     begin_pass(cmd, rd->composite_pass, rd->composite_framebuffer, w, h, clears, 2);
     /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
@@ -140,9 +150,9 @@ cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error*
     record_shadow_pass(rd, cmd);
     timestamp(rd, cmd, 2);
     record_lit_pass(rd, cmd);
-    timestamp(rd, cmd, 3);
+    timestamp(rd, cmd, 5);
     record_readback(rd, cmd);
-    timestamp(rd, cmd, 4);
+    timestamp(rd, cmd, 6);
     /* The next simulated frame rewrites the poses: these draws finish reading them first (the
        mesh generation's own barrier covers only vertex input). */
     if (colliders)
@@ -171,7 +181,7 @@ cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
 
 cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
 {
-    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0};
+    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0, -1.0};
     if (!rd->queries)
         return t;
     uint64_t data[2 * CVK_RENDER_QUERY_COUNT];
@@ -191,8 +201,9 @@ cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
         ms[q - 1] = (double)((data[2 * q] - data[2 * (q - 1)]) & mask) * period_ms;
     t.mesh_ms = ms[0];
     t.shadow_ms = ms[1];
-    t.lit_ms = ms[2];
-    t.readback_ms = ms[3];
+    t.lit_ms = ms[2] + ms[4];
+    t.ao_ms = ms[3];
+    t.readback_ms = ms[5];
     t.total_ms = (double)((data[2 * (CVK_RENDER_QUERY_COUNT - 1)] - data[0]) & mask) * period_ms;
     return t;
 }

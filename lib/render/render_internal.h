@@ -47,9 +47,12 @@ struct cvk_renderer {
     VkSampleCountFlagBits samples;
 
     cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
-    VkRenderPass shadow_pass, cloth_pass, composite_pass;
-    VkFramebuffer shadow_framebuffer, cloth_framebuffer, composite_framebuffer;
-    VkSampler shadow_sampler, cloth_sampler;
+    cvk_gpu_image occlusion;         /* half resolution: light left, depth along the view */
+    VkRenderPass shadow_pass, cloth_pass, occlusion_pass, composite_pass;
+    VkFramebuffer shadow_framebuffer, cloth_framebuffer, occlusion_framebuffer, composite_framebuffer;
+    VkSampler shadow_sampler, shadow_depth_sampler, cloth_sampler;
+    VkFilter shadow_filter;          /* the shadow map's comparisons: linear where the device
+                                        filters its format, else nearest */
     cvk_buffer uniforms;
     cvk_buffer readback;
 
@@ -59,6 +62,7 @@ struct cvk_renderer {
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
+    VkPipeline occlusion_pipeline;   /* none without render.ao */
     cvk_render_colliders colliders;
     cvk_render_textures textures;
 
@@ -67,8 +71,15 @@ struct cvk_renderer {
     VkCommandBuffer frame_cmd;
 };
 
-/* Timestamps of a frame: start, after the mesh, the shadow pass, the lit pass and the copy. */
-enum { CVK_RENDER_QUERY_COUNT = 5 };
+/* Timestamps of a frame: start, after the mesh, the shadow pass, the cloth pass, the ambient
+   occlusion pass, the composite pass and the copy. */
+enum { CVK_RENDER_QUERY_COUNT = 7 };
+
+/* The ambient occlusion image's size: half the image's, rounded up. */
+static inline uint32_t cvk_render_half(uint32_t pixels)
+{
+    return (pixels + 1u) / 2u;
+}
 
 /* The graphics pipelines: shadow, cloth, background and ground patch, and with colliders to
    draw the colliders' shadow and lit pipelines. */

@@ -30,7 +30,7 @@ typedef struct pipeline_recipe {
     VkCompareOp depth_compare;
     bool depth_bias;
     int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
-    uint32_t spec[3];                /* specialization constants 0, 1, 2 of both stages */
+    uint32_t spec[4];                /* specialization constants 0 to 3 of both stages */
     bool lines;                      /* triangles drawn as their edges, depth tested, not written */
 } pipeline_recipe;
 
@@ -150,10 +150,14 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
             vkDestroyShaderModule(rd->context->device, modules[0], NULL);
         return r;
     }
-    VkSpecializationMapEntry entries[3];
-    for (uint32_t i = 0; i < 3; i++)
+    /* Constants 0 to 3: the recipe's; 4 to 6: the effects every pass shares (lighting.glsl,
+       composite.frag). */
+    uint32_t values[7] = {p->spec[0], p->spec[1], p->spec[2], p->spec[3],
+                          rd->desc.soft_shadows && rd->desc.key_angle > 0.0f, rd->desc.sky_light, rd->desc.tone_map};
+    VkSpecializationMapEntry entries[7];
+    for (uint32_t i = 0; i < 7; i++)
         entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
-    VkSpecializationInfo spec = {3, entries, sizeof p->spec, p->spec};
+    VkSpecializationInfo spec = {7, entries, sizeof values, values};
     VkPipelineShaderStageCreateInfo stages[2] = {
         {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
          .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
@@ -206,10 +210,10 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
          false, 0, {rd->desc.ground, textured}, false},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
-         {false, false, rd->desc.samples}, false},
+         {false, false, rd->desc.samples, rd->desc.ao}, false},
         {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples}, false},
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples, rd->desc.ao}, false},
         /* The colliders: shaded like the cloth (lit_cloth.frag), posed in the vertex shader. */
         {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true,
@@ -223,6 +227,15 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     size_t count = rd->colliders.draw_count > 0 ? 6 : 4;
     for (size_t i = 0; i < count; i++) {
         cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    if (rd->desc.ao) {
+        const pipeline_recipe occlusion = {
+            "ambient occlusion pass", CVK_SHADER_COMPOSITE_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG,
+            0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->occlusion_pass, cvk_render_half(w), cvk_render_half(h),
+            VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, 0, {0}, false};
+        cvk_result r = create_pipeline(rd, &occlusion, &rd->occlusion_pipeline, error);
         if (r != CVK_SUCCESS)
             return r;
     }

@@ -164,6 +164,16 @@ bool cvk_check_open(cvk_scene_issue* issue, const char* path, double v, double l
 }
 
 /* low <= v <= high, element by element */
+bool cvk_check_closed(cvk_scene_issue* issue, const char* path, double v, double low, double high)
+{
+    if (!cvk_check_finite(issue, path, v))
+        return false;
+    if (v < low || v > high)
+        return cvk_issue_at(issue, path, "must be between %s and %s, got %s", cvk_float_text(low).text,
+                            cvk_float_text(high).text, cvk_float_text(v).text);
+    return true;
+}
+
 bool cvk_check_closed_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n,
                                double low, double high)
 {

@@ -63,10 +63,12 @@ bool cvk_check_scale(cvk_scene_issue* issue, const char* path, double v);
 bool cvk_check_count(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low);
 bool cvk_check_count_range(cvk_scene_issue* issue, const char* path, uint32_t v, uint32_t low,
                            uint32_t high);
-/* low <= v < high; low < v < high; low <= v[i] <= high for each of n elements. */
+/* low <= v < high; low < v < high; low <= v <= high; low <= v[i] <= high for each of n
+   elements. */
 bool cvk_check_half_open(cvk_scene_issue* issue, const char* path, double v, double low,
                          double high);
 bool cvk_check_open(cvk_scene_issue* issue, const char* path, double v, double low, double high);
+bool cvk_check_closed(cvk_scene_issue* issue, const char* path, double v, double low, double high);
 bool cvk_check_closed_array(cvk_scene_issue* issue, const char* path, const float* v, uint32_t n,
                             double low, double high);
 /* A rotation quaternion (x, y, z, w): finite and of unit length within a tolerance. */

@@ -78,6 +78,12 @@ cvk_render_desc cvk_default_render_desc(void)
         .camera_keyframes = NULL,
         .camera_keyframe_count = 0,
         .camera_loop = false,
+        .soft_shadows = true,
+        .key_angle = 3.0f,
+        .sky_light = true,
+        .ao = true,
+        .ao_radius = 0.0f,
+        .tone_map = true,
         .cookie_ = CVK_COOKIE_RENDER,
     };
 }
@@ -609,6 +615,8 @@ static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
            cvk_check_closed_array(issue, "render.background", r->background, 3, 0.0, 1.0) &&
            cvk_check_finite(issue, "render.ground_height", r->ground_height) &&
            cvk_check_closed_array(issue, "render.ground_color", r->ground_color, 3, 0.0, 1.0) &&
+           cvk_check_closed(issue, "render.key_angle", r->key_angle, 0.0, 20.0) &&
+           cvk_check_closed(issue, "render.ao_radius", r->ao_radius, 0.0, CVK_MAX_COORDINATE) &&
            check_camera_keyframes(r, issue);
 }
 

@@ -604,6 +604,12 @@ static const cvk_field render_fields[] = {
     {.key = "wireframe", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, wireframe)},
     {.key = "camera_keyframes", .read = read_camera_keyframes, .offset = 0},
     {.key = "camera_loop", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, camera_loop)},
+    {.key = "soft_shadows", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, soft_shadows)},
+    {.key = "key_angle", .read = cvk_read_float, .offset = offsetof(cvk_render_desc, key_angle)},
+    {.key = "sky_light", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, sky_light)},
+    {.key = "ao", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, ao)},
+    {.key = "ao_radius", .read = cvk_read_float, .offset = offsetof(cvk_render_desc, ao_radius)},
+    {.key = "tone_map", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, tone_map)},
 };
 static const cvk_table render_table = FIELDS(render_fields);
 

@@ -274,6 +274,12 @@ typedef struct cvk_render_desc {
     const cvk_camera_keyframe* camera_keyframes;
     uint32_t camera_keyframe_count;
     bool camera_loop;
+    bool soft_shadows;
+    float key_angle;
+    bool sky_light;
+    bool ao;
+    float ao_radius;
+    bool tone_map;
     uint32_t cookie_;
 } cvk_render_desc;
 

@@ -10,12 +10,20 @@
 
 layout(constant_id = 1) const bool SHADOWED = false;
 layout(constant_id = 2) const int SAMPLES = 4;
+// The ambient occlusion pass ran (render.ao): darken by what it found.
+layout(constant_id = 3) const bool OCCLUDED = false;
+// render.tone_map.
+layout(constant_id = 6) const bool TONE_MAP = true;
 
 #ifdef SINGLE_SAMPLE
 layout(set = 0, binding = 2) uniform sampler2D cloth;
+layout(set = 0, binding = 5) uniform sampler2D scene_depth;
 #else
 layout(set = 0, binding = 2) uniform sampler2DMS cloth;
+layout(set = 0, binding = 5) uniform sampler2DMS scene_depth;
 #endif
+// The ambient occlusion pass's half-resolution result: x light left, y depth along the view.
+layout(set = 0, binding = 6) uniform sampler2D occlusion_map;
 
 layout(location = 0) out vec4 color;
 
@@ -30,20 +38,49 @@ float checker(vec3 ground)
     return 1.0 + 0.035 * i.x * i.y;
 }
 
+vec3 ray(vec2 pixel)
+{
+    return frame.ray_base.xyz + pixel.x * frame.ray_dx.xyz + pixel.y * frame.ray_dy.xyz;
+}
+
+// Ambient occlusion at this pixel: the mean of the 2 x 2 half-resolution texels around it (the
+// four turns of the pass's pattern) whose depth is within 3 % of the pixel's own, so the
+// occlusion of one surface does not bleed onto another behind it.
+float occlusion(ivec2 pixel)
+{
+    float d = texelFetch(scene_depth, pixel, 0).r;
+    float t;
+    if (d > 0.0) {
+        t = frame.ao.x / (frame.ao.y * d + frame.ao.z);
+    } else {
+        vec3 up = frame.ground_plane.xyz;
+        float toward = dot(ray(vec2(pixel) + 0.5), up);
+        float height = dot(frame.eye.xyz, up) - frame.ground_plane.w;
+        if (frame.fog.z == 0.0 || toward >= 0.0 || height <= 0.0)
+            return 1.0;
+        t = height / -toward;
+    }
+    vec2 uv = (vec2(pixel) + 0.5) * 0.5 / vec2(textureSize(occlusion_map, 0));
+    vec4 light = textureGather(occlusion_map, uv, 0);
+    vec4 depth = textureGather(occlusion_map, uv, 1);
+    vec4 w = max(1.0 - abs(depth - t) / (0.03 * t), 0.0);
+    float sum = dot(w, vec4(1.0));
+    return sum > 1e-3 ? dot(light, w) / sum : 1.0;
+}
+
 // The ground is flat and its lights directional, so its colour is two constants: only the
 // shadow and the fade vary over it.
 vec3 background(vec2 pixel)
 {
-    vec3 ray = frame.ray_base.xyz + pixel.x * frame.ray_dx.xyz + pixel.y * frame.ray_dy.xyz;
     vec3 up = frame.ground_plane.xyz;
-    float toward = dot(ray, up);
+    float toward = dot(ray(pixel), up);
     float height = dot(frame.eye.xyz, up) - frame.ground_plane.w;
     // Sky where the ray never meets the ground, or the eye is below it.
     if (frame.fog.z == 0.0 || toward >= 0.0 || height <= 0.0)
         return frame.background.rgb;
     // The ray's component along the view is 1: t is the hit's depth.
     float t = height / -toward;
-    vec3 ground = frame.eye.xyz + t * ray;
+    vec3 ground = frame.eye.xyz + t * ray(pixel);
     vec3 lit = frame.ground_unlit.rgb;
     if (SHADOWED)
         lit += frame.ground_key.rgb * key_visibility(ground, up);
@@ -69,4 +106,14 @@ void main()
 #endif
     // The cloth pass cleared to transparent: `over` is premultiplied by its coverage.
     color = vec4(over.rgb + (1.0 - over.a) * background(gl_FragCoord.xy), 1.0);
+    if (OCCLUDED)
+        color.rgb *= occlusion(pixel);
+    // Highlights rolled off (a film's shoulder): unchanged up to the knee, then approaching 1
+    // smoothly (same value and slope at the knee), so light past white keeps its shading
+    // instead of clipping flat. The sky and most surfaces lie below the knee.
+    if (TONE_MAP) {
+        const float knee = 0.8, room = 1.0 - knee;
+        vec3 over_knee = max(color.rgb - knee, 0.0);
+        color.rgb = min(color.rgb, vec3(knee)) + room * (1.0 - exp(-over_knee / room));
+    }
 }

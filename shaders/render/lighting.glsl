@@ -1,21 +1,21 @@
-// Ambient + Lambert diffuse + Blinn-Phong specular from the key light (shadowed) and the fill
-// light (seed 002 §5.4.2 used two lights and Phong; Blinn's half vector keeps the
-// highlight round at grazing angles).
-layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
+// Sky and ground light (a hemisphere) + Lambert diffuse + Blinn-Phong specular from the key
+// light (shadowed) and the fill light (seed 002 §5.4.2 used two lights and Phong; Blinn's half
+// vector keeps the highlight round at grazing angles).
+// render.soft_shadows (and a key light wider than 0) and render.sky_light, as specialization
+// constants: a CPU device runs both sides of a branch, so an effect switched off must be
+// compiled out, not skipped.
+layout(constant_id = 4) const bool SOFT_SHADOWS = true;
+layout(constant_id = 5) const bool SKY_LIGHT = true;
 
-// Fraction of the key light that reaches `world`, by percentage-closer filtering: depth
-// comparisons over a 4 x 4 texel footprint read with four gathers, each texel weighted by how
-// much of a 3-texel box around the point covers it. The box slides with the point, so the
-// result varies smoothly as the point moves: soft edges instead of stepped texels. The point
-// first moves off the surface along its normal by about a texel (normal offset), so a lit
-// face never shadows itself.
-float key_visibility(vec3 world, vec3 n)
+layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
+// The same map's depths, for the blocker search of the soft shadows.
+layout(set = 0, binding = 4) uniform sampler2D shadow_depth;
+
+// Depth comparisons over a 4 x 4 texel footprint read with four gathers, each texel weighted by
+// how much of a 3-texel box around the point covers it. The box slides with the point, so the
+// result varies smoothly as the point moves: soft edges instead of stepped texels.
+float pcf_box(vec2 uv, float depth)
 {
-    float texel = frame.shadow.y;
-    vec4 c = frame.light_view_proj * vec4(world + n * (1.5 * texel), 1.0);
-    vec2 uv = c.xy * 0.5 + 0.5;
-    // Beyond the far plane there is nothing left to cast: lit.
-    float depth = min(c.z, 1.0);
     float size = frame.shadow.x;
     vec2 t = uv * size - 0.5;
     vec2 base = floor(t);
@@ -36,6 +36,53 @@ float key_visibility(vec3 world, vec3 n)
     return sum / 9.0;
 }
 
+// Sum of the depths in `g` nearer the light than `depth`, and their count.
+vec2 blockers(vec4 g, float depth)
+{
+    vec4 in_front = step(g, vec4(depth));
+    return vec2(dot(g, in_front), dot(in_front, vec4(1.0)));
+}
+
+// Fraction of the key light that reaches `world`. The point first moves off the surface along
+// its normal by about a texel (normal offset), so a lit face never shadows itself. With soft
+// shadows (percentage-closer soft shadows): the mean depth of what lies between the point and
+// the light over a search square, from four gathers of the raw depths, gives the penumbra, as
+// wide as the key light's angular size times the distance from that blocker to the point; the
+// comparisons are then averaged over a disc that wide (8 bilinear comparisons on a fixed
+// spiral, so the same pixel gets the same value every frame). A CPU device runs every
+// instruction for every pixel whatever the branches, so the cost is fixed: 12 reads of the map
+// against the box filter's 4.
+float key_visibility(vec3 world, vec3 n)
+{
+    float texel = frame.shadow.y;
+    vec4 c = frame.light_view_proj * vec4(world + n * (1.5 * texel), 1.0);
+    vec2 uv = c.xy * 0.5 + 0.5;
+    // Beyond the far plane there is nothing left to cast: lit.
+    float depth = min(c.z, 1.0);
+    if (!SOFT_SHADOWS)
+        return pcf_box(uv, depth);
+    vec2 inv = vec2(1.0 / frame.shadow.x);
+    float search = frame.soft.y;
+    // Blockers: at least two texels' depth nearer (the bias of the shadow pass is smaller).
+    float test = depth - 2.0 * texel / frame.soft.z;
+    vec2 found = blockers(textureGather(shadow_depth, uv + vec2(-0.5, -0.5) * search * inv), test);
+    found += blockers(textureGather(shadow_depth, uv + vec2(0.5, -0.5) * search * inv), test);
+    found += blockers(textureGather(shadow_depth, uv + vec2(-0.5, 0.5) * search * inv), test);
+    found += blockers(textureGather(shadow_depth, uv + vec2(0.5, 0.5) * search * inv), test);
+    // Penumbra radius in texels: light-depth distance (m) times the light's spread per metre; at
+    // least the box filter's 1.5 texels (also where no blocker was found: the taps then agree).
+    float blocker = found.y > 0.0 ? found.x / found.y : depth;
+    float radius = clamp((depth - blocker) * frame.soft.z * frame.soft.x, 1.5, search);
+    // Vogel's spiral: tap k at radius sqrt((k + 0.5) / 8), turned by the golden angle.
+    float sum = 0.0;
+    for (int k = 0; k < 8; k++) {
+        float r = sqrt((float(k) + 0.5) / 8.0) * radius;
+        float a = float(k) * 2.39996323;
+        sum += texture(shadow_map, vec3(uv + r * vec2(cos(a), sin(a)) * inv, depth));
+    }
+    return sum / 8.0;
+}
+
 vec3 light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, float specular, float visible)
 {
     float nl = dot(n, direction);
@@ -52,12 +99,21 @@ vec3 light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, float specul
     return color * visible * nl * (albedo + highlight);
 }
 
+// Light from everywhere: with render.sky, the sky's light from above and the ground's bounce
+// from below, blended by the normal's tilt; without, the flat ambient.
+vec3 surroundings(vec3 n)
+{
+    float up = dot(n, frame.ground_plane.xyz);
+    if (!SKY_LIGHT)
+        return frame.ambient.rgb * (0.8 + 0.2 * up);
+    return mix(frame.bounce.rgb, frame.sky.rgb, 0.5 + 0.5 * up);
+}
+
 // n faces the viewer's side of the surface; key_visible is key_visibility() or 1.
 vec3 shade(vec3 world, vec3 n, vec3 albedo, float specular, float key_visible)
 {
     vec3 v = normalize(frame.eye.xyz - world);
-    // A little more ambient from the sky than from the ground.
-    vec3 result = frame.ambient.rgb * albedo * (0.8 + 0.2 * dot(n, frame.ground_plane.xyz));
+    vec3 result = surroundings(n) * albedo;
     result += light(frame.key_direction.xyz, frame.key_color.rgb, n, v, albedo, specular, key_visible);
     result += light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, albedo, specular, 1.0);
     return result;

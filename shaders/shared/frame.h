@@ -34,6 +34,15 @@
     CVK_FRAME_VEC4(ray_dy)           /* xyz: its change per pixel down */                          \
     CVK_FRAME_VEC4(fog)              /* x, y: view depth where the ground fades; z: 1 = ground */  \
     CVK_FRAME_VEC4(shadow)           /* x: texels per side; y: m per texel */                      \
+    CVK_FRAME_VEC4(soft)             /* x: penumbra radius, texels per m of light depth; y: widest \
+                                        radius searched, texels; z: m of light depth per unit of   \
+                                        map depth; w: 1 = soft shadows */                          \
+    CVK_FRAME_VEC4(sky)              /* rgb: light from the sky above; w: 1 = sky and bounce light */ \
+    CVK_FRAME_VEC4(bounce)           /* rgb: light the ground sends up */                          \
+    CVK_FRAME_VEC4(ao)               /* x: near · far; y: far − near; z: near (depth to distance); \
+                                        w: ambient occlusion radius, m */                          \
+    CVK_FRAME_VEC4(ao_size)          /* xy: image size, pixels; z: occlusion strength; w: 1 = on */ \
+    CVK_FRAME_VEC4(post)             /* x: 1 = highlights rolled off (render.tone_map) */         \
     CVK_FRAME_VEC4S(patch_corners, 4) /* xyz: the ground under the shadow map (strip order) */
 
 #ifdef GL_core_profile
@@ -43,9 +52,9 @@ layout(std140, set = 0, binding = 0) uniform Frame { CVK_FRAME_FIELDS } frame;
 typedef struct cvk_frame_uniforms {
     CVK_FRAME_FIELDS
 } cvk_frame_uniforms;
-_Static_assert(sizeof(cvk_frame_uniforms) == 2 * 64 + 22 * 16, "Frame: 2 mat4 and 22 vec4");
+_Static_assert(sizeof(cvk_frame_uniforms) == 2 * 64 + 28 * 16, "Frame: 2 mat4 and 28 vec4");
 _Static_assert(offsetof(cvk_frame_uniforms, ray_base) == 128 + 13 * 16, "Frame.ray_base");
-_Static_assert(offsetof(cvk_frame_uniforms, patch_corners) == 128 + 18 * 16,
+_Static_assert(offsetof(cvk_frame_uniforms, patch_corners) == 128 + 24 * 16,
                "Frame.patch_corners");
 #endif
 

@@ -131,7 +131,7 @@ CASES = [
     {"name": "unknown render key", "argv": [SMALL, "-o", "out", "--set", "render.fov=40"], "status": 2,
      "stderr": error(f"{SMALL}: render.fov (from --set): unknown key (expected one of: size, eye, target, up, "
                      "fov_y, key, fill, ambient, background, ground, ground_height, ground_color, "
-                     "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop)")},
+                     "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map)")},
     {"name": "bad render value", "argv": [SMALL, "-o", "out", "--set", "render.key.direction=[0,0,0]"],
      "status": 2, "stderr": error(f"{SMALL}: render.key.direction (from --set): must not be zero, got [0, 0, 0]")},
     # A cloth's texture (read when the renderer is made, before any image).
@@ -164,7 +164,7 @@ CASES = [
      "status": 0,
      "check": folder_check("a/b", FRAMES, 160, 90, summary_check(
          rf"hanging: 4 images of 160x90 in a/b \(frames 0 to 9 of 10, every 3\), {NUMBER} s; per image: "
-         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, lit {NUMBER}, "
+         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, ao {NUMBER}, lit {NUMBER}, "
          rf"readback {NUMBER}\), png {NUMBER} ms \(beside the next image's work\); {NUMBER} ms wall"))},
     {"name": "--quiet", "argv": [SMALL, "-o", "q", "--frames", "2", "--size", "64x48", "--quiet"], "status": 0,
      "check": quiet_check},

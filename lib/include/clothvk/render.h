@@ -147,6 +147,7 @@ typedef struct cvk_render_timing {
                                     ground and sky */
     double readback_ms;          /* copy of the image into the host-visible buffer */
     double total_ms;
+    double ao_ms;                /* ambient occlusion pass (0 without render.ao); not in lit_ms */
 } cvk_render_timing;
 
 CVK_API cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* renderer);

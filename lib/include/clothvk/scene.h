@@ -353,6 +353,19 @@ typedef struct cvk_render_desc {
                                     unused); usually none */
     uint32_t camera_keyframe_count;
     bool camera_loop;            /* repeat the camera's path, period last.time − first.time */
+    bool soft_shadows;           /* shadows widen with the distance from what casts them, by
+                                    key_angle; false: a fixed 3-texel filter. Usually true */
+    float key_angle;             /* angular diameter of the key light, degrees, in [0, 20];
+                                    usually 3 */
+    bool sky_light;              /* light from the sky (above, render.ambient plus a share of
+                                    the background) and from the lit ground (below) in place of
+                                    the flat ambient; usually true */
+    bool ao;                     /* ambient occlusion: darken creases, and where cloth meets
+                                    cloth, colliders or the ground; usually true */
+    float ao_radius;             /* m: how far apart surfaces still shade each other; 0 = 4 %
+                                    of the diagonal of what the camera frames (the default) */
+    bool tone_map;               /* roll off light brighter than 0.8 smoothly towards white
+                                    instead of clipping it; usually true */
     uint32_t cookie_;            /* set by cvk_default_render_desc; do not touch */
 } cvk_render_desc;
 
