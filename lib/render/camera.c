@@ -352,7 +352,10 @@ static void depth_range(cvk_view* v, const cvk_view_colliders* colliders)
 
 /* ---- the key light's shadow frustum: orthographic, fitted to the reach ---- */
 
-static void light_matrix(cvk_view* v, uint32_t shadow_map_size)
+/* spread: the tangent of half the key light's angular size with soft shadows, else 0; the map
+   reaches that much further per metre of depth, so the penumbra around a shadow's edge lies
+   inside it (and inside the patch of ground that reads it). */
+static void light_matrix(cvk_view* v, uint32_t shadow_map_size, double spread)
 {
     const double* l = v->key_direction;
     double reference[3] = {v->up[0], v->up[1], v->up[2]};
@@ -375,9 +378,14 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size)
         box_corner(&v->reach, c, p);
         double q[3] = {dot(p, right), dot(p, up), dot(p, l)};
         cvk_box_add(&box, q);
+        /* Soft shadows need the distance from what casts a shadow to the ground it falls on:
+           the depths reach down to the ground under each corner. */
+        double above = dot(p, v->up) - v->ground_height, elevation = dot(l, v->up);
+        if (spread > 0.0 && above > 0.0 && elevation > 0.02)
+            box.lo[2] = fmin(box.lo[2], q[2] - above / elevation);
     }
     /* Square texels; a few texels of margin so PCF near the edge reads real depth. */
-    double half = 0.5 * fmax(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]);
+    double half = 0.5 * fmax(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1]) + spread * (box.hi[2] - box.lo[2]);
     half *= 1.0 + 8.0 / shadow_map_size;
     half = fmax(half, 1e-4);
     double cx = 0.5 * (box.lo[0] + box.hi[0]), cy = 0.5 * (box.lo[1] + box.hi[1]);
@@ -453,5 +461,6 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
     place_camera(desc, v);
     depth_range(v, colliders);
     camera_matrix(v);
-    light_matrix(v, shadow_map_size);
+    double spread = desc->soft_shadows ? tan(0.5 * desc->key_angle * PI / 180.0) : 0.0;
+    light_matrix(v, shadow_map_size, spread);
 }

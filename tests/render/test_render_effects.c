@@ -3,15 +3,15 @@
      above it, lit from the front (no shadow there), is darker with it than without, and open
      ground 40 cm away keeps its brightness;
    - soft shadows (render.soft_shadows, render.key_angle): across the edge of the shadow a
-     cloth 0.6 m up casts on the ground, more pixels lie between lit and shadowed with a wide
-     light than with the fixed filter, and the middle of the shadow and the open ground are the
-     same in both;
+     cloth 0.6 m up casts on the ground, more pixels lie between lit and shadowed with an 8°
+     light than with the fixed filter, and the shadow and the open ground away from the edge
+     are the same in both;
    - the highlights' roll-off (render.tone_map): a white cloth under a key light twice full
      white clips to 255 without it, and stays below 255, brighter where the light falls more
      squarely, with it;
-   - sky light (render.sky_light): in the key light's shadow, a cloth facing up (towards the
-     sky) is brighter than one facing down (towards the ground), and without it they match to
-     within the flat ambient's small tilt;
+   - sky light (render.sky_light): with no key or fill light, under a blue sky over red ground,
+     a white cloth's face turned up is bluer than one turned down by more than 30 levels of
+     red - blue; with the flat ambient they differ by at most 4;
    - the same bytes from two renderers of one scene with every effect on. */
 #include "harness.h"
 
@@ -185,9 +185,148 @@ static void occlusion_at_foot(cvk_context* ctx)
            dark, plain, open_on, open_off);
 }
 
+/* Pixels between the shadow's level and the open ground's, by more than 10 % of the step, along
+   the image row through (x0 .. x1, 0, z) on the ground. */
+static int penumbra_pixels(cvk_context* ctx, const cvk_render_desc* r, double* dark, double* lit)
+{
+    static uint8_t im[W * H * 4];
+    setup s = {0};
+    s.cloths[0] = square_cloth((const float[3]){-0.5f, 0.6f, -0.5f}, flat_u, (const float[3]){0, 0, 1}, grey);
+    double a[2], b[2];
+    setup_scene(&s, ctx, 1, r);
+    project(s.renderer, (const float[3]){-0.9f, 0.0f, 0.2f}, a);
+    project(s.renderer, (const float[3]){-0.1f, 0.0f, 0.2f}, b);
+    cvk_image got = cvk_renderer_get_image(s.renderer);
+    for (int y = 0; y < H; y++)
+        memcpy(im + (size_t)y * W * 4, pixel(&got, 0, y), (size_t)W * 4);
+    teardown(&s);
+    cvk_image c = {im, W, H, 4 * W};
+    keep(&c, r->soft_shadows ? "penumbra-soft" : "penumbra-fixed");
+    int y = (int)a[1], x0 = (int)a[0], x1 = (int)b[0];
+    *lit = luminance(pixel(&c, x0, y));
+    *dark = luminance(pixel(&c, x1, y));
+    double step = *lit - *dark;
+    int between = 0;
+    for (int x = x0; x <= x1; x++) {
+        double l = luminance(pixel(&c, x, y));
+        between += l > *dark + 0.1 * step && l < *lit - 0.1 * step;
+    }
+    return between;
+}
+static void soft_shadows_widen(cvk_context* ctx)
+{
+    /* A 1 m cloth 0.6 m up, the key light from straight above (its shadow under it), seen from
+       below the cloth's height: the shadow's left edge crosses the row at x = -0.5. */
+    cvk_render_desc r = view((const float[3]){0.0f, 0.35f, 1.6f}, (const float[3]){-0.5f, 0.0f, 0.0f},
+                             (const float[3]){0.0f, 1.0f, 0.05f});
+    r.key_angle = 8.0f;
+    double dark_soft, lit_soft, dark_fixed, lit_fixed;
+    int soft = penumbra_pixels(ctx, &r, &dark_soft, &lit_soft);
+    r.soft_shadows = false;
+    int fixed = penumbra_pixels(ctx, &r, &dark_fixed, &lit_fixed);
+    CHECK(soft >= fixed + 4, "%d pixels across the penumbra of an 8° light, %d with the fixed filter", soft, fixed);
+    CHECK(fabs(dark_soft - dark_fixed) < 2.0 && fabs(lit_soft - lit_fixed) < 2.0,
+          "shadow %.1f and open ground %.1f with soft shadows, %.1f and %.1f without", dark_soft, lit_soft,
+          dark_fixed, lit_fixed);
+    printf("penumbra: %d pixels with an 8° light, %d with the fixed filter (shadow %.1f, open ground %.1f)\n", soft,
+           fixed, dark_soft, lit_soft);
+}
+
+static void highlights_roll_off(cvk_context* ctx)
+{
+    /* A white cloth facing the eye and the key light, the light twice full white. */
+    cvk_render_desc r = view((const float[3]){0.0f, 1.0f, 2.0f}, (const float[3]){0.0f, 1.0f, 0.0f},
+                             (const float[3]){0.3f, 0.3f, 1.0f});
+    r.ground = false;
+    r.key.color[0] = r.key.color[1] = r.key.color[2] = 2.0f;
+    static uint8_t on[W * H * 4], off[W * H * 4];
+    double centre[2];
+    const float white[3] = {0.9f, 0.9f, 0.9f};
+    setup s = {0};
+    for (int pass = 0; pass < 2; pass++) {
+        s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.5f, 0.0f}, flat_u, (const float[3]){0, -1, 0}, white);
+        r.tone_map = pass == 0;
+        render_once(ctx, &s, 1, &r, pass == 0 ? on : off, (const float[3]){0.0f, 1.0f, 0.0f}, centre);
+    }
+    cvk_image a = {on, W, H, 4 * W}, b = {off, W, H, 4 * W};
+    int x = (int)centre[0], y = (int)centre[1];
+    double rolled = luminance(pixel(&a, x, y)), clipped = luminance(pixel(&b, x, y));
+    CHECK(clipped > 254.0, "without the roll-off the overexposed cloth is %.1f, not clipped", clipped);
+    CHECK(rolled < 254.0 && rolled > 200.0, "with the roll-off the overexposed cloth is %.1f", rolled);
+    printf("a cloth lit at twice white: %.1f with the roll-off, %.1f clipped\n", rolled, clipped);
+}
+
+/* Red minus blue of the pixel at `p`'s projection. */
+static int red_minus_blue(const cvk_image* im, const double at[2])
+{
+    const uint8_t* q = pixel(im, (int)at[0], (int)at[1]);
+    return (int)q[0] - (int)q[2];
+}
+
+static void sky_light_tints(cvk_context* ctx)
+{
+    /* Two white cloths, one seen from above (its lit face up), one from below (down); no key or
+       fill light: only the light from all around. Blue sky, red ground. */
+    static uint8_t im[W * H * 4];
+    int up[2], down[2];
+    for (int pass = 0; pass < 2; pass++) {
+        cvk_render_desc r = view((const float[3]){0.0f, 1.0f, 2.5f}, (const float[3]){0.0f, 1.0f, 0.0f},
+                                 (const float[3]){0.3f, 1.0f, 0.3f});
+        r.ground = false;
+        memset(r.key.color, 0, sizeof r.key.color);
+        memset(r.fill.color, 0, sizeof r.fill.color);
+        r.ao = false;
+        r.sky_light = pass == 0;
+        const float sky[3] = {0.1f, 0.2f, 0.9f}, ground[3] = {0.9f, 0.3f, 0.1f};
+        memcpy(r.background, sky, sizeof sky);
+        memcpy(r.ground_color, ground, sizeof ground);
+        const float white[3] = {0.9f, 0.9f, 0.9f};
+        setup s = {0};
+        /* Left: 0.3 m below the eye (seen from above); right: 0.3 m above it (from below). */
+        s.cloths[0] = square_cloth((const float[3]){-1.1f, 0.7f, -0.5f}, flat_u, (const float[3]){0, 0, 1}, white);
+        s.cloths[1] = square_cloth((const float[3]){0.1f, 1.3f, -0.5f}, flat_u, (const float[3]){0, 0, 1}, white);
+        double a[2], b[2];
+        setup_scene(&s, ctx, 2, &r);
+        project(s.renderer, (const float[3]){-0.6f, 0.7f, 0.3f}, a);
+        project(s.renderer, (const float[3]){0.6f, 1.3f, 0.3f}, b);
+        cvk_image got = cvk_renderer_get_image(s.renderer);
+        for (int y = 0; y < H; y++)
+            memcpy(im + (size_t)y * W * 4, pixel(&got, 0, y), (size_t)W * 4);
+        teardown(&s);
+        cvk_image c = {im, W, H, 4 * W};
+        keep(&c, pass == 0 ? "sky-light" : "flat-ambient");
+        up[pass] = red_minus_blue(&c, a);
+        down[pass] = red_minus_blue(&c, b);
+    }
+    CHECK(down[0] - up[0] > 30, "with sky light, red - blue is %d on the face up (blue sky) and %d on the face "
+          "down (red ground)", up[0], down[0]);
+    CHECK(abs(down[1] - up[1]) <= 4, "with the flat ambient, red - blue is %d up and %d down", up[1], down[1]);
+    printf("red - blue: sky light %d up, %d down; flat ambient %d up, %d down\n", up[0], down[0], up[1], down[1]);
+}
+
+/* Every effect on: two renderers of one scene give the same bytes. */
+static void same_bytes(cvk_context* ctx)
+{
+    cvk_render_desc r = view((const float[3]){0.8f, 0.9f, 1.4f}, (const float[3]){0.0f, 0.2f, 0.0f},
+                             (const float[3]){0.4f, 1.0f, 0.3f});
+    static uint8_t first[W * H * 4], second[W * H * 4];
+    double unused[2];
+    setup s = {0};
+    for (int pass = 0; pass < 2; pass++) {
+        s.cloths[0] = square_cloth((const float[3]){-0.5f, 0.3f, -0.5f}, flat_u, (const float[3]){0, 0, 1}, grey);
+        s.cloths[1] = square_cloth((const float[3]){-0.3f, 0.6f, 0.0f}, flat_u, (const float[3]){0, -1, 0}, grey);
+        render_once(ctx, &s, 2, &r, pass == 0 ? first : second, NULL, unused);
+    }
+    CHECK(memcmp(first, second, sizeof first) == 0, "two renderers of one scene differ with every effect on");
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     occlusion_at_foot(ctx);
+    soft_shadows_widen(ctx);
+    highlights_roll_off(ctx);
+    sky_light_tints(ctx);
+    same_bytes(ctx);
     return harness_finish(ctx);
 }

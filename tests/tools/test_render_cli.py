@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """clothvk-render as a person meets it: exact messages and exit statuses for bad arguments, a
 bad scene and an unusable output folder; the images and the summary for good input; the same
-scene rendered twice gives the same PNG bytes.
+scene rendered twice, on four lavapipe threads and on one, gives the same PNG bytes.
 
     python3 tests/tools/test_render_cli.py PATH/TO/clothvk-render
 
@@ -209,12 +209,14 @@ def run_case(case):
 
 
 def determinism():
-    """The same scene rendered twice, the second time with --serial (each image written before
-    the next frame is simulated): the same PNG bytes, image for image."""
+    """The same scene rendered twice (every render effect on, as by default), the first time on
+    four lavapipe threads, the second on one and with --serial (each image written before the
+    next frame is simulated): the same PNG bytes, image for image."""
     with tempfile.TemporaryDirectory(prefix="clothvk-render-cli-") as workdir:
-        for out, extra in (("one", []), ("two", ["--serial"])):
+        for out, extra, threads in (("one", [], "4"), ("two", ["--serial"], "0")):
+            env = dict(os.environ, LP_NUM_THREADS=threads)
             p = tooltest.run_tool(RENDER, TINY + ["-o", out, "--frames", "8", "--every", "4", "--quiet"]
-                                  + extra, workdir, timeout=180)
+                                  + extra, workdir, env, timeout=180)
             if p.returncode != 0 or p.stderr:
                 return [f"run into {out} failed ({p.returncode}): {p.stderr.strip()}"]
         names = images(os.path.join(workdir, "one"))
