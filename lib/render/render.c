@@ -23,7 +23,7 @@
 #include "solvers/reference.h"
 
 #define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
-/* The cloth pass stores the square root of its linear colour (see lit_cloth.frag): about as
+/* The cloth pass stores the square root of half its linear colour (see lit_cloth.frag): about as
    fine as sRGB in the dark, and the composite pass decodes a sample with one multiply instead
    of an sRGB curve, four samples per pixel. */
 #define CLOTH_FORMAT VK_FORMAT_R8G8B8A8_UNORM
@@ -581,7 +581,7 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     };
     uint32_t binding_count = rd->colliders.draw_count > 0 ? 8 : 7;
     r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.count,
-                               VK_SHADER_STAGE_FRAGMENT_BIT, 4 * sizeof(float), &rd->descriptors, error);
+                               VK_SHADER_STAGE_FRAGMENT_BIT, sizeof(cvk_render_material), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;
     rd->pipeline_layout = rd->descriptors.pipeline_layout;

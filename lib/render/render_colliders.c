@@ -216,9 +216,10 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
     vkCmdBindIndexBuffer(cmd, rc->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
     for (uint32_t d = 0; d < rc->draw_count; d++) {
         const cvk_collider_draw* draw = &rc->draws[d];
-        if (colored)
-            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof draw->color,
-                               draw->color);
+        if (colored) {
+            cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], 0.0f}, {0}, {0}};
+            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof m, &m);
+        }
         /* The instance index is the collider's: the vertex shaders read its pose with it. */
         vkCmdDrawIndexed(cmd, draw->index_count, 1, draw->first_index, 0, draw->collider);
     }

@@ -32,9 +32,15 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
         if (colored) {
             /* w: 1 where the cloth's texture replaces its colour */
             uint32_t set = rd->textures.set_of[c];
-            float albedo[4] = {b->cloths[c].color[0], b->cloths[c].color[1], b->cloths[c].color[2],
-                               set ? 1.0f : 0.0f};
-            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof albedo, albedo);
+            const cvk_cloth_range* cloth = &b->cloths[c];
+            bool back = cloth->back_color[0] >= 0.0f;
+            cvk_render_material m = {
+                {cloth->color[0], cloth->color[1], cloth->color[2], set ? 1.0f : 0.0f},
+                {back ? cloth->back_color[0] : 0.0f, back ? cloth->back_color[1] : 0.0f,
+                 back ? cloth->back_color[2] : 0.0f, back ? 1.0f : 0.0f},
+                {cloth->sheen, cloth->roughness, 1.0f, 0.0f},
+            };
+            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof m, &m);
             if (set != bound) {
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
                                         &rd->descriptors.sets[set], 0, NULL);

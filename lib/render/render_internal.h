@@ -7,6 +7,14 @@
 #include "scene/motion.h"
 #include "shared/frame.h" /* cvk_frame_uniforms, shared with shaders/render/frame.glsl */
 
+/* The push constants of the lit pass (the Material block of shaders/render/lit_cloth.frag). */
+typedef struct cvk_render_material {
+    float albedo[4];                 /* rgb: linear colour; w: 1 where the texture replaces it */
+    float back[4];                   /* rgb: the back face's colour; w: 1 to use it (else the front's) */
+    float fabric[4];                 /* x: sheen; y: its roughness; z: 1 = a cloth (sheen, light
+                                        through it), 0 = a collider (Blinn-Phong highlight) */
+} cvk_render_material;
+
 /* One collider's triangles in the shared collider buffers, drawn with instance index
    `collider` (the vertex shaders read its pose from the simulation's poses buffer). */
 typedef struct cvk_collider_draw {

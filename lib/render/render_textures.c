@@ -138,11 +138,11 @@ static cvk_result read_file(const char* key, const char* path, uint8_t** out, si
 }
 
 /* Reads cloth `index`'s texture and makes its mips; the messages name the key path. */
-static cvk_result load_texture(const cvk_context* ctx, uint32_t index, const char* path, host_texture* t,
-                               cvk_error* error)
+static cvk_result load_texture(const cvk_context* ctx, uint32_t index, bool material, const char* path,
+                               host_texture* t, cvk_error* error)
 {
     char key[64];
-    snprintf(key, sizeof key, "cloths.%u.texture", index);
+    snprintf(key, sizeof key, "cloths.%u.%s", index, material ? "material.texture" : "texture");
     uint8_t* file = NULL;
     size_t size = 0;
     cvk_result r = read_file(key, path, &file, &size, error);
@@ -320,7 +320,7 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
     for (uint32_t c = 0, i = 1; r == CVK_SUCCESS && c < b->cloth_count; c++) {
         if (!b->cloths[c].texture)
             continue;
-        r = load_texture(rd->context, c, b->cloths[c].texture, &host[i], error);
+        r = load_texture(rd->context, c, b->cloths[c].material_texture, b->cloths[c].texture, &host[i], error);
         tx->set_of[c] = i++;
     }
     for (uint32_t i = 0; r == CVK_SUCCESS && i < count; i++) {

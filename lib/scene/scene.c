@@ -113,6 +113,10 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .color = {0.9f, 0.35f, 0.3f},
         .texture = NULL,
         .texture_scale = {1.0f, 1.0f},
+        .back_color = {-1.0f, -1.0f, -1.0f},
+        .sheen = 0.4f,
+        .roughness = 0.5f,
+        .material_texture = false,
         .velocity = {0.0f, 0.0f, 0.0f},
         .tethers = 0.0f,
         .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},
@@ -499,7 +503,7 @@ static bool check_cloth(const cvk_cloth_desc* c, uint32_t index, uint64_t* total
            check_shape(c, base, total, issue) && check_transform(&c->transform, base, issue) &&
            check_material(c, base, issue) && cvk_check_pins(c, base, issue) && cvk_check_pin_box(c, base, issue) &&
            cvk_check_closed_array(issue, cvk_key_join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           check_texture(c, base, issue) && check_velocity(c, base, issue) &&
+           check_texture(c, base, issue) && cvk_look_check(c, base, issue) && check_velocity(c, base, issue) &&
            check_tethers(c, base, issue) &&
            cvk_aero_check(&c->aero, base, issue);
 }

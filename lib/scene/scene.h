@@ -43,6 +43,9 @@ bool cvk_attachments_solver_check(const cvk_solver_desc* solver, uint32_t attach
 bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
 bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
+/* How a cloth is drawn (lib/scene/scene_look.c): its material block's back_color, sheen and
+   roughness (paths start with base). */
+bool cvk_look_check(const cvk_cloth_desc* cloth, const char* base, cvk_scene_issue* issue);
 /* Collision (lib/scene/scene_collision.c): the collision block's keys; a given radius against
    a thickness (the scene's, or the default the simulation resolved when the scene gives none);
    the radius a thickness resolves to (0: twice the thickness); and one sentence for each key of

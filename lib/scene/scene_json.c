@@ -226,6 +226,27 @@ static const cvk_field tearing_fields[] = {
 };
 static const cvk_table tearing_table = FIELDS(tearing_fields);
 
+/* dest is the whole cloth: a texture named in the material block is marked so (messages name
+   cloths.N.material.texture). */
+static cvk_result read_material_texture(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path,
+                                        void* dest)
+{
+    cvk_cloth_desc* cloth = dest;
+    cloth->material_texture = true;
+    return cvk_read_path(rd, f, value, path, &cloth->texture);
+}
+
+/* The cloth's "material" block: its fields are the cloth's own (color and texture are the same
+   as the cloth's keys of those names). */
+static const cvk_field material_fields[] = {
+    {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, color), .count = 3},
+    {.key = "back_color", .read = cvk_read_floats, .offset = offsetof(cvk_cloth_desc, back_color), .count = 3},
+    {.key = "texture", .read = read_material_texture, .offset = 0},
+    {.key = "sheen", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, sheen)},
+    {.key = "roughness", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, roughness)},
+};
+static const cvk_table material_table = FIELDS(material_fields);
+
 static const cvk_field cloth_fields[] = {
     {.key = "name", .read = cvk_read_string, .offset = offsetof(cvk_cloth_desc, name)},
     {.key = "grid", .read = cvk_read_uints, .offset = offsetof(cvk_cloth_desc, grid), .count = 2, .min = 1},
@@ -250,6 +271,7 @@ static const cvk_field cloth_fields[] = {
     {.key = "tethers", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, tethers)},
     {.key = "aero", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, aero), .nested = &aero_table},
     {.key = "tearing", .read = cvk_read_nested, .offset = offsetof(cvk_cloth_desc, tearing), .nested = &tearing_table},
+    {.key = "material", .read = cvk_read_nested, .offset = 0, .nested = &material_table},
 };
 static const cvk_table cloth_table = FIELDS(cloth_fields);
 

@@ -279,6 +279,10 @@ static void describe_cloth(cvk_build* b, const cvk_cloth_desc* desc, uint32_t in
         .mesh = desc->mesh != NULL,
         .rest_scale = desc->rest_scale,
         .color = {desc->color[0], desc->color[1], desc->color[2]},
+        .back_color = {desc->back_color[0], desc->back_color[1], desc->back_color[2]},
+        .sheen = desc->sheen,
+        .roughness = desc->roughness,
+        .material_texture = desc->material_texture,
     };
     if (!desc->mesh) {
         r->grid[0] = desc->grid[0];

@@ -30,6 +30,9 @@ typedef struct cvk_cloth_range {
     float rest_scale;          /* for the renderer: how far the cloth can reach */
     float color[3];            /* linear RGB, for the renderer */
     char* texture;             /* the scene's texture path (a copy), or NULL */
+    float back_color[3];       /* for the renderer: cvk_cloth_desc's back_color, sheen, */
+    float sheen, roughness;    /* roughness and material_texture */
+    bool material_texture;
 } cvk_cloth_range;
 
 typedef struct cvk_build {

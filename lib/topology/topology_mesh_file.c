@@ -215,7 +215,8 @@ cvk_result cvk_mesh_fill_uv(cvk_mesh_reader* r, cvk_topology* out)
     free(set);
     if (!any)
         return cvk_fail(r->error, CVK_ERROR_INVALID_ARGUMENT,
-                        "%.*stexture: %s has no texture coordinates to map the texture by",
-                        (int)(strlen(r->key) - strlen("mesh")), r->key, r->path);
+                        "%.*s%s: %s has no texture coordinates to map the texture by",
+                        (int)(strlen(r->key) - strlen("mesh")), r->key,
+                        r->cloth->material_texture ? "material.texture" : "texture", r->path);
     return CVK_SUCCESS;
 }

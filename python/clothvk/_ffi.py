@@ -170,6 +170,10 @@ typedef struct cvk_cloth_desc {
     float tethers;
     cvk_aero_desc aero;
     cvk_tearing_desc tearing;
+    float back_color[3];
+    float sheen;
+    float roughness;
+    bool material_texture;
     uint32_t cookie_;
 } cvk_cloth_desc;
 

@@ -92,15 +92,16 @@ vec3 background(vec2 pixel)
 void main()
 {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    // Samples hold the square root of linear light (lit_cloth.frag): squared, then averaged.
+    // Samples hold the square root of half the linear light (lit_cloth.frag): squared and
+    // doubled, then averaged.
 #ifdef SINGLE_SAMPLE
     vec4 over = texelFetch(cloth, pixel, 0);
-    over.rgb *= over.rgb;
+    over.rgb *= 2.0 * over.rgb;
 #else
     vec4 over = vec4(0.0);
     for (int s = 0; s < SAMPLES; s++) {
         vec4 c = texelFetch(cloth, pixel, s);
-        over += vec4(c.rgb * c.rgb, c.a);
+        over += vec4(2.0 * c.rgb * c.rgb, c.a);
     }
     over /= float(SAMPLES);
 #endif
@@ -112,7 +113,7 @@ void main()
     // smoothly (same value and slope at the knee), so light past white keeps its shading
     // instead of clipping flat. The sky and most surfaces lie below the knee.
     if (TONE_MAP) {
-        const float knee = 0.8, room = 1.0 - knee;
+        const float knee = 0.6, room = 1.0 - knee;
         vec3 over_knee = max(color.rgb - knee, 0.0);
         color.rgb = min(color.rgb, vec3(knee)) + room * (1.0 - exp(-over_knee / room));
     }

@@ -109,6 +109,44 @@ vec3 surroundings(vec3 n)
     return mix(frame.bounce.rgb, frame.sky.rgb, 0.5 + 0.5 * up);
 }
 
+// The "Charlie" sheen lobe (Estevez and Kulla 2017: a sine-power distribution of the fibres'
+// half vectors, brightest where the light grazes) with Neubelt and Pettineo's visibility term,
+// times pi (the diffuse term here is albedo · n·l, with no 1 / pi).
+float sheen_lobe(float nh, float nl, float nv, float roughness)
+{
+    float inv = 1.0 / roughness;
+    float sin2 = max(1.0 - nh * nh, 0.0078125);
+    float d = (2.0 + inv) * pow(sin2, 0.5 * inv) / 6.2831853;
+    return 3.14159265 * d / (4.0 * (nl + nv - nl * nv));
+}
+
+// Share of the light on one face of a cloth that the other face gives off (thin fabric lets
+// light through: a back-lit cloth glows in its colour instead of going black).
+const float TRANSMITTED = 0.25;
+
+// One light on a fabric: diffuse and sheen on the lit face, the transmitted share on the other.
+vec3 fabric_light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, vec3 sheen, float roughness,
+                  float visible)
+{
+    float nl = dot(n, direction);
+    if (nl <= 0.0)
+        return color * visible * (-nl) * TRANSMITTED * albedo;
+    float nv = max(dot(n, v), 1e-3);
+    float nh = dot(n, normalize(direction + v));
+    return color * visible * nl * (albedo + sheen * sheen_lobe(nh, nl, nv, roughness));
+}
+
+// A cloth: n faces the viewer's side; key_visible is key_visibility() on the side the key light
+// falls on; sheen: the sheen lobe's colour.
+vec3 shade_fabric(vec3 world, vec3 n, vec3 albedo, vec3 sheen, float roughness, float key_visible)
+{
+    vec3 v = normalize(frame.eye.xyz - world);
+    vec3 result = surroundings(n) * albedo;
+    result += fabric_light(frame.key_direction.xyz, frame.key_color.rgb, n, v, albedo, sheen, roughness, key_visible);
+    result += fabric_light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, albedo, sheen, roughness, 1.0);
+    return result;
+}
+
 // n faces the viewer's side of the surface; key_visible is key_visibility() or 1.
 vec3 shade(vec3 world, vec3 n, vec3 albedo, float specular, float key_visible)
 {

@@ -2,9 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // Cloth pass: lit and shadowed cloth over a transparent background, multisampled; the
 // composite pass puts it over the ground and sky. The colliders (collider.vert) are shaded
-// here too, with their own colour. Both faces are drawn; a back face is lit
-// with the flipped normal, so the side away from the light is dark and the side towards it
-// lit, whichever way the cloth turns (seed 002 lit both faces alike, its §9).
+// here too, with their own colour and a Blinn-Phong highlight; a cloth gets diffuse light, a
+// sheen lobe and the light that comes through it from its other face. Both faces are drawn; a
+// back face is lit with the flipped normal (and, with material.back_color, its own colour), so
+// the side away from the light is darker and the side towards it lit, whichever way the cloth
+// turns (seed 002 lit both faces alike, its §9).
 #include "render/frame.glsl"
 #include "render/lighting.glsl"
 
@@ -15,6 +17,8 @@ layout(constant_id = 1) const bool TEXTURED = false;
 
 layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
+    vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's
+    vec4 fabric; // x: sheen; y: its roughness; z: 1 = a cloth, 0 = a collider
 } material;
 
 // The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
@@ -36,9 +40,20 @@ void main()
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
     if (!gl_FrontFacing)
         n = -n;
-    float visible = dot(n, frame.key_direction.xyz) > 0.0 ? key_visibility(world, n) : 0.0;
-    // Stored as the square root of linear light: the composite pass squares it back before
-    // averaging the samples, and 8 bits of it are about as fine in the dark as sRGB.
+    // The key light's shadow on whichever face it falls on: lighting that face, or, on a cloth,
+    // coming through to the other.
+    bool towards = dot(n, frame.key_direction.xyz) > 0.0;
+    float visible = key_visibility(world, towards ? n : -n);
     vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
-    color = vec4(sqrt(clamp(shade(world, n, albedo, 0.12, visible), 0.0, 1.0)), 1.0);
+    if (!gl_FrontFacing && material.back.w > 0.5)
+        albedo = material.back.rgb;
+    vec3 shaded;
+    if (material.fabric.z > 0.5)
+        shaded = shade_fabric(world, n, albedo, material.fabric.x * sqrt(albedo), material.fabric.y, visible);
+    else
+        shaded = shade(world, n, albedo, 0.12, towards ? visible : 0.0);
+    // Stored as the square root of half the linear light: the composite pass squares it back
+    // (and doubles it) before averaging the samples, 8 bits of it are about as fine in the dark
+    // as sRGB, and light up to twice white reaches the highlights' roll-off.
+    color = vec4(sqrt(clamp(0.5 * shaded, 0.0, 1.0)), 1.0);
 }

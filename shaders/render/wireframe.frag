@@ -22,5 +22,5 @@ void main()
     if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
         discard;
     // The square root of linear light, as the cloth pass stores it (see lit_cloth.frag).
-    color = vec4(sqrt(0.06 * material.albedo.rgb), 1.0);
+    color = vec4(sqrt(0.03 * material.albedo.rgb), 1.0); // 0.06 of the colour, as lit_cloth.frag stores it
 }

@@ -391,6 +391,38 @@ static void test_validate_render(void)
     EXPECT_DESC_VALID(&f.scene);
 }
 
+/* The render effects' keys and a cloth's material block: read into their fields; defaults. */
+static void test_render_looks_json(void)
+{
+    cvk_scene* scene = PARSE_OK("{'cloths': [{'material': {'color': [0.1, 0.2, 0.3], 'back_color': [0.4, 0.5, "
+                                "0.6], 'sheen': 0.7, 'roughness': 0.8}}, {}], 'render': {'soft_shadows': false, "
+                                "'key_angle': 5, 'sky_light': false, 'ao': false, 'ao_radius': 0.2, "
+                                "'tone_map': false}}");
+    if (scene) {
+        const cvk_scene_desc* d = cvk_scene_get_desc(scene);
+        const cvk_cloth_desc* c = &d->cloths[0];
+        CHECK_FLOAT(c->color[2], 0.3f);
+        CHECK_FLOAT(c->back_color[0], 0.4f);
+        CHECK_FLOAT(c->sheen, 0.7f);
+        CHECK_FLOAT(c->roughness, 0.8f);
+        CHECK(!c->material_texture);
+        CHECK_FLOAT(d->cloths[1].back_color[0], -1.0f);
+        CHECK_FLOAT(d->cloths[1].sheen, 0.4f);
+        CHECK_FLOAT(d->cloths[1].roughness, 0.5f);
+        const cvk_render_desc* r = &d->render;
+        CHECK(!r->soft_shadows && !r->sky_light && !r->ao && !r->tone_map);
+        CHECK_FLOAT(r->key_angle, 5.0f);
+        CHECK_FLOAT(r->ao_radius, 0.2f);
+    }
+    cvk_scene_destroy(scene);
+    EXPECT_INVALID("{'cloths': [{'material': {'sheen': -0.1}}]}",
+                   "t.json: cloths.0.material.sheen: must be between 0 and 1, got -0.1");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'key_angle': 30}}",
+                   "t.json: render.key_angle: must be between 0 and 20, got 30");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'ao_radius': -1}}",
+                   "t.json: render.ao_radius: must be between 0 and 100000, got -1");
+}
+
 /* render.wireframe and render.camera_keyframes: read, and each bad keyframe named. */
 static void test_render_extras_json(void)
 {
@@ -695,7 +727,7 @@ static void test_unknown_keys(void)
                    "inner_iterations, omega, chebyshev_rho, chebyshev_delay, tolerance, max_iterations, kd, integrator, damping_model, tether_every, strain_limit, fuse)");
     EXPECT_INVALID("{'cloths': [{}, {'colour': [1, 1, 1]}]}",
                    "t.json: cloths.1.colour: unknown key (expected one of: name, grid, size, origin, u_axis, "
-                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing)");
+                   "v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing, material)");
     EXPECT_INVALID("{'cloths': [{'stiffness': {'bending': 1}}]}",
                    "t.json: cloths.0.stiffness.bending: unknown key (expected one of: structural, shear, bend)");
 }
@@ -870,7 +902,7 @@ static void test_override_errors(void)
     EXPECT_SET_ERROR("{'cloths': [{'mass': -0.1}]}", "cloths.0.massive=1",
                      "t.json: cloths.0.massive (from --set): unknown key (expected one of: name, grid, size, origin, "
                      "u_axis, v_axis, mesh, transform, rest_scale, mass, density, stiffness, pins, pin_box, color, "
-                     "texture, texture_scale, velocity, tethers, aero, tearing)");
+                     "texture, texture_scale, velocity, tethers, aero, tearing, material)");
 
     cvk_scene* scene = NULL;
     cvk_error err = {0};
@@ -1057,6 +1089,7 @@ int main(void)
     test_minimal_json();
     test_render_json();
     test_render_extras_json();
+    test_render_looks_json();
     test_full_json();
     test_malformed_json();
     test_nonfinite_json();

@@ -333,7 +333,7 @@ CASES = [
      "argv": [SMALL, "--set", "cloths.0.\x1b[31mbad=1"], "status": 2,
      "stderr": error(SMALL, "cloths.0.\\x1b[31mbad (from --set): unknown key (expected one of: "
                             "name, grid, size, origin, u_axis, v_axis, mesh, transform, rest_scale, "
-                            "mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing)")},
+                            "mass, density, stiffness, pins, pin_box, color, texture, texture_scale, velocity, tethers, aero, tearing, material)")},
     # A device or a FIFO would be read forever or block: only regular files are scenes.
     {"name": "a device as the scene", "argv": ["/dev/zero"], "status": 2,
      "stderr": error("/dev/zero", "cannot read: it is not a regular file")},

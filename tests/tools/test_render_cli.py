@@ -149,6 +149,27 @@ CASES = [
      "argv": [FLAG, "-o", "out", "--set", 'cloths.0.texture="../textures/plaid.png"'], "status": 2,
      "stderr": error(f"{FLAG}: cloths.0.texture: {ROOT}/assets/scenes/../meshes/flag.obj has no texture "
                      "coordinates to map the texture by")},
+    # A cloth's material block.
+    {"name": "unknown material key", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.shine=1"],
+     "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.shine (from --set): unknown key (expected one of: "
+                                  "color, back_color, texture, sheen, roughness)")},
+    {"name": "material texture not an image",
+     "argv": [SMALL, "-o", "out", "--set", 'cloths.0.material.texture="small.json"'], "status": 2,
+     "stderr": error(f"{SMALL}: cloths.0.material.texture: {SCENES}/small.json: not an image stb_image can "
+                     "read (unknown image type)")},
+    {"name": "material texture on a mesh without texture coordinates",
+     "argv": [FLAG, "-o", "out", "--set", 'cloths.0.material.texture="../textures/plaid.png"'], "status": 2,
+     "stderr": error(f"{FLAG}: cloths.0.material.texture: {ROOT}/assets/scenes/../meshes/flag.obj has no texture "
+                     "coordinates to map the texture by")},
+    {"name": "sheen out of range", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.sheen=1.5"],
+     "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.sheen (from --set): must be between 0 and 1, "
+                                  "got 1.5")},
+    {"name": "roughness out of range", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.roughness=0"],
+     "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.roughness (from --set): must be between 0.1 "
+                                  "and 1, got 0")},
+    {"name": "back colour out of range",
+     "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.back_color=[0.2,2,0.2]"], "status": 2,
+     "stderr": error(f"{SMALL}: cloths.0.material.back_color.1 (from --set): must be between 0 and 1, got 2")},
     {"name": "missing scene", "argv": ["no-such.json", "-o", "out"], "status": 2,
      "stderr": error("no-such.json: cannot open: No such file or directory")},
     # The output folder: an existing file in the way, under it, or a folder that takes no file.

@@ -187,6 +187,16 @@ typedef struct cvk_cloth_desc {
                                     Projective dynamics only */
     cvk_aero_desc aero;          /* how the air of cvk_scene_desc.wind pushes it */
     cvk_tearing_desc tearing;    /* when its springs break; none by default */
+    /* How the renderer draws it beyond color and texture (a scene file's "material" block, which
+       also takes color and texture): */
+    float back_color[3];         /* linear RGB in [0, 1] of the back face (the side the
+                                    triangles wind clockwise); each < 0 (the default, −1): the
+                                    front's colour or texture */
+    float sheen;                 /* in [0, 1]: the soft rim of light a fabric's fibres give at
+                                    grazing angles (a "Charlie" sheen lobe); usually 0.4 */
+    float roughness;             /* in [0.1, 1]: how wide that rim spreads; usually 0.5 */
+    bool material_texture;       /* set by the scene reader when the texture came from the
+                                    material block, so messages name material.texture */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
 } cvk_cloth_desc;
 
@@ -364,7 +374,7 @@ typedef struct cvk_render_desc {
                                     cloth, colliders or the ground; usually true */
     float ao_radius;             /* m: how far apart surfaces still shade each other; 0 = 4 %
                                     of the diagonal of what the camera frames (the default) */
-    bool tone_map;               /* roll off light brighter than 0.8 smoothly towards white
+    bool tone_map;               /* roll off light brighter than 0.6 smoothly towards white
                                     instead of clipping it; usually true */
     uint32_t cookie_;            /* set by cvk_default_render_desc; do not touch */
 } cvk_render_desc;
