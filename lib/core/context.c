@@ -238,13 +238,16 @@ static cvk_result create_device(cvk_context* context, cvk_error* error)
         .queueCount = 1,
         .pQueuePriorities = &priority,
     };
-    /* Triangles drawn as lines, and lines wider than a pixel, for the renderer's wireframe, and
-       anisotropic filtering for its textures, where the device has them. */
+    /* Triangles drawn as lines, and lines wider than a pixel, for the renderer's wireframe,
+       anisotropic filtering for its textures and tessellation for its curved triangles, where
+       the device has them. */
     VkPhysicalDeviceFeatures supported, enabled = {0};
     vkGetPhysicalDeviceFeatures(context->physical_device, &supported);
     enabled.fillModeNonSolid = supported.fillModeNonSolid;
     enabled.wideLines = supported.wideLines;
     enabled.samplerAnisotropy = supported.samplerAnisotropy;
+    enabled.tessellationShader = supported.tessellationShader;
+    context->tessellation = supported.tessellationShader == VK_TRUE;
     context->sampler_anisotropy = supported.samplerAnisotropy == VK_TRUE;
     context->fill_mode_non_solid = supported.fillModeNonSolid == VK_TRUE;
     context->wide_lines = supported.wideLines == VK_TRUE;

@@ -22,6 +22,7 @@ struct cvk_context {
     bool graphics;                 /* the queue family can draw (the renderer needs it) */
     bool fill_mode_non_solid;      /* triangles can be drawn as lines (render.wireframe) */
     bool wide_lines;               /* lines can be wider than a pixel */
+    bool tessellation;             /* tessellation shaders (render.smooth) */
     bool sampler_anisotropy;       /* samplers may filter anisotropically (cloth textures) */
     uint32_t subgroup_size;
 

@@ -86,6 +86,9 @@ static cvk_result check_device(const cvk_context* ctx, const cvk_render_desc* d,
                         "rendering needs a queue that can draw; queue family %u of %s supports compute "
                         "only (cvk_mesh works there: draw its buffers on a graphics queue)",
                         ctx->queue_family, ctx->properties.deviceName);
+    if (d->smooth > 1 && !ctx->tessellation)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "render.smooth: %s cannot tessellate (no tessellationShader)",
+                        ctx->properties.deviceName);
     if (d->wireframe && !ctx->fill_mode_non_solid)
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "render.wireframe: %s cannot draw triangles as lines (no fillModeNonSolid)",
@@ -570,7 +573,8 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
        shadow map's raw depths; 5: the cloth pass's depths; 6: the ambient occlusion image. The
        colliders' poses (binding 7) only where there are colliders to draw. */
     static const cvk_binding bindings[] = {
-        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+         VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},

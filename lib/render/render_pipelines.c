@@ -32,6 +32,7 @@ typedef struct pipeline_recipe {
     int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
     uint32_t spec[4];                /* specialization constants 0 to 3 of both stages */
     bool lines;                      /* triangles drawn as their edges, depth tested, not written */
+    bool curved;                     /* triangles as PN patches, tessellated (render.smooth) */
 } pipeline_recipe;
 
 static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModule* out, cvk_error* error)
@@ -78,7 +79,7 @@ static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fix
     };
     f->assembly = (VkPipelineInputAssemblyStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
-        .topology = p->topology,
+        .topology = p->curved ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : p->topology,
     };
     f->viewport = (VkViewport){0.0f, 0.0f, (float)p->width, (float)p->height, 0.0f, 1.0f};
     f->scissor = (VkRect2D){{0, 0}, {p->width, p->height}};
@@ -140,39 +141,54 @@ static void raster_state(const pipeline_recipe* p, bool has_fragment, bool wide_
 
 static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
 {
-    VkShaderModule modules[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};
+    VkShaderModule modules[4] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     bool has_fragment = p->fragment != CVK_SHADER_COUNT;
     cvk_result r = create_module(rd->context, p->vertex, &modules[0], error);
     if (r == CVK_SUCCESS && has_fragment)
         r = create_module(rd->context, p->fragment, &modules[1], error);
+    if (r == CVK_SUCCESS && p->curved)
+        r = create_module(rd->context, CVK_SHADER_PN_TESC, &modules[2], error);
+    if (r == CVK_SUCCESS && p->curved)
+        r = create_module(rd->context, CVK_SHADER_PN_TESE, &modules[3], error);
     if (r != CVK_SUCCESS) {
-        if (modules[0])
-            vkDestroyShaderModule(rd->context->device, modules[0], NULL);
+        for (int i = 0; i < 4; i++)
+            if (modules[i])
+                vkDestroyShaderModule(rd->context->device, modules[i], NULL);
         return r;
     }
     /* Constants 0 to 3: the recipe's; 4 to 6: the effects every pass shares (lighting.glsl,
        composite.frag). */
-    uint32_t values[7] = {p->spec[0], p->spec[1], p->spec[2], p->spec[3],
-                          rd->desc.soft_shadows && rd->desc.key_angle > 0.0f, rd->desc.sky_light, rd->desc.tone_map};
-    VkSpecializationMapEntry entries[7];
-    for (uint32_t i = 0; i < 7; i++)
+    uint32_t values[8] = {p->spec[0], p->spec[1], p->spec[2], p->spec[3],
+                          rd->desc.soft_shadows && rd->desc.key_angle > 0.0f, rd->desc.sky_light, rd->desc.tone_map,
+                          rd->desc.smooth};
+    VkSpecializationMapEntry entries[8];
+    for (uint32_t i = 0; i < 8; i++)
         entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
-    VkSpecializationInfo spec = {7, entries, sizeof values, values};
-    VkPipelineShaderStageCreateInfo stages[2] = {
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_VERTEX_BIT,
-         .module = modules[0], .pName = "main", .pSpecializationInfo = &spec},
-        {.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
-         .module = modules[1], .pName = "main", .pSpecializationInfo = &spec},
+    VkSpecializationInfo spec = {8, entries, sizeof values, values};
+    VkPipelineShaderStageCreateInfo stages[4];
+    uint32_t stage_count = 0;
+    const VkShaderStageFlagBits kinds[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_FRAGMENT_BIT,
+                                            VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
+                                            VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT};
+    for (int i = 0; i < 4; i++)
+        if (modules[i])
+            stages[stage_count++] = (VkPipelineShaderStageCreateInfo){
+                .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, .stage = kinds[i],
+                .module = modules[i], .pName = "main", .pSpecializationInfo = &spec};
+    VkPipelineTessellationStateCreateInfo tessellation = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO,
+        .patchControlPoints = 3,
     };
     fixed_state f;
     geometry_state(rd, p, &f);
     raster_state(p, has_fragment, rd->context->wide_lines, &f);
     VkGraphicsPipelineCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
-        .stageCount = has_fragment ? 2 : 1,
+        .stageCount = stage_count,
         .pStages = stages,
         .pVertexInputState = &f.vertex_input,
         .pInputAssemblyState = &f.assembly,
+        .pTessellationState = p->curved ? &tessellation : NULL,
         .pViewportState = &f.viewport_state,
         .pRasterizationState = &f.raster,
         .pMultisampleState = &f.multisample,
@@ -182,7 +198,7 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
         .renderPass = p->pass,
     };
     VkResult vr = vkCreateGraphicsPipelines(rd->context->device, VK_NULL_HANDLE, 1, &info, NULL, out);
-    for (int i = 0; i < 2; i++)
+    for (int i = 0; i < 4; i++)
         if (modules[i])
             vkDestroyShaderModule(rd->context->device, modules[i], NULL);
     if (vr != VK_SUCCESS) {
@@ -203,24 +219,24 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
-         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
+         rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
         /* Reversed depth: nearer is greater. */
         {"cloth pass", cloth_vert, CVK_SHADER_LIT_CLOTH_FRAG, cloth_attributes, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
-         false, 0, {rd->desc.ground, textured}, false},
+         false, 0, {rd->desc.ground, textured}, false, rd->desc.smooth > 1},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
-         {false, false, rd->desc.samples, rd->desc.ao}, false},
+         {false, false, rd->desc.samples, rd->desc.ao}, false, false},
         {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples, rd->desc.ao}, false},
+         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples, rd->desc.ao}, false, false},
         /* The colliders: shaded like the cloth (lit_cloth.frag), posed in the vertex shader. */
         {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true,
-         VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false},
+         VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
         {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
-         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false},
+         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false, false},
     };
     VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
                           &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};
@@ -234,7 +250,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         const pipeline_recipe occlusion = {
             "ambient occlusion pass", CVK_SHADER_COMPOSITE_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG,
             0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->occlusion_pass, cvk_render_half(w), cvk_render_half(h),
-            VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, 0, {0}, false};
+            VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, 0, {0}, false, false};
         cvk_result r = create_pipeline(rd, &occlusion, &rd->occlusion_pipeline, error);
         if (r != CVK_SUCCESS)
             return r;
@@ -244,7 +260,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     const pipeline_recipe wireframe = {
         "wireframe pass", cloth_vert, CVK_SHADER_WIREFRAME_FRAG, cloth_attributes, false,
         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
-        VK_COMPARE_OP_GREATER_OR_EQUAL, true, 0, {rd->desc.ground}, true};
+        VK_COMPARE_OP_GREATER_OR_EQUAL, true, 0, {rd->desc.ground}, true, false};
     return create_pipeline(rd, &wireframe, &rd->wireframe_pipeline, error);
 }
 

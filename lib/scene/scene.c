@@ -83,6 +83,7 @@ cvk_render_desc cvk_default_render_desc(void)
         .sky_light = true,
         .ao = true,
         .ao_radius = 0.0f,
+        .smooth = 0,
         .tone_map = true,
         .cookie_ = CVK_COOKIE_RENDER,
     };
@@ -621,6 +622,7 @@ static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
            cvk_check_closed_array(issue, "render.ground_color", r->ground_color, 3, 0.0, 1.0) &&
            cvk_check_closed(issue, "render.key_angle", r->key_angle, 0.0, 20.0) &&
            cvk_check_closed(issue, "render.ao_radius", r->ao_radius, 0.0, CVK_MAX_COORDINATE) &&
+           cvk_check_closed(issue, "render.smooth", r->smooth, 0.0, 8.0) &&
            check_camera_keyframes(r, issue);
 }
 

@@ -632,6 +632,7 @@ static const cvk_field render_fields[] = {
     {.key = "ao", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, ao)},
     {.key = "ao_radius", .read = cvk_read_float, .offset = offsetof(cvk_render_desc, ao_radius)},
     {.key = "tone_map", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, tone_map)},
+    {.key = "smooth", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, smooth)},
 };
 static const cvk_table render_table = FIELDS(render_fields);
 

@@ -283,6 +283,7 @@ typedef struct cvk_render_desc {
     bool sky_light;
     bool ao;
     float ao_radius;
+    uint32_t smooth;
     bool tone_map;
     uint32_t cookie_;
 } cvk_render_desc;

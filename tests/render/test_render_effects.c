@@ -13,11 +13,14 @@
      red - blue; with the flat ambient they differ by at most 4;
    - the same bytes from two renderers of one scene with every effect on;
    - fabric: a cloth lit from the front and seen from behind shows 35 to 75 % of its lit face's
-     luminance (the light through it), a back_color shows on the back face only, and sheen adds
+     luminance (the light through it), a back_color shows on the back face only (with flat and
+     with curved triangles), and sheen adds
      a rim at grazing angles (more than 15 levels) and less than half that head-on;
    - a texture of 1-texel stripes far finer than the pixels: the mean over a region moves by
      less than 2 levels when the camera moves by a third of a pixel, and the region is an even
-     grey (its pixels within 8 levels, standard deviation), not stripes or moiré. */
+     grey (its pixels within 8 levels, standard deviation), not stripes or moiré;
+   - curved triangles (render.smooth): the top outline of an arch of 6 flat strips lies less than
+     half as far from the true circle with them as without. */
 #include "harness.h"
 
 #include <unistd.h>
@@ -363,16 +366,20 @@ static void fabric(cvk_context* ctx)
     static uint8_t im[W * H * 4];
     double at[2];
     setup s = {0};
-    for (int side = 0; side < 2; side++) {
-        memcpy(r.eye, side == 0 ? front_eye : back_eye, sizeof r.eye);
+    for (int side = 0; side < 4; side++) {
+        /* Flat, then curved triangles (their pieces must keep the triangles' faces). */
+        r.smooth = side < 2 ? 0 : 3;
+        memcpy(r.eye, side % 2 == 0 ? front_eye : back_eye, sizeof r.eye);
         s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.5f, 0.0f}, flat_u, (const float[3]){0, -1, 0}, red);
         memcpy(s.cloths[0].back_color, blue, sizeof blue);
         render_once(ctx, &s, 1, &r, im, (const float[3]){0.0f, 1.0f, 0.0f}, at);
         const uint8_t* q = im + 4 * ((size_t)(int)at[1] * W + (size_t)(int)at[0]);
-        if (side == 0)
-            CHECK(q[0] > 2 * q[2], "the front of a red cloth with a blue back shows (%u, %u, %u)", q[0], q[1], q[2]);
+        if (side % 2 == 0)
+            CHECK(q[0] > 2 * q[2], "the front of a red cloth with a blue back shows (%u, %u, %u), render.smooth %u",
+                  q[0], q[1], q[2], r.smooth);
         else
-            CHECK(q[2] > 2 * q[0], "the back of a red cloth with a blue back shows (%u, %u, %u)", q[0], q[1], q[2]);
+            CHECK(q[2] > 2 * q[0], "the back of a red cloth with a blue back shows (%u, %u, %u), render.smooth %u",
+                  q[0], q[1], q[2], r.smooth);
     }
     /* Sheen: a rim of light at grazing angles, seen and lit nearly edge-on from the same side
        (both about 75° off the normal), little change head-on. */
@@ -445,6 +452,76 @@ static void stripes_settle(cvk_context* ctx)
     printf("stripes: mean %.1f and %.1f, spread %.1f and %.1f\n", means[0], means[1], spread[0], spread[1]);
 }
 
+/* Mean distance in pixels between the top outline of a coarse half-cylinder (an arch of 6 flat
+   strips, radius 0.5 m, seen along its axis) and the true circle's, drawn with render.smooth
+   `smooth`. */
+static double arch_outline_error(cvk_context* ctx, uint32_t smooth)
+{
+    enum { NU = 7, NV = 2 };
+    const double radius = 0.5, pi = 3.14159265358979;
+    cvk_render_desc r = view((const float[3]){0.0f, 1.25f, 8.0f}, (const float[3]){0.0f, 1.25f, 0.0f},
+                             (const float[3]){0.2f, 1.0f, 0.6f});
+    r.fov_y = 9.0f;
+    r.ground = false;
+    r.ao = false;
+    r.smooth = smooth;
+    setup s = {0};
+    s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.0f, -0.5f}, flat_u, (const float[3]){0, 0, 1},
+                               (const float[3]){0.8f, 0.1f, 0.08f});
+    s.cloths[0].grid[0] = NU;
+    s.cloths[0].grid[1] = NV;
+    setup_scene(&s, ctx, 1, &r);
+    float xyz[NU * NV * 3], v[NU * NV * 3] = {0};
+    for (int j = 0; j < NV; j++)
+        for (int i = 0; i < NU; i++) {
+            double a = pi * i / (NU - 1);
+            float* q = &xyz[3 * (j * NU + i)];
+            q[0] = (float)(radius * cos(a));
+            q[1] = (float)(1.0 + radius * sin(a));
+            q[2] = (float)(-0.5 + j);
+        }
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_write_state(s.sim, xyz, v, NU * NV, &err), err);
+    REQUIRE_OK(cvk_renderer_draw(s.renderer, &err), err);
+    cvk_image im = cvk_renderer_get_image(s.renderer);
+    keep(&im, smooth > 1 ? "arch-smooth" : "arch-flat");
+    /* The true outline: the front rim (z = 0.5, nearest the eye) projected, row per column. */
+    double top[W];
+    for (int x = 0; x < W; x++)
+        top[x] = 1e9;
+    for (int k = 0; k <= 4000; k++) {
+        double a = pi * k / 4000.0, at[2];
+        project(s.renderer, (const float[3]){(float)(radius * cos(a)), (float)(1.0 + radius * sin(a)), 0.5f}, at);
+        int x = (int)floor(at[0]);
+        if (x >= 0 && x < W)
+            top[x] = fmin(top[x], at[1]);
+    }
+    const uint8_t* sky = pixel(&im, 0, 0);
+    double sum = 0.0;
+    int columns = 0;
+    double left[2], right[2];
+    project(s.renderer, (const float[3]){-0.4f, 1.0f, 0.5f}, left);
+    project(s.renderer, (const float[3]){0.4f, 1.0f, 0.5f}, right);
+    for (int x = (int)left[0]; x <= (int)right[0]; x++) {
+        int y = 0;
+        while (y < H && abs(pixel(&im, x, y)[0] - sky[0]) + abs(pixel(&im, x, y)[1] - sky[1]) +
+                                abs(pixel(&im, x, y)[2] - sky[2]) < 40)
+            y++;
+        sum += fabs(y - top[x]);
+        columns++;
+    }
+    teardown(&s);
+    return sum / columns;
+}
+
+static void curved_triangles(cvk_context* ctx)
+{
+    double flat = arch_outline_error(ctx, 0), curved = arch_outline_error(ctx, 4);
+    CHECK(curved < 0.5 * flat, "the arch's outline is %.2f px from the circle with curved triangles, %.2f flat",
+          curved, flat);
+    printf("arch outline off the circle: %.2f px with curved triangles, %.2f px flat\n", curved, flat);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -455,5 +532,6 @@ int main(void)
     same_bytes(ctx);
     fabric(ctx);
     stripes_settle(ctx);
+    curved_triangles(ctx);
     return harness_finish(ctx);
 }

@@ -374,6 +374,10 @@ typedef struct cvk_render_desc {
                                     cloth, colliders or the ground; usually true */
     float ao_radius;             /* m: how far apart surfaces still shade each other; 0 = 4 %
                                     of the diagonal of what the camera frames (the default) */
+    uint32_t smooth;             /* curved triangles (PN triangles, by tessellation): each cloth
+                                    triangle drawn as smooth² pieces of the cubic patch through
+                                    its vertices and normals, 2 to 8; 0 or 1: flat triangles
+                                    (the default) */
     bool tone_map;               /* roll off light brighter than 0.6 smoothly towards white
                                     instead of clipping it; usually true */
     uint32_t cookie_;            /* set by cvk_default_render_desc; do not touch */
