@@ -38,7 +38,7 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
                 {cloth->color[0], cloth->color[1], cloth->color[2], set ? 1.0f : 0.0f},
                 {back ? cloth->back_color[0] : 0.0f, back ? cloth->back_color[1] : 0.0f,
                  back ? cloth->back_color[2] : 0.0f, back ? 1.0f : 0.0f},
-                {cloth->sheen, cloth->roughness, 1.0f, 0.0f},
+                {cloth->sheen, cloth->roughness, 0.0f, 0.0f},
             };
             vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof m, &m);
             if (set != bound) {

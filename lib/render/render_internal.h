@@ -11,8 +11,8 @@
 typedef struct cvk_render_material {
     float albedo[4];                 /* rgb: linear colour; w: 1 where the texture replaces it */
     float back[4];                   /* rgb: the back face's colour; w: 1 to use it (else the front's) */
-    float fabric[4];                 /* x: sheen; y: its roughness; z: 1 = a cloth (sheen, light
-                                        through it), 0 = a collider (Blinn-Phong highlight) */
+    float fabric[4];                 /* x: sheen; y: its roughness (cloths only: the colliders'
+                                        pipeline shades with a Blinn-Phong highlight) */
 } cvk_render_material;
 
 /* One collider's triangles in the shared collider buffers, drawn with instance index

@@ -223,7 +223,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         /* Reversed depth: nearer is greater. */
         {"cloth pass", cloth_vert, CVK_SHADER_LIT_CLOTH_FRAG, cloth_attributes, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
-         false, 0, {rd->desc.ground, textured}, false, rd->desc.smooth > 1},
+         false, 0, {rd->desc.ground, textured, true}, false, rd->desc.smooth > 1},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
          {false, false, rd->desc.samples, rd->desc.ao}, false, false},
@@ -236,7 +236,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
          VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
         {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
-         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground}, false, false},
+         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground, false, false}, false, false},
     };
     VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
                           &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};

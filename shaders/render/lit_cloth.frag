@@ -14,11 +14,14 @@
 layout(constant_id = 0) const bool CLIP_BELOW_GROUND = true;
 // Some cloth has a texture: read it where the material says so.
 layout(constant_id = 1) const bool TEXTURED = false;
+// The cloths' pipeline (fabric shading); false: the colliders' (Blinn-Phong). A constant, not
+// the material's flag: a CPU device would run both shadings for every pixel.
+layout(constant_id = 2) const bool FABRIC = true;
 
 layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
     vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's
-    vec4 fabric; // x: sheen; y: its roughness; z: 1 = a cloth, 0 = a collider
+    vec4 fabric; // x: sheen; y: its roughness (cloths only)
 } material;
 
 // The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
@@ -48,7 +51,7 @@ void main()
     if (!gl_FrontFacing && material.back.w > 0.5)
         albedo = material.back.rgb;
     vec3 shaded;
-    if (material.fabric.z > 0.5)
+    if (FABRIC)
         shaded = shade_fabric(world, n, albedo, material.fabric.x * sqrt(albedo), material.fabric.y, visible);
     else
         shaded = shade(world, n, albedo, 0.12, towards ? visible : 0.0);
