@@ -179,6 +179,49 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
     return r;
 }
 
+static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const VkImageView* views, uint32_t count,
+                                     uint32_t width, uint32_t height, VkFramebuffer* out, const char* what,
+                                     cvk_error* error)
+{
+    VkFramebufferCreateInfo fb = {
+        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
+        .renderPass = pass,
+        .attachmentCount = count,
+        .pAttachments = views,
+        .width = width,
+        .height = height,
+        .layers = 1,
+    };
+    VkResult vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, out);
+    if (vr != VK_SUCCESS) {
+        return cvk_fail_vk_for(error, "vkCreateFramebuffer", vr, "%s", what);
+    }
+    return CVK_SUCCESS;
+}
+
+/* A pass of one subpass over one attachment, two external dependencies, and its framebuffer of
+   width x height on `view`. */
+static cvk_result create_single_pass(cvk_renderer* rd, const VkAttachmentDescription* attachment,
+                                     const VkSubpassDescription* subpass,
+                                     const VkSubpassDependency dependencies[2], VkImageView view,
+                                     uint32_t width, uint32_t height, VkRenderPass* pass,
+                                     VkFramebuffer* framebuffer, const char* what, cvk_error* error)
+{
+    VkRenderPassCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
+        .attachmentCount = 1,
+        .pAttachments = attachment,
+        .subpassCount = 1,
+        .pSubpasses = subpass,
+        .dependencyCount = 2,
+        .pDependencies = dependencies,
+    };
+    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, pass);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk_for(error, "vkCreateRenderPass", vr, "%s", what);
+    return create_framebuffer(rd, *pass, &view, 1, width, height, framebuffer, what, error);
+}
+
 static cvk_result create_shadow_pass(cvk_renderer* rd, cvk_error* error)
 {
     VkAttachmentDescription depth = {
@@ -205,49 +248,11 @@ static cvk_result create_shadow_pass(cvk_renderer* rd, cvk_error* error)
         {0, VK_SUBPASS_EXTERNAL, tests, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
          VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
-    VkRenderPassCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .attachmentCount = 1,
-        .pAttachments = &depth,
-        .subpassCount = 1,
-        .pSubpasses = &subpass,
-        .dependencyCount = 2,
-        .pDependencies = dependencies,
-    };
-    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->shadow_pass);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateRenderPass (shadow pass)", vr);
-    VkFramebufferCreateInfo fb = {
-        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
-        .renderPass = rd->shadow_pass,
-        .attachmentCount = 1,
-        .pAttachments = &rd->shadow_map.view,
-        .width = rd->desc.shadow_map_size,
-        .height = rd->desc.shadow_map_size,
-        .layers = 1,
-    };
-    vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, &rd->shadow_framebuffer);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (shadow pass)", vr);
+    return create_single_pass(rd, &depth, &subpass, dependencies, rd->shadow_map.view,
+                              rd->desc.shadow_map_size, rd->desc.shadow_map_size, &rd->shadow_pass,
+                              &rd->shadow_framebuffer, "shadow pass", error);
 }
 
-static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const VkImageView* views, uint32_t count,
-                                     VkFramebuffer* out, const char* what, cvk_error* error)
-{
-    VkFramebufferCreateInfo fb = {
-        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
-        .renderPass = pass,
-        .attachmentCount = count,
-        .pAttachments = views,
-        .width = rd->desc.size[0],
-        .height = rd->desc.size[1],
-        .layers = 1,
-    };
-    VkResult vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, out);
-    if (vr != VK_SUCCESS) {
-        return cvk_fail_vk_for(error, "vkCreateFramebuffer", vr, "%s", what);
-    }
-    return CVK_SUCCESS;
-}
 
 /* A pass of one subpass over a colour attachment (0) and a depth/stencil attachment (1), two
  * external dependencies, and its framebuffer on `views`. */
@@ -277,7 +282,7 @@ static cvk_result create_color_depth_pass(cvk_renderer* rd, const VkAttachmentDe
     if (vr != VK_SUCCESS) {
         return cvk_fail_vk_for(error, "vkCreateRenderPass", vr, "%s", what);
     }
-    return create_framebuffer(rd, *pass, views, 2, framebuffer, what, error);
+    return create_framebuffer(rd, *pass, views, 2, rd->desc.size[0], rd->desc.size[1], framebuffer, what, error);
 }
 
 /* Stages and accesses of a pass that writes colour and depth/stencil. */
@@ -352,29 +357,10 @@ static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
         {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
-    VkRenderPassCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .attachmentCount = 1,
-        .pAttachments = &attachment,
-        .subpassCount = 1,
-        .pSubpasses = &subpass,
-        .dependencyCount = 2,
-        .pDependencies = dependencies,
-    };
-    VkResult vr = vkCreateRenderPass(rd->context->device, &info, NULL, &rd->occlusion_pass);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateRenderPass (ambient occlusion pass)", vr);
-    VkFramebufferCreateInfo fb = {
-        .sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO,
-        .renderPass = rd->occlusion_pass,
-        .attachmentCount = 1,
-        .pAttachments = &rd->occlusion.view,
-        .width = cvk_render_half(rd->desc.size[0]),
-        .height = cvk_render_half(rd->desc.size[1]),
-        .layers = 1,
-    };
-    vr = vkCreateFramebuffer(rd->context->device, &fb, NULL, &rd->occlusion_framebuffer);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreateFramebuffer (ambient occlusion pass)", vr);
+    return create_single_pass(rd, &attachment, &subpass, dependencies, rd->occlusion.view,
+                              cvk_render_half(rd->desc.size[0]), cvk_render_half(rd->desc.size[1]),
+                              &rd->occlusion_pass, &rd->occlusion_framebuffer, "ambient occlusion pass",
+                              error);
 }
 
 /* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
