@@ -129,8 +129,11 @@ cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
 /* Puts the device's substep counter at `step` and asks for detection at the next substep. */
 cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* error);
 
-/* After the positions were written from the host: the next substep detects again. */
-cvk_result cvk_collide_positions_written(struct cvk_sim* sim, cvk_error* error);
+/* After the state was written from the host (x and v: 3 floats per particle, internal order;
+   v NULL: at rest): the next substep detects again, and its shift follows the written
+   velocities — the substep before is taken to have moved each particle by v dt. */
+cvk_result cvk_collide_positions_written(struct cvk_sim* sim, const float* x, const float* v,
+                                         cvk_error* error);
 
 /* Detections run so far (since creation or the last snapshot loaded); 0 without
    self-contact. */

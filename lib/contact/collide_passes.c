@@ -1,6 +1,7 @@
 /* The contact module's passes at the start of each substep: the colliders' poses (and the
    frame state's advance), and for self-contact the decision to detect, the hash of the
    positions, detection and the bounds (collide.h); and the contact state as the host sees it. */
+#include <stdlib.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -150,11 +151,26 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 
 /* ---- the search's state on the host: written positions, statistics, snapshots ----------- */
 
-cvk_result cvk_collide_positions_written(cvk_sim* s, cvk_error* error)
+cvk_result cvk_collide_positions_written(cvk_sim* s, const float* x, const float* v,
+                                         cvk_error* error)
 {
     cvk_collide* c = s->collide;
     if (!c->self)
         return CVK_SUCCESS;
+    size_t n = s->build.particle_count;
+    float* before = malloc(16u * (n ? n : 1));
+    if (!before)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the contact state");
+    float dt = s->params.dt;
+    for (size_t p = 0; p < n; p++) {
+        for (int k = 0; k < 3; k++)
+            before[4 * p + k] = x[3 * p + k] - (v ? dt * v[3 * p + k] : 0.0f);
+        before[4 * p + 3] = 0.0f;
+    }
+    cvk_result r = cvk_device_upload(&s->device, &c->previous, before, 16u * (VkDeviceSize)n, error);
+    free(before);
+    if (r != CVK_SUCCESS)
+        return r;
     uint32_t force = 1;
     memcpy(s->device.staging.mapped, &force, sizeof force);
     cvk_staging_copy job = {&c->frame, 0, offsetof(cvk_gpu_frame, force), sizeof force};

@@ -246,7 +246,8 @@ static cvk_result set_initial_velocity(cvk_sim* s, const cvk_scene_desc* scene, 
                 p < b->free_count ? scene->cloths[cloth].velocity[k] : 0.0f;
         }
     }
-    return s->family->write_state(s, s->family_state, s->scratch, s->scratch_v, error);
+    cvk_result r = s->family->write_state(s, s->family_state, s->scratch, s->scratch_v, error);
+    return r == CVK_SUCCESS ? cvk_collide_positions_written(s, s->scratch, s->scratch_v, error) : r;
 }
 
 /* The contact radius: given with a default thickness, checked against the thickness the

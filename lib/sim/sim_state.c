@@ -86,7 +86,7 @@ static cvk_result write_state(cvk_sim* s, const float* xyz, const float* velocit
     r = s->family->write_state(s, s->family_state, s->scratch, velocity ? s->scratch_v : NULL,
                                error);
     if (r == CVK_SUCCESS) /* cloth-contact candidates of the old positions no longer hold */
-        r = cvk_collide_positions_written(s, error);
+        r = cvk_collide_positions_written(s, s->scratch, velocity ? s->scratch_v : NULL, error);
     if (r == CVK_SUCCESS)
         cvk_sim_watch_reset(s); /* a new state: a past divergence no longer holds */
     return r;

@@ -66,13 +66,15 @@ void main()
         return;
     }
     bool search = frame.force != 0u || motion_bounds.exceed != 0u;
-    // After positions were written from the host the last substep's displacement means
-    // nothing: no shift. Nor when a particle is near a collider: the shift, checked against
-    // no bound at a detection, could carry a particle the collider stops into the collider,
-    // and its push out would then move it past its bound (the substeps that do not detect
-    // take a shift every particle's extrapolated move fits: contact_check.comp phase 1).
-    vec3 shift = frame.force != 0u ? vec3(0.0)
-               : search ? (motion_bounds.near != 0u
+    // A detection shifts by the centre of the last substep's displacements (after the host
+    // wrote the state, the written velocities times dt: lib/contact/collide.h), the motion
+    // expected of all; held at 0 otherwise a cloth thrown faster than its bound a substep
+    // would lose its speed to the bounds. No shift when a particle is near a collider: the
+    // shift, checked against no bound at a detection, could carry a particle the collider
+    // stops into the collider, and its push out would then move it past its bound (the
+    // substeps that do not detect take a shift every particle's extrapolated move fits:
+    // contact_check.comp phase 1).
+    vec3 shift = search ? (motion_bounds.near != 0u
                                ? vec3(0.0)
                                : centre(motion_bounds.v_low_x, motion_bounds.v_low_y,
                                         motion_bounds.v_low_z, motion_bounds.v_high_x,
