@@ -111,9 +111,9 @@ static uint64_t fnv1a(uint64_t h, const void* data, size_t size)
 
 /* The run a bake holds: FNV-1a over the resolved scene, dt, substeps and K. Two runs with the
    same hash write the same frames. */
-static void run_hash(const app_bake_desc* desc, uint32_t every, char out[17])
+static void run_hash(const app_bake_desc* desc, const char* resolved, uint32_t every, char out[17])
 {
-    uint64_t h = fnv1a(0xcbf29ce484222325ull, desc->resolved, strlen(desc->resolved) + 1);
+    uint64_t h = fnv1a(0xcbf29ce484222325ull, resolved, strlen(resolved) + 1);
     h = fnv1a(h, &desc->scene->dt, sizeof desc->scene->dt);
     h = fnv1a(h, &desc->scene->substeps, sizeof desc->scene->substeps);
     h = fnv1a(h, &every, sizeof every);
@@ -123,7 +123,7 @@ static void run_hash(const app_bake_desc* desc, uint32_t every, char out[17])
 static int write_cache(app_bake* b, const app_bake_desc* desc)
 {
     char run[17];
-    run_hash(desc, b->every, run);
+    run_hash(desc, desc->resolved, b->every, run);
     json_t* overrides = json_array();
     for (uint32_t i = 0; i < desc->overrides->count; i++)
         json_array_append_new(overrides, json_string(desc->overrides->items[i]));
@@ -309,8 +309,27 @@ static void compare_values(scene_diff* d, const char* path, const json_t* baked,
     }
 }
 
-/* The resolved scene in cache.json against this run's (cvk_scene_get_json): false, with the
-   differing key paths and both values printed, when they differ. */
+/* The keys that change only how a scene is drawn, never its frames: the render block and
+   the colours and materials of cloths and colliders. A bake is drawn with this run's. */
+static void drop_render_keys(json_t* scene)
+{
+    json_object_del(scene, "render");
+    const char* lists[] = {"cloths", "colliders"};
+    for (size_t l = 0; l < sizeof lists / sizeof lists[0]; l++) {
+        json_t* list = json_object_get(scene, lists[l]);
+        for (size_t i = 0; i < json_array_size(list); i++) {
+            json_t* item = json_array_get(list, i);
+            if (json_is_object(item)) {
+                json_object_del(item, "color");
+                json_object_del(item, "material");
+            }
+        }
+    }
+}
+
+/* The resolved scene in cache.json against this run's (cvk_scene_get_json), but for the keys
+   that only draw it: false, with the differing key paths and both values printed, when they
+   differ. */
 static bool same_scene(app_bake* b, const char* baked, const char* here)
 {
     if (strcmp(baked, here) == 0)
@@ -318,8 +337,16 @@ static bool same_scene(app_bake* b, const char* baked, const char* here)
     json_t* a = json_loads(baked, 0, NULL);
     json_t* c = json_loads(here, 0, NULL);
     scene_diff d = {.count = 0};
-    if (a && c)
+    if (json_is_object(a) && json_is_object(c)) {
+        drop_render_keys(a);
+        drop_render_keys(c);
         compare_values(&d, "", a, c);
+        if (d.count == 0) {
+            json_decref(a);
+            json_decref(c);
+            return true;
+        }
+    }
     json_decref(a);
     json_decref(c);
     if (!a || !c)
@@ -366,8 +393,8 @@ static int check_cache(app_bake* b, json_t* root, const app_bake_desc* desc)
                   (long long)every);
         return APP_EXIT_BAD_INPUT;
     }
-    char here[17];
-    run_hash(desc, (uint32_t)every, here);
+    char here[17]; /* the bake's scene text (this run's may draw it otherwise) */
+    run_hash(desc, resolved, (uint32_t)every, here);
     if (strcmp(run, here) != 0) { /* the same scene text: a default dt or substeps changed */
         app_error(b->tool, "%s: baked as run %s (dt %g s, %lld substeps); this clothvk makes run "
                   "%s of the scene (dt %g s, %u substeps)", b->folder, run,

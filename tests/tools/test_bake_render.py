@@ -14,7 +14,10 @@ bake holds them). Then:
 - a frame the bake does not hold (frame 1 of the --every 2 bake, frame F + 1 of either) is refused:
   exit 2, one line, no output folder made; so are --frames A:B without --from, --every with
   --from, a missing bake and another scene's bake (naming the key path and both values);
-- a --set item that leaves the scene as baked (dt=4e-3 where the file says 0.004) is no other scene.
+- a --set item that leaves the scene as baked (dt=4e-3 where the file says 0.004) is no other scene;
+- keys that only draw the scene (render.*, a cloth's color and material) may differ from the
+  bake's: the image equals a direct render with the same --set items, and differs from the
+  bake's own scene's.
 """
 import json
 import os
@@ -124,6 +127,19 @@ def main():
         got = tooltest.contents(same)
         check(list(got) == ["frame_0003.png"] and got["frame_0003.png"] == direct["frame_0003.png"],
               f"--from with --set dt=4e-3: images {sorted(got)}, expected frame_0003.png as the direct one")
+        drawn = ["--set", "render.ao=false", "--set", "render.size=[80,48]",
+                 "--set", "cloths.0.color=[0.1,0.7,0.3]", "--set", "cloths.0.material.sheen=0"]
+        redrawn_direct = os.path.join(tmp, "redrawn-direct")
+        run(RENDER, [scene, "-o", redrawn_direct, "--quiet"] + drawn, "direct render, drawn otherwise")
+        redrawn = os.path.join(tmp, "redrawn")
+        run(RENDER, [scene, "-o", redrawn, "--from", bake, "--frames", "3:3", "--quiet"] + drawn,
+            "--from with render keys and a cloth's colour and material not the bake's")
+        got, want = tooltest.contents(redrawn), tooltest.contents(redrawn_direct)
+        check(list(got) == ["frame_0003.png"] and got["frame_0003.png"] == want.get("frame_0003.png"),
+              f"--from drawn otherwise: images {sorted(got)}, expected frame_0003.png as the "
+              "direct render drawn the same way")
+        check(got.get("frame_0003.png") != direct["frame_0003.png"],
+              "--from drawn otherwise: the image is the bake scene's own: the --set items did nothing")
     return CHECKS.finish("bake-render: images from bakes equal the direct render's; bad input refused")
 
 
