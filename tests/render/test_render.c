@@ -10,7 +10,7 @@
    - two renderers of one scene give the same bytes, and frames recorded into the caller's
      command buffer with the simulation match cvk_renderer_draw;
    - a PNG written and read back holds the same pixels; bad arguments get their messages. */
-#include "harness.h"
+#include "render_fixture.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -31,15 +31,6 @@ static const float background[3] = {0.1f, 0.2f, 0.45f};
 static const float red[3] = {0.8f, 0.1f, 0.08f};
 
 /* ---- scenes: static cloths (no integration, no gravity) so images are exact ---- */
-
-typedef struct setup {
-    bool falling;                /* gravity on; otherwise the cloths stay where they start */
-    cvk_cloth_desc cloths[2];
-    cvk_scene_desc scene;
-    cvk_sim* sim;
-    cvk_mesh* mesh;
-    cvk_renderer* renderer;
-} setup;
 
 static cvk_cloth_desc square_cloth(const float origin[3], const float u[3], const float v[3], const float color[3])
 {
@@ -66,40 +57,7 @@ static cvk_render_desc small_view(const float eye[3], const float target[3], con
     return r;
 }
 
-static void setup_scene(setup* s, cvk_context* ctx, uint32_t cloth_count, const cvk_render_desc* render)
-{
-    s->scene = cvk_default_scene_desc();
-    if (!s->falling) {
-        s->scene.integrate = false;
-        memset(s->scene.gravity, 0, sizeof s->scene.gravity);
-    }
-    s->scene.cloths = s->cloths;
-    s->scene.cloth_count = cloth_count;
-    s->scene.render = *render;
-    cvk_error err;
-    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
-    REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
-    REQUIRE_OK(cvk_renderer_create(s->mesh, &s->scene.render, &s->renderer, &err), err);
-}
-
-static void teardown(setup* s)
-{
-    cvk_renderer_destroy(s->renderer);
-    cvk_mesh_destroy(s->mesh);
-    cvk_sim_destroy(s->sim);
-}
-
 /* ---- pixels ---- */
-
-static const uint8_t* pixel(const cvk_image* im, int x, int y)
-{
-    return im->pixels + (size_t)y * im->row_bytes + 4 * (size_t)x;
-}
-
-static double luminance(const uint8_t* p)
-{
-    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-}
 
 /* Mean luminance of the 5 x 5 pixels around (x, y). */
 static double patch_luminance(const cvk_image* im, int x, int y)

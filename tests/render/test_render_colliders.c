@@ -13,7 +13,7 @@
      a collider near the cloths but not a far box or a 100 m plane.
    Scenes without colliders are covered by test_render (their images are unchanged). Set
    CLOTHVK_TEST_IMAGES to a folder to keep the images. */
-#include "harness.h"
+#include "render_fixture.h"
 
 #include "core/gpu.h"
 
@@ -21,16 +21,6 @@ enum { W = 240, H = 180 };
 
 static const float green[3] = {0.1f, 0.6f, 0.12f};
 static const float red[3] = {0.8f, 0.1f, 0.08f};
-
-typedef struct setup {
-    cvk_cloth_desc cloth;
-    cvk_collider_desc colliders[3];
-    uint32_t collider_count;
-    cvk_scene_desc scene;
-    cvk_sim* sim;
-    cvk_mesh* mesh;
-    cvk_renderer* renderer;
-} setup;
 
 /* A horizontal 1 m cloth at height y, centred on (x, z). */
 static cvk_cloth_desc flat_cloth(float x, float y, float z)
@@ -70,32 +60,6 @@ static cvk_render_desc view(const float eye[3], const float target[3], const flo
     return r;
 }
 
-/* Static scenes (no integration, no gravity) unless `moving`. */
-static void setup_scene(setup* s, cvk_context* ctx, const cvk_render_desc* render, bool moving)
-{
-    s->scene = cvk_default_scene_desc();
-    if (!moving) {
-        s->scene.integrate = false;
-        memset(s->scene.gravity, 0, sizeof s->scene.gravity);
-    }
-    s->scene.cloths = &s->cloth;
-    s->scene.cloth_count = 1;
-    s->scene.colliders = s->colliders;
-    s->scene.collider_count = s->collider_count;
-    s->scene.render = *render;
-    cvk_error err;
-    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
-    REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
-    REQUIRE_OK(cvk_renderer_create(s->mesh, &s->scene.render, &s->renderer, &err), err);
-}
-
-static void teardown(setup* s)
-{
-    cvk_renderer_destroy(s->renderer);
-    cvk_mesh_destroy(s->mesh);
-    cvk_sim_destroy(s->sim);
-}
-
 static cvk_image draw(setup* s, const char* name)
 {
     cvk_error err;
@@ -111,18 +75,6 @@ static cvk_image draw(setup* s, const char* name)
 }
 
 /* ---- pixels ---- */
-
-static const uint8_t* pixel(const cvk_image* im, int x, int y)
-{
-    x = x < 0 ? 0 : x >= W ? W - 1 : x;
-    y = y < 0 ? 0 : y >= H ? H - 1 : y;
-    return im->pixels + (size_t)y * im->row_bytes + 4 * (size_t)x;
-}
-
-static double luminance(const uint8_t* p)
-{
-    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-}
 
 static void project(const cvk_renderer* r, const float p[3], int out[2])
 {
@@ -164,10 +116,10 @@ static const float sphere_eye[3] = {0.0f, 2.0f, 3.0f}, sphere_target[3] = {0.0f,
    the cloth's shadow falls beyond x < -1, the sphere's on the ground around (-0.4, 0, 0). */
 static void sphere_under_cloth(cvk_context* ctx)
 {
-    setup s = {.cloth = flat_cloth(0.0f, 1.5f, 0.0f), .collider_count = 1};
+    setup s = {.cloths = {flat_cloth(0.0f, 1.5f, 0.0f)}, .collider_count = 1};
     s.colliders[0] = sphere(0.0f, 0.4f, 0.0f, 0.3f);
     cvk_render_desc r = view(sphere_eye, sphere_target, (const float[3]){1.0f, 1.0f, 0.0f});
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     cvk_image im = draw(&s, "sphere");
     const float middle[3] = {0.0f, 0.4f, 0.3f};
     CHECK(greenish_at(&im, s.renderer, middle), "the middle of the green sphere is not green");
@@ -199,10 +151,10 @@ static void sphere_under_cloth(cvk_context* ctx)
 /* The top of the sphere, with the light from above, under the cloth and with the cloth away. */
 static double sphere_top(cvk_context* ctx, float cloth_x, const char* name)
 {
-    setup s = {.cloth = flat_cloth(cloth_x, 1.5f, 0.0f), .collider_count = 1};
+    setup s = {.cloths = {flat_cloth(cloth_x, 1.5f, 0.0f)}, .collider_count = 1};
     s.colliders[0] = sphere(0.0f, 0.4f, 0.0f, 0.3f);
     cvk_render_desc r = view(sphere_eye, sphere_target, (const float[3]){0.05f, 1.0f, 0.05f});
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     cvk_image im = draw(&s, name);
     const float top[3] = {0.0f, 0.4f + 0.28f * 0.9f, 0.28f * 0.436f};
     double b = brightness_at(&im, s.renderer, top);
@@ -221,10 +173,10 @@ static void cloth_shadows_sphere(cvk_context* ctx)
 /* A sphere above a cloth, lit from above: the cloth under it is in its shadow. */
 static void sphere_shadows_cloth(cvk_context* ctx)
 {
-    setup s = {.cloth = flat_cloth(0.0f, 0.5f, 0.0f), .collider_count = 1};
+    setup s = {.cloths = {flat_cloth(0.0f, 0.5f, 0.0f)}, .collider_count = 1};
     s.colliders[0] = sphere(0.0f, 1.2f, 0.0f, 0.2f);
     cvk_render_desc r = view(sphere_eye, (const float[3]){0.0f, 0.5f, 0.0f}, (const float[3]){0.05f, 1.0f, 0.05f});
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     cvk_image im = draw(&s, "sphere-over-cloth");
     const float under[3] = {-0.035f, 0.5f, -0.035f}, open[3] = {0.35f, 0.5f, 0.3f};
     double b_under = brightness_at(&im, s.renderer, under), b_open = brightness_at(&im, s.renderer, open);
@@ -238,7 +190,7 @@ static void sphere_shadows_cloth(cvk_context* ctx)
 static void box_visible(cvk_context* ctx)
 {
     const float blue[3] = {0.12f, 0.25f, 0.75f};
-    setup s = {.cloth = flat_cloth(-3.0f, 1.5f, -2.0f), .collider_count = 1};
+    setup s = {.cloths = {flat_cloth(-3.0f, 1.5f, -2.0f)}, .collider_count = 1};
     cvk_collider_desc* b = &s.colliders[0];
     *b = cvk_default_collider_desc();
     b->type = CVK_COLLIDER_BOX;
@@ -249,7 +201,7 @@ static void box_visible(cvk_context* ctx)
     memcpy(b->color, blue, sizeof blue);
     cvk_render_desc r = view((const float[3]){0.8f, 1.8f, 2.8f}, (const float[3]){0.0f, 0.3f, 0.0f},
                              (const float[3]){0.3f, 1.0f, 0.2f});
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     cvk_image im = draw(&s, "box");
     const float top[3] = {0.0f, 0.6f, 0.0f}, front[3] = {0.15f, 0.3f, 0.26f};
     int c[2];
@@ -271,11 +223,11 @@ static void moving_sphere(cvk_context* ctx)
         {.time = 0.0f, .rotation = {1, 0, 0, 0}},
         {.time = 0.2f, .translation = {1.0f, 0.0f, 0.0f}, .rotation = {1, 0, 0, 0}},
     };
-    setup s = {.cloth = flat_cloth(-3.0f, 1.5f, -2.0f), .collider_count = 1};
+    setup s = {.cloths = {flat_cloth(-3.0f, 1.5f, -2.0f)}, .collider_count = 1};
     s.colliders[0] = sphere(-0.5f, 0.4f, 0.0f, 0.25f);
     s.colliders[0].motion = (cvk_motion){.keyframes = keys, .keyframe_count = 2};
     cvk_render_desc r = view(sphere_eye, sphere_target, (const float[3]){0.3f, 1.0f, 0.2f});
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     const float start[3] = {-0.5f, 0.4f, 0.25f}, end[3] = {0.5f, 0.4f, 0.25f};
     cvk_image im = draw(&s, "moving-start");
     CHECK(greenish_at(&im, s.renderer, start) && !greenish_at(&im, s.renderer, end),
@@ -306,14 +258,14 @@ static void moving_sphere(cvk_context* ctx)
 
 static cvk_render_view framed(cvk_context* ctx, const cvk_collider_desc* colliders, uint32_t count)
 {
-    setup s = {.cloth = flat_cloth(0.0f, 1.0f, 0.0f), .collider_count = count};
+    setup s = {.cloths = {flat_cloth(0.0f, 1.0f, 0.0f)}, .collider_count = count};
     if (count)
         memcpy(s.colliders, colliders, count * sizeof *colliders);
     cvk_render_desc r = cvk_default_render_desc();
     r.size[0] = 64;
     r.size[1] = 48;
     r.shadow_map_size = 64;
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     cvk_render_view v = cvk_renderer_get_view(s.renderer);
     teardown(&s);
     return v;
@@ -356,12 +308,12 @@ static void framing(cvk_context* ctx)
    again on top of it (in its own colour), while the same plane 0.2 m higher is. */
 static bool plane_drawn(cvk_context* ctx, float height)
 {
-    setup s = {.cloth = flat_cloth(0.0f, 1.0f, 0.0f), .collider_count = 1};
+    setup s = {.cloths = {flat_cloth(0.0f, 1.0f, 0.0f)}, .collider_count = 1};
     s.colliders[0] = cvk_default_collider_desc();
     s.colliders[0].point[1] = height;
     memcpy(s.colliders[0].color, green, sizeof green);
     cvk_render_desc r = view(sphere_eye, sphere_target, (const float[3]){0.3f, 1.0f, 0.4f});
-    setup_scene(&s, ctx, &r, false);
+    setup_scene(&s, ctx, 1, &r);
     cvk_image im = draw(&s, height == 0.0f ? "plane-at-ground" : "plane-above-ground");
     /* Ground in front of the cloth's shadow, on either side of the middle. */
     bool green_left = greenish_at(&im, s.renderer, (const float[3]){-0.8f, height, 1.2f});

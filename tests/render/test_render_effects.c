@@ -21,21 +21,13 @@
      grey (its pixels within 8 levels, standard deviation), not stripes or moiré;
    - curved triangles (render.smooth): the top outline of an arch of 6 flat strips lies less than
      half as far from the true circle with them as without. */
-#include "harness.h"
+#include "render_fixture.h"
 
 #include <unistd.h>
 
 enum { W = 200, H = 150 };
 
 /* ---- scenes: static cloths ---- */
-
-typedef struct setup {
-    cvk_cloth_desc cloths[2];
-    cvk_scene_desc scene;
-    cvk_sim* sim;
-    cvk_mesh* mesh;
-    cvk_renderer* renderer;
-} setup;
 
 static cvk_cloth_desc square_cloth(const float origin[3], const float u[3], const float v[3], const float color[3])
 {
@@ -63,48 +55,7 @@ static cvk_render_desc view(const float eye[3], const float target[3], const flo
     return r;
 }
 
-static void setup_scene(setup* s, cvk_context* ctx, uint32_t cloth_count, const cvk_render_desc* render)
-{
-    s->scene = cvk_default_scene_desc();
-    s->scene.integrate = false;
-    memset(s->scene.gravity, 0, sizeof s->scene.gravity);
-    s->scene.cloths = s->cloths;
-    s->scene.cloth_count = cloth_count;
-    s->scene.render = *render;
-    cvk_error err;
-    REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
-    REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
-    REQUIRE_OK(cvk_renderer_create(s->mesh, &s->scene.render, &s->renderer, &err), err);
-}
-
-static void teardown(setup* s)
-{
-    cvk_renderer_destroy(s->renderer);
-    cvk_mesh_destroy(s->mesh);
-    cvk_sim_destroy(s->sim);
-}
-
 /* ---- pixels ---- */
-
-static const uint8_t* pixel(const cvk_image* im, int x, int y)
-{
-    return im->pixels + (size_t)y * im->row_bytes + 4 * (size_t)x;
-}
-
-static double luminance(const uint8_t* p)
-{
-    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-}
-
-/* Mean luminance over the pixels of [x0, x1) x [y0, y1). */
-static double region_luminance(const cvk_image* im, int x0, int y0, int x1, int y1)
-{
-    double sum = 0.0;
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++)
-            sum += luminance(pixel(im, x, y));
-    return sum / ((double)(x1 - x0) * (y1 - y0));
-}
 
 static void project(const cvk_renderer* r, const float p[3], double out[2])
 {
