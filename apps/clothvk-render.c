@@ -2,6 +2,7 @@
    device simulates and draws the next image, a second thread encodes and writes the last one,
    so PNG encoding costs little wall time where a core is free. */
 #include <errno.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -319,7 +320,7 @@ static void writer_free(writer* w)
 typedef struct totals {
     uint32_t images;
     double sim_ms, render_ms, wall_ms;
-    double mesh_ms, shadow_ms, ao_ms, lit_ms, readback_ms;
+    double mesh_ms, shadow_ms, ao_ms, lit_ms, readback_ms, overlay_ms;
     uint32_t timed;
 } totals;
 
@@ -406,6 +407,7 @@ static int create_objects(run_state* s, const cvk_render_desc* render)
 static void add_timing(const cvk_renderer* renderer, totals* t)
 {
     cvk_render_timing rt = cvk_renderer_get_timing(renderer);
+    t->overlay_ms += rt.overlay_ms;
     if (rt.total_ms < 0)
         return;
     t->timed++;
@@ -483,8 +485,69 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
     if (t->timed)
         printf(" (mesh %.1f, shadow %.1f, ao %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
                t->shadow_ms / t->timed, t->ao_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
+    if (r->overlay)
+        printf(", overlay %.2f ms", t->overlay_ms / t->images);
     printf(", png %.1f ms (%s); %.1f ms wall\n", w->png_ms / (w->written ? w->written : 1),
            s->o->serial ? "alone" : "beside the next image's work", wall_ms / t->images);
+}
+
+/* ---- render.fit over a sequence: one box for every image, so the camera holds still ---- */
+
+/* The current particles added to the box lo..hi. */
+static int add_particles(cvk_sim* sim, float* xyz, uint64_t n, float lo[3], float hi[3])
+{
+    cvk_error err;
+    if (cvk_sim_read_positions(sim, xyz, n, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        return APP_EXIT_FAILURE;
+    }
+    for (uint64_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fminf(lo[k], xyz[3 * i + k]);
+            hi[k] = fmaxf(hi[k], xyz[3 * i + k]);
+        }
+    return APP_EXIT_OK;
+}
+
+/* The particles' box over every frame to be drawn: the bake's frames loaded in turn, or the
+   scene simulated once before the run by a second simulation (from the same start, so the
+   same frames), then handed to the renderer. */
+static int fit_sequence(run_state* s, uint32_t count)
+{
+    cvk_error err;
+    cvk_sim* sim = s->sim;
+    if (!s->bake) {
+        cvk_sim_desc desc = cvk_default_sim_desc();
+        desc.scene = s->scene;
+        if (cvk_sim_create(s->ctx, &desc, &sim, &err) != CVK_SUCCESS) {
+            app_error(tool, "%s: %s", s->o->scene, err.message);
+            return APP_EXIT_FAILURE;
+        }
+    }
+    uint64_t n = cvk_sim_particle_count(sim);
+    float* xyz = malloc((size_t)n * 3 * sizeof *xyz + 1);
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    int status = xyz ? APP_EXIT_OK : APP_EXIT_FAILURE;
+    if (!xyz)
+        app_error(tool, "out of memory for %llu positions", (unsigned long long)n);
+    for (uint32_t i = 0; i < count && status == APP_EXIT_OK && !app_interrupted(); i++) {
+        if (s->bake) {
+            status = app_bake_load(s->bake, s->first + i * s->step);
+        } else if (i > 0 && cvk_sim_step(sim, s->o->every, &err) != CVK_SUCCESS) {
+            app_error(tool, "%s", err.message);
+            status = APP_EXIT_FAILURE;
+        }
+        if (status == APP_EXIT_OK)
+            status = add_particles(sim, xyz, n, lo, hi);
+    }
+    free(xyz);
+    if (!s->bake)
+        cvk_sim_destroy(sim);
+    if (status == APP_EXIT_OK && cvk_renderer_fit(s->renderer, lo, hi, &err) != CVK_SUCCESS) {
+        app_error(tool, "%s", err.message);
+        status = APP_EXIT_FAILURE;
+    }
+    return status;
 }
 
 static int render_all(run_state* s, uint32_t frames)
@@ -492,6 +555,11 @@ static int render_all(run_state* s, uint32_t frames)
     /* Simulating N frames draws the start and then every K-th state, the last one included:
        frames 0, K, ..., up to N (the bake's and clothvk-sim's --obj rule). */
     uint32_t count = s->bake ? frames : frames / s->o->every + 1;
+    if (s->scene->render.fit && (count > 1 || s->bake)) {
+        int fitted = fit_sequence(s, count);
+        if (fitted != APP_EXIT_OK)
+            return fitted;
+    }
     cvk_image first = cvk_renderer_get_image(s->renderer);
     writer w;
     /* Without -o (a video only) the writer is given no image; its folder is never used. */

@@ -252,6 +252,65 @@ static double fit_distance(const cvk_view* v, const double back[3], double point
     return distance;
 }
 
+/* render.fit: the camera along `back` from the middle of the box's picture, as near as keeps
+   `margin` of the image free on each side. The box's corners are projected and the target
+   moved sideways to centre them, twice (a perspective picture of a box is not centred on the
+   box's centre). */
+static void fit_camera(const cvk_render_desc* desc, cvk_view* v)
+{
+    double points[8][3];
+    int count = framing_points(v, points);
+    double back[3];
+    if (desc->auto_eye) {
+        default_view_direction(v->up, back);
+    } else {
+        for (int k = 0; k < 3; k++)
+            back[k] = (double)desc->eye[k] - desc->target[k];
+        normalize(back);
+    }
+    for (int k = 0; k < 3; k++)
+        v->target[k] = 0.5 * (v->reach.lo[k] + v->reach.hi[k]);
+    double size = 1e-3;
+    for (int k = 0; k < 3; k++)
+        size = fmax(size, v->reach.hi[k] - v->reach.lo[k]);
+    double share = 1.0 - 2.0 * desc->fit_margin;
+    double ty = tan(v->fov_y * PI / 360.0), tx = ty * v->aspect;
+    double distance = 0.0;
+    for (int pass = 0; pass < 3; pass++) {
+        double eye[3];
+        for (int k = 0; k < 3; k++)
+            eye[k] = v->target[k] + back[k];
+        double right[3], cam_up[3], b[3];
+        camera_basis(eye, v->target, v->up, right, cam_up, b);
+        /* Nearest distance at which every corner lies within the share of the frame. */
+        distance = 0.0;
+        for (int i = 0; i < count; i++) {
+            double o[3] = {points[i][0] - v->target[0], points[i][1] - v->target[1], points[i][2] - v->target[2]};
+            double x = fabs(dot(o, right)), y = fabs(dot(o, cam_up)), z = dot(o, b);
+            distance = fmax(distance, fmax(z + x / (share * tx), z + y / (share * ty)));
+        }
+        distance = fmax(distance, 0.5 * size + 1e-3);
+        if (pass == 2)
+            break;
+        /* The corners' picture from there, and the target moved to its middle. */
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int i = 0; i < count; i++) {
+            double o[3];
+            for (int k = 0; k < 3; k++)
+                o[k] = points[i][k] - v->target[k] - distance * back[k];
+            double depth = -dot(o, b);
+            double sx = dot(o, right) / depth, sy = dot(o, cam_up) / depth;
+            lo[0] = fmin(lo[0], sx), hi[0] = fmax(hi[0], sx);
+            lo[1] = fmin(lo[1], sy), hi[1] = fmax(hi[1], sy);
+        }
+        double cx = 0.5 * (lo[0] + hi[0]) * distance, cy = 0.5 * (lo[1] + hi[1]) * distance;
+        for (int k = 0; k < 3; k++)
+            v->target[k] += cx * right[k] + cy * cam_up[k];
+    }
+    for (int k = 0; k < 3; k++)
+        v->eye[k] = v->target[k] + distance * back[k];
+}
+
 static void place_camera(const cvk_render_desc* desc, cvk_view* v)
 {
     double points[8][3];
@@ -419,7 +478,8 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size, double spread)
 }
 
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
-                      const cvk_view_colliders* colliders, uint32_t shadow_map_size, cvk_view* v)
+                      const cvk_view_colliders* colliders, const cvk_box* fit, uint32_t shadow_map_size,
+                      cvk_view* v)
 {
     memset(v, 0, sizeof *v);
     to_double(desc->up, v->up);
@@ -458,7 +518,12 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
         for (int k = 0; k < 3; k++)
             v->ground_axes[a][k] /= v->ground_tile;
 
-    place_camera(desc, v);
+    if (desc->fit && fit) {
+        v->reach = *fit;
+        fit_camera(desc, v);
+    } else {
+        place_camera(desc, v);
+    }
     depth_range(v, colliders);
     camera_matrix(v);
     double spread = desc->soft_shadows ? tan(0.5 * desc->key_angle * PI / 180.0) : 0.0;

@@ -61,8 +61,12 @@ void cvk_box_empty(cvk_box* box);
 void cvk_box_add(cvk_box* box, const double p[3]);
 
 /* Fills everything above. The description must have passed validation. colliders may be NULL
-   (none): the view is then exactly the cloths'. */
+   (none): the view is then exactly the cloths'. fit, with desc->fit, is the box to frame in
+   place of the reach (the ground stays where the reach puts it): the camera looks at the
+   middle of its picture along eye − target (both given) or the default direction, as near
+   as keeps desc->fit_margin of the image free on each side; NULL frames the reach. */
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
-                      const cvk_view_colliders* colliders, uint32_t shadow_map_size, cvk_view* out);
+                      const cvk_view_colliders* colliders, const cvk_box* fit, uint32_t shadow_map_size,
+                      cvk_view* out);
 
 #endif

@@ -489,14 +489,22 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
         put3(u->patch_corners[i], v->patch[i], 1.0f);
 }
 
-void cvk_renderer_set_time(cvk_renderer* rd, double seconds)
+void cvk_render_write_uniforms(cvk_renderer* rd)
 {
-    if (!rd || rd->eye_path.keyframe_count == 0)
-        return;
-    cvk_render_camera_resolve(rd, seconds);
     cvk_frame_uniforms u;
     fill_uniforms(rd, &u);
     memcpy(rd->uniforms.mapped, &u, sizeof u);
+}
+
+void cvk_renderer_set_time(cvk_renderer* rd, double seconds)
+{
+    if (!rd)
+        return;
+    rd->seconds = seconds;
+    if (rd->eye_path.keyframe_count == 0)
+        return;
+    cvk_render_camera_resolve(rd, seconds);
+    cvk_render_write_uniforms(rd);
 }
 
 /* The shadow map's two samplers (comparisons, raw depths) and the one for texel reads. */
@@ -663,6 +671,8 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     r = cvk_render_camera_create(rd, desc, error);
     if (r == CVK_SUCCESS)
         r = cvk_render_colliders_create(rd, rd->gravity, error);
+    if (r == CVK_SUCCESS && desc->fit)
+        r = cvk_render_camera_fit_particles(rd, error);
     if (r == CVK_SUCCESS) {
         cvk_render_camera_resolve(rd, 0.0);
         r = create_images(rd, error);

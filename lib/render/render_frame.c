@@ -172,7 +172,10 @@ cvk_result cvk_renderer_draw(cvk_renderer* rd, cvk_error* error)
 {
     if (!rd)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_draw needs a renderer");
-    return cvk_submit_and_wait(rd->context, &rd->submitter, &rd->frame_cmd, 1, error);
+    cvk_result r = cvk_submit_and_wait(rd->context, &rd->submitter, &rd->frame_cmd, 1, error);
+    if (r == CVK_SUCCESS && rd->desc.overlay)
+        cvk_render_overlay_draw(rd);
+    return r;
 }
 
 cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
@@ -187,7 +190,7 @@ cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
 
 cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
 {
-    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0, -1.0};
+    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0, -1.0, rd->overlay_ms};
     if (!rd->queries)
         return t;
     uint64_t data[2 * CVK_RENDER_QUERY_COUNT];

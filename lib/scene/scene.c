@@ -75,8 +75,7 @@ cvk_render_desc cvk_default_render_desc(void)
         .shadow_map_size = 2048,
         .samples = 4,
         .wireframe = false,
-        .camera_keyframes = NULL,
-        .camera_keyframe_count = 0,
+        .camera_keyframes = NULL, /* camera_keyframe_count: 0 */
         .camera_loop = false,
         .soft_shadows = true,
         .key_angle = 3.0f,
@@ -85,6 +84,7 @@ cvk_render_desc cvk_default_render_desc(void)
         .ao_radius = 0.0f,
         .smooth = 0,
         .tone_map = true,
+        .fit_margin = 0.06f, /* fit and overlay: false */
         .cookie_ = CVK_COOKIE_RENDER,
     };
 }
@@ -623,7 +623,7 @@ static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
            cvk_check_closed(issue, "render.key_angle", r->key_angle, 0.0, 20.0) &&
            cvk_check_closed(issue, "render.ao_radius", r->ao_radius, 0.0, CVK_MAX_COORDINATE) &&
            cvk_check_closed(issue, "render.smooth", r->smooth, 0.0, 8.0) &&
-           check_camera_keyframes(r, issue);
+           check_camera_keyframes(r, issue) && cvk_fit_check(r, issue);
 }
 
 bool cvk_render_desc_check(const cvk_render_desc* desc, cvk_scene_issue* issue)

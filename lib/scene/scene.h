@@ -46,6 +46,10 @@ bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue
 /* How a cloth is drawn (lib/scene/scene_look.c): its material block's back_color, sheen and
    roughness (paths start with base). */
 bool cvk_look_check(const cvk_cloth_desc* cloth, const char* base, cvk_scene_issue* issue);
+
+/* render.fit: its margin in [0, 0.45], no keyframed camera, render.eye and render.target both
+   or neither (lib/scene/scene_look.c). */
+bool cvk_fit_check(const cvk_render_desc* r, cvk_scene_issue* issue);
 /* Collision (lib/scene/scene_collision.c): the collision block's keys; a given radius against
    a thickness (the scene's, or the default the simulation resolved when the scene gives none);
    the radius a thickness resolves to (0: twice the thickness); and one sentence for each key of

@@ -560,6 +560,27 @@ static cvk_result read_ground_height(cvk_reader* rd, const cvk_field* f, json_t*
     return cvk_read_float(rd, f, value, path, &render->ground_height);
 }
 
+static const cvk_field fit_fields[] = {
+    {.key = "margin", .read = cvk_read_float, .offset = offsetof(cvk_render_desc, fit_margin)},
+};
+static const cvk_table fit_table = FIELDS(fit_fields);
+
+/* render.fit: true or false, or an object of options (fitting, with its margin). dest is the
+   render description. */
+static cvk_result read_fit(cvk_reader* rd, const cvk_field* f, json_t* value, const char* path, void* dest)
+{
+    (void)f;
+    cvk_render_desc* render = dest;
+    if (json_is_boolean(value)) {
+        render->fit = json_is_true(value);
+        return CVK_SUCCESS;
+    }
+    if (!json_is_object(value))
+        return cvk_reader_fail_type(rd, path, "true, false or an object such as {\"margin\": 0.1}", value);
+    render->fit = true;
+    return cvk_read_object(rd, &fit_table, value, path, render);
+}
+
 static const cvk_field light_fields[] = {
     {.key = "direction", .read = cvk_read_floats, .offset = offsetof(cvk_light, direction), .count = 3},
     {.key = "color", .read = cvk_read_floats, .offset = offsetof(cvk_light, color), .count = 3},
@@ -633,6 +654,8 @@ static const cvk_field render_fields[] = {
     {.key = "ao_radius", .read = cvk_read_float, .offset = offsetof(cvk_render_desc, ao_radius)},
     {.key = "tone_map", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, tone_map)},
     {.key = "smooth", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, smooth)},
+    {.key = "fit", .read = read_fit, .offset = 0},
+    {.key = "overlay", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, overlay)},
 };
 static const cvk_table render_table = FIELDS(render_fields);
 

@@ -1,4 +1,5 @@
-/* Validation of how a cloth is drawn: the keys of its material block beyond color and texture. */
+/* Validation of how things are drawn: the keys of a cloth's material block beyond color and
+   texture, and the renderer's render.fit. */
 #include "scene/check.h"
 #include "scene/scene.h"
 
@@ -13,4 +14,21 @@ bool cvk_look_check(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* 
         return false;
     return cvk_check_closed(issue, cvk_key_join(path, material, "sheen"), c->sheen, 0.0, 1.0) &&
            cvk_check_closed(issue, cvk_key_join(path, material, "roughness"), c->roughness, 0.1, 1.0);
+}
+
+/* render.fit: a margin that leaves room for the picture, the direction from a whole eye and
+   target, and no keyframed camera (it places itself). */
+bool cvk_fit_check(const cvk_render_desc* r, cvk_scene_issue* issue)
+{
+    if (!r->fit)
+        return true;
+    if (!cvk_check_closed(issue, "render.fit.margin", r->fit_margin, 0.0, 0.45))
+        return false;
+    if (r->camera_keyframe_count > 0)
+        return cvk_issue_at(issue, "render.fit", "cannot frame a keyframed camera: render.camera_keyframes places "
+                            "it (leave one of the two out)");
+    if (r->auto_eye != r->auto_target)
+        return cvk_issue_at(issue, "render.fit", "takes its view direction from render.eye - render.target: give "
+                            "both or neither, got only render.%s", r->auto_eye ? "target" : "eye");
+    return true;
 }

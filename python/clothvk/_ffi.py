@@ -285,6 +285,9 @@ typedef struct cvk_render_desc {
     float ao_radius;
     uint32_t smooth;
     bool tone_map;
+    bool fit;
+    float fit_margin;
+    bool overlay;
     uint32_t cookie_;
 } cvk_render_desc;
 

@@ -497,7 +497,8 @@ static void test_render_json(void)
     EXPECT_INVALID("{'cloths': [{}], 'render': {'fov': 40}}",
                    "t.json: render.fov: unknown key (expected one of: size, eye, target, up, fov_y, key, fill, "
                    "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples, wireframe, "
-                   "camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth)");
+                   "camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth, "
+                   "fit, overlay)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'key': {'colour': [1, 1, 1]}}}",
                    "t.json: render.key.colour: unknown key (expected one of: direction, color)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'size': [0, 10]}}",

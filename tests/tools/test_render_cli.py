@@ -131,9 +131,21 @@ CASES = [
     {"name": "unknown render key", "argv": [SMALL, "-o", "out", "--set", "render.fov=40"], "status": 2,
      "stderr": error(f"{SMALL}: render.fov (from --set): unknown key (expected one of: size, eye, target, up, "
                      "fov_y, key, fill, ambient, background, ground, ground_height, ground_color, "
-                     "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth)")},
+                     "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth, fit, overlay)")},
     {"name": "bad render value", "argv": [SMALL, "-o", "out", "--set", "render.key.direction=[0,0,0]"],
      "status": 2, "stderr": error(f"{SMALL}: render.key.direction (from --set): must not be zero, got [0, 0, 0]")},
+    # render.fit: true, false or an object with a margin, and no camera that places itself.
+    {"name": "fit not a boolean", "argv": [SMALL, "-o", "out", "--set", 'render.fit="yes"'], "status": 2,
+     "stderr": error(f'{SMALL}: render.fit (from --set): expected true, false or an object such as '
+                     '{"margin": 0.1}, got the string "yes"')},
+    {"name": "fit margin too wide", "argv": [SMALL, "-o", "out", "--set", 'render.fit={"margin": 0.5}'],
+     "status": 2, "stderr": error(f"{SMALL}: render.fit.margin (from --set): must be between 0 and 0.45, got 0.5")},
+    {"name": "fit with an eye alone", "argv": [SMALL, "-o", "out", "--set", "render.fit=true",
+                                               "--set", "render.eye=[0,1,3]"], "status": 2,
+     "stderr": error(f"{SMALL}: render.fit (from --set): takes its view direction from render.eye - "
+                     "render.target: give both or neither, got only render.eye")},
+    {"name": "overlay not a boolean", "argv": [SMALL, "-o", "out", "--set", "render.overlay=1"], "status": 2,
+     "stderr": error(f"{SMALL}: render.overlay (from --set): expected true or false, got the number 1")},
     # A cloth's texture (read when the renderer is made, before any image).
     {"name": "missing texture", "argv": [SMALL, "-o", "out", "--set", 'cloths.0.texture="no-such.png"'],
      "status": 2, "stderr": error(f"{SMALL}: cloths.0.texture: {SCENES}/no-such.png: cannot open: "
@@ -187,6 +199,14 @@ CASES = [
          rf"hanging: 4 images of 160x90 in a/b \(frames 0 to 9 of 10, every 3\), {NUMBER} s; per image: "
          rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, ao {NUMBER}, lit {NUMBER}, "
          rf"readback {NUMBER}\), png {NUMBER} ms \(beside the next image's work\); {NUMBER} ms wall"))},
+    {"name": "fit over the sequence, overlay", "argv": TINY + ["-o", "fit", "--frames", "3", "--set", "render.fit=true",
+                                                             "--set", "render.overlay=true"],
+     "status": 0,
+     "check": folder_check("fit", FRAMES, 160, 90, summary_check(
+         rf"hanging: 4 images of 160x90 in fit \(frames 0 to 3 of 3, every 1\), {NUMBER} s; per image: "
+         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, ao {NUMBER}, lit {NUMBER}, "
+         rf"readback {NUMBER}\), overlay [0-9]+\.[0-9]{{2}} ms, png {NUMBER} ms \(beside the next image's work\); "
+         rf"{NUMBER} ms wall"))},
     {"name": "--quiet", "argv": [SMALL, "-o", "q", "--frames", "2", "--size", "64x48", "--quiet"], "status": 0,
      "check": quiet_check},
     {"name": "--quiet, values after =", "argv": [SMALL, "--output=q", "--frames=2", "--size=64x48",

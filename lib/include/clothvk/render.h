@@ -124,7 +124,9 @@ CVK_API void cvk_renderer_destroy(cvk_renderer* renderer);
 CVK_API cvk_result cvk_renderer_record(cvk_renderer* renderer, VkCommandBuffer cmd, cvk_error* error);
 
 /* Draws one frame of the current particles and waits: a command buffer recorded once, one
-   submission, one host wait. */
+   submission, one host wait; then, with render.overlay, the frame number and time (those of
+   cvk_renderer_set_time) are drawn into the read-back image on the host. A frame recorded with
+   cvk_renderer_record has no overlay. */
 CVK_API cvk_result cvk_renderer_draw(cvk_renderer* renderer, cvk_error* error);
 
 /* Pixels in memory: RGBA, 8 bits per channel, sRGB-encoded, rows top to bottom. */
@@ -148,6 +150,8 @@ typedef struct cvk_render_timing {
     double readback_ms;          /* copy of the image into the host-visible buffer */
     double total_ms;
     double ao_ms;                /* ambient occlusion pass (0 without render.ao); not in lit_ms */
+    double overlay_ms;           /* host time of render.overlay's text, drawn into the read-back
+                                    image by cvk_renderer_draw (0 without it) */
 } cvk_render_timing;
 
 CVK_API cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* renderer);
@@ -168,6 +172,15 @@ CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
    simulated time, for the frames drawn from now on (a renderer starts at time 0); without
    keyframes it does nothing. Call it while no frame of the renderer is in flight. */
 CVK_API void cvk_renderer_set_time(cvk_renderer* renderer, double seconds);
+
+/* With render.fit: frames the box lo..hi (m) together with the finite colliders' boxes (each
+   at rest and at each keyframe) for the frames drawn from now on, from the same direction;
+   lo and hi NULL frame the particles as they are now (read back from the device, a wait), as
+   cvk_renderer_create does. For an image sequence pass the union of every frame's box, so the
+   camera holds still. Without render.fit, CVK_ERROR_INVALID_ARGUMENT. Call it while no frame
+   of the renderer is in flight. */
+CVK_API cvk_result cvk_renderer_fit(cvk_renderer* renderer, const float lo[3], const float hi[3],
+                                   cvk_error* error);
 
 /* Writes an image as a PNG file: to a temporary name in the same folder, then renamed, so the
    file is complete or absent; a path that exists and is not a regular file (a device, FIFO,
