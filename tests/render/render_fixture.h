@@ -1,6 +1,6 @@
 /* What the renderer's tests share (test_render.c, test_render_colliders.c,
    test_render_effects.c, test_render_fit.c): a scene of up to two cloths and three colliders
-   drawn by its own simulation, mesh and renderer, and pixel reads. */
+   drawn by its own simulation, mesh and renderer, pixel reads and the view's projection. */
 #ifndef RENDER_FIXTURE_H
 #define RENDER_FIXTURE_H
 
@@ -65,6 +65,17 @@ static inline double region_luminance(const cvk_image* im, int x0, int y0, int x
         for (int x = x0; x < x1; x++)
             sum += luminance(pixel(im, x, y));
     return sum / ((double)(x1 - x0) * (y1 - y0));
+}
+
+/* Where p lands in a width x height image of the view, pixels from the top left corner. */
+static inline void project_point(const cvk_render_view* v, const double p[3], double width, double height, double out[2])
+{
+    const float* m = v->view_proj;
+    double clip[4];
+    for (int k = 0; k < 4; k++)
+        clip[k] = m[k] * p[0] + m[4 + k] * p[1] + m[8 + k] * p[2] + m[12 + k];
+    out[0] = (clip[0] / clip[3] * 0.5 + 0.5) * width;
+    out[1] = (clip[1] / clip[3] * 0.5 + 0.5) * height;
 }
 
 #endif

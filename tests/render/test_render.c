@@ -86,12 +86,7 @@ static bool near_color(const uint8_t* p, const float linear[3], int tolerance)
 static void project(const cvk_renderer* r, const float p[3], double out[2])
 {
     cvk_render_view v = cvk_renderer_get_view(r);
-    const float* m = v.view_proj;
-    double clip[4];
-    for (int k = 0; k < 4; k++)
-        clip[k] = m[k] * p[0] + m[4 + k] * p[1] + m[8 + k] * p[2] + m[12 + k];
-    out[0] = (clip[0] / clip[3] * 0.5 + 0.5) * W;
-    out[1] = (clip[1] / clip[3] * 0.5 + 0.5) * H;
+    project_point(&v, (const double[3]){p[0], p[1], p[2]}, W, H, out);
 }
 
 /* No pure-black pixel (a NaN in the shading comes out black) and not one flat colour. */

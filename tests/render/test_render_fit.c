@@ -58,16 +58,6 @@ static cvk_render_desc fit_view(float margin)
     return r;
 }
 
-static void project(const cvk_render_view* v, const double p[3], double out[2])
-{
-    const float* m = v->view_proj;
-    double clip[4];
-    for (int k = 0; k < 4; k++)
-        clip[k] = m[k] * p[0] + m[4 + k] * p[1] + m[8 + k] * p[2] + m[12 + k];
-    out[0] = (clip[0] / clip[3] * 0.5 + 0.5) * W;
-    out[1] = (clip[1] / clip[3] * 0.5 + 0.5) * H;
-}
-
 typedef struct extent {
     double lo[2], hi[2];
 } extent;
@@ -80,7 +70,7 @@ static extent framed_corners(const cvk_render_view* v)
     extent e = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
     for (int c = 0; c < 8; c++) {
         double p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]}, q[2];
-        project(v, p, q);
+        project_point(v, p, W, H, q);
         for (int k = 0; k < 2; k++) {
             e.lo[k] = fmin(e.lo[k], q[k]);
             e.hi[k] = fmax(e.hi[k], q[k]);
