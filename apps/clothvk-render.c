@@ -511,11 +511,19 @@ static int add_particles(cvk_sim* sim, float* xyz, uint64_t n, float lo[3], floa
 
 /* The particles' box over every frame to be drawn: the bake's frames loaded in turn, or the
    scene simulated once before the run by a second simulation (from the same start, so the
-   same frames), then handed to the renderer. */
+   same frames), then handed to the renderer. One image frames its own particles. */
 static int fit_sequence(run_state* s, uint32_t count)
 {
     cvk_error err;
     cvk_sim* sim = s->sim;
+    if (count == 1) { /* one image: its particles themselves, not their box */
+        int status = s->bake ? app_bake_load(s->bake, s->first) : APP_EXIT_OK;
+        if (status == APP_EXIT_OK && cvk_renderer_fit(s->renderer, NULL, NULL, &err) != CVK_SUCCESS) {
+            app_error(tool, "%s", err.message);
+            status = APP_EXIT_FAILURE;
+        }
+        return status;
+    }
     if (!s->bake) {
         cvk_sim_desc desc = cvk_default_sim_desc();
         desc.scene = s->scene;

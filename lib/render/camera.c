@@ -252,14 +252,14 @@ static double fit_distance(const cvk_view* v, const double back[3], double point
     return distance;
 }
 
-/* render.fit: the camera along `back` from the middle of the box's picture, as near as keeps
-   `margin` of the image free on each side. The box's corners are projected and the target
-   moved sideways to centre them, twice (a perspective picture of a box is not centred on the
-   box's centre). */
-static void fit_camera(const cvk_render_desc* desc, cvk_view* v)
+/* render.fit: the camera along `back` from the middle of the points' picture, as near as keeps
+   `margin` of the image free on each side. The points are projected and the target moved
+   sideways to centre them, twice (a perspective picture is not centred on the points' box's
+   centre). */
+static void fit_camera(const cvk_render_desc* desc, const cvk_view_fit* fit, cvk_view* v)
 {
-    double points[8][3];
-    int count = framing_points(v, points);
+    const double(*points)[3] = (const double(*)[3])fit->xyz;
+    uint64_t count = fit->count;
     double back[3];
     if (desc->auto_eye) {
         default_view_direction(v->up, back);
@@ -284,7 +284,7 @@ static void fit_camera(const cvk_render_desc* desc, cvk_view* v)
         camera_basis(eye, v->target, v->up, right, cam_up, b);
         /* Nearest distance at which every corner lies within the share of the frame. */
         distance = 0.0;
-        for (int i = 0; i < count; i++) {
+        for (uint64_t i = 0; i < count; i++) {
             double o[3] = {points[i][0] - v->target[0], points[i][1] - v->target[1], points[i][2] - v->target[2]};
             double x = fabs(dot(o, right)), y = fabs(dot(o, cam_up)), z = dot(o, b);
             distance = fmax(distance, fmax(z + x / (share * tx), z + y / (share * ty)));
@@ -294,7 +294,7 @@ static void fit_camera(const cvk_render_desc* desc, cvk_view* v)
             break;
         /* The corners' picture from there, and the target moved to its middle. */
         double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-        for (int i = 0; i < count; i++) {
+        for (uint64_t i = 0; i < count; i++) {
             double o[3];
             for (int k = 0; k < 3; k++)
                 o[k] = points[i][k] - v->target[k] - distance * back[k];
@@ -478,7 +478,7 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size, double spread)
 }
 
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
-                      const cvk_view_colliders* colliders, const cvk_box* fit, uint32_t shadow_map_size,
+                      const cvk_view_colliders* colliders, const cvk_view_fit* fit, uint32_t shadow_map_size,
                       cvk_view* v)
 {
     memset(v, 0, sizeof *v);
@@ -518,9 +518,11 @@ void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const
         for (int k = 0; k < 3; k++)
             v->ground_axes[a][k] /= v->ground_tile;
 
-    if (desc->fit && fit) {
-        v->reach = *fit;
-        fit_camera(desc, v);
+    if (desc->fit && fit && fit->count > 0) {
+        cvk_box_empty(&v->reach);
+        for (uint64_t i = 0; i < fit->count; i++)
+            cvk_box_add(&v->reach, &fit->xyz[3 * i]);
+        fit_camera(desc, fit, v);
     } else {
         place_camera(desc, v);
     }

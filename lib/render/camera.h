@@ -61,12 +61,18 @@ void cvk_box_empty(cvk_box* box);
 void cvk_box_add(cvk_box* box, const double p[3]);
 
 /* Fills everything above. The description must have passed validation. colliders may be NULL
-   (none): the view is then exactly the cloths'. fit, with desc->fit, is the box to frame in
-   place of the reach (the ground stays where the reach puts it): the camera looks at the
-   middle of its picture along eye − target (both given) or the default direction, as near
-   as keeps desc->fit_margin of the image free on each side; NULL frames the reach. */
+   (none): the view is then exactly the cloths'. fit, with desc->fit, holds the points to
+   frame in place of the reach (the ground stays where the reach puts it; the reach becomes
+   their box): the camera looks at the middle of their picture along eye − target (both
+   given) or the default direction, as near as keeps desc->fit_margin of the image free on
+   each side; NULL (or no points) frames the reach. */
+typedef struct cvk_view_fit {
+    const double* xyz;                 /* 3 per point, m */
+    uint64_t count;
+} cvk_view_fit;
+
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],
-                      const cvk_view_colliders* colliders, const cvk_box* fit, uint32_t shadow_map_size,
+                      const cvk_view_colliders* colliders, const cvk_view_fit* fit, uint32_t shadow_map_size,
                       cvk_view* out);
 
 #endif

@@ -42,6 +42,9 @@ void cvk_render_camera_destroy(cvk_renderer* rd)
     free((void*)rd->eye_path.keyframes);
     free((void*)rd->target_path.keyframes);
     rd->eye_path = rd->target_path = (cvk_motion){0};
+    free(rd->fit_xyz);
+    rd->fit_xyz = NULL;
+    rd->fit_count = 0;
 }
 
 /* The view with the camera where its keyframes put it at `seconds` (without keyframes, the
@@ -55,34 +58,43 @@ void cvk_render_camera_resolve(cvk_renderer* rd, double seconds)
         memcpy(d.target, target.translation, sizeof d.target);
         d.auto_eye = d.auto_target = false;
     }
-    cvk_view_resolve(&d, &rd->mesh->sim->build, rd->gravity, &rd->colliders.framing, d.fit ? &rd->fit_box : NULL,
+    cvk_view_fit fit = {rd->fit_xyz, rd->fit_count};
+    cvk_view_resolve(&d, &rd->mesh->sim->build, rd->gravity, &rd->colliders.framing, d.fit ? &fit : NULL,
                      d.shadow_map_size, &rd->view);
 }
 
-/* The colliders' boxes (each finite collider at rest and at each keyframe) added to `box`. */
-static void add_collider_boxes(const cvk_renderer* rd, cvk_box* box)
+/* Room for n points and the corners of the colliders' boxes (each finite collider at rest and
+   at each keyframe), which go after them. */
+static cvk_result fit_points(cvk_renderer* rd, uint64_t n, cvk_error* error)
 {
     const cvk_view_colliders* c = &rd->colliders.framing;
-    for (uint32_t i = 0; i < c->box_count; i++) {
-        cvk_box_add(box, c->boxes[i].lo);
-        cvk_box_add(box, c->boxes[i].hi);
-    }
+    uint64_t count = n + 8u * c->box_count;
+    double* xyz = malloc((size_t)count * 3 * sizeof *xyz + 1);
+    if (!xyz)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %" PRIu64 " points to frame", count);
+    for (uint32_t i = 0; i < c->box_count; i++)
+        for (int corner = 0; corner < 8; corner++)
+            for (int k = 0; k < 3; k++)
+                xyz[3 * (n + 8u * i + (uint64_t)corner) + (uint64_t)k] =
+                    corner & (1 << k) ? c->boxes[i].hi[k] : c->boxes[i].lo[k];
+    free(rd->fit_xyz);
+    rd->fit_xyz = xyz;
+    rd->fit_count = count;
+    return CVK_SUCCESS;
 }
 
 cvk_result cvk_render_camera_fit_particles(cvk_renderer* rd, cvk_error* error)
 {
     uint64_t n = cvk_sim_particle_count(rd->mesh->sim);
-    float* xyz = malloc((size_t)n * 3 * sizeof *xyz + 1);
-    if (!xyz)
+    float* positions = malloc((size_t)n * 3 * sizeof *positions + 1);
+    if (!positions)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %" PRIu64 " positions to frame", n);
-    cvk_result r = cvk_sim_read_positions(rd->mesh->sim, xyz, n, error);
-    if (r == CVK_SUCCESS) {
-        cvk_box_empty(&rd->fit_box);
-        for (uint64_t i = 0; i < n; i++)
-            cvk_box_add(&rd->fit_box, (double[3]){xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
-        add_collider_boxes(rd, &rd->fit_box);
-    }
-    free(xyz);
+    cvk_result r = cvk_sim_read_positions(rd->mesh->sim, positions, n, error);
+    if (r == CVK_SUCCESS)
+        r = fit_points(rd, n, error);
+    for (uint64_t i = 0; r == CVK_SUCCESS && i < 3 * n; i++)
+        rd->fit_xyz[i] = positions[i];
+    free(positions);
     return r;
 }
 
@@ -95,20 +107,21 @@ cvk_result cvk_renderer_fit(cvk_renderer* rd, const float lo[3], const float hi[
                         "render.fit off");
     if ((lo == NULL) != (hi == NULL))
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_fit needs both corners or neither");
+    cvk_result r;
     if (lo) {
         for (int k = 0; k < 3; k++)
             if (!(isfinite(lo[k]) && isfinite(hi[k]) && lo[k] <= hi[k]))
                 return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_fit: the box must be finite "
                                 "with lo <= hi, got [%g, %g] along axis %d", lo[k], hi[k], k);
-        cvk_box_empty(&rd->fit_box);
-        cvk_box_add(&rd->fit_box, (double[3]){lo[0], lo[1], lo[2]});
-        cvk_box_add(&rd->fit_box, (double[3]){hi[0], hi[1], hi[2]});
-        add_collider_boxes(rd, &rd->fit_box);
+        r = fit_points(rd, 8, error);
+        for (int corner = 0; r == CVK_SUCCESS && corner < 8; corner++)
+            for (int k = 0; k < 3; k++)
+                rd->fit_xyz[3 * corner + k] = corner & (1 << k) ? hi[k] : lo[k];
     } else {
-        cvk_result r = cvk_render_camera_fit_particles(rd, error);
-        if (r != CVK_SUCCESS)
-            return r;
+        r = cvk_render_camera_fit_particles(rd, error);
     }
+    if (r != CVK_SUCCESS)
+        return r;
     cvk_render_camera_resolve(rd, rd->seconds);
     cvk_render_write_uniforms(rd);
     return CVK_SUCCESS;

@@ -52,7 +52,8 @@ struct cvk_renderer {
     /* render.camera_keyframes as two translation-only motions, so the camera follows the
        keyframe rules of lib/scene/motion.c; rd->desc keeps no pointer to the caller's list. */
     cvk_motion eye_path, target_path;
-    cvk_box fit_box;                 /* render.fit: what the camera frames (see cvk_renderer_fit) */
+    double* fit_xyz;                 /* render.fit: the points the camera frames, 3 per point */
+    uint64_t fit_count;              /* (see cvk_renderer_fit) */
     double seconds;                  /* simulated time of the frames drawn (cvk_renderer_set_time) */
     double overlay_ms;               /* host time of the last frame's overlay; 0 without one */
     VkSampleCountFlagBits samples;
@@ -121,8 +122,8 @@ void cvk_render_camera_resolve(cvk_renderer* rd, double seconds);
 /* The frame constants written again from rd->view and rd->desc (lib/render/render.c). */
 void cvk_render_write_uniforms(cvk_renderer* rd);
 
-/* render.fit: rd->fit_box becomes the particles as they are now (read back from the device)
-   and the colliders' boxes. */
+/* render.fit: the points framed become the particles as they are now (read back from the
+   device) and the corners of the colliders' boxes. */
 cvk_result cvk_render_camera_fit_particles(cvk_renderer* rd, cvk_error* error);
 
 /* render.overlay (lib/render/render_overlay.c): "frame N  t = X.XXX s" for rd->seconds drawn

@@ -1,7 +1,7 @@
 /* render.fit and render.overlay, checked in the image:
    - fit: a cloth 1.5 m up and a sphere beside it below are both in the picture (red and green
      pixels), every pixel that is not the background lies inside the margin, and the projected
-     corners of what is framed (the cloth's particles and the sphere's box) lie inside it too,
+     points that are framed (the cloth's corners and the sphere's box's) lie inside it too,
      reaching it within 2 pixels on both sides along one axis (the picture is centred and as
      large as the margin allows); a wider margin gives a smaller picture;
    - an infinite plane collider changes nothing of the view; the view looks along the given
@@ -62,15 +62,19 @@ typedef struct extent {
     double lo[2], hi[2];
 } extent;
 
-/* Where the corners of the framed box land: the cloth's particles [-0.5, 0.5] x 1.5 x
-   [-0.5, 0.5] and the sphere's box. */
+/* Where the framed points land: the flat cloth's four corners (its particles' outline) and
+   the corners of the sphere's box. */
 static extent framed_corners(const cvk_render_view* v)
 {
-    const double lo[3] = {-0.5, 0.3, -0.5}, hi[3] = {1.5, 1.5, 0.5};
+    const double lo[3] = {0.9, 0.3, -0.1}, hi[3] = {1.5, 0.9, 0.5};
+    double points[12][3] = {{-0.5, 1.5, -0.5}, {0.5, 1.5, -0.5}, {-0.5, 1.5, 0.5}, {0.5, 1.5, 0.5}};
+    for (int c = 0; c < 8; c++)
+        for (int k = 0; k < 3; k++)
+            points[4 + c][k] = c & (1 << k) ? hi[k] : lo[k];
     extent e = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
-    for (int c = 0; c < 8; c++) {
-        double p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]}, q[2];
-        project_point(v, p, W, H, q);
+    for (int i = 0; i < 12; i++) {
+        double q[2];
+        project_point(v, points[i], W, H, q);
         for (int k = 0; k < 2; k++) {
             e.lo[k] = fmin(e.lo[k], q[k]);
             e.hi[k] = fmax(e.hi[k], q[k]);

@@ -173,10 +173,10 @@ CVK_API cvk_render_view cvk_renderer_get_view(const cvk_renderer* renderer);
    keyframes it does nothing. Call it while no frame of the renderer is in flight. */
 CVK_API void cvk_renderer_set_time(cvk_renderer* renderer, double seconds);
 
-/* With render.fit: frames the box lo..hi (m) together with the finite colliders' boxes (each
-   at rest and at each keyframe) for the frames drawn from now on, from the same direction;
-   lo and hi NULL frame the particles as they are now (read back from the device, a wait), as
-   cvk_renderer_create does. For an image sequence pass the union of every frame's box, so the
+/* With render.fit: frames the corners of the box lo..hi (m) together with those of the finite
+   colliders' boxes (each at rest and at each keyframe) for the frames drawn from now on, from
+   the same direction; lo and hi NULL frame the particles themselves as they are now (read
+   back from the device, a wait), as cvk_renderer_create does. For an image sequence pass the union of every frame's box, so the
    camera holds still. Without render.fit, CVK_ERROR_INVALID_ARGUMENT. Call it while no frame
    of the renderer is in flight. */
 CVK_API cvk_result cvk_renderer_fit(cvk_renderer* renderer, const float lo[3], const float hi[3],

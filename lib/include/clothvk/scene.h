@@ -381,10 +381,10 @@ typedef struct cvk_render_desc {
     bool tone_map;               /* roll off light brighter than 0.6 smoothly towards white
                                     instead of clipping it; usually true */
     bool fit;                    /* frame what is there instead of the reach: the cloths'
-                                    particles and the finite colliders' boxes, from the
-                                    direction eye − target (both given) or the default one;
-                                    usually false. The renderer frames the particles when it is
-                                    made; cvk_renderer_fit frames another box */
+                                    particles and the corners of the finite colliders' boxes,
+                                    from the direction eye − target (both given) or the default
+                                    one; usually false. The renderer frames the particles when
+                                    it is made; cvk_renderer_fit frames them again or a box */
     float fit_margin;            /* with fit: the share of the image's height and width kept
                                     free on each side, in [0, 0.45]; usually 0.06 */
     bool overlay;                /* draw "frame N  t = X.XXX s" in the image's lower left
