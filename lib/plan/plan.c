@@ -143,10 +143,18 @@ uint32_t cvk_plan_groups(const cvk_plan* plan, uint32_t count)
 
 uint32_t cvk_plan_groups_of(const cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t count)
 {
-    return groups_of_size(plan, cvk_pipeline_streams_particles(pipeline)
-                                    ? plan->particle_workgroup_size
-                                    : plan->workgroup_size,
-                          count);
+    if (!cvk_pipeline_streams_particles(pipeline))
+        return groups_of_size(plan, plan->workgroup_size, count);
+    uint32_t groups = groups_of_size(plan, plan->particle_workgroup_size, count);
+    uint32_t items = plan->particle_group_items;
+    if (items > 1) {
+        uint32_t floor_groups = count / items + (count % items != 0);
+        if (floor_groups == 0)
+            floor_groups = 1;
+        if (groups > floor_groups)
+            groups = floor_groups;
+    }
+    return groups;
 }
 
 cvk_op* cvk_plan_dispatch_indirect(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,

@@ -79,6 +79,9 @@ typedef struct cvk_plan {
     uint32_t fused_workgroup_size; /* of the fused sweeps' one workgroup (lib/solvers/solve_pd.h);
                                       init: workgroup_size */
     uint32_t max_groups;
+    uint32_t particle_group_items; /* dispatches of the pipelines that stream over particles
+                                      give each workgroup at least this many items (fewer
+                                      workgroups than max_groups); 0 or 1: no floor */
     bool uses[CVK_PIPE_COUNT];
     bool has_transfer;          /* some op fills, copies or dispatches indirectly */
     bool host;                  /* the family steps on the host: no operations are recorded */

@@ -35,6 +35,8 @@ struct cvk_sim {
     uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
                                          prediction, finalize, tethers): cvk_plan */
     uint32_t fused_workgroup_size;    /* of the fused sweeps' one workgroup: cvk_plan */
+    uint32_t particle_group_items;    /* the fewest particles a workgroup of those passes
+                                         takes (0: no floor): cvk_plan */
     const char* notes[CVK_COLLISION_NOTES_MAX]; /* cvk_sim_note: static sentences, one per
                                                    scene key set that has no effect */
     uint32_t note_count;

@@ -34,6 +34,22 @@ static uint32_t particle_workgroup_size(const cvk_context* context, const cvk_si
     uint32_t lanes = context->subgroup_size;
     return lanes >= 4 && lanes <= workgroup_size ? lanes : workgroup_size;
 }
+/* On a CPU device, with the library's choice of workgroups per dispatch, each workgroup of the
+   passes that stream over particles takes at least this many: llvmpipe runs a dispatch's
+   workgroups one after another on a thread, and a workgroup whose invocations stride over the
+   whole range leaves the next one to gather its neighbours again from farther caches.
+   peer-hanging.json (10,000 particles) on one lavapipe thread (LP_NUM_THREADS=0): 4
+   workgroups 21.4-22.1 CPU ms a frame, 1 workgroup 19.1-19.5, the same bits. Ranges past
+   65,536 particles, where lavapipe's second thread starts to pay (docs/performance.md,
+   Scaling), still get CPU_DEVICE_MAX_WORKGROUPS. */
+#define CPU_DEVICE_PARTICLES_PER_WORKGROUP 16384u
+static uint32_t particle_group_items(const cvk_context* context, const cvk_sim_desc* desc)
+{
+    return desc->max_workgroups == 0 &&
+                   context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
+               ? CPU_DEVICE_PARTICLES_PER_WORKGROUP
+               : 0;
+}
 /* The fused sweeps (lib/solvers/solve_pd.h) run in one workgroup whose invocations stride over
    each colour: as large as the device allows, up to 1024 (a colour of a 10k-particle cloth in
    three passes), unless the caller chose a workgroup size, which they then take too. */
@@ -115,6 +131,7 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
     out->particle_workgroup_size = s->particle_workgroup_size;
     out->fused_workgroup_size = s->fused_workgroup_size;
+    out->particle_group_items = s->particle_group_items;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);
@@ -413,6 +430,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     init_fields(s, context, desc);
     s->particle_workgroup_size = particle_workgroup_size(context, desc, workgroup_size);
     s->fused_workgroup_size = fused_workgroup_size(context, desc, workgroup_size);
+    s->particle_group_items = particle_group_items(context, desc);
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)

@@ -281,8 +281,10 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
     put(&t, ", workgroup size %u", plan->workgroup_size);
     if (plan->particle_workgroup_size != plan->workgroup_size)
         put(&t, " (%u for the passes over particles)", plan->particle_workgroup_size);
-    put(&t, ", at most %u workgroups per dispatch%s\n", plan->max_groups,
-        s->timing ? ", timestamps per pass" : "");
+    put(&t, ", at most %u workgroups per dispatch", plan->max_groups);
+    if (plan->particle_group_items > 1)
+        put(&t, " (over particles, one per %u)", plan->particle_group_items);
+    put(&t, "%s\n", s->timing ? ", timestamps per pass" : "");
     put(&t, "per substep:\n");
     for (uint32_t i = 0; i < plan->op_count; i++)
         put_op(&t, plan, &plan->ops[i]);

@@ -142,7 +142,8 @@ static void test_growth(void)
 }
 
 /* The group count every direct dispatch of `plan` should have: one invocation per item in
-   workgroups of its pipeline's size, at most max_groups. */
+   workgroups of its pipeline's size, at most max_groups, and over particles at most one per
+   particle_group_items. */
 static void check_groups(const cvk_plan* plan, const char* what)
 {
     uint32_t wrong = 0, streaming = 0, other = 0;
@@ -155,12 +156,38 @@ static void check_groups(const cvk_plan* plan, const char* what)
         uint32_t groups = (op->count + size - 1) / size;
         if (groups > plan->max_groups)
             groups = plan->max_groups;
+        uint32_t items = plan->particle_group_items;
+        if (particles && items > 1 && groups > (op->count + items - 1) / items)
+            groups = (op->count + items - 1) / items;
         wrong += op->groups != groups;
         streaming += particles;
         other += !particles;
     }
     CHECK(wrong == 0 && streaming > 0, "%s: %u of the dispatches have the wrong group count "
           "(%u over particles, %u others)", what, wrong, streaming, other);
+}
+
+/* The floor on the items a workgroup over particles takes: 10,000 particles with a floor of
+   16,384 in one workgroup, 40,000 in three, 200,000 in the cap's four; other pipelines and
+   plans without the floor keep one workgroup per size items up to the cap. */
+static void test_group_floor(void)
+{
+    cvk_plan plan;
+    cvk_plan_init(&plan, 1, 64, 4);
+    plan.particle_workgroup_size = 8;
+    plan.particle_group_items = 16384;
+    uint32_t got[4] = {cvk_plan_groups_of(&plan, CVK_PIPE_GS, 10000),
+                       cvk_plan_groups_of(&plan, CVK_PIPE_GS, 40000),
+                       cvk_plan_groups_of(&plan, CVK_PIPE_FINALIZE, 200000),
+                       cvk_plan_groups_of(&plan, CVK_PIPE_PD_CONTACT, 10000)};
+    CHECK(got[0] == 1 && got[1] == 3 && got[2] == 4 && got[3] == 4,
+          "groups with a floor of 16384 items over particles: %u, %u, %u, contact %u (expected "
+          "1, 3, 4, 4)", got[0], got[1], got[2], got[3]);
+    plan.particle_group_items = 0;
+    CHECK(cvk_plan_groups_of(&plan, CVK_PIPE_GS, 10000) == 4,
+          "without the floor 10,000 particles take %u workgroups (expected the cap, 4)",
+          cvk_plan_groups_of(&plan, CVK_PIPE_GS, 10000));
+    cvk_plan_destroy(&plan);
 }
 
 static void test_shapes(cvk_context* ctx)
@@ -179,6 +206,9 @@ static void test_shapes(cvk_context* ctx)
               !cvk_pipeline_streams_particles(CVK_PIPE_PD_CONTACT) &&
               !cvk_pipeline_streams_particles(CVK_PIPE_HASH_COUNT),
           "the sweeps and finalize stream over particles, the contact and hash passes do not");
+    CHECK(sim->plan.particle_group_items == (cpu ? 16384u : 0u),
+          "default shape: a floor of %u particles a workgroup (expected %u on a%s device)",
+          sim->plan.particle_group_items, cpu ? 16384u : 0u, cpu ? " CPU" : "nother");
     check_groups(&sim->plan, "default shape");
     cvk_sim_destroy(sim);
     sim = make_sim_sized(ctx, 32);
@@ -193,6 +223,7 @@ int main(void)
 {
     cvk_context* ctx = harness_context();
     test_growth();
+    test_group_floor();
     test_transfer_kinds(ctx);
     test_shapes(ctx);
     return harness_finish(ctx);
