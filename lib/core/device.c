@@ -47,6 +47,7 @@ cvk_result cvk_device_make_buffer(cvk_device* d, cvk_buffer* buffer, VkDeviceSiz
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     VkDeviceSize bytes = size; /* what `data` holds; the buffer is never empty */

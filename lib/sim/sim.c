@@ -78,6 +78,7 @@ static cvk_result create_buffers(cvk_sim* s, cvk_error* error)
     VkDeviceSize n16 = (VkDeviceSize)b->particle_count * 16u;
     VkBufferUsageFlags positions = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                    VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                                   VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                    VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                    VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;

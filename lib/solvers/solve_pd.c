@@ -41,9 +41,11 @@ static size_t buffer_table(const cvk_sim* s, cvk_pd* pd,
     VkDeviceSize tethers = b->tether_anchor ? nf : 1; /* one texel keeps the view valid */
     VkBufferUsageFlags state = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     VkBufferUsageFlags motion = state | VK_BUFFER_USAGE_TRANSFER_SRC_BIT; /* read for velocities */
     VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     /* Tearing (tear.h) zeroes the k of broken springs in place. */
     VkBufferUsageFlags adjacency = table | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
@@ -148,7 +150,7 @@ static cvk_result upload_tethers(cvk_sim* s, cvk_pd* pd, cvk_error* error)
     return r;
 }
 
-#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, 0}
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_SRC] = TEXEL,      [CVK_PD_BINDING_DST_READ] = TEXEL,

@@ -7,9 +7,14 @@
 // kept as the velocity (times h). A cloth far from the origin moves as smoothly as one near it.
 //
 // Arrays are vec4 in internal order: free particles colour by colour, pinned last (their u
-// stays 0). Reads go through uniform texel buffers and writes through storage buffers: on
-// lavapipe a texel fetch is a vectorised gather while a storage-buffer load is a per-lane loop
-// (2x on a 100x100 sweep), and GPUs serve both well.
+// stays 0). Reads go through read-only storage texel buffers (imageLoad) and writes through
+// storage buffers: on lavapipe a storage-buffer load is a per-lane loop (2x on a 100x100 sweep
+// against a texel read), and a texelFetch of a uniform texel buffer is a call into a separate
+// fetch function (Mesa 22.3: the plain sweep's code held 29 calls, around which the 256-bit
+// registers live across them were spilled, 141 stores and 197 loads on the stack), while
+// imageLoad is the same vectorised gather written inline: peer-hanging.json 19.1-19.4 ->
+// 17.3-17.4 CPU ms a frame on one thread, the same bits. GPUs serve all of them well. The
+// passes keep writing texelFetch(t, i) for these reads (the macro below makes it imageLoad).
 //
 // Adjacency comes in quads of slots, padded to a multiple of four: for quad q of particle p,
 // texel (2q) * pc.stride + p of `adjacency` holds four neighbours and texel (2q + 1) * pc.stride
@@ -24,8 +29,8 @@ const uint QUADS = (MAX_DEGREE + 3u) / 4u;
 
 #include "shared/layout.h"
 
-layout(set = 0, binding = CVK_PD_BINDING_SRC) uniform samplerBuffer src;
-layout(set = 0, binding = CVK_PD_BINDING_DST_READ) uniform samplerBuffer dst_read;
+layout(set = 0, binding = CVK_PD_BINDING_SRC, rgba32f) uniform readonly imageBuffer src;
+layout(set = 0, binding = CVK_PD_BINDING_DST_READ, rgba32f) uniform readonly imageBuffer dst_read;
 #ifdef PD_FUSED
 // The fused sweeps (pd_fused.comp) read back what other invocations of their workgroup wrote
 // in this dispatch: through the storage buffer (coherent, after memoryBarrierBuffer and
@@ -36,21 +41,21 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_DST) coherent buffer Dst { vec4
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
 #define FETCH_DST(i) fetch(dst_read, i)
 #endif
-layout(set = 0, binding = CVK_PD_BINDING_Y_READ) uniform samplerBuffer y_read;
+layout(set = 0, binding = CVK_PD_BINDING_Y_READ, rgba32f) uniform readonly imageBuffer y_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };
-layout(set = 0, binding = CVK_PD_BINDING_X_READ) uniform samplerBuffer x_read;
+layout(set = 0, binding = CVK_PD_BINDING_X_READ, rgba32f) uniform readonly imageBuffer x_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_X) writeonly buffer Positions { vec4 x[]; };
-layout(set = 0, binding = CVK_PD_BINDING_RHS_READ) uniform samplerBuffer rhs_read;
+layout(set = 0, binding = CVK_PD_BINDING_RHS_READ, rgba32f) uniform readonly imageBuffer rhs_read;
 #ifdef PD_FUSED
 layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) coherent buffer Rhs { vec4 rhs[]; };
 #else
 layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec4 rhs[]; };
 #endif
-layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY) uniform usamplerBuffer adjacency;
-layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST) uniform samplerBuffer adjacency_rest;
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY, rgba32ui) uniform readonly uimageBuffer adjacency;
+layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST, rgba32f) uniform readonly imageBuffer adjacency_rest;
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
-layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR) uniform usamplerBuffer tether_anchor;
-layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH) uniform samplerBuffer tether_length;
+layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR, rgba32ui) uniform readonly uimageBuffer tether_anchor;
+layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH, rgba32f) uniform readonly imageBuffer tether_length;
 // The rest memory (lib/solvers/solve_pd.h): per free particle, the low-passed correction the solves
 // made to their predictions; predict adds it to the first iterate, finalize updates it.
 layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 rest_memory[]; };
@@ -61,6 +66,9 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 
 // no iterate has cloth through cloth and contact's push always starts from the right side.
 layout(constant_id = 5) const bool BOUNDED = false;
 #include "contact/bounds.glsl"
+// From here on a texelFetch of the bindings above is an imageLoad (see the top); a pass that
+// then includes code reading uniform texel buffers of its own (pd_contact.comp) #undefs it.
+#define texelFetch(t, i) imageLoad(t, i)
 
 // The push constants: cvk_pd_push (cvk_pd_fused_push, which begins with it, for the fused
 // sweeps), declared with the C side in shared/layout.h.
@@ -87,10 +95,9 @@ uint invocation_stride()
     return gl_NumWorkGroups.x * gl_WorkGroupSize.x;
 }
 
-vec3 fetch(samplerBuffer data, uint index)
-{
-    return texelFetch(data, int(index)).xyz;
-}
+// The xyz of texel `index` of one of the bindings above (a macro: an image passed to a
+// function would need its format written in the parameter, which GLSL does not allow).
+#define fetch(data, index) (imageLoad(data, int(index)).xyz)
 
 // p's displacement u kept within its bound (nothing without self-contact).
 vec3 bounded(uint p, vec3 u)
@@ -255,18 +262,23 @@ vec3 neighbour_sum_dst(uint p, vec3 cur, out float ksum)
 #endif
 
 // sum_c k_c (u_c - cur) over the springs of p, the neighbours' displacements read from
-// `from` (jacobi_move).
-vec3 neighbour_sum(samplerBuffer from, uint p, vec3 cur, out float ksum)
-{
-    vec3 acc = vec3(0.0);
-    ksum = 0.0;
-    for (uint q = 0; q < QUADS; q++) {
-        uvec4 n = quad_neighbours(q, p);
-        vec4 k = quad_k(q, p);
-        for (uint j = 0; j < 4u; j++) {
-            acc += k[j] * (fetch(from, n[j]) - cur);
-            ksum += k[j];
-        }
-    }
-    return acc;
+// `from`, dst_read or src (jacobi_move): neighbour_sum(from, p, cur, ksum) calls the function
+// written for that binding.
+#define NEIGHBOUR_SUM(NAME, FROM) \
+vec3 NAME(uint p, vec3 cur, out float ksum) \
+{ \
+    vec3 acc = vec3(0.0); \
+    ksum = 0.0; \
+    for (uint q = 0; q < QUADS; q++) { \
+        uvec4 n = quad_neighbours(q, p); \
+        vec4 k = quad_k(q, p); \
+        for (uint j = 0; j < 4u; j++) { \
+            acc += k[j] * (fetch(FROM, n[j]) - cur); \
+            ksum += k[j]; \
+        } \
+    } \
+    return acc; \
 }
+NEIGHBOUR_SUM(neighbour_sum_dst_read, dst_read)
+NEIGHBOUR_SUM(neighbour_sum_src, src)
+#define neighbour_sum(from, p, cur, ksum) neighbour_sum_##from(p, cur, ksum)

@@ -7,12 +7,13 @@
 // moved, or the strain limit before it did (pd_strain.comp): the next outer iteration's first
 // sweep does not over-relax it (pd_gauss_seidel.comp); the sweeps write w = 0.
 #include "solvers/pd_common.glsl"
+#undef texelFetch // pd_common.glsl: contact reads uniform texel buffers of its own
 #include "solvers/pd_contact.glsl"
 
 // p's displacement kept out of contact, w marking whether that moved it.
 void contact_one(uint p)
 {
-    vec4 start = texelFetch(dst_read, int(p));
+    vec4 start = imageLoad(dst_read, int(p));
     vec3 u = start.xyz;
     if (p >= contact_u.free_count) { // attached (self-contact only): kept within the bound
         vec3 x0 = fetch(x_read, p);

@@ -16,8 +16,8 @@ layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 
 #if MODE == 2
-// The family's set (u1 -> u0).
-layout(set = 0, binding = CVK_PD_BINDING_SRC) uniform samplerBuffer src;
+// The family's set (u1 -> u0), whose reads are image loads (pd_common.glsl).
+layout(set = 0, binding = CVK_PD_BINDING_SRC, rgba32f) uniform readonly imageBuffer src;
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
 #else
 // The check's own set: only the decision writes the indirect commands.
@@ -92,6 +92,6 @@ void main()
         count_sweeps(pc.sweeps);
 #else
     for (uint i = gl_GlobalInvocationID.x; i < pc.stride; i += invocation_stride())
-        dst[i] = texelFetch(src, int(i));
+        dst[i] = imageLoad(src, int(i));
 #endif
 }

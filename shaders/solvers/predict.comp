@@ -18,7 +18,7 @@
 
 // The air's h^2 F / m (lib/features/aero.h), when the scene has a "wind" block.
 layout(constant_id = 3) const bool WIND = false;
-layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL) uniform samplerBuffer air;
+layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL, rgba32f) uniform readonly imageBuffer air;
 
 const float RUNAWAY_STRETCH = 10.0; // lib/sim/sim.h, CVK_DIVERGED_STRETCH
 
