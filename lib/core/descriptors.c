@@ -84,6 +84,50 @@ static cvk_result create_sets(cvk_context* ctx, cvk_descriptors* d, cvk_error* e
     return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkAllocateDescriptorSets", vr);
 }
 
+/* The table against the device's per-stage limits: a device may hold as few as 4 storage
+   images (storage texel buffers count among them), 4 storage buffers and 16 sampled images
+   (uniform texel buffers among them) per stage, and a layout past them is invalid. Only this
+   table's bindings are counted, not the other set layouts of the pipeline layout. */
+static cvk_result check_limits(const cvk_context* ctx, const cvk_binding* bindings,
+                               uint32_t binding_count, cvk_error* error)
+{
+    const VkPhysicalDeviceLimits* limits = &ctx->properties.limits;
+    static const VkShaderStageFlagBits stages[] = {
+        VK_SHADER_STAGE_COMPUTE_BIT, VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_FRAGMENT_BIT,
+        VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT};
+    for (size_t s = 0; s < sizeof stages / sizeof stages[0]; s++) {
+        uint32_t storage_images = 0, storage_buffers = 0, sampled = 0;
+        for (uint32_t i = 0; i < binding_count; i++) {
+            if (!(stages_of(&bindings[i]) & stages[s]))
+                continue;
+            VkDescriptorType t = bindings[i].type;
+            storage_images += t == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE ||
+                              t == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+            storage_buffers += t == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            sampled += t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER ||
+                       t == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE ||
+                       t == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+        }
+        const char* kind = NULL;
+        uint32_t used = 0, most = 0;
+        if (storage_images > limits->maxPerStageDescriptorStorageImages)
+            kind = "storage images and storage texel buffers", used = storage_images,
+            most = limits->maxPerStageDescriptorStorageImages;
+        else if (storage_buffers > limits->maxPerStageDescriptorStorageBuffers)
+            kind = "storage buffers", used = storage_buffers,
+            most = limits->maxPerStageDescriptorStorageBuffers;
+        else if (sampled > limits->maxPerStageDescriptorSampledImages)
+            kind = "sampled images and uniform texel buffers", used = sampled,
+            most = limits->maxPerStageDescriptorSampledImages;
+        if (kind)
+            return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                            "a descriptor set of %u %s for one shader stage is more than %s "
+                            "allows (maxPerStageDescriptor*: %u)",
+                            used, kind, ctx->properties.deviceName, most);
+    }
+    return CVK_SUCCESS;
+}
+
 cvk_result cvk_descriptors_create(cvk_context* ctx, const cvk_binding* bindings,
                                   uint32_t binding_count, uint32_t set_count,
                                   VkShaderStageFlags push_stages, uint32_t push_bytes,
@@ -107,8 +151,10 @@ cvk_result cvk_descriptors_create_with(cvk_context* ctx, const cvk_binding* bind
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "a descriptor table needs 1 to %u sets, 1 to %u bindings and at most %u "
                         "other set layouts", CVK_MAX_SETS, CVK_MAX_BINDINGS, CVK_MAX_EXTRA_SETS);
-    cvk_result r = create_layouts(ctx, out, push_stages, push_bytes, extra_layouts, extra_count,
-                                  error);
+    cvk_result r = check_limits(ctx, bindings, binding_count, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    r = create_layouts(ctx, out, push_stages, push_bytes, extra_layouts, extra_count, error);
     if (r == CVK_SUCCESS)
         r = create_sets(ctx, out, error);
     if (r != CVK_SUCCESS)
