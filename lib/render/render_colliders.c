@@ -18,6 +18,12 @@
 /* A plane collider is drawn as a square this many times the cloths' size: well past the
    frame of the automatic camera, and still finite, so the depth range stays tight. */
 #define PLANE_EXTENT_SCALE 8.0
+/* A collider's material.roughness r in [0.1, 1] as a Blinn-Phong highlight: exponent 8 / r²
+   (800 to 8) and strength 0.06 / r (0.6 to 0.06), so the highlight spreads and dims together;
+   the default 0.5 gives exponent 32 and strength 0.12. */
+#define HIGHLIGHT_EXPONENT 8.0f
+#define HIGHLIGHT_STRENGTH 0.06f
+
 /* A plane whose normal is within about 0.8° of up can be the ground. */
 #define GROUND_COS 0.9999
 /* A plane within this distance (m) of a given ground height is at that height. */
@@ -166,11 +172,13 @@ static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint
         for (uint32_t k = 0; k < 3 * m->triangle_count; k++)
             index[first + k] = base + m->triangles[k];
         const float* color = collide->colliders[i].color;
+        float rough = collide->colliders[i].roughness;
         rc->draws[rc->draw_count++] = (cvk_collider_draw){
             .first_index = first,
             .index_count = 3 * m->triangle_count,
             .collider = i,
             .color = {color[0], color[1], color[2], 1.0f},
+            .highlight = {HIGHLIGHT_STRENGTH / rough, HIGHLIGHT_EXPONENT / (rough * rough)},
         };
         base += m->vertex_count;
         first += 3 * m->triangle_count;
@@ -217,7 +225,9 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
     for (uint32_t d = 0; d < rc->draw_count; d++) {
         const cvk_collider_draw* draw = &rc->draws[d];
         if (colored) {
-            cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], 0.0f}, {0}, {0}};
+            cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], 0.0f},
+                                     {0},
+                                     {draw->highlight[0], draw->highlight[1], 0.0f, 0.0f}};
             vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof m, &m);
         }
         /* The instance index is the collider's: the vertex shaders read its pose with it. */

@@ -11,8 +11,8 @@
 typedef struct cvk_render_material {
     float albedo[4];                 /* rgb: linear colour; w: 1 where the texture replaces it */
     float back[4];                   /* rgb: the back face's colour; w: 1 to use it (else the front's) */
-    float fabric[4];                 /* x: sheen; y: its roughness (cloths only: the colliders'
-                                        pipeline shades with a Blinn-Phong highlight) */
+    float fabric[4];                 /* cloths: x: sheen; y: its roughness. Colliders (a
+                                        Blinn-Phong highlight): x: its strength; y: its exponent */
 } cvk_render_material;
 
 /* One collider's triangles in the shared collider buffers, drawn with instance index
@@ -21,6 +21,7 @@ typedef struct cvk_collider_draw {
     uint32_t first_index, index_count;
     uint32_t collider;
     float color[4];                  /* linear RGB, 1 */
+    float highlight[2];              /* the Blinn-Phong highlight's strength and exponent */
 } cvk_collider_draw;
 
 typedef struct cvk_render_colliders {

@@ -152,6 +152,7 @@ cvk_collider_desc cvk_default_collider_desc(void)
         .static_friction = -1.0f,
         .motion = {.keyframes = NULL, .keyframe_count = 0, .loop = false},
         .color = {0.55f, 0.55f, 0.6f},
+        .roughness = 0.5f,
         .cookie_ = CVK_COOKIE_COLLIDER,
     };
 }
@@ -718,6 +719,7 @@ static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk
     return check_name(issue, cvk_key_join(path, base, "name"), c->name) && check_collider_shape(c, base, issue) &&
            check_collider_friction(c, scene, base, issue) &&
            cvk_check_closed_array(issue, cvk_key_join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
+           cvk_check_closed(issue, cvk_key_join(path, base, "material.roughness"), c->roughness, 0.1, 1.0) &&
            cvk_check_motion(&c->motion, base, issue);
 }
 

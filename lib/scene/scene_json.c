@@ -390,6 +390,14 @@ static cvk_result read_collider_type(cvk_reader* rd, const cvk_field* f, json_t*
 
 #define COLLIDER(field) offsetof(cvk_collider_desc, field)
 
+/* The collider's "material" block: how the renderer draws it (color is the same as the
+   collider's key of that name). */
+static const cvk_field collider_material_fields[] = {
+    {.key = "color", .read = cvk_read_floats, .offset = COLLIDER(color), .count = 3},
+    {.key = "roughness", .read = cvk_read_float, .offset = COLLIDER(roughness)},
+};
+static const cvk_table collider_material_table = FIELDS(collider_material_fields);
+
 /* The keys of every collider; each type's table adds its shape's. */
 static const cvk_field collider_fields[] = {
     {.key = "type", .read = read_collider_type, .offset = COLLIDER(type)},
@@ -399,6 +407,7 @@ static const cvk_field collider_fields[] = {
     {.key = "color", .read = cvk_read_floats, .offset = COLLIDER(color), .count = 3},
     {.key = "keyframes", .read = cvk_read_keyframes, .offset = COLLIDER(motion)},
     {.key = "loop", .read = cvk_read_bool, .offset = COLLIDER(motion) + offsetof(cvk_motion, loop)},
+    {.key = "material", .read = cvk_read_nested, .offset = 0, .nested = &collider_material_table},
 };
 static const cvk_table collider_table = FIELDS(collider_fields);
 

@@ -242,6 +242,7 @@ typedef struct cvk_collider_desc {
     float static_friction;
     cvk_motion motion;
     float color[3];
+    float roughness;
     uint32_t cookie_;
 } cvk_collider_desc;
 

@@ -83,19 +83,25 @@ float key_visibility(vec3 world, vec3 n)
     return sum / 12.0;
 }
 
-vec3 light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, float specular, float visible)
+vec3 light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, float specular, float shininess,
+           float visible)
 {
     float nl = dot(n, direction);
     if (nl <= 0.0)
         return vec3(0.0);
     vec3 h = normalize(direction + v);
-    // Shininess 32 by squaring: pow() is exp(log()) on a CPU device.
     float x = max(dot(n, h), 0.0);
-    x *= x;
-    x *= x;
-    x *= x;
-    x *= x;
-    float highlight = specular * x * x;
+    float highlight;
+    if (shininess == 32.0) {
+        // The default by squaring: pow() is exp(log()) on a CPU device.
+        x *= x;
+        x *= x;
+        x *= x;
+        x *= x;
+        highlight = specular * x * x;
+    } else {
+        highlight = specular * pow(x, shininess);
+    }
     return color * visible * nl * (albedo + highlight);
 }
 
@@ -148,11 +154,11 @@ vec3 shade_fabric(vec3 world, vec3 n, vec3 albedo, vec3 sheen, float roughness, 
 }
 
 // n faces the viewer's side of the surface; key_visible is key_visibility() or 1.
-vec3 shade(vec3 world, vec3 n, vec3 albedo, float specular, float key_visible)
+vec3 shade(vec3 world, vec3 n, vec3 albedo, float specular, float shininess, float key_visible)
 {
     vec3 v = normalize(frame.eye.xyz - world);
     vec3 result = surroundings(n) * albedo;
-    result += light(frame.key_direction.xyz, frame.key_color.rgb, n, v, albedo, specular, key_visible);
-    result += light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, albedo, specular, 1.0);
+    result += light(frame.key_direction.xyz, frame.key_color.rgb, n, v, albedo, specular, shininess, key_visible);
+    result += light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, albedo, specular, shininess, 1.0);
     return result;
 }

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Cloth pass: lit and shadowed cloth over a transparent background, multisampled; the
 // composite pass puts it over the ground and sky. The colliders (collider.vert) are shaded
-// here too, with their own colour and a Blinn-Phong highlight; a cloth gets diffuse light, a
+// here too, with their own colour and a Blinn-Phong highlight (its strength and exponent from
+// their material's roughness); a cloth gets diffuse light, a
 // sheen lobe and the light that comes through it from its other face. Both faces are drawn; a
 // back face is lit with the flipped normal (and, with material.back_color, its own colour), so
 // the side away from the light is darker and the side towards it lit, whichever way the cloth
@@ -21,7 +22,7 @@ layout(constant_id = 2) const bool FABRIC = true;
 layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
     vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's
-    vec4 fabric; // x: sheen; y: its roughness (cloths only)
+    vec4 fabric; // cloths: x: sheen; y: its roughness. Colliders: the highlight's strength, exponent
 } material;
 
 // The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
@@ -54,7 +55,7 @@ void main()
     if (FABRIC)
         shaded = shade_fabric(world, n, albedo, material.fabric.x * sqrt(albedo), material.fabric.y, visible);
     else
-        shaded = shade(world, n, albedo, 0.12, towards ? visible : 0.0);
+        shaded = shade(world, n, albedo, material.fabric.x, material.fabric.y, towards ? visible : 0.0);
     // Stored as the square root of half the linear light: the composite pass squares it back
     // (and doubles it) before averaging the samples, 8 bits of it are about as fine in the dark
     // as sRGB, and light up to twice white reaches the highlights' roll-off.

@@ -42,6 +42,7 @@ static void check_default_collider(const cvk_collider_desc* c)
     CHECK_FLOAT(c->color[0], 0.55f);
     CHECK_FLOAT(c->color[1], 0.55f);
     CHECK_FLOAT(c->color[2], 0.6f);
+    CHECK_FLOAT(c->roughness, 0.5f);
 }
 
 static void check_default_collision(const cvk_scene_desc* d)
@@ -403,7 +404,8 @@ static const char* const every_type =
     "  {'type': 'sphere', 'center': [1, 2, 3], 'radius': 0.3,"
     "   'keyframes': [{'time': 0, 'translation': [0, 0, -2]}, {'time': 0.4, 'translation': [0, 0, 2],"
     "     'rotation': [0, 1, 0, 0]}], 'loop': true},"
-    "  {'type': 'box', 'center': [0, 0.5, 0], 'half_extents': [0.5, 0.25, 1], 'rotation': [0.9, 0, 0.1, 0]},"
+    "  {'type': 'box', 'center': [0, 0.5, 0], 'half_extents': [0.5, 0.25, 1], 'rotation': [0.9, 0, 0.1, 0],"
+    "   'material': {'color': [0.4, 0.3, 0.2], 'roughness': 0.8}},"
     "  {'type': 'capsule', 'a': [0, 0, 0], 'b': [1, 0, 0], 'radius': 0.05, 'friction': 0},"
     "  {'type': 'funnel', 'apex': [0, 2, 0], 'a': 0.35, 'height': 1.5},"
     "  {'type': 'mesh', 'file': 'meshes/chair.obj', 'transform': {'scale': 2, 'rotation': [0, 0, 1, 0],"
@@ -445,6 +447,10 @@ static void check_every_type(const cvk_scene_desc* d)
     CHECK_FLOAT(c[2].half_extents[2], 1.0f);
     CHECK_FLOAT(c[2].rotation[0], 0.9f);
     CHECK_FLOAT(c[2].rotation[2], 0.1f);
+    CHECK_FLOAT(c[2].color[0], 0.4f); /* material.color is the collider's color */
+    CHECK_FLOAT(c[2].color[2], 0.2f);
+    CHECK_FLOAT(c[2].roughness, 0.8f);
+    CHECK_FLOAT(c[1].roughness, 0.5f); /* the default */
     CHECK_INT(c[2].motion.keyframe_count, 0);
     CHECK(!c[2].motion.loop);
     CHECK_INT(c[3].type, CVK_COLLIDER_CAPSULE);
@@ -501,23 +507,32 @@ static void test_json_types(void)
     /* A key of another type is an unknown key, and the message says the collider's type. */
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'box', 'radius': 0.5}]}",
                    "t.json: colliders.0.radius: unknown key for a box collider (expected one of: type, name, friction, "
-                   "static_friction, color, keyframes, loop, center, half_extents, rotation)");
+                   "static_friction, color, keyframes, loop, material, center, half_extents, rotation)");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'normal': [0, 1, 0], 'type': 'sphere'}]}",
                    "t.json: colliders.0.normal: unknown key for a sphere collider (expected one of: type, name, "
-                   "friction, static_friction, color, keyframes, loop, center, radius)");
+                   "friction, static_friction, color, keyframes, loop, material, center, radius)");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'funnel', 'b': [0, 1, 0]}]}",
                    "t.json: colliders.0.b: unknown key for a funnel collider (expected one of: type, name, friction, "
-                   "static_friction, color, keyframes, loop, apex, a, height)");
+                   "static_friction, color, keyframes, loop, material, apex, a, height)");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'capsule', 'a': 0.5}]}",
                    "t.json: colliders.0.a: expected an array of 3 numbers, got the number 0.5");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'funnel', 'a': [0, 1, 0]}]}",
                    "t.json: colliders.0.a: expected a number, got an array of 3");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'plane', 'mesh': 'a.obj'}]}",
                    "t.json: colliders.0.mesh: unknown key for a plane collider (expected one of: type, name, friction, "
-                   "static_friction, color, keyframes, loop, point, normal)");
+                   "static_friction, color, keyframes, loop, material, point, normal)");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'mesh', 'center': [0, 0, 0], 'file': 'a.obj'}]}",
                    "t.json: colliders.0.center: unknown key for a mesh collider (expected one of: type, name, "
-                   "friction, static_friction, color, keyframes, loop, file, transform)");
+                   "friction, static_friction, color, keyframes, loop, material, file, transform)");
+    /* The collider's material block: its keys, and the range of its roughness. */
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'shine': 1}}]}",
+                   "t.json: colliders.0.material.shine: unknown key (expected one of: color, roughness)");
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'roughness': 0.05}}]}",
+                   "t.json: colliders.0.material.roughness: must be between 0.1 and 1, got 0.05");
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'color': [0.2, 1.5, 0.2]}}]}",
+                   "t.json: colliders.0.color.1: must be between 0 and 1, got 1.5");
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': [0.2, 0.2, 0.2]}]}",
+                   "t.json: colliders.0.material: expected an object, got an array of 3");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 0.01, 'margin': 0.01}}",
                    "t.json: collision.margin: unknown key (expected one of: self, thickness, radius, friction, "
                    "static_friction, allow_intersecting_start, detect_every, exclusion, edges)");
@@ -661,7 +676,7 @@ static void test_overrides(void)
        the file's key is named, with the type it now has. */
     EXPECT_SET_ERROR("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'radius': 1}]}", "colliders.0.type=box",
                      "t.json: colliders.0.radius: unknown key for a box collider (expected one of: type, "
-                     "name, friction, static_friction, color, keyframes, loop, center, half_extents, rotation)");
+                     "name, friction, static_friction, color, keyframes, loop, material, center, half_extents, rotation)");
     EXPECT_SET_ERROR(sphere, "colliders.0.keyframes.1={\"time\": 1}",
                      "t.json: --set colliders.0.keyframes.1: index 1 is out of range (colliders.0.keyframes has 0 "
                      "elements)");

@@ -182,6 +182,19 @@ CASES = [
     {"name": "back colour out of range",
      "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.back_color=[0.2,2,0.2]"], "status": 2,
      "stderr": error(f"{SMALL}: cloths.0.material.back_color.1 (from --set): must be between 0 and 1, got 2")},
+    # A collider's material block.
+    {"name": "unknown collider material key",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"shine": 1}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.shine (from --set): unknown key (expected one "
+                                  "of: color, roughness)")},
+    {"name": "collider roughness out of range",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"roughness": 2}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.roughness (from --set): must be between 0.1 "
+                                  "and 1, got 2")},
+    {"name": "collider material colour out of range",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"color": [0, -1, 0]}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.color.1 (from --set): must be between 0 and 1, "
+                                  "got -1")},
     {"name": "missing scene", "argv": ["no-such.json", "-o", "out"], "status": 2,
      "stderr": error("no-such.json: cannot open: No such file or directory")},
     # The output folder: an existing file in the way, under it, or a folder that takes no file.

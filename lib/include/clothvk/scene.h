@@ -307,7 +307,11 @@ typedef struct cvk_collider_desc {
     float friction;              /* < 0: collision.friction (the default) */
     float static_friction;       /* < 0: collision.static_friction (the default) */
     cvk_motion motion;           /* no keyframes: static */
+    /* How the renderer draws it (a scene file's "material" block, which also takes color): */
     float color[3];              /* linear RGB for renderers; usually [0.55, 0.55, 0.6] */
+    float roughness;             /* in [0.1, 1]: how wide and faint the highlight is (0.1: a
+                                    small bright one, as polished wood; 1: broad and dim, as
+                                    cast iron); usually 0.5 */
     uint32_t cookie_;            /* set by cvk_default_collider_desc; do not touch */
 } cvk_collider_desc;
 
