@@ -20,7 +20,7 @@ static const char* const showcases[] = {
     "assets/scenes/box-stack.json", "assets/scenes/sphere-hit.json",
     "assets/scenes/throw.json", "assets/scenes/funnel.json", "assets/scenes/drape.json",
     "assets/scenes/table.json", "assets/scenes/chair.json", "assets/scenes/ribbons.json",
-    "assets/scenes/demo.json", "assets/scenes/contact-drape.json",
+    "assets/scenes/demo.json", "assets/scenes/poncho.json", "assets/scenes/contact-drape.json",
     "assets/scenes/contact-pile.json", "assets/scenes/contact-twist.json",
 };
 

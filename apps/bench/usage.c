@@ -89,7 +89,7 @@ void bench_usage(FILE* out)
         "collide:\n"
         "  --points LIST       point counts (default 1000,10000,100000; 1000000 fits lavapipe)\n"
         "contact-ensemble (--set applies to every scene):\n"
-        "  --scenes LIST       scene files a.json,b.json (default: SCENE, or the twelve showcases\n"
+        "  --scenes LIST       scene files a.json,b.json (default: SCENE, or the thirteen showcases\n"
         "                      with contact under assets/scenes/, from the repository root)\n"
         "  --frames N          frames per run (default: each scene's own frame count)\n"
         "  --variants N        the first N variants of each scene (default: all 9)\n"
