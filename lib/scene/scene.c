@@ -717,9 +717,7 @@ static bool check_collider(const cvk_collider_desc* c, uint32_t index, const cvk
     if (c->cookie_ != CVK_COOKIE_COLLIDER)
         return cvk_issue_at(issue, base, "collider description was not made by cvk_default_collider_desc()");
     return check_name(issue, cvk_key_join(path, base, "name"), c->name) && check_collider_shape(c, base, issue) &&
-           check_collider_friction(c, scene, base, issue) &&
-           cvk_check_closed_array(issue, cvk_key_join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           cvk_check_closed(issue, cvk_key_join(path, base, "material.roughness"), c->roughness, 0.1, 1.0) &&
+           check_collider_friction(c, scene, base, issue) && cvk_collider_look_check(c, base, issue) &&
            cvk_check_motion(&c->motion, base, issue);
 }
 

@@ -1,5 +1,5 @@
 /* Validation of how things are drawn: the keys of a cloth's material block beyond color and
-   texture, and the renderer's render.fit. */
+   texture, a collider's colour and material, and the renderer's render.fit. */
 #include "scene/check.h"
 #include "scene/scene.h"
 
@@ -31,4 +31,11 @@ bool cvk_fit_check(const cvk_render_desc* r, cvk_scene_issue* issue)
         return cvk_issue_at(issue, "render.fit", "takes its view direction from render.eye - render.target: give "
                             "both or neither, got only render.%s", r->auto_eye ? "target" : "eye");
     return true;
+}
+
+bool cvk_collider_look_check(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
+{
+    char path[CVK_KEY_PATH_MAX];
+    return cvk_check_closed_array(issue, cvk_key_join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
+           cvk_check_closed(issue, cvk_key_join(path, base, "material.roughness"), c->roughness, 0.1, 1.0);
 }
