@@ -31,6 +31,13 @@ float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega)
     return omega;
 }
 
+float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega)
+{
+    if (inner >= 2 && sweep + 1 == inner && omega > 1.0f)
+        return 1.0f;
+    return omega;
+}
+
 double cvk_chebyshev_stable_rho(uint32_t m)
 {
     if (m == 0)
@@ -385,7 +392,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                 cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
                                     pb->solve, b->colour_start[c],
                                     b->colour_start[c + 1] - b->colour_start[c], 1.0f,
-                                    pb->base.omega);
+                                    cvk_gs_sweep_omega(i, inner, pb->base.omega));
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
             }
             if (i == 0 && pb->checking)

@@ -2,6 +2,7 @@
 
 #include <math.h>
 
+#include "solvers/solve_pd.h"
 #include "topology/build.h"
 
 cvk_ref_params cvk_ref_params_of(const cvk_step_params* step)
@@ -145,7 +146,10 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params
     for (uint32_t o = 0; o < solver->outer_iterations; o++) {
         cvk_ref_rhs(b, params, x, y, scratch);
         for (uint32_t i = 0; i < solver->inner_iterations; i++)
-            cvk_ref_gauss_seidel_sweep(b, scratch, solver->omega, x);
+            cvk_ref_gauss_seidel_sweep(b, scratch,
+                                       cvk_gs_sweep_omega(i, solver->inner_iterations,
+                                                          solver->omega),
+                                       x);
         if ((o + 1) % every == 0 || o + 1 == solver->outer_iterations)
             cvk_ref_tethers(b, x); /* as the device's tether pass (lib/solvers/pd_passes.c) */
     }

@@ -34,7 +34,9 @@ void main()
                 vec4 b;
                 vec3 cur;
                 float ksum;
-                float omega = pc.omega;
+                // The last of two or more sweeps is not over-relaxed (cvk_gs_sweep_omega).
+                float omega = sweep + 1u == pc.sweeps && pc.sweeps > 1u ? min(pc.omega, 1.0)
+                                                                       : pc.omega;
                 if (sweep == 0u) {
                     vec4 start = texelFetch(src, int(p));
                     cur = start.xyz;

@@ -253,8 +253,11 @@ static void check_sweeps_follow_motion(cvk_context* ctx, uint32_t tethers)
 /* A tether that holds a particle takes the outward part of its residual (pd_common.glsl,
    free_of_tethers): otherwise the springs' pull on the particles the tethers hold never fades
    and the check never passes. peer-hanging.json's settings (ω = 1.7, tethers) on 40 × 40
-   particles, tolerance 0.3, at most 128 sweeps: by frame 40 the solve stops before the cap
-   (without the projection the relative residual stalls at 0.40 and every sweep runs). */
+   particles, tolerance 0.3, at most 128 sweeps: by frame 80 the solve stops before the cap
+   (without the projection the relative residual stalls at 0.40 and every sweep runs). While
+   the cloth still swings the last residual hovers about the tolerance (0.29 to 0.53 at frames
+   20, 40 and 60, so a frame there stops or not by chance); by frame 80 the solve stops after
+   420 to 450 of the 1,024 sweeps. */
 static void check_tethered_stops(cvk_context* ctx)
 {
     static const uint32_t pins[2][2] = {{0, 0}, {39, 0}};
@@ -270,10 +273,10 @@ static void check_tethered_stops(cvk_context* ctx)
     d.solver.omega = 1.7f;
     d.solver.tolerance = 0.3f;
     d.solver.max_iterations = 128;
-    run_result r = run(ctx, &d, 40, 0, 0);
-    printf("tethered 40 x 40 at omega 1.7: %u sweeps in frame 40, at most %u\n",
+    run_result r = run(ctx, &d, 80, 0, 0);
+    printf("tethered 40 x 40 at omega 1.7: %u sweeps in frame 80, at most %u\n",
            r.sweeps_last_frame, 128u * d.substeps);
-    CHECK(r.sweeps_last_frame < 128u * d.substeps, "tethered: every sweep of frame 40 ran (%u)",
+    CHECK(r.sweeps_last_frame < 128u * d.substeps, "tethered: every sweep of frame 80 ran (%u)",
           r.sweeps_last_frame);
     free(r.xyz);
 }
