@@ -253,11 +253,11 @@ static void check_sweeps_follow_motion(cvk_context* ctx, uint32_t tethers)
 /* A tether that holds a particle takes the outward part of its residual (pd_common.glsl,
    free_of_tethers): otherwise the springs' pull on the particles the tethers hold never fades
    and the check never passes. peer-hanging.json's settings (ω = 1.7, tethers) on 40 × 40
-   particles, tolerance 0.3, at most 128 sweeps: by frame 80 the solve stops before the cap
-   (without the projection the relative residual stalls at 0.40 and every sweep runs). While
-   the cloth still swings the last residual hovers about the tolerance (0.29 to 0.53 at frames
-   20, 40 and 60, so a frame there stops or not by chance); by frame 80 the solve stops after
-   420 to 450 of the 1,024 sweeps. */
+   particles, tolerance 0.3, at most 128 sweeps: by frame 80 the solve runs fewer than three
+   quarters of the cap (448 of 1,024 sweeps in that frame; without the projection the relative
+   residual stalls near 0.4 and 959 run). While the cloth still swings the last residual hovers
+   about the tolerance (0.29 to 0.53 at frames 20, 40 and 60, with and without an unrelaxed last
+   sweep, so a frame there stops or not by chance). */
 static void check_tethered_stops(cvk_context* ctx)
 {
     static const uint32_t pins[2][2] = {{0, 0}, {39, 0}};
@@ -276,8 +276,8 @@ static void check_tethered_stops(cvk_context* ctx)
     run_result r = run(ctx, &d, 80, 0, 0);
     printf("tethered 40 x 40 at omega 1.7: %u sweeps in frame 80, at most %u\n",
            r.sweeps_last_frame, 128u * d.substeps);
-    CHECK(r.sweeps_last_frame < 128u * d.substeps, "tethered: every sweep of frame 80 ran (%u)",
-          r.sweeps_last_frame);
+    CHECK(r.sweeps_last_frame < 96u * d.substeps, "tethered: %u of the %u sweeps of frame 80 "
+          "ran", r.sweeps_last_frame, 128u * d.substeps);
     free(r.xyz);
 }
 
