@@ -8,7 +8,10 @@
    - the dispatch shape: on a CPU device the passes that stream over particles run in
      workgroups of the device's subgroup size and the others in the workgroup size (64), on
      other devices all in the workgroup size, and a workgroup size asked for is used for all;
-     every dispatch's group count follows from its pipeline's size. */
+     every dispatch's group count follows from its pipeline's size;
+   - rbgs over-relaxes every sweep of an outer iteration but the last (cvk_gs_sweep_omega): at
+     omega 1.7 with 4 x 4 sweeps, one sweep in four of every colour runs at omega 1, the last of
+     each outer iteration; with one sweep per outer iteration every sweep keeps omega. */
 #include <string.h>
 
 #include "harness.h"
@@ -219,6 +222,41 @@ static void test_shapes(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* The omega of each rbgs sweep dispatch of a 4-outer plan, in order, at `inner` sweeps. */
+static void check_last_sweep(cvk_context* ctx, uint32_t inner)
+{
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.grid[0] = 9;
+    cloth.grid[1] = 7;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = &cloth;
+    scene.cloth_count = 1;
+    scene.solver.omega = 1.7f;
+    scene.solver.inner_iterations = inner;
+    cvk_error err;
+    cvk_sim* sim;
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &scene;
+    REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
+    uint32_t colours = sim->build.colour_count, sweep_ops = 0, wrong = 0;
+    for (uint32_t i = 0; i < sim->plan.op_count; i++) {
+        const cvk_op* op = &sim->plan.ops[i];
+        if (op->pipeline != CVK_PIPE_GS_FIRST && op->pipeline != CVK_PIPE_GS)
+            continue;
+        cvk_pd_push push;
+        memcpy(&push, op->push, sizeof push);
+        uint32_t sweep = (sweep_ops / colours) % inner;
+        float expected = inner >= 2 && sweep + 1 == inner ? 1.0f : 1.7f;
+        wrong += push.omega != expected;
+        sweep_ops++;
+    }
+    CHECK(sweep_ops == 4 * inner * colours && wrong == 0,
+          "rbgs 4 x %u at omega 1.7: %u sweep dispatches (expected %u), %u with the wrong omega "
+          "(the last sweep of an outer iteration of two or more at 1, the others at 1.7)", inner,
+          sweep_ops, 4 * inner * colours, wrong);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -226,5 +264,7 @@ int main(void)
     test_group_floor();
     test_transfer_kinds(ctx);
     test_shapes(ctx);
+    check_last_sweep(ctx, 4);
+    check_last_sweep(ctx, 1);
     return harness_finish(ctx);
 }
