@@ -31,13 +31,6 @@ float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega)
     return omega;
 }
 
-float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega)
-{
-    if (inner >= 2 && sweep + 1 == inner && omega > 1.0f)
-        return 1.0f;
-    return omega;
-}
-
 double cvk_chebyshev_stable_rho(uint32_t m)
 {
     if (m == 0)

@@ -2,7 +2,6 @@
 
 #include <math.h>
 
-#include "solvers/solve_pd.h"
 #include "topology/build.h"
 
 cvk_ref_params cvk_ref_params_of(const cvk_step_params* step)
@@ -85,6 +84,13 @@ static void solve_one(const cvk_build* b, const double* rhs, const double* x, ui
     }
     for (int c = 0; c < 3; c++)
         out[c] = (rhs[4 * (size_t)p + c] + acc[c]) * rhs[4 * (size_t)p + 3];
+}
+
+float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega)
+{
+    if (inner >= 2 && sweep + 1 == inner && omega > 1.0f)
+        return 1.0f;
+    return omega;
 }
 
 double cvk_ref_gauss_seidel_sweep(const cvk_build* b, const double* rhs, double omega, double* x)

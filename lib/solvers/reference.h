@@ -36,6 +36,17 @@ void cvk_ref_rest_update(const cvk_build* build, const cvk_ref_params* params, c
 void cvk_ref_rhs(const cvk_build* build, const cvk_ref_params* params, const double* t,
                  const double* y, double* b);
 
+/* Relaxation of Gauss-Seidel sweep i (0-based) of an outer iteration of `inner` sweeps, for
+   rbgs (lib/solvers/pd_passes.c) and gs-cpu alike: omega, except the last of two or more,
+   which is not over-relaxed (at most 1).
+   SOR leaves the modes its sweeps barely couple (for a grid with shear springs as stiff as its
+   structural ones, the checkerboard: its neighbours' pulls cancel) with the error (1 − omega)
+   per sweep, alternating in sign; in the iterate the next local step and the velocity read,
+   that is a particle-scale zig-zag the springs do not resist (out of the plane, skip-one bend
+   springs and the diagonals see no checkerboard), and demo.json's sheet grew an orange peel of
+   it. An unrelaxed last sweep removes that part (docs/how-it-works.md, "The last sweep"). */
+float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega);
+
 /* One Gauss-Seidel sweep with SOR, colour by colour, in place; returns the largest change of
    a coordinate. */
 double cvk_ref_gauss_seidel_sweep(const cvk_build* build, const double* b, double omega, double* x);

@@ -163,16 +163,6 @@ uint32_t cvk_sweep_cycle(const cvk_solver_desc* solver);
 /* Relaxation of sweep c (0-based) of a cycle of `cycle` sweeps. */
 float cvk_jacobi_sweep_omega(uint32_t sweep, uint32_t cycle, float omega);
 
-/* Relaxation of Gauss-Seidel sweep i (0-based) of an outer iteration of `inner` sweeps (rbgs and
-   gs-cpu alike): omega, except the last of two or more, which is not over-relaxed (at most 1).
-   SOR leaves the modes its sweeps barely couple (for a grid with shear springs as stiff as its
-   structural ones, the checkerboard: its neighbours' pulls cancel) with the error (1 − omega)
-   per sweep, alternating in sign; in the iterate the next local step and the velocity read,
-   that is a particle-scale zig-zag the springs do not resist (out of the plane, skip-one bend
-   springs and the diagonals see no checkerboard), and demo.json's sheet grew an orange peel of
-   it. An unrelaxed last sweep removes that part (docs/how-it-works.md, "The last sweep"). */
-float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega);
-
 /* Largest ρ whose Chebyshev polynomial over m sweeps stays above −1/3: T_m(1/ρ) = 3. */
 double cvk_chebyshev_stable_rho(uint32_t accelerated_sweeps);
 
