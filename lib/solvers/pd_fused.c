@@ -43,7 +43,7 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
 }
 
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
-                                       uint32_t sweeps)
+                                       uint32_t sweeps, float last_omega)
 {
     cvk_pd_fused_push push;
     memset(&push, 0, sizeof push);
@@ -51,6 +51,7 @@ cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build*
     push.first = 0;
     push.count = b->free_count;
     push.sweeps = sweeps;
+    push.last_omega = last_omega;
     push.colours = b->colour_count;
     uint32_t* ends[4] = {push.ends0, push.ends1, push.ends2, push.ends3};
     for (uint32_t c = 0; c < b->colour_count && c < CVK_PD_FUSED_MAX_COLOURS; c++) {

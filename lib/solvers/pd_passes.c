@@ -366,7 +366,8 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
     for (uint32_t o = 0; o < outer; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
         if (pb->fused) {
-            cvk_pd_fused_push push = cvk_pd_fused_push_of(&pb->base, b, inner);
+            cvk_pd_fused_push push = cvk_pd_fused_push_of(
+                &pb->base, b, inner, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega));
             cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
                                           pb->pd->descriptors.sets[set_for(t, w)], &push);
             if (op) {
@@ -385,7 +386,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                 cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
                                     pb->solve, b->colour_start[c],
                                     b->colour_start[c + 1] - b->colour_start[c], 1.0f,
-                                    cvk_gs_sweep_omega(i, inner, pb->base.omega));
+                                    cvk_gs_sweep_omega(i, inner, outer, pb->base.omega));
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
             }
             if (i == 0 && pb->checking)

@@ -86,9 +86,9 @@ static void solve_one(const cvk_build* b, const double* rhs, const double* x, ui
         out[c] = (rhs[4 * (size_t)p + c] + acc[c]) * rhs[4 * (size_t)p + 3];
 }
 
-float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega)
+float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, uint32_t outer, float omega)
 {
-    if (inner >= 2 && sweep + 1 == inner && omega > 1.0f)
+    if (outer >= 2 && inner >= 2 && sweep + 1 == inner && omega > 1.0f)
         return 1.0f;
     return omega;
 }
@@ -154,7 +154,7 @@ void cvk_ref_solve_gauss_seidel(const cvk_build* b, const cvk_ref_params* params
         for (uint32_t i = 0; i < solver->inner_iterations; i++)
             cvk_ref_gauss_seidel_sweep(b, scratch,
                                        cvk_gs_sweep_omega(i, solver->inner_iterations,
-                                                          solver->omega),
+                                                          solver->outer_iterations, solver->omega),
                                        x);
         if ((o + 1) % every == 0 || o + 1 == solver->outer_iterations)
             cvk_ref_tethers(b, x); /* as the device's tether pass (lib/solvers/pd_passes.c) */

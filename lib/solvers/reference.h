@@ -36,16 +36,20 @@ void cvk_ref_rest_update(const cvk_build* build, const cvk_ref_params* params, c
 void cvk_ref_rhs(const cvk_build* build, const cvk_ref_params* params, const double* t,
                  const double* y, double* b);
 
-/* Relaxation of Gauss-Seidel sweep i (0-based) of an outer iteration of `inner` sweeps, for
-   rbgs (lib/solvers/pd_passes.c) and gs-cpu alike: omega, except the last of two or more,
-   which is not over-relaxed (at most 1).
+/* Relaxation of Gauss-Seidel sweep i (0-based) of an outer iteration of `inner` sweeps, of
+   `outer` in a substep, for rbgs (lib/solvers/pd_passes.c, fused or not) and gs-cpu alike:
+   omega, except the last of two or more sweeps when a substep has two or more outer
+   iterations, which is not over-relaxed (at most 1). With one outer iteration no local step
+   reads the iterate again, and an unrelaxed last sweep did little there (demo.json: 0.308 ->
+   0.280 mm) while it cost peer-hanging.json's 20 x 1 x 5 its 99th-percentile stretch target
+   (0.92 -> 1.03 %).
    SOR leaves the modes its sweeps barely couple (for a grid with shear springs as stiff as its
    structural ones, the checkerboard: its neighbours' pulls cancel) with the error (1 − omega)
    per sweep, alternating in sign; in the iterate the next local step and the velocity read,
    that is a particle-scale zig-zag the springs do not resist (out of the plane, skip-one bend
    springs and the diagonals see no checkerboard), and demo.json's sheet grew an orange peel of
    it. An unrelaxed last sweep removes that part (docs/how-it-works.md, "The last sweep"). */
-float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, float omega);
+float cvk_gs_sweep_omega(uint32_t sweep, uint32_t inner, uint32_t outer, float omega);
 
 /* One Gauss-Seidel sweep with SOR, colour by colour, in place; returns the largest change of
    a coordinate. */

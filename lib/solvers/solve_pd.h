@@ -122,9 +122,10 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
                                 VkPhysicalDeviceType device_type, uint32_t workgroup_size,
                                 bool checking);
 
-/* The push data of the fused pass over every colour of `b`, `sweeps` sweeps. */
+/* The push data of the fused pass over every colour of `b`, `sweeps` sweeps, the last at
+   `last_omega` (cvk_gs_sweep_omega). */
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
-                                       uint32_t sweeps);
+                                       uint32_t sweeps, float last_omega);
 
 /* Appends the fused pass: one workgroup. */
 cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,

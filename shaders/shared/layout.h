@@ -53,7 +53,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
     CVK_PD_PUSH_FIELDS                                                                  \
     CVK_UINT(sweeps)       /* sweeps of the outer iteration (inner_iterations) */       \
     CVK_UINT(colours)      /* colours, at most CVK_PD_FUSED_MAX_COLOURS */              \
-    CVK_UINT(pad_fused)                                                                 \
+    CVK_FLOAT(last_omega)  /* omega of the last sweep (cvk_gs_sweep_omega) */             \
     CVK_UVEC4(ends0)       /* colour ends 0..7 */                                       \
     CVK_UVEC4(ends1)       /* 8..15 */                                                  \
     CVK_UVEC4(ends2)       /* 16..23 */                                                 \

@@ -34,9 +34,8 @@ void main()
                 vec4 b;
                 vec3 cur;
                 float ksum;
-                // The last of two or more sweeps is not over-relaxed (cvk_gs_sweep_omega).
-                float omega = sweep + 1u == pc.sweeps && pc.sweeps > 1u ? min(pc.omega, 1.0)
-                                                                       : pc.omega;
+                // The last sweep's omega comes apart (cvk_gs_sweep_omega).
+                float omega = sweep + 1u == pc.sweeps ? pc.last_omega : pc.omega;
                 if (sweep == 0u) {
                     vec4 start = texelFetch(src, int(p));
                     cur = start.xyz;

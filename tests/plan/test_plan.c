@@ -11,7 +11,8 @@
      every dispatch's group count follows from its pipeline's size;
    - rbgs over-relaxes every sweep of an outer iteration but the last (cvk_gs_sweep_omega): at
      omega 1.7 with 4 x 4 sweeps, one sweep in four of every colour runs at omega 1, the last of
-     each outer iteration; with one sweep per outer iteration every sweep keeps omega. */
+     each outer iteration; with one sweep per outer iteration (4 x 1), or one outer iteration
+     a substep (1 x 5), every sweep keeps omega. */
 #include <string.h>
 
 #include "harness.h"
@@ -223,7 +224,7 @@ static void test_shapes(cvk_context* ctx)
 }
 
 /* The omega of each rbgs sweep dispatch of a 4-outer plan, in order, at `inner` sweeps. */
-static void check_last_sweep(cvk_context* ctx, uint32_t inner)
+static void check_last_sweep(cvk_context* ctx, uint32_t outer, uint32_t inner)
 {
     cvk_cloth_desc cloth = cvk_default_cloth_desc();
     cloth.grid[0] = 9;
@@ -232,6 +233,7 @@ static void check_last_sweep(cvk_context* ctx, uint32_t inner)
     scene.cloths = &cloth;
     scene.cloth_count = 1;
     scene.solver.omega = 1.7f;
+    scene.solver.outer_iterations = outer;
     scene.solver.inner_iterations = inner;
     cvk_error err;
     cvk_sim* sim;
@@ -246,14 +248,15 @@ static void check_last_sweep(cvk_context* ctx, uint32_t inner)
         cvk_pd_push push;
         memcpy(&push, op->push, sizeof push);
         uint32_t sweep = (sweep_ops / colours) % inner;
-        float expected = inner >= 2 && sweep + 1 == inner ? 1.0f : 1.7f;
+        float expected = outer >= 2 && inner >= 2 && sweep + 1 == inner ? 1.0f : 1.7f;
         wrong += push.omega != expected;
         sweep_ops++;
     }
-    CHECK(sweep_ops == 4 * inner * colours && wrong == 0,
-          "rbgs 4 x %u at omega 1.7: %u sweep dispatches (expected %u), %u with the wrong omega "
-          "(the last sweep of an outer iteration of two or more at 1, the others at 1.7)", inner,
-          sweep_ops, 4 * inner * colours, wrong);
+    CHECK(sweep_ops == outer * inner * colours && wrong == 0,
+          "rbgs %u x %u at omega 1.7: %u sweep dispatches (expected %u), %u with the wrong omega "
+          "(the last sweep of an outer iteration of two or more at 1 when there are two or more "
+          "outer iterations, the others at 1.7)", outer, inner, sweep_ops, outer * inner * colours,
+          wrong);
     cvk_sim_destroy(sim);
 }
 
@@ -264,7 +267,8 @@ int main(void)
     test_group_floor();
     test_transfer_kinds(ctx);
     test_shapes(ctx);
-    check_last_sweep(ctx, 4);
-    check_last_sweep(ctx, 1);
+    check_last_sweep(ctx, 4, 4);
+    check_last_sweep(ctx, 4, 1);
+    check_last_sweep(ctx, 1, 5);
     return harness_finish(ctx);
 }
