@@ -19,14 +19,22 @@
 
 #include "solvers/solve_pd.h"
 
+/* The test's scene: one 9 x 7 cloth at the defaults (cloth is the scene's). */
+static cvk_scene_desc nine_by_seven(cvk_cloth_desc* cloth)
+{
+    *cloth = cvk_default_cloth_desc();
+    cloth->grid[0] = 9;
+    cloth->grid[1] = 7;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloth;
+    scene.cloth_count = 1;
+    return scene;
+}
+
 static cvk_sim* make_sim_sized(cvk_context* ctx, uint32_t workgroup_size)
 {
-    cvk_cloth_desc cloth = cvk_default_cloth_desc();
-    cloth.grid[0] = 9;
-    cloth.grid[1] = 7;
-    cvk_scene_desc scene = cvk_default_scene_desc();
-    scene.cloths = &cloth;
-    scene.cloth_count = 1;
+    cvk_cloth_desc cloth;
+    cvk_scene_desc scene = nine_by_seven(&cloth);
     cvk_error err;
     cvk_sim* sim;
     cvk_sim_desc desc = cvk_default_sim_desc();
@@ -226,12 +234,8 @@ static void test_shapes(cvk_context* ctx)
 /* The omega of each rbgs sweep dispatch of a 4-outer plan, in order, at `inner` sweeps. */
 static void check_last_sweep(cvk_context* ctx, uint32_t outer, uint32_t inner)
 {
-    cvk_cloth_desc cloth = cvk_default_cloth_desc();
-    cloth.grid[0] = 9;
-    cloth.grid[1] = 7;
-    cvk_scene_desc scene = cvk_default_scene_desc();
-    scene.cloths = &cloth;
-    scene.cloth_count = 1;
+    cvk_cloth_desc cloth;
+    cvk_scene_desc scene = nine_by_seven(&cloth);
     scene.solver.omega = 1.7f;
     scene.solver.outer_iterations = outer;
     scene.solver.inner_iterations = inner;
