@@ -1,6 +1,7 @@
 /* What the renderer's tests share (test_render.c, test_render_colliders.c,
    test_render_effects.c, test_render_fit.c): a scene of up to two cloths and three colliders
-   drawn by its own simulation, mesh and renderer, pixel reads and the view's projection. */
+   drawn by its own simulation, mesh and renderer, square cloths and views, pixel reads and the
+   view's projection. */
 #ifndef RENDER_FIXTURE_H
 #define RENDER_FIXTURE_H
 
@@ -42,6 +43,44 @@ static inline void teardown(setup* s)
     cvk_renderer_destroy(s->renderer);
     cvk_mesh_destroy(s->mesh);
     cvk_sim_destroy(s->sim);
+}
+
+/* A 16 x 16 square cloth from `origin` along u and v, in `color`. */
+static inline cvk_cloth_desc square_cloth(const float origin[3], const float u[3], const float v[3], const float color[3])
+{
+    cvk_cloth_desc c = cvk_default_cloth_desc();
+    c.grid[0] = c.grid[1] = 16;
+    memcpy(c.origin, origin, sizeof c.origin);
+    memcpy(c.u_axis, u, sizeof c.u_axis);
+    memcpy(c.v_axis, v, sizeof c.v_axis);
+    memcpy(c.color, color, sizeof c.color);
+    return c;
+}
+
+/* A width x height view from eye to target with the key light along `key` (the rest the
+   defaults). */
+static inline cvk_render_desc fixture_view(uint32_t width, uint32_t height, const float eye[3],
+                                           const float target[3], const float key[3])
+{
+    cvk_render_desc r = cvk_default_render_desc();
+    r.size[0] = width;
+    r.size[1] = height;
+    r.auto_eye = r.auto_target = false;
+    memcpy(r.eye, eye, sizeof r.eye);
+    memcpy(r.target, target, sizeof r.target);
+    memcpy(r.key.direction, key, sizeof r.key.direction);
+    return r;
+}
+
+/* The same with the ground at height 0 and a 1024-texel shadow map. */
+static inline cvk_render_desc grounded_view(uint32_t width, uint32_t height, const float eye[3],
+                                            const float target[3], const float key[3])
+{
+    cvk_render_desc r = fixture_view(width, height, eye, target, key);
+    r.auto_ground_height = false;
+    r.ground_height = 0.0f;
+    r.shadow_map_size = 1024;
+    return r;
 }
 
 /* The pixel at (x, y), clamped to the image. */

@@ -47,17 +47,7 @@ static cvk_collider_desc sphere(float x, float y, float z, float radius)
 
 static cvk_render_desc view(const float eye[3], const float target[3], const float key[3])
 {
-    cvk_render_desc r = cvk_default_render_desc();
-    r.size[0] = W;
-    r.size[1] = H;
-    r.auto_eye = r.auto_target = false;
-    memcpy(r.eye, eye, sizeof r.eye);
-    memcpy(r.target, target, sizeof r.target);
-    memcpy(r.key.direction, key, sizeof r.key.direction);
-    r.auto_ground_height = false;
-    r.ground_height = 0.0f;
-    r.shadow_map_size = 1024;
-    return r;
+    return grounded_view(W, H, eye, target, key);
 }
 
 static cvk_image draw(setup* s, const char* name)

@@ -29,30 +29,9 @@ enum { W = 200, H = 150 };
 
 /* ---- scenes: static cloths ---- */
 
-static cvk_cloth_desc square_cloth(const float origin[3], const float u[3], const float v[3], const float color[3])
-{
-    cvk_cloth_desc c = cvk_default_cloth_desc();
-    c.grid[0] = c.grid[1] = 16;
-    memcpy(c.origin, origin, sizeof c.origin);
-    memcpy(c.u_axis, u, sizeof c.u_axis);
-    memcpy(c.v_axis, v, sizeof c.v_axis);
-    memcpy(c.color, color, sizeof c.color);
-    return c;
-}
-
 static cvk_render_desc view(const float eye[3], const float target[3], const float key[3])
 {
-    cvk_render_desc r = cvk_default_render_desc();
-    r.size[0] = W;
-    r.size[1] = H;
-    r.auto_eye = r.auto_target = false;
-    memcpy(r.eye, eye, sizeof r.eye);
-    memcpy(r.target, target, sizeof r.target);
-    memcpy(r.key.direction, key, sizeof r.key.direction);
-    r.auto_ground_height = false;
-    r.ground_height = 0.0f;
-    r.shadow_map_size = 1024;
-    return r;
+    return grounded_view(W, H, eye, target, key);
 }
 
 /* ---- pixels ---- */
