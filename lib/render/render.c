@@ -199,9 +199,26 @@ static cvk_result create_framebuffer(cvk_renderer* rd, VkRenderPass pass, const 
     return CVK_SUCCESS;
 }
 
+/* An attachment first used in its pass (initial layout undefined), stencil unused. */
+static VkAttachmentDescription attachment(VkFormat format, VkSampleCountFlagBits samples,
+                                          VkAttachmentLoadOp load, VkAttachmentStoreOp store,
+                                          VkImageLayout final_layout)
+{
+    return (VkAttachmentDescription){
+        .format = format,
+        .samples = samples,
+        .loadOp = load,
+        .storeOp = store,
+        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
+        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+        .finalLayout = final_layout,
+    };
+}
+
 /* A pass of one subpass over one attachment, two external dependencies, and its framebuffer of
    width x height on `view`. */
-static cvk_result create_single_pass(cvk_renderer* rd, const VkAttachmentDescription* attachment,
+static cvk_result create_single_pass(cvk_renderer* rd, const VkAttachmentDescription* description,
                                      const VkSubpassDescription* subpass,
                                      const VkSubpassDependency dependencies[2], VkImageView view,
                                      uint32_t width, uint32_t height, VkRenderPass* pass,
@@ -210,7 +227,7 @@ static cvk_result create_single_pass(cvk_renderer* rd, const VkAttachmentDescrip
     VkRenderPassCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
         .attachmentCount = 1,
-        .pAttachments = attachment,
+        .pAttachments = description,
         .subpassCount = 1,
         .pSubpasses = subpass,
         .dependencyCount = 2,
@@ -224,16 +241,9 @@ static cvk_result create_single_pass(cvk_renderer* rd, const VkAttachmentDescrip
 
 static cvk_result create_shadow_pass(cvk_renderer* rd, cvk_error* error)
 {
-    VkAttachmentDescription depth = {
-        .format = SHADOW_FORMAT,
-        .samples = VK_SAMPLE_COUNT_1_BIT,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-        .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-    };
+    VkAttachmentDescription depth =
+        attachment(SHADOW_FORMAT, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_CLEAR,
+                   VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass = {
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
@@ -295,26 +305,11 @@ static cvk_result create_color_depth_pass(cvk_renderer* rd, const VkAttachmentDe
 static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
 {
     VkAttachmentDescription attachments[2] = {
-        {
-            .format = CLOTH_FORMAT,
-            .samples = rd->samples,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-        },
-        {
-            .format = DEPTH_FORMAT,
-            .samples = rd->samples,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = rd->desc.ao ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-        },
+        attachment(CLOTH_FORMAT, rd->samples, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE,
+                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
+        attachment(DEPTH_FORMAT, rd->samples, VK_ATTACHMENT_LOAD_OP_CLEAR,
+                   rd->desc.ao ? VK_ATTACHMENT_STORE_OP_STORE : VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL),
     };
     VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
     VkAccessFlags writes = PASS_WRITES;
@@ -333,16 +328,9 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
 /* Half resolution, one colour attachment, every texel drawn. */
 static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
 {
-    VkAttachmentDescription attachment = {
-        .format = OCCLUSION_FORMAT,
-        .samples = VK_SAMPLE_COUNT_1_BIT,
-        .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-        .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-        .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-        .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-        .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-        .finalLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-    };
+    VkAttachmentDescription color =
+        attachment(OCCLUSION_FORMAT, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                   VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass = {
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
@@ -357,7 +345,7 @@ static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
         {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
-    return create_single_pass(rd, &attachment, &subpass, dependencies, rd->occlusion.view,
+    return create_single_pass(rd, &color, &subpass, dependencies, rd->occlusion.view,
                               cvk_render_half(rd->desc.size[0]), cvk_render_half(rd->desc.size[1]),
                               &rd->occlusion_pass, &rd->occlusion_framebuffer, "ambient occlusion pass",
                               error);
@@ -367,27 +355,12 @@ static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
 static cvk_result create_composite_pass(cvk_renderer* rd, cvk_error* error)
 {
     VkAttachmentDescription attachments[2] = {
-        {
-            .format = COLOR_FORMAT,
-            .samples = VK_SAMPLE_COUNT_1_BIT,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-        },
-        {
-            .format = STENCIL_FORMAT,
-            .samples = VK_SAMPLE_COUNT_1_BIT,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-        },
+        attachment(COLOR_FORMAT, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                   VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL),
+        attachment(STENCIL_FORMAT, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                   VK_ATTACHMENT_STORE_OP_DONT_CARE, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
     };
+    attachments[1].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     VkPipelineStageFlags output = PASS_OUTPUT_STAGES;
     VkAccessFlags writes = PASS_WRITES;
     VkSubpassDependency dependencies[] = {
