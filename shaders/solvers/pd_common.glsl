@@ -13,8 +13,7 @@
 // fetch function (Mesa 22.3: the plain sweep's code held 29 calls, around which the 256-bit
 // registers live across them were spilled, 141 stores and 197 loads on the stack), while
 // imageLoad is the same vectorised gather written inline: peer-hanging.json 19.1-19.4 ->
-// 17.3-17.4 CPU ms a frame on one thread, the same bits. GPUs serve all of them well. The
-// passes keep writing texelFetch(t, i) for these reads (the macro below makes it imageLoad).
+// 17.3-17.4 CPU ms a frame on one thread, the same bits. GPUs serve all of them well.
 //
 // Adjacency comes in quads of slots, padded to a multiple of four: for quad q of particle p,
 // texel (2q) * pc.stride + p of `adjacency` holds four neighbours and texel (2q + 1) * pc.stride
@@ -66,9 +65,6 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 
 // no iterate has cloth through cloth and contact's push always starts from the right side.
 layout(constant_id = 5) const bool BOUNDED = false;
 #include "contact/bounds.glsl"
-// From here on a texelFetch of the bindings above is an imageLoad (see the top); a pass that
-// then includes code reading uniform texel buffers of its own (pd_contact.comp) #undefs it.
-#define texelFetch(t, i) imageLoad(t, i)
 
 // The push constants: cvk_pd_push (cvk_pd_fused_push, which begins with it, for the fused
 // sweeps), declared with the C side in shared/layout.h.
@@ -81,12 +77,12 @@ CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
 // The neighbours and stiffnesses of quad q of particle p.
 uvec4 quad_neighbours(uint q, uint p)
 {
-    return texelFetch(adjacency, int(2u * q * pc.stride + p));
+    return imageLoad(adjacency, int(2u * q * pc.stride + p));
 }
 
 vec4 quad_k(uint q, uint p)
 {
-    return uintBitsToFloat(texelFetch(adjacency, int((2u * q + 1u) * pc.stride + p)));
+    return uintBitsToFloat(imageLoad(adjacency, int((2u * q + 1u) * pc.stride + p)));
 }
 
 // Invocations stride over the dispatch, so a few workgroups can cover many particles.
@@ -169,8 +165,8 @@ vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
 {
     if (!TETHERS)
         return d;
-    uvec4 anchor = texelFetch(tether_anchor, int(p));
-    vec4 limit = texelFetch(tether_length, int(p));
+    uvec4 anchor = imageLoad(tether_anchor, int(p));
+    vec4 limit = imageLoad(tether_length, int(p));
     for (uint j = 0u; j < 4u; j++) {
         vec3 t = cur - fetch(src, anchor[j]) + xp - fetch(x_read, anchor[j]);
         d = tether_free(d, t, limit[j]);
@@ -211,14 +207,14 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
     float size = 0.0; // the sum of the sizes of the spring terms
 #endif
     vec3 xp = fetch(x_read, p);
-    vec4 yp = texelFetch(y_read, int(p));
+    vec4 yp = imageLoad(y_read, int(p));
     vec3 r = vec3(0.0);
     ksum = 0.0;
     acc = vec3(0.0);
     for (uint q = 0; q < QUADS; q++) {
         uvec4 n = quad_neighbours(q, p);
         vec4 k = quad_k(q, p);
-        vec4 rest = texelFetch(adjacency_rest, int(q * pc.stride + p));
+        vec4 rest = imageLoad(adjacency_rest, int(q * pc.stride + p));
         for (uint j = 0; j < 4u; j++) {
             vec3 un = fetch(src, n[j]);
             vec3 edge = xp - fetch(x_read, n[j]);

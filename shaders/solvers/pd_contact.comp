@@ -7,7 +7,6 @@
 // moved, or the strain limit before it did (pd_strain.comp): the next outer iteration's first
 // sweep does not over-relax it (pd_gauss_seidel.comp); the sweeps write w = 0.
 #include "solvers/pd_common.glsl"
-#undef texelFetch // pd_common.glsl: contact reads uniform texel buffers of its own
 #include "solvers/pd_contact.glsl"
 
 // p's displacement kept out of contact, w marking whether that moved it.

@@ -37,7 +37,7 @@ void main()
                 // The last sweep's omega comes apart (cvk_gs_sweep_omega).
                 float omega = sweep + 1u == pc.sweeps ? pc.last_omega : pc.omega;
                 if (sweep == 0u) {
-                    vec4 start = texelFetch(src, int(p));
+                    vec4 start = imageLoad(src, int(p));
                     cur = start.xyz;
                     if (start.w != 0.0)
                         omega = min(omega, 1.0);

@@ -32,7 +32,7 @@ void main()
     if (!FIRST && QUADS == 1u) {
         for (; i + stride < pc.count; i += 2u * stride) {
             uint p = pc.first + i, q = p + stride;
-            vec4 bp = texelFetch(rhs_read, int(p)), bq = texelFetch(rhs_read, int(q));
+            vec4 bp = imageLoad(rhs_read, int(p)), bq = imageLoad(rhs_read, int(q));
             vec3 up = fetch(dst_read, p), uq = fetch(dst_read, q);
             float kp, kq;
             vec3 ap = neighbour_sum(dst_read, p, up, kp);
@@ -49,13 +49,13 @@ void main()
         float ksum;
         float omega = pc.omega;
         if (FIRST) {
-            vec4 start = texelFetch(src, int(p));
+            vec4 start = imageLoad(src, int(p));
             cur = start.xyz;
             if (start.w != 0.0)
                 omega = min(omega, 1.0);
             b = local_step(p, cur, pc.first, acc, ksum);
         } else {
-            b = texelFetch(rhs_read, int(p));
+            b = imageLoad(rhs_read, int(p));
             cur = fetch(dst_read, p);
             acc = neighbour_sum(dst_read, p, cur, ksum);
         }

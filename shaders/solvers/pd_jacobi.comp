@@ -21,7 +21,7 @@ void main()
         if (FIRST) {
             b = local_step(p, cur, 0u, acc, ksum);
         } else {
-            b = texelFetch(rhs_read, int(p));
+            b = imageLoad(rhs_read, int(p));
             acc = neighbour_sum(src, p, cur, ksum);
         }
         vec3 u = cur + pc.omega * jacobi_move(b, cur, acc, ksum);

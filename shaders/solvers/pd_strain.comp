@@ -15,14 +15,14 @@ void main()
     float limit = pc.omega;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        vec4 cur = texelFetch(dst_read, int(p));
+        vec4 cur = imageLoad(dst_read, int(p));
         vec3 xp = fetch(x_read, p) + cur.xyz;
         vec3 move = vec3(0.0);
         float over = 0.0;
         for (uint q = 0; q < QUADS; q++) {
             uvec4 n = quad_neighbours(q, p);
             vec4 k = quad_k(q, p);
-            vec4 rest = texelFetch(adjacency_rest, int(q * pc.stride + p));
+            vec4 rest = imageLoad(adjacency_rest, int(q * pc.stride + p));
             for (uint j = 0; j < 4u; j++) {
                 vec3 t = xp - (fetch(x_read, n[j]) + fetch(dst_read, n[j]));
                 float len2 = dot(t, t), most = limit * rest[j];

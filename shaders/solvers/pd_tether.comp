@@ -34,10 +34,10 @@ void main()
 {
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        uvec4 anchor = texelFetch(tether_anchor, int(p));
-        vec4 limit = texelFetch(tether_length, int(p));
+        uvec4 anchor = imageLoad(tether_anchor, int(p));
+        vec4 limit = imageLoad(tether_length, int(p));
         vec3 xp = fetch(x_read, p);
-        vec4 start = texelFetch(dst_read, int(p));
+        vec4 start = imageLoad(dst_read, int(p));
         vec3 u = start.xyz;
         vec3 b0 = fetch(dst_read, anchor.x) - (xp - fetch(x_read, anchor.x));
         vec3 b1 = SLOTS > 1u ? fetch(dst_read, anchor.y) - (xp - fetch(x_read, anchor.y)) : b0;

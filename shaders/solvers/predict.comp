@@ -26,7 +26,7 @@ bool overstretched(uint p, vec3 xp)
 {
     uint c = quad_neighbours(0u, p).x;
     float k = quad_k(0u, p).x;
-    float limit = RUNAWAY_STRETCH * texelFetch(adjacency_rest, int(p)).x;
+    float limit = RUNAWAY_STRETCH * imageLoad(adjacency_rest, int(p)).x;
     vec3 d = fetch(x_read, c) - xp;
     return k > 0.0 && dot(d, d) > limit * limit;
 }
@@ -40,7 +40,7 @@ void main()
         vec3 yp = fetch(src, p) * pc.keep + pc.gravity_h2.xyz;
         if (WIND)
             yp += fetch(air, p);
-        vec4 xp = texelFetch(x_read, int(p));
+        vec4 xp = imageLoad(x_read, int(p));
         y[p] = vec4(yp, xp.w);
         vec3 first = pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
         dst[p] = vec4(first, 0.0);
