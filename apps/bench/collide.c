@@ -134,7 +134,7 @@ static cvk_result create_query_pool(run* r, cvk_error* err)
 static cvk_result setup(run* r, uint32_t n, cvk_error* err)
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     float* host = random_points(n);
     if (!host)

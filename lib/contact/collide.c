@@ -375,7 +375,7 @@ static cvk_result make_cloth_tables(const cvk_build* b, cloth_tables* t, cvk_err
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 #define UNIFORM {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0}
-#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, 0}
 static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_FRAME] = STORAGE,
     [CVK_CONTACT_BINDING_PARAMS] = STORAGE,
@@ -597,7 +597,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->nearest, 4u * (n + ec), true, "nearest distances", NULL},
         {&c->searched, 16u * n, true, "positions at detection and bounds", NULL},
         {&c->previous, 16u * n, true, "positions a substep before", NULL},
-        {&c->lists, 4u * CVK_LIST_HEADER, true, "detection commands", NULL},
+        {&c->lists, 4u * (CVK_LIST_HEADER + 2u * (VkDeviceSize)n + ec), true, "work lists", NULL},
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
     };

@@ -75,9 +75,9 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 
 /* Detection's passes, dispatched through the commands the decision wrote (no workgroups at a
    substep that does not detect). */
-static void add_detection(cvk_sim* s, cvk_plan* plan, const char* pass, cvk_pipeline_id pipeline,
-                          uint32_t count, uint32_t slot, uint32_t phase, const cvk_hash* hash,
-                          const char* note)
+static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
+                             cvk_pipeline_id pipeline, uint32_t count, uint32_t slot,
+                             uint32_t phase, const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     cvk_contact_push push = {0, count, phase, plan->workgroup_size};
@@ -85,10 +85,11 @@ static void add_detection(cvk_sim* s, cvk_plan* plan, const char* pass, cvk_pipe
                                             c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
                                             c->lists.buffer, 4u * slot, &push, sizeof push);
     if (!op)
-        return;
+        return NULL;
     op->count = count;
     op->set1 = hash->set;
     snprintf(op->note, sizeof op->note, "%s", note);
+    return op;
 }
 
 static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
@@ -113,15 +114,38 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
     if (r != CVK_SUCCESS)
         return r;
-    snprintf(note, sizeof note, "vertices against faces within %.3g m", (double)c->radius);
-    add_detection(s, plan, "detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0,
-                  points, note);
-    snprintf(note, sizeof note, "edges against edges within %.3g m", (double)c->radius);
-    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, 0, midpoints, note);
+    /* Each first pass writes its second's indirect command (the items with pairs). Every pass
+       here binds the work lists writable (the second passes too, as far as the shader's code
+       says: their appends are specialised away), so each is followed by the barrier the
+       lists' commands need. */
+    struct {
+        const char* pass;
+        cvk_pipeline_id pipeline;
+        uint32_t count, slot;
+        const cvk_hash* hash;
+        const char* what;
+    } passes[] = {
+        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, points,
+         "vertices against faces within %.3g m: distances"},
+        {"detect faces", CVK_PIPE_CONTACT_DETECT_LISTS, n, CVK_LIST_FACE_PAIRS_GROUPS, points,
+         "the pairs of the vertices with some"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, midpoints,
+         "edges against edges within %.3g m: distances"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
+         midpoints, "the pairs of the edges with some"},
+    };
+    for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
+        snprintf(note, sizeof note, passes[i].what, (double)c->radius);
+        cvk_op* op = add_detection(s, plan, passes[i].pass, passes[i].pipeline, passes[i].count,
+                                   passes[i].slot, 0, passes[i].hash, note);
+        if (op)
+            op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
+    }
     snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
-    add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n, CVK_LIST_PARTICLE_GROUPS, 0, points,
-                  note);
+    cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
+                                   CVK_LIST_PARTICLE_GROUPS, 0, points, note);
+    if (bounds) /* it writes the cloth contact pass's indirect command */
+        bounds->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     return CVK_SUCCESS;
 }
 
@@ -210,7 +234,7 @@ static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[SNAPSHOT_PA
     buffers[4] = (cvk_buffer*)&c->previous;
     sizes[4] = 16u * n;
     buffers[5] = (cvk_buffer*)&c->lists;
-    sizes[5] = 4u * CVK_LIST_HEADER;
+    sizes[5] = 4u * (CVK_LIST_HEADER + 2u * n + ec);
     buffers[6] = (cvk_buffer*)&c->sides;
     sizes[6] = 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE);
     return SNAPSHOT_PARTS;

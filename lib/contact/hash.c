@@ -40,7 +40,7 @@ _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes i
 #define MAX_GROUPS 65535u       /* maxComputeWorkGroupCount[0] is at least this everywhere */
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
-#define TEXEL {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0}
+#define TEXEL {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, 0}
 static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
     [CVK_HASH_BINDING_PARAMS] = STORAGE,     [CVK_HASH_BINDING_POINTS] = TEXEL,
     [CVK_HASH_BINDING_KEYS] = STORAGE,       [CVK_HASH_BINDING_STARTS] = STORAGE,
@@ -109,7 +109,7 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
                                  const cvk_buffer* salts, cvk_error* error)
 {
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     uint64_t slots = hash->table_size;

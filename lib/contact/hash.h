@@ -23,8 +23,8 @@
 typedef struct cvk_hash_desc {
     uint32_t capacity;          /* points at most, ≥ 1 */
     float cell_size;            /* m, > 0 */
-    const cvk_buffer* points;   /* vec4 per point, made with VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT
-                                   (read through a texel view); must outlive the hash */
+    const cvk_buffer* points;   /* vec4 per point, made with VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT
+                                   (read through a storage texel view); must outlive the hash */
     bool cell_on_device;        /* the parameters' cell size is written on the device before
                                    each build (cell_size is only the first); builds keep it */
     const cvk_buffer* salts;    /* uint per point mixed into its slot (a texel view reads it),
@@ -45,9 +45,9 @@ typedef struct cvk_hash {
     cvk_buffer entries;         /* uint per point: point indices grouped by slot, ascending in a slot */
     cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
     cvk_buffer sorted;          /* uvec4 per point in the entries' order: xyz bits, index */
-    VkBufferView points_view;   /* texel views the shaders read through (R32G32B32A32_SFLOAT, */
-    VkBufferView starts_view;   /* R32_UINT, R32_UINT): on lavapipe a texel fetch is a */
-    VkBufferView entries_view;  /* vectorised gather, a storage-buffer load is not */
+    VkBufferView points_view;   /* storage texel views the shaders read (R32G32B32A32_SFLOAT, */
+    VkBufferView starts_view;   /* R32_UINT, R32_UINT) with imageLoad: on lavapipe an inline */
+    VkBufferView entries_view;  /* vectorised gather (docs/performance.md) */
     VkBufferView sorted_view;   /* R32G32B32A32_UINT */
     cvk_buffer zero_salt;       /* one zero uint: the salts without desc.salts */
     VkBufferView salts_view;    /* R32_UINT */

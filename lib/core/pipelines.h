@@ -43,9 +43,12 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_PD_FIRST_CHECK {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                  CVK_SPEC_TRUE, CVK_SPEC_TETHERS, CVK_SPEC_FALSE, \
                                  CVK_SPEC_SELF_CONTACT}}
-/* The contact pass (ids 3, 4, 5 of shaders/solvers/pd_contact.glsl; id 2 unused). */
+/* The contact passes (ids 2, 3, 4 of shaders/solvers/pd_contact.comp and .glsl): over every
+   particle, and over the particles in listed pairs (LISTED, id 2). */
 #define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
+#define CVK_SPEC_PD_CLOTH_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
+                                   CVK_SPEC_FALSE, CVK_SPEC_TRUE}}
 /* The prediction (id 3 of shaders/solvers/predict.comp; id 2 unused). */
 #define CVK_SPEC_PREDICT {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND}}
@@ -56,6 +59,9 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
+/* Detection's second passes (id 1, LISTING, of shaders/contact/contact_detect.comp and
+   contact_edges.comp). */
+#define CVK_SPEC_LISTING {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
@@ -72,7 +78,8 @@ typedef struct cvk_spec_recipe {
     X(PD_REDUCE, PD_REDUCE_COMP, CVK_SPEC_WORKGROUP, "residual: partial sums")  \
     X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
     X(PD_COPY, PD_COPY_COMP, CVK_SPEC_PARTICLE_WORKGROUP, "u0 = u1 (stopped in u1)")    \
-    X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, cloths)") \
+    X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
+    X(PD_CLOTH_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CLOTH_CONTACT, "contact between cloths (listed particles)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
     X(PD_STRAIN, PD_STRAIN_COMP, CVK_SPEC_PD, "strain limit (one colour)")              \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \
@@ -86,7 +93,9 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
+    X(CONTACT_DETECT_LISTS, CONTACT_DETECT_COMP, CVK_SPEC_LISTING, "detection: the vertices' pairs") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
+    X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_WORKGROUP, "detection: bounds") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \

@@ -171,14 +171,23 @@ static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, 
     push.cheb = cheb;
     push.omega = omega;
     cvk_op* op;
-    if (pb->armed && count > 0) {
-        VkDeviceSize slot = pipeline == CVK_PIPE_PD_CONTACT
-                                ? offsetof(cvk_pd_scalars, contact_groups)
-                                : offsetof(cvk_pd_scalars, sweep_groups);
+    bool listed = pipeline == CVK_PIPE_PD_CLOTH_CONTACT;
+    if ((pb->armed || listed) && count > 0) {
+        /* The cloth contact pass: the groups of detection's work list (the shader covers the
+           list's count); while a checked solve runs, those of the contact pass over every
+           particle (0 once the solve has stopped). */
+        VkBuffer from = pb->pd->scalars.buffer;
+        VkDeviceSize slot = offsetof(cvk_pd_scalars, sweep_groups);
+        if (listed && !pb->armed) {
+            from = pb->sim->collide->lists.buffer;
+            slot = 4u * CVK_LIST_LISTED_GROUPS;
+        } else if (listed || pipeline == CVK_PIPE_PD_CONTACT) {
+            slot = offsetof(cvk_pd_scalars, contact_groups);
+        }
         op = cvk_plan_dispatch_indirect(pb->plan, pass, pipeline,
                                         pb->pd->descriptors.pipeline_layout,
-                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES,
-                                        pb->pd->scalars.buffer, slot, &push, sizeof push);
+                                        pb->pd->descriptors.sets[set], CVK_DOMAIN_PARTICLES, from,
+                                        slot, &push, sizeof push);
         if (op) {
             op->first = first;
             op->count = count;
@@ -342,11 +351,18 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
     }
     if (!pb->contact)
         return;
+    bool self = pb->sim->collide->self;
+    /* Between cloths first, over the particles in listed pairs (shaders/solvers/pd_contact.comp);
+       then every particle: within its bound, out of the colliders. */
+    cvk_op* op = self ? add_op(pb, CVK_PIPE_PD_CLOTH_CONTACT, set, pb->contact_pass, 0,
+                               b->free_count, 1.0f, pb->base.omega)
+                      : NULL;
+    if (op)
+        snprintf(op->note, sizeof op->note, "after outer %u, the particles in pairs, in place, %s",
+                 outer + 1, set_note[set]);
     /* With self-contact the attached particles too: kept within their bounds (collide.h). */
-    uint32_t count = pb->sim->collide->self && b->attached_count > 0 ? b->particle_count
-                                                                      : b->free_count;
-    cvk_op* op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, count, 1.0f,
-                        pb->base.omega);
+    uint32_t count = self && b->attached_count > 0 ? b->particle_count : b->free_count;
+    op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, count, 1.0f, pb->base.omega);
     /* Each particle loops over colliders and traces: one particle per invocation keeps
        lavapipe's per-shader loop budget (hash.h) out of reach. */
     if (op && !pb->armed)

@@ -12,17 +12,16 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer Co
     cvk_gpu_frame frame;
     cvk_gpu_motion_bounds motion_bounds; // the decision to detect (contact_check.comp)
 };
-// Per particle: where detection saw it (xyz) and its bound (|w|), w negative where the
-// particle is in some pair detection listed (contact_bound.comp).
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ) uniform samplerBuffer searched_t;
+// Per particle: where detection saw it (xyz) and its bound (w; contact_bound.comp).
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ, rgba32f) uniform readonly imageBuffer searched_t;
 
 // x kept within searched.w of where detection saw the particle plus the common shift.
 vec3 within_bound(uint p, vec3 x)
 {
-    vec4 seen = texelFetch(searched_t, int(p));
+    vec4 seen = imageLoad(searched_t, int(p));
     vec3 centre = seen.xyz + vec3(frame.shift_x, frame.shift_y, frame.shift_z);
     vec3 d = x - centre;
-    float len2 = dot(d, d), bound = abs(seen.w);
+    float len2 = dot(d, d), bound = seen.w;
     return len2 > bound * bound ? centre + d * (bound / sqrt(len2)) : x;
 }
 

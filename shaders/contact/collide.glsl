@@ -69,59 +69,82 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SDF) readonly bu
     float sdf_values[];
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED) buffer Searched {
-    vec4 searched[]; // per particle: where the last detection saw it, |w|: its bound (m),
-                     // w < 0: the particle is in a listed pair (contact_bound.comp)
+    vec4 searched[]; // per particle: where the last detection saw it, w: its bound (m)
 };
-// Tables read per particle in divergent loops: texel buffers (a vectorised gather on lavapipe,
-// where a storage-buffer load is a loop over the lanes).
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES) uniform usamplerBuffer triangles_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INCIDENT) uniform usamplerBuffer incident_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGES) uniform usamplerBuffer edges_t;
+// Tables read per particle in divergent loops: read-only storage texel buffers (imageLoad is an
+// inline vectorised gather on lavapipe, where a storage-buffer load is a loop over the lanes and
+// a uniform texel fetch a call with the live registers spilled: docs/performance.md).
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLES, rgba32ui) uniform readonly uimageBuffer triangles_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INCIDENT, r32ui) uniform readonly uimageBuffer incident_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGES, rgba32ui) uniform readonly uimageBuffer edges_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeonly buffer Contacts {
     uint contacts[]; // CVK_CONTACTS_PER_PARTICLE per particle: feature << 2 | kind
 };
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ) uniform usamplerBuffer contacts_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS) uniform samplerBuffer contact_x_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLE_EDGES) uniform usamplerBuffer triangle_edges_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ, r32ui) uniform readonly uimageBuffer contacts_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS, rgba32f) uniform readonly imageBuffer contact_x_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLE_EDGES, rgba32ui) uniform readonly uimageBuffer triangle_edges_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS) writeonly buffer EdgeContacts {
     uint edge_contacts[]; // CVK_CONTACTS_PER_EDGE per edge: other edges
 };
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS_READ) uniform usamplerBuffer edge_contacts_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS_READ, r32ui) uniform readonly uimageBuffer edge_contacts_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST) buffer Nearest {
     uint nearest[]; // per particle, then per edge: the nearest distance found (float bits)
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
-    uint lists[]; // CVK_LIST_*: detection's indirect commands
+    uint lists[]; // CVK_LIST_*: indirect commands, the particles in listed pairs
 };
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARTICLE_EDGES) uniform usamplerBuffer particle_edges_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARTICLE_EDGES, r32ui) uniform readonly uimageBuffer particle_edges_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES) buffer Sides {
     uint sides[]; // per particle a count, then per particle its pairs as a corner (vertex, entry)
 };
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES_READ) uniform usamplerBuffer sides_t;
-layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INSTANCES) uniform usamplerBuffer instances_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES_READ, r32ui) uniform readonly uimageBuffer sides_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INSTANCES, r32ui) uniform readonly uimageBuffer instances_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
     vec4 previous[]; // per particle: its position at the start of the substep before
 };
 
-uvec4 contact_triangle(uint t) { return texelFetch(triangles_t, int(t)); } // internal indices
+uvec4 contact_triangle(uint t) { return imageLoad(triangles_t, int(t)); } // internal indices
 // Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.
-uint contact_incident(uint i) { return texelFetch(incident_t, int(i)).x; }
-uvec2 contact_edge(uint e) { return texelFetch(edges_t, int(e)).xy; } // its ends, internal
-uvec4 contact_triangle_edges(uint t) { return texelFetch(triangle_edges_t, int(t)); }
+uint contact_incident(uint i) { return imageLoad(incident_t, int(i)).x; }
+uvec2 contact_edge(uint e) { return imageLoad(edges_t, int(e)).xy; } // its ends, internal
+uvec4 contact_triangle_edges(uint t) { return imageLoad(triangle_edges_t, int(t)); }
 // Edges by end: [p] .. [p + 1] are offsets (from particle_count + 1) of those at p.
-uint particle_edge(uint i) { return texelFetch(particle_edges_t, int(i)).x; }
-uint contact_entry(uint i) { return texelFetch(contacts_t, int(i)).x; }
+uint particle_edge(uint i) { return imageLoad(particle_edges_t, int(i)).x; }
+uint contact_entry(uint i) { return imageLoad(contacts_t, int(i)).x; }
 // Pair k of particle q's side list (vertex, entry); vertex CVK_NO_CONTACT past the last.
 uvec2 side_pair(uint q, uint k)
 {
     uint at = contact_u.particle_count + 2u * (q * uint(CVK_SIDES_PER_PARTICLE) + k);
-    return uvec2(texelFetch(sides_t, int(at)).x, texelFetch(sides_t, int(at + 1u)).x);
+    return uvec2(imageLoad(sides_t, int(at)).x, imageLoad(sides_t, int(at + 1u)).x);
 }
-uint edge_entry(uint i) { return texelFetch(edge_contacts_t, int(i)).x; }
-vec3 contact_x(uint p) { return texelFetch(contact_x_t, int(p)).xyz; } // x_n
+uint edge_entry(uint i) { return imageLoad(edge_contacts_t, int(i)).x; }
+vec3 contact_x(uint p) { return imageLoad(contact_x_t, int(p)).xyz; } // x_n
+// The work lists (shared/layout.h): the list whose indirect command is at `command` (its count
+// follows the command) emptied, and `item` appended to it, the command's workgroups (of
+// per_group items) grown to cover it.
+void list_clear(uint command)
+{
+    lists[command] = 0u;
+    lists[command + 1u] = 1u;
+    lists[command + 2u] = 1u;
+    lists[command + 3u] = 0u;
+}
+uint list_start(uint command) // where its entries start
+{
+    uint n = contact_u.particle_count;
+    return CVK_LIST_HEADER + (command == CVK_LIST_LISTED_GROUPS ? 0u
+                              : (command == CVK_LIST_FACE_PAIRS_GROUPS ? n : 2u * n));
+}
+void list_append(uint command, uint item, uint per_group)
+{
+    uint at = atomicAdd(lists[command + 3u], 1u);
+    lists[list_start(command) + at] = item;
+    atomicMax(lists[command], min(at / per_group + 1u, 65535u));
+}
+
 // Particle p's instance (the scene's copy: copies never touch one another), and the range
 // [x, y) of the colliders it meets: its instance's.
-uint contact_instance(uint p) { return texelFetch(instances_t, int(p)).x; }
+uint contact_instance(uint p) { return imageLoad(instances_t, int(p)).x; }
 uvec2 collider_range(uint p)
 {
     uint first = contact_instance(p) * contact_u.instance_colliders;

@@ -3,8 +3,9 @@
 // Detection's last pass (lib/contact/collide.h): each particle's bound, gamma times the
 // nearest distance from it, from a face around it or from an edge at it to anything not
 // adjacent that detection found within the contact radius (the radius where nothing was), and
-// where it is now; its nearest distance is cleared for the next detection, and its list of the
-// pairs in which it is a feature's corner sorted.
+// where it is now; its nearest distance is cleared for the next detection, its list of the
+// pairs in which it is a feature's corner sorted, and a free particle in some pair listed for
+// the cloth contact pass.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -47,14 +48,18 @@ void main()
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint p = pc.first + i;
         float d = min(contact_u.radius, uintBitsToFloat(nearest[p]));
-        // Whether p is in any pair: the contact pass skips the others' lists (pd_contact.glsl).
+        // Whether p is in any pair: the cloth contact pass's work (pd_contact.comp).
         bool listed = sides[p] != 0u || contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE)) != CVK_NO_CONTACT;
         for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
             uint e = particle_edge(base + o);
             d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + e]));
             listed = listed || edge_entry(e * uint(CVK_CONTACTS_PER_EDGE)) != CVK_NO_CONTACT;
         }
-        searched[p] = vec4(contact_x(p), listed ? -contact_u.gamma * d : contact_u.gamma * d);
+        searched[p] = vec4(contact_x(p), contact_u.gamma * d);
+        // The free particles in pairs, the cloth contact pass's work until the next detection
+        // (shaders/solvers/pd_contact.comp), with its workgroups: one particle an invocation.
+        if (listed && p < contact_u.free_count)
+            list_append(CVK_LIST_LISTED_GROUPS, p, pc.per_group);
         sort_sides(p);
         nearest[p] = 0x7f7f7f7fu; // 3.4e38: none yet (as lib/contact/collide.c fills it)
     }

@@ -47,15 +47,15 @@ void main()
         bool exceed = false;
         for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
             uint p = pc.first + i;
-            vec4 seen = texelFetch(searched_t, int(p));
+            vec4 seen = imageLoad(searched_t, int(p));
             vec3 x = contact_x(p);
             vec3 e = 2.0 * x - previous[p].xyz - seen.xyz - next;
             previous[p] = vec4(x, 0.0); // the next substep's x_before
             // Nor may the shift centre the bound nearer a collider than the thickness less
             // the bound: the collider's push could then take the particle past its bound
             // (pd_contact.glsl).
-            exceed = exceed || !(length(e) <= contact_u.redetect * abs(seen.w)) ||
-                     nearest_solid(p, seen.xyz + next, true) < contact_u.thickness - abs(seen.w);
+            exceed = exceed || !(length(e) <= contact_u.redetect * seen.w) ||
+                     nearest_solid(p, seen.xyz + next, true) < contact_u.thickness - seen.w;
         }
         if (exceed)
             atomicOr(motion_bounds.exceed, 1u);
@@ -72,7 +72,7 @@ void main()
         // (contact_decide.comp). Funnels are left out: their push is not held to the bound.
         float reach = contact_u.thickness + contact_u.radius + 2.0 * length(v);
         near = near || !(nearest_solid(p, x, true) >= reach);
-        vec3 e = x - texelFetch(searched_t, int(p)).xyz + v;
+        vec3 e = x - imageLoad(searched_t, int(p)).xyz + v;
         bool finite = all(lessThanEqual(abs(e), vec3(BIG))) && all(lessThanEqual(abs(v), vec3(BIG)));
         low = min(low, finite ? e : vec3(-BIG));
         high = max(high, finite ? e : vec3(BIG));

@@ -5,12 +5,13 @@
 // substep. Such an edge f has its midpoint within the radius plus half of each edge's length of
 // e's midpoint (the longest edge measured in phase 1, which also writes the midpoints the edge
 // hash is built from; its cells are that wide, contact_decide.comp), so the walk over the 27
-// cells of the edge hash around e's midpoint visits every such edge, each once. e's nearest
-// distance is kept for the bounds of its ends (contact_bound.comp: f finds e too, so no
-// atomics are needed), and its list keeps the nearest CVK_CONTACTS_PER_EDGE whose nearest
+// cells of the edge hash around e's midpoint visits every such edge, each once. Two passes, as
+// the faces' detection (contact_detect.comp): the first, over every edge, keeps e's nearest
+// distance for the bounds of its ends (contact_bound.comp: f finds e too, so no atomics are
+// needed), empties its list and puts e on the second pass's work list if some pair's nearest
 // points lie inside both edges (where they do not, the pair is a vertex against an edge or a
-// vertex, which the faces' detection lists: contact_detect.comp), nearest first, equal
-// distances by edge.
+// vertex, which the faces' detection lists); the second (LISTING), over those edges alone,
+// lists the nearest CVK_CONTACTS_PER_EDGE such pairs, nearest first, equal distances by edge.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -23,6 +24,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) write
     vec4 midpoints[];
 };
 
+layout(constant_id = 1) const bool LISTING = false;
+
 const uint K = uint(CVK_CONTACTS_PER_EDGE);
 const bool DEDUP = false;
 
@@ -31,8 +34,10 @@ float dist[K];
 
 #include "contact/nearest.glsl"
 
-// Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius.
-float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e)
+// Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius;
+// `inside` set where the nearest points lie inside both edges.
+float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e,
+                inout bool inside)
 {
     uvec2 cd = contact_edge(f);
     if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
@@ -45,8 +50,11 @@ float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float neares
     float d = length(c1 - c2);
     if (!(d < contact_u.radius))
         return nearest_e;
-    if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)
-        INSERT(d, f);
+    if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) {
+        inside = true;
+        if (LISTING)
+            INSERT(d, f);
+    }
     return min(nearest_e, d);
 }
 
@@ -61,13 +69,17 @@ void detect(uint e)
     float nearest_e = INFINITY;
     hash_walk w = hash_walk_begin(m, contact_instance(ab.x)); // the slots of e's instance's edges
     uvec4 entry;
-    bool here;
+    bool here, inside = false;
     while (hash_walk_step(w, entry, here))
         if (here && within_reach(m, uintBitsToFloat(entry.xyz), reach2))
-            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e);
-    nearest[contact_u.particle_count + e] = floatBitsToUint(nearest_e);
+            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e, inside);
+    if (!LISTING) {
+        nearest[contact_u.particle_count + e] = floatBitsToUint(nearest_e);
+        if (inside)
+            list_append(CVK_LIST_EDGE_PAIRS_GROUPS, e, pc.per_group);
+    }
     for (uint k = 0u; k < K; k++)
-        edge_contacts[e * K + k] = kept[k];
+        edge_contacts[e * K + k] = kept[k]; // empty in the first pass
 }
 
 // Phase 1, before detection: the longest edge now, which bounds how near a corner of a near
@@ -89,6 +101,12 @@ void main()
 {
     if (pc.count == 0u)
         return;
+    if (LISTING) {
+        uint count = lists[CVK_LIST_EDGE_PAIRS_COUNT], start = list_start(CVK_LIST_EDGE_PAIRS_GROUPS);
+        for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+            detect(lists[start + i]);
+        return;
+    }
     if (pc.phase == 1u) {
         measure_longest();
         return;

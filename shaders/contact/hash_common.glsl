@@ -47,7 +47,7 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) buffer HashPar
 layout(std140, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS_READ) uniform HashParamsRead {
     cvk_hash_params hash_params_u;
 };
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_POINTS) uniform samplerBuffer hash_points;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_POINTS, rgba32f) uniform readonly imageBuffer hash_points;
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) buffer HashKeys {
     uint hash_keys[];
 };
@@ -60,15 +60,15 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) buffer HashEn
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) buffer HashScratch {
     uint hash_scratch[];
 };
-// The same starts and entries as queries read them: texel fetches are vectorised gathers on
-// lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ) uniform usamplerBuffer hash_starts_read;
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ) uniform usamplerBuffer hash_entries_read;
+// The same starts and entries as queries read them: storage texel loads are inline vectorised
+// gathers on lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ, r32ui) uniform readonly uimageBuffer hash_starts_read;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ, r32ui) uniform readonly uimageBuffer hash_entries_read;
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) writeonly buffer HashSorted {
     uvec4 hash_sorted[]; // per entry: its point's xyz (float bits), its index
 };
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ) uniform usamplerBuffer hash_sorted_read;
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_SALTS) uniform usamplerBuffer hash_salts;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ, rgba32ui) uniform readonly uimageBuffer hash_sorted_read;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_SALTS, r32ui) uniform readonly uimageBuffer hash_salts;
 
 // The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
 // device round alike (a multiplication is correctly rounded; a division need not be), clamped
@@ -103,7 +103,7 @@ uint hash_slot(ivec3 cell)
 // salts are one texel of zeros, so a point past the texels has salt 0).
 uint hash_salt(uint p)
 {
-    return p < uint(textureSize(hash_salts)) ? texelFetch(hash_salts, int(p)).x : 0u;
+    return p < uint(imageSize(hash_salts)) ? imageLoad(hash_salts, int(p)).x : 0u;
 }
 
 // Cell n (0..26) of the 3x3x3 block around `home`.
@@ -116,7 +116,7 @@ ivec3 hash_neighbour_cell(ivec3 home, uint n)
 uvec2 hash_range(ivec3 cell, uint salt)
 {
     int s = int(hash_slot(cell, salt));
-    return uvec2(texelFetch(hash_starts_read, s).x, texelFetch(hash_starts_read, s + 1).x);
+    return uvec2(imageLoad(hash_starts_read, s).x, imageLoad(hash_starts_read, s + 1).x);
 }
 
 uvec2 hash_range(ivec3 cell)
@@ -126,19 +126,19 @@ uvec2 hash_range(ivec3 cell)
 
 uint hash_entry(uint e)
 {
-    return texelFetch(hash_entries_read, int(e)).x;
+    return imageLoad(hash_entries_read, int(e)).x;
 }
 
 vec3 hash_point(uint q)
 {
-    return texelFetch(hash_points, int(q)).xyz;
+    return imageLoad(hash_points, int(q)).xyz;
 }
 
 // Entry e's point index (w) and its point (xyz, as float bits) in one fetch, from the copy the
 // build sorts along with the entries.
 uvec4 hash_entry_point(uint e)
 {
-    return texelFetch(hash_sorted_read, int(e));
+    return imageLoad(hash_sorted_read, int(e));
 }
 
 // The walk over the 27 cells around a point, one entry per step.

@@ -399,10 +399,26 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_UINT(cloth_count)
 CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 
-/* The work list header (uint): the indirect commands of detection, written on the device. */
+/* The work lists (uint), written on the device: a header of indirect commands and counts,
+   then three lists, each appended to in no particular order (the passes that read them give
+   each item a result that does not depend on it):
+   - the free particles in some listed pair, the cloth contact pass's work until the next
+     detection (contact_bound.comp; shaders/solvers/pd_contact.comp), particle_count entries
+     from CVK_LIST_HEADER;
+   - the particles with a face within the radius, particle_count entries after those, and
+   - the edges with an edge within the radius (nearest points inside both), edge_count entries
+     after those: the work of detection's second passes, which list the pairs (the first
+     passes over every particle and edge measure the nearest distances only:
+     contact_detect.comp, contact_edges.comp). */
 #define CVK_LIST_PARTICLE_GROUPS 0 /* x, y, z: detection and bounds over the particles */
 #define CVK_LIST_EDGE_GROUPS 4     /* x, y, z: detection over the edges */
-#define CVK_LIST_HEADER 8
+#define CVK_LIST_LISTED_GROUPS 8   /* x, y, z: the cloth contact pass over the listed particles */
+#define CVK_LIST_LISTED_COUNT 11   /* how many particles that list holds */
+#define CVK_LIST_FACE_PAIRS_GROUPS 12 /* x, y, z: listing the particles' pairs with faces */
+#define CVK_LIST_FACE_PAIRS_COUNT 15
+#define CVK_LIST_EDGE_PAIRS_GROUPS 16 /* x, y, z: listing the edges' pairs with edges */
+#define CVK_LIST_EDGE_PAIRS_COUNT 19
+#define CVK_LIST_HEADER 20
 
 /* Push data of the contact passes (collider_poses, contact_check, contact_decide,
    contact_detect, contact_edges, contact_bound): items [first, first + count); the phase of a

@@ -117,10 +117,7 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
     uint count;
     vec3 n, w, near;
     float s;
-    // Loops of no iterations where p is in no pair (most particles): on SIMD hardware a
-    // branch's body runs whenever one lane takes it, a loop's only while one lane iterates.
-    bool listed = (floatBitsToUint(texelFetch(searched_t, int(p)).w) >> 31) != 0u;
-    for (uint k = 0u; k < (listed ? K : 0u); k++) {
+    for (uint k = 0u; k < K; k++) {
         uint entry = contact_entry(p * K + k);
         if (entry == CVK_NO_CONTACT)
             break;
@@ -131,7 +128,7 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
         vec3 near0 = w.x * a0 + w.y * b0 + w.z * c0;
         push += s * n + friction((xp - x0) - (near - near0), n, s);
     }
-    for (uint k = 0u; k < (listed ? KS : 0u); k++) {
+    for (uint k = 0u; k < KS; k++) {
         uvec2 pair = side_pair(p, k);
         if (pair.x == CVK_NO_CONTACT)
             break;
@@ -143,7 +140,7 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
         push += -s * wp * n + wp * friction((xp - x0) - (xv - v0), -n, s * wp);
     }
     uint base = contact_u.particle_count + 1u;
-    for (uint o = particle_edge(p); o < (listed ? particle_edge(p + 1u) : 0u); o++) {
+    for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
         uint e = particle_edge(base + o);
         if (edge_entry(e * KE) == CVK_NO_CONTACT)
             continue; // the common case: nothing near the edge
@@ -173,14 +170,22 @@ vec3 cloth_push(uint p, vec3 x0, vec3 xp)
     return len > most ? push * (most / len) : push;
 }
 
+// The cloth contact pass (LISTED in pd_contact.comp): p's displacement u pushed off the
+// features of its pairs, within its bound.
+vec3 pd_cloth_contact(uint p, vec3 u)
+{
+    vec3 x0 = fetch(x_read, p);
+    vec3 xp = x0 + u;
+    return within_bound(p, xp + cloth_push(p, x0, xp)) - x0;
+}
+
+// The pass over every particle, after the cloth contact pass: p's displacement u within its
+// bound (with self-contact) and out of the colliders.
 vec3 pd_contact(uint p, vec3 u)
 {
     vec3 x0 = fetch(x_read, p);
-    if (SELF) {
-        vec3 xp = x0 + u;
-        xp = within_bound(p, xp + cloth_push(p, x0, xp));
-        u = xp - x0;
-    }
+    if (SELF)
+        u = within_bound(p, x0 + u) - x0;
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
         u = edges_off_shells(p, x0, u);
     if (COLLIDERS) {

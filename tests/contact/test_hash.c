@@ -113,7 +113,7 @@ static hash_result run_device(fixture* f, const hash_case* c, uint32_t* table_si
     cvk_error err;
     cvk_buffer points, found;
     VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
                                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     REQUIRE_OK(cvk_buffer_create(f->ctx, 16 * (VkDeviceSize)c->capacity, usage, CVK_MEMORY_DEVICE,
                                  "points", &points, &err), err);
@@ -382,7 +382,7 @@ static void check_refused(fixture* f)
 {
     cvk_error err;
     cvk_buffer points;
-    REQUIRE_OK(cvk_buffer_create(f->ctx, 16 * 8, VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT,
+    REQUIRE_OK(cvk_buffer_create(f->ctx, 16 * 8, VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT,
                                  CVK_MEMORY_DEVICE, "points", &points, &err), err);
     cvk_hash hash;
     cvk_hash_desc bad[] = {{0, 0.1f, &points, false, NULL}, {4, 0.0f, &points, false, NULL}, {4, -1.0f, &points, false, NULL},
