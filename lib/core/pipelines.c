@@ -23,8 +23,9 @@ _Static_assert(offsetof(cvk_implicit_scalars, reduce_groups) == 48,
                "cvk_implicit_scalars: indirect commands from 48");
 _Static_assert(sizeof(cvk_explicit_push) == 48, "cvk_explicit_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_explicit_push, gravity) == 32, "cvk_explicit_push.gravity: a vec4 at 32");
-_Static_assert(sizeof(cvk_mesh_push) == 8, "cvk_mesh_push: 8 bytes in GLSL");
+_Static_assert(sizeof(cvk_mesh_push) == 12, "cvk_mesh_push: 12 bytes in GLSL");
 _Static_assert(offsetof(cvk_mesh_push, triangle_count) == 4, "cvk_mesh_push.triangle_count at 4");
+_Static_assert(offsetof(cvk_mesh_push, rim_edge_count) == 8, "cvk_mesh_push.rim_edge_count at 8");
 _Static_assert(sizeof(cvk_aero_push) == 48, "cvk_aero_push: 48 bytes in GLSL");
 _Static_assert(offsetof(cvk_aero_push, wind) == 16, "cvk_aero_push.wind: a vec4 at 16");
 _Static_assert(sizeof(cvk_attach_push) == 16, "cvk_attach_push: 16 bytes in GLSL");

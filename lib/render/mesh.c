@@ -21,6 +21,8 @@ enum {
     BINDING_VERTEX_TRIANGLES,
     BINDING_VERTICES,
     BINDING_INDICES,
+    BINDING_RIM_EDGES,
+    BINDING_RIM_VERTICES,
     BINDING_COUNT
 };
 
@@ -33,6 +35,8 @@ typedef struct tables {
     uint32_t* triangle_particles; /* 4 per triangle */
     uint32_t* triangle_springs;   /* 4 per triangle */
     uint32_t* vertex_triangles;   /* max_adjacent per vertex, slot-major */
+    uint32_t* rim_edges;          /* 4 per rim edge (at least one) */
+    uint32_t* rim_indices;        /* 6 per rim edge (at least one) */
 } tables;
 
 static void tables_free(tables* t)
@@ -41,6 +45,8 @@ static void tables_free(tables* t)
     free(t->triangle_particles);
     free(t->triangle_springs);
     free(t->vertex_triangles);
+    free(t->rim_edges);
+    free(t->rim_indices);
 }
 
 /* The build's triangles, whatever topology they came from, padded to 4 entries for the
@@ -94,6 +100,115 @@ static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
     return CVK_SUCCESS;
 }
 
+/* One triangle's edge, keyed by its two vertices, lower first; slot: its place in the
+   triangle (from vertex slot to the next). */
+typedef struct half_edge {
+    uint32_t lo, hi, triangle, slot;
+} half_edge;
+
+static int compare_half_edges(const void* pa, const void* pb)
+{
+    const half_edge *a = pa, *b = pb;
+    if (a->lo != b->lo)
+        return a->lo < b->lo ? -1 : 1;
+    if (a->hi != b->hi)
+        return a->hi < b->hi ? -1 : 1;
+    return a->triangle < b->triangle ? -1 : a->triangle > b->triangle;
+}
+
+/* Whether a spring along one of the triangle's edges may tear (the triangle then goes). */
+static bool may_tear(const tables* t, const bool* tearable, uint32_t triangle)
+{
+    for (int e = 0; e < 3; e++) {
+        uint32_t s = t->triangle_springs[4 * (size_t)triangle + e];
+        if (s != UINT32_MAX && tearable && tearable[s])
+            return true;
+    }
+    return false;
+}
+
+/* The rim edges of one cloth with a thickness, appended from edges[*count]: its border edges,
+   and with tearing every edge with a triangle that may go. `half_edges` has room for the
+   cloth's 3 per triangle. */
+static void add_rim_edges(const cvk_cloth_range* cloth, const tables* t,
+                          const bool* tearable, half_edge* half_edges, uint32_t* edges,
+                          uint32_t* ends, uint32_t* count)
+{
+    uint32_t n = 0;
+    for (uint32_t tri = cloth->first_triangle; tri < cloth->first_triangle + cloth->triangle_count; tri++)
+        for (uint32_t e = 0; e < 3; e++) {
+            uint32_t a = t->triangle_vertices[4 * (size_t)tri + e];
+            uint32_t b = t->triangle_vertices[4 * (size_t)tri + (e + 1) % 3];
+            half_edges[n++] = (half_edge){a < b ? a : b, a < b ? b : a, tri, e};
+        }
+    qsort(half_edges, n, sizeof *half_edges, compare_half_edges);
+    float half_thickness = 0.5f * cloth->thickness;
+    uint32_t bits;
+    memcpy(&bits, &half_thickness, sizeof bits);
+    for (uint32_t i = 0; i < n;) {
+        uint32_t j = i + 1;
+        while (j < n && half_edges[j].lo == half_edges[i].lo && half_edges[j].hi == half_edges[i].hi)
+            j++;
+        const half_edge* first = &half_edges[i];
+        uint32_t second = j - i >= 2 ? half_edges[i + 1].triangle : UINT32_MAX;
+        /* Three or more triangles on an edge: the first two. */
+        if (second == UINT32_MAX || may_tear(t, tearable, first->triangle) || may_tear(t, tearable, second)) {
+            uint32_t k = (*count)++;
+            uint32_t row[4] = {first->triangle, second, first->slot, bits};
+            memcpy(&edges[4 * (size_t)k], row, sizeof row);
+            ends[2 * (size_t)k] = t->triangle_vertices[4 * (size_t)first->triangle + first->slot];
+            ends[2 * (size_t)k + 1] = t->triangle_vertices[4 * (size_t)first->triangle + (first->slot + 1) % 3];
+        }
+        i = j;
+    }
+}
+
+/* The rim: edge table, ends and index buffer for every cloth with a thickness. */
+static cvk_result make_rim(cvk_mesh* m, tables* t, cvk_error* error)
+{
+    const cvk_build* b = &m->sim->build;
+    const cvk_tear* tear = m->sim->tear;
+    size_t most = 0, largest = 0;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        if (b->cloths[c].thickness > 0.0f) {
+            most += 3 * (size_t)b->cloths[c].triangle_count;
+            if (b->cloths[c].triangle_count > largest)
+                largest = b->cloths[c].triangle_count;
+        }
+    m->rims = calloc(b->cloth_count, sizeof *m->rims);
+    t->rim_edges = calloc(4 * (most ? most : 1), sizeof(uint32_t));
+    m->rim_ends = calloc(2 * (most ? most : 1), sizeof(uint32_t));
+    half_edge* half_edges = most ? malloc(3 * largest * sizeof *half_edges) : NULL;
+    bool* tearable = tear && tear->count && most ? calloc(b->spring_count, sizeof *tearable) : NULL;
+    bool failed = !m->rims || !t->rim_edges || !m->rim_ends || (most && !half_edges) ||
+                  (tear && tear->count && most && !tearable);
+    if (!failed) {
+        for (uint32_t i = 0; tearable && i < tear->count; i++)
+            tearable[tear->spring[i]] = true;
+        uint32_t count = 0;
+        for (uint32_t c = 0; c < b->cloth_count; c++) {
+            m->rims[c].first_index = 6 * count;
+            if (b->cloths[c].thickness > 0.0f)
+                add_rim_edges(&b->cloths[c], t, tearable, half_edges, t->rim_edges, m->rim_ends, &count);
+            m->rims[c].index_count = 6 * count - m->rims[c].first_index;
+        }
+        m->rim_edge_count = count;
+        size_t quads = count ? count : 1;
+        t->rim_indices = malloc(6 * quads * sizeof(uint32_t));
+        failed = !t->rim_indices;
+        for (size_t k = 0; !failed && k < quads; k++) {
+            uint32_t q = 4 * (uint32_t)k;
+            uint32_t six[6] = {q, q + 1, q + 2, q, q + 2, q + 3};
+            memcpy(&t->rim_indices[6 * k], six, sizeof six);
+        }
+    }
+    free(half_edges);
+    free(tearable);
+    if (failed)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the rim of the cloths' thickness");
+    return CVK_SUCCESS;
+}
+
 static cvk_result make_tables(cvk_mesh* m, tables* t, cvk_error* error)
 {
     const cvk_build* b = &m->sim->build;
@@ -106,7 +221,8 @@ static cvk_result make_tables(cvk_mesh* m, tables* t, cvk_error* error)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u triangles",
                         m->triangle_count);
     make_triangles(b, t, m->cloths);
-    return make_adjacency(m, t, error);
+    cvk_result r = make_adjacency(m, t, error);
+    return r == CVK_SUCCESS ? make_rim(m, t, error) : r;
 }
 
 /* ---- device objects ---------------------------------------------------------------------- */
@@ -130,6 +246,13 @@ static cvk_result check_limits(const cvk_mesh* m, cvk_error* error)
                         "(maxStorageBufferRange)",
                         m->triangle_count, (unsigned long long)index_bytes,
                         m->context->properties.deviceName, limits->maxStorageBufferRange);
+    uint64_t rim_bytes = 4ull * VERTEX_STRIDE * m->rim_edge_count;
+    if (rim_bytes > limits->maxStorageBufferRange || m->rim_edge_count > limits->maxTexelBufferElements)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "the rim of the cloths' thickness has %u edges: %llu bytes of vertices; %s allows "
+                        "%u bytes (maxStorageBufferRange) and %u texel buffer elements",
+                        m->rim_edge_count, (unsigned long long)rim_bytes, m->context->properties.deviceName,
+                        limits->maxStorageBufferRange, limits->maxTexelBufferElements);
     if (vertex_bytes > limits->maxStorageBufferRange)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
                         "%u vertices need a %llu-byte vertex buffer; %s allows %u bytes "
@@ -144,6 +267,7 @@ static cvk_result create_buffers(cvk_mesh* m, const cvk_mesh_desc* desc, const t
 {
     cvk_context* ctx = m->context;
     VkDeviceSize tris = m->triangle_count;
+    VkDeviceSize rim = m->rim_edge_count ? m->rim_edge_count : 1; /* one unused edge without a rim */
     VkBufferUsageFlags table = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     struct {
         cvk_buffer* buffer;
@@ -172,6 +296,13 @@ static cvk_result create_buffers(cvk_mesh* m, const cvk_mesh_desc* desc, const t
          m->sim->build.internal_of, &m->view_particle_of, VK_FORMAT_R32_UINT},
         {&m->vertex_triangles, (VkDeviceSize)m->max_adjacent * m->vertex_count * 4u, table,
          "vertex triangles", t->vertex_triangles, &m->view_vertex_triangles, VK_FORMAT_R32_UINT},
+        {&m->rim_edges, rim * 16u, table, "rim edges", t->rim_edges, &m->view_rim_edges,
+         VK_FORMAT_R32G32B32A32_UINT},
+        {&m->rim_vertices, rim * 4u * VERTEX_STRIDE,
+         VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "rim vertices", NULL, NULL,
+         VK_FORMAT_UNDEFINED},
+        {&m->rim_indices, rim * 24u, VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+         "rim indices", t->rim_indices, NULL, VK_FORMAT_UNDEFINED},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
         cvk_result r = cvk_buffer_create(ctx, list[i].size, list[i].usage, CVK_MEMORY_DEVICE,
@@ -194,7 +325,8 @@ static const cvk_binding mesh_bindings[BINDING_COUNT] = {
     [BINDING_TRIANGLE_VERTICES] = TEXEL,  [BINDING_TRIANGLE_PARTICLES] = TEXEL,
     [BINDING_TRIANGLE_SPRINGS] = TEXEL,   [BINDING_PARTICLE_OF] = TEXEL,
     [BINDING_VERTEX_TRIANGLES] = TEXEL,   [BINDING_VERTICES] = STORAGE,
-    [BINDING_INDICES] = STORAGE,
+    [BINDING_INDICES] = STORAGE,          [BINDING_RIM_EDGES] = TEXEL,
+    [BINDING_RIM_VERTICES] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
@@ -221,6 +353,8 @@ static cvk_result create_pipeline(cvk_mesh* m, cvk_error* error)
         [BINDING_VERTEX_TRIANGLES] = {.view = m->view_vertex_triangles},
         [BINDING_VERTICES] = {.buffer = &m->vertices},
         [BINDING_INDICES] = {.buffer = &m->indices},
+        [BINDING_RIM_EDGES] = {.view = m->view_rim_edges},
+        [BINDING_RIM_VERTICES] = {.buffer = &m->rim_vertices},
     };
     cvk_descriptors_write(m->context, &d, 0, res);
     cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH_COMP);
@@ -277,15 +411,17 @@ cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** o
     m->graphics_queue = sim->device.context->graphics;
     m->vertex_count = sim->build.particle_count;
     m->triangle_count = count_triangles(&sim->build);
-    uint32_t items = m->vertex_count > m->triangle_count ? m->vertex_count : m->triangle_count;
-    uint32_t wg = sim->plan.workgroup_size;
-    m->groups = (items + wg - 1) / wg;
-    if (m->groups > sim->plan.max_groups)
-        m->groups = sim->plan.max_groups;
 
     tables t = {0};
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     cvk_result r = make_tables(m, &t, error);
+    uint32_t items = m->vertex_count > m->triangle_count ? m->vertex_count : m->triangle_count;
+    if (m->rim_edge_count > items)
+        items = m->rim_edge_count;
+    uint32_t wg = sim->plan.workgroup_size;
+    m->groups = (items + wg - 1) / wg;
+    if (m->groups > sim->plan.max_groups)
+        m->groups = sim->plan.max_groups;
     if (r == CVK_SUCCESS)
         r = check_limits(m, error);
     if (r == CVK_SUCCESS)
@@ -323,16 +459,20 @@ void cvk_mesh_destroy(cvk_mesh* m)
     if (m->set_layout)
         vkDestroyDescriptorSetLayout(dev, m->set_layout, NULL);
     VkBufferView views[] = {m->view_triangle_vertices, m->view_triangle_particles,
-                            m->view_triangle_springs, m->view_particle_of, m->view_vertex_triangles};
+                            m->view_triangle_springs, m->view_particle_of, m->view_vertex_triangles,
+                            m->view_rim_edges};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(dev, views[i], NULL);
     cvk_buffer* buffers[] = {&m->vertices, &m->indices, &m->triangle_vertices, &m->triangle_particles,
-                             &m->triangle_springs, &m->particle_of, &m->vertex_triangles};
+                             &m->triangle_springs, &m->particle_of, &m->vertex_triangles,
+                             &m->rim_edges, &m->rim_vertices, &m->rim_indices};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(m->context, buffers[i]);
     cvk_submitter_destroy(m->context, &m->submitter);
     free(m->cloths);
+    free(m->rims);
+    free(m->rim_ends);
     free(m);
 }
 
@@ -362,7 +502,7 @@ cvk_result cvk_mesh_record(cvk_mesh* m, VkCommandBuffer cmd, cvk_error* error)
         after |= VK_PIPELINE_STAGE_VERTEX_INPUT_BIT;
     cvk_cmd_barrier(cmd, after, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    cvk_mesh_push push = {m->vertex_count, m->triangle_count};
+    cvk_mesh_push push = {m->vertex_count, m->triangle_count, m->rim_edge_count};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m->pipeline_layout, 0, 1, &m->set, 0,
                             NULL);

@@ -23,6 +23,18 @@ struct cvk_mesh {
     VkBufferView view_triangle_vertices, view_triangle_particles, view_triangle_springs,
         view_particle_of, view_vertex_triangles;
 
+    /* The rim of cloths with a material thickness: per edge that is or may become a border
+       (one triangle, or a triangle that may tear), a quad of 4 vertices (the vertex layout)
+       joining the slab's two faces, collapsed to a point while the edge is not a border; and
+       the static index buffer of those quads (6 per edge). rim_edges: uvec4 per edge (its
+       triangles, the edge's place in the first, half the thickness's bits). Without a thick
+       cloth, one unused edge so every binding has a buffer, and rim_edge_count 0. */
+    uint32_t rim_edge_count;
+    uint32_t* rim_ends;          /* host: the 2 vertices (user order) of each rim edge */
+    cvk_mesh_range* rims;        /* per cloth: its rim's indices in rim_indices */
+    cvk_buffer rim_edges, rim_vertices, rim_indices;
+    VkBufferView view_rim_edges;
+
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout pipeline_layout;
     VkDescriptorPool descriptor_pool;

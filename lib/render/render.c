@@ -552,7 +552,7 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     };
     uint32_t binding_count = rd->colliders.draw_count > 0 ? 8 : 7;
     r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.count,
-                               VK_SHADER_STAGE_FRAGMENT_BIT, sizeof(cvk_render_material), &rd->descriptors, error);
+                               CVK_RENDER_PUSH_STAGES, sizeof(cvk_render_material), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;
     rd->pipeline_layout = rd->descriptors.pipeline_layout;

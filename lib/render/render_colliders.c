@@ -227,8 +227,9 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
         if (colored) {
             cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], 0.0f},
                                      {0},
-                                     {draw->highlight[0], draw->highlight[1], 0.0f, 0.0f}};
-            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof m, &m);
+                                     {draw->highlight[0], draw->highlight[1], 0.0f, 0.0f},
+                                     {0}};
+            vkCmdPushConstants(cmd, rd->pipeline_layout, CVK_RENDER_PUSH_STAGES, 0, sizeof m, &m);
         }
         /* The instance index is the collider's: the vertex shaders read its pose with it. */
         vkCmdDrawIndexed(cmd, draw->index_count, 1, draw->first_index, 0, draw->collider);

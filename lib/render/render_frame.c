@@ -16,38 +16,73 @@ static void timestamp(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t quer
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, rd->queries, query);
 }
 
-static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored)
+/* Which of a cloth's parts a pass draws: the lit and shadow passes the whole slab, the
+   wireframe its two faces. */
+typedef enum cloth_parts { FACES, SLAB } cloth_parts;
+
+/* The push constants of cloth c: its material (with `colored`; else only the slab's
+   offsets matter) and the slab's offset `offset` and thickness `through`. */
+static void push_cloth(const cvk_renderer* rd, VkCommandBuffer cmd, const cvk_cloth_range* cloth, bool textured,
+                       float offset, float through)
+{
+    bool back = cloth->back_color[0] >= 0.0f;
+    cvk_render_material m = {
+        {cloth->color[0], cloth->color[1], cloth->color[2], textured ? 1.0f : 0.0f},
+        {back ? cloth->back_color[0] : 0.0f, back ? cloth->back_color[1] : 0.0f, back ? cloth->back_color[2] : 0.0f,
+         back ? 1.0f : 0.0f},
+        {cloth->sheen, cloth->roughness, 0.0f, 0.0f},
+        {offset, through, 0.0f, 0.0f},
+    };
+    vkCmdPushConstants(cmd, rd->pipeline_layout, CVK_RENDER_PUSH_STAGES, 0, sizeof m, &m);
+}
+
+/* Each cloth's triangles; a cloth with a thickness twice, its faces moved half of it each way
+   along the normals (lit_cloth.vert, shadow.vert), and with SLAB then every rim (render/mesh.h)
+   from the rim's own buffers, whose vertices the mesh pass already placed. */
+static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored, cloth_parts parts)
 {
     cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
     VkBuffer buffers[2] = {mesh.vertex_buffer, rd->textures.uv.buffer};
     VkDeviceSize offsets[2] = {0, 0};
     /* The texture coordinates only for the lit pipelines, and only when a cloth has a texture. */
-    vkCmdBindVertexBuffers(cmd, 0, colored && rd->textures.uv.buffer ? 2 : 1, buffers, offsets);
+    uint32_t bindings = colored && rd->textures.uv.buffer ? 2 : 1;
+    vkCmdBindVertexBuffers(cmd, 0, bindings, buffers, offsets);
     vkCmdBindIndexBuffer(cmd, mesh.index_buffer, 0, mesh.index_type);
     const cvk_build* b = &rd->mesh->sim->build;
     uint32_t bound = 0;
     for (uint32_t c = 0; c < mesh.cloth_count; c++) {
         if (mesh.cloths[c].index_count == 0)
             continue;
-        if (colored) {
-            /* w: 1 where the cloth's texture replaces its colour */
+        uint32_t set = rd->textures.set_of[c];
+        if (colored && set != bound) {
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
+                                    &rd->descriptors.sets[set], 0, NULL);
+            bound = set;
+        }
+        float thickness = b->cloths[c].thickness;
+        for (int side = 0; side < (thickness > 0.0f ? 2 : 1); side++) {
+            push_cloth(rd, cmd, &b->cloths[c], set != 0, side ? -0.5f * thickness : 0.5f * thickness, thickness);
+            vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
+        }
+    }
+    if (parts == SLAB && rd->mesh->rim_edge_count > 0) {
+        buffers[0] = rd->mesh->rim_vertices.buffer;
+        offsets[1] = 2 * sizeof(float) * (VkDeviceSize)mesh.vertex_count;
+        vkCmdBindVertexBuffers(cmd, 0, bindings, buffers, offsets);
+        vkCmdBindIndexBuffer(cmd, rd->mesh->rim_indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        for (uint32_t c = 0; c < mesh.cloth_count; c++) {
+            const cvk_mesh_range* rim = &rd->mesh->rims[c];
+            if (rim->index_count == 0)
+                continue;
             uint32_t set = rd->textures.set_of[c];
-            const cvk_cloth_range* cloth = &b->cloths[c];
-            bool back = cloth->back_color[0] >= 0.0f;
-            cvk_render_material m = {
-                {cloth->color[0], cloth->color[1], cloth->color[2], set ? 1.0f : 0.0f},
-                {back ? cloth->back_color[0] : 0.0f, back ? cloth->back_color[1] : 0.0f,
-                 back ? cloth->back_color[2] : 0.0f, back ? 1.0f : 0.0f},
-                {cloth->sheen, cloth->roughness, 0.0f, 0.0f},
-            };
-            vkCmdPushConstants(cmd, rd->pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof m, &m);
-            if (set != bound) {
+            if (colored && set != bound) {
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
                                         &rd->descriptors.sets[set], 0, NULL);
                 bound = set;
             }
+            push_cloth(rd, cmd, &b->cloths[c], set != 0, 0.0f, 0.0f);
+            vkCmdDrawIndexed(cmd, rim->index_count, 1, rim->first_index, 0, 0);
         }
-        vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
     }
     if (bound != 0)
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
@@ -73,7 +108,7 @@ static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     begin_pass(cmd, rd->shadow_pass, rd->shadow_framebuffer, rd->desc.shadow_map_size,
                rd->desc.shadow_map_size, &clear, 1);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
-    draw_cloths(rd, cmd, false);
+    draw_cloths(rd, cmd, false, SLAB);
     if (rd->collider_shadow_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_shadow_pipeline);
         cvk_render_colliders_record(rd, cmd, false);
@@ -88,10 +123,10 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1];
     begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
-    draw_cloths(rd, cmd, true);
+    draw_cloths(rd, cmd, true, SLAB);
     if (rd->wireframe_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->wireframe_pipeline);
-        draw_cloths(rd, cmd, true);
+        draw_cloths(rd, cmd, true, FACES);
     }
     if (rd->collider_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);

@@ -13,7 +13,14 @@ typedef struct cvk_render_material {
     float back[4];                   /* rgb: the back face's colour; w: 1 to use it (else the front's) */
     float fabric[4];                 /* cloths: x: sheen; y: its roughness. Colliders (a
                                         Blinn-Phong highlight): x: its strength; y: its exponent */
+    float slab[4];                   /* a thick cloth (the vertex stages read it too): x: how far
+                                        this draw moves the vertices along their normals (m, ±
+                                        half the thickness for the two faces); y: the thickness
+                                        the light through a face crosses (0 for the rim) */
 } cvk_render_material;
+
+/* The stages that read the push constants. */
+#define CVK_RENDER_PUSH_STAGES (VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT)
 
 /* One collider's triangles in the shared collider buffers, drawn with instance index
    `collider` (the vertex shaders read its pose from the simulation's poses buffer). */
@@ -40,8 +47,9 @@ typedef struct cvk_render_textures {
     uint32_t count;
     uint32_t* set_of;                /* per cloth: its descriptor set, 0 without a texture */
     VkSampler sampler;
-    cvk_buffer uv;                   /* texture coordinates, 2 floats per vertex; none when no
-                                        cloth has a texture */
+    cvk_buffer uv;                   /* texture coordinates, 2 floats per vertex, then 2 per
+                                        rim vertex (render/mesh.h); none when no cloth has a
+                                        texture */
 } cvk_render_textures;
 
 struct cvk_renderer {

@@ -218,7 +218,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     uint32_t cloth_attributes = textured ? 3 : 2;
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     const pipeline_recipe recipes[] = {
-        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 1, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+        {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 2, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
         /* Reversed depth: nearer is greater. */
         {"cloth pass", cloth_vert, CVK_SHADER_LIT_CLOTH_FRAG, cloth_attributes, false,

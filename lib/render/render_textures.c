@@ -227,7 +227,10 @@ static cvk_result upload(cvk_renderer* rd, const host_texture* host, cvk_error* 
     cvk_context* ctx = rd->context;
     cvk_render_textures* tx = &rd->textures;
     const cvk_build* b = &rd->mesh->sim->build;
-    VkDeviceSize uv_bytes = b->uv ? 2 * sizeof(float) * (VkDeviceSize)b->particle_count : 0;
+    /* The vertices', then the rim's (render/mesh.h): each rim vertex its edge end's. */
+    const cvk_mesh* m = rd->mesh;
+    VkDeviceSize vertex_uv_bytes = b->uv ? 2 * sizeof(float) * (VkDeviceSize)b->particle_count : 0;
+    VkDeviceSize uv_bytes = b->uv ? vertex_uv_bytes + 8 * sizeof(float) * (VkDeviceSize)m->rim_edge_count : 0;
     VkDeviceSize bytes = uv_bytes;
     for (uint32_t i = 0; i < tx->count; i++)
         bytes += host[i].bytes;
@@ -245,8 +248,16 @@ static cvk_result upload(cvk_renderer* rd, const host_texture* host, cvk_error* 
             memcpy(at, host[i].texels, host[i].bytes);
             at += host[i].bytes;
         }
-        if (uv_bytes)
-            memcpy(at, b->uv, uv_bytes);
+        if (uv_bytes) {
+            memcpy(at, b->uv, vertex_uv_bytes);
+            float* rim = (float*)(at + vertex_uv_bytes);
+            for (uint32_t k = 0; k < m->rim_edge_count; k++) {
+                uint32_t ends[4] = {m->rim_ends[2 * k], m->rim_ends[2 * k + 1], m->rim_ends[2 * k + 1],
+                                    m->rim_ends[2 * k]};
+                for (int i = 0; i < 4; i++)
+                    memcpy(&rim[2 * (4 * (size_t)k + i)], &b->uv[2 * (size_t)ends[i]], 2 * sizeof(float));
+            }
+        }
         r = cvk_submitter_create(ctx, &submitter, error);
     }
     if (r == CVK_SUCCESS)

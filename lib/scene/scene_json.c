@@ -244,6 +244,7 @@ static const cvk_field material_fields[] = {
     {.key = "texture", .read = read_material_texture, .offset = 0},
     {.key = "sheen", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, sheen)},
     {.key = "roughness", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, roughness)},
+    {.key = "thickness", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, thickness)},
 };
 static const cvk_table material_table = FIELDS(material_fields);
 

@@ -13,7 +13,8 @@ bool cvk_look_check(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* 
     if (!unset && !cvk_check_closed_array(issue, cvk_key_join(path, material, "back_color"), c->back_color, 3, 0.0, 1.0))
         return false;
     return cvk_check_closed(issue, cvk_key_join(path, material, "sheen"), c->sheen, 0.0, 1.0) &&
-           cvk_check_closed(issue, cvk_key_join(path, material, "roughness"), c->roughness, 0.1, 1.0);
+           cvk_check_closed(issue, cvk_key_join(path, material, "roughness"), c->roughness, 0.1, 1.0) &&
+           cvk_check_closed(issue, cvk_key_join(path, material, "thickness"), c->thickness, 0.0, 0.05);
 }
 
 /* render.fit: a margin that leaves room for the picture, the direction from a whole eye and

@@ -282,6 +282,7 @@ static void describe_cloth(cvk_build* b, const cvk_cloth_desc* desc, uint32_t in
         .back_color = {desc->back_color[0], desc->back_color[1], desc->back_color[2]},
         .sheen = desc->sheen,
         .roughness = desc->roughness,
+        .thickness = desc->thickness,
         .material_texture = desc->material_texture,
     };
     if (!desc->mesh) {

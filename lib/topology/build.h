@@ -31,7 +31,8 @@ typedef struct cvk_cloth_range {
     float color[3];            /* linear RGB, for the renderer */
     char* texture;             /* the scene's texture path (a copy), or NULL */
     float back_color[3];       /* for the renderer: cvk_cloth_desc's back_color, sheen, */
-    float sheen, roughness;    /* roughness and material_texture */
+    float sheen, roughness;    /* roughness, thickness and material_texture */
+    float thickness;
     bool material_texture;
 } cvk_cloth_range;
 

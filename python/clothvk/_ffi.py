@@ -173,6 +173,7 @@ typedef struct cvk_cloth_desc {
     float back_color[3];
     float sheen;
     float roughness;
+    float thickness;
     bool material_texture;
     uint32_t cookie_;
 } cvk_cloth_desc;

@@ -23,6 +23,7 @@ layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
     vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's
     vec4 fabric; // cloths: x: sheen; y: its roughness. Colliders: the highlight's strength, exponent
+    vec4 slab;   // a thick cloth's face: x: its offset (lit_cloth.vert); y: the thickness
 } material;
 
 // The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
@@ -45,9 +46,10 @@ void main()
     if (!gl_FrontFacing)
         n = -n;
     // The key light's shadow on whichever face it falls on: lighting that face, or, on a cloth,
-    // coming through to the other.
+    // coming through to the other. Through a thick cloth's face the shadow is looked up on the
+    // slab's other face, so the slab does not shadow the light that crosses it.
     bool towards = dot(n, frame.key_direction.xyz) > 0.0;
-    float visible = key_visibility(world, towards ? n : -n);
+    float visible = key_visibility(towards ? world : world - n * material.slab.y, towards ? n : -n);
     vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
     if (!gl_FrontFacing && material.back.w > 0.5)
         albedo = material.back.rgb;

@@ -283,7 +283,8 @@ CVK_PUSH_BLOCK(cvk_explicit_push, CVK_EXPLICIT_PUSH_FIELDS)
 
 #define CVK_MESH_PUSH_FIELDS \
     CVK_UINT(vertex_count)   \
-    CVK_UINT(triangle_count)
+    CVK_UINT(triangle_count) \
+    CVK_UINT(rim_edge_count)
 
 CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 

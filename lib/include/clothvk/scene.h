@@ -195,6 +195,9 @@ typedef struct cvk_cloth_desc {
     float sheen;                 /* in [0, 1]: the soft rim of light a fabric's fibres give at
                                     grazing angles (a "Charlie" sheen lobe); usually 0.4 */
     float roughness;             /* in [0.1, 1]: how wide that rim spreads; usually 0.5 */
+    float thickness;             /* m, in [0, 0.05]: drawn as a slab this thick (the two faces
+                                    half of it off the middle along the normal, joined along
+                                    the border); 0 (the default): one surface */
     bool material_texture;       /* set by the scene reader when the texture came from the
                                     material block, so messages name material.texture */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
