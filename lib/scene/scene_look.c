@@ -3,6 +3,9 @@
 #include "scene/check.h"
 #include "scene/scene.h"
 
+/* material.thickness at most 5 cm: as a float, so a scene's 0.05 passes. */
+#define CVK_MAX_THICKNESS 0.05f
+
 bool cvk_look_check(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char material[CVK_KEY_PATH_MAX];
@@ -14,7 +17,8 @@ bool cvk_look_check(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* 
         return false;
     return cvk_check_closed(issue, cvk_key_join(path, material, "sheen"), c->sheen, 0.0, 1.0) &&
            cvk_check_closed(issue, cvk_key_join(path, material, "roughness"), c->roughness, 0.1, 1.0) &&
-           cvk_check_closed(issue, cvk_key_join(path, material, "thickness"), c->thickness, 0.0, 0.05);
+           cvk_check_closed(issue, cvk_key_join(path, material, "thickness"), c->thickness, 0.0,
+                            (double)CVK_MAX_THICKNESS);
 }
 
 /* render.fit: a margin that leaves room for the picture, the direction from a whole eye and

@@ -8,6 +8,11 @@
      (compared with a double-precision host computation);
    - a torn spring (its flag cleared, as tearing will do) turns exactly the triangles along it
      into degenerate ones while the index count stays the same;
+   - the rim of a cloth with a material thickness t: on an 8 x 6 grid, one quad per border edge
+     (24), each joining the edge's ends moved ±t/2 along their normals, its normal of unit
+     length across the border and away from the cloth, wound to face it; with tearing every edge
+     has one, collapsed to a point while the edge has two live triangles, and clearing one
+     interior spring's flag opens the 4 other edges of its 2 triangles (28 quads);
    - recording the simulation and the mesh into one command buffer passes synchronisation
      validation. */
 #include "harness.h"
@@ -296,6 +301,118 @@ static void bumpy_normals_and_tearing(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* The rim's quads: how many are open (not collapsed to a point), and how many of the open
+   ones are wrong: each must join its ends moved ±half along the normals (the flat cloth in
+   y = 0, normals along ±y), have a unit normal across the border, pointing away from the
+   cloth's centre c, or, within `reach` of the hole's centre h (x, z), into the hole, and be
+   wound to face where its normal points. */
+static uint32_t open_rim_quads(cvk_context* ctx, cvk_mesh* mesh, float half, const double c[2], const double h[2],
+                               double reach, uint32_t* bad)
+{
+    float* rim = read_buffer(ctx, mesh->rim_vertices.buffer, (VkDeviceSize)mesh->rim_edge_count * 4 * 32);
+    uint32_t open = 0;
+    *bad = 0;
+    for (uint32_t k = 0; k < mesh->rim_edge_count; k++) {
+        const float* q = &rim[32 * (size_t)k]; /* 4 vertices of 8 floats: position, 1, normal, 0 */
+        bool point = true;
+        for (int i = 1; i < 4; i++)
+            point = point && memcmp(&q[8 * i], q, 3 * sizeof(float)) == 0;
+        if (point)
+            continue;
+        open++;
+        /* (a−, b−, b+, a+) */
+        double e[3], up[3], turn[3];
+        for (int j = 0; j < 3; j++) {
+            e[j] = (double)q[8 + j] - q[j];
+            up[j] = (double)q[16 + j] - q[j];
+        }
+        cross3(e, up, turn);
+        const float* n = &q[4];
+        double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        double mid[2] = {0.5 * (q[0] + q[8]), 0.5 * (q[2] + q[10])};
+        bool in_hole = hypot(mid[0] - h[0], mid[1] - h[1]) < reach;
+        double away = in_hole ? -(n[0] * (mid[0] - h[0]) + n[2] * (mid[1] - h[1]))
+                              : n[0] * (mid[0] - c[0]) + n[2] * (mid[1] - c[1]);
+        bool ok = fabs(len - 1.0) < 1e-5 && fabs(n[1]) < 1e-6 && away > 0.0 &&
+                  turn[0] * n[0] + turn[1] * n[1] + turn[2] * n[2] > 0.0;
+        /* a+ − a− and b+ − b−: the thickness along y, nothing across */
+        for (int end = 0; end < 2; end++) {
+            const float* minus = &q[8 * end];
+            const float* plus = &q[8 * (3 - end)];
+            ok = ok && fabs(fabs((double)plus[1] - minus[1]) - 2.0 * half) < 1e-6 && plus[0] == minus[0] &&
+                 plus[2] == minus[2];
+        }
+        *bad += !ok;
+    }
+    free(rim);
+    return open;
+}
+
+static void rim(cvk_context* ctx)
+{
+    const float half = 0.01f;
+    for (int tearing = 0; tearing < 2; tearing++) {
+        cvk_cloth_desc cloth = grid_cloth(8, 6);
+        cloth.thickness = 2.0f * half;
+        cloth.tearing.max_stretch = tearing ? 0.5f : 0.0f;
+        cvk_sim* sim = make_sim(ctx, &cloth, 1);
+        cvk_error err;
+        cvk_mesh* mesh;
+        REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
+        /* the grid spans origin + [0, size] along u = x and v = z; the spring torn below runs
+           from [3, 2] to [4, 2], and its two triangles make the hole */
+        double dx = cloth.size[0] / 7.0, dz = cloth.size[1] / 5.0;
+        double c[2] = {cloth.origin[0] + 0.5 * cloth.size[0], cloth.origin[2] + 0.5 * cloth.size[1]};
+        double h[2] = {cloth.origin[0] + 3.5 * dx, cloth.origin[2] + 2.0 * dz};
+        double reach = 1.2 * fmax(dx, dz);
+        uint32_t edges = tearing ? 7 * 6 + 8 * 5 + 7 * 5 : 2 * (7 + 5);
+        CHECK(mesh->rim_edge_count == edges, "an 8 x 6 grid %s tearing has %u rim edges, expected %u",
+              tearing ? "with" : "without", mesh->rim_edge_count, edges);
+        CHECK(mesh->rims[0].index_count == 6 * edges, "the rim's index range holds %u indices, expected %u",
+              mesh->rims[0].index_count, 6 * edges);
+        uint32_t bad;
+        uint32_t open = open_rim_quads(ctx, mesh, half, c, h, reach, &bad);
+        CHECK(open == 24 && bad == 0, "%s tearing: %u open rim quads (expected the 24 border edges), %u wrong",
+              tearing ? "with" : "without", open, bad);
+        if (tearing) {
+            /* Clear the flag of the structural spring between [3, 2] and [4, 2]. */
+            uint32_t ua = 2 * 8 + 3, ub = ua + 1, torn = UINT32_MAX;
+            const cvk_build* b = &sim->build;
+            for (uint32_t s = 0; s < b->spring_count; s++) {
+                uint32_t a = b->user_of[b->springs[s].a], bb = b->user_of[b->springs[s].b];
+                if (b->springs[s].type == CVK_SPRING_STRUCTURAL && ((a == ua && bb == ub) || (a == ub && bb == ua)))
+                    torn = s;
+            }
+            if (torn == UINT32_MAX) {
+                fprintf(stderr, "no structural spring between vertices %u and %u\n", ua, ub);
+                exit(1);
+            }
+            uint32_t* flags = malloc((size_t)b->spring_count * 4u);
+            if (!flags)
+                exit(1);
+            for (uint32_t s = 0; s < b->spring_count; s++)
+                flags[s] = s != torn;
+            cvk_submitter sub;
+            VkCommandBuffer cmd;
+            REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
+            REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
+            REQUIRE_OK(cvk_buffer_upload(ctx, &sub, cmd, &sim->spring_alive, flags,
+                                         (VkDeviceSize)b->spring_count * 4u, &err), err);
+            cvk_submitter_destroy(ctx, &sub);
+            free(flags);
+            regenerate(ctx, mesh);
+            uint32_t bad_torn;
+            uint32_t open_torn = open_rim_quads(ctx, mesh, half, c, h, reach, &bad_torn);
+            CHECK(open_torn == 28 && bad_torn == 0, "tearing one interior spring opens %u rim quads (expected 28: "
+                  "the border's and the hole's 4), %u wrong", open_torn, bad_torn);
+            printf("rim: 8 x 6 grid, %u border quads; with tearing %u edges, one torn spring: %u open\n", open, edges,
+                   open_torn);
+        }
+        cvk_mesh_destroy(mesh);
+        cvk_sim_destroy(sim);
+    }
+}
+
 /* One command buffer: three frames of simulation, the mesh, then a copy of the vertices: the
    barriers of the contract (the library's and the one the caller records) are all it takes. */
 static void record_with_simulation(cvk_context* ctx)
@@ -342,6 +459,7 @@ int main(void)
     flat_normals(ctx, (const float[3]){1, 0, 0}, (const float[3]){0, 1, 0});
     flat_normals(ctx, (const float[3]){0.6f, 0.8f, 0}, (const float[3]){0, 0, -2});
     bumpy_normals_and_tearing(ctx);
+    rim(ctx);
     record_with_simulation(ctx);
     return harness_finish(ctx);
 }
