@@ -164,7 +164,7 @@ CASES = [
     # A cloth's material block.
     {"name": "unknown material key", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.shine=1"],
      "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.shine (from --set): unknown key (expected one of: "
-                                  "color, back_color, texture, sheen, roughness)")},
+                                  "color, back_color, texture, sheen, roughness, thickness)")},
     {"name": "material texture not an image",
      "argv": [SMALL, "-o", "out", "--set", 'cloths.0.material.texture="small.json"'], "status": 2,
      "stderr": error(f"{SMALL}: cloths.0.material.texture: {SCENES}/small.json: not an image stb_image can "
@@ -179,6 +179,9 @@ CASES = [
     {"name": "roughness out of range", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.roughness=0"],
      "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.roughness (from --set): must be between 0.1 "
                                   "and 1, got 0")},
+    {"name": "thickness out of range", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.thickness=0.1"],
+     "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.thickness (from --set): must be between 0 and "
+                                  "0.05, got 0.1")},
     {"name": "back colour out of range",
      "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.back_color=[0.2,2,0.2]"], "status": 2,
      "stderr": error(f"{SMALL}: cloths.0.material.back_color.1 (from --set): must be between 0 and 1, got 2")},
