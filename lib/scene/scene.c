@@ -117,7 +117,6 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .back_color = {-1.0f, -1.0f, -1.0f},
         .sheen = 0.4f,
         .roughness = 0.5f,
-        .thickness = 0.0f,
         .material_texture = false,
         .velocity = {0.0f, 0.0f, 0.0f},
         .tethers = 0.0f,
