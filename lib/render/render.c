@@ -536,9 +536,10 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
     if (r != CVK_SUCCESS)
         return r;
 
-    /* Binding 3: the cloth's texture, one set per texture (set 0: the white stand-in); 4: the
-       shadow map's raw depths; 5: the cloth pass's depths; 6: the ambient occlusion image. The
-       colliders' poses (binding 7) only where there are colliders to draw. */
+    /* Binding 3: the cloth's texture, one set per cloth with a texture or a normal map (set 0:
+       the white stand-in); 4: the shadow map's raw depths; 5: the cloth pass's depths; 6: the
+       ambient occlusion image; 7: the cloth's normal map (or the flat stand-in). The colliders'
+       poses (binding 8) only where there are colliders to draw. */
     static const cvk_binding bindings[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
          VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -548,26 +549,28 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
     };
-    uint32_t binding_count = rd->colliders.draw_count > 0 ? 8 : 7;
-    r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.count,
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 9 : 8;
+    r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.set_count,
                                CVK_RENDER_PUSH_STAGES, sizeof(cvk_render_material), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
         return r;
     rd->pipeline_layout = rd->descriptors.pipeline_layout;
     rd->set = rd->descriptors.sets[0];
-    for (uint32_t i = 0; i < rd->textures.count; i++) {
+    for (uint32_t i = 0; i < rd->textures.set_count; i++) {
         const cvk_resource res[] = {
             {.buffer = &rd->uniforms},
             {.image = rd->shadow_map.view, .sampler = rd->shadow_sampler},
             {.image = rd->cloth.view, .sampler = rd->cloth_sampler},
-            {.image = rd->textures.images[i].view, .sampler = rd->textures.sampler},
+            {.image = rd->textures.images[rd->textures.albedo_of_set[i]].view, .sampler = rd->textures.sampler},
             {.image = rd->shadow_map.view, .sampler = rd->shadow_depth_sampler},
             {.image = rd->cloth_depth.view, .sampler = rd->cloth_sampler},
             /* Without render.ao the composite pass never reads it: any image in the right
                layout will do (the white stand-in). */
             {.image = rd->desc.ao ? rd->occlusion.view : rd->textures.images[0].view, .sampler = rd->cloth_sampler},
+            {.image = rd->textures.images[rd->textures.normal_of_set[i]].view, .sampler = rd->textures.sampler},
             {.buffer = &rd->mesh->sim->collide->poses},
         };
         cvk_descriptors_write(rd->context, &rd->descriptors, i, res);

@@ -20,10 +20,10 @@ static void timestamp(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t quer
    wireframe its two faces. */
 typedef enum cloth_parts { FACES, SLAB } cloth_parts;
 
-/* The push constants of cloth c: its material (with `colored`; else only the slab's
-   offsets matter) and the slab's offset `offset` and thickness `through`. */
+/* The push constants of a cloth: its material, the slab's offset `offset` and thickness
+   `through`, and its normal map's strength (0: none). */
 static void push_cloth(const cvk_renderer* rd, VkCommandBuffer cmd, const cvk_cloth_range* cloth, bool textured,
-                       float offset, float through)
+                       float offset, float through, float normal_strength)
 {
     bool back = cloth->back_color[0] >= 0.0f;
     cvk_render_material m = {
@@ -31,7 +31,7 @@ static void push_cloth(const cvk_renderer* rd, VkCommandBuffer cmd, const cvk_cl
         {back ? cloth->back_color[0] : 0.0f, back ? cloth->back_color[1] : 0.0f, back ? cloth->back_color[2] : 0.0f,
          back ? 1.0f : 0.0f},
         {cloth->sheen, cloth->roughness, 0.0f, 0.0f},
-        {offset, through, 0.0f, 0.0f},
+        {offset, through, normal_strength, 0.0f},
     };
     vkCmdPushConstants(cmd, rd->pipeline_layout, CVK_RENDER_PUSH_STAGES, 0, sizeof m, &m);
 }
@@ -61,7 +61,9 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
         }
         float thickness = b->cloths[c].thickness;
         for (int side = 0; side < (thickness > 0.0f ? 2 : 1); side++) {
-            push_cloth(rd, cmd, &b->cloths[c], set != 0, side ? -0.5f * thickness : 0.5f * thickness, thickness);
+            push_cloth(rd, cmd, &b->cloths[c], b->cloths[c].texture != NULL,
+                       side ? -0.5f * thickness : 0.5f * thickness, thickness,
+                       b->cloths[c].normal_map ? b->cloths[c].normal_strength : 0.0f);
             vkCmdDrawIndexed(cmd, mesh.cloths[c].index_count, 1, mesh.cloths[c].first_index, 0, 0);
         }
     }
@@ -80,7 +82,7 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
                                         &rd->descriptors.sets[set], 0, NULL);
                 bound = set;
             }
-            push_cloth(rd, cmd, &b->cloths[c], set != 0, 0.0f, 0.0f);
+            push_cloth(rd, cmd, &b->cloths[c], b->cloths[c].texture != NULL, 0.0f, 0.0f, 0.0f);
             vkCmdDrawIndexed(cmd, rim->index_count, 1, rim->first_index, 0, 0);
         }
     }

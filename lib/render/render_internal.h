@@ -16,7 +16,8 @@ typedef struct cvk_render_material {
     float slab[4];                   /* a thick cloth (the vertex stages read it too): x: how far
                                         this draw moves the vertices along their normals (m, ±
                                         half the thickness for the two faces); y: the thickness
-                                        the light through a face crosses (0 for the rim) */
+                                        the light through a face crosses (0 for the rim); z: the
+                                        normal map's strength (0: none) */
 } cvk_render_material;
 
 /* The stages that read the push constants. */
@@ -40,12 +41,16 @@ typedef struct cvk_render_colliders {
     cvk_view_colliders framing;
 } cvk_render_colliders;
 
-/* The cloths' textures (lib/render/render_textures.c): image 0 is a white stand-in for cloths without
-   one; descriptor set i points at image i. */
+/* The cloths' textures and normal maps (lib/render/render_textures.c): image 0 is a white
+   stand-in for cloths without a texture, image 1 a flat normal for those without a normal map;
+   descriptor set s points at images albedo_of_set[s] and normal_of_set[s]. */
 typedef struct cvk_render_textures {
     cvk_gpu_image* images;
     uint32_t count;
-    uint32_t* set_of;                /* per cloth: its descriptor set, 0 without a texture */
+    uint32_t set_count;
+    uint32_t albedo_of_set[CVK_MAX_SETS], normal_of_set[CVK_MAX_SETS];
+    uint32_t* set_of;                /* per cloth: its descriptor set, 0 without a texture or
+                                        a normal map */
     VkSampler sampler;
     cvk_buffer uv;                   /* texture coordinates, 2 floats per vertex, then 2 per
                                         rim vertex (render/mesh.h); none when no cloth has a

@@ -2,8 +2,9 @@
    made on the host by averaging 2 x 2 texels in linear light, uploaded once into an
    R8G8B8A8_SRGB image (the sampler decodes sRGB to linear) together with the texture
    coordinates the cloth pass reads as its third vertex attribute; sampled trilinearly, and
-   anisotropically on a GPU that allows it. A 1 x 1 white texture stands
-   in for the cloths without one, so every descriptor set has a texture to point at. */
+   anisotropically on a GPU that allows it. Normal maps (material.normal_map) the same way into
+   R8G8B8A8_UNORM images, their mips averaging the stored values. A 1 x 1 white texture and a
+   1 x 1 flat normal stand in for the cloths without, so every descriptor set has both. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -28,12 +29,14 @@
 #pragma GCC diagnostic pop
 
 #define TEXTURE_FORMAT VK_FORMAT_R8G8B8A8_SRGB
+#define NORMAL_MAP_FORMAT VK_FORMAT_R8G8B8A8_UNORM
 
 /* One decoded texture and its mip chain, level after level, 4 bytes per texel. */
 typedef struct host_texture {
     uint8_t* texels;
     uint32_t width, height, levels;
     size_t bytes;
+    bool normals;                /* a normal map: stored values, not sRGB */
 } host_texture;
 
 static double srgb_to_linear(double c)
@@ -54,7 +57,7 @@ static uint32_t half(uint32_t n)
 
 /* Level l + 1 from level l: each texel the mean of the 2 x 2 texels above it (the last row or
    column repeated where the size is odd), colour in linear light, alpha as stored. */
-static void downsample(const uint8_t* src, uint32_t w, uint32_t h, uint8_t* dst, const double* linear)
+static void downsample(const uint8_t* src, uint32_t w, uint32_t h, uint8_t* dst, const double* linear, bool normals)
 {
     uint32_t dw = half(w), dh = half(h);
     for (uint32_t y = 0; y < dh; y++)
@@ -71,7 +74,7 @@ static void downsample(const uint8_t* src, uint32_t w, uint32_t h, uint8_t* dst,
                 }
             uint8_t* out = &dst[4 * ((size_t)y * dw + x)];
             for (int k = 0; k < 3; k++)
-                out[k] = linear_to_srgb(sum[k] / 4.0);
+                out[k] = normals ? (uint8_t)lround(sum[k] / 4.0 * 255.0) : linear_to_srgb(sum[k] / 4.0);
             out[3] = (uint8_t)lround(sum[3] / 4.0);
         }
 }
@@ -90,11 +93,11 @@ static bool make_mips(host_texture* t, const uint8_t* base)
     memcpy(t->texels, base, 4 * (size_t)t->width * t->height);
     double linear[256];
     for (int i = 0; i < 256; i++)
-        linear[i] = srgb_to_linear(i / 255.0);
+        linear[i] = t->normals ? i / 255.0 : srgb_to_linear(i / 255.0);
     uint8_t* level = t->texels;
     for (uint32_t w = t->width, h = t->height; w > 1 || h > 1; w = half(w), h = half(h)) {
         uint8_t* next = level + 4 * (size_t)w * h;
-        downsample(level, w, h, next, linear);
+        downsample(level, w, h, next, linear, t->normals);
         level = next;
     }
     return true;
@@ -137,12 +140,14 @@ static cvk_result read_file(const char* key, const char* path, uint8_t** out, si
     return CVK_SUCCESS;
 }
 
-/* Reads cloth `index`'s texture and makes its mips; the messages name the key path. */
+/* Reads cloth `index`'s texture (or with t->normals its normal map) and makes its mips; the
+   messages name the key path. */
 static cvk_result load_texture(const cvk_context* ctx, uint32_t index, bool material, const char* path,
                                host_texture* t, cvk_error* error)
 {
     char key[64];
-    snprintf(key, sizeof key, "cloths.%u.%s", index, material ? "material.texture" : "texture");
+    snprintf(key, sizeof key, "cloths.%u.%s", index,
+             t->normals ? "material.normal_map" : material ? "material.texture" : "texture");
     uint8_t* file = NULL;
     size_t size = 0;
     cvk_result r = read_file(key, path, &file, &size, error);
@@ -310,13 +315,16 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
 {
     const cvk_build* b = &rd->mesh->sim->build;
     cvk_render_textures* tx = &rd->textures;
-    /* Texture 0 is the white stand-in; cloth c with a texture draws with set set_of[c]. */
-    uint32_t count = 1;
-    for (uint32_t c = 0; c < b->cloth_count; c++)
-        count += b->cloths[c].texture != NULL;
-    if (count > CVK_MAX_SETS)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cloths: %u cloths have a texture; the renderer draws "
-                        "at most %d", count - 1, CVK_MAX_SETS - 1);
+    /* Image 0 is the white stand-in, 1 the flat normal, then each texture and normal map. Set 0
+       draws the cloths with neither; a cloth with either draws with a set of its own. */
+    uint32_t count = 2, sets = 1;
+    for (uint32_t c = 0; c < b->cloth_count; c++) {
+        count += (b->cloths[c].texture != NULL) + (b->cloths[c].normal_map != NULL);
+        sets += b->cloths[c].texture || b->cloths[c].normal_map;
+    }
+    if (sets > CVK_MAX_SETS)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cloths: %u cloths have a texture or a normal map; the "
+                        "renderer draws at most %d", sets - 1, CVK_MAX_SETS - 1);
     tx->set_of = calloc(b->cloth_count ? b->cloth_count : 1, sizeof *tx->set_of);
     tx->images = calloc(count, sizeof *tx->images);
     host_texture* host = calloc(count, sizeof *host);
@@ -324,19 +332,34 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
         free(host);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the textures");
     }
-    static const uint8_t white[4] = {255, 255, 255, 255};
+    static const uint8_t white[4] = {255, 255, 255, 255}, flat[4] = {128, 128, 255, 255};
     host[0] = (host_texture){.width = 1, .height = 1};
-    cvk_result r = make_mips(&host[0], white) ? CVK_SUCCESS
-                                               : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory");
-    for (uint32_t c = 0, i = 1; r == CVK_SUCCESS && c < b->cloth_count; c++) {
-        if (!b->cloths[c].texture)
+    host[1] = (host_texture){.width = 1, .height = 1, .normals = true};
+    cvk_result r = make_mips(&host[0], white) && make_mips(&host[1], flat)
+                       ? CVK_SUCCESS
+                       : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory");
+    tx->set_count = 1;
+    for (uint32_t c = 0, i = 2; r == CVK_SUCCESS && c < b->cloth_count; c++) {
+        const cvk_cloth_range* cloth = &b->cloths[c];
+        if (!cloth->texture && !cloth->normal_map)
             continue;
-        r = load_texture(rd->context, c, b->cloths[c].material_texture, b->cloths[c].texture, &host[i], error);
-        tx->set_of[c] = i++;
+        uint32_t set = tx->set_count++;
+        tx->set_of[c] = set;
+        tx->albedo_of_set[set] = 0;
+        tx->normal_of_set[set] = 1;
+        if (cloth->texture) {
+            r = load_texture(rd->context, c, cloth->material_texture, cloth->texture, &host[i], error);
+            tx->albedo_of_set[set] = i++;
+        }
+        if (r == CVK_SUCCESS && cloth->normal_map) {
+            host[i].normals = true;
+            r = load_texture(rd->context, c, true, cloth->normal_map, &host[i], error);
+            tx->normal_of_set[set] = i++;
+        }
     }
     for (uint32_t i = 0; r == CVK_SUCCESS && i < count; i++) {
-        r = cvk_gpu_image_create_mipped(rd->context, TEXTURE_FORMAT, host[i].width, host[i].height, host[i].levels,
-                                        VK_SAMPLE_COUNT_1_BIT,
+        r = cvk_gpu_image_create_mipped(rd->context, host[i].normals ? NORMAL_MAP_FORMAT : TEXTURE_FORMAT,
+                                        host[i].width, host[i].height, host[i].levels, VK_SAMPLE_COUNT_1_BIT,
                                         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                         VK_IMAGE_ASPECT_COLOR_BIT, "texture", &tx->images[i], error);
         tx->count = r == CVK_SUCCESS ? i + 1 : i;

@@ -117,7 +117,7 @@ cvk_cloth_desc cvk_default_cloth_desc(void)
         .back_color = {-1.0f, -1.0f, -1.0f},
         .sheen = 0.4f,
         .roughness = 0.5f,
-        .material_texture = false,
+        .normal_strength = 1.0f,
         .velocity = {0.0f, 0.0f, 0.0f},
         .tethers = 0.0f,
         .aero = {.drag = 1.0f, .lift = 0.2f, .friction = 0.02f},

@@ -44,7 +44,7 @@ bool cvk_wind_check(const cvk_scene_desc* desc, cvk_scene_issue* issue);
 bool cvk_wind_solver_check(const cvk_solver_desc* solver, bool wind, cvk_scene_issue* issue);
 bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue* issue);
 /* How a cloth is drawn (lib/scene/scene_look.c): its material block's back_color, sheen,
-   roughness and thickness (paths start with base). */
+   roughness, thickness, normal_map and normal_strength (paths start with base). */
 bool cvk_look_check(const cvk_cloth_desc* cloth, const char* base, cvk_scene_issue* issue);
 /* How a collider is drawn (the same file): its color and its material block's roughness. */
 bool cvk_collider_look_check(const cvk_collider_desc* collider, const char* base, cvk_scene_issue* issue);

@@ -245,6 +245,8 @@ static const cvk_field material_fields[] = {
     {.key = "sheen", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, sheen)},
     {.key = "roughness", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, roughness)},
     {.key = "thickness", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, thickness)},
+    {.key = "normal_map", .read = cvk_read_path, .offset = offsetof(cvk_cloth_desc, normal_map)},
+    {.key = "normal_strength", .read = cvk_read_float, .offset = offsetof(cvk_cloth_desc, normal_strength)},
 };
 static const cvk_table material_table = FIELDS(material_fields);
 

@@ -15,7 +15,11 @@ bool cvk_look_check(const cvk_cloth_desc* c, const char* base, cvk_scene_issue* 
     bool unset = c->back_color[0] < 0.0f && c->back_color[1] < 0.0f && c->back_color[2] < 0.0f;
     if (!unset && !cvk_check_closed_array(issue, cvk_key_join(path, material, "back_color"), c->back_color, 3, 0.0, 1.0))
         return false;
+    if (c->normal_map && c->normal_map[0] == '\0')
+        return cvk_issue_at(issue, cvk_key_join(path, material, "normal_map"), "must name an image file, got an "
+                            "empty string");
     return cvk_check_closed(issue, cvk_key_join(path, material, "sheen"), c->sheen, 0.0, 1.0) &&
+           cvk_check_closed(issue, cvk_key_join(path, material, "normal_strength"), c->normal_strength, 0.0, 2.0) &&
            cvk_check_closed(issue, cvk_key_join(path, material, "roughness"), c->roughness, 0.1, 1.0) &&
            cvk_check_closed(issue, cvk_key_join(path, material, "thickness"), c->thickness, 0.0,
                             (double)CVK_MAX_THICKNESS);

@@ -283,6 +283,7 @@ static void describe_cloth(cvk_build* b, const cvk_cloth_desc* desc, uint32_t in
         .sheen = desc->sheen,
         .roughness = desc->roughness,
         .thickness = desc->thickness,
+        .normal_strength = desc->normal_strength,
         .material_texture = desc->material_texture,
     };
     if (!desc->mesh) {
@@ -301,12 +302,15 @@ static cvk_result copy_textures(cvk_build* b, const cvk_scene_desc* scene, const
 {
     for (uint32_t c = 0; c < scene->cloth_count; c++) {
         const cvk_topology* t = &parts[c].topology;
-        if (!scene->cloths[c].texture || !t->uv)
+        if (!(scene->cloths[c].texture || scene->cloths[c].normal_map) || !t->uv)
             continue;
         if (!b->uv && !(b->uv = calloc(2 * (size_t)b->particle_count, sizeof *b->uv)))
             return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for texture coordinates");
         memcpy(&b->uv[2 * (size_t)parts[c].first_user], t->uv, 2 * (size_t)t->vertex_count * sizeof *t->uv);
-        if (!(b->cloths[c].texture = strdup(scene->cloths[c].texture)))
+        const char* texture = scene->cloths[c].texture;
+        const char* normal_map = scene->cloths[c].normal_map;
+        if ((texture && !(b->cloths[c].texture = strdup(texture))) ||
+            (normal_map && !(b->cloths[c].normal_map = strdup(normal_map))))
             return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for texture paths");
     }
     return CVK_SUCCESS;
@@ -425,8 +429,10 @@ void cvk_build_destroy(cvk_build* b)
     free(b->adj_spring);
     free(b->triangles);
     free(b->triangle_springs);
-    for (uint32_t c = 0; b->cloths && c < b->cloth_count; c++)
+    for (uint32_t c = 0; b->cloths && c < b->cloth_count; c++) {
         free(b->cloths[c].texture);
+        free(b->cloths[c].normal_map);
+    }
     free(b->cloths);
     free(b->tether_anchor);
     free(b->tether_length);

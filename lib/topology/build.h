@@ -33,6 +33,8 @@ typedef struct cvk_cloth_range {
     float back_color[3];       /* for the renderer: cvk_cloth_desc's back_color, sheen, */
     float sheen, roughness;    /* roughness, thickness and material_texture */
     float thickness;
+    char* normal_map;          /* the scene's normal_map path (a copy), or NULL */
+    float normal_strength;
     bool material_texture;
 } cvk_cloth_range;
 

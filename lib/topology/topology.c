@@ -258,7 +258,7 @@ cvk_result cvk_topology_grid(const cvk_cloth_desc* c, uint32_t index, cvk_topolo
     }
     grid_positions(c, t->position);
     grid_triangles(&g, t);
-    if (c->texture && !(t->uv = grid_uv(c))) {
+    if ((c->texture || c->normal_map) && !(t->uv = grid_uv(c))) {
         cvk_topology_destroy(t);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for a %u x %u grid", g.w, g.h);
     }

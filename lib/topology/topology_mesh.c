@@ -357,7 +357,7 @@ static cvk_result fill_output(cvk_mesh_reader* r, cvk_topology* out)
     out->triangle_count = r->triangle_count;
     out->triangles = r->triangles;
     r->triangles = NULL;
-    return r->cloth->texture ? cvk_mesh_fill_uv(r, out) : CVK_SUCCESS;
+    return r->cloth->texture || r->cloth->normal_map ? cvk_mesh_fill_uv(r, out) : CVK_SUCCESS;
 }
 
 static cvk_result read_mesh(cvk_mesh_reader* r, cvk_topology* out)

@@ -217,6 +217,9 @@ cvk_result cvk_mesh_fill_uv(cvk_mesh_reader* r, cvk_topology* out)
         return cvk_fail(r->error, CVK_ERROR_INVALID_ARGUMENT,
                         "%.*s%s: %s has no texture coordinates to map the texture by",
                         (int)(strlen(r->key) - strlen("mesh")), r->key,
-                        r->cloth->material_texture ? "material.texture" : "texture", r->path);
+                        !r->cloth->texture          ? "material.normal_map"
+                        : r->cloth->material_texture ? "material.texture"
+                                                     : "texture",
+                        r->path);
     return CVK_SUCCESS;
 }

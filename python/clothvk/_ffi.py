@@ -174,6 +174,8 @@ typedef struct cvk_cloth_desc {
     float sheen;
     float roughness;
     float thickness;
+    const char* normal_map;
+    float normal_strength;
     bool material_texture;
     uint32_t cookie_;
 } cvk_cloth_desc;

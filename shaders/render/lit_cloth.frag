@@ -13,7 +13,7 @@
 
 // The ground hides what is below it (a cloth without a collider falls through).
 layout(constant_id = 0) const bool CLIP_BELOW_GROUND = true;
-// Some cloth has a texture: read it where the material says so.
+// Some cloth has a texture or a normal map: read them where the material says so.
 layout(constant_id = 1) const bool TEXTURED = false;
 // The cloths' pipeline (fabric shading); false: the colliders' (Blinn-Phong). A constant, not
 // the material's flag: a CPU device would run both shadings for every pixel.
@@ -23,11 +23,14 @@ layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
     vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's
     vec4 fabric; // cloths: x: sheen; y: its roughness. Colliders: the highlight's strength, exponent
-    vec4 slab;   // a thick cloth's face: x: its offset (lit_cloth.vert); y: the thickness
+    vec4 slab;   // a thick cloth's face: x: its offset (lit_cloth.vert); y: the thickness; z: the
+                 // normal map's strength, 0 for none
 } material;
 
 // The draw's texture (sRGB, decoded to linear by the sampler; mipmapped, trilinear).
 layout(set = 0, binding = 3) uniform sampler2D albedo_map;
+// The draw's normal map (tangent space, unorm; a flat stand-in without one).
+layout(set = 0, binding = 7) uniform sampler2D normal_map;
 
 layout(location = 0) in vec3 world;
 layout(location = 1) in vec3 world_normal;
@@ -37,12 +40,33 @@ layout(location = 1) in vec3 world_normal;
 layout(location = 2) centroid in vec2 uv;
 layout(location = 0) out vec4 color;
 
+// The normal tilted by the normal map: its tangent along u and bitangent along v found from how
+// the position and the texture coordinates change across the pixel (a cotangent frame, Schüler
+// 2006: no tangents stored, and it follows the cloth as it deforms); the map's x and y scaled
+// by `strength`.
+vec3 mapped_normal(vec3 n, float strength)
+{
+    vec3 dp1 = dFdx(world), dp2 = dFdy(world);
+    vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);
+    vec3 dp2perp = cross(dp2, n), dp1perp = cross(n, dp1);
+    vec3 t = dp2perp * duv1.x + dp1perp * duv2.x;
+    vec3 b = dp2perp * duv1.y + dp1perp * duv2.y;
+    float size = max(dot(t, t), dot(b, b));
+    vec3 m = texture(normal_map, uv).xyz * 2.0 - 1.0;
+    m.xy *= strength;
+    vec3 tilted = size > 0.0 ? (t * m.x + b * m.y) * inversesqrt(size) + n * m.z : n;
+    float len = length(tilted);
+    return len > 0.0 ? tilted / len : n;
+}
+
 void main()
 {
     if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
         discard;
     float len = length(world_normal);
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
+    if (TEXTURED && material.slab.z > 0.0)
+        n = mapped_normal(n, material.slab.z);
     if (!gl_FrontFacing)
         n = -n;
     // The key light's shadow on whichever face it falls on: lighting that face, or, on a cloth,

@@ -9,7 +9,12 @@
    - with texture_scale [2, 1] the texture repeats: u in 0.55..0.95 of the cloth is the red
      half of the second copy;
    - the texture's sRGB values are decoded to linear: a cloth textured mid-grey (sRGB 128,
-     linear 0.216) draws the pixel the same cloth of colour 0.216 draws, not that of 0.502. */
+     linear 0.216) draws the pixel the same cloth of colour 0.216 draws, not that of 0.502;
+   - a normal map (material.normal_map) of 8 stripes across u, their normals tilted 30° towards
+     +u and −u in turn, on the untextured cloth lit from the side along u: the stripes' middles
+     alternate in luminance by more than 20 levels, by less than 3 without the map and less
+     with normal_strength 0.5 than 1; a normal map that is not an image fails the renderer with
+     its key path. */
 #include <unistd.h>
 
 #include "harness.h"
@@ -19,7 +24,7 @@ enum { W = 240, H = 180, T = 64 };
 static const float origin[3] = {-0.5f, 1.5f, 0.0f};
 
 static char folder[] = "/tmp/clothvk-texture-XXXXXX";
-static char two_colours[600], grey[600], mesh[600];
+static char two_colours[600], grey[600], mesh[600], stripes[600];
 
 /* The cloth's square as an OBJ quad grid, 16 x 16 vertices, with texture coordinates
    u = 1 − (x + 0.5), v = 1.5 − y. */
@@ -59,6 +64,24 @@ static void write_texture(const char* path, bool halves)
     REQUIRE_OK(cvk_image_write_png(&im, path, &err), err);
 }
 
+/* 8 stripes across u, 8 texels each: tangent-space normals (±sin 30°, 0, cos 30°) in turn. */
+static void write_normal_map(const char* path)
+{
+    static uint8_t pixels[T * T * 4];
+    for (int y = 0; y < T; y++)
+        for (int x = 0; x < T; x++) {
+            uint8_t* p = &pixels[4 * (y * T + x)];
+            double tilt = (x / 8) % 2 == 0 ? 0.5 : -0.5;
+            p[0] = (uint8_t)lround((tilt + 1.0) * 127.5);
+            p[1] = 128;
+            p[2] = (uint8_t)lround((0.8660254 + 1.0) * 127.5);
+            p[3] = 255;
+        }
+    cvk_image im = {.pixels = pixels, .width = T, .height = T, .row_bytes = 4 * T};
+    cvk_error err;
+    REQUIRE_OK(cvk_image_write_png(&im, path, &err), err);
+}
+
 typedef struct setup {
     cvk_cloth_desc cloth;
     cvk_scene_desc scene;
@@ -67,9 +90,10 @@ typedef struct setup {
     cvk_renderer* renderer;
 } setup;
 
-/* A cloth in the plane z = 0, u along +x, with `texture` (or none) and `color`. */
-static void setup_scene(setup* s, cvk_context* ctx, const char* texture, float scale_u, const float* color,
-                        const char* mesh_file)
+/* A cloth in the plane z = 0, u along +x, with `texture` (or none) and `color`, and a normal map
+   (or none) of `strength`, lit by the key light from `key`. */
+static void setup_lit(setup* s, cvk_context* ctx, const char* texture, float scale_u, const float* color,
+                      const char* mesh_file, const char* normal_map, float strength, const float key[3])
 {
     memset(s, 0, sizeof *s);
     s->cloth = cvk_default_cloth_desc();
@@ -80,6 +104,8 @@ static void setup_scene(setup* s, cvk_context* ctx, const char* texture, float s
     s->cloth.mesh = mesh_file;
     s->cloth.texture = texture;
     s->cloth.texture_scale[0] = scale_u;
+    s->cloth.normal_map = normal_map;
+    s->cloth.normal_strength = strength;
     if (color)
         memcpy(s->cloth.color, color, 3 * sizeof(float));
     s->scene = cvk_default_scene_desc();
@@ -95,12 +121,18 @@ static void setup_scene(setup* s, cvk_context* ctx, const char* texture, float s
     r->auto_eye = r->auto_target = false;
     memcpy(r->eye, (const float[3]){0.3f, 1.3f, 2.2f}, 3 * sizeof(float));
     memcpy(r->target, (const float[3]){0.0f, 1.0f, 0.0f}, 3 * sizeof(float));
-    memcpy(r->key.direction, (const float[3]){0.2f, 0.3f, 1.0f}, 3 * sizeof(float));
+    memcpy(r->key.direction, key, 3 * sizeof(float));
     cvk_error err;
     REQUIRE_OK(harness_sim_create(ctx, &s->scene, &s->sim, &err), err);
     REQUIRE_OK(cvk_mesh_create(s->sim, NULL, &s->mesh, &err), err);
     REQUIRE_OK(cvk_renderer_create(s->mesh, r, &s->renderer, &err), err);
     REQUIRE_OK(cvk_renderer_draw(s->renderer, &err), err);
+}
+
+static void setup_scene(setup* s, cvk_context* ctx, const char* texture, float scale_u, const float* color,
+                        const char* mesh_file)
+{
+    setup_lit(s, ctx, texture, scale_u, color, mesh_file, NULL, 1.0f, (const float[3]){0.2f, 0.3f, 1.0f});
 }
 
 static void teardown(setup* s)
@@ -187,6 +219,57 @@ static void srgb_decoded(cvk_context* ctx)
     CHECK(undecoded - textured > 20, "linear 0.5 draws %d, not far above the texture's %d", undecoded, textured);
 }
 
+/* How much the luminance of the stripes' middles (u = (k + 0.5) / 8, v = 0.5) alternates: the
+   mean of the even stripes' minus the odd ones', in levels. */
+static double stripe_contrast(cvk_context* ctx, const char* normal_map, float strength)
+{
+    const float key[3] = {1.0f, 0.2f, 0.6f};
+    setup s;
+    setup_lit(&s, ctx, NULL, 1.0f, NULL, NULL, normal_map, strength, key);
+    double sum[2] = {0.0, 0.0};
+    for (int k = 0; k < 8; k++) {
+        const uint8_t* p = pixel_at(&s, (k + 0.5) / 8.0, 0.5);
+        sum[k % 2] += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    }
+    teardown(&s);
+    return fabs(sum[0] - sum[1]) / 4.0;
+}
+
+static void normal_map(cvk_context* ctx)
+{
+    double bumped = stripe_contrast(ctx, stripes, 1.0f);
+    double half = stripe_contrast(ctx, stripes, 0.5f);
+    double flat = stripe_contrast(ctx, NULL, 1.0f);
+    CHECK(bumped > 20.0, "the striped normal map's stripes differ by %.1f levels", bumped);
+    CHECK(flat < 3.0, "without the normal map the same places differ by %.1f levels", flat);
+    CHECK(half < bumped - 3.0 && half > flat, "normal_strength 0.5: %.1f levels, 1: %.1f, none: %.1f", half,
+          bumped, flat);
+    printf("normal map: stripes differ by %.1f levels (strength 1), %.1f (0.5), %.1f without\n", bumped, half, flat);
+
+    /* Not an image: the OBJ file. */
+    cvk_cloth_desc cloth = cvk_default_cloth_desc();
+    cloth.normal_map = mesh;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.integrate = false;
+    scene.cloths = &cloth;
+    scene.cloth_count = 1;
+    scene.render.size[0] = scene.render.size[1] = 64;
+    cvk_error err;
+    cvk_sim* sim;
+    cvk_mesh* m;
+    cvk_renderer* renderer = NULL;
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
+    REQUIRE_OK(cvk_mesh_create(sim, NULL, &m, &err), err);
+    cvk_result r = cvk_renderer_create(m, &scene.render, &renderer, &err);
+    char expected[800];
+    snprintf(expected, sizeof expected, "cloths.0.material.normal_map: %s: not an image stb_image can read", mesh);
+    CHECK(r == CVK_ERROR_INVALID_ARGUMENT && strncmp(err.message, expected, strlen(expected)) == 0,
+          "a normal map that is not an image: %d, \"%s\"", (int)r, err.message);
+    cvk_renderer_destroy(renderer);
+    cvk_mesh_destroy(m);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     if (!mkdtemp(folder)) {
@@ -196,12 +279,16 @@ int main(void)
     snprintf(two_colours, sizeof two_colours, "%s/halves.png", folder);
     snprintf(grey, sizeof grey, "%s/grey.png", folder);
     snprintf(mesh, sizeof mesh, "%s/square.obj", folder);
+    snprintf(stripes, sizeof stripes, "%s/stripes.png", folder);
+    write_normal_map(stripes);
     write_mesh(mesh);
     write_texture(two_colours, true);
     write_texture(grey, false);
     cvk_context* ctx = harness_context();
     halves(ctx);
     srgb_decoded(ctx);
+    normal_map(ctx);
+    unlink(stripes);
     unlink(two_colours);
     unlink(grey);
     unlink(mesh);

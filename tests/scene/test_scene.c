@@ -395,7 +395,8 @@ static void test_validate_render(void)
 static void test_render_looks_json(void)
 {
     cvk_scene* scene = PARSE_OK("{'cloths': [{'material': {'color': [0.1, 0.2, 0.3], 'back_color': [0.4, 0.5, "
-                                "0.6], 'sheen': 0.7, 'roughness': 0.8, 'thickness': 0.05}}, {}], 'render': {'soft_shadows': false, "
+                                "0.6], 'sheen': 0.7, 'roughness': 0.8, 'thickness': 0.05, 'normal_map': "
+                                "'n.png', 'normal_strength': 1.5}}, {}], 'render': {'soft_shadows': false, "
                                 "'key_angle': 5, 'sky_light': false, 'ao': false, 'ao_radius': 0.2, "
                                 "'tone_map': false}}");
     if (scene) {
@@ -406,11 +407,15 @@ static void test_render_looks_json(void)
         CHECK_FLOAT(c->sheen, 0.7f);
         CHECK_FLOAT(c->roughness, 0.8f);
         CHECK_FLOAT(c->thickness, 0.05f);
+        CHECK(c->normal_map && strstr(c->normal_map, "n.png"));
+        CHECK_FLOAT(c->normal_strength, 1.5f);
         CHECK(!c->material_texture);
         CHECK_FLOAT(d->cloths[1].back_color[0], -1.0f);
         CHECK_FLOAT(d->cloths[1].sheen, 0.4f);
         CHECK_FLOAT(d->cloths[1].roughness, 0.5f);
         CHECK_FLOAT(d->cloths[1].thickness, 0.0f);
+        CHECK(!d->cloths[1].normal_map);
+        CHECK_FLOAT(d->cloths[1].normal_strength, 1.0f);
         const cvk_render_desc* r = &d->render;
         CHECK(!r->soft_shadows && !r->sky_light && !r->ao && !r->tone_map);
         CHECK_FLOAT(r->key_angle, 5.0f);
@@ -423,6 +428,10 @@ static void test_render_looks_json(void)
                    "t.json: cloths.0.material.thickness: must be between 0 and 0.05, got 0.06");
     EXPECT_INVALID("{'cloths': [{'material': {'thickness': -0.001}}]}",
                    "t.json: cloths.0.material.thickness: must be between 0 and 0.05, got -0.001");
+    EXPECT_INVALID("{'cloths': [{'material': {'normal_strength': 2.5}}]}",
+                   "t.json: cloths.0.material.normal_strength: must be between 0 and 2, got 2.5");
+    EXPECT_INVALID("{'cloths': [{'material': {'normal_map': ''}}]}",
+                   "t.json: cloths.0.material.normal_map: must name an image file, got an empty string");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'key_angle': 30}}",
                    "t.json: render.key_angle: must be between 0 and 20, got 30");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'ao_radius': -1}}",

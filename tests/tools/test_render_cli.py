@@ -164,7 +164,8 @@ CASES = [
     # A cloth's material block.
     {"name": "unknown material key", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.shine=1"],
      "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.shine (from --set): unknown key (expected one of: "
-                                  "color, back_color, texture, sheen, roughness, thickness)")},
+                                  "color, back_color, texture, sheen, roughness, thickness, normal_map, "
+                                  "normal_strength)")},
     {"name": "material texture not an image",
      "argv": [SMALL, "-o", "out", "--set", 'cloths.0.material.texture="small.json"'], "status": 2,
      "stderr": error(f"{SMALL}: cloths.0.material.texture: {SCENES}/small.json: not an image stb_image can "
@@ -179,6 +180,14 @@ CASES = [
     {"name": "roughness out of range", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.roughness=0"],
      "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.roughness (from --set): must be between 0.1 "
                                   "and 1, got 0")},
+    {"name": "normal map not an image",
+     "argv": [SMALL, "-o", "out", "--set", 'cloths.0.material.normal_map="small.json"'], "status": 2,
+     "stderr": error(f"{SMALL}: cloths.0.material.normal_map: {SCENES}/small.json: not an image stb_image can "
+                     "read (unknown image type)")},
+    {"name": "normal strength out of range",
+     "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.normal_strength=3"], "status": 2,
+     "stderr": error(f"{SMALL}: cloths.0.material.normal_strength (from --set): must be between 0 and 2, "
+                     "got 3")},
     {"name": "thickness out of range", "argv": [SMALL, "-o", "out", "--set", "cloths.0.material.thickness=0.1"],
      "status": 2, "stderr": error(f"{SMALL}: cloths.0.material.thickness (from --set): must be between 0 and "
                                   "0.05, got 0.1")},

@@ -198,6 +198,11 @@ typedef struct cvk_cloth_desc {
     float thickness;             /* m, in [0, 0.05]: drawn as a slab this thick (the two faces
                                     half of it off the middle along the normal, joined along
                                     the border); 0 (the default): one surface */
+    const char* normal_map;      /* image file of tangent-space normals (8-bit RGB = (n + 1) / 2,
+                                    as texture: mapped by the same texture coordinates, the
+                                    tangent along u and the bitangent along v); NULL = none */
+    float normal_strength;       /* in [0, 2]: how far the map tilts the normal (its x and y
+                                    scaled); usually 1 */
     bool material_texture;       /* set by the scene reader when the texture came from the
                                     material block, so messages name material.texture */
     uint32_t cookie_;            /* set by cvk_default_cloth_desc; do not touch */
