@@ -689,7 +689,8 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         cvk_queue_idle(rd->context);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
                               rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
-                              rd->wireframe_pipeline,  rd->occlusion_pipeline};
+                              rd->wireframe_pipeline,  rd->occlusion_pipeline,      rd->slab_pipelines[0],
+                              rd->slab_pipelines[1]};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);

@@ -36,11 +36,25 @@ static void push_cloth(const cvk_renderer* rd, VkCommandBuffer cmd, const cvk_cl
     vkCmdPushConstants(cmd, rd->pipeline_layout, CVK_RENDER_PUSH_STAGES, 0, sizeof m, &m);
 }
 
+/* Binds `pipeline` unless it is bound already (*bound) or there is none to switch to. */
+static void use(VkCommandBuffer cmd, VkPipeline pipeline, VkPipeline* bound)
+{
+    if (!pipeline || pipeline == *bound)
+        return;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    *bound = pipeline;
+}
+
 /* Each cloth's triangles; a cloth with a thickness twice, its faces moved half of it each way
    along the normals (lit_cloth.vert, shadow.vert), and with SLAB then every rim (render/mesh.h)
-   from the rim's own buffers, whose vertices the mesh pass already placed. */
-static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored, cloth_parts parts)
+   from the rim's own buffers, whose vertices the mesh pass already placed. With `pipelines`
+   (the lit pass: the bound pipeline, then rd->slab_pipelines) a slab's front face and rim are
+   drawn culling back faces and its back face culling front faces, so each pixel of the closed
+   slab is shaded once. */
+static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored, cloth_parts parts,
+                        const VkPipeline* pipelines)
 {
+    VkPipeline current = pipelines ? pipelines[0] : VK_NULL_HANDLE;
     cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
     VkBuffer buffers[2] = {mesh.vertex_buffer, rd->textures.uv.buffer};
     VkDeviceSize offsets[2] = {0, 0};
@@ -60,7 +74,11 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
             bound = set;
         }
         float thickness = b->cloths[c].thickness;
+        if (pipelines && thickness <= 0.0f)
+            use(cmd, pipelines[0], &current);
         for (int side = 0; side < (thickness > 0.0f ? 2 : 1); side++) {
+            if (pipelines && thickness > 0.0f)
+                use(cmd, pipelines[1 + side], &current);
             push_cloth(rd, cmd, &b->cloths[c], b->cloths[c].texture != NULL,
                        side ? -0.5f * thickness : 0.5f * thickness, thickness,
                        b->cloths[c].normal_map ? b->cloths[c].normal_strength : 0.0f);
@@ -83,11 +101,15 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
                 bound = set;
             }
             push_cloth(rd, cmd, &b->cloths[c], b->cloths[c].texture != NULL, 0.0f, 0.0f, 0.0f);
+            if (pipelines)
+                use(cmd, pipelines[1], &current);
             vkCmdDrawIndexed(cmd, rim->index_count, 1, rim->first_index, 0, 0);
         }
     }
     if (bound != 0)
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
+    if (pipelines)
+        use(cmd, pipelines[0], &current);
 }
 
 static void begin_pass(VkCommandBuffer cmd, VkRenderPass pass, VkFramebuffer framebuffer, uint32_t width,
@@ -110,7 +132,7 @@ static void record_shadow_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     begin_pass(cmd, rd->shadow_pass, rd->shadow_framebuffer, rd->desc.shadow_map_size,
                rd->desc.shadow_map_size, &clear, 1);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->shadow_pipeline);
-    draw_cloths(rd, cmd, false, SLAB);
+    draw_cloths(rd, cmd, false, SLAB, NULL);
     if (rd->collider_shadow_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_shadow_pipeline);
         cvk_render_colliders_record(rd, cmd, false);
@@ -125,10 +147,11 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1];
     begin_pass(cmd, rd->cloth_pass, rd->cloth_framebuffer, w, h, clears, 2);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->cloth_pipeline);
-    draw_cloths(rd, cmd, true, SLAB);
+    const VkPipeline lit[3] = {rd->cloth_pipeline, rd->slab_pipelines[0], rd->slab_pipelines[1]};
+    draw_cloths(rd, cmd, true, SLAB, lit);
     if (rd->wireframe_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->wireframe_pipeline);
-        draw_cloths(rd, cmd, true, FACES);
+        draw_cloths(rd, cmd, true, FACES, NULL);
     }
     if (rd->collider_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);

@@ -89,6 +89,9 @@ struct cvk_renderer {
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
     VkPipeline occlusion_pipeline;   /* none without render.ao */
+    VkPipeline slab_pipelines[2];    /* the cloth pass culling back faces (a slab's front face and
+                                        its rim), then front faces (its back face): none
+                                        without a cloth with a material thickness */
     cvk_render_colliders colliders;
     cvk_render_textures textures;
 

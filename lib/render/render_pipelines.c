@@ -93,13 +93,15 @@ static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fix
 }
 
 /* Rasterisation, multisampling, depth, stencil and blending. */
-static void raster_state(const pipeline_recipe* p, bool has_fragment, bool wide_lines, fixed_state* f)
+static void raster_state(const pipeline_recipe* p, VkCullModeFlags cull, bool has_fragment, bool wide_lines,
+                         fixed_state* f)
 {
-    /* No culling: both faces of the cloth are drawn, and both cast shadows. */
+    /* No culling: both faces of the cloth are drawn, and both cast shadows. A slab (a cloth with
+       a material thickness) is closed: each of its faces is drawn from outside only. */
     f->raster = (VkPipelineRasterizationStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
         .polygonMode = p->lines ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL,
-        .cullMode = VK_CULL_MODE_NONE,
+        .cullMode = cull,
         .frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE,
         .depthBiasEnable = p->depth_bias,
         .depthBiasConstantFactor = !p->depth_bias ? 0.0f : p->lines ? WIRE_BIAS_CONSTANT : SHADOW_BIAS_CONSTANT,
@@ -139,7 +141,9 @@ static void raster_state(const pipeline_recipe* p, bool has_fragment, bool wide_
     };
 }
 
-static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
+/* The recipe's pipeline culling `cull` (none but for a slab's faces). */
+static cvk_result create_culled(cvk_renderer* rd, const pipeline_recipe* p, VkCullModeFlags cull, VkPipeline* out,
+                                cvk_error* error)
 {
     VkShaderModule modules[4] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     bool has_fragment = p->fragment != CVK_SHADER_COUNT;
@@ -181,7 +185,7 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
     };
     fixed_state f;
     geometry_state(rd, p, &f);
-    raster_state(p, has_fragment, rd->context->wide_lines, &f);
+    raster_state(p, cull, has_fragment, rd->context->wide_lines, &f);
     VkGraphicsPipelineCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
         .stageCount = stage_count,
@@ -206,6 +210,11 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
         return cvk_fail_vk_for(error, "vkCreateGraphicsPipelines", vr, "%s", p->what);
     }
     return CVK_SUCCESS;
+}
+
+static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, VkPipeline* out, cvk_error* error)
+{
+    return create_culled(rd, p, VK_CULL_MODE_NONE, out, error);
 }
 
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
@@ -252,6 +261,18 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
             0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->occlusion_pass, cvk_render_half(w), cvk_render_half(h),
             VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, 0, {0}, false, false};
         cvk_result r = create_pipeline(rd, &occlusion, &rd->occlusion_pipeline, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    const cvk_build* b = &rd->mesh->sim->build;
+    bool slab = false;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        slab = slab || b->cloths[c].thickness > 0.0f;
+    for (int side = 0; slab && side < 2; side++) {
+        pipeline_recipe p = recipes[1];
+        p.what = side == 0 ? "cloth pass (front faces)" : "cloth pass (back faces)";
+        cvk_result r = create_culled(rd, &p, side == 0 ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_FRONT_BIT,
+                                     &rd->slab_pipelines[side], error);
         if (r != CVK_SUCCESS)
             return r;
     }
