@@ -121,23 +121,25 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     struct {
         const char* pass;
         cvk_pipeline_id pipeline;
-        uint32_t count, slot;
+        uint32_t count, slot, phase;
         const cvk_hash* hash;
         const char* what;
     } passes[] = {
-        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, points,
+        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, points,
          "vertices against faces within %.3g m: distances"},
-        {"detect faces", CVK_PIPE_CONTACT_DETECT_LISTS, n, CVK_LIST_FACE_PAIRS_GROUPS, points,
+        {"detect faces", CVK_PIPE_CONTACT_DETECT_LISTS, n, CVK_LIST_FACE_PAIRS_GROUPS, 0, points,
          "the pairs of the vertices with some"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, midpoints,
-         "edges against edges within %.3g m: distances"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
+         midpoints, "edges against edges within %.3g m: distances, each pair once"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,
+         midpoints, "the edges with a pair"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
-         midpoints, "the pairs of the edges with some"},
+         0, midpoints, "the pairs of the edges with some"},
     };
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
         snprintf(note, sizeof note, passes[i].what, (double)c->radius);
         cvk_op* op = add_detection(s, plan, passes[i].pass, passes[i].pipeline, passes[i].count,
-                                   passes[i].slot, 0, passes[i].hash, note);
+                                   passes[i].slot, passes[i].phase, passes[i].hash, note);
         if (op)
             op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     }

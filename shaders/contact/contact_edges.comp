@@ -5,13 +5,21 @@
 // substep. Such an edge f has its midpoint within the radius plus half of each edge's length of
 // e's midpoint (the longest edge measured in phase 1, which also writes the midpoints the edge
 // hash is built from; its cells are that wide, contact_decide.comp), so the walk over the 27
-// cells of the edge hash around e's midpoint visits every such edge, each once. Two passes, as
-// the faces' detection (contact_detect.comp): the first, over every edge, keeps e's nearest
-// distance for the bounds of its ends (contact_bound.comp: f finds e too, so no atomics are
-// needed), empties its list and puts e on the second pass's work list if some pair's nearest
-// points lie inside both edges (where they do not, the pair is a vertex against an edge or a
-// vertex, which the faces' detection lists); the second (LISTING), over those edges alone,
-// lists the nearest CVK_CONTACTS_PER_EDGE such pairs, nearest first, equal distances by edge.
+// cells of the edge hash around e's midpoint visits every such edge, each once. In phases, as
+// the faces' detection (contact_detect.comp):
+//   1: (before the hash is built) the longest edge and the midpoints; each edge's nearest
+//      distance reset;
+//   0: over every edge, the nearest distances alone, for the bounds of the edges' ends
+//      (contact_bound.comp): each pair once, from e through the half of the block of cells
+//      after e's (hash_walk_begin_half; in e's own cell from the lower index), its distance an
+//      atomic minimum at both edges, on the float's bits, which order as the non-negative floats
+//      do, so the result does not depend on thread timing — half the walk of a query from each
+//      edge;
+//   2: every edge's list emptied, and the edges with a pair within the radius put on the work
+//      list of the LISTING pass, which walks all 27 cells of those alone and lists the nearest
+//      CVK_CONTACTS_PER_EDGE pairs whose nearest points lie inside both edges (where they do
+//      not, the pair is a vertex against an edge or a vertex, which the faces' detection
+//      lists), nearest first, equal distances by edge.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -34,10 +42,10 @@ float dist[K];
 
 #include "contact/nearest.glsl"
 
-// Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius;
-// `inside` set where the nearest points lie inside both edges.
-float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e,
-                inout bool inside)
+// Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius
+// (the first pass: also f's nearest distance), the pair listed where the nearest points lie
+// inside both edges (LISTING).
+float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e)
 {
     uvec2 cd = contact_edge(f);
     if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
@@ -50,11 +58,10 @@ float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float neares
     float d = length(c1 - c2);
     if (!(d < contact_u.radius))
         return nearest_e;
-    if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) {
-        inside = true;
-        if (LISTING)
-            INSERT(d, f);
-    }
+    if (LISTING && s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)
+        INSERT(d, f);
+    if (!LISTING)
+        atomicMin(nearest[contact_u.particle_count + f], floatBitsToUint(d));
     return min(nearest_e, d);
 }
 
@@ -67,24 +74,38 @@ void detect(uint e)
     float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
     float reach2 = reach * reach;
     float nearest_e = INFINITY;
-    hash_walk w = hash_walk_begin(m, contact_instance(ab.x)); // the slots of e's instance's edges
+    uint instance = contact_instance(ab.x); // the slots of e's instance's edges
+    hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
     uvec4 entry;
-    bool here, inside = false;
+    bool here;
     while (hash_walk_step(w, entry, here))
-        if (here && within_reach(m, uintBitsToFloat(entry.xyz), reach2))
-            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e, inside);
-    if (!LISTING) {
-        nearest[contact_u.particle_count + e] = floatBitsToUint(nearest_e);
-        if (inside)
+        if (here && (LISTING || w.n != HASH_HOME || entry.w > e) &&
+            within_reach(m, uintBitsToFloat(entry.xyz), reach2))
+            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e);
+    if (LISTING) {
+        for (uint k = 0u; k < K; k++)
+            edge_contacts[e * K + k] = kept[k];
+    } else if (nearest_e < INFINITY) {
+        atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+    }
+}
+
+// Phase 2, after the distances: every edge's list emptied, and those with a pair within the
+// radius put on the LISTING pass's work list.
+void list_near()
+{
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uint e = pc.first + i;
+        for (uint k = 0u; k < K; k++)
+            edge_contacts[e * K + k] = CVK_NO_CONTACT;
+        if (uintBitsToFloat(nearest[contact_u.particle_count + e]) < contact_u.radius)
             list_append(CVK_LIST_EDGE_PAIRS_GROUPS, e, pc.per_group);
     }
-    for (uint k = 0u; k < K; k++)
-        edge_contacts[e * K + k] = kept[k]; // empty in the first pass
 }
 
 // Phase 1, before detection: the longest edge now, which bounds how near a corner of a near
 // feature is (an atomic maximum on the float's bits, which order as non-negative floats do),
-// and the midpoints.
+// the midpoints, and each edge's nearest distance reset.
 void measure_longest()
 {
     float longest = 0.0;
@@ -93,6 +114,7 @@ void measure_longest()
         vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
         longest = max(longest, distance(xa, xb));
         midpoints[pc.first + i] = vec4(0.5 * (xa + xb), 0.0);
+        nearest[contact_u.particle_count + pc.first + i] = 0x7f7f7f7fu; // 3.4e38: none yet
     }
     atomicMax(frame.longest, floatBitsToUint(longest));
 }
@@ -109,6 +131,10 @@ void main()
     }
     if (pc.phase == 1u) {
         measure_longest();
+        return;
+    }
+    if (pc.phase == 2u) {
+        list_near();
         return;
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)

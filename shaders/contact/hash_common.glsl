@@ -106,6 +106,8 @@ uint hash_salt(uint p)
     return p < uint(imageSize(hash_salts)) ? imageLoad(hash_salts, int(p)).x : 0u;
 }
 
+const uint HASH_HOME = 13u; // the cell n of the block at offset (0, 0, 0)
+
 // Cell n (0..26) of the 3x3x3 block around `home`.
 ivec3 hash_neighbour_cell(ivec3 home, uint n)
 {
@@ -158,6 +160,21 @@ hash_walk hash_walk_begin(vec3 x, uint salt)
     w.n = 0u;
     w.salt = salt;
     w.cell = hash_neighbour_cell(w.home, 0u);
+    w.range = hash_range(w.cell, salt);
+    return w;
+}
+
+// The walk over half the block: the home cell (n = 13) and the 13 after it, whose offsets are
+// the negations of those before it. A query that every point makes, counting a pair of points
+// in cells a and b from a only when b is after a, and a pair in one cell from one of the two,
+// meets every pair once.
+hash_walk hash_walk_begin_half(vec3 x, uint salt)
+{
+    hash_walk w;
+    w.home = hash_cell(x);
+    w.n = HASH_HOME;
+    w.salt = salt;
+    w.cell = w.home;
     w.range = hash_range(w.cell, salt);
     return w;
 }
