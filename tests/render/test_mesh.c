@@ -86,6 +86,38 @@ static void regenerate(cvk_context* ctx, cvk_mesh* mesh)
     cvk_submitter_destroy(ctx, &sub);
 }
 
+/* The structural spring between vertices ua and ub torn as tearing tears one (its flag
+   cleared), and the mesh regenerated. */
+static void tear_spring(cvk_context* ctx, cvk_sim* sim, cvk_mesh* mesh, uint32_t ua, uint32_t ub)
+{
+    cvk_error err;
+    const cvk_build* b = &sim->build;
+    uint32_t torn = UINT32_MAX;
+    for (uint32_t s = 0; s < b->spring_count; s++) {
+        uint32_t a = b->user_of[b->springs[s].a], bb = b->user_of[b->springs[s].b];
+        if (b->springs[s].type == CVK_SPRING_STRUCTURAL && ((a == ua && bb == ub) || (a == ub && bb == ua)))
+            torn = s;
+    }
+    if (torn == UINT32_MAX) {
+        fprintf(stderr, "no structural spring between vertices %u and %u\n", ua, ub);
+        exit(1);
+    }
+    uint32_t* flags = malloc((size_t)b->spring_count * 4u);
+    if (!flags)
+        exit(1);
+    for (uint32_t s = 0; s < b->spring_count; s++)
+        flags[s] = s != torn;
+    cvk_submitter sub;
+    VkCommandBuffer cmd;
+    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
+    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
+    REQUIRE_OK(cvk_buffer_upload(ctx, &sub, cmd, &sim->spring_alive, flags, (VkDeviceSize)b->spring_count * 4u,
+                                 &err), err);
+    cvk_submitter_destroy(ctx, &sub);
+    free(flags);
+    regenerate(ctx, mesh);
+}
+
 static cvk_sim* make_sim(cvk_context* ctx, cvk_cloth_desc* cloths, uint32_t count)
 {
     cvk_scene_desc scene = cvk_default_scene_desc();
@@ -251,28 +283,9 @@ static void bumpy_normals_and_tearing(cvk_context* ctx)
     printf("bumpy 12x10: normals within %.2g of the host's area-weighted normals, |n| within %.2g of 1\n", worst,
            worst_length);
 
-    /* Tear the structural spring between [4, 3] and [5, 3], as tearing will: clear its flag. */
-    uint32_t ua = 3 * 12 + 4, ub = ua + 1, torn = UINT32_MAX;
-    const cvk_build* b = &sim->build;
-    for (uint32_t s = 0; s < b->spring_count; s++) {
-        uint32_t a = b->user_of[b->springs[s].a], bb = b->user_of[b->springs[s].b];
-        if (b->springs[s].type == CVK_SPRING_STRUCTURAL && ((a == ua && bb == ub) || (a == ub && bb == ua)))
-            torn = s;
-    }
-    CHECK(torn != UINT32_MAX, "no structural spring between vertices %u and %u", ua, ub);
-    uint32_t* flags = malloc((size_t)b->spring_count * 4u);
-    if (!flags)
-        exit(1);
-    for (uint32_t s = 0; s < b->spring_count; s++)
-        flags[s] = s != torn;
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_buffer_upload(ctx, &sub, cmd, &sim->spring_alive, flags, (VkDeviceSize)b->spring_count * 4u,
-                                 &err), err);
-    cvk_submitter_destroy(ctx, &sub);
-    regenerate(ctx, mesh);
+    /* Tear the structural spring between [4, 3] and [5, 3], as tearing will. */
+    uint32_t ua = 3 * 12 + 4, ub = ua + 1;
+    tear_spring(ctx, sim, mesh, ua, ub);
     mesh_data torn_mesh = read_mesh(ctx, mesh);
     CHECK(torn_mesh.info.index_count == d.info.index_count, "index count changed from %u to %u",
           d.info.index_count, torn_mesh.info.index_count);
@@ -290,10 +303,9 @@ static void bumpy_normals_and_tearing(cvk_context* ctx)
     CHECK(degenerate == 2 && along_edge == 2 && changed == 2,
           "tearing one interior edge: %u triangles changed, %u degenerate, %u of them along the edge "
           "(expected 2, 2, 2)", changed, degenerate, along_edge);
-    printf("tearing spring %u: %u triangles became degenerate, index count still %u\n", torn, degenerate,
-           torn_mesh.info.index_count);
+    printf("tearing the spring %u-%u: %u triangles became degenerate, index count still %u\n", ua, ub,
+           degenerate, torn_mesh.info.index_count);
     free_mesh(&torn_mesh);
-    free(flags);
     free(ref);
     free(xyz);
     free_mesh(&d);
@@ -375,32 +387,8 @@ static void rim(cvk_context* ctx)
         CHECK(open == 24 && bad == 0, "%s tearing: %u open rim quads (expected the 24 border edges), %u wrong",
               tearing ? "with" : "without", open, bad);
         if (tearing) {
-            /* Clear the flag of the structural spring between [3, 2] and [4, 2]. */
-            uint32_t ua = 2 * 8 + 3, ub = ua + 1, torn = UINT32_MAX;
-            const cvk_build* b = &sim->build;
-            for (uint32_t s = 0; s < b->spring_count; s++) {
-                uint32_t a = b->user_of[b->springs[s].a], bb = b->user_of[b->springs[s].b];
-                if (b->springs[s].type == CVK_SPRING_STRUCTURAL && ((a == ua && bb == ub) || (a == ub && bb == ua)))
-                    torn = s;
-            }
-            if (torn == UINT32_MAX) {
-                fprintf(stderr, "no structural spring between vertices %u and %u\n", ua, ub);
-                exit(1);
-            }
-            uint32_t* flags = malloc((size_t)b->spring_count * 4u);
-            if (!flags)
-                exit(1);
-            for (uint32_t s = 0; s < b->spring_count; s++)
-                flags[s] = s != torn;
-            cvk_submitter sub;
-            VkCommandBuffer cmd;
-            REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-            REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-            REQUIRE_OK(cvk_buffer_upload(ctx, &sub, cmd, &sim->spring_alive, flags,
-                                         (VkDeviceSize)b->spring_count * 4u, &err), err);
-            cvk_submitter_destroy(ctx, &sub);
-            free(flags);
-            regenerate(ctx, mesh);
+            /* Tear the structural spring between [3, 2] and [4, 2]. */
+            tear_spring(ctx, sim, mesh, 2 * 8 + 3, 2 * 8 + 4);
             uint32_t bad_torn;
             uint32_t open_torn = open_rim_quads(ctx, mesh, half, c, h, reach, &bad_torn);
             CHECK(open_torn == 28 && bad_torn == 0, "tearing one interior spring opens %u rim quads (expected 28: "
