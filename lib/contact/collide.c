@@ -594,10 +594,10 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->particle_edges, 4u * t.particle_edges_count, true, "edges by end", t.particle_edges},
         {&c->contacts, 4u * CVK_CONTACTS_PER_PARTICLE * n, true, "contacts", NULL},
         {&c->edge_contacts, 4u * CVK_CONTACTS_PER_EDGE * ec, true, "edge contacts", NULL},
-        {&c->nearest, 4u * (n + ec), true, "nearest distances", NULL},
+        {&c->nearest, 4u * (n + 2u * ec), true, "nearest distances", NULL},
         {&c->searched, 16u * n, true, "positions at detection and bounds", NULL},
         {&c->previous, 16u * n, true, "positions a substep before", NULL},
-        {&c->lists, 4u * (CVK_LIST_HEADER + 2u * (VkDeviceSize)n + ec), true, "work lists", NULL},
+        {&c->lists, 4u * (CVK_LIST_HEADER + (VkDeviceSize)n + ec), true, "work lists", NULL},
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
     };

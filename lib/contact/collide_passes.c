@@ -114,10 +114,10 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
     if (r != CVK_SUCCESS)
         return r;
-    /* Each first pass writes its second's indirect command (the items with pairs). Every pass
-       here binds the work lists writable (the second passes too, as far as the shader's code
-       says: their appends are specialised away), so each is followed by the barrier the
-       lists' commands need. */
+    /* The edges' phase 2 writes the listing pass's indirect command (the edges with pairs).
+       Every pass here binds the work lists writable (the listing pass too, as far as the
+       shader's code says: its appends are specialised away), so each is followed by the barrier
+       the lists' commands need. */
     struct {
         const char* pass;
         cvk_pipeline_id pipeline;
@@ -126,9 +126,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         const char* what;
     } passes[] = {
         {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, points,
-         "vertices against faces within %.3g m: distances"},
-        {"detect faces", CVK_PIPE_CONTACT_DETECT_LISTS, n, CVK_LIST_FACE_PAIRS_GROUPS, 0, points,
-         "the pairs of the vertices with some"},
+         "vertices against faces within %.3g m"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
          midpoints, "edges against edges within %.3g m: distances, each pair once"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,
@@ -236,7 +234,7 @@ static uint32_t snapshot_parts(const cvk_sim* s, cvk_buffer* buffers[SNAPSHOT_PA
     buffers[4] = (cvk_buffer*)&c->previous;
     sizes[4] = 16u * n;
     buffers[5] = (cvk_buffer*)&c->lists;
-    sizes[5] = 4u * (CVK_LIST_HEADER + 2u * n + ec);
+    sizes[5] = 4u * (CVK_LIST_HEADER + n + ec);
     buffers[6] = (cvk_buffer*)&c->sides;
     sizes[6] = 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE);
     return SNAPSHOT_PARTS;

@@ -59,8 +59,7 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
-/* Detection's second passes (id 1, LISTING, of shaders/contact/contact_detect.comp and
-   contact_edges.comp). */
+/* The edge detection's listing pass (id 1, LISTING, of shaders/contact/contact_edges.comp). */
 #define CVK_SPEC_LISTING {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
 
@@ -93,7 +92,6 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
-    X(CONTACT_DETECT_LISTS, CONTACT_DETECT_COMP, CVK_SPEC_LISTING, "detection: the vertices' pairs") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_WORKGROUP, "detection: bounds") \

@@ -88,7 +88,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS) w
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS_READ, r32ui) uniform readonly uimageBuffer edge_contacts_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST) buffer Nearest {
-    uint nearest[]; // per particle, then per edge: the nearest distance found (float bits)
+    uint nearest[]; // per particle, then per edge: the nearest distance found (float bits);
+                    // then per edge: 1 where it has a pair to list (contact_edges.comp)
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
     uint lists[]; // CVK_LIST_*: indirect commands, the particles in listed pairs
@@ -131,9 +132,7 @@ void list_clear(uint command)
 }
 uint list_start(uint command) // where its entries start
 {
-    uint n = contact_u.particle_count;
-    return CVK_LIST_HEADER + (command == CVK_LIST_LISTED_GROUPS ? 0u
-                              : (command == CVK_LIST_FACE_PAIRS_GROUPS ? n : 2u * n));
+    return CVK_LIST_HEADER + (command == CVK_LIST_LISTED_GROUPS ? 0u : contact_u.particle_count);
 }
 void list_append(uint command, uint item, uint per_group)
 {

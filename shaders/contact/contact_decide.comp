@@ -91,9 +91,8 @@ void main()
     lists[CVK_LIST_EDGE_GROUPS] = search ? groups_for(contact.edge_count) : 0u;
     lists[CVK_LIST_EDGE_GROUPS + 1] = 1u;
     lists[CVK_LIST_EDGE_GROUPS + 2] = 1u;
-    // Emptied: detection's first passes fill the lists of its second (none without
-    // detection), and the bounds pass the particles in pairs again (contact_bound.comp).
-    list_clear(CVK_LIST_FACE_PAIRS_GROUPS);
+    // Emptied: the edge detection fills the list of its listing pass (none without detection),
+    // and the bounds pass the particles in pairs again (contact_bound.comp).
     list_clear(CVK_LIST_EDGE_PAIRS_GROUPS);
     if (search)
         list_clear(CVK_LIST_LISTED_GROUPS);

@@ -7,18 +7,13 @@
 // by contact_edges.comp; the hash's cells are wider, contact_decide.comp), and the walk over
 // the 27 hash cells around p visits every such corner (of p's instance: the scene's copies
 // never touch one another, and a corner of another is passed over); the triangles
-// around each are tested once, through their lowest-index corner within reach. Two passes:
-//   - the first, over every particle: p's nearest distance and each corner's (an atomic
-//     minimum on the float's bits, which order as the non-negative floats do, so the result
-//     does not depend on thread timing) take the distance of each pair found: the bounds come
-//     from them (contact_bound.comp); p's list is emptied, and p, if it has a pair, goes on the
-//     second pass's work list;
-//   - the second (LISTING), over those particles alone: p's list keeps the feature the nearest
-//     point lies on — the face, an edge or a corner, so a point beside an edge shared by two
-//     faces is listed once — nearest first, equal distances by feature, the
-//     CVK_CONTACTS_PER_PARTICLE nearest.
-// lavapipe runs every statement of a shader for every invocation, under a mask, so keeping the
-// lists costs wherever it is written: only the second pass's particles pay for it.
+// around each are tested once, through their lowest-index corner within reach. Each pair found:
+//   - p's nearest distance and each corner's (an atomic minimum on the float's bits, which
+//     order as the non-negative floats do, so the result does not depend on thread timing)
+//     take its distance: the bounds come from them (contact_bound.comp);
+//   - p's list keeps the feature the nearest point lies on — the face, an edge or a corner, so a
+//     point beside an edge shared by two faces is listed once — nearest first, equal distances by
+//     feature, the CVK_CONTACTS_PER_PARTICLE nearest.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -26,8 +21,6 @@ layout(local_size_x_id = 0) in;
 #define HASH_SET 1
 #include "contact/hash_common.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
-
-layout(constant_id = 1) const bool LISTING = false;
 
 const uint K = uint(CVK_CONTACTS_PER_PARTICLE);
 const bool DEDUP = true;
@@ -82,14 +75,11 @@ float triangles_at(uint p, vec3 xp, uint q, vec3 xq, float reach2, float nearest
         if (!(d < contact_u.radius))
             continue;
         nearest_p = min(nearest_p, d);
-        if (LISTING) {
-            INSERT(d, feature_of(t, tri, w));
-        } else {
-            uint bits = floatBitsToUint(d);
-            atomicMin(nearest[tri.x], bits);
-            atomicMin(nearest[tri.y], bits);
-            atomicMin(nearest[tri.z], bits);
-        }
+        uint bits = floatBitsToUint(d);
+        atomicMin(nearest[tri.x], bits);
+        atomicMin(nearest[tri.y], bits);
+        atomicMin(nearest[tri.z], bits);
+        INSERT(d, feature_of(t, tri, w));
     }
     return nearest_p;
 }
@@ -135,15 +125,8 @@ void detect(uint p)
         }
     }
     nearest_p = test_batch(p, xp, count, reach2, nearest_p);
-    if (!LISTING) {
-        for (uint k = 0u; k < K; k++)
-            contacts[p * K + k] = CVK_NO_CONTACT; // the second pass lists those with pairs
-        if (nearest_p < INFINITY) {
-            atomicMin(nearest[p], floatBitsToUint(nearest_p));
-            list_append(CVK_LIST_FACE_PAIRS_GROUPS, p, pc.per_group);
-        }
-        return;
-    }
+    if (nearest_p < INFINITY)
+        atomicMin(nearest[p], floatBitsToUint(nearest_p));
     for (uint k = 0u; k < K; k++) {
         contacts[p * K + k] = kept[k];
         if (kept[k] == CVK_NO_CONTACT)
@@ -168,12 +151,6 @@ void main()
 {
     if (pc.count == 0u)
         return;
-    if (LISTING) {
-        uint count = lists[CVK_LIST_FACE_PAIRS_COUNT], start = list_start(CVK_LIST_FACE_PAIRS_GROUPS);
-        for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-            detect(lists[start + i]);
-        return;
-    }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
         detect(pc.first + i);
 }

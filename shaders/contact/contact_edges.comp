@@ -8,18 +8,18 @@
 // cells of the edge hash around e's midpoint visits every such edge, each once. In phases, as
 // the faces' detection (contact_detect.comp):
 //   1: (before the hash is built) the longest edge and the midpoints; each edge's nearest
-//      distance reset;
+//      distance and mark reset;
 //   0: over every edge, the nearest distances alone, for the bounds of the edges' ends
 //      (contact_bound.comp): each pair once, from e through the half of the block of cells
 //      after e's (hash_walk_begin_half; in e's own cell from the lower index), its distance an
 //      atomic minimum at both edges, on the float's bits, which order as the non-negative floats
 //      do, so the result does not depend on thread timing — half the walk of a query from each
-//      edge;
-//   2: every edge's list emptied, and the edges with a pair within the radius put on the work
-//      list of the LISTING pass, which walks all 27 cells of those alone and lists the nearest
-//      CVK_CONTACTS_PER_EDGE pairs whose nearest points lie inside both edges (where they do
-//      not, the pair is a vertex against an edge or a vertex, which the faces' detection
-//      lists), nearest first, equal distances by edge.
+//      edge; both edges marked where the pair's nearest points lie inside both (elsewhere the
+//      pair is a vertex against an edge or a vertex, which the faces' detection lists);
+//   2: every edge's list emptied, and the marked edges put on the work list of the LISTING
+//      pass, which walks all 27 cells of those alone and lists the nearest
+//      CVK_CONTACTS_PER_EDGE pairs whose nearest points lie inside both edges, nearest first,
+//      equal distances by edge.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -43,9 +43,10 @@ float dist[K];
 #include "contact/nearest.glsl"
 
 // Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius
-// (the first pass: also f's nearest distance), the pair listed where the nearest points lie
-// inside both edges (LISTING).
-float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e)
+// (the first pass: also f's nearest distance, and both marked where the nearest points lie
+// inside both edges), the pair listed where they do (LISTING).
+float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e,
+                inout bool inside)
 {
     uvec2 cd = contact_edge(f);
     if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
@@ -58,10 +59,15 @@ float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float neares
     float d = length(c1 - c2);
     if (!(d < contact_u.radius))
         return nearest_e;
-    if (LISTING && s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0)
+    bool both = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+    if (LISTING && both)
         INSERT(d, f);
-    if (!LISTING)
+    if (!LISTING) {
         atomicMin(nearest[contact_u.particle_count + f], floatBitsToUint(d));
+        if (both)
+            nearest[contact_u.particle_count + contact_u.edge_count + f] = 1u;
+    }
+    inside = inside || both;
     return min(nearest_e, d);
 }
 
@@ -77,28 +83,31 @@ void detect(uint e)
     uint instance = contact_instance(ab.x); // the slots of e's instance's edges
     hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
     uvec4 entry;
-    bool here;
+    bool here, inside = false;
     while (hash_walk_step(w, entry, here))
         if (here && (LISTING || w.n != HASH_HOME || entry.w > e) &&
             within_reach(m, uintBitsToFloat(entry.xyz), reach2))
-            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e);
+            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e, inside);
     if (LISTING) {
         for (uint k = 0u; k < K; k++)
             edge_contacts[e * K + k] = kept[k];
-    } else if (nearest_e < INFINITY) {
-        atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+        return;
     }
+    if (nearest_e < INFINITY)
+        atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+    if (inside)
+        nearest[contact_u.particle_count + contact_u.edge_count + e] = 1u;
 }
 
-// Phase 2, after the distances: every edge's list emptied, and those with a pair within the
-// radius put on the LISTING pass's work list.
+// Phase 2, after the distances: every edge's list emptied, and the marked ones put on the
+// LISTING pass's work list.
 void list_near()
 {
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint e = pc.first + i;
         for (uint k = 0u; k < K; k++)
             edge_contacts[e * K + k] = CVK_NO_CONTACT;
-        if (uintBitsToFloat(nearest[contact_u.particle_count + e]) < contact_u.radius)
+        if (nearest[contact_u.particle_count + contact_u.edge_count + e] != 0u)
             list_append(CVK_LIST_EDGE_PAIRS_GROUPS, e, pc.per_group);
     }
 }
@@ -115,6 +124,7 @@ void measure_longest()
         longest = max(longest, distance(xa, xb));
         midpoints[pc.first + i] = vec4(0.5 * (xa + xb), 0.0);
         nearest[contact_u.particle_count + pc.first + i] = 0x7f7f7f7fu; // 3.4e38: none yet
+        nearest[contact_u.particle_count + contact_u.edge_count + pc.first + i] = 0u;
     }
     atomicMax(frame.longest, floatBitsToUint(longest));
 }

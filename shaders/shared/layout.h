@@ -406,20 +406,16 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
    - the free particles in some listed pair, the cloth contact pass's work until the next
      detection (contact_bound.comp; shaders/solvers/pd_contact.comp), particle_count entries
      from CVK_LIST_HEADER;
-   - the particles with a face within the radius, particle_count entries after those, and
-   - the edges with an edge within the radius (nearest points inside both), edge_count entries
-     after those: the work of detection's second passes, which list the pairs (the first
-     passes over every particle and edge measure the nearest distances only:
-     contact_detect.comp, contact_edges.comp). */
+   - the edges with a pair to list (another edge within the radius, their nearest points inside
+     both), edge_count entries after those: the work of the edge detection's listing pass (the
+     pass before it, over every edge, measures the nearest distances only: contact_edges.comp). */
 #define CVK_LIST_PARTICLE_GROUPS 0 /* x, y, z: detection and bounds over the particles */
 #define CVK_LIST_EDGE_GROUPS 4     /* x, y, z: detection over the edges */
 #define CVK_LIST_LISTED_GROUPS 8   /* x, y, z: the cloth contact pass over the listed particles */
 #define CVK_LIST_LISTED_COUNT 11   /* how many particles that list holds */
-#define CVK_LIST_FACE_PAIRS_GROUPS 12 /* x, y, z: listing the particles' pairs with faces */
-#define CVK_LIST_FACE_PAIRS_COUNT 15
-#define CVK_LIST_EDGE_PAIRS_GROUPS 16 /* x, y, z: listing the edges' pairs with edges */
-#define CVK_LIST_EDGE_PAIRS_COUNT 19
-#define CVK_LIST_HEADER 20
+#define CVK_LIST_EDGE_PAIRS_GROUPS 12 /* x, y, z: listing the edges' pairs with edges */
+#define CVK_LIST_EDGE_PAIRS_COUNT 15
+#define CVK_LIST_HEADER 16
 
 /* Push data of the contact passes (collider_poses, contact_check, contact_decide,
    contact_detect, contact_edges, contact_bound): items [first, first + count); the phase of a
@@ -455,7 +451,8 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_TRIANGLE_EDGES 16 /* texel, uvec4 per triangle: its edges, 0 */
 #define CVK_CONTACT_BINDING_EDGE_CONTACTS 17 /* uint per edge × CVK_CONTACTS_PER_EDGE */
 #define CVK_CONTACT_BINDING_EDGE_CONTACTS_READ 18 /* texel view of the same */
-#define CVK_CONTACT_BINDING_NEAREST 19 /* uint per particle, then per edge: nearest distance's bits */
+#define CVK_CONTACT_BINDING_NEAREST 19 /* uint per particle, then per edge: nearest distance's bits;
+                                          then per edge: 1 where it has a pair to list */
 #define CVK_CONTACT_BINDING_LISTS 20 /* the work list header (above) */
 #define CVK_CONTACT_BINDING_SEARCHED_READ 21 /* texel view of where detection saw them */
 #define CVK_CONTACT_BINDING_PARTICLE_EDGES 22 /* texel, uint: n + 1 offsets, then edge ids */
