@@ -373,7 +373,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 #define CVK_CONTACTS_PER_EDGE 4
 /* Per particle, the pairs in which it is a corner of the feature (the other side's vertex and
    its entry): the face's side of a vertex–feature pair. */
-#define CVK_SIDES_PER_PARTICLE 16
+#define CVK_SIDES_PER_PARTICLE 32
 #define CVK_NO_CONTACT 0xffffffffu
 #define CVK_FEATURE_FACE 0u
 #define CVK_FEATURE_EDGE 1u
