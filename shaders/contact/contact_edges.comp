@@ -42,11 +42,16 @@ float dist[K];
 
 #include "contact/nearest.glsl"
 
-// Edge f, its midpoint near e = (a, b)'s midpoint m: its distance to e if within the radius
-// (the first pass: also f's nearest distance, and both marked where the nearest points lie
-// inside both edges), the pair listed where they do (LISTING).
-float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float nearest_e,
-                inout bool inside)
+// Edge e marked: it has a pair to list (phase 2 reads the marks).
+void mark(uint e)
+{
+    nearest[contact_u.particle_count + contact_u.edge_count + e] = 1u;
+}
+
+// Edge f, its midpoint near e = (a, b)'s: its distance to e if within the radius (the first
+// pass: also f's nearest distance, and both edges marked where the nearest points lie inside
+// both), the pair listed where they do (LISTING).
+float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, uint f, float nearest_e)
 {
     uvec2 cd = contact_edge(f);
     if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
@@ -64,10 +69,11 @@ float edge_pair(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, uint f, float neares
         INSERT(d, f);
     if (!LISTING) {
         atomicMin(nearest[contact_u.particle_count + f], floatBitsToUint(d));
-        if (both)
-            nearest[contact_u.particle_count + contact_u.edge_count + f] = 1u;
+        if (both) {
+            mark(e);
+            mark(f);
+        }
     }
-    inside = inside || both;
     return min(nearest_e, d);
 }
 
@@ -83,11 +89,11 @@ void detect(uint e)
     uint instance = contact_instance(ab.x); // the slots of e's instance's edges
     hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
     uvec4 entry;
-    bool here, inside = false;
+    bool here;
     while (hash_walk_step(w, entry, here))
         if (here && (LISTING || w.n != HASH_HOME || entry.w > e) &&
             within_reach(m, uintBitsToFloat(entry.xyz), reach2))
-            nearest_e = edge_pair(e, ab, xa, xb, m, entry.w, nearest_e, inside);
+            nearest_e = edge_pair(e, ab, xa, xb, entry.w, nearest_e);
     if (LISTING) {
         for (uint k = 0u; k < K; k++)
             edge_contacts[e * K + k] = kept[k];
@@ -95,8 +101,6 @@ void detect(uint e)
     }
     if (nearest_e < INFINITY)
         atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
-    if (inside)
-        nearest[contact_u.particle_count + contact_u.edge_count + e] = 1u;
 }
 
 // Phase 2, after the distances: every edge's list emptied, and the marked ones put on the
