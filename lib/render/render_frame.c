@@ -45,6 +45,16 @@ static void use(VkCommandBuffer cmd, VkPipeline pipeline, VkPipeline* bound)
     *bound = pipeline;
 }
 
+/* Binds a cloth's texture set `set` unless it is bound already (*bound). */
+static void bind_textures(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t set, uint32_t* bound)
+{
+    if (set == *bound)
+        return;
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
+                            &rd->descriptors.sets[set], 0, NULL);
+    *bound = set;
+}
+
 /* Each cloth's triangles; a cloth with a thickness twice, its faces moved half of it each way
    along the normals (lit_cloth.vert, shadow.vert), and with SLAB then every rim (render/mesh.h)
    from the rim's own buffers, whose vertices the mesh pass already placed. With `pipelines`
@@ -67,12 +77,8 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
     for (uint32_t c = 0; c < mesh.cloth_count; c++) {
         if (mesh.cloths[c].index_count == 0)
             continue;
-        uint32_t set = rd->textures.set_of[c];
-        if (colored && set != bound) {
-            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
-                                    &rd->descriptors.sets[set], 0, NULL);
-            bound = set;
-        }
+        if (colored)
+            bind_textures(rd, cmd, rd->textures.set_of[c], &bound);
         float thickness = b->cloths[c].thickness;
         if (pipelines && thickness <= 0.0f)
             use(cmd, pipelines[0], &current);
@@ -94,12 +100,8 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
             const cvk_mesh_range* rim = &rd->mesh->rims[c];
             if (rim->index_count == 0)
                 continue;
-            uint32_t set = rd->textures.set_of[c];
-            if (colored && set != bound) {
-                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1,
-                                        &rd->descriptors.sets[set], 0, NULL);
-                bound = set;
-            }
+            if (colored)
+                bind_textures(rd, cmd, rd->textures.set_of[c], &bound);
             push_cloth(rd, cmd, &b->cloths[c], b->cloths[c].texture != NULL, 0.0f, 0.0f, 0.0f);
             if (pipelines)
                 use(cmd, pipelines[1], &current);
