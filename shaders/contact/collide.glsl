@@ -393,16 +393,14 @@ float posed_distance(uint k, vec3 x, uint pose)
     return shape_distance(collider_shape(k), l);
 }
 
-// The least distance from x to a collider of particle p's instance other than a funnel, at the
-// end of the substep or, with `both`, at its start too (the bounds' collider rules:
-// lib/contact/collide.h; a funnel's push is not held to the bound).
+// The least distance from x to a collider of particle p's instance (a funnel's unsigned), at
+// the end of the substep or, with `both`, at its start too (the bounds' collider rules:
+// lib/contact/collide.h).
 float nearest_solid(uint p, vec3 x, bool both)
 {
     float d = 3.0e38;
     uvec2 range = collider_range(p);
     for (uint k = range.x; k < range.y; k++) {
-        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && collider_shape(k).type == CVK_COLLIDER_FUNNEL_ID)
-            continue;
         d = min(d, posed_distance(k, x, 1u));
         if (both)
             d = min(d, posed_distance(k, x, 0u));

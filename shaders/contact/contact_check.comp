@@ -69,7 +69,7 @@ void main()
         vec3 v = x - previous[p].xyz;
         // Within the thickness, the radius and twice its last move of a collider: one may
         // stop it while the others move on, so a detection takes no shift
-        // (contact_decide.comp). Funnels are left out: their push is not held to the bound.
+        // (contact_decide.comp).
         float reach = contact_u.thickness + contact_u.radius + 2.0 * length(v);
         near = near || !(nearest_solid(p, x, true) >= reach);
         vec3 e = x - imageLoad(searched_t, int(p)).xyz + v;

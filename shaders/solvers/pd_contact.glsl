@@ -62,6 +62,27 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
     return u + most;
 }
 
+// Whether p's path from x0 to x0 + u keeps a quarter of the thickness (and half its start's
+// distance) off every funnel: a place within the bound on the side of the surface the particle
+// started on, which a funnel's push may be brought back to.
+bool shells_clear(uint p, vec3 x0, vec3 u)
+{
+    uvec2 range = collider_range(p);
+    for (uint k = range.x; k < range.y; k++) {
+        cvk_gpu_collider c = collider_shape(k);
+        if (c.type != CVK_COLLIDER_FUNNEL_ID)
+            continue;
+        cvk_gpu_pose pose = collider_pose(k);
+        vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
+        vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+        float r = min(0.25 * contact_u.thickness, 0.5 * shape_distance(c, l0));
+        vec3 hit, n;
+        if (!(r > 0.0) || trace_segment(c, l0, l1, r, hit, n))
+            return false;
+    }
+    return true;
+}
+
 // Where corner q is in the iterate before (src): triangle corners and edge ends are read from
 // it, never from the buffer being written, so the result does not depend on the order of
 // invocations.
@@ -186,21 +207,23 @@ vec3 pd_contact(uint p, vec3 u)
     vec3 x0 = fetch(x_read, p);
     if (SELF)
         u = within_bound(p, x0 + u) - x0;
+    vec3 pushed = u;
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
-        u = edges_off_shells(p, x0, u);
-    if (COLLIDERS) {
-        vec3 pushed = collide_colliders(p, x0, u);
-        // A collider's push must not take a particle past its bound (lib/contact/collide.h):
-        // the pushed place is brought back within it where that leaves the particle outside
-        // every collider's surface (within the thickness of it at most: the bound is under
-        // the thickness). Where it would not — a collider that moved onto where detection saw
-        // the particle, or a funnel, a surface the bound could reach across — the collider
-        // wins, and the particle, past its bound, makes the next substep detect.
-        if (SELF && !HAS_TYPE(CVK_COLLIDER_FUNNEL_ID) && any(notEqual(pushed, u))) {
-            vec3 back = within_bound(p, x0 + pushed);
-            pushed = nearest_solid(p, back, false) >= 0.0 ? back - x0 : pushed;
-        }
-        u = pushed;
+        pushed = edges_off_shells(p, x0, pushed);
+    if (COLLIDERS)
+        pushed = collide_colliders(p, x0, pushed);
+    // A collider's push must not take a particle past its bound (lib/contact/collide.h): the
+    // pushed place is brought back within it where that leaves the particle outside every
+    // solid collider's surface (within the thickness of it at most: the bound is under the
+    // thickness) and on its side of every funnel. Where it would not — a collider that moved
+    // onto where detection saw the particle — the collider wins, and the particle, past its
+    // bound, makes the next substep detect.
+    if (SELF && COLLIDERS && any(notEqual(pushed, u))) {
+        vec3 back = within_bound(p, x0 + pushed);
+        bool outside = nearest_solid(p, back, false) >= 0.0;
+        if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
+            outside = outside && shells_clear(p, x0, back - x0);
+        pushed = outside ? back - x0 : pushed;
     }
-    return u;
+    return pushed;
 }
