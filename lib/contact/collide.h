@@ -19,8 +19,9 @@
    plus a shift M common to all particles (the cloths' common motion, which changes no distance):
    two features that were d apart then each moved at most gamma d relative to the other's
    frame, so they stay more than (1 - 2 gamma) d apart and never cross. A start free of
-   intersections stays free. Colliders push after the bound: the push is brought back within it
-   where the particle stays outside every collider (pd_contact.glsl), the shift is 0 at a
+   intersections stays free. Colliders push after the bound: the push (a funnel's edge test's
+   too) is brought back within it where the particle stays outside every solid collider and
+   on its side of every funnel (pd_contact.glsl), the shift is 0 at a
    detection while a particle is near a collider, and a substep detects rather than centre a
    bound nearer a collider than the thickness less the bound (contact_check.comp). At the start
    of each substep the device decides (contact_check.comp,
@@ -160,6 +161,13 @@ cvk_result cvk_collide_triangle_instances(const cvk_build* build, uint32_t insta
 
 /* The pose of collider `index` at simulated time t (s), as the device computes it. */
 cvk_pose cvk_collide_pose(const cvk_collide* collide, uint32_t index, double t);
+
+/* The fastest any point of collider `index`'s surface moves under its keyframes, m/s: each
+   segment's translation speed plus its turn rate times the surface's reach from the scene
+   origin (keyframes are interpolated linearly and by slerp: a segment's speeds are constant).
+   A plane's rotation is not counted (its surface has no reach); a loop's jump back is not a
+   motion. 0 for a static collider. */
+float cvk_collide_surface_speed(const cvk_collide* collide, uint32_t index);
 
 /* Signed distance (m, negative inside) from p to collider `index` posed at time t, and the
    outward unit normal there (may be NULL). The funnel's is unsigned. */

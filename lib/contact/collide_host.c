@@ -14,6 +14,51 @@ cvk_pose cvk_collide_pose(const cvk_collide* c, uint32_t index, double t)
 
 static const float up[3] = {0.0f, 1.0f, 0.0f};
 
+/* The farthest point of collider d's surface from the scene origin, about which its keyframed
+   rotations turn it, m (0 for a plane). */
+static float reach_from_origin(const cvk_collider_desc* d, const cvk_sdf* f)
+{
+    switch (d->type) {
+    case CVK_COLLIDER_SPHERE: return cvk_length3(d->center) + d->radius;
+    case CVK_COLLIDER_BOX: return cvk_length3(d->center) + cvk_length3(d->half_extents);
+    case CVK_COLLIDER_CAPSULE: return fmaxf(cvk_length3(d->a), cvk_length3(d->b)) + d->radius;
+    case CVK_COLLIDER_FUNNEL: /* radius 1 m at the apex, e^(-height/a) at the far end */
+        return cvk_length3(d->apex) + sqrtf(1.0f + d->height * d->height);
+    case CVK_COLLIDER_MESH: {
+        float most = 0.0f;
+        for (uint32_t v = 0; f && v < f->vertex_count; v++)
+            most = fmaxf(most, cvk_length3(f->xyz + 3u * v));
+        return most;
+    }
+    default: return 0.0f;
+    }
+}
+
+float cvk_collide_surface_speed(const cvk_collide* c, uint32_t index)
+{
+    if (index >= c->collider_count)
+        return 0.0f;
+    const cvk_collider_desc* d = &c->colliders[index];
+    const cvk_keyframe* k = d->motion.keyframes;
+    float reach = reach_from_origin(d, c->sdfs ? &c->sdfs[index] : NULL), fastest = 0.0f;
+    for (uint32_t i = 0; k && i + 1 < d->motion.keyframe_count; i++) {
+        double span = (double)k[i + 1].time - k[i].time;
+        if (!(span > 0.0))
+            continue;
+        float step[3], qa[4], qb[4];
+        for (int a = 0; a < 3; a++)
+            step[a] = k[i + 1].translation[a] - k[i].translation[a];
+        cvk_quat_normalize(k[i].rotation, qa);
+        cvk_quat_normalize(k[i + 1].rotation, qb);
+        double cosine = fabs((double)qa[0] * qb[0] + (double)qa[1] * qb[1] +
+                             (double)qa[2] * qb[2] + (double)qa[3] * qb[3]);
+        double angle = 2.0 * acos(cosine < 1.0 ? cosine : 1.0); /* slerp's shorter arc */
+        double speed = (cvk_length3(step) + angle * reach) / span;
+        fastest = fmaxf(fastest, (float)speed);
+    }
+    return fastest;
+}
+
 static float plane_distance(const cvk_collider_desc* d, const float l[3], float n[3])
 {
     float normal[3] = {d->normal[0], d->normal[1], d->normal[2]};

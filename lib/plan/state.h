@@ -37,9 +37,11 @@ struct cvk_sim {
     uint32_t fused_workgroup_size;    /* of the fused sweeps' one workgroup: cvk_plan */
     uint32_t particle_group_items;    /* the fewest particles a workgroup of those passes
                                          takes (0: no floor): cvk_plan */
-    const char* notes[CVK_COLLISION_NOTES_MAX]; /* cvk_sim_note: static sentences, one per
-                                                   scene key set that has no effect */
+    const char* notes[CVK_COLLISION_NOTES_MAX + 1]; /* cvk_sim_note: static sentences, one
+                                                       per scene key set that has no effect,
+                                                       and split_note */
     uint32_t note_count;
+    char split_note[256]; /* why the substeps were split (cvk_collide_create), or empty */
     uint32_t instance_count;      /* the scene's instances, for cvk_sim_describe_plan: how many, */
     bool instances_listed;        /* whether their offsets were listed, */
     float instance_offset1[3];    /* and copy 1's offset, m */
