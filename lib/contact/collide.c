@@ -46,6 +46,7 @@ static void free_colliders(cvk_collide* c)
     for (uint32_t i = 0; c->colliders && i < c->collider_count; i++) {
         free((char*)c->colliders[i].name);
         free((char*)c->colliders[i].file);
+        free((char*)c->colliders[i].texture);
         free((cvk_keyframe*)c->colliders[i].motion.keyframes);
         if (c->sdfs)
             cvk_sdf_destroy(&c->sdfs[i]);
@@ -70,16 +71,19 @@ static cvk_result copy_colliders(cvk_collide* c, const cvk_scene_desc* scene, cv
         *out = *in;
         out->name = NULL;
         out->file = NULL;
+        out->texture = NULL;
         out->motion.keyframes = NULL;
         c->collider_count = i + 1; /* from here on, free_colliders frees this one's copies */
         out->name = copy_string(in->name);
         out->file = copy_string(in->file);
+        out->texture = copy_string(in->texture);
         size_t kf = in->motion.keyframe_count * sizeof(cvk_keyframe);
         cvk_keyframe* keyframes = kf ? malloc(kf) : NULL;
         if (kf && keyframes)
             memcpy(keyframes, in->motion.keyframes, kf);
         out->motion.keyframes = keyframes;
-        if ((in->name && !out->name) || (in->file && !out->file) || (kf && !keyframes))
+        if ((in->name && !out->name) || (in->file && !out->file) || (in->texture && !out->texture) ||
+            (kf && !keyframes))
             return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                             "out of host memory for the colliders");
         if (out->friction < 0.0f)

@@ -4,7 +4,15 @@
    (pose 1: the end of the last substep), so a frame submitted again draws moving colliders
    without a host write. A static plane facing up, when the ground is drawn at an automatic
    height or at the plane's own, is the ground itself rather than a second surface on top of
-   it. */
+   it, unless it has a texture: then it is drawn, over the ground, and not clipped by it.
+
+   A collider's texture (material.texture) has no texture coordinates to follow: each vertex
+   also carries its position and normal in the collider's texture frame, which the pose moves
+   with the collider, and lit_cloth.frag (built with COLLIDER) projects the texture along that
+   frame's three axes, blended by the normal (triplanar mapping). The frame is a box's own
+   (its centre and rotation), a plane's own (its point; y along its normal, x along the scene's
+   x, or z where the normal is near x), and the scene's axes at rest for the round shapes, the
+   funnel and a mesh collider (a mesh file's texture coordinates are not used). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,6 +61,51 @@ static bool ground_plane(const cvk_renderer* rd, const cvk_collider_desc* c, dou
     if (!rd->desc.auto_ground_height && fabs(h - rd->desc.ground_height) > GROUND_HEIGHT_TOLERANCE)
         return false;
     return along >= GROUND_COS;
+}
+
+/* Vertex (p, n) of collider c at rest in the collider's texture frame (tp, tn). */
+static void texture_frame(const cvk_collider_desc* c, const float p[3], const float n[3], float tp[3], float tn[3])
+{
+    if (c->type == CVK_COLLIDER_BOX) {
+        float q[4], inverse[4], d[3] = {p[0] - c->center[0], p[1] - c->center[1], p[2] - c->center[2]};
+        cvk_quat_normalize(c->rotation, q);
+        inverse[0] = q[0];
+        for (int k = 1; k < 4; k++)
+            inverse[k] = -q[k];
+        cvk_quat_rotate(inverse, d, tp);
+        cvk_quat_rotate(inverse, n, tn);
+        return;
+    }
+    if (c->type == CVK_COLLIDER_PLANE) {
+        double len = length3(c->normal), up[3], x[3], z[3];
+        for (int k = 0; k < 3; k++)
+            up[k] = len > 0.0 ? c->normal[k] / len : k == 1;
+        /* x: the scene's x (or, for a plane facing along x, z) less its part along the normal */
+        double seed[3] = {fabs(up[0]) < 0.9, 0.0, fabs(up[0]) < 0.9 ? 0.0 : 1.0};
+        double along = seed[0] * up[0] + seed[2] * up[2], xl = 0.0;
+        for (int k = 0; k < 3; k++) {
+            x[k] = seed[k] - along * up[k];
+            xl += x[k] * x[k];
+        }
+        for (int k = 0; k < 3; k++)
+            x[k] /= sqrt(xl);
+        z[0] = x[1] * up[2] - x[2] * up[1];
+        z[1] = x[2] * up[0] - x[0] * up[2];
+        z[2] = x[0] * up[1] - x[1] * up[0];
+        const double* axes[3] = {x, up, z};
+        for (int a = 0; a < 3; a++) {
+            double dp = 0.0, dn = 0.0;
+            for (int k = 0; k < 3; k++) {
+                dp += ((double)p[k] - c->point[k]) * axes[a][k];
+                dn += (double)n[k] * axes[a][k];
+            }
+            tp[a] = (float)dp;
+            tn[a] = (float)dn;
+        }
+        return;
+    }
+    memcpy(tp, p, 3 * sizeof(float));
+    memcpy(tn, n, 3 * sizeof(float));
 }
 
 /* The mesh's box under a pose, added to `drawn` too. */
@@ -117,7 +170,8 @@ static cvk_result make_meshes(cvk_renderer* rd, const double gravity[3], cvk_col
             if (!rc->framing.ground_plane || height > rc->framing.ground_plane_height)
                 rc->framing.ground_plane_height = height;
             rc->framing.ground_plane = true;
-            continue;
+            if (!c->texture)
+                continue;
         }
         const cvk_sdf* sdf = c->type == CVK_COLLIDER_MESH ? &collide->sdfs[i] : NULL;
         cvk_result r = cvk_collider_mesh_make(c, sdf, focus, (float)(PLANE_EXTENT_SCALE * size), &meshes[i], error);
@@ -150,7 +204,7 @@ static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint
     if (!rc->draws)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the collider draws");
     /* Written once by the host and read by vertex input: host memory spares a staging copy. */
-    cvk_result r = cvk_buffer_create(rd->context, vertices * 6 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+    cvk_result r = cvk_buffer_create(rd->context, vertices * 12 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                      CVK_MEMORY_HOST, "collider vertices", &rc->vertices, error);
     if (r == CVK_SUCCESS)
         r = cvk_buffer_create(rd->context, indices * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
@@ -165,20 +219,27 @@ static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint
         const cvk_collider_mesh* m = &meshes[i];
         if (m->triangle_count == 0)
             continue;
+        const cvk_collider_desc* c = &collide->colliders[i];
         for (uint32_t v = 0; v < m->vertex_count; v++) {
-            memcpy(&xyzn[6 * (size_t)(base + v)], &m->xyz[3 * (size_t)v], 3 * sizeof(float));
-            memcpy(&xyzn[6 * (size_t)(base + v) + 3], &m->normals[3 * (size_t)v], 3 * sizeof(float));
+            float* out = &xyzn[12 * (size_t)(base + v)];
+            memcpy(out, &m->xyz[3 * (size_t)v], 3 * sizeof(float));
+            memcpy(out + 3, &m->normals[3 * (size_t)v], 3 * sizeof(float));
+            texture_frame(c, out, out + 3, out + 6, out + 9);
         }
         for (uint32_t k = 0; k < 3 * m->triangle_count; k++)
             index[first + k] = base + m->triangles[k];
-        const float* color = collide->colliders[i].color;
-        float rough = collide->colliders[i].roughness;
+        float rough = c->roughness;
+        double height;
         rc->draws[rc->draw_count++] = (cvk_collider_draw){
             .first_index = first,
             .index_count = 3 * m->triangle_count,
             .collider = i,
-            .color = {color[0], color[1], color[2], 1.0f},
+            .color = {c->color[0], c->color[1], c->color[2], 1.0f},
             .highlight = {HIGHLIGHT_STRENGTH / rough, HIGHLIGHT_EXPONENT / (rough * rough)},
+            .textured = c->texture != NULL,
+            .repeats = 1.0f / c->texture_scale,
+            /* the ground is drawn at the highest such plane's height */
+            .ground = ground_plane(rd, c, &height) && height == rc->framing.ground_plane_height,
         };
         base += m->vertex_count;
         first += 3 * m->triangle_count;
@@ -222,16 +283,23 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
     VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(cmd, 0, 1, &rc->vertices.buffer, &offset);
     vkCmdBindIndexBuffer(cmd, rc->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+    uint32_t bound = 0;
     for (uint32_t d = 0; d < rc->draw_count; d++) {
         const cvk_collider_draw* draw = &rc->draws[d];
         if (colored) {
-            cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], 0.0f},
-                                     {0},
+            /* back (unused by colliders otherwise): x: the texture's repeats per metre; z: 1
+               where the ground does not clip the draw; w stays 0 (no back colour) */
+            cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], draw->textured ? 1.0f : 0.0f},
+                                     {draw->repeats, 0.0f, draw->ground ? 1.0f : 0.0f, 0.0f},
                                      {draw->highlight[0], draw->highlight[1], 0.0f, 0.0f},
                                      {0}};
             vkCmdPushConstants(cmd, rd->pipeline_layout, CVK_RENDER_PUSH_STAGES, 0, sizeof m, &m);
+            cvk_render_bind_textures(rd, cmd, draw->textured ? rd->textures.collider_set_of[draw->collider] : 0,
+                                     &bound);
         }
         /* The instance index is the collider's: the vertex shaders read its pose with it. */
         vkCmdDrawIndexed(cmd, draw->index_count, 1, draw->first_index, 0, draw->collider);
     }
+    if (bound != 0)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
 }

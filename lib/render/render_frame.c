@@ -45,8 +45,7 @@ static void use(VkCommandBuffer cmd, VkPipeline pipeline, VkPipeline* bound)
     *bound = pipeline;
 }
 
-/* Binds a cloth's texture set `set` unless it is bound already (*bound). */
-static void bind_textures(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t set, uint32_t* bound)
+void cvk_render_bind_textures(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t set, uint32_t* bound)
 {
     if (set == *bound)
         return;
@@ -78,7 +77,7 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
         if (mesh.cloths[c].index_count == 0)
             continue;
         if (colored)
-            bind_textures(rd, cmd, rd->textures.set_of[c], &bound);
+            cvk_render_bind_textures(rd, cmd, rd->textures.set_of[c], &bound);
         float thickness = b->cloths[c].thickness;
         if (pipelines && thickness <= 0.0f)
             use(cmd, pipelines[0], &current);
@@ -101,7 +100,7 @@ static void draw_cloths(const cvk_renderer* rd, VkCommandBuffer cmd, bool colore
             if (rim->index_count == 0)
                 continue;
             if (colored)
-                bind_textures(rd, cmd, rd->textures.set_of[c], &bound);
+                cvk_render_bind_textures(rd, cmd, rd->textures.set_of[c], &bound);
             push_cloth(rd, cmd, &b->cloths[c], b->cloths[c].texture != NULL, 0.0f, 0.0f, 0.0f);
             if (pipelines)
                 use(cmd, pipelines[1], &current);

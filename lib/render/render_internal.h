@@ -30,10 +30,14 @@ typedef struct cvk_collider_draw {
     uint32_t collider;
     float color[4];                  /* linear RGB, 1 */
     float highlight[2];              /* the Blinn-Phong highlight's strength and exponent */
+    bool textured;                   /* material.texture: drawn with rd->textures.collider_set_of */
+    float repeats;                   /* of the texture per metre: 1 / material.texture_scale */
+    bool ground;                     /* a textured plane drawn as the ground: not clipped by it */
 } cvk_collider_draw;
 
 typedef struct cvk_render_colliders {
-    cvk_buffer vertices;             /* 6 floats per vertex: position at rest (m), unit normal */
+    cvk_buffer vertices;             /* 12 floats per vertex: position at rest (m), unit normal,
+                                        and both in the collider's texture frame */
     cvk_buffer indices;              /* uint32 */
     cvk_collider_draw* draws;
     uint32_t draw_count;
@@ -41,9 +45,10 @@ typedef struct cvk_render_colliders {
     cvk_view_colliders framing;
 } cvk_render_colliders;
 
-/* The cloths' textures and normal maps (lib/render/render_textures.c): image 0 is a white
-   stand-in for cloths without a texture, image 1 a flat normal for those without a normal map;
-   descriptor set s points at images albedo_of_set[s] and normal_of_set[s]. */
+/* The cloths' textures and normal maps and the colliders' textures
+   (lib/render/render_textures.c): image 0 is a white stand-in for cloths without a texture,
+   image 1 a flat normal for those without a normal map; descriptor set s points at images
+   albedo_of_set[s] and normal_of_set[s]. */
 typedef struct cvk_render_textures {
     cvk_gpu_image* images;
     uint32_t count;
@@ -51,6 +56,7 @@ typedef struct cvk_render_textures {
     uint32_t albedo_of_set[CVK_MAX_SETS], normal_of_set[CVK_MAX_SETS];
     uint32_t* set_of;                /* per cloth: its descriptor set, 0 without a texture or
                                         a normal map */
+    uint32_t* collider_set_of;       /* per collider: its texture's set, 0 without one */
     VkSampler sampler;
     cvk_buffer uv;                   /* texture coordinates, 2 floats per vertex, then 2 per
                                         rim vertex (render/mesh.h); none when no cloth has a
@@ -120,12 +126,17 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error);
 cvk_result cvk_render_colliders_create(cvk_renderer* rd, const double gravity[3], cvk_error* error);
 void cvk_render_colliders_destroy(cvk_renderer* rd);
 
-/* Records the collider draws; with `colored`, each one's colour as the push constant. The
-   pipeline is bound by the caller. */
+/* Records the collider draws; with `colored`, each one's colour as the push constant and its
+   texture's descriptor set. The pipeline is bound by the caller. */
 void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored);
 
-/* Reads every cloth's texture (errors name the key path, "cloths.N.texture"), makes its mips
-   and uploads them with the texture coordinates; needs rd->mesh. */
+/* Binds texture set `set` (rd->descriptors.sets) unless it is bound already (*bound)
+   (lib/render/render_frame.c). */
+void cvk_render_bind_textures(const cvk_renderer* rd, VkCommandBuffer cmd, uint32_t set, uint32_t* bound);
+
+/* Reads every cloth's and collider's texture (errors name the key path, "cloths.N.texture",
+   "colliders.N.material.texture"), makes its mips and uploads them with the cloths' texture
+   coordinates; needs rd->mesh. */
 cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error);
 void cvk_render_textures_destroy(cvk_renderer* rd);
 

@@ -20,7 +20,8 @@ typedef struct pipeline_recipe {
     const char* what;
     cvk_shader_id vertex, fragment;  /* fragment CVK_SHADER_COUNT: none (depth only) */
     uint32_t attributes;             /* 0: no vertex buffer; 1: position; 2: position, normal;
-                                        3: and texture coordinates (binding 1) */
+                                        3: and texture coordinates (binding 1); colliders 4: and
+                                        position and normal in the texture frame (binding 0) */
     bool colliders;                  /* the collider buffers' layout, not the cloth mesh's */
     VkPrimitiveTopology topology;
     VkRenderPass pass;
@@ -44,7 +45,7 @@ static cvk_result create_module(cvk_context* ctx, cvk_shader_id id, VkShaderModu
 /* The fixed-function state of one recipe; pointers inside point into the struct itself. */
 typedef struct fixed_state {
     VkVertexInputBindingDescription bindings[2];
-    VkVertexInputAttributeDescription attributes[3];
+    VkVertexInputAttributeDescription attributes[4];
     VkPipelineVertexInputStateCreateInfo vertex_input;
     VkPipelineInputAssemblyStateCreateInfo assembly;
     VkViewport viewport;
@@ -61,18 +62,21 @@ typedef struct fixed_state {
 static void geometry_state(const cvk_renderer* rd, const pipeline_recipe* p, fixed_state* f)
 {
     cvk_mesh_buffers mesh = cvk_mesh_get_buffers(rd->mesh);
-    /* Collider vertices: position then normal, 3 floats each (render_colliders.c). */
-    uint32_t stride = p->colliders ? 6 * sizeof(float) : mesh.vertex_stride;
+    /* Collider vertices: position, normal, and both in the texture frame, 3 floats each
+       (render_colliders.c). */
+    uint32_t stride = p->colliders ? 12 * sizeof(float) : mesh.vertex_stride;
     uint32_t position = p->colliders ? 0 : mesh.position_offset;
     uint32_t normal = p->colliders ? 3 * sizeof(float) : mesh.normal_offset;
     f->bindings[0] = (VkVertexInputBindingDescription){0, stride, VK_VERTEX_INPUT_RATE_VERTEX};
     f->bindings[1] = (VkVertexInputBindingDescription){1, 2 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
     f->attributes[0] = (VkVertexInputAttributeDescription){0, 0, VK_FORMAT_R32G32B32_SFLOAT, position};
     f->attributes[1] = (VkVertexInputAttributeDescription){1, 0, VK_FORMAT_R32G32B32_SFLOAT, normal};
-    f->attributes[2] = (VkVertexInputAttributeDescription){2, 1, VK_FORMAT_R32G32_SFLOAT, 0};
+    f->attributes[2] = p->colliders ? (VkVertexInputAttributeDescription){2, 0, VK_FORMAT_R32G32B32_SFLOAT, 24}
+                                    : (VkVertexInputAttributeDescription){2, 1, VK_FORMAT_R32G32_SFLOAT, 0};
+    f->attributes[3] = (VkVertexInputAttributeDescription){3, 0, VK_FORMAT_R32G32B32_SFLOAT, 36};
     f->vertex_input = (VkPipelineVertexInputStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
-        .vertexBindingDescriptionCount = p->attributes == 0 ? 0 : p->attributes == 3 ? 2 : 1,
+        .vertexBindingDescriptionCount = p->attributes == 0 ? 0 : p->attributes == 3 && !p->colliders ? 2 : 1,
         .pVertexBindingDescriptions = f->bindings,
         .vertexAttributeDescriptionCount = p->attributes,
         .pVertexAttributeDescriptions = f->attributes,
@@ -226,6 +230,10 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     cvk_shader_id cloth_vert = textured ? CVK_SHADER_LIT_CLOTH_TEXTURED_VERT : CVK_SHADER_LIT_CLOTH_VERT;
     uint32_t cloth_attributes = textured ? 3 : 2;
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
+    /* With a textured collider, the colliders' lit pipeline reads their textures. */
+    bool collider_textured = false;
+    for (uint32_t d = 0; d < rd->colliders.draw_count; d++)
+        collider_textured = collider_textured || rd->colliders.draws[d].textured;
     const pipeline_recipe recipes[] = {
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 2, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
@@ -239,13 +247,14 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
          VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples, rd->desc.ao}, false, false},
-        /* The colliders: shaded like the cloth (lit_cloth.frag), posed in the vertex shader. */
+        /* The colliders: shaded like the cloth (lit_cloth.frag with COLLIDER), posed in the
+           vertex shader. */
         {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true,
          VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
-        {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_CLOTH_FRAG, 2, true,
+        {"collider pass", CVK_SHADER_COLLIDER_VERT, CVK_SHADER_LIT_COLLIDER_FRAG, 4, true,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true,
-         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground, false, false}, false, false},
+         VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground, collider_textured, false}, false, false},
     };
     VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
                           &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};

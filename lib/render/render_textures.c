@@ -1,7 +1,9 @@
-/* The cloths' textures (cvk_cloth_desc.texture): each file read with stb_image, its mip chain
-   made on the host by averaging 2 x 2 texels in linear light, uploaded once into an
+/* The cloths' and colliders' textures (cvk_cloth_desc.texture, cvk_collider_desc.texture):
+   each file read with stb_image, its mip chain made on the host by averaging 2 x 2 texels in
+   linear light, uploaded once into an
    R8G8B8A8_SRGB image (the sampler decodes sRGB to linear) together with the texture
-   coordinates the cloth pass reads as its third vertex attribute; sampled trilinearly, and
+   coordinates the cloth pass reads as its third vertex attribute (a collider has none: its
+   fragment shader projects the texture, render_colliders.c); sampled trilinearly, and
    anisotropically on a GPU that allows it. Normal maps (material.normal_map) the same way into
    R8G8B8A8_UNORM images, their mips averaging the stored values. A 1 x 1 white texture and a
    1 x 1 flat normal stand in for the cloths without, so every descriptor set has both. */
@@ -14,6 +16,7 @@
 #include "core/context.h"
 #include "core/error.h"
 #include "render/render_internal.h"
+#include "sim/sim.h"
 
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
@@ -140,14 +143,11 @@ static cvk_result read_file(const char* key, const char* path, uint8_t** out, si
     return CVK_SUCCESS;
 }
 
-/* Reads cloth `index`'s texture (or with t->normals its normal map) and makes its mips; the
-   messages name the key path. */
-static cvk_result load_texture(const cvk_context* ctx, uint32_t index, bool material, const char* path,
-                               host_texture* t, cvk_error* error)
+/* Reads a texture (or with t->normals a normal map) and makes its mips; the messages name the
+   key path `key`. */
+static cvk_result load_texture(const cvk_context* ctx, const char* key, const char* path, host_texture* t,
+                               cvk_error* error)
 {
-    char key[64];
-    snprintf(key, sizeof key, "cloths.%u.%s", index,
-             t->normals ? "material.normal_map" : material ? "material.texture" : "texture");
     uint8_t* file = NULL;
     size_t size = 0;
     cvk_result r = read_file(key, path, &file, &size, error);
@@ -311,12 +311,32 @@ static void free_host(host_texture* host, uint32_t count)
     free(host);
 }
 
+/* The key path of cloth c's texture or normal map, as its messages name it. */
+static const char* cloth_key(char key[64], uint32_t c, const cvk_cloth_range* cloth, bool normals)
+{
+    snprintf(key, 64, "cloths.%u.%s", c,
+             normals ? "material.normal_map" : cloth->material_texture ? "material.texture" : "texture");
+    return key;
+}
+
+/* The first collider before `i` with the same texture file as collider i (which shares its
+   image and set), or i itself. */
+static uint32_t first_with_texture(const cvk_collide* collide, uint32_t i)
+{
+    for (uint32_t j = 0; j < i; j++)
+        if (collide->colliders[j].texture && strcmp(collide->colliders[j].texture, collide->colliders[i].texture) == 0)
+            return j;
+    return i;
+}
+
 cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
 {
     const cvk_build* b = &rd->mesh->sim->build;
+    const cvk_collide* collide = rd->mesh->sim->collide;
     cvk_render_textures* tx = &rd->textures;
     /* Image 0 is the white stand-in, 1 the flat normal, then each texture and normal map. Set 0
-       draws the cloths with neither; a cloth with either draws with a set of its own. */
+       draws the cloths and colliders with neither; a cloth with either draws with a set of its
+       own, and so does each collider texture file (colliders naming the same file share it). */
     uint32_t count = 2, sets = 1;
     for (uint32_t c = 0; c < b->cloth_count; c++) {
         count += (b->cloths[c].texture != NULL) + (b->cloths[c].normal_map != NULL);
@@ -325,10 +345,22 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
     if (sets > CVK_MAX_SETS)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cloths: %u cloths have a texture or a normal map; the "
                         "renderer draws at most %d", sets - 1, CVK_MAX_SETS - 1);
+    uint32_t cloth_sets = sets;
+    for (uint32_t i = 0; i < collide->collider_count; i++) {
+        if (!collide->colliders[i].texture || first_with_texture(collide, i) != i)
+            continue;
+        if (sets == CVK_MAX_SETS)
+            return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "colliders.%u.material.texture: %u cloths with a "
+                            "texture or a normal map and %u collider texture files before this one; the renderer "
+                            "draws at most %d in all", i, cloth_sets - 1, sets - cloth_sets, CVK_MAX_SETS - 1);
+        count++;
+        sets++;
+    }
     tx->set_of = calloc(b->cloth_count ? b->cloth_count : 1, sizeof *tx->set_of);
+    tx->collider_set_of = calloc(collide->collider_count ? collide->collider_count : 1, sizeof *tx->collider_set_of);
     tx->images = calloc(count, sizeof *tx->images);
     host_texture* host = calloc(count, sizeof *host);
-    if (!tx->set_of || !tx->images || !host) {
+    if (!tx->set_of || !tx->collider_set_of || !tx->images || !host) {
         free(host);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the textures");
     }
@@ -339,7 +371,9 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
                        ? CVK_SUCCESS
                        : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory");
     tx->set_count = 1;
-    for (uint32_t c = 0, i = 2; r == CVK_SUCCESS && c < b->cloth_count; c++) {
+    char key[64];
+    uint32_t i = 2;
+    for (uint32_t c = 0; r == CVK_SUCCESS && c < b->cloth_count; c++) {
         const cvk_cloth_range* cloth = &b->cloths[c];
         if (!cloth->texture && !cloth->normal_map)
             continue;
@@ -348,14 +382,30 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
         tx->albedo_of_set[set] = 0;
         tx->normal_of_set[set] = 1;
         if (cloth->texture) {
-            r = load_texture(rd->context, c, cloth->material_texture, cloth->texture, &host[i], error);
+            r = load_texture(rd->context, cloth_key(key, c, cloth, false), cloth->texture, &host[i], error);
             tx->albedo_of_set[set] = i++;
         }
         if (r == CVK_SUCCESS && cloth->normal_map) {
             host[i].normals = true;
-            r = load_texture(rd->context, c, true, cloth->normal_map, &host[i], error);
+            r = load_texture(rd->context, cloth_key(key, c, cloth, true), cloth->normal_map, &host[i], error);
             tx->normal_of_set[set] = i++;
         }
+    }
+    for (uint32_t c = 0; r == CVK_SUCCESS && c < collide->collider_count; c++) {
+        const char* texture = collide->colliders[c].texture;
+        if (!texture)
+            continue;
+        uint32_t first = first_with_texture(collide, c);
+        if (first != c) {
+            tx->collider_set_of[c] = tx->collider_set_of[first];
+            continue;
+        }
+        uint32_t set = tx->set_count++;
+        tx->collider_set_of[c] = set;
+        tx->albedo_of_set[set] = i;
+        tx->normal_of_set[set] = 1;
+        snprintf(key, sizeof key, "colliders.%u.material.texture", c);
+        r = load_texture(rd->context, key, texture, &host[i++], error);
     }
     for (uint32_t i = 0; r == CVK_SUCCESS && i < count; i++) {
         r = cvk_gpu_image_create_mipped(rd->context, host[i].normals ? NORMAL_MAP_FORMAT : TEXTURE_FORMAT,
@@ -382,5 +432,6 @@ void cvk_render_textures_destroy(cvk_renderer* rd)
     cvk_buffer_destroy(rd->context, &tx->uv);
     free(tx->images);
     free(tx->set_of);
+    free(tx->collider_set_of);
     memset(tx, 0, sizeof *tx);
 }

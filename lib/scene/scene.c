@@ -153,6 +153,8 @@ cvk_collider_desc cvk_default_collider_desc(void)
         .motion = {.keyframes = NULL, .keyframe_count = 0, .loop = false},
         .color = {0.55f, 0.55f, 0.6f},
         .roughness = 0.5f,
+        .texture = NULL,
+        .texture_scale = 1.0f,
         .cookie_ = CVK_COOKIE_COLLIDER,
     };
 }

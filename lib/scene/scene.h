@@ -46,7 +46,8 @@ bool cvk_aero_check(const cvk_aero_desc* aero, const char* base, cvk_scene_issue
 /* How a cloth is drawn (lib/scene/scene_look.c): its material block's back_color, sheen,
    roughness, thickness, normal_map and normal_strength (paths start with base). */
 bool cvk_look_check(const cvk_cloth_desc* cloth, const char* base, cvk_scene_issue* issue);
-/* How a collider is drawn (the same file): its color and its material block's roughness. */
+/* How a collider is drawn (the same file): its color and its material block's roughness,
+   texture (not empty) and texture_scale (> 0). */
 bool cvk_collider_look_check(const cvk_collider_desc* collider, const char* base, cvk_scene_issue* issue);
 
 /* render.fit: its margin in [0, 0.45], no keyframed camera, render.eye and render.target both

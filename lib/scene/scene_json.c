@@ -394,10 +394,12 @@ static cvk_result read_collider_type(cvk_reader* rd, const cvk_field* f, json_t*
 #define COLLIDER(field) offsetof(cvk_collider_desc, field)
 
 /* The collider's "material" block: how the renderer draws it (color is the same as the
-   collider's key of that name). */
+   collider's key of that name; texture and texture_scale are only here). */
 static const cvk_field collider_material_fields[] = {
     {.key = "color", .read = cvk_read_floats, .offset = COLLIDER(color), .count = 3},
     {.key = "roughness", .read = cvk_read_float, .offset = COLLIDER(roughness)},
+    {.key = "texture", .read = cvk_read_path, .offset = COLLIDER(texture)},
+    {.key = "texture_scale", .read = cvk_read_float, .offset = COLLIDER(texture_scale)},
 };
 static const cvk_table collider_material_table = FIELDS(collider_material_fields);
 

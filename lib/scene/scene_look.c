@@ -45,6 +45,10 @@ bool cvk_fit_check(const cvk_render_desc* r, cvk_scene_issue* issue)
 bool cvk_collider_look_check(const cvk_collider_desc* c, const char* base, cvk_scene_issue* issue)
 {
     char path[CVK_KEY_PATH_MAX];
+    if (c->texture && c->texture[0] == '\0')
+        return cvk_issue_at(issue, cvk_key_join(path, base, "material.texture"), "must name an image file, got an "
+                            "empty string");
     return cvk_check_closed_array(issue, cvk_key_join(path, base, "color"), c->color, 3, 0.0, 1.0) &&
-           cvk_check_closed(issue, cvk_key_join(path, base, "material.roughness"), c->roughness, 0.1, 1.0);
+           cvk_check_closed(issue, cvk_key_join(path, base, "material.roughness"), c->roughness, 0.1, 1.0) &&
+           cvk_check_greater(issue, cvk_key_join(path, base, "material.texture_scale"), c->texture_scale, 0.0);
 }

@@ -246,6 +246,8 @@ typedef struct cvk_collider_desc {
     cvk_motion motion;
     float color[3];
     float roughness;
+    const char* texture;
+    float texture_scale;
     uint32_t cookie_;
 } cvk_collider_desc;
 

@@ -7,7 +7,8 @@
 // sheen lobe and the light that comes through it from its other face. Both faces are drawn; a
 // back face is lit with the flipped normal (and, with material.back_color, its own colour), so
 // the side away from the light is darker and the side towards it lit, whichever way the cloth
-// turns (seed 002 lit both faces alike, its §9).
+// turns (seed 002 lit both faces alike, its §9). Built with COLLIDER for the colliders, whose
+// texture is projected from their texture frame (collider.vert) rather than read at uv.
 #include "render/frame.glsl"
 #include "render/lighting.glsl"
 
@@ -21,7 +22,8 @@ layout(constant_id = 2) const bool FABRIC = true;
 
 layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
-    vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's
+    vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's. Colliders:
+                 // x: the texture's repeats per metre; z: 1 where the ground does not clip
     vec4 fabric; // cloths: x: sheen; y: its roughness. Colliders: the highlight's strength, exponent
     vec4 slab;   // a thick cloth's face: x: its offset (lit_cloth.vert); y: the thickness; z: the
                  // normal map's strength, 0 for none
@@ -38,6 +40,10 @@ layout(location = 1) in vec3 world_normal;
 // its samples, and a coordinate extrapolated there could read beyond the cloth's part of the
 // texture.
 layout(location = 2) centroid in vec2 uv;
+#ifdef COLLIDER
+layout(location = 3) in vec3 texture_point;  // m, in the collider's texture frame
+layout(location = 4) in vec3 texture_normal; // the normal in that frame
+#endif
 layout(location = 0) out vec4 color;
 
 // The normal tilted by the normal map: its tangent along u and bitangent along v found from how
@@ -59,9 +65,40 @@ vec3 mapped_normal(vec3 n, float strength)
     return len > 0.0 ? tilted / len : n;
 }
 
+#ifdef COLLIDER
+// The collider's texture seen along each axis of its frame (a box's face and a plane: one of
+// them), weighted by the fourth power of the normal's part along it; weights under 2% of the
+// whole are dropped, so most pixels read one projection. The derivatives come from the point,
+// outside the branches, for the mip level.
+vec3 projected_albedo()
+{
+    vec3 p = texture_point * material.back.x;
+    vec3 dx = dFdx(p), dy = dFdy(p);
+    vec3 w = abs(texture_normal);
+    w *= w;
+    w *= w;
+    w /= max(w.x + w.y + w.z, 1e-20);
+    w = max(w - 0.02, 0.0);
+    w /= max(w.x + w.y + w.z, 1e-20);
+    vec3 sum = vec3(0.0);
+    if (w.x > 0.0)
+        sum += w.x * textureGrad(albedo_map, vec2(p.z, -p.y), vec2(dx.z, -dx.y), vec2(dy.z, -dy.y)).rgb;
+    if (w.y > 0.0)
+        sum += w.y * textureGrad(albedo_map, p.xz, dx.xz, dy.xz).rgb;
+    if (w.z > 0.0)
+        sum += w.z * textureGrad(albedo_map, vec2(p.x, -p.y), vec2(dx.x, -dx.y), vec2(dy.x, -dy.y)).rgb;
+    return sum;
+}
+#endif
+
 void main()
 {
-    if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
+#ifdef COLLIDER
+    bool clipped = material.back.z < 0.5;
+#else
+    const bool clipped = true;
+#endif
+    if (CLIP_BELOW_GROUND && clipped && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
         discard;
     float len = length(world_normal);
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
@@ -74,7 +111,11 @@ void main()
     // slab's other face, so the slab does not shadow the light that crosses it.
     bool towards = dot(n, frame.key_direction.xyz) > 0.0;
     float visible = key_visibility(towards ? world : world - n * material.slab.y, towards ? n : -n);
+#ifdef COLLIDER
+    vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? projected_albedo() : material.albedo.rgb;
+#else
     vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
+#endif
     if (!gl_FrontFacing && material.back.w > 0.5)
         albedo = material.back.rgb;
     vec3 shaded;

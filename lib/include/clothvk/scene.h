@@ -320,6 +320,10 @@ typedef struct cvk_collider_desc {
     float roughness;             /* in [0.1, 1]: how wide and faint the highlight is (0.1: a
                                     small bright one, as polished wood; 1: broad and dim, as
                                     cast iron); usually 0.5 */
+    const char* texture;         /* image file drawn in place of color (as cvk_cloth_desc.texture),
+                                    or NULL; projected from the three axes of the collider's own
+                                    frame and blended by its normal (no texture coordinates) */
+    float texture_scale;         /* m of the collider per repeat of the texture, > 0; usually 1 */
     uint32_t cookie_;            /* set by cvk_default_collider_desc; do not touch */
 } cvk_collider_desc;
 
