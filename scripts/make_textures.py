@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Writes the example cloth texture assets/textures/plaid.png: a 256 x 256 tartan that tiles
-(its stripes repeat with the image), 8-bit sRGB, made with the Python standard library only.
+"""Writes the example textures, 8-bit sRGB, made with the Python standard library only:
+assets/textures/plaid.png, a 256 x 256 cloth tartan that tiles (its stripes repeat with the
+image), and assets/textures/wood.png, a 256 x 256 wood grain that tiles (for colliders).
 
 The sett (the stripe pattern, the same across the warp and the weft) is a list of
 (colour, width in texels) summing to 256; where a warp and a weft stripe cross, the weave
@@ -58,13 +59,49 @@ def plaid():
     return rows
 
 
+# Wood: four planks across v (64 texels, 0.25 of a repeat, each) with the grain along u. Each
+# plank has its own tone, growth-ring spacing and phase; the rings wander gently with sines
+# whose periods divide the image (so the texture tiles), and fine streaks along u come from a
+# fixed pseudo-random shade per row. Colours are sRGB.
+WOOD_DARK = (96, 58, 30)
+WOOD_LIGHT = (172, 118, 66)
+PLANKS = [(1.00, 3.0, 0.3), (0.88, 4.0, 1.7), (1.05, 2.5, 4.1), (0.94, 3.5, 2.6)]  # tone, rings, phase
+
+
+def wood():
+    import math
+    import random
+    rng = random.Random(7)
+    streak = [rng.random() for _ in range(SIZE)]
+    streak = [(streak[y - 1] + 2 * streak[y] + streak[(y + 1) % SIZE]) / 4 for y in range(SIZE)]
+    rows = []
+    tau = 2.0 * math.pi
+    width = SIZE // len(PLANKS)
+    for y in range(SIZE):
+        tone, rings, phase = PLANKS[y // width]
+        across = (y % width + 0.5) / width
+        row = []
+        for x in range(SIZE):
+            u = x / SIZE
+            wander = 0.06 * math.sin(tau * u + phase) + 0.025 * math.sin(tau * 3 * u + 2 * phase)
+            ring = (0.5 + 0.5 * math.sin(tau * rings * (across + wander) + phase)) ** 4
+            t = 0.8 - 0.45 * ring - 0.3 * (streak[y] - 0.5)
+            if y % width in (0, width - 1):  # the seam between planks
+                t *= 0.4
+            t = min(1.0, max(0.0, t))
+            row += [min(255, round(tone * (d + t * (l - d)))) for d, l in zip(WOOD_DARK, WOOD_LIGHT)]
+        rows.append(row)
+    return rows
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "assets", "textures")
     os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, "plaid.png")
-    with open(path, "wb") as f:
-        f.write(png(SIZE, SIZE, plaid()))
-    print(path)
+    for name, rows in (("plaid.png", plaid), ("wood.png", wood)):
+        path = os.path.join(out, name)
+        with open(path, "wb") as f:
+            f.write(png(SIZE, SIZE, rows()))
+        print(path)
 
 
 if __name__ == "__main__":

@@ -198,7 +198,39 @@ CASES = [
     {"name": "unknown collider material key",
      "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"shine": 1}}]'],
      "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.shine (from --set): unknown key (expected one "
-                                  "of: color, roughness)")},
+                                  "of: color, roughness, texture, texture_scale)")},
+    # A collider's texture: read when the renderer is made, with the messages of a cloth's.
+    {"name": "missing collider texture",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"texture": "no-such.png"}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.texture: {SCENES}/no-such.png: cannot open: "
+                                  "No such file or directory")},
+    {"name": "collider texture not an image",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"texture": "small.json"}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.texture: {SCENES}/small.json: not an image "
+                                  "stb_image can read (unknown image type)")},
+    {"name": "collider texture an empty string",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"texture": ""}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.texture (from --set): must name an image file, "
+                                  "got an empty string")},
+    {"name": "collider texture not a string",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"texture": 3}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.texture (from --set): expected a string, got "
+                                  "the number 3")},
+    {"name": "collider texture scale 0",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"texture_scale": 0}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.texture_scale (from --set): must be greater "
+                                  "than 0, got 0")},
+    {"name": "collider texture scale not a number",
+     "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"texture_scale": "big"}}]'],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.texture_scale (from --set): expected a number, "
+                                  'got the string "big"')},
+    # Eight texture files (none read: the count is checked first) are one more than the sets.
+    {"name": "too many collider textures",
+     "argv": [SMALL, "-o", "out", "--set", "colliders=[" + ", ".join(
+         f'{{"type": "sphere", "material": {{"texture": "t{i}.png"}}}}' for i in range(8)) + "]"],
+     "status": 2, "stderr": error(f"{SMALL}: colliders.7.material.texture: 0 cloths with a texture or a normal map "
+                                  "and 7 collider texture files before this one; the renderer draws at most 7 in "
+                                  "all")},
     {"name": "collider roughness out of range",
      "argv": [SMALL, "-o", "out", "--set", 'colliders=[{"type": "sphere", "material": {"roughness": 2}}]'],
      "status": 2, "stderr": error(f"{SMALL}: colliders.0.material.roughness (from --set): must be between 0.1 "
