@@ -417,14 +417,34 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
                                 v->fill_direction[2] * v->up[2]);
     /* With sky light: the sky gives the ambient and a share of the background's colour from
        above; the ground sends up a share of what reaches it. */
+    /* A ground with a texture (the plane collider it is has one): its light alone, which the
+       composite pass multiplies by the texture's colour in place of ground_color. */
+    uint32_t textured = rd->colliders.ground_texture;
     for (int k = 0; k < 3; k++) {
         double sky = d->ambient[k] + SKY_SHARE * d->background[k];
         double received = d->ambient[k] + fill * d->fill.color[k] + key * d->key.color[k];
         u->sky[k] = (float)sky;
         u->bounce[k] = (float)(BOUNCE_SHARE * d->ground_color[k] * received);
         double around = d->sky_light ? sky : d->ambient[k];
-        u->ground_unlit[k] = (float)(d->ground_color[k] * (around + fill * d->fill.color[k]));
-        u->ground_key[k] = (float)(d->ground_color[k] * key * d->key.color[k]);
+        double albedo = textured ? 1.0 : d->ground_color[k];
+        u->ground_unlit[k] = (float)(albedo * (around + fill * d->fill.color[k]));
+        u->ground_key[k] = (float)(albedo * key * d->key.color[k]);
+    }
+    if (textured) {
+        const cvk_collider_desc* plane = &rd->mesh->sim->collide->colliders[textured - 1];
+        double axes[3][3];
+        cvk_render_plane_frame(plane, axes[0], axes[1], axes[2]);
+        double repeats = 1.0 / plane->texture_scale;
+        for (int a = 0; a < 2; a++) {
+            const double* axis = axes[2 * a]; /* x, then z: the plane's u and v */
+            double offset = 0.0, scaled[3];
+            for (int k = 0; k < 3; k++) {
+                scaled[k] = axis[k] * repeats;
+                offset -= (double)plane->point[k] * scaled[k];
+            }
+            put3(u->ground_texture[a], scaled, (float)offset);
+        }
+        u->post[1] = 1.0f;
     }
     u->sky[3] = d->sky_light ? 1.0f : 0.0f;
     put3(u->ground_axes[0], v->ground_axes[0], 0.0f);

@@ -4,7 +4,8 @@
    (pose 1: the end of the last substep), so a frame submitted again draws moving colliders
    without a host write. A static plane facing up, when the ground is drawn at an automatic
    height or at the plane's own, is the ground itself rather than a second surface on top of
-   it, unless it has a texture: then it is drawn, over the ground, and not clipped by it.
+   it; when it has a texture the composite pass draws that on the ground (render.c's
+   ground_texture constants, shaders/render/composite.frag), to the horizon.
 
    A collider's texture (material.texture) has no texture coordinates to follow: each vertex
    also carries its position and normal in the collider's texture frame, which the pose moves
@@ -63,6 +64,24 @@ static bool ground_plane(const cvk_renderer* rd, const cvk_collider_desc* c, dou
     return along >= GROUND_COS;
 }
 
+void cvk_render_plane_frame(const cvk_collider_desc* c, double x[3], double up[3], double z[3])
+{
+    double len = length3(c->normal);
+    for (int k = 0; k < 3; k++)
+        up[k] = len > 0.0 ? c->normal[k] / len : k == 1;
+    double seed[3] = {fabs(up[0]) < 0.9, 0.0, fabs(up[0]) < 0.9 ? 0.0 : 1.0};
+    double along = seed[0] * up[0] + seed[2] * up[2], xl = 0.0;
+    for (int k = 0; k < 3; k++) {
+        x[k] = seed[k] - along * up[k];
+        xl += x[k] * x[k];
+    }
+    for (int k = 0; k < 3; k++)
+        x[k] /= sqrt(xl);
+    z[0] = x[1] * up[2] - x[2] * up[1];
+    z[1] = x[2] * up[0] - x[0] * up[2];
+    z[2] = x[0] * up[1] - x[1] * up[0];
+}
+
 /* Vertex (p, n) of collider c at rest in the collider's texture frame (tp, tn). */
 static void texture_frame(const cvk_collider_desc* c, const float p[3], const float n[3], float tp[3], float tn[3])
 {
@@ -77,21 +96,8 @@ static void texture_frame(const cvk_collider_desc* c, const float p[3], const fl
         return;
     }
     if (c->type == CVK_COLLIDER_PLANE) {
-        double len = length3(c->normal), up[3], x[3], z[3];
-        for (int k = 0; k < 3; k++)
-            up[k] = len > 0.0 ? c->normal[k] / len : k == 1;
-        /* x: the scene's x (or, for a plane facing along x, z) less its part along the normal */
-        double seed[3] = {fabs(up[0]) < 0.9, 0.0, fabs(up[0]) < 0.9 ? 0.0 : 1.0};
-        double along = seed[0] * up[0] + seed[2] * up[2], xl = 0.0;
-        for (int k = 0; k < 3; k++) {
-            x[k] = seed[k] - along * up[k];
-            xl += x[k] * x[k];
-        }
-        for (int k = 0; k < 3; k++)
-            x[k] /= sqrt(xl);
-        z[0] = x[1] * up[2] - x[2] * up[1];
-        z[1] = x[2] * up[0] - x[0] * up[2];
-        z[2] = x[0] * up[1] - x[1] * up[0];
+        double x[3], up[3], z[3];
+        cvk_render_plane_frame(c, x, up, z);
         const double* axes[3] = {x, up, z};
         for (int a = 0; a < 3; a++) {
             double dp = 0.0, dn = 0.0;
@@ -167,11 +173,12 @@ static cvk_result make_meshes(cvk_renderer* rd, const double gravity[3], cvk_col
         const cvk_collider_desc* c = &collide->colliders[i];
         double height;
         if (ground_plane(rd, c, &height)) {
-            if (!rc->framing.ground_plane || height > rc->framing.ground_plane_height)
+            if (!rc->framing.ground_plane || height > rc->framing.ground_plane_height) {
                 rc->framing.ground_plane_height = height;
+                rc->ground_texture = c->texture ? i + 1 : 0;
+            }
             rc->framing.ground_plane = true;
-            if (!c->texture)
-                continue;
+            continue;
         }
         const cvk_sdf* sdf = c->type == CVK_COLLIDER_MESH ? &collide->sdfs[i] : NULL;
         cvk_result r = cvk_collider_mesh_make(c, sdf, focus, (float)(PLANE_EXTENT_SCALE * size), &meshes[i], error);
@@ -229,7 +236,6 @@ static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint
         for (uint32_t k = 0; k < 3 * m->triangle_count; k++)
             index[first + k] = base + m->triangles[k];
         float rough = c->roughness;
-        double height;
         rc->draws[rc->draw_count++] = (cvk_collider_draw){
             .first_index = first,
             .index_count = 3 * m->triangle_count,
@@ -238,8 +244,6 @@ static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint
             .highlight = {HIGHLIGHT_STRENGTH / rough, HIGHLIGHT_EXPONENT / (rough * rough)},
             .textured = c->texture != NULL,
             .repeats = 1.0f / c->texture_scale,
-            /* the ground is drawn at the highest such plane's height */
-            .ground = ground_plane(rd, c, &height) && height == rc->framing.ground_plane_height,
         };
         base += m->vertex_count;
         first += 3 * m->triangle_count;
@@ -287,10 +291,10 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
     for (uint32_t d = 0; d < rc->draw_count; d++) {
         const cvk_collider_draw* draw = &rc->draws[d];
         if (colored) {
-            /* back (unused by colliders otherwise): x: the texture's repeats per metre; z: 1
-               where the ground does not clip the draw; w stays 0 (no back colour) */
+            /* back (unused by colliders otherwise): x: the texture's repeats per metre; w stays
+               0 (no back colour) */
             cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], draw->textured ? 1.0f : 0.0f},
-                                     {draw->repeats, 0.0f, draw->ground ? 1.0f : 0.0f, 0.0f},
+                                     {draw->repeats, 0.0f, 0.0f, 0.0f},
                                      {draw->highlight[0], draw->highlight[1], 0.0f, 0.0f},
                                      {0}};
             vkCmdPushConstants(cmd, rd->pipeline_layout, CVK_RENDER_PUSH_STAGES, 0, sizeof m, &m);

@@ -171,6 +171,10 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     timestamp(rd, cmd, 4);
 
     begin_pass(cmd, rd->composite_pass, rd->composite_framebuffer, w, h, clears, 2);
+    /* A textured ground reads its plane collider's texture set. */
+    uint32_t bound = 0, ground = rd->colliders.ground_texture;
+    if (ground)
+        cvk_render_bind_textures(rd, cmd, rd->textures.collider_set_of[ground - 1], &bound);
     /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
        then everything else, which skips them. */
     if (rd->desc.ground && rd->view.patch_visible) {
@@ -180,6 +184,8 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRenderPass(cmd);
+    if (bound != 0)
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
 }
 
 static void record_readback(const cvk_renderer* rd, VkCommandBuffer cmd)

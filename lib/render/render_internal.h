@@ -32,7 +32,6 @@ typedef struct cvk_collider_draw {
     float highlight[2];              /* the Blinn-Phong highlight's strength and exponent */
     bool textured;                   /* material.texture: drawn with rd->textures.collider_set_of */
     float repeats;                   /* of the texture per metre: 1 / material.texture_scale */
-    bool ground;                     /* a textured plane drawn as the ground: not clipped by it */
 } cvk_collider_draw;
 
 typedef struct cvk_render_colliders {
@@ -43,6 +42,9 @@ typedef struct cvk_render_colliders {
     uint32_t draw_count;
     cvk_box* boxes;                  /* for the camera: see cvk_view_colliders */
     cvk_view_colliders framing;
+    uint32_t ground_texture;         /* 1 + the index of the plane collider that is the ground,
+                                        when it has a texture (the composite pass draws it on
+                                        the ground); 0: none */
 } cvk_render_colliders;
 
 /* The cloths' textures and normal maps and the colliders' textures
@@ -125,6 +127,11 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error);
    (rd->colliders.framing). Runs before the view is resolved; reads rd->desc and rd->mesh. */
 cvk_result cvk_render_colliders_create(cvk_renderer* rd, const double gravity[3], cvk_error* error);
 void cvk_render_colliders_destroy(cvk_renderer* rd);
+
+/* A plane collider's texture frame: unit axes x (the scene's x, or z for a plane facing along
+   x, less its part along the normal), up (its normal) and z = x × up; a point p is at
+   ((p − point)·x, (p − point)·up, (p − point)·z) in it. */
+void cvk_render_plane_frame(const cvk_collider_desc* plane, double x[3], double up[3], double z[3]);
 
 /* Records the collider draws; with `colored`, each one's colour as the push constant and its
    texture's descriptor set. The pipeline is bound by the caller. */

@@ -24,6 +24,8 @@ layout(set = 0, binding = 5) uniform sampler2DMS scene_depth;
 #endif
 // The ambient occlusion pass's half-resolution result: x light left, y depth along the view.
 layout(set = 0, binding = 6) uniform sampler2D occlusion_map;
+// A textured ground's texture (the plane collider's set; frame.post.y says whether it has one).
+layout(set = 0, binding = 3) uniform sampler2D ground_map;
 
 layout(location = 0) out vec4 color;
 
@@ -68,8 +70,31 @@ float occlusion(ivec2 pixel)
     return sum > 1e-3 ? dot(light, w) / sum : 1.0;
 }
 
-// The ground is flat and its lights directional, so its colour is two constants: only the
-// shadow and the fade vary over it.
+// Where pixel's ray meets the ground (t: its depth along the view, up to the horizon).
+vec3 ground_point(vec2 pixel, float height)
+{
+    float toward = min(dot(ray(pixel), frame.ground_plane.xyz), -1e-6);
+    return frame.eye.xyz + height / -toward * ray(pixel);
+}
+
+vec2 ground_uv(vec3 p)
+{
+    return vec2(dot(frame.ground_texture[0].xyz, p) + frame.ground_texture[0].w,
+                dot(frame.ground_texture[1].xyz, p) + frame.ground_texture[1].w);
+}
+
+// A textured ground's colour at `ground`: its texture, the mip level from where the rays of the
+// next pixels meet the ground (no derivatives: the sky's pixels take another branch).
+vec3 ground_albedo(vec2 pixel, vec3 ground, float height)
+{
+    vec2 uv = ground_uv(ground);
+    vec2 du = ground_uv(ground_point(pixel + vec2(1.0, 0.0), height)) - uv;
+    vec2 dv = ground_uv(ground_point(pixel + vec2(0.0, 1.0), height)) - uv;
+    return textureGrad(ground_map, uv, du, dv).rgb;
+}
+
+// The ground is flat and its lights directional, so its colour is two constants (times its
+// texture's, where it has one): only the shadow and the fade vary over it.
 vec3 background(vec2 pixel)
 {
     vec3 up = frame.ground_plane.xyz;
@@ -86,7 +111,8 @@ vec3 background(vec2 pixel)
         lit += frame.ground_key.rgb * key_visibility(ground, up);
     else
         lit += frame.ground_key.rgb;
-    return mix(lit * checker(ground), frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
+    vec3 albedo = frame.post.y > 0.5 ? ground_albedo(pixel, ground, height) : vec3(checker(ground));
+    return mix(lit * albedo, frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
 }
 
 void main()

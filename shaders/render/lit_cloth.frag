@@ -23,7 +23,7 @@ layout(constant_id = 2) const bool FABRIC = true;
 layout(push_constant) uniform Material {
     vec4 albedo; // rgb: linear colour of this cloth; w: 1 where its texture replaces it
     vec4 back;   // rgb: the back face's colour; w: 1 to use it, 0 for the front's. Colliders:
-                 // x: the texture's repeats per metre; z: 1 where the ground does not clip
+                 // x: the texture's repeats per metre
     vec4 fabric; // cloths: x: sheen; y: its roughness. Colliders: the highlight's strength, exponent
     vec4 slab;   // a thick cloth's face: x: its offset (lit_cloth.vert); y: the thickness; z: the
                  // normal map's strength, 0 for none
@@ -93,12 +93,7 @@ vec3 projected_albedo()
 
 void main()
 {
-#ifdef COLLIDER
-    bool clipped = material.back.z < 0.5;
-#else
-    const bool clipped = true;
-#endif
-    if (CLIP_BELOW_GROUND && clipped && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
+    if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
         discard;
     float len = length(world_normal);
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);

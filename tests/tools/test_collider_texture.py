@@ -6,6 +6,8 @@ squares per repeat):
 - a wall (a plane collider facing the camera) without a texture is one colour across the middle
   of the picture (every channel within a few levels); with the checker it shows both squares
   (dark and light pixels far apart);
+- a static plane facing up is the ground: with the checker, the ground shows it across the middle
+  of the picture, where the plain ground has its faint checkerboard alone (within 20 levels);
 - texture_scale is metres per repeat: along a row across the middle third of the wall, half
   the scale gives twice the light-dark edges (within two), and their count matches the width
   of wall seen there (2 edges per repeat, within 1.5);
@@ -15,6 +17,7 @@ squares per repeat):
 - a textured box moved by keyframes draws the same picture as a static box at its destination
   (every channel within 2 levels; the box's texture frame is its own), and not the picture of
   the box where it started;
+- the keyframed box's images are the same bytes on four lavapipe threads and on one;
 - several colliders naming the same file share one texture: 8 of them draw (a texture file
   each would be one too many).
 
@@ -55,15 +58,16 @@ def write_checker(path):
                 + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
-def base(colliders, eye, target, frames=1):
-    """A small pinned cloth out of sight behind the camera, the colliders, no ground."""
+def base(colliders, eye, target, frames=1, ground=False):
+    """A small pinned cloth out of sight behind the camera, the colliders, no ground unless
+    asked for."""
     return {
         "name": "texture", "dt": 0.002, "substeps": 2, "frames": frames,
         "solver": {"linear": "rbgs", "outer_iterations": 1, "inner_iterations": 1},
         "cloths": [{"grid": [3, 3], "size": [0.1, 0.1], "origin": [-0.05, 0.5, 5.0], "u_axis": [1, 0, 0],
                     "v_axis": [0, 0, 1], "mass": 0.01, "pins": [[0, 0], [2, 0], [0, 2], [2, 2]]}],
         "colliders": colliders,
-        "render": {"eye": eye, "target": target, "fov_y": FOV_Y, "samples": 1, "ground": False,
+        "render": {"eye": eye, "target": target, "fov_y": FOV_Y, "samples": 1, "ground": ground,
                    "ao": False},
     }
 
@@ -78,6 +82,14 @@ def wall(material=None, keyframes=None):
     return base([plane], [0, 0, DISTANCE], [0, 0, 0], frames=3 if keyframes else 1)
 
 
+def floor(material=None):
+    """A static plane facing up, which the renderer draws as the ground, seen from above."""
+    plane = {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}
+    if material is not None:
+        plane["material"] = material
+    return base([plane], [0, 2.0, 2.0], [0, 0, 0], ground=True)
+
+
 def box(center, keyframes=None):
     b = {"type": "box", "center": center, "half_extents": [0.3, 0.3, 0.3],
          "material": {"texture": "checker.png", "texture_scale": 0.23}}
@@ -86,13 +98,15 @@ def box(center, keyframes=None):
     return base([b], [0.8, 1.2, 2.0], [0.2, 0.0, 0.0], frames=3)
 
 
-def render(tmp, name, desc, frame=None):
-    """Renders desc; returns (problems, (width, channels, pixels)) of its last frame."""
+def render(tmp, name, desc, threads=None):
+    """Renders desc (on `threads` lavapipe threads, if given); returns (problems, (width,
+    channels, pixels)) of its last frame."""
     path = os.path.join(tmp, name + ".json")
     with open(path, "w") as f:
         json.dump(desc, f)
     out = os.path.join(tmp, name)
-    p = tooltest.run_tool(RENDER, [path, "-o", out, "--size", f"{WIDTH}x{HEIGHT}", "--quiet"])
+    env = dict(os.environ, LP_NUM_THREADS=threads) if threads is not None else None
+    p = tooltest.run_tool(RENDER, [path, "-o", out, "--size", f"{WIDTH}x{HEIGHT}", "--quiet"], env=env)
     if p.returncode != 0:
         return [f"{name}: exit status {p.returncode}: {p.stderr.strip()}"], None
     last = sorted(n for n in os.listdir(out) if n.endswith(".png"))[-1]
@@ -132,6 +146,18 @@ def main():
                 problems.append(f"the textured wall spans only {min(t)} to {max(t)}; expected the checker's "
                                 "dark and light squares")
         cases.add("a textured wall shows its checker where a plain one is uniform", problems)
+
+        problems, plain = render(tmp, "plain-floor", floor())
+        more, textured = render(tmp, "textured-floor", floor({"texture": "checker.png", "texture_scale": 0.5}))
+        problems += more
+        if not problems:
+            p, t = middle(plain), middle(textured)
+            if max(p) - min(p) > 20:
+                problems.append(f"the plain ground spans {min(p)} to {max(p)}; expected its faint checker alone")
+            if max(t) - min(t) < 100:
+                problems.append(f"the textured ground spans only {min(t)} to {max(t)}; expected the checker's "
+                                "dark and light squares")
+        cases.add("a textured ground plane shows its checker where the plain ground is nearly uniform", problems)
 
         problems, coarse = render(tmp, "coarse", wall({"texture": "checker.png", "texture_scale": 0.2}))
         more, fine = render(tmp, "fine", wall({"texture": "checker.png", "texture_scale": 0.1}))
@@ -178,6 +204,17 @@ def main():
             if max(abs(a - b) for a, b in zip(moving[2], start[2])) <= 2:
                 problems.append("the keyframed box did not move")
         cases.add("a keyframed textured box draws what a box placed where it went draws", problems)
+
+        # The same bytes, image for image, on four lavapipe threads and on one.
+        problems = []
+        for threads in ("4", "0"):
+            problems += render(tmp, "threads-" + threads, box([0, 0, 0], moved), threads)[0]
+        for name in [] if problems else sorted(os.listdir(os.path.join(tmp, "threads-4"))):
+            with open(os.path.join(tmp, "threads-4", name), "rb") as a, \
+                    open(os.path.join(tmp, "threads-0", name), "rb") as b:
+                if a.read() != b.read():
+                    problems.append(f"{name} differs between 4 lavapipe threads and 1")
+        cases.add("the same bytes on 4 threads and on 1", problems)
 
         legs = [{"type": "sphere", "center": [0.3 * i - 1.05, 0, 0], "radius": 0.1,
                  "material": {"texture": "checker.png"}} for i in range(8)]
