@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the example textures, 8-bit sRGB, made with the Python standard library only:
 assets/textures/plaid.png, a 256 x 256 cloth tartan that tiles (its stripes repeat with the
-image), and assets/textures/wood.png, a 256 x 256 wood grain that tiles (for colliders).
+image), and for colliders assets/textures/wood.png, a 256 x 256 wood grain, and
+assets/textures/tiles.png, 2 x 2 stone floor tiles, both tiling.
 
 The sett (the stripe pattern, the same across the warp and the weft) is a list of
 (colour, width in texels) summing to 256; where a warp and a weft stripe cross, the weave
@@ -94,10 +95,46 @@ def wood():
     return rows
 
 
+# Floor tiles: 2 x 2 square stone tiles per repeat, each its own shade of a warm grey with a
+# soft mottle (bilinear value noise on an 8 x 8 lattice that wraps, so the texture tiles), and
+# a darker grout line 4 texels wide between them. Colours are sRGB.
+TILE_COLOR = (196, 188, 172)
+GROUT_COLOR = (120, 114, 104)
+
+
+def tiles():
+    import random
+    rng = random.Random(11)
+    lattice = [[rng.random() for _ in range(8)] for _ in range(8)]
+    shade = [[0.92 + 0.16 * rng.random() for _ in range(2)] for _ in range(2)]
+
+    def noise(x, y):
+        fx, fy = x * 8 / SIZE, y * 8 / SIZE
+        i, j = int(fx), int(fy)
+        tx, ty = fx - i, fy - j
+        a, b = lattice[j % 8][i % 8], lattice[j % 8][(i + 1) % 8]
+        c, d = lattice[(j + 1) % 8][i % 8], lattice[(j + 1) % 8][(i + 1) % 8]
+        return (a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty
+
+    half = SIZE // 2
+    rows = []
+    for y in range(SIZE):
+        row = []
+        for x in range(SIZE):
+            grout = min(x % half, half - 1 - x % half) < 2 or min(y % half, half - 1 - y % half) < 2
+            if grout:
+                row += list(GROUT_COLOR)
+                continue
+            k = shade[y // half][x // half] * (0.94 + 0.12 * noise(x, y))
+            row += [min(255, round(k * v)) for v in TILE_COLOR]
+        rows.append(row)
+    return rows
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "assets", "textures")
     os.makedirs(out, exist_ok=True)
-    for name, rows in (("plaid.png", plaid), ("wood.png", wood)):
+    for name, rows in (("plaid.png", plaid), ("wood.png", wood), ("tiles.png", tiles)):
         path = os.path.join(out, name)
         with open(path, "wb") as f:
             f.write(png(SIZE, SIZE, rows()))

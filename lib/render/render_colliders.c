@@ -11,7 +11,7 @@
    also carries its position and normal in the collider's texture frame, which the pose moves
    with the collider, and lit_cloth.frag (built with COLLIDER) projects the texture along that
    frame's three axes, blended by the normal (triplanar mapping). The frame is a box's own
-   (its centre and rotation), a plane's own (its point; y along its normal, x along the scene's
+   (its centre and rotation, x along its longest side), a plane's own (its point; y along its normal, x along the scene's
    x, or z where the normal is near x), and the scene's axes at rest for the round shapes, the
    funnel and a mesh collider (a mesh file's texture coordinates are not used). */
 #include <math.h>
@@ -86,13 +86,31 @@ void cvk_render_plane_frame(const cvk_collider_desc* c, double x[3], double up[3
 static void texture_frame(const cvk_collider_desc* c, const float p[3], const float n[3], float tp[3], float tn[3])
 {
     if (c->type == CVK_COLLIDER_BOX) {
-        float q[4], inverse[4], d[3] = {p[0] - c->center[0], p[1] - c->center[1], p[2] - c->center[2]};
+        float q[4], inverse[4], lp[3], ln[3], d[3] = {p[0] - c->center[0], p[1] - c->center[1], p[2] - c->center[2]};
         cvk_quat_normalize(c->rotation, q);
         inverse[0] = q[0];
         for (int k = 1; k < 4; k++)
             inverse[k] = -q[k];
-        cvk_quat_rotate(inverse, d, tp);
-        cvk_quat_rotate(inverse, n, tn);
+        cvk_quat_rotate(inverse, d, lp);
+        cvk_quat_rotate(inverse, n, ln);
+        /* The frame's x along the box's longest side, y along its shortest, z the third: the
+           texture's u (a wood grain's direction) runs along the long side of every face that
+           has one (a table top, a leg, an apron). */
+        const float* h = c->half_extents;
+        int longest = 0, shortest = 0;
+        for (int k = 1; k < 3; k++) {
+            if (h[k] > h[longest])
+                longest = k;
+            if (h[k] < h[shortest] || (h[k] == h[shortest] && shortest == longest))
+                shortest = k;
+        }
+        if (shortest == longest)
+            shortest = (longest + 1) % 3;
+        int order[3] = {longest, shortest, 3 - longest - shortest};
+        for (int k = 0; k < 3; k++) {
+            tp[k] = lp[order[k]];
+            tn[k] = ln[order[k]];
+        }
         return;
     }
     if (c->type == CVK_COLLIDER_PLANE) {
