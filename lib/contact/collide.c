@@ -69,11 +69,6 @@ static cvk_result copy_colliders(cvk_collide* c, const cvk_scene_desc* scene, cv
         const cvk_collider_desc* in = &scene->colliders[i];
         cvk_collider_desc* out = &c->colliders[i];
         *out = *in;
-        out->name = NULL;
-        out->file = NULL;
-        out->texture = NULL;
-        out->motion.keyframes = NULL;
-        c->collider_count = i + 1; /* from here on, free_colliders frees this one's copies */
         out->name = copy_string(in->name);
         out->file = copy_string(in->file);
         out->texture = copy_string(in->texture);
@@ -82,10 +77,10 @@ static cvk_result copy_colliders(cvk_collide* c, const cvk_scene_desc* scene, cv
         if (kf && keyframes)
             memcpy(keyframes, in->motion.keyframes, kf);
         out->motion.keyframes = keyframes;
+        c->collider_count = i + 1; /* from here on, free_colliders frees this one's copies */
         if ((in->name && !out->name) || (in->file && !out->file) || (in->texture && !out->texture) ||
             (kf && !keyframes))
-            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                            "out of host memory for the colliders");
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the colliders");
         if (out->friction < 0.0f)
             out->friction = c->friction;
         if (out->static_friction < 0.0f)

@@ -394,6 +394,25 @@ static void put_color(float out[4], const float c[3])
     out[3] = 1.0f;
 }
 
+/* The texture coordinates of the ground that plane collider `plane` is: its frame's x and z
+   (cvk_render_plane_frame) in repeats, from its point. */
+static void put_ground_texture(const cvk_collider_desc* plane, cvk_frame_uniforms* u)
+{
+    double axes[3][3];
+    cvk_render_plane_frame(plane, axes[0], axes[1], axes[2]);
+    double repeats = 1.0 / plane->texture_scale;
+    for (int a = 0; a < 2; a++) {
+        const double* axis = axes[2 * a];
+        double offset = 0.0, scaled[3];
+        for (int k = 0; k < 3; k++) {
+            scaled[k] = axis[k] * repeats;
+            offset -= (double)plane->point[k] * scaled[k];
+        }
+        put3(u->ground_texture[a], scaled, (float)offset);
+    }
+    u->post[1] = 1.0f;
+}
+
 static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
 {
     const cvk_view* v = &rd->view;
@@ -430,22 +449,8 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
         u->ground_unlit[k] = (float)(albedo * (around + fill * d->fill.color[k]));
         u->ground_key[k] = (float)(albedo * key * d->key.color[k]);
     }
-    if (textured) {
-        const cvk_collider_desc* plane = &rd->mesh->sim->collide->colliders[textured - 1];
-        double axes[3][3];
-        cvk_render_plane_frame(plane, axes[0], axes[1], axes[2]);
-        double repeats = 1.0 / plane->texture_scale;
-        for (int a = 0; a < 2; a++) {
-            const double* axis = axes[2 * a]; /* x, then z: the plane's u and v */
-            double offset = 0.0, scaled[3];
-            for (int k = 0; k < 3; k++) {
-                scaled[k] = axis[k] * repeats;
-                offset -= (double)plane->point[k] * scaled[k];
-            }
-            put3(u->ground_texture[a], scaled, (float)offset);
-        }
-        u->post[1] = 1.0f;
-    }
+    if (textured)
+        put_ground_texture(&rd->mesh->sim->collide->colliders[textured - 1], u);
     u->sky[3] = d->sky_light ? 1.0f : 0.0f;
     put3(u->ground_axes[0], v->ground_axes[0], 0.0f);
     put3(u->ground_axes[1], v->ground_axes[1], 0.0f);

@@ -329,6 +329,32 @@ static uint32_t first_with_texture(const cvk_collide* collide, uint32_t i)
     return i;
 }
 
+/* Each collider texture file into host[first], host[first + 1], ... with a set of its own. */
+static cvk_result load_collider_textures(cvk_renderer* rd, host_texture* host, uint32_t first, cvk_error* error)
+{
+    const cvk_collide* collide = rd->mesh->sim->collide;
+    cvk_render_textures* tx = &rd->textures;
+    cvk_result r = CVK_SUCCESS;
+    for (uint32_t c = 0, i = first; r == CVK_SUCCESS && c < collide->collider_count; c++) {
+        const char* texture = collide->colliders[c].texture;
+        if (!texture)
+            continue;
+        uint32_t same = first_with_texture(collide, c);
+        if (same != c) {
+            tx->collider_set_of[c] = tx->collider_set_of[same];
+            continue;
+        }
+        uint32_t set = tx->set_count++;
+        tx->collider_set_of[c] = set;
+        tx->albedo_of_set[set] = i;
+        tx->normal_of_set[set] = 1;
+        char key[64];
+        snprintf(key, sizeof key, "colliders.%u.material.texture", c);
+        r = load_texture(rd->context, key, texture, &host[i++], error);
+    }
+    return r;
+}
+
 cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
 {
     const cvk_build* b = &rd->mesh->sim->build;
@@ -391,22 +417,8 @@ cvk_result cvk_render_textures_create(cvk_renderer* rd, cvk_error* error)
             tx->normal_of_set[set] = i++;
         }
     }
-    for (uint32_t c = 0; r == CVK_SUCCESS && c < collide->collider_count; c++) {
-        const char* texture = collide->colliders[c].texture;
-        if (!texture)
-            continue;
-        uint32_t first = first_with_texture(collide, c);
-        if (first != c) {
-            tx->collider_set_of[c] = tx->collider_set_of[first];
-            continue;
-        }
-        uint32_t set = tx->set_count++;
-        tx->collider_set_of[c] = set;
-        tx->albedo_of_set[set] = i;
-        tx->normal_of_set[set] = 1;
-        snprintf(key, sizeof key, "colliders.%u.material.texture", c);
-        r = load_texture(rd->context, key, texture, &host[i++], error);
-    }
+    if (r == CVK_SUCCESS)
+        r = load_collider_textures(rd, host, i, error);
     for (uint32_t i = 0; r == CVK_SUCCESS && i < count; i++) {
         r = cvk_gpu_image_create_mipped(rd->context, host[i].normals ? NORMAL_MAP_FORMAT : TEXTURE_FORMAT,
                                         host[i].width, host[i].height, host[i].levels, VK_SAMPLE_COUNT_1_BIT,

@@ -174,8 +174,6 @@ cvk_attachment_desc cvk_default_attachment_desc(void)
     };
 }
 
-/* ---- small checks: each returns true when fine, else fills the issue and returns false ---- */
-
 /* ---- the scene ---- */
 
 static bool check_timing(const cvk_scene_desc* d, cvk_scene_issue* issue)
