@@ -43,6 +43,8 @@ static void check_default_collider(const cvk_collider_desc* c)
     CHECK_FLOAT(c->color[1], 0.55f);
     CHECK_FLOAT(c->color[2], 0.6f);
     CHECK_FLOAT(c->roughness, 0.5f);
+    CHECK_STR(c->texture, NULL);
+    CHECK_FLOAT(c->texture_scale, 1.0f);
 }
 
 static void check_default_collision(const cvk_scene_desc* d)
@@ -405,7 +407,7 @@ static const char* const every_type =
     "   'keyframes': [{'time': 0, 'translation': [0, 0, -2]}, {'time': 0.4, 'translation': [0, 0, 2],"
     "     'rotation': [0, 1, 0, 0]}], 'loop': true},"
     "  {'type': 'box', 'center': [0, 0.5, 0], 'half_extents': [0.5, 0.25, 1], 'rotation': [0.9, 0, 0.1, 0],"
-    "   'material': {'color': [0.4, 0.3, 0.2], 'roughness': 0.8}},"
+    "   'material': {'color': [0.4, 0.3, 0.2], 'roughness': 0.8, 'texture': 'wood.png', 'texture_scale': 0.3}},"
     "  {'type': 'capsule', 'a': [0, 0, 0], 'b': [1, 0, 0], 'radius': 0.05, 'friction': 0},"
     "  {'type': 'funnel', 'apex': [0, 2, 0], 'a': 0.35, 'height': 1.5},"
     "  {'type': 'mesh', 'file': 'meshes/chair.obj', 'transform': {'scale': 2, 'rotation': [0, 0, 1, 0],"
@@ -451,6 +453,10 @@ static void check_every_type(const cvk_scene_desc* d)
     CHECK_FLOAT(c[2].color[2], 0.2f);
     CHECK_FLOAT(c[2].roughness, 0.8f);
     CHECK_FLOAT(c[1].roughness, 0.5f); /* the default */
+    CHECK_STR(c[2].texture, "wood.png"); /* cvk_scene_parse keeps it as written */
+    CHECK_FLOAT(c[2].texture_scale, 0.3f);
+    CHECK_STR(c[1].texture, NULL);
+    CHECK_FLOAT(c[1].texture_scale, 1.0f); /* the default */
     CHECK_INT(c[2].motion.keyframe_count, 0);
     CHECK(!c[2].motion.loop);
     CHECK_INT(c[3].type, CVK_COLLIDER_CAPSULE);
@@ -526,7 +532,14 @@ static void test_json_types(void)
                    "friction, static_friction, color, keyframes, loop, material, file, transform)");
     /* The collider's material block: its keys, and the range of its roughness. */
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'shine': 1}}]}",
-                   "t.json: colliders.0.material.shine: unknown key (expected one of: color, roughness)");
+                   "t.json: colliders.0.material.shine: unknown key (expected one of: color, roughness, texture, "
+                   "texture_scale)");
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'texture_scale': -1}}]}",
+                   "t.json: colliders.0.material.texture_scale: must be greater than 0, got -1");
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'texture_scale': [1, 1]}}]}",
+                   "t.json: colliders.0.material.texture_scale: expected a number, got an array of 2");
+    EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'texture': ''}}]}",
+                   "t.json: colliders.0.material.texture: must name an image file, got an empty string");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'roughness': 0.05}}]}",
                    "t.json: colliders.0.material.roughness: must be between 0.1 and 1, got 0.05");
     EXPECT_INVALID("{'cloths': [{}], 'colliders': [{'type': 'sphere', 'material': {'color': [0.2, 1.5, 0.2]}}]}",
