@@ -11,9 +11,10 @@
    also carries its position and normal in the collider's texture frame, which the pose moves
    with the collider, and lit_cloth.frag (built with COLLIDER) projects the texture along that
    frame's three axes, blended by the normal (triplanar mapping). The frame is a box's own
-   (its centre and rotation, x along its longest side), a plane's own (its point; y along its normal, x along the scene's
-   x, or z where the normal is near x), and the scene's axes at rest for the round shapes, the
-   funnel and a mesh collider (a mesh file's texture coordinates are not used). */
+   (its centre and rotation, x along its longest side), a plane's own (its point; y along its
+   normal, x along the scene's x, or z where the normal is near x), and the scene's axes at rest
+   for the round shapes, the funnel and a mesh collider (a mesh file's texture coordinates are
+   not used). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

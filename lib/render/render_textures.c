@@ -1,9 +1,9 @@
 /* The cloths' and colliders' textures (cvk_cloth_desc.texture, cvk_collider_desc.texture):
    each file read with stb_image, its mip chain made on the host by averaging 2 x 2 texels in
-   linear light, uploaded once into an
-   R8G8B8A8_SRGB image (the sampler decodes sRGB to linear) together with the texture
-   coordinates the cloth pass reads as its third vertex attribute (a collider has none: its
-   fragment shader projects the texture, render_colliders.c); sampled trilinearly, and
+   linear light, uploaded once into an R8G8B8A8_SRGB image (the sampler decodes sRGB to linear)
+   together with the texture coordinates the cloth pass reads as its third vertex attribute (a
+   collider has none: its fragment shader projects the texture, render_colliders.c); sampled
+   trilinearly, and
    anisotropically on a GPU that allows it. Normal maps (material.normal_map) the same way into
    R8G8B8A8_UNORM images, their mips averaging the stored values. A 1 x 1 white texture and a
    1 x 1 flat normal stand in for the cloths without, so every descriptor set has both. */
