@@ -100,14 +100,15 @@ def box(center, keyframes=None):
 
 def render(tmp, name, desc, threads=None):
     """Renders desc (on `threads` lavapipe threads, if given); returns (problems, (width,
-    channels, pixels)) of its last frame."""
+    channels, pixels)) of its last frame. Anything on stderr (a validation message) is a
+    problem."""
     path = os.path.join(tmp, name + ".json")
     with open(path, "w") as f:
         json.dump(desc, f)
     out = os.path.join(tmp, name)
     env = dict(os.environ, LP_NUM_THREADS=threads) if threads is not None else None
     p = tooltest.run_tool(RENDER, [path, "-o", out, "--size", f"{WIDTH}x{HEIGHT}", "--quiet"], env=env)
-    if p.returncode != 0:
+    if p.returncode != 0 or p.stderr:
         return [f"{name}: exit status {p.returncode}: {p.stderr.strip()}"], None
     last = sorted(n for n in os.listdir(out) if n.endswith(".png"))[-1]
     return [], pixels(os.path.join(out, last))
