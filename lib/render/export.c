@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "render/split.h"
 #include "sim/sim.h"
 
 static const char call[] = "cvk_sim_read_mesh";
@@ -79,17 +80,25 @@ static cvk_result read_spring_flags(cvk_sim* s, uint32_t** alive_out, cvk_error*
     return CVK_SUCCESS;
 }
 
-/* A triangle exists while every spring along its edges does; an edge without a spring (a kind
-   the scene leaves out) never tears. alive NULL: nothing can tear. */
-static bool triangle_alive(const cvk_build* b, const uint32_t* alive, uint32_t t)
+/* Triangle t as drawn (shaders/render/mesh.comp): its own vertices, or its quad's other
+   split's (lib/render/split.h) while that is taken; whether it exists: while every spring along
+   its edges does (an edge without a spring, a kind the scene leaves out, never tears). alive
+   NULL: nothing can tear; splits NULL: no triangle has another split. */
+static bool drawn_triangle(const cvk_build* b, const cvk_other_split* splits, const uint32_t* alive,
+                           uint32_t t, uint32_t v[3])
 {
+    const uint32_t* vertices = &b->triangles[3 * (size_t)t];
+    const uint32_t* springs = &b->triangle_springs[3 * (size_t)t];
+    if (splits && cvk_split_taken(&splits[t], alive)) {
+        vertices = splits[t].vertices;
+        springs = splits[t].springs;
+    }
+    memcpy(v, vertices, 3 * sizeof *v);
     if (!alive)
         return true;
-    for (int e = 0; e < 3; e++) {
-        uint32_t spring = b->triangle_springs[3 * (size_t)t + e];
-        if (spring != UINT32_MAX && alive[spring] == 0)
+    for (int e = 0; e < 3; e++)
+        if (springs[e] != UINT32_MAX && alive[springs[e]] == 0)
             return false;
-    }
     return true;
 }
 
@@ -101,8 +110,8 @@ static void position_of(const cvk_sim* s, uint32_t user, double out[3])
         out[c] = x[c];
 }
 
-static cvk_result compute_normals(const cvk_sim* s, const uint32_t* alive, float* normals,
-                                  cvk_error* error)
+static cvk_result compute_normals(const cvk_sim* s, const cvk_other_split* splits, const uint32_t* alive,
+                                  float* normals, cvk_error* error)
 {
     const cvk_build* b = &s->build;
     double* sum = calloc(3 * (size_t)b->particle_count, sizeof(double));
@@ -110,9 +119,9 @@ static cvk_result compute_normals(const cvk_sim* s, const uint32_t* alive, float
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "%s: out of host memory for %u normals",
                         call, b->particle_count);
     for (uint32_t t = 0; t < b->triangle_count; t++) {
-        if (!triangle_alive(b, alive, t))
+        uint32_t v[3];
+        if (!drawn_triangle(b, splits, alive, t, v))
             continue;
-        const uint32_t* v = &b->triangles[3 * (size_t)t];
         double p0[3], p1[3], p2[3];
         position_of(s, v[0], p0);
         position_of(s, v[1], p1);
@@ -135,11 +144,12 @@ static cvk_result compute_normals(const cvk_sim* s, const uint32_t* alive, float
     return CVK_SUCCESS;
 }
 
-static void copy_triangles(const cvk_build* b, const uint32_t* alive, uint32_t* triangles)
+static void copy_triangles(const cvk_build* b, const cvk_other_split* splits, const uint32_t* alive,
+                           uint32_t* triangles)
 {
     for (uint32_t t = 0; t < b->triangle_count; t++) {
-        const uint32_t* v = &b->triangles[3 * (size_t)t];
-        bool live = triangle_alive(b, alive, t);
+        uint32_t v[3];
+        bool live = drawn_triangle(b, splits, alive, t, v);
         for (int k = 0; k < 3; k++)
             triangles[3 * (size_t)t + k] = live ? v[k] : v[0];
     }
@@ -155,17 +165,21 @@ cvk_result cvk_sim_read_mesh(cvk_sim* s, float* xyz, float* normals, uint32_t* t
         return r;
     const cvk_build* b = &s->build;
     uint32_t* alive = NULL;
+    cvk_other_split* splits = NULL;
     if ((normals || triangles) && b->triangle_count > 0)
         r = read_spring_flags(s, &alive, error);
+    if (r == CVK_SUCCESS && alive)
+        r = cvk_other_splits(s, &splits, error);
     if (r == CVK_SUCCESS && (xyz || normals))
         r = cvk_sim_read_internal(s, error);
     if (r == CVK_SUCCESS && xyz)
         for (uint32_t p = 0; p < b->particle_count; p++)
             memcpy(&xyz[3 * (size_t)b->user_of[p]], &s->scratch[3 * (size_t)p], 3 * sizeof(float));
     if (r == CVK_SUCCESS && normals)
-        r = compute_normals(s, alive, normals, error);
+        r = compute_normals(s, splits, alive, normals, error);
     if (r == CVK_SUCCESS && triangles)
-        copy_triangles(b, alive, triangles);
+        copy_triangles(b, splits, alive, triangles);
+    free(splits);
     free(alive);
     return r;
 }

@@ -9,6 +9,7 @@
 #include "core/cookie.h"
 #include "core/error.h"
 #include "core/shaders.h"
+#include "render/split.h"
 
 /* Mirrors the bindings of shaders/render/mesh.comp. */
 enum {
@@ -30,12 +31,19 @@ enum {
 
 /* ---- tables, on the host ----------------------------------------------------------------- */
 
+/* The triangle tables hold 2 · triangle_count rows of 4: row t the build's triangle t, row
+   triangle_count + t the triangle that takes its place when its quad is drawn split along its
+   other diagonal (a copy of row t where there is none). Row t's fourth entries: in
+   triangle_vertices the spring along the quad's split diagonal, in triangle_springs the spring
+   along its other diagonal, or NONE where t has no other split. */
 typedef struct tables {
-    uint32_t* triangle_vertices;  /* 4 per triangle */
-    uint32_t* triangle_particles; /* 4 per triangle */
-    uint32_t* triangle_springs;   /* 4 per triangle */
+    uint32_t* triangle_vertices;  /* 4 per row */
+    uint32_t* triangle_particles; /* 4 per row */
+    uint32_t* triangle_springs;   /* 4 per row */
+    bool* tearable;               /* per spring: it may tear (NULL: none may) */
+    uint32_t* particle_of;        /* per vertex its particle, | CVK_MESH_HELD where it stays put */
     uint32_t* vertex_triangles;   /* max_adjacent per vertex, slot-major */
-    uint32_t* rim_edges;          /* 4 per rim edge (at least one) */
+    uint32_t* rim_edges;          /* 8 per rim edge (at least one) */
     uint32_t* rim_indices;        /* 6 per rim edge (at least one) */
 } tables;
 
@@ -44,6 +52,8 @@ static void tables_free(tables* t)
     free(t->triangle_vertices);
     free(t->triangle_particles);
     free(t->triangle_springs);
+    free(t->tearable);
+    free(t->particle_of);
     free(t->vertex_triangles);
     free(t->rim_edges);
     free(t->rim_indices);
@@ -53,13 +63,20 @@ static void tables_free(tables* t)
    shader: vertices in user order, their particles, the spring along each edge. */
 static void make_triangles(const cvk_build* b, tables* t, cvk_mesh_range* ranges)
 {
-    for (uint32_t tri = 0; tri < b->triangle_count; tri++)
+    size_t other = 4 * (size_t)b->triangle_count;
+    for (uint32_t tri = 0; tri < b->triangle_count; tri++) {
         for (int e = 0; e < 3; e++) {
             uint32_t user = b->triangles[3 * (size_t)tri + e];
             t->triangle_vertices[4 * (size_t)tri + e] = user;
             t->triangle_particles[4 * (size_t)tri + e] = b->internal_of[user];
             t->triangle_springs[4 * (size_t)tri + e] = b->triangle_springs[3 * (size_t)tri + e];
         }
+        t->triangle_vertices[4 * (size_t)tri + 3] = UINT32_MAX;
+        t->triangle_springs[4 * (size_t)tri + 3] = UINT32_MAX;
+        memcpy(&t->triangle_vertices[other + 4 * (size_t)tri], &t->triangle_vertices[4 * (size_t)tri], 16);
+        memcpy(&t->triangle_particles[other + 4 * (size_t)tri], &t->triangle_particles[4 * (size_t)tri], 16);
+        memcpy(&t->triangle_springs[other + 4 * (size_t)tri], &t->triangle_springs[4 * (size_t)tri], 16);
+    }
     for (uint32_t c = 0; c < b->cloth_count; c++) {
         ranges[c].first_index = 3u * b->cloths[c].first_triangle;
         ranges[c].index_count = 3u * b->cloths[c].triangle_count;
@@ -71,20 +88,35 @@ static uint32_t count_triangles(const cvk_build* b)
     return b->triangle_count;
 }
 
+/* Whether row r of the triangle tables names vertex v. */
+static bool row_has(const tables* t, size_t r, uint32_t v)
+{
+    const uint32_t* row = &t->triangle_vertices[4 * r];
+    return row[0] == v || row[1] == v || row[2] == v;
+}
+
+/* Per vertex, the triangles that may hold it: first those whose own row names it, in the
+   order of the build (the order a cloth without another split always had, so its normals
+   keep their bits), then those whose other split's row does. */
 static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
 {
-    uint32_t* degree = calloc(m->vertex_count, sizeof *degree);
+    uint32_t* degree = calloc(m->vertex_count ? m->vertex_count : 1, sizeof *degree);
     if (!degree)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh adjacency");
+    size_t other = m->triangle_count;
     for (uint32_t tri = 0; tri < m->triangle_count; tri++)
-        for (int e = 0; e < 3; e++)
-            degree[t->triangle_vertices[4 * tri + e]]++;
+        for (int e = 0; e < 3; e++) {
+            degree[t->triangle_vertices[4 * (size_t)tri + e]]++;
+            uint32_t v = t->triangle_vertices[4 * (other + tri) + e];
+            if (!row_has(t, tri, v))
+                degree[v]++;
+        }
     m->max_adjacent = 1;
     for (uint32_t v = 0; v < m->vertex_count; v++)
         if (degree[v] > m->max_adjacent)
             m->max_adjacent = degree[v];
     size_t entries = (size_t)m->max_adjacent * m->vertex_count;
-    t->vertex_triangles = malloc(entries * sizeof(uint32_t));
+    t->vertex_triangles = malloc((entries ? entries : 1) * sizeof(uint32_t));
     if (!t->vertex_triangles) {
         free(degree);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh adjacency");
@@ -93,17 +125,23 @@ static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
     memset(degree, 0, m->vertex_count * sizeof *degree);
     for (uint32_t tri = 0; tri < m->triangle_count; tri++)
         for (int e = 0; e < 3; e++) {
-            uint32_t v = t->triangle_vertices[4 * tri + e];
+            uint32_t v = t->triangle_vertices[4 * (size_t)tri + e];
             t->vertex_triangles[(size_t)degree[v]++ * m->vertex_count + v] = tri;
+        }
+    for (uint32_t tri = 0; tri < m->triangle_count; tri++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t v = t->triangle_vertices[4 * (other + tri) + e];
+            if (!row_has(t, tri, v))
+                t->vertex_triangles[(size_t)degree[v]++ * m->vertex_count + v] = tri;
         }
     free(degree);
     return CVK_SUCCESS;
 }
 
 /* One triangle's edge, keyed by its two vertices, lower first; slot: its place in the
-   triangle (from vertex slot to the next). */
+   triangle (from vertex slot to the next); other: from the other split's row. */
 typedef struct half_edge {
-    uint32_t lo, hi, triangle, slot;
+    uint32_t lo, hi, triangle, slot, other;
 } half_edge;
 
 static int compare_half_edges(const void* pa, const void* pb)
@@ -113,33 +151,69 @@ static int compare_half_edges(const void* pa, const void* pb)
         return a->lo < b->lo ? -1 : 1;
     if (a->hi != b->hi)
         return a->hi < b->hi ? -1 : 1;
+    if (a->other != b->other)
+        return a->other < b->other ? -1 : 1;
     return a->triangle < b->triangle ? -1 : a->triangle > b->triangle;
 }
 
+/* The rows of the other splits (lib/render/split.h) in the tables' second half, and in row t's
+   fourth entries the two diagonals' springs. */
+static cvk_result make_other_splits(const cvk_mesh* m, tables* t, cvk_error* error)
+{
+    cvk_other_split* splits;
+    cvk_result r = cvk_other_splits(m->sim, &splits, error);
+    if (r != CVK_SUCCESS || !splits)
+        return r;
+    const cvk_build* b = &m->sim->build;
+    size_t other = 4 * (size_t)b->triangle_count;
+    for (uint32_t tri = 0; tri < b->triangle_count; tri++) {
+        const cvk_other_split* o = &splits[tri];
+        if (o->across == UINT32_MAX)
+            continue;
+        size_t row = other + 4 * (size_t)tri;
+        for (int e = 0; e < 3; e++) {
+            t->triangle_vertices[row + e] = o->vertices[e];
+            t->triangle_particles[row + e] = b->internal_of[o->vertices[e]];
+            t->triangle_springs[row + e] = o->springs[e];
+        }
+        t->triangle_vertices[4 * (size_t)tri + 3] = o->split;
+        t->triangle_springs[4 * (size_t)tri + 3] = o->across;
+    }
+    free(splits);
+    return CVK_SUCCESS;
+}
+
 /* Whether a spring along one of the triangle's edges may tear (the triangle then goes). */
-static bool may_tear(const tables* t, const bool* tearable, uint32_t triangle)
+static bool may_tear(const tables* t, uint32_t triangle)
 {
     for (int e = 0; e < 3; e++) {
         uint32_t s = t->triangle_springs[4 * (size_t)triangle + e];
-        if (s != UINT32_MAX && tearable && tearable[s])
+        if (s != UINT32_MAX && t->tearable && t->tearable[s])
             return true;
     }
     return false;
 }
 
 /* The rim edges of one cloth with a thickness, appended from edges[*count]: its border edges,
-   and with tearing every edge with a triangle that may go. `half_edges` has room for the
-   cloth's 3 per triangle. */
-static void add_rim_edges(const cvk_cloth_range* cloth, const tables* t,
-                          const bool* tearable, half_edge* half_edges, uint32_t* edges,
-                          uint32_t* ends, uint32_t* count)
+   and with tearing every edge with a triangle that may go, and the other diagonal of every
+   quad that may be drawn split along it. Per edge its ends and the triangles that may hold it
+   (those whose row names it, then those whose other split's row does; at most 4, and the first
+   two where only the rows name it). `half_edges` has room for the cloth's 6 per triangle. */
+static void add_rim_edges(const cvk_cloth_range* cloth, uint32_t triangle_count, const tables* t,
+                          half_edge* half_edges, uint32_t* edges, uint32_t* ends, uint32_t* count)
 {
     uint32_t n = 0;
+    size_t other = triangle_count;
     for (uint32_t tri = cloth->first_triangle; tri < cloth->first_triangle + cloth->triangle_count; tri++)
         for (uint32_t e = 0; e < 3; e++) {
             uint32_t a = t->triangle_vertices[4 * (size_t)tri + e];
             uint32_t b = t->triangle_vertices[4 * (size_t)tri + (e + 1) % 3];
-            half_edges[n++] = (half_edge){a < b ? a : b, a < b ? b : a, tri, e};
+            half_edges[n++] = (half_edge){a < b ? a : b, a < b ? b : a, tri, e, 0};
+            if (t->triangle_springs[4 * (size_t)tri + 3] == UINT32_MAX)
+                continue;
+            a = t->triangle_vertices[4 * (other + tri) + e];
+            b = t->triangle_vertices[4 * (other + tri) + (e + 1) % 3];
+            half_edges[n++] = (half_edge){a < b ? a : b, a < b ? b : a, tri, e, 1};
         }
     qsort(half_edges, n, sizeof *half_edges, compare_half_edges);
     float half_thickness = 0.5f * cloth->thickness;
@@ -149,47 +223,99 @@ static void add_rim_edges(const cvk_cloth_range* cloth, const tables* t,
         uint32_t j = i + 1;
         while (j < n && half_edges[j].lo == half_edges[i].lo && half_edges[j].hi == half_edges[i].hi)
             j++;
-        const half_edge* first = &half_edges[i];
-        uint32_t second = j - i >= 2 ? half_edges[i + 1].triangle : UINT32_MAX;
-        /* Three or more triangles on an edge: the first two. */
-        if (second == UINT32_MAX || may_tear(t, tearable, first->triangle) || may_tear(t, tearable, second)) {
+        uint32_t own = 0, found = 0, candidates[4];
+        bool tears = false;
+        for (uint32_t h = i; h < j; h++) {
+            own += !half_edges[h].other;
+            uint32_t tri = half_edges[h].triangle;
+            bool seen = false;
+            for (uint32_t c = 0; c < found; c++)
+                seen = seen || candidates[c] == tri;
+            tears = tears || half_edges[h].other || may_tear(t, tri);
+            if (!seen && found < 4)
+                candidates[found++] = tri;
+        }
+        if (own == j - i && found > 2)
+            found = 2; /* three or more triangles on an edge: the first two */
+        if (own < 2 || tears) {
             uint32_t k = (*count)++;
-            uint32_t row[4] = {first->triangle, second, first->slot, bits};
-            memcpy(&edges[4 * (size_t)k], row, sizeof row);
-            ends[2 * (size_t)k] = t->triangle_vertices[4 * (size_t)first->triangle + first->slot];
-            ends[2 * (size_t)k + 1] = t->triangle_vertices[4 * (size_t)first->triangle + (first->slot + 1) % 3];
+            const half_edge* first = &half_edges[i];
+            const uint32_t* row = &t->triangle_vertices[4 * ((first->other ? other : 0) + first->triangle)];
+            uint32_t a = row[first->slot], b = row[(first->slot + 1) % 3];
+            uint32_t entry[8] = {a, b, bits, 0, UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX};
+            memcpy(&entry[4], candidates, found * sizeof *candidates);
+            memcpy(&edges[8 * (size_t)k], entry, sizeof entry);
+            ends[2 * (size_t)k] = a;
+            ends[2 * (size_t)k + 1] = b;
         }
         i = j;
     }
+}
+
+/* Per vertex its particle, with CVK_MESH_HELD set where the drawing keeps it at its particle:
+   the vertices of triangles none of whose springs may tear, and those on an edge of the
+   cloth's own border (one triangle, or more than two). The others are smoothed along a torn
+   border (mesh.comp, drawn_position). */
+static cvk_result make_particle_of(cvk_mesh* m, tables* t, cvk_error* error)
+{
+    const cvk_build* b = &m->sim->build;
+    t->particle_of = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *t->particle_of);
+    size_t n = 3 * (size_t)m->triangle_count;
+    half_edge* half_edges = t->tearable && n ? malloc(n * sizeof *half_edges) : NULL;
+    if (!t->particle_of || (t->tearable && n && !half_edges)) {
+        free(half_edges);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh's vertices");
+    }
+    for (uint32_t v = 0; v < m->vertex_count; v++)
+        t->particle_of[v] = b->internal_of[v] | CVK_MESH_HELD;
+    if (!half_edges)
+        return CVK_SUCCESS;
+    for (uint32_t tri = 0; tri < m->triangle_count; tri++)
+        for (uint32_t e = 0; e < 3; e++) {
+            uint32_t a = t->triangle_vertices[4 * (size_t)tri + e];
+            uint32_t c = t->triangle_vertices[4 * (size_t)tri + (e + 1) % 3];
+            half_edges[3 * (size_t)tri + e] = (half_edge){a < c ? a : c, a < c ? c : a, tri, e, 0};
+            if (may_tear(t, tri))
+                t->particle_of[a] &= ~CVK_MESH_HELD;
+        }
+    qsort(half_edges, n, sizeof *half_edges, compare_half_edges);
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && half_edges[j].lo == half_edges[i].lo && half_edges[j].hi == half_edges[i].hi)
+            j++;
+        if (j - i != 2) {
+            t->particle_of[half_edges[i].lo] |= CVK_MESH_HELD;
+            t->particle_of[half_edges[i].hi] |= CVK_MESH_HELD;
+        }
+        i = j;
+    }
+    free(half_edges);
+    return CVK_SUCCESS;
 }
 
 /* The rim: edge table, ends and index buffer for every cloth with a thickness. */
 static cvk_result make_rim(cvk_mesh* m, tables* t, cvk_error* error)
 {
     const cvk_build* b = &m->sim->build;
-    const cvk_tear* tear = m->sim->tear;
     size_t most = 0, largest = 0;
     for (uint32_t c = 0; c < b->cloth_count; c++)
         if (b->cloths[c].thickness > 0.0f) {
-            most += 3 * (size_t)b->cloths[c].triangle_count;
+            most += 6 * (size_t)b->cloths[c].triangle_count;
             if (b->cloths[c].triangle_count > largest)
                 largest = b->cloths[c].triangle_count;
         }
     m->rims = calloc(b->cloth_count, sizeof *m->rims);
-    t->rim_edges = calloc(4 * (most ? most : 1), sizeof(uint32_t));
+    t->rim_edges = calloc(8 * (most ? most : 1), sizeof(uint32_t));
     m->rim_ends = calloc(2 * (most ? most : 1), sizeof(uint32_t));
-    half_edge* half_edges = most ? malloc(3 * largest * sizeof *half_edges) : NULL;
-    bool* tearable = tear && tear->count && most ? calloc(b->spring_count, sizeof *tearable) : NULL;
-    bool failed = !m->rims || !t->rim_edges || !m->rim_ends || (most && !half_edges) ||
-                  (tear && tear->count && most && !tearable);
+    half_edge* half_edges = most ? malloc(6 * largest * sizeof *half_edges) : NULL;
+    bool failed = !m->rims || !t->rim_edges || !m->rim_ends || (most && !half_edges);
     if (!failed) {
-        for (uint32_t i = 0; tearable && i < tear->count; i++)
-            tearable[tear->spring[i]] = true;
         uint32_t count = 0;
         for (uint32_t c = 0; c < b->cloth_count; c++) {
             m->rims[c].first_index = 6 * count;
             if (b->cloths[c].thickness > 0.0f)
-                add_rim_edges(&b->cloths[c], t, tearable, half_edges, t->rim_edges, m->rim_ends, &count);
+                add_rim_edges(&b->cloths[c], m->triangle_count, t, half_edges, t->rim_edges, m->rim_ends,
+                              &count);
             m->rims[c].index_count = 6 * count - m->rims[c].first_index;
         }
         m->rim_edge_count = count;
@@ -203,7 +329,6 @@ static cvk_result make_rim(cvk_mesh* m, tables* t, cvk_error* error)
         }
     }
     free(half_edges);
-    free(tearable);
     if (failed)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the rim of the cloths' thickness");
     return CVK_SUCCESS;
@@ -212,16 +337,28 @@ static cvk_result make_rim(cvk_mesh* m, tables* t, cvk_error* error)
 static cvk_result make_tables(cvk_mesh* m, tables* t, cvk_error* error)
 {
     const cvk_build* b = &m->sim->build;
-    size_t tris = m->triangle_count ? m->triangle_count : 1;
-    t->triangle_vertices = calloc(4 * tris, sizeof(uint32_t));
-    t->triangle_particles = calloc(4 * tris, sizeof(uint32_t));
-    t->triangle_springs = calloc(4 * tris, sizeof(uint32_t));
+    const cvk_tear* tear = m->sim->tear;
+    size_t rows = 2 * (size_t)(m->triangle_count ? m->triangle_count : 1);
+    t->triangle_vertices = calloc(4 * rows, sizeof(uint32_t));
+    t->triangle_particles = calloc(4 * rows, sizeof(uint32_t));
+    t->triangle_springs = calloc(4 * rows, sizeof(uint32_t));
     m->cloths = calloc(b->cloth_count, sizeof *m->cloths);
     if (!t->triangle_vertices || !t->triangle_particles || !t->triangle_springs || !m->cloths)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u triangles",
                         m->triangle_count);
+    if (tear && tear->count) {
+        t->tearable = calloc(b->spring_count, sizeof *t->tearable);
+        if (!t->tearable)
+            return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the spring flags");
+        for (uint32_t i = 0; i < tear->count; i++)
+            t->tearable[tear->spring[i]] = true;
+    }
     make_triangles(b, t, m->cloths);
-    cvk_result r = make_adjacency(m, t, error);
+    cvk_result r = make_other_splits(m, t, error);
+    if (r == CVK_SUCCESS)
+        r = make_adjacency(m, t, error);
+    if (r == CVK_SUCCESS)
+        r = make_particle_of(m, t, error);
     return r == CVK_SUCCESS ? make_rim(m, t, error) : r;
 }
 
@@ -231,10 +368,10 @@ static cvk_result check_limits(const cvk_mesh* m, cvk_error* error)
 {
     const VkPhysicalDeviceLimits* limits = &m->context->properties.limits;
     uint64_t entries = (uint64_t)m->max_adjacent * m->vertex_count;
-    if (m->triangle_count > limits->maxTexelBufferElements || entries > limits->maxTexelBufferElements)
+    if (2ull * m->triangle_count > limits->maxTexelBufferElements || entries > limits->maxTexelBufferElements)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
-                        "%u triangles with up to %u around a vertex need %llu table entries; %s "
-                        "allows %u texel buffer elements (maxTexelBufferElements)",
+                        "%u triangles (two rows each) with up to %u around a vertex need %llu table "
+                        "entries; %s allows %u texel buffer elements (maxTexelBufferElements)",
                         m->triangle_count, m->max_adjacent, (unsigned long long)entries,
                         m->context->properties.deviceName, limits->maxTexelBufferElements);
     /* Both buffers the generation writes are bound whole as storage buffers. */
@@ -247,7 +384,7 @@ static cvk_result check_limits(const cvk_mesh* m, cvk_error* error)
                         m->triangle_count, (unsigned long long)index_bytes,
                         m->context->properties.deviceName, limits->maxStorageBufferRange);
     uint64_t rim_bytes = 4ull * VERTEX_STRIDE * m->rim_edge_count;
-    if (rim_bytes > limits->maxStorageBufferRange || m->rim_edge_count > limits->maxTexelBufferElements)
+    if (rim_bytes > limits->maxStorageBufferRange || 2ull * m->rim_edge_count > limits->maxTexelBufferElements)
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
                         "the rim of the cloths' thickness has %u edges: %llu bytes of vertices; %s allows "
                         "%u bytes (maxStorageBufferRange) and %u texel buffer elements",
@@ -286,17 +423,17 @@ static cvk_result create_buffers(cvk_mesh* m, const cvk_mesh_desc* desc, const t
          VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
              VK_BUFFER_USAGE_TRANSFER_SRC_BIT | desc->index_usage,
          "mesh indices", NULL, NULL, VK_FORMAT_UNDEFINED},
-        {&m->triangle_vertices, tris * 16u, table, "triangle vertices", t->triangle_vertices,
+        {&m->triangle_vertices, 2u * tris * 16u, table, "triangle vertices", t->triangle_vertices,
          &m->view_triangle_vertices, VK_FORMAT_R32G32B32A32_UINT},
-        {&m->triangle_particles, tris * 16u, table, "triangle particles", t->triangle_particles,
+        {&m->triangle_particles, 2u * tris * 16u, table, "triangle particles", t->triangle_particles,
          &m->view_triangle_particles, VK_FORMAT_R32G32B32A32_UINT},
-        {&m->triangle_springs, tris * 16u, table, "triangle springs", t->triangle_springs,
+        {&m->triangle_springs, 2u * tris * 16u, table, "triangle springs", t->triangle_springs,
          &m->view_triangle_springs, VK_FORMAT_R32G32B32A32_UINT},
         {&m->particle_of, (VkDeviceSize)m->vertex_count * 4u, table, "vertex particles",
-         m->sim->build.internal_of, &m->view_particle_of, VK_FORMAT_R32_UINT},
+         t->particle_of, &m->view_particle_of, VK_FORMAT_R32_UINT},
         {&m->vertex_triangles, (VkDeviceSize)m->max_adjacent * m->vertex_count * 4u, table,
          "vertex triangles", t->vertex_triangles, &m->view_vertex_triangles, VK_FORMAT_R32_UINT},
-        {&m->rim_edges, rim * 16u, table, "rim edges", t->rim_edges, &m->view_rim_edges,
+        {&m->rim_edges, rim * 32u, table, "rim edges", t->rim_edges, &m->view_rim_edges,
          VK_FORMAT_R32G32B32A32_UINT},
         {&m->rim_vertices, rim * 4u * VERTEX_STRIDE,
          VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,

@@ -4,6 +4,11 @@
 // Mesh generation (seed 002 §5.4.1) in one dispatch over max(vertices, triangles, rim edges):
 // - triangle t is drawn where the springs along its edges are alive; a torn one becomes three
 //   equal indices, so the index count, and every draw call, stays the same;
+// - a quad split along a diagonal whose spring is torn while the spring along its other
+//   diagonal holds (a grid's cell, a mesh file's quad, on a tearing cloth) is drawn split
+//   along that other diagonal: its two triangles take their rows from the tables' second half
+//   (lib/render/mesh.c, make_other_splits), so a cut running across the split diagonals
+//   follows the diagonals the cloth still holds instead of stepping around whole cells;
 // - vertex v (user order: cloth by cloth, row-major) takes its particle's position and the
 //   area-weighted average of its live triangles' normals: the plain sum of their cross
 //   products, whose length is twice the area. Each vertex gathers its own triangles from a
@@ -12,7 +17,7 @@
 //   becomes the quad that joins the slab's two faces along it, the vertices half the thickness
 //   off the middle along the smooth normals, as lit_cloth.vert moves the faces, wound so its
 //   front faces away from its one live triangle; a point while the edge has two live triangles
-//   or none.
+//   or none (its table row names the triangles that may hold it, in either split).
 // An edge without a spring (a constraint type the scene leaves out) never tears.
 
 layout(local_size_x_id = 0) in;
@@ -22,14 +27,19 @@ const uint NONE = 0xffffffffu;
 
 layout(set = 0, binding = 0) uniform samplerBuffer positions;          // xyz, internal order
 layout(set = 0, binding = 1) uniform usamplerBuffer spring_alive;      // per spring: 1, 0 torn
+// The triangle tables: 2 · triangle_count rows, row t the triangle, row triangle_count + t
+// the triangle drawn in its place in its quad's other split; row t's w: the split diagonal's
+// spring (triangle_vertices) and the other diagonal's (triangle_springs), or NONE.
 layout(set = 0, binding = 2) uniform usamplerBuffer triangle_vertices; // xyz: vertices (user order)
 layout(set = 0, binding = 3) uniform usamplerBuffer triangle_particles;// xyz: the same, internal
 layout(set = 0, binding = 4) uniform usamplerBuffer triangle_springs;  // xyz: spring per edge or NONE
-layout(set = 0, binding = 5) uniform usamplerBuffer particle_of;       // vertex -> internal index
+layout(set = 0, binding = 5) uniform usamplerBuffer particle_of;       // vertex -> internal index,
+                                                                       // | CVK_MESH_HELD: never smoothed
 layout(set = 0, binding = 6) uniform usamplerBuffer vertex_triangles;  // slot-major, NONE padded
 layout(std430, set = 0, binding = 7) writeonly buffer Vertices { vec4 vertices[]; }; // position, normal
 layout(std430, set = 0, binding = 8) writeonly buffer Indices { uint indices[]; };
-layout(set = 0, binding = 9) uniform usamplerBuffer rim_edges;         // triangles, slot, half thickness
+layout(set = 0, binding = 9) uniform usamplerBuffer rim_edges;         // 2 per edge: (a, b, half thickness),
+                                                                       // the triangles that may hold it
 layout(std430, set = 0, binding = 10) writeonly buffer RimVertices { vec4 rim_vertices[]; };
 
 // The push constants: cvk_mesh_push, declared with the C side in shared/layout.h.
@@ -40,10 +50,22 @@ bool spring_intact(uint s)
     return s == NONE || texelFetch(spring_alive, int(s)).x != 0u;
 }
 
-bool triangle_alive(uint t)
+// Whether the triangle of table row r is alive: the springs along its edges hold.
+bool triangle_alive(uint r)
 {
-    uvec3 s = texelFetch(triangle_springs, int(t)).xyz;
+    uvec3 s = texelFetch(triangle_springs, int(r)).xyz;
     return spring_intact(s.x) && spring_intact(s.y) && spring_intact(s.z);
+}
+
+// The row triangle t is drawn from: its own, or its other split's while its quad's split
+// diagonal is torn and the other diagonal holds.
+uint drawn_row(uint t)
+{
+    uint other = texelFetch(triangle_springs, int(t)).w;
+    if (other == NONE)
+        return t;
+    uint split = texelFetch(triangle_vertices, int(t)).w;
+    return !spring_intact(split) && spring_intact(other) ? pc.triangle_count + t : t;
 }
 
 vec3 position(uint particle)
@@ -53,17 +75,18 @@ vec3 position(uint particle)
 
 void write_triangle(uint t)
 {
-    uvec3 v = texelFetch(triangle_vertices, int(t)).xyz;
-    if (!triangle_alive(t))
+    uint r = drawn_row(t);
+    uvec3 v = texelFetch(triangle_vertices, int(r)).xyz;
+    if (!triangle_alive(r))
         v = v.xxx;
     indices[3u * t] = v.x;
     indices[3u * t + 1u] = v.y;
     indices[3u * t + 2u] = v.z;
 }
 
-vec3 face_normal(uint t)
+vec3 face_normal(uint r)
 {
-    uvec3 p = texelFetch(triangle_particles, int(t)).xyz;
+    uvec3 p = texelFetch(triangle_particles, int(r)).xyz;
     vec3 a = position(p.x);
     return cross(position(p.y) - a, position(p.z) - a);
 }
@@ -73,46 +96,114 @@ vec3 smooth_normal(uint v)
     vec3 normal = vec3(0.0);
     for (uint slot = 0u; slot < MAX_ADJACENT; slot++) {
         uint t = texelFetch(vertex_triangles, int(slot * pc.vertex_count + v)).x;
-        if (t == NONE || !triangle_alive(t))
+        if (t == NONE)
             continue;
-        normal += face_normal(t);
+        uint r = drawn_row(t);
+        uvec3 corners = texelFetch(triangle_vertices, int(r)).xyz;
+        if (!triangle_alive(r) || !any(equal(corners, uvec3(v))))
+            continue;
+        normal += face_normal(r);
     }
     float len = length(normal);
     return len > 0.0 ? normal / len : vec3(0.0);
 }
 
+// Where vertex v is drawn: at its particle, or, on a torn border (exactly two of its edges lie
+// on one live triangle each) and not held, halfway from its particle to the midpoint of its
+// two neighbours along the border. A cut that steps or zig-zags from vertex to vertex (the
+// springs break along the grid) is drawn as the line through its steps' middles: one pass
+// of Laplacian smoothing along the border with weight 1/2, which takes a period-two
+// zig-zag or staircase to a straight line. Only the picture moves; the particles do not.
+vec3 drawn_position(uint v)
+{
+    uint entry = texelFetch(particle_of, int(v)).x;
+    vec3 p = position(entry & ~CVK_MESH_HELD);
+    if ((entry & CVK_MESH_HELD) != 0u)
+        return p;
+    // the other ends of v's edges in its live triangles, and on how many triangles each lies
+    uint ends[2u * MAX_ADJACENT];
+    uint counts[2u * MAX_ADJACENT];
+    uint n = 0u;
+    for (uint slot = 0u; slot < MAX_ADJACENT; slot++) {
+        uint t = texelFetch(vertex_triangles, int(slot * pc.vertex_count + v)).x;
+        if (t == NONE)
+            continue;
+        uint r = drawn_row(t);
+        uvec3 corners = texelFetch(triangle_vertices, int(r)).xyz;
+        if (!triangle_alive(r) || !any(equal(corners, uvec3(v))))
+            continue;
+        for (uint c = 0u; c < 3u; c++) {
+            uint w = corners[c];
+            if (w == v)
+                continue;
+            uint i = 0u;
+            while (i < n && ends[i] != w)
+                i++;
+            if (i == n) {
+                ends[n] = w;
+                counts[n] = 0u;
+                n++;
+            }
+            counts[i]++;
+        }
+    }
+    uint border = 0u;
+    uint neighbour[2] = uint[2](NONE, NONE);
+    for (uint i = 0u; i < n; i++)
+        if (counts[i] == 1u) {
+            if (border < 2u)
+                neighbour[border] = ends[i];
+            border++;
+        }
+    if (border != 2u)
+        return p;
+    vec3 a = position(texelFetch(particle_of, int(neighbour[0])).x & ~CVK_MESH_HELD);
+    vec3 b = position(texelFetch(particle_of, int(neighbour[1])).x & ~CVK_MESH_HELD);
+    return 0.5 * p + 0.25 * (a + b);
+}
+
 void write_vertex(uint v)
 {
-    vertices[2u * v] = vec4(position(texelFetch(particle_of, int(v)).x), 1.0);
+    vertices[2u * v] = vec4(drawn_position(v), 1.0);
     vertices[2u * v + 1u] = vec4(smooth_normal(v), 0.0);
 }
 
 void write_rim(uint k)
 {
-    uvec4 e = texelFetch(rim_edges, int(k));
-    uvec3 v = texelFetch(triangle_vertices, int(e.x)).xyz;
-    uvec3 p = texelFetch(triangle_particles, int(e.x)).xyz;
-    uint next = e.z == 2u ? 0u : e.z + 1u;
-    // a to b is the edge's direction in its first triangle, b to a in the second
-    uint a = v[e.z], b = v[next];
-    vec3 pa = position(p[e.z]), pb = position(p[next]);
-    bool first = triangle_alive(e.x);
-    bool second = e.y != NONE && triangle_alive(e.y);
+    uvec4 e = texelFetch(rim_edges, int(2u * k));
+    uvec4 candidates = texelFetch(rim_edges, int(2u * k + 1u));
+    uint a = e.x, b = e.y;
+    // the live triangles that hold the edge, and the first one's direction along it
+    uint lives = 0u, live = NONE;
+    bool along = true;
+    for (uint i = 0u; i < 4u; i++) {
+        if (candidates[i] == NONE)
+            continue;
+        uint r = drawn_row(candidates[i]);
+        uvec3 v = texelFetch(triangle_vertices, int(r)).xyz;
+        if (!triangle_alive(r) || !any(equal(v, uvec3(a))) || !any(equal(v, uvec3(b))))
+            continue;
+        if (lives++ == 0u) {
+            live = r;
+            along = v.x == a ? v.y == b : v.y == a ? v.z == b : v.x == b;
+        }
+    }
+    vec3 pa = position(texelFetch(particle_of, int(a)).x & ~CVK_MESH_HELD);
     vec4 corners[4] = vec4[4](vec4(pa, 1.0), vec4(pa, 1.0), vec4(pa, 1.0), vec4(pa, 1.0));
     vec3 outward = vec3(0.0);
-    if (first != second) {
-        if (second) {
+    if (lives == 1u) {
+        if (!along) {
             uint swap_vertex = a;
             a = b;
             b = swap_vertex;
-            vec3 swap_point = pa;
-            pa = pb;
-            pb = swap_point;
         }
-        vec3 across = cross(pb - pa, face_normal(first ? e.x : e.y));
+        // a to b is the edge's direction in its live triangle
+        pa = drawn_position(a);
+        vec3 pb = drawn_position(b);
+        vec3 across = cross(pb - pa, face_normal(live));
         float len = length(across);
         outward = len > 0.0 ? across / len : vec3(0.0);
-        float half_thickness = uintBitsToFloat(e.w);
+        float half_thickness = uintBitsToFloat(e.z);
         vec3 na = half_thickness * smooth_normal(a), nb = half_thickness * smooth_normal(b);
         // wound so that the front faces outward: (pa−, pb−, pb+) turns about `outward`
         corners = vec4[4](vec4(pa - na, 1.0), vec4(pb - nb, 1.0), vec4(pb + nb, 1.0), vec4(pa + na, 1.0));

@@ -288,6 +288,10 @@ CVK_PUSH_BLOCK(cvk_explicit_push, CVK_EXPLICIT_PUSH_FIELDS)
 
 CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
 
+/* In the mesh generation's vertex table (vertex -> particle): the vertex is drawn at its
+   particle, never smoothed along a torn border (lib/render/mesh.c, make_particle_of). */
+#define CVK_MESH_HELD 0x80000000u
+
 /* ---- collisions: the contact set (lib/contact/collide.h, shaders/contact/collide.glsl) ----------- */
 
 /* The frame state the recorded work advances itself: substeps simulated so far (simulated
