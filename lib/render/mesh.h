@@ -16,8 +16,11 @@ struct cvk_mesh {
     cvk_mesh_range* cloths;
 
     cvk_buffer vertices, indices;
-    /* Static tables: per triangle its vertices (user order), particles (internal order) and
-       the spring along each edge; per vertex its particle and its triangles (slot-major). */
+    /* Static tables: per triangle two rows (its own, and the one drawn in its place while its
+       quad is split along its other diagonal: lib/render/split.h) of its vertices (user order),
+       particles (internal order) and the spring along each edge; per vertex its particle
+       (| CVK_MESH_HELD where it is never smoothed along a torn border) and the triangles that
+       may hold it (slot-major). */
     cvk_buffer triangle_vertices, triangle_particles, triangle_springs, particle_of,
         vertex_triangles;
     VkBufferView view_triangle_vertices, view_triangle_particles, view_triangle_springs,
@@ -26,8 +29,9 @@ struct cvk_mesh {
     /* The rim of cloths with a material thickness: per edge that is or may become a border
        (one triangle, or a triangle that may tear), a quad of 4 vertices (the vertex layout)
        joining the slab's two faces, collapsed to a point while the edge is not a border; and
-       the static index buffer of those quads (6 per edge). rim_edges: uvec4 per edge (its
-       triangles, the edge's place in the first, half the thickness's bits). Without a thick
+       the static index buffer of those quads (6 per edge). rim_edges: 2 uvec4 per edge (its
+       ends in user order and half the thickness's bits; the up to 4 triangles that may hold it,
+       in either split, UINT32_MAX padded). Without a thick
        cloth, one unused edge so every binding has a buffer, and rim_edge_count 0. */
     uint32_t rim_edge_count;
     uint32_t* rim_ends;          /* host: the 2 vertices (user order) of each rim edge */
