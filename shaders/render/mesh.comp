@@ -91,81 +91,72 @@ vec3 face_normal(uint r)
     return cross(position(p.y) - a, position(p.z) - a);
 }
 
-vec3 smooth_normal(uint v)
-{
-    vec3 normal = vec3(0.0);
-    for (uint slot = 0u; slot < MAX_ADJACENT; slot++) {
-        uint t = texelFetch(vertex_triangles, int(slot * pc.vertex_count + v)).x;
-        if (t == NONE)
-            continue;
-        uint r = drawn_row(t);
-        uvec3 corners = texelFetch(triangle_vertices, int(r)).xyz;
-        if (!triangle_alive(r) || !any(equal(corners, uvec3(v))))
-            continue;
-        normal += face_normal(r);
-    }
-    float len = length(normal);
-    return len > 0.0 ? normal / len : vec3(0.0);
-}
-
-// Where vertex v is drawn: at its particle, or, on a torn border (exactly two of its edges lie
-// on one live triangle each) and not held, halfway from its particle to the midpoint of its
-// two neighbours along the border. A cut that steps or zig-zags from vertex to vertex (the
-// springs break along the grid) is drawn as the line through its steps' middles: one pass
-// of Laplacian smoothing along the border with weight 1/2, which takes a period-two
-// zig-zag or staircase to a straight line. Only the picture moves; the particles do not.
-vec3 drawn_position(uint v)
+// Vertex v as drawn: its smooth normal, the area-weighted average of its live triangles'
+// normals, and where it is drawn: at its particle, or, on a torn border and not held, halfway
+// from its particle to the midpoint of its two neighbours along the border. A cut that steps
+// or zig-zags from vertex to vertex (the springs break along the grid) is drawn as the line
+// through its steps' middles: one pass of Laplacian smoothing along the border with weight
+// 1/2, which takes a period-two zig-zag or staircase to a straight line. Only the picture
+// moves; the particles do not. The border: the triangles are wound alike, so an edge v − x
+// that two live triangles share is the one's edge out of v and the other's edge into v; an
+// edge out of v that is no triangle's edge in (and the reverse) lies on one triangle only.
+// v is on a torn border when it has exactly one such edge each way. The arrays are indexed
+// by slot, a loop of fixed length, so they stay in registers.
+void gather_vertex(uint v, out vec3 normal, out vec3 drawn)
 {
     uint entry = texelFetch(particle_of, int(v)).x;
     vec3 p = position(entry & ~CVK_MESH_HELD);
-    if ((entry & CVK_MESH_HELD) != 0u)
-        return p;
-    // the other ends of v's edges in its live triangles, and on how many triangles each lies
-    uint ends[2u * MAX_ADJACENT];
-    uint counts[2u * MAX_ADJACENT];
-    uint n = 0u;
+    uint next[MAX_ADJACENT];
+    uint prev[MAX_ADJACENT];
+    vec3 sum = vec3(0.0);
     for (uint slot = 0u; slot < MAX_ADJACENT; slot++) {
+        next[slot] = NONE;
+        prev[slot] = NONE;
         uint t = texelFetch(vertex_triangles, int(slot * pc.vertex_count + v)).x;
         if (t == NONE)
             continue;
         uint r = drawn_row(t);
-        uvec3 corners = texelFetch(triangle_vertices, int(r)).xyz;
-        if (!triangle_alive(r) || !any(equal(corners, uvec3(v))))
+        uvec3 c = texelFetch(triangle_vertices, int(r)).xyz;
+        if (!(c.x == v || c.y == v || c.z == v) || !triangle_alive(r))
             continue;
-        for (uint c = 0u; c < 3u; c++) {
-            uint w = corners[c];
-            if (w == v)
-                continue;
-            uint i = 0u;
-            while (i < n && ends[i] != w)
-                i++;
-            if (i == n) {
-                ends[n] = w;
-                counts[n] = 0u;
-                n++;
-            }
-            counts[i]++;
+        sum += face_normal(r);
+        next[slot] = c.x == v ? c.y : c.y == v ? c.z : c.x;
+        prev[slot] = c.x == v ? c.z : c.y == v ? c.x : c.y;
+    }
+    float len = length(sum);
+    normal = len > 0.0 ? sum / len : vec3(0.0);
+    drawn = p;
+    if ((entry & CVK_MESH_HELD) != 0u)
+        return;
+    uint outs = 0u, ins = 0u, out_end = NONE, in_end = NONE;
+    for (uint i = 0u; i < MAX_ADJACENT; i++) {
+        bool out_shared = false, in_shared = false;
+        for (uint j = 0u; j < MAX_ADJACENT; j++) {
+            out_shared = out_shared || prev[j] == next[i];
+            in_shared = in_shared || next[j] == prev[i];
+        }
+        if (next[i] != NONE && !out_shared) {
+            outs++;
+            out_end = next[i];
+        }
+        if (prev[i] != NONE && !in_shared) {
+            ins++;
+            in_end = prev[i];
         }
     }
-    uint border = 0u;
-    uint neighbour[2] = uint[2](NONE, NONE);
-    for (uint i = 0u; i < n; i++)
-        if (counts[i] == 1u) {
-            if (border < 2u)
-                neighbour[border] = ends[i];
-            border++;
-        }
-    if (border != 2u)
-        return p;
-    vec3 a = position(texelFetch(particle_of, int(neighbour[0])).x & ~CVK_MESH_HELD);
-    vec3 b = position(texelFetch(particle_of, int(neighbour[1])).x & ~CVK_MESH_HELD);
-    return 0.5 * p + 0.25 * (a + b);
+    if (outs != 1u || ins != 1u)
+        return;
+    vec3 a = position(texelFetch(particle_of, int(out_end)).x & ~CVK_MESH_HELD);
+    vec3 b = position(texelFetch(particle_of, int(in_end)).x & ~CVK_MESH_HELD);
+    drawn = 0.5 * p + 0.25 * (a + b);
 }
 
 void write_vertex(uint v)
 {
-    vertices[2u * v] = vec4(drawn_position(v), 1.0);
-    vertices[2u * v + 1u] = vec4(smooth_normal(v), 0.0);
+    vec3 normal, drawn;
+    gather_vertex(v, normal, drawn);
+    vertices[2u * v] = vec4(drawn, 1.0);
+    vertices[2u * v + 1u] = vec4(normal, 0.0);
 }
 
 void write_rim(uint k)
@@ -198,13 +189,15 @@ void write_rim(uint k)
             b = swap_vertex;
         }
         // a to b is the edge's direction in its live triangle
-        pa = drawn_position(a);
-        vec3 pb = drawn_position(b);
+        vec3 na, nb, pb;
+        gather_vertex(a, na, pa);
+        gather_vertex(b, nb, pb);
         vec3 across = cross(pb - pa, face_normal(live));
         float len = length(across);
         outward = len > 0.0 ? across / len : vec3(0.0);
         float half_thickness = uintBitsToFloat(e.z);
-        vec3 na = half_thickness * smooth_normal(a), nb = half_thickness * smooth_normal(b);
+        na *= half_thickness;
+        nb *= half_thickness;
         // wound so that the front faces outward: (pa−, pb−, pb+) turns about `outward`
         corners = vec4[4](vec4(pa - na, 1.0), vec4(pb - nb, 1.0), vec4(pb + nb, 1.0), vec4(pa + na, 1.0));
     }
