@@ -2,7 +2,6 @@
    mesh colliders turned into fields, the contact set's buffers filled once. Its passes are in
    collide_passes.c, the host's view of the shapes in collide_host.c. */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -728,46 +727,6 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
     return CVK_SUCCESS;
 }
 
-/* A collider's push must stay within the bounds (collide.h), and the bound of a particle a
-   thickness from other cloth is gamma times that: a substep in which some collider's surface
-   moves more than CVK_COLLIDER_STEP thicknesses is split into as many equal substeps as keep it
-   within that (the frame's time, and the damping over it, unchanged), and a note says so. The
-   scenes' own steps that drive cloth into cloth — sphere-hit.json's 8.8 m/s ball, 0.34
-   thicknesses a substep — pass; twice that (0.68) tore its cloths apart. */
-#define CVK_COLLIDER_STEP 0.35
-static void split_substeps(cvk_sim* s, cvk_collide* c)
-{
-    float fastest = 0.0f;
-    uint32_t which = 0;
-    for (uint32_t i = 0; i < c->collider_count; i++) {
-        float v = cvk_collide_surface_speed(c, i);
-        if (v > fastest) {
-            fastest = v;
-            which = i;
-        }
-    }
-    double move = (double)fastest * s->params.dt, most = CVK_COLLIDER_STEP * c->thickness;
-    if (!(move > most))
-        return;
-    double parts = ceil(move / most);
-    double room = floor((double)CVK_MAX_SUBSTEPS / s->params.substeps);
-    uint32_t k = (uint32_t)(parts < room ? parts : room);
-    if (k < 2)
-        return;
-    const char* name = c->colliders[which].name;
-    snprintf(s->split_note, sizeof s->split_note,
-             "substeps split: %u substeps of %.3g ms a frame run as %u of %.3g ms, so that "
-             "collider %u%s%s%s (%.3g m/s) moves at most %.2g of the thickness a substep",
-             s->params.substeps, 1e3 * s->params.dt, k * s->params.substeps,
-             1e3 * s->params.dt / k, which, name ? " \"" : "", name ? name : "",
-             name ? "\"" : "", fastest, fastest * s->params.dt / k / c->thickness);
-    s->params.damping = (float)(1.0 - pow(1.0 - (double)s->params.damping, 1.0 / k));
-    s->params.dt /= k;
-    s->params.substeps *= k;
-    if (s->note_count < sizeof s->notes / sizeof s->notes[0])
-        s->notes[s->note_count++] = s->split_note;
-}
-
 cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error* error)
 {
     cvk_collide* c = s->collide;
@@ -788,7 +747,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS && c->self)
-        split_substeps(s, c);
+        cvk_collide_split_substeps(s, c);
     if (r == CVK_SUCCESS)
         r = create_collider_buffers(s, c, error);
     if (r == CVK_SUCCESS)

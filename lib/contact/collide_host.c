@@ -1,9 +1,11 @@
 /* The colliders as the host sees them: poses by lib/scene/motion.c and signed distances with the
    formulas of shaders/contact/collide.glsl, for statistics and tests. */
 #include <math.h>
+#include <stdio.h>
 
 #include "contact/collide.h"
 #include "core/vec3.h"
+#include "plan/state.h"
 
 cvk_pose cvk_collide_pose(const cvk_collide* c, uint32_t index, double t)
 {
@@ -182,3 +184,41 @@ float cvk_collide_distance(const cvk_collide* c, uint32_t index, double t, const
         cvk_quat_rotate(pose.rotation, n, normal);
     return dist;
 }
+
+/* The most of the thickness a keyframed collider's surface may move in one substep with
+   self-contact (cvk_collide_split_substeps). */
+#define CVK_COLLIDER_STEP 0.35
+
+void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c)
+{
+    float fastest = 0.0f;
+    uint32_t which = 0;
+    for (uint32_t i = 0; i < c->collider_count; i++) {
+        float v = cvk_collide_surface_speed(c, i);
+        if (v > fastest) {
+            fastest = v;
+            which = i;
+        }
+    }
+    double move = (double)fastest * s->params.dt, most = CVK_COLLIDER_STEP * c->thickness;
+    if (!(move > most))
+        return;
+    double parts = ceil(move / most);
+    double room = floor((double)CVK_MAX_SUBSTEPS / s->params.substeps);
+    uint32_t k = (uint32_t)(parts < room ? parts : room);
+    if (k < 2)
+        return;
+    const char* name = c->colliders[which].name;
+    snprintf(s->split_note, sizeof s->split_note,
+             "substeps split: %u substeps of %.3g ms a frame run as %u of %.3g ms, so that "
+             "collider %u%s%s%s (%.3g m/s) moves at most %.2g of the thickness a substep",
+             s->params.substeps, 1e3 * s->params.dt, k * s->params.substeps,
+             1e3 * s->params.dt / k, which, name ? " \"" : "", name ? name : "",
+             name ? "\"" : "", fastest, fastest * s->params.dt / k / c->thickness);
+    s->params.damping = (float)(1.0 - pow(1.0 - (double)s->params.damping, 1.0 / k));
+    s->params.dt /= k;
+    s->params.substeps *= k;
+    if (s->note_count < sizeof s->notes / sizeof s->notes[0])
+        s->notes[s->note_count++] = s->split_note;
+}
+
