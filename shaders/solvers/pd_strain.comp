@@ -6,8 +6,10 @@
 // shorten them — by the mean of the moves that would bring each such spring back to the limit
 // (to its neighbour's current place: a particle of another colour, which this dispatch does not
 // write, so the result does not depend on the order of invocations), then within its bound.
-// The limit, 1 + strain_limit, comes in the push constants' omega. A particle no spring of
-// which is past the limit keeps its iterate bit for bit.
+// The limit, 1 + strain_limit, comes in the push constants' omega, and the longest move in
+// cheb (m; 0: any — the rounds after contact keep moves under half the thickness, so a
+// particle contact left a thickness off a collider stays outside it: pd_passes.c). A particle
+// no spring of which is past the limit keeps its iterate bit for bit.
 #include "solvers/pd_common.glsl"
 
 void main()
@@ -35,7 +37,11 @@ void main()
         }
         // w 1: the next outer iteration's first sweep does not over-relax a particle moved
         // here (as after contact, pd_gauss_seidel.comp): it would throw it past the solve.
+        move /= max(over, 1.0);
+        float len = length(move);
+        if (pc.cheb > 0.0 && len > pc.cheb)
+            move *= pc.cheb / len;
         if (over > 0.0)
-            dst[p] = vec4(bounded(p, cur.xyz + move / over), 1.0);
+            dst[p] = vec4(bounded(p, cur.xyz + move), 1.0);
     }
 }
