@@ -12,6 +12,7 @@
 
 #include "core/gpu.h"
 #include "harness.h"
+#include "recorded.h"
 #include "sim/sim.h"
 
 #define W 12
@@ -598,34 +599,6 @@ static void host_tears_as_the_device(cvk_context* ctx)
 
 /* ---- triangles ------------------------------------------------------------------------------ */
 
-static void* read_buffer(cvk_context* ctx, VkBuffer buffer, VkDeviceSize size)
-{
-    cvk_error err;
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    cvk_buffer host;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_buffer_create(ctx, size ? size : 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 CVK_MEMORY_HOST, "readback", &host, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region = {0, 0, size};
-    vkCmdCopyBuffer(cmd, buffer, host.buffer, 1, &region);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
-    void* copy = malloc(size ? size : 1);
-    if (!copy)
-        exit(1);
-    memcpy(copy, host.mapped, size);
-    cvk_buffer_destroy(ctx, &host);
-    cvk_submitter_destroy(ctx, &sub);
-    return copy;
-}
-
 /* Triangles whose three indices are not all equal. */
 static uint32_t live_triangles(const uint32_t* indices, uint64_t count)
 {
@@ -693,7 +666,7 @@ static void triangles_follow(cvk_context* ctx)
     REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
     cvk_submitter_destroy(ctx, &sub);
     cvk_mesh_buffers info = cvk_mesh_get_buffers(mesh);
-    uint32_t* indices = read_buffer(ctx, info.index_buffer, (VkDeviceSize)info.index_count * 4u);
+    uint32_t* indices = harness_read_buffer(ctx, info.index_buffer, (VkDeviceSize)info.index_count * 4u);
     uint32_t drawn = live_triangles(indices, info.index_count / 3);
 
     CHECK(predicted < count, "nothing torn: %u of %llu triangles live", predicted,

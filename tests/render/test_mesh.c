@@ -16,40 +16,11 @@
    - recording the simulation and the mesh into one command buffer passes synchronisation
      validation. */
 #include "harness.h"
+#include "recorded.h"
 
 #include "render/mesh.h"
 
 /* ---- reading device buffers back ---- */
-
-static void* read_buffer(cvk_context* ctx, VkBuffer buffer, VkDeviceSize size)
-{
-    cvk_error err;
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    cvk_buffer host;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, CVK_MEMORY_HOST, "readback",
-                                 &host, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region = {0, 0, size};
-    vkCmdCopyBuffer(cmd, buffer, host.buffer, 1, &region);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
-    void* copy = malloc(size ? size : 1);
-    if (!copy) {
-        fprintf(stderr, "out of memory\n");
-        exit(1);
-    }
-    memcpy(copy, host.mapped, size);
-    cvk_buffer_destroy(ctx, &host);
-    cvk_submitter_destroy(ctx, &sub);
-    return copy;
-}
 
 typedef struct mesh_data {
     cvk_mesh_buffers info;
@@ -60,8 +31,8 @@ typedef struct mesh_data {
 static mesh_data read_mesh(cvk_context* ctx, cvk_mesh* mesh)
 {
     mesh_data d = {.info = cvk_mesh_get_buffers(mesh)};
-    d.vertices = read_buffer(ctx, d.info.vertex_buffer, (VkDeviceSize)d.info.vertex_count * d.info.vertex_stride);
-    d.indices = read_buffer(ctx, d.info.index_buffer, (VkDeviceSize)d.info.index_count * 4u);
+    d.vertices = harness_read_buffer(ctx, d.info.vertex_buffer, (VkDeviceSize)d.info.vertex_count * d.info.vertex_stride);
+    d.indices = harness_read_buffer(ctx, d.info.index_buffer, (VkDeviceSize)d.info.index_count * 4u);
     return d;
 }
 
@@ -321,7 +292,7 @@ static void bumpy_normals_and_tearing(cvk_context* ctx)
 static uint32_t open_rim_quads(cvk_context* ctx, cvk_mesh* mesh, float half, const double c[2], const double h[2],
                                double reach, uint32_t* bad)
 {
-    float* rim = read_buffer(ctx, mesh->rim_vertices.buffer, (VkDeviceSize)mesh->rim_edge_count * 4 * 32);
+    float* rim = harness_read_buffer(ctx, mesh->rim_vertices.buffer, (VkDeviceSize)mesh->rim_edge_count * 4 * 32);
     uint32_t open = 0;
     *bad = 0;
     for (uint32_t k = 0; k < mesh->rim_edge_count; k++) {

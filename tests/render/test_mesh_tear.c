@@ -18,41 +18,12 @@
      under three quarters of the fixed split's turn a vertex;
    - the mesh generated twice from the same state is the same bytes. */
 #include "harness.h"
+#include "recorded.h"
 
 #include "features/tear.h"
 #include "render/mesh.h"
 
 /* ---- device buffers ---- */
-
-static void* read_buffer(cvk_context* ctx, VkBuffer buffer, VkDeviceSize size)
-{
-    cvk_error err;
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    cvk_buffer host;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_buffer_create(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, CVK_MEMORY_HOST, "readback",
-                                 &host, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferCopy region = {0, 0, size};
-    vkCmdCopyBuffer(cmd, buffer, host.buffer, 1, &region);
-    cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
-    void* copy = malloc(size ? size : 1);
-    if (!copy) {
-        fprintf(stderr, "out of memory\n");
-        exit(1);
-    }
-    memcpy(copy, host.mapped, size);
-    cvk_buffer_destroy(ctx, &host);
-    cvk_submitter_destroy(ctx, &sub);
-    return copy;
-}
 
 static void regenerate(cvk_context* ctx, cvk_mesh* mesh)
 {
@@ -219,8 +190,8 @@ static comparison compare(cvk_context* ctx, cvk_sim* sim, cvk_mesh* mesh, const 
     uint32_t outer_count;
     edge* outer = border_edges(whole, b->triangle_count, &outer_count);
     cvk_mesh_buffers info = cvk_mesh_get_buffers(mesh);
-    float* vertices = read_buffer(ctx, info.vertex_buffer, (VkDeviceSize)info.vertex_count * info.vertex_stride);
-    uint32_t* indices = read_buffer(ctx, info.index_buffer, (VkDeviceSize)info.index_count * 4u);
+    float* vertices = harness_read_buffer(ctx, info.vertex_buffer, (VkDeviceSize)info.vertex_count * info.vertex_stride);
+    uint32_t* indices = harness_read_buffer(ctx, info.index_buffer, (VkDeviceSize)info.index_count * 4u);
     float* xyz = malloc(3 * (size_t)info.vertex_count * sizeof *xyz);
     if (!xyz)
         exit(1);
@@ -287,7 +258,7 @@ static comparison cut(cvk_context* ctx, side_fn side, const char* name)
     /* Only vertices on the torn border move, at most half a cell; the cloth's outline and an
        intact cloth are drawn at their particles, bit for bit. */
     cvk_mesh_buffers drawn = cvk_mesh_get_buffers(mesh);
-    float* vertices = read_buffer(ctx, drawn.vertex_buffer, (VkDeviceSize)drawn.vertex_count * drawn.vertex_stride);
+    float* vertices = harness_read_buffer(ctx, drawn.vertex_buffer, (VkDeviceSize)drawn.vertex_count * drawn.vertex_stride);
     float* particles = harness_read_all(sim);
     double cell = cloth.size[0] / (w - 1), most = 0.0;
     uint32_t moved = 0, outline_moved = 0;
@@ -310,9 +281,9 @@ static comparison cut(cvk_context* ctx, side_fn side, const char* name)
     /* the same state drawn again: the same bytes */
     cvk_mesh_buffers info = cvk_mesh_get_buffers(mesh);
     VkDeviceSize vbytes = (VkDeviceSize)info.vertex_count * info.vertex_stride;
-    void* v1 = read_buffer(ctx, info.vertex_buffer, vbytes);
+    void* v1 = harness_read_buffer(ctx, info.vertex_buffer, vbytes);
     regenerate(ctx, mesh);
-    void* v2 = read_buffer(ctx, info.vertex_buffer, vbytes);
+    void* v2 = harness_read_buffer(ctx, info.vertex_buffer, vbytes);
     CHECK(memcmp(v1, v2, vbytes) == 0, "%s: the mesh generated twice differs", name);
     free(v1);
     free(v2);
