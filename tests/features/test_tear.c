@@ -13,6 +13,8 @@
 #include "core/gpu.h"
 #include "harness.h"
 #include "recorded.h"
+#include "render/mesh.h"
+#include "regenerate.h"
 #include "sim/sim.h"
 
 #define W 12
@@ -656,15 +658,7 @@ static void triangles_follow(cvk_context* ctx)
 
     cvk_mesh* mesh;
     REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    REQUIRE_OK(cvk_mesh_record(mesh, cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
-    cvk_submitter_destroy(ctx, &sub);
+    harness_regenerate(ctx, mesh);
     cvk_mesh_buffers info = cvk_mesh_get_buffers(mesh);
     uint32_t* indices = harness_read_buffer(ctx, info.index_buffer, (VkDeviceSize)info.index_count * 4u);
     uint32_t drawn = live_triangles(indices, info.index_count / 3);

@@ -19,6 +19,7 @@
 #include "recorded.h"
 
 #include "render/mesh.h"
+#include "regenerate.h"
 
 /* ---- reading device buffers back ---- */
 
@@ -40,21 +41,6 @@ static void free_mesh(mesh_data* d)
 {
     free(d->vertices);
     free(d->indices);
-}
-
-/* Records the mesh generation alone and waits. */
-static void regenerate(cvk_context* ctx, cvk_mesh* mesh)
-{
-    cvk_error err;
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    REQUIRE_OK(cvk_mesh_record(mesh, cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
-    cvk_submitter_destroy(ctx, &sub);
 }
 
 /* The structural spring between vertices ua and ub torn as tearing tears one (its flag
@@ -86,7 +72,7 @@ static void tear_spring(cvk_context* ctx, cvk_sim* sim, cvk_mesh* mesh, uint32_t
                                  &err), err);
     cvk_submitter_destroy(ctx, &sub);
     free(flags);
-    regenerate(ctx, mesh);
+    harness_regenerate(ctx, mesh);
 }
 
 static cvk_sim* make_sim(cvk_context* ctx, cvk_cloth_desc* cloths, uint32_t count)

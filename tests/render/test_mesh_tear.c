@@ -22,22 +22,9 @@
 
 #include "features/tear.h"
 #include "render/mesh.h"
+#include "regenerate.h"
 
 /* ---- device buffers ---- */
-
-static void regenerate(cvk_context* ctx, cvk_mesh* mesh)
-{
-    cvk_error err;
-    cvk_submitter sub;
-    VkCommandBuffer cmd;
-    REQUIRE_OK(cvk_submitter_create(ctx, &sub, &err), err);
-    REQUIRE_OK(cvk_command_buffer_allocate(ctx, &sub, &cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_begin(cmd, 0, &err), err);
-    REQUIRE_OK(cvk_mesh_record(mesh, cmd, &err), err);
-    REQUIRE_OK(cvk_command_buffer_end(cmd, &err), err);
-    REQUIRE_OK(cvk_submit_and_wait(ctx, &sub, &cmd, 1, &err), err);
-    cvk_submitter_destroy(ctx, &sub);
-}
 
 static void upload_flags(cvk_context* ctx, cvk_sim* sim, const uint32_t* flags)
 {
@@ -251,7 +238,7 @@ static comparison cut(cvk_context* ctx, side_fn side, const char* name)
         torn += sa != sb;
     }
     upload_flags(ctx, sim, alive);
-    regenerate(ctx, mesh);
+    harness_regenerate(ctx, mesh);
     comparison c = compare(ctx, sim, mesh, alive);
     printf("%s: %u springs torn; drawn border %u vertices, mean turn %.1f°; fixed split %u vertices, %.1f°\n",
            name, torn, c.drawn.vertices, c.drawn.mean_turn, c.fixed.vertices, c.fixed.mean_turn);
@@ -282,7 +269,7 @@ static comparison cut(cvk_context* ctx, side_fn side, const char* name)
     cvk_mesh_buffers info = cvk_mesh_get_buffers(mesh);
     VkDeviceSize vbytes = (VkDeviceSize)info.vertex_count * info.vertex_stride;
     void* v1 = harness_read_buffer(ctx, info.vertex_buffer, vbytes);
-    regenerate(ctx, mesh);
+    harness_regenerate(ctx, mesh);
     void* v2 = harness_read_buffer(ctx, info.vertex_buffer, vbytes);
     CHECK(memcmp(v1, v2, vbytes) == 0, "%s: the mesh generated twice differs", name);
     free(v1);
