@@ -44,6 +44,12 @@ layout(location = 2) centroid in vec2 uv;
 layout(location = 3) in vec3 texture_point;  // m, in the collider's texture frame
 layout(location = 4) in vec3 texture_normal; // the normal in that frame
 #endif
+#ifndef COLLIDER
+// Where the key light's shadow is looked up: under a curved triangle (render.smooth, pn.tese)
+// the flat one's point, which is what the shadow pass drew; the curved surface bulges out of the
+// flat triangles and would fall into their shadow on the lit side (dark blotches on crumples).
+layout(location = 3) in vec3 shadow_world;
+#endif
 layout(location = 0) out vec4 color;
 
 // The normal tilted by the normal map: its tangent along u and bitangent along v found from how
@@ -105,7 +111,12 @@ void main()
     // coming through to the other. Through a thick cloth's face the shadow is looked up on the
     // slab's other face, so the slab does not shadow the light that crosses it.
     bool towards = dot(n, frame.key_direction.xyz) > 0.0;
-    float visible = key_visibility(towards ? world : world - n * material.slab.y, towards ? n : -n);
+#ifdef COLLIDER
+    vec3 lookup = world;
+#else
+    vec3 lookup = shadow_world;
+#endif
+    float visible = key_visibility(towards ? lookup : lookup - n * material.slab.y, towards ? n : -n);
 #ifdef COLLIDER
     vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? projected_albedo() : material.albedo.rgb;
 #else

@@ -14,6 +14,7 @@ layout(location = 2) in vec2 texture_coordinates;
 layout(location = 0) out vec3 world;
 layout(location = 1) out vec3 world_normal;
 layout(location = 2) out vec2 uv;
+layout(location = 3) out vec3 shadow_world; // where the shadow is looked up (lit_cloth.frag)
 
 // The slab of lit_cloth.frag's Material block: x: the offset along the normal, m.
 layout(push_constant) uniform Material {
@@ -24,6 +25,7 @@ void main()
 {
     world = position + material.slab.x * normal;
     world_normal = normal;
+    shadow_world = world;
 #ifdef TEXTURED
     uv = texture_coordinates;
 #else

@@ -10,15 +10,18 @@ layout(constant_id = 7) const int SEGMENTS = 3;
 layout(location = 0) in vec3 world[];
 layout(location = 1) in vec3 world_normal[];
 layout(location = 2) in vec2 uv[];
+layout(location = 3) in vec3 shadow_world[]; // where the shadow is looked up (lit_cloth.frag)
 layout(location = 0) out vec3 out_world[];
 layout(location = 1) out vec3 out_normal[];
 layout(location = 2) out vec2 out_uv[];
+layout(location = 3) out vec3 out_shadow_world[];
 
 void main()
 {
     out_world[gl_InvocationID] = world[gl_InvocationID];
     out_normal[gl_InvocationID] = world_normal[gl_InvocationID];
     out_uv[gl_InvocationID] = uv[gl_InvocationID];
+    out_shadow_world[gl_InvocationID] = shadow_world[gl_InvocationID];
     if (gl_InvocationID == 0) {
         float level = float(SEGMENTS);
         gl_TessLevelOuter[0] = level;

@@ -16,9 +16,11 @@ layout(triangles, equal_spacing, cw) in;
 layout(location = 0) in vec3 world_in[];
 layout(location = 1) in vec3 normal_in[];
 layout(location = 2) in vec2 uv_in[];
+layout(location = 3) in vec3 shadow_in[];
 layout(location = 0) out vec3 world;
 layout(location = 1) out vec3 world_normal;
 layout(location = 2) out vec2 uv;
+layout(location = 3) out vec3 shadow_world; // the flat triangle's point: where the shadow pass drew it
 
 // The edge control point a third of the way from p towards q, pulled back into p's tangent plane.
 vec3 edge_point(vec3 p, vec3 q, vec3 n)
@@ -43,5 +45,6 @@ void main()
     float len = length(n);
     world_normal = len > 0.0 ? n / len : vec3(0.0);
     uv = a * uv_in[0] + b * uv_in[1] + c * uv_in[2];
+    shadow_world = a * shadow_in[0] + b * shadow_in[1] + c * shadow_in[2];
     gl_Position = frame.view_proj * vec4(world, 1.0);
 }
