@@ -17,7 +17,11 @@ layout(set = 0, binding = 5) uniform sampler2DMS scene_depth;
 
 layout(location = 0) out vec2 result;
 
-const int TAPS = 8;
+const int TAPS = 6;
+// Tap k's direction before the pixel's turn: k times the golden angle (sines and cosines are
+// long polynomials on a CPU device: one turn per pixel instead of one per tap).
+const vec2 SPIRAL[TAPS] = vec2[](vec2(1.0000000, 0.0000000), vec2(-0.7373689, 0.6754903), vec2(0.0874257, -0.9961710),
+                                 vec2(0.6084389, 0.7936008), vec2(-0.9847135, -0.1741820), vec2(0.8437553, -0.5367281));
 
 vec3 ray(vec2 pixel)
 {
@@ -86,13 +90,13 @@ void main()
     float pixels = clamp(radius / (t * length(frame.ray_dx.xyz)), 2.0, 64.0);
     ivec2 cell = ivec2(gl_FragCoord.xy) & 1;
     float turn = float(cell.x + 2 * cell.y) * (1.5707963 / 4.0) + 0.3;
+    mat2 rotate = mat2(cos(turn), sin(turn), -sin(turn), cos(turn));
     float bias = 0.02 * radius;
     float hidden = 0.0;
     for (int k = 0; k < TAPS; k++) {
         // Radii spread evenly out to the edge: near taps, which find contacts, as many as far.
         float r = (float(k) + 0.5) / float(TAPS) * pixels;
-        float a = float(k) * 2.39996323 + turn;
-        ivec2 q = p + ivec2(round(r * vec2(cos(a), sin(a))));
+        ivec2 q = p + ivec2(round(r * (rotate * SPIRAL[k])));
         if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
             continue;
         bool tap_drawn;

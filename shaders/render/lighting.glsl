@@ -43,14 +43,20 @@ vec2 blockers(vec4 g, float depth)
     return vec2(dot(g, in_front), dot(in_front, vec4(1.0)));
 }
 
+// Vogel's spiral: tap k at radius sqrt((k + 0.5) / 8), turned by k golden angles (constants:
+// sines and cosines are long polynomials on a CPU device).
+const vec2 VOGEL[8] = vec2[](vec2(0.2500000, 0.0000000), vec2(-0.3192901, 0.2924959), vec2(0.0488725, -0.5568765),
+                             vec2(0.4024445, 0.5249176), vec2(-0.7385351, -0.1306365), vec2(0.6996049, -0.4450314),
+                             vec2(-0.2340042, 0.8704838), vec2(-0.4462713, -0.8592682));
+
 // Fraction of the key light that reaches `world`. The point first moves off the surface along
 // its normal by about a texel (normal offset), so a lit face never shadows itself. With soft
 // shadows (percentage-closer soft shadows): the mean depth of what lies between the point and
 // the light over a search square, from four gathers of the raw depths, gives the penumbra, as
 // wide as the key light's angular size times the distance from that blocker to the point; the
-// comparisons are then averaged over a disc that wide (12 bilinear comparisons on a fixed
+// comparisons are then averaged over a disc that wide (8 bilinear comparisons on a fixed
 // spiral, so the same pixel gets the same value every frame). A CPU device runs every
-// instruction for every pixel whatever the branches, so the cost is fixed: 16 reads of the map
+// instruction for every pixel whatever the branches, so the cost is fixed: 12 reads of the map
 // against the box filter's 4.
 float key_visibility(vec3 world, vec3 n)
 {
@@ -73,14 +79,10 @@ float key_visibility(vec3 world, vec3 n)
     // least the box filter's 1.5 texels (also where no blocker was found: the taps then agree).
     float blocker = found.y > 0.0 ? found.x / found.y : depth;
     float radius = clamp((depth - blocker) * frame.soft.z * frame.soft.x, 1.5, search);
-    // Vogel's spiral: tap k at radius sqrt((k + 0.5) / 12), turned by the golden angle.
     float sum = 0.0;
-    for (int k = 0; k < 12; k++) {
-        float r = sqrt((float(k) + 0.5) / 12.0) * radius;
-        float a = float(k) * 2.39996323;
-        sum += texture(shadow_map, vec3(uv + r * vec2(cos(a), sin(a)) * inv, depth));
-    }
-    return sum / 12.0;
+    for (int k = 0; k < 8; k++)
+        sum += texture(shadow_map, vec3(uv + radius * VOGEL[k] * inv, depth));
+    return sum / 8.0;
 }
 
 vec3 light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, float specular, float shininess,
