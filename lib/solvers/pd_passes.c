@@ -381,7 +381,7 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
                  set_note[set]);
     /* After the last outer iteration's contact, three rounds more: contact's pushes, which come
        after the strain limit, stretch springs where cloth wraps a collider's edge (table.json's
-       corners ended 13 % stretched with a 5 % limit, 5.1 % with these). Each move is kept under
+       corners ended 13 % stretched with a 5 % limit, 5.0 % with these). Each move is kept under
        half the thickness, which contact left the particle off every collider's surface. */
     if (outer + 1 == pb->solver->outer_iterations)
         add_strain(pb, b, set, outer, 3, 0.5f * pb->sim->collide->thickness, " after contact");
