@@ -378,12 +378,37 @@ static void stripes_settle(cvk_context* ctx)
     printf("stripes: mean %.1f and %.1f, spread %.1f and %.1f\n", means[0], means[1], spread[0], spread[1]);
 }
 
+/* Draws a coarse half-cylinder of 6 flat strips (radius 0.5 m, axis along z through
+   (0, 1, 0)) with `r` into s: an arch with `up` 1, a trough with -1. */
+static void draw_half_cylinder(cvk_context* ctx, setup* s, const cvk_render_desc* r, double up,
+                               const float color[3])
+{
+    enum { NU = 7, NV = 2 };
+    const double radius = 0.5, pi = 3.14159265358979;
+    s->cloths[0] = square_cloth((const float[3]){-0.5f, 1.0f, -0.5f}, flat_u, (const float[3]){0, 0, 1},
+                                color);
+    s->cloths[0].grid[0] = NU;
+    s->cloths[0].grid[1] = NV;
+    setup_scene(s, ctx, 1, r);
+    float xyz[NU * NV * 3], v[NU * NV * 3] = {0};
+    for (int j = 0; j < NV; j++)
+        for (int i = 0; i < NU; i++) {
+            double a = pi * i / (NU - 1);
+            float* q = &xyz[3 * (j * NU + i)];
+            q[0] = (float)(radius * cos(a));
+            q[1] = (float)(1.0 + up * radius * sin(a));
+            q[2] = (float)(-0.5 + j);
+        }
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_write_state(s->sim, xyz, v, NU * NV, &err), err);
+    REQUIRE_OK(cvk_renderer_draw(s->renderer, &err), err);
+}
+
 /* Mean distance in pixels between the top outline of a coarse half-cylinder (an arch of 6 flat
    strips, radius 0.5 m, seen along its axis) and the true circle's, drawn with render.smooth
    `smooth`. */
 static double arch_outline_error(cvk_context* ctx, uint32_t smooth)
 {
-    enum { NU = 7, NV = 2 };
     const double radius = 0.5, pi = 3.14159265358979;
     cvk_render_desc r = view((const float[3]){0.0f, 1.25f, 8.0f}, (const float[3]){0.0f, 1.25f, 0.0f},
                              (const float[3]){0.2f, 1.0f, 0.6f});
@@ -392,23 +417,7 @@ static double arch_outline_error(cvk_context* ctx, uint32_t smooth)
     r.ao = false;
     r.smooth = smooth;
     setup s = {0};
-    s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.0f, -0.5f}, flat_u, (const float[3]){0, 0, 1},
-                               (const float[3]){0.8f, 0.1f, 0.08f});
-    s.cloths[0].grid[0] = NU;
-    s.cloths[0].grid[1] = NV;
-    setup_scene(&s, ctx, 1, &r);
-    float xyz[NU * NV * 3], v[NU * NV * 3] = {0};
-    for (int j = 0; j < NV; j++)
-        for (int i = 0; i < NU; i++) {
-            double a = pi * i / (NU - 1);
-            float* q = &xyz[3 * (j * NU + i)];
-            q[0] = (float)(radius * cos(a));
-            q[1] = (float)(1.0 + radius * sin(a));
-            q[2] = (float)(-0.5 + j);
-        }
-    cvk_error err;
-    REQUIRE_OK(cvk_sim_write_state(s.sim, xyz, v, NU * NV, &err), err);
-    REQUIRE_OK(cvk_renderer_draw(s.renderer, &err), err);
+    draw_half_cylinder(ctx, &s, &r, 1.0, (const float[3]){0.8f, 0.1f, 0.08f});
     cvk_image im = cvk_renderer_get_image(s.renderer);
     keep(&im, smooth > 1 ? "arch-smooth" : "arch-flat");
     /* The true outline: the front rim (z = 0.5, nearest the eye) projected, row per column. */
@@ -453,7 +462,6 @@ static void curved_triangles(cvk_context* ctx)
    curved surface sags below the flat strips the shadow pass draws. */
 static double trough_light(cvk_context* ctx, uint32_t smooth)
 {
-    enum { NU = 7, NV = 2 };
     const double radius = 0.5, pi = 3.14159265358979;
     cvk_render_desc r = view((const float[3]){0.0f, 4.0f, 2.5f}, (const float[3]){0.0f, 0.6f, 0.0f},
                              (const float[3]){0.1f, 1.0f, 0.2f});
@@ -462,23 +470,7 @@ static double trough_light(cvk_context* ctx, uint32_t smooth)
     r.ao = false;
     r.smooth = smooth;
     setup s = {0};
-    s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.0f, -0.5f}, flat_u, (const float[3]){0, 0, 1},
-                               (const float[3]){0.7f, 0.7f, 0.7f});
-    s.cloths[0].grid[0] = NU;
-    s.cloths[0].grid[1] = NV;
-    setup_scene(&s, ctx, 1, &r);
-    float xyz[NU * NV * 3], v[NU * NV * 3] = {0};
-    for (int j = 0; j < NV; j++)
-        for (int i = 0; i < NU; i++) {
-            double a = pi * i / (NU - 1);
-            float* q = &xyz[3 * (j * NU + i)];
-            q[0] = (float)(radius * cos(a));
-            q[1] = (float)(1.0 - radius * sin(a));
-            q[2] = (float)(-0.5 + j);
-        }
-    cvk_error err;
-    REQUIRE_OK(cvk_sim_write_state(s.sim, xyz, v, NU * NV, &err), err);
-    REQUIRE_OK(cvk_renderer_draw(s.renderer, &err), err);
+    draw_half_cylinder(ctx, &s, &r, -1.0, (const float[3]){0.7f, 0.7f, 0.7f});
     cvk_image im = cvk_renderer_get_image(s.renderer);
     keep(&im, smooth > 1 ? "trough-smooth" : "trough-flat");
     double sum = 0.0;
