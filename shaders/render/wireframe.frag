@@ -15,6 +15,7 @@ layout(push_constant) uniform Material {
 layout(location = 0) in vec3 world;
 layout(location = 1) in vec3 world_normal; // written by lit_cloth.vert; not needed for a line
 layout(location = 2) in vec2 uv;           // the same
+layout(location = 3) in vec3 shadow_world; // the same
 layout(location = 0) out vec4 color;
 
 void main()
