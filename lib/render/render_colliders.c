@@ -129,8 +129,10 @@ static void texture_frame(const cvk_collider_desc* c, const float p[3], const fl
         }
         return;
     }
-    memcpy(tp, p, 3 * sizeof(float));
-    memcpy(tn, n, 3 * sizeof(float));
+    for (int k = 0; k < 3; k++) { /* a loop: GCC's -Warray-bounds misreads the memcpy once inlined */
+        tp[k] = p[k];
+        tn[k] = n[k];
+    }
 }
 
 /* The mesh's box under a pose, added to `drawn` too. */
