@@ -14,11 +14,15 @@
 
 #define PI 3.14159265358979323846
 
-/* Segments around a round shape and rings from pole to pole: 64 × 32 keeps the silhouette of a
-   sphere filling a 720-pixel image within about a pixel of round (its sagitta is
-   r (1 − cos(π/64)) ≈ 0.0012 r). */
+/* Segments around a round shape (rings from pole to pole: half as many): at most 64, which keeps
+   the silhouette of a sphere filling a 720-pixel image within half a pixel of round (its
+   sagitta is r (1 − cos(π/64)) ≈ 0.0012 r, 0.43 pixels of a 360-pixel radius); fewer for a
+   radius that spans fewer pixels (round_segments), at least 12. A multiple of 4, so the rings
+   meet at an equator. */
 #define ROUND_SEGMENTS 64u
-#define ROUND_RINGS 32u
+#define ROUND_SEGMENTS_MIN 12u
+/* The outline's largest distance from the true one (the sagitta), pixels. */
+#define ROUND_SAGITTA_PIXELS 0.45
 /* Rings along the funnel's profile, which curves more near its narrow end. */
 #define FUNNEL_RINGS 48u
 /* A mesh collider's faces meeting at more than this angle keep separate normals. */
@@ -29,6 +33,7 @@
 typedef struct builder {
     cvk_collider_mesh* mesh;
     uint32_t vertex_capacity, triangle_capacity;
+    uint32_t segments; /* around a surface of revolution */
     bool failed;
 } builder;
 
@@ -100,9 +105,9 @@ typedef struct lathe {
 static uint32_t lathe_ring(builder* b, const lathe* l, const profile_point* p)
 {
     uint32_t first = b->mesh->vertex_count;
-    uint32_t count = p->radius > 0.0f ? ROUND_SEGMENTS : 1u;
+    uint32_t count = p->radius > 0.0f ? b->segments : 1u;
     for (uint32_t s = 0; s < count; s++) {
-        double phi = 2.0 * PI * s / ROUND_SEGMENTS;
+        double phi = 2.0 * PI * s / b->segments;
         float c = (float)cos(phi), sn = (float)sin(phi);
         float x[3], n[3];
         for (int k = 0; k < 3; k++) {
@@ -124,8 +129,8 @@ static void lathe_build(builder* b, const lathe* l, const profile_point* profile
     for (uint32_t i = 1; i < count; i++) {
         uint32_t upper = lathe_ring(b, l, &profile[i]);
         bool lower_pole = profile[i - 1].radius <= 0.0f, upper_pole = profile[i].radius <= 0.0f;
-        for (uint32_t s = 0; s < ROUND_SEGMENTS; s++) {
-            uint32_t t = (s + 1) % ROUND_SEGMENTS;
+        for (uint32_t s = 0; s < b->segments; s++) {
+            uint32_t t = (s + 1) % b->segments;
             if (lower_pole) {
                 add_triangle(b, lower, upper + t, upper + s);
                 continue;
@@ -145,26 +150,27 @@ static void lathe_reserve(builder* b, const profile_point* profile, uint32_t cou
 {
     uint32_t vertices = 0;
     for (uint32_t i = 0; i < count; i++)
-        vertices += profile[i].radius > 0.0f ? ROUND_SEGMENTS : 1u;
-    reserve(b, vertices, 2u * ROUND_SEGMENTS * (count - 1));
+        vertices += profile[i].radius > 0.0f ? b->segments : 1u;
+    reserve(b, vertices, 2u * b->segments * (count - 1));
 }
 
 /* A sphere (length 0) or a capsule: the lower half-sphere around the origin, the upper one
    `length` further along the axis; the equator appears twice for a capsule (the cylinder). */
 static void make_round(builder* b, const lathe* l, float radius, float length)
 {
-    profile_point profile[ROUND_RINGS + 2];
+    profile_point profile[ROUND_SEGMENTS / 2 + 2];
+    uint32_t rings = b->segments / 2;
     uint32_t count = 0;
-    for (uint32_t i = 0; i <= ROUND_RINGS; i++) {
-        double theta = PI * i / ROUND_RINGS - 0.5 * PI; /* latitude, −π/2 .. π/2 */
+    for (uint32_t i = 0; i <= rings; i++) {
+        double theta = PI * i / rings - 0.5 * PI; /* latitude, −π/2 .. π/2 */
         float c = (float)cos(theta), s = (float)sin(theta);
-        if (i == 0 || i == ROUND_RINGS)
+        if (i == 0 || i == rings)
             c = 0.0f;
         profile_point p = {radius * c, radius * s, c, s};
-        bool equator = 2u * i == ROUND_RINGS;
+        bool equator = 2u * i == rings;
         if (length > 0.0f && equator)
             profile[count++] = p;
-        if (2u * i >= ROUND_RINGS)
+        if (2u * i >= rings)
             p.height += length;
         profile[count++] = p;
     }
@@ -372,15 +378,26 @@ static cvk_result make_mesh(builder* b, const cvk_sdf* sdf, cvk_error* error)
 
 /* ---- the interface ----------------------------------------------------------------------- */
 
+uint32_t cvk_collider_round_segments(double radius_pixels)
+{
+    /* sagitta r (1 − cos(π/n)) ≈ r π² / (2 n²) ≤ ROUND_SAGITTA_PIXELS */
+    if (!(radius_pixels > 0.0) || radius_pixels > 1e6)
+        return ROUND_SEGMENTS;
+    double n = PI * sqrt(radius_pixels / (2.0 * ROUND_SAGITTA_PIXELS));
+    uint32_t segments = 4u * (uint32_t)ceil(n / 4.0);
+    return segments < ROUND_SEGMENTS_MIN ? ROUND_SEGMENTS_MIN : (segments > ROUND_SEGMENTS ? ROUND_SEGMENTS : segments);
+}
+
 cvk_result cvk_collider_mesh_make(const cvk_collider_desc* collider, const cvk_sdf* sdf,
-                                  const float focus[3], float plane_extent,
+                                  const float focus[3], float plane_extent, double radius_pixels,
                                   cvk_collider_mesh* out, cvk_error* error)
 {
     if (!collider || !focus || !out)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_collider_mesh_make needs a collider, a focus and an output mesh");
     *out = (cvk_collider_mesh){0};
-    builder b = {.mesh = out};
+    bool round = collider->type == CVK_COLLIDER_SPHERE || collider->type == CVK_COLLIDER_CAPSULE;
+    builder b = {.mesh = out, .segments = round ? cvk_collider_round_segments(radius_pixels) : ROUND_SEGMENTS};
     cvk_result r = CVK_SUCCESS;
     switch (collider->type) {
     case CVK_COLLIDER_PLANE:

@@ -715,7 +715,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
                               rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
                               rd->wireframe_pipeline,  rd->occlusion_pipeline,      rd->slab_pipelines[0],
-                              rd->slab_pipelines[1]};
+                              rd->slab_pipelines[1],   rd->collider_closed_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);

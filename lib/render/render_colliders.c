@@ -175,6 +175,86 @@ static cvk_result frame_collider(cvk_render_colliders* rc, const cvk_collider_de
     return CVK_SUCCESS;
 }
 
+/* Distance from p to the segment a..b. */
+static double point_segment_distance(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3], ap[3], along = 0.0, len2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        ab[k] = b[k] - a[k];
+        ap[k] = p[k] - a[k];
+        along += ab[k] * ap[k];
+        len2 += ab[k] * ab[k];
+    }
+    double t = len2 > 0.0 ? fmin(fmax(along / len2, 0.0), 1.0) : 0.0, d2 = 0.0;
+    for (int k = 0; k < 3; k++)
+        d2 += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
+    return sqrt(d2);
+}
+
+/* Samples of each straight stretch of the camera's path between keyframes. */
+#define EYE_PATH_SAMPLES 16
+
+/* The least distance from the camera's eye to the axis of a sphere (a point) or a capsule
+   (a segment) under `pose`: the scene's eye, or with camera keyframes every point of the
+   straight paths between them (sampled; less half the samples' spacing, so never more than the
+   true least). */
+static double eye_distance(const cvk_renderer* rd, const cvk_collider_desc* c, const cvk_pose* pose)
+{
+    const float* ends[2] = {c->type == CVK_COLLIDER_CAPSULE ? c->a : c->center,
+                            c->type == CVK_COLLIDER_CAPSULE ? c->b : c->center};
+    double axis[2][3];
+    for (int e = 0; e < 2; e++) {
+        float p[3];
+        cvk_pose_apply(pose, ends[e], p);
+        for (int k = 0; k < 3; k++)
+            axis[e][k] = p[k];
+    }
+    const cvk_motion* path = &rd->eye_path;
+    if (path->keyframe_count == 0) {
+        double eye[3] = {rd->desc.eye[0], rd->desc.eye[1], rd->desc.eye[2]};
+        return point_segment_distance(eye, axis[0], axis[1]);
+    }
+    double least = INFINITY;
+    for (uint32_t i = 0; i < path->keyframe_count; i++) {
+        const float* from = path->keyframes[i].translation;
+        const float* to = path->keyframes[i + 1 < path->keyframe_count ? i + 1 : i].translation;
+        double step = 0.0;
+        for (int k = 0; k < 3; k++)
+            step += ((double)to[k] - from[k]) * ((double)to[k] - from[k]);
+        step = sqrt(step) / EYE_PATH_SAMPLES;
+        for (int j = 0; j <= EYE_PATH_SAMPLES; j++) {
+            double f = (double)j / EYE_PATH_SAMPLES, eye[3];
+            for (int k = 0; k < 3; k++)
+                eye[k] = from[k] + f * ((double)to[k] - from[k]);
+            least = fmin(least, point_segment_distance(eye, axis[0], axis[1]) - 0.5 * step);
+        }
+    }
+    return least;
+}
+
+/* The most pixels a sphere's or a capsule's radius can span in the picture: from the nearest
+   the eye comes to its surface, at rest and at each of its keyframes, taken as half as far (it
+   moves between keyframes, and the picture's width may be the larger); 0 (unknown: the finest
+   mesh) where the camera is placed automatically or the eye reaches the surface. */
+static double radius_pixels(const cvk_renderer* rd, const cvk_collider_desc* c)
+{
+    const cvk_render_desc* d = &rd->desc;
+    if (c->type != CVK_COLLIDER_SPHERE && c->type != CVK_COLLIDER_CAPSULE)
+        return 0.0;
+    if (d->fit || (rd->eye_path.keyframe_count == 0 && d->auto_eye))
+        return 0.0;
+    /* the angle a pixel spans at the middle of the picture */
+    double pixel = 2.0 * tan(0.5 * d->fov_y * 3.14159265358979323846 / 180.0) / d->size[1];
+    double least = INFINITY;
+    for (uint32_t i = 0; i <= c->motion.keyframe_count; i++) {
+        cvk_pose pose = cvk_motion_pose(&c->motion, i == 0 ? 0.0 : c->motion.keyframes[i - 1].time);
+        least = fmin(least, eye_distance(rd, c, &pose) - c->radius);
+    }
+    if (!(least > 0.0) || !(pixel > 0.0))
+        return 0.0;
+    return 2.0 * c->radius / (least * pixel);
+}
+
 /* Every drawn collider's mesh (the ground plane has none); `meshes` has one slot per
    collider. */
 static cvk_result make_meshes(cvk_renderer* rd, const double gravity[3], cvk_collider_mesh* meshes,
@@ -202,7 +282,8 @@ static cvk_result make_meshes(cvk_renderer* rd, const double gravity[3], cvk_col
             continue;
         }
         const cvk_sdf* sdf = c->type == CVK_COLLIDER_MESH ? &collide->sdfs[i] : NULL;
-        cvk_result r = cvk_collider_mesh_make(c, sdf, focus, (float)(PLANE_EXTENT_SCALE * size), &meshes[i], error);
+        cvk_result r = cvk_collider_mesh_make(c, sdf, focus, (float)(PLANE_EXTENT_SCALE * size),
+                                              radius_pixels(rd, c), &meshes[i], error);
         if (r == CVK_SUCCESS)
             r = frame_collider(rc, c, &meshes[i], error);
         if (r != CVK_SUCCESS)
@@ -264,6 +345,7 @@ static cvk_result upload(cvk_renderer* rd, const cvk_collider_mesh* meshes, uint
             .color = {c->color[0], c->color[1], c->color[2], 1.0f},
             .highlight = {HIGHLIGHT_STRENGTH / rough, HIGHLIGHT_EXPONENT / (rough * rough)},
             .textured = c->texture != NULL,
+            .closed = c->type == CVK_COLLIDER_SPHERE || c->type == CVK_COLLIDER_CAPSULE || c->type == CVK_COLLIDER_BOX,
             .repeats = 1.0f / c->texture_scale,
         };
         base += m->vertex_count;
@@ -309,9 +391,17 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
     vkCmdBindVertexBuffers(cmd, 0, 1, &rc->vertices.buffer, &offset);
     vkCmdBindIndexBuffer(cmd, rc->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
     uint32_t bound = 0;
+    VkPipeline pipeline = rd->collider_pipeline; /* bound by the caller */
     for (uint32_t d = 0; d < rc->draw_count; d++) {
         const cvk_collider_draw* draw = &rc->draws[d];
         if (colored) {
+            /* A closed solid's back faces lie behind its front faces: culled, they cost nothing
+               (a camera inside one sees through it). */
+            VkPipeline wanted = draw->closed ? rd->collider_closed_pipeline : rd->collider_pipeline;
+            if (wanted != pipeline) {
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, wanted);
+                pipeline = wanted;
+            }
             /* back (unused by colliders otherwise): x: the texture's repeats per metre; w stays
                0 (no back colour) */
             cvk_render_material m = {{draw->color[0], draw->color[1], draw->color[2], draw->textured ? 1.0f : 0.0f},
@@ -325,6 +415,8 @@ void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bo
         /* The instance index is the collider's: the vertex shaders read its pose with it. */
         vkCmdDrawIndexed(cmd, draw->index_count, 1, draw->first_index, 0, draw->collider);
     }
+    if (pipeline != rd->collider_pipeline)
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->collider_pipeline);
     if (bound != 0)
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
 }

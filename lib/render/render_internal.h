@@ -31,6 +31,8 @@ typedef struct cvk_collider_draw {
     float color[4];                  /* linear RGB, 1 */
     float highlight[2];              /* the Blinn-Phong highlight's strength and exponent */
     bool textured;                   /* material.texture: drawn with rd->textures.collider_set_of */
+    bool closed;                     /* a solid seen from outside (sphere, capsule, box): its back
+                                        faces are hidden, and the lit pass culls them */
     float repeats;                   /* of the texture per metre: 1 / material.texture_scale */
 } cvk_collider_draw;
 
@@ -95,6 +97,7 @@ struct cvk_renderer {
     VkDescriptorSet set;
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
+    VkPipeline collider_closed_pipeline; /* collider_pipeline culling back faces: closed colliders */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
     VkPipeline occlusion_pipeline;   /* none without render.ao */
     VkPipeline slab_pipelines[2];    /* the cloth pass culling back faces (a slab's front face and

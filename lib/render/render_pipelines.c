@@ -264,6 +264,16 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         if (r != CVK_SUCCESS)
             return r;
     }
+    bool closed = false;
+    for (uint32_t d = 0; d < rd->colliders.draw_count; d++)
+        closed = closed || rd->colliders.draws[d].closed;
+    if (closed) {
+        pipeline_recipe p = recipes[5];
+        p.what = "collider pass (closed solids)";
+        cvk_result r = create_culled(rd, &p, VK_CULL_MODE_BACK_BIT, &rd->collider_closed_pipeline, error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
     if (rd->desc.ao) {
         const pipeline_recipe occlusion = {
             "ambient occlusion pass", CVK_SHADER_COMPOSITE_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG,

@@ -31,7 +31,7 @@ static cvk_collider_mesh make(const cvk_collider_desc* c, const cvk_sdf* sdf)
 {
     cvk_error err;
     cvk_collider_mesh m;
-    REQUIRE_OK(cvk_collider_mesh_make(c, sdf, focus, 10.0f, &m, &err), err);
+    REQUIRE_OK(cvk_collider_mesh_make(c, sdf, focus, 10.0f, 0.0, &m, &err), err);
     return m;
 }
 
@@ -162,6 +162,40 @@ static void check_capsule(void)
     check_outward("capsule", &m, &c, capsule_core, 0.9999);
     double length = sqrt(0.81 + 0.16 + 0.16), r = 0.15;
     check_volume("capsule", closed_volume("capsule", &m), PI * r * r * length + 4.0 / 3.0 * PI * r * r * r);
+    cvk_collider_mesh_destroy(&m);
+}
+
+/* Round shapes tessellated by the pixels their radius spans: a multiple of 4 segments from 12
+   to 64, the outline within 0.45 pixels of round (sagitta r (1 − cos(π/n))) unless 64, the
+   fewest by the estimate r π² / (2 n²); a sphere of 12 segments has 5 rings of 12 and two poles. */
+static void check_round_segments(void)
+{
+    CHECK(cvk_collider_round_segments(0.0) == 64, "unknown size: %u segments, not 64", cvk_collider_round_segments(0.0));
+    CHECK(cvk_collider_round_segments(NAN) == 64, "NaN size: %u segments, not 64", cvk_collider_round_segments(NAN));
+    CHECK(cvk_collider_round_segments(1e9) == 64, "huge: %u segments, not 64", cvk_collider_round_segments(1e9));
+    CHECK(cvk_collider_round_segments(360.0) == 64, "360 pixels: %u segments, not 64",
+          cvk_collider_round_segments(360.0));
+    CHECK(cvk_collider_round_segments(1.0) == 12, "1 pixel: %u segments, not 12", cvk_collider_round_segments(1.0));
+    CHECK(cvk_collider_round_segments(100.0) == 36, "100 pixels: %u segments, not 36",
+          cvk_collider_round_segments(100.0));
+    uint32_t bad = 0;
+    for (double r = 0.5; r < 2000.0; r *= 1.03) {
+        uint32_t n = cvk_collider_round_segments(r);
+        bool shape = n % 4 == 0 && n >= 12 && n <= 64;
+        bool round_enough = n == 64 || r * (1.0 - cos(PI / n)) <= 0.45;
+        bool fewest = n == 12 || r * PI * PI / (2.0 * (n - 4.0) * (n - 4.0)) > 0.45;
+        bad += !(shape && round_enough && fewest);
+    }
+    CHECK(bad == 0, "%u radii get segments off the rule", bad);
+    cvk_collider_desc c = cvk_default_collider_desc();
+    c.type = CVK_COLLIDER_SPHERE;
+    c.radius = 0.01f;
+    cvk_error err;
+    cvk_collider_mesh m;
+    REQUIRE_OK(cvk_collider_mesh_make(&c, NULL, focus, 10.0f, 4.0, &m, &err), err);
+    CHECK(m.vertex_count == 62 && m.triangle_count == 120, "sphere of 4 pixels: %u vertices, %u triangles, not 62, 120",
+          m.vertex_count, m.triangle_count);
+    check_normals("small sphere", &m);
     cvk_collider_mesh_destroy(&m);
 }
 
@@ -306,7 +340,7 @@ static void check_mesh(void)
     cvk_collider_mesh_destroy(&round);
 
     cvk_error err;
-    cvk_result r = cvk_collider_mesh_make(&c, NULL, focus, 1.0f, &m, &err);
+    cvk_result r = cvk_collider_mesh_make(&c, NULL, focus, 1.0f, 0.0, &m, &err);
     CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "mesh without its field: %s, not CVK_ERROR_INVALID_ARGUMENT",
           cvk_result_name(r));
 }
@@ -315,6 +349,7 @@ int main(void)
 {
     check_sphere();
     check_capsule();
+    check_round_segments();
     check_box();
     check_funnel();
     check_plane();
