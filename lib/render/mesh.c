@@ -496,7 +496,9 @@ static cvk_result create_pipeline(cvk_mesh* m, cvk_error* error)
     };
     cvk_descriptors_write(m->context, &d, 0, res);
     cvk_spirv spirv = cvk_shader(CVK_SHADER_MESH_COMP);
-    cvk_spec spec = {.values = {m->sim->plan.workgroup_size, m->max_adjacent}, .count = 2};
+    /* mesh.comp's TEARING: without it, no spring is read */
+    uint32_t tearing = m->sim->tear && m->sim->tear->count > 0;
+    cvk_spec spec = {.values = {m->sim->plan.workgroup_size, m->max_adjacent, tearing}, .count = 3};
     return cvk_compute_pipeline_create(m->context, spirv.code, spirv.bytes, m->pipeline_layout, &spec,
                                        spirv.name, &m->pipeline, error);
 }

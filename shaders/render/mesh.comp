@@ -22,6 +22,10 @@
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint MAX_ADJACENT = 6;
+// Some spring may tear. Without tearing every triangle lives, is drawn from its own row and every
+// vertex is held: the springs are never read (a CPU device would run the border search for every
+// vertex however its branches go).
+layout(constant_id = 2) const bool TEARING = true;
 
 const uint NONE = 0xffffffffu;
 
@@ -53,6 +57,8 @@ bool spring_intact(uint s)
 // Whether the triangle of table row r is alive: the springs along its edges hold.
 bool triangle_alive(uint r)
 {
+    if (!TEARING)
+        return true;
     uvec3 s = texelFetch(triangle_springs, int(r)).xyz;
     return spring_intact(s.x) && spring_intact(s.y) && spring_intact(s.z);
 }
@@ -61,6 +67,8 @@ bool triangle_alive(uint r)
 // diagonal is torn and the other diagonal holds.
 uint drawn_row(uint t)
 {
+    if (!TEARING)
+        return t;
     uint other = texelFetch(triangle_springs, int(t)).w;
     if (other == NONE)
         return t;
@@ -126,7 +134,7 @@ void gather_vertex(uint v, out vec3 normal, out vec3 drawn)
     float len = length(sum);
     normal = len > 0.0 ? sum / len : vec3(0.0);
     drawn = p;
-    if ((entry & CVK_MESH_HELD) != 0u)
+    if (!TEARING || (entry & CVK_MESH_HELD) != 0u)
         return;
     uint outs = 0u, ins = 0u, out_end = NONE, in_end = NONE;
     for (uint i = 0u; i < MAX_ADJACENT; i++) {
