@@ -126,3 +126,75 @@ cvk_result cvk_renderer_fit(cvk_renderer* rd, const float lo[3], const float hi[
     cvk_render_write_uniforms(rd);
     return CVK_SUCCESS;
 }
+
+/* Distance from p to the box (0 inside it). */
+static double box_distance(const cvk_box* box, const double p[3])
+{
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double out = fmax(fmax(box->lo[k] - p[k], p[k] - box->hi[k]), 0.0);
+        d2 += out * out;
+    }
+    return sqrt(d2);
+}
+
+/* Samples of each straight stretch of the camera's path between keyframes. */
+#define EYE_PATH_SAMPLES 16
+/* How much longer than at rest a drawn triangle edge is taken to be. */
+#define EDGE_STRETCH 1.1
+
+/* The nearest the eye comes to the reach: from the resolved view, or every point of the
+   keyframes' straight paths (sampled, less half the samples' spacing). */
+static double eye_reach_distance(const cvk_renderer* rd)
+{
+    const cvk_motion* path = &rd->eye_path;
+    if (path->keyframe_count == 0)
+        return box_distance(&rd->view.reach, rd->view.eye);
+    double least = INFINITY;
+    for (uint32_t i = 0; i < path->keyframe_count; i++) {
+        const float* from = path->keyframes[i].translation;
+        const float* to = path->keyframes[i + 1 < path->keyframe_count ? i + 1 : i].translation;
+        double step = 0.0;
+        for (int k = 0; k < 3; k++)
+            step += ((double)to[k] - from[k]) * ((double)to[k] - from[k]);
+        step = sqrt(step) / EYE_PATH_SAMPLES;
+        for (int j = 0; j <= EYE_PATH_SAMPLES; j++) {
+            double f = (double)j / EYE_PATH_SAMPLES, eye[3];
+            for (int k = 0; k < 3; k++)
+                eye[k] = from[k] + f * ((double)to[k] - from[k]);
+            least = fmin(least, box_distance(&rd->view.reach, eye) - 0.5 * step);
+        }
+    }
+    return least;
+}
+
+bool cvk_render_vertex_lit(const cvk_renderer* rd)
+{
+    const cvk_render_desc* d = &rd->desc;
+    const cvk_build* b = &rd->mesh->sim->build;
+    if (!(d->vertex_lighting > 0.0f) || d->smooth > 1 || b->triangle_count == 0)
+        return false;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        if (b->cloths[c].normal_map)
+            return false;
+    double longest = 0.0;
+    for (uint64_t t = 0; t < b->triangle_count; t++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t s = b->triangle_springs[3 * t + e];
+            if (s != UINT32_MAX) {
+                longest = fmax(longest, b->springs[s].rest);
+                continue;
+            }
+            const float* p = &b->position[3 * (size_t)b->internal_of[b->triangles[3 * t + e]]];
+            const float* q = &b->position[3 * (size_t)b->internal_of[b->triangles[3 * t + (e + 1) % 3]]];
+            longest = fmax(longest, sqrt(((double)p[0] - q[0]) * ((double)p[0] - q[0]) +
+                                         ((double)p[1] - q[1]) * ((double)p[1] - q[1]) +
+                                         ((double)p[2] - q[2]) * ((double)p[2] - q[2])));
+        }
+    /* the angle a pixel spans at the middle of the picture */
+    double pixel = 2.0 * tan(0.5 * d->fov_y * 3.14159265358979323846 / 180.0) / d->size[1];
+    double nearest = eye_reach_distance(rd);
+    if (!(nearest > 0.0) || !(pixel > 0.0))
+        return false;
+    return EDGE_STRETCH * longest / (nearest * pixel) <= d->vertex_lighting;
+}

@@ -81,6 +81,8 @@ struct cvk_renderer {
     double seconds;                  /* simulated time of the frames drawn (cvk_renderer_set_time) */
     double overlay_ms;               /* host time of the last frame's overlay; 0 without one */
     VkSampleCountFlagBits samples;
+    bool vertex_lit;                 /* render.vertex_lighting holds: the cloths are lit at their
+                                        vertices (cvk_render_vertex_lit) */
 
     cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
     cvk_gpu_image occlusion;         /* half resolution: light left, depth along the view */
@@ -163,6 +165,12 @@ void cvk_render_write_uniforms(cvk_renderer* rd);
 /* render.fit: the points framed become the particles as they are now (read back from the
    device) and the corners of the colliders' boxes. */
 cvk_result cvk_render_camera_fit_particles(cvk_renderer* rd, cvk_error* error);
+
+/* render.vertex_lighting: whether every cloth triangle's longest edge (its rest length, 10 % more
+   for stretch) spans at most that many pixels at the nearest the eye comes to the reach (the
+   resolved view's eye, or every point of the camera keyframes' path), with no normal map and no
+   render.smooth; false with the eye inside the reach. After cvk_render_camera_resolve. */
+bool cvk_render_vertex_lit(const cvk_renderer* rd);
 
 /* render.overlay (lib/render/render_overlay.c): "frame N  t = X.XXX s" for rd->seconds drawn
    into the image in the readback buffer, which the last frame has filled. */

@@ -228,6 +228,11 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     /* With a textured cloth, the cloth's lit pipelines read texture coordinates too. */
     bool textured = rd->textures.uv.buffer != VK_NULL_HANDLE;
     cvk_shader_id cloth_vert = textured ? CVK_SHADER_LIT_CLOTH_TEXTURED_VERT : CVK_SHADER_LIT_CLOTH_VERT;
+    /* render.vertex_lighting: the cloth's light found at its vertices (not in the wireframe). */
+    cvk_shader_id lit_vert = !rd->vertex_lit ? cloth_vert
+                             : textured      ? CVK_SHADER_LIT_CLOTH_TEXTURED_VERTEX_LIT_VERT
+                                             : CVK_SHADER_LIT_CLOTH_VERTEX_LIT_VERT;
+    cvk_shader_id lit_frag = rd->vertex_lit ? CVK_SHADER_LIT_CLOTH_VERTEX_LIT_FRAG : CVK_SHADER_LIT_CLOTH_FRAG;
     uint32_t cloth_attributes = textured ? 3 : 2;
     cvk_shader_id composite = single ? CVK_SHADER_COMPOSITE_1X_FRAG : CVK_SHADER_COMPOSITE_FRAG;
     /* With a textured collider, the colliders' lit pipeline reads their textures. */
@@ -238,7 +243,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         {"shadow pass", CVK_SHADER_SHADOW_VERT, CVK_SHADER_COUNT, 2, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->shadow_pass, s, s, VK_SAMPLE_COUNT_1_BIT, true, VK_COMPARE_OP_LESS_OR_EQUAL, true, 0, {0}, false, false},
         /* Reversed depth: nearer is greater. */
-        {"cloth pass", cloth_vert, CVK_SHADER_LIT_CLOTH_FRAG, cloth_attributes, false,
+        {"cloth pass", lit_vert, lit_frag, cloth_attributes, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
          false, 0, {rd->desc.ground, textured, true}, false, rd->desc.smooth > 1},
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,

@@ -85,6 +85,7 @@ cvk_render_desc cvk_default_render_desc(void)
         .smooth = 0,
         .tone_map = true,
         .fit_margin = 0.06f, /* fit and overlay: false */
+        .vertex_lighting = 12.0f,
         .cookie_ = CVK_COOKIE_RENDER,
     };
 }
@@ -624,6 +625,7 @@ static bool check_render(const cvk_render_desc* r, cvk_scene_issue* issue)
            cvk_check_closed(issue, "render.key_angle", r->key_angle, 0.0, 20.0) &&
            cvk_check_closed(issue, "render.ao_radius", r->ao_radius, 0.0, CVK_MAX_COORDINATE) &&
            cvk_check_closed(issue, "render.smooth", r->smooth, 0.0, 8.0) &&
+           cvk_check_closed(issue, "render.vertex_lighting", r->vertex_lighting, 0.0, 64.0) &&
            check_camera_keyframes(r, issue) && cvk_fit_check(r, issue);
 }
 

@@ -670,6 +670,7 @@ static const cvk_field render_fields[] = {
     {.key = "smooth", .read = cvk_read_uint, .offset = offsetof(cvk_render_desc, smooth)},
     {.key = "fit", .read = read_fit, .offset = 0},
     {.key = "overlay", .read = cvk_read_bool, .offset = offsetof(cvk_render_desc, overlay)},
+    {.key = "vertex_lighting", .read = cvk_read_float, .offset = offsetof(cvk_render_desc, vertex_lighting)},
 };
 static const cvk_table render_table = FIELDS(render_fields);
 

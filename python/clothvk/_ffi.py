@@ -294,6 +294,7 @@ typedef struct cvk_render_desc {
     bool fit;
     float fit_margin;
     bool overlay;
+    float vertex_lighting;
     uint32_t cookie_;
 } cvk_render_desc;
 

@@ -132,27 +132,41 @@ float sheen_lobe(float nh, float nl, float nv, float roughness)
 // light through: a back-lit cloth glows in its colour instead of going black).
 const float TRANSMITTED = 0.25;
 
-// One light on a fabric: diffuse and sheen on the lit face, the transmitted share on the other.
-vec3 fabric_light(vec3 direction, vec3 color, vec3 n, vec3 v, vec3 albedo, vec3 sheen, float roughness,
-                  float visible)
+// One light on a fabric, added to what multiplies the albedo (d: diffuse on the lit face, the
+// transmitted share on the other) and to what multiplies the sheen colour (s).
+void fabric_light(vec3 direction, vec3 color, vec3 n, vec3 v, float roughness, float visible, inout vec3 d,
+                  inout vec3 s)
 {
     float nl = dot(n, direction);
-    if (nl <= 0.0)
-        return color * visible * (-nl) * TRANSMITTED * albedo;
+    if (nl <= 0.0) {
+        d += color * visible * (-nl) * TRANSMITTED;
+        return;
+    }
     float nv = max(dot(n, v), 1e-3);
     float nh = dot(n, normalize(direction + v));
-    return color * visible * nl * (albedo + sheen * sheen_lobe(nh, nl, nv, roughness));
+    vec3 lit = color * visible * nl;
+    d += lit;
+    s += lit * sheen_lobe(nh, nl, nv, roughness);
 }
 
-// A cloth: n faces the viewer's side; key_visible is key_visibility() on the side the key light
-// falls on; sheen: the sheen lobe's colour.
-vec3 shade_fabric(vec3 world, vec3 n, vec3 albedo, vec3 sheen, float roughness, float key_visible)
+// A cloth's light at `world` as two factors, so that its colour is albedo · d + sheen · s (the
+// albedo may come later, from a texture): n faces the viewer's side; key_visible is
+// key_visibility() on the side the key light falls on.
+void fabric_terms(vec3 world, vec3 n, float roughness, float key_visible, out vec3 d, out vec3 s)
 {
     vec3 v = normalize(frame.eye.xyz - world);
-    vec3 result = surroundings(n) * albedo;
-    result += fabric_light(frame.key_direction.xyz, frame.key_color.rgb, n, v, albedo, sheen, roughness, key_visible);
-    result += fabric_light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, albedo, sheen, roughness, 1.0);
-    return result;
+    d = surroundings(n);
+    s = vec3(0.0);
+    fabric_light(frame.key_direction.xyz, frame.key_color.rgb, n, v, roughness, key_visible, d, s);
+    fabric_light(frame.fill_direction.xyz, frame.fill_color.rgb, n, v, roughness, 1.0, d, s);
+}
+
+// A cloth's colour; sheen: the sheen lobe's colour.
+vec3 shade_fabric(vec3 world, vec3 n, vec3 albedo, vec3 sheen, float roughness, float key_visible)
+{
+    vec3 d, s;
+    fabric_terms(world, n, roughness, key_visible, d, s);
+    return albedo * d + sheen * s;
 }
 
 // n faces the viewer's side of the surface; key_visible is key_visibility() or 1.

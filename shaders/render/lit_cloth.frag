@@ -50,6 +50,13 @@ layout(location = 4) in vec3 texture_normal; // the normal in that frame
 // flat triangles and would fall into their shadow on the lit side (dark blotches on crumples).
 layout(location = 3) in vec3 shadow_world;
 #endif
+#ifdef VERTEX_LIGHT
+// The light found at the vertices (lit_cloth.vert), per face: albedo · d + sheen · s.
+layout(location = 4) in vec3 front_d;
+layout(location = 5) in vec3 front_s;
+layout(location = 6) in vec3 back_d;
+layout(location = 7) in vec3 back_s;
+#endif
 layout(location = 0) out vec4 color;
 
 // The normal tilted by the normal map: its tangent along u and bitangent along v found from how
@@ -97,10 +104,28 @@ vec3 projected_albedo()
 }
 #endif
 
+// A cloth lit at its vertices: the albedo (the texture's, or the back face's own colour) times
+// the light of the face seen.
+vec3 vertex_lit()
+{
+#ifdef VERTEX_LIGHT
+    vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
+    if (!gl_FrontFacing && material.back.w > 0.5)
+        albedo = material.back.rgb;
+    vec3 sheen = material.fabric.x * sqrt(albedo);
+    return gl_FrontFacing ? albedo * front_d + sheen * front_s : albedo * back_d + sheen * back_s;
+#else
+    return vec3(0.0);
+#endif
+}
+
 void main()
 {
     if (CLIP_BELOW_GROUND && dot(world, frame.ground_plane.xyz) < frame.ground_plane.w)
         discard;
+#ifdef VERTEX_LIGHT
+    color = vec4(sqrt(clamp(0.5 * vertex_lit(), 0.0, 1.0)), 1.0);
+#else
     float len = length(world_normal);
     vec3 n = len > 0.0 ? world_normal / len : normalize(frame.eye.xyz - world);
     if (TEXTURED && material.slab.z > 0.0)
@@ -133,4 +158,5 @@ void main()
     // (and doubles it) before averaging the samples, 8 bits of it are about as fine in the dark
     // as sRGB, and light up to twice white reaches the highlights' roll-off.
     color = vec4(sqrt(clamp(0.5 * shaded, 0.0, 1.0)), 1.0);
+#endif
 }

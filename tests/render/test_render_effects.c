@@ -19,6 +19,10 @@
    - a texture of 1-texel stripes far finer than the pixels: the mean over a region moves by
      less than 2 levels when the camera moves by a third of a pixel, and the region is an even
      grey (its pixels within 8 levels, standard deviation), not stripes or moiré;
+   - lighting at the vertices (render.vertex_lighting): a 96 x 96 cloth a pixel a triangle,
+     half in a smaller cloth's shadow, is drawn otherwise than when lit at every pixel, but
+     within 1.5 levels of luminance on average over the cloth, and its shadow as dark; a 16 x 16
+     cloth whose triangles span some 15 pixels keeps the same bytes (lit at every pixel);
    - curved triangles (render.smooth): the top outline of an arch of 6 flat strips lies less than
      half as far from the true circle with them as without, and the inside of a trough of 6
      strips lit from above is as bright with them as without (within 10 %). */
@@ -254,6 +258,63 @@ static void same_bytes(cvk_context* ctx)
         render_once(ctx, &s, 2, &r, pass == 0 ? first : second, NULL, unused);
     }
     CHECK(memcmp(first, second, sizeof first) == 0, "two renderers of one scene differ with every effect on");
+}
+
+/* A horizontal cloth of n x n particles, 1 m, at 0.3 m under a 0.5 m square 0.3 m above its
+   middle, lit from above, drawn with render.vertex_lighting `pixels`, into `out`; `lit` and
+   `shade` get the projections of a point of the lower cloth in the light and one in the shadow. */
+static void shaded_cloth(cvk_context* ctx, uint32_t n, float pixels, uint8_t* out, double lit[2], double shade[2])
+{
+    cvk_render_desc r = view((const float[3]){0.0f, 2.2f, 1.2f}, (const float[3]){0.0f, 0.3f, 0.0f},
+                             (const float[3]){0.0f, 1.0f, 0.15f});
+    r.vertex_lighting = pixels;
+    setup s = {0};
+    s.cloths[0] = square_cloth((const float[3]){-0.5f, 0.3f, -0.5f}, flat_u, (const float[3]){0, 0, 1}, grey);
+    s.cloths[0].grid[0] = s.cloths[0].grid[1] = n;
+    s.cloths[1] = square_cloth((const float[3]){-0.25f, 0.6f, -0.25f}, flat_u, (const float[3]){0, 0, 1}, grey);
+    s.cloths[1].size[0] = s.cloths[1].size[1] = 0.5f;
+    s.cloths[1].size[0] = 0.4f;
+    render_once(ctx, &s, 2, &r, out, (const float[3]){0.4f, 0.3f, 0.4f}, lit);
+    setup_scene(&s, ctx, 2, &r);
+    project(s.renderer, (const float[3]){0.0f, 0.3f, 0.15f}, shade);
+    teardown(&s);
+}
+
+static void vertex_lighting(cvk_context* ctx)
+{
+    static uint8_t vertex[W * H * 4], pixel_lit[W * H * 4];
+    double lit[2], shade[2];
+    shaded_cloth(ctx, 96, 12.0f, vertex, lit, shade);
+    shaded_cloth(ctx, 96, 0.0f, pixel_lit, lit, shade);
+    cvk_image a = {vertex, W, H, 4 * W}, b = {pixel_lit, W, H, 4 * W};
+    keep(&a, "vertex-lit");
+    keep(&b, "pixel-lit");
+    double sum = 0.0;
+    int count = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const uint8_t *p = pixel(&a, x, y), *q = pixel(&b, x, y);
+            if (abs(p[0] - q[0]) + abs(p[1] - q[1]) + abs(p[2] - q[2]) == 0)
+                continue;
+            sum += fabs(luminance(p) - luminance(q));
+            count++;
+        }
+    double lit_a = region_luminance(&a, (int)lit[0] - 2, (int)lit[1] - 2, (int)lit[0] + 3, (int)lit[1] + 3);
+    double shade_a = region_luminance(&a, (int)shade[0] - 2, (int)shade[1] - 2, (int)shade[0] + 3, (int)shade[1] + 3);
+    double shade_b = region_luminance(&b, (int)shade[0] - 2, (int)shade[1] - 2, (int)shade[0] + 3, (int)shade[1] + 3);
+    printf("96 x 96 cloth lit at its vertices: %d pixels differ from lighting at every pixel, by %.2f levels on "
+           "average; shadow %.1f (%.1f per pixel), light %.1f\n", count, count ? sum / count : 0.0, shade_a, shade_b,
+           lit_a);
+    CHECK(count > 100, "lighting at the vertices changed %d pixels of a fine cloth: not used", count);
+    /* over the whole cloth, not only the pixels that changed: the lower cloth covers most of the image */
+    CHECK(sum / (W * H) < 1.5, "lighting at the vertices is off by %.2f levels on average", sum / (W * H));
+    CHECK(shade_a < 0.8 * lit_a && fabs(shade_a - shade_b) < 3.0,
+          "the shadow on the cloth is %.1f lit at the vertices, %.1f at every pixel, in the light %.1f", shade_a,
+          shade_b, lit_a);
+    shaded_cloth(ctx, 16, 12.0f, vertex, lit, shade);
+    shaded_cloth(ctx, 16, 0.0f, pixel_lit, lit, shade);
+    CHECK(memcmp(vertex, pixel_lit, sizeof vertex) == 0, "a 16 x 16 cloth (triangles of some 15 pixels) was lit at "
+          "its vertices");
 }
 
 /* Luminance of a 5 x 5 patch at the projection of the point (0, 1, 0): the middle of a wall. */
@@ -510,6 +571,7 @@ int main(void)
     same_bytes(ctx);
     fabric(ctx);
     stripes_settle(ctx);
+    vertex_lighting(ctx);
     curved_triangles(ctx);
     curved_shadow_lookup(ctx);
     return harness_finish(ctx);

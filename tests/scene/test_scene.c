@@ -398,7 +398,7 @@ static void test_render_looks_json(void)
                                 "0.6], 'sheen': 0.7, 'roughness': 0.8, 'thickness': 0.05, 'normal_map': "
                                 "'n.png', 'normal_strength': 1.5}}, {}], 'render': {'soft_shadows': false, "
                                 "'key_angle': 5, 'sky_light': false, 'ao': false, 'ao_radius': 0.2, "
-                                "'tone_map': false}}");
+                                "'tone_map': false, 'vertex_lighting': 2.5}}");
     if (scene) {
         const cvk_scene_desc* d = cvk_scene_get_desc(scene);
         const cvk_cloth_desc* c = &d->cloths[0];
@@ -420,6 +420,7 @@ static void test_render_looks_json(void)
         CHECK(!r->soft_shadows && !r->sky_light && !r->ao && !r->tone_map);
         CHECK_FLOAT(r->key_angle, 5.0f);
         CHECK_FLOAT(r->ao_radius, 0.2f);
+        CHECK_FLOAT(r->vertex_lighting, 2.5f);
     }
     cvk_scene_destroy(scene);
     EXPECT_INVALID("{'cloths': [{'material': {'sheen': -0.1}}]}",
@@ -513,7 +514,9 @@ static void test_render_json(void)
                    "t.json: render.fov: unknown key (expected one of: size, eye, target, up, fov_y, key, fill, "
                    "ambient, background, ground, ground_height, ground_color, shadow_map_size, samples, wireframe, "
                    "camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth, "
-                   "fit, overlay)");
+                   "fit, overlay, vertex_lighting)");
+    EXPECT_INVALID("{'cloths': [{}], 'render': {'vertex_lighting': 65}}",
+                   "t.json: render.vertex_lighting: must be between 0 and 64, got 65");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'key': {'colour': [1, 1, 1]}}}",
                    "t.json: render.key.colour: unknown key (expected one of: direction, color)");
     EXPECT_INVALID("{'cloths': [{}], 'render': {'size': [0, 10]}}",

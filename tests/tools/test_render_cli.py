@@ -131,7 +131,7 @@ CASES = [
     {"name": "unknown render key", "argv": [SMALL, "-o", "out", "--set", "render.fov=40"], "status": 2,
      "stderr": error(f"{SMALL}: render.fov (from --set): unknown key (expected one of: size, eye, target, up, "
                      "fov_y, key, fill, ambient, background, ground, ground_height, ground_color, "
-                     "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth, fit, overlay)")},
+                     "shadow_map_size, samples, wireframe, camera_keyframes, camera_loop, soft_shadows, key_angle, sky_light, ao, ao_radius, tone_map, smooth, fit, overlay, vertex_lighting)")},
     {"name": "bad render value", "argv": [SMALL, "-o", "out", "--set", "render.key.direction=[0,0,0]"],
      "status": 2, "stderr": error(f"{SMALL}: render.key.direction (from --set): must not be zero, got [0, 0, 0]")},
     # render.fit: true, false or an object with a margin, and no camera that places itself.

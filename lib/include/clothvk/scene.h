@@ -406,6 +406,11 @@ typedef struct cvk_render_desc {
     bool overlay;                /* draw "frame N  t = X.XXX s" in the image's lower left
                                     corner (cvk_renderer_draw; the time of
                                     cvk_renderer_set_time); usually false */
+    float vertex_lighting;       /* pixels: the cloths are lit at their vertices, not at every
+                                    pixel, when every cloth triangle's longest edge spans at most
+                                    this many pixels where the camera comes nearest what it
+                                    frames (and no cloth has a normal map, render.smooth is off);
+                                    0: always at every pixel. Usually 12 */
     uint32_t cookie_;            /* set by cvk_default_render_desc; do not touch */
 } cvk_render_desc;
 
