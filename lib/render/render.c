@@ -331,7 +331,7 @@ static cvk_result create_cloth_pass(cvk_renderer* rd, cvk_error* error)
 static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
 {
     VkAttachmentDescription color =
-        attachment(OCCLUSION_FORMAT, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+        attachment(OCCLUSION_FORMAT, VK_SAMPLE_COUNT_1_BIT, VK_ATTACHMENT_LOAD_OP_CLEAR,
                    VK_ATTACHMENT_STORE_OP_STORE, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
     VkAttachmentReference ref = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass = {
@@ -485,8 +485,6 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->ao_size[2] = (float)AO_STRENGTH;
     u->ao_size[3] = d->ao ? 1.0f : 0.0f;
     u->post[0] = d->tone_map ? 1.0f : 0.0f;
-    for (int i = 0; i < 4; i++)
-        put3(u->patch_corners[i], v->patch[i], 1.0f);
 }
 
 void cvk_render_write_uniforms(cvk_renderer* rd)
@@ -565,8 +563,9 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
 
     /* Binding 3: the cloth's texture, one set per cloth with a texture or a normal map (set 0:
        the white stand-in); 4: the shadow map's raw depths; 5: the cloth pass's depths; 6: the
-       ambient occlusion image; 7: the cloth's normal map (or the flat stand-in). The colliders'
-       poses (binding 8) only where there are colliders to draw. */
+       ambient occlusion image; 7: the cloth's normal map (or the flat stand-in); 8: the occupied
+       box (render_occupied.c). The colliders' poses (binding 9) only where there are colliders
+       to draw. */
     static const cvk_binding bindings[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
          VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -578,8 +577,9 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
     };
-    uint32_t binding_count = rd->colliders.draw_count > 0 ? 9 : 8;
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 10 : 9;
     r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.set_count,
                                CVK_RENDER_PUSH_STAGES, sizeof(cvk_render_material), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
@@ -598,6 +598,7 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
                layout will do (the white stand-in). */
             {.image = rd->desc.ao ? rd->occlusion.view : rd->textures.images[0].view, .sampler = rd->cloth_sampler},
             {.image = rd->textures.images[rd->textures.normal_of_set[i]].view, .sampler = rd->textures.sampler},
+            {.buffer = &rd->occupied.box},
             {.buffer = &rd->mesh->sim->collide->poses},
         };
         cvk_descriptors_write(rd->context, &rd->descriptors, i, res);
@@ -684,6 +685,8 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     if (r == CVK_SUCCESS)
         r = cvk_render_textures_create(rd, error);
     if (r == CVK_SUCCESS)
+        r = cvk_render_occupied_create(rd, error);
+    if (r == CVK_SUCCESS)
         r = create_shadow_pass(rd, error);
     if (r == CVK_SUCCESS)
         r = create_cloth_pass(rd, error);
@@ -716,7 +719,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     if (rd->submitter.pool)
         cvk_queue_idle(rd->context);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
-                              rd->patch_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
+                              rd->rect_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
                               rd->wireframe_pipeline,  rd->occlusion_pipeline,      rd->slab_pipelines[0],
                               rd->slab_pipelines[1],   rd->collider_closed_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
@@ -746,6 +749,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     cvk_buffer_destroy(rd->context, &rd->readback);
     cvk_render_colliders_destroy(rd);
     cvk_render_textures_destroy(rd);
+    cvk_render_occupied_destroy(rd);
     cvk_submitter_destroy(rd->context, &rd->submitter);
     cvk_render_camera_destroy(rd);
     free(rd);

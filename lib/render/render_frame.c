@@ -162,10 +162,12 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     timestamp(rd, cmd, 3);
 
     if (rd->occlusion_pipeline) {
+        /* open (light 1) at depth 0 outside the rectangle ao.vert draws */
+        VkClearValue open = {.color = {{1.0f, 0.0f, 0.0f, 0.0f}}};
         begin_pass(cmd, rd->occlusion_pass, rd->occlusion_framebuffer, cvk_render_half(w), cvk_render_half(h),
-                   NULL, 0);
+                   &open, 1);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->occlusion_pipeline);
-        vkCmdDraw(cmd, 3, 1, 0, 0);
+        vkCmdDraw(cmd, 4, 1, 0, 0);
         vkCmdEndRenderPass(cmd);
     }
     timestamp(rd, cmd, 4);
@@ -175,10 +177,11 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     uint32_t bound = 0, ground = rd->colliders.ground_texture;
     if (ground)
         cvk_render_bind_textures(rd, cmd, rd->textures.collider_set_of[ground - 1], &bound);
-    /* First the ground where a shadow can fall, reading the shadow map and marking its pixels;
-       then everything else, which skips them. */
-    if (rd->desc.ground && rd->view.patch_visible) {
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->patch_pipeline);
+    /* First the rectangle where a shadow can fall on the ground or occlusion darken anything,
+       reading the shadow map and the occlusion and marking its pixels; then everything else,
+       which skips them. */
+    if ((rd->desc.ground && rd->view.patch_visible) || rd->desc.ao) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->rect_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->background_pipeline);
@@ -213,11 +216,13 @@ cvk_result cvk_renderer_record(cvk_renderer* rd, VkCommandBuffer cmd, cvk_error*
         return r;
     timestamp(rd, cmd, 1);
     /* The colliders' vertex shaders also read the poses the simulation wrote. */
+    /* The occupied box's dispatch reads the mesh too. */
     bool colliders = rd->colliders.draw_count > 0;
     cvk_cmd_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | (colliders ? VK_PIPELINE_STAGE_VERTEX_SHADER_BIT : 0),
-                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT |
-                        (colliders ? VK_ACCESS_SHADER_READ_BIT : 0));
+                    VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                        (colliders ? VK_PIPELINE_STAGE_VERTEX_SHADER_BIT : 0),
+                    VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+    cvk_render_occupied_record(rd, cmd);
     /* one set for every graphics pipeline of the frame; bindings outlive render passes */
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->pipeline_layout, 0, 1, &rd->set, 0, NULL);
     record_shadow_pass(rd, cmd);

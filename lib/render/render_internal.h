@@ -67,6 +67,15 @@ typedef struct cvk_render_textures {
                                         texture */
 } cvk_render_textures;
 
+/* The box the drawn things occupy, found every frame on the device (render_occupied.c). */
+typedef struct cvk_render_occupied {
+    cvk_buffer box;                  /* 6 uints: low xyz, high xyz, floats' bits made to order */
+    uint32_t start[6];               /* the colliders' box, where each frame's box starts */
+    cvk_descriptors descriptors;
+    VkPipeline pipeline;
+    uint32_t groups;
+} cvk_render_occupied;
+
 struct cvk_renderer {
     cvk_context* context;
     cvk_mesh* mesh;
@@ -97,7 +106,7 @@ struct cvk_renderer {
     VkPipelineLayout pipeline_layout; /* descriptors.pipeline_layout */
     cvk_descriptors descriptors;     /* the one graphics set and its pipeline layout */
     VkDescriptorSet set;
-    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, patch_pipeline;
+    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, rect_pipeline;
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline collider_closed_pipeline; /* collider_pipeline culling back faces: closed colliders */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
@@ -107,6 +116,7 @@ struct cvk_renderer {
                                         without a cloth with a material thickness */
     cvk_render_colliders colliders;
     cvk_render_textures textures;
+    cvk_render_occupied occupied;
 
     VkQueryPool queries;
     cvk_submitter submitter;
@@ -141,6 +151,12 @@ void cvk_render_plane_frame(const cvk_collider_desc* plane, double x[3], double 
 /* Records the collider draws; with `colored`, each one's colour as the push constant and its
    texture's descriptor set. The pipeline is bound by the caller. */
 void cvk_render_colliders_record(const cvk_renderer* rd, VkCommandBuffer cmd, bool colored);
+
+/* The occupied box (lib/render/render_occupied.c): made after the colliders, recorded after the
+   mesh pass and before the passes that read it (its barriers included). */
+cvk_result cvk_render_occupied_create(cvk_renderer* rd, cvk_error* error);
+void cvk_render_occupied_record(const cvk_renderer* rd, VkCommandBuffer cmd);
+void cvk_render_occupied_destroy(cvk_renderer* rd);
 
 /* Binds texture set `set` (rd->descriptors.sets) unless it is bound already (*bound)
    (lib/render/render_frame.c). */

@@ -221,6 +221,20 @@ static cvk_result create_pipeline(cvk_renderer* rd, const pipeline_recipe* p, Vk
     return create_culled(rd, p, VK_CULL_MODE_NONE, out, error);
 }
 
+/* The colliders' lit pipeline (`recipe`) culling back faces, for closed solids, when there
+   is one to draw. */
+static cvk_result create_collider_closed(cvk_renderer* rd, const pipeline_recipe* recipe, cvk_error* error)
+{
+    bool closed = false;
+    for (uint32_t d = 0; d < rd->colliders.draw_count; d++)
+        closed = closed || rd->colliders.draws[d].closed;
+    if (!closed)
+        return CVK_SUCCESS;
+    pipeline_recipe p = *recipe;
+    p.what = "collider pass (closed solids)";
+    return create_culled(rd, &p, VK_CULL_MODE_BACK_BIT, &rd->collider_closed_pipeline, error);
+}
+
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
 {
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
@@ -246,12 +260,14 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         {"cloth pass", lit_vert, lit_frag, cloth_attributes, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
          false, 0, {rd->desc.ground, textured, true}, false, rd->desc.smooth > 1},
+        /* The image outside the occupied rectangle: nothing there is shadowed or occluded. */
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
-         {false, false, rd->desc.samples, rd->desc.ao}, false, false},
-        {"composite pass (shadowed ground)", CVK_SHADER_COMPOSITE_VERT, composite, 0, false,
+         {false, false, rd->desc.samples, false}, false, false},
+        {"composite pass (shadows and occlusion)", CVK_SHADER_COMPOSITE_RECT_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {true, true, rd->desc.samples, rd->desc.ao}, false, false},
+         VK_COMPARE_OP_ALWAYS, false, 1, {false, rd->view.patch_visible, rd->desc.samples, rd->desc.ao}, false,
+         false},
         /* The colliders: shaded like the cloth (lit_cloth.frag with COLLIDER), posed in the
            vertex shader. */
         {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
@@ -262,29 +278,19 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
          VK_COMPARE_OP_GREATER_OR_EQUAL, false, 0, {rd->desc.ground, collider_textured, false}, false, false},
     };
     VkPipeline* outs[] = {&rd->shadow_pipeline,     &rd->cloth_pipeline,           &rd->background_pipeline,
-                          &rd->patch_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};
+                          &rd->rect_pipeline,      &rd->collider_shadow_pipeline, &rd->collider_pipeline};
     size_t count = rd->colliders.draw_count > 0 ? 6 : 4;
-    for (size_t i = 0; i < count; i++) {
-        cvk_result r = create_pipeline(rd, &recipes[i], outs[i], error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
-    bool closed = false;
-    for (uint32_t d = 0; d < rd->colliders.draw_count; d++)
-        closed = closed || rd->colliders.draws[d].closed;
-    if (closed) {
-        pipeline_recipe p = recipes[5];
-        p.what = "collider pass (closed solids)";
-        cvk_result r = create_culled(rd, &p, VK_CULL_MODE_BACK_BIT, &rd->collider_closed_pipeline, error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
+    cvk_result r = create_collider_closed(rd, &recipes[5], error);
+    for (size_t i = 0; i < count && r == CVK_SUCCESS; i++)
+        r = create_pipeline(rd, &recipes[i], outs[i], error);
+    if (r != CVK_SUCCESS)
+        return r;
     if (rd->desc.ao) {
         const pipeline_recipe occlusion = {
-            "ambient occlusion pass", CVK_SHADER_COMPOSITE_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG,
-            0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->occlusion_pass, cvk_render_half(w), cvk_render_half(h),
+            "ambient occlusion pass", CVK_SHADER_AO_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG,
+            0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->occlusion_pass, cvk_render_half(w), cvk_render_half(h),
             VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, 0, {0}, false, false};
-        cvk_result r = create_pipeline(rd, &occlusion, &rd->occlusion_pipeline, error);
+        r = create_pipeline(rd, &occlusion, &rd->occlusion_pipeline, error);
         if (r != CVK_SUCCESS)
             return r;
     }
@@ -295,8 +301,8 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     for (int side = 0; slab && side < 2; side++) {
         pipeline_recipe p = recipes[1];
         p.what = side == 0 ? "cloth pass (front faces)" : "cloth pass (back faces)";
-        cvk_result r = create_culled(rd, &p, side == 0 ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_FRONT_BIT,
-                                     &rd->slab_pipelines[side], error);
+        r = create_culled(rd, &p, side == 0 ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_FRONT_BIT,
+                          &rd->slab_pipelines[side], error);
         if (r != CVK_SUCCESS)
             return r;
     }

@@ -80,10 +80,8 @@ cvk_render_desc cvk_default_render_desc(void)
         .soft_shadows = true,
         .key_angle = 3.0f,
         .sky_light = true,
-        .ao = true,
-        .ao_radius = 0.0f,
-        .smooth = 0,
-        .tone_map = true,
+        .ao = true, .ao_radius = 0.0f,
+        .smooth = 0, .tone_map = true,
         .fit_margin = 0.06f, /* fit and overlay: false */
         .vertex_lighting = 12.0f,
         .cookie_ = CVK_COOKIE_RENDER,

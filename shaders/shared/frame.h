@@ -44,7 +44,6 @@
     CVK_FRAME_VEC4(ao_size)          /* xy: image size, pixels; z: occlusion strength; w: 1 = on */ \
     CVK_FRAME_VEC4(post)             /* x: 1 = highlights rolled off (render.tone_map); y: 1 =    \
                                         the ground has a texture (ground_texture) */              \
-    CVK_FRAME_VEC4S(patch_corners, 4) /* xyz: the ground under the shadow map (strip order) */     \
     CVK_FRAME_VEC4S(ground_texture, 2) /* the ground's texture coordinates u, v of a point p:     \
                                         dot(xyz, p) + w */
 
@@ -55,10 +54,10 @@ layout(std140, set = 0, binding = 0) uniform Frame { CVK_FRAME_FIELDS } frame;
 typedef struct cvk_frame_uniforms {
     CVK_FRAME_FIELDS
 } cvk_frame_uniforms;
-_Static_assert(sizeof(cvk_frame_uniforms) == 2 * 64 + 30 * 16, "Frame: 2 mat4 and 30 vec4");
+_Static_assert(sizeof(cvk_frame_uniforms) == 2 * 64 + 26 * 16, "Frame: 2 mat4 and 26 vec4");
 _Static_assert(offsetof(cvk_frame_uniforms, ray_base) == 128 + 13 * 16, "Frame.ray_base");
-_Static_assert(offsetof(cvk_frame_uniforms, patch_corners) == 128 + 24 * 16,
-               "Frame.patch_corners");
+_Static_assert(offsetof(cvk_frame_uniforms, ground_texture) == 128 + 24 * 16,
+               "Frame.ground_texture");
 #endif
 
 #undef CVK_FRAME_MAT4
