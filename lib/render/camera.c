@@ -462,19 +462,8 @@ static void light_matrix(cvk_view* v, uint32_t shadow_map_size, double spread)
     v->shadow_texel = 2.0 * half / shadow_map_size;
     v->shadow_depth = depth;
 
-    /* The map's square, sent along the light onto the ground. */
-    double elevation = dot(l, v->up);
-    v->patch_visible = elevation > 0.02;
-    static const double corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
-    for (int i = 0; v->patch_visible && i < 4; i++) {
-        double x = cx + corners[i][0] * half, y = cy + corners[i][1] * half;
-        double p[3];
-        for (int k = 0; k < 3; k++)
-            p[k] = x * right[k] + y * up[k] + top * l[k];
-        double above = dot(p, v->up) - v->ground_height;
-        for (int k = 0; k < 3; k++)
-            v->patch[i][k] = p[k] - l[k] * above / elevation;
-    }
+    /* A shadow can fall on the ground. */
+    v->key_above_ground = dot(l, v->up) > 0.02;
 }
 
 void cvk_view_resolve(const cvk_render_desc* desc, const cvk_build* build, const double gravity[3],

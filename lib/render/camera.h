@@ -31,9 +31,7 @@ typedef struct cvk_view {
     double ground_axes[2][3];          /* along the ground, 1 / ground_tile long: checker space */
     double fog_start, fog_end;         /* depth along the view where the ground fades into the
                                           background, m */
-    bool patch_visible;                /* the key light is above the ground */
-    double patch[4][3];                /* the ground under the shadow map (triangle strip order):
-                                          the only ground a shadow can fall on */
+    bool key_above_ground;                /* the key light is above the ground */
     cvk_box reach;                     /* where the cloths can go, and the colliders near them */
 } cvk_view;
 

@@ -266,7 +266,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
          {false, false, rd->desc.samples, false}, false, false},
         {"composite pass (shadows and occlusion)", CVK_SHADER_COMPOSITE_RECT_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {false, rd->view.patch_visible, rd->desc.samples, rd->desc.ao}, false,
+         VK_COMPARE_OP_ALWAYS, false, 1, {false, rd->view.key_above_ground, rd->desc.samples, rd->desc.ao}, false,
          false},
         /* The colliders: shaded like the cloth (lit_cloth.frag with COLLIDER), posed in the
            vertex shader. */
