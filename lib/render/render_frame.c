@@ -180,7 +180,7 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     /* First the rectangle where a shadow can fall on the ground or occlusion darken anything,
        reading the shadow map and the occlusion and marking its pixels; then everything else,
        which skips them. */
-    if ((rd->desc.ground && rd->view.key_above_ground) || rd->desc.ao) {
+    if (cvk_render_rect_drawn(rd)) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->rect_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);
     }

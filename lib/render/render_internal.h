@@ -133,7 +133,14 @@ static inline uint32_t cvk_render_half(uint32_t pixels)
     return (pixels + 1u) / 2u;
 }
 
-/* The graphics pipelines: shadow, cloth, background and ground patch, and with colliders to
+/* Whether the composite pass draws the occupied rectangle (shaders/render/occupied.glsl) apart:
+   with shadows on the ground or ambient occlusion. */
+static inline bool cvk_render_rect_drawn(const cvk_renderer* rd)
+{
+    return (rd->desc.ground && rd->view.key_above_ground) || rd->desc.ao;
+}
+
+/* The graphics pipelines: shadow, cloth, background and the occupied rectangle, and with colliders to
    draw the colliders' shadow and lit pipelines. */
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error);
 

@@ -260,10 +260,11 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         {"cloth pass", lit_vert, lit_frag, cloth_attributes, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, rd->cloth_pass, w, h, rd->samples, true, VK_COMPARE_OP_GREATER_OR_EQUAL,
          false, 0, {rd->desc.ground, textured, true}, false, rd->desc.smooth > 1},
-        /* The image outside the occupied rectangle: nothing there is shadowed or occluded. */
+        /* The image outside the occupied rectangle, where it is drawn: nothing there is shadowed,
+           occluded or drawn by the cloth pass. */
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
-         {false, false, rd->desc.samples, false}, false, false},
+         {cvk_render_rect_drawn(rd), false, rd->desc.samples, false}, false, false},
         {"composite pass (shadows and occlusion)", CVK_SHADER_COMPOSITE_RECT_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
          VK_COMPARE_OP_ALWAYS, false, 1, {false, rd->view.key_above_ground, rd->desc.samples, rd->desc.ao}, false,

@@ -8,6 +8,9 @@
 #include "render/frame.glsl"
 #include "render/lighting.glsl"
 
+// Outside the occupied rectangle (composite.vert), where the cloth pass drew nothing: its
+// samples are not read.
+layout(constant_id = 0) const bool BARE = false;
 layout(constant_id = 1) const bool SHADOWED = false;
 layout(constant_id = 2) const int SAMPLES = 4;
 // The ambient occlusion pass ran (render.ao): darken by what it found.
@@ -120,17 +123,19 @@ void main()
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     // Samples hold the square root of half the linear light (lit_cloth.frag): squared and
     // doubled, then averaged.
-#ifdef SINGLE_SAMPLE
-    vec4 over = texelFetch(cloth, pixel, 0);
-    over.rgb *= 2.0 * over.rgb;
-#else
     vec4 over = vec4(0.0);
-    for (int s = 0; s < SAMPLES; s++) {
-        vec4 c = texelFetch(cloth, pixel, s);
-        over += vec4(2.0 * c.rgb * c.rgb, c.a);
-    }
-    over /= float(SAMPLES);
+    if (!BARE) {
+#ifdef SINGLE_SAMPLE
+        over = texelFetch(cloth, pixel, 0);
+        over.rgb *= 2.0 * over.rgb;
+#else
+        for (int s = 0; s < SAMPLES; s++) {
+            vec4 c = texelFetch(cloth, pixel, s);
+            over += vec4(2.0 * c.rgb * c.rgb, c.a);
+        }
+        over /= float(SAMPLES);
 #endif
+    }
     // The cloth pass cleared to transparent: `over` is premultiplied by its coverage.
     color = vec4(over.rgb + (1.0 - over.a) * background(gl_FragCoord.xy), 1.0);
     if (OCCLUDED)
