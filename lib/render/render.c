@@ -163,10 +163,12 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
         r = cvk_gpu_image_create(ctx, DEPTH_FORMAT, w, h, rd->samples,
                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                  VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->cloth_depth, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_gpu_image_create(ctx, OCCLUSION_FORMAT, cvk_render_half(w), cvk_render_half(h), VK_SAMPLE_COUNT_1_BIT,
+    uint32_t ow = cvk_render_occlusion_size(&rd->desc, 0), oh = cvk_render_occlusion_size(&rd->desc, 1);
+    for (int i = 0; i < 2 && r == CVK_SUCCESS; i++)
+        r = cvk_gpu_image_create(ctx, OCCLUSION_FORMAT, ow, oh, VK_SAMPLE_COUNT_1_BIT,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                                 VK_IMAGE_ASPECT_COLOR_BIT, "ambient occlusion image", &rd->occlusion, error);
+                                 VK_IMAGE_ASPECT_COLOR_BIT, i ? "blurred ambient occlusion image" : "ambient occlusion image",
+                                 i ? &rd->occlusion : &rd->occlusion_raw, error);
     if (r == CVK_SUCCESS)
         r = cvk_gpu_image_create(ctx, COLOR_FORMAT, w, h, VK_SAMPLE_COUNT_1_BIT,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
@@ -340,17 +342,22 @@ static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
         .pColorAttachments = &ref,
     };
     VkSubpassDependency dependencies[] = {
-        /* The previous frame's composite pass has read the image before it is drawn again. */
+        /* The previous reader (the blur, or the previous frame's composite pass) has read the
+           image before it is drawn again. */
         {VK_SUBPASS_EXTERNAL, 0, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
          0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, 0},
-        /* The composite pass reads it. */
+        /* The blur pass, then the composite pass, reads it. */
         {0, VK_SUBPASS_EXTERNAL, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
-    return create_single_pass(rd, &color, &subpass, dependencies, rd->occlusion.view,
-                              cvk_render_half(rd->desc.size[0]), cvk_render_half(rd->desc.size[1]),
-                              &rd->occlusion_pass, &rd->occlusion_framebuffer, "ambient occlusion pass",
-                              error);
+    /* The occlusion into its raw image, then the blur into the one the composite reads. */
+    uint32_t w = cvk_render_occlusion_size(&rd->desc, 0), h = cvk_render_occlusion_size(&rd->desc, 1);
+    cvk_result r = create_single_pass(rd, &color, &subpass, dependencies, rd->occlusion_raw.view, w, h,
+                                      &rd->occlusion_pass, &rd->occlusion_framebuffer, "ambient occlusion pass", error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return create_single_pass(rd, &color, &subpass, dependencies, rd->occlusion.view, w, h, &rd->blur_pass,
+                              &rd->blur_framebuffer, "ambient occlusion blur pass", error);
 }
 
 /* One sample per pixel: every pixel is drawn, so only the stencil is cleared. */
@@ -483,7 +490,7 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->ao_size[0] = (float)d->size[0];
     u->ao_size[1] = (float)d->size[1];
     u->ao_size[2] = (float)AO_STRENGTH;
-    u->ao_size[3] = d->ao ? 1.0f : 0.0f;
+    u->ao_size[3] = (float)cvk_render_occlusion_scale(d);
     u->post[0] = d->tone_map ? 1.0f : 0.0f;
 }
 
@@ -563,9 +570,9 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
 
     /* Binding 3: the cloth's texture, one set per cloth with a texture or a normal map (set 0:
        the white stand-in); 4: the shadow map's raw depths; 5: the cloth pass's depths; 6: the
-       ambient occlusion image; 7: the cloth's normal map (or the flat stand-in); 8: the occupied
-       box (render_occupied.c). The colliders' poses (binding 9) only where there are colliders
-       to draw. */
+       blurred ambient occlusion image; 7: the cloth's normal map (or the flat stand-in); 8: the
+       occupied box (render_occupied.c); 9: the ambient occlusion image before the blur. The
+       colliders' poses (binding 10) only where there are colliders to draw. */
     static const cvk_binding bindings[] = {
         {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
          VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -577,9 +584,10 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
+        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_FRAGMENT_BIT},
         {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
     };
-    uint32_t binding_count = rd->colliders.draw_count > 0 ? 10 : 9;
+    uint32_t binding_count = rd->colliders.draw_count > 0 ? 11 : 10;
     r = cvk_descriptors_create(rd->context, bindings, binding_count, rd->textures.set_count,
                                CVK_RENDER_PUSH_STAGES, sizeof(cvk_render_material), &rd->descriptors, error);
     if (r != CVK_SUCCESS)
@@ -599,6 +607,7 @@ static cvk_result create_descriptors(cvk_renderer* rd, cvk_error* error)
             {.image = rd->desc.ao ? rd->occlusion.view : rd->textures.images[0].view, .sampler = rd->cloth_sampler},
             {.image = rd->textures.images[rd->textures.normal_of_set[i]].view, .sampler = rd->textures.sampler},
             {.buffer = &rd->occupied.box},
+            {.image = rd->desc.ao ? rd->occlusion_raw.view : rd->textures.images[0].view, .sampler = rd->cloth_sampler},
             {.buffer = &rd->mesh->sim->collide->poses},
         };
         cvk_descriptors_write(rd->context, &rd->descriptors, i, res);
@@ -721,7 +730,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
                               rd->rect_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
                               rd->wireframe_pipeline,  rd->occlusion_pipeline,      rd->slab_pipelines[0],
-                              rd->slab_pipelines[1],   rd->collider_closed_pipeline};
+                              rd->slab_pipelines[1],   rd->collider_closed_pipeline, rd->blur_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)
         if (pipelines[i])
             vkDestroyPipeline(dev, pipelines[i], NULL);
@@ -733,16 +742,16 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         if (samplers[i])
             vkDestroySampler(dev, samplers[i], NULL);
     VkFramebuffer framebuffers[] = {rd->shadow_framebuffer, rd->cloth_framebuffer, rd->occlusion_framebuffer,
-                                    rd->composite_framebuffer};
+                                    rd->blur_framebuffer, rd->composite_framebuffer};
     for (size_t i = 0; i < sizeof framebuffers / sizeof framebuffers[0]; i++)
         if (framebuffers[i])
             vkDestroyFramebuffer(dev, framebuffers[i], NULL);
-    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->occlusion_pass, rd->composite_pass};
+    VkRenderPass passes[] = {rd->shadow_pass, rd->cloth_pass, rd->occlusion_pass, rd->blur_pass, rd->composite_pass};
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++)
         if (passes[i])
             vkDestroyRenderPass(dev, passes[i], NULL);
-    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth, &rd->cloth_depth, &rd->occlusion, &rd->image,
-                               &rd->stencil};
+    cvk_gpu_image* images[] = {&rd->shadow_map, &rd->cloth,  &rd->cloth_depth, &rd->occlusion,
+                               &rd->occlusion_raw, &rd->image, &rd->stencil};
     for (size_t i = 0; i < sizeof images / sizeof images[0]; i++)
         cvk_gpu_image_destroy(rd->context, images[i]);
     cvk_buffer_destroy(rd->context, &rd->uniforms);

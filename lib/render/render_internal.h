@@ -94,9 +94,12 @@ struct cvk_renderer {
                                         vertices (cvk_render_vertex_lit) */
 
     cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
-    cvk_gpu_image occlusion;         /* half resolution: light left, depth along the view */
-    VkRenderPass shadow_pass, cloth_pass, occlusion_pass, composite_pass;
-    VkFramebuffer shadow_framebuffer, cloth_framebuffer, occlusion_framebuffer, composite_framebuffer;
+    cvk_gpu_image occlusion_raw;     /* the ambient occlusion pass's (cvk_render_occlusion_size):
+                                        light left, depth along the view */
+    cvk_gpu_image occlusion;         /* the same blurred (ao_blur.frag), which the composite reads */
+    VkRenderPass shadow_pass, cloth_pass, occlusion_pass, blur_pass, composite_pass;
+    VkFramebuffer shadow_framebuffer, cloth_framebuffer, occlusion_framebuffer, blur_framebuffer,
+        composite_framebuffer;
     VkSampler shadow_sampler, shadow_depth_sampler, cloth_sampler;
     VkFilter shadow_filter;          /* the shadow map's comparisons: linear where the device
                                         filters its format, else nearest */
@@ -110,7 +113,7 @@ struct cvk_renderer {
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline collider_closed_pipeline; /* collider_pipeline culling back faces: closed colliders */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
-    VkPipeline occlusion_pipeline;   /* none without render.ao */
+    VkPipeline occlusion_pipeline, blur_pipeline; /* none without render.ao */
     VkPipeline slab_pipelines[2];    /* the cloth pass culling back faces (a slab's front face and
                                         its rim), then front faces (its back face): none
                                         without a cloth with a material thickness */
@@ -127,10 +130,20 @@ struct cvk_renderer {
    occlusion pass, the composite pass and the copy. */
 enum { CVK_RENDER_QUERY_COUNT = 7 };
 
-/* The ambient occlusion image's size: half the image's, rounded up. */
-static inline uint32_t cvk_render_half(uint32_t pixels)
+/* Image pixels a side of an ambient occlusion texel covers: 2, or more for an image more than
+   about 320 texels wide (4 at 1280 pixels), since the occlusion's radius is a share of what is
+   framed, not a number of pixels. */
+static inline uint32_t cvk_render_occlusion_scale(const cvk_render_desc* desc)
 {
-    return (pixels + 1u) / 2u;
+    uint32_t scale = (desc->size[0] + 160u) / 320u;
+    return scale < 2u ? 2u : scale;
+}
+
+/* The ambient occlusion images' size along axis k: the image's over the scale, rounded up. */
+static inline uint32_t cvk_render_occlusion_size(const cvk_render_desc* desc, int k)
+{
+    uint32_t scale = cvk_render_occlusion_scale(desc);
+    return (desc->size[k] + scale - 1u) / scale;
 }
 
 /* Whether the composite pass draws the occupied rectangle (shaders/render/occupied.glsl) apart:

@@ -235,6 +235,23 @@ static cvk_result create_collider_closed(cvk_renderer* rd, const pipeline_recipe
     return create_culled(rd, &p, VK_CULL_MODE_BACK_BIT, &rd->collider_closed_pipeline, error);
 }
 
+/* The ambient occlusion pass's pipeline and its blur's, over the occupied rectangle (ao.vert). */
+static cvk_result create_occlusion_pipelines(cvk_renderer* rd, bool single, cvk_error* error)
+{
+    uint32_t w = cvk_render_occlusion_size(&rd->desc, 0), h = cvk_render_occlusion_size(&rd->desc, 1);
+    pipeline_recipe p = {
+        "ambient occlusion pass", CVK_SHADER_AO_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG, 0, false,
+        VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->occlusion_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
+        VK_COMPARE_OP_ALWAYS, false, 0, {0}, false, false};
+    cvk_result r = create_pipeline(rd, &p, &rd->occlusion_pipeline, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    p.what = "ambient occlusion blur pass";
+    p.fragment = CVK_SHADER_AO_BLUR_FRAG;
+    p.pass = rd->blur_pass;
+    return create_pipeline(rd, &p, &rd->blur_pipeline, error);
+}
+
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
 {
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
@@ -286,15 +303,10 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         r = create_pipeline(rd, &recipes[i], outs[i], error);
     if (r != CVK_SUCCESS)
         return r;
-    if (rd->desc.ao) {
-        const pipeline_recipe occlusion = {
-            "ambient occlusion pass", CVK_SHADER_AO_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG,
-            0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->occlusion_pass, cvk_render_half(w), cvk_render_half(h),
-            VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, 0, {0}, false, false};
-        r = create_pipeline(rd, &occlusion, &rd->occlusion_pipeline, error);
-        if (r != CVK_SUCCESS)
-            return r;
-    }
+    if (rd->desc.ao && r == CVK_SUCCESS)
+        r = create_occlusion_pipelines(rd, single, error);
+    if (r != CVK_SUCCESS)
+        return r;
     const cvk_build* b = &rd->mesh->sim->build;
     bool slab = false;
     for (uint32_t c = 0; c < b->cloth_count; c++)

@@ -1,12 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Ambient occlusion pass, at half resolution: for the image pixel at the top left of each 2 x 2
-// block, how much of the hemisphere over its surface nearby geometry hides (screen space: the
+// Ambient occlusion pass, at a fraction of the resolution (frame.ao_size.w pixels a texel side:
+// 2, or 4 at 1280 pixels wide): for the image pixel at the top left of each block, how much of
+// the hemisphere over its surface nearby geometry hides (screen space: the
 // cloth pass's depths, and the ground found from each pixel's ray as the composite pass finds
 // it). Writes x: the light left (1 = open), y: the pixel's depth along the view (0: sky).
-// Taps lie on a fixed spiral turned by a quarter turn per pixel of a 2 x 2 pattern; the
-// composite pass averages 2 x 2 of these texels where their depths agree with its pixel's,
-// which blends the four turns into one smooth result: the same value every frame.
+// Taps lie on a fixed spiral turned by a quarter turn per texel of a 2 x 2 pattern; the blur
+// (ao_blur.frag) averages 4 x 4 of these texels where their depths agree, which blends the four
+// turns into one smooth result, the same every frame.
 #include "render/frame.glsl"
 
 #ifdef SINGLE_SAMPLE
@@ -59,7 +60,7 @@ vec3 position(ivec2 p, float t)
 void main()
 {
     ivec2 size = ivec2(frame.ao_size.xy);
-    ivec2 p = min(ivec2(gl_FragCoord.xy) * 2, size - 1);
+    ivec2 p = min(ivec2(gl_FragCoord.xy) * int(frame.ao_size.w), size - 1);
     bool drawn;
     float t = view_depth(p, drawn);
     if (t == 0.0) {

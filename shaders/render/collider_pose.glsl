@@ -4,7 +4,7 @@
 // the simulation moved them, with no host write.
 #include "shared/layout.h"
 
-layout(std430, set = 0, binding = 9) readonly buffer Poses {
+layout(std430, set = 0, binding = 10) readonly buffer Poses {
     cvk_gpu_pose poses[];
 };
 

@@ -25,7 +25,7 @@ layout(set = 0, binding = 5) uniform sampler2D scene_depth;
 layout(set = 0, binding = 2) uniform sampler2DMS cloth;
 layout(set = 0, binding = 5) uniform sampler2DMS scene_depth;
 #endif
-// The ambient occlusion pass's half-resolution result: x light left, y depth along the view.
+// The ambient occlusion, blurred (ao_blur.frag): x light left, y depth along the view.
 layout(set = 0, binding = 6) uniform sampler2D occlusion_map;
 // A textured ground's texture (the plane collider's set; frame.post.y says whether it has one).
 layout(set = 0, binding = 3) uniform sampler2D ground_map;
@@ -48,9 +48,9 @@ vec3 ray(vec2 pixel)
     return frame.ray_base.xyz + pixel.x * frame.ray_dx.xyz + pixel.y * frame.ray_dy.xyz;
 }
 
-// Ambient occlusion at this pixel: the mean of the 2 x 2 half-resolution texels around it (the
-// four turns of the pass's pattern) whose depth is within 3 % of the pixel's own, so the
-// occlusion of one surface does not bleed onto another behind it.
+// Ambient occlusion at this pixel: the mean of the 2 x 2 texels of the blurred occlusion around
+// it whose depth is within 3 % of the pixel's own, so the occlusion of one surface does not
+// bleed onto another behind it.
 float occlusion(ivec2 pixel)
 {
     float d = texelFetch(scene_depth, pixel, 0).r;
@@ -65,7 +65,7 @@ float occlusion(ivec2 pixel)
             return 1.0;
         t = height / -toward;
     }
-    vec2 uv = (vec2(pixel) + 0.5) * 0.5 / vec2(textureSize(occlusion_map, 0));
+    vec2 uv = (vec2(pixel) + 0.5) / (frame.ao_size.w * vec2(textureSize(occlusion_map, 0)));
     vec4 light = textureGather(occlusion_map, uv, 0);
     vec4 depth = textureGather(occlusion_map, uv, 1);
     vec4 w = max(1.0 - abs(depth - t) / (0.03 * t), 0.0);
