@@ -128,8 +128,9 @@ cvk_result cvk_renderer_fit(cvk_renderer* rd, const float lo[3], const float hi[
 }
 
 /* Distance from p to the box (0 inside it). */
-static double box_distance(const cvk_box* box, const double p[3])
+static double box_distance(const double p[3], const void* to)
 {
+    const cvk_box* box = to;
     double d2 = 0.0;
     for (int k = 0; k < 3; k++) {
         double out = fmax(fmax(box->lo[k] - p[k], p[k] - box->hi[k]), 0.0);
@@ -143,26 +144,25 @@ static double box_distance(const cvk_box* box, const double p[3])
 /* How much longer than at rest a drawn triangle edge is taken to be. */
 #define EDGE_STRETCH 1.1
 
-/* The nearest the eye comes to the reach: from the resolved view, or every point of the
-   keyframes' straight paths (sampled, less half the samples' spacing). */
-static double eye_reach_distance(const cvk_renderer* rd)
+double cvk_render_eye_least(const cvk_renderer* rd, const double eye[3],
+                            double (*distance)(const double eye[3], const void* to), const void* to)
 {
     const cvk_motion* path = &rd->eye_path;
     if (path->keyframe_count == 0)
-        return box_distance(&rd->view.reach, rd->view.eye);
+        return distance(eye, to);
     double least = INFINITY;
     for (uint32_t i = 0; i < path->keyframe_count; i++) {
         const float* from = path->keyframes[i].translation;
-        const float* to = path->keyframes[i + 1 < path->keyframe_count ? i + 1 : i].translation;
+        const float* next = path->keyframes[i + 1 < path->keyframe_count ? i + 1 : i].translation;
         double step = 0.0;
         for (int k = 0; k < 3; k++)
-            step += ((double)to[k] - from[k]) * ((double)to[k] - from[k]);
+            step += ((double)next[k] - from[k]) * ((double)next[k] - from[k]);
         step = sqrt(step) / EYE_PATH_SAMPLES;
         for (int j = 0; j <= EYE_PATH_SAMPLES; j++) {
-            double f = (double)j / EYE_PATH_SAMPLES, eye[3];
+            double f = (double)j / EYE_PATH_SAMPLES, at[3];
             for (int k = 0; k < 3; k++)
-                eye[k] = from[k] + f * ((double)to[k] - from[k]);
-            least = fmin(least, box_distance(&rd->view.reach, eye) - 0.5 * step);
+                at[k] = from[k] + f * ((double)next[k] - from[k]);
+            least = fmin(least, distance(at, to) - 0.5 * step);
         }
     }
     return least;
@@ -193,7 +193,7 @@ bool cvk_render_vertex_lit(const cvk_renderer* rd)
         }
     /* the angle a pixel spans at the middle of the picture */
     double pixel = 2.0 * tan(0.5 * d->fov_y * 3.14159265358979323846 / 180.0) / d->size[1];
-    double nearest = eye_reach_distance(rd);
+    double nearest = cvk_render_eye_least(rd, rd->view.eye, box_distance, &rd->view.reach);
     if (!(nearest > 0.0) || !(pixel > 0.0))
         return false;
     return EDGE_STRETCH * longest / (nearest * pixel) <= d->vertex_lighting;

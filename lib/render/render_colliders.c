@@ -191,45 +191,28 @@ static double point_segment_distance(const double p[3], const double a[3], const
     return sqrt(d2);
 }
 
-/* Samples of each straight stretch of the camera's path between keyframes. */
-#define EYE_PATH_SAMPLES 16
+/* A sphere's (a point) or a capsule's axis. */
+typedef struct axis_segment {
+    double a[3], b[3];
+} axis_segment;
 
-/* The least distance from the camera's eye to the axis of a sphere (a point) or a capsule
-   (a segment) under `pose`: the scene's eye, or with camera keyframes every point of the
-   straight paths between them (sampled; less half the samples' spacing, so never more than the
-   true least). */
+static double axis_distance(const double eye[3], const void* to)
+{
+    const axis_segment* axis = to;
+    return point_segment_distance(eye, axis->a, axis->b);
+}
+
+/* The least distance from the camera's eye (the scene's, or along its keyframes' path) to the
+   axis of a sphere or a capsule under `pose`. */
 static double eye_distance(const cvk_renderer* rd, const cvk_collider_desc* c, const cvk_pose* pose)
 {
-    const float* ends[2] = {c->type == CVK_COLLIDER_CAPSULE ? c->a : c->center,
-                            c->type == CVK_COLLIDER_CAPSULE ? c->b : c->center};
-    double axis[2][3];
-    for (int e = 0; e < 2; e++) {
-        float p[3];
-        cvk_pose_apply(pose, ends[e], p);
-        for (int k = 0; k < 3; k++)
-            axis[e][k] = p[k];
-    }
-    const cvk_motion* path = &rd->eye_path;
-    if (path->keyframe_count == 0) {
-        double eye[3] = {rd->desc.eye[0], rd->desc.eye[1], rd->desc.eye[2]};
-        return point_segment_distance(eye, axis[0], axis[1]);
-    }
-    double least = INFINITY;
-    for (uint32_t i = 0; i < path->keyframe_count; i++) {
-        const float* from = path->keyframes[i].translation;
-        const float* to = path->keyframes[i + 1 < path->keyframe_count ? i + 1 : i].translation;
-        double step = 0.0;
-        for (int k = 0; k < 3; k++)
-            step += ((double)to[k] - from[k]) * ((double)to[k] - from[k]);
-        step = sqrt(step) / EYE_PATH_SAMPLES;
-        for (int j = 0; j <= EYE_PATH_SAMPLES; j++) {
-            double f = (double)j / EYE_PATH_SAMPLES, eye[3];
-            for (int k = 0; k < 3; k++)
-                eye[k] = from[k] + f * ((double)to[k] - from[k]);
-            least = fmin(least, point_segment_distance(eye, axis[0], axis[1]) - 0.5 * step);
-        }
-    }
-    return least;
+    bool capsule = c->type == CVK_COLLIDER_CAPSULE;
+    float a[3], b[3];
+    cvk_pose_apply(pose, capsule ? c->a : c->center, a);
+    cvk_pose_apply(pose, capsule ? c->b : c->center, b);
+    axis_segment axis = {{a[0], a[1], a[2]}, {b[0], b[1], b[2]}};
+    double eye[3] = {rd->desc.eye[0], rd->desc.eye[1], rd->desc.eye[2]};
+    return cvk_render_eye_least(rd, eye, axis_distance, &axis);
 }
 
 /* The most pixels a sphere's or a capsule's radius can span in the picture: from the nearest

@@ -202,6 +202,12 @@ void cvk_render_write_uniforms(cvk_renderer* rd);
    device) and the corners of the colliders' boxes. */
 cvk_result cvk_render_camera_fit_particles(cvk_renderer* rd, cvk_error* error);
 
+/* The least of `distance` (which changes by at most as much as the eye moves) over where the
+   camera's eye is: at `eye`, or with camera keyframes on the straight paths between them
+   (sampled, less half the samples' spacing, so never more than the true least). */
+double cvk_render_eye_least(const cvk_renderer* rd, const double eye[3],
+                            double (*distance)(const double eye[3], const void* to), const void* to);
+
 /* render.vertex_lighting: whether every cloth triangle's longest edge (its rest length, 10 % more
    for stretch) spans at most that many pixels at the nearest the eye comes to the reach (the
    resolved view's eye, or every point of the camera keyframes' path), with no normal map and no
