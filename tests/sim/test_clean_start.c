@@ -178,9 +178,11 @@ static void notes(cvk_context* ctx)
           "a NULL simulation has notes");
 }
 
-/* Positions after `frames` frames (NULL on failure, checked). */
-static float* run(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t frames, const char** note)
+/* Positions after `frames` frames (NULL on failure, checked); the simulation's last note, or
+   "" with none, in note (size bytes, cut to fit). */
+static float* run(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t frames, char* note, size_t size)
 {
+    note[0] = '\0';
     cvk_sim* sim = create(ctx, scene, NULL);
     if (!sim)
         return NULL;
@@ -189,11 +191,8 @@ static float* run(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t frames
     float* xyz = malloc(3 * n * sizeof *xyz);
     CHECK(xyz && cvk_sim_step(sim, frames, &err) == CVK_SUCCESS &&
           cvk_sim_read_positions(sim, xyz, n, &err) == CVK_SUCCESS, "stepping failed");
-    static char text[256];
-    text[0] = '\0';
     if (cvk_sim_note_count(sim) > 0)
-        snprintf(text, sizeof text, "%s", cvk_sim_note(sim, cvk_sim_note_count(sim) - 1));
-    *note = text;
+        snprintf(note, size, "%s", cvk_sim_note(sim, cvk_sim_note_count(sim) - 1));
     cvk_sim_destroy(sim);
     return xyz;
 }
@@ -224,8 +223,8 @@ static void split_for_fast_colliders(cvk_context* ctx)
     ball.motion.keyframe_count = 2;
     scene.colliders = &ball;
     scene.collider_count = 1;
-    const char* note;
-    float* split = run(ctx, &scene, 3, &note);
+    char note[256];
+    float* split = run(ctx, &scene, 3, note, sizeof note);
     CHECK(strcmp(note, "substeps split: 8 substeps of 2 ms a frame run as 16 of 1 ms, so that "
                        "collider 0 \"ball\" (10 m/s) moves at most 0.2 of the thickness a "
                        "substep") == 0, "the note is %s", note);
@@ -233,14 +232,14 @@ static void split_for_fast_colliders(cvk_context* ctx)
     fine.dt = 0.001f;
     fine.substeps = 16;
     fine.damping = (float)(1.0 - sqrt(1.0 - (double)0.004f));
-    float* direct = run(ctx, &fine, 3, &note);
+    float* direct = run(ctx, &fine, 3, note, sizeof note);
     CHECK(note[0] == '\0', "a note without a split: %s", note);
     CHECK(split && direct && memcmp(split, direct, 3 * 121 * sizeof(float)) == 0,
           "the split substeps are not the scene written with them");
     free(split);
     free(direct);
     keys[1].time = 0.25f; /* 8 m/s */
-    free(run(ctx, &scene, 1, &note));
+    free(run(ctx, &scene, 1, note, sizeof note));
     CHECK(note[0] == '\0', "a ball at 0.32 thicknesses a substep split them: %s", note);
 
     cvk_keyframe turn[2] = {{.time = 0.0f, .rotation = {1, 0, 0, 0}},
@@ -255,7 +254,7 @@ static void split_for_fast_colliders(cvk_context* ctx)
     scene.colliders = &box;
     scene.dt = 0.01f;
     scene.substeps = 1;
-    free(run(ctx, &scene, 1, &note));
+    free(run(ctx, &scene, 1, note, sizeof note));
     CHECK(strcmp(note, "substeps split: 1 substeps of 10 ms a frame run as 2 of 5 ms, so that "
                        "collider 0 (2.03 m/s) moves at most 0.2 of the thickness a substep") == 0,
           "the note is %s", note);
