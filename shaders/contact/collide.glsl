@@ -346,14 +346,23 @@ vec3 apply_friction(vec3 l0, vec3 l1, vec3 n, float depth, float mu, float mu_s)
     return l1 - tangential * min(1.0, mu * depth / t);
 }
 
+// The path of a point that starts the substep at x0 and would end it at x0 + u, in the frame
+// of a collider posed by `pose`: its start l0 (under the start pose) and its end l1 (under
+// the end pose). The collider's motion is in l1 - l0.
+void local_path(cvk_gpu_pose pose, vec3 x0, vec3 u, out vec3 l0, out vec3 l1)
+{
+    l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
+    l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+}
+
 // Contact with collider k for a point that starts the substep at x0 and would end it at
 // x0 + u, kept r off its surface: returns the corrected displacement.
 vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
 {
     cvk_gpu_collider c = collider_shape(k);
     cvk_gpu_pose pose = collider_pose(k);
-    vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
-    vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+    vec3 l0, l1;
+    local_path(pose, x0, u, l0, l1);
     vec3 hit, n;
     bool touch;
     if (COLLIDER_TYPE_BITS == (1u << CVK_COLLIDER_PLANE_ID) || c.type == CVK_COLLIDER_PLANE_ID) {

@@ -36,8 +36,8 @@ void main()
             cvk_gpu_pose pose = collider_pose(k);
             // Where the particle is in the collider's frame now and, at its present
             // velocity, at the end of the substep (as collide_colliders measures motion).
-            vec3 l0 = quat_rotate_inverse(pose.rotation0, xp - pose.translation0.xyz);
-            vec3 l1 = quat_rotate_inverse(pose.rotation1, xp + h * vp - pose.translation1.xyz);
+            vec3 l0, l1;
+            local_path(pose, xp, h * vp, l0, l1);
             float g = shape_distance(c, l0) - thickness;
             // Distances are 1-Lipschitz: a particle farther than its move cannot end within
             // the slack, and its normal (six field samples on a mesh) is not needed.

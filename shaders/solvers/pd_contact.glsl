@@ -32,9 +32,8 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
         // In the funnel's frame every point of a midpoint's path is within max(|m0 - x0|,
         // |m1 - x1|) of p's path, and p's path within |l1 - l0| of l0: an edge whose bound
         // keeps it beyond r is not traced (a trace costs up to 32 of the funnel's distances).
-        cvk_gpu_pose pose = collider_pose(k);
-        vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
-        vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+        vec3 l0, l1;
+        local_path(collider_pose(k), x0, u, l0, l1);
         float slack = shape_distance(collider_shape(k), l0) - length(l1 - l0) - r;
         uint o_begin = contact_incident(p), o_end = contact_incident(p + 1u);
         for (uint o = o_begin; o < o_end; o++) {
@@ -72,9 +71,8 @@ bool shells_clear(uint p, vec3 x0, vec3 u)
         cvk_gpu_collider c = collider_shape(k);
         if (c.type != CVK_COLLIDER_FUNNEL_ID)
             continue;
-        cvk_gpu_pose pose = collider_pose(k);
-        vec3 l0 = quat_rotate_inverse(pose.rotation0, x0 - pose.translation0.xyz);
-        vec3 l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
+        vec3 l0, l1;
+        local_path(collider_pose(k), x0, u, l0, l1);
         float r = min(0.25 * contact_u.thickness, 0.5 * shape_distance(c, l0));
         vec3 hit, n;
         if (!(r > 0.0) || trace_segment(c, l0, l1, r, hit, n))
