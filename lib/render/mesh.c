@@ -9,6 +9,7 @@
 #include "core/cookie.h"
 #include "core/error.h"
 #include "core/shaders.h"
+#include "render/edge_key.h"
 #include "render/split.h"
 
 /* Mirrors the bindings of shaders/render/mesh.comp. */
@@ -138,24 +139,6 @@ static cvk_result make_adjacency(cvk_mesh* m, tables* t, cvk_error* error)
     return CVK_SUCCESS;
 }
 
-/* One triangle's edge, keyed by its two vertices, lower first; slot: its place in the
-   triangle (from vertex slot to the next); other: from the other split's row. */
-typedef struct half_edge {
-    uint32_t lo, hi, triangle, slot, other;
-} half_edge;
-
-static int compare_half_edges(const void* pa, const void* pb)
-{
-    const half_edge *a = pa, *b = pb;
-    if (a->lo != b->lo)
-        return a->lo < b->lo ? -1 : 1;
-    if (a->hi != b->hi)
-        return a->hi < b->hi ? -1 : 1;
-    if (a->other != b->other)
-        return a->other < b->other ? -1 : 1;
-    return a->triangle < b->triangle ? -1 : a->triangle > b->triangle;
-}
-
 /* The rows of the other splits (lib/render/split.h) in the tables' second half, and in row t's
    fourth entries the two diagonals' springs. */
 static cvk_result make_other_splits(const cvk_mesh* m, tables* t, cvk_error* error)
@@ -200,7 +183,7 @@ static bool may_tear(const tables* t, uint32_t triangle)
    (those whose row names it, then those whose other split's row does; at most 4, and the first
    two where only the rows name it). `half_edges` has room for the cloth's 6 per triangle. */
 static void add_rim_edges(const cvk_cloth_range* cloth, uint32_t triangle_count, const tables* t,
-                          half_edge* half_edges, uint32_t* edges, uint32_t* ends, uint32_t* count)
+                          cvk_edge_key* half_edges, uint32_t* edges, uint32_t* ends, uint32_t* count)
 {
     uint32_t n = 0;
     size_t other = triangle_count;
@@ -208,20 +191,20 @@ static void add_rim_edges(const cvk_cloth_range* cloth, uint32_t triangle_count,
         for (uint32_t e = 0; e < 3; e++) {
             uint32_t a = t->triangle_vertices[4 * (size_t)tri + e];
             uint32_t b = t->triangle_vertices[4 * (size_t)tri + (e + 1) % 3];
-            half_edges[n++] = (half_edge){a < b ? a : b, a < b ? b : a, tri, e, 0};
+            half_edges[n++] = cvk_edge_key_of(a, b, tri, e, 0);
             if (t->triangle_springs[4 * (size_t)tri + 3] == UINT32_MAX)
                 continue;
             a = t->triangle_vertices[4 * (other + tri) + e];
             b = t->triangle_vertices[4 * (other + tri) + (e + 1) % 3];
-            half_edges[n++] = (half_edge){a < b ? a : b, a < b ? b : a, tri, e, 1};
+            half_edges[n++] = cvk_edge_key_of(a, b, tri, e, 1);
         }
-    qsort(half_edges, n, sizeof *half_edges, compare_half_edges);
+    cvk_sort_edge_keys(half_edges, n);
     float half_thickness = 0.5f * cloth->thickness;
     uint32_t bits;
     memcpy(&bits, &half_thickness, sizeof bits);
     for (uint32_t i = 0; i < n;) {
         uint32_t j = i + 1;
-        while (j < n && half_edges[j].lo == half_edges[i].lo && half_edges[j].hi == half_edges[i].hi)
+        while (j < n && cvk_same_edge(&half_edges[j], &half_edges[i]))
             j++;
         uint32_t own = 0, found = 0, candidates[4];
         bool tears = false;
@@ -239,7 +222,7 @@ static void add_rim_edges(const cvk_cloth_range* cloth, uint32_t triangle_count,
             found = 2; /* three or more triangles on an edge: the first two */
         if (own < 2 || tears) {
             uint32_t k = (*count)++;
-            const half_edge* first = &half_edges[i];
+            const cvk_edge_key* first = &half_edges[i];
             const uint32_t* row = &t->triangle_vertices[4 * ((first->other ? other : 0) + first->triangle)];
             uint32_t a = row[first->slot], b = row[(first->slot + 1) % 3];
             uint32_t entry[8] = {a, b, bits, 0, UINT32_MAX, UINT32_MAX, UINT32_MAX, UINT32_MAX};
@@ -261,7 +244,7 @@ static cvk_result make_particle_of(cvk_mesh* m, tables* t, cvk_error* error)
     const cvk_build* b = &m->sim->build;
     t->particle_of = malloc((m->vertex_count ? m->vertex_count : 1) * sizeof *t->particle_of);
     size_t n = 3 * (size_t)m->triangle_count;
-    half_edge* half_edges = t->tearable && n ? malloc(n * sizeof *half_edges) : NULL;
+    cvk_edge_key* half_edges = t->tearable && n ? malloc(n * sizeof *half_edges) : NULL;
     if (!t->particle_of || (t->tearable && n && !half_edges)) {
         free(half_edges);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the mesh's vertices");
@@ -274,14 +257,14 @@ static cvk_result make_particle_of(cvk_mesh* m, tables* t, cvk_error* error)
         for (uint32_t e = 0; e < 3; e++) {
             uint32_t a = t->triangle_vertices[4 * (size_t)tri + e];
             uint32_t c = t->triangle_vertices[4 * (size_t)tri + (e + 1) % 3];
-            half_edges[3 * (size_t)tri + e] = (half_edge){a < c ? a : c, a < c ? c : a, tri, e, 0};
+            half_edges[3 * (size_t)tri + e] = cvk_edge_key_of(a, c, tri, e, 0);
             if (may_tear(t, tri))
                 t->particle_of[a] &= ~CVK_MESH_HELD;
         }
-    qsort(half_edges, n, sizeof *half_edges, compare_half_edges);
+    cvk_sort_edge_keys(half_edges, n);
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
-        while (j < n && half_edges[j].lo == half_edges[i].lo && half_edges[j].hi == half_edges[i].hi)
+        while (j < n && cvk_same_edge(&half_edges[j], &half_edges[i]))
             j++;
         if (j - i != 2) {
             t->particle_of[half_edges[i].lo] |= CVK_MESH_HELD;
@@ -307,7 +290,7 @@ static cvk_result make_rim(cvk_mesh* m, tables* t, cvk_error* error)
     m->rims = calloc(b->cloth_count, sizeof *m->rims);
     t->rim_edges = calloc(8 * (most ? most : 1), sizeof(uint32_t));
     m->rim_ends = calloc(2 * (most ? most : 1), sizeof(uint32_t));
-    half_edge* half_edges = most ? malloc(6 * largest * sizeof *half_edges) : NULL;
+    cvk_edge_key* half_edges = most ? malloc(6 * largest * sizeof *half_edges) : NULL;
     bool failed = !m->rims || !t->rim_edges || !m->rim_ends || (most && !half_edges);
     if (!failed) {
         uint32_t count = 0;

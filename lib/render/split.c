@@ -5,49 +5,20 @@
 #include <string.h>
 
 #include "features/tear.h"
-
-/* One triangle's edge, keyed by its two vertices, lower first; slot: its place in the
-   triangle (from vertex slot to the next). */
-typedef struct edge_key {
-    uint32_t lo, hi, triangle, slot;
-} edge_key;
-
-static int compare_edge_keys(const void* pa, const void* pb)
-{
-    const edge_key *a = pa, *b = pb;
-    if (a->lo != b->lo)
-        return a->lo < b->lo ? -1 : 1;
-    if (a->hi != b->hi)
-        return a->hi < b->hi ? -1 : 1;
-    return a->triangle < b->triangle ? -1 : a->triangle > b->triangle;
-}
-
-/* By the ends alone: the search for the spring across a quad. */
-static int compare_ends(const void* pa, const void* pb)
-{
-    const edge_key *a = pa, *b = pb;
-    if (a->lo != b->lo)
-        return a->lo < b->lo ? -1 : 1;
-    return a->hi < b->hi ? -1 : a->hi > b->hi;
-}
-
-static bool same_edge(const edge_key* a, const edge_key* b)
-{
-    return a->lo == b->lo && a->hi == b->hi;
-}
+#include "render/edge_key.h"
 
 /* Pairs the triangles on each edge with two of them and fills the pairs' other splits. */
-static void pair_quads(const cvk_build* b, const bool* tearable, const edge_key* keys,
-                       const edge_key* shear, uint32_t shear_count, cvk_other_split* out)
+static void pair_quads(const cvk_build* b, const bool* tearable, const cvk_edge_key* keys,
+                       const cvk_edge_key* shear, uint32_t shear_count, cvk_other_split* out)
 {
     size_t n = 3 * (size_t)b->triangle_count;
     const uint32_t* tv = b->triangles;
     const uint32_t* ts = b->triangle_springs;
     for (size_t i = 0; i + 1 < n; i++) {
-        const edge_key* h0 = &keys[i];
-        const edge_key* h1 = &keys[i + 1];
-        if (!same_edge(h0, h1) || (i + 2 < n && same_edge(h0, &keys[i + 2])) ||
-            (i > 0 && same_edge(h0, &keys[i - 1])))
+        const cvk_edge_key* h0 = &keys[i];
+        const cvk_edge_key* h1 = &keys[i + 1];
+        if (!cvk_same_edge(h0, h1) || (i + 2 < n && cvk_same_edge(h0, &keys[i + 2])) ||
+            (i > 0 && cvk_same_edge(h0, &keys[i - 1])))
             continue; /* two triangles on the edge, no more */
         uint32_t t0 = h0->triangle, t1 = h1->triangle, s0 = h0->slot, s1 = h1->slot;
         uint32_t split = ts[3 * (size_t)t0 + s0];
@@ -58,8 +29,8 @@ static void pair_quads(const cvk_build* b, const bool* tearable, const edge_key*
             continue;
         uint32_t o0 = tv[3 * (size_t)t0 + (s0 + 2) % 3], o1 = tv[3 * (size_t)t1 + (s1 + 2) % 3];
         uint32_t i0 = b->internal_of[o0], i1 = b->internal_of[o1];
-        edge_key key = {i0 < i1 ? i0 : i1, i0 < i1 ? i1 : i0, 0, 0};
-        const edge_key* across = bsearch(&key, shear, shear_count, sizeof *shear, compare_ends);
+        cvk_edge_key key = cvk_edge_key_of(i0, i1, 0, 0, 0);
+        const cvk_edge_key* across = bsearch(&key, shear, shear_count, sizeof *shear, cvk_compare_edge_ends);
         if (!across || o0 == o1 || out[t0].across != UINT32_MAX || out[t1].across != UINT32_MAX)
             continue; /* no spring across, or a triangle already in another quad */
         /* (o0, p, o1): edges o0 − p (t0's), p − o1 (t1's), o1 − o0 (across); (o0, o1, q):
@@ -88,8 +59,8 @@ cvk_result cvk_other_splits(const cvk_sim* s, cvk_other_split** out, cvk_error* 
         return CVK_SUCCESS;
     size_t n = 3 * (size_t)b->triangle_count;
     bool* tearable = calloc(b->spring_count, sizeof *tearable);
-    edge_key* shear = malloc(shear_count * sizeof *shear);
-    edge_key* keys = malloc(n * sizeof *keys);
+    cvk_edge_key* shear = malloc(shear_count * sizeof *shear);
+    cvk_edge_key* keys = malloc(n * sizeof *keys);
     cvk_other_split* splits = malloc(b->triangle_count * sizeof *splits);
     if (!tearable || !shear || !keys || !splits) {
         free(tearable);
@@ -104,17 +75,17 @@ cvk_result cvk_other_splits(const cvk_sim* s, cvk_other_split** out, cvk_error* 
     for (uint32_t i = 0; i < b->spring_count; i++) {
         const cvk_spring* sp = &b->springs[i];
         if (sp->type == CVK_SPRING_SHEAR)
-            shear[k++] = (edge_key){sp->a < sp->b ? sp->a : sp->b, sp->a < sp->b ? sp->b : sp->a, i, 0};
+            shear[k++] = cvk_edge_key_of(sp->a, sp->b, i, 0, 0); /* the spring's index as `triangle` */
     }
-    qsort(shear, shear_count, sizeof *shear, compare_edge_keys);
+    cvk_sort_edge_keys(shear, shear_count);
     for (uint32_t t = 0; t < b->triangle_count; t++) {
         splits[t].across = UINT32_MAX;
         for (uint32_t e = 0; e < 3; e++) {
             uint32_t a = b->triangles[3 * (size_t)t + e], c = b->triangles[3 * (size_t)t + (e + 1) % 3];
-            keys[3 * (size_t)t + e] = (edge_key){a < c ? a : c, a < c ? c : a, t, e};
+            keys[3 * (size_t)t + e] = cvk_edge_key_of(a, c, t, e, 0);
         }
     }
-    qsort(keys, n, sizeof *keys, compare_edge_keys);
+    cvk_sort_edge_keys(keys, n);
     pair_quads(b, tearable, keys, shear, shear_count, splits);
     free(tearable);
     free(shear);
