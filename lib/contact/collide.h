@@ -127,8 +127,12 @@ cvk_result cvk_collide_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error
 /* The hash and the detection pass's layout (self-contact only); called by cvk_collide_create. */
 cvk_result cvk_collide_create_detection(struct cvk_sim* sim, cvk_error* error);
 
-/* Puts the device's substep counter at `step` and asks for detection at the next substep. */
+/* Puts the device's substep counter at `step` and asks for detection at the next substep; the
+   colliders' poses too (cvk_collide_write_poses). */
 cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* error);
+/* Writes the colliders' poses as `step` substeps leave them (the last substep's start and end),
+   so what draws them before the next step sees them where the clock says. */
+cvk_result cvk_collide_write_poses(struct cvk_sim* sim, uint64_t step, cvk_error* error);
 
 /* After the state was written from the host (x and v: 3 floats per particle, internal order;
    v NULL: at rest): the next substep detects again, and its shift follows the written
