@@ -1,8 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Ambient occlusion pass, at a fraction of the resolution (frame.ao_size.w pixels a texel side:
-// 2, or 4 at 1280 pixels wide): for the image pixel at the top left of each block, how much of
-// the hemisphere over its surface nearby geometry hides (screen space: the
+// Ambient occlusion pass, at half resolution (frame.ao_size.w, 2, pixels a texel side): for
+// the image pixel at the top left of each 2 x 2 block, how much of the hemisphere over its
+// surface nearby geometry hides (screen space: the
 // cloth pass's depths, and the ground found from each pixel's ray as the composite pass finds
 // it). Writes x: the light left (1 = open), y: the pixel's depth along the view (0: sky).
 // Taps lie on a fixed spiral turned by a quarter turn per texel of a 2 x 2 pattern; the blur
