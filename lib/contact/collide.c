@@ -222,7 +222,7 @@ static void free_tables(contact_tables* t)
 /* The poses over the substep that ends after `step` substeps of dt (both at time 0 before the
    first), as the recorded work (collider_poses.comp) leaves them: the renderer draws the colliders
    at pose 1, so a state written at a later time (a snapshot) shows them where its clock says. */
-static void poses_at(const cvk_collide* c, uint64_t step, double dt, cvk_gpu_pose* poses)
+void cvk_collide_poses_at(const cvk_collide* c, uint64_t step, double dt, cvk_gpu_pose* poses)
 {
     double t1 = (double)step * dt, t0 = step > 0 ? (double)(step - 1) * dt : 0.0;
     for (uint32_t i = 0; i < c->collider_count; i++) {
@@ -430,7 +430,7 @@ static cvk_result create_collider_buffers(cvk_sim* s, cvk_collide* c, cvk_error*
                          : cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
                                     "out of host memory for the colliders");
     if (r == CVK_SUCCESS) {
-        poses_at(c, 0, s->params.dt, poses);
+        cvk_collide_poses_at(c, 0, s->params.dt, poses);
         r = cvk_device_make_buffer(&s->device, &c->poses, n * sizeof(cvk_gpu_pose), "collider poses", poses, error);
     }
     if (r == CVK_SUCCESS)
@@ -795,24 +795,3 @@ void cvk_collide_destroy(cvk_sim* s)
     *c = (cvk_collide){0};
 }
 
-cvk_result cvk_collide_set_step(cvk_sim* s, uint64_t step, cvk_error* error)
-{
-    cvk_gpu_frame frame = {.step = (uint32_t)step, .search = 1, .force = 1};
-    cvk_result r = cvk_device_upload(&s->device, &s->collide->frame, &frame, sizeof frame, error);
-    return r == CVK_SUCCESS ? cvk_collide_write_poses(s, step, error) : r;
-}
-
-cvk_result cvk_collide_write_poses(cvk_sim* s, uint64_t step, cvk_error* error)
-{
-    const cvk_collide* c = s->collide;
-    if (c->collider_count == 0)
-        return CVK_SUCCESS;
-    cvk_gpu_pose* poses = calloc(c->collider_count, sizeof *poses);
-    if (!poses)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u collider poses",
-                        c->collider_count);
-    poses_at(c, step, s->params.dt, poses);
-    cvk_result r = cvk_device_upload(&s->device, &s->collide->poses, poses, c->collider_count * sizeof *poses, error);
-    free(poses);
-    return r;
-}

@@ -133,6 +133,9 @@ cvk_result cvk_collide_set_step(struct cvk_sim* sim, uint64_t step, cvk_error* e
 /* Writes the colliders' poses as `step` substeps leave them (the last substep's start and end),
    so what draws them before the next step sees them where the clock says. */
 cvk_result cvk_collide_write_poses(struct cvk_sim* sim, uint64_t step, cvk_error* error);
+/* The poses over the substep that ends after `step` substeps of dt (both at time 0 before the
+   first), as collider_poses.comp leaves them; one per collider. */
+void cvk_collide_poses_at(const cvk_collide* collide, uint64_t step, double dt, cvk_gpu_pose* poses);
 
 /* After the state was written from the host (x and v: 3 floats per particle, internal order;
    v NULL: at rest): the next substep detects again, and its shift follows the written

@@ -1,9 +1,12 @@
 /* The colliders as the host sees them: poses by lib/scene/motion.c and signed distances with the
-   formulas of shaders/contact/collide.glsl, for statistics and tests. */
+   formulas of shaders/contact/collide.glsl, for statistics and tests; the substeps' split for a
+   fast collider; the device's clock and poses set from the host (a loaded snapshot). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "contact/collide.h"
+#include "core/error.h"
 #include "core/vec3.h"
 #include "plan/state.h"
 
@@ -222,3 +225,24 @@ void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c)
         s->notes[s->note_count++] = s->split_note;
 }
 
+cvk_result cvk_collide_set_step(cvk_sim* s, uint64_t step, cvk_error* error)
+{
+    cvk_gpu_frame frame = {.step = (uint32_t)step, .search = 1, .force = 1};
+    cvk_result r = cvk_device_upload(&s->device, &s->collide->frame, &frame, sizeof frame, error);
+    return r == CVK_SUCCESS ? cvk_collide_write_poses(s, step, error) : r;
+}
+
+cvk_result cvk_collide_write_poses(cvk_sim* s, uint64_t step, cvk_error* error)
+{
+    const cvk_collide* c = s->collide;
+    if (c->collider_count == 0)
+        return CVK_SUCCESS;
+    cvk_gpu_pose* poses = calloc(c->collider_count, sizeof *poses);
+    if (!poses)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for %u collider poses",
+                        c->collider_count);
+    cvk_collide_poses_at(c, step, s->params.dt, poses);
+    cvk_result r = cvk_device_upload(&s->device, &s->collide->poses, poses, c->collider_count * sizeof *poses, error);
+    free(poses);
+    return r;
+}
