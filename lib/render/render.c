@@ -163,7 +163,7 @@ static cvk_result create_images(cvk_renderer* rd, cvk_error* error)
         r = cvk_gpu_image_create(ctx, DEPTH_FORMAT, w, h, rd->samples,
                                  VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                  VK_IMAGE_ASPECT_DEPTH_BIT, "depth buffer", &rd->cloth_depth, error);
-    uint32_t ow = cvk_render_occlusion_size(&rd->desc, 0), oh = cvk_render_occlusion_size(&rd->desc, 1);
+    uint32_t ow = cvk_render_half(rd->desc.size[0]), oh = cvk_render_half(rd->desc.size[1]);
     for (int i = 0; i < 2 && r == CVK_SUCCESS; i++)
         r = cvk_gpu_image_create(ctx, OCCLUSION_FORMAT, ow, oh, VK_SAMPLE_COUNT_1_BIT,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
@@ -351,7 +351,7 @@ static cvk_result create_occlusion_pass(cvk_renderer* rd, cvk_error* error)
          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT, 0},
     };
     /* The occlusion into its raw image, then the blur into the one the composite reads. */
-    uint32_t w = cvk_render_occlusion_size(&rd->desc, 0), h = cvk_render_occlusion_size(&rd->desc, 1);
+    uint32_t w = cvk_render_half(rd->desc.size[0]), h = cvk_render_half(rd->desc.size[1]);
     cvk_result r = create_single_pass(rd, &color, &subpass, dependencies, rd->occlusion_raw.view, w, h,
                                       &rd->occlusion_pass, &rd->occlusion_framebuffer, "ambient occlusion pass", error);
     if (r != CVK_SUCCESS)
@@ -490,7 +490,7 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->ao_size[0] = (float)d->size[0];
     u->ao_size[1] = (float)d->size[1];
     u->ao_size[2] = (float)AO_STRENGTH;
-    u->ao_size[3] = (float)cvk_render_occlusion_scale(d);
+    u->ao_size[3] = d->ao ? 1.0f : 0.0f;
     u->post[0] = d->tone_map ? 1.0f : 0.0f;
 }
 

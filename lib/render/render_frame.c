@@ -164,7 +164,7 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     if (rd->occlusion_pipeline) {
         /* open (light 1) at depth 0 outside the rectangle ao.vert draws */
         VkClearValue open = {.color = {{1.0f, 0.0f, 0.0f, 0.0f}}};
-        uint32_t ow = cvk_render_occlusion_size(&rd->desc, 0), oh = cvk_render_occlusion_size(&rd->desc, 1);
+        uint32_t ow = cvk_render_half(rd->desc.size[0]), oh = cvk_render_half(rd->desc.size[1]);
         begin_pass(cmd, rd->occlusion_pass, rd->occlusion_framebuffer, ow, oh, &open, 1);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->occlusion_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);

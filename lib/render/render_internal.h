@@ -130,19 +130,11 @@ struct cvk_renderer {
    occlusion pass, the composite pass and the copy. */
 enum { CVK_RENDER_QUERY_COUNT = 7 };
 
-/* Image pixels a side of an ambient occlusion texel covers: 2 (half resolution; 4 lost the
-   darkening along a fold's edge lying on the cloth below it, a line a few pixels wide). */
-static inline uint32_t cvk_render_occlusion_scale(const cvk_render_desc* desc)
+/* The ambient occlusion images' size: half the image's, rounded up (a coarser grid lost the dark
+   line along a fold's edge lying on the cloth below it). */
+static inline uint32_t cvk_render_half(uint32_t pixels)
 {
-    (void)desc;
-    return 2u;
-}
-
-/* The ambient occlusion images' size along axis k: the image's over the scale, rounded up. */
-static inline uint32_t cvk_render_occlusion_size(const cvk_render_desc* desc, int k)
-{
-    uint32_t scale = cvk_render_occlusion_scale(desc);
-    return (desc->size[k] + scale - 1u) / scale;
+    return (pixels + 1u) / 2u;
 }
 
 /* Whether the composite pass draws the occupied rectangle (shaders/render/occupied.glsl) apart:

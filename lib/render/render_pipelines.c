@@ -238,7 +238,7 @@ static cvk_result create_collider_closed(cvk_renderer* rd, const pipeline_recipe
 /* The ambient occlusion pass's pipeline and its blur's, over the occupied rectangle (ao.vert). */
 static cvk_result create_occlusion_pipelines(cvk_renderer* rd, bool single, cvk_error* error)
 {
-    uint32_t w = cvk_render_occlusion_size(&rd->desc, 0), h = cvk_render_occlusion_size(&rd->desc, 1);
+    uint32_t w = cvk_render_half(rd->desc.size[0]), h = cvk_render_half(rd->desc.size[1]);
     pipeline_recipe p = {
         "ambient occlusion pass", CVK_SHADER_AO_VERT, single ? CVK_SHADER_AO_1X_FRAG : CVK_SHADER_AO_FRAG, 0, false,
         VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->occlusion_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,

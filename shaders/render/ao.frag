@@ -1,8 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Ambient occlusion pass, at half resolution (frame.ao_size.w, 2, pixels a texel side): for
-// the image pixel at the top left of each 2 x 2 block, how much of the hemisphere over its
-// surface nearby geometry hides (screen space: the
+// Ambient occlusion pass, at half resolution: for the image pixel at the top left of each 2 x 2
+// block, how much of the hemisphere over its surface nearby geometry hides (screen space: the
 // cloth pass's depths, and the ground found from each pixel's ray as the composite pass finds
 // it). Writes x: the light left (1 = open), y: the pixel's depth along the view (0: sky).
 // Taps lie on a fixed spiral turned by a quarter turn per texel of a 2 x 2 pattern; the blur
@@ -60,7 +59,7 @@ vec3 position(ivec2 p, float t)
 void main()
 {
     ivec2 size = ivec2(frame.ao_size.xy);
-    ivec2 p = min(ivec2(gl_FragCoord.xy) * int(frame.ao_size.w), size - 1);
+    ivec2 p = min(ivec2(gl_FragCoord.xy) * 2, size - 1);
     bool drawn;
     float t = view_depth(p, drawn);
     if (t == 0.0) {

@@ -65,7 +65,7 @@ float occlusion(ivec2 pixel)
             return 1.0;
         t = height / -toward;
     }
-    vec2 uv = (vec2(pixel) + 0.5) / (frame.ao_size.w * vec2(textureSize(occlusion_map, 0)));
+    vec2 uv = (vec2(pixel) + 0.5) * 0.5 / vec2(textureSize(occlusion_map, 0));
     vec4 light = textureGather(occlusion_map, uv, 0);
     vec4 depth = textureGather(occlusion_map, uv, 1);
     vec4 w = max(1.0 - abs(depth - t) / (0.03 * t), 0.0);

@@ -104,20 +104,18 @@ vec3 projected_albedo()
 }
 #endif
 
+#ifdef VERTEX_LIGHT
 // A cloth lit at its vertices: the albedo (the texture's, or the back face's own colour) times
 // the light of the face seen.
 vec3 vertex_lit()
 {
-#ifdef VERTEX_LIGHT
     vec3 albedo = TEXTURED && material.albedo.w > 0.5 ? texture(albedo_map, uv).rgb : material.albedo.rgb;
     if (!gl_FrontFacing && material.back.w > 0.5)
         albedo = material.back.rgb;
     vec3 sheen = material.fabric.x * sqrt(albedo);
     return gl_FrontFacing ? albedo * front_d + sheen * front_s : albedo * back_d + sheen * back_s;
-#else
-    return vec3(0.0);
-#endif
 }
+#endif
 
 void main()
 {

@@ -466,18 +466,26 @@ static void draw_half_cylinder(cvk_context* ctx, setup* s, const cvk_render_desc
     REQUIRE_OK(cvk_renderer_draw(s->renderer, &err), err);
 }
 
+/* The view of the half-cylinder tests: no ground, no occlusion, render.smooth `smooth`. */
+static cvk_render_desc cylinder_view(const float eye[3], const float target[3], const float key[3], float fov_y,
+                                     uint32_t smooth)
+{
+    cvk_render_desc r = view(eye, target, key);
+    r.fov_y = fov_y;
+    r.ground = false;
+    r.ao = false;
+    r.smooth = smooth;
+    return r;
+}
+
 /* Mean distance in pixels between the top outline of a coarse half-cylinder (an arch of 6 flat
    strips, radius 0.5 m, seen along its axis) and the true circle's, drawn with render.smooth
    `smooth`. */
 static double arch_outline_error(cvk_context* ctx, uint32_t smooth)
 {
     const double radius = 0.5, pi = 3.14159265358979;
-    cvk_render_desc r = view((const float[3]){0.0f, 1.25f, 8.0f}, (const float[3]){0.0f, 1.25f, 0.0f},
-                             (const float[3]){0.2f, 1.0f, 0.6f});
-    r.fov_y = 9.0f;
-    r.ground = false;
-    r.ao = false;
-    r.smooth = smooth;
+    cvk_render_desc r = cylinder_view((const float[3]){0.0f, 1.25f, 8.0f}, (const float[3]){0.0f, 1.25f, 0.0f},
+                                      (const float[3]){0.2f, 1.0f, 0.6f}, 9.0f, smooth);
     setup s = {0};
     draw_half_cylinder(ctx, &s, &r, 1.0, (const float[3]){0.8f, 0.1f, 0.08f});
     cvk_image im = cvk_renderer_get_image(s.renderer);
@@ -525,12 +533,8 @@ static void curved_triangles(cvk_context* ctx)
 static double trough_light(cvk_context* ctx, uint32_t smooth)
 {
     const double radius = 0.5, pi = 3.14159265358979;
-    cvk_render_desc r = view((const float[3]){0.0f, 4.0f, 2.5f}, (const float[3]){0.0f, 0.6f, 0.0f},
-                             (const float[3]){0.1f, 1.0f, 0.2f});
-    r.fov_y = 18.0f;
-    r.ground = false;
-    r.ao = false;
-    r.smooth = smooth;
+    cvk_render_desc r = cylinder_view((const float[3]){0.0f, 4.0f, 2.5f}, (const float[3]){0.0f, 0.6f, 0.0f},
+                                      (const float[3]){0.1f, 1.0f, 0.2f}, 18.0f, smooth);
     setup s = {0};
     draw_half_cylinder(ctx, &s, &r, -1.0, (const float[3]){0.7f, 0.7f, 0.7f});
     cvk_image im = cvk_renderer_get_image(s.renderer);
