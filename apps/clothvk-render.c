@@ -320,7 +320,7 @@ static void writer_free(writer* w)
 typedef struct totals {
     uint32_t images;
     double sim_ms, render_ms, wall_ms;
-    double mesh_ms, shadow_ms, ao_ms, lit_ms, readback_ms, overlay_ms;
+    double mesh_ms, shadow_ms, ao_ms, lit_ms, composite_ms, readback_ms, overlay_ms;
     uint32_t timed;
 } totals;
 
@@ -414,7 +414,8 @@ static void add_timing(const cvk_renderer* renderer, totals* t)
     t->mesh_ms += rt.mesh_ms;
     t->shadow_ms += rt.shadow_ms;
     t->ao_ms += rt.ao_ms;
-    t->lit_ms += rt.lit_ms;
+    t->lit_ms += rt.lit_ms - rt.composite_ms;
+    t->composite_ms += rt.composite_ms;
     t->readback_ms += rt.readback_ms;
 }
 
@@ -483,8 +484,9 @@ static void print_summary(const run_state* s, const totals* t, const writer* w, 
                last, frames, s->o->every, wall_ms * 1e-3, t->sim_ms / t->images,
                t->render_ms / t->images);
     if (t->timed)
-        printf(" (mesh %.1f, shadow %.1f, ao %.1f, lit %.1f, readback %.1f)", t->mesh_ms / t->timed,
-               t->shadow_ms / t->timed, t->ao_ms / t->timed, t->lit_ms / t->timed, t->readback_ms / t->timed);
+        printf(" (mesh %.1f, shadow %.1f, lit %.1f, ao %.1f, composite %.1f, readback %.1f)", t->mesh_ms / t->timed,
+               t->shadow_ms / t->timed, t->lit_ms / t->timed, t->ao_ms / t->timed, t->composite_ms / t->timed,
+               t->readback_ms / t->timed);
     if (r->overlay)
         printf(", overlay %.2f ms", t->overlay_ms / t->images);
     printf(", png %.1f ms (%s); %.1f ms wall\n", w->png_ms / (w->written ? w->written : 1),

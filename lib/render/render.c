@@ -1,10 +1,11 @@
 /* The offscreen renderer (seed 002 §5.4). A frame is, after the mesh generation:
    - the shadow pass: the cloth's and the colliders' depth from the key light;
-   - the lit pass, in two render passes: the cloth and the colliders (render_colliders.c),
-     lit and shadowed, multisampled over a transparent background; then one sample per pixel,
-     the ground and sky found from each pixel's ray (shadowed only on the patch of ground
-     under the shadow map) with the cloth pass's samples averaged over them in linear light
-     (the resolve), into an sRGB image;
+   - the lit pass: the cloth and the colliders (render_colliders.c), lit and shadowed,
+     multisampled over a transparent background; with render.ao the ambient occlusion at half
+     resolution over the occupied rectangle (render_occupied.c), then blurred; then the
+     composite, one sample per pixel: the ground and sky found from each pixel's ray (the
+     shadow map read only over the occupied box's shadow on the ground) with the cloth pass's
+     samples averaged over them in linear light (the resolve), into an sRGB image;
    - a copy of that image into a host-visible buffer.
    Multisampling only the cloth keeps the cost of 4x MSAA on a CPU device (lavapipe clears,
    tests and writes every sample) to the part of the image that has edges to smooth.
@@ -21,6 +22,7 @@
 #include "render/render_internal.h"
 #include "scene/scene.h"
 #include "solvers/reference.h"
+#include "topology/topology.h"
 
 #define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
 /* The cloth pass stores the square root of half its linear colour (see lit_cloth.frag): about as
@@ -28,7 +30,7 @@
    of an sRGB curve, four samples per pixel. */
 #define CLOTH_FORMAT VK_FORMAT_R8G8B8A8_UNORM
 #define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
-/* Marks the ground patch under the shadow map, so the rest of the ground skips those pixels. */
+/* Marks the pixels a draw of the composite pass has done, so the later ones skip them. */
 #define STENCIL_FORMAT VK_FORMAT_S8_UINT
 /* 16 bits cover a few metres of light depth in 0.1 mm steps, and the constant depth bias
    means a fixed distance, unlike with a float format. */
@@ -419,7 +421,22 @@ static void put_ground_texture(const cvk_collider_desc* plane, cvk_frame_uniform
         }
         put3(u->ground_texture[a], scaled, (float)offset);
     }
-    u->post[1] = 1.0f;
+}
+
+/* How far (m) the drawn cloth reaches beyond its vertices: half the thickest slab, and with
+   render.smooth a curved triangle's bulge, under a third of its longest edge (a PN patch lies in
+   the hull of control points set off the flat triangle by at most that); stretch is allowed
+   for by taking half. */
+static double drawn_reach(const cvk_renderer* rd)
+{
+    const cvk_build* b = &rd->mesh->sim->build;
+    double reach = 0.0, edge = 0.0;
+    for (uint32_t c = 0; c < b->cloth_count; c++)
+        reach = fmax(reach, 0.5 * b->cloths[c].thickness);
+    for (uint32_t s = 0; rd->desc.smooth > 1 && s < b->spring_count; s++)
+        if (b->springs[s].type != CVK_SPRING_BEND)
+            edge = fmax(edge, b->springs[s].rest);
+    return reach + 0.5 * edge;
 }
 
 static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
@@ -492,6 +509,7 @@ static void fill_uniforms(const cvk_renderer* rd, cvk_frame_uniforms* u)
     u->ao_size[2] = (float)AO_STRENGTH;
     u->ao_size[3] = d->ao ? 1.0f : 0.0f;
     u->post[0] = d->tone_map ? 1.0f : 0.0f;
+    u->post[1] = rd->drawn_reach;
 }
 
 void cvk_render_write_uniforms(cvk_renderer* rd)
@@ -689,6 +707,7 @@ cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_
     if (r == CVK_SUCCESS) {
         cvk_render_camera_resolve(rd, 0.0);
         rd->vertex_lit = cvk_render_vertex_lit(rd);
+        rd->drawn_reach = (float)drawn_reach(rd);
         r = create_images(rd, error);
     }
     if (r == CVK_SUCCESS)
@@ -729,6 +748,7 @@ void cvk_renderer_destroy(cvk_renderer* rd)
         cvk_queue_idle(rd->context);
     VkPipeline pipelines[] = {rd->shadow_pipeline,     rd->cloth_pipeline,           rd->background_pipeline,
                               rd->rect_pipeline,      rd->collider_shadow_pipeline, rd->collider_pipeline,
+                              rd->footprint_pipeline,
                               rd->wireframe_pipeline,  rd->occlusion_pipeline,      rd->slab_pipelines[0],
                               rd->slab_pipelines[1],   rd->collider_closed_pipeline, rd->blur_pipeline};
     for (size_t i = 0; i < sizeof pipelines / sizeof pipelines[0]; i++)

@@ -181,9 +181,14 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
     uint32_t bound = 0, ground = rd->colliders.ground_texture;
     if (ground)
         cvk_render_bind_textures(rd, cmd, rd->textures.collider_set_of[ground - 1], &bound);
-    /* First the rectangle where a shadow can fall on the ground or occlusion darken anything,
-       reading the shadow map and the occlusion and marking its pixels; then everything else,
-       which skips them. */
+    /* First where a shadow can fall on the ground (the occupied box's shadow: 12 triangles),
+       the only draw that reads the shadow map; then the rest of the rectangle where the cloth
+       pass drew and occlusion can darken; then everything else. Each marks its pixels and
+       skips those marked. */
+    if (rd->footprint_pipeline) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->footprint_pipeline);
+        vkCmdDraw(cmd, 36, 1, 0, 0);
+    }
     if (cvk_render_rect_drawn(rd)) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->rect_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);
@@ -266,7 +271,7 @@ cvk_image cvk_renderer_get_image(const cvk_renderer* rd)
 
 cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
 {
-    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0, -1.0, rd->overlay_ms};
+    cvk_render_timing t = {-1.0, -1.0, -1.0, -1.0, -1.0, -1.0, rd->overlay_ms, -1.0};
     if (!rd->queries)
         return t;
     uint64_t data[2 * CVK_RENDER_QUERY_COUNT];
@@ -287,6 +292,7 @@ cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* rd)
     t.mesh_ms = ms[0];
     t.shadow_ms = ms[1];
     t.lit_ms = ms[2] + ms[4];
+    t.composite_ms = ms[4];
     t.ao_ms = ms[3];
     t.readback_ms = ms[5];
     t.total_ms = (double)((data[2 * (CVK_RENDER_QUERY_COUNT - 1)] - data[0]) & mask) * period_ms;

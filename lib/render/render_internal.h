@@ -92,6 +92,7 @@ struct cvk_renderer {
     VkSampleCountFlagBits samples;
     bool vertex_lit;                 /* render.vertex_lighting holds: the cloths are lit at their
                                         vertices (cvk_render_vertex_lit) */
+    float drawn_reach;               /* m the drawn cloth reaches beyond its vertices (Frame.post.y) */
 
     cvk_gpu_image shadow_map, cloth, cloth_depth, image, stencil;
     cvk_gpu_image occlusion_raw;     /* the ambient occlusion pass's (cvk_render_occlusion_size):
@@ -110,6 +111,7 @@ struct cvk_renderer {
     cvk_descriptors descriptors;     /* the one graphics set and its pipeline layout */
     VkDescriptorSet set;
     VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, rect_pipeline;
+    VkPipeline footprint_pipeline;   /* the composite over the ground's shadows: none without them */
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline collider_closed_pipeline; /* collider_pipeline culling back faces: closed colliders */
     VkPipeline wireframe_pipeline;   /* none without render.wireframe */
@@ -137,11 +139,17 @@ static inline uint32_t cvk_render_half(uint32_t pixels)
     return (pixels + 1u) / 2u;
 }
 
-/* Whether the composite pass draws the occupied rectangle (shaders/render/occupied.glsl) apart:
-   with shadows on the ground or ambient occlusion. */
+/* Whether the composite pass looks the ground's shadows up (over the occupied box's shadow,
+   shaders/render/occupied.glsl) and draws the occupied rectangle apart: with shadows on the
+   ground or ambient occlusion. */
+static inline bool cvk_render_footprint_drawn(const cvk_renderer* rd)
+{
+    return rd->desc.ground && rd->view.key_above_ground;
+}
+
 static inline bool cvk_render_rect_drawn(const cvk_renderer* rd)
 {
-    return (rd->desc.ground && rd->view.key_above_ground) || rd->desc.ao;
+    return cvk_render_footprint_drawn(rd) || rd->desc.ao;
 }
 
 /* The graphics pipelines: shadow, cloth, background and the occupied rectangle, and with colliders to

@@ -30,7 +30,8 @@ typedef struct pipeline_recipe {
     bool depth_test;
     VkCompareOp depth_compare;
     bool depth_bias;
-    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0 */
+    int stencil;                     /* 1: write 1 everywhere drawn; -1: draw only where 0; 2: draw
+                                        only where 0, and write 1 there (each pixel once) */
     uint32_t spec[4];                /* specialization constants 0 to 3 of both stages */
     bool lines;                      /* triangles drawn as their edges, depth tested, not written */
     bool curved;                     /* triangles as PN patches, tessellated (render.smooth) */
@@ -118,12 +119,14 @@ static void raster_state(const pipeline_recipe* p, VkCullModeFlags cull, bool ha
     };
     VkStencilOpState stencil = {
         .failOp = VK_STENCIL_OP_KEEP,
-        .passOp = p->stencil > 0 ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
+        .passOp = p->stencil == 1 ? VK_STENCIL_OP_REPLACE
+                  : p->stencil == 2 ? VK_STENCIL_OP_INCREMENT_AND_CLAMP
+                                    : VK_STENCIL_OP_KEEP,
         .depthFailOp = VK_STENCIL_OP_KEEP,
-        .compareOp = p->stencil > 0 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
+        .compareOp = p->stencil == 1 ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL,
         .compareMask = 0xff,
         .writeMask = 0xff,
-        .reference = p->stencil > 0 ? 1u : 0u,
+        .reference = p->stencil == 1 ? 1u : 0u,
     };
     f->depth = (VkPipelineDepthStencilStateCreateInfo){
         .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
@@ -164,15 +167,15 @@ static cvk_result create_culled(cvk_renderer* rd, const pipeline_recipe* p, VkCu
                 vkDestroyShaderModule(rd->context->device, modules[i], NULL);
         return r;
     }
-    /* Constants 0 to 3: the recipe's; 4 to 6: the effects every pass shares (lighting.glsl,
-       composite.frag). */
-    uint32_t values[8] = {p->spec[0], p->spec[1], p->spec[2], p->spec[3],
+    /* Constants 0 to 3: the recipe's; 4 to 8: what every pass shares (lighting.glsl,
+       composite.frag, pn.tesc). */
+    uint32_t values[9] = {p->spec[0], p->spec[1], p->spec[2], p->spec[3],
                           rd->desc.soft_shadows && rd->desc.key_angle > 0.0f, rd->desc.sky_light, rd->desc.tone_map,
-                          rd->desc.smooth};
-    VkSpecializationMapEntry entries[8];
-    for (uint32_t i = 0; i < 8; i++)
+                          rd->desc.smooth, rd->colliders.ground_texture != 0};
+    VkSpecializationMapEntry entries[9];
+    for (uint32_t i = 0; i < 9; i++)
         entries[i] = (VkSpecializationMapEntry){i, i * (uint32_t)sizeof(uint32_t), sizeof(uint32_t)};
-    VkSpecializationInfo spec = {8, entries, sizeof values, values};
+    VkSpecializationInfo spec = {9, entries, sizeof values, values};
     VkPipelineShaderStageCreateInfo stages[4];
     uint32_t stage_count = 0;
     const VkShaderStageFlagBits kinds[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_FRAGMENT_BIT,
@@ -282,10 +285,11 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         {"composite pass", CVK_SHADER_COMPOSITE_VERT, composite, 0, false, VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
          {cvk_render_rect_drawn(rd), false, rd->desc.samples, false}, false, false},
-        {"composite pass (shadows and occlusion)", CVK_SHADER_COMPOSITE_RECT_VERT, composite, 0, false,
+        /* The cloth pass's rectangle, with the occlusion; the ground's shadows drawn before
+           (footprint_recipe) are skipped. */
+        {"composite pass (cloth and occlusion)", CVK_SHADER_COMPOSITE_RECT_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
-         VK_COMPARE_OP_ALWAYS, false, 1, {false, rd->view.key_above_ground, rd->desc.samples, rd->desc.ao}, false,
-         false},
+         VK_COMPARE_OP_ALWAYS, false, 2, {false, false, rd->desc.samples, rd->desc.ao}, false, false},
         /* The colliders: shaded like the cloth (lit_cloth.frag with COLLIDER), posed in the
            vertex shader. */
         {"collider shadow pass", CVK_SHADER_COLLIDER_SHADOW_VERT, CVK_SHADER_COUNT, 1, true,
@@ -303,6 +307,15 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         r = create_pipeline(rd, &recipes[i], outs[i], error);
     if (r != CVK_SUCCESS)
         return r;
+    if (cvk_render_footprint_drawn(rd)) {
+        /* Where the ground can be in a shadow: the only composite that reads the shadow map. */
+        pipeline_recipe footprint = recipes[3];
+        footprint.what = "composite pass (the ground's shadows)";
+        footprint.vertex = CVK_SHADER_COMPOSITE_FOOTPRINT_VERT;
+        footprint.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        footprint.spec[1] = true;
+        r = create_pipeline(rd, &footprint, &rd->footprint_pipeline, error);
+    }
     if (rd->desc.ao && r == CVK_SUCCESS)
         r = create_occlusion_pipelines(rd, single, error);
     if (r != CVK_SUCCESS)

@@ -3,8 +3,8 @@
 // Composite pass, one sample per pixel: the ground (matte, fading into the background with
 // distance) or the sky behind each pixel, found by intersecting the pixel's ray with the
 // ground plane, and over it the cloth pass's samples averaged in linear light — the
-// multisample resolve. Only the ground patch under the shadow map (SHADOWED) reads the map:
-// the ground and sky elsewhere cost a few instructions, not a multisampled draw.
+// multisample resolve. Only the occupied box's shadow on the ground (SHADOWED: composite.vert
+// with FOOTPRINT) reads the shadow map: the ground and sky elsewhere cost a few instructions.
 #include "render/frame.glsl"
 #include "render/lighting.glsl"
 
@@ -17,6 +17,8 @@ layout(constant_id = 2) const int SAMPLES = 4;
 layout(constant_id = 3) const bool OCCLUDED = false;
 // render.tone_map.
 layout(constant_id = 6) const bool TONE_MAP = true;
+// The ground has a texture (the plane collider's); else the checkerboard.
+layout(constant_id = 8) const bool GROUND_TEXTURED = false;
 
 #ifdef SINGLE_SAMPLE
 layout(set = 0, binding = 2) uniform sampler2D cloth;
@@ -27,7 +29,7 @@ layout(set = 0, binding = 5) uniform sampler2DMS scene_depth;
 #endif
 // The ambient occlusion, blurred (ao_blur.frag): x light left, y depth along the view.
 layout(set = 0, binding = 6) uniform sampler2D occlusion_map;
-// A textured ground's texture (the plane collider's set; frame.post.y says whether it has one).
+// A textured ground's texture (the plane collider's set).
 layout(set = 0, binding = 3) uniform sampler2D ground_map;
 
 layout(location = 0) out vec4 color;
@@ -114,7 +116,7 @@ vec3 background(vec2 pixel)
         lit += frame.ground_key.rgb * key_visibility(ground, up);
     else
         lit += frame.ground_key.rgb;
-    vec3 albedo = frame.post.y > 0.5 ? ground_albedo(pixel, ground, height) : vec3(checker(ground));
+    vec3 albedo = GROUND_TEXTURED ? ground_albedo(pixel, ground, height) : vec3(checker(ground));
     return mix(lit * albedo, frame.background.rgb, smoothstep(frame.fog.x, frame.fog.y, t));
 }
 

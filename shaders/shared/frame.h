@@ -42,8 +42,8 @@
     CVK_FRAME_VEC4(ao)               /* x: near · far; y: far − near; z: near (depth to distance); \
                                         w: ambient occlusion radius, m */                          \
     CVK_FRAME_VEC4(ao_size)          /* xy: image size, pixels; z: occlusion strength; w: 1 = on */ \
-    CVK_FRAME_VEC4(post)             /* x: 1 = highlights rolled off (render.tone_map); y: 1 =    \
-                                        the ground has a texture (ground_texture) */              \
+    CVK_FRAME_VEC4(post)             /* x: 1 = highlights rolled off (render.tone_map); y: m the  \
+                                        drawn cloth reaches beyond its vertices */                \
     CVK_FRAME_VEC4S(ground_texture, 2) /* the ground's texture coordinates u, v of a point p:     \
                                         dot(xyz, p) + w */
 

@@ -4,7 +4,8 @@
    - a cloth seen from behind, lit from the viewer's side, is as bright as its front face lit
      the same way, and a face turned away from the light is darker (each face is lit with its
      own normal);
-   - on the ground, pixels inside a pinned cloth's shadow are darker than ground far from it;
+   - on the ground, pixels inside a pinned cloth's shadow are darker than ground far from it,
+     also at the end of a long shadow under a low light, beyond the depth the cloth spans;
    - two cloths keep their own colours;
    - no frame has a pure-black pixel (what a NaN turns into) or is one flat colour;
    - two renderers of one scene give the same bytes, and frames recorded into the caller's
@@ -203,6 +204,31 @@ static void shadow_on_ground(cvk_context* ctx)
     double lit = patch_luminance(&im, (int)far_away[0], (int)far_away[1]);
     CHECK(dark < 0.7 * lit, "ground in the cloth's shadow has luminance %.1f, ground far from it %.1f", dark, lit);
     printf("ground in the shadow %.1f, far from it %.1f\n", dark, lit);
+    teardown(&s);
+}
+
+static void long_shadow(cvk_context* ctx)
+{
+    /* A wall from y = 0.1 to 1.1 in the plane z = 0, the key light 16.7° above the horizon from
+       +z: its shadow reaches z = -1.1 / 0.3 = -3.67 on the ground, about twice as far from the
+       eye as the wall. Near that end the ground is still shadowed, and lit beside it. */
+    const float key[3] = {0.0f, 0.3f, 1.0f};
+    cvk_render_desc r = small_view((const float[3]){2.2f, 1.8f, 1.2f}, (const float[3]){0.0f, 0.2f, -1.4f}, key);
+    r.auto_ground_height = false;
+    r.ground_height = 0.0f;
+    r.shadow_map_size = 1024;
+    setup s = {0};
+    s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.1f, 0.0f}, wall_u, wall_v, red);
+    setup_scene(&s, ctx, 1, &r);
+    cvk_image im = draw(&s);
+    check_sane(&im, "long shadow");
+    double tip[2], beside[2];
+    project(s.renderer, (const float[3]){0.0f, 0.0f, -3.3f}, tip);
+    project(s.renderer, (const float[3]){1.0f, 0.0f, -3.3f}, beside);
+    double dark = patch_luminance(&im, (int)tip[0], (int)tip[1]);
+    double lit = patch_luminance(&im, (int)beside[0], (int)beside[1]);
+    CHECK(dark < 0.8 * lit, "ground near the end of a long shadow has luminance %.1f, beside it %.1f", dark, lit);
+    printf("end of a long shadow %.1f, beside it %.1f\n", dark, lit);
     teardown(&s);
 }
 
@@ -442,6 +468,7 @@ int main(void)
     cloth_inside_its_bounds(ctx);
     both_faces_lit(ctx);
     shadow_on_ground(ctx);
+    long_shadow(ctx);
     cloths_keep_their_colours(ctx);
     default_view_frames(ctx);
     deterministic_and_recordable(ctx);

@@ -254,14 +254,16 @@ CASES = [
      "status": 0,
      "check": folder_check("a/b", FRAMES, 160, 90, summary_check(
          rf"hanging: 4 images of 160x90 in a/b \(frames 0 to 9 of 10, every 3\), {NUMBER} s; per image: "
-         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, ao {NUMBER}, lit {NUMBER}, "
+         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, lit {NUMBER}, ao {NUMBER}, "
+         rf"composite {NUMBER}, "
          rf"readback {NUMBER}\), png {NUMBER} ms \(beside the next image's work\); {NUMBER} ms wall"))},
     {"name": "fit over the sequence, overlay", "argv": TINY + ["-o", "fit", "--frames", "3", "--set", "render.fit=true",
                                                              "--set", "render.overlay=true"],
      "status": 0,
      "check": folder_check("fit", FRAMES, 160, 90, summary_check(
          rf"hanging: 4 images of 160x90 in fit \(frames 0 to 3 of 3, every 1\), {NUMBER} s; per image: "
-         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, ao {NUMBER}, lit {NUMBER}, "
+         rf"simulation {NUMBER} ms, render {NUMBER} ms \(mesh {NUMBER}, shadow {NUMBER}, lit {NUMBER}, ao {NUMBER}, "
+         rf"composite {NUMBER}, "
          rf"readback {NUMBER}\), overlay [0-9]+\.[0-9]{{2}} ms, png {NUMBER} ms \(beside the next image's work\); "
          rf"{NUMBER} ms wall"))},
     {"name": "--quiet", "argv": [SMALL, "-o", "q", "--frames", "2", "--size", "64x48", "--quiet"], "status": 0,

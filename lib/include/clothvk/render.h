@@ -152,6 +152,8 @@ typedef struct cvk_render_timing {
     double ao_ms;                /* ambient occlusion pass (0 without render.ao); not in lit_ms */
     double overlay_ms;           /* host time of render.overlay's text, drawn into the read-back
                                     image by cvk_renderer_draw (0 without it) */
+    double composite_ms;         /* the part of lit_ms after the cloth: the ground, the sky and
+                                    the resolve */
 } cvk_render_timing;
 
 CVK_API cvk_render_timing cvk_renderer_get_timing(const cvk_renderer* renderer);
