@@ -3,9 +3,11 @@
 mesh collider, such as the one poncho.json's poncho falls on.
 
 The surface is lofted through horizontal rings: each ring a superellipse |x/a|^p + |z/b|^p = 1
-(p = 2.5: rounder than a box, squarer than an ellipse) at height y, joined ring to ring by
-quads split into two triangles, and closed by one vertex under the lowest ring and one over the
-highest. So it is closed and watertight by construction (every edge in exactly two triangles,
+(p = 2.5: rounder than a box, squarer than an ellipse) at height y, 48 points around, joined
+ring to ring by quads split into two triangles, and closed by one vertex under the lowest ring
+and one over the highest. The profile below is refined into three rings per step by a
+Catmull-Rom spline through its rings, and the head ends in a dome, so the outline stays round
+and the shading smooth when the form fills a picture. So it is closed and watertight by construction (every edge in exactly two triangles,
 checked below), genus 0, triangles counter-clockwise seen from outside. Resting height: the
 hips' bottom at y = 0.78 m, the shoulders at about 1.2 m, the top of the head at 1.6 m; centred
 on the y axis, front +z. Deterministic, the Python standard library only.
@@ -16,7 +18,9 @@ import math
 import os
 import sys
 
-SEGMENTS = 24
+SEGMENTS = 48
+# Rings of the loft per step of the profile (RINGS).
+REFINE = 3
 POWER = 2.5
 # (y, half width along x, half depth along z), bottom to top, m.
 RINGS = [
@@ -37,7 +41,9 @@ RINGS = [
     (1.44, 0.085, 0.095),
     (1.50, 0.09, 0.10),   # head
     (1.55, 0.075, 0.085),
-    (1.585, 0.045, 0.05),
+    (1.575, 0.056, 0.064), # the dome of the head
+    (1.59, 0.036, 0.041),
+    (1.597, 0.018, 0.020),
 ]
 BOTTOM, TOP = 0.78, 1.60
 
@@ -53,9 +59,25 @@ def ring(y, a, b):
     return pts
 
 
+def refined():
+    """RINGS with REFINE - 1 more between each two, on a uniform Catmull-Rom spline through them
+    (the ends repeated)."""
+    out = []
+    for i in range(len(RINGS) - 1):
+        p0, p1, p2, p3 = (RINGS[max(i - 1, 0)], RINGS[i], RINGS[i + 1], RINGS[min(i + 2, len(RINGS) - 1)])
+        for j in range(REFINE):
+            t = j / REFINE
+            out.append(tuple(0.5 * (2.0 * b + (c - a) * t + (2.0 * a - 5.0 * b + 4.0 * c - d) * t * t +
+                                    (3.0 * b - a - 3.0 * c + d) * t * t * t)
+                             for a, b, c, d in zip(p0, p1, p2, p3)))
+    out.append(RINGS[-1])
+    return out
+
+
 def build():
+    rings = refined()
     verts = [(0.0, BOTTOM, 0.0)]
-    for y, a, b in RINGS:
+    for y, a, b in rings:
         verts += ring(y, a, b)
     verts.append((0.0, TOP, 0.0))
     top = len(verts) - 1
@@ -69,13 +91,13 @@ def build():
     # (0, k, k+1) winds counter-clockwise, the sides (lower k, upper k+1, upper k) too.
     for k in range(n):
         tris.append((0, at(0, k), at(0, k + 1)))
-    for r in range(len(RINGS) - 1):
+    for r in range(len(rings) - 1):
         for k in range(n):
             a, b = at(r, k), at(r, k + 1)
             c, d = at(r + 1, k + 1), at(r + 1, k)
             tris.append((a, c, b))
             tris.append((a, d, c))
-    last = len(RINGS) - 1
+    last = len(rings) - 1
     for k in range(n):
         tris.append((top, at(last, k + 1), at(last, k)))
     return verts, tris
