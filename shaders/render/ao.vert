@@ -9,5 +9,5 @@
 void main()
 {
     vec2 texel = 2.0 / ceil(0.5 * frame.ao_size.xy);
-    gl_Position = rect_corner(occupied_rect(frame.ao.w, false, 2.0 * texel), gl_VertexIndex);
+    gl_Position = rect_corner(occupied_rect(frame.ao.w, 2.0 * texel), gl_VertexIndex);
 }

@@ -16,7 +16,7 @@ void main()
     float penumbra = frame.soft.w > 0.5 ? frame.soft.y : 2.0;
     gl_Position = footprint_corner((penumbra + 2.0) * frame.shadow.y, gl_VertexIndex);
 #elif defined(RECT)
-    gl_Position = rect_corner(occupied_rect(frame.ao_size.w > 0.5 ? frame.ao.w : 0.0, false, 4.0 / frame.ao_size.xy),
+    gl_Position = rect_corner(occupied_rect(frame.ao_size.w > 0.5 ? frame.ao.w : 0.0, 4.0 / frame.ao_size.xy),
                               gl_VertexIndex);
 #else
     vec2 corner = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));

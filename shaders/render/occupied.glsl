@@ -30,10 +30,6 @@ void rect_add(inout screen_rect r, vec3 p)
     r.high = max(r.high, c.xy / c.w);
 }
 
-// The picture of the occupied box grown by `grow` m on every side and, with `shadows`, of
-// where the box's shadow falls on the ground (its corners moved along the key light onto the
-// ground plane), grown by `margin` (clip space) and held within the image; empty (a point) when
-// nothing is drawn.
 // The box, grown by how far the drawn surfaces reach beyond the vertices (a thick cloth's faces)
 // and by `grow` m; false when nothing is drawn.
 bool occupied_box(float grow, out vec3 low, out vec3 high)
@@ -44,20 +40,16 @@ bool occupied_box(float grow, out vec3 low, out vec3 high)
     return all(lessThanEqual(low, high));
 }
 
-vec4 occupied_rect(float grow, bool shadows, vec2 margin)
+// The picture of the occupied box grown by `grow` m on every side, grown by `margin` (clip
+// space) and held within the image; empty (a point) when nothing is drawn.
+vec4 occupied_rect(float grow, vec2 margin)
 {
     vec3 low, high;
     if (!occupied_box(grow, low, high))
         return vec4(0.0);
     screen_rect r = screen_rect(vec2(1e30), vec2(-1e30), false);
-    vec3 up = frame.ground_plane.xyz, light = frame.key_direction.xyz;
-    float rise = dot(light, up);
-    for (int c = 0; c < 8; c++) {
-        vec3 p = mix(low, high, vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-        rect_add(r, p);
-        if (shadows && rise > 1e-3)
-            rect_add(r, p - light * (max(dot(p, up) - frame.ground_plane.w, 0.0) / rise));
-    }
+    for (int c = 0; c < 8; c++)
+        rect_add(r, mix(low, high, vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1)));
     if (r.whole)
         return vec4(-1.0, -1.0, 1.0, 1.0);
     return clamp(vec4(r.low - margin, r.high + margin), -1.0, 1.0);
