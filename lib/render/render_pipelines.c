@@ -255,6 +255,21 @@ static cvk_result create_occlusion_pipelines(cvk_renderer* rd, bool single, cvk_
     return create_pipeline(rd, &p, &rd->blur_pipeline, error);
 }
 
+/* The composite over where the ground can be in a shadow (the occupied box's shadow on it),
+   the only one that reads the shadow map: the rectangle's recipe `rect` with the footprint's
+   triangles and SHADOWED; none without shadows on the ground. */
+static cvk_result create_footprint(cvk_renderer* rd, const pipeline_recipe* rect, cvk_error* error)
+{
+    if (!cvk_render_footprint_drawn(rd))
+        return CVK_SUCCESS;
+    pipeline_recipe p = *rect;
+    p.what = "composite pass (the ground's shadows)";
+    p.vertex = CVK_SHADER_COMPOSITE_FOOTPRINT_VERT;
+    p.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    p.spec[1] = true;
+    return create_pipeline(rd, &p, &rd->footprint_pipeline, error);
+}
+
 cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
 {
     uint32_t w = rd->desc.size[0], h = rd->desc.size[1], s = rd->desc.shadow_map_size;
@@ -307,15 +322,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
         r = create_pipeline(rd, &recipes[i], outs[i], error);
     if (r != CVK_SUCCESS)
         return r;
-    if (cvk_render_footprint_drawn(rd)) {
-        /* Where the ground can be in a shadow: the only composite that reads the shadow map. */
-        pipeline_recipe footprint = recipes[3];
-        footprint.what = "composite pass (the ground's shadows)";
-        footprint.vertex = CVK_SHADER_COMPOSITE_FOOTPRINT_VERT;
-        footprint.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-        footprint.spec[1] = true;
-        r = create_pipeline(rd, &footprint, &rd->footprint_pipeline, error);
-    }
+    r = create_footprint(rd, &recipes[3], error);
     if (rd->desc.ao && r == CVK_SUCCESS)
         r = create_occlusion_pipelines(rd, single, error);
     if (r != CVK_SUCCESS)
