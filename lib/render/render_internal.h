@@ -140,13 +140,14 @@ static inline uint32_t cvk_render_half(uint32_t pixels)
 }
 
 /* Whether the composite pass looks the ground's shadows up (over the occupied box's shadow,
-   shaders/render/occupied.glsl) and draws the occupied rectangle apart: with shadows on the
-   ground or ambient occlusion. */
+   shaders/render/occupied.glsl): with a ground and the key light above it. */
 static inline bool cvk_render_footprint_drawn(const cvk_renderer* rd)
 {
     return rd->desc.ground && rd->view.key_above_ground;
 }
 
+/* Whether it draws the occupied rectangle apart from the rest: with shadows on the ground or
+   ambient occlusion. */
 static inline bool cvk_render_rect_drawn(const cvk_renderer* rd)
 {
     return cvk_render_footprint_drawn(rd) || rd->desc.ao;

@@ -301,7 +301,7 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
          rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false, VK_COMPARE_OP_ALWAYS, false, -1,
          {cvk_render_rect_drawn(rd), false, rd->desc.samples, false}, false, false},
         /* The cloth pass's rectangle, with the occlusion; the ground's shadows drawn before
-           (footprint_recipe) are skipped. */
+           (create_footprint) are skipped. */
         {"composite pass (cloth and occlusion)", CVK_SHADER_COMPOSITE_RECT_VERT, composite, 0, false,
          VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP, rd->composite_pass, w, h, VK_SAMPLE_COUNT_1_BIT, false,
          VK_COMPARE_OP_ALWAYS, false, 2, {false, false, rd->desc.samples, rd->desc.ao}, false, false},
