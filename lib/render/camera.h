@@ -31,7 +31,7 @@ typedef struct cvk_view {
     double ground_axes[2][3];          /* along the ground, 1 / ground_tile long: checker space */
     double fog_start, fog_end;         /* depth along the view where the ground fades into the
                                           background, m */
-    bool key_above_ground;                /* the key light is above the ground */
+    bool key_above_ground;             /* the key light is above the ground */
     cvk_box reach;                     /* where the cloths can go, and the colliders near them */
 } cvk_view;
 

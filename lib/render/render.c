@@ -433,9 +433,10 @@ static double drawn_reach(const cvk_renderer* rd)
     double reach = 0.0, edge = 0.0;
     for (uint32_t c = 0; c < b->cloth_count; c++)
         reach = fmax(reach, 0.5 * b->cloths[c].thickness);
-    for (uint32_t s = 0; rd->desc.smooth > 1 && s < b->spring_count; s++)
-        if (b->springs[s].type != CVK_SPRING_BEND)
-            edge = fmax(edge, b->springs[s].rest);
+    if (rd->desc.smooth > 1)
+        for (uint32_t s = 0; s < b->spring_count; s++)
+            if (b->springs[s].type != CVK_SPRING_BEND)
+                edge = fmax(edge, b->springs[s].rest);
     return reach + 0.5 * edge;
 }
 

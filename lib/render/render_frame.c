@@ -189,7 +189,7 @@ static void record_lit_pass(const cvk_renderer* rd, VkCommandBuffer cmd)
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->footprint_pipeline);
         vkCmdDraw(cmd, 36, 1, 0, 0);
     }
-    if (cvk_render_rect_drawn(rd)) {
+    if (rd->rect_pipeline) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rd->rect_pipeline);
         vkCmdDraw(cmd, 4, 1, 0, 0);
     }

@@ -110,7 +110,9 @@ struct cvk_renderer {
     VkPipelineLayout pipeline_layout; /* descriptors.pipeline_layout */
     cvk_descriptors descriptors;     /* the one graphics set and its pipeline layout */
     VkDescriptorSet set;
-    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline, rect_pipeline;
+    VkPipeline shadow_pipeline, cloth_pipeline, background_pipeline;
+    VkPipeline rect_pipeline;        /* the composite over the occupied rectangle: none unless
+                                        cvk_render_rect_drawn */
     VkPipeline footprint_pipeline;   /* the composite over the ground's shadows: none without them */
     VkPipeline collider_shadow_pipeline, collider_pipeline; /* none without colliders to draw */
     VkPipeline collider_closed_pipeline; /* collider_pipeline culling back faces: closed colliders */

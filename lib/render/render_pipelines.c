@@ -319,7 +319,8 @@ cvk_result cvk_renderer_create_pipelines(cvk_renderer* rd, cvk_error* error)
     size_t count = rd->colliders.draw_count > 0 ? 6 : 4;
     cvk_result r = create_collider_closed(rd, &recipes[5], error);
     for (size_t i = 0; i < count && r == CVK_SUCCESS; i++)
-        r = create_pipeline(rd, &recipes[i], outs[i], error);
+        if (i != 3 || cvk_render_rect_drawn(rd)) /* the rectangle apart only where it is drawn */
+            r = create_pipeline(rd, &recipes[i], outs[i], error);
     if (r != CVK_SUCCESS)
         return r;
     r = create_footprint(rd, &recipes[3], error);

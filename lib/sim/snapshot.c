@@ -212,13 +212,15 @@ cvk_result cvk_sim_load_snapshot(cvk_sim* s, const void* data, uint64_t size, cv
         r = s->family->load_snapshot(s, s->family_state, state, family, error);
     if (r == CVK_SUCCESS) /* torn springs stay torn: flags and adjacency as they were */
         r = cvk_tear_load_snapshot(s, state + family + contact, error);
-    if (r == CVK_SUCCESS && contact > 0) /* the frame state, the clock included; the poses */
+    uint64_t step = r == CVK_SUCCESS ? h.frames * s->params.substeps : 0;
+    if (r == CVK_SUCCESS && contact > 0) { /* the frame state, the clock included; the poses */
         r = cvk_collide_load_snapshot(s, state + family, error);
-    if (r == CVK_SUCCESS && contact > 0)
-        r = cvk_collide_write_poses(s, h.frames * s->params.substeps, error);
-    else if (r == CVK_SUCCESS && (s->collide->collider_count > 0 || s->attach->attachment_count > 0 ||
-                                  s->aero->enabled)) /* the clock of colliders, attachments, gusts */
-        r = cvk_collide_set_step(s, h.frames * s->params.substeps, error);
+        if (r == CVK_SUCCESS)
+            r = cvk_collide_write_poses(s, step, error);
+    } else if (r == CVK_SUCCESS && (s->collide->collider_count > 0 || s->attach->attachment_count > 0 ||
+                                    s->aero->enabled)) { /* the clock of colliders, attachments, gusts */
+        r = cvk_collide_set_step(s, step, error);
+    }
     if (r == CVK_SUCCESS) {
         s->frames = h.frames;
         cvk_sim_watch_reset(s);
