@@ -25,7 +25,7 @@ typedef enum cvk_spec_source {
 
 typedef struct cvk_spec_recipe {
     uint32_t count;
-    cvk_spec_source source[6];
+    cvk_spec_source source[7];
 } cvk_spec_recipe;
 
 /* Id 5 of shaders/solvers/pd_common.glsl, BOUNDED: sweeps keep particles within their bounds
@@ -37,6 +37,11 @@ typedef struct cvk_spec_recipe {
                                CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
+/* finalize with the tethers' projection (ids 2 and 6 of shaders/solvers/finalize.comp: the
+   tether slots, TETHERED). */
+#define CVK_SPEC_FINALIZE_TETHERED {7, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                        CVK_SPEC_TETHER_SLOTS, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
+                                        CVK_SPEC_SELF_CONTACT, CVK_SPEC_TRUE}}
 #define CVK_SPEC_PD_FIRST {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
                                CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The checking first sweeps (id 3: TETHERS of shaders/solvers/pd_common.glsl). */
@@ -67,6 +72,7 @@ typedef struct cvk_spec_recipe {
 #define CVK_PIPELINE_LIST(X)                                                    \
     X(PREDICT, PREDICT_COMP, CVK_SPEC_PREDICT, "predict (Verlet)")              \
     X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
+    X(FINALIZE_TETHERED, FINALIZE_COMP, CVK_SPEC_FINALIZE_TETHERED, "tethers, x += u") \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps, one workgroup") \

@@ -144,6 +144,7 @@ typedef struct pd_builder {
     VkDescriptorSet contact_set;       /* set 1 of every dispatch */
     bool contact;                      /* the scene collides: a contact op per outer iteration */
     bool tethers;                      /* a cloth has tethers: a tether op per outer iteration */
+    bool tethers_in_finalize;          /* the last outer iteration's tethers: finalize's own */
     uint32_t predict, solve, tether_pass, contact_pass, finalize; /* pass indices */
     uint32_t strain_pass;              /* with solver.strain_limit: one op per colour per outer */
     /* With a tolerance: the check's pass and push data, and whether the substep's first check
@@ -241,7 +242,33 @@ static void add_predict(pd_builder* pb, const cvk_build* b, uint32_t start)
     cvk_grab_add_op(pb->sim, pb->plan, "after predict: y (w: 2^100), u0, u1");
 }
 
-/* x += u: the substep's displacement, which the solve left in U0, moves the positions. */
+/* Whether finalize projects the last outer iteration's tethers itself (shaders/solvers/
+   finalize.comp, TETHERED): where nothing would come between that tether pass and finalize —
+   no contact, no grab, no convergence check (whose copy-back may come between) — and no
+   attached particle, which finalize moves while the tethers read the pinned particles'
+   positions. One pass over the particles fewer a substep, the same bits. */
+static bool tethers_in_finalize(const cvk_sim* s, const pd_builder* pb)
+{
+    return pb->tethers && !pb->contact && !pb->checking && !s->grab->planned &&
+           s->build.attached_count == 0 && pb->solver->linear != CVK_LINEAR_GS_CPU;
+}
+
+/* Whether some outer iteration's tethers remain a pass of their own. */
+static bool tether_ops_before_finalize(const pd_builder* pb)
+{
+    if (!pb->tethers)
+        return false;
+    if (!pb->tethers_in_finalize)
+        return true;
+    uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
+    for (uint32_t outer = 0; outer + 1 < pb->solver->outer_iterations; outer++)
+        if ((outer + 1) % every == 0)
+            return true;
+    return false;
+}
+
+/* x += u: the substep's displacement, which the solve left in U0, moves the positions (with
+   the last tethers first where tethers_in_finalize says so). */
 static void add_finalize(pd_builder* pb, const cvk_build* b)
 {
     /* With attachments the pinned particles too: the attached move by the displacement the
@@ -252,8 +279,8 @@ static void add_finalize(pd_builder* pb, const cvk_build* b)
        except with self-contact, where the hand too is kept within the particle's bound. */
     if ((pb->tethers || pb->contact) && !pb->sim->collide->self)
         cvk_grab_add_op(pb->sim, pb->plan, "before finalize: u0, u1");
-    add_op(pb, CVK_PIPE_FINALIZE, CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f,
-           pb->base.omega);
+    add_op(pb, pb->tethers_in_finalize ? CVK_PIPE_FINALIZE_TETHERED : CVK_PIPE_FINALIZE,
+           CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f, pb->base.omega);
 }
 
 /* One op of a convergence check over `count` items: dispatched directly before the substep's
@@ -350,7 +377,8 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
        its dispatch does not write: shaders/solvers/pd_strain.comp). */
     add_strain(pb, b, set, outer, 1, 0.0f, "");
     uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
-    bool tether_now = (outer + 1) % every == 0 || outer + 1 == pb->solver->outer_iterations;
+    bool last = outer + 1 == pb->solver->outer_iterations;
+    bool tether_now = ((outer + 1) % every == 0 || last) && !(last && pb->tethers_in_finalize);
     if (pb->tethers && tether_now) {
         cvk_op* op = add_op(pb, CVK_PIPE_PD_TETHER, set, pb->tether_pass, 0, b->free_count,
                             1.0f, pb->base.omega);
@@ -547,7 +575,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
     pb.solve = cvk_plan_pass(plan, "solve");
     if (solver->strain_limit > 0.0f)
         pb.strain_pass = cvk_plan_pass(plan, "strain limit");
-    if (pb.tethers)
+    pb.tethers_in_finalize = tethers_in_finalize(s, &pb);
+    if (tether_ops_before_finalize(&pb))
         pb.tether_pass = cvk_plan_pass(plan, "tethers");
     if (pb.contact)
         pb.contact_pass = cvk_plan_pass(plan, "contact");

@@ -10,18 +10,38 @@
 // cloth reaches, lib/sim/sim.h), is not written, nor is any once predict found a spring stretched
 // past its bound; the first substep where that happens is recorded, and from then on no
 // particle moves.
+//
+// TETHERED (spec id 6): the tethers' projection first, where it would be the pass just before
+// this one (no contact or grab after it, no attached particle, which this pass would move while
+// others read it): u is read from dst_read, which in this pass's set is src, tethered
+// (solvers/tether.glsl) and written back in place when a tether moved it, as pd_tether.comp
+// would have: one pass over the particles fewer a substep, the same bits.
 #include "solvers/pd_common.glsl"
+#include "solvers/tether.glsl"
+
+layout(constant_id = 6) const bool TETHERED = false;
 
 void main()
 {
     uint now = watch.substep;
-    if (watch.diverged_at < now)
+    bool halted = watch.diverged_at < now;
+    if (halted && !TETHERED)
         return;
     bool stretched = watch.stretched != 0u;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        vec3 u = fetch(src, p);
-        vec3 next = fetch(x_read, p) + u;
+        vec3 u = TETHERED ? fetch(dst_read, p) : fetch(src, p);
+        vec3 xp = fetch(x_read, p);
+        if (TETHERED) {
+            vec4 start = imageLoad(dst_read, int(p));
+            bool moved;
+            u = tethered(p, xp, start.xyz, moved);
+            if (moved)
+                dst[p] = vec4(u, start.w);
+            if (halted)
+                continue;
+        }
+        vec3 next = xp + u;
         bool nonfinite = any(isnan(next)) || any(isinf(next));
         bool runaway = stretched || (pc.max_u2 > 0.0 && dot(u, u) > pc.max_u2);
         if (nonfinite || runaway) {
