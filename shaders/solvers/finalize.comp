@@ -30,8 +30,8 @@ void main()
     bool stretched = watch.stretched != 0u;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
-        vec3 u = TETHERED ? fetch(dst_read, p) : fetch(src, p);
         vec3 xp = fetch(x_read, p);
+        vec3 u;
         if (TETHERED) {
             vec4 start = imageLoad(dst_read, int(p));
             bool moved;
@@ -40,6 +40,8 @@ void main()
                 dst[p] = vec4(u, start.w);
             if (halted)
                 continue;
+        } else {
+            u = fetch(src, p);
         }
         vec3 next = xp + u;
         bool nonfinite = any(isnan(next)) || any(isinf(next));
