@@ -267,6 +267,15 @@ static bool tether_ops_before_finalize(const pd_builder* pb)
     return false;
 }
 
+/* Where the tethers run: finalize's own for the last outer iteration where it can, the tether
+   pass listed where some outer iteration still needs it. */
+static void plan_tethers(const cvk_sim* s, pd_builder* pb)
+{
+    pb->tethers_in_finalize = tethers_in_finalize(s, pb);
+    if (tether_ops_before_finalize(pb))
+        pb->tether_pass = cvk_plan_pass(pb->plan, "tethers");
+}
+
 /* x += u: the substep's displacement, which the solve left in U0, moves the positions (with
    the last tethers first where tethers_in_finalize says so). */
 static void add_finalize(pd_builder* pb, const cvk_build* b)
@@ -575,9 +584,7 @@ cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requ
     pb.solve = cvk_plan_pass(plan, "solve");
     if (solver->strain_limit > 0.0f)
         pb.strain_pass = cvk_plan_pass(plan, "strain limit");
-    pb.tethers_in_finalize = tethers_in_finalize(s, &pb);
-    if (tether_ops_before_finalize(&pb))
-        pb.tether_pass = cvk_plan_pass(plan, "tethers");
+    plan_tethers(s, &pb);
     if (pb.contact)
         pb.contact_pass = cvk_plan_pass(plan, "contact");
     pb.finalize = cvk_plan_pass(plan, "finalize");
