@@ -253,18 +253,13 @@ static bool tethers_in_finalize(const cvk_sim* s, const pd_builder* pb)
            s->build.attached_count == 0 && pb->solver->linear != CVK_LINEAR_GS_CPU;
 }
 
-/* Whether some outer iteration's tethers remain a pass of their own. */
-static bool tether_ops_before_finalize(const pd_builder* pb)
+/* Whether the tether pass runs after outer iteration `outer` (solver.tether_every, and the
+   last, unless finalize projects those). */
+static bool tether_pass_after(const pd_builder* pb, uint32_t outer)
 {
-    if (!pb->tethers)
-        return false;
-    if (!pb->tethers_in_finalize)
-        return true;
     uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
-    for (uint32_t outer = 0; outer + 1 < pb->solver->outer_iterations; outer++)
-        if ((outer + 1) % every == 0)
-            return true;
-    return false;
+    bool last = outer + 1 == pb->solver->outer_iterations;
+    return pb->tethers && ((outer + 1) % every == 0 || last) && !(last && pb->tethers_in_finalize);
 }
 
 /* Where the tethers run: finalize's own for the last outer iteration where it can, the tether
@@ -272,8 +267,11 @@ static bool tether_ops_before_finalize(const pd_builder* pb)
 static void plan_tethers(const cvk_sim* s, pd_builder* pb)
 {
     pb->tethers_in_finalize = tethers_in_finalize(s, pb);
-    if (tether_ops_before_finalize(pb))
-        pb->tether_pass = cvk_plan_pass(pb->plan, "tethers");
+    for (uint32_t outer = 0; outer < pb->solver->outer_iterations; outer++)
+        if (tether_pass_after(pb, outer)) {
+            pb->tether_pass = cvk_plan_pass(pb->plan, "tethers");
+            return;
+        }
 }
 
 /* x += u: the substep's displacement, which the solve left in U0, moves the positions (with
@@ -385,10 +383,7 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
     /* Strain limiting first, colour by colour (a particle reads only other colours, which
        its dispatch does not write: shaders/solvers/pd_strain.comp). */
     add_strain(pb, b, set, outer, 1, 0.0f, "");
-    uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
-    bool last = outer + 1 == pb->solver->outer_iterations;
-    bool tether_now = ((outer + 1) % every == 0 || last) && !(last && pb->tethers_in_finalize);
-    if (pb->tethers && tether_now) {
+    if (tether_pass_after(pb, outer)) {
         cvk_op* op = add_op(pb, CVK_PIPE_PD_TETHER, set, pb->tether_pass, 0, b->free_count,
                             1.0f, pb->base.omega);
         if (op)
