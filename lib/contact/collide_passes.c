@@ -130,9 +130,9 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
          midpoints, "edges against edges within %.3g m: distances, each pair once"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,
-         midpoints, "the edges with a pair"},
+         midpoints, "each edge's nearest pairs from its bucket"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
-         0, midpoints, "the pairs of the edges with some"},
+         0, midpoints, "the pairs of the edges past their buckets: walked again"},
     };
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
         snprintf(note, sizeof note, passes[i].what, (double)c->radius);

@@ -375,6 +375,9 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
    per edge, the nearest other edges. An entry is feature << 2 | kind. */
 #define CVK_CONTACTS_PER_PARTICLE 8
 #define CVK_CONTACTS_PER_EDGE 4
+/* Per edge, the pairs to list that edge detection's distance pass keeps for its listing
+   (contact_edges.comp); an edge with more is walked again. */
+#define CVK_EDGE_BUCKET 16
 /* Per particle, the pairs in which it is a corner of the feature (the other side's vertex and
    its entry): the face's side of a vertex–feature pair. */
 #define CVK_SIDES_PER_PARTICLE 32
@@ -410,9 +413,9 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
    - the free particles in some listed pair, the cloth contact pass's work until the next
      detection (contact_bound.comp; shaders/solvers/pd_contact.comp), particle_count entries
      from CVK_LIST_HEADER;
-   - the edges with a pair to list (another edge within the radius, their nearest points inside
-     both), edge_count entries after those: the work of the edge detection's listing pass (the
-     pass before it, over every edge, measures the nearest distances only: contact_edges.comp). */
+   - the edges with more pairs to list (another edge within the radius, their nearest points
+     inside both) than the bucket the distance pass keeps them in holds, edge_count entries
+     after those: the work of the edge detection's second walk (contact_edges.comp). */
 #define CVK_LIST_PARTICLE_GROUPS 0 /* x, y, z: detection and bounds over the particles */
 #define CVK_LIST_EDGE_GROUPS 4     /* x, y, z: detection over the edges */
 #define CVK_LIST_LISTED_GROUPS 8   /* x, y, z: the cloth contact pass over the listed particles */
@@ -456,7 +459,8 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_EDGE_CONTACTS 17 /* uint per edge × CVK_CONTACTS_PER_EDGE */
 #define CVK_CONTACT_BINDING_EDGE_CONTACTS_READ 18 /* texel view of the same */
 #define CVK_CONTACT_BINDING_NEAREST 19 /* uint per particle, then per edge: nearest distance's bits;
-                                          then per edge: 1 where it has a pair to list */
+                                          then per edge: how many pairs it has to list; then
+                                          per edge: CVK_EDGE_BUCKET of them (edge, distance) */
 #define CVK_CONTACT_BINDING_LISTS 20 /* the work list header (above) */
 #define CVK_CONTACT_BINDING_SEARCHED_READ 21 /* texel view of where detection saw them */
 #define CVK_CONTACT_BINDING_PARTICLE_EDGES 22 /* texel, uint: n + 1 offsets, then edge ids */
