@@ -407,6 +407,7 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_SIDES_READ] = TEXEL,
     [CVK_CONTACT_BINDING_MIDPOINTS] = STORAGE,
     [CVK_CONTACT_BINDING_INSTANCES] = TEXEL,
+    [CVK_CONTACT_BINDING_CENTROIDS] = STORAGE,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -486,54 +487,6 @@ static cvk_result upload_start(cvk_sim* s, cvk_collide* c, cvk_error* error)
     return r;
 }
 
-uint32_t cvk_collide_instance_count(const cvk_build* b, const cvk_scene_desc* scene)
-{
-    uint32_t n = scene->instances.count;
-    if (n <= 1 || b->cloth_count % n != 0 || scene->collider_count % n != 0)
-        return 1;
-    return n;
-}
-
-/* Each particle's instance (lib/scene/scene_instances.c lays the copies out one after
-   another, so a particle's cloth tells its copy). */
-static cvk_result find_instances(cvk_sim* s, cvk_collide* c, const cvk_scene_desc* scene,
-                                 cvk_error* error)
-{
-    const cvk_build* b = &s->build;
-    uint32_t n = cvk_collide_instance_count(b, scene);
-    c->instance_count = 1;
-    c->instance_colliders = c->collider_count;
-    if (n == 1)
-        return CVK_SUCCESS;
-    c->instance_of = malloc((b->particle_count ? b->particle_count : 1) * sizeof *c->instance_of);
-    if (!c->instance_of)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "instances: out of host memory for %u particles", b->particle_count);
-    uint32_t cloths = b->cloth_count / n;
-    for (uint32_t p = 0; p < b->particle_count; p++)
-        c->instance_of[p] = cvk_build_cloth_of(b, p) / cloths;
-    c->instance_count = n;
-    c->instance_colliders = c->collider_count / n;
-    return CVK_SUCCESS;
-}
-
-cvk_result cvk_collide_triangle_instances(const cvk_build* b, uint32_t instance_count,
-                                          uint32_t** out, cvk_error* error)
-{
-    *out = NULL;
-    if (instance_count <= 1)
-        return CVK_SUCCESS;
-    uint32_t* t = malloc((b->triangle_count ? b->triangle_count : 1) * sizeof *t);
-    if (!t)
-        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "instances: out of host memory for %u triangles", b->triangle_count);
-    uint32_t cloths = b->cloth_count / instance_count;
-    for (uint32_t i = 0; i < b->triangle_count; i++)
-        t[i] = cvk_build_cloth_of_user(b, b->triangles[3 * (size_t)i]) / cloths;
-    *out = t;
-    return CVK_SUCCESS;
-}
-
 typedef struct buffer_job {
     cvk_buffer* buffer;
     VkDeviceSize bytes;
@@ -544,7 +497,7 @@ typedef struct buffer_job {
 } buffer_job;
 
 /* The particles' instances (zeros with one), and with self-contact and several instances the
-   edges' (from their first ends'): the hashes' salts (collide_passes.c). */
+   edges' and the triangles' (from their first corners'): the hashes' salts (collide_passes.c). */
 static cvk_result create_instance_buffers(cvk_sim* s, cvk_collide* c, const cloth_tables* t,
                                           cvk_error* error)
 {
@@ -555,17 +508,26 @@ static cvk_result create_instance_buffers(cvk_sim* s, cvk_collide* c, const clot
     if (r == CVK_SUCCESS && !c->instance_of) /* one instance: 0 for every particle */
         r = cvk_device_clear_buffer(&s->device, &c->instances, error);
     bool salted = c->self && c->instance_of;
-    uint32_t* e = salted ? malloc((t->edge_count ? t->edge_count : 1) * sizeof *e) : NULL;
-    if (r == CVK_SUCCESS && salted && !e)
-        r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                     "instances: out of host memory for %u edges", t->edge_count);
-    for (uint32_t i = 0; e && i < t->edge_count; i++)
-        e[i] = c->instance_of[t->edges[4 * (size_t)i]];
-    if (r == CVK_SUCCESS)
-        r = cvk_device_make_buffer(&s->device, &c->edge_instances,
-                                   salted ? 4u * (VkDeviceSize)(t->edge_count ? t->edge_count : 1) : 16u,
-                                   "edge instances", e, error);
-    free(e);
+    struct {
+        cvk_buffer* buffer;
+        const uint32_t* table; /* 4 per item, its first end or corner first */
+        uint32_t count;
+        const char* what;
+    } kinds[] = {{&c->edge_instances, t->edges, t->edge_count, "edges"},
+                 {&c->triangle_instances, t->triangles, b->triangle_count, "triangles"}};
+    for (size_t k = 0; r == CVK_SUCCESS && k < sizeof kinds / sizeof kinds[0]; k++) {
+        VkDeviceSize count = kinds[k].count ? kinds[k].count : 1;
+        uint32_t* e = salted ? malloc(count * sizeof *e) : NULL;
+        if (salted && !e)
+            r = cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "instances: out of host memory for %u %s",
+                         kinds[k].count, kinds[k].what);
+        for (uint32_t i = 0; e && i < kinds[k].count; i++)
+            e[i] = c->instance_of[kinds[k].table[4 * (size_t)i]];
+        if (r == CVK_SUCCESS)
+            r = cvk_device_make_buffer(&s->device, kinds[k].buffer, salted ? 4u * count : 16u,
+                                       kinds[k].what, e, error);
+        free(e);
+    }
     return r;
 }
 
@@ -603,6 +565,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->lists, 4u * (CVK_LIST_HEADER + (VkDeviceSize)n + ec), true, "work lists", NULL},
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
+        {&c->centroids, 16u * tc, true, "triangle centroids", NULL},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
         bool small = jobs[i].self_only ? !c->self : !tables;
@@ -678,7 +641,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_
         .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
                    CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY,
                    CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
-                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0, 0, 0, 0},
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0, 0, 0, 0, 0},
     };
     _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
                    "the frame buffer: the frame state, then the bounds, as std430 lays them out");
@@ -726,6 +689,7 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_SIDES_READ] = {.view = c->view_sides},
         [CVK_CONTACT_BINDING_MIDPOINTS] = {.buffer = &c->midpoints},
         [CVK_CONTACT_BINDING_INSTANCES] = {.view = c->view_instances},
+        [CVK_CONTACT_BINDING_CENTROIDS] = {.buffer = &c->centroids},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -747,7 +711,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
                (scene->collider_count > CVK_UNIFORM_COLLIDERS ? CVK_COLLIDERS_IN_STORAGE : 0u);
     cvk_result r = copy_colliders(c, scene, error);
     if (r == CVK_SUCCESS)
-        r = find_instances(s, c, scene, error);
+        r = cvk_collide_find_instances(s, c, scene, error);
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS && c->self)
@@ -771,8 +735,8 @@ void cvk_collide_destroy(cvk_sim* s)
     cvk_context* ctx = s->device.context;
     if (c->detect_layout)
         vkDestroyPipelineLayout(ctx->device, c->detect_layout, NULL);
-    if (c->hash.capacity)
-        cvk_hash_destroy(ctx, &c->hash);
+    if (c->face_hash.capacity)
+        cvk_hash_destroy(ctx, &c->face_hash);
     if (c->edge_hash.capacity)
         cvk_hash_destroy(ctx, &c->edge_hash);
     cvk_descriptors_destroy(ctx, &c->descriptors);
@@ -787,8 +751,9 @@ void cvk_collide_destroy(cvk_sim* s)
                              &c->params, &c->triangles, &c->incident, &c->edges,
                              &c->triangle_edges, &c->particle_edges, &c->contacts,
                              &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
-                             &c->lists, &c->sides, &c->midpoints, &c->instances,
-                             &c->edge_instances, &c->uniform_stub};
+                             &c->lists, &c->sides, &c->midpoints, &c->centroids,
+                             &c->instances, &c->edge_instances, &c->triangle_instances,
+                             &c->uniform_stub};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)
         cvk_buffer_destroy(ctx, buffers[i]);
     free_colliders(c);

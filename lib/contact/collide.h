@@ -9,8 +9,8 @@
    point lies on: a face, an edge or a vertex) or an edge–edge pair (nearest points inside both
    edges) closer than the thickness is pushed apart along the line between the nearest points,
    so a large thickness leaves no artefacts. No cloth passes through cloth because of bounds,
-   not continuous collision detection: detection (hashes of the positions and of the edges'
-   midpoints, then every vertex against the faces and every edge against the edges within the
+   not continuous collision detection: detection (hashes of the triangles' centroids and of the
+   edges' midpoints, then every vertex against the faces and every edge against the edges within the
    contact radius, all pairs,
    shaders/contact/contact_detect.comp and contact_edges.comp) gives each vertex v the nearest
    distance d_v from it, from the faces around it and from its edges to anything not adjacent
@@ -92,6 +92,7 @@ typedef struct cvk_collide {
                                     (vertex, entry) in which it is a corner of the feature */
     cvk_buffer lists;            /* detection's indirect commands (shared/layout.h: CVK_LIST_*) */
     cvk_buffer midpoints;        /* vec4 per edge: its midpoint at the last detection */
+    cvk_buffer centroids;        /* vec4 per triangle: its centroid at the last detection */
     /* The scene's instances (copies that never touch one another: lib/scene/scene_instances.c
        lays them out copy by copy, each with cloth_count / instance_count cloths and
        collider_count / instance_count colliders): a particle meets its own copy's colliders
@@ -102,7 +103,8 @@ typedef struct cvk_collide {
     cvk_buffer instances;        /* the same on the device (zeros with one instance) */
     cvk_buffer edge_instances;   /* uint per edge: its instance (self-contact with several
                                     instances; 16 bytes otherwise) */
-    cvk_hash hash;               /* only with self-contact: the particles' positions */
+    cvk_buffer triangle_instances; /* uint per triangle: the same */
+    cvk_hash face_hash;          /* only with self-contact: the triangles' centroids */
     cvk_hash edge_hash;          /* only with self-contact: the edges' midpoints */
     VkBufferView view_triangles, view_incident, view_contacts, view_searched;
     VkBufferView view_edges, view_triangle_edges, view_particle_edges, view_edge_contacts;
@@ -120,8 +122,8 @@ cvk_result cvk_collide_create(struct cvk_sim* sim, const cvk_scene_desc* scene, 
 void cvk_collide_destroy(struct cvk_sim* sim);
 
 /* The collision passes at the start of every substep, before the family's: the colliders'
-   poses ("colliders"), and with self-contact the decision, the hash of the positions ("hash")
-   and detection with the bounds ("contacts"). Nothing when the scene does not collide. */
+   poses ("colliders"), and with self-contact the decision ("contacts"), the hashes of the
+   triangles' centroids and the edges' midpoints ("hash") and detection with the bounds. Nothing when the scene does not collide. */
 cvk_result cvk_collide_add_passes(struct cvk_sim* sim, cvk_plan* plan, cvk_error* error);
 
 /* The hash and the detection pass's layout (self-contact only); called by cvk_collide_create. */
@@ -160,6 +162,11 @@ cvk_result cvk_collide_load_snapshot(struct cvk_sim* sim, const unsigned char* d
    and colliders divide evenly into that many copies (as a file's "instances" block expands),
    else 1. */
 uint32_t cvk_collide_instance_count(const cvk_build* build, const cvk_scene_desc* scene);
+
+/* Sets collide's instance_count, instance_colliders and instance_of (per particle, internal
+   order; NULL with one instance) for the simulation's build (cvk_collide_create). */
+cvk_result cvk_collide_find_instances(struct cvk_sim* sim, cvk_collide* collide,
+                                      const cvk_scene_desc* scene, cvk_error* error);
 
 /* Per triangle (scene order): its instance, for the host's pair tests; NULL (and CVK_SUCCESS)
    with one instance. The caller frees it. */

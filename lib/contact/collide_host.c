@@ -1,6 +1,7 @@
 /* The colliders as the host sees them: poses by lib/scene/motion.c and signed distances with the
    formulas of shaders/contact/collide.glsl, for statistics and tests; the substeps' split for a
-   fast collider; the device's clock and poses set from the host (a loaded snapshot). */
+   fast collider; the device's clock and poses set from the host (a loaded snapshot); the
+   scene's instances as contact keeps them apart. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -245,4 +246,52 @@ cvk_result cvk_collide_write_poses(cvk_sim* s, uint64_t step, cvk_error* error)
     cvk_result r = cvk_device_upload(&s->device, &s->collide->poses, poses, c->collider_count * sizeof *poses, error);
     free(poses);
     return r;
+}
+
+uint32_t cvk_collide_instance_count(const cvk_build* b, const cvk_scene_desc* scene)
+{
+    uint32_t n = scene->instances.count;
+    if (n <= 1 || b->cloth_count % n != 0 || scene->collider_count % n != 0)
+        return 1;
+    return n;
+}
+
+/* Each particle's instance (lib/scene/scene_instances.c lays the copies out one after
+   another, so a particle's cloth tells its copy). */
+cvk_result cvk_collide_find_instances(struct cvk_sim* s, cvk_collide* c, const cvk_scene_desc* scene,
+                                      cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    uint32_t n = cvk_collide_instance_count(b, scene);
+    c->instance_count = 1;
+    c->instance_colliders = c->collider_count;
+    if (n == 1)
+        return CVK_SUCCESS;
+    c->instance_of = malloc((b->particle_count ? b->particle_count : 1) * sizeof *c->instance_of);
+    if (!c->instance_of)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "instances: out of host memory for %u particles", b->particle_count);
+    uint32_t cloths = b->cloth_count / n;
+    for (uint32_t p = 0; p < b->particle_count; p++)
+        c->instance_of[p] = cvk_build_cloth_of(b, p) / cloths;
+    c->instance_count = n;
+    c->instance_colliders = c->collider_count / n;
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_collide_triangle_instances(const cvk_build* b, uint32_t instance_count,
+                                          uint32_t** out, cvk_error* error)
+{
+    *out = NULL;
+    if (instance_count <= 1)
+        return CVK_SUCCESS;
+    uint32_t* t = malloc((b->triangle_count ? b->triangle_count : 1) * sizeof *t);
+    if (!t)
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "instances: out of host memory for %u triangles", b->triangle_count);
+    uint32_t cloths = b->cloth_count / instance_count;
+    for (uint32_t i = 0; i < b->triangle_count; i++)
+        t[i] = cvk_build_cloth_of_user(b, b->triangles[3 * (size_t)i]) / cloths;
+    *out = t;
+    return CVK_SUCCESS;
 }

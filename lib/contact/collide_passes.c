@@ -15,18 +15,20 @@
 cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 {
     cvk_collide* c = s->collide;
-    /* The cells: the radius plus the longest edge (midpoints) or that over sqrt 3 (particles),
-       so the 27 cells around a point hold every midpoint or corner a pair within the radius
-       needs (contact_edges.comp, contact_detect.comp). The decision writes them from the longest
-       edge measured at each detection (contact_decide.comp, before every build); this is only
-       the first, with the cloth stretched by up to 50 %. */
+    /* The cells: the radius plus the longest edge (midpoints) or plus the farthest a corner is
+       from its triangle's centroid (centroids), so the 27 cells around a point hold every
+       midpoint or centroid a pair within the radius needs (contact_edges.comp,
+       contact_detect.comp). The decision writes them from what each detection measures
+       (contact_decide.comp, before every build); this is only the first, with the cloth
+       stretched by up to 50 %. */
     float cell = c->radius + c->longest;
     /* Salted with the instances (several copies), so that copies at one place fill different
        slots and detection walks past few of another copy's points. */
     bool salted = c->instance_of != NULL;
-    cvk_hash_desc desc = {s->build.particle_count ? s->build.particle_count : 1, cell,
-                          &s->positions, true, salted ? &c->instances : NULL};
-    cvk_result r = cvk_hash_create(s->device.context, &desc, &c->hash, error);
+    uint32_t tc = s->build.triangle_count;
+    cvk_hash_desc desc = {tc ? tc : 1, cell, &c->centroids, true,
+                          salted ? &c->triangle_instances : NULL};
+    cvk_result r = cvk_hash_create(s->device.context, &desc, &c->face_hash, error);
     if (r != CVK_SUCCESS)
         return r;
     /* The edges' midpoints, which edge–edge detection walks (contact_edges.comp): an edge
@@ -37,7 +39,7 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
     r = cvk_hash_create(s->device.context, &edge_desc, &c->edge_hash, error);
     if (r != CVK_SUCCESS)
         return r;
-    VkDescriptorSetLayout layouts[2] = {c->set_layout, c->hash.set_layout};
+    VkDescriptorSetLayout layouts[2] = {c->set_layout, c->face_hash.set_layout};
     VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_contact_push)};
     VkPipelineLayoutCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
@@ -96,20 +98,21 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
     cvk_collide* c = s->collide;
     uint32_t n = s->build.particle_count;
-    const cvk_hash *points = &c->hash, *midpoints = &c->edge_hash;
-    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, points, "bounds of the extrapolated moves");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, points, "the shift without detection");
+    const cvk_hash *faces = &c->face_hash, *midpoints = &c->edge_hash;
+    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, faces, "bounds of the extrapolated moves");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, faces, "the shift without detection");
     char note[96];
     snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
-    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, points, note);
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, points, "detect or not: commands, shift");
+    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
     add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, 1, points, "the longest edge, the midpoints");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, points,
-                 "particle cells: the radius + the longest edge / sqrt 3");
+                  CVK_LIST_EDGE_GROUPS, 1, faces,
+                  "the longest edge, the midpoints, the centroids and their corners' reach");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
+                 "centroid cells: the radius + the farthest corner from a centroid");
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
                  "midpoint cells: the radius + the longest edge");
-    cvk_result r = cvk_hash_add_passes(points, plan, n, true, error);
+    cvk_result r = cvk_hash_add_passes(faces, plan, s->build.triangle_count, true, error);
     if (r == CVK_SUCCESS)
         r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
     if (r != CVK_SUCCESS)
@@ -125,7 +128,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         const cvk_hash* hash;
         const char* what;
     } passes[] = {
-        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, points,
+        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, faces,
          "vertices against faces within %.3g m"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
          midpoints, "edges against edges within %.3g m: distances, each pair once"},
@@ -143,7 +146,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     }
     snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
     cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
-                                   CVK_LIST_PARTICLE_GROUPS, 0, points, note);
+                                   CVK_LIST_PARTICLE_GROUPS, 0, faces, note);
     if (bounds) /* it writes the cloth contact pass's indirect command */
         bounds->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     return CVK_SUCCESS;

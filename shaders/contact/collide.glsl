@@ -429,6 +429,18 @@ vec3 collide_colliders(uint p, vec3 x0, vec3 u)
 
 // ---- cloth against cloth -------------------------------------------------------------------
 
+// A triangle's centroid, and the farthest its corners are from it: every point of the triangle
+// lies within that of its centroid (the faces' hash: contact_edges.comp, contact_detect.comp).
+vec3 triangle_centroid(vec3 a, vec3 b, vec3 c)
+{
+    return (a + b + c) * (1.0 / 3.0);
+}
+
+float corner_reach(vec3 a, vec3 b, vec3 c, vec3 g)
+{
+    return sqrt(max(max(dot(a - g, a - g), dot(b - g, b - g)), dot(c - g, c - g)));
+}
+
 // The point of triangle (a, b, c) nearest p and its barycentric weights (Ericson 2005, 5.1.5).
 vec3 closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, out vec3 w)
 {

@@ -4,9 +4,9 @@
 // contact_check.comp's:
 // 0: the shift the substep would have without detecting — the centre of the bounds of the
 //    extrapolated displacements (none where a particle is kinematic: params.shift 0);
-// 2 and 3 (after contact_edges.comp measured the longest edge): the cells of the particles'
-//    hash (2) or of the midpoints' (3), whichever is bound as set 1, for detection, and
-//    whether it builds;
+// 2 and 3 (after contact_edges.comp measured the longest edge and the triangles' spread): the
+//    cells of the centroids' hash (2) or of the midpoints' (3), whichever is bound as set 1,
+//    for detection, and whether it builds;
 // 1: detect when asked to (the first substep, positions written from the host) or when some
 //    particle would leave its bound: write detection's indirect commands (phases 2 and 3 open
 //    or close the hashes' builds); the shift for the substep (after a detection: the centre
@@ -40,16 +40,17 @@ void main()
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
     if (pc.phase >= 2u) {
-        // Detecting: cells as wide as the reach from the longest edge now (contact_edges.comp
-        // phase 1), so the walk over 27 cells finds every pair within the radius however the
-        // cloth stretches (up to a cell 16 times the first, past which the walks would visit
-        // most of a scene blown apart): a triangle within the radius of a vertex has a corner
-        // within the radius plus its longest edge / √3 of it (contact_detect.comp), an edge
-        // within the radius of another its midpoint within the radius plus half of each
-        // edge's length (contact_edges.comp).
+        // Detecting: cells as wide as the reach measured now (contact_edges.comp phase 1), so
+        // the walk over 27 cells finds every pair within the radius however the cloth
+        // stretches (up to a cell 16 times the first, past which the walks would visit most of
+        // a scene blown apart): a triangle within the radius of a vertex has its centroid
+        // within the radius plus the farthest its corners are from it (contact_detect.comp),
+        // an edge within the radius of another its midpoint within the radius plus half of
+        // each edge's length (contact_edges.comp).
         if (frame.search != 0u) {
-            float longest = uintBitsToFloat(frame.longest);
-            float cell = contact.radius + (pc.phase == 2u ? 0.57735027 * longest : longest);
+            float reach = pc.phase == 2u ? uintBitsToFloat(motion_bounds.spread)
+                                         : uintBitsToFloat(frame.longest);
+            float cell = contact.radius + reach;
             cell = clamp(cell, contact.radius, 16.0 * (contact.radius + contact.longest));
             hash_params.cell_size = cell;
             hash_params.inv_cell = 1.0 / cell;
@@ -85,6 +86,7 @@ void main()
     frame.shift_z = shift.z;
     frame.search = search ? 1u : 0u;
     frame.longest = 0u; // measured by detection (contact_edges.comp phase 1)
+    motion_bounds.spread = 0u;
     lists[CVK_LIST_PARTICLE_GROUPS] = search ? groups_for(contact.particle_count) : 0u;
     lists[CVK_LIST_PARTICLE_GROUPS + 1] = 1u;
     lists[CVK_LIST_PARTICLE_GROUPS + 2] = 1u;

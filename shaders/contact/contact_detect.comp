@@ -2,12 +2,12 @@
 #extension GL_GOOGLE_include_directive : require
 // Detection, vertex against faces (lib/contact/collide.h): for every particle p, every triangle
 // not around p whose nearest point is within the contact radius of p at the start of the
-// substep (x_n). A triangle that near has a corner within the reach (the radius plus the
-// farthest a point of a triangle is from its nearest corner, from the longest edge measured
-// by contact_edges.comp; the hash's cells are wider, contact_decide.comp), and the walk over
-// the 27 hash cells around p visits every such corner (of p's instance: the scene's copies
-// never touch one another, and a corner of another is passed over); the triangles
-// around each are tested once, through their lowest-index corner within reach. Each pair found:
+// substep (x_n). Every point of a triangle lies within its corners' reach of its centroid (the
+// farthest a corner is from it), so a triangle that near has its centroid within the radius
+// plus the largest reach of p (both measured by contact_edges.comp phase 1, which writes the
+// centroids the faces' hash is built from; its cells are that wide, contact_decide.comp), and
+// the walk over the 27 hash cells around p visits it, once (of p's instance: the scene's
+// copies never touch one another, and a triangle of another is passed over). Each pair found:
 //   - p's nearest distance and each corner's (an atomic minimum on the float's bits, which
 //     order as the non-negative floats do, so the result does not depend on thread timing)
 //     take its distance: the bounds come from them (contact_bound.comp);
@@ -45,57 +45,44 @@ uint feature_of(uint t, uvec4 tri, vec3 w)
     return e << 2u | CVK_FEATURE_EDGE;
 }
 
-// The triangles around corner q within the radius of p (q within reach of p).
-float triangles_at(uint p, vec3 xp, uint q, vec3 xq, float reach2, float nearest_p)
+// Triangle t, its centroid within reach of p: tested when not around p.
+float triangle_pair(uint p, vec3 xp, uint t, uint instance, float nearest_p)
 {
-    uint base = contact_u.particle_count + 1u;
-    for (uint o = contact_incident(q); o < contact_incident(q + 1u); o++) {
-        uint t = contact_incident(base + o);
-        uvec4 tri = contact_triangle(t);
-        if (tri.x == p || tri.y == p || tri.z == p)
-            continue; // around p: adjacent, never in contact
-        uint u = tri.x == q ? tri.y : tri.x;
-        uint v = tri.z == q ? tri.y : tri.z;
-        vec3 xu = contact_x(u), xv = contact_x(v);
-        if ((u < q && within_reach(xp, xu, reach2)) || (v < q && within_reach(xp, xv, reach2)))
-            continue; // tested through a lower corner
-        vec3 a = tri.x == q ? xq : xu;
-        vec3 b = tri.y == q ? xq : (tri.x == q ? xu : xv);
-        vec3 c = tri.z == q ? xq : xv;
-        // Every point of the triangle is within its longest distance from the centroid of it:
-        // a triangle whose centroid is farther than that plus the radius is not near.
-        vec3 g = (a + b + c) * (1.0 / 3.0);
-        float spread2 = max(max(dot(a - g, a - g), dot(b - g, b - g)), dot(c - g, c - g));
-        vec3 pg = xp - g;
-        float near = contact_u.radius + sqrt(spread2);
-        if (dot(pg, pg) >= near * near)
-            continue;
-        vec3 w;
-        float d = length(xp - closest_on_triangle(xp, a, b, c, w));
-        if (!(d < contact_u.radius))
-            continue;
-        nearest_p = min(nearest_p, d);
-        uint bits = floatBitsToUint(d);
-        atomicMin(nearest[tri.x], bits);
-        atomicMin(nearest[tri.y], bits);
-        atomicMin(nearest[tri.z], bits);
-        INSERT(d, feature_of(t, tri, w));
-    }
-    return nearest_p;
+    uvec4 tri = contact_triangle(t);
+    if (tri.x == p || tri.y == p || tri.z == p)
+        return nearest_p; // around p: adjacent, never in contact
+    if (contact_instance(tri.x) != instance)
+        return nearest_p; // another instance's, in a slot p's shares
+    vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
+    // Every point of the triangle is within its corners' reach of its centroid: a triangle
+    // whose centroid is farther than that plus the radius is not near.
+    vec3 g = triangle_centroid(a, b, c);
+    vec3 pg = xp - g;
+    float near = contact_u.radius + corner_reach(a, b, c, g);
+    if (dot(pg, pg) >= near * near)
+        return nearest_p;
+    vec3 w;
+    float d = length(xp - closest_on_triangle(xp, a, b, c, w));
+    if (!(d < contact_u.radius))
+        return nearest_p;
+    uint bits = floatBitsToUint(d);
+    atomicMin(nearest[tri.x], bits);
+    atomicMin(nearest[tri.y], bits);
+    atomicMin(nearest[tri.z], bits);
+    INSERT(d, feature_of(t, tri, w));
+    return min(nearest_p, d);
 }
 
-// Corners found within reach, tested a batch at a time: on SIMD hardware a loop body runs
-// whenever one lane needs it, so the triangles are tested in a loop over the corners a lane
-// found, not inside the walk over every hash entry (about 4 entries of 5 are not within reach).
+// Triangles found within reach, tested a batch at a time: on lavapipe a loop's body runs at
+// each of its steps for every lane, under a mask where a lane has nothing to do, so the tests
+// run in a loop over the triangles a lane found, not inside the walk over every hash entry.
 const uint BATCH = 16u;
 uint found[BATCH];
 
-float test_batch(uint p, vec3 xp, uint count, float reach2, float nearest_p)
+float test_batch(uint p, vec3 xp, uint count, uint instance, float nearest_p)
 {
-    for (uint i = 0u; i < count; i++) {
-        uint q = found[i];
-        nearest_p = triangles_at(p, xp, q, contact_x(q), reach2, nearest_p);
-    }
+    for (uint i = 0u; i < count; i++)
+        nearest_p = triangle_pair(p, xp, found[i], instance, nearest_p);
     return nearest_p;
 }
 
@@ -103,28 +90,27 @@ void detect(uint p)
 {
     vec3 xp = contact_x(p);
     clear_nearest();
-    // A triangle within the radius has a corner within the radius plus its longest edge / √3
-    // (the farthest a point of it is from its nearest corner).
-    float reach = contact_u.radius + uintBitsToFloat(frame.longest) * 0.57735027;
+    // The cells are as wide as the reach: the radius plus the farthest a corner is from its
+    // centroid (contact_decide.comp).
+    float reach = hash_params_u.cell_size;
     float reach2 = reach * reach;
     float nearest_p = INFINITY;
     uint instance = contact_instance(p); // copies never touch one another
-    hash_walk w = hash_walk_begin(xp, instance); // the slots of p's instance's corners
+    hash_walk w = hash_walk_begin(xp, instance); // the slots of p's instance's triangles
     uvec4 entry;
     bool here;
     uint count = 0u;
     while (hash_walk_step(w, entry, here)) {
-        if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2) &&
-            contact_instance(entry.w) == instance) {
+        if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2)) {
             found[count] = entry.w;
             count++;
         }
         if (count == BATCH) {
-            nearest_p = test_batch(p, xp, count, reach2, nearest_p);
+            nearest_p = test_batch(p, xp, count, instance, nearest_p);
             count = 0u;
         }
     }
-    nearest_p = test_batch(p, xp, count, reach2, nearest_p);
+    nearest_p = test_batch(p, xp, count, instance, nearest_p);
     if (nearest_p < INFINITY)
         atomicMin(nearest[p], floatBitsToUint(nearest_p));
     for (uint k = 0u; k < K; k++) {

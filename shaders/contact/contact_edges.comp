@@ -33,6 +33,9 @@ CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) writeonly buffer Midpoints {
     vec4 midpoints[];
 };
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) writeonly buffer Centroids {
+    vec4 centroids[];
+};
 
 layout(constant_id = 1) const bool LISTING = false;
 
@@ -142,13 +145,18 @@ void list_near()
     }
 }
 
-// Phase 1, before detection: the longest edge now, which bounds how near a corner of a near
-// feature is (an atomic maximum on the float's bits, which order as non-negative floats do),
-// the midpoints, and each edge's nearest distance reset.
+// Phase 1, before detection: the longest edge now, which bounds how far apart the midpoints
+// of two near edges are (an atomic maximum on the float's bits, which order as non-negative
+// floats do), the midpoints, and each edge's nearest distance reset; and for the faces'
+// detection (contact_detect.comp) the triangles' centroids and the farthest a corner is from
+// its centroid, which bounds how far from a point the centroid of a triangle within the
+// radius of it is. The dispatch covers the edges; its invocations stride over the triangles
+// too.
 void measure_longest()
 {
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     float longest = 0.0;
-    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
         uvec2 ab = contact_edge(pc.first + i);
         vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
         longest = max(longest, distance(xa, xb));
@@ -157,6 +165,15 @@ void measure_longest()
         nearest[contact_u.particle_count + contact_u.edge_count + pc.first + i] = 0u;
     }
     atomicMax(frame.longest, floatBitsToUint(longest));
+    float spread = 0.0;
+    for (uint t = gl_GlobalInvocationID.x; t < contact_u.triangle_count; t += stride) {
+        uvec4 tri = contact_triangle(t);
+        vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
+        vec3 g = triangle_centroid(a, b, c);
+        spread = max(spread, corner_reach(a, b, c, g));
+        centroids[t] = vec4(g, 0.0);
+    }
+    atomicMax(motion_bounds.spread, floatBitsToUint(spread));
 }
 
 void main()

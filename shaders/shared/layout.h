@@ -330,6 +330,7 @@ CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
     CVK_UINT(v_high_z)               \
     CVK_UINT(exceed)                 \
     CVK_UINT(near)                   \
+    CVK_UINT(spread) /* detecting: the farthest a triangle's corner is from its centroid (float bits) */ \
     CVK_FLOAT(next_x)                \
     CVK_FLOAT(next_y)                \
     CVK_FLOAT(next_z)
@@ -472,7 +473,9 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
                                             hash's points) */
 #define CVK_CONTACT_BINDING_INSTANCES 27 /* texel, uint per particle (internal): its instance
                                           (the scene's "instances" copy; 0 with one) */
-#define CVK_CONTACT_BINDING_COUNT 28
+#define CVK_CONTACT_BINDING_CENTROIDS 28 /* vec4 per triangle: its centroid at detection (the
+                                            face hash's points) */
+#define CVK_CONTACT_BINDING_COUNT 29
 
 /* Colliders the uniform arrays above hold. A scene with more reads the storage buffers instead
    (bit CVK_COLLIDERS_IN_STORAGE of the collider types' specialisation constant): one collider a
