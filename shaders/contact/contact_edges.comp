@@ -7,8 +7,8 @@
 // hash is built from; its cells are that wide, contact_decide.comp), so the walk over the 27
 // cells of the edge hash around e's midpoint visits every such edge, each once. In phases, as
 // the faces' detection (contact_detect.comp):
-//   1: (before the hash is built) the longest edge and the midpoints; each edge's nearest
-//      distance and mark reset;
+//   1: (before the hashes are built) the longest edge and the midpoints; each edge's nearest
+//      distance and count of pairs reset; the triangles' centroids for the faces' hash;
 //   0: over every edge, the nearest distances alone, for the bounds of the edges' ends
 //      (contact_bound.comp): each pair once, from e through the half of the block of cells
 //      after e's (hash_walk_begin_half; in e's own cell from the lower index), its distance an
@@ -47,8 +47,8 @@ float dist[K];
 
 #include "contact/nearest.glsl"
 
-// The pairs to list, kept as the distance pass meets them: per edge a count (where the mark
-// was), then CVK_EDGE_BUCKET (edge, distance's bits) pairs; phase 2 lists from them, and an
+// The pairs to list, kept as the distance pass meets them (the nearest buffer, after the
+// distances): per edge a count, then per edge CVK_EDGE_BUCKET (edge, distance's bits) pairs; phase 2 lists from them, and an
 // edge with more than its bucket holds is walked again by the LISTING pass.
 uint pairs_count(uint e)
 {
