@@ -408,6 +408,9 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_MIDPOINTS] = STORAGE,
     [CVK_CONTACT_BINDING_INSTANCES] = TEXEL,
     [CVK_CONTACT_BINDING_CENTROIDS] = STORAGE,
+    [CVK_CONTACT_BINDING_CELLS] = STORAGE,
+    [CVK_CONTACT_BINDING_CELL_POOL] = STORAGE,
+    [CVK_CONTACT_BINDING_CELL_POOL_READ] = TEXEL,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -531,6 +534,23 @@ static cvk_result create_instance_buffers(cvk_sim* s, cvk_collide* c, const clot
     return r;
 }
 
+/* What the buffers hold before the first detection: no contacts (all bits set), no nearest
+   distance (0x7f7f7f7f: 3.4e38 as a float, beyond any distance), empty work lists, cell lists
+   (the decision writes their command at each substep) and pairs by corner (the first
+   substep's detection, frame.force, writes them before any contact pass reads them). */
+static cvk_result fill_initial(cvk_sim* s, cvk_collide* c, cvk_error* error)
+{
+    struct {
+        cvk_buffer* buffer;
+        unsigned char byte;
+    } fills[] = {{&c->contacts, 0xff}, {&c->edge_contacts, 0xff}, {&c->nearest, 0x7f},
+                 {&c->lists, 0}, {&c->cells, 0}, {&c->sides, 0}};
+    cvk_result r = CVK_SUCCESS;
+    for (size_t i = 0; r == CVK_SUCCESS && i < sizeof fills / sizeof fills[0]; i++)
+        r = cvk_device_fill_buffer(&s->device, fills[i].buffer, fills[i].byte, error);
+    return r;
+}
+
 static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* error)
 {
     const cvk_build* b = &s->build;
@@ -566,23 +586,16 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
         {&c->centroids, 16u * tc, true, "triangle centroids", NULL},
+        {&c->cells, 4u * (CVK_CELLS_HEADER + 3u * ec), true, "edge cells", NULL},
+        {&c->cell_pool, 4u * CVK_CELL_POOL_PER_EDGE * ec, true, "edge cell lists", NULL},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
         bool small = jobs[i].self_only ? !c->self : !tables;
         r = cvk_device_make_buffer(&s->device, jobs[i].buffer, small ? 16u : jobs[i].bytes,
                                    jobs[i].label, small ? NULL : jobs[i].data, error);
     }
-    if (r == CVK_SUCCESS) /* no contacts yet */
-        r = cvk_device_fill_buffer(&s->device, &c->contacts, 0xff, error);
     if (r == CVK_SUCCESS)
-        r = cvk_device_fill_buffer(&s->device, &c->edge_contacts, 0xff, error);
-    if (r == CVK_SUCCESS) /* 0x7f7f7f7f: 3.4e38 as a float, beyond any distance: none yet */
-        r = cvk_device_fill_buffer(&s->device, &c->nearest, 0x7f, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_device_clear_buffer(&s->device, &c->lists, error);
-    if (r == CVK_SUCCESS) /* counts 0; the pairs are written by the first substep's detection
-                             (frame.force), before any contact pass reads them */
-        r = cvk_device_clear_buffer(&s->device, &c->sides, error);
+        r = fill_initial(s, c, error);
     if (r == CVK_SUCCESS)
         r = create_instance_buffers(s, c, &t, error);
     if (r == CVK_SUCCESS && c->self)
@@ -603,6 +616,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->edge_contacts, VK_FORMAT_R32_UINT, &c->view_edge_contacts},
         {&c->sides, VK_FORMAT_R32_UINT, &c->view_sides},
         {&c->instances, VK_FORMAT_R32_UINT, &c->view_instances},
+        {&c->cell_pool, VK_FORMAT_R32_UINT, &c->view_cell_pool},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
@@ -690,6 +704,9 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_MIDPOINTS] = {.buffer = &c->midpoints},
         [CVK_CONTACT_BINDING_INSTANCES] = {.view = c->view_instances},
         [CVK_CONTACT_BINDING_CENTROIDS] = {.buffer = &c->centroids},
+        [CVK_CONTACT_BINDING_CELLS] = {.buffer = &c->cells},
+        [CVK_CONTACT_BINDING_CELL_POOL] = {.buffer = &c->cell_pool},
+        [CVK_CONTACT_BINDING_CELL_POOL_READ] = {.view = c->view_cell_pool},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -743,7 +760,7 @@ void cvk_collide_destroy(cvk_sim* s)
     VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_contacts,
                             c->view_searched, c->view_edges, c->view_triangle_edges,
                             c->view_particle_edges, c->view_edge_contacts, c->view_sides,
-                            c->view_instances};
+                            c->view_instances, c->view_cell_pool};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);
@@ -752,6 +769,7 @@ void cvk_collide_destroy(cvk_sim* s)
                              &c->triangle_edges, &c->particle_edges, &c->contacts,
                              &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
                              &c->lists, &c->sides, &c->midpoints, &c->centroids,
+                             &c->cells, &c->cell_pool,
                              &c->instances, &c->edge_instances, &c->triangle_instances,
                              &c->uniform_stub};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)

@@ -77,15 +77,19 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 
 /* Detection's passes, dispatched through the commands the decision wrote (no workgroups at a
    substep that does not detect). */
+#define CELL_COMMAND UINT32_MAX
 static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
                              cvk_pipeline_id pipeline, uint32_t count, uint32_t slot,
                              uint32_t phase, const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     cvk_contact_push push = {0, count, phase, plan->workgroup_size};
+    /* the commands: in the work lists, or (CELL_COMMAND) the edge cells' */
+    VkBuffer commands = slot == CELL_COMMAND ? c->cells.buffer : c->lists.buffer;
     cvk_op* op = cvk_plan_dispatch_indirect(plan, cvk_plan_pass(plan, pass), pipeline,
                                             c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
-                                            c->lists.buffer, 4u * slot, &push, sizeof push);
+                                            commands, slot == CELL_COMMAND ? 0 : 4u * slot,
+                                            &push, sizeof push);
     if (!op)
         return NULL;
     op->count = count;
@@ -130,6 +134,10 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     } passes[] = {
         {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, faces,
          "vertices against faces within %.3g m"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 3,
+         midpoints, "one edge a cell of the midpoints"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CELL_COMMAND, 4, midpoints,
+         "each cell's list of the midpoints around it"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
          midpoints, "edges against edges within %.3g m: distances, each pair once"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,

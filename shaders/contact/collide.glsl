@@ -100,6 +100,11 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES) buffer Si
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES_READ, r32ui) uniform readonly uimageBuffer sides_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INSTANCES, r32ui) uniform readonly uimageBuffer instances_t;
+// Edge detection's cell lists (shared/layout.h: CVK_CELLS_*).
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELLS) buffer Cells {
+    uint cells[];
+};
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL_READ, r32ui) uniform readonly uimageBuffer cell_pool_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
     vec4 previous[]; // per particle: its position at the start of the substep before
 };

@@ -96,6 +96,12 @@ void main()
     // Emptied: the edge detection fills the list of its listing pass (none without detection),
     // and the bounds pass the particles in pairs again (contact_bound.comp).
     list_clear(CVK_LIST_EDGE_PAIRS_GROUPS);
+    // Emptied: the edge detection's cells (none without detection: contact_edges.comp phase 3).
+    cells[0] = 0u;
+    cells[1] = 1u;
+    cells[2] = 1u;
+    cells[CVK_CELLS_COUNT] = 0u;
+    cells[CVK_CELLS_POOL_USED] = 0u;
     if (search)
         list_clear(CVK_LIST_LISTED_GROUPS);
     frame.searches += search ? 1u : 0u;

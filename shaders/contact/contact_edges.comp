@@ -9,9 +9,13 @@
 // the faces' detection (contact_detect.comp):
 //   1: (before the hashes are built) the longest edge and the midpoints; each edge's nearest
 //      distance and count of pairs reset; the triangles' centroids for the faces' hash;
+//   3 and 4: (after them) the first edge of each cell of the midpoints' hash listed (3), and
+//      over those, each cell's list: the edges the walk from it steps over, for all of the
+//      cell's edges (4; shared/layout.h: CVK_CELLS_*);
 //   0: over every edge, the nearest distances alone, for the bounds of the edges' ends
 //      (contact_bound.comp): each pair once, from e through the half of the block of cells
-//      after e's (hash_walk_begin_half; in e's own cell from the lower index), its distance an
+//      after e's (its cell's list: hash_walk_begin_half's order; in e's own cell from the lower
+//      index; the walk itself where the list did not fit), its distance an
 //      atomic minimum at both edges, on the float's bits, which order as the non-negative floats
 //      do, so the result does not depend on thread timing — half the walk of a query from each
 //      edge; where the pair's nearest points lie inside both (elsewhere the pair is a vertex
@@ -35,6 +39,9 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) write
 };
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) writeonly buffer Centroids {
     vec4 centroids[];
+};
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) writeonly buffer CellPool {
+    uint cell_pool[];
 };
 
 layout(constant_id = 1) const bool LISTING = false;
@@ -116,6 +123,30 @@ bool candidate(hash_walk w, uint e, vec3 m, uvec4 entry, bool here, float reach2
            within_reach(m, uintBitsToFloat(entry.xyz), reach2);
 }
 
+// Edge f met by e's walk or list: its pair with e if within the radius.
+void meet(uint e, uvec2 ab, vec3 xa, vec3 xb, uint f, inout float nearest_e, inout uint found)
+{
+    bool both;
+    float d = edge_distance(ab, xa, xb, f, both);
+    if (!(d < contact_u.radius))
+        return;
+    nearest_e = min(nearest_e, d);
+    if (LISTING && both)
+        INSERT(d, f);
+    if (!LISTING && found < NEAR) {
+        near_f[found] = both ? f | 0x80000000u : f;
+        near_d[found] = d;
+    }
+    found++;
+}
+
+// Where edge e's cell list starts in the pool, and its length (CVK_CELL_OVERFLOW: none).
+uvec2 cell_list(uint e)
+{
+    uint at = CVK_CELLS_HEADER + contact_u.edge_count + 2u * e;
+    return uvec2(cells[at], cells[at + 1u]);
+}
+
 void detect(uint e)
 {
     uvec2 ab = contact_edge(e);
@@ -126,25 +157,24 @@ void detect(uint e)
     float reach2 = reach * reach;
     float nearest_e = INFINITY;
     uint instance = contact_instance(ab.x); // the slots of e's instance's edges
-    hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
     uvec4 entry;
-    bool here, both;
+    bool here;
     uint found = 0u;
-    while (hash_walk_step(w, entry, here)) {
-        if (!candidate(w, e, m, entry, here, reach2))
-            continue;
-        float d = edge_distance(ab, xa, xb, entry.w, both);
-        if (!(d < contact_u.radius))
-            continue;
-        nearest_e = min(nearest_e, d);
-        if (LISTING && both)
-            INSERT(d, entry.w);
-        if (!LISTING && found < NEAR) {
-            near_f[found] = both ? entry.w | 0x80000000u : entry.w;
-            near_d[found] = d;
-        }
-        found++;
+    // The distance pass loops over the list of e's cell, the walk's entries in its order (the
+    // home cell's marked), where the pool held it; the listing pass, and an edge whose list
+    // did not fit, walk the hash.
+    uvec2 list = LISTING ? uvec2(0u, CVK_CELL_OVERFLOW) : cell_list(e);
+    bool walk = list.y == CVK_CELL_OVERFLOW;
+    for (uint k = 0u; !walk && k < list.y; k++) {
+        uint listed = imageLoad(cell_pool_t, int(list.x + k)).x;
+        uint f = listed & ~CVK_CELL_HOME;
+        if ((listed < CVK_CELL_HOME || f > e) && within_reach(m, hash_point(f), reach2))
+            meet(e, ab, xa, xb, f, nearest_e, found);
     }
+    hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
+    while (walk && hash_walk_step(w, entry, here))
+        if (candidate(w, e, m, entry, here, reach2))
+            meet(e, ab, xa, xb, entry.w, nearest_e, found);
     if (LISTING) {
         for (uint k = 0u; k < K; k++)
             edge_contacts[e * K + k] = kept[k];
@@ -158,12 +188,81 @@ void detect(uint e)
     for (uint met = 0u; found > NEAR && hash_walk_step(w, entry, here);) {
         if (!candidate(w, e, m, entry, here, reach2))
             continue;
+        bool both;
         float d = edge_distance(ab, xa, xb, entry.w, both);
         if (d < contact_u.radius && met++ >= NEAR)
             keep_near(e, entry.w, d, both);
     }
     if (nearest_e < INFINITY)
         atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+}
+
+// The instance of the edge at entry (its first end's): the salt of its slot.
+uint edge_instance(uint f)
+{
+    return contact_instance(contact_edge(f).x);
+}
+
+// The first edge, in the slot's ascending order, of edge e's cell and instance: the one that
+// gathers the cell's list.
+uint first_of_cell(uint e, ivec3 cell, uint instance)
+{
+    uvec2 range = hash_range(cell, instance);
+    for (uint k = range.x; k < range.y; k++) {
+        uvec4 entry = hash_entry_point(k);
+        if (hash_cell(uintBitsToFloat(entry.xyz)) == cell && edge_instance(entry.w) == instance)
+            return entry.w;
+    }
+    return e;
+}
+
+// Phase 3, after the midpoints' hash: the first edge of each cell on the list of phase 4.
+void find_cells()
+{
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uint e = pc.first + i, instance = edge_instance(e);
+        if (first_of_cell(e, hash_cell(hash_point(e)), instance) != e)
+            continue;
+        uint at = atomicAdd(cells[CVK_CELLS_COUNT], 1u);
+        cells[CVK_CELLS_HEADER + at] = e;
+        atomicMax(cells[0], min(at / pc.per_group + 1u, 65535u));
+    }
+}
+
+// Phase 4, over those: each cell's list, the entries of the half block a walk from it steps
+// over (in the walk's order, the home cell's marked), for every edge of the cell; where the
+// pool is full, the cell's edges walk.
+void gather_cells()
+{
+    uint count = cells[CVK_CELLS_COUNT];
+    for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uint e = cells[CVK_CELLS_HEADER + i], instance = edge_instance(e);
+        vec3 m = hash_point(e);
+        uvec4 entry;
+        bool here;
+        uint length = 0u;
+        hash_walk w = hash_walk_begin_half(m, instance);
+        while (hash_walk_step(w, entry, here))
+            length += here ? 1u : 0u;
+        uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], length);
+        bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - length;
+        uint k = start;
+        w = hash_walk_begin_half(m, instance);
+        while (fits && hash_walk_step(w, entry, here)) {
+            if (here)
+                cell_pool[k++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+        }
+        ivec3 cell = hash_cell(m);
+        uvec2 range = hash_range(cell, instance);
+        for (uint j = range.x; j < range.y; j++) {
+            uvec4 member = hash_entry_point(j);
+            if (hash_cell(uintBitsToFloat(member.xyz)) != cell || edge_instance(member.w) != instance)
+                continue;
+            uint at = CVK_CELLS_HEADER + contact_u.edge_count + 2u * member.w;
+            cells[at] = start;
+            cells[at + 1u] = fits ? length : CVK_CELL_OVERFLOW;
+        }
+    }
 }
 
 // Phase 2, after the distances: every edge's list, its nearest K from its bucket (the same
@@ -232,6 +331,14 @@ void main()
     }
     if (pc.phase == 2u) {
         list_near();
+        return;
+    }
+    if (pc.phase == 3u) {
+        find_cells();
+        return;
+    }
+    if (pc.phase == 4u) {
+        gather_cells();
         return;
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)

@@ -475,7 +475,25 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
                                           (the scene's "instances" copy; 0 with one) */
 #define CVK_CONTACT_BINDING_CENTROIDS 28 /* vec4 per triangle: its centroid at detection (the
                                             face hash's points) */
-#define CVK_CONTACT_BINDING_COUNT 29
+#define CVK_CONTACT_BINDING_CELLS 29 /* uint: edge detection's cell lists (CVK_CELLS_*) */
+#define CVK_CONTACT_BINDING_CELL_POOL 30 /* uint per entry of the cell lists: an edge */
+#define CVK_CONTACT_BINDING_CELL_POOL_READ 31 /* texel view of the same (R32_UINT) */
+#define CVK_CONTACT_BINDING_COUNT 32
+
+/* Edge detection's cell lists (contact_edges.comp phases 3 and 4): for each cell of the
+   midpoints' hash that holds an edge, the edges of the half block of cells its edges walk, in
+   the walk's order, gathered once for all of them, so that each edge loops over a list instead
+   of walking the hash. The cells buffer: the indirect command (x, y, z) of the pass over one
+   edge a cell and how many, the pool's fill, then those edges (edge_count), then per edge its
+   list's start and length in the pool (CVK_CELL_OVERFLOW: the pool was full, the edge walks).
+   The pool holds CVK_CELL_POOL_PER_EDGE entries an edge, as many as the half blocks an edge's
+   midpoint can be in with one instance; the home cell's entries carry CVK_CELL_HOME. */
+#define CVK_CELLS_COUNT 3
+#define CVK_CELLS_POOL_USED 4
+#define CVK_CELLS_HEADER 8
+#define CVK_CELL_POOL_PER_EDGE 14
+#define CVK_CELL_OVERFLOW 0xffffffffu
+#define CVK_CELL_HOME 0x80000000u
 
 /* Colliders the uniform arrays above hold. A scene with more reads the storage buffers instead
    (bit CVK_COLLIDERS_IN_STORAGE of the collider types' specialisation constant): one collider a
