@@ -203,6 +203,13 @@ uint edge_instance(uint f)
     return contact_instance(contact_edge(f).x);
 }
 
+// Whether the hash's entry (a midpoint and its edge) is of that cell and instance: a slot holds
+// every cell and instance that hash to it.
+bool in_cell(uvec4 entry, ivec3 cell, uint instance)
+{
+    return hash_cell(uintBitsToFloat(entry.xyz)) == cell && edge_instance(entry.w) == instance;
+}
+
 // The first edge, in the slot's ascending order, of edge e's cell and instance: the one that
 // gathers the cell's list.
 uint first_of_cell(uint e, ivec3 cell, uint instance)
@@ -210,7 +217,7 @@ uint first_of_cell(uint e, ivec3 cell, uint instance)
     uvec2 range = hash_range(cell, instance);
     for (uint k = range.x; k < range.y; k++) {
         uvec4 entry = hash_entry_point(k);
-        if (hash_cell(uintBitsToFloat(entry.xyz)) == cell && edge_instance(entry.w) == instance)
+        if (in_cell(entry, cell, instance))
             return entry.w;
     }
     return e;
@@ -256,7 +263,7 @@ void gather_cells()
         uvec2 range = hash_range(cell, instance);
         for (uint j = range.x; j < range.y; j++) {
             uvec4 member = hash_entry_point(j);
-            if (hash_cell(uintBitsToFloat(member.xyz)) != cell || edge_instance(member.w) != instance)
+            if (!in_cell(member, cell, instance))
                 continue;
             uint at = CVK_CELLS_HEADER + contact_u.edge_count + 2u * member.w;
             cells[at] = start;
