@@ -14,11 +14,12 @@
    contact radius, all pairs,
    shaders/contact/contact_detect.comp and contact_edges.comp) gives each vertex v the nearest
    distance d_v from it, from the faces around it and from its edges to anything not adjacent
-   (the radius where nothing is nearer), and the bound b_v = gamma d_v with gamma < 1/2
-   (contact_bound.comp). Every pass that moves v keeps it within b_v of where detection saw it
-   plus a shift M common to all particles (the cloths' common motion, which changes no distance):
-   two features that were d apart then each moved at most gamma d relative to the other's
-   frame, so they stay more than (1 - 2 gamma) d apart and never cross. A start free of
+   (the radius where nothing is nearer), and the bound b_v = gamma (d_v - f) with gamma < 1/2
+   and f the gap floor (shared/layout.h, contact_bound.comp). Every pass that moves v keeps it
+   within b_v of where detection saw it plus a shift M common to all particles (the cloths'
+   common motion, which changes no distance): two features that were d >= f apart then each
+   moved at most gamma (d - f) relative to the other's frame, so they stay at least
+   (1 - 2 gamma) d + 2 gamma f >= f apart and never cross, however often they are squeezed. A start free of
    intersections stays free. Colliders push after the bound: the push (a funnel's edge test's
    too) is brought back within it where the particle stays outside every solid collider and
    on its side of every funnel (pd_contact.glsl), the shift is 0 at a

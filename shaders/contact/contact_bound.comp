@@ -1,11 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Detection's last pass (lib/contact/collide.h): each particle's bound, gamma times the
-// nearest distance from it, from a face around it or from an edge at it to anything not
-// adjacent that detection found within the contact radius (the radius where nothing was), and
-// where it is now; its nearest distance is cleared for the next detection, its list of the
-// pairs in which it is a feature's corner sorted, and a free particle in some pair listed for
-// the cloth contact pass.
+// nearest distance from it (from a face around it or from an edge at it to anything not
+// adjacent that detection found within the contact radius; the radius where nothing was) less
+// the gap floor (shared/layout.h: CVK_GAP_FLOOR_*), and where it is now; its nearest distance
+// is cleared for the next detection, its list of the pairs in which it is a feature's corner
+// sorted, and a free particle in some pair listed for the cloth contact pass.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -55,7 +55,11 @@ void main()
             d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + e]));
             listed = listed || edge_entry(e * uint(CVK_CONTACTS_PER_EDGE)) != CVK_NO_CONTACT;
         }
-        searched[p] = vec4(contact_x(p), contact_u.gamma * d);
+        vec3 x = contact_x(p);
+        vec3 ax = abs(x);
+        float floor_gap = max(float(CVK_GAP_FLOOR_THICKNESSES) * contact_u.thickness,
+                              float(CVK_GAP_FLOOR_RELATIVE) * max(ax.x, max(ax.y, ax.z)));
+        searched[p] = vec4(x, contact_u.gamma * max(d - floor_gap, 0.0));
         // The free particles in pairs, the cloth contact pass's work until the next detection
         // (shaders/solvers/pd_contact.comp), with its workgroups: one particle an invocation.
         if (listed && p < contact_u.free_count)

@@ -382,6 +382,14 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 /* Per particle, the pairs in which it is a corner of the feature (the other side's vertex and
    its entry): the face's side of a vertex–feature pair. */
 #define CVK_SIDES_PER_PARTICLE 32
+/* The gap kept between any two cloth features: the bound is gamma (d - floor), floor this many
+   thicknesses or CVK_GAP_FLOOR_RELATIVE times the particle's largest coordinate, whichever is
+   more (contact_bound.comp). Two features d >= floor apart stay 0.1 d + 0.9 floor >= floor apart,
+   so a pair squeezed detection after detection nears the floor, not the float rounding of its
+   positions, where the bounds could no longer keep it apart (2^-16 of a coordinate is 128 of
+   its float steps). */
+#define CVK_GAP_FLOOR_THICKNESSES 1.0e-3
+#define CVK_GAP_FLOOR_RELATIVE 1.52587890625e-5
 #define CVK_NO_CONTACT 0xffffffffu
 #define CVK_FEATURE_FACE 0u
 #define CVK_FEATURE_EDGE 1u

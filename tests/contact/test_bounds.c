@@ -1,0 +1,274 @@
+/* Detection's bounds against a host brute force: three cloths stacked closer than the contact
+   radius, 40 m from the origin, dropped over a box. After a detection each particle's bound on
+   the device (where detection saw it and its bound, lib/contact/collide.h) must be
+   0.45 (d - f): d the nearest distance, computed here in double over every pair — the particle
+   against every triangle not around it, every triangle around it against every vertex not on it,
+   its edges against every edge sharing no end — at most the radius; f the gap floor, the larger
+   of 0.001 thicknesses and 2^-16 of its largest coordinate (shared/layout.h), which 40 m from
+   the origin is 6.1e-4 m, far above what float distances there can be off by. */
+#include "contact/collide.h"
+#include "harness.h"
+#include "shared/layout.h"
+#include "sim/sim.h"
+
+#define OFFSET 40.0f /* m along x: the gap floor is the coordinate's there */
+
+static double dot3(const double* a, const double* b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void sub3(const double* a, const double* b, double* out)
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = a[k] - b[k];
+}
+
+static double dist3(const double* a, const double* b)
+{
+    double d[3];
+    sub3(a, b, d);
+    return sqrt(dot3(d, d));
+}
+
+/* The distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5). */
+static double point_triangle(const double* p, const double* a, const double* b, const double* c)
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    sub3(p, a, ap);
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0)
+        return dist3(p, a);
+    sub3(p, b, bp);
+    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+    if (d3 >= 0.0 && d4 <= d3)
+        return dist3(p, b);
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        double v = d1 / (d1 - d3);
+        for (int k = 0; k < 3; k++)
+            q[k] = a[k] + v * ab[k];
+        return dist3(p, q);
+    }
+    sub3(p, c, cp);
+    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6)
+        return dist3(p, c);
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        double w = d2 / (d2 - d6);
+        for (int k = 0; k < 3; k++)
+            q[k] = a[k] + w * ac[k];
+        return dist3(p, q);
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        for (int k = 0; k < 3; k++)
+            q[k] = b[k] + w * (c[k] - b[k]);
+        return dist3(p, q);
+    }
+    double denom = 1.0 / (va + vb + vc), v = vb * denom, w = vc * denom;
+    for (int k = 0; k < 3; k++)
+        q[k] = a[k] + v * ab[k] + w * ac[k];
+    return dist3(p, q);
+}
+
+static double clamp01(double x)
+{
+    return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
+}
+
+/* The distance between segments p1q1 and p2q2 (Ericson 5.1.9): the minimum over the interior
+   solution and the four end-to-segment distances, so a near-parallel pair is exact too. */
+static double point_segment(const double* p, const double* a, const double* b)
+{
+    double ab[3], ap[3], q[3];
+    sub3(b, a, ab);
+    sub3(p, a, ap);
+    double len2 = dot3(ab, ab), t = len2 > 0.0 ? clamp01(dot3(ap, ab) / len2) : 0.0;
+    for (int k = 0; k < 3; k++)
+        q[k] = a[k] + t * ab[k];
+    return dist3(p, q);
+}
+
+static double segment_segment(const double* p1, const double* q1, const double* p2,
+                              const double* q2)
+{
+    double best = fmin(fmin(point_segment(p1, p2, q2), point_segment(q1, p2, q2)),
+                       fmin(point_segment(p2, p1, q1), point_segment(q2, p1, q1)));
+    double d1[3], d2[3], r[3];
+    sub3(q1, p1, d1);
+    sub3(q2, p2, d2);
+    sub3(p1, p2, r);
+    double a = dot3(d1, d1), e = dot3(d2, d2), b = dot3(d1, d2), c = dot3(d1, r), f = dot3(d2, r);
+    double denom = a * e - b * b;
+    if (denom > 1e-12 * a * e) {
+        double s = (b * f - c * e) / denom, t = (a * f - b * c) / denom;
+        if (s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) {
+            double x1[3], x2[3];
+            for (int k = 0; k < 3; k++) {
+                x1[k] = p1[k] + s * d1[k];
+                x2[k] = p2[k] + t * d2[k];
+            }
+            best = fmin(best, dist3(x1, x2));
+        }
+    }
+    return best;
+}
+
+typedef struct mesh {
+    uint32_t n, triangle_count, edge_count;
+    uint32_t* tri;   /* 3 internal indices per triangle */
+    uint32_t* edges; /* 2 internal indices per edge, each edge once */
+} mesh;
+
+/* The triangles in internal order and their edges, each once. */
+static mesh make_mesh(const cvk_build* b)
+{
+    mesh m = {b->particle_count, b->triangle_count, 0, malloc(12u * b->triangle_count),
+              malloc(24u * b->triangle_count)};
+    for (uint32_t t = 0; t < m.triangle_count; t++) {
+        for (int k = 0; k < 3; k++)
+            m.tri[3 * t + k] = b->internal_of[b->triangles[3 * (size_t)t + k]];
+        for (int k = 0; k < 3; k++) {
+            uint32_t u = m.tri[3 * t + k], v = m.tri[3 * t + (k + 1) % 3];
+            uint32_t lo = u < v ? u : v, hi = u < v ? v : u;
+            bool seen = false;
+            for (uint32_t e = 0; e < m.edge_count && !seen; e++)
+                seen = m.edges[2 * e] == lo && m.edges[2 * e + 1] == hi;
+            if (!seen) {
+                m.edges[2 * m.edge_count] = lo;
+                m.edges[2 * m.edge_count + 1] = hi;
+                m.edge_count++;
+            }
+        }
+    }
+    return m;
+}
+
+/* Each particle's nearest distance as detection defines it, at most `radius` (d, n entries). */
+static void nearest_distances(const mesh* m, const double* x, double radius, double* d)
+{
+    double* edge = malloc(sizeof *edge * m->edge_count);
+    for (uint32_t p = 0; p < m->n; p++)
+        d[p] = radius;
+    for (uint32_t e = 0; e < m->edge_count; e++)
+        edge[e] = radius;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t* c = &m->tri[3 * t];
+        for (uint32_t p = 0; p < m->n; p++) {
+            if (p == c[0] || p == c[1] || p == c[2])
+                continue;
+            double dist = point_triangle(&x[3 * p], &x[3 * c[0]], &x[3 * c[1]], &x[3 * c[2]]);
+            d[p] = fmin(d[p], dist);
+            for (int k = 0; k < 3; k++)
+                d[c[k]] = fmin(d[c[k]], dist);
+        }
+    }
+    for (uint32_t e = 0; e < m->edge_count; e++) {
+        const uint32_t* a = &m->edges[2 * e];
+        for (uint32_t f = e + 1; f < m->edge_count; f++) {
+            const uint32_t* b = &m->edges[2 * f];
+            if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1])
+                continue;
+            double dist = segment_segment(&x[3 * a[0]], &x[3 * a[1]], &x[3 * b[0]], &x[3 * b[1]]);
+            edge[e] = fmin(edge[e], dist);
+            edge[f] = fmin(edge[f], dist);
+        }
+    }
+    for (uint32_t e = 0; e < m->edge_count; e++)
+        for (int k = 0; k < 2; k++)
+            d[m->edges[2 * e + k]] = fmin(d[m->edges[2 * e + k]], edge[e]);
+    free(edge);
+}
+
+static void test_bounds_against_host(cvk_context* ctx)
+{
+    cvk_cloth_desc cloths[3];
+    for (int i = 0; i < 3; i++) {
+        cloths[i] = cvk_default_cloth_desc();
+        cloths[i].grid[0] = cloths[i].grid[1] = 12;
+        cloths[i].size[0] = cloths[i].size[1] = 0.4f;
+        cloths[i].origin[0] = OFFSET - 0.2f + 0.011f * (float)i;
+        cloths[i].origin[1] = 0.43f + 0.02f * (float)i; /* 2 cm apart: the radius is 2.5 cm */
+        cloths[i].origin[2] = -0.2f - 0.007f * (float)i;
+    }
+    cvk_collider_desc box = cvk_default_collider_desc();
+    box.type = CVK_COLLIDER_BOX;
+    box.center[0] = OFFSET;
+    box.center[1] = 0.2f;
+    box.half_extents[0] = box.half_extents[2] = 0.12f;
+    box.half_extents[1] = 0.2f;
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 3;
+    scene.colliders = &box;
+    scene.collider_count = 1;
+    scene.dt = 1.0f / 120.0f;
+    scene.substeps = 1;
+    scene.collision.self = true;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
+    mesh m = make_mesh(&sim->build);
+    float* seen = malloc(16u * m.n);
+    double* x = malloc(sizeof *x * 3 * m.n);
+    double* d = malloc(sizeof *d * m.n);
+    double radius = sim->collide->radius, thickness = sim->collide->thickness;
+    const uint32_t checked[3] = {1, 20, 40};
+    for (uint32_t f = 1, next = 0; f <= 40; f++) {
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        if (f != checked[next])
+            continue;
+        next++;
+        REQUIRE_OK(cvk_buffer_download(ctx, &sim->device.submitter, sim->device.transfer_cmd,
+                                       &sim->collide->searched, seen, 16u * m.n, &err), err);
+        for (uint32_t p = 0; p < m.n; p++)
+            for (int k = 0; k < 3; k++)
+                x[3 * p + k] = seen[4 * p + k];
+        nearest_distances(&m, x, radius, d);
+        uint32_t wrong = 0, near = 0, worst_at = 0;
+        double worst = 0.0, least_floor = INFINITY;
+        for (uint32_t p = 0; p < m.n; p++) {
+            double largest = fmax(fabs(x[3 * p]), fmax(fabs(x[3 * p + 1]), fabs(x[3 * p + 2])));
+            double floor_gap = fmax(CVK_GAP_FLOOR_THICKNESSES * thickness,
+                                    CVK_GAP_FLOOR_RELATIVE * largest);
+            least_floor = fmin(least_floor, floor_gap);
+            double expected = CVK_BOUND_GAMMA * fmax(d[p] - floor_gap, 0.0);
+            double off = fabs(seen[4 * p + 3] - expected);
+            near += d[p] < radius ? 1u : 0u;
+            wrong += off > 1e-5 + 1e-4 * d[p] ? 1u : 0u;
+            if (off > worst) {
+                worst = off;
+                worst_at = p;
+            }
+        }
+        printf("frame %u: %u of %u particles nearer than the radius to something, bounds off "
+               "the host's by at most %.3g m (particle %u)\n", f, near, m.n, worst, worst_at);
+        CHECK(wrong == 0, "frame %u: %u bounds differ from 0.45 (d - f), the most by %g m "
+              "(particle %u: %g on the device, d %g)", f, wrong, worst, worst_at,
+              (double)seen[4 * worst_at + 3], d[worst_at]);
+        CHECK(near > m.n / 4, "frame %u: only %u particles near another cloth: the case tests "
+              "little", f, near);
+        /* The tolerance must be far below what the floor takes off, or the check could not
+           tell a bound without it. */
+        CHECK(CVK_BOUND_GAMMA * least_floor > 10.0 * (1e-5 + 1e-4 * radius),
+              "the floor (%g m) is within the tolerance", least_floor);
+    }
+    free(seen);
+    free(x);
+    free(d);
+    free(m.tri);
+    free(m.edges);
+    cvk_sim_destroy(sim);
+}
+
+int main(void)
+{
+    cvk_context* ctx = harness_context();
+    test_bounds_against_host(ctx);
+    return harness_finish(ctx);
+}
