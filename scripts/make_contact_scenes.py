@@ -74,7 +74,8 @@ def pile(count=6, n=20, side=0.7, first=0.75, gap=0.06):
         })
     return {
         "name": "contact-pile", "dt": 0.00208333333, "substeps": 8, "frames": 180,
-        "damping": 0.002, "solver": SOLVER, "collision": CONTACT, "cloths": cloths,
+        "damping": 0.002, "solver": {**SOLVER, "strain_limit": 0.05}, "collision": CONTACT,
+        "cloths": cloths,
         "colliders": [GROUND, {"type": "box", "name": "box", "center": [0, 0.2, 0],
                                "half_extents": [0.22, 0.2, 0.22], "color": [0.5, 0.52, 0.58]}],
         "render": render([2.0, 1.5, 2.2], [0, 0.35, 0]),
