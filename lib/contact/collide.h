@@ -7,25 +7,24 @@
    Cloth against cloth (Offset Geometric Contact, Chen et al. 2025): every face, edge and vertex
    of the cloths is offset by the thickness, and a vertex–feature pair (the feature the nearest
    point lies on: a face, an edge or a vertex) or an edge–edge pair (nearest points inside both
-   edges) closer than the thickness is pushed apart along the line between the nearest points,
-   so a large thickness leaves no artefacts. No cloth passes through cloth because of bounds,
-   not continuous collision detection: detection (hashes of the triangles' centroids and of the
-   edges' midpoints, then every vertex against the faces and every edge against the edges within the
-   contact radius, all pairs,
-   shaders/contact/contact_detect.comp and contact_edges.comp) gives each vertex v the nearest
-   distance d_v from it, from the faces around it and from its edges to anything not adjacent
-   (the radius where nothing is nearer), and the bound b_v = gamma (d_v - f) with gamma < 1/2
-   and f the gap floor (shared/layout.h, contact_bound.comp). Every pass that moves v keeps it
-   within b_v of where detection saw it plus a shift M common to all particles (the cloths'
-   common motion, which changes no distance): two features that were d >= f apart then each
-   moved at most gamma (d - f) relative to the other's frame, so they stay at least
-   (1 - 2 gamma) d + 2 gamma f >= f apart and never cross, however often they are squeezed. A start free of
-   intersections stays free. Colliders push after the bound: the push (a funnel's edge test's
-   too) is brought back within it where the particle stays outside every solid collider and
-   on its side of every funnel (pd_contact.glsl), the shift is 0 at a
-   detection while a particle is near a collider, and a substep detects rather than centre a
-   bound nearer a collider than the thickness less the bound (contact_check.comp). At the start
-   of each substep the device decides (contact_check.comp,
+   edges) closer than the thickness is pushed apart along the line between the nearest points, so
+   a large thickness leaves no artefacts. No cloth passes through cloth because of bounds, not
+   continuous collision detection: detection (hashes of the triangles' centroids and of the
+   edges' midpoints, then every vertex against the faces and every edge against the edges within
+   the contact radius, all pairs, shaders/contact/contact_detect.comp and contact_edges.comp)
+   gives each vertex v the nearest distance d_v from it, from the faces around it and from its
+   edges to anything not adjacent (the radius where nothing is nearer), and the bound b_v = gamma
+   (d_v - f_v) with gamma < 1/2 and f_v v's gap floor (shared/layout.h, contact_bound.comp).
+   Every pass that moves v keeps it within b_v of where detection saw it plus a shift M common to
+   all particles (the cloths' common motion, which changes no distance): two features that were d
+   apart then each moved at most gamma (d - f) relative to the other's frame (f their corners'
+   floors), so they stay at least (1 - 2 gamma) d + 2 gamma f apart — never nearer than about f,
+   however often they are squeezed — and never cross. A start free of intersections stays free.
+   Colliders push after the bound: the push (a funnel's edge test's too) is brought back within
+   it where the particle stays outside every solid collider and on its side of every funnel
+   (pd_contact.glsl), the shift is 0 at a detection while a particle is near a collider, and a
+   substep detects rather than centre a bound nearer a collider than the thickness less the bound
+   (contact_check.comp). At the start of each substep the device decides (contact_check.comp,
    contact_decide.comp) whether some particle's move, extrapolated from its last substep, would
    pass `redetect` of its bound from the shift the substep would take; only then does detection
    run (the hash build and the passes are dispatched indirectly, with no workgroups otherwise),
@@ -33,9 +32,9 @@
    nothing.
 
    The module owns one descriptor set, the contact set, which every solver family's pipelines
-   bind as set 1 (shaders/contact/collide.glsl declares it); a scene without colliders and without
-   self-contact still gets a small set (so layouts stay one shape) but records no collision
-   pass and compiles no contact code (specialisation constant CONTACT). */
+   bind as set 1 (shaders/contact/collide.glsl declares it); a scene without colliders and
+   without self-contact still gets a small set (so layouts stay one shape) but records no
+   collision pass and compiles no contact code (specialisation constant CONTACT). */
 #ifndef CVK_COLLIDE_H
 #define CVK_COLLIDE_H
 
