@@ -176,7 +176,7 @@ cvk_result cvk_collide_add_passes(cvk_sim* s, cvk_plan* plan, cvk_error* error)
             snprintf(op->note, sizeof op->note, "poses at t and t + dt, step += 1");
         }
     }
-    if (c->self && s->build.free_count > 0) {
+    if (c->self && (s->build.free_count > 0 || s->build.attached_count > 0)) {
         cvk_result r = add_self_contact(s, plan, error);
         if (r != CVK_SUCCESS)
             return r;

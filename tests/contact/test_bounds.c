@@ -5,7 +5,10 @@
    against every triangle not around it, every triangle around it against every vertex not on it,
    its edges against every edge sharing no end — at most the radius; f the gap floor, the larger
    of 0.001 thicknesses and 2^-16 of its largest coordinate (shared/layout.h), which 40 m from
-   the origin is 6.1e-4 m, far above what float distances there can be off by. */
+   the origin is 6.1e-4 m, far above what float distances there can be off by. And the floor
+   under a squeeze: a small cloth whose every particle is attached, driven down through a
+   pinned one, stops at the floor — each detection lets it close 0.45 of the gap left, which
+   without a floor reached the float rounding of the positions and touched. */
 #include "contact/collide.h"
 #include "harness.h"
 #include "shared/layout.h"
@@ -266,9 +269,105 @@ static void test_bounds_against_host(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* The nearest distance between cloth `a`'s and cloth `b`'s primitives (vertex against
+   triangle both ways, edge against edge), x in internal order. */
+static double cloths_apart(const cvk_build* build, const mesh* m, const double* x, uint32_t a,
+                           uint32_t b)
+{
+    double best = INFINITY;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t* c = &m->tri[3 * t];
+        uint32_t of = cvk_build_cloth_of(build, c[0]);
+        if (of != a && of != b)
+            continue;
+        for (uint32_t p = 0; p < m->n; p++)
+            if (cvk_build_cloth_of(build, p) == (of == a ? b : a))
+                best = fmin(best, point_triangle(&x[3 * p], &x[3 * c[0]], &x[3 * c[1]],
+                                                 &x[3 * c[2]]));
+    }
+    for (uint32_t e = 0; e < m->edge_count; e++) {
+        const uint32_t* u = &m->edges[2 * e];
+        if (cvk_build_cloth_of(build, u[0]) != a)
+            continue;
+        for (uint32_t f = 0; f < m->edge_count; f++) {
+            const uint32_t* v = &m->edges[2 * f];
+            if (cvk_build_cloth_of(build, v[0]) == b)
+                best = fmin(best, segment_segment(&x[3 * u[0]], &x[3 * u[1]], &x[3 * v[0]],
+                                                  &x[3 * v[1]]));
+        }
+    }
+    return best;
+}
+
+static void test_squeezed_to_the_floor(cvk_context* ctx)
+{
+    static const uint32_t pins[25][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {0, 1}, {1, 1},
+                                         {2, 1}, {3, 1}, {4, 1}, {0, 2}, {1, 2}, {2, 2}, {3, 2},
+                                         {4, 2}, {0, 3}, {1, 3}, {2, 3}, {3, 3}, {4, 3}, {0, 4},
+                                         {1, 4}, {2, 4}, {3, 4}, {4, 4}};
+    cvk_cloth_desc cloths[2] = {cvk_default_cloth_desc(), cvk_default_cloth_desc()};
+    cloths[0].grid[0] = cloths[0].grid[1] = 5; /* 5 cm apart: the thickness 2 cm */
+    cloths[0].size[0] = cloths[0].size[1] = 0.2f;
+    memcpy(cloths[0].origin, (float[3]){-0.1f, 0.5f, -0.1f}, sizeof cloths[0].origin);
+    cloths[0].pins = pins;
+    cloths[0].pin_count = 25;
+    cloths[1].grid[0] = cloths[1].grid[1] = 3;
+    cloths[1].size[0] = cloths[1].size[1] = 0.08f;
+    memcpy(cloths[1].origin, (float[3]){-0.027f, 0.512f, -0.033f}, sizeof cloths[1].origin);
+    static const cvk_keyframe down[2] = {
+        {.time = 0.0f, .rotation = {1, 0, 0, 0}},
+        {.time = 0.5f, .translation = {0.0f, -0.05f, 0.0f}, .rotation = {1, 0, 0, 0}},
+    };
+    cvk_attachment_desc held = cvk_default_attachment_desc();
+    held.cloth = 1;
+    held.use_pin_box = true;
+    held.pin_box = (cvk_box3){{-1.0f, 0.0f, -1.0f}, {1.0f, 1.0f, 1.0f}};
+    held.motion = (cvk_motion){.keyframes = down, .keyframe_count = 2};
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.attachments = &held;
+    scene.attachment_count = 1;
+    scene.collision.self = true;
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
+    mesh m = make_mesh(&sim->build);
+    float* xf = malloc(16u * m.n);
+    double* x = malloc(sizeof *x * 3 * m.n);
+    double floor_gap = fmax(CVK_GAP_FLOOR_THICKNESSES * sim->collide->thickness,
+                            CVK_GAP_FLOOR_RELATIVE * 0.5);
+    double least = INFINITY;
+    uint64_t pairs = 0, most = 0;
+    for (uint32_t f = 1; f <= 60; f++) {
+        REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        REQUIRE_OK(cvk_buffer_download(ctx, &sim->device.submitter, sim->device.transfer_cmd,
+                                       &sim->positions, xf, 16u * m.n, &err), err);
+        for (uint32_t p = 0; p < m.n; p++)
+            for (int k = 0; k < 3; k++)
+                x[3 * p + k] = xf[4 * p + k];
+        least = fmin(least, cloths_apart(&sim->build, &m, x, 0, 1));
+        REQUIRE_OK(cvk_sim_count_intersections(sim, &pairs, &err), err);
+        most = pairs > most ? pairs : most;
+    }
+    printf("a held cloth driven through a pinned one: at least %.3g m apart (the floor %.3g m), "
+           "at most %llu intersecting pairs\n", least, floor_gap, (unsigned long long)most);
+    CHECK(most == 0, "%llu intersecting pairs", (unsigned long long)most);
+    CHECK(least >= 0.5 * floor_gap, "the cloths came %g m apart, under half the floor %g m",
+          least, floor_gap);
+    CHECK(least < 2.0 * floor_gap, "the cloths stayed %g m apart, not squeezed to the floor "
+          "(%g m): the case tests nothing", least, floor_gap);
+    free(xf);
+    free(x);
+    free(m.tri);
+    free(m.edges);
+    cvk_sim_destroy(sim);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     test_bounds_against_host(ctx);
+    test_squeezed_to_the_floor(ctx);
     return harness_finish(ctx);
 }
