@@ -386,10 +386,10 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
    thicknesses or CVK_GAP_FLOOR_RELATIVE times the particle's largest coordinate, whichever is
    more (contact_bound.comp). Two features d >= floor apart stay 0.1 d + 0.9 floor >= floor apart,
    so a pair squeezed detection after detection nears the floor, not the float rounding of its
-   positions, where the bounds could no longer keep it apart (2^-16 of a coordinate is 128 of
-   its float steps). */
+   positions, where the bounds could no longer keep it apart: 2^-19 of a coordinate is at least
+   16 of its float steps (1.9 mm 1 km from the origin). */
 #define CVK_GAP_FLOOR_THICKNESSES 1.0e-3
-#define CVK_GAP_FLOOR_RELATIVE 1.52587890625e-5
+#define CVK_GAP_FLOOR_RELATIVE 1.9073486328125e-6
 #define CVK_NO_CONTACT 0xffffffffu
 #define CVK_FEATURE_FACE 0u
 #define CVK_FEATURE_EDGE 1u

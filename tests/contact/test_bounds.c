@@ -1,11 +1,11 @@
 /* Detection's bounds against a host brute force: three cloths stacked closer than the contact
-   radius, 40 m from the origin, dropped over a box. After a detection each particle's bound on
+   radius, 100 m from the origin, dropped over a box. After a detection each particle's bound on
    the device (where detection saw it and its bound, lib/contact/collide.h) must be
    0.45 (d - f): d the nearest distance, computed here in double over every pair — the particle
    against every triangle not around it, every triangle around it against every vertex not on it,
    its edges against every edge sharing no end — at most the radius; f the gap floor, the larger
-   of 0.001 thicknesses and 2^-16 of its largest coordinate (shared/layout.h), which 40 m from
-   the origin is 6.1e-4 m, far above what float distances there can be off by. And the floor
+   of 0.001 thicknesses and 2^-19 of its largest coordinate (shared/layout.h), which 100 m from
+   the origin is 1.9e-4 m, well above what float distances there can be off by. And the floor
    under a squeeze: a small cloth whose every particle is attached, driven down through a
    pinned one, stops at the floor — each detection lets it close 0.45 of the gap left, which
    without a floor reached the float rounding of the positions and touched. */
@@ -14,7 +14,7 @@
 #include "shared/layout.h"
 #include "sim/sim.h"
 
-#define OFFSET 40.0f /* m along x: the gap floor is the coordinate's there */
+#define OFFSET 100.0f /* m along x: the gap floor is the coordinate's there */
 
 static double dot3(const double* a, const double* b)
 {
@@ -258,7 +258,7 @@ static void test_bounds_against_host(cvk_context* ctx)
               "little", f, near);
         /* The tolerance must be far below what the floor takes off, or the check could not
            tell a bound without it. */
-        CHECK(CVK_BOUND_GAMMA * least_floor > 10.0 * (1e-5 + 1e-4 * radius),
+        CHECK(CVK_BOUND_GAMMA * least_floor > 5.0 * (1e-5 + 1e-4 * radius),
               "the floor (%g m) is within the tolerance", least_floor);
     }
     free(seen);
