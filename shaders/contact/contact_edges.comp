@@ -55,8 +55,9 @@ float dist[K];
 #include "contact/nearest.glsl"
 
 // The pairs to list, kept as the distance pass meets them (the nearest buffer, after the
-// distances): per edge a count, then per edge CVK_EDGE_BUCKET (edge, distance's bits) pairs; phase 2 lists from them, and an
-// edge with more than its bucket holds is walked again by the LISTING pass.
+// distances): per edge a count, then per edge CVK_EDGE_BUCKET (edge, distance's bits) pairs;
+// phase 2 lists from them, and an edge with more than its bucket holds is walked again by the
+// LISTING pass.
 uint pairs_count(uint e)
 {
     return contact_u.particle_count + contact_u.edge_count + e;
@@ -236,21 +237,30 @@ void find_cells()
     }
 }
 
-// Whether a midpoint can be within reach of some edge whose midpoint is in `cell`: within the
-// longest reach (the radius and the longest edge, contact_edges.comp's detect) of the cell's
-// box, widened by a thousandth of a cell against the rounding of its bounds. A cell's list
+// The box of a cell of the midpoints' hash, widened by the longest reach (the radius and the
+// longest edge, detect's) and a thousandth of a cell against the rounding of its bounds: every
+// midpoint within reach of an edge whose midpoint is in the cell is within it. A cell's list
 // holds only these: of the 13 cells after the home cell, the corners of the block lie partly
 // out of reach (the six-cloth pile's first 40 frames: edge detection 129-135 -> 119-120 ms a
 // frame, the same bits; the flat 40 x 40 drape's unchanged).
-bool in_reach_of_cell(vec3 q, ivec3 cell)
+struct reach_box {
+    vec3 low, high;
+    float reach2; // the widening, squared; negative: a clamped cell, whose points lie anywhere
+};
+
+reach_box reach_of_cell(ivec3 cell)
 {
-    if (any(greaterThanEqual(abs(cell), ivec3(CVK_HASH_CELL_LIMIT))))
-        return true; // a clamped cell: its points may lie anywhere beyond it
     float size = 1.0 / hash_params_u.inv_cell;
-    vec3 low = vec3(cell) * size, high = low + size;
-    vec3 out_of = max(max(low - q, q - high), vec3(0.0));
     float reach = contact_u.radius + uintBitsToFloat(frame.longest) + 1.0e-3 * size;
-    return dot(out_of, out_of) <= reach * reach;
+    bool clamped = any(greaterThanEqual(abs(cell), ivec3(CVK_HASH_CELL_LIMIT)));
+    vec3 low = vec3(cell) * size;
+    return reach_box(low, low + size, clamped ? -1.0 : reach * reach);
+}
+
+bool in_reach(reach_box box, vec3 q)
+{
+    vec3 out_of = max(max(box.low - q, q - box.high), vec3(0.0));
+    return box.reach2 < 0.0 || dot(out_of, out_of) <= box.reach2;
 }
 
 // Phase 4, over those: each cell's list, the entries of the half block a walk from it steps
@@ -263,18 +273,19 @@ void gather_cells()
         uint e = cells[CVK_CELLS_HEADER + i], instance = edge_instance(e);
         vec3 m = hash_point(e);
         ivec3 cell = hash_cell(m);
+        reach_box box = reach_of_cell(cell);
         uvec4 entry;
         bool here;
         uint length = 0u;
         hash_walk w = hash_walk_begin_half(m, instance);
         while (hash_walk_step(w, entry, here))
-            length += here && in_reach_of_cell(uintBitsToFloat(entry.xyz), cell) ? 1u : 0u;
+            length += here && in_reach(box, uintBitsToFloat(entry.xyz)) ? 1u : 0u;
         uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], length);
         bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - length;
         uint k = start;
         w = hash_walk_begin_half(m, instance);
         while (fits && hash_walk_step(w, entry, here)) {
-            if (here && in_reach_of_cell(uintBitsToFloat(entry.xyz), cell))
+            if (here && in_reach(box, uintBitsToFloat(entry.xyz)))
                 cell_pool[k++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
         }
         uvec2 range = hash_range(cell, instance);

@@ -10,6 +10,7 @@
    pinned one, stops at the floor — each detection lets it close 0.45 of the gap left, which
    without a floor reached the float rounding of the positions and touched. */
 #include "contact/collide.h"
+#include "contact/intersect.h"
 #include "harness.h"
 #include "shared/layout.h"
 #include "sim/sim.h"
@@ -34,49 +35,10 @@ static double dist3(const double* a, const double* b)
     return sqrt(dot3(d, d));
 }
 
-/* The distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5). */
+/* The distance from p to triangle abc (the library's host routine, lib/contact/intersect.c). */
 static double point_triangle(const double* p, const double* a, const double* b, const double* c)
 {
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
-    sub3(b, a, ab);
-    sub3(c, a, ac);
-    sub3(p, a, ap);
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0)
-        return dist3(p, a);
-    sub3(p, b, bp);
-    double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3)
-        return dist3(p, b);
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        double v = d1 / (d1 - d3);
-        for (int k = 0; k < 3; k++)
-            q[k] = a[k] + v * ab[k];
-        return dist3(p, q);
-    }
-    sub3(p, c, cp);
-    double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6)
-        return dist3(p, c);
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        double w = d2 / (d2 - d6);
-        for (int k = 0; k < 3; k++)
-            q[k] = a[k] + w * ac[k];
-        return dist3(p, q);
-    }
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        for (int k = 0; k < 3; k++)
-            q[k] = b[k] + w * (c[k] - b[k]);
-        return dist3(p, q);
-    }
-    double denom = 1.0 / (va + vb + vc), v = vb * denom, w = vc * denom;
-    for (int k = 0; k < 3; k++)
-        q[k] = a[k] + v * ab[k] + w * ac[k];
-    return dist3(p, q);
+    return sqrt(cvk_point_triangle_distance2(p, a, b, c));
 }
 
 static double clamp01(double x)
