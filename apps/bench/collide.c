@@ -109,9 +109,10 @@ static void make_plan(run* r, uint32_t n, cvk_error* err, cvk_result* result)
                                    CVK_PIPE_HASH_NEIGHBOURS, r->query.pipeline_layout,
                                    r->query.sets[0], CVK_DOMAIN_PARTICLES, 0, n, &push,
                                    sizeof push);
-    if (op)
+    if (op) {
         op->set1 = r->hash.set;
-    cvk_hash_one_item_each(&r->plan, op);
+        op->groups = cvk_plan_walk_groups(&r->plan, op->count);
+    }
     *result = cvk_plan_check(&r->plan, err);
 }
 

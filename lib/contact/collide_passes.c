@@ -61,7 +61,7 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
     cvk_collide* c = s->collide;
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
     uint32_t count = decide ? 1 : s->build.particle_count;
-    cvk_contact_push push = {0, count, phase, plan->workgroup_size};
+    cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), pipeline,
                                    c->detect_layout, c->set, CVK_DOMAIN_PARTICLES, 0, count, &push,
                                    sizeof push);
@@ -83,7 +83,7 @@ static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
                              uint32_t phase, const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
-    cvk_contact_push push = {0, count, phase, plan->workgroup_size};
+    cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};
     /* the commands: in the work lists, or (CELL_COMMAND) the edge cells' */
     VkBuffer commands = slot == CELL_COMMAND ? c->cells.buffer : c->lists.buffer;
     cvk_op* op = cvk_plan_dispatch_indirect(plan, cvk_plan_pass(plan, pass), pipeline,

@@ -17,8 +17,8 @@
 
    lavapipe (gallivm) ends a shader's loops silently after 65535 iterations in all, counted over
    every loop of an invocation batch. Passes whose items loop over a slot (the sort here, and
-   queries such as hash_neighbours.comp) therefore get one item per invocation rather than the
-   plan's few strided workgroups; see cvk_hash_one_item_each. */
+   queries such as hash_neighbours.comp) therefore get at most the plan's walk_items items per
+   invocation rather than its few strided workgroups; see cvk_plan_walk_groups. */
 #include "contact/hash.h"
 
 #include <math.h>
@@ -263,19 +263,6 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
     memset(hash, 0, sizeof *hash);
 }
 
-/* Workgroups that give each of `items` an invocation of its own (cvk_hash_one_item_each). */
-static uint32_t one_item_each(const cvk_plan* plan, uint32_t items)
-{
-    uint32_t groups = (items + plan->workgroup_size - 1) / plan->workgroup_size;
-    return groups < MAX_GROUPS ? groups : MAX_GROUPS;
-}
-
-void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op)
-{
-    if (op)
-        op->groups = one_item_each(plan, op->count);
-}
-
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
                                bool on_device, cvk_error* error)
 {
@@ -310,7 +297,7 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
     uint32_t groups[CVK_HASH_BUILD_PASSES] = {0};
     for (uint32_t i = 0; i < recorded; i++)
         groups[i] = passes[i].pipeline == CVK_PIPE_HASH_SORT
-                        ? one_item_each(plan, passes[i].items)
+                        ? cvk_plan_walk_groups(plan, passes[i].items)
                         : cvk_plan_groups_of(plan, passes[i].pipeline, passes[i].items);
     if (on_device) {
         cvk_hash_commands_push commands = {groups[0], groups[1], groups[2], groups[3],

@@ -77,12 +77,6 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
                                bool on_device, cvk_error* error);
 
-/* Gives dispatch `op` (may be NULL) one item per invocation, up to 65535 workgroups, instead of
-   the plan's cap. For passes whose items loop over hash slots (the sort, neighbour queries,
-   contact detection): lavapipe ends a shader's loops silently after 65535 iterations in all,
-   so a few strided workgroups would cut long loops short. */
-void cvk_hash_one_item_each(const cvk_plan* plan, cvk_op* op);
-
 /* The host reference, for tests: the slot of a point of salt 0, as the device computes it. */
 uint32_t cvk_hash_slot(const cvk_hash* hash, const float p[3]);
 

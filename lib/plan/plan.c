@@ -15,7 +15,21 @@ void cvk_plan_init(cvk_plan* plan, uint32_t substeps, uint32_t workgroup_size, u
         .particle_workgroup_size = workgroup_size,
         .fused_workgroup_size = workgroup_size,
         .max_groups = max_groups ? max_groups : 1,
+        .walk_items = 1,
     };
+}
+
+uint32_t cvk_plan_walk_group_items(const cvk_plan* plan)
+{
+    return plan->workgroup_size * (plan->walk_items > 1 ? plan->walk_items : 1);
+}
+
+#define WALK_MAX_GROUPS 65535u /* maxComputeWorkGroupCount[0] is at least this everywhere */
+uint32_t cvk_plan_walk_groups(const cvk_plan* plan, uint32_t count)
+{
+    uint32_t per_group = cvk_plan_walk_group_items(plan);
+    uint32_t groups = count / per_group + (count % per_group != 0);
+    return groups < WALK_MAX_GROUPS ? groups : WALK_MAX_GROUPS;
 }
 
 void cvk_plan_destroy(cvk_plan* plan)

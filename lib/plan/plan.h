@@ -82,6 +82,9 @@ typedef struct cvk_plan {
     uint32_t particle_group_items; /* dispatches of the pipelines that stream over particles
                                       give each workgroup at least this many items (fewer
                                       workgroups than max_groups); 0 or 1: no floor */
+    uint32_t walk_items;        /* items per invocation of the passes whose items loop over
+                                   hash slots or colliders (detection, contact: cvk_plan_walk_groups);
+                                   0 or 1: one item an invocation */
     bool uses[CVK_PIPE_COUNT];
     bool has_transfer;          /* some op fills, copies or dispatches indirectly */
     bool host;                  /* the family steps on the host: no operations are recorded */
@@ -107,6 +110,13 @@ uint32_t cvk_plan_find_pass(const cvk_plan* plan, const char* name);
 uint32_t cvk_plan_groups(const cvk_plan* plan, uint32_t count);
 /* The same for dispatches of `pipeline`, whose workgroups may be of the particle passes' size. */
 uint32_t cvk_plan_groups_of(const cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t count);
+/* The items each workgroup of a walking pass takes (walk_items per invocation), and the
+   workgroups of such a pass over `count` items, up to 65535 whatever max_groups says: lavapipe
+   ends a shader's loops silently after 65535 iterations in all, counted over every loop an
+   invocation runs, so these passes never stride over more than walk_items items an invocation
+   (lib/sim/sim.c says why 8 on a CPU device is safe). */
+uint32_t cvk_plan_walk_group_items(const cvk_plan* plan);
+uint32_t cvk_plan_walk_groups(const cvk_plan* plan, uint32_t count);
 cvk_op* cvk_plan_dispatch(cvk_plan* plan, uint32_t pass, cvk_pipeline_id pipeline,
                           VkPipelineLayout layout, VkDescriptorSet set, cvk_domain domain,
                           uint32_t first, uint32_t count, const void* push, uint32_t push_bytes);

@@ -37,6 +37,7 @@ struct cvk_sim {
     uint32_t fused_workgroup_size;    /* of the fused sweeps' one workgroup: cvk_plan */
     uint32_t particle_group_items;    /* the fewest particles a workgroup of those passes
                                          takes (0: no floor): cvk_plan */
+    uint32_t walk_items;              /* items per invocation of the walking passes: cvk_plan */
     const char* notes[CVK_COLLISION_NOTES_MAX + 1]; /* cvk_sim_note: static sentences, one
                                                        per scene key set that has no effect,
                                                        and split_note */

@@ -50,6 +50,24 @@ static uint32_t particle_group_items(const cvk_context* context, const cvk_sim_d
                ? CPU_DEVICE_PARTICLES_PER_WORKGROUP
                : 0;
 }
+/* On a CPU device, with the library's choice of workgroups per dispatch, the passes whose items
+   loop over hash slots or colliders (detection, the contact passes: cvk_plan_walk_groups) take
+   this many items an invocation instead of one: llvmpipe pays for every workgroup and every
+   SIMD batch it starts (the 40 x 40 contact drape's detection passes that only measure or list,
+   0.7 ms a detection each with one edge an invocation, 0.2 with one workgroup for all). More
+   would risk lavapipe's silent end of a shader's loops after 65,535 iterations, counted over
+   all the items of an invocation: an item of detection loops at most 1,264 times in the
+   six-cloth pile, 1,103 in the twist and 422 in the drape (measured with a test build over 120
+   frames), so eight stay under 10,200, and a crowd of layers six times the pile's in one
+   cell would be needed to reach the limit. */
+#define CPU_DEVICE_WALK_ITEMS 8u
+static uint32_t walk_items(const cvk_context* context, const cvk_sim_desc* desc)
+{
+    return desc->max_workgroups == 0 &&
+                   context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
+               ? CPU_DEVICE_WALK_ITEMS
+               : 1;
+}
 /* The fused sweeps (lib/solvers/solve_pd.h) run in one workgroup whose invocations stride over
    each colour: as large as the device allows, up to 1024 (a colour of a 10k-particle cloth in
    three passes), unless the caller chose a workgroup size, which they then take too. */
@@ -133,6 +151,7 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
     out->particle_workgroup_size = s->particle_workgroup_size;
     out->fused_workgroup_size = s->fused_workgroup_size;
     out->particle_group_items = s->particle_group_items;
+    out->walk_items = s->walk_items;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);
@@ -432,6 +451,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     s->particle_workgroup_size = particle_workgroup_size(context, desc, workgroup_size);
     s->fused_workgroup_size = fused_workgroup_size(context, desc, workgroup_size);
     s->particle_group_items = particle_group_items(context, desc);
+    s->walk_items = walk_items(context, desc);
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS)

@@ -284,6 +284,8 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
     put(&t, ", at most %u workgroups per dispatch", plan->max_groups);
     if (plan->particle_group_items > 1)
         put(&t, " (over particles, one per %u)", plan->particle_group_items);
+    if (plan->walk_items > 1)
+        put(&t, ", %u items an invocation in detection and contact", plan->walk_items);
     put(&t, "%s\n", s->timing ? ", timestamps per pass" : "");
     put(&t, "per substep:\n");
     for (uint32_t i = 0; i < plan->op_count; i++)

@@ -404,10 +404,10 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
     /* With self-contact the attached particles too: kept within their bounds (collide.h). */
     uint32_t count = self && b->attached_count > 0 ? b->particle_count : b->free_count;
     op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, count, 1.0f, pb->base.omega);
-    /* Each particle loops over colliders and traces: one particle per invocation keeps
-       lavapipe's per-shader loop budget (hash.h) out of reach. */
+    /* Each particle loops over colliders and traces: a few particles per invocation keep
+       lavapipe's per-shader loop budget out of reach (cvk_plan_walk_groups). */
     if (op && !pb->armed)
-        cvk_hash_one_item_each(pb->plan, op);
+        op->groups = cvk_plan_walk_groups(pb->plan, op->count);
     if (op)
         snprintf(op->note, sizeof op->note, "after outer %u, in place, %s", outer + 1,
                  set_note[set]);
@@ -547,14 +547,12 @@ static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const c
                         cvk_pd_converge_push* check)
 {
     uint32_t nf = s->build.free_count;
-    cvk_op contact = {.count = nf};
-    cvk_hash_one_item_each(plan, &contact);
     *check = (cvk_pd_converge_push){
         .stride = nf,
         .sweeps = solver->outer_iterations * solver->inner_iterations,
         .tol2 = (float)((double)solver->tolerance * solver->tolerance),
         .sweep_groups = cvk_plan_groups_of(plan, CVK_PIPE_GS, nf),
-        .contact_groups = contact.groups,
+        .contact_groups = cvk_plan_walk_groups(plan, nf),
         .reduce_groups = cvk_plan_groups(plan, CVK_PD_PARTIALS),
     };
     return solver->tolerance > 0.0f && nf > 0 && solver->linear != CVK_LINEAR_GS_CPU;

@@ -304,9 +304,9 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
                          "held on colliders: x, v along n, S = I - n n^T", 0);
         if (op) {
             op->set1 = s->collide->set;
-            /* each particle loops over the colliders: one per invocation keeps lavapipe's
-               per-shader loop budget (hash.h) out of reach */
-            cvk_hash_one_item_each(plan, op);
+            /* each particle loops over the colliders: a few per invocation keep lavapipe's
+               per-shader loop budget out of reach (cvk_plan_walk_groups) */
+            op->groups = cvk_plan_walk_groups(plan, op->count);
         }
     }
     /* Attached particles: their velocity over the substep, read by the assembly. */

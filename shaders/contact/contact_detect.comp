@@ -96,7 +96,7 @@ const uint HITS = 32u;
 uint hit_t[HITS];
 uint hit_feature[HITS];
 float hit_d[HITS];
-uint hits = 0u;
+uint hits; // reset by each detect: an invocation may detect for several particles
 
 float test_batch(uint p, vec3 xp, uint count, uint instance, float nearest_p)
 {
@@ -120,6 +120,7 @@ void detect(uint p)
 {
     vec3 xp = contact_x(p);
     clear_nearest();
+    hits = 0u;
     // The cells are as wide as the reach: the radius plus the farthest a corner is from its
     // centroid (contact_decide.comp).
     float reach = hash_params_u.cell_size;

@@ -27,6 +27,7 @@ typedef struct hash_case {
     float radius;           /* m, below cell_size; 0: no neighbour check */
     uint32_t max_groups;
     const float* raw;       /* points given directly (3 per point) instead of k, keys only */
+    uint32_t walk_items;    /* the query's items per invocation (cvk_plan_walk_groups); 0: 1 */
 } hash_case;
 
 /* What the device produced. */
@@ -70,6 +71,7 @@ static void make_plan(const hash_case* c, const cvk_hash* hash, const cvk_descri
 {
     cvk_error err;
     cvk_plan_init(plan, 1, WORKGROUP, c->max_groups);
+    plan->walk_items = c->walk_items;
     REQUIRE_OK(cvk_hash_add_passes(hash, plan, c->count, false, &err), err);
     cvk_hash_query_push push = {c->count, radius2_of(c->radius)};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "neighbours"),
@@ -78,7 +80,8 @@ static void make_plan(const hash_case* c, const cvk_hash* hash, const cvk_descri
                                    sizeof push);
     if (op)
         op->set1 = hash->set;
-    cvk_hash_one_item_each(plan, op);
+    if (op)
+        op->groups = cvk_plan_walk_groups(plan, op->count);
     REQUIRE_OK(cvk_plan_check(plan, &err), err);
 }
 
@@ -312,7 +315,7 @@ static void random_cases(fixture* f)
             snprintf(name, sizeof name, "random n=%u cell=%g seed=%u", sizes[s], (double)cells[k],
                      seed);
             hash_case c = {name, points, sizes[s], sizes[s] + (s % 2) * sizes[s] / 3, cells[k],
-                           0.9f * cells[k], s % 3 == 0 ? 1 : 8, NULL};
+                           0.9f * cells[k], s % 3 == 0 ? 1 : 8, NULL, 1};
             run_case(f, &c);
             free(points);
         }
@@ -322,7 +325,7 @@ static void random_cases(fixture* f)
 static void crowded_cases(fixture* f)
 {
     int32_t* one_cell = random_points(41, 20000, 0, 102); /* 102 / 1024 < 0.1 */
-    hash_case c = {"20000 points in one cell", one_cell, 20000, 20000, 0.1f, 0.09f, 8, NULL};
+    hash_case c = {"20000 points in one cell", one_cell, 20000, 20000, 0.1f, 0.09f, 8, NULL, 1};
     run_case(f, &c);
     free(one_cell);
     int32_t* coincident = random_points(43, 1000, -300, 300);
@@ -330,7 +333,7 @@ static void crowded_cases(fixture* f)
         for (int a = 0; a < 3; a++)
             coincident[3 * (2 * i) + a] = 256;
     hash_case d = {"500 coincident points among 500", coincident, 1000, 1000, 0.05f, 0.04f, 8,
-                   NULL};
+                   NULL, 1};
     run_case(f, &d);
     free(coincident);
 }
@@ -339,7 +342,7 @@ static void crowded_cases(fixture* f)
 static void empty_case(fixture* f)
 {
     int32_t* points = random_points(47, 50, -100, 100);
-    hash_case c = {"0 points after 50", points, 50, 50, 0.05f, 0.0f, 8, NULL};
+    hash_case c = {"0 points after 50", points, 50, 50, 0.05f, 0.0f, 8, NULL, 1};
     uint32_t table_size;
     hash_result r = run_device(f, &c, &table_size, 0);
     check_params(&c, &r, table_size, 0);
@@ -356,7 +359,8 @@ static void empty_case(fixture* f)
 static void rebuild_case(fixture* f)
 {
     int32_t* points = random_points(53, 3000, -600, 600);
-    hash_case c = {"1800 points after 3000", points, 3000, 3000, 0.05f, 0.04f, 8, NULL};
+    /* eight queries an invocation, as on a CPU device */
+    hash_case c = {"1800 points after 3000", points, 3000, 3000, 0.05f, 0.04f, 8, NULL, 8};
     uint32_t table_size;
     hash_result r = run_device(f, &c, &table_size, 1800);
     c.count = 1800;
@@ -374,7 +378,7 @@ static void far_case(fixture* f)
         1e12f, -1e12f, 3.0f,   -5e9f, 7e9f, 0.0f,  0.0f, -0.0f, 0.0f,
         0.1f,  -0.1f,  0.05f,  1e-30f, -1e-30f, 2.5f,  -1e12f, -1e12f, -1e12f,
     };
-    hash_case c = {"far and border points", NULL, 6, 6, 0.05f, 0.0f, 8, raw};
+    hash_case c = {"far and border points", NULL, 6, 6, 0.05f, 0.0f, 8, raw, 1};
     run_case(f, &c);
 }
 

@@ -221,6 +221,12 @@ static void test_shapes(cvk_context* ctx)
     CHECK(sim->plan.particle_group_items == (cpu ? 16384u : 0u),
           "default shape: a floor of %u particles a workgroup (expected %u on a%s device)",
           sim->plan.particle_group_items, cpu ? 16384u : 0u, cpu ? " CPU" : "nother");
+    CHECK(sim->plan.walk_items == (cpu ? 8u : 1u) &&
+              cvk_plan_walk_groups(&sim->plan, 10000) == (cpu ? 20u : 157u),
+          "default shape: %u items an invocation of detection and contact, %u workgroups for "
+          "10,000 (expected %u and %u on a%s device)", sim->plan.walk_items,
+          cvk_plan_walk_groups(&sim->plan, 10000), cpu ? 8u : 1u, cpu ? 20u : 157u,
+          cpu ? " CPU" : "nother");
     check_groups(&sim->plan, "default shape");
     cvk_sim_destroy(sim);
     sim = make_sim_sized(ctx, 32);
