@@ -74,7 +74,7 @@ typedef struct cvk_resource {
 } cvk_resource;
 
 #define CVK_MAX_SETS 8
-#define CVK_MAX_BINDINGS 32
+#define CVK_MAX_BINDINGS 40
 #define CVK_MAX_EXTRA_SETS 2 /* other modules' set layouts after a table's own (set 0) */
 
 /* A set layout, a pipeline layout over it with one push-constant range, a pool and

@@ -105,6 +105,7 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELLS) buffer Ce
     uint cells[];
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL_READ, r32ui) uniform readonly uimageBuffer cell_pool_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_ENDS_READ, rgba32ui) uniform readonly uimageBuffer edge_ends_t;
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
     vec4 previous[]; // per particle: its position at the start of the substep before
 };

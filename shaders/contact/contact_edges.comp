@@ -43,6 +43,9 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) write
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) writeonly buffer CellPool {
     uint cell_pool[];
 };
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_ENDS) writeonly buffer EdgeEnds {
+    uvec4 edge_ends[]; // per edge: each end's position (float bits) and index
+};
 
 layout(constant_id = 1) const bool LISTING = false;
 
@@ -78,21 +81,29 @@ void keep_pair(uint e, uint f, uint d)
     }
 }
 
+// Edge f = (c, d) at xc, xd, of e = (a, b)'s instance: its distance to e if it shares no end
+// with e (else INFINITY), and whether the nearest points lie inside both.
+float ends_distance(uvec2 ab, vec3 xa, vec3 xb, uvec2 cd, vec3 xc, vec3 xd, out bool both)
+{
+    both = false;
+    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
+        return INFINITY; // sharing an end: adjacent (or e itself)
+    float s, t;
+    vec3 c1, c2;
+    closest_segments(xa, xb, xc, xd, s, t, c1, c2);
+    both = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+    return length(c1 - c2);
+}
+
 // Edge f, its midpoint near e = (a, b)'s: its distance to e if f shares no end with e and is
 // of e's instance (else INFINITY), and whether the nearest points lie inside both.
 float edge_distance(uvec2 ab, vec3 xa, vec3 xb, uint f, out bool both)
 {
     both = false;
     uvec2 cd = contact_edge(f);
-    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
-        return INFINITY; // sharing an end: adjacent (or e itself)
     if (contact_instance(cd.x) != contact_instance(ab.x))
         return INFINITY; // another instance: copies never touch one another
-    float s, t;
-    vec3 c1, c2;
-    closest_segments(xa, xb, contact_x(cd.x), contact_x(cd.y), s, t, c1, c2);
-    both = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
-    return length(c1 - c2);
+    return ends_distance(ab, xa, xb, cd, contact_x(cd.x), contact_x(cd.y), both);
 }
 
 // A pair within the radius met by the distance pass: f's nearest distance, and both buckets
@@ -124,11 +135,10 @@ bool candidate(hash_walk w, uint e, vec3 m, uvec4 entry, bool here, float reach2
            within_reach(m, uintBitsToFloat(entry.xyz), reach2);
 }
 
-// Edge f met by e's walk or list: its pair with e if within the radius.
-void meet(uint e, uvec2 ab, vec3 xa, vec3 xb, uint f, inout float nearest_e, inout uint found)
+// Edge f met by e's walk or list at distance d (both: the nearest points inside both edges):
+// its pair with e if within the radius.
+void meet(uint e, uint f, float d, bool both, inout float nearest_e, inout uint found)
 {
-    bool both;
-    float d = edge_distance(ab, xa, xb, f, both);
     if (!(d < contact_u.radius))
         return;
     nearest_e = min(nearest_e, d);
@@ -166,16 +176,27 @@ void detect(uint e)
     // did not fit, walk the hash.
     uvec2 list = LISTING ? uvec2(0u, CVK_CELL_OVERFLOW) : cell_list(e);
     bool walk = list.y == CVK_CELL_OVERFLOW;
+    // A list holds e's instance's edges only (gather_cells), and their ends come from one
+    // array at detection (measure_longest): three loads an entry instead of seven.
     for (uint k = 0u; !walk && k < list.y; k++) {
         uint listed = imageLoad(cell_pool_t, int(list.x + k)).x;
         uint f = listed & ~CVK_CELL_HOME;
-        if ((listed < CVK_CELL_HOME || f > e) && within_reach(m, hash_point(f), reach2))
-            meet(e, ab, xa, xb, f, nearest_e, found);
+        uvec4 c = imageLoad(edge_ends_t, int(2u * f)), d = imageLoad(edge_ends_t, int(2u * f + 1u));
+        vec3 xc = uintBitsToFloat(c.xyz), xd = uintBitsToFloat(d.xyz);
+        if ((listed < CVK_CELL_HOME || f > e) && within_reach(m, 0.5 * (xc + xd), reach2)) {
+            bool both;
+            float dist = ends_distance(ab, xa, xb, uvec2(c.w, d.w), xc, xd, both);
+            meet(e, f, dist, both, nearest_e, found);
+        }
     }
     hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
-    while (walk && hash_walk_step(w, entry, here))
-        if (candidate(w, e, m, entry, here, reach2))
-            meet(e, ab, xa, xb, entry.w, nearest_e, found);
+    while (walk && hash_walk_step(w, entry, here)) {
+        if (candidate(w, e, m, entry, here, reach2)) {
+            bool both;
+            float dist = edge_distance(ab, xa, xb, entry.w, both);
+            meet(e, entry.w, dist, both, nearest_e, found);
+        }
+    }
     if (LISTING) {
         for (uint k = 0u; k < K; k++)
             edge_contacts[e * K + k] = kept[k];
@@ -263,6 +284,13 @@ bool in_reach(reach_box box, vec3 q)
     return box.reach2 < 0.0 || dot(out_of, out_of) <= box.reach2;
 }
 
+// Whether the walk's entry goes on a cell's list: in the visited cell, within reach of the
+// cell's box, and of the cell's instance (a slot holds every instance that hashes to it).
+bool listable(uvec4 entry, bool here, reach_box box, uint instance)
+{
+    return here && in_reach(box, uintBitsToFloat(entry.xyz)) && edge_instance(entry.w) == instance;
+}
+
 // Phase 4, over those: each cell's list, the entries of the half block a walk from it steps
 // over that can be within reach of the cell (in the walk's order, the home cell's marked), for
 // every edge of the cell; where the pool is full, the cell's edges walk.
@@ -279,13 +307,13 @@ void gather_cells()
         uint length = 0u;
         hash_walk w = hash_walk_begin_half(m, instance);
         while (hash_walk_step(w, entry, here))
-            length += here && in_reach(box, uintBitsToFloat(entry.xyz)) ? 1u : 0u;
+            length += listable(entry, here, box, instance) ? 1u : 0u;
         uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], length);
         bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - length;
         uint k = start;
         w = hash_walk_begin_half(m, instance);
         while (fits && hash_walk_step(w, entry, here)) {
-            if (here && in_reach(box, uintBitsToFloat(entry.xyz)))
+            if (listable(entry, here, box, instance))
                 cell_pool[k++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
         }
         uvec2 range = hash_range(cell, instance);
@@ -335,6 +363,8 @@ void measure_longest()
         vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
         longest = max(longest, distance(xa, xb));
         midpoints[pc.first + i] = vec4(0.5 * (xa + xb), 0.0);
+        edge_ends[2u * (pc.first + i)] = uvec4(floatBitsToUint(xa), ab.x);
+        edge_ends[2u * (pc.first + i) + 1u] = uvec4(floatBitsToUint(xb), ab.y);
         nearest[contact_u.particle_count + pc.first + i] = 0x7f7f7f7fu; // 3.4e38: none yet
         nearest[contact_u.particle_count + contact_u.edge_count + pc.first + i] = 0u;
     }
