@@ -43,12 +43,16 @@ static uint32_t particle_workgroup_size(const cvk_context* context, const cvk_si
    65,536 particles, where lavapipe's second thread starts to pay (docs/performance.md,
    Scaling), still get CPU_DEVICE_MAX_WORKGROUPS. */
 #define CPU_DEVICE_PARTICLES_PER_WORKGROUP 16384u
-static uint32_t particle_group_items(const cvk_context* context, const cvk_sim_desc* desc)
+/* Whether the library shapes the dispatches for a CPU device: one, and no workgroup count
+   asked for. */
+static bool cpu_device_shapes(const cvk_context* context, const cvk_sim_desc* desc)
 {
     return desc->max_workgroups == 0 &&
-                   context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
-               ? CPU_DEVICE_PARTICLES_PER_WORKGROUP
-               : 0;
+           context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+static uint32_t particle_group_items(const cvk_context* context, const cvk_sim_desc* desc)
+{
+    return cpu_device_shapes(context, desc) ? CPU_DEVICE_PARTICLES_PER_WORKGROUP : 0;
 }
 /* On a CPU device, with the library's choice of workgroups per dispatch, the passes whose items
    loop over hash slots or colliders (detection, the contact passes: cvk_plan_walk_groups) take
@@ -63,10 +67,7 @@ static uint32_t particle_group_items(const cvk_context* context, const cvk_sim_d
 #define CPU_DEVICE_WALK_ITEMS 8u
 static uint32_t walk_items(const cvk_context* context, const cvk_sim_desc* desc)
 {
-    return desc->max_workgroups == 0 &&
-                   context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
-               ? CPU_DEVICE_WALK_ITEMS
-               : 1;
+    return cpu_device_shapes(context, desc) ? CPU_DEVICE_WALK_ITEMS : 1;
 }
 /* The fused sweeps (lib/solvers/solve_pd.h) run in one workgroup whose invocations stride over
    each colour: as large as the device allows, up to 1024 (a colour of a 10k-particle cloth in
