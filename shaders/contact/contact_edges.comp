@@ -304,17 +304,20 @@ void gather_cells()
         reach_box box = reach_of_cell(cell);
         uvec4 entry;
         bool here;
+        // Room for every entry of the slots the walk visits, taken before it, so that one walk
+        // writes the list (entries of other cells or out of reach leave some room unused).
+        uint room = 0u;
+        for (uint n = HASH_HOME; n < 27u; n++) {
+            uvec2 slot = hash_range(hash_neighbour_cell(cell, n), instance);
+            room += slot.y - slot.x;
+        }
+        uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], room);
+        bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - room;
         uint length = 0u;
         hash_walk w = hash_walk_begin_half(m, instance);
-        while (hash_walk_step(w, entry, here))
-            length += listable(entry, here, box, instance) ? 1u : 0u;
-        uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], length);
-        bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - length;
-        uint k = start;
-        w = hash_walk_begin_half(m, instance);
         while (fits && hash_walk_step(w, entry, here)) {
             if (listable(entry, here, box, instance))
-                cell_pool[k++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+                cell_pool[start + length++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
         }
         uvec2 range = hash_range(cell, instance);
         for (uint j = range.x; j < range.y; j++) {
