@@ -17,26 +17,29 @@ const uint KS = uint(CVK_SIDES_PER_PARTICLE);
 // p's side list (contact_detect.comp) in ascending (vertex, entry) order, whatever order the
 // atomics gave it, the rest marked empty, and its count cleared for the next detection. A
 // particle that is a corner in more pairs than the list holds keeps those that came first.
+// Sorted in registers, read and written once: on lavapipe each storage-buffer access is a loop
+// over the lanes.
+uint side_v[KS], side_e[KS];
 void sort_sides(uint p)
 {
     uint count = min(sides[p], KS);
     uint base = contact_u.particle_count + 2u * p * KS;
-    for (uint i = 1u; i < count; i++) {
-        uint v = sides[base + 2u * i], e = sides[base + 2u * i + 1u];
+    for (uint i = 0u; i < count; i++) {
+        uint v = imageLoad(sides_t, int(base + 2u * i)).x;
+        uint e = imageLoad(sides_t, int(base + 2u * i + 1u)).x;
         uint j = i;
-        while (j > 0u) {
-            uint pv = sides[base + 2u * (j - 1u)], pe = sides[base + 2u * (j - 1u) + 1u];
-            if (pv < v || (pv == v && pe <= e))
-                break;
-            sides[base + 2u * j] = pv;
-            sides[base + 2u * j + 1u] = pe;
-            j--;
+        for (; j > 0u && (side_v[j - 1u] > v || (side_v[j - 1u] == v && side_e[j - 1u] > e)); j--) {
+            side_v[j] = side_v[j - 1u];
+            side_e[j] = side_e[j - 1u];
         }
-        sides[base + 2u * j] = v;
-        sides[base + 2u * j + 1u] = e;
+        side_v[j] = v;
+        side_e[j] = e;
     }
-    for (uint i = count; i < KS; i++)
-        sides[base + 2u * i] = CVK_NO_CONTACT;
+    for (uint i = 0u; i < KS; i++) {
+        sides[base + 2u * i] = i < count ? side_v[i] : CVK_NO_CONTACT;
+        if (i < count)
+            sides[base + 2u * i + 1u] = side_e[i];
+    }
     sides[p] = 0u;
 }
 
