@@ -37,7 +37,6 @@ _Static_assert(sizeof(cvk_hash_push) == 32, "cvk_hash_push: 32 bytes in GLSL");
 _Static_assert(sizeof(cvk_hash_query_push) == 8, "cvk_hash_query_push: 8 bytes in GLSL");
 
 #define MAX_CAPACITY (1u << 30) /* table_size = 2^31 slots at most: it must fit a uint */
-#define MAX_GROUPS 65535u       /* maxComputeWorkGroupCount[0] is at least this everywhere */
 
 #define STORAGE {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0}
 #define TEXEL {VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, 0}

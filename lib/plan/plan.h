@@ -83,8 +83,8 @@ typedef struct cvk_plan {
                                       give each workgroup at least this many items (fewer
                                       workgroups than max_groups); 0 or 1: no floor */
     uint32_t walk_items;        /* items per invocation of the passes whose items loop over
-                                   hash slots or colliders (detection, contact: cvk_plan_walk_groups);
-                                   0 or 1: one item an invocation */
+                                   hash slots or colliders (detection, contact:
+                                   cvk_plan_walk_groups); 0 or 1: one item an invocation */
     bool uses[CVK_PIPE_COUNT];
     bool has_transfer;          /* some op fills, copies or dispatches indirectly */
     bool host;                  /* the family steps on the host: no operations are recorded */

@@ -7,8 +7,9 @@
 // hash is built from; its cells are that wide, contact_decide.comp), so the walk over the 27
 // cells of the edge hash around e's midpoint visits every such edge, each once. In phases, as
 // the faces' detection (contact_detect.comp):
-//   1: (before the hashes are built) the longest edge and the midpoints; each edge's nearest
-//      distance and count of pairs reset; the triangles' centroids for the faces' hash;
+//   1: (before the hashes are built) the longest edge, the midpoints and each edge's ends (for
+//      the lists' loop); each edge's nearest distance and count of pairs reset; the triangles'
+//      centroids for the faces' hash;
 //   3 and 4: (after them) the first edge of each cell of the midpoints' hash listed (3), and
 //      over those, each cell's list: the edges the walk from it steps over, for all of the
 //      cell's edges (4; shared/layout.h: CVK_CELLS_*);
@@ -312,6 +313,7 @@ void gather_cells()
             room += slot.y - slot.x;
         }
         uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], room);
+        // room <= 14 edge counts (a slot holds each edge once at most), under the pool's size
         bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - room;
         uint length = 0u;
         hash_walk w = hash_walk_begin_half(m, instance);
