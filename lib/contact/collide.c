@@ -411,7 +411,6 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_CELLS] = STORAGE,
     [CVK_CONTACT_BINDING_CELL_POOL] = STORAGE,
     [CVK_CONTACT_BINDING_CELL_POOL_READ] = TEXEL,
-    [CVK_CONTACT_BINDING_EDGE_ENDS] = STORAGE,
     [CVK_CONTACT_BINDING_EDGE_ENDS_READ] = TEXEL,
 };
 #undef STORAGE
@@ -589,8 +588,11 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
         {&c->centroids, 16u * tc, true, "triangle centroids", NULL},
         {&c->cells, 4u * (CVK_CELLS_HEADER + 3u * ec), true, "edge cells", NULL},
-        {&c->cell_pool, 4u * CVK_CELL_POOL_PER_EDGE * ec, true, "edge cell lists", NULL},
-        {&c->edge_ends, 32u * ec, true, "edge ends at detection", NULL},
+        /* the edges' ends at detection (8 words an edge), then the cell lists: one storage
+           buffer, as the implicit family's pipeline layouts take all 32 that lavapipe allows
+           a stage */
+        {&c->cell_pool, 4u * (8u + CVK_CELL_POOL_PER_EDGE) * ec, true,
+         "edge ends and cell lists", NULL},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof jobs / sizeof jobs[0]; i++) {
         bool small = jobs[i].self_only ? !c->self : !tables;
@@ -620,7 +622,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->sides, VK_FORMAT_R32_UINT, &c->view_sides},
         {&c->instances, VK_FORMAT_R32_UINT, &c->view_instances},
         {&c->cell_pool, VK_FORMAT_R32_UINT, &c->view_cell_pool},
-        {&c->edge_ends, VK_FORMAT_R32G32B32A32_UINT, &c->view_edge_ends},
+        {&c->cell_pool, VK_FORMAT_R32G32B32A32_UINT, &c->view_edge_ends},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
@@ -711,7 +713,6 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_CELLS] = {.buffer = &c->cells},
         [CVK_CONTACT_BINDING_CELL_POOL] = {.buffer = &c->cell_pool},
         [CVK_CONTACT_BINDING_CELL_POOL_READ] = {.view = c->view_cell_pool},
-        [CVK_CONTACT_BINDING_EDGE_ENDS] = {.buffer = &c->edge_ends},
         [CVK_CONTACT_BINDING_EDGE_ENDS_READ] = {.view = c->view_edge_ends},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
@@ -775,7 +776,7 @@ void cvk_collide_destroy(cvk_sim* s)
                              &c->triangle_edges, &c->particle_edges, &c->contacts,
                              &c->edge_contacts, &c->nearest, &c->searched, &c->previous,
                              &c->lists, &c->sides, &c->midpoints, &c->centroids,
-                             &c->cells, &c->cell_pool, &c->edge_ends,
+                             &c->cells, &c->cell_pool,
                              &c->instances, &c->edge_instances, &c->triangle_instances,
                              &c->uniform_stub};
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; i++)

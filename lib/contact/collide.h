@@ -94,7 +94,6 @@ typedef struct cvk_collide {
     cvk_buffer midpoints;        /* vec4 per edge: its midpoint at the last detection */
     cvk_buffer centroids;        /* vec4 per triangle: its centroid at the last detection */
     cvk_buffer cells, cell_pool; /* edge detection's cell lists (shared/layout.h: CVK_CELLS_*) */
-    cvk_buffer edge_ends;        /* each edge's ends at detection, for the lists' loop */
     /* The scene's instances (copies that never touch one another: lib/scene/scene_instances.c
        lays them out copy by copy, each with cloth_count / instance_count cloths and
        collider_count / instance_count colliders): a particle meets its own copy's colliders
@@ -110,7 +109,8 @@ typedef struct cvk_collide {
     cvk_hash edge_hash;          /* only with self-contact: the edges' midpoints */
     VkBufferView view_triangles, view_incident, view_contacts, view_searched;
     VkBufferView view_edges, view_triangle_edges, view_particle_edges, view_edge_contacts;
-    VkBufferView view_sides, view_instances, view_cell_pool, view_edge_ends;
+    VkBufferView view_sides, view_instances, view_cell_pool,
+        view_edge_ends; /* the cell pool's first part: each edge's ends at detection */
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */

@@ -13,16 +13,18 @@
    slots: 3x3 blocks per slot and the CG vectors, 47 per slot; the contact filter added 16
    since). Self-contact, from its buffers' sizes for a grid (two triangles and three edges a
    particle) and the 10000-particle measure of tests/core/test_memory.c (1,490 bytes a
-   particle: hanging.json at 100 x 100 with and without it, peak, 2026-11-30): the hashes of
-   the triangles' centroids and of the edges' midpoints with those points (about 350), the
-   triangle and edge tables (170), the lists of features, edges and pairs by corner (340), the
-   edges' buckets of pairs to list and their counts (396), the edges' cell lists (204), the work
-   lists (16), where detection saw each particle and the particle a substep before (32). The
+   particle: hanging.json at 100 x 100 with and without it, peak, 2026-11-30; 214 more since
+   the edges' ends joined the cell lists, whose pool grew from 14 to 24 entries an edge): the
+   hashes of the triangles' centroids and of the edges' midpoints with those points (about
+   350), the triangle and edge tables (170), the lists of features, edges and pairs by corner
+   (340), the edges' buckets of pairs to list and their counts (396), the edges' ends and cell
+   lists (418), the work lists (16), where detection saw each particle and the particle a
+   substep before (32). The
    coefficients round each up by about a tenth, so the estimate bounds what is made without
    overstating it by more than a few tens of percent. */
 #define DEVICE_BASE 125u
 #define DEVICE_PER_SLOT 16u
-#define DEVICE_SELF 1640u
+#define DEVICE_SELF 1854u
 #define DEVICE_IMPLICIT_PER_SLOT 52u
 /* Explicit integrators, from their buffer sizes (not measured): velocities, the RK2 stage,
    accelerations and the Adams-Bashforth history are 160 bytes, the adjacency 16 per slot;

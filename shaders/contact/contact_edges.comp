@@ -41,12 +41,17 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) write
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) writeonly buffer Centroids {
     vec4 centroids[];
 };
+// Per edge its ends at detection (8 words: each end's position bits and index, read as two
+// uvec4 through edge_ends_t), then the cell lists' entries.
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) writeonly buffer CellPool {
     uint cell_pool[];
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_ENDS) writeonly buffer EdgeEnds {
-    uvec4 edge_ends[]; // per edge: each end's position (float bits) and index
-};
+
+// Where the cell lists' entries start in the pool's buffer, in words: after the edges' ends.
+uint pool_base()
+{
+    return 8u * contact_u.edge_count;
+}
 
 layout(constant_id = 1) const bool LISTING = false;
 
@@ -180,7 +185,7 @@ void detect(uint e)
     // A list holds e's instance's edges only (gather_cells), and their ends come from one
     // array at detection (measure_longest): three loads an entry instead of seven.
     for (uint k = 0u; !walk && k < list.y; k++) {
-        uint listed = imageLoad(cell_pool_t, int(list.x + k)).x;
+        uint listed = imageLoad(cell_pool_t, int(pool_base() + list.x + k)).x;
         uint f = listed & ~CVK_CELL_HOME;
         uvec4 c = imageLoad(edge_ends_t, int(2u * f)), d = imageLoad(edge_ends_t, int(2u * f + 1u));
         vec3 xc = uintBitsToFloat(c.xyz), xd = uintBitsToFloat(d.xyz);
@@ -319,7 +324,7 @@ void gather_cells()
         hash_walk w = hash_walk_begin_half(m, instance);
         while (fits && hash_walk_step(w, entry, here)) {
             if (listable(entry, here, box, instance))
-                cell_pool[start + length++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+                cell_pool[pool_base() + start + length++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
         }
         uvec2 range = hash_range(cell, instance);
         for (uint j = range.x; j < range.y; j++) {
@@ -368,8 +373,9 @@ void measure_longest()
         vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
         longest = max(longest, distance(xa, xb));
         midpoints[pc.first + i] = vec4(0.5 * (xa + xb), 0.0);
-        edge_ends[2u * (pc.first + i)] = uvec4(floatBitsToUint(xa), ab.x);
-        edge_ends[2u * (pc.first + i) + 1u] = uvec4(floatBitsToUint(xb), ab.y);
+        uvec4 ends[2] = uvec4[](uvec4(floatBitsToUint(xa), ab.x), uvec4(floatBitsToUint(xb), ab.y));
+        for (uint k = 0u; k < 8u; k++)
+            cell_pool[8u * (pc.first + i) + k] = ends[k / 4u][k % 4u];
         nearest[contact_u.particle_count + pc.first + i] = 0x7f7f7f7fu; // 3.4e38: none yet
         nearest[contact_u.particle_count + contact_u.edge_count + pc.first + i] = 0u;
     }

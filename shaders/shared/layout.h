@@ -484,12 +484,13 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_CENTROIDS 28 /* vec4 per triangle: its centroid at detection (the
                                             face hash's points) */
 #define CVK_CONTACT_BINDING_CELLS 29 /* uint: edge detection's cell lists (CVK_CELLS_*) */
-#define CVK_CONTACT_BINDING_CELL_POOL 30 /* uint per entry of the cell lists: an edge */
+#define CVK_CONTACT_BINDING_CELL_POOL 30 /* uint: per edge 2 uvec4 at detection, each end's
+                                           position (float bits) and index (contact_edges.comp);
+                                           then per entry of the cell lists an edge */
 #define CVK_CONTACT_BINDING_CELL_POOL_READ 31 /* texel view of the same (R32_UINT) */
-#define CVK_CONTACT_BINDING_EDGE_ENDS 32 /* 2 uvec4 per edge at detection: each end's position
-                                           (float bits) and index (contact_edges.comp) */
-#define CVK_CONTACT_BINDING_EDGE_ENDS_READ 33 /* texel view of the same (R32G32B32A32_UINT) */
-#define CVK_CONTACT_BINDING_COUNT 34
+#define CVK_CONTACT_BINDING_EDGE_ENDS_READ 32 /* texel view of the same (R32G32B32A32_UINT):
+                                                 the edges' ends, 2 texels an edge */
+#define CVK_CONTACT_BINDING_COUNT 33
 
 /* Edge detection's cell lists (contact_edges.comp phases 3 and 4): for each cell of the
    midpoints' hash that holds an edge, the edges of the half block of cells its edges walk, in
