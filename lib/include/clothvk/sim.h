@@ -33,7 +33,9 @@ typedef struct cvk_sim_desc {
     uint32_t max_workgroups;     /* workgroups per dispatch, 0 = the library's choice: a few on
                                     CPU devices, where each costs a thread hand-off (and for
                                     the passes over particles one per 16,384 particles at
-                                    most), one per workgroup_size particles elsewhere */
+                                    most; detection and contact 8 items an invocation), one
+                                    per workgroup_size particles elsewhere; any other value
+                                    gives detection and contact one item an invocation */
     int timing;                  /* GPU timestamps per pass: 0 = on where supported, -1 = off */
     bool grab;                   /* true: the frame has the grab pass from the start, so frames
                                     you record now follow cvk_sim_grab; false: the first
