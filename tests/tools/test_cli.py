@@ -475,16 +475,16 @@ CASES = [
      "check": plan_has("colours: 5")},
     {"name": "--plan with contact", "argv": [asset("drape.json"), "--plan"], "status": 0,
      "check": plan_has("collision: thickness 0.01064 m, friction 0.3 (static 0.4), self-contact on "
-                       "(contact radius 0.01489 m, bounds 0.45 of the nearest distance),",
+                       "(contact radius 0.01383 m, bounds 0.45 of the nearest distance),",
                        "  colliders dispatch", "  hash     dispatch", "  contacts dispatch",
                        "  contact  dispatch")},
     {"name": "--plan with detection", "argv": [asset("ribbons.json"), "--plan"], "status": 0,
      "check": plan_has("collision: thickness 0.006 m, friction 0.4 (static 0.5), self-contact on "
-                       "(contact radius 0.0084 m, bounds 0.45 of the nearest distance),",
+                       "(contact radius 0.0078 m, bounds 0.45 of the nearest distance),",
                        "  detect faces indirect detection: vertices against faces particles, "
-                       "groups from the device (offset 0), vertices against faces within 0.0084 m",
+                       "groups from the device (offset 0), vertices against faces within 0.0078 m",
                        "  detect edges indirect detection: edges against edges particles, "
-                       "groups from the device (offset 16), edges against edges within 0.0084 m")},
+                       "groups from the device (offset 16), edges against edges within 0.0078 m")},
     {"name": "--json ribbons with edge contact", "argv": [asset("ribbons.json"), "--frames", "60",
                                                           "--json"], "status": 0,
      "check": json_pairs(lambda n: n == 0, "no intersecting pair: the ribbons lie on each other")},
