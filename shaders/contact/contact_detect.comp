@@ -127,12 +127,13 @@ void detect(uint p)
     float reach2 = reach * reach;
     float nearest_p = INFINITY;
     uint instance = contact_instance(p); // copies never touch one another
-    hash_walk w = hash_walk_begin(xp, instance); // the slots of p's instance's triangles
+    // The slots of p's instance's triangles, the cells out of reach of p stepped over.
+    hash_walk w = hash_walk_begin(xp, instance, reach2);
     uvec4 entry;
     bool here;
     for (bool more = true; more;) {
         uint count = 0u;
-        while (count < BATCH && (more = hash_walk_step(w, entry, here))) {
+        while (count < BATCH && (more = hash_walk_step(w, xp, reach2, entry, here))) {
             if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2)) {
                 found[count] = entry.w;
                 count++;
@@ -144,8 +145,8 @@ void detect(uint p)
         keep_hit(hit_t[i], hit_feature[i], hit_d[i]);
     // More pairs than the list holds (a crowd of layers): the same walk again, the pairs past
     // the list's kept as they are met (a lane with no more ends this loop at its first step).
-    w = hash_walk_begin(xp, instance);
-    for (uint met = 0u; hits > HITS && hash_walk_step(w, entry, here);) {
+    w = hash_walk_begin(xp, instance, reach2);
+    for (uint met = 0u; hits > HITS && hash_walk_step(w, xp, reach2, entry, here);) {
         if (!here || !within_reach(xp, uintBitsToFloat(entry.xyz), reach2))
             continue;
         uint feature;

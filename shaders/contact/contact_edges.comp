@@ -195,8 +195,8 @@ void detect(uint e)
             meet(e, f, dist, both, nearest_e, found);
         }
     }
-    hash_walk w = LISTING ? hash_walk_begin(m, instance) : hash_walk_begin_half(m, instance);
-    while (walk && hash_walk_step(w, entry, here)) {
+    hash_walk w = LISTING ? hash_walk_begin(m, instance, reach2) : hash_walk_begin_half(m, instance);
+    while (walk && hash_walk_step(w, m, reach2, entry, here)) {
         if (candidate(w, e, m, entry, here, reach2)) {
             bool both;
             float dist = edge_distance(ab, xa, xb, entry.w, both);
@@ -213,7 +213,7 @@ void detect(uint e)
     // More pairs than the list holds (a crowd of layers): the same walk again, the pairs past
     // the list's kept as they are met (a lane with no more ends this loop at its first step).
     w = hash_walk_begin_half(m, instance);
-    for (uint met = 0u; found > NEAR && hash_walk_step(w, entry, here);) {
+    for (uint met = 0u; found > NEAR && hash_walk_step(w, m, reach2, entry, here);) {
         if (!candidate(w, e, m, entry, here, reach2))
             continue;
         bool both;

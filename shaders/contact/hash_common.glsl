@@ -143,6 +143,22 @@ uvec4 hash_entry_point(uint e)
     return imageLoad(hash_sorted_read, int(e));
 }
 
+// Whether some point of `cell` can lie within sqrt(reach2) of x: its box, widened by a
+// thousandth of a cell and a millionth of its coordinates against the rounding of hash_cell
+// and of the box's bounds, comes that near (a clamped cell's points lie anywhere; reach2 < 0:
+// every cell).
+bool hash_cell_near(ivec3 cell, vec3 x, float reach2)
+{
+    if (reach2 < 0.0 || any(greaterThanEqual(abs(cell), ivec3(CVK_HASH_CELL_LIMIT))))
+        return true;
+    float size = 1.0 / hash_params_u.inv_cell;
+    vec3 low = vec3(cell) * size, high = low + size;
+    vec3 far = max(abs(low), abs(high));
+    float slack = 1.0e-3 * size + 1.0e-6 * max(far.x, max(far.y, far.z));
+    vec3 out_of = max(max(low - x, x - high) - slack, vec3(0.0));
+    return dot(out_of, out_of) <= reach2;
+}
+
 // The walk over the 27 cells around a point, one entry per step.
 // With a salt, the slots that salt's points take (others of other salts may share them: the
 // caller tells them apart).
@@ -153,15 +169,20 @@ struct hash_walk {
     uint salt;
 };
 
-hash_walk hash_walk_begin(vec3 x, uint salt)
+hash_walk hash_walk_begin(vec3 x, uint salt, float reach2)
 {
     hash_walk w;
     w.home = hash_cell(x);
     w.n = 0u;
     w.salt = salt;
     w.cell = hash_neighbour_cell(w.home, 0u);
-    w.range = hash_range(w.cell, salt);
+    w.range = hash_cell_near(w.cell, x, reach2) ? hash_range(w.cell, salt) : uvec2(0u);
     return w;
+}
+
+hash_walk hash_walk_begin(vec3 x, uint salt)
+{
+    return hash_walk_begin(x, salt, -1.0);
 }
 
 // The walk over half the block: the home cell (n = 13) and the 13 after it, whose offsets are
@@ -186,8 +207,11 @@ hash_walk hash_walk_begin(vec3 x)
 
 // One step: false once the 27 cells are done; else `entry` (its point's xyz as float bits, its
 // index in w) with `here` true where the entry lies in the visited cell, or `here` false at a
-// step that moved on to the next cell or met an entry of another cell sharing the slot.
-bool hash_walk_step(inout hash_walk w, out uvec4 entry, out bool here)
+// step that moved on to the next cell or met an entry of another cell sharing the slot. With
+// reach2 >= 0 a cell none of whose points can be within sqrt(reach2) of x is stepped over
+// without its entries (hash_cell_near): a query of a ball as wide as a cell visits about 21 of
+// the 27.
+bool hash_walk_step(inout hash_walk w, vec3 x, float reach2, out uvec4 entry, out bool here)
 {
     entry = uvec4(0u);
     here = false;
@@ -195,12 +219,17 @@ bool hash_walk_step(inout hash_walk w, out uvec4 entry, out bool here)
         if (++w.n == 27u)
             return false;
         w.cell = hash_neighbour_cell(w.home, w.n);
-        w.range = hash_range(w.cell, w.salt);
+        w.range = hash_cell_near(w.cell, x, reach2) ? hash_range(w.cell, w.salt) : uvec2(0u);
         return true;
     }
     entry = hash_entry_point(w.range.x++);
     here = hash_cell(uintBitsToFloat(entry.xyz)) == w.cell;
     return true;
+}
+
+bool hash_walk_step(inout hash_walk w, out uvec4 entry, out bool here)
+{
+    return hash_walk_step(w, vec3(0.0), -1.0, entry, here);
 }
 
 // Whether point q lies in `cell` (and not in another cell that shares its slot).
