@@ -264,37 +264,25 @@ void find_cells()
     }
 }
 
-// The box of a cell of the midpoints' hash, widened by the longest reach (the radius and the
-// longest edge, detect's) and a thousandth of a cell against the rounding of its bounds: every
-// midpoint within reach of an edge whose midpoint is in the cell is within it. A cell's list
-// holds only these: of the 13 cells after the home cell, the corners of the block lie partly
-// out of reach (the six-cloth pile's first 40 frames: edge detection 129-135 -> 119-120 ms a
-// frame, the same bits; the flat 40 x 40 drape's unchanged).
-struct reach_box {
-    vec3 low, high;
-    float reach2; // the widening, squared; negative: a clamped cell, whose points lie anywhere
-};
-
-reach_box reach_of_cell(ivec3 cell)
+// How near a cell of the midpoints' hash a midpoint must be to go on the cell's list: the longest
+// reach (the radius and the longest edge, detect's), so every midpoint within reach of an edge
+// whose midpoint is in the cell is within it of the cell's box (hash_cell_near, which also
+// widens the box against rounding). A cell's list holds only these: of the 13 cells after the
+// home cell, the corners of the block lie partly out of reach (the six-cloth pile's first 40
+// frames: edge detection 129-135 -> 119-120 ms a frame, the same bits; the flat 40 x 40
+// drape's unchanged).
+float cell_reach2()
 {
-    float size = 1.0 / hash_params_u.inv_cell;
-    float reach = contact_u.radius + uintBitsToFloat(frame.longest) + 1.0e-3 * size;
-    bool clamped = any(greaterThanEqual(abs(cell), ivec3(CVK_HASH_CELL_LIMIT)));
-    vec3 low = vec3(cell) * size;
-    return reach_box(low, low + size, clamped ? -1.0 : reach * reach);
-}
-
-bool in_reach(reach_box box, vec3 q)
-{
-    vec3 out_of = max(max(box.low - q, q - box.high), vec3(0.0));
-    return box.reach2 < 0.0 || dot(out_of, out_of) <= box.reach2;
+    float reach = contact_u.radius + uintBitsToFloat(frame.longest);
+    return reach * reach;
 }
 
 // Whether the walk's entry goes on a cell's list: in the visited cell, within reach of the
 // cell's box, and of the cell's instance (a slot holds every instance that hashes to it).
-bool listable(uvec4 entry, bool here, reach_box box, uint instance)
+bool listable(uvec4 entry, bool here, ivec3 cell, float reach2, uint instance)
 {
-    return here && in_reach(box, uintBitsToFloat(entry.xyz)) && edge_instance(entry.w) == instance;
+    return here && hash_cell_near(cell, uintBitsToFloat(entry.xyz), reach2) &&
+           edge_instance(entry.w) == instance;
 }
 
 // Phase 4, over those: each cell's list, the entries of the half block a walk from it steps
@@ -307,7 +295,7 @@ void gather_cells()
         uint e = cells[CVK_CELLS_HEADER + i], instance = edge_instance(e);
         vec3 m = hash_point(e);
         ivec3 cell = hash_cell(m);
-        reach_box box = reach_of_cell(cell);
+        float reach2 = cell_reach2();
         uvec4 entry;
         bool here;
         // Room for every entry of the slots the walk visits, taken before it, so that one walk
@@ -323,7 +311,7 @@ void gather_cells()
         uint length = 0u;
         hash_walk w = hash_walk_begin_half(m, instance);
         while (fits && hash_walk_step(w, entry, here)) {
-            if (listable(entry, here, box, instance))
+            if (listable(entry, here, cell, reach2, instance))
                 cell_pool[pool_base() + start + length++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
         }
         uvec2 range = hash_range(cell, instance);
