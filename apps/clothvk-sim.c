@@ -339,6 +339,8 @@ static json_t* contacts_json(const cvk_sim_stats* st)
     json_object_set_new(contacts, "intersecting_pairs",
                         json_integer((json_int_t)st->intersecting_pairs));
     json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
+    json_object_set_new(contacts, "held", json_integer((json_int_t)st->contact_held));
+    json_object_set_new(contacts, "held_fraction", json_real(st->contact_held_fraction));
     return contacts;
 }
 
@@ -493,10 +495,11 @@ static void print_summary(const cvk_scene_desc* scene, const cvk_context* ctx,
                    ((double)st->frames * scene->substeps + (st->frames == 0)));
     if (scene->collider_count > 0 || scene->collision.self)
         printf("  contacts: %llu with colliders, %llu between cloths; deepest penetration %.3g mm, "
-               "%llu intersecting triangle pairs; %llu detections\n",
+               "%llu intersecting triangle pairs; %llu detections; %.3g %% of the particles' "
+               "substeps held at a bound\n",
                (unsigned long long)st->collider_contacts, (unsigned long long)st->self_contacts,
                1e3 * st->max_penetration, (unsigned long long)st->intersecting_pairs,
-               (unsigned long long)st->contact_searches);
+               (unsigned long long)st->contact_searches, 100.0 * st->contact_held_fraction);
     if (t->frames == 0)
         return;
     printf("  %.3f ms per frame wall", t->wall_ms / t->frames);

@@ -4,6 +4,10 @@ scene run whole on one lavapipe core with a given build's clothvk-sim, its `--js
 one CSV row. Run two builds in one sitting to compare them:
 
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv [--sizes 20,40,80]
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv --held
+
+--held: how much the bounds hold the cloth back, by substep length (held.csv): the 40 x 40 drape
+in 8, 4, 2 and 1 substeps a frame of 1/60 s, and the pile and the twist at their own settings.
 """
 import argparse
 import csv
@@ -44,13 +48,48 @@ def row(sim, name, scene, sets, alone):
             c["intersecting_pairs"], round(100 * d["max_stretch"], 1)]
 
 
+HELD_COLUMNS = ["scene", "substeps a frame", "ms per frame", "detections",
+                "particle-substeps held at a bound %", "largest stretch at the end %",
+                "intersecting pairs at the end"]
+
+
+def held_row(sim, name, scene, sets):
+    d = run(sim, scene, sets)
+    c = d["contacts"]
+    return [name, d["substeps"], round(d["gpu_ms_per_frame"], 1), c["searches"],
+            round(100.0 * c["held_fraction"], 2), round(100 * d["max_stretch"], 1),
+            c["intersecting_pairs"]]
+
+
+def held_rows(sim):
+    rows = []
+    for k in (8, 4, 2, 1):
+        rows.append(held_row(sim, "drape 40x40", "contact-drape.json",
+                             [f"substeps={k}", f"dt={1.0 / 60.0 / k:.10g}"]))
+        print(rows[-1], file=sys.stderr)
+    for name, scene in (("pile of six 20x20", "contact-pile.json"),
+                        ("twist", "contact-twist.json")):
+        rows.append(held_row(sim, name, scene, []))
+        print(rows[-1], file=sys.stderr)
+    return HELD_COLUMNS, rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("build")
     parser.add_argument("out")
     parser.add_argument("--sizes", default="20,40,80")
+    parser.add_argument("--held", action="store_true",
+                        help="the particles held at their bounds, by substep length")
     a = parser.parse_args()
     sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
+    if a.held:
+        columns, rows = held_rows(sim)
+        with open(a.out, "w", newline="") as f:
+            out = csv.writer(f, lineterminator="\n")
+            out.writerow(columns)
+            out.writerows(rows)
+        return
     rows = []
     for n in (int(s) for s in a.sizes.split(",")):
         rows.append(row(sim, f"drape {n}x{n}", "contact-drape.json", [f"cloths.0.grid=[{n},{n}]"],

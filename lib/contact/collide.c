@@ -661,7 +661,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_
         .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
                    CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY,
                    CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
-                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0, 0, 0, 0, 0},
+                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0, 0, 0, 0, 0, 0},
     };
     _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
                    "the frame buffer: the frame state, then the bounds, as std430 lays them out");

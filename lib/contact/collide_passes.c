@@ -212,16 +212,22 @@ cvk_result cvk_collide_positions_written(cvk_sim* s, const float* x, const float
     return cvk_device_copy_from_staging(&s->device, &job, 1, error);
 }
 
-cvk_result cvk_collide_searches(cvk_sim* s, uint64_t* out, cvk_error* error)
+cvk_result cvk_collide_counts(cvk_sim* s, uint64_t* searches, uint64_t* held,
+                              double* held_fraction, cvk_error* error)
 {
-    *out = 0;
+    *searches = *held = 0;
+    *held_fraction = 0.0;
     if (!s->collide->self)
         return CVK_SUCCESS;
     cvk_gpu_frame frame;
     cvk_result r = cvk_buffer_download(s->device.context, &s->device.submitter, s->device.transfer_cmd,
                                        &s->collide->frame, &frame, sizeof frame, error);
-    if (r == CVK_SUCCESS)
-        *out = frame.searches;
+    if (r == CVK_SUCCESS) {
+        *searches = frame.searches;
+        *held = (uint64_t)frame.held_hi << 32 | frame.held_lo;
+        double counted = (double)frame.held_substeps * s->build.free_count;
+        *held_fraction = counted > 0.0 ? (double)*held / counted : 0.0;
+    }
     return r;
 }
 

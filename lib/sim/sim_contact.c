@@ -375,9 +375,12 @@ cvk_result cvk_sim_contact_stats(cvk_sim* s, const float* xyz_internal, cvk_sim_
     st->max_penetration = 0.0;
     st->intersecting_pairs = 0;
     st->contact_searches = 0;
+    st->contact_held = 0;
+    st->contact_held_fraction = 0.0;
     if (!s->collide->colliding)
         return CVK_SUCCESS;
-    cvk_result searched = cvk_collide_searches(s, &st->contact_searches, error);
+    cvk_result searched = cvk_collide_counts(s, &st->contact_searches, &st->contact_held,
+                                             &st->contact_held_fraction, error);
     if (searched != CVK_SUCCESS)
         return searched;
     collider_stats(s, xyz_internal, st);

@@ -451,6 +451,8 @@ typedef struct cvk_sim_stats {
     double max_penetration;
     uint64_t intersecting_pairs;
     uint64_t contact_searches;
+    uint64_t contact_held;
+    double contact_held_fraction;
     uint32_t solver_iterations;
     uint64_t solver_iterations_total;
     uint32_t solver_breakdowns;

@@ -11,7 +11,8 @@
 //    particle would leave its bound: write detection's indirect commands (phases 2 and 3 open
 //    or close the hashes' builds); the shift for the substep (after a detection: the centre
 //    of the last substep's displacements, the motion expected of all, or none when a particle
-//    is near a collider); the bounds reset.
+//    is near a collider); the count of particles held at their bounds added up; the bounds
+//    reset.
 layout(local_size_x = 1) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
@@ -28,6 +29,18 @@ vec3 centre(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz)
     vec3 high = vec3(from_ordered(hx), from_ordered(hy), from_ordered(hz));
     vec3 c = 0.5 * (low + high);
     return all(lessThanEqual(abs(c), vec3(1.0e30))) ? c : vec3(0.0);
+}
+
+// The particles the last substep held at their bounds (contact_check.comp) added to the run's
+// count, a 64-bit sum with the carry by hand, and the substep counted (none follows a state
+// write: frame.force).
+void add_held()
+{
+    uint held = frame.held_lo + motion_bounds.held;
+    frame.held_hi += held < frame.held_lo ? 1u : 0u;
+    frame.held_lo = held;
+    frame.held_substeps += frame.force == 0u ? 1u : 0u;
+    motion_bounds.held = 0u;
 }
 
 uint groups_for(uint items)
@@ -105,6 +118,7 @@ void main()
     if (search)
         list_clear(CVK_LIST_LISTED_GROUPS);
     frame.searches += search ? 1u : 0u;
+    add_held();
     frame.force = 0u;
     motion_bounds.e_low_x = motion_bounds.e_low_y = motion_bounds.e_low_z = CVK_MOTION_LOW_EMPTY;
     motion_bounds.v_low_x = motion_bounds.v_low_y = motion_bounds.v_low_z = CVK_MOTION_LOW_EMPTY;

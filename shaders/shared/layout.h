@@ -306,7 +306,10 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
     CVK_UINT(searches) /* detections so far */                                              \
     CVK_FLOAT(shift_x) /* m: the common shift M of the bounds (collide.h): every particle */ \
     CVK_FLOAT(shift_y) /* stays within its bound of where detection saw it plus M */        \
-    CVK_FLOAT(shift_z)
+    CVK_FLOAT(shift_z)                                                                      \
+    CVK_UINT(held_lo)  /* free particles that ended a substep past redetect of their bound, */ \
+    CVK_UINT(held_hi)  /* summed over the substeps so far: a 64-bit count, low word first */  \
+    CVK_UINT(held_substeps) /* the substeps counted (each but a first after a state write) */
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
 /* After the frame state in its buffer: what the decision at the start of a substep gathers
@@ -333,7 +336,8 @@ CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
     CVK_UINT(spread) /* detecting: the farthest a triangle's corner is from its centroid (float bits) */ \
     CVK_FLOAT(next_x)                \
     CVK_FLOAT(next_y)                \
-    CVK_FLOAT(next_z)
+    CVK_FLOAT(next_z)                \
+    CVK_UINT(held) /* free particles the last substep ended near their bound (frame.held_*) */
 CVK_STRUCT(cvk_gpu_motion_bounds, CVK_GPU_MOTION_BOUNDS_FIELDS)
 #define CVK_MOTION_LOW_EMPTY 0xffffffffu /* the bounds' reset state: low above high */
 #define CVK_MOTION_HIGH_EMPTY 0u

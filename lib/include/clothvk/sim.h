@@ -214,9 +214,15 @@ typedef struct cvk_sim_stats {
                                     (0 when none is; thickness not counted) */
     uint64_t intersecting_pairs; /* non-adjacent cloth triangle pairs that intersect
                                     (cvk_sim_count_intersections); 0 without collision */
-    uint64_t contact_searches;   /* cloth-contact detections so far (since creation or the
-                                    last snapshot loaded; each runs when a particle's move would
-                                    pass its bound); 0 without self-contact */
+    uint64_t contact_searches;   /* cloth-contact detections so far (since creation, the last
+                                    state written or the last snapshot loaded; each runs when a
+                                    particle's move would pass its bound); 0 without
+                                    self-contact */
+    uint64_t contact_held;       /* free particles that ended a substep past 0.9 of their
+                                    contact bound, summed over the same substeps: motion the
+                                    bounds held back; 0 without self-contact */
+    double contact_held_fraction; /* contact_held over the free particles' substeps counted
+                                     (a substep after a state write is not) */
     /* The linear solver: implicit's, and pd's sweeps (counted on the device with a tolerance;
        without one, every sweep the plan records). */
     uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps (pd: sweeps) of the last
