@@ -20,7 +20,10 @@ def read(path):
 def common(r):
     frames = "%s of %s" % (r["frames_run"], r["frames"])
     stretch = "%.1f" % (100.0 * float(r["end_max_stretch"]))
-    return frames, r["frames_with_pairs"], r["max_pairs"], stretch, "%.0f" % float(r["step_ms"])
+    held = r.get("held_fraction", "")  # bench CSVs before the column have none
+    held = "%.2f" % (100.0 * float(held)) if held not in ("", "nan") else ""
+    return (frames, r["frames_with_pairs"], r["max_pairs"], stretch, held,
+            "%.0f" % float(r["step_ms"]))
 
 
 def main():
@@ -36,7 +39,7 @@ def main():
             notes = {r["scene"]: r["note"] for r in read(out)}
         header = ["scene", "frames run", "frames with an intersecting pair",
                   "most pairs in a frame", "largest stretch at the end %",
-                  "wall ms per frame (loaded)", "note"]
+                  "particle-substeps held at a bound %", "wall ms per frame (loaded)", "note"]
         body = []
         for r in rows:
             note = r["error"] or notes.get(r["scene"], "")
@@ -46,7 +49,8 @@ def main():
     else:
         header = ["scene", "variant", "settings", "frames run",
                   "frames with an intersecting pair", "most pairs in a frame",
-                  "largest stretch at the end %", "wall ms per frame"]
+                  "largest stretch at the end %", "particle-substeps held at a bound %",
+                  "wall ms per frame"]
         body = [[r["scene"], r["variant"], r["settings"], *common(r)] for r in rows]
         # Runs that stopped early say why, in a last column only where one did.
         stops = ["diverged at frame %s" % r["diverged_frame"] if int(r["diverged_frame"]) >= 0

@@ -3,7 +3,8 @@
    variants of its relaxation (solver.omega), damping, friction and substep length, applied as
    --set overrides are; after every frame the intersecting cloth triangle pairs are counted
    exactly on the host (cvk_sim_count_intersections). One row per run: how many frames had a
-   pair, the most in a frame, the first frame with one, the stretch at the end, and where a run
+   pair, the most in a frame, the first frame with one, the stretch at the end, how often the
+   contact bounds held particles back (cvk_sim_stats.contact_held_fraction), and where a run
    diverged or why it could not start. Pairs found are results, not failures: the exit status
    is 0 unless --require-clean asks for a clean ensemble. */
 #include <math.h>
@@ -26,8 +27,8 @@ static const char* const showcases[] = {
 
 static const char* const columns[] = {
     "scene", "variant", "settings", "frame_time", "frames", "frames_run", "frames_with_pairs",
-    "max_pairs", "end_pairs", "first_pair_frame", "end_max_stretch", "diverged_frame",
-    "step_ms", "count_ms", "error",
+    "max_pairs", "end_pairs", "first_pair_frame", "end_max_stretch", "held_fraction",
+    "diverged_frame", "step_ms", "count_ms", "error",
 };
 
 #define MAX_ITEMS 3
@@ -50,6 +51,8 @@ typedef struct outcome {
     int64_t diverged;          /* the frame that diverged; -1: none */
     double frame_time;         /* s, of the variant */
     double stretch;            /* max stretch at the end; NAN when not measured */
+    double held;               /* particle-substeps held at their bounds, a fraction; NAN: not
+                                  measured */
     double step_ms, count_ms;  /* wall time per frame of the step and of the count */
     char error[512];           /* why the run stopped early or never started; empty if not */
 } outcome;
@@ -180,7 +183,7 @@ static void run_variant(bench* b, const char* path, const variant* v, uint32_t f
                         outcome* o)
 {
     *o = (outcome){.first_pair = -1, .diverged = -1, .frame_time = NAN, .stretch = NAN,
-                   .step_ms = NAN, .count_ms = NAN};
+                   .held = NAN, .step_ms = NAN, .count_ms = NAN};
     cvk_error err = {0};
     cvk_scene* file = NULL;
     cvk_sim* sim = NULL;
@@ -198,8 +201,10 @@ static void run_variant(bench* b, const char* path, const variant* v, uint32_t f
     if (r != CVK_SUCCESS)
         snprintf(o->error, sizeof o->error, "%s", err.message);
     cvk_sim_stats st;
-    if (sim && o->frames_run && cvk_sim_get_stats(sim, &st, &err) == CVK_SUCCESS)
+    if (sim && o->frames_run && cvk_sim_get_stats(sim, &st, &err) == CVK_SUCCESS) {
         o->stretch = st.max_stretch;
+        o->held = st.contact_held_fraction;
+    }
     cvk_sim_destroy(sim);
     cvk_scene_destroy(file);
 }
@@ -222,6 +227,7 @@ static void add_row(bench* b, const char* scene, const variant* v, uint32_t fram
     bench_table_int(t, "end_pairs", o->end_pairs);
     bench_table_num(t, "first_pair_frame", (double)o->first_pair);
     bench_table_num(t, "end_max_stretch", o->stretch);
+    bench_table_num(t, "held_fraction", o->held);
     bench_table_num(t, "diverged_frame", (double)o->diverged);
     bench_table_num(t, "step_ms", o->step_ms);
     bench_table_num(t, "count_ms", o->count_ms);
@@ -230,9 +236,10 @@ static void add_row(bench* b, const char* scene, const variant* v, uint32_t fram
 
 static void print_run(const variant* v, uint32_t frames, const outcome* o)
 {
-    printf("  %-13s %6u/%-6u %8u %9llu %9llu %8.3f %9.1f", v->name, o->frames_run, frames,
+    printf("  %-13s %6u/%-6u %8u %9llu %9llu %8.3f %7.2f %9.1f", v->name, o->frames_run, frames,
            o->frames_with_pairs, (unsigned long long)o->max_pairs,
-           (unsigned long long)o->end_pairs, o->stretch, o->step_ms + o->count_ms);
+           (unsigned long long)o->end_pairs, o->stretch, 100.0 * o->held,
+           o->step_ms + o->count_ms);
     if (o->error[0])
         printf("  stopped: %s", o->error);
     printf("\n");
@@ -278,8 +285,9 @@ static void run_scene(bench* b, const char* path, const cvk_scene_desc* s, tally
         n = b->o->variants;
     uint32_t frames = b->o->frames ? b->o->frames : s->frames;
     const char* name = base_name(path);
-    printf("%s: %u variants x %u frames\n  %-13s %13s %8s %9s %9s %8s %9s\n", name, n, frames,
-           "variant", "frames run", "w/ pairs", "max pairs", "end pairs", "stretch", "ms/frame");
+    printf("%s: %u variants x %u frames\n  %-13s %13s %8s %9s %9s %8s %7s %9s\n", name, n,
+           frames, "variant", "frames run", "w/ pairs", "max pairs", "end pairs", "stretch",
+           "held %", "ms/frame");
     tally t = {0};
     for (uint32_t i = 0; i < n; i++) {
         outcome o;

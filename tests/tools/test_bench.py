@@ -65,8 +65,8 @@ COLUMNS = {
                            "lambda_d", "lambda_k", "runs", "steps", "device"],
     "contact-ensemble": ["scene", "variant", "settings", "frame_time", "frames", "frames_run",
                          "frames_with_pairs", "max_pairs", "end_pairs", "first_pair_frame",
-                         "end_max_stretch", "diverged_frame", "step_ms", "count_ms", "error",
-                         "device"],
+                         "end_max_stretch", "held_fraction", "diverged_frame", "step_ms",
+                         "count_ms", "error", "device"],
     "batch": ["count", "cloths", "particles", "substeps", "dispatches_per_frame", "frames",
               "wall_ms", "wall_ms_min", "wall_ms_max", "frame_ms", "ms_per_copy",
               "copy_steps_per_s", "particle_steps_per_s", "device"],
@@ -97,7 +97,8 @@ def may_be_empty(experiment, row, column):
             return row["method"] != "implicit"
         if column.startswith("frame_ms") or column in ("residual", "trajectory_error"):
             return row["stable"] == "0"
-    if experiment == "contact-ensemble" and column in ("end_max_stretch", "step_ms", "count_ms"):
+    if experiment == "contact-ensemble" and column in ("end_max_stretch", "held_fraction",
+                                                       "step_ms", "count_ms"):
         return row["frames_run"] == "0"  # a run that never started measured nothing
     if experiment == "scaling" and column in CONTACT_COLUMNS:
         return True  # passes of a colliding scene, checked by contact_pass_columns
