@@ -147,11 +147,11 @@ void cvk_collide_poses_at(const cvk_collide* collide, uint64_t step, double dt, 
 cvk_result cvk_collide_positions_written(struct cvk_sim* sim, const float* x, const float* v,
                                          cvk_error* error);
 
-/* Since creation, the last state written or the last snapshot loaded (0 without
-   self-contact): the detections run, and the free particles that ended a substep past
-   CVK_REDETECT_FRACTION of their bound, summed over the substeps — where the bounds held
-   motion back (a cloth moving faster than a bound a substep relative to the rest, or
-   squeezed: docs/limits.md), and that count as a fraction of the free particles' substeps. */
+/* Since creation (a snapshot carries them; 0 without self-contact): the detections run, and
+   the free particles that ended a substep past CVK_REDETECT_FRACTION of their bound, summed
+   over the substeps — where the bounds held motion back (a cloth moving faster than a bound a
+   substep relative to the rest, or squeezed: docs/limits.md) — and that count as a fraction
+   of the free particles' substeps (the first after the state was written not counted). */
 cvk_result cvk_collide_counts(struct cvk_sim* sim, uint64_t* searches, uint64_t* held,
                               double* held_fraction, cvk_error* error);
 

@@ -25,8 +25,9 @@
 #include "sim/sim.h"
 #include "solvers/solver.h"
 
-/* 2: the projective-dynamics rest memory; 3: the contact work lists; 4: the CRC-32 */
-#define CVK_SNAPSHOT_VERSION 4u
+/* 2: the projective-dynamics rest memory; 3: the contact work lists; 4: the CRC-32; 5: the
+   contact frame state's count of particles held at their bounds */
+#define CVK_SNAPSHOT_VERSION 5u
 #define HEADER_SIZE 72u
 #define CRC_OFFSET 64u
 static const char magic[8] = "CVKSNAP";

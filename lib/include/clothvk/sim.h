@@ -214,10 +214,9 @@ typedef struct cvk_sim_stats {
                                     (0 when none is; thickness not counted) */
     uint64_t intersecting_pairs; /* non-adjacent cloth triangle pairs that intersect
                                     (cvk_sim_count_intersections); 0 without collision */
-    uint64_t contact_searches;   /* cloth-contact detections so far (since creation, the last
-                                    state written or the last snapshot loaded; each runs when a
-                                    particle's move would pass its bound); 0 without
-                                    self-contact */
+    uint64_t contact_searches;   /* cloth-contact detections so far (since creation; a
+                                    snapshot carries the count; each runs when a particle's move
+                                    would pass its bound); 0 without self-contact */
     uint64_t contact_held;       /* free particles that ended a substep past 0.9 of their
                                     contact bound, summed over the same substeps: motion the
                                     bounds held back; 0 without self-contact */
