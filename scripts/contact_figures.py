@@ -61,17 +61,33 @@ def held_row(sim, name, scene, sets):
             c["intersecting_pairs"]]
 
 
+def measured(rows, r):
+    """Appends row r and prints it, as each run ends."""
+    rows.append(r)
+    print(r, file=sys.stderr)
+
+
 def held_rows(sim):
     rows = []
     for k in (8, 4, 2, 1):
-        rows.append(held_row(sim, "drape 40x40", "contact-drape.json",
-                             [f"substeps={k}", f"dt={1.0 / 60.0 / k:.10g}"]))
-        print(rows[-1], file=sys.stderr)
+        measured(rows, held_row(sim, "drape 40x40", "contact-drape.json",
+                                [f"substeps={k}", f"dt={1.0 / 60.0 / k:.10g}"]))
     for name, scene in (("pile of six 20x20", "contact-pile.json"),
                         ("twist", "contact-twist.json")):
-        rows.append(held_row(sim, name, scene, []))
-        print(rows[-1], file=sys.stderr)
+        measured(rows, held_row(sim, name, scene, []))
     return HELD_COLUMNS, rows
+
+
+def scene_rows(sim, sizes):
+    rows = []
+    for n in (int(s) for s in sizes.split(",")):
+        measured(rows, row(sim, f"drape {n}x{n}", "contact-drape.json",
+                           [f"cloths.0.grid=[{n},{n}]"], True))
+    measured(rows, row(sim, "drape 40x40, one substep", "contact-drape.json",
+                       ["substeps=1", "dt=0.0166666667"], False))
+    measured(rows, row(sim, "pile of six 20x20", "contact-pile.json", [], False))
+    measured(rows, row(sim, "twist", "contact-twist.json", [], False))
+    return COLUMNS, rows
 
 
 def main():
@@ -83,30 +99,11 @@ def main():
                         help="the particles held at their bounds, by substep length")
     a = parser.parse_args()
     sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
-    if a.held:
-        columns, rows = held_rows(sim)
-        with open(a.out, "w", newline="") as f:
-            out = csv.writer(f, lineterminator="\n")
-            out.writerow(columns)
-            out.writerows(rows)
-        return
-    rows = []
-    for n in (int(s) for s in a.sizes.split(",")):
-        rows.append(row(sim, f"drape {n}x{n}", "contact-drape.json", [f"cloths.0.grid=[{n},{n}]"],
-                        True))
-        print(rows[-1], file=sys.stderr)
-    rows.append(row(sim, "drape 40x40, one substep", "contact-drape.json",
-                    ["substeps=1", "dt=0.0166666667"], False))
-    print(rows[-1], file=sys.stderr)
-    rows.append(row(sim, "pile of six 20x20", "contact-pile.json", [], False))
-    print(rows[-1], file=sys.stderr)
-    rows.append(row(sim, "twist", "contact-twist.json", [], False))
-    print(rows[-1], file=sys.stderr)
+    columns, rows = held_rows(sim) if a.held else scene_rows(sim, a.sizes)
     with open(a.out, "w", newline="") as f:
         out = csv.writer(f, lineterminator="\n")
-        out.writerow(COLUMNS)
+        out.writerow(columns)
         out.writerows(rows)
-
 
 if __name__ == "__main__":
     main()

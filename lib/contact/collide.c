@@ -658,10 +658,12 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_
         cvk_gpu_motion_bounds bounds;
     } frame = {
         .frame = {.search = 1, .force = 1},
-        .bounds = {CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
-                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY,
-                   CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY, CVK_MOTION_LOW_EMPTY,
-                   CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, CVK_MOTION_HIGH_EMPTY, 0, 0, 0, 0, 0, 0, 0},
+        .bounds = {.e_low_x = CVK_MOTION_LOW_EMPTY, .e_low_y = CVK_MOTION_LOW_EMPTY,
+                   .e_low_z = CVK_MOTION_LOW_EMPTY, .e_high_x = CVK_MOTION_HIGH_EMPTY,
+                   .e_high_y = CVK_MOTION_HIGH_EMPTY, .e_high_z = CVK_MOTION_HIGH_EMPTY,
+                   .v_low_x = CVK_MOTION_LOW_EMPTY, .v_low_y = CVK_MOTION_LOW_EMPTY,
+                   .v_low_z = CVK_MOTION_LOW_EMPTY, .v_high_x = CVK_MOTION_HIGH_EMPTY,
+                   .v_high_y = CVK_MOTION_HIGH_EMPTY, .v_high_z = CVK_MOTION_HIGH_EMPTY},
     };
     _Static_assert(sizeof frame == sizeof(cvk_gpu_frame) + sizeof(cvk_gpu_motion_bounds),
                    "the frame buffer: the frame state, then the bounds, as std430 lays them out");
