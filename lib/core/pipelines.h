@@ -60,6 +60,13 @@ typedef struct cvk_spec_recipe {
 /* The implicit passes (id 2 of shaders/solvers/implicit_common.glsl: the contact filter is compiled in
    only for a scene with colliders). */
 #define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
+/* The integration (id 3 of shaders/solvers/implicit_integrate.comp: SELF, the displacement
+   kept within the bounds for implicit_self.comp) and implicit_self.comp's two passes (id 4:
+   LISTED). */
+#define CVK_SPEC_IMPLICIT_INTEGRATE {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                     CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
+#define CVK_SPEC_IMPLICIT_SELF_LISTED {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                       CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_FALSE, CVK_SPEC_TRUE}}
 /* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near). */
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
@@ -122,7 +129,9 @@ typedef struct cvk_spec_recipe {
     X(IMPLICIT_JACOBI_EVEN, IMPLICIT_JACOBI_EVEN_COMP, CVK_SPEC_IMPLICIT, "block jacobi: dv0 -> dv1") \
     X(IMPLICIT_JACOBI_ODD, IMPLICIT_JACOBI_ODD_COMP, CVK_SPEC_IMPLICIT, "block jacobi: dv1 -> dv0") \
     X(IMPLICIT_JACOBI_CHECK, IMPLICIT_JACOBI_CHECK_COMP, CVK_SPEC_IMPLICIT, "block jacobi: stop test") \
-    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_IMPLICIT, "v += dv, x += h v") \
+    X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_IMPLICIT_INTEGRATE, "v += dv, x += h v") \
+    X(IMPLICIT_SELF_LISTED, IMPLICIT_SELF_COMP, CVK_SPEC_IMPLICIT_SELF_LISTED, "implicit: contact between cloths (listed particles)") \
+    X(IMPLICIT_SELF_APPLY, IMPLICIT_SELF_COMP, CVK_SPEC_IMPLICIT, "implicit: x += the kept displacement") \
     X(EXPLICIT_FORCE, EXPLICIT_FORCE_COMP, CVK_SPEC_PD, "explicit: a = f(x, v) / m") \
     X(EXPLICIT_UPDATE, EXPLICIT_UPDATE_COMP, CVK_SPEC_PD, "explicit: x, v from a (the integrator's rule)")
 

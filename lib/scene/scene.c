@@ -734,14 +734,10 @@ static bool check_colliders(const cvk_scene_desc* d, cvk_scene_issue* issue)
         if (!check_collider(&d->colliders[i], i, &d->collision, issue))
             return false;
     }
-    /* Implicit Euler filters collider contacts out of its system but has no particle–triangle
-       contact between cloths yet; the explicit integrators have no contact response. */
+    /* The explicit integrators have no contact response. */
     if (d->solver.method == CVK_METHOD_EXPLICIT && (d->collider_count > 0 || d->collision.self))
         return cvk_issue_at(issue, "solver.method", "explicit does not handle contact; remove "
                         "\"colliders\" and \"collision.self\", or use pd");
-    if (d->solver.method == CVK_METHOD_IMPLICIT && d->collision.self)
-        return cvk_issue_at(issue, "solver.method", "implicit does not handle self-contact yet; "
-                        "remove \"collision.self\", or use pd");
     return true;
 }
 

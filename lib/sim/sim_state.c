@@ -210,10 +210,6 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "solver.method: explicit does not handle contact; use pd in a scene "
                         "with colliders or self-contact");
-    if (solver->method == CVK_METHOD_IMPLICIT && s->collide->self)
-        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
-                        "solver.method: implicit does not handle self-contact yet; use pd in a "
-                        "scene with collision.self");
     bool new_family = family != s->family;
     /* The state, for the new family: read before it is created, since creating one puts its
        state at rest at the build's positions (shared buffers included). */

@@ -275,6 +275,27 @@ static void plan_jacobi(implicit_builder* ib, uint32_t sweeps)
     }
 }
 
+/* Self-contact after the integration (shaders/solvers/implicit_self.comp): the listed
+   particles pushed off the cloth features, through the work list's command that detection
+   writes (no workgroups when no particle is in a pair), then x += the kept displacement. */
+static void add_self_contact(implicit_builder* ib, cvk_sim* s, uint32_t pass)
+{
+    const cvk_implicit* im = ib->im;
+    cvk_op* op = cvk_plan_dispatch_indirect(ib->plan, pass, CVK_PIPE_IMPLICIT_SELF_LISTED,
+                                            im->descriptors.pipeline_layout, im->descriptors.sets[0],
+                                            CVK_DOMAIN_PARTICLES, s->collide->lists.buffer,
+                                            4u * CVK_LIST_LISTED_GROUPS, &ib->push, sizeof ib->push);
+    if (op) {
+        op->count = ib->push.count;
+        op->set1 = s->collide->set;
+        snprintf(op->note, sizeof op->note, "listed particles off the cloth features: r -> z");
+    }
+    op = add(ib, pass, CVK_PIPE_IMPLICIT_SELF_APPLY, SHAPE_DIRECT, "x += z, v = z / h where pushed",
+             0);
+    if (op)
+        op->set1 = s->collide->set;
+}
+
 static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solver,
                                       cvk_plan* plan, cvk_error* error)
 {
@@ -333,6 +354,8 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
              0);
     if (op)
         op->set1 = s->collide->set; /* friction: the colliders' coefficients and poses */
+    if (s->collide->self)
+        add_self_contact(&ib, s, integrate);
     r = cvk_attach_add_implicit_pass(s, plan, true, error); /* attached x at their targets */
     if (r == CVK_SUCCESS)
         r = cvk_tear_add_passes(s, CVK_TEAR_FOR_IMPLICIT, plan, error); /* after x += h v */

@@ -13,8 +13,16 @@
 // particle alone): the surface pushed with the impulse -n.(b - A dv) over the substep, so the
 // tangential velocity relative to the surface is stopped while it is within mu_s times that
 // push over m, and shortened by mu_k times it otherwise (the collider's coefficients).
+//
+// SELF (spec id 3, self-contact): x is not moved here. The substep's displacement h v, kept
+// within the particle's bound (lib/contact/collide.h; where that would put it inside a solid
+// collider, the collider wins and the next substep detects, as in pd's contact pass), goes to
+// r and z (free after the solve), where implicit_self.comp pushes the listed particles off
+// the cloth features and moves x; v is the kept displacement over h where the bound cut it.
 #define IMPLICIT_CONTACT 1 // the colliders' friction and poses (set 1)
 #include "solvers/implicit_common.glsl"
+
+layout(constant_id = 3) const bool SELF = false;
 
 // The tangential velocity relative to collider k's surface at x, less Coulomb friction for a
 // normal impulse `push` on mass m.
@@ -71,6 +79,18 @@ void main()
             vel = pc.keep * vel + (1.0 - pc.keep) * dot(vel, n) * n;
         } else {
             vel *= pc.keep;
+        }
+        if (SELF) {
+            vec3 x0 = x[p].xyz, u = pc.h * vel;
+            vec3 kept = within_bound(p, x0 + u);
+            if (!FILTER || nearest_solid(p, kept, false) >= 0.0) {
+                vel = any(notEqual(kept, x0 + u)) ? (kept - x0) / pc.h : vel;
+                u = kept - x0;
+            }
+            r[p] = vec4(u, 0.0);
+            z[p] = vec4(u, 0.0);
+            v[p].xyz = vel;
+            continue;
         }
         v[p].xyz = vel;
         x[p].xyz += pc.h * vel;
