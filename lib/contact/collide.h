@@ -20,9 +20,13 @@
    apart then each moved at most gamma (d - f) relative to the other's frame (f their corners'
    floors), so they stay at least (1 - 2 gamma) d + 2 gamma f apart — never nearer than about f,
    however often they are squeezed — and never cross. A start free of intersections stays free.
+   Those passes are pd's sweeps, strain limit, tethers and contact passes, and implicit Euler's
+   integration, which keeps each substep's displacement within the bound before
+   implicit_self.comp pushes the listed particles off the cloth features and moves them.
    Colliders push after the bound: the push (a funnel's edge test's too) is brought back within
    it where the particle stays outside every solid collider and on its side of every funnel
-   (pd_contact.glsl), the shift is 0 at a detection while a particle is near a collider, and a
+   (pd_contact.glsl; implicit's integration likewise keeps the bound only where that leaves the
+   particle outside every solid collider), the shift is 0 at a detection while a particle is near a collider, and a
    substep detects rather than centre a bound nearer a collider than the thickness less the bound
    (contact_check.comp). At the start of each substep the device decides (contact_check.comp,
    contact_decide.comp) whether some particle's move, extrapolated from its last substep, would
