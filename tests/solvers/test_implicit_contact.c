@@ -15,7 +15,8 @@
    - friction on a 30° incline: held above tan 30°, sliding at g (sin θ − μ cos θ) below;
    - self-contact (implicit_self.comp): two cloths dropped onto a third pinned at its corners,
      with CG and with Jacobi, have no intersecting pair at any frame (without self-contact the
-     same drop has some), and every free particle ends every substep within its bound. */
+     same drop has some), and every free particle ends every substep within its bound; so too
+     when the drop starts with rbgs and switches to implicit halfway. */
 #include "topology/build.h"
 #include "harness.h"
 #include "solvers/solve_implicit.h"
@@ -558,9 +559,10 @@ static void snapshot_on_plane(cvk_context* ctx)
 
 /* Two cloths dropped onto a third pinned at its corners, 2 cm apart (the contact radius about
    2.5 cm): the most intersecting pairs at the end of any of `frames` frames, and the free
-   particles that ended a frame farther from their bound's centre than the bound. */
+   particles that ended a frame farther from their bound's centre than the bound. With
+   `switch_at` > 0 the drop starts with pd's rbgs and switches to implicit after that frame. */
 static uint64_t drop_on_cloth(cvk_context* ctx, cvk_linear_solver linear, bool self,
-                              uint32_t frames, uint32_t* past)
+                              uint32_t frames, uint32_t switch_at, uint32_t* past)
 {
     static const uint32_t corners[4][2] = {{0, 0}, {11, 0}, {0, 11}, {11, 11}};
     cvk_cloth_desc cloths[3];
@@ -579,8 +581,11 @@ static uint64_t drop_on_cloth(cvk_context* ctx, cvk_linear_solver linear, bool s
     scene.cloth_count = 3;
     scene.dt = 1.0f / 120.0f;
     scene.substeps = 1;
-    scene.solver.method = CVK_METHOD_IMPLICIT;
-    scene.solver.linear = linear;
+    cvk_solver_desc implicit = scene.solver;
+    implicit.method = CVK_METHOD_IMPLICIT;
+    implicit.linear = linear;
+    if (switch_at == 0)
+        scene.solver = implicit;
     scene.collision.self = self;
     cvk_error err;
     cvk_sim* sim;
@@ -592,6 +597,8 @@ static uint64_t drop_on_cloth(cvk_context* ctx, cvk_linear_solver linear, bool s
     *past = 0;
     for (uint32_t f = 1; f <= frames; f++) {
         REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
+        if (f == switch_at)
+            REQUIRE_OK(cvk_sim_set_solver(sim, &implicit, &err), err);
         uint64_t pairs = 0;
         REQUIRE_OK(cvk_sim_count_intersections(sim, &pairs, &err), err);
         most = pairs > most ? pairs : most;
@@ -625,8 +632,8 @@ static void self_contact(cvk_context* ctx, cvk_linear_solver linear)
 {
     const char* name = linear == CVK_LINEAR_CG ? "cg" : "jacobi";
     uint32_t past = 0, unused;
-    uint64_t with = drop_on_cloth(ctx, linear, true, 60, &past);
-    uint64_t without = drop_on_cloth(ctx, linear, false, 60, &unused);
+    uint64_t with = drop_on_cloth(ctx, linear, true, 60, 0, &past);
+    uint64_t without = drop_on_cloth(ctx, linear, false, 60, 0, &unused);
     printf("%s, two cloths dropped on a pinned one, 60 frames: at most %llu intersecting pairs "
            "with self-contact, %llu without; %u particle-frames ended past their bounds\n", name,
            (unsigned long long)with, (unsigned long long)without, past);
@@ -635,6 +642,13 @@ static void self_contact(cvk_context* ctx, cvk_linear_solver linear)
     CHECK(without > 0, "%s: no intersecting pair without self-contact either: the drop tests "
           "nothing", name);
     CHECK(past == 0, "%s: %u particle-frames ended past their bounds", name, past);
+    /* Switched from pd in the middle of the drop: the bounds and pairs carry over. */
+    uint64_t switched = drop_on_cloth(ctx, linear, true, 40, 15, &past);
+    printf("%s, the same drop switched from rbgs after 15 frames: at most %llu intersecting "
+           "pairs, %u particle-frames past their bounds\n", name, (unsigned long long)switched,
+           past);
+    CHECK(switched == 0 && past == 0, "%s, switched from rbgs: %llu intersecting pairs, %u "
+          "particle-frames past their bounds", name, (unsigned long long)switched, past);
 }
 
 int main(void)
