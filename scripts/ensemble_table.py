@@ -2,10 +2,14 @@
 """`clothvk-bench contact-ensemble`'s CSV as the figures' CSV (docs/figures/contact-ogc/):
 
     python3 scripts/ensemble_table.py BENCH.csv [BENCH.csv ...] OUT.csv [--showcases]
+    python3 scripts/ensemble_table.py BENCH.csv ... OUT.csv --family NAME [--suffix TEXT]
 
 ensemble.csv's rows name the variant and its settings (and, where a run stopped early, why);
 with --showcases (the scenes at their
 own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one.
+With --family (families.csv: one solver family's runs of the showcases) the rows of solver NAME
+whose scene ends with TEXT (default: none) are replaced by those of the inputs, named so; the
+other rows of OUT.csv stay.
 """
 import argparse
 import csv
@@ -26,13 +30,36 @@ def common(r):
             "%.0f" % float(r["step_ms"]))
 
 
+def family(name, suffix, rows, out):
+    header = ["solver", "scene", "frames run", "frames with an intersecting pair",
+              "most pairs in a frame", "largest stretch at the end %", "wall ms per frame"]
+    kept = []
+    if os.path.exists(out):
+        kept = [[r[h] for h in header] for r in read(out)
+                if not (r["solver"] == name and r["scene"].endswith(suffix) and
+                        (suffix or "," not in r["scene"]))]
+    new = []
+    for r in rows:
+        frames, with_pairs, most, stretch, _held, ms = common(r)
+        new.append([name, r["scene"] + suffix, frames, with_pairs, most, stretch, ms])
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(header)
+        w.writerows(kept + new)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("inputs", nargs="+")
     ap.add_argument("--showcases", action="store_true")
+    ap.add_argument("--family")
+    ap.add_argument("--suffix", default="")
     a = ap.parse_args()
     *inputs, out = a.inputs
     rows = [r for path in inputs for r in read(path)]
+    if a.family:
+        family(a.family, a.suffix, rows, out)
+        return
     if a.showcases:
         notes = {}
         if os.path.exists(out):

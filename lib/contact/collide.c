@@ -741,7 +741,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS && c->self)
-        cvk_collide_split_substeps(s, c);
+        cvk_collide_split_substeps(s, c, scene->solver.method == CVK_METHOD_IMPLICIT);
     if (r == CVK_SUCCESS)
         r = create_collider_buffers(s, c, error);
     if (r == CVK_SUCCESS)

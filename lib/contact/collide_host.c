@@ -190,10 +190,24 @@ float cvk_collide_distance(const cvk_collide* c, uint32_t index, double t, const
 }
 
 /* The most of the thickness a keyframed collider's surface may move in one substep with
-   self-contact (cvk_collide_split_substeps). */
+   self-contact (cvk_collide_split_substeps): pd's, and implicit Euler's. */
 #define CVK_COLLIDER_STEP 0.35
+#define CVK_COLLIDER_STEP_IMPLICIT 0.175
 
-void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c)
+double cvk_collide_move_limit(bool implicit)
+{
+    return implicit ? CVK_COLLIDER_STEP_IMPLICIT : CVK_COLLIDER_STEP;
+}
+
+double cvk_collide_fastest_move(const cvk_sim* s, const cvk_collide* c)
+{
+    float fastest = 0.0f;
+    for (uint32_t i = 0; i < c->collider_count; i++)
+        fastest = fmaxf(fastest, cvk_collide_surface_speed(c, i));
+    return (double)fastest * s->params.dt / c->thickness;
+}
+
+void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c, bool implicit)
 {
     float fastest = 0.0f;
     uint32_t which = 0;
@@ -204,7 +218,8 @@ void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c)
             which = i;
         }
     }
-    double move = (double)fastest * s->params.dt, most = CVK_COLLIDER_STEP * c->thickness;
+    double move = (double)fastest * s->params.dt;
+    double most = cvk_collide_move_limit(implicit) * c->thickness;
     if (!(move > most))
         return;
     double parts = ceil(move / most);
