@@ -8,8 +8,8 @@ ensemble.csv's rows name the variant and its settings (and, where a run stopped 
 with --showcases (the scenes at their
 own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one.
 With --family (families.csv: one solver family's runs of the showcases) the rows of solver NAME
-whose scene ends with TEXT (default: none) are replaced by those of the inputs, named so; the
-other rows of OUT.csv stay.
+whose scene ends with TEXT (default: none) are replaced by those of the inputs, named so (a scene
+in several inputs: the last input's run); the other rows of OUT.csv stay.
 """
 import argparse
 import csv
@@ -38,10 +38,14 @@ def family(name, suffix, rows, out):
         kept = [[r[h] for h in header] for r in read(out)
                 if not (r["solver"] == name and r["scene"].endswith(suffix) and
                         (suffix or "," not in r["scene"]))]
-    new = []
+    # A scene run again in a later input replaces its row where it first appeared.
+    latest = {}
     for r in rows:
-        frames, with_pairs, most, stretch, _held, ms = common(r)
-        new.append([name, r["scene"] + suffix, frames, with_pairs, most, stretch, ms])
+        latest[r["scene"]] = r
+    new = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        frames, with_pairs, most, stretch, _held, ms = common(latest[scene])
+        new.append([name, scene + suffix, frames, with_pairs, most, stretch, ms])
     with open(out, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(header)

@@ -139,15 +139,6 @@ static cvk_result commit_switch(cvk_sim* s, const cvk_family_api* family, void* 
                                 const cvk_solver_desc* solver, cvk_plan* plan,
                                 cvk_sim_queries* queries, cvk_error* error)
 {
-    /* The substeps were split for the method the simulation was made with
-       (cvk_collide_split_substeps): implicit's self-contact needs them shorter than pd's. */
-    if (solver->method == CVK_METHOD_IMPLICIT && s->collide->self &&
-        cvk_collide_fastest_move(s, s->collide) > cvk_collide_move_limit(true))
-        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
-                        "solver.method: implicit with self-contact needs substeps in which no "
-                        "collider moves more than %.3g of the thickness (one moves %.3g here); "
-                        "make the simulation with implicit, which splits them",
-                        cvk_collide_move_limit(true), cvk_collide_fastest_move(s, s->collide));
     bool new_family = family != s->family;
     cvk_solver_desc from = s->solver;
     if (new_family) {
