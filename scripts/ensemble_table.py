@@ -2,11 +2,13 @@
 """`clothvk-bench contact-ensemble`'s CSV as the figures' CSV (docs/figures/contact-ogc/):
 
     python3 scripts/ensemble_table.py BENCH.csv [BENCH.csv ...] OUT.csv [--showcases]
+    python3 scripts/ensemble_table.py BENCH.csv ... OUT.csv --solvers NAME,...
     python3 scripts/ensemble_table.py BENCH.csv ... OUT.csv --family NAME [--suffix TEXT]
 
 ensemble.csv's rows name the variant and its settings (and, where a run stopped early, why);
 with --showcases (the scenes at their
 own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one.
+With --solvers A,B,... (one label per input) the variant rows get a first column, the solver.
 With --family (families.csv: one solver family's runs of the showcases) the rows of solver NAME
 whose scene ends with TEXT (default: none) are replaced by those of the inputs, named so (a scene
 in several inputs: the last input's run); the other rows of OUT.csv stay.
@@ -58,9 +60,16 @@ def main():
     ap.add_argument("--showcases", action="store_true")
     ap.add_argument("--family")
     ap.add_argument("--suffix", default="")
+    ap.add_argument("--solvers")
     a = ap.parse_args()
     *inputs, out = a.inputs
     rows = [r for path in inputs for r in read(path)]
+    solvers = []  # with --solvers, each input's label, one per row
+    if a.solvers:
+        labels = a.solvers.split(",")
+        if len(labels) != len(inputs):
+            ap.error("--solvers: %d labels for %d inputs" % (len(labels), len(inputs)))
+        solvers = [label for label, path in zip(labels, inputs) for _ in read(path)]
     if a.family:
         family(a.family, a.suffix, rows, out)
         return
@@ -83,6 +92,9 @@ def main():
                   "largest stretch at the end %", "particle-substeps held at a bound %",
                   "wall ms per frame"]
         body = [[r["scene"], r["variant"], r["settings"], *common(r)] for r in rows]
+        if solvers:
+            header.insert(0, "solver")
+            body = [[label] + b for label, b in zip(solvers, body)]
         # Runs that stopped early say why, in a last column only where one did.
         stops = ["diverged at frame %s" % r["diverged_frame"] if int(r["diverged_frame"]) >= 0
                  else r["error"] for r in rows]

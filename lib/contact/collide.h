@@ -26,9 +26,9 @@
    Colliders push after the bound: the push (a funnel's edge test's too) is brought back within
    it where the particle stays outside every solid collider and on its side of every funnel
    (pd_contact.glsl; implicit's integration likewise keeps the bound only where that leaves the
-   particle outside every solid collider), the shift is 0 at a detection while a particle is near a collider, and a
-   substep detects rather than centre a bound nearer a collider than the thickness less the bound
-   (contact_check.comp). At the start of each substep the device decides (contact_check.comp,
+   particle outside every solid collider), the shift is 0 at a detection while a particle is
+   near a collider, and a substep detects rather than centre a bound nearer a collider than the
+   thickness less the bound (contact_check.comp). At the start of each substep the device decides (contact_check.comp,
    contact_decide.comp) whether some particle's move, extrapolated from its last substep, would
    pass `redetect` of its bound from the shift the substep would take; only then does detection
    run (the hash build and the passes are dispatched indirectly, with no workgroups otherwise),
