@@ -67,6 +67,10 @@ typedef struct cvk_spec_recipe {
                                      CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
 #define CVK_SPEC_IMPLICIT_SELF_LISTED {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                        CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_FALSE, CVK_SPEC_TRUE}}
+/* implicit_self.comp's pass over the attached particles (id 5: ATTACHED). */
+#define CVK_SPEC_IMPLICIT_SELF_ATTACHED {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                         CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
+                                         CVK_SPEC_TRUE}}
 /* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near). */
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
@@ -132,6 +136,7 @@ typedef struct cvk_spec_recipe {
     X(IMPLICIT_INTEGRATE, IMPLICIT_INTEGRATE_COMP, CVK_SPEC_IMPLICIT_INTEGRATE, "v += dv, x += h v") \
     X(IMPLICIT_SELF_LISTED, IMPLICIT_SELF_COMP, CVK_SPEC_IMPLICIT_SELF_LISTED, "implicit: contact between cloths (listed particles)") \
     X(IMPLICIT_SELF_APPLY, IMPLICIT_SELF_COMP, CVK_SPEC_IMPLICIT, "implicit: x += the kept displacement") \
+    X(IMPLICIT_SELF_ATTACHED, IMPLICIT_SELF_COMP, CVK_SPEC_IMPLICIT_SELF_ATTACHED, "implicit: attached particles within their bounds") \
     X(EXPLICIT_FORCE, EXPLICIT_FORCE_COMP, CVK_SPEC_PD, "explicit: a = f(x, v) / m") \
     X(EXPLICIT_UPDATE, EXPLICIT_UPDATE_COMP, CVK_SPEC_PD, "explicit: x, v from a (the integrator's rule)")
 

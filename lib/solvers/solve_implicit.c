@@ -296,6 +296,23 @@ static void add_self_contact(implicit_builder* ib, cvk_sim* s, uint32_t pass)
         op->set1 = s->collide->set;
 }
 
+/* With self-contact, after the attachments' place pass: each attached particle kept within its
+   bound (pd's contact pass keeps them so): over [free_count, particle_count). */
+static void add_attached_within_bounds(implicit_builder* ib, cvk_sim* s, uint32_t pass)
+{
+    cvk_implicit_push push = ib->push;
+    push.count = s->build.particle_count;
+    cvk_op* op = cvk_plan_dispatch(ib->plan, pass, CVK_PIPE_IMPLICIT_SELF_ATTACHED,
+                                   ib->im->descriptors.pipeline_layout, ib->im->descriptors.sets[0],
+                                   CVK_DOMAIN_PARTICLES, s->build.free_count,
+                                   s->build.particle_count - s->build.free_count, &push,
+                                   sizeof push);
+    if (op) {
+        op->set1 = s->collide->set;
+        snprintf(op->note, sizeof op->note, "attached x within its bound");
+    }
+}
+
 static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* solver,
                                       cvk_plan* plan, cvk_error* error)
 {
@@ -357,6 +374,8 @@ static cvk_result implicit_add_passes(cvk_sim* s, void* self, const cvk_solver_d
     if (s->collide->self)
         add_self_contact(&ib, s, integrate);
     r = cvk_attach_add_implicit_pass(s, plan, true, error); /* attached x at their targets */
+    if (r == CVK_SUCCESS && s->collide->self && s->build.attached_count > 0)
+        add_attached_within_bounds(&ib, s, integrate);
     if (r == CVK_SUCCESS)
         r = cvk_tear_add_passes(s, CVK_TEAR_FOR_IMPLICIT, plan, error); /* after x += h v */
     if (r != CVK_SUCCESS)

@@ -9,13 +9,18 @@
 //     (contact/cloth_push.glsl, the other side read from r, never from z, which this pass
 //     writes), within the bound, into z;
 //   - then every free particle: x += z, and where the push changed the displacement, v = z / h
-//     (a push becomes velocity, as in pd).
+//     (a push becomes velocity, as in pd);
+//   - ATTACHED (spec id 5, after the attachments' place pass): every attached particle kept
+//     within its bound, as pd's contact pass keeps it (pc.stride is the free count, pc.count
+//     the particle count here; a pinned one never leaves its bound): one the attachment would
+//     take past it lags, and the next substep detects.
 // Pinned and attached particles have no displacement of their own in r: theirs is h v (0 for
 // a pinned one; the attachment's for an attached one, implicit_integrate's attach pass).
 #define IMPLICIT_CONTACT 1 // the contact set (set 1): pairs, bounds, work lists
 #include "solvers/implicit_common.glsl"
 
 layout(constant_id = 4) const bool LISTED = false;
+layout(constant_id = 5) const bool ATTACHED = false;
 
 vec3 start_x(uint q)
 {
@@ -31,6 +36,11 @@ vec3 iterate_x(uint q)
 
 void main()
 {
+    if (ATTACHED) {
+        for (uint p = pc.stride + gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride())
+            x[p].xyz = within_bound(p, x[p].xyz);
+        return;
+    }
     if (LISTED) {
         if (pc.count == 0u)
             return; // the warm-up dispatch changes nothing
