@@ -35,11 +35,13 @@ def common(r):
 def family(name, suffix, rows, out):
     header = ["solver", "scene", "frames run", "frames with an intersecting pair",
               "most pairs in a frame", "largest stretch at the end %", "wall ms per frame"]
-    kept = []
+    kept, at = [], None  # the new rows go where the first replaced row was
     if os.path.exists(out):
-        kept = [[r[h] for h in header] for r in read(out)
-                if not (r["solver"] == name and r["scene"].endswith(suffix) and
-                        (suffix or "," not in r["scene"]))]
+        for r in read(out):
+            if r["solver"] == name and r["scene"].endswith(suffix) and (suffix or "," not in r["scene"]):
+                at = len(kept) if at is None else at
+            else:
+                kept.append([r[h] for h in header])
     # A scene run again in a later input replaces its row where it first appeared.
     latest = {}
     for r in rows:
@@ -51,7 +53,8 @@ def family(name, suffix, rows, out):
     with open(out, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(header)
-        w.writerows(kept + new)
+        at = len(kept) if at is None else at
+        w.writerows(kept[:at] + new + kept[at:])
 
 
 def main():
