@@ -105,5 +105,6 @@ def main():
         out.writerow(columns)
         out.writerows(rows)
 
+
 if __name__ == "__main__":
     main()

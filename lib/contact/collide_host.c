@@ -199,25 +199,31 @@ double cvk_collide_move_limit(bool implicit)
     return implicit ? CVK_COLLIDER_STEP_IMPLICIT : CVK_COLLIDER_STEP;
 }
 
-double cvk_collide_fastest_move(const cvk_sim* s, const cvk_collide* c)
+/* The fastest collider's surface speed, m/s (0: none moves), and which it is. */
+static float fastest_collider(const cvk_collide* c, uint32_t* which)
 {
     float fastest = 0.0f;
-    for (uint32_t i = 0; i < c->collider_count; i++)
-        fastest = fmaxf(fastest, cvk_collide_surface_speed(c, i));
-    return (double)fastest * s->params.dt / c->thickness;
-}
-
-void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c, bool implicit)
-{
-    float fastest = 0.0f;
-    uint32_t which = 0;
+    *which = 0;
     for (uint32_t i = 0; i < c->collider_count; i++) {
         float v = cvk_collide_surface_speed(c, i);
         if (v > fastest) {
             fastest = v;
-            which = i;
+            *which = i;
         }
     }
+    return fastest;
+}
+
+double cvk_collide_fastest_move(const cvk_sim* s, const cvk_collide* c)
+{
+    uint32_t which;
+    return (double)fastest_collider(c, &which) * s->params.dt / c->thickness;
+}
+
+void cvk_collide_split_substeps(cvk_sim* s, cvk_collide* c, bool implicit)
+{
+    uint32_t which;
+    float fastest = fastest_collider(c, &which);
     double move = (double)fastest * s->params.dt;
     double most = cvk_collide_move_limit(implicit) * c->thickness;
     if (!(move > most))

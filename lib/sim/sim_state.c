@@ -212,13 +212,13 @@ cvk_result cvk_sim_set_solver(cvk_sim* s, const cvk_solver_desc* solver, cvk_err
                         "with colliders or self-contact");
     /* The substeps were split for the method the simulation was made with
        (cvk_collide_split_substeps): implicit's self-contact needs them shorter than pd's. */
-    if (solver->method == CVK_METHOD_IMPLICIT && s->collide->self &&
-        cvk_collide_fastest_move(s, s->collide) > cvk_collide_move_limit(true))
+    double move = s->collide->self ? cvk_collide_fastest_move(s, s->collide) : 0.0;
+    if (solver->method == CVK_METHOD_IMPLICIT && move > cvk_collide_move_limit(true))
         return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
                         "solver.method: implicit with self-contact needs substeps in which no "
                         "collider moves more than %.3g of the thickness (one moves %.3g here); "
                         "make the simulation with implicit, which splits them",
-                        cvk_collide_move_limit(true), cvk_collide_fastest_move(s, s->collide));
+                        cvk_collide_move_limit(true), move);
     bool new_family = family != s->family;
     /* The state, for the new family: read before it is created, since creating one puts its
        state at rest at the build's positions (shared buffers included). */
