@@ -116,9 +116,13 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
                  "centroid cells: the radius + the farthest corner from a centroid");
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
                  "midpoint cells: the radius + the longest edge");
-    cvk_result r = cvk_hash_add_passes(faces, plan, s->build.triangle_count, true, error);
+    /* Where the plan fuses the solve, each build is one dispatch (hash.h). */
+    cvk_result r = plan->fused
+                       ? cvk_hash_add_fused_passes(faces, plan, s->build.triangle_count, error)
+                       : cvk_hash_add_passes(faces, plan, s->build.triangle_count, true, error);
     if (r == CVK_SUCCESS)
-        r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
+        r = plan->fused ? cvk_hash_add_fused_passes(midpoints, plan, c->edge_count, error)
+                        : cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
     if (r != CVK_SUCCESS)
         return r;
     /* The edges' phase 2 writes the listing pass's indirect command (the edges with pairs).

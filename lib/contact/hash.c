@@ -336,6 +336,29 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
     return cvk_plan_check(plan, error);
 }
 
+cvk_result cvk_hash_add_fused_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
+                                     cvk_error* error)
+{
+    if (count > hash->capacity)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                        "hash: %u points to hash; the hash was made for at most %u", count,
+                        hash->capacity);
+    uint32_t pass = cvk_plan_pass(plan, "hash");
+    uint32_t chunk = chunk_for(hash->table_size);
+    cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
+                          hash->cell_on_device ? 0.0f : hash->cell_size,
+                          hash->cell_on_device ? 0.0f : 1.0f / hash->cell_size, 0, 0};
+    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_HASH_FUSED, hash->layout, hash->set,
+                                   CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
+    if (op) {
+        op->groups = 1; /* one workgroup: its barriers order the passes */
+        snprintf(op->note, sizeof op->note,
+                 "the whole build, one workgroup of %u, nothing if not building",
+                 plan->fused_workgroup_size);
+    }
+    return cvk_plan_check(plan, error);
+}
+
 /* As hash_cell in shaders/contact/hash_common.glsl: a correctly rounded product, floored, clamped. */
 static int32_t cell_coordinate(float p, float inv_cell)
 {

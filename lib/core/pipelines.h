@@ -32,9 +32,11 @@ typedef struct cvk_spec_recipe {
    (self-contact). */
 #define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                          CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
-/* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size. */
+/* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the contact
+   passes' collider types and self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's). */
 #define CVK_SPEC_PD_FUSED {6, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
-                               CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
+                               CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
+                               CVK_SPEC_SELF_CONTACT}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 /* finalize with the tethers' projection (ids 2 and 6 of shaders/solvers/finalize.comp: the
@@ -75,6 +77,8 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
+/* One workgroup of the fused passes' size (local_size_x_id = 0). */
+#define CVK_SPEC_FUSED {1, {CVK_SPEC_FUSED_WORKGROUP_SIZE}}
 /* The edge detection's listing pass (id 1, LISTING, of shaders/contact/contact_edges.comp). */
 #define CVK_SPEC_LISTING {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
@@ -120,6 +124,7 @@ typedef struct cvk_spec_recipe {
     X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
     X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
     X(HASH_COMMANDS, HASH_COMMANDS_COMP, CVK_SPEC_NONE, "hash: build or not")   \
+    X(HASH_FUSED, HASH_FUSED_COMP, CVK_SPEC_FUSED, "hash: the whole build, one workgroup") \
     X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours") \
     X(IMPLICIT_CONTACT, IMPLICIT_CONTACT_COMP, CVK_SPEC_IMPLICIT, "implicit: held on colliders, S") \
     X(IMPLICIT_ASSEMBLE, IMPLICIT_ASSEMBLE_COMP, CVK_SPEC_IMPLICIT, "implicit: blocks, b, dv = 0") \

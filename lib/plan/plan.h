@@ -78,6 +78,8 @@ typedef struct cvk_plan {
                                          (cvk_pipeline_streams_particles); init: workgroup_size */
     uint32_t fused_workgroup_size; /* of the fused sweeps' one workgroup (lib/solvers/solve_pd.h);
                                       init: workgroup_size */
+    bool fused; /* the solve's passes fused (cvk_family_api.fuse_refusal), and with them the
+                   detection's hash builds (lib/contact/hash.h) */
     uint32_t max_groups;
     uint32_t particle_group_items; /* dispatches of the pipelines that stream over particles
                                       give each workgroup at least this many items (fewer

@@ -31,7 +31,7 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
     if (b->free_count > CVK_PD_FUSED_MAX_PARTICLES)
         return "over 65535 free particles";
     if (b->colour_count == 0 || b->colour_count > CVK_PD_FUSED_MAX_COLOURS)
-        return "over 32 colours";
+        return "over 24 colours";
     if (b->colour_start[0] != 0)
         return "colours not from particle 0";
     if (solver->fuse == CVK_FUSE_AUTO && device_type == VK_PHYSICAL_DEVICE_TYPE_CPU)
@@ -53,7 +53,7 @@ cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build*
     push.sweeps = sweeps;
     push.last_omega = last_omega;
     push.colours = b->colour_count;
-    uint32_t* ends[4] = {push.ends0, push.ends1, push.ends2, push.ends3};
+    uint32_t* ends[3] = {push.ends0, push.ends1, push.ends2};
     for (uint32_t c = 0; c < b->colour_count && c < CVK_PD_FUSED_MAX_COLOURS; c++) {
         uint32_t end = b->colour_start[c + 1] & 0xffffu;
         ends[c / 8][(c % 8) / 2] |= c % 2 == 0 ? end : end << 16;

@@ -419,6 +419,32 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
         add_strain(pb, b, set, outer, 3, 0.5f * pb->sim->collide->thickness, " after contact");
 }
 
+/* The passes after outer iteration `outer` that add_after_outer would dispatch, run instead by
+   the fused dispatch after its sweeps (shaders/solvers/pd_fused.comp), in the same order on the
+   same particles: where no tether pass comes between them. False where they stay dispatches. */
+static bool fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t outer,
+                             cvk_pd_fused_push* push, char* what, size_t size)
+{
+    if (tether_pass_after(pb, outer))
+        return false;
+    bool strain = pb->solver->strain_limit > 0.0f, self = pb->sim->collide->self;
+    if (strain) {
+        push->after |= CVK_PD_FUSED_STRAIN;
+        push->strain_limit = 1.0f + pb->solver->strain_limit;
+    }
+    if (pb->contact) {
+        push->after |= CVK_PD_FUSED_CONTACT | (self ? CVK_PD_FUSED_CLOTH_CONTACT : 0u);
+        push->contact_count = self && b->attached_count > 0 ? b->particle_count : b->free_count;
+    }
+    if (strain && outer + 1 == pb->solver->outer_iterations)
+        push->after |= CVK_PD_FUSED_LAST;
+    snprintf(what, size, "%s%s%s%s", strain ? ", strain limit" : "",
+             self && pb->contact ? ", contact between cloths" : "",
+             pb->contact ? ", contact" : "",
+             push->after & CVK_PD_FUSED_LAST ? ", strain limit x 3" : "");
+    return true;
+}
+
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
    (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
    writes U0, where finalize and the next prediction find it. */
@@ -431,16 +457,19 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
         if (pb->fused) {
             cvk_pd_fused_push push = cvk_pd_fused_push_of(
                 &pb->base, b, inner, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega));
+            char after[96] = "";
+            bool fused_after = fuse_after_outer(pb, b, o, &push, after, sizeof after);
             cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
                                           pb->pd->descriptors.sets[set_for(t, w)], &push);
             if (op) {
                 op->set1 = pb->contact_set;
                 snprintf(op->note, sizeof op->note,
-                         "outer %u: %u sweeps x %u colours fused, one workgroup of %u, %s", o + 1,
-                         inner, b->colour_count, pb->plan->fused_workgroup_size,
+                         "outer %u: %u sweeps x %u colours fused%s, one workgroup of %u, %s",
+                         o + 1, inner, b->colour_count, after, pb->plan->fused_workgroup_size,
                          set_note[set_for(t, w)]);
             }
-            add_after_outer(pb, b, set_for(t, w), o);
+            if (!fused_after)
+                add_after_outer(pb, b, set_for(t, w), o);
             continue;
         }
         for (uint32_t i = 0; i < inner; i++) {
@@ -465,9 +494,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
 static void plan_rbgs(pd_builder* pb)
 {
     cvk_sim* s = pb->sim;
-    const char* unfused = cvk_pd_fuse_refusal(&s->build, pb->solver,
-                                              s->device.context->properties.deviceType,
-                                              pb->plan->fused_workgroup_size, pb->checking);
+    const char* unfused = cvk_pd_plan_fuse_refusal(s, pb->solver, pb->plan);
     pb->fused = unfused == NULL;
     char* note = pb->plan->solver_note;
     size_t used = strlen(note);
@@ -543,6 +570,21 @@ static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
 
 /* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and
    free particles. */
+/* Whether the solve checks its convergence on the device (a tolerance). */
+static bool checks(const cvk_sim* s, const cvk_solver_desc* solver)
+{
+    return solver->tolerance > 0.0f && s->build.free_count > 0 &&
+           solver->linear != CVK_LINEAR_GS_CPU;
+}
+
+const char* cvk_pd_plan_fuse_refusal(const cvk_sim* s, const cvk_solver_desc* requested,
+                                     const cvk_plan* plan)
+{
+    cvk_solver_desc solver = cvk_solver_desc_resolve(requested);
+    return cvk_pd_fuse_refusal(&s->build, &solver, s->device.context->properties.deviceType,
+                               plan->fused_workgroup_size, checks(s, &solver));
+}
+
 static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const cvk_plan* plan,
                         cvk_pd_converge_push* check)
 {
@@ -555,7 +597,7 @@ static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const c
         .contact_groups = cvk_plan_walk_groups(plan, nf),
         .reduce_groups = cvk_plan_groups(plan, CVK_PD_PARTIALS),
     };
-    return solver->tolerance > 0.0f && nf > 0 && solver->linear != CVK_LINEAR_GS_CPU;
+    return checks(s, solver);
 }
 
 cvk_result cvk_pd_add_passes(cvk_sim* s, void* self, const cvk_solver_desc* requested,

@@ -632,6 +632,7 @@ const cvk_family_api cvk_family_pd = {
     .create = pd_create,
     .destroy = pd_destroy,
     .add_passes = cvk_pd_add_passes,
+    .fuse_refusal = cvk_pd_plan_fuse_refusal,
     .prepare = pd_prepare,
     .switch_solver = pd_switch_solver,
     .read_state = pd_read_state,

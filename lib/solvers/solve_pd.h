@@ -122,6 +122,11 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
                                 VkPhysicalDeviceType device_type, uint32_t workgroup_size,
                                 bool checking);
 
+/* cvk_pd_fuse_refusal for `requested` (resolved) on `sim` with `plan`'s fused workgroup: the
+   family's fuse_refusal (lib/plan/family.h). */
+const char* cvk_pd_plan_fuse_refusal(const cvk_sim* sim, const cvk_solver_desc* requested,
+                                     const cvk_plan* plan);
+
 /* The push data of the fused pass over every colour of `b`, `sweeps` sweeps, the last at
    `last_omega` (cvk_gs_sweep_omega). */
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,

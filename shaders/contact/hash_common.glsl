@@ -40,7 +40,18 @@
 
 #include "shared/layout.h"
 
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) buffer HashParams {
+// HASH_FUSED: the whole build in one workgroup (hash_fused.comp), whose passes read what the
+// passes before them wrote in this dispatch: through coherent storage buffers, after
+// memoryBarrierBuffer() and barrier(), the parameters too (a uniform buffer need not see them).
+#ifdef HASH_FUSED
+#define HASH_COHERENT coherent
+#define HASH_PARAMS hash_params
+#else
+#define HASH_COHERENT
+#define HASH_PARAMS hash_params_u
+#endif
+
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) HASH_COHERENT buffer HashParams {
     cvk_hash_params hash_params;
     uint hash_commands[]; // a build decided on the device: its passes' indirect commands
 };
@@ -48,16 +59,16 @@ layout(std140, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS_READ) uniform H
     cvk_hash_params hash_params_u;
 };
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_POINTS, rgba32f) uniform readonly imageBuffer hash_points;
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) buffer HashKeys {
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) HASH_COHERENT buffer HashKeys {
     uint hash_keys[];
 };
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_STARTS) buffer HashStarts {
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_STARTS) HASH_COHERENT buffer HashStarts {
     uint hash_starts[];
 };
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) buffer HashEntries {
     uint hash_entries[];
 };
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) buffer HashScratch {
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) HASH_COHERENT buffer HashScratch {
     uint hash_scratch[];
 };
 // The same starts and entries as queries read them: storage texel loads are inline vectorised
@@ -75,7 +86,7 @@ layout(set = HASH_SET, binding = CVK_HASH_BINDING_SALTS, r32ui) uniform readonly
 // so the conversion to int is defined. lib/contact/hash.c computes the same.
 ivec3 hash_cell(vec3 p)
 {
-    vec3 c = floor(p * hash_params_u.inv_cell);
+    vec3 c = floor(p * HASH_PARAMS.inv_cell);
     return ivec3(clamp(c, vec3(-CVK_HASH_CELL_LIMIT), vec3(CVK_HASH_CELL_LIMIT)));
 }
 
@@ -91,7 +102,7 @@ uint hash_slot(ivec3 cell, uint salt)
     h ^= h >> 16;
     h *= 0x7feb352du;
     h ^= h >> 15;
-    return h & (hash_params_u.table_size - 1u);
+    return h & (HASH_PARAMS.table_size - 1u);
 }
 
 uint hash_slot(ivec3 cell)
@@ -247,6 +258,122 @@ CVK_DECLARE_PUSH(CVK_HASH_PUSH_FIELDS)
 uint hash_stride()
 {
     return gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+
+// The build's passes, in their order (lib/contact/hash.c): each a dispatch of its own
+// (hash_*.comp), or all in one workgroup (hash_fused.comp).
+
+// The hash build, clear: the parameters from the push data; with no points, every start zeroed
+// so queries find nothing. (The counts are 0 already: zeroed at creation, and every build's
+// scatter counts them back down.) A dispatch rather than buffer fills, so the whole build
+// orders itself with compute barriers alone (a fill would need the op before it, possibly
+// another module's, to wait for transfers too).
+void hash_clear_pass()
+{
+    if (gl_GlobalInvocationID.x == 0u) {
+        if (pc.cell_size > 0.0) { // 0: written on the device before the build (hash.h)
+            hash_params.cell_size = pc.cell_size;
+            hash_params.inv_cell = pc.inv_cell;
+        }
+        hash_params.table_size = pc.slots;
+        hash_params.count = pc.points;
+        if (pc.points == 0u)
+            hash_starts[pc.slots] = 0u;
+    }
+    if (pc.points == 0u)
+        for (uint s = gl_GlobalInvocationID.x; s < pc.slots; s += hash_stride())
+            hash_starts[s] = 0u;
+}
+
+// The hash build, count: each point's slot (its cell's, with its salt) into keys, and one
+// more in its slot's count (scratch[slot], zeroed by the fill before this pass).
+void hash_count_pass()
+{
+    for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
+        uint s = hash_slot(hash_cell(hash_point(p)), hash_salt(p));
+        hash_keys[p] = s;
+        atomicAdd(hash_scratch[s], 1u);
+    }
+}
+
+// The hash build, scan 1 of 3: the sum of the counts of each chunk of `chunk` slots, one
+// invocation per chunk, into scratch[slots + chunk index]. A serial loop per invocation and no
+// shared memory: on lavapipe a workgroup barrier costs more than the loop.
+void hash_chunk_sums_pass()
+{
+    for (uint c = gl_GlobalInvocationID.x; c < pc.chunks; c += hash_stride()) {
+        uint first = c * pc.chunk;
+        uint sum = 0u;
+        for (uint k = 0u; k < pc.chunk; k++)
+            sum += hash_scratch[first + k];
+        hash_scratch[pc.slots + c] = sum;
+    }
+}
+
+// The hash build, scan 2 of 3: one invocation turns the chunk sums into their exclusive prefix
+// sums (in place) and writes the total, the end of the last slot, to starts[slots]. Chunks
+// are about sqrt(slots), so this serial loop is as short as each chunk's.
+void hash_scan_chunks_pass()
+{
+    if (gl_GlobalInvocationID.x != 0u)
+        return;
+    uint running = 0u;
+    for (uint c = 0u; c < pc.chunks; c++) {
+        uint sum = hash_scratch[pc.slots + c];
+        hash_scratch[pc.slots + c] = running;
+        running += sum;
+    }
+    hash_starts[pc.slots] = running;
+}
+
+// The hash build, scan 3 of 3: within each chunk, the exclusive prefix sum of the counts from
+// the chunk's offset gives each slot's start. The counts stay: the scatter counts them down.
+void hash_scan_pass()
+{
+    for (uint c = gl_GlobalInvocationID.x; c < pc.chunks; c += hash_stride()) {
+        uint running = hash_scratch[pc.slots + c];
+        uint first = c * pc.chunk;
+        for (uint k = 0u; k < pc.chunk; k++) {
+            uint n = hash_scratch[first + k];
+            hash_starts[first + k] = running;
+            running += n;
+        }
+    }
+}
+
+// The hash build, scatter: each point takes a place of its slot's range in the unsorted copy of
+// the entries at the end of scratch, counting the slot's count down (atomic); the order within
+// a slot depends on timing until the sort pass. Every count ends at 0, ready for the next build
+// without a clear (lib/contact/hash.c zeroes them once, at creation).
+void hash_scatter_pass()
+{
+    uint unsorted = pc.slots + pc.chunks;
+    for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
+        uint s = hash_keys[p];
+        uint e = hash_starts[s] + atomicAdd(hash_scratch[s], 0xffffffffu) - 1u;
+        hash_scratch[unsorted + e] = p;
+    }
+}
+
+// The hash build, sort: the scatter left each slot's points in the order its atomics happened
+// (in scratch); each point's place in its slot is the number of the slot's points with a
+// smaller index, so entries come out in ascending point order whatever the timing (and with
+// them, a copy of each point with its index, for queries). One point
+// per invocation (lib/contact/hash.c): the loop is as long as the point's slot is full, and lavapipe
+// ends a shader's loops after 65535 iterations in all.
+void hash_sort_pass()
+{
+    uint unsorted = pc.slots + pc.chunks;
+    for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
+        uint s = hash_keys[p];
+        uint first = hash_starts[s];
+        uint end = hash_starts[s + 1u];
+        uint rank = 0u;
+        for (uint e = first; e < end; e++)
+            rank += hash_scratch[unsorted + e] < p ? 1u : 0u;
+        hash_entries[first + rank] = p;
+        hash_sorted[first + rank] = uvec4(floatBitsToUint(hash_point(p)), p);
+    }
 }
 #endif
 

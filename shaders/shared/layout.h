@@ -42,13 +42,20 @@
 CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
 /* The fused Gauss-Seidel pass (shaders/solvers/pd_fused.comp): every sweep of one outer
-   iteration, colour by colour, in one workgroup. cvk_pd_push first (first: 0, count: the free
-   particles), then the sweeps, the colours and the end of each colour, two 16-bit ends to a
-   uint: colour c ends at half c % 2 of uint (c / 2) % 4 of ends[c / 8]. So at most
-   CVK_PD_FUSED_MAX_COLOURS colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes:
-   Vulkan's guaranteed push constant size. */
-#define CVK_PD_FUSED_MAX_COLOURS 32u
+   iteration, colour by colour, in one workgroup, and after them the passes between outer
+   iterations that follow them there (`after`: the strain limit's round, the contact passes,
+   and after the last outer iteration the strain limit's three rounds after contact).
+   cvk_pd_push first (first: 0, count: the free particles), then the sweeps, the colours, the
+   end of each colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint
+   (c / 2) % 4 of ends[c / 8], and what comes after. So at most CVK_PD_FUSED_MAX_COLOURS
+   colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes: Vulkan's guaranteed push
+   constant size. */
+#define CVK_PD_FUSED_MAX_COLOURS 24u
 #define CVK_PD_FUSED_MAX_PARTICLES 65535u
+#define CVK_PD_FUSED_STRAIN 1u       /* after: one round of the strain limit */
+#define CVK_PD_FUSED_CLOTH_CONTACT 2u /* after: contact between cloths (listed particles) */
+#define CVK_PD_FUSED_CONTACT 4u      /* after: contact over contact_count particles */
+#define CVK_PD_FUSED_LAST 8u         /* after: the strain limit's three rounds after contact */
 #define CVK_PD_FUSED_PUSH_FIELDS                                                        \
     CVK_PD_PUSH_FIELDS                                                                  \
     CVK_UINT(sweeps)       /* sweeps of the outer iteration (inner_iterations) */       \
@@ -57,7 +64,10 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
     CVK_UVEC4(ends0)       /* colour ends 0..7 */                                       \
     CVK_UVEC4(ends1)       /* 8..15 */                                                  \
     CVK_UVEC4(ends2)       /* 16..23 */                                                 \
-    CVK_UVEC4(ends3)       /* 24..31 */
+    CVK_UINT(after)        /* CVK_PD_FUSED_* bits: the passes after the sweeps */        \
+    CVK_UINT(contact_count) /* particles of the contact pass (CVK_PD_FUSED_CONTACT) */   \
+    CVK_FLOAT(strain_limit) /* 1 + solver.strain_limit, as the strain pass's omega */   \
+    CVK_UINT(unused)
 
 CVK_PUSH_BLOCK(cvk_pd_fused_push, CVK_PD_FUSED_PUSH_FIELDS)
 

@@ -36,9 +36,11 @@ layout(set = 0, binding = CVK_PD_BINDING_DST_READ, rgba32f) uniform readonly ima
 // barrier), never a texel buffer, whose cache need not see those writes.
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) coherent buffer Dst { vec4 dst[]; };
 #define FETCH_DST(i) (dst[i].xyz)
+#define LOAD_DST(i) (dst[i])
 #else
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
 #define FETCH_DST(i) fetch(dst_read, i)
+#define LOAD_DST(i) imageLoad(dst_read, int(i))
 #endif
 layout(set = 0, binding = CVK_PD_BINDING_Y_READ, rgba32f) uniform readonly imageBuffer y_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };

@@ -11,27 +11,12 @@
 //   - then every particle: kept within its bound (tethers do not hold it) and out of the
 //     colliders.
 // The next outer iteration's local step starts from the result, and the last one leaves the
-// substep's displacement free of penetration. w marks a particle these passes moved, or the
-// strain limit before them did (pd_strain.comp): the next outer iteration's first sweep does
-// not over-relax it (pd_gauss_seidel.comp); the sweeps write w = 0.
+// substep's displacement free of penetration (contact_one, pd_contact.glsl). The fused sweeps
+// (pd_fused.comp) run the same two passes after their sweeps.
 #include "solvers/pd_common.glsl"
 #include "solvers/pd_contact.glsl"
 
 layout(constant_id = 2) const bool LISTED = false;
-
-// p's displacement kept out of contact, w marking whether that moved it.
-void contact_one(uint p)
-{
-    vec4 start = imageLoad(dst_read, int(p));
-    vec3 u = start.xyz;
-    if (p >= contact_u.free_count) { // attached (self-contact only): kept within the bound
-        vec3 x0 = fetch(x_read, p);
-        dst[p] = vec4(within_bound(p, x0 + u) - x0, 0.0);
-        return;
-    }
-    vec3 moved = LISTED ? pd_cloth_contact(p, u) : pd_contact(p, u);
-    dst[p] = vec4(moved, any(notEqual(moved, u)) || start.w != 0.0 ? 1.0 : 0.0);
-}
 
 void main()
 {
@@ -40,10 +25,10 @@ void main()
             return; // the warm-up dispatch changes nothing
         uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
         for (uint i = gl_GlobalInvocationID.x; i < count; i += invocation_stride())
-            contact_one(lists[start + i]);
+            contact_one(lists[start + i], true);
         return;
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
-        contact_one(pc.first + i);
+        contact_one(pc.first + i, false);
     }
 }

@@ -132,3 +132,22 @@ vec3 pd_contact(uint p, vec3 u)
     }
     return pushed;
 }
+
+// The contact passes' work on particle p (pd_contact.comp; pd_fused.comp after its sweeps):
+// listed, the pass over the particles in pairs; else the pass over every particle. p's
+// displacement is read where the pass before wrote it (LOAD_DST) and kept out of contact, w
+// marking whether this or the strain limit before it (pd_strain.glsl) moved it: the next outer
+// iteration's first sweep does not over-relax such a particle (pd_gauss_seidel.comp); the
+// sweeps write w = 0.
+void contact_one(uint p, bool listed)
+{
+    vec4 start = LOAD_DST(p);
+    vec3 u = start.xyz;
+    if (p >= contact_u.free_count) { // attached (self-contact only): kept within the bound
+        vec3 x0 = fetch(x_read, p);
+        dst[p] = vec4(within_bound(p, x0 + u) - x0, 0.0);
+        return;
+    }
+    vec3 moved = listed ? pd_cloth_contact(p, u) : pd_contact(p, u);
+    dst[p] = vec4(moved, any(notEqual(moved, u)) || start.w != 0.0 ? 1.0 : 0.0);
+}

@@ -10,15 +10,66 @@
 // The workgroup's invocations stride over each colour; no invocation waits on another
 // workgroup, so this is correct on any conformant device. lib/solvers/pd_fused.c decides where
 // it runs (one workgroup's worth of work, no pass between the sweeps of an outer iteration).
+//
+// After the sweeps, the passes that follow them before the next outer iteration, where
+// pd_passes.c puts them here (pc.after; not where a tether pass comes between): the strain
+// limit's round colour by colour (pd_strain.glsl), the contact between cloths over the
+// particles in listed pairs and the contact over every particle (pd_contact.glsl), and after the
+// last outer iteration the strain limit's three rounds after contact, each with a barrier
+// after it — the same functions on the same particles in the same order as their dispatches,
+// so the same bits, with one dispatch an outer iteration instead of up to 4 + 4 colours.
 #define PD_FUSED 1
 #include "solvers/pd_common.glsl"
+#include "solvers/pd_strain.glsl"
+#include "solvers/pd_contact.glsl"
 
 // The end of colour c (shared/layout.h: two 16-bit ends to a uint).
 uint colour_end(uint c)
 {
-    uvec4 group = c < 8u ? pc.ends0 : c < 16u ? pc.ends1 : c < 24u ? pc.ends2 : pc.ends3;
+    uvec4 group = c < 8u ? pc.ends0 : c < 16u ? pc.ends1 : pc.ends2;
     uint word = group[(c % 8u) / 2u];
     return (c % 2u) == 0u ? (word & 0xffffu) : (word >> 16u);
+}
+
+// One round of the strain limit, colour by colour, moves at most `most` m (0: any).
+void strain_round(float most)
+{
+    uint lanes = gl_WorkGroupSize.x;
+    uint begin = 0u;
+    for (uint c = 0u; c < pc.colours; c++) {
+        uint end = colour_end(c);
+        for (uint p = begin + gl_LocalInvocationID.x; p < end; p += lanes)
+            strain_one(p, pc.strain_limit, most);
+        memoryBarrierBuffer();
+        barrier();
+        begin = end;
+    }
+}
+
+// The passes after the sweeps (pc.after), as pd_passes.c's add_after_outer orders them.
+void after_sweeps()
+{
+    uint lanes = gl_WorkGroupSize.x;
+    uint lane = gl_LocalInvocationID.x;
+    if ((pc.after & CVK_PD_FUSED_STRAIN) != 0u)
+        strain_round(0.0);
+    if ((pc.after & CVK_PD_FUSED_CLOTH_CONTACT) != 0u) {
+        uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
+        for (uint i = lane; i < count; i += lanes)
+            contact_one(lists[start + i], true);
+        memoryBarrierBuffer();
+        barrier();
+    }
+    if ((pc.after & CVK_PD_FUSED_CONTACT) != 0u) {
+        for (uint p = lane; p < pc.contact_count; p += lanes)
+            contact_one(p, false);
+        memoryBarrierBuffer();
+        barrier();
+    }
+    // The strain limit's rounds after the last outer iteration's contact: moves under half the
+    // thickness (pd_passes.c).
+    for (uint r = 0u; (pc.after & CVK_PD_FUSED_LAST) != 0u && r < 3u; r++)
+        strain_round(0.5 * contact_u.thickness);
 }
 
 void main()
@@ -54,4 +105,5 @@ void main()
             begin = end;
         }
     }
+    after_sweeps();
 }
