@@ -54,12 +54,14 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
 }
 
 /* One phase of contact_check.comp (over every particle) or contact_decide.comp (one
-   invocation; phase 1 writes indirect commands). */
+   invocation; phase 1 writes indirect commands), or the whole decision in one workgroup
+   (contact_decision.comp, where the plan fuses). */
 static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t phase,
                          const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
+    bool whole = pipeline == CVK_PIPE_CONTACT_DECISION;
     uint32_t count = decide ? 1 : s->build.particle_count;
     cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), pipeline,
@@ -68,9 +70,9 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
     if (!op)
         return;
     op->set1 = hash->set;
-    if (decide)
+    if (decide || whole)
         op->groups = 1;
-    if (decide && phase >= 1)
+    if ((decide && phase >= 1) || whole)
         op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     snprintf(op->note, sizeof op->note, "%s", note);
 }
@@ -103,17 +105,25 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     cvk_collide* c = s->collide;
     uint32_t n = s->build.particle_count;
     const cvk_hash *faces = &c->face_hash, *midpoints = &c->edge_hash;
-    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, faces, "bounds of the extrapolated moves");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, faces, "the shift without detection");
     char note[96];
-    snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
-    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
-    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, 1, faces,
-                  "the longest edge, the midpoints, the centroids and their corners' reach");
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
-                 "centroid cells: the radius + the farthest corner from a centroid");
+    if (plan->fused) {
+        snprintf(note, sizeof note, "past %.2g of a bound? detect or not, and measure",
+                 (double)CVK_REDETECT_FRACTION);
+        add_decision(s, plan, CVK_PIPE_CONTACT_DECISION, 0, faces, note);
+    } else {
+        add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, faces, "bounds of the extrapolated moves");
+        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, faces, "the shift without detection");
+        snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
+        add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
+        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
+    }
+    if (!plan->fused) { /* in the decision's one dispatch where the plan fuses */
+        add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
+                      CVK_LIST_EDGE_GROUPS, 1, faces,
+                      "the longest edge, the midpoints, the centroids and their corners' reach");
+        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
+                     "centroid cells: the radius + the farthest corner from a centroid");
+    }
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
                  "midpoint cells: the radius + the longest edge");
     /* Where the plan fuses the solve, each build is one dispatch (hash.h). */

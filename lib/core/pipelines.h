@@ -75,6 +75,8 @@ typedef struct cvk_spec_recipe {
                                          CVK_SPEC_TRUE}}
 /* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near). */
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
+/* The whole decision in one workgroup (shaders/contact/contact_decision.comp). */
+#define CVK_SPEC_CONTACT_DECISION {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 /* One workgroup of the fused passes' size (local_size_x_id = 0). */
@@ -112,6 +114,7 @@ typedef struct cvk_spec_recipe {
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
+    X(CONTACT_DECISION, CONTACT_DECISION_COMP, CVK_SPEC_CONTACT_DECISION, "detect or not, one workgroup") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \

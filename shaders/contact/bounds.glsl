@@ -8,7 +8,14 @@
 #define CONTACT_SET 1
 #endif
 
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) buffer ContactFrame {
+// CONTACT_COHERENT: a shader whose invocations read what others of its workgroup wrote here in
+// the same dispatch (contact_decision.comp), after memoryBarrierBuffer() and barrier().
+#ifdef CONTACT_COHERENT
+#define CONTACT_FRAME_COHERENT coherent
+#else
+#define CONTACT_FRAME_COHERENT
+#endif
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) CONTACT_FRAME_COHERENT buffer ContactFrame {
     cvk_gpu_frame frame;
     cvk_gpu_motion_bounds motion_bounds; // the decision to detect (contact_check.comp)
 };

@@ -21,84 +21,15 @@ layout(local_size_x_id = 0) in;
 #define CONTACT_TYPES_ID 1
 #include "contact/collide.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
-
-const float BIG = 3.0e38;
-
-void bound_axes(vec3 low, vec3 high, vec3 vlow, vec3 vhigh)
-{
-    if (low.x > high.x)
-        return;
-    atomicMin(motion_bounds.e_low_x, ordered(low.x));
-    atomicMin(motion_bounds.e_low_y, ordered(low.y));
-    atomicMin(motion_bounds.e_low_z, ordered(low.z));
-    atomicMax(motion_bounds.e_high_x, ordered(high.x));
-    atomicMax(motion_bounds.e_high_y, ordered(high.y));
-    atomicMax(motion_bounds.e_high_z, ordered(high.z));
-    atomicMin(motion_bounds.v_low_x, ordered(vlow.x));
-    atomicMin(motion_bounds.v_low_y, ordered(vlow.y));
-    atomicMin(motion_bounds.v_low_z, ordered(vlow.z));
-    atomicMax(motion_bounds.v_high_x, ordered(vhigh.x));
-    atomicMax(motion_bounds.v_high_y, ordered(vhigh.y));
-    atomicMax(motion_bounds.v_high_z, ordered(vhigh.z));
-}
+#include "contact/contact_check.glsl"
 
 void main()
 {
     if (pc.count == 0u)
         return;
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    if (pc.phase == 1u) {
-        vec3 next = vec3(motion_bounds.next_x, motion_bounds.next_y, motion_bounds.next_z);
-        bool exceed = false;
-        for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
-            uint p = pc.first + i;
-            vec4 seen = imageLoad(searched_t, int(p));
-            vec3 x = contact_x(p);
-            vec3 e = 2.0 * x - previous[p].xyz - seen.xyz - next;
-            previous[p] = vec4(x, 0.0); // the next substep's x_before
-            // Nor may the shift centre the bound nearer a collider than the thickness less
-            // the bound: the collider's push could then take the particle past its bound
-            // (pd_contact.glsl).
-            exceed = exceed || !(length(e) <= contact_u.redetect * seen.w) ||
-                     nearest_solid(p, seen.xyz + next, true) < contact_u.thickness - seen.w;
-        }
-        if (exceed)
-            atomicOr(motion_bounds.exceed, 1u);
-        return;
-    }
-    vec3 low = vec3(BIG), high = vec3(-BIG), vlow = vec3(BIG), vhigh = vec3(-BIG);
-    bool near = false;
-    // The bounds the last substep kept to: its shift (the decision sets the next after this),
-    // none after the state was written (frame.force: no substep ran under them).
-    vec3 shift = vec3(frame.shift_x, frame.shift_y, frame.shift_z);
-    bool counting = frame.force == 0u;
-    uint held = 0u;
-    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
-        uint p = pc.first + i;
-        vec3 x = contact_x(p);
-        vec4 seen = imageLoad(searched_t, int(p));
-        vec3 from_centre = x - seen.xyz - shift;
-        float near_bound = contact_u.redetect * seen.w;
-        held += counting && p < contact_u.free_count &&
-                        dot(from_centre, from_centre) >= near_bound * near_bound
-                    ? 1u
-                    : 0u;
-        vec3 v = x - previous[p].xyz;
-        // Within the thickness, the radius and twice its last move of a collider: one may
-        // stop it while the others move on, so a detection takes no shift
-        // (contact_decide.comp).
-        float reach = contact_u.thickness + contact_u.radius + 2.0 * length(v);
-        near = near || !(nearest_solid(p, x, true) >= reach);
-        vec3 e = x - seen.xyz + v;
-        bool finite = all(lessThanEqual(abs(e), vec3(BIG))) && all(lessThanEqual(abs(v), vec3(BIG)));
-        low = min(low, finite ? e : vec3(-BIG));
-        high = max(high, finite ? e : vec3(BIG));
-        vlow = min(vlow, finite ? v : vec3(-BIG));
-        vhigh = max(vhigh, finite ? v : vec3(BIG));
-    }
-    bound_axes(low, high, vlow, vhigh);
-    if (near)
-        atomicOr(motion_bounds.near, 1u);
-    if (held > 0u)
-        atomicAdd(motion_bounds.held, held);
+    if (pc.phase == 1u)
+        check_exceed(gl_GlobalInvocationID.x, stride);
+    else
+        check_moves(gl_GlobalInvocationID.x, stride);
 }

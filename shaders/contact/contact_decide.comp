@@ -21,109 +21,18 @@ layout(local_size_x = 1) in;
 #include "contact/hash_common.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
-vec3 centre(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz)
-{
-    if (contact.shift == 0u || lx == CVK_MOTION_LOW_EMPTY)
-        return vec3(0.0);
-    vec3 low = vec3(from_ordered(lx), from_ordered(ly), from_ordered(lz));
-    vec3 high = vec3(from_ordered(hx), from_ordered(hy), from_ordered(hz));
-    vec3 c = 0.5 * (low + high);
-    return all(lessThanEqual(abs(c), vec3(1.0e30))) ? c : vec3(0.0);
-}
-
-// The particles the last substep held at their bounds (contact_check.comp) added to the run's
-// count, a 64-bit sum with the carry by hand, and the substep counted (none follows a state
-// write: frame.force).
-void add_held()
-{
-    uint held = frame.held_lo + motion_bounds.held;
-    frame.held_hi += held < frame.held_lo ? 1u : 0u;
-    frame.held_lo = held;
-    frame.held_substeps += frame.force == 0u ? 1u : 0u;
-    motion_bounds.held = 0u;
-}
-
-uint groups_for(uint items)
-{
-    return min((items + pc.per_group - 1u) / pc.per_group, 65535u);
-}
+#include "contact/contact_decide.glsl"
 
 void main()
 {
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
     if (pc.phase >= 2u) {
-        // Detecting: cells as wide as the reach measured now (contact_edges.comp phase 1), so
-        // the walk over 27 cells finds every pair within the radius however the cloth
-        // stretches (up to a cell 16 times the first, past which the walks would visit most of
-        // a scene blown apart): a triangle within the radius of a vertex has its centroid
-        // within the radius plus the farthest its corners are from it (contact_detect.comp),
-        // an edge within the radius of another its midpoint within the radius plus half of
-        // each edge's length (contact_edges.comp).
-        if (frame.search != 0u) {
-            float reach = pc.phase == 2u ? uintBitsToFloat(motion_bounds.spread)
-                                         : uintBitsToFloat(frame.longest);
-            float cell = contact.radius + reach;
-            cell = clamp(cell, contact.radius, 16.0 * (contact.radius + contact.longest));
-            hash_params.cell_size = cell;
-            hash_params.inv_cell = 1.0 / cell;
-        }
-        hash_params.build = frame.search;
+        decide_cells(pc.phase == 2u);
         return;
     }
-    if (pc.phase == 0u) {
-        vec3 next = centre(motion_bounds.e_low_x, motion_bounds.e_low_y, motion_bounds.e_low_z,
-                           motion_bounds.e_high_x, motion_bounds.e_high_y, motion_bounds.e_high_z);
-        motion_bounds.next_x = next.x;
-        motion_bounds.next_y = next.y;
-        motion_bounds.next_z = next.z;
-        return;
-    }
-    bool search = frame.force != 0u || motion_bounds.exceed != 0u;
-    // A detection shifts by the centre of the last substep's displacements (after the host
-    // wrote the state, the written velocities times dt: lib/contact/collide.h), the motion
-    // expected of all; held at 0 otherwise a cloth thrown faster than its bound a substep
-    // would lose its speed to the bounds. No shift when a particle is near a collider: the
-    // shift, checked against no bound at a detection, could carry a particle the collider
-    // stops into the collider, and its push out would then move it past its bound (the
-    // substeps that do not detect take a shift every particle's extrapolated move fits:
-    // contact_check.comp phase 1).
-    vec3 shift = search ? (motion_bounds.near != 0u
-                               ? vec3(0.0)
-                               : centre(motion_bounds.v_low_x, motion_bounds.v_low_y,
-                                        motion_bounds.v_low_z, motion_bounds.v_high_x,
-                                        motion_bounds.v_high_y, motion_bounds.v_high_z))
-                        : vec3(motion_bounds.next_x, motion_bounds.next_y, motion_bounds.next_z);
-    frame.shift_x = shift.x;
-    frame.shift_y = shift.y;
-    frame.shift_z = shift.z;
-    frame.search = search ? 1u : 0u;
-    frame.longest = 0u; // measured by detection (contact_edges.comp phase 1)
-    motion_bounds.spread = 0u;
-    lists[CVK_LIST_PARTICLE_GROUPS] = search ? groups_for(contact.particle_count) : 0u;
-    lists[CVK_LIST_PARTICLE_GROUPS + 1] = 1u;
-    lists[CVK_LIST_PARTICLE_GROUPS + 2] = 1u;
-    lists[CVK_LIST_EDGE_GROUPS] = search ? groups_for(contact.edge_count) : 0u;
-    lists[CVK_LIST_EDGE_GROUPS + 1] = 1u;
-    lists[CVK_LIST_EDGE_GROUPS + 2] = 1u;
-    // Emptied: the edge detection fills the list of its listing pass (none without detection),
-    // and the bounds pass the particles in pairs again (contact_bound.comp).
-    list_clear(CVK_LIST_EDGE_PAIRS_GROUPS);
-    // Emptied: the edge detection's cells (none without detection: contact_edges.comp phase 3).
-    cells[0] = 0u;
-    cells[1] = 1u;
-    cells[2] = 1u;
-    cells[CVK_CELLS_COUNT] = 0u;
-    cells[CVK_CELLS_POOL_USED] = 0u;
-    if (search)
-        list_clear(CVK_LIST_LISTED_GROUPS);
-    frame.searches += search ? 1u : 0u;
-    add_held();
-    frame.force = 0u;
-    motion_bounds.e_low_x = motion_bounds.e_low_y = motion_bounds.e_low_z = CVK_MOTION_LOW_EMPTY;
-    motion_bounds.v_low_x = motion_bounds.v_low_y = motion_bounds.v_low_z = CVK_MOTION_LOW_EMPTY;
-    motion_bounds.e_high_x = motion_bounds.e_high_y = motion_bounds.e_high_z = CVK_MOTION_HIGH_EMPTY;
-    motion_bounds.v_high_x = motion_bounds.v_high_y = motion_bounds.v_high_z = CVK_MOTION_HIGH_EMPTY;
-    motion_bounds.exceed = 0u;
-    motion_bounds.near = 0u;
+    if (pc.phase == 0u)
+        decide_shift();
+    else
+        decide_detect();
 }

@@ -35,17 +35,7 @@ layout(local_size_x_id = 0) in;
 #include "contact/hash_common.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) writeonly buffer Midpoints {
-    vec4 midpoints[];
-};
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) writeonly buffer Centroids {
-    vec4 centroids[];
-};
-// Per edge its ends at detection (8 words: each end's position bits and index, read as two
-// uvec4 through edge_ends_t), then the cell lists' entries.
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) writeonly buffer CellPool {
-    uint cell_pool[];
-};
+#include "contact/measure.glsl"
 
 // Where the cell lists' entries start in the pool's buffer, in words: after the edges' ends.
 uint pool_base()
@@ -345,40 +335,6 @@ void list_near()
     }
 }
 
-// Phase 1, before detection: the longest edge now, which bounds how far apart the midpoints
-// of two near edges are (an atomic maximum on the float's bits, which order as non-negative
-// floats do), the midpoints, and each edge's nearest distance reset; and for the faces'
-// detection (contact_detect.comp) the triangles' centroids and the farthest a corner is from
-// its centroid, which bounds how far from a point the centroid of a triangle within the
-// radius of it is. The dispatch covers the edges; its invocations stride over the triangles
-// too.
-void measure_longest()
-{
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    float longest = 0.0;
-    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += stride) {
-        uvec2 ab = contact_edge(pc.first + i);
-        vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
-        longest = max(longest, distance(xa, xb));
-        midpoints[pc.first + i] = vec4(0.5 * (xa + xb), 0.0);
-        uvec4 ends[2] = uvec4[](uvec4(floatBitsToUint(xa), ab.x), uvec4(floatBitsToUint(xb), ab.y));
-        for (uint k = 0u; k < 8u; k++)
-            cell_pool[8u * (pc.first + i) + k] = ends[k / 4u][k % 4u];
-        nearest[contact_u.particle_count + pc.first + i] = 0x7f7f7f7fu; // 3.4e38: none yet
-        nearest[contact_u.particle_count + contact_u.edge_count + pc.first + i] = 0u;
-    }
-    atomicMax(frame.longest, floatBitsToUint(longest));
-    float spread = 0.0;
-    for (uint t = gl_GlobalInvocationID.x; t < contact_u.triangle_count; t += stride) {
-        uvec4 tri = contact_triangle(t);
-        vec3 a = contact_x(tri.x), b = contact_x(tri.y), c = contact_x(tri.z);
-        vec3 g = triangle_centroid(a, b, c);
-        spread = max(spread, corner_reach(a, b, c, g));
-        centroids[t] = vec4(g, 0.0);
-    }
-    atomicMax(motion_bounds.spread, floatBitsToUint(spread));
-}
-
 void main()
 {
     if (pc.count == 0u)
@@ -390,7 +346,8 @@ void main()
         return;
     }
     if (pc.phase == 1u) {
-        measure_longest();
+        measure_longest(pc.first, pc.count, gl_GlobalInvocationID.x,
+                        gl_NumWorkGroups.x * gl_WorkGroupSize.x);
         return;
     }
     if (pc.phase == 2u) {

@@ -400,6 +400,51 @@ static void check_between_scene(cvk_context* ctx, const cvk_scene_desc* base)
     check_variants(ctx, "strain limit, tethers, a plane", &scene, 16 * 16, 2); /* rbgs */
 }
 
+/* The passes after the sweeps that the fused dispatch runs itself where no tether pass comes
+   between (pd_fused.comp): the strain limit's rounds, contact between cloths and contact over
+   every particle, the attached ones too, with the fused decision, measure and hash builds
+   (contact_decision.comp, hash_fused.comp) — a cloth dragged by an attachment across the
+   ground under another falling on it, with self-contact; rbgs unfused and fused. */
+static void check_fused_after_scene(cvk_context* ctx, const cvk_scene_desc* base)
+{
+    static const uint32_t held[3][2] = {{0, 0}, {6, 0}, {11, 0}};
+    cvk_cloth_desc cloths[2];
+    for (int i = 0; i < 2; i++) {
+        cloths[i] = cvk_default_cloth_desc();
+        cloths[i].grid[0] = cloths[i].grid[1] = 12;
+        cloths[i].size[0] = cloths[i].size[1] = 0.4f;
+        cloths[i].origin[0] = -0.2f + 0.05f * i;
+        cloths[i].origin[1] = 0.05f + 0.021f * i; /* within the radius: pairs at once */
+        cloths[i].origin[2] = -0.2f;
+        cloths[i].stiffness.shear = 1e4f;
+    }
+    static const cvk_keyframe drag[2] = {
+        {.time = 0.0f, .rotation = {1, 0, 0, 0}},
+        /* faster than a bound a substep: the contact pass holds the attached particles */
+        {.time = 0.1f, .translation = {0.5f, 0.05f, 0.0f}, .rotation = {1, 0, 0, 0}},
+    };
+    cvk_attachment_desc hand = cvk_default_attachment_desc();
+    hand.cloth = 0;
+    hand.pins = held;
+    hand.pin_count = 3;
+    hand.motion.keyframes = drag;
+    hand.motion.keyframe_count = 2;
+    cvk_collider_desc ground = cvk_default_collider_desc();
+    ground.type = CVK_COLLIDER_PLANE;
+    ground.point[1] = 0.03f;
+    cvk_scene_desc scene = *base;
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.attachments = &hand;
+    scene.attachment_count = 1;
+    scene.colliders = &ground;
+    scene.collider_count = 1;
+    scene.collision.self = true;
+    scene.solver.strain_limit = 0.05f;
+    check_variants(ctx, "strain limit, an attachment, self-contact, a plane", &scene,
+                   2 * 12 * 12, 2); /* rbgs unfused and fused */
+}
+
 /* ---- instances ----------------------------------------------------------------------------- */
 
 /* Three copies of a 12 × 12 cloth falling onto a sphere while a box that turns as it slides
@@ -631,6 +676,7 @@ int main(int argc, char** argv)
         check_contact_scene(ctx, &scene);
         check_funnel_scene(ctx, &scene);
         check_between_scene(ctx, &scene);
+        check_fused_after_scene(ctx, &scene);
     }
     if (all || strcmp(part, "instances") == 0) {
         check_instances(ctx);
