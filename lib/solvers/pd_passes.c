@@ -439,7 +439,7 @@ static bool fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t 
     if (strain && outer + 1 == pb->solver->outer_iterations)
         push->after |= CVK_PD_FUSED_LAST;
     if (push->after != 0)
-        snprintf(what, size, "; then%s%s%s%s", strain ? " strain" : "",
+        snprintf(what, size, ", then%s%s%s%s", strain ? " strain" : "",
                  self && pb->contact ? " pairs" : "", pb->contact ? " contact" : "",
                  push->after & CVK_PD_FUSED_LAST ? " strain x 3" : "");
     return true;
@@ -464,10 +464,14 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
             if (op) {
                 op->set1 = pb->contact_set;
                 char note[192];
-                snprintf(note, sizeof note,
-                         "outer %u: %u sweeps x %u colours fused%s; one workgroup of %u, %s",
-                         o + 1, inner, b->colour_count, after, pb->plan->fused_workgroup_size,
-                         set_note[set_for(t, w)]);
+                if (after[0])
+                    snprintf(note, sizeof note, "outer %u: %u sweeps x %u colours%s; %s", o + 1,
+                             inner, b->colour_count, after, set_note[set_for(t, w)]);
+                else
+                    snprintf(note, sizeof note,
+                             "outer %u: %u sweeps x %u colours fused, one workgroup of %u, %s",
+                             o + 1, inner, b->colour_count, pb->plan->fused_workgroup_size,
+                             set_note[set_for(t, w)]);
                 snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
             }
             if (!fused_after)
