@@ -32,9 +32,10 @@ typedef struct cvk_spec_recipe {
    (self-contact). */
 #define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                          CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
-/* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the contact
-   passes' collider types and self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's). */
-#define CVK_SPEC_PD_FUSED {6, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+/* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the tether
+   pass's slots (id 2, as CVK_SPEC_PD_TETHER's) and the contact passes' collider types and
+   self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's). */
+#define CVK_SPEC_PD_FUSED {6, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
                                CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
                                CVK_SPEC_SELF_CONTACT}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */

@@ -421,13 +421,14 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
 
 /* The passes after outer iteration `outer` that add_after_outer would dispatch, run instead by
    the fused dispatch after its sweeps (shaders/solvers/pd_fused.comp), in the same order on the
-   same particles: where no tether pass comes between them. False where they stay dispatches. */
-static bool fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t outer,
+   same particles; `what` says which, for the op's note. */
+static void fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t outer,
                              cvk_pd_fused_push* push, char* what, size_t size)
 {
-    if (tether_pass_after(pb, outer))
-        return false;
     bool strain = pb->solver->strain_limit > 0.0f, self = pb->sim->collide->self;
+    bool tethers = tether_pass_after(pb, outer);
+    if (tethers)
+        push->after |= CVK_PD_FUSED_TETHERS;
     if (strain) {
         push->after |= CVK_PD_FUSED_STRAIN;
         push->strain_limit = 1.0f + pb->solver->strain_limit;
@@ -439,10 +440,10 @@ static bool fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t 
     if (strain && outer + 1 == pb->solver->outer_iterations)
         push->after |= CVK_PD_FUSED_LAST;
     if (push->after != 0)
-        snprintf(what, size, ", then%s%s%s%s", strain ? " strain" : "",
-                 self && pb->contact ? " pairs" : "", pb->contact ? " contact" : "",
+        snprintf(what, size, ", then%s%s%s%s%s", strain ? " strain" : "",
+                 tethers ? " tethers" : "", self && pb->contact ? " pairs" : "",
+                 pb->contact ? " contact" : "",
                  push->after & CVK_PD_FUSED_LAST ? " strain x 3" : "");
-    return true;
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
@@ -458,7 +459,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
             cvk_pd_fused_push push = cvk_pd_fused_push_of(
                 &pb->base, b, inner, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega));
             char after[96] = "";
-            bool fused_after = fuse_after_outer(pb, b, o, &push, after, sizeof after);
+            fuse_after_outer(pb, b, o, &push, after, sizeof after);
             cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
                                           pb->pd->descriptors.sets[set_for(t, w)], &push);
             if (op) {
@@ -474,8 +475,6 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
                              set_note[set_for(t, w)]);
                 snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
             }
-            if (!fused_after)
-                add_after_outer(pb, b, set_for(t, w), o);
             continue;
         }
         for (uint32_t i = 0; i < inner; i++) {

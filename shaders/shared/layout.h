@@ -43,8 +43,9 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
 /* The fused Gauss-Seidel pass (shaders/solvers/pd_fused.comp): every sweep of one outer
    iteration, colour by colour, in one workgroup, and after them the passes between outer
-   iterations that follow them there (`after`: the strain limit's round, the contact passes,
-   and after the last outer iteration the strain limit's three rounds after contact).
+   iterations that follow them there (`after`: the strain limit's round, the tethers, the
+   contact passes, and after the last outer iteration the strain limit's three rounds after
+   contact).
    cvk_pd_push first (first: 0, count: the free particles), then the sweeps, the colours, the
    end of each colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint
    (c / 2) % 4 of ends[c / 8], and what comes after. So at most CVK_PD_FUSED_MAX_COLOURS
@@ -56,6 +57,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_FUSED_CLOTH_CONTACT 2u /* after: contact between cloths (listed particles) */
 #define CVK_PD_FUSED_CONTACT 4u      /* after: contact over contact_count particles */
 #define CVK_PD_FUSED_LAST 8u         /* after: the strain limit's three rounds after contact */
+#define CVK_PD_FUSED_TETHERS 16u     /* after: the tethers (after the strain limit's round) */
 #define CVK_PD_FUSED_PUSH_FIELDS                                                        \
     CVK_PD_PUSH_FIELDS                                                                  \
     CVK_UINT(sweeps)       /* sweeps of the outer iteration (inner_iterations) */       \

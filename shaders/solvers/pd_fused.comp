@@ -12,15 +12,18 @@
 // it runs (one workgroup's worth of work, no pass between the sweeps of an outer iteration).
 //
 // After the sweeps, the passes that follow them before the next outer iteration, where
-// pd_passes.c puts them here (pc.after; not where a tether pass comes between): the strain
-// limit's round colour by colour (pd_strain.glsl), the contact between cloths over the
-// particles in listed pairs and the contact over every particle (pd_contact.glsl), and after the
-// last outer iteration the strain limit's three rounds after contact, each with a barrier
-// after it — the same functions on the same particles in the same order as their dispatches,
-// so the same bits, with one dispatch an outer iteration instead of up to 4 + 4 colours.
+// pd_passes.c puts them here (pc.after): the strain limit's round colour by colour
+// (pd_strain.glsl), the tethers (tether.glsl), the contact between cloths over the particles
+// in listed pairs and the contact over every particle (pd_contact.glsl), and after the last
+// outer iteration the strain limit's three rounds after contact, each with a barrier after it
+// — the same functions on the same particles in the same order as their dispatches, so the
+// same bits, with one dispatch an outer iteration instead of up to 5 + 4 colours. The tethers
+// read the pinned particles' iterate through the texel view: nothing in this dispatch has
+// written it before them (contact, which moves attached particles, comes after).
 #define PD_FUSED 1
 #include "solvers/pd_common.glsl"
 #include "solvers/pd_strain.glsl"
+#include "solvers/tether.glsl"
 #include "solvers/pd_contact.glsl"
 
 // The end of colour c (shared/layout.h: two 16-bit ends to a uint).
@@ -53,6 +56,12 @@ void after_sweeps()
     uint lane = gl_LocalInvocationID.x;
     if ((pc.after & CVK_PD_FUSED_STRAIN) != 0u)
         strain_round(0.0);
+    if ((pc.after & CVK_PD_FUSED_TETHERS) != 0u) {
+        for (uint p = lane; p < pc.count; p += lanes)
+            tether_one(p);
+        memoryBarrierBuffer();
+        barrier();
+    }
     if ((pc.after & CVK_PD_FUSED_CLOTH_CONTACT) != 0u) {
         uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
         for (uint i = lane; i < count; i += lanes)

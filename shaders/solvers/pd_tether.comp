@@ -10,12 +10,6 @@
 
 void main()
 {
-    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
-        uint p = pc.first + i;
-        vec4 start = imageLoad(dst_read, int(p));
-        bool moved;
-        vec3 u = tethered(p, fetch(x_read, p), start.xyz, moved);
-        if (moved) // w kept: the strain limit's mark (pd_strain.comp)
-            dst[p] = vec4(u, start.w);
-    }
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride())
+        tether_one(pc.first + i);
 }

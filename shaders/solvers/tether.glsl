@@ -54,4 +54,18 @@ vec3 tethered(uint p, vec3 xp, vec3 u, out bool moved)
     return u;
 }
 
+// The tether pass's work on particle p (pd_tether.comp; pd_fused.comp after its sweeps): its
+// iterate, where the pass before wrote it (LOAD_DST), held by its tethers; w kept (the strain
+// limit's mark, pd_strain.glsl).
+#ifdef LOAD_DST
+void tether_one(uint p)
+{
+    vec4 start = LOAD_DST(p);
+    bool moved;
+    vec3 u = tethered(p, fetch(x_read, p), start.xyz, moved);
+    if (moved)
+        dst[p] = vec4(u, start.w);
+}
+#endif
+
 #endif
