@@ -274,17 +274,29 @@ static void plan_tethers(const cvk_sim* s, pd_builder* pb)
         }
 }
 
+/* The particles finalize moves: with attachments the pinned particles too (the attached move
+   by the displacement the attach pass gave them, the others by their u of 0: x + 0 is x, bit
+   for bit). */
+static uint32_t finalize_count(const cvk_build* b)
+{
+    return b->attached_count > 0 ? b->particle_count : b->free_count;
+}
+
+/* Whether the grab's op comes between the last outer iteration and finalize: the solved
+   displacement of a grabbed particle, again, where tethers or contact may have moved it after
+   the last sweep (the sweeps themselves hold it: its weight, grab.h) — except with
+   self-contact, where the hand too is kept within the particle's bound. */
+static bool grab_before_finalize(const pd_builder* pb)
+{
+    return (pb->tethers || pb->contact) && !pb->sim->collide->self && pb->sim->grab->planned;
+}
+
 /* x += u: the substep's displacement, which the solve left in U0, moves the positions (with
    the last tethers first where tethers_in_finalize says so). */
 static void add_finalize(pd_builder* pb, const cvk_build* b)
 {
-    /* With attachments the pinned particles too: the attached move by the displacement the
-       attach pass gave them, the others by their u of 0 (x + 0 is x, bit for bit). */
-    uint32_t count = b->attached_count > 0 ? b->particle_count : b->free_count;
-    /* The solved displacement of a grabbed particle, again, where tethers or contact may have
-       moved it after the last sweep (the sweeps themselves hold it: its weight, grab.h) —
-       except with self-contact, where the hand too is kept within the particle's bound. */
-    if ((pb->tethers || pb->contact) && !pb->sim->collide->self)
+    uint32_t count = finalize_count(b);
+    if (grab_before_finalize(pb))
         cvk_grab_add_op(pb->sim, pb->plan, "before finalize: u0, u1");
     add_op(pb, pb->tethers_in_finalize ? CVK_PIPE_FINALIZE_TETHERED : CVK_PIPE_FINALIZE,
            CVK_PD_SET_U0_TO_U0, pb->finalize, 0, count, 1.0f, pb->base.omega);
@@ -437,13 +449,23 @@ static void fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t 
         push->after |= CVK_PD_FUSED_CONTACT | (self ? CVK_PD_FUSED_CLOTH_CONTACT : 0u);
         push->contact_count = self && b->attached_count > 0 ? b->particle_count : b->free_count;
     }
-    if (strain && outer + 1 == pb->solver->outer_iterations)
+    bool last = outer + 1 == pb->solver->outer_iterations;
+    if (strain && last)
         push->after |= CVK_PD_FUSED_LAST;
+    /* finalize too, where no grab op comes before it (its set, u0 -> u0, reads the u0 this last
+       outer iteration wrote) */
+    bool finalize = last && !grab_before_finalize(pb);
+    if (finalize) {
+        push->after |= CVK_PD_FUSED_FINALIZE |
+                       (pb->tethers_in_finalize ? CVK_PD_FUSED_TETHERED : 0u);
+        push->finalize_count = finalize_count(b);
+    }
     if (push->after != 0)
-        snprintf(what, size, ", then%s%s%s%s%s", strain ? " strain" : "",
+        snprintf(what, size, ", then%s%s%s%s%s%s", strain ? " strain" : "",
                  tethers ? " tethers" : "", self && pb->contact ? " pairs" : "",
                  pb->contact ? " contact" : "",
-                 push->after & CVK_PD_FUSED_LAST ? " strain x 3" : "");
+                 push->after & CVK_PD_FUSED_LAST ? " strain x 3" : "",
+                 finalize ? " finalize" : "");
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
@@ -492,7 +514,8 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
         add_after_outer(pb, b, set_for(t, w), o);
     }
     add_copy_back(pb, b);
-    add_finalize(pb, b);
+    if (!pb->fused || grab_before_finalize(pb))
+        add_finalize(pb, b); /* else in the last fused dispatch (fuse_after_outer) */
 }
 
 /* rbgs, its sweeps fused where pd_fused.c allows; --plan's solver line says which and why. */

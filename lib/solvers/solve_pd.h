@@ -114,9 +114,9 @@ cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* so
    in order) in one dispatch of one workgroup, whose invocations stride over each colour with a
    workgroup barrier between colours: the same floating-point operations in the same order per
    particle as the unfused dispatches, so the same iterate bit for bit. The passes between outer
-   iterations — the strain limit's rounds, tethers, contact between cloths, contact — run in
-   the same dispatch after the sweeps (pd_passes.c: fuse_after_outer), colour by colour and
-   pass by pass with a barrier between. Every fused sweep keeps particles within their contact
+   iterations — the strain limit's rounds, tethers, contact between cloths, contact — and after
+   the last one finalize run in the same dispatch after the sweeps (pd_passes.c:
+   fuse_after_outer), colour by colour and pass by pass with a barrier between. Every fused sweep keeps particles within their contact
    bounds as the unfused do. Where the sweeps fuse, so do the contact detection's decision and hash
    builds (cvk_plan.fused, lib/contact/collide.h).
    Returns why the plan does not fuse (a sentence), or NULL when it does; `workgroup_size` is

@@ -45,7 +45,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
    iteration, colour by colour, in one workgroup, and after them the passes between outer
    iterations that follow them there (`after`: the strain limit's round, the tethers, the
    contact passes, and after the last outer iteration the strain limit's three rounds after
-   contact).
+   contact and finalize).
    cvk_pd_push first (first: 0, count: the free particles), then the sweeps, the colours, the
    end of each colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint
    (c / 2) % 4 of ends[c / 8], and what comes after. So at most CVK_PD_FUSED_MAX_COLOURS
@@ -58,6 +58,8 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_FUSED_CONTACT 4u      /* after: contact over contact_count particles */
 #define CVK_PD_FUSED_LAST 8u         /* after: the strain limit's three rounds after contact */
 #define CVK_PD_FUSED_TETHERS 16u     /* after: the tethers (after the strain limit's round) */
+#define CVK_PD_FUSED_FINALIZE 32u    /* last: finalize over finalize_count particles */
+#define CVK_PD_FUSED_TETHERED 64u    /* finalize projects the last tethers first */
 #define CVK_PD_FUSED_PUSH_FIELDS                                                        \
     CVK_PD_PUSH_FIELDS                                                                  \
     CVK_UINT(sweeps)       /* sweeps of the outer iteration (inner_iterations) */       \
@@ -69,7 +71,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
     CVK_UINT(after)        /* CVK_PD_FUSED_* bits: the passes after the sweeps */        \
     CVK_UINT(contact_count) /* particles of the contact pass (CVK_PD_FUSED_CONTACT) */   \
     CVK_FLOAT(strain_limit) /* 1 + solver.strain_limit, as the strain pass's omega */   \
-    CVK_UINT(unused)
+    CVK_UINT(finalize_count) /* particles of finalize (CVK_PD_FUSED_FINALIZE) */
 
 CVK_PUSH_BLOCK(cvk_pd_fused_push, CVK_PD_FUSED_PUSH_FIELDS)
 

@@ -18,6 +18,7 @@
 // would have: one pass over the particles fewer a substep, the same bits.
 #include "solvers/pd_common.glsl"
 #include "solvers/tether.glsl"
+#include "solvers/finalize.glsl"
 
 layout(constant_id = 6) const bool TETHERED = false;
 
@@ -28,35 +29,6 @@ void main()
     if (halted && !TETHERED)
         return;
     bool stretched = watch.stretched != 0u;
-    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
-        uint p = pc.first + i;
-        vec3 xp = fetch(x_read, p);
-        vec3 u;
-        if (TETHERED) {
-            vec4 start = imageLoad(dst_read, int(p));
-            bool moved;
-            u = tethered(p, xp, start.xyz, moved);
-            if (moved)
-                dst[p] = vec4(u, start.w);
-            if (halted)
-                continue;
-        } else {
-            u = fetch(src, p);
-        }
-        vec3 next = xp + u;
-        bool nonfinite = any(isnan(next)) || any(isinf(next));
-        bool runaway = stretched || (pc.max_u2 > 0.0 && dot(u, u) > pc.max_u2);
-        if (nonfinite || runaway) {
-            atomicMin(watch.diverged_at, now);
-            if (!stretched)
-                atomicMin(watch.particle, p);
-            atomicOr(watch.reason, nonfinite ? CVK_WATCH_NONFINITE : CVK_WATCH_RUNAWAY);
-        } else {
-            x[p].xyz = next;
-            if (pc.rest_rate > 0.0 && p < pc.stride) {
-                vec3 r = rest_memory[p].xyz;
-                rest_memory[p].xyz = r + pc.rest_rate * (u - fetch(y_read, p) - r);
-            }
-        }
-    }
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride())
+        finalize_one(pc.first + i, now, halted, stretched, TETHERED);
 }

@@ -15,7 +15,8 @@
 // pd_passes.c puts them here (pc.after): the strain limit's round colour by colour
 // (pd_strain.glsl), the tethers (tether.glsl), the contact between cloths over the particles
 // in listed pairs and the contact over every particle (pd_contact.glsl), and after the last
-// outer iteration the strain limit's three rounds after contact, each with a barrier after it
+// outer iteration the strain limit's three rounds after contact and finalize (finalize.glsl),
+// each with a barrier after it
 // — the same functions on the same particles in the same order as their dispatches, so the
 // same bits, with one dispatch an outer iteration instead of up to 5 + 4 colours. The tethers
 // read the pinned particles' iterate through the texel view: nothing in this dispatch has
@@ -25,6 +26,7 @@
 #include "solvers/pd_strain.glsl"
 #include "solvers/tether.glsl"
 #include "solvers/pd_contact.glsl"
+#include "solvers/finalize.glsl"
 
 // The end of colour c (shared/layout.h: two 16-bit ends to a uint).
 uint colour_end(uint c)
@@ -79,6 +81,17 @@ void after_sweeps()
     // thickness (pd_passes.c).
     for (uint r = 0u; (pc.after & CVK_PD_FUSED_LAST) != 0u && r < 3u; r++)
         strain_round(0.5 * contact_u.thickness);
+    // finalize after the last outer iteration (finalize.comp): nothing reads x after it here
+    if ((pc.after & CVK_PD_FUSED_FINALIZE) == 0u)
+        return;
+    bool tether_first = (pc.after & CVK_PD_FUSED_TETHERED) != 0u;
+    uint now = watch.substep;
+    bool halted = watch.diverged_at < now;
+    if (halted && !tether_first)
+        return;
+    bool stretched = watch.stretched != 0u;
+    for (uint p = lane; p < pc.finalize_count; p += lanes)
+        finalize_one(p, now, halted, stretched, tether_first);
 }
 
 void main()

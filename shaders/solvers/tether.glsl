@@ -1,8 +1,8 @@
 // The tethers' projection of one particle (pd_tether.comp; finalize.comp's TETHERED variant),
 // in displacement form, as the sweeps (pd_common.glsl): with e = x_p - x_a at the start of the
 // substep and t = e + u_p - u_a, a tether too long sets u_p = u_a - e + t L / |t|, pin by pin,
-// nearest first. It reads the iterate of the pinned particles only (dst_read), which no pass of
-// the solve writes, and the positions at the start of the substep: the result does not depend
+// nearest first. It reads the iterate of the pinned particles only (FETCH_DST: the texel view,
+// or in the fused dispatch the storage buffer), which no pass of the solve writes, and the positions at the start of the substep: the result does not depend
 // on the order of invocations. A particle no tether pulls keeps its iterate bit for bit.
 // Every particle has four slots: the upload points a missing tether at the particle itself with
 // an unreachable length, so the loop has no data-dependent trip count or array index (llvmpipe
@@ -31,10 +31,10 @@ vec3 tethered(uint p, vec3 xp, vec3 u, out bool moved)
 {
     uvec4 anchor = imageLoad(tether_anchor, int(p));
     vec4 limit = imageLoad(tether_length, int(p));
-    vec3 b0 = fetch(dst_read, anchor.x) - (xp - fetch(x_read, anchor.x));
-    vec3 b1 = SLOTS > 1u ? fetch(dst_read, anchor.y) - (xp - fetch(x_read, anchor.y)) : b0;
-    vec3 b2 = SLOTS > 2u ? fetch(dst_read, anchor.z) - (xp - fetch(x_read, anchor.z)) : b0;
-    vec3 b3 = SLOTS > 3u ? fetch(dst_read, anchor.w) - (xp - fetch(x_read, anchor.w)) : b0;
+    vec3 b0 = FETCH_DST(anchor.x) - (xp - fetch(x_read, anchor.x));
+    vec3 b1 = SLOTS > 1u ? FETCH_DST(anchor.y) - (xp - fetch(x_read, anchor.y)) : b0;
+    vec3 b2 = SLOTS > 2u ? FETCH_DST(anchor.z) - (xp - fetch(x_read, anchor.z)) : b0;
+    vec3 b3 = SLOTS > 3u ? FETCH_DST(anchor.w) - (xp - fetch(x_read, anchor.w)) : b0;
     moved = false;
     for (uint round = 0u; round < CVK_TETHER_ROUNDS; round++) {
         bool before = moved;
