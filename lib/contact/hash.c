@@ -262,18 +262,29 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
     memset(hash, 0, sizeof *hash);
 }
 
-cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
-                               bool on_device, cvk_error* error)
+/* The push constants of a build of `count` points, or a failure where the hash holds fewer. */
+static cvk_result build_push(const cvk_hash* hash, uint32_t count, cvk_hash_push* push,
+                             cvk_error* error)
 {
     if (count > hash->capacity)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "hash: %u points to hash; the hash was made for at most %u", count,
                         hash->capacity);
-    uint32_t pass = cvk_plan_pass(plan, "hash");
     uint32_t chunk = chunk_for(hash->table_size);
-    cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
-                          hash->cell_on_device ? 0.0f : hash->cell_size,
-                          hash->cell_on_device ? 0.0f : 1.0f / hash->cell_size, 0, 0};
+    *push = (cvk_hash_push){count, hash->table_size, chunk, hash->table_size / chunk,
+                            hash->cell_on_device ? 0.0f : hash->cell_size,
+                            hash->cell_on_device ? 0.0f : 1.0f / hash->cell_size, 0, 0};
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
+                               bool on_device, cvk_error* error)
+{
+    cvk_hash_push push;
+    cvk_result r = build_push(hash, count, &push, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    uint32_t pass = cvk_plan_pass(plan, "hash");
     /* The build's passes, in the order of their commands (shaders/shared/layout.h). With
        points, one invocation of the clear writes the parameters; without, all zero the starts
        and nothing else runs. */
@@ -339,15 +350,11 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
 cvk_result cvk_hash_add_fused_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
                                      cvk_error* error)
 {
-    if (count > hash->capacity)
-        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
-                        "hash: %u points to hash; the hash was made for at most %u", count,
-                        hash->capacity);
+    cvk_hash_push push;
+    cvk_result r = build_push(hash, count, &push, error);
+    if (r != CVK_SUCCESS)
+        return r;
     uint32_t pass = cvk_plan_pass(plan, "hash");
-    uint32_t chunk = chunk_for(hash->table_size);
-    cvk_hash_push push = {count, hash->table_size, chunk, hash->table_size / chunk,
-                          hash->cell_on_device ? 0.0f : hash->cell_size,
-                          hash->cell_on_device ? 0.0f : 1.0f / hash->cell_size, 0, 0};
     cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_HASH_FUSED, hash->layout, hash->set,
                                    CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
     if (op) {
