@@ -11,4 +11,6 @@ export LD_PRELOAD="$preload"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
 export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+# test_determinism: a few dispatch shapes, not all (docs/testing.md)
+export CLOTHVK_SANITIZED=1
 exec "$@"
