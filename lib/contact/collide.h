@@ -120,6 +120,7 @@ typedef struct cvk_collide {
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */
     VkDescriptorSet set;              /* = descriptors.sets[0] */
     VkPipelineLayout detect_layout;   /* contact set, then the hash's set */
+    VkPipelineLayout decision_layout; /* contact set, the centroids' hash, the midpoints' hash */
 } cvk_collide;
 
 /* Resolves the scene's collision settings, reads mesh colliders into fields, makes the buffers

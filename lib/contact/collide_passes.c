@@ -39,7 +39,10 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
     r = cvk_hash_create(s->device.context, &edge_desc, &c->edge_hash, error);
     if (r != CVK_SUCCESS)
         return r;
-    VkDescriptorSetLayout layouts[2] = {c->set_layout, c->face_hash.set_layout};
+    /* The walks: the contact set and one hash; the fused decision (contact_decision.comp):
+       both hashes, whose cells it decides. */
+    VkDescriptorSetLayout layouts[3] = {c->set_layout, c->face_hash.set_layout,
+                                        c->edge_hash.set_layout};
     VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_contact_push)};
     VkPipelineLayoutCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
@@ -49,8 +52,12 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
         .pPushConstantRanges = &push,
     };
     VkResult vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->detect_layout);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreatePipelineLayout (contact detection)", vr);
+    info.setLayoutCount = 3;
+    vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->decision_layout);
     return vr == VK_SUCCESS ? CVK_SUCCESS
-                            : cvk_fail_vk(error, "vkCreatePipelineLayout (contact detection)", vr);
+                            : cvk_fail_vk(error, "vkCreatePipelineLayout (contact decision)", vr);
 }
 
 /* One phase of contact_check.comp (over every particle) or contact_decide.comp (one
@@ -65,11 +72,13 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
     uint32_t count = decide ? 1 : s->build.particle_count;
     cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), pipeline,
-                                   c->detect_layout, c->set, CVK_DOMAIN_PARTICLES, 0, count, &push,
-                                   sizeof push);
+                                   whole ? c->decision_layout : c->detect_layout, c->set,
+                                   CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
     if (!op)
         return;
     op->set1 = hash->set;
+    if (whole)
+        op->set2 = c->edge_hash.set;
     if (decide || whole)
         op->groups = 1;
     if ((decide && phase >= 1) || whole)
@@ -107,7 +116,8 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     const cvk_hash *faces = &c->face_hash, *midpoints = &c->edge_hash;
     char note[96];
     if (plan->fused) {
-        snprintf(note, sizeof note, "past %.2g of a bound? detect or not, and measure",
+        snprintf(note, sizeof note,
+                 "past %.2g of a bound? detect or not, measure, both hashes' cells",
                  (double)CVK_REDETECT_FRACTION);
         add_decision(s, plan, CVK_PIPE_CONTACT_DECISION, 0, faces, note);
     } else {
@@ -123,9 +133,9 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
                       "the longest edge, the midpoints, the centroids and their corners' reach");
         add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
                      "centroid cells: the radius + the farthest corner from a centroid");
+        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
+                     "midpoint cells: the radius + the longest edge");
     }
-    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
-                 "midpoint cells: the radius + the longest edge");
     /* Where the plan fuses the solve, each build is one dispatch (hash.h). */
     cvk_result r = plan->fused
                        ? cvk_hash_add_fused_passes(faces, plan, s->build.triangle_count, error)

@@ -47,6 +47,7 @@ typedef struct cvk_op {
     VkDescriptorSet set;
     VkDescriptorSet set1;       /* bound as set 1 when not VK_NULL_HANDLE (another module's
                                    set the pipeline also reads, e.g. the contact set) */
+    VkDescriptorSet set2;       /* and as set 2 (the fused decision: the midpoints' hash) */
     cvk_domain domain;
     uint32_t first, count;      /* the items covered, for --plan */
     uint32_t groups;            /* direct dispatches; invocations stride over the rest */

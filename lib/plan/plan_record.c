@@ -54,7 +54,7 @@ static void record_opening(const cvk_plan* plan, VkCommandBuffer cmd)
 /* The binding state of a recording, so unchanged pipelines and sets are not bound again. */
 typedef struct binder {
     VkPipeline pipeline;
-    VkDescriptorSet set, set1;
+    VkDescriptorSet set, set1, set2;
 } binder;
 
 static void record_op(const cvk_op* op, const cvk_pipelines* pipelines, binder* bound,
@@ -80,13 +80,19 @@ static void record_op(const cvk_op* op, const cvk_pipelines* pipelines, binder* 
     }
     if (op->set != bound->set) {
         bound->set = op->set;
-        bound->set1 = VK_NULL_HANDLE; /* another layout may have disturbed set 1: bind it again */
+        /* another layout may have disturbed sets 1 and 2: bind them again */
+        bound->set1 = bound->set2 = VK_NULL_HANDLE;
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 0, 1, &op->set, 0,
                                 NULL);
     }
     if (op->set1 && op->set1 != bound->set1) {
         bound->set1 = op->set1;
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 1, 1, &op->set1,
+                                0, NULL);
+    }
+    if (op->set2 && op->set2 != bound->set2) {
+        bound->set2 = op->set2;
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 2, 1, &op->set2,
                                 0, NULL);
     }
     if (op->push_bytes)
@@ -161,6 +167,9 @@ void cvk_plan_record_warm_up(const cvk_plan* plan, cvk_pipelines* pipelines, VkC
         if (op->set1)
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 1, 1,
                                     &op->set1, 0, NULL);
+        if (op->set2)
+            vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 2, 1,
+                                    &op->set2, 0, NULL);
         if (op->push_bytes)
             vkCmdPushConstants(cmd, op->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, op->push_bytes,
                                zeros);

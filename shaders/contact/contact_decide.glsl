@@ -31,19 +31,23 @@ uint groups_for(uint items)
 #ifdef HASH_COMMON_GLSL
 // Phases 2 and 3 (after contact_edges.comp phase 1 measured the reach): the cells of the hash
 // bound as set 1 — the centroids' (faces) or the midpoints' — and whether it builds.
+// Detecting: cells as wide as the reach measured now (contact_edges.comp phase 1), so the
+// walk over 27 cells finds every pair within the radius however the cloth stretches (up to a
+// cell 16 times the first, past which the walks would visit most of a scene blown apart): a
+// triangle within the radius of a vertex has its centroid within the radius plus the farthest
+// its corners are from it (contact_detect.comp), an edge within the radius of another its
+// midpoint within the radius plus half of each edge's length (contact_edges.comp).
+float detection_cell(bool faces)
+{
+    float reach = faces ? uintBitsToFloat(motion_bounds.spread) : uintBitsToFloat(frame.longest);
+    float cell = contact.radius + reach;
+    return clamp(cell, contact.radius, 16.0 * (contact.radius + contact.longest));
+}
+
 void decide_cells(bool faces)
 {
-    // Detecting: cells as wide as the reach measured now (contact_edges.comp phase 1), so
-    // the walk over 27 cells finds every pair within the radius however the cloth
-    // stretches (up to a cell 16 times the first, past which the walks would visit most of
-    // a scene blown apart): a triangle within the radius of a vertex has its centroid
-    // within the radius plus the farthest its corners are from it (contact_detect.comp),
-    // an edge within the radius of another its midpoint within the radius plus half of
-    // each edge's length (contact_edges.comp).
     if (frame.search != 0u) {
-        float reach = faces ? uintBitsToFloat(motion_bounds.spread) : uintBitsToFloat(frame.longest);
-        float cell = contact.radius + reach;
-        cell = clamp(cell, contact.radius, 16.0 * (contact.radius + contact.longest));
+        float cell = detection_cell(faces);
         hash_params.cell_size = cell;
         hash_params.inv_cell = 1.0 / cell;
     }
