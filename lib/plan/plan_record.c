@@ -133,7 +133,7 @@ void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,
         vkCmdResetQueryPool(cmd, queries->pool, 0, queries->count);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries->pool, query++);
     }
-    binder bound = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
+    binder bound = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     for (uint32_t sub = 0; sub < plan->substeps; sub++) {
         for (uint32_t i = 0; i < plan->op_count; i++) {
             const cvk_op* op = &plan->ops[i];
