@@ -126,8 +126,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
         add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
         add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
-    }
-    if (!plan->fused) { /* in the decision's one dispatch where the plan fuses */
+        /* the measure and both hashes' cells: in the decision's one dispatch where it fuses */
         add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
                       CVK_LIST_EDGE_GROUPS, 1, faces,
                       "the longest edge, the midpoints, the centroids and their corners' reach");
