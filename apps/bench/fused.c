@@ -1,5 +1,5 @@
 /* fused: dispatches and time per frame with rbgs's sweeps fused (solver.fuse on: every sweep
-   of an outer iteration in one dispatch of one workgroup) and unfused (off), in one sitting:
+   of a substep in one dispatch of one workgroup) and unfused (off), in one sitting:
    --repeat rounds, each running off then on, so a noisy machine loads both alike. A run is
    --warmup untimed frames (pipelines compile on the first), then --frames timed ones (default
    30): the wall time of cvk_sim_step over them, and the GPU time of the last frame. Both runs of

@@ -6,7 +6,8 @@
 #include "solvers/solve_pd.h"
 
 _Static_assert(sizeof(cvk_pd_fused_push) == 128, "cvk_pd_fused_push: 128 bytes in GLSL");
-_Static_assert(offsetof(cvk_pd_fused_push, sweeps) == 52, "cvk_pd_fused_push.sweeps at 52");
+_Static_assert(offsetof(cvk_pd_fused_push, iterations) == 52,
+               "cvk_pd_fused_push.iterations at 52");
 _Static_assert(offsetof(cvk_pd_fused_push, ends0) == 64, "cvk_pd_fused_push.ends0: a uvec4 at 64");
 _Static_assert(sizeof(cvk_pd_fused_push) <= CVK_PUSH_MAX_BYTES, "within the guaranteed push size");
 
@@ -43,14 +44,14 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
 }
 
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
-                                       uint32_t sweeps, float last_omega)
+                                       uint32_t sweeps, uint32_t outers, float last_omega)
 {
     cvk_pd_fused_push push;
     memset(&push, 0, sizeof push);
     memcpy(&push, base, sizeof *base);
     push.first = 0;
     push.count = b->free_count;
-    push.sweeps = sweeps;
+    push.iterations = (sweeps & 0xffffu) | outers << 16;
     push.last_omega = last_omega;
     push.colours = b->colour_count;
     uint32_t* ends[3] = {push.ends0, push.ends1, push.ends2};

@@ -152,7 +152,7 @@ typedef struct pd_builder {
     bool checking, armed;
     uint32_t check_pass;
     cvk_pd_converge_push check;
-    bool fused;                        /* rbgs: one fused dispatch per outer iteration (pd_fused.c) */
+    bool fused;                        /* rbgs: one fused dispatch for the solve (pd_fused.c) */
 } pd_builder;
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {
@@ -433,39 +433,79 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
 
 /* The passes after outer iteration `outer` that add_after_outer would dispatch, run instead by
    the fused dispatch after its sweeps (shaders/solvers/pd_fused.comp), in the same order on the
-   same particles; `what` says which, for the op's note. */
-static void fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t outer,
-                             cvk_pd_fused_push* push, char* what, size_t size)
+   same particles: their CVK_PD_FUSED_* bits, with the particle counts they need in `push`. */
+static uint32_t fuse_after_outer(const pd_builder* pb, const cvk_build* b, uint32_t outer,
+                                 cvk_pd_fused_push* push)
 {
-    bool strain = pb->solver->strain_limit > 0.0f, self = pb->sim->collide->self;
-    bool tethers = tether_pass_after(pb, outer);
-    if (tethers)
-        push->after |= CVK_PD_FUSED_TETHERS;
+    uint32_t after = 0;
+    bool strain = pb->solver->strain_limit > 0.0f;
+    if (tether_pass_after(pb, outer))
+        after |= CVK_PD_FUSED_TETHERS;
     if (strain) {
-        push->after |= CVK_PD_FUSED_STRAIN;
+        after |= CVK_PD_FUSED_STRAIN;
         push->strain_limit = 1.0f + pb->solver->strain_limit;
     }
     if (pb->contact) {
-        push->after |= CVK_PD_FUSED_CONTACT | (self ? CVK_PD_FUSED_CLOTH_CONTACT : 0u);
+        bool self = pb->sim->collide->self;
+        after |= CVK_PD_FUSED_CONTACT | (self ? CVK_PD_FUSED_CLOTH_CONTACT : 0u);
         push->contact_count = self && b->attached_count > 0 ? b->particle_count : b->free_count;
     }
     bool last = outer + 1 == pb->solver->outer_iterations;
     if (strain && last)
-        push->after |= CVK_PD_FUSED_LAST;
+        after |= CVK_PD_FUSED_LAST;
     /* finalize too, where no grab op comes before it (its set, u0 -> u0, reads the u0 this last
        outer iteration wrote) */
-    bool finalize = last && !grab_before_finalize(pb);
-    if (finalize) {
-        push->after |= CVK_PD_FUSED_FINALIZE |
-                       (pb->tethers_in_finalize ? CVK_PD_FUSED_TETHERED : 0u);
+    if (last && !grab_before_finalize(pb)) {
+        after |= CVK_PD_FUSED_FINALIZE | (pb->tethers_in_finalize ? CVK_PD_FUSED_TETHERED : 0u);
         push->finalize_count = finalize_count(b);
     }
-    if (push->after != 0)
-        snprintf(what, size, ", then%s%s%s%s%s%s", strain ? " strain" : "",
-                 tethers ? " tethers" : "", self && pb->contact ? " pairs" : "",
-                 pb->contact ? " contact" : "",
-                 push->after & CVK_PD_FUSED_LAST ? " strain x 3" : "",
-                 finalize ? " finalize" : "");
+    return after;
+}
+
+/* The names of the passes in `after` (CVK_PD_FUSED_* bits), for the op's note. */
+static void fused_names(uint32_t after, char* out, size_t size)
+{
+    snprintf(out, size, "%s%s%s%s%s%s", after & CVK_PD_FUSED_STRAIN ? " strain" : "",
+             after & CVK_PD_FUSED_TETHERS ? " tethers" : "",
+             after & CVK_PD_FUSED_CLOTH_CONTACT ? " pairs" : "",
+             after & CVK_PD_FUSED_CONTACT ? " contact" : "",
+             after & CVK_PD_FUSED_LAST ? " strain x 3" : "",
+             after & CVK_PD_FUSED_FINALIZE ? " finalize" : "");
+}
+
+/* The fused solve: every outer iteration in one dispatch (shaders/solvers/pd_fused.comp),
+   starting from the set of the first, its buffers swapping roles after each as the unfused
+   sets alternate; `after` holds the passes after every outer iteration but the last (their
+   tethers after every tether_every-th, as tether_pass_after), the last one's and tether_every
+   (shared/layout.h). */
+static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
+{
+    uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
+    cvk_pd_fused_push push = cvk_pd_fused_push_of(
+        &pb->base, b, inner, outer, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega));
+    uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
+    uint32_t between = 0;
+    if (outer > 1)
+        between = fuse_after_outer(pb, b, 0, &push) | (pb->tethers ? CVK_PD_FUSED_TETHERS : 0u);
+    uint32_t last = fuse_after_outer(pb, b, outer - 1, &push);
+    push.after = between | last << 8 | every << 16;
+    cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
+                                  pb->pd->descriptors.sets[first_set], &push);
+    if (!op)
+        return;
+    op->set1 = pb->contact_set;
+    char each[64], extra[64], gone[64], range[24] = "outer 1";
+    fused_names(between, each, sizeof each);
+    fused_names(last & ~between, extra, sizeof extra);
+    fused_names(between & ~last, gone, sizeof gone);
+    if (outer > 1)
+        snprintf(range, sizeof range, "outers 1-%u", outer);
+    snprintf(op->note, sizeof op->note,
+             "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; one workgroup of %u, %s first", range,
+             inner, b->colour_count, each[0] ? ", then" : "", each,
+             extra[0] || gone[0] ? " (the last" : "", extra[0] ? " +" : "", extra,
+             gone[0] ? " -" : "", extra[0] || gone[0] ? ")" : "", pb->plan->fused_workgroup_size,
+             set_note[first_set]);
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
@@ -478,25 +518,8 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
     for (uint32_t o = 0; o < outer; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
         if (pb->fused) {
-            cvk_pd_fused_push push = cvk_pd_fused_push_of(
-                &pb->base, b, inner, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega));
-            char after[96] = "";
-            fuse_after_outer(pb, b, o, &push, after, sizeof after);
-            cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
-                                          pb->pd->descriptors.sets[set_for(t, w)], &push);
-            if (op) {
-                op->set1 = pb->contact_set;
-                char note[192];
-                if (after[0])
-                    snprintf(note, sizeof note, "outer %u: %u sweeps x %u colours%s; %s", o + 1,
-                             inner, b->colour_count, after, set_note[set_for(t, w)]);
-                else
-                    snprintf(note, sizeof note,
-                             "outer %u: %u sweeps x %u colours fused, one workgroup of %u, %s",
-                             o + 1, inner, b->colour_count, pb->plan->fused_workgroup_size,
-                             set_note[set_for(t, w)]);
-                snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
-            }
+            if (o == 0)
+                add_fused(pb, b, set_for(t, w));
             continue;
         }
         for (uint32_t i = 0; i < inner; i++) {
@@ -528,7 +551,7 @@ static void plan_rbgs(pd_builder* pb)
     size_t used = strlen(note);
     if (pb->fused)
         snprintf(note + used, sizeof pb->plan->solver_note - used,
-                 ", sweeps fused (one dispatch per outer iteration)");
+                 ", sweeps fused (one dispatch for every outer iteration)");
     else
         snprintf(note + used, sizeof pb->plan->solver_note - used, ", sweeps not fused: %s",
                  unfused);

@@ -161,7 +161,7 @@ static const cvk_binding pd_bindings[CVK_PD_BINDING_COUNT] = {
     [CVK_PD_BINDING_ADJACENCY_REST] = TEXEL, [CVK_PD_BINDING_WATCH] = STORAGE,
     [CVK_PD_BINDING_TETHER_ANCHOR] = TEXEL, [CVK_PD_BINDING_TETHER_LENGTH] = TEXEL,
     [CVK_PD_BINDING_EXTERNAL] = TEXEL, [CVK_PD_BINDING_CONVERGE] = STORAGE,
-    [CVK_PD_BINDING_REST] = STORAGE,
+    [CVK_PD_BINDING_REST] = STORAGE,   [CVK_PD_BINDING_SRC_BUFFER] = STORAGE,
 };
 #undef TEXEL
 #undef STORAGE
@@ -187,6 +187,7 @@ static void write_set(cvk_sim* s, cvk_pd* pd, cvk_pd_set set, uint32_t src, uint
         [CVK_PD_BINDING_EXTERNAL] = {.view = s->aero->view_external},
         [CVK_PD_BINDING_CONVERGE] = {.buffer = &pd->sums},
         [CVK_PD_BINDING_REST] = {.buffer = &pd->rest},
+        [CVK_PD_BINDING_SRC_BUFFER] = {.buffer = &pd->u[src]},
     };
     cvk_descriptors_write(s->device.context, &pd->descriptors, set, res);
 }

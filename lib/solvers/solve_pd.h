@@ -130,10 +130,10 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
 const char* cvk_pd_plan_fuse_refusal(const cvk_sim* sim, const cvk_solver_desc* requested,
                                      const cvk_plan* plan);
 
-/* The push data of the fused pass over every colour of `b`, `sweeps` sweeps, the last at
-   `last_omega` (cvk_gs_sweep_omega). */
+/* The push data of the fused pass over every colour of `b`: `outers` outer iterations of
+   `sweeps` sweeps, the last sweep of each at `last_omega` (cvk_gs_sweep_omega). */
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
-                                       uint32_t sweeps, float last_omega);
+                                       uint32_t sweeps, uint32_t outers, float last_omega);
 
 /* Appends the fused pass: one workgroup. */
 cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,

@@ -41,16 +41,19 @@
 
 CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
-/* The fused Gauss-Seidel pass (shaders/solvers/pd_fused.comp): every sweep of one outer
-   iteration, colour by colour, in one workgroup, and after them the passes between outer
-   iterations that follow them there (`after`: the strain limit's round, the tethers, the
-   contact passes, and after the last outer iteration the strain limit's three rounds after
-   contact and finalize).
-   cvk_pd_push first (first: 0, count: the free particles), then the sweeps, the colours, the
-   end of each colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint
-   (c / 2) % 4 of ends[c / 8], and what comes after. So at most CVK_PD_FUSED_MAX_COLOURS
-   colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes: Vulkan's guaranteed push
-   constant size. */
+/* The fused Gauss-Seidel pass (shaders/solvers/pd_fused.comp): every outer iteration of a
+   substep in one workgroup, each one's sweeps colour by colour, and after them the passes
+   between outer iterations that follow them there (`after`: the strain limit's round, the
+   tethers, the contact passes, and after the last outer iteration the strain limit's three
+   rounds after contact and finalize).
+   cvk_pd_push first (first: 0, count: the free particles), then the iterations (sweeps of an
+   outer iteration in bits 0-15, outer iterations in bits 16-31), the colours, the end of each
+   colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint (c / 2) % 4 of
+   ends[c / 8], and what comes after: `after` holds the CVK_PD_FUSED_* bits of every outer
+   iteration but the last in bits 0-7 (CVK_PD_FUSED_TETHERS there: after every
+   `tether_every`-th), the last one's in bits 8-15 and tether_every in bits 16-31. So at most
+   CVK_PD_FUSED_MAX_COLOURS colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes:
+   Vulkan's guaranteed push constant size. */
 #define CVK_PD_FUSED_MAX_COLOURS 24u
 #define CVK_PD_FUSED_MAX_PARTICLES 65535u
 #define CVK_PD_FUSED_STRAIN 1u       /* after: one round of the strain limit */
@@ -62,13 +65,13 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_FUSED_TETHERED 64u    /* finalize projects the last tethers first */
 #define CVK_PD_FUSED_PUSH_FIELDS                                                        \
     CVK_PD_PUSH_FIELDS                                                                  \
-    CVK_UINT(sweeps)       /* sweeps of the outer iteration (inner_iterations) */       \
+    CVK_UINT(iterations)   /* inner | outer << 16 (solver.inner/outer_iterations) */    \
     CVK_UINT(colours)      /* colours, at most CVK_PD_FUSED_MAX_COLOURS */              \
     CVK_FLOAT(last_omega)  /* omega of the last sweep (cvk_gs_sweep_omega) */             \
     CVK_UVEC4(ends0)       /* colour ends 0..7 */                                       \
     CVK_UVEC4(ends1)       /* 8..15 */                                                  \
     CVK_UVEC4(ends2)       /* 16..23 */                                                 \
-    CVK_UINT(after)        /* CVK_PD_FUSED_* bits: the passes after the sweeps */        \
+    CVK_UINT(after)        /* the passes after the sweeps: CVK_PD_FUSED_* bits (above) */\
     CVK_UINT(contact_count) /* particles of the contact pass (CVK_PD_FUSED_CONTACT) */   \
     CVK_FLOAT(strain_limit) /* 1 + solver.strain_limit, as the strain pass's omega */   \
     CVK_UINT(finalize_count) /* particles of finalize (CVK_PD_FUSED_FINALIZE) */
@@ -93,7 +96,8 @@ CVK_PUSH_BLOCK(cvk_pd_fused_push, CVK_PD_FUSED_PUSH_FIELDS)
 #define CVK_PD_BINDING_TETHER_LENGTH 14 /* texel: vec4 per free particle, m */
 #define CVK_PD_BINDING_CONVERGE 15     /* storage: partial sums, squared residuals */
 #define CVK_PD_BINDING_REST 16        /* storage: rest memory, mean correction (solve_pd.h) */
-#define CVK_PD_BINDING_COUNT 17
+#define CVK_PD_BINDING_SRC_BUFFER 17  /* storage: the iterate SRC reads (the fused sweeps) */
+#define CVK_PD_BINDING_COUNT 18
 
 /* Solves that stop when converged (solver.tolerance; lib/solvers/pd_passes.c,
    shaders/solvers/pd_converge.comp).

@@ -12,7 +12,7 @@ void finalize_one(uint p, uint now, bool halted, bool stretched, bool tether_fir
         bool moved;
         u = tethered(p, xp, start.xyz, moved);
         if (moved)
-            dst[p] = vec4(u, start.w);
+            STORE_DST(p, vec4(u, start.w));
         if (halted)
             return;
     } else {

@@ -31,17 +31,30 @@ const uint QUADS = (MAX_DEGREE + 3u) / 4u;
 layout(set = 0, binding = CVK_PD_BINDING_SRC, rgba32f) uniform readonly imageBuffer src;
 layout(set = 0, binding = CVK_PD_BINDING_DST_READ, rgba32f) uniform readonly imageBuffer dst_read;
 #ifdef PD_FUSED
-// The fused sweeps (pd_fused.comp) read back what other invocations of their workgroup wrote
-// in this dispatch: through the storage buffer (coherent, after memoryBarrierBuffer and
-// barrier), never a texel buffer, whose cache need not see those writes.
-layout(std430, set = 0, binding = CVK_PD_BINDING_DST) coherent buffer Dst { vec4 dst[]; };
-#define FETCH_DST(i) (dst[i].xyz)
-#define LOAD_DST(i) (dst[i])
+// The fused sweeps (pd_fused.comp) run every outer iteration of a substep in one dispatch and
+// read back what other invocations of their workgroup wrote in it: through the storage buffers
+// (coherent, after memoryBarrierBuffer and barrier), never a texel buffer, whose cache need not
+// see those writes. The two iterates swap roles after each outer iteration, as the unfused
+// dispatches' sets do: while `flipped` is false the iterate before is SRC_BUFFER (the texel
+// view src's buffer) and the one written DST, while true the other way round.
+layout(std430, set = 0, binding = CVK_PD_BINDING_DST) coherent buffer Dst { vec4 dst_u[]; };
+layout(std430, set = 0, binding = CVK_PD_BINDING_SRC_BUFFER) coherent buffer Src { vec4 src_u[]; };
+bool flipped = false;
+#define LOAD_SRC(i) (flipped ? dst_u[i] : src_u[i])
+#define LOAD_DST(i) (flipped ? src_u[i] : dst_u[i])
+#define STORE_DST(i, value) \
+    if (flipped) \
+        src_u[i] = (value); \
+    else \
+        dst_u[i] = (value)
 #else
 layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec4 dst[]; };
-#define FETCH_DST(i) fetch(dst_read, i)
+#define LOAD_SRC(i) imageLoad(src, int(i))
 #define LOAD_DST(i) imageLoad(dst_read, int(i))
+#define STORE_DST(i, value) dst[i] = (value)
 #endif
+#define FETCH_SRC(i) (LOAD_SRC(i).xyz)
+#define FETCH_DST(i) (LOAD_DST(i).xyz)
 layout(set = 0, binding = CVK_PD_BINDING_Y_READ, rgba32f) uniform readonly imageBuffer y_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };
 layout(set = 0, binding = CVK_PD_BINDING_X_READ, rgba32f) uniform readonly imageBuffer x_read;
@@ -170,7 +183,7 @@ vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
     uvec4 anchor = imageLoad(tether_anchor, int(p));
     vec4 limit = imageLoad(tether_length, int(p));
     for (uint j = 0u; j < 4u; j++) {
-        vec3 t = cur - fetch(src, anchor[j]) + xp - fetch(x_read, anchor[j]);
+        vec3 t = cur - FETCH_SRC(anchor[j]) + xp - fetch(x_read, anchor[j]);
         d = tether_free(d, t, limit[j]);
     }
     return d;
@@ -218,7 +231,7 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
         vec4 k = quad_k(q, p);
         vec4 rest = imageLoad(adjacency_rest, int(q * pc.stride + p));
         for (uint j = 0; j < 4u; j++) {
-            vec3 un = fetch(src, n[j]);
+            vec3 un = FETCH_SRC(n[j]);
             vec3 edge = xp - fetch(x_read, n[j]);
             vec3 du = cur - un;
             r += spring_rhs(du, edge + du, k[j], rest[j]);

@@ -48,7 +48,7 @@ vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
             for (uint j = 0u; j < (border ? 2u : 1u); j++) {
                 uint q = j == 0u ? next : prev;
                 vec3 half0 = 0.5 * (fetch(x_read, q) - x0);
-                vec3 half1 = half0 + 0.5 * (fetch(src, q) - u);
+                vec3 half1 = half0 + 0.5 * (FETCH_SRC(q) - u);
                 if (max(length(half0), length(half1)) < slack)
                     continue;
                 vec3 um = u + half1 - half0; // the midpoint's displacement
@@ -86,7 +86,7 @@ bool shells_clear(uint p, vec3 x0, vec3 u)
 // invocations.
 vec3 iterate_x(uint q)
 {
-    return fetch(x_read, q) + fetch(src, q);
+    return fetch(x_read, q) + FETCH_SRC(q);
 }
 
 vec3 start_x(uint q)
@@ -145,9 +145,9 @@ void contact_one(uint p, bool listed)
     vec3 u = start.xyz;
     if (p >= contact_u.free_count) { // attached (self-contact only): kept within the bound
         vec3 x0 = fetch(x_read, p);
-        dst[p] = vec4(within_bound(p, x0 + u) - x0, 0.0);
+        STORE_DST(p, vec4(within_bound(p, x0 + u) - x0, 0.0));
         return;
     }
     vec3 moved = listed ? pd_cloth_contact(p, u) : pd_contact(p, u);
-    dst[p] = vec4(moved, any(notEqual(moved, u)) || start.w != 0.0 ? 1.0 : 0.0);
+    STORE_DST(p, vec4(moved, any(notEqual(moved, u)) || start.w != 0.0 ? 1.0 : 0.0));
 }

@@ -1,26 +1,28 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Every sweep of one Gauss-Seidel outer iteration in one dispatch of ONE workgroup: the
-// sweeps of pd_gauss_seidel.comp (the first with the local step, as FIRST), colour by colour,
-// with a workgroup barrier after each colour instead of a dispatch and a pipeline barrier.
-// Each particle gets the same floating-point operations in the same order as there (the same
-// functions of pd_common.glsl), colours in the same order, so the iterate is the same bit for
-// bit; only the reads of what this dispatch wrote (the iterate being swept, the right-hand
-// side) go through the storage buffers, coherent, after memoryBarrierBuffer() and barrier().
-// The workgroup's invocations stride over each colour; no invocation waits on another
-// workgroup, so this is correct on any conformant device. lib/solvers/pd_fused.c decides where
-// it runs (one workgroup's worth of work, no pass between the sweeps of an outer iteration).
+// Every outer iteration of a Gauss-Seidel substep in one dispatch of ONE workgroup: the sweeps
+// of pd_gauss_seidel.comp (the first with the local step, as FIRST), colour by colour, with a
+// workgroup barrier after each colour instead of a dispatch and a pipeline barrier, and the
+// passes between outer iterations likewise. Each particle gets the same floating-point
+// operations in the same order as there (the same functions of pd_common.glsl), colours in
+// the same order, so the iterate is the same bit for bit; the iterates, the one before and the
+// one being written, and the right-hand side are read and written through the storage
+// buffers, coherent, after memoryBarrierBuffer() and barrier(). The two iterates swap roles
+// after each outer iteration (pd_common.glsl's `flipped`), as the unfused dispatches' sets
+// alternate, so the last outer iteration writes u0 there as here. The workgroup's invocations
+// stride over each colour; no invocation waits on another workgroup, so this is correct on any
+// conformant device. lib/solvers/pd_fused.c decides where it runs (one workgroup's worth of
+// work, no pass between the outer iterations that it does not run itself).
 //
-// After the sweeps, the passes that follow them before the next outer iteration, where
+// After each outer iteration's sweeps, the passes that follow them before the next, where
 // pd_passes.c puts them here (pc.after): the strain limit's round colour by colour
 // (pd_strain.glsl), the tethers (tether.glsl), the contact between cloths over the particles
 // in listed pairs and the contact over every particle (pd_contact.glsl), and after the last
 // outer iteration the strain limit's three rounds after contact and finalize (finalize.glsl),
 // each with a barrier after it
 // — the same functions on the same particles in the same order as their dispatches, so the
-// same bits, with one dispatch an outer iteration instead of up to 5 + 4 colours. The tethers
-// read the pinned particles' iterate through the texel view: nothing in this dispatch has
-// written it before them (contact, which moves attached particles, comes after).
+// same bits, with one dispatch a substep's solve instead of up to (5 + 4 colours) an outer
+// iteration.
 #define PD_FUSED 1
 #include "solvers/pd_common.glsl"
 #include "solvers/pd_strain.glsl"
@@ -51,27 +53,28 @@ void strain_round(float most)
     }
 }
 
-// The passes after the sweeps (pc.after), as pd_passes.c's add_after_outer orders them.
-void after_sweeps()
+// The passes after the sweeps (`after`: CVK_PD_FUSED_* bits), as pd_passes.c's
+// add_after_outer orders them.
+void after_sweeps(uint after)
 {
     uint lanes = gl_WorkGroupSize.x;
     uint lane = gl_LocalInvocationID.x;
-    if ((pc.after & CVK_PD_FUSED_STRAIN) != 0u)
+    if ((after & CVK_PD_FUSED_STRAIN) != 0u)
         strain_round(0.0);
-    if ((pc.after & CVK_PD_FUSED_TETHERS) != 0u) {
+    if ((after & CVK_PD_FUSED_TETHERS) != 0u) {
         for (uint p = lane; p < pc.count; p += lanes)
             tether_one(p);
         memoryBarrierBuffer();
         barrier();
     }
-    if ((pc.after & CVK_PD_FUSED_CLOTH_CONTACT) != 0u) {
+    if ((after & CVK_PD_FUSED_CLOTH_CONTACT) != 0u) {
         uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
         for (uint i = lane; i < count; i += lanes)
             contact_one(lists[start + i], true);
         memoryBarrierBuffer();
         barrier();
     }
-    if ((pc.after & CVK_PD_FUSED_CONTACT) != 0u) {
+    if ((after & CVK_PD_FUSED_CONTACT) != 0u) {
         for (uint p = lane; p < pc.contact_count; p += lanes)
             contact_one(p, false);
         memoryBarrierBuffer();
@@ -79,12 +82,12 @@ void after_sweeps()
     }
     // The strain limit's rounds after the last outer iteration's contact: moves under half the
     // thickness (pd_passes.c).
-    for (uint r = 0u; (pc.after & CVK_PD_FUSED_LAST) != 0u && r < 3u; r++)
+    for (uint r = 0u; (after & CVK_PD_FUSED_LAST) != 0u && r < 3u; r++)
         strain_round(0.5 * contact_u.thickness);
     // finalize after the last outer iteration (finalize.comp): nothing reads x after it here
-    if ((pc.after & CVK_PD_FUSED_FINALIZE) == 0u)
+    if ((after & CVK_PD_FUSED_FINALIZE) == 0u)
         return;
-    bool tether_first = (pc.after & CVK_PD_FUSED_TETHERED) != 0u;
+    bool tether_first = (after & CVK_PD_FUSED_TETHERED) != 0u;
     uint now = watch.substep;
     bool halted = watch.diverged_at < now;
     if (halted && !tether_first)
@@ -98,34 +101,46 @@ void main()
 {
     uint lanes = gl_WorkGroupSize.x;
     uint lane = gl_LocalInvocationID.x;
-    for (uint sweep = 0u; sweep < pc.sweeps; sweep++) {
-        uint begin = 0u;
-        for (uint c = 0u; c < pc.colours; c++) {
-            uint end = colour_end(c);
-            for (uint p = begin + lane; p < end; p += lanes) {
-                vec3 acc;
-                vec4 b;
-                vec3 cur;
-                float ksum;
-                // The last sweep's omega comes apart (cvk_gs_sweep_omega).
-                float omega = sweep + 1u == pc.sweeps ? pc.last_omega : pc.omega;
-                if (sweep == 0u) {
-                    vec4 start = imageLoad(src, int(p));
-                    cur = start.xyz;
-                    if (start.w != 0.0)
-                        omega = min(omega, 1.0);
-                    b = local_step(p, cur, begin, acc, ksum);
-                } else {
-                    b = rhs[p];
-                    cur = dst[p].xyz;
-                    acc = neighbour_sum_dst(p, cur, ksum);
+    uint sweeps = pc.iterations & 0xffffu, outers = pc.iterations >> 16u;
+    uint every = pc.after >> 16u;
+    for (uint outer = 0u; outer < outers; outer++) {
+        flipped = (outer & 1u) != 0u;
+        for (uint sweep = 0u; sweep < sweeps; sweep++) {
+            uint begin = 0u;
+            for (uint c = 0u; c < pc.colours; c++) {
+                uint end = colour_end(c);
+                for (uint p = begin + lane; p < end; p += lanes) {
+                    vec3 acc;
+                    vec4 b;
+                    vec3 cur;
+                    float ksum;
+                    // The last sweep's omega comes apart (cvk_gs_sweep_omega).
+                    float omega = sweep + 1u == sweeps ? pc.last_omega : pc.omega;
+                    if (sweep == 0u) {
+                        vec4 start = LOAD_SRC(p);
+                        cur = start.xyz;
+                        if (start.w != 0.0)
+                            omega = min(omega, 1.0);
+                        b = local_step(p, cur, begin, acc, ksum);
+                    } else {
+                        b = rhs[p];
+                        cur = FETCH_DST(p);
+                        acc = neighbour_sum_dst(p, cur, ksum);
+                    }
+                    STORE_DST(p, vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0));
                 }
-                dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0);
+                memoryBarrierBuffer();
+                barrier();
+                begin = end;
             }
-            memoryBarrierBuffer();
-            barrier();
-            begin = end;
         }
+        // The passes after this outer iteration: the last one's, or the others' with the
+        // tethers after every `every`-th only (pd_passes.c's tether_pass_after).
+        uint after = pc.after & 0xffu;
+        if (outer + 1u == outers)
+            after = (pc.after >> 8u) & 0xffu;
+        else if ((outer + 1u) % max(every, 1u) != 0u)
+            after &= ~CVK_PD_FUSED_TETHERS;
+        after_sweeps(after);
     }
-    after_sweeps();
 }

@@ -35,5 +35,5 @@ void strain_one(uint p, float limit, float most)
     if (most > 0.0 && len > most)
         move *= most / len;
     if (over > 0.0)
-        dst[p] = vec4(bounded(p, cur.xyz + move), 1.0);
+        STORE_DST(p, vec4(bounded(p, cur.xyz + move), 1.0));
 }

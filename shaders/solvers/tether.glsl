@@ -64,7 +64,7 @@ void tether_one(uint p)
     bool moved;
     vec3 u = tethered(p, fetch(x_read, p), start.xyz, moved);
     if (moved)
-        dst[p] = vec4(u, start.w);
+        STORE_DST(p, vec4(u, start.w));
 }
 #endif
 
