@@ -33,11 +33,11 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                          CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the tether
-   pass's slots (id 2, as CVK_SPEC_PD_TETHER's) and the contact passes' collider types and
-   self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's). */
-#define CVK_SPEC_PD_FUSED {6, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
+   pass's slots (id 2, as CVK_SPEC_PD_TETHER's), the contact passes' collider types and
+   self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's) and the prediction's wind (id 6). */
+#define CVK_SPEC_PD_FUSED {7, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
                                CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
-                               CVK_SPEC_SELF_CONTACT}}
+                               CVK_SPEC_SELF_CONTACT, CVK_SPEC_WIND}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 /* finalize with the tethers' projection (ids 2 and 6 of shaders/solvers/finalize.comp: the

@@ -473,6 +473,13 @@ static void fused_names(uint32_t after, char* out, size_t size)
              after & CVK_PD_FUSED_FINALIZE ? " finalize" : "");
 }
 
+/* Whether the fused dispatch predicts too: where no grab op comes between the prediction and
+   the solve (cvk_grab_add_op after predict). */
+static bool fused_predict(const pd_builder* pb)
+{
+    return pb->fused && !pb->sim->grab->planned;
+}
+
 /* The fused solve: every outer iteration in one dispatch (shaders/solvers/pd_fused.comp),
    starting from the set of the first, its buffers swapping roles after each as the unfused
    sets alternate; `after` holds the passes after every outer iteration but the last (their
@@ -488,18 +495,22 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
     if (outer > 1)
         between = fuse_after_outer(pb, b, 0, &push) | (pb->tethers ? CVK_PD_FUSED_TETHERS : 0u);
     uint32_t last = fuse_after_outer(pb, b, outer - 1, &push);
-    push.after = between | last << 8 | every << 16;
+    push.after = between | last << 8 | (every & 0x7fffu) << 16 |
+                 (fused_predict(pb) ? CVK_PD_FUSED_PREDICT : 0u);
     cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
                                   pb->pd->descriptors.sets[first_set], &push);
     if (!op)
         return;
     op->set1 = pb->contact_set;
-    char each[64], extra[64], gone[64], range[24] = "outer 1";
+    char each[64], extra[64], gone[64], range[40] = "outer 1";
     fused_names(between, each, sizeof each);
     fused_names(last & ~between, extra, sizeof extra);
     fused_names(between & ~last, gone, sizeof gone);
+    bool predict = fused_predict(pb);
     if (outer > 1)
-        snprintf(range, sizeof range, "outers 1-%u", outer);
+        snprintf(range, sizeof range, "%souters 1-%u", predict ? "predict, " : "", outer);
+    else if (predict)
+        snprintf(range, sizeof range, "predict, outer 1");
     snprintf(op->note, sizeof op->note,
              "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; one workgroup of %u, %s first", range,
              inner, b->colour_count, each[0] ? ", then" : "", each,
@@ -514,7 +525,8 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
 static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
 {
     uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
-    add_predict(pb, b, outer % 2);
+    if (!fused_predict(pb))
+        add_predict(pb, b, outer % 2);
     for (uint32_t o = 0; o < outer; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
         if (pb->fused) {

@@ -51,7 +51,8 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
    colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint (c / 2) % 4 of
    ends[c / 8], and what comes after: `after` holds the CVK_PD_FUSED_* bits of every outer
    iteration but the last in bits 0-7 (CVK_PD_FUSED_TETHERS there: after every
-   `tether_every`-th), the last one's in bits 8-15 and tether_every in bits 16-31. So at most
+   `tether_every`-th), the last one's in bits 8-15, tether_every in bits 16-30 and
+   CVK_PD_FUSED_PREDICT in bit 31 (the prediction first, predict.glsl). So at most
    CVK_PD_FUSED_MAX_COLOURS colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes:
    Vulkan's guaranteed push constant size. */
 #define CVK_PD_FUSED_MAX_COLOURS 24u
@@ -63,6 +64,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_FUSED_TETHERS 16u     /* after: the tethers (after the strain limit's round) */
 #define CVK_PD_FUSED_FINALIZE 32u    /* last: finalize over finalize_count particles */
 #define CVK_PD_FUSED_TETHERED 64u    /* finalize projects the last tethers first */
+#define CVK_PD_FUSED_PREDICT 0x80000000u /* before the first outer iteration: predict */
 #define CVK_PD_FUSED_PUSH_FIELDS                                                        \
     CVK_PD_PUSH_FIELDS                                                                  \
     CVK_UINT(iterations)   /* inner | outer << 16 (solver.inner/outer_iterations) */    \

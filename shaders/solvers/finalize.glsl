@@ -30,7 +30,7 @@ void finalize_one(uint p, uint now, bool halted, bool stretched, bool tether_fir
         x[p].xyz = next;
         if (pc.rest_rate > 0.0 && p < pc.stride) {
             vec3 r = rest_memory[p].xyz;
-            rest_memory[p].xyz = r + pc.rest_rate * (u - fetch(y_read, p) - r);
+            rest_memory[p].xyz = r + pc.rest_rate * (u - LOAD_Y(p).xyz - r);
         }
     }
 }

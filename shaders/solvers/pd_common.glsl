@@ -56,7 +56,15 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec
 #define FETCH_SRC(i) (LOAD_SRC(i).xyz)
 #define FETCH_DST(i) (LOAD_DST(i).xyz)
 layout(set = 0, binding = CVK_PD_BINDING_Y_READ, rgba32f) uniform readonly imageBuffer y_read;
+#ifdef PD_FUSED
+// The fused dispatch predicts too (predict.glsl): y and the watch read back through the storage
+// buffers, coherent.
+layout(std430, set = 0, binding = CVK_PD_BINDING_Y) coherent buffer Inertial { vec4 y[]; };
+#define LOAD_Y(i) (y[i])
+#else
 layout(std430, set = 0, binding = CVK_PD_BINDING_Y) writeonly buffer Inertial { vec4 y[]; };
+#define LOAD_Y(i) imageLoad(y_read, int(i))
+#endif
 layout(set = 0, binding = CVK_PD_BINDING_X_READ, rgba32f) uniform readonly imageBuffer x_read;
 layout(std430, set = 0, binding = CVK_PD_BINDING_X) writeonly buffer Positions { vec4 x[]; };
 layout(set = 0, binding = CVK_PD_BINDING_RHS_READ, rgba32f) uniform readonly imageBuffer rhs_read;
@@ -67,7 +75,11 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_RHS) writeonly buffer Rhs { vec
 #endif
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY, rgba32ui) uniform readonly uimageBuffer adjacency;
 layout(set = 0, binding = CVK_PD_BINDING_ADJACENCY_REST, rgba32f) uniform readonly imageBuffer adjacency_rest;
+#ifdef PD_FUSED
+layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) coherent buffer Watch { cvk_gpu_watch watch; };
+#else
 layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_watch watch; };
+#endif
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR, rgba32ui) uniform readonly uimageBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH, rgba32f) uniform readonly imageBuffer tether_length;
 // The rest memory (lib/solvers/solve_pd.h): per free particle, the low-passed correction the solves
@@ -222,7 +234,7 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
     float size = 0.0; // the sum of the sizes of the spring terms
 #endif
     vec3 xp = fetch(x_read, p);
-    vec4 yp = imageLoad(y_read, int(p));
+    vec4 yp = LOAD_Y(p);
     vec3 r = vec3(0.0);
     ksum = 0.0;
     acc = vec3(0.0);

@@ -29,6 +29,8 @@
 #include "solvers/tether.glsl"
 #include "solvers/pd_contact.glsl"
 #include "solvers/finalize.glsl"
+#define PREDICT_WIND_ID 6
+#include "solvers/predict.glsl"
 
 // The end of colour c (shared/layout.h: two 16-bit ends to a uint).
 uint colour_end(uint c)
@@ -102,7 +104,18 @@ void main()
     uint lanes = gl_WorkGroupSize.x;
     uint lane = gl_LocalInvocationID.x;
     uint sweeps = pc.iterations & 0xffffu, outers = pc.iterations >> 16u;
-    uint every = pc.after >> 16u;
+    uint every = (pc.after >> 16u) & 0x7fffu;
+    if ((pc.after & CVK_PD_FUSED_PREDICT) != 0u) {
+        // predict.comp's work: from u0, the last substep's displacement (the first outer
+        // iteration's dst where their count is odd, else its src), into the first one's src
+        bool odd = (outers & 1u) != 0u;
+        if (lane == 0u)
+            watch.substep += 1u;
+        for (uint p = lane; p < pc.count; p += lanes)
+            src_u[p] = predict_one(p, (odd ? dst_u[p] : src_u[p]).xyz);
+        memoryBarrierBuffer();
+        barrier();
+    }
     for (uint outer = 0u; outer < outers; outer++) {
         flipped = (outer & 1u) != 0u;
         for (uint sweep = 0u; sweep < sweeps; sweep++) {

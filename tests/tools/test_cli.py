@@ -464,10 +464,10 @@ CASES = [
      "check": plan_has("colours: 2 (red-black)", "per frame: 8 substeps x 34 dispatches")},
     {"name": "--plan fused", "argv": [HANGING, "--plan", "--set", 'solver.fuse="on"'], "status": 0,
      "check": plan_has("solver: pd / rbgs, 4 outer x 4 inner, omega 1, sweeps fused (one dispatch "
-                       "for every outer iteration)", "per frame: 8 substeps x 2 dispatches",
+                       "for every outer iteration)", "per frame: 8 substeps x 1 dispatch =",
                        "  solve    dispatch gauss-seidel, fused sweeps, one workgroup particles "
-                       "0..9997, 1 groups, outers 1-4: 4 sweeps x 2 colours (the last + "
-                       "finalize); one workgroup of 1024, u0 -> u1 first")},
+                       "0..9997, 1 groups, predict, outers 1-4: 4 sweeps x 2 colours (the last "
+                       "+ finalize); one workgroup of 1024, u0 -> u1 first")},
     {"name": "--plan fuse auto on lavapipe", "argv": [HANGING, "--plan"], "status": 0,
      "check": plan_has("solver: pd / rbgs, 4 outer x 4 inner, omega 1, sweeps not fused: "
                        "solver.fuse auto on a CPU device")},

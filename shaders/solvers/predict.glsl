@@ -1,0 +1,38 @@
+// The prediction of one particle (predict.comp; pd_fused.comp before its first outer
+// iteration): y = u (1 - damping) + h^2 g (+ h^2 F / m of the air, WIND) from `last`, the
+// last substep's displacement of p, and the first iterate y + rest memory, which it returns.
+// Include after pd_common.glsl, with PREDICT_WIND_ID the constant id of WIND.
+#ifndef SOLVERS_PREDICT_GLSL
+#define SOLVERS_PREDICT_GLSL
+
+// The air's h^2 F / m (lib/features/aero.h), when the scene has a "wind" block.
+layout(constant_id = PREDICT_WIND_ID) const bool WIND = false;
+layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL, rgba32f) uniform readonly imageBuffer air;
+
+const float RUNAWAY_STRETCH = 10.0; // lib/sim/sim.h, CVK_DIVERGED_STRETCH
+
+bool overstretched(uint p, vec3 xp)
+{
+    uint c = quad_neighbours(0u, p).x;
+    float k = quad_k(0u, p).x;
+    float limit = RUNAWAY_STRETCH * imageLoad(adjacency_rest, int(p)).x;
+    vec3 d = fetch(x_read, c) - xp;
+    return k > 0.0 && dot(d, d) > limit * limit;
+}
+
+vec4 predict_one(uint p, vec3 last)
+{
+    vec3 yp = last * pc.keep + pc.gravity_h2.xyz;
+    if (WIND)
+        yp += fetch(air, p);
+    vec4 xp = imageLoad(x_read, int(p));
+    y[p] = vec4(yp, xp.w);
+    vec3 first = pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
+    if (pc.max_u2 > 0.0 && overstretched(p, xp.xyz)) {
+        watch.stretched = 1u;
+        atomicMin(watch.particle, p);
+    }
+    return vec4(first, 0.0);
+}
+
+#endif
