@@ -273,8 +273,9 @@ size_t cvk_sim_describe_plan(const cvk_sim* s, char* out, size_t capacity)
     /* Only dispatches so far: "dispatches"; with fills or copies, "operations". */
     const char* kind = plan->has_transfer ? "operations" : "dispatches";
     uint32_t all = cvk_plan_frame_ops(plan, UINT32_MAX);
-    put(&t, "per frame: %u substeps x %u %.*s ", plan->substeps, plan->op_count,
-        (int)strlen(kind) - (plan->op_count == 1 ? 1 : 0), kind);
+    const char* one = plan->has_transfer ? "operation" : "dispatch";
+    put(&t, "per frame: %u substeps x %u %s ", plan->substeps, plan->op_count,
+        plan->op_count == 1 ? one : kind);
     if (all == plan->substeps * plan->op_count)
         put(&t, "= %u %s", all, kind);
     else
