@@ -114,7 +114,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     cvk_collide* c = s->collide;
     uint32_t n = s->build.particle_count;
     const cvk_hash *faces = &c->face_hash, *midpoints = &c->edge_hash;
-    char note[96];
+    char note[128];
     if (plan->fused) {
         snprintf(note, sizeof note,
                  "past %.2g of a bound? detect or not, measure, both hashes' cells",
@@ -168,16 +168,36 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
          0, midpoints, "the pairs of the edges past their buckets: walked again"},
     };
-    for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
+    /* Where the plan fuses: the faces' walk, then the rest in one workgroup
+       (contact_edges_fused.comp), which does nothing at a substep that does not detect. */
+    size_t walks = plan->fused ? 1 : sizeof passes / sizeof passes[0];
+    for (size_t i = 0; i < walks; i++) {
         snprintf(note, sizeof note, passes[i].what, (double)c->radius);
         cvk_op* op = add_detection(s, plan, passes[i].pass, passes[i].pipeline, passes[i].count,
                                    passes[i].slot, passes[i].phase, passes[i].hash, note);
         if (op)
             op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     }
-    snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
-    cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
-                                   CVK_LIST_PARTICLE_GROUPS, 0, faces, note);
+    cvk_op* bounds;
+    if (plan->fused) {
+        snprintf(note, sizeof note,
+                 "edges against edges within %.3g m, then bounds: %.2g of the nearest; one "
+                 "workgroup of %u, nothing if not detecting", (double)c->radius,
+                 (double)CVK_BOUND_GAMMA, plan->fused_workgroup_size);
+        cvk_contact_push push = {0, c->edge_count, 0, cvk_plan_walk_group_items(plan)};
+        bounds = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "detect edges"),
+                                   CVK_PIPE_CONTACT_EDGES_FUSED, c->detect_layout, c->set,
+                                   CVK_DOMAIN_PARTICLES, 0, c->edge_count, &push, sizeof push);
+        if (bounds) {
+            bounds->groups = 1;
+            bounds->set1 = midpoints->set;
+            snprintf(bounds->note, sizeof bounds->note, "%s", note);
+        }
+    } else {
+        snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
+        bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
+                               CVK_LIST_PARTICLE_GROUPS, 0, faces, note);
+    }
     if (bounds) /* it writes the cloth contact pass's indirect command */
         bounds->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     return CVK_SUCCESS;

@@ -120,6 +120,7 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_WORKGROUP, "detection: bounds") \
+    X(CONTACT_EDGES_FUSED, CONTACT_EDGES_FUSED_COMP, CVK_SPEC_FUSED, "detection: edges and bounds, one workgroup") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
     X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \

@@ -83,15 +83,25 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS) writeo
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CONTACTS_READ, r32ui) uniform readonly uimageBuffer contacts_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_POSITIONS, rgba32f) uniform readonly imageBuffer contact_x_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLE_EDGES, rgba32ui) uniform readonly uimageBuffer triangle_edges_t;
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS) writeonly buffer EdgeContacts {
+// EDGES_FUSED: edge detection's phases and the bounds in one workgroup
+// (contact_edges_fused.comp), whose invocations read what others wrote in the same dispatch
+// through the storage buffers, coherent, after memoryBarrierBuffer() and barrier().
+#ifdef EDGES_FUSED
+#define DETECT_COHERENT coherent
+#define DETECT_WRITEONLY
+#else
+#define DETECT_COHERENT
+#define DETECT_WRITEONLY writeonly
+#endif
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS) DETECT_WRITEONLY DETECT_COHERENT buffer EdgeContacts {
     uint edge_contacts[]; // CVK_CONTACTS_PER_EDGE per edge: other edges
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS_READ, r32ui) uniform readonly uimageBuffer edge_contacts_t;
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST) buffer Nearest {
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST) DETECT_COHERENT buffer Nearest {
     uint nearest[]; // per particle, then per edge: the nearest distance found (float bits);
                     // then per edge: 1 where it has a pair to list (contact_edges.comp)
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) buffer Lists {
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_LISTS) DETECT_COHERENT buffer Lists {
     uint lists[]; // CVK_LIST_*: indirect commands, the particles in listed pairs
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARTICLE_EDGES, r32ui) uniform readonly uimageBuffer particle_edges_t;
@@ -101,7 +111,7 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES) buffer Si
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SIDES_READ, r32ui) uniform readonly uimageBuffer sides_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_INSTANCES, r32ui) uniform readonly uimageBuffer instances_t;
 // Edge detection's cell lists (shared/layout.h: CVK_CELLS_*).
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELLS) buffer Cells {
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELLS) DETECT_COHERENT buffer Cells {
     uint cells[];
 };
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL_READ, r32ui) uniform readonly uimageBuffer cell_pool_t;
@@ -124,7 +134,11 @@ uvec2 side_pair(uint q, uint k)
     uint at = contact_u.particle_count + 2u * (q * uint(CVK_SIDES_PER_PARTICLE) + k);
     return uvec2(imageLoad(sides_t, int(at)).x, imageLoad(sides_t, int(at + 1u)).x);
 }
+#ifdef EDGES_FUSED
+uint edge_entry(uint i) { return edge_contacts[i]; }
+#else
 uint edge_entry(uint i) { return imageLoad(edge_contacts_t, int(i)).x; }
+#endif
 vec3 contact_x(uint p) { return imageLoad(contact_x_t, int(p)).xyz; } // x_n
 // The work lists (shared/layout.h): the list whose indirect command is at `command` (its count
 // follows the command) emptied, and `item` appended to it, the command's workgroups (of

@@ -12,9 +12,15 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) write
 };
 // Per edge its ends at detection (8 words: each end's position bits and index, read as two
 // uvec4 through edge_ends_t), then the cell lists' entries.
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) writeonly buffer CellPool {
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) DETECT_WRITEONLY DETECT_COHERENT buffer CellPool {
     uint cell_pool[];
 };
+// Word i of the pool as detection reads it (the fused dispatch: what it wrote itself).
+#ifdef EDGES_FUSED
+#define CELL_POOL(i) cell_pool[i]
+#else
+#define CELL_POOL(i) imageLoad(cell_pool_t, int(i)).x
+#endif
 
 // Phase 1, before detection: the longest edge now, which bounds how far apart the midpoints
 // of two near edges are (an atomic maximum on the float's bits, which order as non-negative

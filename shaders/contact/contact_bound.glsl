@@ -1,0 +1,65 @@
+// Detection's last pass on one particle (contact_bound.comp; contact_edges_fused.comp after
+// edge detection, where the plan fuses): what contact_bound.comp says. Include after
+// contact/collide.glsl.
+#ifndef CONTACT_BOUND_GLSL
+#define CONTACT_BOUND_GLSL
+
+const uint KS = uint(CVK_SIDES_PER_PARTICLE);
+
+// p's side list (contact_detect.comp) in ascending (vertex, entry) order, whatever order the
+// atomics gave it, the rest marked empty, and its count cleared for the next detection. A
+// particle that is a corner in more pairs than the list holds keeps those that came first.
+// Sorted in registers, read and written once: on lavapipe each storage-buffer access is a loop
+// over the lanes.
+uint side_v[KS], side_e[KS];
+void sort_sides(uint p)
+{
+    uint count = min(sides[p], KS);
+    uint base = contact_u.particle_count + 2u * p * KS;
+    for (uint i = 0u; i < count; i++) {
+        uint v = imageLoad(sides_t, int(base + 2u * i)).x;
+        uint e = imageLoad(sides_t, int(base + 2u * i + 1u)).x;
+        uint j = i;
+        for (; j > 0u && (side_v[j - 1u] > v || (side_v[j - 1u] == v && side_e[j - 1u] > e)); j--) {
+            side_v[j] = side_v[j - 1u];
+            side_e[j] = side_e[j - 1u];
+        }
+        side_v[j] = v;
+        side_e[j] = e;
+    }
+    for (uint i = 0u; i < KS; i++) {
+        sides[base + 2u * i] = i < count ? side_v[i] : CVK_NO_CONTACT;
+        if (i < count)
+            sides[base + 2u * i + 1u] = side_e[i];
+    }
+    sides[p] = 0u;
+}
+
+// Particle p's bound, where it is now, its sides sorted and its nearest distance cleared;
+// listed for the cloth contact pass (its command's workgroups of per_group particles) where it
+// is free and in some pair.
+void bound_one(uint p, uint per_group)
+{
+    uint base = contact_u.particle_count + 1u;
+    float d = min(contact_u.radius, uintBitsToFloat(nearest[p]));
+    // Whether p is in any pair: the cloth contact pass's work (pd_contact.comp).
+    bool listed = sides[p] != 0u || contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE)) != CVK_NO_CONTACT;
+    for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
+        uint e = particle_edge(base + o);
+        d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + e]));
+        listed = listed || edge_entry(e * uint(CVK_CONTACTS_PER_EDGE)) != CVK_NO_CONTACT;
+    }
+    vec3 x = contact_x(p);
+    vec3 ax = abs(x);
+    float floor_gap = max(float(CVK_GAP_FLOOR_THICKNESSES) * contact_u.thickness,
+                          float(CVK_GAP_FLOOR_RELATIVE) * max(ax.x, max(ax.y, ax.z)));
+    searched[p] = vec4(x, contact_u.gamma * max(d - floor_gap, 0.0));
+    // The free particles in pairs, the cloth contact pass's work until the next detection
+    // (shaders/solvers/pd_contact.comp), with its workgroups: one particle an invocation.
+    if (listed && p < contact_u.free_count)
+        list_append(CVK_LIST_LISTED_GROUPS, p, per_group);
+    sort_sides(p);
+    nearest[p] = 0x7f7f7f7fu; // 3.4e38: none yet (as lib/contact/collide.c fills it)
+}
+
+#endif

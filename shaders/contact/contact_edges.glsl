@@ -1,0 +1,341 @@
+// The functions of edge detection (contact_edges.comp, whose phases they are; all of them in
+// one workgroup in contact_edges_fused.comp). Include after contact/collide.glsl,
+// contact/hash_common.glsl (the midpoints' hash) and the push block.
+// Detection, edge against edge (lib/contact/collide.h): for every edge e, every edge sharing no
+// end with it whose nearest point is within the contact radius of e at the start of the
+// substep. Such an edge f has its midpoint within the radius plus half of each edge's length of
+// e's midpoint (the longest edge measured in phase 1, which also writes the midpoints the edge
+// hash is built from; its cells are that wide, contact_decide.comp), so the walk over the 27
+// cells of the edge hash around e's midpoint visits every such edge, each once. In phases, as
+// the faces' detection (contact_detect.comp):
+//   1: (before the hashes are built) the longest edge, the midpoints and each edge's ends (for
+//      the lists' loop); each edge's nearest distance and count of pairs reset; the triangles'
+//      centroids for the faces' hash;
+//   3 and 4: (after them) the first edge of each cell of the midpoints' hash listed (3), and
+//      over those, each cell's list: the edges the walk from it steps over, for all of the
+//      cell's edges (4; shared/layout.h: CVK_CELLS_*);
+//   0: over every edge, the nearest distances alone, for the bounds of the edges' ends
+//      (contact_bound.comp): each pair once, from e through the half of the block of cells
+//      after e's (its cell's list: hash_walk_begin_half's order; in e's own cell from the lower
+//      index; the walk itself where the list did not fit), its distance an
+//      atomic minimum at both edges, on the float's bits, which order as the non-negative floats
+//      do, so the result does not depend on thread timing — half the walk of a query from each
+//      edge; where the pair's nearest points lie inside both (elsewhere the pair is a vertex
+//      against an edge or a vertex, which the faces' detection lists) the pair is kept in both
+//      edges' buckets of CVK_EDGE_BUCKET;
+//   2: every edge's list: the nearest CVK_CONTACTS_PER_EDGE pairs of its bucket, nearest first,
+//      equal distances by edge; an edge with more pairs than its bucket holds is put on the
+//      work list of the LISTING pass, which walks all 27 cells around it and lists the same
+//      (over a walk per edge with pairs, the buckets took the six-cloth pile's listing from 223
+//      ms a frame to under 40).
+#ifndef CONTACT_EDGES_GLSL
+#define CONTACT_EDGES_GLSL
+
+#include "contact/measure.glsl"
+
+
+// Where the cell lists' entries start in the pool's buffer, in words: after the edges' ends.
+uint pool_base()
+{
+    return 8u * contact_u.edge_count;
+}
+
+// The listing pass: a walk of all 27 cells around an edge that lists its nearest pairs (a
+// specialisation constant; a variable of the fused dispatch, contact_edges_fused.comp).
+#ifdef EDGES_FUSED
+bool LISTING = false;
+#else
+layout(constant_id = 1) const bool LISTING = false;
+#endif
+
+const uint K = uint(CVK_CONTACTS_PER_EDGE);
+const bool DEDUP = false;
+
+uint kept[K];
+float dist[K];
+
+#include "contact/nearest.glsl"
+
+// The pairs to list, kept as the distance pass meets them (the nearest buffer, after the
+// distances): per edge a count, then per edge CVK_EDGE_BUCKET (edge, distance's bits) pairs;
+// phase 2 lists from them, and an edge with more than its bucket holds is walked again by the
+// LISTING pass.
+uint pairs_count(uint e)
+{
+    return contact_u.particle_count + contact_u.edge_count + e;
+}
+
+uint pairs_at(uint e)
+{
+    return contact_u.particle_count + 2u * contact_u.edge_count + 2u * uint(CVK_EDGE_BUCKET) * e;
+}
+
+// The pair (e, f) at distance bits d in e's bucket.
+void keep_pair(uint e, uint f, uint d)
+{
+    uint at = atomicAdd(nearest[pairs_count(e)], 1u);
+    if (at < uint(CVK_EDGE_BUCKET)) {
+        nearest[pairs_at(e) + 2u * at] = f;
+        nearest[pairs_at(e) + 2u * at + 1u] = d;
+    }
+}
+
+// Edge f = (c, d) at xc, xd, of e = (a, b)'s instance: its distance to e if it shares no end
+// with e (else INFINITY), and whether the nearest points lie inside both.
+float ends_distance(uvec2 ab, vec3 xa, vec3 xb, uvec2 cd, vec3 xc, vec3 xd, out bool both)
+{
+    both = false;
+    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
+        return INFINITY; // sharing an end: adjacent (or e itself)
+    float s, t;
+    vec3 c1, c2;
+    closest_segments(xa, xb, xc, xd, s, t, c1, c2);
+    both = s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0;
+    return length(c1 - c2);
+}
+
+// Edge f, its midpoint near e = (a, b)'s: its distance to e if f shares no end with e and is
+// of e's instance (else INFINITY), and whether the nearest points lie inside both.
+float edge_distance(uvec2 ab, vec3 xa, vec3 xb, uint f, out bool both)
+{
+    both = false;
+    uvec2 cd = contact_edge(f);
+    if (contact_instance(cd.x) != contact_instance(ab.x))
+        return INFINITY; // another instance: copies never touch one another
+    return ends_distance(ab, xa, xb, cd, contact_x(cd.x), contact_x(cd.y), both);
+}
+
+// A pair within the radius met by the distance pass: f's nearest distance, and both buckets
+// where the nearest points lie inside both edges.
+void keep_near(uint e, uint f, float d, bool both)
+{
+    uint bits = floatBitsToUint(d);
+    atomicMin(nearest[contact_u.particle_count + f], bits);
+    if (both) {
+        keep_pair(e, f, bits);
+        keep_pair(f, e, bits);
+    }
+}
+
+// The pairs within the radius the distance pass's walk meets, kept after it: on lavapipe a
+// loop's body runs at every step for every lane (under a mask where a lane has nothing to do),
+// so the atomics and the buckets' writes run in a loop over the pairs found, not at every
+// entry of the walk (the flat 40 x 40 drape's edge detection 8.0 -> 6.7 ms, the six-cloth
+// pile's 47 -> 39 ms a detection). An edge with more pairs walks again for the rest.
+const uint NEAR = 32u;
+uint near_f[NEAR]; // f, its top bit set where the nearest points lie inside both edges
+float near_d[NEAR];
+
+// Whether the walk's entry is a pair to test: in the distance pass's half walk each pair is
+// met once (in e's own cell from the lower index).
+bool candidate(hash_walk w, uint e, vec3 m, uvec4 entry, bool here, float reach2)
+{
+    return here && (LISTING || w.n != HASH_HOME || entry.w > e) &&
+           within_reach(m, uintBitsToFloat(entry.xyz), reach2);
+}
+
+// Edge f met by e's walk or list at distance d (both: the nearest points inside both edges):
+// its pair with e if within the radius.
+void meet(uint e, uint f, float d, bool both, inout float nearest_e, inout uint found)
+{
+    if (!(d < contact_u.radius))
+        return;
+    nearest_e = min(nearest_e, d);
+    if (LISTING && both)
+        INSERT(d, f);
+    if (!LISTING && found < NEAR) {
+        near_f[found] = both ? f | 0x80000000u : f;
+        near_d[found] = d;
+    }
+    found++;
+}
+
+// Where edge e's cell list starts in the pool, and its length (CVK_CELL_OVERFLOW: none).
+uvec2 cell_list(uint e)
+{
+    uint at = CVK_CELLS_HEADER + contact_u.edge_count + 2u * e;
+    return uvec2(cells[at], cells[at + 1u]);
+}
+
+void detect(uint e)
+{
+    uvec2 ab = contact_edge(e);
+    vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
+    vec3 m = 0.5 * (xa + xb);
+    clear_nearest();
+    float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
+    float reach2 = reach * reach;
+    float nearest_e = INFINITY;
+    uint instance = contact_instance(ab.x); // the slots of e's instance's edges
+    uvec4 entry;
+    bool here;
+    uint found = 0u;
+    // The distance pass loops over the list of e's cell, the walk's entries in its order (the
+    // home cell's marked), where the pool held it; the listing pass, and an edge whose list
+    // did not fit, walk the hash.
+    uvec2 list = LISTING ? uvec2(0u, CVK_CELL_OVERFLOW) : cell_list(e);
+    bool walk = list.y == CVK_CELL_OVERFLOW;
+    // A list holds e's instance's edges only (gather_cells), and their ends come from one
+    // array at detection (measure_longest): three loads an entry instead of seven.
+    for (uint k = 0u; !walk && k < list.y; k++) {
+        uint listed = CELL_POOL(pool_base() + list.x + k);
+        uint f = listed & ~CVK_CELL_HOME;
+        uvec4 c = imageLoad(edge_ends_t, int(2u * f)), d = imageLoad(edge_ends_t, int(2u * f + 1u));
+        vec3 xc = uintBitsToFloat(c.xyz), xd = uintBitsToFloat(d.xyz);
+        if ((listed < CVK_CELL_HOME || f > e) && within_reach(m, 0.5 * (xc + xd), reach2)) {
+            bool both;
+            float dist = ends_distance(ab, xa, xb, uvec2(c.w, d.w), xc, xd, both);
+            meet(e, f, dist, both, nearest_e, found);
+        }
+    }
+    hash_walk w = LISTING ? hash_walk_begin(m, instance, reach2) : hash_walk_begin_half(m, instance);
+    while (walk && hash_walk_step(w, m, reach2, entry, here)) {
+        if (candidate(w, e, m, entry, here, reach2)) {
+            bool both;
+            float dist = edge_distance(ab, xa, xb, entry.w, both);
+            meet(e, entry.w, dist, both, nearest_e, found);
+        }
+    }
+    if (LISTING) {
+        for (uint k = 0u; k < K; k++)
+            edge_contacts[e * K + k] = kept[k];
+        return;
+    }
+    for (uint i = 0u; i < min(found, NEAR); i++)
+        keep_near(e, near_f[i] & 0x7fffffffu, near_d[i], near_f[i] >= 0x80000000u);
+    // More pairs than the list holds (a crowd of layers): the same walk again, the pairs past
+    // the list's kept as they are met (a lane with no more ends this loop at its first step).
+    w = hash_walk_begin_half(m, instance);
+    for (uint met = 0u; found > NEAR && hash_walk_step(w, m, reach2, entry, here);) {
+        if (!candidate(w, e, m, entry, here, reach2))
+            continue;
+        bool both;
+        float d = edge_distance(ab, xa, xb, entry.w, both);
+        if (d < contact_u.radius && met++ >= NEAR)
+            keep_near(e, entry.w, d, both);
+    }
+    if (nearest_e < INFINITY)
+        atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+}
+
+// The instance of the edge at entry (its first end's): the salt of its slot.
+uint edge_instance(uint f)
+{
+    return contact_instance(contact_edge(f).x);
+}
+
+// Whether the hash's entry (a midpoint and its edge) is of that cell and instance: a slot holds
+// every cell and instance that hash to it.
+bool in_cell(uvec4 entry, ivec3 cell, uint instance)
+{
+    return hash_cell(uintBitsToFloat(entry.xyz)) == cell && edge_instance(entry.w) == instance;
+}
+
+// The first edge, in the slot's ascending order, of edge e's cell and instance: the one that
+// gathers the cell's list.
+uint first_of_cell(uint e, ivec3 cell, uint instance)
+{
+    uvec2 range = hash_range(cell, instance);
+    for (uint k = range.x; k < range.y; k++) {
+        uvec4 entry = hash_entry_point(k);
+        if (in_cell(entry, cell, instance))
+            return entry.w;
+    }
+    return e;
+}
+
+// Phase 3, after the midpoints' hash: the first edge of each cell on the list of phase 4.
+void find_cells()
+{
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uint e = pc.first + i, instance = edge_instance(e);
+        if (first_of_cell(e, hash_cell(hash_point(e)), instance) != e)
+            continue;
+        uint at = atomicAdd(cells[CVK_CELLS_COUNT], 1u);
+        cells[CVK_CELLS_HEADER + at] = e;
+        atomicMax(cells[0], min(at / pc.per_group + 1u, 65535u));
+    }
+}
+
+// How near a cell of the midpoints' hash a midpoint must be to go on the cell's list: the longest
+// reach (the radius and the longest edge, detect's), so every midpoint within reach of an edge
+// whose midpoint is in the cell is within it of the cell's box (hash_cell_near, which also
+// widens the box against rounding). A cell's list holds only these: of the 13 cells after the
+// home cell, the corners of the block lie partly out of reach (the six-cloth pile's first 40
+// frames: edge detection 129-135 -> 119-120 ms a frame, the same bits; the flat 40 x 40
+// drape's unchanged).
+float cell_reach2()
+{
+    float reach = contact_u.radius + uintBitsToFloat(frame.longest);
+    return reach * reach;
+}
+
+// Whether the walk's entry goes on a cell's list: in the visited cell, within reach of the
+// cell's box, and of the cell's instance (a slot holds every instance that hashes to it).
+bool listable(uvec4 entry, bool here, ivec3 cell, float reach2, uint instance)
+{
+    return here && hash_cell_near(cell, uintBitsToFloat(entry.xyz), reach2) &&
+           edge_instance(entry.w) == instance;
+}
+
+// Phase 4, over those: each cell's list, the entries of the half block a walk from it steps
+// over that can be within reach of the cell (in the walk's order, the home cell's marked), for
+// every edge of the cell; where the pool is full, the cell's edges walk.
+void gather_cells()
+{
+    uint count = cells[CVK_CELLS_COUNT];
+    for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uint e = cells[CVK_CELLS_HEADER + i], instance = edge_instance(e);
+        vec3 m = hash_point(e);
+        ivec3 cell = hash_cell(m);
+        float reach2 = cell_reach2();
+        uvec4 entry;
+        bool here;
+        // Room for every entry of the slots the walk visits, taken before it, so that one walk
+        // writes the list (entries of other cells or out of reach leave some room unused).
+        uint room = 0u;
+        for (uint n = HASH_HOME; n < 27u; n++) {
+            uvec2 slot = hash_range(hash_neighbour_cell(cell, n), instance);
+            room += slot.y - slot.x;
+        }
+        uint start = atomicAdd(cells[CVK_CELLS_POOL_USED], room);
+        // room <= 14 edge counts (a slot holds each edge once at most), under the pool's size
+        bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - room;
+        uint length = 0u;
+        hash_walk w = hash_walk_begin_half(m, instance);
+        while (fits && hash_walk_step(w, entry, here)) {
+            if (listable(entry, here, cell, reach2, instance))
+                cell_pool[pool_base() + start + length++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+        }
+        uvec2 range = hash_range(cell, instance);
+        for (uint j = range.x; j < range.y; j++) {
+            uvec4 member = hash_entry_point(j);
+            if (!in_cell(member, cell, instance))
+                continue;
+            uint at = CVK_CELLS_HEADER + contact_u.edge_count + 2u * member.w;
+            cells[at] = start;
+            cells[at + 1u] = fits ? length : CVK_CELL_OVERFLOW;
+        }
+    }
+}
+
+// Phase 2, after the distances: every edge's list, its nearest K from its bucket (the same
+// list as the LISTING walk keeps: each pair is met once, and the nearest K, equal distances by
+// edge, do not depend on the order the atomics filled the bucket in); an edge whose bucket ran
+// over put on the LISTING pass's work list.
+void list_near()
+{
+    for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
+        uint e = pc.first + i;
+        uint count = nearest[pairs_count(e)];
+        clear_nearest();
+        for (uint j = 0u; count <= uint(CVK_EDGE_BUCKET) && j < count; j++)
+            INSERT(uintBitsToFloat(nearest[pairs_at(e) + 2u * j + 1u]), nearest[pairs_at(e) + 2u * j]);
+        for (uint k = 0u; k < K; k++)
+            edge_contacts[e * K + k] = kept[k];
+        if (count > uint(CVK_EDGE_BUCKET))
+            list_append(CVK_LIST_EDGE_PAIRS_GROUPS, e, pc.per_group);
+    }
+}
+
+#endif

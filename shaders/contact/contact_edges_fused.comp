@@ -1,0 +1,52 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Edge detection and the bounds in one dispatch of ONE workgroup, where the plan fuses
+// (cvk_plan.fused): contact_edges.comp's phases 3, 4, 0 and 2 and its listing pass, then
+// contact_bound.comp — the same functions in the same order, with a workgroup barrier between
+// them instead of a dispatch and a pipeline barrier, and nothing at a substep that does not
+// detect (frame.search, as the decision left it), where the unfused passes' indirect commands
+// have no workgroups. What one phase writes and a later one reads (the cells, their lists in
+// the pool, the nearest distances and buckets, the work lists, the edges' pairs) goes through
+// the storage buffers, coherent (collide.glsl's EDGES_FUSED). Their results are atomic minima,
+// lists whose order the phases after them fix (the cells' lists in walk order, each edge's
+// nearest pairs sorted, each particle's sides sorted), so the same bits as the unfused passes'.
+// No invocation waits on another workgroup: correct on any conformant device.
+layout(local_size_x_id = 0) in;
+#include "shared/layout.h"
+#define CONTACT_SET 0
+#define EDGES_FUSED
+#include "contact/collide.glsl"
+#define HASH_SET 1
+#include "contact/hash_common.glsl"
+CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
+#include "contact/contact_edges.glsl"
+#include "contact/contact_bound.glsl"
+
+void passed()
+{
+    memoryBarrierBuffer();
+    barrier();
+}
+
+void main()
+{
+    if (pc.count == 0u || frame.search == 0u)
+        return; // the warm-up dispatch, or no detection: the same for every invocation
+    uint lanes = gl_WorkGroupSize.x, lane = gl_LocalInvocationID.x;
+    find_cells();
+    passed();
+    gather_cells();
+    passed();
+    for (uint i = lane; i < pc.count; i += lanes)
+        detect(pc.first + i);
+    passed();
+    list_near();
+    passed();
+    LISTING = true;
+    uint count = lists[CVK_LIST_EDGE_PAIRS_COUNT], start = list_start(CVK_LIST_EDGE_PAIRS_GROUPS);
+    for (uint i = lane; i < count; i += lanes)
+        detect(lists[start + i]);
+    passed();
+    for (uint p = lane; p < contact_u.particle_count; p += lanes)
+        bound_one(p, pc.per_group);
+}
