@@ -39,8 +39,9 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
     r = cvk_hash_create(s->device.context, &edge_desc, &c->edge_hash, error);
     if (r != CVK_SUCCESS)
         return r;
-    /* The walks: the contact set and one hash; the fused decision (contact_decision.comp):
-       both hashes, whose cells it decides. */
+    /* The walks: the contact set and one hash; the fused detection (contact_faces_fused.comp,
+       contact_edges_fused.comp): its hash as set 1 and the midpoints' as set 2 (whose cells
+       the decision decides), and the build's push data before the walks'. */
     VkDescriptorSetLayout layouts[3] = {c->set_layout, c->face_hash.set_layout,
                                         c->edge_hash.set_layout};
     VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_contact_push)};
@@ -55,33 +56,30 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
     if (vr != VK_SUCCESS)
         return cvk_fail_vk(error, "vkCreatePipelineLayout (contact detection)", vr);
     info.setLayoutCount = 3;
+    push.size = sizeof(cvk_contact_hash_push);
     vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->decision_layout);
     return vr == VK_SUCCESS ? CVK_SUCCESS
                             : cvk_fail_vk(error, "vkCreatePipelineLayout (contact decision)", vr);
 }
 
 /* One phase of contact_check.comp (over every particle) or contact_decide.comp (one
-   invocation; phase 1 writes indirect commands), or the whole decision in one workgroup
-   (contact_decision.comp, where the plan fuses). */
+   invocation; phase 1 writes indirect commands). */
 static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t phase,
                          const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
-    bool whole = pipeline == CVK_PIPE_CONTACT_DECISION;
     uint32_t count = decide ? 1 : s->build.particle_count;
     cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};
     cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "contacts"), pipeline,
-                                   whole ? c->decision_layout : c->detect_layout, c->set,
-                                   CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
+                                   c->detect_layout, c->set, CVK_DOMAIN_PARTICLES, 0, count,
+                                   &push, sizeof push);
     if (!op)
         return;
     op->set1 = hash->set;
-    if (whole)
-        op->set2 = c->edge_hash.set;
-    if (decide || whole)
+    if (decide)
         op->groups = 1;
-    if ((decide && phase >= 1) || whole)
+    if (decide && phase >= 1)
         op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     snprintf(op->note, sizeof op->note, "%s", note);
 }
@@ -109,18 +107,69 @@ static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
     return op;
 }
 
+/* One of the two fused detection dispatches (one workgroup): `hash`'s build of `points`,
+   bound as set 1, and the contact passes over `count` items after it. */
+static cvk_result add_fused_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
+                                      cvk_pipeline_id pipeline, const cvk_hash* hash,
+                                      uint32_t points, uint32_t count, const char* note,
+                                      cvk_error* error)
+{
+    cvk_collide* c = s->collide;
+    cvk_hash_push build;
+    cvk_result r = cvk_hash_build_push(hash, points, &build, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    cvk_contact_hash_push push;
+    _Static_assert(sizeof push == sizeof build + sizeof(cvk_contact_push), "build, then contact");
+    cvk_contact_push contact = {0, count, 0, cvk_plan_walk_group_items(plan)};
+    memcpy(&push, &build, sizeof build);
+    memcpy((char*)&push + sizeof build, &contact, sizeof contact);
+    cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, pass), pipeline, c->decision_layout,
+                                   c->set, CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
+    if (op) {
+        op->groups = 1; /* one workgroup: its barriers order the passes */
+        op->set1 = hash->set;
+        op->set2 = c->edge_hash.set;
+        op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT; /* the work lists' commands */
+        snprintf(op->note, sizeof op->note, "%s", note);
+    }
+    return cvk_plan_check(plan, error);
+}
+
+/* Where the plan fuses (cvk_plan.fused): detection in two dispatches of one workgroup each —
+   the decision, the faces' hash and their walk (contact_faces_fused.comp), then the
+   midpoints' hash, the edges' walks and the bounds (contact_edges_fused.comp) — each doing
+   nothing of a detection at a substep that does not detect. */
+static cvk_result add_fused_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
+{
+    cvk_collide* c = s->collide;
+    char note[128];
+    snprintf(note, sizeof note,
+             "past %.2g of a bound? detect or not; if so: measure, the faces' hash, vertices "
+             "against faces; one workgroup of %u", (double)CVK_REDETECT_FRACTION,
+             plan->fused_workgroup_size);
+    cvk_result r = add_fused_detection(s, plan, "contacts", CVK_PIPE_CONTACT_FACES_FUSED,
+                                       &c->face_hash, s->build.triangle_count,
+                                       s->build.particle_count, note, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    snprintf(note, sizeof note,
+             "if detecting: the midpoints' hash, edges against edges within %.3g m, bounds: "
+             "%.2g of the nearest; one workgroup of %u", (double)c->radius,
+             (double)CVK_BOUND_GAMMA, plan->fused_workgroup_size);
+    return add_fused_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES_FUSED,
+                               &c->edge_hash, c->edge_count, c->edge_count, note, error);
+}
+
 static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
 {
     cvk_collide* c = s->collide;
     uint32_t n = s->build.particle_count;
     const cvk_hash *faces = &c->face_hash, *midpoints = &c->edge_hash;
     char note[128];
-    if (plan->fused) {
-        snprintf(note, sizeof note,
-                 "past %.2g of a bound? detect or not, measure, both hashes' cells",
-                 (double)CVK_REDETECT_FRACTION);
-        add_decision(s, plan, CVK_PIPE_CONTACT_DECISION, 0, faces, note);
-    } else {
+    if (plan->fused)
+        return add_fused_self_contact(s, plan, error);
+    {
         add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, faces, "bounds of the extrapolated moves");
         add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, faces, "the shift without detection");
         snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
@@ -135,13 +184,9 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
                      "midpoint cells: the radius + the longest edge");
     }
-    /* Where the plan fuses the solve, each build is one dispatch (hash.h). */
-    cvk_result r = plan->fused
-                       ? cvk_hash_add_fused_passes(faces, plan, s->build.triangle_count, error)
-                       : cvk_hash_add_passes(faces, plan, s->build.triangle_count, true, error);
+    cvk_result r = cvk_hash_add_passes(faces, plan, s->build.triangle_count, true, error);
     if (r == CVK_SUCCESS)
-        r = plan->fused ? cvk_hash_add_fused_passes(midpoints, plan, c->edge_count, error)
-                        : cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
+        r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);
     if (r != CVK_SUCCESS)
         return r;
     /* The edges' phase 2 writes the listing pass's indirect command (the edges with pairs).
@@ -168,36 +213,16 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
          0, midpoints, "the pairs of the edges past their buckets: walked again"},
     };
-    /* Where the plan fuses: the faces' walk, then the rest in one workgroup
-       (contact_edges_fused.comp), which does nothing at a substep that does not detect. */
-    size_t walks = plan->fused ? 1 : sizeof passes / sizeof passes[0];
-    for (size_t i = 0; i < walks; i++) {
+    for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
         snprintf(note, sizeof note, passes[i].what, (double)c->radius);
         cvk_op* op = add_detection(s, plan, passes[i].pass, passes[i].pipeline, passes[i].count,
                                    passes[i].slot, passes[i].phase, passes[i].hash, note);
         if (op)
             op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     }
-    cvk_op* bounds;
-    if (plan->fused) {
-        snprintf(note, sizeof note,
-                 "edges against edges within %.3g m, then bounds: %.2g of the nearest; one "
-                 "workgroup of %u, nothing if not detecting", (double)c->radius,
-                 (double)CVK_BOUND_GAMMA, plan->fused_workgroup_size);
-        cvk_contact_push push = {0, c->edge_count, 0, cvk_plan_walk_group_items(plan)};
-        bounds = cvk_plan_dispatch(plan, cvk_plan_pass(plan, "detect edges"),
-                                   CVK_PIPE_CONTACT_EDGES_FUSED, c->detect_layout, c->set,
-                                   CVK_DOMAIN_PARTICLES, 0, c->edge_count, &push, sizeof push);
-        if (bounds) {
-            bounds->groups = 1;
-            bounds->set1 = midpoints->set;
-            snprintf(bounds->note, sizeof bounds->note, "%s", note);
-        }
-    } else {
-        snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
-        bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
-                               CVK_LIST_PARTICLE_GROUPS, 0, faces, note);
-    }
+    snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
+    cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
+                                   CVK_LIST_PARTICLE_GROUPS, 0, faces, note);
     if (bounds) /* it writes the cloth contact pass's indirect command */
         bounds->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     return CVK_SUCCESS;

@@ -263,8 +263,8 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
 }
 
 /* The push constants of a build of `count` points, or a failure where the hash holds fewer. */
-static cvk_result build_push(const cvk_hash* hash, uint32_t count, cvk_hash_push* push,
-                             cvk_error* error)
+cvk_result cvk_hash_build_push(const cvk_hash* hash, uint32_t count, cvk_hash_push* push,
+                               cvk_error* error)
 {
     if (count > hash->capacity)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
@@ -281,7 +281,7 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
                                bool on_device, cvk_error* error)
 {
     cvk_hash_push push;
-    cvk_result r = build_push(hash, count, &push, error);
+    cvk_result r = cvk_hash_build_push(hash, count, &push, error);
     if (r != CVK_SUCCESS)
         return r;
     uint32_t pass = cvk_plan_pass(plan, "hash");
@@ -343,25 +343,6 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
         }
         if (op)
             snprintf(op->note, sizeof op->note, "%s", passes[i].note);
-    }
-    return cvk_plan_check(plan, error);
-}
-
-cvk_result cvk_hash_add_fused_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
-                                     cvk_error* error)
-{
-    cvk_hash_push push;
-    cvk_result r = build_push(hash, count, &push, error);
-    if (r != CVK_SUCCESS)
-        return r;
-    uint32_t pass = cvk_plan_pass(plan, "hash");
-    cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_HASH_FUSED, hash->layout, hash->set,
-                                   CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
-    if (op) {
-        op->groups = 1; /* one workgroup: its barriers order the passes */
-        snprintf(op->note, sizeof op->note,
-                 "the whole build, one workgroup of %u, nothing if not building",
-                 plan->fused_workgroup_size);
     }
     return cvk_plan_check(plan, error);
 }

@@ -19,6 +19,7 @@
 #define CVK_HASH_H
 
 #include "plan/plan.h"
+#include "shared/layout.h"
 
 typedef struct cvk_hash_desc {
     uint32_t capacity;          /* points at most, ≥ 1 */
@@ -77,13 +78,13 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
                                bool on_device, cvk_error* error);
 
-/* The same build as cvk_hash_add_passes with on_device, in one dispatch of one workgroup of
-   the plan's fused size (shaders/contact/hash_fused.comp: a workgroup barrier between the
-   passes), which does nothing while the build is closed: the same hash, bit for bit, in one
-   dispatch instead of eight, where the plan fuses (cvk_plan.fused: a GPU, where a small
-   scene's frame costs what its dispatches do). */
-cvk_result cvk_hash_add_fused_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t count,
-                                     cvk_error* error);
+/* The push data of a build over points [0, count) (count ≤ capacity, else
+   CVK_ERROR_INVALID_ARGUMENT): what cvk_hash_add_passes pushes, for a shader that runs the
+   whole build itself in one workgroup with what queries the hash after it (hash_common.glsl's
+   HASH_BUILD and HASH_FUSED: contact_faces_fused.comp, contact_edges_fused.comp), the same
+   hash, bit for bit, where the plan fuses. */
+cvk_result cvk_hash_build_push(const cvk_hash* hash, uint32_t count, cvk_hash_push* push,
+                               cvk_error* error);
 
 /* The host reference, for tests: the slot of a point of salt 0, as the device computes it. */
 uint32_t cvk_hash_slot(const cvk_hash* hash, const float p[3]);

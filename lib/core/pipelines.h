@@ -76,8 +76,9 @@ typedef struct cvk_spec_recipe {
                                          CVK_SPEC_TRUE}}
 /* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near). */
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
-/* The whole decision in one workgroup (shaders/contact/contact_decision.comp). */
-#define CVK_SPEC_CONTACT_DECISION {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
+/* The decision with the faces' detection in one workgroup (shaders/contact/
+   contact_faces_fused.comp). */
+#define CVK_SPEC_CONTACT_FACES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 /* One workgroup of the fused passes' size (local_size_x_id = 0). */
@@ -115,12 +116,12 @@ typedef struct cvk_spec_recipe {
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
-    X(CONTACT_DECISION, CONTACT_DECISION_COMP, CVK_SPEC_CONTACT_DECISION, "detect or not, one workgroup") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_WORKGROUP, "detection: bounds") \
-    X(CONTACT_EDGES_FUSED, CONTACT_EDGES_FUSED_COMP, CVK_SPEC_FUSED, "detection: edges and bounds, one workgroup") \
+    X(CONTACT_FACES_FUSED, CONTACT_FACES_FUSED_COMP, CVK_SPEC_CONTACT_FACES_FUSED, "detect or not, faces' hash and detection, one workgroup") \
+    X(CONTACT_EDGES_FUSED, CONTACT_EDGES_FUSED_COMP, CVK_SPEC_FUSED, "midpoints' hash, edges' detection and bounds, one workgroup") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
     X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \
@@ -129,7 +130,6 @@ typedef struct cvk_spec_recipe {
     X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
     X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
     X(HASH_COMMANDS, HASH_COMMANDS_COMP, CVK_SPEC_NONE, "hash: build or not")   \
-    X(HASH_FUSED, HASH_FUSED_COMP, CVK_SPEC_FUSED, "hash: the whole build, one workgroup") \
     X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours") \
     X(IMPLICIT_CONTACT, IMPLICIT_CONTACT_COMP, CVK_SPEC_IMPLICIT, "implicit: held on colliders, S") \
     X(IMPLICIT_ASSEMBLE, IMPLICIT_ASSEMBLE_COMP, CVK_SPEC_IMPLICIT, "implicit: blocks, b, dv = 0") \

@@ -54,6 +54,7 @@ static void record_opening(const cvk_plan* plan, VkCommandBuffer cmd)
 /* The binding state of a recording, so unchanged pipelines and sets are not bound again. */
 typedef struct binder {
     VkPipeline pipeline;
+    VkPipelineLayout layout; /* the sets' layout: another (other push ranges) binds them again */
     VkDescriptorSet set, set1, set2;
 } binder;
 
@@ -78,8 +79,9 @@ static void record_op(const cvk_op* op, const cvk_pipelines* pipelines, binder* 
         bound->pipeline = pipeline;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
     }
-    if (op->set != bound->set) {
+    if (op->set != bound->set || op->layout != bound->layout) {
         bound->set = op->set;
+        bound->layout = op->layout;
         /* another layout may have disturbed sets 1 and 2: bind them again */
         bound->set1 = bound->set2 = VK_NULL_HANDLE;
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, op->layout, 0, 1, &op->set, 0,
@@ -133,7 +135,7 @@ void cvk_plan_record_frame(const cvk_plan* plan, const cvk_pipelines* pipelines,
         vkCmdResetQueryPool(cmd, queries->pool, 0, queries->count);
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries->pool, query++);
     }
-    binder bound = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
+    binder bound = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
     for (uint32_t sub = 0; sub < plan->substeps; sub++) {
         for (uint32_t i = 0; i < plan->op_count; i++) {
             const cvk_op* op = &plan->ops[i];

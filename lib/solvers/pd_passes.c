@@ -511,12 +511,14 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
         snprintf(range, sizeof range, "%souters 1-%u", predict ? "predict, " : "", outer);
     else if (predict)
         snprintf(range, sizeof range, "predict, outer 1");
-    snprintf(op->note, sizeof op->note,
+    char note[384];
+    snprintf(note, sizeof note,
              "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; one workgroup of %u, %s first", range,
              inner, b->colour_count, each[0] ? ", then" : "", each,
              extra[0] || gone[0] ? " (the last" : "", extra[0] ? " +" : "", extra,
              gone[0] ? " -" : "", extra[0] || gone[0] ? ")" : "", pb->plan->fused_workgroup_size,
              set_note[first_set]);
+    snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer

@@ -9,7 +9,7 @@
 #endif
 
 // CONTACT_COHERENT: a shader whose invocations read what others of its workgroup wrote here in
-// the same dispatch (contact_decision.comp), after memoryBarrierBuffer() and barrier().
+// the same dispatch (contact_faces_fused.comp), after memoryBarrierBuffer() and barrier().
 #ifdef CONTACT_COHERENT
 #define CONTACT_FRAME_COHERENT coherent
 #else

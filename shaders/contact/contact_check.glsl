@@ -1,6 +1,6 @@
 // The decision's check over the particles (lib/contact/collide.h), its two phases as
 // functions over items index, index + stride, ... of [pc.first, pc.first + pc.count), for
-// contact_check.comp (a dispatch a phase) and contact_decision.comp (the whole decision in one
+// contact_check.comp (a dispatch a phase) and contact_faces_fused.comp (the whole decision in one
 // workgroup): include after contact/collide.glsl.
 const float BIG = 3.0e38;
 

@@ -1,5 +1,5 @@
 // The decision to detect (lib/contact/collide.h), one invocation's work, its phases 0 and 1
-// as functions, for contact_decide.comp (a dispatch a phase) and contact_decision.comp (the
+// as functions, for contact_decide.comp (a dispatch a phase) and contact_faces_fused.comp (the
 // whole decision in one workgroup): include after contact/collide.glsl and the push block.
 vec3 centre(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz)
 {

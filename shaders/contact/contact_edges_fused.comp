@@ -1,24 +1,31 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Edge detection and the bounds in one dispatch of ONE workgroup, where the plan fuses
-// (cvk_plan.fused): contact_edges.comp's phases 3, 4, 0 and 2 and its listing pass, then
-// contact_bound.comp — the same functions in the same order, with a workgroup barrier between
-// them instead of a dispatch and a pipeline barrier, and nothing at a substep that does not
-// detect (frame.search, as the decision left it), where the unfused passes' indirect commands
-// have no workgroups. What one phase writes and a later one reads (the cells, their lists in
+// The midpoints' hash build, edge detection and the bounds in one dispatch of ONE workgroup,
+// where the plan fuses (cvk_plan.fused): the passes of the hash build (hash_common.glsl's
+// hash_*_pass, the hash_*.comp dispatches' work, nothing while its parameters close the
+// build), then
+// contact_edges.comp's phases 3, 4, 0 and 2 and its listing pass, then contact_bound.comp — the
+// same functions in the same order, with a workgroup barrier between them instead of a
+// dispatch and a pipeline barrier, the walks nothing at a substep that does not detect
+// (frame.search, as the decision left it), where the unfused passes' indirect commands have no
+// workgroups. What one part writes and a later one reads (the hash, the cells, their lists in
 // the pool, the nearest distances and buckets, the work lists, the edges' pairs) goes through
-// the storage buffers, coherent (collide.glsl's EDGES_FUSED). Their results are atomic minima,
-// lists whose order the phases after them fix (the cells' lists in walk order, each edge's
-// nearest pairs sorted, each particle's sides sorted), so the same bits as the unfused passes'.
-// No invocation waits on another workgroup: correct on any conformant device.
+// the storage buffers, coherent (HASH_FUSED, collide.glsl's EDGES_FUSED). Their results are
+// atomic minima and lists whose order the phases after them fix (the hash's slots by index,
+// the cells' lists in walk order, each edge's nearest pairs sorted, each particle's sides
+// sorted), so the same bits as the unfused passes'. No invocation waits on another workgroup:
+// correct on any conformant device.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
 #define EDGES_FUSED
 #include "contact/collide.glsl"
 #define HASH_SET 1
+#define HASH_BUILD
+#define HASH_FUSED
+#define HASH_PUSH_DECLARED
+CVK_DECLARE_PUSH(CVK_CONTACT_HASH_PUSH_FIELDS)
 #include "contact/hash_common.glsl"
-CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 #include "contact/contact_edges.glsl"
 #include "contact/contact_bound.glsl"
 
@@ -30,9 +37,30 @@ void passed()
 
 void main()
 {
-    if (pc.count == 0u || frame.search == 0u)
-        return; // the warm-up dispatch, or no detection: the same for every invocation
+    if (pc.count == 0u)
+        return; // the warm-up dispatch changes nothing
     uint lanes = gl_WorkGroupSize.x, lane = gl_LocalInvocationID.x;
+    // the midpoints' hash build (hash_*.comp)
+    if (hash_params.build != 0u) { // the same for every invocation: the decision wrote it
+        hash_clear_pass();
+        if (pc.points != 0u) {
+            passed();
+            hash_count_pass();
+            passed();
+            hash_chunk_sums_pass();
+            passed();
+            hash_scan_chunks_pass();
+            passed();
+            hash_scan_pass();
+            passed();
+            hash_scatter_pass();
+            passed();
+            hash_sort_pass();
+        }
+    }
+    passed();
+    if (frame.search == 0u)
+        return; // no detection: the same for every invocation
     find_cells();
     passed();
     gather_cells();

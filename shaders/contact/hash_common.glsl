@@ -40,15 +40,18 @@
 
 #include "shared/layout.h"
 
-// HASH_FUSED: the whole build in one workgroup (hash_fused.comp), whose passes read what the
-// passes before them wrote in this dispatch: through coherent storage buffers, after
-// memoryBarrierBuffer() and barrier(), the parameters too (a uniform buffer need not see them).
+// HASH_FUSED: the whole build in one workgroup (contact_faces_fused.comp,
+// contact_edges_fused.comp), whose passes, and the queries after them, read what the passes before them
+// wrote in this dispatch: through coherent storage buffers, after memoryBarrierBuffer() and
+// barrier(), the parameters too (a uniform buffer need not see them).
 #ifdef HASH_FUSED
 #define HASH_COHERENT coherent
 #define HASH_PARAMS hash_params
+#define HASH_SORTED_ACCESS coherent
 #else
 #define HASH_COHERENT
 #define HASH_PARAMS hash_params_u
+#define HASH_SORTED_ACCESS writeonly
 #endif
 
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) HASH_COHERENT buffer HashParams {
@@ -65,7 +68,7 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) HASH_COHERENT bu
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_STARTS) HASH_COHERENT buffer HashStarts {
     uint hash_starts[];
 };
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) buffer HashEntries {
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) HASH_COHERENT buffer HashEntries {
     uint hash_entries[];
 };
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) HASH_COHERENT buffer HashScratch {
@@ -75,7 +78,7 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) HASH_COHERENT
 // gathers on lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ, r32ui) uniform readonly uimageBuffer hash_starts_read;
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ, r32ui) uniform readonly uimageBuffer hash_entries_read;
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) writeonly buffer HashSorted {
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) HASH_SORTED_ACCESS buffer HashSorted {
     uvec4 hash_sorted[]; // per entry: its point's xyz (float bits), its index
 };
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ, rgba32ui) uniform readonly uimageBuffer hash_sorted_read;
@@ -129,7 +132,11 @@ ivec3 hash_neighbour_cell(ivec3 home, uint n)
 uvec2 hash_range(ivec3 cell, uint salt)
 {
     int s = int(hash_slot(cell, salt));
+#ifdef HASH_FUSED
+    return uvec2(hash_starts[s], hash_starts[s + 1]);
+#else
     return uvec2(imageLoad(hash_starts_read, s).x, imageLoad(hash_starts_read, s + 1).x);
+#endif
 }
 
 uvec2 hash_range(ivec3 cell)
@@ -139,19 +146,31 @@ uvec2 hash_range(ivec3 cell)
 
 uint hash_entry(uint e)
 {
+#ifdef HASH_FUSED
+    return hash_entries[e];
+#else
     return imageLoad(hash_entries_read, int(e)).x;
+#endif
 }
 
 vec3 hash_point(uint q)
 {
+#ifdef HASH_POINT_OF
+    return HASH_POINT_OF(q); // the points as the including shader wrote them in this dispatch
+#else
     return imageLoad(hash_points, int(q)).xyz;
+#endif
 }
 
 // Entry e's point index (w) and its point (xyz, as float bits) in one fetch, from the copy the
 // build sorts along with the entries.
 uvec4 hash_entry_point(uint e)
 {
+#ifdef HASH_FUSED
+    return hash_sorted[e];
+#else
     return imageLoad(hash_sorted_read, int(e));
+#endif
 }
 
 // Whether some point of `cell` can lie within sqrt(reach2) of x: its box, widened by a
@@ -252,7 +271,11 @@ bool hash_in_cell(uint q, ivec3 cell)
 #ifdef HASH_BUILD
 layout(local_size_x_id = 0) in;
 
+// The build's push data (a shader that builds and queries declares the fields of both,
+// CVK_CONTACT_HASH_PUSH_FIELDS, and defines HASH_PUSH_DECLARED).
+#ifndef HASH_PUSH_DECLARED
 CVK_DECLARE_PUSH(CVK_HASH_PUSH_FIELDS)
+#endif
 
 // Invocations stride over the dispatch, so a few workgroups can cover many items.
 uint hash_stride()
@@ -261,7 +284,7 @@ uint hash_stride()
 }
 
 // The build's passes, in their order (lib/contact/hash.c): each a dispatch of its own
-// (hash_*.comp), or all in one workgroup (hash_fused.comp).
+// (hash_*.comp), or all in one workgroup (HASH_FUSED).
 
 // The hash build, clear: the parameters from the push data; with no points, every start zeroed
 // so queries find nothing. (The counts are 0 already: zeroed at creation, and every build's

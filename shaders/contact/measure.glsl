@@ -1,4 +1,4 @@
-// Detection's first phase (contact_edges.comp phase 1; contact_decision.comp where the plan
+// Detection's first phase (contact_edges.comp phase 1; contact_faces_fused.comp where the plan
 // fuses): the edges' midpoints and ends and the triangles' centroids for the hashes, and the
 // reach the hashes' cells take from them. Include after contact/collide.glsl.
 #ifndef CONTACT_MEASURE_GLSL
@@ -7,7 +7,14 @@
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) writeonly buffer Midpoints {
     vec4 midpoints[];
 };
-layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) writeonly buffer Centroids {
+// MEASURE_COHERENT: the centroids read back in the same dispatch (contact_faces_fused.comp, whose
+// hash build hashes them).
+#ifdef MEASURE_COHERENT
+#define CENTROIDS_ACCESS coherent
+#else
+#define CENTROIDS_ACCESS writeonly
+#endif
+layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) CENTROIDS_ACCESS buffer Centroids {
     vec4 centroids[];
 };
 // Per edge its ends at detection (8 words: each end's position bits and index, read as two

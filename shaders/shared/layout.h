@@ -674,6 +674,12 @@ CVK_PUSH_BLOCK(cvk_hash_commands_push, CVK_HASH_COMMANDS_PUSH_FIELDS)
     CVK_UINT(pad1)
 CVK_PUSH_BLOCK(cvk_hash_push, CVK_HASH_PUSH_FIELDS)
 
+/* A hash build with the contact passes after it in one workgroup (shaders/contact/
+   contact_faces_fused.comp, contact_edges_fused.comp): the build's push data, then the
+   contact passes'. */
+#define CVK_CONTACT_HASH_PUSH_FIELDS CVK_HASH_PUSH_FIELDS CVK_CONTACT_PUSH_FIELDS
+CVK_PUSH_BLOCK(cvk_contact_hash_push, CVK_CONTACT_HASH_PUSH_FIELDS)
+
 /* The neighbour query (shaders/contact/hash_neighbours.comp): per point, the other points within
    radius. */
 #define CVK_HASH_QUERY_PUSH_FIELDS                                                      \

@@ -418,7 +418,7 @@ static void check_between_scene(cvk_context* ctx, const cvk_scene_desc* base)
 /* The passes after the sweeps that the fused dispatch runs itself where no tether pass comes
    between (pd_fused.comp): the strain limit's rounds, contact between cloths and contact over
    every particle, the attached ones too, with the fused decision, measure and hash builds
-   (contact_decision.comp, hash_fused.comp) — a cloth dragged by an attachment across the
+   (contact_faces_fused.comp, contact_edges_fused.comp) — a cloth dragged by an attachment across the
    ground under another falling on it, with self-contact; rbgs unfused and fused. */
 static void check_fused_after_scene(cvk_context* ctx, const cvk_scene_desc* base)
 {
