@@ -120,7 +120,8 @@ typedef struct cvk_collide {
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */
     VkDescriptorSet set;              /* = descriptors.sets[0] */
     VkPipelineLayout detect_layout;   /* contact set, then the hash's set */
-    VkPipelineLayout decision_layout; /* contact set, the centroids' hash, the midpoints' hash */
+    VkPipelineLayout fused_layout; /* fused detection: contact set, a hash, the midpoints' hash;
+                                      cvk_contact_hash_push */
 } cvk_collide;
 
 /* Resolves the scene's collision settings, reads mesh colliders into fields, makes the buffers

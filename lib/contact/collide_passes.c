@@ -57,9 +57,9 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
         return cvk_fail_vk(error, "vkCreatePipelineLayout (contact detection)", vr);
     info.setLayoutCount = 3;
     push.size = sizeof(cvk_contact_hash_push);
-    vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->decision_layout);
+    vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->fused_layout);
     return vr == VK_SUCCESS ? CVK_SUCCESS
-                            : cvk_fail_vk(error, "vkCreatePipelineLayout (contact decision)", vr);
+                            : cvk_fail_vk(error, "vkCreatePipelineLayout (fused contact detection)", vr);
 }
 
 /* One phase of contact_check.comp (over every particle) or contact_decide.comp (one
@@ -124,7 +124,7 @@ static cvk_result add_fused_detection(cvk_sim* s, cvk_plan* plan, const char* pa
     cvk_contact_push contact = {0, count, 0, cvk_plan_walk_group_items(plan)};
     memcpy(&push, &build, sizeof build);
     memcpy((char*)&push + sizeof build, &contact, sizeof contact);
-    cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, pass), pipeline, c->decision_layout,
+    cvk_op* op = cvk_plan_dispatch(plan, cvk_plan_pass(plan, pass), pipeline, c->fused_layout,
                                    c->set, CVK_DOMAIN_PARTICLES, 0, count, &push, sizeof push);
     if (op) {
         op->groups = 1; /* one workgroup: its barriers order the passes */
@@ -169,21 +169,18 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     char note[128];
     if (plan->fused)
         return add_fused_self_contact(s, plan, error);
-    {
-        add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, faces, "bounds of the extrapolated moves");
-        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, faces, "the shift without detection");
-        snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
-        add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
-        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
-        /* the measure and both hashes' cells: in the decision's one dispatch where it fuses */
-        add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
-                      CVK_LIST_EDGE_GROUPS, 1, faces,
-                      "the longest edge, the midpoints, the centroids and their corners' reach");
-        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
-                     "centroid cells: the radius + the farthest corner from a centroid");
-        add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
-                     "midpoint cells: the radius + the longest edge");
-    }
+    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 0, faces, "bounds of the extrapolated moves");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 0, faces, "the shift without detection");
+    snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
+    add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
+    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
+                  CVK_LIST_EDGE_GROUPS, 1, faces,
+                  "the longest edge, the midpoints, the centroids and their corners' reach");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
+                 "centroid cells: the radius + the farthest corner from a centroid");
+    add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 3, midpoints,
+                 "midpoint cells: the radius + the longest edge");
     cvk_result r = cvk_hash_add_passes(faces, plan, s->build.triangle_count, true, error);
     if (r == CVK_SUCCESS)
         r = cvk_hash_add_passes(midpoints, plan, c->edge_count, true, error);

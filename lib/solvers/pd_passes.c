@@ -495,8 +495,9 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
     if (outer > 1)
         between = fuse_after_outer(pb, b, 0, &push) | (pb->tethers ? CVK_PD_FUSED_TETHERS : 0u);
     uint32_t last = fuse_after_outer(pb, b, outer - 1, &push);
+    bool predict = fused_predict(pb);
     push.after = between | last << 8 | (every & 0x7fffu) << 16 |
-                 (fused_predict(pb) ? CVK_PD_FUSED_PREDICT : 0u);
+                 (predict ? CVK_PD_FUSED_PREDICT : 0u);
     cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
                                   pb->pd->descriptors.sets[first_set], &push);
     if (!op)
@@ -506,7 +507,6 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
     fused_names(between, each, sizeof each);
     fused_names(last & ~between, extra, sizeof extra);
     fused_names(between & ~last, gone, sizeof gone);
-    bool predict = fused_predict(pb);
     if (outer > 1)
         snprintf(range, sizeof range, "%souters 1-%u", predict ? "predict, " : "", outer);
     else if (predict)
@@ -529,13 +529,10 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
     uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
     if (!fused_predict(pb))
         add_predict(pb, b, outer % 2);
-    for (uint32_t o = 0; o < outer; o++) {
+    if (pb->fused) /* every outer iteration, from the first one's set */
+        add_fused(pb, b, set_for(outer % 2, 1 - outer % 2));
+    for (uint32_t o = 0; o < outer && !pb->fused; o++) {
         uint32_t t = (outer - o) % 2, w = 1 - t;
-        if (pb->fused) {
-            if (o == 0)
-                add_fused(pb, b, set_for(t, w));
-            continue;
-        }
         for (uint32_t i = 0; i < inner; i++) {
             cvk_pipeline_id first = pb->checking ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
             for (uint32_t c = 0; c < b->colour_count; c++) {

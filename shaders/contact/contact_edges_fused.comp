@@ -40,25 +40,8 @@ void main()
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
     uint lanes = gl_WorkGroupSize.x, lane = gl_LocalInvocationID.x;
-    // the midpoints' hash build (hash_*.comp)
-    if (hash_params.build != 0u) { // the same for every invocation: the decision wrote it
-        hash_clear_pass();
-        if (pc.points != 0u) {
-            passed();
-            hash_count_pass();
-            passed();
-            hash_chunk_sums_pass();
-            passed();
-            hash_scan_chunks_pass();
-            passed();
-            hash_scan_pass();
-            passed();
-            hash_scatter_pass();
-            passed();
-            hash_sort_pass();
-        }
-    }
-    passed();
+    // the midpoints' hash build (hash_*.comp), a barrier after it
+    hash_build_fused();
     if (frame.search == 0u)
         return; // no detection: the same for every invocation
     find_cells();

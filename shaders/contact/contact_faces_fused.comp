@@ -73,25 +73,8 @@ void main()
         midpoint_params.build = frame.search;
     }
     passed();
-    // the centroids' hash build (hash_*.comp)
-    if (hash_params.build != 0u) { // the same for every invocation: read after the barrier
-        hash_clear_pass();
-        if (pc.points != 0u) {
-            passed();
-            hash_count_pass();
-            passed();
-            hash_chunk_sums_pass();
-            passed();
-            hash_scan_chunks_pass();
-            passed();
-            hash_scan_pass();
-            passed();
-            hash_scatter_pass();
-            passed();
-            hash_sort_pass();
-        }
-    }
-    passed();
+    // the centroids' hash build (hash_*.comp), a barrier after it
+    hash_build_fused();
     // contact_detect.comp, over every particle
     if (frame.search == 0u)
         return;

@@ -398,6 +398,41 @@ void hash_sort_pass()
         hash_sorted[first + rank] = uvec4(floatBitsToUint(hash_point(p)), p);
     }
 }
+
+#ifdef HASH_FUSED
+// The whole build in one workgroup, its passes in order with a workgroup barrier after each
+// (the last too, so the queries after it see the hash), nothing but that barrier while the
+// parameters close the build. Call from uniform control flow, after a barrier that made the
+// parameters visible.
+void hash_build_fused()
+{
+    if (hash_params.build != 0u) { // the same for every invocation
+        hash_clear_pass();
+        if (pc.points != 0u) {
+            memoryBarrierBuffer();
+            barrier();
+            hash_count_pass();
+            memoryBarrierBuffer();
+            barrier();
+            hash_chunk_sums_pass();
+            memoryBarrierBuffer();
+            barrier();
+            hash_scan_chunks_pass();
+            memoryBarrierBuffer();
+            barrier();
+            hash_scan_pass();
+            memoryBarrierBuffer();
+            barrier();
+            hash_scatter_pass();
+            memoryBarrierBuffer();
+            barrier();
+            hash_sort_pass();
+        }
+    }
+    memoryBarrierBuffer();
+    barrier();
+}
+#endif
 #endif
 
 #endif
