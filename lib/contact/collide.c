@@ -759,10 +759,6 @@ void cvk_collide_destroy(cvk_sim* s)
 {
     cvk_collide* c = s->collide;
     cvk_context* ctx = s->device.context;
-    if (c->detect_layout)
-        vkDestroyPipelineLayout(ctx->device, c->detect_layout, NULL);
-    if (c->fused_layout)
-        vkDestroyPipelineLayout(ctx->device, c->fused_layout, NULL);
     if (c->face_hash.capacity)
         cvk_hash_destroy(ctx, &c->face_hash);
     if (c->edge_hash.capacity)

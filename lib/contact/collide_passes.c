@@ -44,22 +44,12 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
        the decision decides), and the build's push data before the walks'. */
     VkDescriptorSetLayout layouts[3] = {c->set_layout, c->face_hash.set_layout,
                                         c->edge_hash.set_layout};
-    VkPushConstantRange push = {VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(cvk_contact_push)};
-    VkPipelineLayoutCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 2,
-        .pSetLayouts = layouts,
-        .pushConstantRangeCount = 1,
-        .pPushConstantRanges = &push,
-    };
-    VkResult vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->detect_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreatePipelineLayout (contact detection)", vr);
-    info.setLayoutCount = 3;
-    push.size = sizeof(cvk_contact_hash_push);
-    vr = vkCreatePipelineLayout(s->device.context->device, &info, NULL, &c->fused_layout);
-    return vr == VK_SUCCESS ? CVK_SUCCESS
-                            : cvk_fail_vk(error, "vkCreatePipelineLayout (fused contact detection)", vr);
+    r = cvk_cached_pipeline_layout(s->device.context, layouts, 2, VK_SHADER_STAGE_COMPUTE_BIT,
+                                   sizeof(cvk_contact_push), &c->detect_layout, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return cvk_cached_pipeline_layout(s->device.context, layouts, 3, VK_SHADER_STAGE_COMPUTE_BIT,
+                                      sizeof(cvk_contact_hash_push), &c->fused_layout, error);
 }
 
 /* One phase of contact_check.comp (over every particle) or contact_decide.comp (one

@@ -238,10 +238,6 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
 {
     if (hash->pool)
         vkDestroyDescriptorPool(context->device, hash->pool, NULL);
-    if (hash->layout)
-        vkDestroyPipelineLayout(context->device, hash->layout, NULL);
-    if (hash->set_layout)
-        vkDestroyDescriptorSetLayout(context->device, hash->set_layout, NULL);
     if (hash->points_view)
         vkDestroyBufferView(context->device, hash->points_view, NULL);
     if (hash->starts_view)

@@ -380,6 +380,8 @@ void cvk_context_destroy(cvk_context* context)
 {
     if (!context)
         return;
+    /* The shared objects were made on the device, adopted or not: gone before it is. */
+    cvk_gpu_cache_destroy(context->device, &context->cache);
     if (!context->adopted) {
         if (context->device)
             vkDestroyDevice(context->device, NULL);

@@ -5,6 +5,7 @@
 #include <stdatomic.h>
 
 #include "clothvk.h"
+#include "core/gpu_cache.h"
 
 struct cvk_context {
     VkInstance instance;
@@ -39,6 +40,9 @@ struct cvk_context {
        it), now and at most so far: what cvk_context_info reports. */
     _Atomic uint64_t device_bytes;
     _Atomic uint64_t device_peak_bytes;
+    /* Set layouts, pipeline layouts and compute pipelines shared by everything made on this
+       context (lib/core/gpu_cache.h). */
+    cvk_gpu_cache cache;
     atomic_uint fence_waits; /* fence waits so far, for the injection below */
     /* Test builds only: the lose_at_wait-th fence wait (counting from 1) reports
        VK_ERROR_DEVICE_LOST as a real loss would. 0: never. */

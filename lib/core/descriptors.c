@@ -20,28 +20,15 @@ static cvk_result create_layouts(cvk_context* ctx, cvk_descriptors* d, VkShaderS
             .descriptorCount = 1,
             .stageFlags = stages_of(&d->bindings[i]),
         };
-    VkDescriptorSetLayoutCreateInfo set_info = {
-        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = d->binding_count,
-        .pBindings = bindings,
-    };
-    VkResult vr = vkCreateDescriptorSetLayout(ctx->device, &set_info, NULL, &d->set_layout);
-    if (vr != VK_SUCCESS)
-        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
-    VkPushConstantRange push = {push_stages, 0, push_bytes};
+    cvk_result r = cvk_cached_set_layout(ctx, bindings, d->binding_count, &d->set_layout, error);
+    if (r != CVK_SUCCESS)
+        return r;
     VkDescriptorSetLayout layouts[1 + CVK_MAX_EXTRA_SETS];
     layouts[0] = d->set_layout;
     for (uint32_t i = 0; i < extra_count; i++)
         layouts[1 + i] = extra[i];
-    VkPipelineLayoutCreateInfo layout_info = {
-        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-        .setLayoutCount = 1 + extra_count,
-        .pSetLayouts = layouts,
-        .pushConstantRangeCount = push_bytes ? 1 : 0,
-        .pPushConstantRanges = push_bytes ? &push : NULL,
-    };
-    vr = vkCreatePipelineLayout(ctx->device, &layout_info, NULL, &d->pipeline_layout);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
+    return cvk_cached_pipeline_layout(ctx, layouts, 1 + extra_count, push_stages, push_bytes,
+                                      &d->pipeline_layout, error);
 }
 
 /* One pool size per descriptor type the table uses, times the sets. */
@@ -203,9 +190,6 @@ void cvk_descriptors_destroy(cvk_context* ctx, cvk_descriptors* d)
 {
     if (d->pool)
         vkDestroyDescriptorPool(ctx->device, d->pool, NULL);
-    if (d->pipeline_layout)
-        vkDestroyPipelineLayout(ctx->device, d->pipeline_layout, NULL);
-    if (d->set_layout)
-        vkDestroyDescriptorSetLayout(ctx->device, d->set_layout, NULL);
+    /* The layouts are the context's (cvk_cached_set_layout, cvk_cached_pipeline_layout). */
     *d = (cvk_descriptors){0};
 }

@@ -520,3 +520,147 @@ cvk_result cvk_buffer_download(cvk_context* context, cvk_submitter* submitter, V
     cvk_buffer_destroy(context, &readback);
     return r;
 }
+
+/* ---- the context's shared objects (gpu_cache.h) ---- */
+
+/* The longest key: a set layout of CVK_MAX_BINDINGS bindings, 1 + 2 words a binding. */
+#define KEY_WORDS (1 + 2 * CVK_MAX_BINDINGS)
+
+/* A key under construction: the definition's words, handles as their bytes. */
+typedef struct key {
+    uint32_t words[KEY_WORDS];
+    uint32_t count;
+} key;
+
+static void put(key* k, uint32_t word)
+{
+    if (k->count < KEY_WORDS)
+        k->words[k->count] = word;
+    k->count++;
+}
+
+static void put_bytes(key* k, const void* bytes, size_t size)
+{
+    uint32_t w[4] = {0};
+    memcpy(w, bytes, size < sizeof w ? size : sizeof w);
+    for (size_t i = 0; i < (size + 3) / 4 && i < 4; i++)
+        put(k, w[i]);
+}
+
+static cvk_result out_of_memory(cvk_error* error)
+{
+    return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the context's "
+                    "pipeline table");
+}
+
+/* Settles slot e (NULL: none could be reserved) after `call` filled it with result vr. */
+static cvk_result settle_vk(cvk_gpu_cache* cache, cvk_gpu_cache_entry* e, VkResult vr,
+                            const char* call, cvk_error* error)
+{
+    if (!e)
+        return out_of_memory(error);
+    cvk_gpu_cache_settle(cache, e, vr == VK_SUCCESS);
+    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, call, vr);
+}
+
+cvk_result cvk_cached_set_layout(cvk_context* context, const VkDescriptorSetLayoutBinding* bindings,
+                                 uint32_t binding_count, VkDescriptorSetLayout* out,
+                                 cvk_error* error)
+{
+    *out = VK_NULL_HANDLE;
+    key k = {.count = 0};
+    put(&k, binding_count);
+    for (uint32_t i = 0; i < binding_count; i++) {
+        /* create_layouts (descriptors.c) numbers bindings 0, 1, ..., one descriptor each, no
+           immutable samplers: the type and stages are the definition. */
+        put(&k, (uint32_t)bindings[i].descriptorType);
+        put(&k, bindings[i].stageFlags);
+    }
+    if (k.count > KEY_WORDS)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "a set layout of %u bindings is "
+                        "more than the pipeline table keeps", binding_count);
+    cvk_gpu_cache* cache = &context->cache;
+    cvk_gpu_cache_entry* e = cvk_gpu_cache_find(cache, CVK_CACHED_SET_LAYOUT, k.words, k.count);
+    if (!e) {
+        e = cvk_gpu_cache_reserve(cache, CVK_CACHED_SET_LAYOUT, k.words, k.count);
+        VkDescriptorSetLayoutCreateInfo info = {
+            .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+            .bindingCount = binding_count,
+            .pBindings = bindings,
+        };
+        cvk_result r = settle_vk(cache, e, e ? vkCreateDescriptorSetLayout(context->device, &info,
+                                                                           NULL, &e->object.set_layout)
+                                             : VK_SUCCESS,
+                                 "vkCreateDescriptorSetLayout", error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    *out = e->object.set_layout;
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_cached_pipeline_layout(cvk_context* context, const VkDescriptorSetLayout* sets,
+                                      uint32_t set_count, VkShaderStageFlags push_stages,
+                                      uint32_t push_bytes, VkPipelineLayout* out,
+                                      cvk_error* error)
+{
+    *out = VK_NULL_HANDLE;
+    key k = {.count = 0};
+    put(&k, set_count);
+    put(&k, push_bytes ? push_stages : 0);
+    put(&k, push_bytes);
+    for (uint32_t i = 0; i < set_count; i++)
+        put_bytes(&k, &sets[i], sizeof sets[i]);
+    if (k.count > KEY_WORDS)
+        return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "a pipeline layout of %u sets is "
+                        "more than the pipeline table keeps", set_count);
+    cvk_gpu_cache* cache = &context->cache;
+    cvk_gpu_cache_entry* e = cvk_gpu_cache_find(cache, CVK_CACHED_PIPELINE_LAYOUT, k.words, k.count);
+    if (!e) {
+        e = cvk_gpu_cache_reserve(cache, CVK_CACHED_PIPELINE_LAYOUT, k.words, k.count);
+        VkPushConstantRange push = {push_stages, 0, push_bytes};
+        VkPipelineLayoutCreateInfo info = {
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+            .setLayoutCount = set_count,
+            .pSetLayouts = sets,
+            .pushConstantRangeCount = push_bytes ? 1 : 0,
+            .pPushConstantRanges = push_bytes ? &push : NULL,
+        };
+        cvk_result r = settle_vk(cache, e, e ? vkCreatePipelineLayout(context->device, &info, NULL,
+                                                                      &e->object.pipeline_layout)
+                                             : VK_SUCCESS,
+                                 "vkCreatePipelineLayout", error);
+        if (r != CVK_SUCCESS)
+            return r;
+    }
+    *out = e->object.pipeline_layout;
+    return CVK_SUCCESS;
+}
+
+cvk_result cvk_cached_compute_pipeline(cvk_context* context, cvk_shader_id shader,
+                                       VkPipelineLayout layout, const cvk_spec* spec,
+                                       VkPipeline* out, cvk_error* error)
+{
+    *out = VK_NULL_HANDLE;
+    key k = {.count = 0};
+    put(&k, (uint32_t)shader);
+    put_bytes(&k, &layout, sizeof layout);
+    put(&k, spec->count);
+    for (uint32_t i = 0; i < spec->count; i++)
+        put(&k, spec->values[i]);
+    cvk_gpu_cache* cache = &context->cache;
+    cvk_gpu_cache_entry* e = cvk_gpu_cache_find(cache, CVK_CACHED_PIPELINE, k.words, k.count);
+    cvk_result r = CVK_SUCCESS;
+    if (!e) {
+        e = cvk_gpu_cache_reserve(cache, CVK_CACHED_PIPELINE, k.words, k.count);
+        cvk_spirv spirv = cvk_shader(shader);
+        r = e ? cvk_compute_pipeline_create(context, spirv.code, spirv.bytes, layout, spec,
+                                            spirv.name, &e->object.pipeline, error)
+              : out_of_memory(error);
+        if (e)
+            cvk_gpu_cache_settle(cache, e, r == CVK_SUCCESS);
+    }
+    if (r == CVK_SUCCESS)
+        *out = e->object.pipeline;
+    return r;
+}

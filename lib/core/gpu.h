@@ -4,6 +4,7 @@
 #define CVK_GPU_H
 
 #include "core/context.h"
+#include "core/shaders.h"
 
 typedef struct cvk_buffer {
     VkBuffer buffer;
@@ -55,6 +56,20 @@ cvk_result cvk_shader_module_create(cvk_context* context, const uint32_t* spirv,
 cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spirv,
                                        size_t spirv_bytes, VkPipelineLayout layout,
                                        const cvk_spec* spec, const char* what,
+                                       VkPipeline* out, cvk_error* error);
+
+/* The context's shared objects (lib/core/gpu_cache.h): the one of this definition, made on
+   first request. The context owns them; the caller never destroys them. */
+cvk_result cvk_cached_set_layout(cvk_context* context, const VkDescriptorSetLayoutBinding* bindings,
+                                 uint32_t binding_count, VkDescriptorSetLayout* out,
+                                 cvk_error* error);
+/* push_bytes 0: no push constants. */
+cvk_result cvk_cached_pipeline_layout(cvk_context* context, const VkDescriptorSetLayout* sets,
+                                      uint32_t set_count, VkShaderStageFlags push_stages,
+                                      uint32_t push_bytes, VkPipelineLayout* out,
+                                      cvk_error* error);
+cvk_result cvk_cached_compute_pipeline(cvk_context* context, cvk_shader_id shader,
+                                       VkPipelineLayout layout, const cvk_spec* spec,
                                        VkPipeline* out, cvk_error* error);
 
 /* Descriptor boilerplate from one binding table (lib/core/descriptors.c): binding i of the set has

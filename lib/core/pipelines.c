@@ -95,9 +95,8 @@ cvk_result cvk_pipelines_require(cvk_context* context, cvk_pipelines* p, cvk_pip
     cvk_spec spec = {.count = recipe->spec.count};
     for (uint32_t i = 0; i < spec.count; i++)
         spec.values[i] = spec_value(recipe->spec.source[i], inputs);
-    cvk_spirv spirv = cvk_shader(recipe->shader);
-    cvk_result r = cvk_compute_pipeline_create(context, spirv.code, spirv.bytes, layout, &spec,
-                                               spirv.name, &p->pipeline[id], error);
+    cvk_result r = cvk_cached_compute_pipeline(context, recipe->shader, layout, &spec,
+                                               &p->pipeline[id], error);
     if (r != CVK_SUCCESS)
         return r;
     p->layout[id] = layout;
@@ -105,10 +104,9 @@ cvk_result cvk_pipelines_require(cvk_context* context, cvk_pipelines* p, cvk_pip
     return CVK_SUCCESS;
 }
 
+/* The pipelines are the context's (cvk_cached_compute_pipeline): the table only forgets them. */
 void cvk_pipelines_destroy(cvk_context* context, cvk_pipelines* p)
 {
-    for (int id = 0; id < CVK_PIPE_COUNT; id++)
-        if (p->pipeline[id])
-            vkDestroyPipeline(context->device, p->pipeline[id], NULL);
+    (void)context;
     *p = (cvk_pipelines){0};
 }

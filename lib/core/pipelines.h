@@ -1,6 +1,7 @@
 /* The one table of compute pipelines of the step: pipeline id -> shader, specialisation
    constants, label (for --plan). A family or feature that needs a pipeline adds one line to
-   CVK_PIPELINE_LIST; pipelines are created on first use and kept for the simulation's life. */
+   CVK_PIPELINE_LIST; a simulation asks for each on first use, and the context makes it once for
+   every simulation that needs it with the same specialisation and layout (core/gpu_cache.h). */
 #ifndef CVK_PIPELINES_H
 #define CVK_PIPELINES_H
 

@@ -577,10 +577,6 @@ void cvk_mesh_destroy(cvk_mesh* m)
         vkDestroyPipeline(dev, m->pipeline, NULL);
     if (m->descriptor_pool)
         vkDestroyDescriptorPool(dev, m->descriptor_pool, NULL);
-    if (m->pipeline_layout)
-        vkDestroyPipelineLayout(dev, m->pipeline_layout, NULL);
-    if (m->set_layout)
-        vkDestroyDescriptorSetLayout(dev, m->set_layout, NULL);
     VkBufferView views[] = {m->view_triangle_vertices, m->view_triangle_particles,
                             m->view_triangle_springs, m->view_particle_of, m->view_vertex_triangles,
                             m->view_rim_edges};
