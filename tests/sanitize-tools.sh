@@ -16,9 +16,6 @@ export LD_PRELOAD="$preload"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:verify_asan_link_order=0"
 export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-# Lavapipe on one thread for every test, the determinism tests too: this run looks for memory
-# errors in clothvk's own code, which runs the same on any number of lavapipe threads.
-export LP_NUM_THREADS=0
 # Tests that give the tools time limits give slower tools more (tests/tools/wedge_cases.py).
 export CLOTHVK_SANITIZED=1
 exec "$@"

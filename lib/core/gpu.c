@@ -526,7 +526,7 @@ cvk_result cvk_buffer_download(cvk_context* context, cvk_submitter* submitter, V
 /* The longest key: a set layout of CVK_MAX_BINDINGS bindings, 1 + 2 words a binding. */
 #define KEY_WORDS (1 + 2 * CVK_MAX_BINDINGS)
 
-/* A key under construction: the definition's words, handles as their bytes. */
+/* A key: the words of an object's definition, Vulkan handles as two words each. */
 typedef struct key {
     uint32_t words[KEY_WORDS];
     uint32_t count;
@@ -539,35 +539,33 @@ static void put(key* k, uint32_t word)
     k->count++;
 }
 
-static void put_bytes(key* k, const void* bytes, size_t size)
+/* A non-dispatchable handle (a pointer or a uint64_t, by platform) as two words. */
+static void put_handle(key* k, const void* handle, size_t size)
 {
-    uint32_t w[4] = {0};
-    memcpy(w, bytes, size < sizeof w ? size : sizeof w);
-    for (size_t i = 0; i < (size + 3) / 4 && i < 4; i++)
-        put(k, w[i]);
+    uint64_t bits = 0;
+    memcpy(&bits, handle, size < sizeof bits ? size : sizeof bits);
+    put(k, (uint32_t)bits);
+    put(k, (uint32_t)(bits >> 32));
 }
 
-static cvk_result out_of_memory(cvk_error* error)
+/* Keeps a new object under its key, or destroys it when the table cannot grow (and clears
+   *handle, where the caller put it). */
+static cvk_result keep(cvk_context* context, cvk_cached_kind kind, const key* k,
+                       cvk_cached_object object, void* handle, size_t handle_size,
+                       cvk_error* error)
 {
+    if (cvk_gpu_cache_add(&context->cache, kind, k->words, k->count, object))
+        return CVK_SUCCESS;
+    cvk_gpu_cache_destroy_object(context->device, kind, object);
+    memset(handle, 0, handle_size);
     return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the context's "
                     "pipeline table");
-}
-
-/* Settles slot e (NULL: none could be reserved) after `call` filled it with result vr. */
-static cvk_result settle_vk(cvk_gpu_cache* cache, cvk_gpu_cache_entry* e, VkResult vr,
-                            const char* call, cvk_error* error)
-{
-    if (!e)
-        return out_of_memory(error);
-    cvk_gpu_cache_settle(cache, e, vr == VK_SUCCESS);
-    return vr == VK_SUCCESS ? CVK_SUCCESS : cvk_fail_vk(error, call, vr);
 }
 
 cvk_result cvk_cached_set_layout(cvk_context* context, const VkDescriptorSetLayoutBinding* bindings,
                                  uint32_t binding_count, VkDescriptorSetLayout* out,
                                  cvk_error* error)
 {
-    *out = VK_NULL_HANDLE;
     key k = {.count = 0};
     put(&k, binding_count);
     for (uint32_t i = 0; i < binding_count; i++) {
@@ -579,24 +577,22 @@ cvk_result cvk_cached_set_layout(cvk_context* context, const VkDescriptorSetLayo
     if (k.count > KEY_WORDS)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "a set layout of %u bindings is "
                         "more than the pipeline table keeps", binding_count);
-    cvk_gpu_cache* cache = &context->cache;
-    cvk_gpu_cache_entry* e = cvk_gpu_cache_find(cache, CVK_CACHED_SET_LAYOUT, k.words, k.count);
-    if (!e) {
-        e = cvk_gpu_cache_reserve(cache, CVK_CACHED_SET_LAYOUT, k.words, k.count);
-        VkDescriptorSetLayoutCreateInfo info = {
-            .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-            .bindingCount = binding_count,
-            .pBindings = bindings,
-        };
-        cvk_result r = settle_vk(cache, e, e ? vkCreateDescriptorSetLayout(context->device, &info,
-                                                                           NULL, &e->object.set_layout)
-                                             : VK_SUCCESS,
-                                 "vkCreateDescriptorSetLayout", error);
-        if (r != CVK_SUCCESS)
-            return r;
+    const cvk_cached_object* found =
+        cvk_gpu_cache_find(&context->cache, CVK_CACHED_SET_LAYOUT, k.words, k.count);
+    if (found) {
+        *out = found->set_layout;
+        return CVK_SUCCESS;
     }
-    *out = e->object.set_layout;
-    return CVK_SUCCESS;
+    VkDescriptorSetLayoutCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = binding_count,
+        .pBindings = bindings,
+    };
+    VkResult vr = vkCreateDescriptorSetLayout(context->device, &info, NULL, out);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreateDescriptorSetLayout", vr);
+    return keep(context, CVK_CACHED_SET_LAYOUT, &k, (cvk_cached_object){.set_layout = *out}, out,
+                sizeof *out, error);
 }
 
 cvk_result cvk_cached_pipeline_layout(cvk_context* context, const VkDescriptorSetLayout* sets,
@@ -604,63 +600,57 @@ cvk_result cvk_cached_pipeline_layout(cvk_context* context, const VkDescriptorSe
                                       uint32_t push_bytes, VkPipelineLayout* out,
                                       cvk_error* error)
 {
-    *out = VK_NULL_HANDLE;
     key k = {.count = 0};
     put(&k, set_count);
     put(&k, push_bytes ? push_stages : 0);
     put(&k, push_bytes);
     for (uint32_t i = 0; i < set_count; i++)
-        put_bytes(&k, &sets[i], sizeof sets[i]);
+        put_handle(&k, &sets[i], sizeof sets[i]);
     if (k.count > KEY_WORDS)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "a pipeline layout of %u sets is "
                         "more than the pipeline table keeps", set_count);
-    cvk_gpu_cache* cache = &context->cache;
-    cvk_gpu_cache_entry* e = cvk_gpu_cache_find(cache, CVK_CACHED_PIPELINE_LAYOUT, k.words, k.count);
-    if (!e) {
-        e = cvk_gpu_cache_reserve(cache, CVK_CACHED_PIPELINE_LAYOUT, k.words, k.count);
-        VkPushConstantRange push = {push_stages, 0, push_bytes};
-        VkPipelineLayoutCreateInfo info = {
-            .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
-            .setLayoutCount = set_count,
-            .pSetLayouts = sets,
-            .pushConstantRangeCount = push_bytes ? 1 : 0,
-            .pPushConstantRanges = push_bytes ? &push : NULL,
-        };
-        cvk_result r = settle_vk(cache, e, e ? vkCreatePipelineLayout(context->device, &info, NULL,
-                                                                      &e->object.pipeline_layout)
-                                             : VK_SUCCESS,
-                                 "vkCreatePipelineLayout", error);
-        if (r != CVK_SUCCESS)
-            return r;
+    const cvk_cached_object* found =
+        cvk_gpu_cache_find(&context->cache, CVK_CACHED_PIPELINE_LAYOUT, k.words, k.count);
+    if (found) {
+        *out = found->pipeline_layout;
+        return CVK_SUCCESS;
     }
-    *out = e->object.pipeline_layout;
-    return CVK_SUCCESS;
+    VkPushConstantRange push = {push_stages, 0, push_bytes};
+    VkPipelineLayoutCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = set_count,
+        .pSetLayouts = sets,
+        .pushConstantRangeCount = push_bytes ? 1 : 0,
+        .pPushConstantRanges = push_bytes ? &push : NULL,
+    };
+    VkResult vr = vkCreatePipelineLayout(context->device, &info, NULL, out);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk(error, "vkCreatePipelineLayout", vr);
+    return keep(context, CVK_CACHED_PIPELINE_LAYOUT, &k,
+                (cvk_cached_object){.pipeline_layout = *out}, out, sizeof *out, error);
 }
 
 cvk_result cvk_cached_compute_pipeline(cvk_context* context, cvk_shader_id shader,
                                        VkPipelineLayout layout, const cvk_spec* spec,
                                        VkPipeline* out, cvk_error* error)
 {
-    *out = VK_NULL_HANDLE;
     key k = {.count = 0};
     put(&k, (uint32_t)shader);
-    put_bytes(&k, &layout, sizeof layout);
+    put_handle(&k, &layout, sizeof layout);
     put(&k, spec->count);
     for (uint32_t i = 0; i < spec->count; i++)
         put(&k, spec->values[i]);
-    cvk_gpu_cache* cache = &context->cache;
-    cvk_gpu_cache_entry* e = cvk_gpu_cache_find(cache, CVK_CACHED_PIPELINE, k.words, k.count);
-    cvk_result r = CVK_SUCCESS;
-    if (!e) {
-        e = cvk_gpu_cache_reserve(cache, CVK_CACHED_PIPELINE, k.words, k.count);
-        cvk_spirv spirv = cvk_shader(shader);
-        r = e ? cvk_compute_pipeline_create(context, spirv.code, spirv.bytes, layout, spec,
-                                            spirv.name, &e->object.pipeline, error)
-              : out_of_memory(error);
-        if (e)
-            cvk_gpu_cache_settle(cache, e, r == CVK_SUCCESS);
+    const cvk_cached_object* found =
+        cvk_gpu_cache_find(&context->cache, CVK_CACHED_PIPELINE, k.words, k.count);
+    if (found) {
+        *out = found->pipeline;
+        return CVK_SUCCESS;
     }
-    if (r == CVK_SUCCESS)
-        *out = e->object.pipeline;
-    return r;
+    cvk_spirv spirv = cvk_shader(shader);
+    cvk_result r = cvk_compute_pipeline_create(context, spirv.code, spirv.bytes, layout, spec,
+                                               spirv.name, out, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    return keep(context, CVK_CACHED_PIPELINE, &k, (cvk_cached_object){.pipeline = *out}, out,
+                sizeof *out, error);
 }

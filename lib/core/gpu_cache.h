@@ -22,15 +22,17 @@ typedef enum cvk_cached_kind {
     CVK_CACHED_PIPELINE,
 } cvk_cached_kind;
 
+typedef union cvk_cached_object {
+    VkDescriptorSetLayout set_layout;
+    VkPipelineLayout pipeline_layout;
+    VkPipeline pipeline;
+} cvk_cached_object;
+
 typedef struct cvk_gpu_cache_entry {
     cvk_cached_kind kind;
     uint32_t words;
     uint32_t* key;
-    union {
-        VkDescriptorSetLayout set_layout;
-        VkPipelineLayout pipeline_layout;
-        VkPipeline pipeline;
-    } object;
+    cvk_cached_object object;
 } cvk_gpu_cache_entry;
 
 typedef struct cvk_gpu_cache {
@@ -42,15 +44,14 @@ typedef struct cvk_gpu_cache {
 /* Destroys every object in the cache (newest first: a pipeline before its layout, a pipeline
    layout before its set layouts), then the table. */
 void cvk_gpu_cache_destroy(VkDevice device, cvk_gpu_cache* cache);
+void cvk_gpu_cache_destroy_object(VkDevice device, cvk_cached_kind kind, cvk_cached_object object);
 /* The kind of the i-th object made (tests/core/test_gpu_cache.c counts them). */
 cvk_cached_kind cvk_gpu_cache_kind(const cvk_gpu_cache* cache, uint32_t i);
 /* The object of `kind` made for the key (`words` words), or NULL. */
-cvk_gpu_cache_entry* cvk_gpu_cache_find(cvk_gpu_cache* cache, cvk_cached_kind kind,
-                                        const uint32_t* key, uint32_t words);
-/* A slot for a new object of the key, or NULL when out of host memory: the caller makes the
-   object into it, then settles it (made: kept; not made: the slot is given back). */
-cvk_gpu_cache_entry* cvk_gpu_cache_reserve(cvk_gpu_cache* cache, cvk_cached_kind kind,
-                                           const uint32_t* key, uint32_t words);
-void cvk_gpu_cache_settle(cvk_gpu_cache* cache, cvk_gpu_cache_entry* entry, bool made);
+const cvk_cached_object* cvk_gpu_cache_find(const cvk_gpu_cache* cache, cvk_cached_kind kind,
+                                            const uint32_t* key, uint32_t words);
+/* Keeps `object` under the key; false when out of host memory (the caller still owns it). */
+bool cvk_gpu_cache_add(cvk_gpu_cache* cache, cvk_cached_kind kind, const uint32_t* key,
+                       uint32_t words, cvk_cached_object object);
 
 #endif
