@@ -122,6 +122,28 @@ static inline float* harness_read_all(cvk_sim* sim)
     return xyz;
 }
 
+/* The dispatches of the pass named `name` in the last frame (0 when the plan has none). */
+static inline uint32_t harness_pass_dispatches(cvk_sim* sim, const char* name)
+{
+    cvk_sim_stats st;
+    cvk_error err;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+    for (uint32_t i = 0; i < st.pass_count; i++)
+        if (!strcmp(st.passes[i].name, name))
+            return st.passes[i].dispatches;
+    return 0;
+}
+
+/* A level plane 10 m below the origin: contact in the plan that touches no cloth near it. */
+static inline cvk_collider_desc harness_far_plane(void)
+{
+    cvk_collider_desc plane = cvk_default_collider_desc();
+    plane.type = CVK_COLLIDER_PLANE;
+    plane.point[1] = -10.0f;
+    plane.normal[1] = 1.0f;
+    return plane;
+}
+
 /* Largest |a − b| over n coordinates. */
 static inline double harness_max_diff(const float* a, const float* b, uint64_t n)
 {

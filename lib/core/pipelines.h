@@ -16,6 +16,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_MAX_DEGREE,     /* springs per particle, at most (build) */
     CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
     CVK_SPEC_FALSE,          /* a boolean switch left false */
+    CVK_SPEC_TWO,            /* the value 2 (a switch of three ways, e.g. PREDICTS) */
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
     CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
@@ -29,6 +30,11 @@ typedef struct cvk_spec_recipe {
     cvk_spec_source source[7];
 } cvk_spec_recipe;
 
+/* The first sweep that predicts (id 6, PREDICTS, of shaders/solvers/pd_gauss_seidel.comp): the
+   last substep's displacements in src (1) or in dst (2). */
+#define CVK_SPEC_PD_FIRST_PREDICT(WHERE) {7, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+                                           CVK_SPEC_TRUE, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
+                                           CVK_SPEC_SELF_CONTACT, WHERE}}
 /* Id 5 of shaders/solvers/pd_common.glsl, BOUNDED: sweeps keep particles within their bounds
    (self-contact). */
 #define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
@@ -94,6 +100,8 @@ typedef struct cvk_spec_recipe {
     X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
     X(FINALIZE_TETHERED, FINALIZE_COMP, CVK_SPEC_FINALIZE_TETHERED, "tethers, x += u") \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
+    X(GS_FIRST_PREDICT_SRC, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TRUE), "predict + gauss-seidel + local step") \
+    X(GS_FIRST_PREDICT_DST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TWO), "predict (last in dst) + gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps, one workgroup") \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \

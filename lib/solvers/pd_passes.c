@@ -521,13 +521,30 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
     snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
 }
 
+/* Whether the unfused Gauss-Seidel's first sweep predicts too (shaders/solvers/
+   pd_gauss_seidel.comp, PREDICTS): where the prediction is its plain y = u (1 - damping) +
+   h^2 g — no air, no rest memory — and nothing comes between it and the first sweep or reads
+   what predict leaves in the first iterate's buffer: no grab, no contact (whose marks the
+   first sweep reads), no convergence check (whose residual reads the first iterate), no
+   attached particle. One pass over the particles fewer a substep, the same bits. */
+static bool first_sweep_predicts(const pd_builder* pb, const cvk_build* b)
+{
+    return !pb->fused && !pb->checking && !pb->contact && !pb->sim->grab->planned &&
+           !pb->sim->aero->enabled && b->attached_count == 0 && pb->base.rest_rate == 0.0f &&
+           b->free_count > 0 && b->colour_count > 0 && b->colour_start[0] == 0 &&
+           b->colour_start[1] > 0;
+}
+
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
    (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
-   writes U0, where finalize and the next prediction find it. */
+   writes U0, where finalize and the next prediction find it. Where the first sweep predicts,
+   the first outer iteration finds the last substep's displacements in U0: in T when the
+   outer iterations are even, in W when odd. */
 static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
 {
     uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
-    if (!fused_predict(pb))
+    bool folded = first_sweep_predicts(pb, b);
+    if (!fused_predict(pb) && !folded)
         add_predict(pb, b, outer % 2);
     if (pb->fused) /* every outer iteration, from the first one's set */
         add_fused(pb, b, set_for(outer % 2, 1 - outer % 2));
@@ -535,6 +552,8 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
         uint32_t t = (outer - o) % 2, w = 1 - t;
         for (uint32_t i = 0; i < inner; i++) {
             cvk_pipeline_id first = pb->checking ? CVK_PIPE_GS_FIRST_CHECK : CVK_PIPE_GS_FIRST;
+            if (folded && o == 0)
+                first = t == 0 ? CVK_PIPE_GS_FIRST_PREDICT_SRC : CVK_PIPE_GS_FIRST_PREDICT_DST;
             for (uint32_t c = 0; c < b->colour_count; c++) {
                 cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
                                     pb->solve, b->colour_start[c],

@@ -112,6 +112,27 @@ vec4 quad_k(uint q, uint p)
     return uintBitsToFloat(imageLoad(adjacency, int((2u * q + 1u) * pc.stride + p)));
 }
 
+// The inertial prediction of a free particle from its last substep's displacement, without
+// the air or the rest memory: y = u (1 - damping) + h^2 g (predict.glsl; the first sweep that
+// predicts, pd_gauss_seidel.comp's PREDICTS), `precise` so that both round it alike.
+vec3 predicted(vec3 last)
+{
+    precise vec3 y = last * pc.keep + pc.gravity_h2.xyz;
+    return y;
+}
+
+// A spring stretched past this times its rest length stops the simulation (the divergence
+// watch of predict.glsl and of a first sweep that predicts; lib/plan/state.h,
+// CVK_DIVERGED_STRETCH).
+const float RUNAWAY_STRETCH = 10.0;
+
+// Where the first sweep finds the last substep's displacements when it predicts itself
+// (pd_gauss_seidel.comp's PREDICTS; 0 in every other pass): 1 in src, 2 in dst, which the
+// colours swept before this one have overwritten (their predictions are in y).
+#ifndef FIRST_PREDICTS
+#define FIRST_PREDICTS 0u
+#endif
+
 // Invocations stride over the dispatch, so a few workgroups can cover many particles.
 uint invocation_stride()
 {
@@ -209,14 +230,18 @@ vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
 // (w y + r + sum_c k_c u_c) / diag - cur, the update written from scratch, but the
 // neighbours enter as differences of nearby displacements and w y - w cur as the difference
 // of two products rounded alike (`precise`: no fused multiply-add), so a cloth that moves as
-// a whole (y = cur = u_c, r = 0) moves by exactly 0. From scratch the quotient rounded by an
+// a whole (y = cur = u_c, r = 0) moves by exactly 0. The sum is `precise` too: where the first
+// sweep predicts (pd_gauss_seidel.comp's PREDICTS), y and cur are one value in one shader, and
+// the compiler folded (w y + r) - w cur to r, which float rounding does not: a hanging cloth
+// was an ulp off the prediction's own pass after 6 frames. From scratch the quotient rounded by an
 // ulp of u every substep, the same way each time, and a freely falling cloth's velocity
 // drifted by it: 5e-5 m in 0.8 s on lavapipe, 1.5e-4 m on an NVIDIA H200 (5.3e-6 m now on
 // both). No texel more than before: diag is w + ksum, summed from the k the sweep reads.
 vec3 jacobi_move(vec4 b, vec3 cur, vec3 acc, float ksum)
 {
     precise vec3 held = b.w * cur;
-    return (b.xyz - held + acc) / (b.w + ksum);
+    precise vec3 move = b.xyz - held + acc;
+    return move / (b.w + ksum);
 }
 
 // The local step of particle p at the start of an outer iteration, from the iterate in src
@@ -233,8 +258,12 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
     vec3 src_acc = vec3(0.0);
     float size = 0.0; // the sum of the sizes of the spring terms
 #endif
-    vec3 xp = fetch(x_read, p);
-    vec4 yp = LOAD_Y(p);
+    vec4 xp4 = imageLoad(x_read, int(p));
+    vec3 xp = xp4.xyz;
+    // A sweep that predicts starts from the prediction (cur) and writes it to y.
+    vec4 yp = FIRST_PREDICTS != 0u ? vec4(cur, xp4.w) : LOAD_Y(p);
+    if (FIRST_PREDICTS != 0u)
+        y[p] = yp;
     vec3 r = vec3(0.0);
     ksum = 0.0;
     acc = vec3(0.0);
@@ -243,12 +272,33 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
         vec4 k = quad_k(q, p);
         vec4 rest = imageLoad(adjacency_rest, int(q * pc.stride + p));
         for (uint j = 0; j < 4u; j++) {
-            vec3 un = FETCH_SRC(n[j]);
+            // un: the neighbour's iterate at the start of the outer iteration; now: where it
+            // is in this sweep (swept already when below swept_below). Where the sweep
+            // predicts, a free neighbour not yet predicted starts from its prediction, one
+            // predicted starts from its y, and a pinned one stays where it is.
+            vec3 un, now;
+            bool swept = n[j] < swept_below;
+            if (FIRST_PREDICTS == 2u) {
+                vec3 raw = FETCH_DST(n[j]);
+                un = swept ? LOAD_Y(n[j]).xyz : n[j] < pc.stride ? predicted(raw) : raw;
+                now = swept ? raw : un;
+            } else {
+                vec3 raw = FETCH_SRC(n[j]);
+                un = FIRST_PREDICTS == 1u && n[j] < pc.stride ? predicted(raw) : raw;
+                now = swept ? FETCH_DST(n[j]) : un;
+            }
             vec3 edge = xp - fetch(x_read, n[j]);
+            // The divergence watch of a sweep that predicts, as predict.glsl's overstretched:
+            // the particle's first spring, from the positions the substep starts from.
+            if (FIRST_PREDICTS != 0u && q == 0u && j == 0u && pc.max_u2 > 0.0 && k[0] > 0.0 &&
+                dot(edge, edge) > (RUNAWAY_STRETCH * rest[0]) * (RUNAWAY_STRETCH * rest[0])) {
+                watch.stretched = 1u;
+                atomicMin(watch.particle, p);
+            }
             vec3 du = cur - un;
             r += spring_rhs(du, edge + du, k[j], rest[j]);
             ksum += k[j];
-            acc += k[j] * ((n[j] < swept_below ? FETCH_DST(n[j]) : un) - cur);
+            acc += k[j] * (now - cur);
 #ifdef RESIDUAL
             src_acc -= k[j] * du;
             size += k[j] * (rest[j] + l1(edge) + l1(un));

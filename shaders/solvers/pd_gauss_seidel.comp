@@ -15,6 +15,18 @@
 // after the next outer iteration; the last push of a substep becomes velocity. ribbons.json
 // diverged so at omega 1.7 on lavapipe (1.6 on an NVIDIA H100), box-stack.json stretched a
 // spring ten times on the H100 (README "Never exploding").
+// PREDICTS (FIRST only; lib/solvers/pd_passes.c, first_sweep_predicts) folds the prediction
+// into the first sweep of a substep where it is plain, y = u (1 - damping) + h^2 g (no air,
+// rest memory, contact, check, grab or attached particle): each particle starts from its
+// prediction and writes it to y, and neighbours not yet swept are predicted where read. 1: the last substep's
+// displacements are in src; 2: in dst (the outer iterations are odd), which the colours swept
+// before this one have overwritten, so their starting iterates are read from y. The watch
+// is predict's: this pass counts the substep and measures each particle's first spring
+// (local_step). The same bits as the prediction's own pass (tests/solvers/test_solver.c), one
+// pass over the particles fewer a substep: peer-hanging.json 22.7-23.5 -> 20.0-21.2 ms a frame
+// on one lavapipe thread (docs/performance.md).
+layout(constant_id = 6) const uint PREDICTS = 0u;
+#define FIRST_PREDICTS PREDICTS
 #include "solvers/pd_common.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;
@@ -23,6 +35,10 @@ void main()
 {
     uint stride = invocation_stride();
     uint i = gl_GlobalInvocationID.x;
+    // The divergence watch's count of substeps, as predict.comp keeps it (not in the warm-up
+    // dispatches of no particle).
+    if (FIRST && PREDICTS != 0u && pc.first == 0u && i == 0u && pc.count > 0u)
+        watch.substep += 1u;
     // Two particles per pass of the loop where a particle has one quad of springs: a CPU
     // device runs an invocation's reads one after another, and a particle's eight gathers leave
     // their latency unhidden; two particles' sixteen overlap (on lavapipe a 100 x 100 sweep of
@@ -48,7 +64,10 @@ void main()
         vec3 cur;
         float ksum;
         float omega = pc.omega;
-        if (FIRST) {
+        if (FIRST && PREDICTS != 0u) {
+            cur = predicted(PREDICTS == 2u ? fetch(dst_read, p) : fetch(src, p));
+            b = local_step(p, cur, pc.first, acc, ksum);
+        } else if (FIRST) {
             vec4 start = imageLoad(src, int(p));
             cur = start.xyz;
             if (start.w != 0.0)

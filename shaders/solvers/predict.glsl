@@ -9,8 +9,6 @@
 layout(constant_id = PREDICT_WIND_ID) const bool WIND = false;
 layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL, rgba32f) uniform readonly imageBuffer air;
 
-const float RUNAWAY_STRETCH = 10.0; // lib/sim/sim.h, CVK_DIVERGED_STRETCH
-
 bool overstretched(uint p, vec3 xp)
 {
     uint c = quad_neighbours(0u, p).x;
@@ -22,7 +20,7 @@ bool overstretched(uint p, vec3 xp)
 
 vec4 predict_one(uint p, vec3 last)
 {
-    vec3 yp = last * pc.keep + pc.gravity_h2.xyz;
+    vec3 yp = predicted(last);
     if (WIND)
         yp += fetch(air, p);
     vec4 xp = imageLoad(x_read, int(p));

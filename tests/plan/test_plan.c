@@ -251,9 +251,23 @@ static void check_last_sweep(cvk_context* ctx, uint32_t outer, uint32_t inner)
     desc.scene = &scene;
     REQUIRE_OK(cvk_sim_create(ctx, &desc, &sim, &err), err);
     uint32_t colours = sim->build.colour_count, sweep_ops = 0, wrong = 0;
+    /* Without damping, air, contact or a check the first sweep predicts (pd_passes.c,
+       first_sweep_predicts), the last substep's displacements in its src when the outer
+       iterations are even, in its dst when odd: those dispatches and no prediction's own. */
+    cvk_pipeline_id folded = outer % 2 ? CVK_PIPE_GS_FIRST_PREDICT_DST : CVK_PIPE_GS_FIRST_PREDICT_SRC;
+    uint32_t predicting = 0, predicts = 0;
+    for (uint32_t i = 0; i < sim->plan.op_count; i++) {
+        predicting += sim->plan.ops[i].pipeline == folded;
+        predicts += sim->plan.ops[i].pipeline == CVK_PIPE_PREDICT;
+    }
+    CHECK(predicting == colours && predicts == 0, "rbgs %u x %u: %u first sweeps that predict "
+          "(%s; expected %u) and %u predict dispatches (expected 0)", outer, inner, predicting,
+          outer % 2 ? "last in dst" : "last in src", colours, predicts);
     for (uint32_t i = 0; i < sim->plan.op_count; i++) {
         const cvk_op* op = &sim->plan.ops[i];
-        if (op->pipeline != CVK_PIPE_GS_FIRST && op->pipeline != CVK_PIPE_GS)
+        if (op->pipeline != CVK_PIPE_GS_FIRST && op->pipeline != CVK_PIPE_GS &&
+            op->pipeline != CVK_PIPE_GS_FIRST_PREDICT_SRC &&
+            op->pipeline != CVK_PIPE_GS_FIRST_PREDICT_DST)
             continue;
         cvk_pd_push push;
         memcpy(&push, op->push, sizeof push);

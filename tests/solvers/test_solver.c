@@ -3,7 +3,8 @@
      order) to float rounding, on random small grids, stencils, pins, omega and iteration counts;
    - GPU jacobi and chebyshev equal the host Jacobi / Chebyshev iteration;
    - the residual falls monotonically with iterations on enlarged.json, for rbgs and gs-cpu;
-   - the converged solution of a substep by Newton's method equals Gauss-Seidel's fixed point. */
+   - the converged solution of a substep by Newton's method equals Gauss-Seidel's fixed point;
+   - rbgs's first sweep that predicts gives the bits of the prediction's own pass. */
 #include "topology/build.h"
 #include "harness.h"
 #include "solvers/solve_pd.h"
@@ -337,6 +338,69 @@ static void all_pinned(cvk_context* ctx)
     }
 }
 
+/* Where the prediction is plain (no air, damping, contact, grab or check), rbgs's first sweep
+   predicts (lib/solvers/pd_passes.c, first_sweep_predicts): a pinned cloth with shear and bend
+   springs (more colours than two) swinging for 24 frames, with odd and even outer iterations
+   (the last substep's displacements in the sweep's dst and src), gives the bits of the same
+   scene with a plane 10 m below it, which keeps the prediction's own pass. */
+static void folded_prediction_same_bits(cvk_context* ctx)
+{
+    const uint32_t pins[2][2] = {{0, 0}, {19, 0}};
+    for (uint32_t outer = 1; outer <= 2; outer++) {
+        float *xyz[2] = {NULL, NULL}, *start = NULL;
+        uint32_t predicts[2] = {0, 0}, substeps = 0;
+        uint64_t n = 0;
+        for (int far_plane = 0; far_plane < 2; far_plane++) {
+            cvk_cloth_desc cloth = cvk_default_cloth_desc();
+            cloth.grid[0] = 20;
+            cloth.grid[1] = 16;
+            cloth.stiffness.structural = 1e5f;
+            cloth.stiffness.shear = 2e3f;
+            cloth.stiffness.bend = 50.0f;
+            cloth.pins = pins;
+            cloth.pin_count = 2;
+            cvk_scene_desc scene = cvk_default_scene_desc();
+            scene.cloths = &cloth;
+            scene.cloth_count = 1;
+            scene.substeps = 4;
+            scene.solver.linear = CVK_LINEAR_RBGS;
+            scene.solver.outer_iterations = outer;
+            scene.solver.inner_iterations = 3;
+            scene.solver.omega = 1.4f;
+            cvk_collider_desc plane = harness_far_plane();
+            if (far_plane) {
+                scene.colliders = &plane;
+                scene.collider_count = 1;
+            }
+            substeps = scene.substeps;
+            cvk_error err;
+            cvk_sim* sim;
+            REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
+            if (!far_plane)
+                start = harness_read_all(sim);
+            REQUIRE_OK(cvk_sim_step(sim, 24, &err), err);
+            xyz[far_plane] = harness_read_all(sim);
+            predicts[far_plane] = harness_pass_dispatches(sim, "predict");
+            n = cvk_sim_particle_count(sim);
+            cvk_sim_destroy(sim);
+        }
+        CHECK(predicts[0] == 0 && predicts[1] == substeps, "%u outer: %u and %u predict "
+              "dispatches a frame alone and with a plane, expected 0 and %u", outer, predicts[0],
+              predicts[1], substeps);
+        double apart = harness_max_diff(xyz[0], xyz[1], 3 * n);
+        CHECK(memcmp(xyz[0], xyz[1], sizeof(float) * 3 * n) == 0, "%u outer: the first sweep "
+              "that predicts and the prediction's own pass differ by %g m", outer, apart);
+        /* The cloth moved: the comparison is of a swing, not of a rest. */
+        double moved = harness_max_diff(start, xyz[0], 3 * n);
+        CHECK(moved > 0.02, "%u outer: the cloth moved only %g m in 24 frames", outer, moved);
+        printf("rbgs %u outer: the first sweep predicting and the prediction's own pass, the "
+               "same bits after 24 frames (moved %.3g m)\n", outer, moved);
+        free(start);
+        free(xyz[0]);
+        free(xyz[1]);
+    }
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -344,6 +408,7 @@ int main(void)
     jacobi_equals_reference(ctx, CVK_LINEAR_JACOBI);
     jacobi_equals_reference(ctx, CVK_LINEAR_CHEBYSHEV);
     all_pinned(ctx);
+    folded_prediction_same_bits(ctx);
     residual_falls(ctx, CVK_LINEAR_RBGS);
     residual_falls(ctx, CVK_LINEAR_GS_CPU);
     const char* enlarged[] = {"cloths.0.grid=[12,12]"};

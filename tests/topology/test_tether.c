@@ -272,10 +272,7 @@ static void finalize_tethers_same_bits(cvk_context* ctx, cvk_linear_solver linea
         cvk_cloth_desc cloth = soft_cloth(1.0f);
         cvk_scene_desc scene = scene_of(&cloth, 1);
         scene.solver.linear = linear;
-        cvk_collider_desc plane = cvk_default_collider_desc();
-        plane.type = CVK_COLLIDER_PLANE;
-        plane.point[1] = -10.0f;
-        plane.normal[1] = 1.0f;
+        cvk_collider_desc plane = harness_far_plane();
         if (far_plane) {
             scene.colliders = &plane;
             scene.collider_count = 1;
@@ -285,11 +282,7 @@ static void finalize_tethers_same_bits(cvk_context* ctx, cvk_linear_solver linea
         REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
         REQUIRE_OK(cvk_sim_step(sim, 10, &err), err);
         xyz[far_plane] = harness_read_all(sim);
-        cvk_sim_stats st;
-        REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
-        for (uint32_t i = 0; i < st.pass_count; i++)
-            if (!strcmp(st.passes[i].name, "tethers"))
-                tether_ops[far_plane] = st.passes[i].dispatches;
+        tether_ops[far_plane] = harness_pass_dispatches(sim, "tethers");
         cvk_sim_destroy(sim);
     }
     CHECK(tether_ops[1] == tether_ops[0] + substeps, "%s: %u tether dispatches a frame alone, "
