@@ -23,11 +23,12 @@ typedef enum cvk_spec_source {
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/topology/build.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
     CVK_SPEC_FUSED_WORKGROUP_SIZE, /* local_size_x_id = 0 of the fused sweeps (one workgroup) */
+    CVK_SPEC_REST,           /* the scene's solves keep a rest memory (lib/solvers/solve_pd.h) */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
     uint32_t count;
-    cvk_spec_source source[7];
+    cvk_spec_source source[8];
 } cvk_spec_recipe;
 
 /* The first sweep that predicts (id 6, PREDICTS, of shaders/solvers/pd_gauss_seidel.comp): the
@@ -41,17 +42,21 @@ typedef struct cvk_spec_recipe {
                          CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the tether
    pass's slots (id 2, as CVK_SPEC_PD_TETHER's), the contact passes' collider types and
-   self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's) and the prediction's wind (id 6). */
-#define CVK_SPEC_PD_FUSED {7, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
+   self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's), the prediction's wind (id 6) and the
+   rest memory (id 7, REST of shaders/solvers/pd_common.glsl). */
+#define CVK_SPEC_PD_FUSED {8, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
                                CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
-                               CVK_SPEC_SELF_CONTACT, CVK_SPEC_WIND}}
+                               CVK_SPEC_SELF_CONTACT, CVK_SPEC_WIND, CVK_SPEC_REST}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
-/* finalize with the tethers' projection (ids 2 and 6 of shaders/solvers/finalize.comp: the
-   tether slots, TETHERED). */
-#define CVK_SPEC_FINALIZE_TETHERED {7, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
+/* finalize (id 7: REST of shaders/solvers/pd_common.glsl), and with the tethers' projection
+   (ids 2 and 6 of shaders/solvers/finalize.comp: the tether slots, TETHERED). */
+#define CVK_SPEC_FINALIZE {8, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                               CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT, \
+                               CVK_SPEC_FALSE, CVK_SPEC_REST}}
+#define CVK_SPEC_FINALIZE_TETHERED {8, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                         CVK_SPEC_TETHER_SLOTS, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
-                                        CVK_SPEC_SELF_CONTACT, CVK_SPEC_TRUE}}
+                                        CVK_SPEC_SELF_CONTACT, CVK_SPEC_TRUE, CVK_SPEC_REST}}
 #define CVK_SPEC_PD_FIRST {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
                                CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The checking first sweeps (id 3: TETHERS of shaders/solvers/pd_common.glsl). */
@@ -64,9 +69,11 @@ typedef struct cvk_spec_recipe {
                              CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT}}
 #define CVK_SPEC_PD_CLOTH_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
                                    CVK_SPEC_FALSE, CVK_SPEC_TRUE}}
-/* The prediction (id 3 of shaders/solvers/predict.comp; id 2 unused). */
-#define CVK_SPEC_PREDICT {4, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
-                          CVK_SPEC_WIND}}
+/* The prediction (id 3 of shaders/solvers/predict.comp, WIND; id 7, REST of
+   shaders/solvers/pd_common.glsl; ids 2, 4 and 6 unused, 5 BOUNDED). */
+#define CVK_SPEC_PREDICT {8, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                          CVK_SPEC_WIND, CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
+                          CVK_SPEC_REST}}
 /* The implicit passes (id 2 of shaders/solvers/implicit_common.glsl: the contact filter is compiled in
    only for a scene with colliders). */
 #define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
@@ -97,7 +104,7 @@ typedef struct cvk_spec_recipe {
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
     X(PREDICT, PREDICT_COMP, CVK_SPEC_PREDICT, "predict (Verlet)")              \
-    X(FINALIZE, FINALIZE_COMP, CVK_SPEC_PD, "x += u")                           \
+    X(FINALIZE, FINALIZE_COMP, CVK_SPEC_FINALIZE, "x += u")                     \
     X(FINALIZE_TETHERED, FINALIZE_COMP, CVK_SPEC_FINALIZE_TETHERED, "tethers, x += u") \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS_FIRST_PREDICT_SRC, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TRUE), "predict + gauss-seidel + local step") \
@@ -182,6 +189,7 @@ typedef struct cvk_spec_inputs {
     bool wind;
     bool tethers;
     uint32_t tether_slots;
+    bool rest; /* the scene's rest rate is above 0 (solvers/reference.h) */
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "sim/sim_limits.h"
+#include "solvers/reference.h"
 #include "solvers/solver.h"
 
 #define DEFAULT_WORKGROUP_SIZE 64u
@@ -175,7 +176,8 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
                               .self_contact = s->collide->self,
                               .wind = s->aero->enabled,
                               .tethers = s->build.tether_anchor != NULL,
-                              .tether_slots = s->build.tether_slots};
+                              .tether_slots = s->build.tether_slots,
+                              .rest = cvk_ref_params_of(&s->params).rest_rate > 0.0};
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->device.context, &s->pipelines, &inputs, &created,
                                               error);

@@ -29,6 +29,8 @@ void main()
     if (halted && !TETHERED)
         return;
     bool stretched = watch.stretched != 0u;
+    finalize_record record = finalize_none();
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride())
-        finalize_one(pc.first + i, now, halted, stretched, TETHERED);
+        finalize_one(pc.first + i, halted, stretched, TETHERED, record);
+    finalize_watch(record, now);
 }

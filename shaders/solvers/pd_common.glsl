@@ -83,7 +83,13 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_WATCH) buffer Watch { cvk_gpu_w
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_ANCHOR, rgba32ui) uniform readonly uimageBuffer tether_anchor;
 layout(set = 0, binding = CVK_PD_BINDING_TETHER_LENGTH, rgba32f) uniform readonly imageBuffer tether_length;
 // The rest memory (lib/solvers/solve_pd.h): per free particle, the low-passed correction the solves
-// made to their predictions; predict adds it to the first iterate, finalize updates it.
+// made to their predictions; predict adds it to the first iterate, finalize updates it. REST
+// (id 7; true where not specialised) is false where the scene keeps none (no damping, or
+// contact): llvmpipe runs a branch's storage-buffer reads and writes whether or not any
+// invocation takes it, and finalize's never-taken update cost a third of that pass
+// (peer-hanging.json without tethers: finalize 3.2-3.4 -> 2.3-2.4 ms a frame without it, one
+// lavapipe thread).
+layout(constant_id = 7) const bool REST = true;
 layout(std430, set = 0, binding = CVK_PD_BINDING_REST) buffer RestMemory { vec4 rest_memory[]; };
 #define CONVERGE_SUMS CVK_PD_BINDING_CONVERGE
 #include "solvers/pd_converge.glsl"
@@ -125,6 +131,21 @@ vec3 predicted(vec3 last)
 // watch of predict.glsl and of a first sweep that predicts; lib/plan/state.h,
 // CVK_DIVERGED_STRETCH).
 const float RUNAWAY_STRETCH = 10.0;
+
+// The lowest particle of this invocation whose first spring the prediction found stretched past
+// RUNAWAY_STRETCH times its rest length (predict.glsl, local_step where the first sweep
+// predicts), written to the watch once after the invocation's particles (flush_stretched): the
+// same watch, and no atomics in the loop, which llvmpipe runs whether or not any invocation
+// takes their branch (finalize.glsl).
+uint stretched_first = CVK_WATCH_NONE;
+
+void flush_stretched()
+{
+    if (stretched_first != CVK_WATCH_NONE) {
+        watch.stretched = 1u;
+        atomicMin(watch.particle, stretched_first);
+    }
+}
 
 // Where the first sweep finds the last substep's displacements when it predicts itself
 // (pd_gauss_seidel.comp's PREDICTS; 0 in every other pass): 1 in src, 2 in dst, which the
@@ -291,10 +312,8 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
             // The divergence watch of a sweep that predicts, as predict.glsl's overstretched:
             // the particle's first spring, from the positions the substep starts from.
             if (FIRST_PREDICTS != 0u && q == 0u && j == 0u && pc.max_u2 > 0.0 && k[0] > 0.0 &&
-                dot(edge, edge) > (RUNAWAY_STRETCH * rest[0]) * (RUNAWAY_STRETCH * rest[0])) {
-                watch.stretched = 1u;
-                atomicMin(watch.particle, p);
-            }
+                dot(edge, edge) > (RUNAWAY_STRETCH * rest[0]) * (RUNAWAY_STRETCH * rest[0]))
+                stretched_first = min(stretched_first, p);
             vec3 du = cur - un;
             r += spring_rhs(du, edge + du, k[j], rest[j]);
             ksum += k[j];

@@ -95,8 +95,10 @@ void after_sweeps(uint after)
     if (halted && !tether_first)
         return;
     bool stretched = watch.stretched != 0u;
+    finalize_record record = finalize_none();
     for (uint p = lane; p < pc.finalize_count; p += lanes)
-        finalize_one(p, now, halted, stretched, tether_first);
+        finalize_one(p, halted, stretched, tether_first, record);
+    finalize_watch(record, now);
 }
 
 void main()
@@ -113,6 +115,7 @@ void main()
             watch.substep += 1u;
         for (uint p = lane; p < pc.count; p += lanes)
             src_u[p] = predict_one(p, (odd ? dst_u[p] : src_u[p]).xyz);
+        flush_stretched();
         memoryBarrierBuffer();
         barrier();
     }

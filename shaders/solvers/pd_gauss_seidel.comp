@@ -22,7 +22,7 @@
 // displacements are in src; 2: in dst (the outer iterations are odd), which the colours swept
 // before this one have overwritten, so their starting iterates are read from y. The watch
 // is predict's: this pass counts the substep and measures each particle's first spring
-// (local_step). The same bits as the prediction's own pass (tests/solvers/test_solver.c), one
+// (local_step, flush_stretched). The same bits as the prediction's own pass (tests/solvers/test_solver.c), one
 // pass over the particles fewer a substep: peer-hanging.json 22.7-23.5 -> 20.0-21.2 ms a frame
 // on one lavapipe thread (docs/performance.md).
 layout(constant_id = 6) const uint PREDICTS = 0u;
@@ -80,4 +80,6 @@ void main()
         }
         dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0);
     }
+    if (FIRST && PREDICTS != 0u)
+        flush_stretched();
 }

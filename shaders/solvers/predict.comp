@@ -26,4 +26,5 @@ void main()
         uint p = pc.first + i;
         dst[p] = predict_one(p, fetch(src, p));
     }
+    flush_stretched();
 }

@@ -1,6 +1,7 @@
 // The prediction of one particle (predict.comp; pd_fused.comp before its first outer
 // iteration): y = u (1 - damping) + h^2 g (+ h^2 F / m of the air, WIND) from `last`, the
-// last substep's displacement of p, and the first iterate y + rest memory, which it returns.
+// last substep's displacement of p, and the first iterate y + rest memory, which it returns;
+// a first spring stretched past its bound is noted for flush_stretched (pd_common.glsl).
 // Include after pd_common.glsl, with PREDICT_WIND_ID the constant id of WIND.
 #ifndef SOLVERS_PREDICT_GLSL
 #define SOLVERS_PREDICT_GLSL
@@ -25,11 +26,9 @@ vec4 predict_one(uint p, vec3 last)
         yp += fetch(air, p);
     vec4 xp = imageLoad(x_read, int(p));
     y[p] = vec4(yp, xp.w);
-    vec3 first = pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
-    if (pc.max_u2 > 0.0 && overstretched(p, xp.xyz)) {
-        watch.stretched = 1u;
-        atomicMin(watch.particle, p);
-    }
+    vec3 first = REST && pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
+    if (pc.max_u2 > 0.0 && overstretched(p, xp.xyz))
+        stretched_first = min(stretched_first, p);
     return vec4(first, 0.0);
 }
 

@@ -5,6 +5,9 @@
      cvk_sim_step returns CVK_ERROR_DIVERGED in frame 19 (one substep per frame), the statistics say so, and the positions stop there, finite; rewriting the state clears it;
    - the same cloth 5 m/s slower is fast but sane: 20 frames, never diverged;
    - a step far too long for the springs (dt = 1000 s) is caught by the stretch bound in frame 0;
+   - a spring written 20 times its rest length long is caught by the prediction's stretch check
+     in the first substep, before any particle moves, and names the cloth it is in: with the
+     prediction's own pass and where rbgs's first sweep predicts;
    - hanging.json, a normal scene, runs without tripping it.
    Each with every GPU linear solver. And ribbons.json with over-relaxed Gauss-Seidel (omega
    1.7 and 1.8) and contact runs 60 frames without tripping it, largest stretch under 100 %. */
@@ -118,6 +121,49 @@ static void test_step_too_long(cvk_context* ctx, cvk_linear_solver linear, const
     cvk_sim_destroy(sim);
 }
 
+/* Two cloths, a particle of the second written 20 spacings from its place: the first substep's
+   stretch check stops the simulation before any particle moves, and names cloth 1. */
+static void test_stretched_start(cvk_context* ctx, cvk_linear_solver linear, float damping,
+                                 const char* name)
+{
+    cvk_cloth_desc cloths[2];
+    for (int c = 0; c < 2; c++) {
+        cloths[c] = cvk_default_cloth_desc();
+        cloths[c].grid[0] = 6;
+        cloths[c].grid[1] = 5;
+        cloths[c].origin[0] = 2.0f * (float)c;
+    }
+    cvk_scene_desc scene = cvk_default_scene_desc();
+    scene.cloths = cloths;
+    scene.cloth_count = 2;
+    scene.substeps = 4;
+    scene.damping = damping;
+    scene.solver.linear = linear;
+    cvk_error err = {.message = ""};
+    cvk_sim* sim = NULL;
+    REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
+    float* xyz = harness_read_all(sim);
+    uint64_t n = cvk_sim_particle_count(sim), moved = 30 + 14; /* cloth 1, row 2, column 2 */
+    float spacing = cloths[1].size[0] / (float)(cloths[1].grid[0] - 1);
+    xyz[3 * moved + 1] += 20.0f * spacing;
+    REQUIRE_OK(cvk_sim_write_positions(sim, xyz, n, &err), err);
+    cvk_result r = cvk_sim_step(sim, 1, &err);
+    cvk_sim_stats st;
+    REQUIRE_OK(cvk_sim_get_stats(sim, &st, &err), err);
+    float* after = harness_read_all(sim);
+    CHECK(r == CVK_ERROR_DIVERGED && st.diverged && st.diverged_frame == 0 &&
+              st.diverged_cloth == 1 && !st.diverged_nonfinite,
+          "%s: a spring 20 times its length: %s, diverged %d in frame %llu, cloth %u", name,
+          cvk_result_name(r), st.diverged, (unsigned long long)st.diverged_frame,
+          st.diverged_cloth);
+    CHECK(memcmp(xyz, after, 3 * n * sizeof(float)) == 0, "%s: a spring 20 times its length: "
+          "particles moved by up to %g m before the watch stopped them", name,
+          harness_max_diff(xyz, after, 3 * n));
+    free(xyz);
+    free(after);
+    cvk_sim_destroy(sim);
+}
+
 static void test_hanging(cvk_context* ctx)
 {
     const char* root = getenv("CLOTHVK_SOURCE_ROOT");
@@ -178,6 +224,10 @@ int main(void)
         test_fast_but_sane(ctx, linears[i], name);
         test_step_too_long(ctx, linears[i], name);
     }
+    /* Damping keeps the prediction's own pass for rbgs; without it the first sweep predicts. */
+    test_stretched_start(ctx, CVK_LINEAR_RBGS, 0.0f, "rbgs, the first sweep predicting");
+    test_stretched_start(ctx, CVK_LINEAR_RBGS, 0.01f, "rbgs, the prediction's own pass");
+    test_stretched_start(ctx, CVK_LINEAR_JACOBI, 0.0f, "jacobi");
     test_hanging(ctx);
     test_ribbons_over_relaxed(ctx);
     return harness_finish(ctx);
