@@ -526,13 +526,13 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
    h^2 g — no air, no rest memory — and nothing comes between it and the first sweep or reads
    what predict leaves in the first iterate's buffer: no grab, no contact (whose marks the
    first sweep reads), no convergence check (whose residual reads the first iterate), no
-   attached particle. One pass over the particles fewer a substep, the same bits. */
+   attached particle — and colour 0 has particles (its dispatch counts the substep for the
+   divergence watch). One pass over the particles fewer a substep, the same bits. */
 static bool first_sweep_predicts(const pd_builder* pb, const cvk_build* b)
 {
     return !pb->fused && !pb->checking && !pb->contact && !pb->sim->grab->planned &&
            !pb->sim->aero->enabled && b->attached_count == 0 && pb->base.rest_rate == 0.0f &&
-           b->free_count > 0 && b->colour_count > 0 && b->colour_start[0] == 0 &&
-           b->colour_start[1] > 0;
+           b->colour_count > 0 && b->colour_start[1] > 0;
 }
 
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer

@@ -139,6 +139,17 @@ const float RUNAWAY_STRETCH = 10.0;
 // takes their branch (finalize.glsl).
 uint stretched_first = CVK_WATCH_NONE;
 
+// Notes p for flush_stretched where the watch is on (pc.max_u2 > 0) and p's first spring — of
+// stiffness k and rest length L, e = x_p - x_c at the start of the substep — is longer than
+// RUNAWAY_STRETCH L. One spring a particle is enough (a solve that blows up stretches every
+// spring around where it starts).
+void watch_first_spring(uint p, float k, float rest, vec3 e)
+{
+    float limit = RUNAWAY_STRETCH * rest;
+    if (pc.max_u2 > 0.0 && k > 0.0 && dot(e, e) > limit * limit)
+        stretched_first = min(stretched_first, p);
+}
+
 void flush_stretched()
 {
     if (stretched_first != CVK_WATCH_NONE) {
@@ -254,8 +265,8 @@ vec3 free_of_tethers(uint p, vec3 xp, vec3 cur, vec3 d)
 // a whole (y = cur = u_c, r = 0) moves by exactly 0. The sum is `precise` too: where the first
 // sweep predicts (pd_gauss_seidel.comp's PREDICTS), y and cur are one value in one shader, and
 // the compiler folded (w y + r) - w cur to r, which float rounding does not: a hanging cloth
-// was an ulp off the prediction's own pass after 6 frames. From scratch the quotient rounded by an
-// ulp of u every substep, the same way each time, and a freely falling cloth's velocity
+// was an ulp off the prediction's own pass after 6 frames. From scratch the quotient rounded
+// by an ulp of u every substep, the same way each time, and a freely falling cloth's velocity
 // drifted by it: 5e-5 m in 0.8 s on lavapipe, 1.5e-4 m on an NVIDIA H200 (5.3e-6 m now on
 // both). No texel more than before: diag is w + ksum, summed from the k the sweep reads.
 vec3 jacobi_move(vec4 b, vec3 cur, vec3 acc, float ksum)
@@ -309,11 +320,9 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
                 now = swept ? FETCH_DST(n[j]) : un;
             }
             vec3 edge = xp - fetch(x_read, n[j]);
-            // The divergence watch of a sweep that predicts, as predict.glsl's overstretched:
-            // the particle's first spring, from the positions the substep starts from.
-            if (FIRST_PREDICTS != 0u && q == 0u && j == 0u && pc.max_u2 > 0.0 && k[0] > 0.0 &&
-                dot(edge, edge) > (RUNAWAY_STRETCH * rest[0]) * (RUNAWAY_STRETCH * rest[0]))
-                stretched_first = min(stretched_first, p);
+            // The divergence watch of a sweep that predicts, as predict.glsl's.
+            if (FIRST_PREDICTS != 0u && q == 0u && j == 0u)
+                watch_first_spring(p, k[0], rest[0], edge);
             vec3 du = cur - un;
             r += spring_rhs(du, edge + du, k[j], rest[j]);
             ksum += k[j];

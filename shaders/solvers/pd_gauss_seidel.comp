@@ -18,13 +18,13 @@
 // PREDICTS (FIRST only; lib/solvers/pd_passes.c, first_sweep_predicts) folds the prediction
 // into the first sweep of a substep where it is plain, y = u (1 - damping) + h^2 g (no air,
 // rest memory, contact, check, grab or attached particle): each particle starts from its
-// prediction and writes it to y, and neighbours not yet swept are predicted where read. 1: the last substep's
-// displacements are in src; 2: in dst (the outer iterations are odd), which the colours swept
-// before this one have overwritten, so their starting iterates are read from y. The watch
-// is predict's: this pass counts the substep and measures each particle's first spring
-// (local_step, flush_stretched). The same bits as the prediction's own pass (tests/solvers/test_solver.c), one
-// pass over the particles fewer a substep: peer-hanging.json 22.7-23.5 -> 20.0-21.2 ms a frame
-// on one lavapipe thread (docs/performance.md).
+// prediction and writes it to y, and neighbours not yet swept are predicted where read. 1: the
+// last substep's displacements are in src; 2: in dst (the outer iterations are odd), which the
+// colours swept before this one have overwritten, so their starting iterates are read from y.
+// The watch is predict's: this pass counts the substep and measures each particle's first
+// spring (local_step, flush_stretched). The same bits as the prediction's own pass
+// (tests/solvers/test_solver.c), one pass over the particles fewer a substep: peer-hanging.json
+// 22.7-23.5 -> 20.0-21.2 ms a frame on one lavapipe thread (docs/performance.md).
 layout(constant_id = 6) const uint PREDICTS = 0u;
 #define FIRST_PREDICTS PREDICTS
 #include "solvers/pd_common.glsl"

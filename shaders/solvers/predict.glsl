@@ -10,15 +10,6 @@
 layout(constant_id = PREDICT_WIND_ID) const bool WIND = false;
 layout(set = 0, binding = CVK_PD_BINDING_EXTERNAL, rgba32f) uniform readonly imageBuffer air;
 
-bool overstretched(uint p, vec3 xp)
-{
-    uint c = quad_neighbours(0u, p).x;
-    float k = quad_k(0u, p).x;
-    float limit = RUNAWAY_STRETCH * imageLoad(adjacency_rest, int(p)).x;
-    vec3 d = fetch(x_read, c) - xp;
-    return k > 0.0 && dot(d, d) > limit * limit;
-}
-
 vec4 predict_one(uint p, vec3 last)
 {
     vec3 yp = predicted(last);
@@ -27,8 +18,8 @@ vec4 predict_one(uint p, vec3 last)
     vec4 xp = imageLoad(x_read, int(p));
     y[p] = vec4(yp, xp.w);
     vec3 first = REST && pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
-    if (pc.max_u2 > 0.0 && overstretched(p, xp.xyz))
-        stretched_first = min(stretched_first, p);
+    watch_first_spring(p, quad_k(0u, p).x, imageLoad(adjacency_rest, int(p)).x,
+                       xp.xyz - fetch(x_read, quad_neighbours(0u, p).x));
     return vec4(first, 0.0);
 }
 
