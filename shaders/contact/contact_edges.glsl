@@ -157,16 +157,15 @@ uvec2 cell_list(uint e)
     return uvec2(cells[at], cells[at + 1u]);
 }
 
-// A list's entry `listed` (an edge f and whether the walk met it in the home cell) with f's
-// ends c and d (their positions' bits and indices): met by e = (a, b) at xa, xb, its midpoint
-// m, where the pair is to test (each pair once: in e's own cell from the lower index) and f's
-// midpoint is within reach.
-void list_meet(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, float reach2, uint listed, uvec4 c,
-               uvec4 d, inout float nearest_e, inout uint found)
+// A list's edge f (`home`: the walk met it in e's own cell) with its ends c and d (their
+// positions' bits and indices): met by e = (a, b) at xa, xb, its midpoint m, where the pair is
+// to test (each pair once: in e's own cell from the lower index) and f's midpoint is within
+// reach.
+void list_meet(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, float reach2, uint f, bool home,
+               uvec4 c, uvec4 d, inout float nearest_e, inout uint found)
 {
-    uint f = listed & ~CVK_CELL_HOME;
     vec3 xc = uintBitsToFloat(c.xyz), xd = uintBitsToFloat(d.xyz);
-    if ((listed < CVK_CELL_HOME || f > e) && within_reach(m, 0.5 * (xc + xd), reach2)) {
+    if ((!home || f > e) && within_reach(m, 0.5 * (xc + xd), reach2)) {
         bool both;
         float dist = ends_distance(ab, xa, xb, uvec2(c.w, d.w), xc, xd, both);
         meet(e, f, dist, both, nearest_e, found);
@@ -196,8 +195,8 @@ void detect(uint e)
     // a step, both entries' loads before either's test: a CPU device runs an invocation's reads
     // one after another, and the second entry's gathers overlap the first's (the flat 40 x 40
     // drape's edge detection 4.4 -> 4.1 ms a detection, the six-cloth pile's 14.2 -> 12.3 in
-    // its first 20 frames; four entries a step, or the second entry's loads after the first's
-    // test, gained nothing).
+    // its first 20 frames; four entries a step, each loaded just before its test, gained
+    // nothing).
     for (uint k = 0u; !walk && k < list.y; k += 2u) {
         bool second = k + 1u < list.y;
         uint listed0 = CELL_POOL(pool_base() + list.x + k);
@@ -205,9 +204,9 @@ void detect(uint e)
         uint f0 = listed0 & ~CVK_CELL_HOME, f1 = listed1 & ~CVK_CELL_HOME;
         uvec4 c0 = imageLoad(edge_ends_t, int(2u * f0)), d0 = imageLoad(edge_ends_t, int(2u * f0 + 1u));
         uvec4 c1 = imageLoad(edge_ends_t, int(2u * f1)), d1 = imageLoad(edge_ends_t, int(2u * f1 + 1u));
-        list_meet(e, ab, xa, xb, m, reach2, listed0, c0, d0, nearest_e, found);
+        list_meet(e, ab, xa, xb, m, reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0, nearest_e, found);
         if (second)
-            list_meet(e, ab, xa, xb, m, reach2, listed1, c1, d1, nearest_e, found);
+            list_meet(e, ab, xa, xb, m, reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1, nearest_e, found);
     }
     hash_walk w = LISTING ? hash_walk_begin(m, instance, reach2) : hash_walk_begin_half(m, instance);
     while (walk && hash_walk_step(w, m, reach2, entry, here)) {
