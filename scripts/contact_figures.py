@@ -6,15 +6,23 @@ one CSV row. Run two builds in one sitting to compare them:
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv [--sizes 20,40,80]
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --held
 
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv --rest [--label NAME]
+
 --held: how much the bounds hold the cloth back, by substep length (held.csv): the 40 x 40 drape
 in 8, 4, 2 and 1 substeps a frame of 1/60 s, and the pile and the twist at their own settings.
+--rest: how the drape and the pile come to rest (rest.csv): by window of frames, the detections
+and how far the particles move a substep (the scene run a substep a frame, its positions after
+every substep read from a PC2 point cache); --label names the build in a first column.
 """
 import argparse
 import csv
 import json
 import os
+import struct
 import subprocess
 import sys
+import tempfile
+from array import array
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COLUMNS = ["scene", "particles", "ms per frame", "ms per frame without self-contact",
@@ -24,8 +32,8 @@ COLUMNS = ["scene", "particles", "ms per frame", "ms per frame without self-cont
 GROUP = ("contacts", "hash", "detect faces", "detect edges", "bounds")
 
 
-def run(sim, scene, sets):
-    argv = [sim, os.path.join(ROOT, "assets", "scenes", scene), "--json"]
+def run(sim, scene, sets, extra=()):
+    argv = [sim, os.path.join(ROOT, "assets", "scenes", scene), "--json", *extra]
     for s in sets:
         argv += ["--set", s]
     env = dict(os.environ, LP_NUM_THREADS="0")
@@ -78,6 +86,51 @@ def held_rows(sim):
     return HELD_COLUMNS, rows
 
 
+REST_COLUMNS = ["build", "scene", "frames", "detections", "substeps", "mean move a substep mm",
+                "largest move a substep mm", "largest speed m/s",
+                "particle-substeps faster than 0.5 m/s"]
+
+
+def pc2_samples(path):
+    """A PC2 point cache's samples, each an array of 3 floats a point."""
+    with open(path, "rb") as f:
+        head = f.read(32)
+        points, samples = struct.unpack("<i", head[16:20])[0], struct.unpack("<i", head[28:32])[0]
+        data = array("f")
+        data.frombytes(f.read())
+    if sys.byteorder != "little":
+        data.byteswap()
+    n = 3 * points
+    return [data[i * n:(i + 1) * n] for i in range(samples)]
+
+
+def rest_rows(sim, label):
+    rows = []
+    for name, scene, window, windows in (("drape 40x40", "contact-drape.json", 20, 3),
+                                         ("pile of six 20x20", "contact-pile.json", 60, 6)):
+        d = run(sim, scene, [], ["--frames", "1"])
+        k, dt = d["substeps"], d["dt"]
+        searched = [0] + [run(sim, scene, [], ["--frames", str(window * (i + 1))])
+                          ["contacts"]["searches"] for i in range(windows)]
+        with tempfile.TemporaryDirectory() as tmp:
+            cache = os.path.join(tmp, "run.pc2")
+            run(sim, scene, ["substeps=1"],
+                ["--frames", str(k * window * windows), "--pc2", cache])
+            x = pc2_samples(cache)
+        for i in range(windows):
+            moves = []
+            for s in range(i * window * k, (i + 1) * window * k):
+                a, b = x[s], x[s + 1]
+                moves += [((b[j] - a[j]) ** 2 + (b[j + 1] - a[j + 1]) ** 2 +
+                           (b[j + 2] - a[j + 2]) ** 2) ** 0.5 for j in range(0, len(a), 3)]
+            top = max(moves)
+            measured(rows, [label, name, f"{i * window + 1}-{(i + 1) * window}",
+                            searched[i + 1] - searched[i], window * k,
+                            round(1000 * sum(moves) / len(moves), 4), round(1000 * top, 2),
+                            round(top / dt, 2), sum(1 for m in moves if m > 0.5 * dt)])
+    return REST_COLUMNS, rows
+
+
 def scene_rows(sim, sizes):
     rows = []
     for n in (int(s) for s in sizes.split(",")):
@@ -97,9 +150,13 @@ def main():
     parser.add_argument("--sizes", default="20,40,80")
     parser.add_argument("--held", action="store_true",
                         help="the particles held at their bounds, by substep length")
+    parser.add_argument("--rest", action="store_true",
+                        help="how the drape and the pile come to rest")
+    parser.add_argument("--label", default="", help="with --rest: the build's name in the rows")
     a = parser.parse_args()
     sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
-    columns, rows = held_rows(sim) if a.held else scene_rows(sim, a.sizes)
+    columns, rows = (held_rows(sim) if a.held else
+                     rest_rows(sim, a.label) if a.rest else scene_rows(sim, a.sizes))
     with open(a.out, "w", newline="") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(columns)
