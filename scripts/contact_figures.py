@@ -18,11 +18,11 @@ import argparse
 import csv
 import json
 import os
-import struct
 import subprocess
 import sys
 import tempfile
-from array import array
+
+import pc2
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COLUMNS = ["scene", "particles", "ms per frame", "ms per frame without self-contact",
@@ -91,19 +91,6 @@ REST_COLUMNS = ["build", "scene", "frames", "detections", "substeps", "mean move
                 "particle-substeps faster than 0.5 m/s"]
 
 
-def pc2_samples(path):
-    """A PC2 point cache's samples, each an array of 3 floats a point."""
-    with open(path, "rb") as f:
-        head = f.read(32)
-        points, samples = struct.unpack("<i", head[16:20])[0], struct.unpack("<i", head[28:32])[0]
-        data = array("f")
-        data.frombytes(f.read())
-    if sys.byteorder != "little":
-        data.byteswap()
-    n = 3 * points
-    return [data[i * n:(i + 1) * n] for i in range(samples)]
-
-
 def rest_rows(sim, label):
     rows = []
     for name, scene, window, windows in (("drape 40x40", "contact-drape.json", 20, 3),
@@ -116,7 +103,7 @@ def rest_rows(sim, label):
             cache = os.path.join(tmp, "run.pc2")
             run(sim, scene, ["substeps=1"],
                 ["--frames", str(k * window * windows), "--pc2", cache])
-            x = pc2_samples(cache)
+            _, x = pc2.read(cache)
         for i in range(windows):
             moves = []
             for s in range(i * window * k, (i + 1) * window * k):

@@ -5,7 +5,7 @@
 
 Good input: a scene of two grid cloths is run with --frames 6 --every 3 --pc2 out/anim.pc2. The
 folder must then hold exactly anim.pc2 and anim.obj (no temporary file). The PC2 file is read
-back with struct: header "POINTCACHE2\\0", version 1, numPoints = every particle of both cloths,
+back by scripts/pc2.py: header "POINTCACHE2\\0", version 1, numPoints = every particle of both cloths,
 startFrame 0, sampleRate 3, numSamples 3 (frames 0, 3 and 6: every 3·i <= 6, the rule of --obj),
 and its size must be the header plus exactly those samples.
 
@@ -27,6 +27,9 @@ import tempfile
 
 import tooltest
 
+sys.path.insert(0, os.path.join(tooltest.ROOT, "scripts"))
+import pc2  # noqa: E402 (scripts/pc2.py, the one PC2 reader)
+
 [SIM] = tooltest.tool_paths("clothvk-sim")
 
 # The scene of test_obj.py: "flag" hangs from two corners, the second cloth lies flat.
@@ -42,7 +45,6 @@ POINTS = sum(c["grid"][0] * c["grid"][1] for c in CLOTHS)
 SCENE_TEXT = json.dumps({"name": "two-cloths", "dt": 0.002, "substeps": 4, "frames": 10,
                          "solver": {"linear": "rbgs", "outer_iterations": 2, "inner_iterations": 2},
                          "cloths": CLOTHS}, indent=2)
-HEADER = struct.Struct("<12siiffi")
 DUMP = "out.csv"
 
 
@@ -66,22 +68,12 @@ def grid_positions(cloth):
 
 
 def read_pc2(path):
-    """(header fields, samples as lists of [x, y, z], problems)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    if len(data) < HEADER.size:
-        return None, [], [f"{path}: {len(data)} bytes, shorter than the {HEADER.size}-byte header"]
-    magic, version, points, start, rate, count = HEADER.unpack_from(data)
-    problems = []
-    expected_size = HEADER.size + count * points * 12
-    if len(data) != expected_size:
-        problems.append(f"{os.path.basename(path)}: {len(data)} bytes, expected {expected_size} "
-                        f"for {count} samples of {points} points")
-        return (magic, version, points, start, rate, count), [], problems
-    values = struct.unpack_from(f"<{count * points * 3}f", data, HEADER.size)
-    samples = [[list(values[3 * (s * points + p):3 * (s * points + p) + 3]) for p in range(points)]
-               for s in range(count)]
-    return (magic, version, points, start, rate, count), samples, problems
+    """(header fields, samples as lists of [x, y, z], problems), by scripts/pc2.py."""
+    try:
+        header, flat = pc2.read(path)
+    except pc2.Pc2Error as e:
+        return None, [], [str(e)]
+    return header, [[list(s[i:i + 3]) for i in range(0, len(s), 3)] for s in flat], []
 
 
 def obj_positions(path):
