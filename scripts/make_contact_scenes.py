@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Writes the contact scenes whose geometry is computed rather than typed: a square cloth
-twisted by two full turns while its held edges close in (assets/scenes/contact-twist.json) and
-six cloths dropped on a box (assets/scenes/contact-pile.json). Run from the repository root;
-standard library only. The drape (assets/scenes/contact-drape.json) is written by hand."""
+twisted by two full turns while its held edges close in (assets/scenes/contact-twist.json),
+six cloths dropped on a box (assets/scenes/contact-pile.json) and, for a GPU, 25 layers of
+100 x 100 dropped on a cylinder (assets/scenes/contact-pile-large.json: 250,000 particles). Run
+from the repository root; standard library only. The drape (assets/scenes/contact-drape.json) is written by hand."""
 import json
 import math
 import os
@@ -53,9 +54,9 @@ def twist(n=24, side=0.6, turns=2.0, close_in=0.2, turn_time=3.0, steps_per_turn
     }
 
 
-def pile(count=6, n=20, side=0.7, first=0.75, gap=0.06):
-    """`count` square cloths, each turned 15 degrees further about the vertical than the one
-    below, stacked `gap` m apart from `first` m up, over a box on the ground."""
+def layers(count, n, side, first, gap, mass):
+    """`count` square n x n cloths of `side` m and `mass` kg, each turned 15 degrees further
+    about the vertical than the one below, stacked `gap` m apart from `first` m up."""
     colours = [[0.75, 0.18, 0.12], [0.2, 0.45, 0.75], [0.85, 0.65, 0.2], [0.3, 0.6, 0.3],
                [0.55, 0.3, 0.65], [0.8, 0.8, 0.78]]
     cloths = []
@@ -69,9 +70,15 @@ def pile(count=6, n=20, side=0.7, first=0.75, gap=0.06):
         cloths.append({
             "name": f"cloth{k}", "grid": [n, n], "size": [side, side],
             "origin": [round(c, 7) for c in origin], "u_axis": [round(c, 7) for c in u],
-            "v_axis": [round(c, 7) for c in v], "mass": 0.049, "stiffness": STIFF,
+            "v_axis": [round(c, 7) for c in v], "mass": mass, "stiffness": STIFF,
             "color": colours[k % len(colours)],
         })
+    return cloths
+
+
+def pile(count=6, n=20, side=0.7, first=0.75, gap=0.06):
+    """`count` cloths (layers) over a box on the ground."""
+    cloths = layers(count, n, side, first, gap, 0.049)
     return {
         "name": "contact-pile", "dt": 0.00208333333, "substeps": 8, "frames": 180,
         "damping": 0.002, "solver": {**SOLVER, "strain_limit": 0.05}, "collision": CONTACT,
@@ -90,6 +97,24 @@ def write(name, scene):
     print(f"make_contact_scenes: wrote {path}")
 
 
+def pile_large(count=25, n=100, side=1.0, first=0.5, gap=0.015):
+    """The issue's GPU pile (OGC's 50 layers dropped on a cylinder, halved): `count` layers of
+    n x n over a horizontal cylinder (a capsule longer than the cloths are wide) on the
+    ground. The layers start `gap` apart, past the contact radius (1.3 half-spacings), so the
+    start is clean."""
+    cloths = layers(count, n, side, first, gap, 0.1)
+    return {
+        "name": "contact-pile-large", "dt": 0.00208333333, "substeps": 8, "frames": 120,
+        "damping": 0.002, "solver": {**SOLVER, "strain_limit": 0.05}, "collision": CONTACT,
+        "cloths": cloths,
+        "colliders": [GROUND, {"type": "capsule", "name": "cylinder", "a": [-0.7, 0.25, 0],
+                               "b": [0.7, 0.25, 0], "radius": 0.15,
+                               "color": [0.5, 0.52, 0.58]}],
+        "render": render([2.4, 1.6, 2.6], [0, 0.3, 0]),
+    }
+
+
 if __name__ == "__main__":
     write("contact-twist.json", twist())
     write("contact-pile.json", pile())
+    write("contact-pile-large.json", pile_large())
