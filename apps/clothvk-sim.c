@@ -341,6 +341,7 @@ static json_t* contacts_json(const cvk_sim_stats* st)
     json_object_set_new(contacts, "searches", json_integer((json_int_t)st->contact_searches));
     json_object_set_new(contacts, "held", json_integer((json_int_t)st->contact_held));
     json_object_set_new(contacts, "held_fraction", json_real(st->contact_held_fraction));
+    json_object_set_new(contacts, "cut_short", json_boolean(st->contact_cut));
     return contacts;
 }
 

@@ -159,7 +159,7 @@ cvk_result cvk_collide_positions_written(struct cvk_sim* sim, const float* x, co
    substep relative to the rest, or squeezed: docs/limits.md) — and that count as a fraction
    of the free particles' substeps (the first after the state was written not counted). */
 cvk_result cvk_collide_counts(struct cvk_sim* sim, uint64_t* searches, uint64_t* held,
-                              double* held_fraction, cvk_error* error);
+                              double* held_fraction, bool* cut, cvk_error* error);
 
 /* The contact state a snapshot carries so that stepping on from it gives the same bits: the
    frame state, where the last detection saw each particle and its bound, the lists, and each

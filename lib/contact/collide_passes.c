@@ -268,10 +268,11 @@ cvk_result cvk_collide_positions_written(cvk_sim* s, const float* x, const float
 }
 
 cvk_result cvk_collide_counts(cvk_sim* s, uint64_t* searches, uint64_t* held,
-                              double* held_fraction, cvk_error* error)
+                              double* held_fraction, bool* cut, cvk_error* error)
 {
     *searches = *held = 0;
     *held_fraction = 0.0;
+    *cut = false;
     if (!s->collide->self)
         return CVK_SUCCESS;
     cvk_gpu_frame frame;
@@ -279,6 +280,7 @@ cvk_result cvk_collide_counts(cvk_sim* s, uint64_t* searches, uint64_t* held,
                                        &s->collide->frame, &frame, sizeof frame, error);
     if (r == CVK_SUCCESS) {
         *searches = frame.searches;
+        *cut = frame.cut != 0;
         *held = (uint64_t)frame.held_hi << 32 | frame.held_lo;
         double counted = (double)frame.held_substeps * s->build.free_count;
         *held_fraction = counted > 0.0 ? (double)*held / counted : 0.0;

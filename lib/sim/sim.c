@@ -253,6 +253,33 @@ static void record_frame(const cvk_sim* s, VkCommandBuffer cmd)
     cvk_plan_record_frame(&s->plan, &s->pipelines, &queries, cmd);
 }
 
+/* With self-contact, cvk_sim_step's frames end by copying the contact frame state's cut flag
+   (a detection's loops ended early: shaders/contact/bounds.glsl) into the watch, which the host
+   reads after its fence (cvk_sim_watch_check): no submission more. */
+static void record_cut_copy(const cvk_sim* s, VkCommandBuffer cmd)
+{
+    if (!s->collide->self)
+        return;
+    VkMemoryBarrier to_copy = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT, /* the frame state; the watch too */
+        .dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                         1, &to_copy, 0, NULL, 0, NULL);
+    VkBufferCopy region = {.srcOffset = offsetof(cvk_gpu_frame, cut),
+                           .dstOffset = offsetof(cvk_gpu_watch, contact_cut),
+                           .size = sizeof(uint32_t)};
+    vkCmdCopyBuffer(cmd, s->collide->frame.buffer, s->watch.buffer, 1, &region);
+    VkMemoryBarrier to_host = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_HOST_READ_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &to_host, 0, NULL, 0, NULL);
+}
+
 /* frame_cmd holds one frame of the plan; a host plan records nothing. */
 cvk_result cvk_sim_record_frame_cmd(cvk_sim* s, cvk_error* error)
 {
@@ -264,6 +291,7 @@ cvk_result cvk_sim_record_frame_cmd(cvk_sim* s, cvk_error* error)
     if (r != CVK_SUCCESS)
         return r;
     record_frame(s, s->frame_cmd);
+    record_cut_copy(s, s->frame_cmd);
     return cvk_command_buffer_end(s->frame_cmd, error);
 }
 

@@ -10,7 +10,8 @@
 cvk_result cvk_sim_watch_create(cvk_sim* s, cvk_error* error)
 {
     cvk_result r = cvk_buffer_create(s->device.context, sizeof(cvk_gpu_watch),
-                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, CVK_MEMORY_HOST,
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     CVK_MEMORY_HOST,
                                      "divergence watch", &s->watch, error);
     if (r == CVK_SUCCESS)
         cvk_sim_watch_reset(s);
@@ -20,7 +21,8 @@ cvk_result cvk_sim_watch_create(cvk_sim* s, cvk_error* error)
 void cvk_sim_watch_reset(cvk_sim* s)
 {
     cvk_gpu_watch fresh = {.substep = 0, .diverged_at = CVK_WATCH_NONE,
-                           .particle = CVK_WATCH_NONE, .reason = 0, .stretched = 0};
+                           .particle = CVK_WATCH_NONE, .reason = 0, .stretched = 0,
+                           .contact_cut = 0};
     if (s->watch.mapped)
         memcpy(s->watch.mapped, &fresh, sizeof fresh);
     s->watch_frames = s->frames;
@@ -49,6 +51,18 @@ cvk_result cvk_sim_watch_check(const cvk_sim* s, cvk_error* error)
 {
     cvk_sim_stats st = {0};
     cvk_sim_watch_stats(s, &st);
+    cvk_gpu_watch w = {0};
+    if (!st.diverged && s->watch.mapped)
+        memcpy(&w, s->watch.mapped, sizeof w);
+    if (w.contact_cut)
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "contact detection was cut short by frame %llu: %s ends a shader's loops "
+                        "after a fixed number of iterations (lavapipe: 65,535 an invocation) and "
+                        "the cloths lie too crowded for it, so pairs were missed and the guarantee "
+                        "that no cloth passes through cloth no longer holds; a larger "
+                        "cvk_sim_desc.max_workgroups (clothvk-sim --max-workgroups 65535) "
+                        "gives detection one item an invocation",
+                        (unsigned long long)s->frames, s->device.context->properties.deviceName);
     if (!st.diverged)
         return CVK_SUCCESS;
     const char* why = st.diverged_nonfinite

@@ -22,6 +22,21 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_FRAME) CONTACT_F
 // Per particle: where detection saw it (xyz) and its bound (w; contact_bound.comp).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ, rgba32f) uniform readonly imageBuffer searched_t;
 
+// Whether the device ended this invocation's loops early. A conformant device runs every loop
+// to its end, but llvmpipe (lavapipe) ends them silently once an invocation has run 65,535
+// loop iterations in all, counting every loop of every item it takes, and from then on runs
+// each loop's body once: a detection so cut short misses pairs and measures bounds too large,
+// and the guarantee no longer holds. A last loop of two steps whose count comes from the push
+// constants (so no compiler unrolls it) runs once only when that happened; the passes that walk
+// the hashes call it after their work and raise frame.cut (the host reports it: lib/sim/sim_watch.c).
+bool loops_cut(uint two)
+{
+    uint steps = 0u;
+    for (uint i = 0u; i < two; i++)
+        steps++;
+    return steps < two;
+}
+
 // x kept within searched.w of where detection saw the particle plus the common shift.
 vec3 within_bound(uint p, vec3 x)
 {

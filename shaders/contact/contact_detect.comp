@@ -10,10 +10,18 @@ layout(local_size_x_id = 0) in;
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 #include "contact/contact_detect.glsl"
 
-void main()
+void work()
 {
     if (pc.count == 0u)
         return;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
         detect(pc.first + i);
+}
+
+void main()
+{
+    work();
+    // after the work, whatever it returned from (bounds.glsl)
+    if (loops_cut(min(pc.count, 1u) + 1u))
+        atomicOr(frame.cut, 1u);
 }

@@ -10,7 +10,7 @@ layout(local_size_x_id = 0) in;
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 #include "contact/contact_edges.glsl"
 
-void main()
+void work()
 {
     if (pc.count == 0u)
         return;
@@ -39,4 +39,12 @@ void main()
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
         detect(pc.first + i);
+}
+
+void main()
+{
+    work();
+    // after the work, whatever it returned from (bounds.glsl)
+    if (loops_cut(min(pc.count, 1u) + 1u))
+        atomicOr(frame.cut, 1u);
 }

@@ -35,7 +35,7 @@ void passed()
     barrier();
 }
 
-void main()
+void work()
 {
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
@@ -60,4 +60,12 @@ void main()
     passed();
     for (uint p = lane; p < contact_u.particle_count; p += lanes)
         bound_one(p, pc.per_group);
+}
+
+void main()
+{
+    work();
+    // after the work, whatever it returned from (bounds.glsl)
+    if (loops_cut(min(pc.count, 1u) + 1u))
+        atomicOr(frame.cut, 1u);
 }

@@ -43,7 +43,7 @@ void passed()
     barrier();
 }
 
-void main()
+void work()
 {
     if (pc.count == 0u)
         return; // the warm-up dispatch changes nothing
@@ -80,4 +80,12 @@ void main()
         return;
     for (uint i = lane; i < pc.count; i += lanes)
         detect(pc.first + i);
+}
+
+void main()
+{
+    work();
+    // after the work, whatever it returned from (bounds.glsl)
+    if (loops_cut(min(pc.count, 1u) + 1u))
+        atomicOr(frame.cut, 1u);
 }

@@ -186,7 +186,9 @@ CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
     CVK_UINT(diverged_at)  /* the substep (counted from 1) it diverged at, or NONE */    \
     CVK_UINT(particle)     /* the lowest internal index that diverged then */           \
     CVK_UINT(reason)       /* CVK_WATCH_NONFINITE | CVK_WATCH_RUNAWAY */                \
-    CVK_UINT(stretched)    /* set by predict: a spring is past the stretch bound */
+    CVK_UINT(stretched)    /* set by predict: a spring is past the stretch bound */     \
+    CVK_UINT(contact_cut)  /* the contact frame state's cut, copied at the end of each  \
+                              frame of cvk_sim_step (lib/sim/sim.c) */
 CVK_STRUCT(cvk_gpu_watch, CVK_GPU_WATCH_FIELDS)
 
 /* ---- implicit Euler: solvers/implicit_*.comp (lib/solvers/solve_implicit.c) ----------------------- */
@@ -329,7 +331,8 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
     CVK_FLOAT(shift_z)                                                                      \
     CVK_UINT(held_lo)  /* free particles that ended a substep past redetect of their bound, */ \
     CVK_UINT(held_hi)  /* summed over the substeps so far: a 64-bit count, low word first */  \
-    CVK_UINT(held_substeps) /* the substeps counted (each but a first after a state write) */
+    CVK_UINT(held_substeps) /* the substeps counted (each but a first after a state write) */ \
+    CVK_UINT(cut)      /* 1 once a detection pass's loops ended early (collide.glsl's loops_cut) */
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
 /* After the frame state in its buffer: what the decision at the start of a substep gathers
