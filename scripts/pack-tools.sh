@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Packs the built tools with every library they load (the Vulkan loader too, but no driver) into
+# one folder, to run on another x86-64 Linux machine that has a Vulkan driver and nothing else of
+# ours installed — a GPU machine, say, with scripts/gpu-figures.sh:
+#
+#   bash scripts/build.sh && bash scripts/pack-tools.sh pack
+#   (copy pack/ and the source tree there)  bash scripts/gpu-figures.sh pack OUT
+#
+# pack/bin holds clothvk-sim, clothvk-bench, clothvk-render and test_determinism; pack/lib
+# libclothvk and the libraries `ldd` lists for them but the C runtime's own. The tools find
+# pack/lib by their RUNPATH ($ORIGIN/../lib); scripts/gpu-figures.sh puts it on
+# LD_LIBRARY_PATH for the libraries' own dependencies.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+[ $# -eq 1 ] || { echo "usage: $0 DIR" >&2; exit 2; }
+dir=$1
+build=${CLOTHVK_BUILD_DIR:-build}
+tools="$build/apps/clothvk-sim $build/apps/clothvk-bench $build/apps/clothvk-render
+       $build/tests/sim/test_determinism"
+for t in $tools; do
+    [ -x "$t" ] || { echo "$0: $t is missing: run bash scripts/build.sh first" >&2; exit 1; }
+done
+rm -rf "$dir"
+mkdir -p "$dir/bin" "$dir/lib"
+cp $tools "$dir/bin/"
+for f in "$build"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$dir/lib/"; done
+# The libraries the tools load, but the C runtime's (every Linux has its own, and a copy of
+# another's would not match the loader there).
+ldd $tools "$build"/lib/libclothvk.so.0 | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | sort -u |
+    grep -Ev '/(libc|libm|libdl|libpthread|librt|ld-linux[^/]*)\.so' |
+    while read -r lib; do cp -L "$lib" "$dir/lib/"; done
+echo "pack-tools: $(ls "$dir/bin" | wc -l) programs and $(ls "$dir/lib" | wc -l) libraries in $dir ($(du -sh "$dir" | cut -f1))"
