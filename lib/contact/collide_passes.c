@@ -261,10 +261,14 @@ cvk_result cvk_collide_positions_written(cvk_sim* s, const float* x, const float
     free(before);
     if (r != CVK_SUCCESS)
         return r;
-    uint32_t force = 1;
-    memcpy(s->device.staging.mapped, &force, sizeof force);
-    cvk_staging_copy job = {&c->frame, 0, offsetof(cvk_gpu_frame, force), sizeof force};
-    return cvk_device_copy_from_staging(&s->device, &job, 1, error);
+    /* Detect at the next substep; and a new state: a detection cut short before it no longer
+       holds (cvk_sim_watch_reset clears the watch's copy). */
+    uint32_t words[2] = {1, 0};
+    memcpy(s->device.staging.mapped, words, sizeof words);
+    cvk_staging_copy jobs[] = {{&c->frame, 0, offsetof(cvk_gpu_frame, force), sizeof(uint32_t)},
+                               {&c->frame, sizeof(uint32_t), offsetof(cvk_gpu_frame, cut),
+                                sizeof(uint32_t)}};
+    return cvk_device_copy_from_staging(&s->device, jobs, 2, error);
 }
 
 cvk_result cvk_collide_counts(cvk_sim* s, uint64_t* searches, uint64_t* held,

@@ -54,7 +54,7 @@ cvk_result cvk_sim_watch_check(const cvk_sim* s, cvk_error* error)
     cvk_gpu_watch w = {0};
     if (!st.diverged && s->watch.mapped)
         memcpy(&w, s->watch.mapped, sizeof w);
-    if (w.contact_cut)
+    if (w.contact_cut) /* cleared with the frame state's flag when a state is written */
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
                         "contact detection was cut short by frame %llu: %s ends a shader's loops "
                         "after a fixed number of iterations (lavapipe: 65,535 an invocation) and "

@@ -81,9 +81,10 @@ CVK_API cvk_result cvk_sim_record(cvk_sim* sim, VkCommandBuffer cmd, uint32_t fr
    simulation blew up (now or before; the message names the frame and the cloth): its
    positions stopped advancing there, and stepping on changes nothing until a state is
    written (cvk_sim_write_state, cvk_sim_load_snapshot). CVK_ERROR_DEVICE_LIMIT when the
-   device's loop limit cut a contact detection short (now or before; lavapipe's 65,535 loop
-   iterations an invocation, docs/limits.md): the frames ran, but cloth may have passed through
-   cloth; a larger cvk_sim_desc.max_workgroups gives detection one item an invocation. */
+   device's loop limit cut a contact detection short (now or before, since the state was last
+   written; lavapipe's 65,535 loop iterations an invocation, docs/limits.md): the frames ran,
+   but cloth may have passed through cloth; a larger cvk_sim_desc.max_workgroups gives
+   detection one item an invocation, and a state written clears it as it does a divergence. */
 CVK_API cvk_result cvk_sim_step(cvk_sim* sim, uint32_t frames, cvk_error* error);
 
 /* Number of particles over all cloths. */
@@ -225,9 +226,10 @@ typedef struct cvk_sim_stats {
                                     bounds held back; 0 without self-contact */
     double contact_held_fraction; /* contact_held over the free particles' substeps counted
                                      (a substep after a state write is not) */
-    bool contact_cut;            /* some detection since creation was cut short by the
-                                    device's loop limit (cvk_sim_step's CVK_ERROR_DEVICE_LIMIT):
-                                    the guarantee no longer holds; false without self-contact */
+    bool contact_cut;            /* some detection since the state was last written (or the
+                                    simulation made) was cut short by the device's loop limit
+                                    (cvk_sim_step's CVK_ERROR_DEVICE_LIMIT): the guarantee no
+                                    longer holds; false without self-contact */
     /* The linear solver: implicit's, and pd's sweeps (counted on the device with a tolerance;
        without one, every sweep the plan records). */
     uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps (pd: sweeps) of the last
