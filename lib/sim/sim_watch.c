@@ -28,32 +28,36 @@ void cvk_sim_watch_reset(cvk_sim* s)
     s->watch_frames = s->frames;
 }
 
-static bool read_watch(const cvk_sim* s, cvk_gpu_watch* w)
+/* One copy of the mapped record (zeroed when there is none), read once per query. */
+static cvk_gpu_watch read_watch(const cvk_sim* s)
 {
-    if (!s->watch.mapped)
-        return false;
-    memcpy(w, s->watch.mapped, sizeof *w);
-    return w->diverged_at != CVK_WATCH_NONE && w->particle < s->build.particle_count;
+    cvk_gpu_watch w = {.diverged_at = CVK_WATCH_NONE, .particle = CVK_WATCH_NONE};
+    if (s->watch.mapped)
+        memcpy(&w, s->watch.mapped, sizeof w);
+    return w;
+}
+
+static void watch_stats(const cvk_sim* s, const cvk_gpu_watch* w, cvk_sim_stats* st)
+{
+    st->diverged = w->diverged_at != CVK_WATCH_NONE && w->particle < s->build.particle_count;
+    if (!st->diverged)
+        return;
+    st->diverged_frame = s->watch_frames + (w->diverged_at - 1u) / s->params.substeps;
+    st->diverged_cloth = cvk_build_cloth_of(&s->build, w->particle);
+    st->diverged_nonfinite = (w->reason & CVK_WATCH_NONFINITE) != 0;
 }
 
 void cvk_sim_watch_stats(const cvk_sim* s, cvk_sim_stats* st)
 {
-    cvk_gpu_watch w;
-    st->diverged = read_watch(s, &w);
-    if (!st->diverged)
-        return;
-    st->diverged_frame = s->watch_frames + (w.diverged_at - 1u) / s->params.substeps;
-    st->diverged_cloth = cvk_build_cloth_of(&s->build, w.particle);
-    st->diverged_nonfinite = (w.reason & CVK_WATCH_NONFINITE) != 0;
+    cvk_gpu_watch w = read_watch(s);
+    watch_stats(s, &w, st);
 }
 
 cvk_result cvk_sim_watch_check(const cvk_sim* s, cvk_error* error)
 {
+    cvk_gpu_watch w = read_watch(s);
     cvk_sim_stats st = {0};
-    cvk_sim_watch_stats(s, &st);
-    cvk_gpu_watch w = {0};
-    if (!st.diverged && s->watch.mapped)
-        memcpy(&w, s->watch.mapped, sizeof w);
+    watch_stats(s, &w, &st);
     if (w.contact_cut) /* cleared with the frame state's flag when a state is written */
         return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
                         "contact detection was cut short by frame %llu: %s ends a shader's loops "

@@ -28,13 +28,16 @@ layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ, rgba32f) 
 // each loop's body once: a detection so cut short misses pairs and measures bounds too large,
 // and the guarantee no longer holds. A last loop of two steps whose count comes from the push
 // constants (so no compiler unrolls it) runs once only when that happened; the passes that walk
-// the hashes call it after their work and raise frame.cut (the host reports it: lib/sim/sim_watch.c).
-bool loops_cut(uint two)
+// the hashes call note_loops_cut after their work with their push constants' item count, and it
+// raises frame.cut (the host reports it: lib/sim/sim_watch.c).
+void note_loops_cut(uint count)
 {
+    uint two = min(count, 1u) + 1u;
     uint steps = 0u;
     for (uint i = 0u; i < two; i++)
         steps++;
-    return steps < two;
+    if (steps < two)
+        atomicOr(frame.cut, 1u);
 }
 
 // x kept within searched.w of where detection saw the particle plus the common shift.

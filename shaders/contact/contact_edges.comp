@@ -44,7 +44,5 @@ void work()
 void main()
 {
     work();
-    // after the work, whatever it returned from (bounds.glsl)
-    if (loops_cut(min(pc.count, 1u) + 1u))
-        atomicOr(frame.cut, 1u);
+    note_loops_cut(pc.count); // after the work, whatever it returned from (bounds.glsl)
 }

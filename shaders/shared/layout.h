@@ -332,7 +332,7 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
     CVK_UINT(held_lo)  /* free particles that ended a substep past redetect of their bound, */ \
     CVK_UINT(held_hi)  /* summed over the substeps so far: a 64-bit count, low word first */  \
     CVK_UINT(held_substeps) /* the substeps counted (each but a first after a state write) */ \
-    CVK_UINT(cut)      /* 1 once a detection pass's loops ended early (collide.glsl's loops_cut) */
+    CVK_UINT(cut)      /* 1 once a detection pass's loops ended early (bounds.glsl's note_loops_cut) */
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
 /* After the frame state in its buffer: what the decision at the start of a substep gathers
