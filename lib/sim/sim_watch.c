@@ -28,7 +28,7 @@ void cvk_sim_watch_reset(cvk_sim* s)
     s->watch_frames = s->frames;
 }
 
-/* One copy of the mapped record (zeroed when there is none), read once per query. */
+/* One copy of the mapped record, read once per query (with no mapping: no divergence, no cut). */
 static cvk_gpu_watch read_watch(const cvk_sim* s)
 {
     cvk_gpu_watch w = {.diverged_at = CVK_WATCH_NONE, .particle = CVK_WATCH_NONE};

@@ -1,27 +1,24 @@
 """A detection that lavapipe's loop limit cuts short fails the step with CVK_ERROR_DEVICE_LIMIT,
 shows in the stats, and is cleared by a new state (as a divergence is): docs/limits.md,
-lavapipe's loop budget. The crowded stack is tests/tools/test_loop_budget.py's."""
+lavapipe's loop budget. The crowded stack is tests/tools/crowded_stack.py's, as the tool's test
+has it."""
 
 import json
+import sys
 
 import numpy as np
 import pytest
 
 import clothvk
+from conftest import ROOT
 
-LAYERS = 500
-SPACING = 0.00004  # m
+sys.path.insert(0, str(ROOT / "tests" / "tools"))
+import crowded_stack  # noqa: E402
 
 
 def stack_scene(tmp_path):
-    cloths = [{"name": f"layer{i}", "grid": [4, 4], "size": [0.2, 0.2],
-               "origin": [-0.1, 0.3 + i * SPACING, -0.1], "u_axis": [1, 0, 0],
-               "v_axis": [0, 0, 1], "mass": 0.05} for i in range(LAYERS)]
     path = tmp_path / "crowded-stack.json"
-    path.write_text(json.dumps({
-        "name": "crowded-stack", "dt": 0.002, "substeps": 1, "frames": 1, "gravity": [0, 0, 0],
-        "solver": {"linear": "rbgs", "outer_iterations": 1, "inner_iterations": 1},
-        "collision": {"self": True, "thickness": 0.00002}, "cloths": cloths}))
+    path.write_text(json.dumps(crowded_stack.scene()))
     return clothvk.Scene.load(path)
 
 
@@ -38,7 +35,8 @@ def test_a_cut_detection_fails_the_step_until_a_state_is_written(ctx, tmp_path):
         sim.step(1)  # still cut: nothing cleared it
     # The same layers 5 cm apart: nothing crowds a detection, and the new state clears the flag.
     spread = sim.positions()
-    spread[:, 1] = 0.3 + np.repeat(np.arange(LAYERS), 16) * 0.05
+    spread[:, 1] = 0.3 + np.repeat(np.arange(crowded_stack.LAYERS),
+                                    crowded_stack.PARTICLES_PER_LAYER) * 0.05
     sim.write_positions(spread)
     sim.step(1)
     stats = sim.stats()

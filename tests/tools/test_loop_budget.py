@@ -16,12 +16,10 @@ import os
 import sys
 import tempfile
 
+import crowded_stack
 import tooltest
 
 [SIM] = tooltest.tool_paths("clothvk-sim")
-LAYERS = 500
-SPACING = 0.00004  # m between layers
-THICKNESS = 0.00002
 DUMP = "out.csv"
 CUT = tooltest.tool_line(
     "clothvk-sim",
@@ -30,16 +28,6 @@ CUT = tooltest.tool_line(
     "for it, so pairs were missed and the guarantee that no cloth passes through cloth no longer "
     "holds; a larger cvk_sim_desc.max_workgroups (clothvk-sim --max-workgroups 65535) gives "
     "detection one item an invocation")
-
-
-def stack_scene():
-    cloths = [{"name": f"layer{i}", "grid": [4, 4], "size": [0.2, 0.2],
-               "origin": [-0.1, 0.3 + i * SPACING, -0.1], "u_axis": [1, 0, 0],
-               "v_axis": [0, 0, 1], "mass": 0.05} for i in range(LAYERS)]
-    return {"name": "crowded-stack", "dt": 0.002, "substeps": 1, "frames": 1,
-            "gravity": [0, 0, 0],
-            "solver": {"linear": "rbgs", "outer_iterations": 1, "inner_iterations": 1},
-            "collision": {"self": True, "thickness": THICKNESS}, "cloths": cloths}
 
 
 def lavapipe_env():
@@ -81,7 +69,7 @@ def main():
     with tempfile.TemporaryDirectory(prefix="clothvk-budget-scene-") as folder:
         scene = os.path.join(folder, "crowded-stack.json")
         with open(scene, "w") as f:
-            json.dump(stack_scene(), f)
+            json.dump(crowded_stack.scene(), f)
         return cases.run([
             ("eight items an invocation: cut short, exit 1, nothing written", lambda: cut_short(scene)),
             ("one item an invocation: whole, no cut", lambda: one_item_an_invocation(scene)),
