@@ -294,69 +294,48 @@ bool cvk_triangles_intersect(const float a[9], const float b[9])
     return triangles_meet(ta, tb);
 }
 
-/* ---- the count -------------------------------------------------------------------------- */
+/* ---- the broad phase -------------------------------------------------------------------- */
 
 #define GRID_BITS 21
 #define GRID_MAX ((1 << GRID_BITS) - 1)
-#define ENTRIES_PER_TRIANGLE 8 /* average cells per box the cell size aims for, at most */
+#define ENTRIES_PER_BOX 8 /* average cells per box the cell size aims for, at most */
 
 struct entry {
     uint64_t cell;  /* cell_key */
-    uint32_t index; /* kept triangle */
+    uint32_t index; /* box */
 };
 
-typedef struct soup {
-    const float* xyz;
-    const uint32_t* triangles;
-    const uint32_t* groups;   /* per triangle, or NULL: pairs of one group only */
-    uint32_t count;       /* triangles kept (not torn, finite, indices in range) */
-    uint32_t* kept;       /* their indices */
-    float* box;           /* 6 floats per kept triangle: min xyz, max xyz */
-    int32_t* cells;       /* 6 per kept triangle: its box's first and last cell per axis */
-    float origin[3];      /* m: low corner of the grid */
-    float cell;           /* m */
-    struct entry* entries;/* sorted by cell, then triangle */
+typedef struct grid {
+    const float* box;      /* 6 floats per box: min xyz, max xyz */
+    uint32_t count;
+    int32_t* cells;        /* 6 per box: its first and last cell per axis */
+    float origin[3];       /* m: low corner of the grid */
+    float cell;            /* m */
+    struct entry* entries; /* sorted by cell, then box */
     size_t entry_count;
-} soup;
+} grid;
 
-static bool keep_triangle(const float* xyz, uint32_t vertex_count, const uint32_t* v)
-{
-    if (v[0] == v[1] && v[1] == v[2])
-        return false; /* torn */
-    for (int k = 0; k < 3; k++) {
-        if (v[k] >= vertex_count)
-            return false;
-        for (int c = 0; c < 3; c++)
-            if (!isfinite(xyz[3 * (size_t)v[k] + c]))
-                return false;
-    }
-    return true;
-}
-
-/* Boxes of the kept triangles, the grid's origin, and a first cell size: the mean of the
-   boxes' largest sides (a box then spans about two cells per axis). */
-static void measure(soup* s)
+/* The grid's origin, and a first cell size: the mean of the largest sides of the boxes that
+   have a size (a box then spans about two cells per axis; points take one cell whatever it). */
+static void measure(grid* g)
 {
     double side_sum = 0.0;
+    uint32_t sized = 0;
     for (int c = 0; c < 3; c++)
-        s->origin[c] = INFINITY;
-    for (uint32_t i = 0; i < s->count; i++) {
-        const uint32_t* v = &s->triangles[3 * (size_t)s->kept[i]];
-        float* box = &s->box[6 * (size_t)i];
+        g->origin[c] = INFINITY;
+    for (uint32_t i = 0; i < g->count; i++) {
+        const float* box = &g->box[6 * (size_t)i];
         float largest = 0.0f;
         for (int c = 0; c < 3; c++) {
-            float x0 = s->xyz[3 * (size_t)v[0] + c], x1 = s->xyz[3 * (size_t)v[1] + c];
-            float x2 = s->xyz[3 * (size_t)v[2] + c];
-            box[c] = fminf(x0, fminf(x1, x2));
-            box[3 + c] = fmaxf(x0, fmaxf(x1, x2));
             largest = fmaxf(largest, box[3 + c] - box[c]);
-            s->origin[c] = fminf(s->origin[c], box[c]);
+            g->origin[c] = fminf(g->origin[c], box[c]);
         }
         side_sum += largest;
+        sized += largest > 0.0f;
     }
-    s->cell = s->count ? (float)(side_sum / s->count) : 1.0f;
-    if (!(s->cell > 0.0f))
-        s->cell = 1.0f;
+    g->cell = sized ? (float)(side_sum / sized) : 1.0f;
+    if (!(g->cell > 0.0f))
+        g->cell = 1.0f;
 }
 
 static int32_t cell_index(float x, float origin, float cell)
@@ -367,16 +346,16 @@ static int32_t cell_index(float x, float origin, float cell)
 
 /* Cell ranges for the current cell size; the number of entries they make, or SIZE_MAX when a
    range leaves the grid's index space or the entries would be more than `limit`. */
-static size_t assign_cells(soup* s, size_t limit)
+static size_t assign_cells(grid* g, size_t limit)
 {
     size_t total = 0;
-    for (uint32_t i = 0; i < s->count; i++) {
-        const float* box = &s->box[6 * (size_t)i];
-        int32_t* cells = &s->cells[6 * (size_t)i];
+    for (uint32_t i = 0; i < g->count; i++) {
+        const float* box = &g->box[6 * (size_t)i];
+        int32_t* cells = &g->cells[6 * (size_t)i];
         size_t n = 1;
         for (int c = 0; c < 3; c++) {
-            cells[c] = cell_index(box[c], s->origin[c], s->cell);
-            cells[3 + c] = cell_index(box[3 + c], s->origin[c], s->cell);
+            cells[c] = cell_index(box[c], g->origin[c], g->cell);
+            cells[3 + c] = cell_index(box[3 + c], g->origin[c], g->cell);
             if (cells[3 + c] >= GRID_MAX)
                 return SIZE_MAX;
             n *= (size_t)(cells[3 + c] - cells[c] + 1);
@@ -402,26 +381,100 @@ static int compare_entries(const void* a, const void* b)
     return x->index < y->index ? -1 : x->index > y->index;
 }
 
-/* Grows the cell until the boxes make at most ENTRIES_PER_TRIANGLE entries each on average
-   (a few huge triangles must not fill memory), then lists and sorts the entries. */
-static bool fill_grid(soup* s)
+/* Grows the cell until the boxes make at most ENTRIES_PER_BOX entries each on average (a few
+   huge boxes must not fill memory), then lists and sorts the entries. */
+static bool fill_grid(grid* g)
 {
-    size_t total, limit = (size_t)ENTRIES_PER_TRIANGLE * s->count;
-    while ((total = assign_cells(s, limit)) == SIZE_MAX)
-        s->cell *= 2.0f;
-    s->entries = malloc((total ? total : 1) * sizeof *s->entries);
-    if (!s->entries)
+    size_t total, limit = (size_t)ENTRIES_PER_BOX * g->count;
+    while ((total = assign_cells(g, limit)) == SIZE_MAX)
+        g->cell *= 2.0f;
+    g->entries = malloc((total ? total : 1) * sizeof *g->entries);
+    if (!g->entries)
         return false;
     size_t e = 0;
-    for (uint32_t i = 0; i < s->count; i++) {
-        const int32_t* c = &s->cells[6 * (size_t)i];
+    for (uint32_t i = 0; i < g->count; i++) {
+        const int32_t* c = &g->cells[6 * (size_t)i];
         for (int32_t x = c[0]; x <= c[3]; x++)
             for (int32_t y = c[1]; y <= c[4]; y++)
                 for (int32_t z = c[2]; z <= c[5]; z++)
-                    s->entries[e++] = (struct entry){cell_key(x, y, z), i};
+                    g->entries[e++] = (struct entry){cell_key(x, y, z), i};
     }
-    s->entry_count = e;
-    qsort(s->entries, e, sizeof *s->entries, compare_entries);
+    g->entry_count = e;
+    qsort(g->entries, e, sizeof *g->entries, compare_entries);
+    return true;
+}
+
+/* Whether the pair (i, j), both listed in `cell`, is handed over there: their boxes overlap and
+   `cell` holds the low corner of the overlap (one cell per pair). */
+static bool overlap_here(const grid* g, uint32_t i, uint32_t j, uint64_t cell)
+{
+    const float* a = &g->box[6 * (size_t)i];
+    const float* b = &g->box[6 * (size_t)j];
+    for (int c = 0; c < 3; c++)
+        if (a[3 + c] < b[c] || b[3 + c] < a[c])
+            return false;
+    const int32_t* ca = &g->cells[6 * (size_t)i];
+    const int32_t* cb = &g->cells[6 * (size_t)j];
+    int32_t low[3];
+    for (int c = 0; c < 3; c++)
+        low[c] = ca[c] > cb[c] ? ca[c] : cb[c];
+    return cell_key(low[0], low[1], low[2]) == cell;
+}
+
+cvk_result cvk_box_pairs(const float* boxes, uint32_t count, cvk_box_pair_fn pair, void* user,
+                         const char* what, cvk_error* error)
+{
+    grid g = {.box = boxes, .count = count};
+    g.cells = malloc(6 * (size_t)(count ? count : 1) * sizeof *g.cells);
+    bool ok = g.cells != NULL;
+    if (ok) {
+        measure(&g);
+        ok = fill_grid(&g);
+    }
+    if (!ok) {
+        free(g.cells);
+        return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
+                        "%s: out of host memory for a grid of %u boxes", what, count);
+    }
+    for (size_t first = 0, end; first < g.entry_count; first = end) {
+        uint64_t cell = g.entries[first].cell;
+        for (end = first + 1; end < g.entry_count && g.entries[end].cell == cell;)
+            end++;
+        /* Entries of a cell are sorted by box, so i < j. */
+        for (size_t x = first; x < end; x++)
+            for (size_t y = x + 1; y < end; y++)
+                if (overlap_here(&g, g.entries[x].index, g.entries[y].index, cell))
+                    pair(user, g.entries[x].index, g.entries[y].index);
+    }
+    free(g.cells);
+    free(g.entries);
+    return CVK_SUCCESS;
+}
+
+/* ---- the count -------------------------------------------------------------------------- */
+
+/* The triangles of a soup the count tests, and what it found: how many pairs intersect, and
+   the lowest of them. */
+typedef struct soup {
+    const float* xyz;
+    const uint32_t* triangles;
+    const uint32_t* groups; /* per triangle, or NULL: pairs of one group only */
+    uint32_t* kept;         /* the triangles tested (not torn, finite, indices in range) */
+    uint64_t pairs;
+    uint32_t first, second; /* the lowest pair so far (triangle indices), when pairs > 0 */
+} soup;
+
+static bool keep_triangle(const float* xyz, uint32_t vertex_count, const uint32_t* v)
+{
+    if (v[0] == v[1] && v[1] == v[2])
+        return false; /* torn */
+    for (int k = 0; k < 3; k++) {
+        if (v[k] >= vertex_count)
+            return false;
+        for (int c = 0; c < 3; c++)
+            if (!isfinite(xyz[3 * (size_t)v[k] + c]))
+                return false;
+    }
     return true;
 }
 
@@ -434,106 +487,66 @@ static bool share_vertex(const uint32_t* u, const uint32_t* v)
     return false;
 }
 
-/* Whether the pair (i, j), both listed in `cell`, is tested there: their boxes overlap and
-   `cell` holds the low corner of the overlap (one cell per pair). */
-static bool tested_here(const soup* s, uint32_t i, uint32_t j, uint64_t cell)
+static void load(const soup* s, uint32_t t, float out[9])
 {
-    const float* a = &s->box[6 * (size_t)i];
-    const float* b = &s->box[6 * (size_t)j];
-    for (int c = 0; c < 3; c++)
-        if (a[3 + c] < b[c] || b[3 + c] < a[c])
-            return false;
-    const int32_t* ca = &s->cells[6 * (size_t)i];
-    const int32_t* cb = &s->cells[6 * (size_t)j];
-    int32_t low[3];
-    for (int c = 0; c < 3; c++)
-        low[c] = ca[c] > cb[c] ? ca[c] : cb[c];
-    return cell_key(low[0], low[1], low[2]) == cell;
-}
-
-static void load(const soup* s, uint32_t i, float out[9])
-{
-    const uint32_t* v = &s->triangles[3 * (size_t)s->kept[i]];
+    const uint32_t* v = &s->triangles[3 * (size_t)t];
     for (int k = 0; k < 3; k++)
         memcpy(&out[3 * k], &s->xyz[3 * (size_t)v[k]], 3 * sizeof(float));
 }
 
-/* What a walk over the grid found: how many pairs intersect, and the lowest of them. */
-typedef struct scan {
-    uint64_t pairs;
-    uint32_t first, second; /* the lowest pair so far (triangle indices), when pairs > 0 */
-} scan;
-
-/* Pairs among entries [first, end) of one cell. */
-static void scan_cell(const soup* s, size_t first, size_t end, scan* out)
+/* Kept triangles i < j whose boxes overlap (cvk_box_pair_fn). */
+static void test_pair(void* user, uint32_t i, uint32_t j)
 {
-    uint64_t cell = s->entries[first].cell;
-    for (size_t x = first; x < end; x++) {
-        uint32_t i = s->entries[x].index;
-        const uint32_t* vi = &s->triangles[3 * (size_t)s->kept[i]];
-        for (size_t y = x + 1; y < end; y++) {
-            uint32_t j = s->entries[y].index;
-            if (s->groups && s->groups[s->kept[i]] != s->groups[s->kept[j]])
-                continue;
-            if (!tested_here(s, i, j, cell) ||
-                share_vertex(vi, &s->triangles[3 * (size_t)s->kept[j]]))
-                continue;
-            float a[9], b[9];
-            load(s, i, a);
-            load(s, j, b);
-            if (!cvk_triangles_intersect(a, b))
-                continue;
-            /* Entries of a cell are sorted by kept index, so i < j, and kept is increasing. */
-            uint32_t lo = s->kept[i], hi = s->kept[j];
-            if (out->pairs == 0 || lo < out->first || (lo == out->first && hi < out->second)) {
-                out->first = lo;
-                out->second = hi;
-            }
-            out->pairs++;
-        }
+    soup* s = user;
+    uint32_t lo = s->kept[i], hi = s->kept[j]; /* kept is increasing */
+    if ((s->groups && s->groups[lo] != s->groups[hi]) ||
+        share_vertex(&s->triangles[3 * (size_t)lo], &s->triangles[3 * (size_t)hi]))
+        return;
+    float a[9], b[9];
+    load(s, lo, a);
+    load(s, hi, b);
+    if (!cvk_triangles_intersect(a, b))
+        return;
+    if (s->pairs == 0 || lo < s->first || (lo == s->first && hi < s->second)) {
+        s->first = lo;
+        s->second = hi;
     }
+    s->pairs++;
 }
 
-static void free_soup(soup* s)
-{
-    free(s->kept);
-    free(s->box);
-    free(s->cells);
-    free(s->entries);
-}
-
-/* Every pair of the soup, each tested once (in the cell of its boxes' overlap's low corner). */
+/* Every pair of the soup whose boxes overlap, each tested once. */
 static cvk_result scan_soup(const float* xyz, uint32_t vertex_count, const uint32_t* triangles,
-                            const uint32_t* groups, uint32_t triangle_count, scan* out,
+                            const uint32_t* groups, uint32_t triangle_count, soup* out,
                             cvk_error* error)
 {
-    *out = (scan){0};
-    soup s = {.xyz = xyz, .triangles = triangles, .groups = groups};
+    *out = (soup){.xyz = xyz, .triangles = triangles, .groups = groups};
     size_t n = triangle_count ? triangle_count : 1;
-    s.kept = malloc(n * sizeof *s.kept);
-    s.box = malloc(6 * n * sizeof *s.box);
-    s.cells = malloc(6 * n * sizeof *s.cells);
-    bool ok = s.kept && s.box && s.cells;
-    if (ok) {
-        for (uint32_t t = 0; t < triangle_count; t++)
-            if (keep_triangle(xyz, vertex_count, &triangles[3 * (size_t)t]))
-                s.kept[s.count++] = t;
-        measure(&s);
-        ok = fill_grid(&s);
-    }
-    if (!ok) {
-        free_soup(&s);
+    out->kept = malloc(n * sizeof *out->kept);
+    float* box = malloc(6 * n * sizeof *box);
+    if (!out->kept || !box) {
+        free(out->kept);
+        free(box);
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY,
-                        "intersection test: out of host memory for the grid of %u triangles",
-                        triangle_count);
+                        "intersection test: out of host memory for %u triangles", triangle_count);
     }
-    for (size_t first = 0, end; first < s.entry_count; first = end) {
-        for (end = first + 1; end < s.entry_count && s.entries[end].cell == s.entries[first].cell;)
-            end++;
-        scan_cell(&s, first, end, out);
+    uint32_t count = 0;
+    for (uint32_t t = 0; t < triangle_count; t++) {
+        const uint32_t* v = &triangles[3 * (size_t)t];
+        if (!keep_triangle(xyz, vertex_count, v))
+            continue;
+        for (int c = 0; c < 3; c++) {
+            float x0 = xyz[3 * (size_t)v[0] + c], x1 = xyz[3 * (size_t)v[1] + c];
+            float x2 = xyz[3 * (size_t)v[2] + c];
+            box[6 * (size_t)count + c] = fminf(x0, fminf(x1, x2));
+            box[6 * (size_t)count + 3 + c] = fmaxf(x0, fmaxf(x1, x2));
+        }
+        out->kept[count++] = t;
     }
-    free_soup(&s);
-    return CVK_SUCCESS;
+    cvk_result r = cvk_box_pairs(box, count, test_pair, out, "intersection test", error);
+    free(box);
+    free(out->kept);
+    out->kept = NULL;
+    return r;
 }
 
 cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
@@ -541,7 +554,7 @@ cvk_result cvk_count_intersecting_pairs(const float* xyz, uint32_t vertex_count,
                                         uint32_t triangle_count, uint64_t* out_pairs,
                                         cvk_error* error)
 {
-    scan found;
+    soup found;
     cvk_result r = scan_soup(xyz, vertex_count, triangles, groups, triangle_count, &found, error);
     *out_pairs = r == CVK_SUCCESS ? found.pairs : 0;
     return r;
@@ -560,7 +573,7 @@ cvk_result cvk_first_intersecting_pair(const float* xyz, uint32_t vertex_count,
                                        cvk_error* error)
 {
     *out = (cvk_intersecting_pair){0};
-    scan found;
+    soup found;
     cvk_result r = scan_soup(xyz, vertex_count, triangles, groups, triangle_count, &found, error);
     if (r != CVK_SUCCESS || found.pairs == 0)
         return r;
