@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact/intersect.h"
 #include "core/error.h"
 #include "topology/topology.h"
 #include "core/u64_map.h"
@@ -227,43 +228,14 @@ static double dot(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* Squared distance from p to triangle t: the closest point by the triangle's Voronoi regions
-   (Ericson, Real-Time Collision Detection, 5.1.5), in double. */
+/* Squared distance from p to triangle t, in double (intersect.h). */
 static double triangle_distance2(const field_mesh* f, uint32_t t, const double p[3])
 {
-    const float *fa = corner_of(f, t, 0), *fb = corner_of(f, t, 1), *fc = corner_of(f, t, 2);
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3];
-    for (int k = 0; k < 3; k++) {
-        ab[k] = (double)fb[k] - fa[k];
-        ac[k] = (double)fc[k] - fa[k];
-        ap[k] = p[k] - fa[k];
-        bp[k] = p[k] - fb[k];
-        cp[k] = p[k] - fc[k];
-    }
-    double d1 = dot(ab, ap), d2 = dot(ac, ap), d3 = dot(ab, bp), d4 = dot(ac, bp);
-    double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
-    double v = 0.0, w = 0.0; /* q = a + v ab + w ac */
-    if (d1 <= 0.0 && d2 <= 0.0) {
-    } else if (d3 >= 0.0 && d4 <= d3) {
-        v = 1.0;
-    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        v = d1 / (d1 - d3);
-    } else if (d6 >= 0.0 && d5 <= d6) {
-        w = 1.0;
-    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        w = d2 / (d2 - d6);
-    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-        w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        v = 1.0 - w;
-    } else {
-        double denominator = 1.0 / (va + vb + vc);
-        v = vb * denominator;
-        w = vc * denominator;
-    }
+    double corner[3][3];
     for (int k = 0; k < 3; k++)
-        q[k] = ap[k] - v * ab[k] - w * ac[k]; /* p − closest point */
-    return dot(q, q);
+        for (int c = 0; c < 3; c++)
+            corner[k][c] = corner_of(f, t, k)[c];
+    return cvk_point_triangle_distance2(p, corner[0], corner[1], corner[2]);
 }
 
 static double box_distance2(const bvh_node* n, const double p[3])
