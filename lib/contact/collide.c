@@ -739,6 +739,8 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     if (r == CVK_SUCCESS)
         r = cvk_collide_find_instances(s, c, scene, error);
     if (r == CVK_SUCCESS)
+        c->types |= cvk_collide_runs(c, &c->runs);
+    if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS && c->self)
         cvk_collide_split_substeps(s, c, scene->solver.method == CVK_METHOD_IMPLICIT);

@@ -61,8 +61,12 @@ typedef struct cvk_collide {
     bool self;                   /* contact between and within cloths */
     uint32_t types;              /* bit t: colliders of type t (a funnel, a surface rather
                                     than a solid, has the cloth's edges kept off it too, so
-                                    the triangle tables are built for it); and
-                                    CVK_COLLIDERS_IN_STORAGE */
+                                    the triangle tables are built for it); an instance's
+                                    colliders as runs of one type; and
+                                    CVK_COLLIDERS_IN_STORAGE
+                                    (shared/layout.h) */
+    uint32_t runs;               /* runs of one type an instance's colliders make, when in
+                                    `types` (the contact pass's build for that many), or 0 */
     float thickness;             /* m, resolved (collision.thickness or its default) */
     float radius;                /* m: the contact radius, resolved */
     float longest;               /* m: the longest an edge may be (1.5 × the longest at rest) */
@@ -179,6 +183,12 @@ uint32_t cvk_collide_instance_count(const cvk_build* build, const cvk_scene_desc
    order; NULL with one instance) for the simulation's build (cvk_collide_create). */
 cvk_result cvk_collide_find_instances(struct cvk_sim* sim, cvk_collide* collide,
                                       const cvk_scene_desc* scene, cvk_error* error);
+
+/* An instance's colliders as runs of one type, the bits of the collider types' specialisation
+   constant (shared/layout.h), where every instance has the same and they make 2 to
+   CVK_COLLIDER_RUNS runs of at most CVK_COLLIDER_RUN_MAX colliders; *runs is their count. 0
+   and 0 otherwise (after cvk_collide_find_instances). */
+uint32_t cvk_collide_runs(const cvk_collide* collide, uint32_t* runs);
 
 /* Per triangle (scene order): its instance, for the host's pair tests; NULL (and CVK_SUCCESS)
    with one instance. The caller frees it. */

@@ -269,6 +269,35 @@ cvk_result cvk_collide_write_poses(cvk_sim* s, uint64_t step, cvk_error* error)
     return r;
 }
 
+/* The contact pass then tests each collider with its type's code alone (contact/collide.glsl's
+   FOR_EACH_COLLIDER); one type needs no runs, as the constant's type bits leave that type's
+   code alone. */
+uint32_t cvk_collide_runs(const cvk_collide* c, uint32_t* runs)
+{
+    uint32_t n = c->instance_colliders, bits = 0, count = 0, length = 0;
+    *runs = 0;
+    for (uint32_t j = 0; j < n; j++) {
+        cvk_collider_type type = c->colliders[j].type;
+        for (uint32_t i = 1; i < c->instance_count; i++)
+            if (c->colliders[(size_t)i * n + j].type != type)
+                return 0;
+        if (j == 0 || type != c->colliders[j - 1].type) {
+            if (count == CVK_COLLIDER_RUNS)
+                return 0;
+            count++;
+            length = 0;
+        }
+        if (++length > CVK_COLLIDER_RUN_MAX)
+            return 0;
+        uint32_t shift = CVK_COLLIDER_RUNS_SHIFT + 6u * (count - 1);
+        bits = (bits & ~(63u << shift)) | (((uint32_t)type + 1u) | length << 3) << shift;
+    }
+    if (count < 2)
+        return 0;
+    *runs = count;
+    return bits;
+}
+
 uint32_t cvk_collide_instance_count(const cvk_build* b, const cvk_scene_desc* scene)
 {
     uint32_t n = scene->instances.count;

@@ -119,6 +119,9 @@ typedef struct cvk_spec_recipe {
     X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
     X(PD_COPY, PD_COPY_COMP, CVK_SPEC_PARTICLE_WORKGROUP, "u0 = u1 (stopped in u1)")    \
     X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
+    X(PD_CONTACT_RUNS2, PD_CONTACT_RUNS2_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 2 runs of one collider type") \
+    X(PD_CONTACT_RUNS3, PD_CONTACT_RUNS3_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 3 runs of one collider type") \
+    X(PD_CONTACT_RUNS4, PD_CONTACT_RUNS4_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 4 runs of one collider type") \
     X(PD_CLOTH_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CLOTH_CONTACT, "contact between cloths (listed particles)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
     X(PD_STRAIN, PD_STRAIN_COMP, CVK_SPEC_PD, "strain limit (one colour)")              \

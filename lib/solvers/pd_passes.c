@@ -155,6 +155,17 @@ typedef struct pd_builder {
     bool fused;                        /* rbgs: one fused dispatch for the solve (pd_fused.c) */
 } pd_builder;
 
+_Static_assert(CVK_PIPE_PD_CONTACT_RUNS4 == CVK_PIPE_PD_CONTACT_RUNS2 + CVK_COLLIDER_RUNS - 2,
+               "one contact pipeline a run count, in order");
+
+/* The contact pass over every particle: the build for the scene's run count where the
+   colliders' types are fixed (cvk_collide.runs), else the one that reads them. */
+static cvk_pipeline_id contact_pipeline(const cvk_sim* s)
+{
+    uint32_t n = s->collide->runs;
+    return n ? (cvk_pipeline_id)(CVK_PIPE_PD_CONTACT_RUNS2 + n - 2) : CVK_PIPE_PD_CONTACT;
+}
+
 static const char* const set_note[CVK_PD_SET_COUNT] = {
     [CVK_PD_SET_U0_TO_U1] = "u0 -> u1",
     [CVK_PD_SET_U1_TO_U0] = "u1 -> u0",
@@ -182,7 +193,7 @@ static cvk_op* add_op(pd_builder* pb, cvk_pipeline_id pipeline, cvk_pd_set set, 
         if (listed && !pb->armed) {
             from = pb->sim->collide->lists.buffer;
             slot = 4u * CVK_LIST_LISTED_GROUPS;
-        } else if (listed || pipeline == CVK_PIPE_PD_CONTACT) {
+        } else if (listed || pipeline == contact_pipeline(pb->sim)) {
             slot = offsetof(cvk_pd_scalars, contact_groups);
         }
         op = cvk_plan_dispatch_indirect(pb->plan, pass, pipeline,
@@ -415,7 +426,8 @@ static void add_after_outer(pd_builder* pb, const cvk_build* b, cvk_pd_set set, 
                  outer + 1, set_note[set]);
     /* With self-contact the attached particles too: kept within their bounds (collide.h). */
     uint32_t count = self && b->attached_count > 0 ? b->particle_count : b->free_count;
-    op = add_op(pb, CVK_PIPE_PD_CONTACT, set, pb->contact_pass, 0, count, 1.0f, pb->base.omega);
+    op = add_op(pb, contact_pipeline(pb->sim), set, pb->contact_pass, 0, count, 1.0f,
+                pb->base.omega);
     /* Each particle loops over colliders and traces: a few particles per invocation keep
        lavapipe's per-shader loop budget out of reach (cvk_plan_walk_groups). */
     if (op && !pb->armed)

@@ -22,11 +22,13 @@
 #endif
 // Bit t set: the scene has colliders of type t (CVK_COLLIDER_*_ID); the others' code is
 // specialised away.
+// Bits 6-29: an instance's colliders as runs of one type, where the scene fixes them
+// (shared/layout.h; FOR_EACH_COLLIDER).
 // Bit 31 (CVK_COLLIDERS_IN_STORAGE): more colliders than the uniform arrays hold; they are read
 // from the storage buffers.
 layout(constant_id = CONTACT_TYPES_ID) const uint COLLIDER_TYPES = 63u;
 #define HAS_TYPE(t) ((COLLIDER_TYPES & (1u << (t))) != 0u)
-const uint COLLIDER_TYPE_BITS = COLLIDER_TYPES & ~CVK_COLLIDERS_IN_STORAGE;
+const uint COLLIDER_TYPE_BITS = COLLIDER_TYPES & CVK_COLLIDER_TYPE_MASK;
 const bool STORAGE_COLLIDERS = (COLLIDER_TYPES & CVK_COLLIDERS_IN_STORAGE) != 0u;
 
 layout(std140, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PARAMS_UNIFORM) uniform ContactParamsU {
@@ -375,11 +377,87 @@ void local_path(cvk_gpu_pose pose, vec3 x0, vec3 u, out vec3 l0, out vec3 l1)
     l1 = quat_rotate_inverse(pose.rotation1, x0 + u - pose.translation1.xyz);
 }
 
-// Contact with collider k for a point that starts the substep at x0 and would end it at
-// x0 + u, kept r off its surface: returns the corrected displacement.
-vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
+// A collider's type where collide_shape is told it: ANY_TYPE (read it from the shape), or a
+// run's type (bits 6-29 of COLLIDER_TYPES), a constant.
+const uint ANY_TYPE = 0xffffffffu;
+#define RUN_BITS(r) ((COLLIDER_TYPES >> (CVK_COLLIDER_RUNS_SHIFT + 6u * (r))) & 63u)
+#define RUN_TYPE(r) ((RUN_BITS(r) & 7u) - 1u)
+#define RUN_LENGTH(r) (RUN_BITS(r) >> 3u)
+
+// Collider k's shape, its type `type` unless ANY_TYPE.
+cvk_gpu_collider typed_shape(uint k, uint type)
 {
     cvk_gpu_collider c = collider_shape(k);
+    if (type != ANY_TYPE)
+        c.type = type;
+    return c;
+}
+
+// Runs EACH(k, type) for every collider k of particle p's instance, in order. A build with
+// COLLIDER_RUNS defined (pd_contact.comp's, one a run count, chosen by the host:
+// lib/solvers/pd_passes.c) loops over each run with `type` the run's, a constant, so that only
+// that type's code is in the loop: llvmpipe runs the code of every type the scene has, under a
+// mask, for each collider otherwise (the 40 x 40 drape without self-contact, one lavapipe
+// core: the collider pass 5.4 -> 2.7 ms a frame, the same bits). Runs switched off by a
+// specialisation constant instead would still be inlined and compiled, half a second each on
+// lavapipe. Other builds loop over the instance's colliders with `type` ANY_TYPE.
+#ifdef COLLIDER_RUNS
+#define RUN_AT(r, start, EACH) \
+    for (uint i_ = 0u; i_ < RUN_LENGTH(r); i_++) { EACH(range_.x + (start) + i_, RUN_TYPE(r)) }
+#if COLLIDER_RUNS > 2
+#define RUN_2(EACH) RUN_AT(2u, RUN_LENGTH(0u) + RUN_LENGTH(1u), EACH)
+#else
+#define RUN_2(EACH)
+#endif
+#if COLLIDER_RUNS > 3
+#define RUN_3(EACH) RUN_AT(3u, RUN_LENGTH(0u) + RUN_LENGTH(1u) + RUN_LENGTH(2u), EACH)
+#else
+#define RUN_3(EACH)
+#endif
+#define FOR_EACH_COLLIDER(p, EACH) { \
+    uvec2 range_ = collider_range(p); \
+    RUN_AT(0u, 0u, EACH) RUN_AT(1u, RUN_LENGTH(0u), EACH) RUN_2(EACH) RUN_3(EACH) }
+#else
+#define FOR_EACH_COLLIDER(p, EACH) { \
+    uvec2 range_ = collider_range(p); \
+    for (uint k_ = range_.x; k_ < range_.y; k_++) { EACH(k_, ANY_TYPE) } }
+#endif
+
+// Runs EACH(k) for every funnel k of particle p's instance, in order: in a build with
+// COLLIDER_RUNS, a loop over the funnels alone; in others over every collider, EACH under a test
+// of its type (run for each collider, under a mask, on lavapipe).
+#ifdef COLLIDER_RUNS
+#define FUNNEL_RUN(r) (RUN_TYPE(r) == CVK_COLLIDER_FUNNEL_ID ? RUN_LENGTH(r) : 0u)
+const uint FUNNELS = FUNNEL_RUN(0u) + FUNNEL_RUN(1u) + FUNNEL_RUN(2u) + FUNNEL_RUN(3u);
+// The place in its instance of the i-th funnel.
+uint funnel_at(uint i)
+{
+    uint start = 0u, at = 0u;
+    for (uint r = 0u; r < CVK_COLLIDER_RUNS; r++) {
+        uint n = RUN_LENGTH(r);
+        if (RUN_TYPE(r) == CVK_COLLIDER_FUNNEL_ID) {
+            at = i < n ? start + i : at;
+            i = i < n ? 0xffff0000u : i - n;
+        }
+        start += n;
+    }
+    return at;
+}
+#define FOR_EACH_FUNNEL(p, EACH) { \
+    uvec2 range_ = collider_range(p); \
+    for (uint i_ = 0u; i_ < FUNNELS; i_++) { EACH(range_.x + funnel_at(i_)) } }
+#else
+#define FOR_EACH_FUNNEL(p, EACH) { \
+    uvec2 range_ = collider_range(p); \
+    for (uint k_ = range_.x; k_ < range_.y; k_++) { \
+        if (collider_shape(k_).type == CVK_COLLIDER_FUNNEL_ID) { EACH(k_) } } }
+#endif
+
+// Contact with collider k (of `type`) for a point that starts the substep at x0 and would end
+// it at x0 + u, kept r off its surface: returns the corrected displacement.
+vec3 collide_shape(uint k, uint type, vec3 x0, vec3 u, float r)
+{
+    cvk_gpu_collider c = typed_shape(k, type);
     cvk_gpu_pose pose = collider_pose(k);
     vec3 l0, l1;
     local_path(pose, x0, u, l0, l1);
@@ -413,13 +491,14 @@ vec3 collide_shape(uint k, vec3 x0, vec3 u, float r)
     return quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
 }
 
-// Signed distance from x to collider k as posed at the start (pose 0) or end (1) of the substep.
-float posed_distance(uint k, vec3 x, uint pose)
+// Signed distance from x to collider k (of `type`) as posed at the start (pose 0) or end (1)
+// of the substep.
+float posed_distance(uint k, uint type, vec3 x, uint pose)
 {
     cvk_gpu_pose p = collider_pose(k);
     vec3 l = pose == 0u ? quat_rotate_inverse(p.rotation0, x - p.translation0.xyz)
                         : quat_rotate_inverse(p.rotation1, x - p.translation1.xyz);
-    return shape_distance(collider_shape(k), l);
+    return shape_distance(typed_shape(k, type), l);
 }
 
 // The least distance from x to a collider of particle p's instance (a funnel's unsigned), at
@@ -428,12 +507,15 @@ float posed_distance(uint k, vec3 x, uint pose)
 float nearest_solid(uint p, vec3 x, bool both)
 {
     float d = 3.0e38;
+#define NEAREST_OF(k, type) \
+    d = min(d, posed_distance(k, type, x, 1u)); \
+    if (both) \
+        d = min(d, posed_distance(k, type, x, 0u));
     uvec2 range = collider_range(p);
     for (uint k = range.x; k < range.y; k++) {
-        d = min(d, posed_distance(k, x, 1u));
-        if (both)
-            d = min(d, posed_distance(k, x, 0u));
+        NEAREST_OF(k, ANY_TYPE)
     }
+#undef NEAREST_OF
     return d;
 }
 
@@ -441,9 +523,9 @@ float nearest_solid(uint p, vec3 x, bool both)
 // returns the displacement that keeps it out of every collider of its instance.
 vec3 collide_colliders(uint p, vec3 x0, vec3 u)
 {
-    uvec2 range = collider_range(p);
-    for (uint k = range.x; k < range.y; k++)
-        u = collide_shape(k, x0, u, contact_u.thickness);
+#define COLLIDE_WITH(k, type) u = collide_shape(k, type, x0, u, contact_u.thickness);
+    FOR_EACH_COLLIDER(p, COLLIDE_WITH)
+#undef COLLIDE_WITH
     return u;
 }
 

@@ -542,6 +542,16 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
    particle at a time there, its instance's (lib/contact/collide.h). */
 #define CVK_UNIFORM_COLLIDERS 64u
 #define CVK_COLLIDERS_IN_STORAGE 0x80000000u
+/* Bits 0-5 of that constant: the types the scene has (bit CVK_COLLIDER_*_ID). Bits 6-29: an
+   instance's colliders as runs of one type, where every instance has the same and they make 2
+   to CVK_COLLIDER_RUNS runs of at most CVK_COLLIDER_RUN_MAX colliders each: 6 bits a run from
+   bit CVK_COLLIDER_RUNS_SHIFT, its CVK_COLLIDER_*_ID + 1 in the low 3 (0 past the last) and
+   its length in the high 3; all 0 otherwise (lib/contact/collide.c; contact/collide.glsl's
+   FOR_EACH_COLLIDER). */
+#define CVK_COLLIDER_TYPE_MASK 0x3fu
+#define CVK_COLLIDER_RUNS 4u
+#define CVK_COLLIDER_RUN_MAX 7u
+#define CVK_COLLIDER_RUNS_SHIFT 6u
 
 /* ---- attachments: features/attach.comp (lib/features/attach.h) ------------------------------------ */
 

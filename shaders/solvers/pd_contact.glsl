@@ -19,66 +19,72 @@ const bool COLLIDERS = COLLIDER_TYPES != 0u;
 // triangle edges are kept half a thickness off the funnels too, on the side each started the
 // substep on, and the particle moves by the largest of their corrections (its neighbour moves
 // by the same from its side, so the midpoint moves by all of it). The neighbours' displacement
-// is the iterate before (src), as for the triangles above.
-vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
+// is the iterate before (src), as for the triangles above. shell_push: funnel k's push on the
+// midpoints of p's edges, where larger than `most`.
+vec3 shell_push(uint k, uint p, vec3 x0, vec3 u, vec3 most)
 {
     uint base = contact_u.particle_count + 1u;
     float r = 0.5 * contact_u.thickness;
-    vec3 most = vec3(0.0);
-    uvec2 range = collider_range(p);
-    for (uint k = range.x; k < range.y; k++) {
-        if (collider_shape(k).type != CVK_COLLIDER_FUNNEL_ID)
-            continue;
-        // In the funnel's frame every point of a midpoint's path is within max(|m0 - x0|,
-        // |m1 - x1|) of p's path, and p's path within |l1 - l0| of l0: an edge whose bound
-        // keeps it beyond r is not traced (a trace costs up to 32 of the funnel's distances).
-        vec3 l0, l1;
-        local_path(collider_pose(k), x0, u, l0, l1);
-        float slack = shape_distance(collider_shape(k), l0) - length(l1 - l0) - r;
-        uint o_begin = contact_incident(p), o_end = contact_incident(p + 1u);
-        for (uint o = o_begin; o < o_end; o++) {
-            uvec4 t = contact_triangle(contact_incident(base + o));
-            // The edge to the next corner in the triangle's winding: each edge of p once, as
-            // the triangles on either side wind it the other way; and the edge to the corner
-            // before where no triangle has it the other way round (a border: the table's w
-            // marks it, lib/contact/collide.c).
-            uint k0 = t.x == p ? 0u : (t.y == p ? 1u : 2u);
-            uint next = t[(k0 + 1u) % 3u], prev = t[(k0 + 2u) % 3u];
-            bool border = (t.w & (1u << ((k0 + 2u) % 3u))) != 0u;
-            for (uint j = 0u; j < (border ? 2u : 1u); j++) {
-                uint q = j == 0u ? next : prev;
-                vec3 half0 = 0.5 * (fetch(x_read, q) - x0);
-                vec3 half1 = half0 + 0.5 * (FETCH_SRC(q) - u);
-                if (max(length(half0), length(half1)) < slack)
-                    continue;
-                vec3 um = u + half1 - half0; // the midpoint's displacement
-                vec3 push = collide_shape(k, x0 + half0, um, r) - um;
-                if (dot(push, push) > dot(most, most))
-                    most = push;
-            }
+    // In the funnel's frame every point of a midpoint's path is within max(|m0 - x0|,
+    // |m1 - x1|) of p's path, and p's path within |l1 - l0| of l0: an edge whose bound
+    // keeps it beyond r is not traced (a trace costs up to 32 of the funnel's distances).
+    vec3 l0, l1;
+    local_path(collider_pose(k), x0, u, l0, l1);
+    float slack = shape_distance(typed_shape(k, CVK_COLLIDER_FUNNEL_ID), l0) - length(l1 - l0) - r;
+    uint o_begin = contact_incident(p), o_end = contact_incident(p + 1u);
+    for (uint o = o_begin; o < o_end; o++) {
+        uvec4 t = contact_triangle(contact_incident(base + o));
+        // The edge to the next corner in the triangle's winding: each edge of p once, as
+        // the triangles on either side wind it the other way; and the edge to the corner
+        // before where no triangle has it the other way round (a border: the table's w
+        // marks it, lib/contact/collide.c).
+        uint k0 = t.x == p ? 0u : (t.y == p ? 1u : 2u);
+        uint next = t[(k0 + 1u) % 3u], prev = t[(k0 + 2u) % 3u];
+        bool border = (t.w & (1u << ((k0 + 2u) % 3u))) != 0u;
+        for (uint j = 0u; j < (border ? 2u : 1u); j++) {
+            uint q = j == 0u ? next : prev;
+            vec3 half0 = 0.5 * (fetch(x_read, q) - x0);
+            vec3 half1 = half0 + 0.5 * (FETCH_SRC(q) - u);
+            if (max(length(half0), length(half1)) < slack)
+                continue;
+            vec3 um = u + half1 - half0; // the midpoint's displacement
+            vec3 push = collide_shape(k, CVK_COLLIDER_FUNNEL_ID, x0 + half0, um, r) - um;
+            if (dot(push, push) > dot(most, most))
+                most = push;
         }
     }
+    return most;
+}
+
+vec3 edges_off_shells(uint p, vec3 x0, vec3 u)
+{
+    vec3 most = vec3(0.0);
+#define SHELL_PUSH(k) most = shell_push(k, p, x0, u, most);
+    FOR_EACH_FUNNEL(p, SHELL_PUSH)
+#undef SHELL_PUSH
     return u + most;
 }
 
 // Whether p's path from x0 to x0 + u keeps a quarter of the thickness (and half its start's
-// distance) off every funnel: a place within the bound on the side of the surface the particle
+// distance) off funnel k: a place within the bound on the side of the surface the particle
 // started on, which a funnel's push may be brought back to.
+bool shell_clear(uint k, vec3 x0, vec3 u)
+{
+    cvk_gpu_collider c = typed_shape(k, CVK_COLLIDER_FUNNEL_ID);
+    vec3 l0, l1;
+    local_path(collider_pose(k), x0, u, l0, l1);
+    float r = min(0.25 * contact_u.thickness, 0.5 * shape_distance(c, l0));
+    vec3 hit, n;
+    return r > 0.0 && !trace_segment(c, l0, l1, r, hit, n);
+}
+
 bool shells_clear(uint p, vec3 x0, vec3 u)
 {
-    uvec2 range = collider_range(p);
-    for (uint k = range.x; k < range.y; k++) {
-        cvk_gpu_collider c = collider_shape(k);
-        if (c.type != CVK_COLLIDER_FUNNEL_ID)
-            continue;
-        vec3 l0, l1;
-        local_path(collider_pose(k), x0, u, l0, l1);
-        float r = min(0.25 * contact_u.thickness, 0.5 * shape_distance(c, l0));
-        vec3 hit, n;
-        if (!(r > 0.0) || trace_segment(c, l0, l1, r, hit, n))
-            return false;
-    }
-    return true;
+    bool clear = true;
+#define SHELL_CLEAR(k) clear = clear && shell_clear(k, x0, u);
+    FOR_EACH_FUNNEL(p, SHELL_CLEAR)
+#undef SHELL_CLEAR
+    return clear;
 }
 
 // Where corner q is in the iterate before (src): triangle corners and edge ends are read from

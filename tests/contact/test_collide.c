@@ -805,10 +805,95 @@ static void test_bounds_at_colliders(cvk_context* ctx)
     cvk_sim_destroy(sim);
 }
 
+/* Steps `scene` 40 frames; its positions (malloc'd) and the runs its contact pass was built
+   for (cvk_collide.runs). */
+static float* positions_after(cvk_context* ctx, const cvk_scene_desc* scene, uint32_t* runs,
+                              uint64_t* count)
+{
+    cvk_error err;
+    cvk_sim* sim;
+    REQUIRE_OK(harness_sim_create(ctx, scene, &sim, &err), err);
+    REQUIRE_OK(cvk_sim_step(sim, 40, &err), err);
+    *runs = sim->collide->runs;
+    *count = cvk_sim_particle_count(sim);
+    float* xyz = malloc(3 * *count * sizeof(float));
+    REQUIRE_OK(cvk_sim_read_positions(sim, xyz, *count, &err), err);
+    cvk_sim_destroy(sim);
+    return xyz;
+}
+
+/* The contact pass's builds for runs of one collider type (contact/collide.glsl's
+   FOR_EACH_COLLIDER, each run's type a constant) give the bits of the build that reads each
+   collider's type: a cloth with self-contact dropped onto a plane, a sphere, a box and a
+   capsule (four runs), and onto a plane, a funnel and a capsule (three), against the same
+   scenes with three colliders far away added (six runs or more: the build that reads types). */
+static void test_collider_runs(cvk_context* ctx)
+{
+    cvk_cloth_desc cloth = flat_cloth(16, 0.8f, 0.5f);
+    for (int set = 0; set < 2; set++) {
+        cvk_collider_desc c[7];
+        uint32_t n = 0;
+        c[n++] = collider(CVK_COLLIDER_PLANE);
+        if (set == 0) {
+            c[n] = collider(CVK_COLLIDER_SPHERE);
+            c[n].center[1] = 0.2f;
+            c[n++].radius = 0.15f;
+            c[n] = collider(CVK_COLLIDER_BOX);
+            c[n].center[0] = 0.3f;
+            c[n].center[1] = 0.1f;
+            c[n].half_extents[0] = c[n].half_extents[1] = c[n].half_extents[2] = 0.1f;
+            n++;
+        } else {
+            c[n] = collider(CVK_COLLIDER_FUNNEL); /* the cloth falls into its mouth */
+            c[n].apex[1] = 0.1f;
+            c[n].funnel_a = 0.4f;
+            c[n++].height = 1.0f;
+        }
+        c[n] = collider(CVK_COLLIDER_CAPSULE);
+        c[n].a[0] = -0.3f;
+        c[n].b[0] = 0.3f;
+        c[n].a[1] = c[n].b[1] = 0.3f;
+        c[n].a[2] = c[n].b[2] = -0.25f;
+        c[n++].radius = 0.05f;
+        uint32_t near = n;
+        for (int k = 0; k < 3; k++) { /* far off: no particle comes near them */
+            c[n] = collider(k == 1 ? CVK_COLLIDER_BOX : CVK_COLLIDER_SPHERE);
+            c[n].center[0] = c[n].center[1] = 50.0f + 5.0f * k;
+            c[n].radius = 0.1f;
+            c[n].half_extents[0] = c[n].half_extents[1] = c[n].half_extents[2] = 0.1f;
+            n++;
+        }
+        cvk_scene_desc scene = cvk_default_scene_desc();
+        scene.cloths = &cloth;
+        scene.cloth_count = 1;
+        scene.colliders = c;
+        scene.collision.self = true;
+        uint32_t runs_near, runs_all;
+        uint64_t count_near, count_all;
+        scene.collider_count = near;
+        float* by_runs = positions_after(ctx, &scene, &runs_near, &count_near);
+        scene.collider_count = n;
+        float* by_type = positions_after(ctx, &scene, &runs_all, &count_all);
+        CHECK(runs_near == near && runs_all == 0, "set %d: built for %u and %u runs, expected "
+              "%u and 0", set, runs_near, runs_all, near);
+        uint64_t differ = 0;
+        for (uint64_t i = 0; i < 3 * count_near && count_near == count_all; i++)
+            differ += memcmp(&by_runs[i], &by_type[i], sizeof(float)) != 0;
+        CHECK(count_near == count_all && differ == 0, "set %d: %llu of %llu coordinates differ "
+              "between the runs' build and the one that reads types", set,
+              (unsigned long long)differ, (unsigned long long)(3 * count_near));
+        printf("collider runs, set %d: %u runs, %llu coordinates the same bits as with %u "
+               "colliders\n", set, runs_near, (unsigned long long)(3 * count_near), n);
+        free(by_runs);
+        free(by_type);
+    }
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     test_plan_passes(ctx);
+    test_collider_runs(ctx);
     test_cloth_on_cloth(ctx);
     test_bounds_at_colliders(ctx);
     test_dragged_through(ctx, 0.005f);
