@@ -398,7 +398,7 @@ cvk_gpu_collider typed_shape(uint k, uint type)
 // lib/solvers/pd_passes.c) loops over each run with `type` the run's, a constant, so that only
 // that type's code is in the loop: llvmpipe runs the code of every type the scene has, under a
 // mask, for each collider otherwise (the 40 x 40 drape without self-contact, one lavapipe
-// core: the collider pass 5.4 -> 2.7 ms a frame, the same bits). Runs switched off by a
+// core: the collider pass 4.4 -> 2.2 ms a frame, the same bits; docs/figures/collider-runs). Runs switched off by a
 // specialisation constant instead would still be inlined and compiled, half a second each on
 // lavapipe. Other builds loop over the instance's colliders with `type` ANY_TYPE.
 #ifdef COLLIDER_RUNS
@@ -491,14 +491,13 @@ vec3 collide_shape(uint k, uint type, vec3 x0, vec3 u, float r)
     return quat_rotate(pose.rotation1, l1) + pose.translation1.xyz - x0;
 }
 
-// Signed distance from x to collider k (of `type`) as posed at the start (pose 0) or end (1)
-// of the substep.
-float posed_distance(uint k, uint type, vec3 x, uint pose)
+// Signed distance from x to collider k as posed at the start (pose 0) or end (1) of the substep.
+float posed_distance(uint k, vec3 x, uint pose)
 {
     cvk_gpu_pose p = collider_pose(k);
     vec3 l = pose == 0u ? quat_rotate_inverse(p.rotation0, x - p.translation0.xyz)
                         : quat_rotate_inverse(p.rotation1, x - p.translation1.xyz);
-    return shape_distance(typed_shape(k, type), l);
+    return shape_distance(collider_shape(k), l);
 }
 
 // The least distance from x to a collider of particle p's instance (a funnel's unsigned), at
@@ -507,15 +506,12 @@ float posed_distance(uint k, uint type, vec3 x, uint pose)
 float nearest_solid(uint p, vec3 x, bool both)
 {
     float d = 3.0e38;
-#define NEAREST_OF(k, type) \
-    d = min(d, posed_distance(k, type, x, 1u)); \
-    if (both) \
-        d = min(d, posed_distance(k, type, x, 0u));
     uvec2 range = collider_range(p);
     for (uint k = range.x; k < range.y; k++) {
-        NEAREST_OF(k, ANY_TYPE)
+        d = min(d, posed_distance(k, x, 1u));
+        if (both)
+            d = min(d, posed_distance(k, x, 0u));
     }
-#undef NEAREST_OF
     return d;
 }
 
