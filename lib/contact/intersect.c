@@ -421,8 +421,8 @@ static bool overlap_here(const grid* g, uint32_t i, uint32_t j, uint64_t cell)
     return cell_key(low[0], low[1], low[2]) == cell;
 }
 
-cvk_result cvk_box_pairs(const float* boxes, uint32_t count, cvk_box_pair_fn pair, void* user,
-                         const char* what, cvk_error* error)
+cvk_result cvk_box_pairs(const float* boxes, uint32_t count, uint32_t split, cvk_box_pair_fn pair,
+                         void* user, const char* what, cvk_error* error)
 {
     grid g = {.box = boxes, .count = count};
     g.cells = malloc(6 * (size_t)(count ? count : 1) * sizeof *g.cells);
@@ -440,11 +440,17 @@ cvk_result cvk_box_pairs(const float* boxes, uint32_t count, cvk_box_pair_fn pai
         uint64_t cell = g.entries[first].cell;
         for (end = first + 1; end < g.entry_count && g.entries[end].cell == cell;)
             end++;
-        /* Entries of a cell are sorted by box, so i < j. */
-        for (size_t x = first; x < end; x++)
-            for (size_t y = x + 1; y < end; y++)
-                if (overlap_here(&g, g.entries[x].index, g.entries[y].index, cell))
-                    pair(user, g.entries[x].index, g.entries[y].index);
+        /* Entries of a cell are sorted by box, so i < j; with a split, the boxes below it
+           come first, and each meets only those from it on. */
+        for (size_t x = first; x < end; x++) {
+            uint32_t i = g.entries[x].index;
+            size_t y = x + 1;
+            while (split && i < split && y < end && g.entries[y].index < split)
+                y++;
+            for (; y < end && !(split && i >= split); y++)
+                if (overlap_here(&g, i, g.entries[y].index, cell))
+                    pair(user, i, g.entries[y].index);
+        }
     }
     free(g.cells);
     free(g.entries);
@@ -542,7 +548,7 @@ static cvk_result scan_soup(const float* xyz, uint32_t vertex_count, const uint3
         }
         out->kept[count++] = t;
     }
-    cvk_result r = cvk_box_pairs(box, count, test_pair, out, "intersection test", error);
+    cvk_result r = cvk_box_pairs(box, count, 0, test_pair, out, "intersection test", error);
     free(box);
     free(out->kept);
     out->kept = NULL;

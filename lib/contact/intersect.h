@@ -32,13 +32,14 @@ cvk_result cvk_first_intersecting_pair(const float* xyz, uint32_t vertex_count,
 
 /* Every pair of `count` closed boxes (6 floats each: min xyz, max xyz, all finite) that
    overlap, handed once to pair(user, i, j) with i < j, through a uniform grid (near-linear for
-   boxes of about one size); `what` begins the message of the only failure,
+   boxes of about one size); with `split` > 0 only the pairs with i < split <= j (two sets of
+   boxes, each met against the other alone). `what` begins the message of the only failure,
    CVK_ERROR_OUT_OF_MEMORY. The count below and the contact statistics' particle–triangle
    pairs (lib/sim/sim_contact.c) are its callers. */
 typedef void (*cvk_box_pair_fn)(void* user, uint32_t i, uint32_t j);
 
-cvk_result cvk_box_pairs(const float* boxes, uint32_t count, cvk_box_pair_fn pair, void* user,
-                         const char* what, cvk_error* error);
+cvk_result cvk_box_pairs(const float* boxes, uint32_t count, uint32_t split, cvk_box_pair_fn pair,
+                         void* user, const char* what, cvk_error* error);
 
 /* Whether two triangles (9 floats each) intersect: the exact predicate the count uses. */
 bool cvk_triangles_intersect(const float a[9], const float b[9]);

@@ -171,7 +171,7 @@ typedef struct self_query {
     const float* xyz;
     const uint32_t* tri;
     double thickness;
-    uint32_t triangles;          /* boxes [0, triangles) are triangles */
+    uint32_t triangles;          /* boxes [0, triangles) are triangles, the rest particles */
     uint32_t* item;              /* per box: its triangle or particle */
     uint64_t pairs;
 } self_query;
@@ -180,8 +180,6 @@ typedef struct self_query {
 static void self_pair(void* user, uint32_t i, uint32_t j)
 {
     self_query* q = user;
-    if (i >= q->triangles || j < q->triangles)
-        return; /* two triangles or two particles */
     const uint32_t* v = &q->tri[3 * (size_t)q->item[i]];
     uint32_t p = q->item[j];
     if (near_in_mesh(q->build, p, v) || (q->instance_of && q->instance_of[p] != q->instance_of[v[0]]))
@@ -239,7 +237,9 @@ static cvk_result self_stats(cvk_sim* s, const float* xyz, const uint32_t* tri, 
         memcpy(&box[6 * (size_t)count + 3], x, 3 * sizeof(float));
         q.item[count++] = p;
     }
-    cvk_result r = cvk_box_pairs(box, count, self_pair, &q, "contact statistics", error);
+    cvk_result r = q.triangles == 0 ? CVK_SUCCESS
+                                    : cvk_box_pairs(box, count, q.triangles, self_pair, &q,
+                                                    "contact statistics", error);
     st->self_contacts = q.pairs;
     free(q.item);
     free(box);
