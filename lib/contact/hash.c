@@ -6,10 +6,12 @@
      scan      exclusive prefix sum of the counts into starts, in three dispatches: the sum of
                each chunk of slots (one invocation per chunk), a serial scan of the chunk sums
                (one invocation), then each chunk's own scan from its offset
-     scatter   per point: unsorted[starts[slot] + --counts[slot]] = p (atomic), which leaves
-               every count 0 for the next build (they are zeroed once, at creation)
-     sort      per point: entries[starts[slot] + rank] = p, rank = the slot's points below p,
-               and sorted[starts[slot] + rank] = (p's point, p)
+     scatter   per point: entries[starts[slot] + --counts[slot]] = p (atomic), which leaves
+               every count 0 for the next build (they are zeroed once, at creation); a slot's
+               points in the order the atomics took them
+     sort      per point: sorted[starts[slot] + rank] = (p's point, p), rank = the slot's
+               points below p, counted over the slot's entries through a texel view (a storage
+               load in that loop is a loop over the lanes on lavapipe)
 
    All are dispatches ordered by compute barriers; with no points only the clear is recorded.
    The number of operations never depends on the points, so the build needs no host round trip. The three-dispatch scan uses no shared memory and no
@@ -122,7 +124,7 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         {&hash->keys, 4 * (VkDeviceSize)hash->capacity, "hash keys"},
         {&hash->starts, 4 * (slots + 1), "hash slot starts"},
         {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
-        {&hash->scratch, 4 * (slots + chunk_count(hash) + hash->capacity), "hash scratch"},
+        {&hash->scratch, 4 * (slots + chunk_count(hash)), "hash scratch"},
         {&hash->sorted, 16 * (VkDeviceSize)hash->capacity, "hash points by slot"},
         {&hash->zero_salt, 16, "hash zero salt"},
     };

@@ -43,9 +43,11 @@ typedef struct cvk_hash {
     cvk_buffer params;          /* cvk_hash_params (shaders/shared/layout.h) */
     cvk_buffer keys;            /* uint per point: its slot */
     cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */
-    cvk_buffer entries;         /* uint per point: point indices grouped by slot, ascending in a slot */
+    cvk_buffer entries;         /* uint per point: point indices grouped by slot, in the order
+                                   the scatter's atomics took them (the sort's input) */
     cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
-    cvk_buffer sorted;          /* uvec4 per point in the entries' order: xyz bits, index */
+    cvk_buffer sorted;          /* uvec4 per point grouped by slot, ascending index in a slot:
+                                   xyz bits, index (what queries read) */
     VkBufferView points_view;   /* storage texel views the shaders read (R32G32B32A32_SFLOAT, */
     VkBufferView starts_view;   /* R32_UINT, R32_UINT) with imageLoad: on lavapipe an inline */
     VkBufferView entries_view;  /* vectorised gather (docs/performance.md) */
@@ -66,7 +68,7 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 /* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
    clear, count, scan, scatter, sort. After its last op (barrier compute -> compute, and
    -> indirect with on_device) starts and
-   entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
+   sorted are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
    is recorded, which leaves every start 0 and the parameters' count 0.
    With `on_device` the build is for a module that opens and closes it on the device (the
    parameters' `build`, written before these ops by a dispatch followed by a compute barrier):

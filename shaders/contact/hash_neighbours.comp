@@ -24,7 +24,7 @@ void main()
             ivec3 cell = hash_neighbour_cell(home, n);
             uvec2 range = hash_range(cell);
             for (uint e = range.x; e < range.y; e++) {
-                uint q = hash_entry(e);
+                uint q = hash_entry_point(e).w;
                 if (q == p || !hash_in_cell(q, cell))
                     continue;
                 vec3 d = hash_point(q) - x;

@@ -701,21 +701,23 @@ CVK_PUSH_BLOCK(cvk_contact_hash_push, CVK_CONTACT_HASH_PUSH_FIELDS)
 CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
 
 /* Bindings of the hash's set; scratch holds the count (then cursor) per slot, then the chunk
-   sums of the scan, then the entries as the scatter leaves them. What queries read goes through
+   sums of the scan. What the sort and queries read goes through
    texel buffers: on lavapipe a texel fetch is a vectorised gather while a storage-buffer load in
    a divergent loop is a loop over the lanes (the neighbour query runs 2.4x faster). */
 #define CVK_HASH_BINDING_PARAMS 0       /* storage: cvk_hash_params */
 #define CVK_HASH_BINDING_POINTS 1       /* texel (rgba32f): a point per texel, xyz hashed */
 #define CVK_HASH_BINDING_KEYS 2         /* storage: uint per point, its slot */
 #define CVK_HASH_BINDING_STARTS 3       /* storage: uint per slot + 1 */
-#define CVK_HASH_BINDING_ENTRIES 4      /* storage: uint per point, indices grouped by slot */
-#define CVK_HASH_BINDING_SCRATCH 5      /* storage: counts per slot, sums per chunk, unsorted */
+#define CVK_HASH_BINDING_ENTRIES 4      /* storage: uint per point, indices grouped by slot in
+                                           the order the scatter's atomics took them */
+#define CVK_HASH_BINDING_SCRATCH 5      /* storage: counts per slot, sums per chunk */
 #define CVK_HASH_BINDING_STARTS_READ 6  /* texel (r32ui): starts, as queries read them */
-#define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as queries read them */
+#define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as the sort reads them */
 #define CVK_HASH_BINDING_PARAMS_READ 8  /* uniform: the parameters, as queries read them (a
                                            storage load per cell visited was a lane loop) */
-#define CVK_HASH_BINDING_SORTED 9       /* storage: uvec4 per point in the entries' order: the
-                                           point's xyz (float bits) and its index */
+#define CVK_HASH_BINDING_SORTED 9       /* storage: uvec4 per point grouped by slot, in
+                                           ascending index in a slot: the point's xyz (float
+                                           bits) and its index */
 #define CVK_HASH_BINDING_SORTED_READ 10 /* texel (rgba32ui): sorted, as queries read it (one
                                            fetch per entry instead of the entry, then its point) */
 #define CVK_HASH_BINDING_SALTS 11       /* texel (r32ui): per point a salt mixed into its slot
