@@ -7,10 +7,12 @@
 const uint KS = uint(CVK_SIDES_PER_PARTICLE);
 
 // p's side list (contact_detect.comp) in ascending (vertex, entry) order, whatever order the
-// atomics gave it, the rest marked empty, and its count cleared for the next detection. A
-// particle that is a corner in more pairs than the list holds keeps those that came first.
-// Sorted in registers, read and written once: on lavapipe each storage-buffer access is a loop
-// over the lanes.
+// atomics gave it, ended by an empty pair where it is not full (its readers stop there:
+// cloth_push.glsl), and its count cleared for the next detection. A particle that is a corner
+// in more pairs than the list holds keeps those that came first. Sorted in registers, read and
+// written once: on lavapipe each storage-buffer access is a loop over the lanes, and a loop
+// runs as often as its longest lane, so only the pairs and the end are written (every slot
+// of the list, 32 stores a particle, was most of the bounds' pass).
 uint side_v[KS], side_e[KS];
 void sort_sides(uint p)
 {
@@ -27,11 +29,12 @@ void sort_sides(uint p)
         side_v[j] = v;
         side_e[j] = e;
     }
-    for (uint i = 0u; i < KS; i++) {
-        sides[base + 2u * i] = i < count ? side_v[i] : CVK_NO_CONTACT;
-        if (i < count)
-            sides[base + 2u * i + 1u] = side_e[i];
+    for (uint i = 0u; i < count; i++) {
+        sides[base + 2u * i] = side_v[i];
+        sides[base + 2u * i + 1u] = side_e[i];
     }
+    if (count < KS)
+        sides[base + 2u * count] = CVK_NO_CONTACT;
     sides[p] = 0u;
 }
 
