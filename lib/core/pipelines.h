@@ -134,6 +134,9 @@ typedef struct cvk_spec_recipe {
     X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
     X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds") \
+    X(CONTACT_CHECK_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 2 runs of one collider type") \
+    X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 3 runs of one collider type") \
+    X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 4 runs of one collider type") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
