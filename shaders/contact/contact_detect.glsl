@@ -85,13 +85,13 @@ void keep_hit(uint t, uint feature, float d)
 // list in a loop over the pairs after all the tests. Against the tests inside the walk, the
 // flat 40 x 40 drape's one detection took 2.3 ms instead of 5.0 and the six-cloth pile's faces
 // at every substep (frames 41 and 42) 87 ms a frame instead of 218. A particle with more pairs
-// than HITS walks again for the rest.
+// than HITS walks again for the rest. A pair's triangle alone is kept, its distance and
+// feature measured again after the tests (the same function, the same bits): a store at a
+// variable index of a private array is a loop over the lanes on lavapipe (contact_edges.glsl).
 const uint BATCH = 32u;
 uint found[BATCH];
 const uint HITS = 32u;
 uint hit_t[HITS];
-uint hit_feature[HITS];
-float hit_d[HITS];
 uint hits; // reset by each detect: an invocation may detect for several particles
 
 float test_batch(uint p, vec3 xp, uint count, uint instance, float nearest_p)
@@ -101,11 +101,8 @@ float test_batch(uint p, vec3 xp, uint count, uint instance, float nearest_p)
         float d = triangle_distance(p, xp, found[i], instance, feature);
         if (!(d < contact_u.radius))
             continue;
-        if (hits < HITS) {
+        if (hits < HITS)
             hit_t[hits] = found[i];
-            hit_feature[hits] = feature;
-            hit_d[hits] = d;
-        }
         hits++;
         nearest_p = min(nearest_p, d);
     }
@@ -137,8 +134,11 @@ void detect(uint p)
         }
         nearest_p = test_batch(p, xp, count, instance, nearest_p);
     }
-    for (uint i = 0u; i < min(hits, HITS); i++)
-        keep_hit(hit_t[i], hit_feature[i], hit_d[i]);
+    for (uint i = 0u; i < min(hits, HITS); i++) {
+        uint feature;
+        float d = triangle_distance(p, xp, hit_t[i], instance, feature);
+        keep_hit(hit_t[i], feature, d);
+    }
     // More pairs than the list holds (a crowd of layers): the same walk again, the pairs past
     // the list's kept as they are met (a lane with no more ends this loop at its first step).
     w = hash_walk_begin(xp, instance, reach2);
