@@ -40,20 +40,23 @@ void note_loops_cut(uint count)
         atomicOr(frame.cut, 1u);
 }
 
-// The substep's common shift, read once an invocation: a global's initialiser runs at the start
-// of main. Read where it is used, at every particle of a sweep's loop, its three storage loads
-// stayed in the loop (the loop's stores might have written them), a quarter of the sweeps'
+// The substep's common shift, for within_bound: read it once an invocation, before the loop
+// over its particles. Read inside the loop, at every particle of a sweep, its three storage
+// loads stayed there (the loop's stores might have written them), a quarter of the sweeps'
 // time with self-contact (one lavapipe core: the 40 x 40 contact drape's solve 13.7 -> 9.9 ms
-// a frame, the six-cloth pile's 22.5 -> 14.3). Every pass that keeps particles within their bounds runs in a dispatch after
-// the decision that wrote the shift (contact_decide.comp, contact_faces_fused.comp), never in
-// the one that writes it.
-vec3 bound_shift = vec3(frame.shift_x, frame.shift_y, frame.shift_z);
+// a frame, the six-cloth pile's 22.5 -> 14.3). Every pass that keeps particles within their
+// bounds runs in a dispatch after the decision that wrote the shift (contact_decide.comp,
+// contact_faces_fused.comp), never in the one that writes it.
+vec3 bound_shift()
+{
+    return vec3(frame.shift_x, frame.shift_y, frame.shift_z);
+}
 
 // x kept within searched.w of where detection saw the particle plus the common shift.
-vec3 within_bound(uint p, vec3 x)
+vec3 within_bound(uint p, vec3 x, vec3 shift)
 {
     vec4 seen = imageLoad(searched_t, int(p));
-    vec3 centre = seen.xyz + bound_shift;
+    vec3 centre = seen.xyz + shift;
     vec3 d = x - centre;
     float len2 = dot(d, d), bound = seen.w;
     return len2 > bound * bound ? centre + d * (bound / sqrt(len2)) : x;

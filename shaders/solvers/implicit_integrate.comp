@@ -60,6 +60,7 @@ vec3 residual(bool second, uint p, vec3 dv, float m)
 void main()
 {
     bool second = scalars.result != 0u;
+    vec3 shift = SELF ? bound_shift() : vec3(0.0);
     for (uint p = gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride()) {
         vec3 dv = solution(second, p);
         vec3 vel = v[p].xyz + dv;
@@ -82,7 +83,7 @@ void main()
         }
         if (SELF) {
             vec3 x0 = x[p].xyz, u = pc.h * vel;
-            vec3 kept = within_bound(p, x0 + u);
+            vec3 kept = within_bound(p, x0 + u, shift);
             if (!FILTER || nearest_solid(p, kept, false) >= 0.0) {
                 vel = any(notEqual(kept, x0 + u)) ? (kept - x0) / pc.h : vel;
                 u = kept - x0;

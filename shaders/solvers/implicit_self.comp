@@ -36,9 +36,10 @@ vec3 iterate_x(uint q)
 
 void main()
 {
+    vec3 shift = bound_shift();
     if (ATTACHED) {
         for (uint p = pc.stride + gl_GlobalInvocationID.x; p < pc.count; p += invocation_stride())
-            x[p].xyz = within_bound(p, x[p].xyz);
+            x[p].xyz = within_bound(p, x[p].xyz, shift);
         return;
     }
     if (LISTED) {
@@ -48,7 +49,7 @@ void main()
         for (uint i = gl_GlobalInvocationID.x; i < count; i += invocation_stride()) {
             uint p = lists[start + i];
             vec3 x0 = x[p].xyz, xp = x0 + r[p].xyz;
-            z[p] = vec4(within_bound(p, xp + cloth_push(p, x0, xp)) - x0, 0.0);
+            z[p] = vec4(within_bound(p, xp + cloth_push(p, x0, xp), shift) - x0, 0.0);
         }
         return;
     }

@@ -175,13 +175,21 @@ uint invocation_stride()
 // function would need its format written in the parameter, which GLSL does not allow).
 #define fetch(data, index) (imageLoad(data, int(index)).xyz)
 
-// p's displacement u kept within its bound (nothing without self-contact).
-vec3 bounded(uint p, vec3 u)
+// The common shift of the bounds (bound_shift), read once before a loop over particles; 0
+// without self-contact.
+vec3 sweep_shift()
+{
+    return BOUNDED ? bound_shift() : vec3(0.0);
+}
+
+// p's displacement u kept within its bound, shift the common one (nothing without
+// self-contact).
+vec3 bounded(uint p, vec3 u, vec3 shift)
 {
     if (!BOUNDED)
         return u;
     vec3 x0 = fetch(x_read, p);
-    return within_bound(p, x0 + u) - x0;
+    return within_bound(p, x0 + u, shift) - x0;
 }
 
 // One spring's part of the right-hand side in displacement form: k (L t/|t| - e), where

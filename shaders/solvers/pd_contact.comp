@@ -20,15 +20,16 @@ layout(constant_id = 2) const bool LISTED = false;
 
 void main()
 {
+    vec3 shift = SELF ? bound_shift() : vec3(0.0);
     if (LISTED) {
         if (pc.count == 0u)
             return; // the warm-up dispatch changes nothing
         uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
         for (uint i = gl_GlobalInvocationID.x; i < count; i += invocation_stride())
-            contact_one(lists[start + i], true);
+            contact_one(lists[start + i], true, shift);
         return;
     }
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
-        contact_one(pc.first + i, false);
+        contact_one(pc.first + i, false, shift);
     }
 }

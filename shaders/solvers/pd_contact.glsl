@@ -104,20 +104,20 @@ vec3 start_x(uint q)
 
 // The cloth contact pass (LISTED in pd_contact.comp): p's displacement u pushed off the
 // features of its pairs, within its bound.
-vec3 pd_cloth_contact(uint p, vec3 u)
+vec3 pd_cloth_contact(uint p, vec3 u, vec3 shift)
 {
     vec3 x0 = fetch(x_read, p);
     vec3 xp = x0 + u;
-    return within_bound(p, xp + cloth_push(p, x0, xp)) - x0;
+    return within_bound(p, xp + cloth_push(p, x0, xp), shift) - x0;
 }
 
 // The pass over every particle, after the cloth contact pass: p's displacement u within its
 // bound (with self-contact) and out of the colliders.
-vec3 pd_contact(uint p, vec3 u)
+vec3 pd_contact(uint p, vec3 u, vec3 shift)
 {
     vec3 x0 = fetch(x_read, p);
     if (SELF)
-        u = within_bound(p, x0 + u) - x0;
+        u = within_bound(p, x0 + u, shift) - x0;
     vec3 pushed = u;
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
         pushed = edges_off_shells(p, x0, pushed);
@@ -130,7 +130,7 @@ vec3 pd_contact(uint p, vec3 u)
     // onto where detection saw the particle — the collider wins, and the particle, past its
     // bound, makes the next substep detect.
     if (SELF && COLLIDERS && any(notEqual(pushed, u))) {
-        vec3 back = within_bound(p, x0 + pushed);
+        vec3 back = within_bound(p, x0 + pushed, shift);
         bool outside = nearest_solid(p, back, false) >= 0.0;
         if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
             outside = outside && shells_clear(p, x0, back - x0);
@@ -145,15 +145,15 @@ vec3 pd_contact(uint p, vec3 u)
 // marking whether this or the strain limit before it (pd_strain.glsl) moved it: the next outer
 // iteration's first sweep does not over-relax such a particle (pd_gauss_seidel.comp); the
 // sweeps write w = 0.
-void contact_one(uint p, bool listed)
+void contact_one(uint p, bool listed, vec3 shift)
 {
     vec4 start = LOAD_DST(p);
     vec3 u = start.xyz;
     if (p >= contact_u.free_count) { // attached (self-contact only): kept within the bound
         vec3 x0 = fetch(x_read, p);
-        STORE_DST(p, vec4(within_bound(p, x0 + u) - x0, 0.0));
+        STORE_DST(p, vec4(within_bound(p, x0 + u, shift) - x0, 0.0));
         return;
     }
-    vec3 moved = listed ? pd_cloth_contact(p, u) : pd_contact(p, u);
+    vec3 moved = listed ? pd_cloth_contact(p, u, shift) : pd_contact(p, u, shift);
     STORE_DST(p, vec4(moved, any(notEqual(moved, u)) || start.w != 0.0 ? 1.0 : 0.0));
 }

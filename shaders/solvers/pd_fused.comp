@@ -41,14 +41,14 @@ uint colour_end(uint c)
 }
 
 // One round of the strain limit, colour by colour, moves at most `most` m (0: any).
-void strain_round(float most)
+void strain_round(float most, vec3 shift)
 {
     uint lanes = gl_WorkGroupSize.x;
     uint begin = 0u;
     for (uint c = 0u; c < pc.colours; c++) {
         uint end = colour_end(c);
         for (uint p = begin + gl_LocalInvocationID.x; p < end; p += lanes)
-            strain_one(p, pc.strain_limit, most);
+            strain_one(p, pc.strain_limit, most, shift);
         memoryBarrierBuffer();
         barrier();
         begin = end;
@@ -57,12 +57,12 @@ void strain_round(float most)
 
 // The passes after the sweeps (`after`: CVK_PD_FUSED_* bits), as pd_passes.c's
 // add_after_outer orders them.
-void after_sweeps(uint after)
+void after_sweeps(uint after, vec3 shift)
 {
     uint lanes = gl_WorkGroupSize.x;
     uint lane = gl_LocalInvocationID.x;
     if ((after & CVK_PD_FUSED_STRAIN) != 0u)
-        strain_round(0.0);
+        strain_round(0.0, shift);
     if ((after & CVK_PD_FUSED_TETHERS) != 0u) {
         for (uint p = lane; p < pc.count; p += lanes)
             tether_one(p);
@@ -72,20 +72,20 @@ void after_sweeps(uint after)
     if ((after & CVK_PD_FUSED_CLOTH_CONTACT) != 0u) {
         uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
         for (uint i = lane; i < count; i += lanes)
-            contact_one(lists[start + i], true);
+            contact_one(lists[start + i], true, shift);
         memoryBarrierBuffer();
         barrier();
     }
     if ((after & CVK_PD_FUSED_CONTACT) != 0u) {
         for (uint p = lane; p < pc.contact_count; p += lanes)
-            contact_one(p, false);
+            contact_one(p, false, shift);
         memoryBarrierBuffer();
         barrier();
     }
     // The strain limit's rounds after the last outer iteration's contact: moves under half the
     // thickness (pd_passes.c).
     for (uint r = 0u; (after & CVK_PD_FUSED_LAST) != 0u && r < 3u; r++)
-        strain_round(0.5 * contact_u.thickness);
+        strain_round(0.5 * contact_u.thickness, shift);
     // finalize after the last outer iteration (finalize.comp): nothing reads x after it here
     if ((after & CVK_PD_FUSED_FINALIZE) == 0u)
         return;
@@ -107,6 +107,7 @@ void main()
     uint lane = gl_LocalInvocationID.x;
     uint sweeps = pc.iterations & 0xffffu, outers = pc.iterations >> 16u;
     uint every = (pc.after >> 16u) & 0x7fffu;
+    vec3 shift = sweep_shift();
     if ((pc.after & CVK_PD_FUSED_PREDICT) != 0u) {
         // predict.comp's work: from u0, the last substep's displacement (the first outer
         // iteration's dst where their count is odd, else its src), into the first one's src
@@ -143,7 +144,7 @@ void main()
                         cur = FETCH_DST(p);
                         acc = neighbour_sum_dst(p, cur, ksum);
                     }
-                    STORE_DST(p, vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0));
+                    STORE_DST(p, vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum), shift), 0.0));
                 }
                 memoryBarrierBuffer();
                 barrier();
@@ -157,6 +158,6 @@ void main()
             after = (pc.after >> 8u) & 0xffu;
         else if ((outer + 1u) % max(every, 1u) != 0u)
             after &= ~CVK_PD_FUSED_TETHERS;
-        after_sweeps(after);
+        after_sweeps(after, shift);
     }
 }

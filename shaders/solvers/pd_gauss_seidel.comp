@@ -35,6 +35,7 @@ void main()
 {
     uint stride = invocation_stride();
     uint i = gl_GlobalInvocationID.x;
+    vec3 shift = sweep_shift();
     // The divergence watch's count of substeps, as predict.comp keeps it (not in the warm-up
     // dispatches of no particle).
     if (FIRST && PREDICTS != 0u && pc.first == 0u && i == 0u && pc.count > 0u)
@@ -53,8 +54,8 @@ void main()
             float kp, kq;
             vec3 ap = neighbour_sum(dst_read, p, up, kp);
             vec3 aq = neighbour_sum(dst_read, q, uq, kq);
-            dst[p] = vec4(bounded(p, up + pc.omega * jacobi_move(bp, up, ap, kp)), 0.0);
-            dst[q] = vec4(bounded(q, uq + pc.omega * jacobi_move(bq, uq, aq, kq)), 0.0);
+            dst[p] = vec4(bounded(p, up + pc.omega * jacobi_move(bp, up, ap, kp), shift), 0.0);
+            dst[q] = vec4(bounded(q, uq + pc.omega * jacobi_move(bq, uq, aq, kq), shift), 0.0);
         }
     }
     for (; i < pc.count; i += stride) {
@@ -78,7 +79,7 @@ void main()
             cur = fetch(dst_read, p);
             acc = neighbour_sum(dst_read, p, cur, ksum);
         }
-        dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum)), 0.0);
+        dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum), shift), 0.0);
     }
     if (FIRST && PREDICTS != 0u)
         flush_stretched();

@@ -12,6 +12,7 @@ layout(constant_id = 2) const bool FIRST = false;
 
 void main()
 {
+    vec3 shift = sweep_shift();
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride()) {
         uint p = pc.first + i;
         vec3 cur = fetch(src, p);
@@ -29,6 +30,6 @@ void main()
             vec3 older = fetch(dst_read, p);
             u = pc.cheb * (u - older) + older;
         }
-        dst[p] = vec4(bounded(p, u), 0.0);
+        dst[p] = vec4(bounded(p, u, shift), 0.0);
     }
 }

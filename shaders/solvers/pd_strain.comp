@@ -10,6 +10,7 @@
 
 void main()
 {
+    vec3 shift = sweep_shift();
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += invocation_stride())
-        strain_one(pc.first + i, pc.omega, pc.cheb);
+        strain_one(pc.first + i, pc.omega, pc.cheb, shift);
 }

@@ -8,7 +8,7 @@
 // its bound. A particle no spring of which is past the limit keeps its iterate bit for bit.
 // Include after pd_common.glsl.
 
-void strain_one(uint p, float limit, float most)
+void strain_one(uint p, float limit, float most, vec3 shift)
 {
     vec4 cur = LOAD_DST(p);
     vec3 xp = fetch(x_read, p) + cur.xyz;
@@ -35,5 +35,5 @@ void strain_one(uint p, float limit, float most)
     if (most > 0.0 && len > most)
         move *= most / len;
     if (over > 0.0)
-        STORE_DST(p, vec4(bounded(p, cur.xyz + move), 1.0));
+        STORE_DST(p, vec4(bounded(p, cur.xyz + move, shift), 1.0));
 }
