@@ -49,7 +49,7 @@ static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
     [CVK_HASH_BINDING_STARTS_READ] = TEXEL,  [CVK_HASH_BINDING_ENTRIES_READ] = TEXEL,
     [CVK_HASH_BINDING_PARAMS_READ] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0},
     [CVK_HASH_BINDING_SORTED] = STORAGE,     [CVK_HASH_BINDING_SORTED_READ] = TEXEL,
-    [CVK_HASH_BINDING_SALTS] = TEXEL,
+    [CVK_HASH_BINDING_SALTS] = TEXEL,      [CVK_HASH_BINDING_SCRATCH_READ] = TEXEL,
 };
 #undef STORAGE
 #undef TEXEL
@@ -150,6 +150,9 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
     if (r == CVK_SUCCESS)
         r = cvk_buffer_view_create(context, salts ? salts : &hash->zero_salt, VK_FORMAT_R32_UINT,
                                    &hash->salts_view, error);
+    if (r == CVK_SUCCESS)
+        r = cvk_buffer_view_create(context, &hash->scratch, VK_FORMAT_R32_UINT,
+                                   &hash->scratch_view, error);
     return r;
 }
 
@@ -178,6 +181,7 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
         [CVK_HASH_BINDING_SORTED] = {.buffer = &hash->sorted},
         [CVK_HASH_BINDING_SORTED_READ] = {.view = hash->sorted_view},
         [CVK_HASH_BINDING_SALTS] = {.view = hash->salts_view},
+        [CVK_HASH_BINDING_SCRATCH_READ] = {.view = hash->scratch_view},
     };
     cvk_descriptors_write(context, &d, 0, res);
     return CVK_SUCCESS;
@@ -250,6 +254,8 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
         vkDestroyBufferView(context->device, hash->sorted_view, NULL);
     if (hash->salts_view)
         vkDestroyBufferView(context->device, hash->salts_view, NULL);
+    if (hash->scratch_view)
+        vkDestroyBufferView(context->device, hash->scratch_view, NULL);
     cvk_buffer_destroy(context, &hash->params);
     cvk_buffer_destroy(context, &hash->keys);
     cvk_buffer_destroy(context, &hash->starts);

@@ -54,6 +54,7 @@ typedef struct cvk_hash {
     VkBufferView sorted_view;   /* R32G32B32A32_UINT */
     cvk_buffer zero_salt;       /* one zero uint: the salts without desc.salts */
     VkBufferView salts_view;    /* R32_UINT */
+    VkBufferView scratch_view;  /* R32_UINT: the counts and chunk sums as the scan reads them */
     VkDescriptorSetLayout set_layout;
     VkDescriptorPool pool;
     VkDescriptorSet set;

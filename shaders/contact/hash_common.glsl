@@ -84,6 +84,7 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) HASH_SORTED_AC
 };
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ, rgba32ui) uniform readonly uimageBuffer hash_sorted_read;
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SALTS, r32ui) uniform readonly uimageBuffer hash_salts;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH_READ, r32ui) uniform readonly uimageBuffer hash_scratch_read;
 
 // The cell of a point: floor(p / cell_size), as a product with the reciprocal so that host and
 // device round alike (a multiplication is correctly rounded; a division need not be), clamped
@@ -311,6 +312,18 @@ void hash_count_pass()
     }
 }
 
+// Word i of scratch as a pass after the one that wrote it reads it: through the texel view, a
+// vectorised gather on lavapipe, where a storage load in the scan's loops was a loop over the
+// lanes; the fused build reads what it wrote.
+uint hash_scratch_at(uint i)
+{
+#ifdef HASH_FUSED
+    return hash_scratch[i];
+#else
+    return imageLoad(hash_scratch_read, int(i)).x;
+#endif
+}
+
 // The hash build, scan 1 of 3: the sum of the counts of each chunk of `chunk` slots, one
 // invocation per chunk, into scratch[slots + chunk index]. A serial loop per invocation and no
 // shared memory: on lavapipe a workgroup barrier costs more than the loop.
@@ -320,7 +333,7 @@ void hash_chunk_sums_pass()
         uint first = c * pc.chunk;
         uint sum = 0u;
         for (uint k = 0u; k < pc.chunk; k++)
-            sum += hash_scratch[first + k];
+            sum += hash_scratch_at(first + k);
         hash_scratch[pc.slots + c] = sum;
     }
 }
@@ -346,10 +359,10 @@ void hash_scan_chunks_pass()
 void hash_scan_pass()
 {
     for (uint c = gl_GlobalInvocationID.x; c < pc.chunks; c += hash_stride()) {
-        uint running = hash_scratch[pc.slots + c];
+        uint running = hash_scratch_at(pc.slots + c);
         uint first = c * pc.chunk;
         for (uint k = 0u; k < pc.chunk; k++) {
-            uint n = hash_scratch[first + k];
+            uint n = hash_scratch_at(first + k);
             hash_starts[first + k] = running;
             running += n;
         }

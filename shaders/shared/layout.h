@@ -723,7 +723,9 @@ CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
 #define CVK_HASH_BINDING_SALTS 11       /* texel (r32ui): per point a salt mixed into its slot
                                            (the scene's instance, so copies at one place fill
                                            different slots); one zero texel without */
-#define CVK_HASH_BINDING_COUNT 12
+#define CVK_HASH_BINDING_SCRATCH_READ 12 /* texel (r32ui): scratch, as the scan reads the
+                                            counts the pass before wrote */
+#define CVK_HASH_BINDING_COUNT 13
 
 /* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
    defined for far-away points (they share the border cells). */
