@@ -312,6 +312,16 @@ void hash_count_pass()
     }
 }
 
+// Slot s's start as the passes after the scan read it (a texel load: hash_scratch_at).
+uint hash_start(uint s)
+{
+#ifdef HASH_FUSED
+    return hash_starts[s];
+#else
+    return imageLoad(hash_starts_read, int(s)).x;
+#endif
+}
+
 // Word i of scratch as a pass after the one that wrote it reads it: through the texel view, a
 // vectorised gather on lavapipe, where a storage load in the scan's loops was a loop over the
 // lanes; the fused build reads what it wrote.
@@ -377,7 +387,7 @@ void hash_scatter_pass()
 {
     for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
         uint s = hash_keys[p];
-        uint e = hash_starts[s] + atomicAdd(hash_scratch[s], 0xffffffffu) - 1u;
+        uint e = hash_start(s) + atomicAdd(hash_scratch[s], 0xffffffffu) - 1u;
         hash_entries[e] = p;
     }
 }
@@ -405,8 +415,8 @@ void hash_sort_pass()
 {
     for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
         uint s = hash_keys[p];
-        uint first = hash_starts[s];
-        uint end = hash_starts[s + 1u];
+        uint first = hash_start(s);
+        uint end = hash_start(s + 1u);
         uint rank = 0u;
         for (uint e = first; e < end; e++)
             rank += hash_unsorted(e) < p ? 1u : 0u;
