@@ -412,6 +412,8 @@ static const cvk_binding contact_bindings[CVK_CONTACT_BINDING_COUNT] = {
     [CVK_CONTACT_BINDING_CELL_POOL] = STORAGE,
     [CVK_CONTACT_BINDING_CELL_POOL_READ] = TEXEL,
     [CVK_CONTACT_BINDING_EDGE_ENDS_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_NEAREST_READ] = TEXEL,
+    [CVK_CONTACT_BINDING_PREVIOUS_READ] = TEXEL,
 };
 #undef STORAGE
 #undef UNIFORM
@@ -623,6 +625,8 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->instances, VK_FORMAT_R32_UINT, &c->view_instances},
         {&c->cell_pool, VK_FORMAT_R32_UINT, &c->view_cell_pool},
         {&c->cell_pool, VK_FORMAT_R32G32B32A32_UINT, &c->view_edge_ends},
+        {&c->nearest, VK_FORMAT_R32_UINT, &c->view_nearest},
+        {&c->previous, VK_FORMAT_R32G32B32A32_SFLOAT, &c->view_previous},
     };
     for (size_t i = 0; r == CVK_SUCCESS && i < sizeof views / sizeof views[0]; i++)
         r = cvk_buffer_view_create(s->device.context, views[i].buffer, views[i].format, views[i].view,
@@ -716,6 +720,8 @@ static cvk_result create_set(cvk_sim* s, cvk_collide* c, cvk_error* error)
         [CVK_CONTACT_BINDING_CELL_POOL] = {.buffer = &c->cell_pool},
         [CVK_CONTACT_BINDING_CELL_POOL_READ] = {.view = c->view_cell_pool},
         [CVK_CONTACT_BINDING_EDGE_ENDS_READ] = {.view = c->view_edge_ends},
+        [CVK_CONTACT_BINDING_NEAREST_READ] = {.view = c->view_nearest},
+        [CVK_CONTACT_BINDING_PREVIOUS_READ] = {.view = c->view_previous},
     };
     cvk_descriptors_write(s->device.context, &c->descriptors, 0, res);
     return CVK_SUCCESS;
@@ -769,7 +775,8 @@ void cvk_collide_destroy(cvk_sim* s)
     VkBufferView views[] = {c->view_triangles, c->view_incident, c->view_contacts,
                             c->view_searched, c->view_edges, c->view_triangle_edges,
                             c->view_particle_edges, c->view_edge_contacts, c->view_sides,
-                            c->view_instances, c->view_cell_pool, c->view_edge_ends};
+                            c->view_instances, c->view_cell_pool, c->view_edge_ends,
+                            c->view_nearest, c->view_previous};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         if (views[i])
             vkDestroyBufferView(ctx->device, views[i], NULL);

@@ -119,6 +119,7 @@ typedef struct cvk_collide {
     VkBufferView view_edges, view_triangle_edges, view_particle_edges, view_edge_contacts;
     VkBufferView view_sides, view_instances, view_cell_pool,
         view_edge_ends; /* the cell pool's first part: each edge's ends at detection */
+    VkBufferView view_nearest, view_previous;
 
     cvk_descriptors descriptors; /* the contact set; its pipeline layout: the contact set alone */
     VkDescriptorSetLayout set_layout; /* = descriptors.set_layout, for the families' layouts */

@@ -121,6 +121,17 @@ layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_ENDS_READ, rgba32ui
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer Previous {
     vec4 previous[]; // per particle: its position at the start of the substep before
 };
+// The same nearest distances and positions a substep before, as the passes after the ones
+// that wrote them read them (shared/layout.h).
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST_READ, r32ui) uniform readonly uimageBuffer nearest_t;
+layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS_READ, rgba32f) uniform readonly imageBuffer previous_t;
+// Word i of the nearest buffer as a pass after the one that wrote it reads it (the fused
+// dispatch: what it wrote itself).
+#ifdef EDGES_FUSED
+#define NEAREST(i) nearest[i]
+#else
+#define NEAREST(i) imageLoad(nearest_t, int(i)).x
+#endif
 
 uvec4 contact_triangle(uint t) { return imageLoad(triangles_t, int(t)); } // internal indices
 // Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.

@@ -49,7 +49,7 @@ void bound_one(uint p, uint per_group)
     bool listed = sides[p] != 0u || contact_entry(p * uint(CVK_CONTACTS_PER_PARTICLE)) != CVK_NO_CONTACT;
     for (uint o = particle_edge(p); o < particle_edge(p + 1u); o++) {
         uint e = particle_edge(base + o);
-        d = min(d, uintBitsToFloat(nearest[contact_u.particle_count + e]));
+        d = min(d, uintBitsToFloat(NEAREST(contact_u.particle_count + e)));
         listed = listed || edge_entry(e * uint(CVK_CONTACTS_PER_EDGE)) != CVK_NO_CONTACT;
     }
     vec3 x = contact_x(p);

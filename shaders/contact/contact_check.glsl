@@ -65,7 +65,7 @@ void check_moves(uint index, uint stride)
                         dot(from_centre, from_centre) >= near_bound * near_bound
                     ? 1u
                     : 0u;
-        vec3 v = x - previous[p].xyz;
+        vec3 v = x - imageLoad(previous_t, int(p)).xyz;
         // Within the thickness, the radius and twice its last move of a collider: one may
         // stop it while the others move on, so a detection takes no shift
         // (contact_decide.comp).

@@ -355,10 +355,10 @@ void list_near()
 {
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
         uint e = pc.first + i;
-        uint count = nearest[pairs_count(e)];
+        uint count = NEAREST(pairs_count(e));
         clear_nearest();
         for (uint j = 0u; count <= uint(CVK_EDGE_BUCKET) && j < count; j++)
-            INSERT(uintBitsToFloat(nearest[pairs_at(e) + 2u * j + 1u]), nearest[pairs_at(e) + 2u * j]);
+            INSERT(uintBitsToFloat(NEAREST(pairs_at(e) + 2u * j + 1u)), NEAREST(pairs_at(e) + 2u * j));
         for (uint k = 0u; k < K; k++)
             edge_contacts[e * K + k] = kept[k];
         if (count > uint(CVK_EDGE_BUCKET))

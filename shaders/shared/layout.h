@@ -517,7 +517,13 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_CELL_POOL_READ 31 /* texel view of the same (R32_UINT) */
 #define CVK_CONTACT_BINDING_EDGE_ENDS_READ 32 /* texel view of the same (R32G32B32A32_UINT):
                                                  the edges' ends, 2 texels an edge */
-#define CVK_CONTACT_BINDING_COUNT 33
+/* Texel views of the nearest distances and of the positions a substep before, for the passes
+   that read them in their loops over particles and edges after the passes that wrote them (the
+   bounds, the edges' lists, the decision's check): on lavapipe a storage load there is a loop
+   over the lanes. */
+#define CVK_CONTACT_BINDING_NEAREST_READ 33 /* texel view of the nearest (R32_UINT) */
+#define CVK_CONTACT_BINDING_PREVIOUS_READ 34 /* texel view of the previous (R32G32B32A32_SFLOAT) */
+#define CVK_CONTACT_BINDING_COUNT 35
 
 /* Edge detection's cell lists (contact_edges.comp phases 3 and 4): for each cell of the
    midpoints' hash that holds an edge, the edges of the half block of cells its edges walk, in
