@@ -191,6 +191,12 @@ cvk_result cvk_collide_find_instances(struct cvk_sim* sim, cvk_collide* collide,
    and 0 otherwise (after cvk_collide_find_instances). */
 uint32_t cvk_collide_runs(const cvk_collide* collide, uint32_t* runs);
 
+/* The build of a pass over the particles for the colliders' runs (cvk_collide.runs): runs2 for
+   2 runs and the pipelines after it for more (pd_contact.comp's and contact_check.comp's), or
+   `generic` without runs. */
+cvk_pipeline_id cvk_collide_pipeline(const cvk_collide* collide, cvk_pipeline_id generic,
+                                     cvk_pipeline_id runs2);
+
 /* Per triangle (scene order): its instance, for the host's pair tests; NULL (and CVK_SUCCESS)
    with one instance. The caller frees it. */
 cvk_result cvk_collide_triangle_instances(const cvk_build* build, uint32_t instance_count,

@@ -298,6 +298,17 @@ uint32_t cvk_collide_runs(const cvk_collide* c, uint32_t* runs)
     return bits;
 }
 
+_Static_assert(CVK_PIPE_PD_CONTACT_RUNS4 == CVK_PIPE_PD_CONTACT_RUNS2 + CVK_COLLIDER_RUNS - 2 &&
+                   CVK_PIPE_CONTACT_CHECK_RUNS4 ==
+                       CVK_PIPE_CONTACT_CHECK_RUNS2 + CVK_COLLIDER_RUNS - 2,
+               "one pipeline a run count, in order");
+
+cvk_pipeline_id cvk_collide_pipeline(const cvk_collide* c, cvk_pipeline_id generic,
+                                     cvk_pipeline_id runs2)
+{
+    return c->runs ? (cvk_pipeline_id)(runs2 + c->runs - 2) : generic;
+}
+
 uint32_t cvk_collide_instance_count(const cvk_build* b, const cvk_scene_desc* scene)
 {
     uint32_t n = scene->instances.count;

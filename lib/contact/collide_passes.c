@@ -52,9 +52,6 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
                                       sizeof(cvk_contact_hash_push), &c->fused_layout, error);
 }
 
-_Static_assert(CVK_PIPE_CONTACT_CHECK_RUNS4 == CVK_PIPE_CONTACT_CHECK_RUNS2 + CVK_COLLIDER_RUNS - 2,
-               "one check pipeline a run count, in order");
-
 /* One phase of contact_check.comp (over every particle; the build for the scene's run count
    where the colliders' types are fixed, cvk_collide.runs, as the contact pass's) or
    contact_decide.comp (one invocation; phase 1 writes indirect commands). */
@@ -62,8 +59,8 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
                          const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
-    if (pipeline == CVK_PIPE_CONTACT_CHECK && c->runs)
-        pipeline = (cvk_pipeline_id)(CVK_PIPE_CONTACT_CHECK_RUNS2 + c->runs - 2);
+    if (pipeline == CVK_PIPE_CONTACT_CHECK)
+        pipeline = cvk_collide_pipeline(c, pipeline, CVK_PIPE_CONTACT_CHECK_RUNS2);
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
     uint32_t count = decide ? 1 : s->build.particle_count;
     cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};

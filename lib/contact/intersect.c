@@ -442,12 +442,12 @@ cvk_result cvk_box_pairs(const float* boxes, uint32_t count, uint32_t split, cvk
             end++;
         /* Entries of a cell are sorted by box, so i < j; with a split, the boxes below it
            come first, and each meets only those from it on. */
-        for (size_t x = first; x < end; x++) {
+        size_t from = first; /* with a split: the cell's first box at or past it */
+        while (split && from < end && g.entries[from].index < split)
+            from++;
+        for (size_t x = first; x < (split ? from : end); x++) {
             uint32_t i = g.entries[x].index;
-            size_t y = x + 1;
-            while (split && i < split && y < end && g.entries[y].index < split)
-                y++;
-            for (; y < end && !(split && i >= split); y++)
+            for (size_t y = split ? from : x + 1; y < end; y++)
                 if (overlap_here(&g, i, g.entries[y].index, cell))
                     pair(user, i, g.entries[y].index);
         }

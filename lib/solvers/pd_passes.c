@@ -155,15 +155,11 @@ typedef struct pd_builder {
     bool fused;                        /* rbgs: one fused dispatch for the solve (pd_fused.c) */
 } pd_builder;
 
-_Static_assert(CVK_PIPE_PD_CONTACT_RUNS4 == CVK_PIPE_PD_CONTACT_RUNS2 + CVK_COLLIDER_RUNS - 2,
-               "one contact pipeline a run count, in order");
-
 /* The contact pass over every particle: the build for the scene's run count where the
    colliders' types are fixed (cvk_collide.runs), else the one that reads them. */
 static cvk_pipeline_id contact_pipeline(const cvk_sim* s)
 {
-    uint32_t n = s->collide->runs;
-    return n ? (cvk_pipeline_id)(CVK_PIPE_PD_CONTACT_RUNS2 + n - 2) : CVK_PIPE_PD_CONTACT;
+    return cvk_collide_pipeline(s->collide, CVK_PIPE_PD_CONTACT, CVK_PIPE_PD_CONTACT_RUNS2);
 }
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {

@@ -405,8 +405,8 @@ cvk_gpu_collider typed_shape(uint k, uint type)
 }
 
 // Runs EACH(k, type) for every collider k of particle p's instance, in order. A build with
-// COLLIDER_RUNS defined (pd_contact.comp's, one a run count, chosen by the host:
-// lib/solvers/pd_passes.c) loops over each run with `type` the run's, a constant, so that only
+// COLLIDER_RUNS defined (pd_contact.comp's and contact_check.comp's, one a run count, chosen by
+// the host: cvk_collide_pipeline) loops over each run with `type` the run's, a constant, so that only
 // that type's code is in the loop: llvmpipe runs the code of every type the scene has, under a
 // mask, for each collider otherwise (the 40 x 40 drape without self-contact, one lavapipe
 // core: the collider pass 4.4 -> 2.2 ms a frame, the same bits; docs/figures/collider-runs). Runs switched off by a

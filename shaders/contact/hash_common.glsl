@@ -130,15 +130,22 @@ ivec3 hash_neighbour_cell(ivec3 home, uint n)
     return home + ivec3(int(n % 3u) - 1, int((n / 3u) % 3u) - 1, int(n / 9u) - 1);
 }
 
+// Slot s's start as the build's passes after the scan and the queries read it: through the
+// texel view (the fused build reads what it wrote).
+uint hash_start(uint s)
+{
+#ifdef HASH_FUSED
+    return hash_starts[s];
+#else
+    return imageLoad(hash_starts_read, int(s)).x;
+#endif
+}
+
 // The entries [x, y) of the slot of `cell`: points of that cell and of any cell sharing its slot.
 uvec2 hash_range(ivec3 cell, uint salt)
 {
-    int s = int(hash_slot(cell, salt));
-#ifdef HASH_FUSED
-    return uvec2(hash_starts[s], hash_starts[s + 1]);
-#else
-    return uvec2(imageLoad(hash_starts_read, s).x, imageLoad(hash_starts_read, s + 1).x);
-#endif
+    uint s = hash_slot(cell, salt);
+    return uvec2(hash_start(s), hash_start(s + 1u));
 }
 
 uvec2 hash_range(ivec3 cell)
@@ -310,16 +317,6 @@ void hash_count_pass()
         hash_keys[p] = s;
         atomicAdd(hash_scratch[s], 1u);
     }
-}
-
-// Slot s's start as the passes after the scan read it (a texel load: hash_scratch_at).
-uint hash_start(uint s)
-{
-#ifdef HASH_FUSED
-    return hash_starts[s];
-#else
-    return imageLoad(hash_starts_read, int(s)).x;
-#endif
 }
 
 // Word i of scratch as a pass after the one that wrote it reads it: through the texel view, a
