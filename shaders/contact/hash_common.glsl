@@ -130,15 +130,19 @@ ivec3 hash_neighbour_cell(ivec3 home, uint n)
     return home + ivec3(int(n % 3u) - 1, int((n / 3u) % 3u) - 1, int(n / 9u) - 1);
 }
 
-// Slot s's start as the build's passes after the scan and the queries read it: through the
-// texel view (the fused build reads what it wrote).
+// Word i of a uint buffer as a pass after the one that wrote it reads it: through its texel
+// view, a vectorised gather on lavapipe, where a storage load in a loop is a loop over the
+// lanes; the fused build reads what it wrote, through the buffer.
+#ifdef HASH_FUSED
+#define HASH_WORD(buffer, view, i) (buffer[i])
+#else
+#define HASH_WORD(buffer, view, i) (imageLoad(view, int(i)).x)
+#endif
+
+// Slot s's start as the build's passes after the scan and the queries read it.
 uint hash_start(uint s)
 {
-#ifdef HASH_FUSED
-    return hash_starts[s];
-#else
-    return imageLoad(hash_starts_read, int(s)).x;
-#endif
+    return HASH_WORD(hash_starts, hash_starts_read, s);
 }
 
 // The entries [x, y) of the slot of `cell`: points of that cell and of any cell sharing its slot.
@@ -319,16 +323,11 @@ void hash_count_pass()
     }
 }
 
-// Word i of scratch as a pass after the one that wrote it reads it: through the texel view, a
-// vectorised gather on lavapipe, where a storage load in the scan's loops was a loop over the
-// lanes; the fused build reads what it wrote.
+// Word i of scratch (counts, chunk sums) as the scan reads it: a storage load in its loops was a
+// loop over the lanes.
 uint hash_scratch_at(uint i)
 {
-#ifdef HASH_FUSED
-    return hash_scratch[i];
-#else
-    return imageLoad(hash_scratch_read, int(i)).x;
-#endif
+    return HASH_WORD(hash_scratch, hash_scratch_read, i);
 }
 
 // The hash build, scan 1 of 3: the sum of the counts of each chunk of `chunk` slots, one
@@ -389,17 +388,12 @@ void hash_scatter_pass()
     }
 }
 
-// Entry e as the scatter left it (the sort's input): through the texel view, a vectorised
-// gather on lavapipe where the storage load in the sort's loop was a loop over the lanes (one
-// lavapipe core: the 40 x 40 contact drape's hash builds 7.7 -> 5.2 ms a frame, the six-cloth
-// pile's 16.5 -> 8.3); the fused build reads what it wrote.
+// Entry e as the scatter left it, the sort's input (HASH_WORD: the storage load in the sort's
+// loop was a loop over the lanes; one lavapipe core: the 40 x 40 contact drape's hash builds
+// 7.7 -> 5.2 ms a frame, the six-cloth pile's 16.5 -> 8.3).
 uint hash_unsorted(uint e)
 {
-#ifdef HASH_FUSED
-    return hash_entries[e];
-#else
-    return imageLoad(hash_entries_read, int(e)).x;
-#endif
+    return HASH_WORD(hash_entries, hash_entries_read, e);
 }
 
 // The hash build, sort: the scatter left each slot's points in the order its atomics happened;
