@@ -37,8 +37,12 @@ void work()
         gather_cells();
         return;
     }
+    // Phase 0 takes the edges in the order of the midpoints' hash, the i-th entry's edge, so
+    // neighbouring invocations have edges of one cell, which loop over the same list: on
+    // lavapipe a loop runs as often as its longest lane (the six-cloth pile's edge detection
+    // about 3 % cheaper against its faces' in the same runs, the same bits).
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-        detect(pc.first + i);
+        detect(hash_entry_point(pc.first + i).w);
 }
 
 void main()

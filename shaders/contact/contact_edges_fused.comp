@@ -49,7 +49,7 @@ void work()
     gather_cells();
     passed();
     for (uint i = lane; i < pc.count; i += lanes)
-        detect(pc.first + i);
+        detect(hash_entry_point(pc.first + i).w); // in the hash's order, as contact_edges.comp
     passed();
     list_near();
     passed();
