@@ -745,7 +745,8 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     if (r == CVK_SUCCESS)
         r = cvk_collide_find_instances(s, c, scene, error);
     if (r == CVK_SUCCESS)
-        c->types |= cvk_collide_runs(c, &c->runs);
+        c->types |= cvk_collide_runs(c, &c->runs) |
+                    (c->instance_count == 1 ? CVK_COLLIDERS_ONE_INSTANCE : 0u);
     if (r == CVK_SUCCESS)
         r = read_meshes(c, error);
     if (r == CVK_SUCCESS && c->self)

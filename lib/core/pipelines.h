@@ -88,8 +88,11 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_IMPLICIT_SELF_ATTACHED {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                          CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
                                          CVK_SPEC_TRUE}}
-/* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near). */
+/* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near),
+   and the detection passes' (their CONTACT_TYPES_ID: whether the scene has one instance). */
 #define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
+#define CVK_SPEC_CONTACT_EDGES {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_FALSE, CVK_SPEC_COLLIDER_TYPES}}
+#define CVK_SPEC_CONTACT_EDGES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 /* The decision with the faces' detection in one workgroup (shaders/contact/
    contact_faces_fused.comp). */
 #define CVK_SPEC_CONTACT_FACES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
@@ -98,7 +101,7 @@ typedef struct cvk_spec_recipe {
 /* One workgroup of the fused passes' size (local_size_x_id = 0). */
 #define CVK_SPEC_FUSED {1, {CVK_SPEC_FUSED_WORKGROUP_SIZE}}
 /* The edge detection's listing pass (id 1, LISTING, of shaders/contact/contact_edges.comp). */
-#define CVK_SPEC_LISTING {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE}}
+#define CVK_SPEC_LISTING {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
@@ -138,12 +141,12 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 3 runs of one collider type") \
     X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 4 runs of one collider type") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
-    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_WORKGROUP, "detection: vertices against faces") \
-    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_WORKGROUP, "detection: edges against edges") \
+    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_CHECK, "detection: vertices against faces") \
+    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES, "detection: edges against edges") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
-    X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_WORKGROUP, "detection: bounds") \
+    X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_CONTACT_CHECK, "detection: bounds") \
     X(CONTACT_FACES_FUSED, CONTACT_FACES_FUSED_COMP, CVK_SPEC_CONTACT_FACES_FUSED, "detect or not, faces' hash and detection, one workgroup") \
-    X(CONTACT_EDGES_FUSED, CONTACT_EDGES_FUSED_COMP, CVK_SPEC_FUSED, "midpoints' hash, edges' detection and bounds, one workgroup") \
+    X(CONTACT_EDGES_FUSED, CONTACT_EDGES_FUSED_COMP, CVK_SPEC_CONTACT_EDGES_FUSED, "midpoints' hash, edges' detection and bounds, one workgroup") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \
     X(HASH_COUNT, HASH_COUNT_COMP, CVK_SPEC_WORKGROUP, "hash: count")           \
     X(HASH_CHUNK_SUMS, HASH_CHUNK_SUMS_COMP, CVK_SPEC_WORKGROUP, "hash: chunk sums") \

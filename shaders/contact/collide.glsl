@@ -176,7 +176,9 @@ void list_append(uint command, uint item, uint per_group)
 
 // Particle p's instance (the scene's copy: copies never touch one another), and the range
 // [x, y) of the colliders it meets: its instance's.
-uint contact_instance(uint p) { return imageLoad(instances_t, int(p)).x; }
+// A particle's instance: 0 in a scene of one (bit CVK_COLLIDERS_ONE_INSTANCE), with no load.
+const bool ONE_INSTANCE = (COLLIDER_TYPES & CVK_COLLIDERS_ONE_INSTANCE) != 0u;
+uint contact_instance(uint p) { return ONE_INSTANCE ? 0u : imageLoad(instances_t, int(p)).x; }
 uvec2 collider_range(uint p)
 {
     uint first = contact_instance(p) * contact_u.instance_colliders;

@@ -9,6 +9,7 @@
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
+#define CONTACT_TYPES_ID 1
 #include "contact/collide.glsl"
 CVK_DECLARE_PUSH(CVK_CONTACT_PUSH_FIELDS)
 

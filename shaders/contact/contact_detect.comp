@@ -4,6 +4,7 @@
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
+#define CONTACT_TYPES_ID 1
 #include "contact/collide.glsl"
 #define HASH_SET 1
 #include "contact/hash_common.glsl"

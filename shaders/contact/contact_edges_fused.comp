@@ -18,6 +18,7 @@
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"
 #define CONTACT_SET 0
+#define CONTACT_TYPES_ID 1
 #define EDGES_FUSED
 #include "contact/collide.glsl"
 #define HASH_SET 1

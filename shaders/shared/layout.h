@@ -548,6 +548,11 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
    particle at a time there, its instance's (lib/contact/collide.h). */
 #define CVK_UNIFORM_COLLIDERS 64u
 #define CVK_COLLIDERS_IN_STORAGE 0x80000000u
+/* Bit 30: the scene has one instance, so every particle's is 0 and contact/collide.glsl's
+   contact_instance reads nothing (a texel load at each particle of every contact pass, and at
+   each entry of detection's walks, on lavapipe: the 40 x 40 contact drape's collider pass about
+   a seventh cheaper, its edges' detection about a twentieth). */
+#define CVK_COLLIDERS_ONE_INSTANCE 0x40000000u
 /* Bits 0-5 of that constant: the types the scene has (bit CVK_COLLIDER_*_ID). Bits 6-29: an
    instance's colliders as runs of one type, where every instance has the same and they make 2
    to CVK_COLLIDER_RUNS runs of at most CVK_COLLIDER_RUN_MAX colliders each: 6 bits a run from

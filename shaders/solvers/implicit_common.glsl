@@ -47,7 +47,7 @@ CVK_DECLARE_PUSH(CVK_IMPLICIT_PUSH_FIELDS)
 #else
 layout(constant_id = 2) const uint COLLIDER_TYPES = 0u;
 #endif
-const bool FILTER = COLLIDER_TYPES != 0u;
+const bool FILTER = (COLLIDER_TYPES & CVK_COLLIDER_TYPE_MASK) != 0u;
 layout(std430, set = 0, binding = CVK_IMPLICIT_BINDING_FILTER) buffer ContactFilter { vec4 contact_filter[]; };
 
 // S w for free particle p: w less its part along p's contact normal (0 when p is not held).

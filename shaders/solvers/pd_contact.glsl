@@ -9,7 +9,7 @@
 #include "contact/collide.glsl"
 
 layout(constant_id = 4) const bool SELF = false;
-const bool COLLIDERS = COLLIDER_TYPES != 0u;
+const bool COLLIDERS = COLLIDER_TYPE_BITS != 0u;
 
 // A funnel is a surface with two sides, and a particle's contact alone lets an edge cut
 // through it: a particle carried below the rim and round it to the outside stays outside
