@@ -332,8 +332,10 @@ void gather_cells()
         uint length = 0u;
         hash_walk w = hash_walk_begin_half(m, instance);
         while (fits && hash_walk_step(w, entry, here)) {
-            if (listable(entry, here, cell, reach2, instance))
-                cell_pool[pool_base() + start + length++] = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+            if (listable(entry, here, cell, reach2, instance)) {
+                uint at = pool_base() + start + length++;
+                CELL_POOL_WORD(at) = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+            }
         }
         uvec2 range = hash_range(cell, instance);
         for (uint j = range.x; j < range.y; j++) {

@@ -17,14 +17,17 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_MIDPOINTS) write
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CENTROIDS) CENTROIDS_ACCESS buffer Centroids {
     vec4 centroids[];
 };
-// Per edge its ends at detection (8 words: each end's position bits and index, read as two
-// uvec4 through edge_ends_t), then the cell lists' entries.
+// Per edge its ends at detection (two uvec4: each end's position bits and index, read through
+// edge_ends_t), then the cell lists' entries, a word each (CELL_POOL_WORD). Declared in uvec4
+// so that an edge's ends are two stores: a storage store in a loop is a loop over the lanes on
+// lavapipe, and eight word stores an edge were most of phase 1.
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) DETECT_WRITEONLY DETECT_COHERENT buffer CellPool {
-    uint cell_pool[];
+    uvec4 cell_pool[];
 };
+#define CELL_POOL_WORD(i) cell_pool[(i) >> 2u][(i) & 3u]
 // Word i of the pool as detection reads it (the fused dispatch: what it wrote itself).
 #ifdef EDGES_FUSED
-#define CELL_POOL(i) cell_pool[i]
+#define CELL_POOL(i) CELL_POOL_WORD(i)
 #else
 #define CELL_POOL(i) imageLoad(cell_pool_t, int(i)).x
 #endif
@@ -44,9 +47,8 @@ void measure_longest(uint first, uint count, uint index, uint stride)
         vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
         longest = max(longest, distance(xa, xb));
         midpoints[first + i] = vec4(0.5 * (xa + xb), 0.0);
-        uvec4 ends[2] = uvec4[](uvec4(floatBitsToUint(xa), ab.x), uvec4(floatBitsToUint(xb), ab.y));
-        for (uint k = 0u; k < 8u; k++)
-            cell_pool[8u * (first + i) + k] = ends[k / 4u][k % 4u];
+        cell_pool[2u * (first + i)] = uvec4(floatBitsToUint(xa), ab.x);
+        cell_pool[2u * (first + i) + 1u] = uvec4(floatBitsToUint(xb), ab.y);
         nearest[contact_u.particle_count + first + i] = 0x7f7f7f7fu; // 3.4e38: none yet
         nearest[contact_u.particle_count + contact_u.edge_count + first + i] = 0u;
     }
