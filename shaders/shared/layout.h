@@ -403,8 +403,7 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
    per edge, the nearest other edges. An entry is feature << 2 | kind. */
 #define CVK_CONTACTS_PER_PARTICLE 8
 #define CVK_CONTACTS_PER_EDGE 4
-/* Per edge, the pairs to list that edge detection's distance pass keeps for its listing
-   (contact_edges.comp); an edge with more is walked again. */
+/* Per edge, the pairs edge detection's distance pass keeps to list (more: walked again). */
 #define CVK_EDGE_BUCKET 16
 /* Per particle, the pairs in which it is a corner of the feature (the other side's vertex and
    its entry): the face's side of a vertex–feature pair. */
@@ -543,22 +542,18 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CELL_OVERFLOW 0xffffffffu
 #define CVK_CELL_HOME 0x80000000u
 
-/* Colliders the uniform arrays above hold. A scene with more reads the storage buffers instead
-   (bit CVK_COLLIDERS_IN_STORAGE of the collider types' specialisation constant): one collider a
-   particle at a time there, its instance's (lib/contact/collide.h). */
+/* Colliders the uniform arrays above hold; a scene with more reads the storage buffers (bit
+   CVK_COLLIDERS_IN_STORAGE of the collider types' specialisation constant), one collider a
+   particle at a time, its instance's (lib/contact/collide.h). */
 #define CVK_UNIFORM_COLLIDERS 64u
 #define CVK_COLLIDERS_IN_STORAGE 0x80000000u
-/* Bit 30: the scene has one instance, so every particle's is 0 and contact/collide.glsl's
-   contact_instance reads nothing (a texel load at each particle of every contact pass, and at
-   each entry of detection's walks, on lavapipe: the 40 x 40 contact drape's collider pass about
-   a seventh cheaper, its edges' detection about a twentieth). */
-#define CVK_COLLIDERS_ONE_INSTANCE 0x40000000u
 /* Bits 0-5 of that constant: the types the scene has (bit CVK_COLLIDER_*_ID). Bits 6-29: an
    instance's colliders as runs of one type, where every instance has the same and they make 2
    to CVK_COLLIDER_RUNS runs of at most CVK_COLLIDER_RUN_MAX colliders each: 6 bits a run from
-   bit CVK_COLLIDER_RUNS_SHIFT, its CVK_COLLIDER_*_ID + 1 in the low 3 (0 past the last) and
-   its length in the high 3; all 0 otherwise (lib/contact/collide.c; contact/collide.glsl's
-   FOR_EACH_COLLIDER). */
+   bit CVK_COLLIDER_RUNS_SHIFT, its CVK_COLLIDER_*_ID + 1 in the low 3 (0 past the last) and its
+   length in the high 3; all 0 otherwise (lib/contact/collide.c; collide.glsl's FOR_EACH_COLLIDER).
+   Bit 30: one instance (contact_instance, collide.glsl, then reads nothing). */
+#define CVK_COLLIDERS_ONE_INSTANCE 0x40000000u
 #define CVK_COLLIDER_TYPE_MASK 0x3fu
 #define CVK_COLLIDER_RUNS 4u
 #define CVK_COLLIDER_RUN_MAX 7u
