@@ -88,9 +88,10 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_IMPLICIT_SELF_ATTACHED {6, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                          CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
                                          CVK_SPEC_TRUE}}
-/* The decision's check (id 1 of shaders/contact/contact_check.comp: which colliders are near),
-   and the detection passes' (their CONTACT_TYPES_ID: whether the scene has one instance). */
-#define CVK_SPEC_CONTACT_CHECK {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
+/* The collider types (CONTACT_TYPES_ID of shaders/contact/collide.glsl): for the decision's
+   check (id 1 of contact_check.comp: which colliders are near), and for the detection passes
+   whether the scene has one instance. */
+#define CVK_SPEC_CONTACT_TYPES {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_CONTACT_EDGES {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_FALSE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_CONTACT_EDGES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 /* The decision with the faces' detection in one workgroup (shaders/contact/
@@ -136,15 +137,15 @@ typedef struct cvk_spec_recipe {
     X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \
     X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
-    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds") \
-    X(CONTACT_CHECK_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 2 runs of one collider type") \
-    X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 3 runs of one collider type") \
-    X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK, "moves against the bounds, 4 runs of one collider type") \
+    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds") \
+    X(CONTACT_CHECK_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 2 runs of one collider type") \
+    X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 3 runs of one collider type") \
+    X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 4 runs of one collider type") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
-    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_CHECK, "detection: vertices against faces") \
+    X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_TYPES, "detection: vertices against faces") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES, "detection: edges against edges") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
-    X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_CONTACT_CHECK, "detection: bounds") \
+    X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_CONTACT_TYPES, "detection: bounds") \
     X(CONTACT_FACES_FUSED, CONTACT_FACES_FUSED_COMP, CVK_SPEC_CONTACT_FACES_FUSED, "detect or not, faces' hash and detection, one workgroup") \
     X(CONTACT_EDGES_FUSED, CONTACT_EDGES_FUSED_COMP, CVK_SPEC_CONTACT_EDGES_FUSED, "midpoints' hash, edges' detection and bounds, one workgroup") \
     X(HASH_CLEAR, HASH_CLEAR_COMP, CVK_SPEC_WORKGROUP, "hash: clear")           \

@@ -174,9 +174,9 @@ void list_append(uint command, uint item, uint per_group)
     atomicMax(lists[command], min(at / per_group + 1u, 65535u));
 }
 
-// Particle p's instance (the scene's copy: copies never touch one another), and the range
-// [x, y) of the colliders it meets: its instance's.
-// A particle's instance: 0 in a scene of one (bit CVK_COLLIDERS_ONE_INSTANCE), with no load.
+// Particle p's instance (the scene's copy: copies never touch one another; 0, read from
+// nothing, in a scene of one: bit CVK_COLLIDERS_ONE_INSTANCE), and the range [x, y) of the
+// colliders it meets: its instance's.
 const bool ONE_INSTANCE = (COLLIDER_TYPES & CVK_COLLIDERS_ONE_INSTANCE) != 0u;
 uint contact_instance(uint p) { return ONE_INSTANCE ? 0u : imageLoad(instances_t, int(p)).x; }
 uvec2 collider_range(uint p)

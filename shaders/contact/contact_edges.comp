@@ -41,7 +41,7 @@ void work()
     // Phase 0 takes the edges in the order of the midpoints' hash, the i-th entry's edge, so
     // neighbouring invocations have edges of one cell, which loop over the same list: on
     // lavapipe a loop runs as often as its longest lane (the six-cloth pile's edge detection
-    // about 3 % cheaper against its faces' in the same runs, the same bits).
+    // 1.96-2.05 times its faces' in the same runs against 2.08-2.12, the same bits).
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
         detect(hash_entry_point(pc.first + i).w);
 }
