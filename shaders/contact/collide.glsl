@@ -88,12 +88,16 @@ layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_TRIANGLE_EDGES, rgba32ui
 // EDGES_FUSED: edge detection's phases and the bounds in one workgroup
 // (contact_edges_fused.comp), whose invocations read what others wrote in the same dispatch
 // through the storage buffers, coherent, after memoryBarrierBuffer() and barrier().
+// DETECT_READ(stored, viewed): how a pass reads a word detection wrote — through the texel
+// view (viewed) after the pass that wrote it, through the buffer (stored) in the fused dispatch.
 #ifdef EDGES_FUSED
 #define DETECT_COHERENT coherent
 #define DETECT_WRITEONLY
+#define DETECT_READ(stored, viewed) (stored)
 #else
 #define DETECT_COHERENT
 #define DETECT_WRITEONLY writeonly
+#define DETECT_READ(stored, viewed) (viewed)
 #endif
 layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_EDGE_CONTACTS) DETECT_WRITEONLY DETECT_COHERENT buffer EdgeContacts {
     uint edge_contacts[]; // CVK_CONTACTS_PER_EDGE per edge: other edges
@@ -125,13 +129,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS) buffer
 // that wrote them read them (shared/layout.h).
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_NEAREST_READ, r32ui) uniform readonly uimageBuffer nearest_t;
 layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_PREVIOUS_READ, rgba32f) uniform readonly imageBuffer previous_t;
-// Word i of the nearest buffer as a pass after the one that wrote it reads it (the fused
-// dispatch: what it wrote itself).
-#ifdef EDGES_FUSED
-#define NEAREST(i) nearest[i]
-#else
-#define NEAREST(i) imageLoad(nearest_t, int(i)).x
-#endif
+// Word i of the nearest buffer as detection's later passes read it.
+#define NEAREST(i) DETECT_READ(nearest[i], imageLoad(nearest_t, int(i)).x)
 
 uvec4 contact_triangle(uint t) { return imageLoad(triangles_t, int(t)); } // internal indices
 // Triangles by corner: [p] .. [p + 1] are offsets (from particle_count + 1) of those around p.
@@ -147,11 +146,10 @@ uvec2 side_pair(uint q, uint k)
     uint at = contact_u.particle_count + 2u * (q * uint(CVK_SIDES_PER_PARTICLE) + k);
     return uvec2(imageLoad(sides_t, int(at)).x, imageLoad(sides_t, int(at + 1u)).x);
 }
-#ifdef EDGES_FUSED
-uint edge_entry(uint i) { return edge_contacts[i]; }
-#else
-uint edge_entry(uint i) { return imageLoad(edge_contacts_t, int(i)).x; }
-#endif
+uint edge_entry(uint i)
+{
+    return DETECT_READ(edge_contacts[i], imageLoad(edge_contacts_t, int(i)).x);
+}
 vec3 contact_x(uint p) { return imageLoad(contact_x_t, int(p)).xyz; } // x_n
 // The work lists (shared/layout.h): the list whose indirect command is at `command` (its count
 // follows the command) emptied, and `item` appended to it, the command's workgroups (of

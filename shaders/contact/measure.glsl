@@ -25,12 +25,8 @@ layout(std430, set = CONTACT_SET, binding = CVK_CONTACT_BINDING_CELL_POOL) DETEC
     uvec4 cell_pool[];
 };
 #define CELL_POOL_WORD(i) cell_pool[(i) >> 2u][(i) & 3u]
-// Word i of the pool as detection reads it (the fused dispatch: what it wrote itself).
-#ifdef EDGES_FUSED
-#define CELL_POOL(i) CELL_POOL_WORD(i)
-#else
-#define CELL_POOL(i) imageLoad(cell_pool_t, int(i)).x
-#endif
+// Word i of the pool as detection reads it.
+#define CELL_POOL(i) DETECT_READ(CELL_POOL_WORD(i), imageLoad(cell_pool_t, int(i)).x)
 
 // Phase 1, before detection: the longest edge now, which bounds how far apart the midpoints
 // of two near edges are (an atomic maximum on the float's bits, which order as non-negative
