@@ -152,10 +152,16 @@ void detect(uint p)
     }
     if (nearest_p < INFINITY)
         atomicMin(nearest[p], floatBitsToUint(nearest_p));
+    // p's list up to its first empty slot, where its readers stop (cloth_push.glsl,
+    // contact_bound.glsl), and each pair on its feature's corners' side lists. The loop ends
+    // there: on lavapipe its body, the side lists' atomics and stores, ran under a mask at
+    // every slot of every list (the 40 x 40 contact drape's faces against its edges'
+    // distances in the same runs 0.68 -> 0.64, the six-cloth pile's 0.62 -> 0.61; the same
+    // bits).
     for (uint k = 0u; k < K; k++) {
         contacts[p * K + k] = kept[k];
         if (kept[k] == CVK_NO_CONTACT)
-            continue;
+            break;
         // The pair on the feature's side: listed under each of its corners (in the order of
         // the atomics; contact_bound.comp sorts each list).
         uvec3 v;

@@ -80,6 +80,20 @@ void keep_pair(uint e, uint f, uint d)
     }
 }
 
+// Edge e's list: its pairs, nearest first, up to its first empty slot, where its readers stop
+// (cloth_push.glsl, contact_bound.glsl). On lavapipe each storage store in a loop is a loop
+// over the lanes, run as often as the longest lane's list: an edge without pairs stores one
+// word instead of K (phase 2 against phase 0 in the same runs, the 40 x 40 contact drape:
+// 0.130 -> 0.114; the same bits).
+void store_list(uint e)
+{
+    for (uint k = 0u; k < K; k++) {
+        edge_contacts[e * K + k] = kept[k];
+        if (kept[k] == CVK_NO_CONTACT)
+            break;
+    }
+}
+
 // Edge f = (c, d) at xc, xd, of e = (a, b)'s instance: its distance to e if it shares no end
 // with e (else INFINITY), and whether the nearest points lie inside both.
 float ends_distance(uvec2 ab, vec3 xa, vec3 xb, uvec2 cd, vec3 xc, vec3 xd, out bool both)
@@ -219,8 +233,7 @@ void detect(uint e)
         }
     }
     if (LISTING) {
-        for (uint k = 0u; k < K; k++)
-            edge_contacts[e * K + k] = kept[k];
+        store_list(e);
         return;
     }
     for (uint i = 0u; i < min(found, NEAR); i++) {
@@ -361,8 +374,7 @@ void list_near()
         clear_nearest();
         for (uint j = 0u; count <= uint(CVK_EDGE_BUCKET) && j < count; j++)
             INSERT(uintBitsToFloat(NEAREST(pairs_at(e) + 2u * j + 1u)), NEAREST(pairs_at(e) + 2u * j));
-        for (uint k = 0u; k < K; k++)
-            edge_contacts[e * K + k] = kept[k];
+        store_list(e);
         if (count > uint(CVK_EDGE_BUCKET))
             list_append(CVK_LIST_EDGE_PAIRS_GROUPS, e, pc.per_group);
     }
