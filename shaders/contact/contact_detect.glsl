@@ -88,23 +88,31 @@ void keep_hit(uint t, uint feature, float d)
 // than HITS walks again for the rest. A pair's triangle alone is kept, its distance and
 // feature measured again after the tests (the same function, the same bits): a store at a
 // variable index of a private array is a loop over the lanes on lavapipe (contact_edges.glsl).
-const uint BATCH = 32u;
+const uint BATCH = 32u; // at most 32: test_batch marks its pairs as bits of a word
 uint found[BATCH];
 const uint HITS = 32u;
 uint hit_t[HITS];
 uint hits; // reset by each detect: an invocation may detect for several particles
 
+// The tests mark the batch's pairs as bits of a word (BATCH is 32), and a loop over the marks
+// after them keeps the pairs: the store into hit_t, a loop over the lanes, ran under a mask at
+// every test (the 40 x 40 contact drape's faces against its edges' distances in the same runs
+// 0.65 -> 0.63, against its solve 0.93 -> 0.86; the six-cloth pile's within the noise; the
+// same bits).
 float test_batch(uint p, vec3 xp, uint count, uint instance, float nearest_p)
 {
+    uint marks = 0u;
     for (uint i = 0u; i < count; i++) {
         uint feature;
         float d = triangle_distance(p, xp, found[i], instance, feature);
-        if (!(d < contact_u.radius))
-            continue;
+        bool pair = d < contact_u.radius;
+        marks |= pair ? 1u << i : 0u;
+        nearest_p = pair ? min(nearest_p, d) : nearest_p;
+    }
+    for (; marks != 0u; marks &= marks - 1u) {
         if (hits < HITS)
-            hit_t[hits] = found[i];
+            hit_t[hits] = found[findLSB(marks)];
         hits++;
-        nearest_p = min(nearest_p, d);
     }
     return nearest_p;
 }
