@@ -117,6 +117,31 @@ float test_batch(uint p, vec3 xp, uint count, uint instance, float nearest_p)
     return nearest_p;
 }
 
+// The walk's next batch of triangles within reach of xp (their indices in found), cell by
+// cell: a loop over the cells and in it a loop over a cell's entries, rather than
+// hash_walk_step's one loop over both, where every step ran the move to the next cell (its
+// box, its slot's range) and the entry's loads, one of them under a mask (the faces against
+// the edges' distances in the same runs: the six-cloth pile's 0.60 -> 0.52, the 40 x 40
+// contact drape's 0.64 -> 0.61; the same bits). The cells are stepped over and their entries
+// met in hash_walk_step's order.
+uint gather_batch(inout hash_walk w, vec3 xp, float reach2)
+{
+    uint count = 0u;
+    while (w.n < 27u && count < BATCH) {
+        for (; w.range.x < w.range.y && count < BATCH; w.range.x++) {
+            uvec4 entry = hash_entry_point(w.range.x);
+            vec3 at = uintBitsToFloat(entry.xyz);
+            if (hash_cell(at) == w.cell && within_reach(xp, at, reach2)) {
+                found[count] = entry.w;
+                count++;
+            }
+        }
+        if (w.range.x == w.range.y)
+            hash_walk_next_cell(w, xp, reach2);
+    }
+    return count;
+}
+
 void detect(uint p)
 {
     vec3 xp = contact_x(p);
@@ -133,13 +158,8 @@ void detect(uint p)
     uvec4 entry;
     bool here;
     for (bool more = true; more;) {
-        uint count = 0u;
-        while (count < BATCH && (more = hash_walk_step(w, xp, reach2, entry, here))) {
-            if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2)) {
-                found[count] = entry.w;
-                count++;
-            }
-        }
+        uint count = gather_batch(w, xp, reach2);
+        more = w.n < 27u;
         nearest_p = test_batch(p, xp, count, instance, nearest_p);
     }
     for (uint i = 0u; i < min(hits, HITS); i++) {

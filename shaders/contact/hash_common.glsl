@@ -239,6 +239,16 @@ hash_walk hash_walk_begin(vec3 x)
     return hash_walk_begin(x, 0u);
 }
 
+// The walk moved on to its next cell (w.n 27: done), its slot's entries not yet stepped over
+// (none where no point of the cell can be within sqrt(reach2) of x, reach2 >= 0).
+void hash_walk_next_cell(inout hash_walk w, vec3 x, float reach2)
+{
+    if (++w.n < 27u) {
+        w.cell = hash_neighbour_cell(w.home, w.n);
+        w.range = hash_cell_near(w.cell, x, reach2) ? hash_range(w.cell, w.salt) : uvec2(0u);
+    }
+}
+
 // One step: false once the 27 cells are done; else `entry` (its point's xyz as float bits, its
 // index in w) with `here` true where the entry lies in the visited cell, or `here` false at a
 // step that moved on to the next cell or met an entry of another cell sharing the slot. With
@@ -250,11 +260,8 @@ bool hash_walk_step(inout hash_walk w, vec3 x, float reach2, out uvec4 entry, ou
     entry = uvec4(0u);
     here = false;
     if (w.range.x == w.range.y) {
-        if (++w.n == 27u)
-            return false;
-        w.cell = hash_neighbour_cell(w.home, w.n);
-        w.range = hash_cell_near(w.cell, x, reach2) ? hash_range(w.cell, w.salt) : uvec2(0u);
-        return true;
+        hash_walk_next_cell(w, x, reach2);
+        return w.n < 27u;
     }
     entry = hash_entry_point(w.range.x++);
     here = hash_cell(uintBitsToFloat(entry.xyz)) == w.cell;
