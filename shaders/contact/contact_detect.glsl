@@ -128,10 +128,10 @@ uint gather_batch(inout hash_walk w, vec3 xp, float reach2)
 {
     uint count = 0u;
     while (w.n < 27u && count < BATCH) {
-        for (; w.range.x < w.range.y && count < BATCH; w.range.x++) {
-            uvec4 entry = hash_entry_point(w.range.x);
-            vec3 at = uintBitsToFloat(entry.xyz);
-            if (hash_cell(at) == w.cell && within_reach(xp, at, reach2)) {
+        while (w.range.x < w.range.y && count < BATCH) {
+            bool here;
+            uvec4 entry = hash_walk_entry(w, here);
+            if (here && within_reach(xp, uintBitsToFloat(entry.xyz), reach2)) {
                 found[count] = entry.w;
                 count++;
             }

@@ -249,6 +249,15 @@ void hash_walk_next_cell(inout hash_walk w, vec3 x, float reach2)
     }
 }
 
+// The next entry of the visited cell's slot, and whether it lies in that cell (here), not in
+// another cell sharing the slot.
+uvec4 hash_walk_entry(inout hash_walk w, out bool here)
+{
+    uvec4 entry = hash_entry_point(w.range.x++);
+    here = hash_cell(uintBitsToFloat(entry.xyz)) == w.cell;
+    return entry;
+}
+
 // One step: false once the 27 cells are done; else `entry` (its point's xyz as float bits, its
 // index in w) with `here` true where the entry lies in the visited cell, or `here` false at a
 // step that moved on to the next cell or met an entry of another cell sharing the slot. With
@@ -263,8 +272,7 @@ bool hash_walk_step(inout hash_walk w, vec3 x, float reach2, out uvec4 entry, ou
         hash_walk_next_cell(w, x, reach2);
         return w.n < 27u;
     }
-    entry = hash_entry_point(w.range.x++);
-    here = hash_cell(uintBitsToFloat(entry.xyz)) == w.cell;
+    entry = hash_walk_entry(w, here);
     return true;
 }
 
