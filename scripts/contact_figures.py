@@ -7,12 +7,17 @@ one CSV row. Run two builds in one sitting to compare them:
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --held
 
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --rest [--label NAME]
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv --twist
 
 --held: how much the bounds hold the cloth back, by substep length (held.csv): the 40 x 40 drape
 in 8, 4, 2 and 1 substeps a frame of 1/60 s, and the pile and the twist at their own settings.
 --rest: how the drape and the pile come to rest (rest.csv): by window of frames, the detections
 and how far the particles move a substep (the scene run a substep a frame, its positions after
 every substep read from a PC2 point cache); --label names the build in a first column.
+--twist: how far the twist's kinematics stretch it (twist.csv): the largest and the 99th
+percentile stretch of its structural springs every 40 frames, with self-contact and without,
+and without it under a strain limit or with four times the outer iterations (its positions read
+from a PC2 point cache).
 """
 import argparse
 import csv
@@ -118,6 +123,51 @@ def rest_rows(sim, label):
     return REST_COLUMNS, rows
 
 
+TWIST_FRAMES = (40, 80, 120, 160, 200, 240)
+TWIST_P99 = (40, 120, 240)
+TWIST_COLUMNS = (["run"] + [f"largest stretch at frame {f} %" for f in TWIST_FRAMES] +
+                 [f"p99 stretch at frame {f} %" for f in TWIST_P99])
+
+
+def grid_stretches(x, n, spacing):
+    """The structural springs' stretches of an n x n grid cloth at positions x (row-major)."""
+    def at(i, j):
+        return x[3 * (j * n + i):3 * (j * n + i) + 3]
+    out = []
+    for j in range(n):
+        for i in range(n):
+            for di, dj in ((1, 0), (0, 1)):
+                if i + di < n and j + dj < n:
+                    a, b = at(i, j), at(i + di, j + dj)
+                    d = sum((b[k] - a[k]) ** 2 for k in range(3)) ** 0.5
+                    out.append(d / spacing - 1.0)
+    return sorted(out)
+
+
+def twist_rows(sim):
+    scene = "contact-twist.json"
+    with open(os.path.join(ROOT, "assets", "scenes", scene)) as f:
+        cloth = json.load(f)["cloths"][0]
+    n, spacing = cloth["grid"][0], cloth["size"][0] / (cloth["grid"][0] - 1)
+    rows = []
+    for name, sets in (("with self-contact (the scene)", []),
+                       ("without self-contact", ["collision.self=false"]),
+                       ("without self-contact, solver.strain_limit 0.05",
+                        ["collision.self=false", "solver.strain_limit=0.05"]),
+                       ("without self-contact, 16 outer iterations",
+                        ["collision.self=false", "solver.outer_iterations=16"])):
+        with tempfile.TemporaryDirectory() as tmp:
+            cache = os.path.join(tmp, "run.pc2")
+            run(sim, scene, sets, ["--frames", str(TWIST_FRAMES[-1]), "--pc2", cache,
+                                   "--every", "40"])
+            _, x = pc2.read(cache)  # sample i: after frame 40 i
+        stretch = {f: grid_stretches(x[f // 40], n, spacing) for f in TWIST_FRAMES}
+        measured(rows, [name] + [round(100 * stretch[f][-1], 1) for f in TWIST_FRAMES] +
+                 [round(100 * stretch[f][int(0.99 * (len(stretch[f]) - 1))], 1)
+                  for f in TWIST_P99])
+    return TWIST_COLUMNS, rows
+
+
 def scene_rows(sim, sizes):
     rows = []
     for n in (int(s) for s in sizes.split(",")):
@@ -139,11 +189,14 @@ def main():
                         help="the particles held at their bounds, by substep length")
     parser.add_argument("--rest", action="store_true",
                         help="how the drape and the pile come to rest")
+    parser.add_argument("--twist", action="store_true",
+                        help="how far the twist's kinematics stretch it")
     parser.add_argument("--label", default="", help="with --rest: the build's name in the rows")
     a = parser.parse_args()
     sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
     columns, rows = (held_rows(sim) if a.held else
-                     rest_rows(sim, a.label) if a.rest else scene_rows(sim, a.sizes))
+                     rest_rows(sim, a.label) if a.rest else
+                     twist_rows(sim) if a.twist else scene_rows(sim, a.sizes))
     with open(a.out, "w", newline="") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(columns)
