@@ -14,10 +14,9 @@ in 8, 4, 2 and 1 substeps a frame of 1/60 s, and the pile and the twist at their
 --rest: how the drape and the pile come to rest (rest.csv): by window of frames, the detections
 and how far the particles move a substep (the scene run a substep a frame, its positions after
 every substep read from a PC2 point cache); --label names the build in a first column.
---twist: how far the twist's kinematics stretch it (twist.csv): the largest and the 99th
-percentile stretch of its structural springs every 40 frames, with self-contact and without,
-and without it under a strain limit or with four times the outer iterations (its positions read
-from a PC2 point cache).
+--twist: how far the twist's kinematics stretch it (twist.csv): its largest and 99th percentile
+stretch as `--json` reports them after every 40 frames, with self-contact and without, and
+without it under a strain limit or with four times the outer iterations.
 """
 import argparse
 import csv
@@ -129,26 +128,9 @@ TWIST_COLUMNS = (["run"] + [f"largest stretch at frame {f} %" for f in TWIST_FRA
                  [f"p99 stretch at frame {f} %" for f in TWIST_P99])
 
 
-def grid_stretches(x, n, spacing):
-    """The structural springs' stretches of an n x n grid cloth at positions x (row-major)."""
-    def at(i, j):
-        return x[3 * (j * n + i):3 * (j * n + i) + 3]
-    out = []
-    for j in range(n):
-        for i in range(n):
-            for di, dj in ((1, 0), (0, 1)):
-                if i + di < n and j + dj < n:
-                    a, b = at(i, j), at(i + di, j + dj)
-                    d = sum((b[k] - a[k]) ** 2 for k in range(3)) ** 0.5
-                    out.append(d / spacing - 1.0)
-    return sorted(out)
-
-
 def twist_rows(sim):
-    scene = "contact-twist.json"
-    with open(os.path.join(ROOT, "assets", "scenes", scene)) as f:
-        cloth = json.load(f)["cloths"][0]
-    n, spacing = cloth["grid"][0], cloth["size"][0] / (cloth["grid"][0] - 1)
+    """The twist's stretch as `--json` reports it (docs/library.md: max_stretch, p99_stretch)
+    after each of TWIST_FRAMES, a run to each."""
     rows = []
     for name, sets in (("with self-contact (the scene)", []),
                        ("without self-contact", ["collision.self=false"]),
@@ -156,15 +138,9 @@ def twist_rows(sim):
                         ["collision.self=false", "solver.strain_limit=0.05"]),
                        ("without self-contact, 16 outer iterations",
                         ["collision.self=false", "solver.outer_iterations=16"])):
-        with tempfile.TemporaryDirectory() as tmp:
-            cache = os.path.join(tmp, "run.pc2")
-            run(sim, scene, sets, ["--frames", str(TWIST_FRAMES[-1]), "--pc2", cache,
-                                   "--every", "40"])
-            _, x = pc2.read(cache)  # sample i: after frame 40 i
-        stretch = {f: grid_stretches(x[f // 40], n, spacing) for f in TWIST_FRAMES}
-        measured(rows, [name] + [round(100 * stretch[f][-1], 1) for f in TWIST_FRAMES] +
-                 [round(100 * stretch[f][int(0.99 * (len(stretch[f]) - 1))], 1)
-                  for f in TWIST_P99])
+        at = {f: run(sim, "contact-twist.json", sets, ["--frames", str(f)]) for f in TWIST_FRAMES}
+        measured(rows, [name] + [round(100 * at[f]["max_stretch"], 1) for f in TWIST_FRAMES] +
+                 [round(100 * at[f]["p99_stretch"], 1) for f in TWIST_P99])
     return TWIST_COLUMNS, rows
 
 
