@@ -9,7 +9,7 @@
 # pack/bin holds clothvk-sim, clothvk-bench, clothvk-render and test_determinism; pack/lib
 # libclothvk and the libraries `ldd` lists for them but the C runtime's own. The tools find
 # pack/lib by their RUNPATH ($ORIGIN/../lib); scripts/gpu-figures.sh puts it on
-# LD_LIBRARY_PATH for the libraries' own dependencies.
+# LD_LIBRARY_PATH for the libraries' own dependencies. pack/layer holds the validation layer.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ $# -eq 1 ] || { echo "usage: $0 DIR" >&2; exit 2; }
@@ -29,4 +29,17 @@ for f in "$build"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$dir/lib/"; 
 ldd $tools "$build"/lib/libclothvk.so.0 | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | sort -u |
     grep -Ev '/(libc|libm|libdl|libpthread|librt|ld-linux[^/]*)\.so' |
     while read -r lib; do cp -L "$lib" "$dir/lib/"; done
+# The Khronos validation layer, which test_determinism (like every test) turns on: its manifest
+# names the library beside it, and scripts/gpu-figures.sh puts pack/layer on VK_LAYER_PATH.
+manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+if [ -f "$manifest" ]; then
+    mkdir -p "$dir/layer"
+    layer=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' "$manifest")
+    [ -f "$layer" ] || layer=$(ldconfig -p | awk -v l="$(basename "$layer")" '$1 == l { print $NF; exit }')
+    cp -L "$layer" "$dir/layer/"
+    sed 's#"library_path": *"[^"]*"#"library_path": "./'"$(basename "$layer")"'"#' "$manifest" \
+        >"$dir/layer/$(basename "$manifest")"
+else
+    echo "pack-tools: no validation layer (vulkan-validationlayers): test_determinism will not run" >&2
+fi
 echo "pack-tools: $(ls "$dir/bin" | wc -l) programs and $(ls "$dir/lib" | wc -l) libraries in $dir ($(du -sh "$dir" | cut -f1))"
