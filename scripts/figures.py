@@ -456,6 +456,7 @@ VIEWS = {
     "batch:napkins": lambda: batch_view("batch"),
     "batch-threads:napkins": lambda: batch_view("batch-threads"),
     "batch-self:napkins": lambda: batch_view("batch-self"),
+    "batch-h200:napkins": lambda: batch_view("batch-h200"),
 }
 
 

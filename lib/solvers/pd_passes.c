@@ -670,8 +670,8 @@ const char* cvk_pd_plan_fuse_refusal(const cvk_sim* s, const cvk_solver_desc* re
                                      const cvk_plan* plan)
 {
     cvk_solver_desc solver = cvk_solver_desc_resolve(requested);
-    return cvk_pd_fuse_refusal(&s->build, &solver, s->device.context->properties.deviceType,
-                               plan->fused_workgroup_size, checks(s, &solver));
+    (void)plan;
+    return cvk_pd_fuse_refusal(&s->build, &solver, checks(s, &solver));
 }
 
 static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const cvk_plan* plan,

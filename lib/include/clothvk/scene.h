@@ -54,9 +54,8 @@ typedef enum cvk_linear_solver {
 /* Whether rbgs runs the sweeps of an outer iteration fused into one dispatch of one workgroup
    (docs/performance.md, "Fused sweeps"): the same bits as one dispatch per colour and sweep. */
 typedef enum cvk_fuse {
-    CVK_FUSE_AUTO = 0, /* fused on GPUs (discrete, integrated, virtual) where the scene allows,
-                          up to 16 particles per invocation of the one workgroup; not on CPU
-                          devices, whose workgroup barriers cost more than dispatches */
+    CVK_FUSE_AUTO = 0, /* not fused: slower on every device measured, lavapipe and an NVIDIA
+                          H200 (docs/performance.md, "Fused sweeps") */
     CVK_FUSE_ON,       /* fused wherever the scene allows, on any device */
     CVK_FUSE_OFF,      /* one dispatch per colour and sweep */
 } cvk_fuse;
