@@ -29,7 +29,7 @@ const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solve
         return "colours not from particle 0";
     /* The one workgroup's barriers and serial sweeps cost more than the dispatches they save
        wherever this was measured: on lavapipe (docs/figures/fused) and on an NVIDIA H200
-       (docs/figures/gpu-contact: peer-hanging.json 2.49 ms a frame fused, 0.71 unfused). */
+       (docs/figures/gpu-h200: peer-hanging.json 2.50 ms a frame fused, 0.73 unfused). */
     if (solver->fuse == CVK_FUSE_AUTO)
         return "solver.fuse auto, which does not fuse: slower on every device measured";
     return NULL;
