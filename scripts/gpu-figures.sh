@@ -17,6 +17,12 @@
 #   4. test_determinism's contact part (the same bits for every dispatch shape, fused and not);
 #   5. intersecting pairs after every frame: the large pile (contact-ensemble, one variant), then
 #      every showcase's ensemble (a process a showcase, eight at a time).
+# CLOTHVK_EXACT_LIB=DIR, a folder holding libclothvk.so.0 from a build with -Dfloat_exact=true
+# (meson_options.txt), adds after step 4 test_determinism contact and clothvk-bench fused on
+# drape.json with that library: whether fused and unfused round alike once no driver may fuse a
+# multiply and an add (docs/limits.md, Solvers). To make one:
+#   meson setup build-exact -Dfloat_exact=true && ninja -C build-exact &&
+#   CLOTHVK_EXACT_BUILD_DIR=build-exact bash scripts/pack-tools.sh pack    (then pack/exact)
 # CLOTHVK_QUICK=1 runs every step for two frames (a check of the script, on any device).
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -89,6 +95,14 @@ if [ "$quick" = 1 ]; then
     echo "determinism: not run for a quick check" | tee -a "$log"
 else
     step determinism 150 "$pack/bin/test_determinism" contact
+fi
+exact=${CLOTHVK_EXACT_LIB:-}
+if [ -n "$exact" ] && [ "$quick" != 1 ]; then
+    exact=$(cd "$exact" && pwd)
+    step determinism-exact 150 env LD_LIBRARY_PATH="$exact:$LD_LIBRARY_PATH" \
+        "$pack/bin/test_determinism" contact
+    step fused-drape-exact 60 env LD_LIBRARY_PATH="$exact:$LD_LIBRARY_PATH" \
+        "$bench" fused assets/scenes/drape.json --frames 30 --no-plot -o "$out/fused-drape-exact"
 fi
 step pile-large-ensemble 150 "$bench" contact-ensemble \
     --scenes assets/scenes/contact-pile-large.json --variants 1 --frames "$(frames 120)" \

@@ -29,17 +29,27 @@ for f in "$build"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$dir/lib/"; 
 ldd $tools "$build"/lib/libclothvk.so.0 | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | sort -u |
     grep -Ev '/(libc|libm|libdl|libpthread|librt|ld-linux[^/]*)\.so' |
     while read -r lib; do cp -L "$lib" "$dir/lib/"; done
+# With CLOTHVK_EXACT_BUILD_DIR, a build made with -Dfloat_exact=true: its library in pack/exact,
+# for scripts/gpu-figures.sh's CLOTHVK_EXACT_LIB (the tools load it first from there).
+exact=${CLOTHVK_EXACT_BUILD_DIR:-}
+if [ -n "$exact" ]; then
+    mkdir -p "$dir/exact"
+    for f in "$exact"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$dir/exact/"; done
+fi
 # The Khronos validation layer, which test_determinism (like every test) turns on: its manifest
 # names the library beside it, and scripts/gpu-figures.sh puts pack/layer on VK_LAYER_PATH.
 manifest=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
 if [ -f "$manifest" ]; then
     mkdir -p "$dir/layer"
     layer=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' "$manifest")
-    [ -f "$layer" ] || layer=$(ldconfig -p | awk -v l="$(basename "$layer")" '$1 == l { print $NF; exit }')
+    # (awk reads to the end: an early exit would fail ldconfig's write under pipefail)
+    [ -f "$layer" ] || layer=$(ldconfig -p |
+        awk -v l="$(basename "$layer")" '$1 == l && !p { p = $NF } END { print p }')
     cp -L "$layer" "$dir/layer/"
     sed 's#"library_path": *"[^"]*"#"library_path": "./'"$(basename "$layer")"'"#' "$manifest" \
         >"$dir/layer/$(basename "$manifest")"
 else
-    echo "pack-tools: no validation layer (vulkan-validationlayers): test_determinism will not run" >&2
+    echo "pack-tools: no validation layer (vulkan-validationlayers): test_determinism will" \
+        "not run" >&2
 fi
 echo "pack-tools: $(ls "$dir/bin" | wc -l) programs and $(ls "$dir/lib" | wc -l) libraries in $dir ($(du -sh "$dir" | cut -f1))"
