@@ -75,13 +75,11 @@ done
 # contact_figures.py runs BUILD/apps/clothvk-sim: a build folder of links to the pack.
 mkdir -p "$out/build"
 ln -sfn "$pack/bin" "$out/build/apps"
-sizes=20,40,80,160
-[ "$quick" = 1 ] && sizes=20
 if [ "$quick" = 1 ]; then
     echo "contact-figures: not run for a quick check" | tee -a "$log"
 else
     step contact-figures 150 python3 scripts/contact_figures.py "$out/build" \
-        "$out/contact-figures.csv" --sizes "$sizes"
+        "$out/contact-figures.csv" --sizes 20,40,80,160
 fi
 step fused-peer 60 "$bench" fused assets/scenes/peer-hanging.json --frames "$(frames 30)" \
     --no-plot -o "$out/fused-peer"
