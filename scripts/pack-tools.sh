@@ -20,10 +20,13 @@ tools="$build/apps/clothvk-sim $build/apps/clothvk-bench $build/apps/clothvk-ren
 for t in $tools; do
     [ -x "$t" ] || { echo "$0: $t is missing: run bash scripts/build.sh first" >&2; exit 1; }
 done
+copy_library() { # copy_library BUILD DEST: libclothvk.so and its versioned names (links kept)
+    for f in "$1"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$2/"; done
+}
 rm -rf "$dir"
 mkdir -p "$dir/bin" "$dir/lib"
 cp $tools "$dir/bin/"
-for f in "$build"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$dir/lib/"; done
+copy_library "$build" "$dir/lib"
 # The libraries the tools load, but the C runtime's (every Linux has its own, and a copy of
 # another's would not match the loader there).
 ldd $tools "$build"/lib/libclothvk.so.0 | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | sort -u |
@@ -34,7 +37,7 @@ ldd $tools "$build"/lib/libclothvk.so.0 | awk '$2 == "=>" && $3 ~ /^\// { print 
 exact=${CLOTHVK_EXACT_BUILD_DIR:-}
 if [ -n "$exact" ]; then
     mkdir -p "$dir/exact"
-    for f in "$exact"/lib/libclothvk.so*; do [ -d "$f" ] || cp -P "$f" "$dir/exact/"; done
+    copy_library "$exact" "$dir/exact"
 fi
 # The Khronos validation layer, which test_determinism (like every test) turns on: its manifest
 # names the library beside it, and scripts/gpu-figures.sh puts pack/layer on VK_LAYER_PATH.

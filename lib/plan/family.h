@@ -23,11 +23,10 @@ typedef struct cvk_family_api {
        it adds no op, so timings keep their names), or marks the plan as a host plan. */
     cvk_result (*add_passes)(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
                              cvk_plan* plan, cvk_error* error);
-    /* Why `plan` (its workgroup sizes set) does not fuse `solver`'s passes (solver.fuse), or
-       NULL where it does; asked before any pass is added, so that the detection's hash builds
-       fuse with the solve (cvk_plan.fused). NULL member: the family never fuses. */
-    const char* (*fuse_refusal)(const cvk_sim* sim, const cvk_solver_desc* solver,
-                                const cvk_plan* plan);
+    /* Why a plan does not fuse `solver`'s passes (solver.fuse), or NULL where it does; asked
+       before any pass is added, so that the detection's hash builds fuse with the solve
+       (cvk_plan.fused). NULL member: the family never fuses. */
+    const char* (*fuse_refusal)(const cvk_sim* sim, const cvk_solver_desc* solver);
     /* Readies `solver` before a switch to it (host arrays); may fail, changing nothing. */
     cvk_result (*prepare)(cvk_sim* sim, void* self, const cvk_solver_desc* solver,
                           cvk_error* error);

@@ -154,7 +154,7 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
     out->fused_workgroup_size = s->fused_workgroup_size;
     out->particle_group_items = s->particle_group_items;
     out->walk_items = s->walk_items;
-    out->fused = family->fuse_refusal && family->fuse_refusal(s, solver, out) == NULL;
+    out->fused = family->fuse_refusal && family->fuse_refusal(s, solver) == NULL;
     cvk_result r = cvk_collide_add_passes(s, out, error);
     if (r == CVK_SUCCESS)
         r = family->add_passes(s, self, solver, out, error);

@@ -583,7 +583,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
 static void plan_rbgs(pd_builder* pb)
 {
     cvk_sim* s = pb->sim;
-    const char* unfused = cvk_pd_plan_fuse_refusal(s, pb->solver, pb->plan);
+    const char* unfused = cvk_pd_plan_fuse_refusal(s, pb->solver);
     pb->fused = unfused == NULL;
     char* note = pb->plan->solver_note;
     size_t used = strlen(note);
@@ -666,11 +666,9 @@ static bool checks(const cvk_sim* s, const cvk_solver_desc* solver)
            solver->linear != CVK_LINEAR_GS_CPU;
 }
 
-const char* cvk_pd_plan_fuse_refusal(const cvk_sim* s, const cvk_solver_desc* requested,
-                                     const cvk_plan* plan)
+const char* cvk_pd_plan_fuse_refusal(const cvk_sim* s, const cvk_solver_desc* requested)
 {
     cvk_solver_desc solver = cvk_solver_desc_resolve(requested);
-    (void)plan;
     return cvk_pd_fuse_refusal(&s->build, &solver, checks(s, &solver));
 }
 

@@ -125,10 +125,9 @@ cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* so
    fuses, as the fused dispatch was slower on every device measured. */
 const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver, bool checking);
 
-/* cvk_pd_fuse_refusal for `requested` (resolved) on `sim` with `plan`'s fused workgroup: the
-   family's fuse_refusal (lib/plan/family.h). */
-const char* cvk_pd_plan_fuse_refusal(const cvk_sim* sim, const cvk_solver_desc* requested,
-                                     const cvk_plan* plan);
+/* cvk_pd_fuse_refusal for `requested` (resolved) on `sim`: the family's fuse_refusal
+   (lib/plan/family.h). */
+const char* cvk_pd_plan_fuse_refusal(const cvk_sim* sim, const cvk_solver_desc* requested);
 
 /* The push data of the fused pass over every colour of `b`: `outers` outer iterations of
    `sweeps` sweeps, the last sweep of each at `last_omega` (cvk_gs_sweep_omega). */
