@@ -13,7 +13,7 @@
 #   2. the contact scenes (the 40 x 40 drape, the six-cloth pile, the twist): the same --json,
 #      and scripts/contact_figures.py's rows with the drape at 20, 40, 80 and 160;
 #   3. clothvk-bench fused on peer-hanging.json and drape.json, and batch of 32 x 32 napkins
-#      up to 4,096 copies;
+#      up to 4,096 copies, unfused and fused (a workgroup a copy);
 #   4. test_determinism's contact part (the same bits for every dispatch shape, fused and not);
 #   5. intersecting pairs after every frame: the large pile (contact-ensemble, one variant), then
 #      every showcase's ensemble (a process a showcase, eight at a time).
@@ -89,6 +89,8 @@ counts=1,16,256,1024,4096
 [ "$quick" = 1 ] && counts=1,2
 step batch 120 "$bench" batch --set 'cloths.0.grid=[32,32]' --counts "$counts" \
     --frames "$(frames 10)" --no-plot -o "$out/batch"
+step batch-fused 120 "$bench" batch --set 'cloths.0.grid=[32,32]' --set 'solver.fuse="on"' \
+    --counts "$counts" --frames "$(frames 10)" --no-plot -o "$out/batch-fused"
 if [ "$quick" = 1 ]; then
     echo "determinism: not run for a quick check" | tee -a "$log"
 else

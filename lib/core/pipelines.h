@@ -114,7 +114,7 @@ typedef struct cvk_spec_recipe {
     X(GS_FIRST_PREDICT_SRC, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TRUE), "predict + gauss-seidel + local step") \
     X(GS_FIRST_PREDICT_DST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TWO), "predict (last in dst) + gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
-    X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps, one workgroup") \
+    X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "gauss-seidel + local step + residual") \

@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 #include "sim/sim_limits.h"
 #include "solvers/reference.h"
+#include "solvers/solve_pd.h"
 #include "solvers/solver.h"
 
 #define DEFAULT_WORKGROUP_SIZE 64u
@@ -86,6 +87,27 @@ static uint32_t fused_workgroup_size(const cvk_context* context, const cvk_sim_d
     if (size > limits->maxComputeWorkGroupInvocations)
         size = limits->maxComputeWorkGroupInvocations;
     return size;
+}
+/* Where the fused sweeps take a workgroup a copy of a scene's instances (lib/solvers/
+   solve_pd.h), the workgroup is as large as a copy's largest colour in whole 64s, not the
+   1024 one workgroup for the whole scene takes: a 32 x 32 napkin's colour of 256 then fills it,
+   and more copies share a multiprocessor. Unless the caller chose a workgroup size. */
+#define FUSED_COPY_WORKGROUP_STEP 64u
+static uint32_t fused_copy_workgroup_size(const cvk_sim* s, const cvk_sim_desc* desc)
+{
+    uint32_t copies = cvk_pd_fused_copies(&s->build, s->instance_count);
+    if (desc->workgroup_size != 0 || copies <= 1 || desc->scene->collision.self)
+        return s->fused_workgroup_size;
+    uint32_t largest = 0;
+    for (uint32_t c = 0; c < s->build.colour_count; c++) {
+        uint32_t n = (s->build.colour_start[c + 1] - s->build.colour_start[c]) / copies;
+        largest = n > largest ? n : largest;
+    }
+    uint32_t size = (largest + FUSED_COPY_WORKGROUP_STEP - 1) / FUSED_COPY_WORKGROUP_STEP *
+                    FUSED_COPY_WORKGROUP_STEP;
+    if (size < FUSED_COPY_WORKGROUP_STEP)
+        size = FUSED_COPY_WORKGROUP_STEP;
+    return size < s->fused_workgroup_size ? size : s->fused_workgroup_size;
 }
 #define MAX_FRAMES_PER_SUBMIT 256u
 
@@ -486,8 +508,10 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     s->walk_items = walk_items(context, desc);
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
-    if (r == CVK_SUCCESS)
+    if (r == CVK_SUCCESS) {
+        s->fused_workgroup_size = fused_copy_workgroup_size(s, desc);
         r = cvk_check_derived(scene, &s->build, scene->dt, error);
+    }
     if (r == CVK_SUCCESS)
         r = cvk_sim_check_clean_start(s, scene, error);
     if (r == CVK_SUCCESS)

@@ -153,6 +153,7 @@ typedef struct pd_builder {
     uint32_t check_pass;
     cvk_pd_converge_push check;
     bool fused;                        /* rbgs: one fused dispatch for the solve (pd_fused.c) */
+    uint32_t copies;                   /* fused: its workgroups' copies (cvk_pd_fused_copies) */
 } pd_builder;
 
 /* The contact pass over every particle: the build for the scene's run count where the
@@ -485,7 +486,8 @@ static void fused_names(uint32_t after, char* out, size_t size)
    the solve (cvk_grab_add_op after predict). */
 static bool fused_predict(const pd_builder* pb)
 {
-    return pb->fused && !pb->sim->grab->planned;
+    /* a workgroup a copy: predict's count of substeps, which finalize reads, would race */
+    return pb->fused && pb->copies == 1 && !pb->sim->grab->planned;
 }
 
 /* The fused solve: every outer iteration in one dispatch (shaders/solvers/pd_fused.comp),
@@ -497,7 +499,8 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
 {
     uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
     cvk_pd_fused_push push = cvk_pd_fused_push_of(
-        &pb->base, b, inner, outer, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega));
+        &pb->base, b, inner, outer, cvk_gs_sweep_omega(inner - 1, inner, outer, pb->base.omega),
+        pb->copies);
     uint32_t every = pb->solver->tether_every ? pb->solver->tether_every : 1;
     uint32_t between = 0;
     if (outer > 1)
@@ -519,12 +522,15 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
         snprintf(range, sizeof range, "%souters 1-%u", predict ? "predict, " : "", outer);
     else if (predict)
         snprintf(range, sizeof range, "predict, outer 1");
-    char note[384];
+    char note[384], groups[48] = "one workgroup";
+    if (pb->copies > 1)
+        snprintf(groups, sizeof groups, "a workgroup a copy");
     snprintf(note, sizeof note,
-             "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; one workgroup of %u, %s first", range,
+             "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; %s of %u, %s first", range,
              inner, b->colour_count, each[0] ? ", then" : "", each,
              extra[0] || gone[0] ? " (the last" : "", extra[0] ? " +" : "", extra,
-             gone[0] ? " -" : "", extra[0] || gone[0] ? ")" : "", pb->plan->fused_workgroup_size,
+             gone[0] ? " -" : "", extra[0] || gone[0] ? ")" : "", groups,
+             pb->plan->fused_workgroup_size,
              set_note[first_set]);
     snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
 }
@@ -579,12 +585,21 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
         add_finalize(pb, b); /* else in the last fused dispatch (fuse_after_outer) */
 }
 
+/* The copies of a fused dispatch, a workgroup each: the scene's instances unless cloths
+   collide (contact between cloths detects over the whole scene, in one workgroup; lib/sim/sim.c
+   sizes the workgroup by the same rule). */
+static uint32_t fused_copies(const cvk_sim* s)
+{
+    return s->collide->self ? 1 : cvk_pd_fused_copies(&s->build, s->instance_count);
+}
+
 /* rbgs, its sweeps fused where pd_fused.c allows; --plan's solver line says which and why. */
 static void plan_rbgs(pd_builder* pb)
 {
     cvk_sim* s = pb->sim;
     const char* unfused = cvk_pd_plan_fuse_refusal(s, pb->solver);
     pb->fused = unfused == NULL;
+    pb->copies = fused_copies(s);
     char* note = pb->plan->solver_note;
     size_t used = strlen(note);
     if (pb->fused)
@@ -657,8 +672,6 @@ static cvk_pd_push base_push(const cvk_sim* s, const cvk_solver_desc* solver)
     return base;
 }
 
-/* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and
-   free particles. */
 /* Whether the solve checks its convergence on the device (a tolerance). */
 static bool checks(const cvk_sim* s, const cvk_solver_desc* solver)
 {
@@ -669,9 +682,11 @@ static bool checks(const cvk_sim* s, const cvk_solver_desc* solver)
 const char* cvk_pd_plan_fuse_refusal(const cvk_sim* s, const cvk_solver_desc* requested)
 {
     cvk_solver_desc solver = cvk_solver_desc_resolve(requested);
-    return cvk_pd_fuse_refusal(&s->build, &solver, checks(s, &solver));
+    return cvk_pd_fuse_refusal(&s->build, &solver, checks(s, &solver), fused_copies(s));
 }
 
+/* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and
+   free particles. */
 static bool plan_checks(const cvk_sim* s, const cvk_solver_desc* solver, const cvk_plan* plan,
                         cvk_pd_converge_push* check)
 {

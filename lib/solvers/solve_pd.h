@@ -121,20 +121,30 @@ cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* so
    builds (cvk_plan.fused, lib/contact/collide.h).
    On an NVIDIA H200 two self-contact scenes of test_determinism gave other bits fused than
    unfused (docs/limits.md, Solvers; the cause is not found).
+   A scene of instances (copies that never touch, without self-contact) runs a workgroup a copy
+   in the same dispatch (cvk_pd_fused_copies), its prediction a dispatch of its own before it.
    Returns why the plan does not fuse (a sentence), or NULL when it does: solver.fuse auto never
    fuses, as the fused dispatch was slower on every device measured. */
-const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver, bool checking);
+const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver, bool checking,
+                                uint32_t copies);
+
+/* The copies a fused dispatch takes a workgroup each: `instances` where the build lays them out
+   as shared/layout.h's cvk_pd_fused_push says (equal copies, each's particles of a colour one
+   after another, at most CVK_PD_FUSED_MAX_PARTICLES free particles a copy), else 1. */
+uint32_t cvk_pd_fused_copies(const cvk_build* b, uint32_t instances);
 
 /* cvk_pd_fuse_refusal for `requested` (resolved) on `sim`: the family's fuse_refusal
    (lib/plan/family.h). */
 const char* cvk_pd_plan_fuse_refusal(const cvk_sim* sim, const cvk_solver_desc* requested);
 
 /* The push data of the fused pass over every colour of `b`: `outers` outer iterations of
-   `sweeps` sweeps, the last sweep of each at `last_omega` (cvk_gs_sweep_omega). */
+   `sweeps` sweeps, the last sweep of each at `last_omega` (cvk_gs_sweep_omega), `copies` a
+   workgroup each (cvk_pd_fused_copies). */
 cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build* b,
-                                       uint32_t sweeps, uint32_t outers, float last_omega);
+                                       uint32_t sweeps, uint32_t outers, float last_omega,
+                                       uint32_t copies);
 
-/* Appends the fused pass: one workgroup. */
+/* Appends the fused pass: a workgroup a copy. */
 cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,
                          VkDescriptorSet set, const cvk_pd_fused_push* push);
 

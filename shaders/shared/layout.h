@@ -43,18 +43,18 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 
 /* The fused Gauss-Seidel pass (shaders/solvers/pd_fused.comp): every outer iteration of a
    substep in one workgroup, each one's sweeps colour by colour, and after them the passes
-   between outer iterations that follow them there (`after`: the strain limit's round, the
-   tethers, the contact passes, and after the last outer iteration the strain limit's three
-   rounds after contact and finalize).
+   between outer iterations that follow them there (`after`: the strain limit's round, tethers,
+   contact, after the last outer iteration the strain limit's 3 rounds after contact, finalize).
    cvk_pd_push first (first: 0, count: the free particles), then the iterations (sweeps of an
-   outer iteration in bits 0-15, outer iterations in bits 16-31), the colours, the end of each
-   colour, two 16-bit ends to a uint: colour c ends at half c % 2 of uint (c / 2) % 4 of
-   ends[c / 8], and what comes after: `after` holds the CVK_PD_FUSED_* bits of every outer
-   iteration but the last in bits 0-7 (CVK_PD_FUSED_TETHERS there: after every
-   `tether_every`-th), the last one's in bits 8-15, tether_every in bits 16-30 and
-   CVK_PD_FUSED_PREDICT in bit 31 (the prediction first, predict.glsl). So at most
-   CVK_PD_FUSED_MAX_COLOURS colours and CVK_PD_FUSED_MAX_PARTICLES free particles. 128 bytes:
-   Vulkan's guaranteed push constant size. */
+   outer iteration in bits 0-15, outer iterations in bits 16-31), colours (bits 0-7) and copies
+   (bits 8-31: instances, a workgroup each, or 1), each colour's end in a copy as 16-bit halves:
+   colour c ends at half c % 2 of uint (c / 2) % 4 of ends[c / 8] (copy k's colour c: [C s + k
+   n, C s + (k + 1) n), s and n its start and size in a copy, lib/topology/build.h); `after`
+   holds the CVK_PD_FUSED_* bits of every outer iteration but the last in bits 0-7
+   (CVK_PD_FUSED_TETHERS there: after every `tether_every`-th), the last one's in bits 8-15,
+   tether_every in bits 16-30 and CVK_PD_FUSED_PREDICT in bit 31 (the prediction first,
+   predict.glsl). So at most CVK_PD_FUSED_MAX_COLOURS colours and CVK_PD_FUSED_MAX_PARTICLES
+   free particles a copy. 128 bytes: Vulkan's guaranteed push constant size. */
 #define CVK_PD_FUSED_MAX_COLOURS 24u
 #define CVK_PD_FUSED_MAX_PARTICLES 65535u
 #define CVK_PD_FUSED_STRAIN 1u       /* after: one round of the strain limit */
@@ -68,7 +68,7 @@ CVK_PUSH_BLOCK(cvk_pd_push, CVK_PD_PUSH_FIELDS)
 #define CVK_PD_FUSED_PUSH_FIELDS                                                        \
     CVK_PD_PUSH_FIELDS                                                                  \
     CVK_UINT(iterations)   /* inner | outer << 16 (solver.inner/outer_iterations) */    \
-    CVK_UINT(colours)      /* colours, at most CVK_PD_FUSED_MAX_COLOURS */              \
+    CVK_UINT(colours)      /* colours (at most CVK_PD_FUSED_MAX_COLOURS) | copies << 8 */\
     CVK_FLOAT(last_omega)  /* omega of the last sweep (cvk_gs_sweep_omega) */             \
     CVK_UVEC4(ends0)       /* colour ends 0..7 */                                       \
     CVK_UVEC4(ends1)       /* 8..15 */                                                  \

@@ -32,7 +32,7 @@
 #define PREDICT_WIND_ID 6
 #include "solvers/predict.glsl"
 
-// The end of colour c (shared/layout.h: two 16-bit ends to a uint).
+// The end of colour c in one copy (shared/layout.h: two 16-bit ends to a uint).
 uint colour_end(uint c)
 {
     uvec4 group = c < 8u ? pc.ends0 : c < 16u ? pc.ends1 : pc.ends2;
@@ -40,20 +40,58 @@ uint colour_end(uint c)
     return (c % 2u) == 0u ? (word & 0xffffu) : (word >> 16u);
 }
 
+// The workgroup's copy and their number (shared/layout.h): copy k's particles of colour c are
+// [C s + k n, C s + (k + 1) n) for C copies, s the colour's start in a copy and n its size.
+uint copies = pc.colours >> 8u;
+uint colours = pc.colours & 0xffu;
+uint copy = 0u;
+
+// The copy's particles of colour c, [begin, end), from the colour's start and end in a copy.
+void copy_range(uint start, uint end, out uint begin, out uint stop)
+{
+    uint n = end - start;
+    begin = copies * start + copy * n;
+    stop = begin + n;
+}
+
+// The copy's pinned particles among the first `count` (finalize's attached ones), after its
+// free ones: copy k's are [F + k P, F + (k + 1) P), F the free particles, P a copy's pinned.
+void copy_pinned(uint count, out uint begin, out uint stop)
+{
+    uint n = count > pc.stride ? (count - pc.stride) / copies : 0u;
+    begin = pc.stride + copy * n;
+    stop = begin + n;
+}
+
 // One round of the strain limit, colour by colour, moves at most `most` m (0: any).
 void strain_round(float most, vec3 shift)
 {
     uint lanes = gl_WorkGroupSize.x;
-    uint begin = 0u;
-    for (uint c = 0u; c < pc.colours; c++) {
-        uint end = colour_end(c);
-        for (uint p = begin + gl_LocalInvocationID.x; p < end; p += lanes)
+    uint start = 0u;
+    for (uint c = 0u; c < colours; c++) {
+        uint end = colour_end(c), begin, stop;
+        copy_range(start, end, begin, stop);
+        for (uint p = begin + gl_LocalInvocationID.x; p < stop; p += lanes)
             strain_one(p, pc.strain_limit, most, shift);
         memoryBarrierBuffer();
         barrier();
-        begin = end;
+        start = end;
     }
 }
+
+// The copy's free particles, colour by colour, for a pass over every one of them: FOR_FREE(p,
+// body) runs body for each p of the copy the invocation takes.
+#define FOR_FREE(p, body) \
+    { \
+        uint start_ = 0u; \
+        for (uint c_ = 0u; c_ < colours; c_++) { \
+            uint end_ = colour_end(c_), begin_, stop_; \
+            copy_range(start_, end_, begin_, stop_); \
+            for (uint p = begin_ + lane; p < stop_; p += lanes) \
+                body; \
+            start_ = end_; \
+        } \
+    }
 
 // The passes after the sweeps (`after`: CVK_PD_FUSED_* bits), as pd_passes.c's
 // add_after_outer orders them.
@@ -64,11 +102,11 @@ void after_sweeps(uint after, vec3 shift)
     if ((after & CVK_PD_FUSED_STRAIN) != 0u)
         strain_round(0.0, shift);
     if ((after & CVK_PD_FUSED_TETHERS) != 0u) {
-        for (uint p = lane; p < pc.count; p += lanes)
-            tether_one(p);
+        FOR_FREE(p, tether_one(p))
         memoryBarrierBuffer();
         barrier();
     }
+    // Between cloths: one copy only (pd_passes.c fuses copies without it).
     if ((after & CVK_PD_FUSED_CLOTH_CONTACT) != 0u) {
         uint count = lists[CVK_LIST_LISTED_COUNT], start = list_start(CVK_LIST_LISTED_GROUPS);
         for (uint i = lane; i < count; i += lanes)
@@ -76,8 +114,11 @@ void after_sweeps(uint after, vec3 shift)
         memoryBarrierBuffer();
         barrier();
     }
+    // Over the free particles, and with one copy the attached ones past them where
+    // contact_count takes them (pd_passes.c).
     if ((after & CVK_PD_FUSED_CONTACT) != 0u) {
-        for (uint p = lane; p < pc.contact_count; p += lanes)
+        FOR_FREE(p, contact_one(p, false, shift))
+        for (uint p = pc.stride + lane; copies == 1u && p < pc.contact_count; p += lanes)
             contact_one(p, false, shift);
         memoryBarrierBuffer();
         barrier();
@@ -96,12 +137,16 @@ void after_sweeps(uint after, vec3 shift)
         return;
     bool stretched = watch.stretched != 0u;
     finalize_record record = finalize_none();
-    for (uint p = lane; p < pc.finalize_count; p += lanes)
+    FOR_FREE(p, finalize_one(p, halted, stretched, tether_first, record))
+    uint begin, stop;
+    copy_pinned(pc.finalize_count, begin, stop);
+    for (uint p = begin + lane; p < stop; p += lanes)
         finalize_one(p, halted, stretched, tether_first, record);
     finalize_watch(record, now);
 }
 
-void main()
+// One copy's substep.
+void solve_copy()
 {
     uint lanes = gl_WorkGroupSize.x;
     uint lane = gl_LocalInvocationID.x;
@@ -110,12 +155,12 @@ void main()
     vec3 shift = sweep_shift();
     if ((pc.after & CVK_PD_FUSED_PREDICT) != 0u) {
         // predict.comp's work: from u0, the last substep's displacement (the first outer
-        // iteration's dst where their count is odd, else its src), into the first one's src
+        // iteration's dst where their count is odd, else its src), into the first one's src.
+        // One copy only (pd_passes.c): the substep's count would race between workgroups.
         bool odd = (outers & 1u) != 0u;
         if (lane == 0u)
             watch.substep += 1u;
-        for (uint p = lane; p < pc.count; p += lanes)
-            src_u[p] = predict_one(p, (odd ? dst_u[p] : src_u[p]).xyz);
+        FOR_FREE(p, src_u[p] = predict_one(p, (odd ? dst_u[p] : src_u[p]).xyz))
         flush_stretched();
         memoryBarrierBuffer();
         barrier();
@@ -123,10 +168,12 @@ void main()
     for (uint outer = 0u; outer < outers; outer++) {
         flipped = (outer & 1u) != 0u;
         for (uint sweep = 0u; sweep < sweeps; sweep++) {
-            uint begin = 0u;
-            for (uint c = 0u; c < pc.colours; c++) {
-                uint end = colour_end(c);
-                for (uint p = begin + lane; p < end; p += lanes) {
+            uint start = 0u;
+            for (uint c = 0u; c < colours; c++) {
+                uint end = colour_end(c), begin, stop;
+                copy_range(start, end, begin, stop);
+                // Below `begin`, the colours before c (of every copy): swept in this sweep.
+                for (uint p = begin + lane; p < stop; p += lanes) {
                     vec3 acc;
                     vec4 b;
                     vec3 cur;
@@ -148,7 +195,7 @@ void main()
                 }
                 memoryBarrierBuffer();
                 barrier();
-                begin = end;
+                start = end;
             }
         }
         // The passes after this outer iteration: the last one's, or the others' with the
@@ -159,5 +206,15 @@ void main()
         else if ((outer + 1u) % max(every, 1u) != 0u)
             after &= ~CVK_PD_FUSED_TETHERS;
         after_sweeps(after, shift);
+    }
+}
+
+void main()
+{
+    // Copies past the dispatch's workgroups (shared/layout.h): each workgroup strides over them.
+    for (copy = gl_WorkGroupID.x; copy < copies; copy += gl_NumWorkGroups.x) {
+        solve_copy();
+        memoryBarrierBuffer();
+        barrier();
     }
 }

@@ -16,7 +16,9 @@
    floating-point sum. A shape that changes the hash breaks that rule.
 
    rbgs runs twice: with solver.fuse off (one dispatch per colour and sweep) and on (every
-   sweep of a substep in one dispatch of one workgroup, lib/solvers/solve_pd.h), and
+   sweep of a substep in one dispatch of one workgroup, lib/solvers/solve_pd.h — for the
+   instances without self-contact a workgroup a copy, striding over the copies where a shape
+   allows fewer workgroups), and
    the fused hash must equal the unfused one: the same operations in the same order per
    particle, so the same bits, under every shape, and for the instances under every thread
    count too. */
