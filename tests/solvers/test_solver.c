@@ -401,6 +401,51 @@ static void folded_prediction_same_bits(cvk_context* ctx)
     }
 }
 
+/* cvk_pd_fused_copies: the instances' copies where the build lays them out as the fused pass
+   reads them (shared/layout.h), else 1 — checked against scenes that do and do not. */
+static uint32_t fused_copies_of(const char* text, uint32_t instances)
+{
+    cvk_error err;
+    cvk_scene* scene = NULL;
+    if (cvk_scene_parse(text, "fused copies", NULL, 0, &scene, &err) != CVK_SUCCESS) {
+        CHECK(false, "fused copies: %s", err.message);
+        return 0;
+    }
+    cvk_build b;
+    uint32_t copies = 0;
+    if (cvk_build_create(cvk_scene_get_desc(scene), &b, &err) == CVK_SUCCESS) {
+        copies = cvk_pd_fused_copies(&b, instances);
+        cvk_build_destroy(&b);
+    } else {
+        CHECK(false, "fused copies: %s", err.message);
+    }
+    cvk_scene_destroy(scene);
+    return copies;
+}
+
+#define COPY_CLOTHS                                                                             \
+    "{\"cloths\": [{\"grid\": [5, 4], \"pins\": [[0, 0]]},"                                    \
+    " {\"grid\": [3, 3], \"origin\": [2, 0, 0], \"stiffness\": {\"shear\": 1e3}}]"
+
+static void fused_copies_layout(void)
+{
+    uint32_t n = fused_copies_of(COPY_CLOTHS ", \"instances\": {\"count\": 3, \"spacing\": [5, 0, 0]}}",
+                                 3);
+    CHECK(n == 3, "three copies of two cloths (one pinned, four colours): %u workgroups, expected 3", n);
+    n = fused_copies_of(COPY_CLOTHS "}", 1);
+    CHECK(n == 1, "one copy: %u, expected 1", n);
+    /* two cloths of 16 particles taken for two copies: four colours of 4 and two of 8 make
+       colours of 12, 12, 4 and 4, each even, but the first half of colour 0 is not the first
+       cloth's alone */
+    n = fused_copies_of("{\"cloths\": [{\"grid\": [4, 4], \"stiffness\": {\"shear\": 1e3}},"
+                        " {\"grid\": [2, 8], \"origin\": [2, 0, 0]}]}",
+                        2);
+    CHECK(n == 1, "two unequal cloths as two copies: %u, expected 1", n);
+    n = fused_copies_of(COPY_CLOTHS "}", 2);
+    CHECK(n == 1, "a 5 x 4 and a 3 x 3 cloth as two copies: %u, expected 1", n);
+    printf("fused copies: the layout check takes three copies and refuses unequal cloths\n");
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
@@ -409,6 +454,7 @@ int main(void)
     jacobi_equals_reference(ctx, CVK_LINEAR_CHEBYSHEV);
     all_pinned(ctx);
     folded_prediction_same_bits(ctx);
+    fused_copies_layout();
     residual_falls(ctx, CVK_LINEAR_RBGS);
     residual_falls(ctx, CVK_LINEAR_GS_CPU);
     const char* enlarged[] = {"cloths.0.grid=[12,12]"};
