@@ -51,8 +51,9 @@ typedef enum cvk_linear_solver {
     CVK_LINEAR_CG,         /* filtered block-Jacobi preconditioned conjugate gradient (implicit) */
 } cvk_linear_solver;
 
-/* Whether rbgs runs the sweeps of an outer iteration fused into one dispatch of one workgroup
-   (docs/performance.md, "Fused sweeps"): the same bits as one dispatch per colour and sweep. */
+/* Whether rbgs runs the sweeps of an outer iteration fused into one dispatch of one workgroup,
+   or of a workgroup a copy for instances without self-contact (docs/performance.md, "Fused
+   sweeps"): the same bits as one dispatch per colour and sweep. */
 typedef enum cvk_fuse {
     CVK_FUSE_AUTO = 0, /* not fused: slower on every device measured, lavapipe and an NVIDIA
                           H200 (docs/performance.md, "Fused sweeps") */
