@@ -34,7 +34,10 @@ struct cvk_sim {
     int timing_request;     /* cvk_sim_desc.timing */
     uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
                                          prediction, finalize, tethers): cvk_plan */
-    uint32_t fused_workgroup_size;    /* of the fused sweeps' one workgroup: cvk_plan */
+    uint32_t fused_workgroup_size;    /* of the fused sweeps' workgroups: cvk_plan */
+    uint32_t fused_copies;            /* the copies fused sweeps take a workgroup each: the
+                                         instances without self-contact where the build lays
+                                         them out so (cvk_pd_fused_copies), else 1 */
     uint32_t particle_group_items;    /* the fewest particles a workgroup of those passes
                                          takes (0: no floor): cvk_plan */
     uint32_t walk_items;              /* items per invocation of the walking passes: cvk_plan */

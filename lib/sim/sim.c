@@ -88,16 +88,20 @@ static uint32_t fused_workgroup_size(const cvk_context* context, const cvk_sim_d
         size = limits->maxComputeWorkGroupInvocations;
     return size;
 }
-/* Where the fused sweeps take a workgroup a copy of a scene's instances (lib/solvers/
-   solve_pd.h), the workgroup is as large as a copy's largest colour in whole 64s, not the
+/* The fused sweeps take a workgroup a copy of a scene's instances (lib/solvers/solve_pd.h)
+   unless cloths collide: contact between cloths detects over the whole scene, in one
+   workgroup. Each such workgroup is as large as a copy's largest colour in whole 64s, not the
    1024 one workgroup for the whole scene takes: a 32 x 32 napkin's colour of 256 then fills it,
    and more copies share a multiprocessor. Unless the caller chose a workgroup size. */
 #define FUSED_COPY_WORKGROUP_STEP 64u
-static uint32_t fused_copy_workgroup_size(const cvk_sim* s, const cvk_sim_desc* desc)
+static void fuse_copies(cvk_sim* s, const cvk_sim_desc* desc)
 {
-    uint32_t copies = cvk_pd_fused_copies(&s->build, s->instance_count);
-    if (desc->workgroup_size != 0 || copies <= 1 || desc->scene->collision.self)
-        return s->fused_workgroup_size;
+    s->fused_copies = desc->scene->collision.self
+                          ? 1
+                          : cvk_pd_fused_copies(&s->build, s->instance_count);
+    uint32_t copies = s->fused_copies;
+    if (desc->workgroup_size != 0 || copies <= 1)
+        return;
     uint32_t largest = 0;
     for (uint32_t c = 0; c < s->build.colour_count; c++) {
         uint32_t n = (s->build.colour_start[c + 1] - s->build.colour_start[c]) / copies;
@@ -107,7 +111,8 @@ static uint32_t fused_copy_workgroup_size(const cvk_sim* s, const cvk_sim_desc* 
                     FUSED_COPY_WORKGROUP_STEP;
     if (size < FUSED_COPY_WORKGROUP_STEP)
         size = FUSED_COPY_WORKGROUP_STEP;
-    return size < s->fused_workgroup_size ? size : s->fused_workgroup_size;
+    if (size < s->fused_workgroup_size)
+        s->fused_workgroup_size = size;
 }
 #define MAX_FRAMES_PER_SUBMIT 256u
 
@@ -509,7 +514,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     cvk_build_limits limits = {context, scene};
     r = cvk_build_create_checked(scene, cvk_check_build_limits, &limits, &s->build, error);
     if (r == CVK_SUCCESS) {
-        s->fused_workgroup_size = fused_copy_workgroup_size(s, desc);
+        fuse_copies(s, desc);
         r = cvk_check_derived(scene, &s->build, scene->dt, error);
     }
     if (r == CVK_SUCCESS)

@@ -15,20 +15,19 @@ uint32_t cvk_pd_fused_copies(const cvk_build* b, uint32_t instances)
 {
     uint32_t n = instances;
     if (n <= 1 || b->cloth_count % n != 0 || b->particle_count % n != 0 ||
-        b->free_count % n != 0 || b->free_count / n > CVK_PD_FUSED_MAX_PARTICLES ||
+        b->free_count / n > CVK_PD_FUSED_MAX_PARTICLES ||
         b->colour_count == 0 || b->colour_count > CVK_PD_FUSED_MAX_COLOURS)
         return 1;
     uint32_t per_copy = b->particle_count / n, cloths = b->cloth_count / n;
     for (uint32_t k = 0; k < n; k++)
         if (b->cloths[k * cloths].first_user != k * per_copy)
             return 1;
-    for (uint32_t c = 0; c < b->colour_count; c++)
-        if ((b->colour_start[c + 1] - b->colour_start[c]) % n != 0)
-            return 1;
     /* copy k's particles of colour c at start[c] + k size / n, its pinned ones at free + k P */
     for (uint32_t c = 0; c <= b->colour_count; c++) {
         uint32_t start = c < b->colour_count ? b->colour_start[c] : b->free_count;
         uint32_t end = c < b->colour_count ? b->colour_start[c + 1] : b->particle_count;
+        if ((end - start) % n != 0)
+            return 1;
         uint32_t size = (end - start) / n;
         for (uint32_t p = start; p < end; p++)
             if (b->user_of[p] / per_copy != (p - start) / size)

@@ -153,7 +153,7 @@ typedef struct pd_builder {
     uint32_t check_pass;
     cvk_pd_converge_push check;
     bool fused;                        /* rbgs: one fused dispatch for the solve (pd_fused.c) */
-    uint32_t copies;                   /* fused: its workgroups' copies (cvk_pd_fused_copies) */
+    uint32_t copies;                   /* fused: a workgroup each (cvk_sim.fused_copies) */
 } pd_builder;
 
 /* The contact pass over every particle: the build for the scene's run count where the
@@ -522,9 +522,8 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
         snprintf(range, sizeof range, "%souters 1-%u", predict ? "predict, " : "", outer);
     else if (predict)
         snprintf(range, sizeof range, "predict, outer 1");
-    char note[384], groups[48] = "one workgroup";
-    if (pb->copies > 1)
-        snprintf(groups, sizeof groups, "a workgroup a copy");
+    char note[384];
+    const char* groups = pb->copies > 1 ? "a workgroup a copy" : "one workgroup";
     snprintf(note, sizeof note,
              "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; %s of %u, %s first", range,
              inner, b->colour_count, each[0] ? ", then" : "", each,
@@ -585,21 +584,13 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
         add_finalize(pb, b); /* else in the last fused dispatch (fuse_after_outer) */
 }
 
-/* The copies of a fused dispatch, a workgroup each: the scene's instances unless cloths
-   collide (contact between cloths detects over the whole scene, in one workgroup; lib/sim/sim.c
-   sizes the workgroup by the same rule). */
-static uint32_t fused_copies(const cvk_sim* s)
-{
-    return s->collide->self ? 1 : cvk_pd_fused_copies(&s->build, s->instance_count);
-}
-
 /* rbgs, its sweeps fused where pd_fused.c allows; --plan's solver line says which and why. */
 static void plan_rbgs(pd_builder* pb)
 {
     cvk_sim* s = pb->sim;
     const char* unfused = cvk_pd_plan_fuse_refusal(s, pb->solver);
     pb->fused = unfused == NULL;
-    pb->copies = fused_copies(s);
+    pb->copies = s->fused_copies;
     char* note = pb->plan->solver_note;
     size_t used = strlen(note);
     if (pb->fused)
@@ -682,7 +673,7 @@ static bool checks(const cvk_sim* s, const cvk_solver_desc* solver)
 const char* cvk_pd_plan_fuse_refusal(const cvk_sim* s, const cvk_solver_desc* requested)
 {
     cvk_solver_desc solver = cvk_solver_desc_resolve(requested);
-    return cvk_pd_fuse_refusal(&s->build, &solver, checks(s, &solver), fused_copies(s));
+    return cvk_pd_fuse_refusal(&s->build, &solver, checks(s, &solver), s->fused_copies);
 }
 
 /* The checks' push data, and whether the plan checks at all: a tolerance, a device solver and

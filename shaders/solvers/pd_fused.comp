@@ -211,10 +211,8 @@ void solve_copy()
 
 void main()
 {
-    // Copies past the dispatch's workgroups (shared/layout.h): each workgroup strides over them.
-    for (copy = gl_WorkGroupID.x; copy < copies; copy += gl_NumWorkGroups.x) {
+    // Copies past the dispatch's workgroups (shared/layout.h): each workgroup strides over
+    // them. No barrier between two: they share no particle.
+    for (copy = gl_WorkGroupID.x; copy < copies; copy += gl_NumWorkGroups.x)
         solve_copy();
-        memoryBarrierBuffer();
-        barrier();
-    }
 }
