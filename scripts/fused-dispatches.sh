@@ -28,7 +28,8 @@ print(d["particles"], d["substeps"], s["method"] + "/" + s.get("linear", "-"))')
 import csv, sys
 scene, info, path = sys.argv[1], sys.argv[2].split(), sys.argv[3]
 rows = {r["fuse"]: r for r in csv.DictReader(open(path))}
-off, on = rows["off"], rows["on"]
+# fused in global memory: the library's choice on a CPU device (cvk_sim_desc.fused_shared_memory)
+off, on = rows["off"], rows["global"]
 print(f'{scene}.json,{info[0]},{info[1]},{off["frames"]},{off["dispatches_per_frame"]},'
       f'{on["dispatches_per_frame"]},{float(off["wall_ms_per_frame"]):.1f},'
       f'{float(on["wall_ms_per_frame"]):.1f},{"yes" if on["same_bits"] == "1" else "no"}')

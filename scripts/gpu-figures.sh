@@ -12,8 +12,9 @@
 #      dispatches and passes per frame over 120 frames, intersecting pairs at its last frame;
 #   2. the contact scenes (the 40 x 40 drape, the six-cloth pile, the twist): the same --json,
 #      and scripts/contact_figures.py's rows with the drape at 20, 40, 80 and 160;
-#   3. clothvk-bench fused on peer-hanging.json and drape.json, and batch of 32 x 32 napkins
-#      up to 4,096 copies, unfused and fused (a workgroup a copy);
+#   3. clothvk-bench fused (unfused, fused with the iterate in shared memory where it fits, fused
+#      in global memory) on peer-hanging.json, drape.json and one 32 x 32 napkin, and batch of
+#      32 x 32 napkins up to 4,096 copies, unfused and fused (a workgroup a copy);
 #   4. test_determinism's contact part (the same bits for every dispatch shape, fused and not);
 #   5. intersecting pairs after every frame: the large pile (contact-ensemble, one variant), then
 #      every showcase's ensemble (a process a showcase, eight at a time).
@@ -85,6 +86,8 @@ step fused-peer 60 "$bench" fused assets/scenes/peer-hanging.json --frames "$(fr
     --no-plot -o "$out/fused-peer"
 step fused-drape 60 "$bench" fused assets/scenes/drape.json --frames "$(frames 30)" \
     --no-plot -o "$out/fused-drape"
+step fused-napkin 60 "$bench" fused assets/scenes/hanging.json --set 'cloths.0.grid=[32,32]' \
+    --set 'cloths.0.pins=[[0,0],[31,0]]' --frames "$(frames 30)" --no-plot -o "$out/fused-napkin"
 counts=1,16,256,1024,4096
 [ "$quick" = 1 ] && counts=1,2
 step batch 120 "$bench" batch --set 'cloths.0.grid=[32,32]' --counts "$counts" \

@@ -1,6 +1,8 @@
-/* fused: dispatches and time per frame with rbgs's sweeps fused (solver.fuse on: every sweep
-   of a substep in one dispatch of one workgroup) and unfused (off), in one sitting:
-   --repeat rounds, each running off then on, so a noisy machine loads both alike. A run is
+/* fused: dispatches and time per frame with rbgs's sweeps unfused (solver.fuse off), fused
+   (on: every sweep of a substep in one dispatch, a workgroup a copy) with the iterate in shared
+   memory where it fits (cvk_sim_desc.fused_shared_memory 1) and fused in global memory (-1), in
+   one sitting: --repeat rounds, each running the
+   three in that order, so a noisy machine loads them alike. A run is
    --warmup untimed frames (pipelines compile on the first), then --frames timed ones (default
    30): the wall time of cvk_sim_step over them, and the GPU time of the last frame. Both runs of
    a round end on positions that must be the same bits (the fused sweeps do the same operations
@@ -53,14 +55,32 @@ static void solver_line(const cvk_sim* sim, char* out, size_t size)
     snprintf(out, size, "%.*s", (int)n, at);
 }
 
-static bool run_mode(bench* b, cvk_fuse fuse, uint32_t frames, run_result* out)
+/* The three ways a round runs, in its order. */
+typedef struct mode {
+    const char* name; /* the CSV's "fuse" column */
+    cvk_fuse fuse;
+    int shared_memory; /* cvk_sim_desc.fused_shared_memory */
+} mode;
+static const mode modes[] = {
+    {"off", CVK_FUSE_OFF, 0},
+    {"shared", CVK_FUSE_ON, 1},
+    {"global", CVK_FUSE_ON, -1},
+};
+#define MODES (sizeof modes / sizeof modes[0])
+
+static bool run_mode(bench* b, const mode* m, uint32_t frames, run_result* out)
 {
     cvk_scene_desc scene = *b->scene;
-    scene.solver.fuse = fuse;
-    cvk_sim* sim = bench_sim_create(b, &scene);
-    if (!sim)
-        return false;
+    scene.solver.fuse = m->fuse;
     cvk_error err;
+    cvk_sim* sim = NULL;
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = &scene;
+    desc.fused_shared_memory = m->shared_memory;
+    if (cvk_sim_create(b->ctx, &desc, &sim, &err) != CVK_SUCCESS) {
+        bench_fail(&err);
+        return false;
+    }
     bool ok = true;
     *out = (run_result){0};
     solver_line(sim, out->plan_line, sizeof out->plan_line);
@@ -110,36 +130,35 @@ int bench_fused(bench* b)
     bench_table_init(&b->table, columns, sizeof columns / sizeof columns[0]);
     uint32_t frames = b->o->frames ? b->o->frames : DEFAULT_FRAMES;
     uint32_t rounds = b->o->repeat;
-    double wall[2][1000], gpu[2][1000];
-    uint32_t dispatches[2] = {0, 0};
+    double wall[MODES][1000], gpu[MODES][1000];
+    uint32_t dispatches[MODES] = {0};
     uint32_t differ = 0;
-    printf("%s: %u frames after %u untimed, %u rounds of unfused then fused\n%6s %6s %12s %12s "
-           "%12s %10s\n", b->scene_name, frames, b->o->warmup, rounds, "round", "fuse",
-           "dispatches", "wall ms", "gpu ms", "same bits");
+    printf("%s: %u frames after %u untimed, %u rounds of unfused, fused in shared memory and "
+           "fused in global memory\n%6s %6s %12s %12s %12s %10s\n", b->scene_name, frames, b->o->warmup, rounds,
+           "round", "fuse", "dispatches", "wall ms", "gpu ms", "same bits");
     for (uint32_t r = 0; r < rounds; r++) {
-        run_result off, on;
-        if (!run_mode(b, CVK_FUSE_OFF, frames, &off) || !run_mode(b, CVK_FUSE_ON, frames, &on))
-            return APP_EXIT_FAILURE;
-        bool same = off.hash == on.hash;
-        differ += !same;
-        const run_result* both[2] = {&off, &on};
-        for (int m = 0; m < 2; m++) {
-            const char* name = m ? "on" : "off";
-            add_row(b, r + 1, name, frames, both[m], same);
-            wall[m][r] = both[m]->wall_ms;
-            gpu[m][r] = both[m]->gpu_ms;
-            dispatches[m] = both[m]->dispatches;
-            printf("%6u %6s %12u %12.3f %12.3f %10s\n", r + 1, name, both[m]->dispatches,
-                   both[m]->wall_ms, both[m]->gpu_ms, same ? "yes" : "NO");
+        run_result run[MODES];
+        for (size_t m = 0; m < MODES; m++)
+            if (!run_mode(b, &modes[m], frames, &run[m]))
+                return APP_EXIT_FAILURE;
+        for (size_t m = 0; m < MODES; m++) {
+            bool same = run[m].hash == run[0].hash;
+            differ += !same;
+            add_row(b, r + 1, modes[m].name, frames, &run[m], same);
+            wall[m][r] = run[m].wall_ms;
+            gpu[m][r] = run[m].gpu_ms;
+            dispatches[m] = run[m].dispatches;
+            printf("%6u %6s %12u %12.3f %12.3f %10s\n", r + 1, modes[m].name, run[m].dispatches,
+                   run[m].wall_ms, run[m].gpu_ms, same ? "yes" : "NO");
         }
         if (r == 0)
-            printf("  off: %s\n  on:  %s\n", off.plan_line, on.plan_line);
+            for (size_t m = 0; m < MODES; m++)
+                printf("  %-7s %s\n", modes[m].name, run[m].plan_line);
     }
-    for (int m = 0; m < 2; m++) {
+    for (size_t m = 0; m < MODES; m++) {
         bench_timing w = bench_timing_of(wall[m], rounds), g = bench_timing_of(gpu[m], rounds);
-        printf("fuse %-3s: %u dispatches per frame, wall %.3f ms per frame (median; %.3f-%.3f), "
-               "gpu %.3f ms\n", m ? "on" : "off", dispatches[m], w.median, w.min, w.max,
-               g.median);
+        printf("fuse %-6s: %u dispatches per frame, wall %.3f ms per frame (median; %.3f-%.3f), "
+               "gpu %.3f ms\n", modes[m].name, dispatches[m], w.median, w.min, w.max, g.median);
     }
     cvk_scene_desc scene = *b->scene;
     scene.solver.fuse = CVK_FUSE_AUTO;
@@ -150,19 +169,32 @@ int bench_fused(bench* b)
     solver_line(sim, line, sizeof line);
     cvk_sim_destroy(sim);
     printf("auto on this device: %s\n", line);
+    /* Where the library keeps the fused iterate here (cvk_sim_desc.fused_shared_memory 0):
+       the fused pass's line of the plan says. */
+    scene.solver.fuse = CVK_FUSE_ON;
+    sim = bench_sim_create(b, &scene);
+    if (!sim)
+        return APP_EXIT_FAILURE;
+    static char text[65536];
+    cvk_sim_describe_plan(sim, text, sizeof text);
+    cvk_sim_destroy(sim);
+    printf("fused sweeps' iterate by default on this device: %s\n",
+           strstr(text, "shared memory") ? "shared memory" : "global memory");
     if (differ)
         snprintf(b->check_failed, sizeof b->check_failed,
-                 "fused: %u of %u rounds ended on positions that differ from the unfused", differ,
-                 rounds);
+                 "fused: %u fused runs of %u rounds ended on positions that differ from the "
+                 "unfused", differ, rounds);
     bench_plot_styles(&b->plot);
     bench_text_add(&b->plot,
                    "set title \"%s: ms per frame, unfused and fused sweeps, on %s\"\n"
                    "set xlabel \"round\"\nset ylabel \"wall ms per frame\"\nset key top left\n"
                    "plot \"fused.csv\" using \"round\":(strcol(\"fuse\") eq \"off\" ? "
                    "column(\"wall_ms_per_frame\") : 1/0) with linespoints linestyle 1 title "
-                   "\"unfused\", \\\n     \"fused.csv\" using \"round\":(strcol(\"fuse\") eq \"on\" ? "
+                   "\"unfused\", \\\n     \"fused.csv\" using \"round\":(strcol(\"fuse\") eq \"shared\" ? "
                    "column(\"wall_ms_per_frame\") : 1/0) with linespoints linestyle 2 title "
-                   "\"fused\"\n",
+                   "\"fused, shared memory\", \\\n     \"fused.csv\" using \"round\":(strcol(\"fuse\") eq \"global\" ? "
+                   "column(\"wall_ms_per_frame\") : 1/0) with linespoints linestyle 3 title "
+                   "\"fused, global memory\"\n",
                    b->scene_name, b->device);
     return APP_EXIT_OK;
 }

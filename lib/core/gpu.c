@@ -135,7 +135,7 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
     cvk_result r = cvk_shader_module_create(context, spirv, spirv_bytes, what, &module, error);
     if (r != CVK_SUCCESS)
         return r;
-    VkSpecializationMapEntry entries[8];
+    VkSpecializationMapEntry entries[CVK_SPEC_MAX];
     for (uint32_t i = 0; i < spec->count; i++)
         entries[i] = (VkSpecializationMapEntry){.constantID = i,
                                                 .offset = i * (uint32_t)sizeof(uint32_t),

@@ -60,7 +60,7 @@ typedef struct cvk_op {
     uint32_t every;             /* 0 or 1: every substep; k: substeps 0, k, 2k, ... of a frame
                                    only (work whose result the substeps between reuse, e.g.
                                    contact candidates) */
-    char note[128];             /* the family's details for --plan (iteration, buffers); as
+    char note[192];             /* the family's details for --plan (iteration, buffers); as
                                    long as the notes the contact passes compose */
 } cvk_op;
 

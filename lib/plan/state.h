@@ -38,6 +38,8 @@ struct cvk_sim {
     uint32_t fused_copies;            /* the copies fused sweeps take a workgroup each: the
                                          instances without self-contact where the build lays
                                          them out so (cvk_pd_fused_copies), else 1 */
+    uint32_t fused_shared_slots;      /* a copy's free particles where the fused sweeps keep
+                                         their iterate in shared memory, else 0 */
     uint32_t particle_group_items;    /* the fewest particles a workgroup of those passes
                                          takes (0: no floor): cvk_plan */
     uint32_t walk_items;              /* items per invocation of the walking passes: cvk_plan */

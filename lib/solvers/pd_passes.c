@@ -522,14 +522,17 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
         snprintf(range, sizeof range, "%souters 1-%u", predict ? "predict, " : "", outer);
     else if (predict)
         snprintf(range, sizeof range, "predict, outer 1");
-    char note[384];
+    char note[384], memory[40] = "global memory";
     const char* groups = pb->copies > 1 ? "a workgroup a copy" : "one workgroup";
+    uint32_t slots = pb->sim->fused_shared_slots;
+    if (slots)
+        snprintf(memory, sizeof memory, "shared memory %.1f KB", slots / 64.0);
     snprintf(note, sizeof note,
-             "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; %s of %u, %s first", range,
+             "%s: %u sweeps x %u colours%s%s%s%s%s%s%s; %s of %u, %s; %s first", range,
              inner, b->colour_count, each[0] ? ", then" : "", each,
              extra[0] || gone[0] ? " (the last" : "", extra[0] ? " +" : "", extra,
              gone[0] ? " -" : "", extra[0] || gone[0] ? ")" : "", groups,
-             pb->plan->fused_workgroup_size,
+             pb->plan->fused_workgroup_size, memory,
              set_note[first_set]);
     snprintf(op->note, sizeof op->note, "%.*s", (int)sizeof op->note - 1, note);
 }

@@ -123,6 +123,8 @@ cvk_result cvk_pd_add_passes(cvk_sim* sim, void* self, const cvk_solver_desc* so
    unfused (docs/limits.md, Solvers; the cause is not found).
    A scene of instances (copies that never touch, without self-contact) runs a workgroup a copy
    in the same dispatch (cvk_pd_fused_copies), its prediction a dispatch of its own before it.
+   Each workgroup keeps its copy's iterate in shared memory while it sweeps where it fits
+   (cvk_sim.fused_shared_slots, cvk_sim_desc.fused_shared_memory), the same bits.
    Returns why the plan does not fuse (a sentence), or NULL when it does: solver.fuse auto never
    fuses, as the fused dispatch was slower on every device measured. */
 const char* cvk_pd_fuse_refusal(const cvk_build* b, const cvk_solver_desc* solver, bool checking,

@@ -361,6 +361,7 @@ typedef struct cvk_sim_desc {
     uint32_t max_workgroups;
     int timing;
     bool grab;
+    int fused_shared_memory;
     uint32_t search_lanes;
     uint32_t cookie_;
 } cvk_sim_desc;

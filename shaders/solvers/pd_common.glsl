@@ -55,6 +55,11 @@ layout(std430, set = 0, binding = CVK_PD_BINDING_DST) writeonly buffer Dst { vec
 #endif
 #define FETCH_SRC(i) (LOAD_SRC(i).xyz)
 #define FETCH_DST(i) (LOAD_DST(i).xyz)
+// A neighbour's iterate as the sweep being run left it: pd_fused.comp reads it from the
+// workgroup's shared memory where it keeps the sweeps' iterate there.
+#ifndef SWEPT_DST
+#define SWEPT_DST(i) FETCH_DST(i)
+#endif
 layout(set = 0, binding = CVK_PD_BINDING_Y_READ, rgba32f) uniform readonly imageBuffer y_read;
 #ifdef PD_FUSED
 // The fused dispatch predicts too (predict.glsl): y and the watch read back through the storage
@@ -325,7 +330,7 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
             } else {
                 vec3 raw = FETCH_SRC(n[j]);
                 un = FIRST_PREDICTS == 1u && n[j] < pc.stride ? predicted(raw) : raw;
-                now = swept ? FETCH_DST(n[j]) : un;
+                now = swept ? SWEPT_DST(n[j]) : un;
             }
             vec3 edge = xp - fetch(x_read, n[j]);
             // The divergence watch of a sweep that predicts, as predict.glsl's.
@@ -353,7 +358,8 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
 }
 
 #ifdef PD_FUSED
-// neighbour_sum(dst_read, ...) with the neighbours read through the storage buffer.
+// neighbour_sum(dst_read, ...) with the neighbours read through the storage buffer, or the
+// workgroup's shared memory (SWEPT_DST).
 vec3 neighbour_sum_dst(uint p, vec3 cur, out float ksum)
 {
     vec3 acc = vec3(0.0);
@@ -362,7 +368,7 @@ vec3 neighbour_sum_dst(uint p, vec3 cur, out float ksum)
         uvec4 n = quad_neighbours(q, p);
         vec4 k = quad_k(q, p);
         for (uint j = 0; j < 4u; j++) {
-            acc += k[j] * (FETCH_DST(n[j]) - cur);
+            acc += k[j] * (SWEPT_DST(n[j]) - cur);
             ksum += k[j];
         }
     }

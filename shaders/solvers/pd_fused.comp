@@ -24,6 +24,10 @@
 // same bits, with one dispatch a substep's solve instead of up to (5 + 4 colours) an outer
 // iteration.
 #define PD_FUSED 1
+// The sweeps read their neighbours' iterate through swept_dst (below): from shared memory where
+// the workgroup keeps its copy's iterate there.
+vec3 swept_dst(uint i);
+#define SWEPT_DST(i) swept_dst(i)
 #include "solvers/pd_common.glsl"
 #include "solvers/pd_strain.glsl"
 #include "solvers/tether.glsl"
@@ -61,6 +65,64 @@ void copy_pinned(uint count, out uint begin, out uint stop)
     uint n = count > pc.stride ? (count - pc.stride) / copies : 0u;
     begin = pc.stride + copy * n;
     stop = begin + n;
+}
+
+// SHARED_SLOTS (id 8) above 0: the sweeps keep the iterate of the workgroup's copy's free
+// particles in shared memory, SHARED_SLOTS of them (lib/sim/sim.c, fused_shared_slots: where
+// they fit the device's shared memory), in place, as Gauss-Seidel is: a particle's slot holds
+// the iterate before its colour's update until that update, after it the new one. So the
+// first sweep reads a neighbour swept before it from its slot and the iterate at the start of
+// the outer iteration from src; the later sweeps read only slots. A barrier on shared memory
+// alone orders the colours, which on a GPU costs a fraction of a round trip to coherent global
+// memory. After the last sweep of an outer iteration every slot goes to dst, where the passes
+// after the sweeps, the next outer iteration's local step and finalize read it: the same
+// values in the same operations, so the same bits. A copy's particles of colour c lie at
+// [C s + k n, C s + (k + 1) n) (copy_range); in the slots at [s, s + n).
+layout(constant_id = 8) const uint SHARED_SLOTS = 0u;
+const bool SHARED = SHARED_SLOTS > 0u;
+shared vec4 slots[SHARED ? SHARED_SLOTS : 1u];
+
+// The slot of free particle q of the workgroup's copy: the colour it lies in, found from the
+// colour ends (the push constants; no memory read).
+uint slot_of(uint q)
+{
+    if (copies == 1u)
+        return q;
+    uint start = 0u;
+    for (uint c = 0u; c < colours; c++) {
+        uint end = colour_end(c), begin, stop;
+        copy_range(start, end, begin, stop);
+        // a particle of a later colour lies at or past copies * end >= stop
+        if (q < stop)
+            return start + (q - begin);
+        start = end;
+    }
+    return 0u;
+}
+
+vec3 swept_dst(uint i)
+{
+    if (SHARED && i < pc.stride)
+        return slots[slot_of(i)].xyz;
+    return FETCH_DST(i);
+}
+
+// The iterate of every free particle of the copy from the slots into dst, where the passes
+// after the sweeps find it.
+void slots_to_dst()
+{
+    uint lanes = gl_WorkGroupSize.x;
+    uint lane = gl_LocalInvocationID.x;
+    uint start = 0u;
+    for (uint c = 0u; c < colours; c++) {
+        uint end = colour_end(c), begin, stop;
+        copy_range(start, end, begin, stop);
+        for (uint p = begin + lane; p < stop; p += lanes)
+            STORE_DST(p, slots[start + (p - begin)]);
+        start = end;
+    }
+    memoryBarrierBuffer();
+    barrier();
 }
 
 // One round of the strain limit, colour by colour, moves at most `most` m (0: any).
@@ -180,6 +242,7 @@ void solve_copy()
                     float ksum;
                     // The last sweep's omega comes apart (cvk_gs_sweep_omega).
                     float omega = sweep + 1u == sweeps ? pc.last_omega : pc.omega;
+                    uint slot = start + (p - begin);
                     if (sweep == 0u) {
                         vec4 start = LOAD_SRC(p);
                         cur = start.xyz;
@@ -188,16 +251,25 @@ void solve_copy()
                         b = local_step(p, cur, begin, acc, ksum);
                     } else {
                         b = rhs[p];
-                        cur = FETCH_DST(p);
+                        cur = SHARED ? slots[slot].xyz : FETCH_DST(p);
                         acc = neighbour_sum_dst(p, cur, ksum);
                     }
-                    STORE_DST(p, vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum), shift), 0.0));
+                    vec4 next = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum), shift), 0.0);
+                    if (SHARED)
+                        slots[slot] = next;
+                    else
+                        STORE_DST(p, next);
                 }
-                memoryBarrierBuffer();
+                if (SHARED)
+                    memoryBarrierShared();
+                else
+                    memoryBarrierBuffer();
                 barrier();
                 start = end;
             }
         }
+        if (SHARED)
+            slots_to_dst();
         // The passes after this outer iteration: the last one's, or the others' with the
         // tethers after every `every`-th only (pd_passes.c's tether_pass_after).
         uint after = pc.after & 0xffu;

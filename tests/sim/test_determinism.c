@@ -36,12 +36,15 @@
 typedef struct shape {
     uint32_t workgroup_size;
     uint32_t max_workgroups; /* 0: the library's choice */
+    int fused_shared_memory; /* cvk_sim_desc's: 1 where it fits, -1 never */
 } shape;
 
-/* The first shape is the library's default; it also runs a second time. */
+/* The first shape is the library's default; it also runs a second time. Every shape asks the
+   fused sweeps to keep their iterate in shared memory (on lavapipe the library keeps it in
+   global memory: check_fused_global). */
 static const shape shapes[] = {
-    {0, 0},  {8, 1},  {8, 3},  {8, 0},   {32, 1},  {32, 3},
-    {32, 0}, {64, 1}, {64, 3}, {256, 1}, {256, 3}, {256, 0},
+    {0, 0, 1},  {8, 1, 1},  {8, 3, 1},  {8, 0, 1},   {32, 1, 1},  {32, 3, 1},
+    {32, 0, 1}, {64, 1, 1}, {64, 3, 1}, {256, 1, 1}, {256, 3, 1}, {256, 0, 1},
 };
 #define SHAPE_COUNT (sizeof shapes / sizeof shapes[0])
 /* Under the sanitizers (tests/sanitize.sh sets CLOTHVK_SANITIZED=1) the default shape, one
@@ -171,16 +174,21 @@ static outcome run(cvk_context* ctx, const cvk_scene_desc* scene, shape sh, cvk_
     desc.scene = scene;
     desc.workgroup_size = sh.workgroup_size;
     desc.max_workgroups = sh.max_workgroups;
+    desc.fused_shared_memory = sh.fused_shared_memory;
     desc.timing = -1;
     if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
         return o;
-    /* The plan fuses the sweeps exactly when asked to (these scenes allow it). */
+    /* The plan fuses the sweeps exactly when asked to (these scenes allow it), their iterate in
+       shared memory unless told otherwise (these scenes fit lavapipe's). */
     if (scene->solver.linear == CVK_LINEAR_RBGS && scene->solver.fuse != CVK_FUSE_AUTO) {
         static char text[16384];
         cvk_sim_describe_plan(sim, text, sizeof text);
         const char* expected = scene->solver.fuse == CVK_FUSE_ON ? "sweeps fused"
                                                                  : "sweeps not fused";
         CHECK(strstr(text, expected) != NULL, "the plan does not say \"%s\":\n%s", expected, text);
+        const char* memory = sh.fused_shared_memory < 0 ? "global memory" : "shared memory";
+        CHECK(scene->solver.fuse == CVK_FUSE_OFF || strstr(text, memory) != NULL,
+              "the plan does not say \"%s\":\n%s", memory, text);
     }
     if (cvk_sim_step(sim, FRAMES, err) == CVK_SUCCESS) {
         o.count = cvk_sim_particle_count(sim);
@@ -278,6 +286,29 @@ static float* initial_positions(cvk_context* ctx, const cvk_scene_desc* scene, u
     return xyz;
 }
 
+/* The fused sweeps with their iterate in global memory (cvk_sim_desc.fused_shared_memory -1;
+   every shape above keeps it in shared memory) give the unfused hash too: under the default
+   shape and three workgroups of 32. */
+static void check_fused_global(cvk_context* ctx, const char* name, cvk_scene_desc scene,
+                               uint64_t unfused)
+{
+    static const shape global[] = {{0, 0, -1}, {32, 3, -1}};
+    scene.solver.linear = CVK_LINEAR_RBGS;
+    scene.solver.fuse = CVK_FUSE_ON;
+    for (size_t s = 0; s < sizeof global / sizeof global[0]; s++) {
+        char text[96];
+        shape_text(global[s], text, sizeof text);
+        cvk_error err;
+        outcome o = run(ctx, &scene, global[s], &err);
+        CHECK(o.ok, "%s, rbgs fused in global memory, %s: %s", name, text, err.message);
+        if (o.ok)
+            CHECK(o.hash == unfused, "%s, rbgs fused in global memory, %s: hash %016llx, unfused "
+                  "%016llx", name, text, (unsigned long long)o.hash,
+                  (unsigned long long)unfused);
+        free(o.xyz);
+    }
+}
+
 /* `particles`: how many the scene must have (the mesh file's vertices); `variant_count`: the
    first so many of `variants`. */
 static void check_variants(cvk_context* ctx, const char* name, const cvk_scene_desc* scene,
@@ -296,9 +327,11 @@ static void check_variants(cvk_context* ctx, const char* name, const cvk_scene_d
         uint64_t hash = check_solver(ctx, name, *scene, variants[k], start);
         if (variants[k].linear == CVK_LINEAR_RBGS && variants[k].fuse == CVK_FUSE_OFF)
             unfused = hash;
-        if (variants[k].linear == CVK_LINEAR_RBGS && variants[k].fuse == CVK_FUSE_ON)
+        if (variants[k].linear == CVK_LINEAR_RBGS && variants[k].fuse == CVK_FUSE_ON) {
             CHECK(hash == unfused, "%s: rbgs fused gave hash %016llx, unfused %016llx", name,
                   (unsigned long long)hash, (unsigned long long)unfused);
+            check_fused_global(ctx, name, *scene, unfused);
+        }
     }
     free(start);
 }

@@ -40,6 +40,11 @@ typedef struct cvk_sim_desc {
     bool grab;                   /* true: the frame has the grab pass from the start, so frames
                                     you record now follow cvk_sim_grab; false: the first
                                     cvk_sim_grab adds it (see there) */
+    int fused_shared_memory;     /* where the fused sweeps (solver.fuse on) keep a copy's
+                                    iterate while they sweep: 1 = in the workgroup's shared
+                                    memory where it fits (16 bytes a free particle), -1 = in
+                                    global memory, 0 = the library's choice: 1 on a GPU, -1 on
+                                    a CPU device (slower there); the same bits either way */
     uint32_t search_lanes;       /* no effect: a setting of an earlier contact's search,
                                     kept so that programs that set it still build; 0 */
     uint32_t cookie_;            /* set by cvk_default_sim_desc; do not touch */
