@@ -381,7 +381,7 @@ class Simulation(_Owner):
     """A simulation of a scene on a context (the scene is copied; it may be closed after)."""
 
     def __init__(self, context, scene, workgroup_size=0, max_workgroups=0, timing=True,
-                 grab=False, search_lanes=0):
+                 grab=False, search_lanes=0, fused_shared_memory=None):
         self.context = context
         desc = ffi.new("cvk_sim_desc*", lib.cvk_default_sim_desc())
         desc.scene = scene._desc
@@ -390,6 +390,10 @@ class Simulation(_Owner):
         desc.timing = 0 if timing else -1
         desc.grab = grab
         desc.search_lanes = _whole(search_lanes, "search_lanes", _U32_MAX)
+        if fused_shared_memory is not None and not isinstance(fused_shared_memory, bool):
+            raise TypeError("fused_shared_memory must be None (the library's choice), True or "
+                            f"False, got {fused_shared_memory!r}")
+        desc.fused_shared_memory = {None: 0, True: 1, False: -1}[fused_shared_memory]
         out = ffi.new("cvk_sim**")
         err = ffi.new("cvk_error*")
         _check(lib.cvk_sim_create(context._live(), desc, out, err), err)

@@ -71,6 +71,25 @@ def test_cloths_stats_and_plan(ctx, small_scene):
         assert "solver: pd / rbgs" in sim.plan()
 
 
+def test_fused_memory_reaches_the_plan(ctx):
+    """solver.fuse on: the fused sweeps' iterate in global memory by default on lavapipe (a CPU
+    device), in shared memory when asked, and in either the same positions."""
+    scene = clothvk.Scene.load(SCENES / "hanging.json",
+                               overrides={**SMALL, "solver.fuse": "on"})
+    ends = []
+    for shared, memory in ((None, "global memory"), (True, "shared memory 4.0 KB"),
+                           (False, "global memory")):
+        with clothvk.Simulation(ctx, scene, fused_shared_memory=shared) as sim:
+            assert f"one workgroup of 1024, {memory};" in sim.plan(), sim.plan()
+            sim.step(3)
+            ends.append(sim.positions())
+    assert all((end == ends[0]).all() for end in ends)
+    with pytest.raises(TypeError) as caught:
+        clothvk.Simulation(ctx, scene, fused_shared_memory=1)
+    assert str(caught.value) == "fused_shared_memory must be None (the library's choice), True " \
+        "or False, got 1"
+
+
 def test_override_reaches_the_solver(ctx):
     scene = clothvk.Scene.load(SCENES / "hanging.json",
                                overrides={**SMALL, "solver.linear": "jacobi"})
