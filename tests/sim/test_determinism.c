@@ -288,14 +288,15 @@ static float* initial_positions(cvk_context* ctx, const cvk_scene_desc* scene, u
 
 /* The fused sweeps with their iterate in global memory (cvk_sim_desc.fused_shared_memory -1;
    every shape above keeps it in shared memory) give the unfused hash too: under the default
-   shape and three workgroups of 32. */
+   shape and three workgroups of 32 (the first alone under the sanitizers). */
 static void check_fused_global(cvk_context* ctx, const char* name, cvk_scene_desc scene,
                                uint64_t unfused)
 {
     static const shape global[] = {{0, 0, -1}, {32, 3, -1}};
     scene.solver.linear = CVK_LINEAR_RBGS;
     scene.solver.fuse = CVK_FUSE_ON;
-    for (size_t s = 0; s < sizeof global / sizeof global[0]; s++) {
+    size_t count = sanitized() ? 1 : sizeof global / sizeof global[0]; /* the host code is one */
+    for (size_t s = 0; s < count; s++) {
         char text[96];
         shape_text(global[s], text, sizeof text);
         cvk_error err;
@@ -305,6 +306,8 @@ static void check_fused_global(cvk_context* ctx, const char* name, cvk_scene_des
             CHECK(o.hash == unfused, "%s, rbgs fused in global memory, %s: hash %016llx, unfused "
                   "%016llx", name, text, (unsigned long long)o.hash,
                   (unsigned long long)unfused);
+        printf("%s, rbgs fused in global memory, %s: hash %016llx\n", name, text,
+               (unsigned long long)o.hash);
         free(o.xyz);
     }
 }
