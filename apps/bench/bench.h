@@ -169,6 +169,8 @@ uint32_t bench_sweeps(const cvk_solver_desc* solver);
 
 /* Creates a simulation; on failure prints the message and returns NULL. */
 cvk_sim* bench_sim_create(bench* b, const cvk_scene_desc* scene);
+/* The same with `desc`'s other fields (desc->scene set by the caller). */
+cvk_sim* bench_sim_create_desc(bench* b, const cvk_sim_desc* desc);
 /* Prints a library error as the tool's one line. */
 void bench_fail(const cvk_error* err);
 

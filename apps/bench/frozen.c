@@ -61,17 +61,22 @@ void bench_fail(const cvk_error* err)
     app_error("clothvk-bench", "%s", err->message);
 }
 
-cvk_sim* bench_sim_create(bench* b, const cvk_scene_desc* scene)
+cvk_sim* bench_sim_create_desc(bench* b, const cvk_sim_desc* desc)
 {
     cvk_error err;
     cvk_sim* sim = NULL;
-    cvk_sim_desc desc = cvk_default_sim_desc();
-    desc.scene = scene;
-    if (cvk_sim_create(b->ctx, &desc, &sim, &err) != CVK_SUCCESS) {
+    if (cvk_sim_create(b->ctx, desc, &sim, &err) != CVK_SUCCESS) {
         bench_fail(&err);
         return NULL;
     }
     return sim;
+}
+
+cvk_sim* bench_sim_create(bench* b, const cvk_scene_desc* scene)
+{
+    cvk_sim_desc desc = cvk_default_sim_desc();
+    desc.scene = scene;
+    return bench_sim_create_desc(b, &desc);
 }
 
 static bool alloc_frozen(bench_frozen* f)

@@ -1,8 +1,8 @@
 /* fused: dispatches and time per frame with rbgs's sweeps unfused (solver.fuse off), fused
    (on: every sweep of a substep in one dispatch, a workgroup a copy) with the iterate in shared
    memory where it fits (cvk_sim_desc.fused_shared_memory 1) and fused in global memory (-1), in
-   one sitting: --repeat rounds, each running the
-   three in that order, so a noisy machine loads them alike. A run is
+   one sitting: --repeat rounds, each running the three in that order, so a noisy machine loads
+   them alike. A run is
    --warmup untimed frames (pipelines compile on the first), then --frames timed ones (default
    30): the wall time of cvk_sim_step over them, and the GPU time of the last frame. Both runs of
    a round end on positions that must be the same bits (the fused sweeps do the same operations
@@ -72,15 +72,13 @@ static bool run_mode(bench* b, const mode* m, uint32_t frames, run_result* out)
 {
     cvk_scene_desc scene = *b->scene;
     scene.solver.fuse = m->fuse;
-    cvk_error err;
-    cvk_sim* sim = NULL;
     cvk_sim_desc desc = cvk_default_sim_desc();
     desc.scene = &scene;
     desc.fused_shared_memory = m->shared_memory;
-    if (cvk_sim_create(b->ctx, &desc, &sim, &err) != CVK_SUCCESS) {
-        bench_fail(&err);
+    cvk_sim* sim = bench_sim_create_desc(b, &desc);
+    if (!sim)
         return false;
-    }
+    cvk_error err;
     bool ok = true;
     *out = (run_result){0};
     solver_line(sim, out->plan_line, sizeof out->plan_line);
@@ -134,8 +132,8 @@ int bench_fused(bench* b)
     uint32_t dispatches[MODES] = {0};
     uint32_t differ = 0;
     printf("%s: %u frames after %u untimed, %u rounds of unfused, fused in shared memory and "
-           "fused in global memory\n%6s %6s %12s %12s %12s %10s\n", b->scene_name, frames, b->o->warmup, rounds,
-           "round", "fuse", "dispatches", "wall ms", "gpu ms", "same bits");
+           "fused in global memory\n%6s %6s %12s %12s %12s %10s\n", b->scene_name, frames,
+           b->o->warmup, rounds, "round", "fuse", "dispatches", "wall ms", "gpu ms", "same bits");
     for (uint32_t r = 0; r < rounds; r++) {
         run_result run[MODES];
         for (size_t m = 0; m < MODES; m++)

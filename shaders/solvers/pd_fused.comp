@@ -69,8 +69,9 @@ void copy_pinned(uint count, out uint begin, out uint stop)
 
 // SHARED_SLOTS (id 8) above 0: the sweeps keep the iterate of the workgroup's copy's free
 // particles in shared memory, SHARED_SLOTS of them (lib/sim/sim.c, fuse_copies: where they
-// fit the device's shared memory, on a GPU or when the caller asks), in place, as Gauss-Seidel is: a particle's slot holds
-// the iterate before its colour's update until that update, after it the new one. So the
+// fit the device's shared memory, on a GPU or when the caller asks), in place, as Gauss-Seidel
+// is: a particle's slot holds the iterate before its colour's update until that update, after
+// it the new one. So the
 // first sweep reads a neighbour swept before it from its slot and the iterate at the start of
 // the outer iteration from src; the later sweeps read only slots. A barrier on shared memory
 // alone orders the colours, which on a GPU costs a fraction of a round trip to coherent global
