@@ -342,6 +342,7 @@ static json_t* contacts_json(const cvk_sim_stats* st)
     json_object_set_new(contacts, "held", json_integer((json_int_t)st->contact_held));
     json_object_set_new(contacts, "held_fraction", json_real(st->contact_held_fraction));
     json_object_set_new(contacts, "cut_short", json_boolean(st->contact_cut));
+    json_object_set_new(contacts, "crowded", json_integer((json_int_t)st->contact_crowded));
     return contacts;
 }
 

@@ -162,9 +162,12 @@ cvk_result cvk_collide_positions_written(struct cvk_sim* sim, const float* x, co
    the free particles that ended a substep past CVK_REDETECT_FRACTION of their bound, summed
    over the substeps — where the bounds held motion back (a cloth moving faster than a bound a
    substep relative to the rest, or squeezed: docs/limits.md) — and that count as a fraction
-   of the free particles' substeps (the first after the state was written not counted). */
+   of the free particles' substeps (the first after the state was written not counted); the
+   particles found crowded (a corner in more pairs than their side lists hold, which then keep
+   none: contact_bound.glsl), summed over the detections. */
 cvk_result cvk_collide_counts(struct cvk_sim* sim, uint64_t* searches, uint64_t* held,
-                              double* held_fraction, bool* cut, cvk_error* error);
+                              double* held_fraction, uint64_t* crowded, bool* cut,
+                              cvk_error* error);
 
 /* The contact state a snapshot carries so that stepping on from it gives the same bits: the
    frame state, where the last detection saw each particle and its bound, the lists, and each

@@ -275,9 +275,10 @@ cvk_result cvk_collide_positions_written(cvk_sim* s, const float* x, const float
 }
 
 cvk_result cvk_collide_counts(cvk_sim* s, uint64_t* searches, uint64_t* held,
-                              double* held_fraction, bool* cut, cvk_error* error)
+                              double* held_fraction, uint64_t* crowded, bool* cut,
+                              cvk_error* error)
 {
-    *searches = *held = 0;
+    *searches = *held = *crowded = 0;
     *held_fraction = 0.0;
     *cut = false;
     if (!s->collide->self)
@@ -291,6 +292,7 @@ cvk_result cvk_collide_counts(cvk_sim* s, uint64_t* searches, uint64_t* held,
         *held = (uint64_t)frame.held_hi << 32 | frame.held_lo;
         double counted = (double)frame.held_substeps * s->build.free_count;
         *held_fraction = counted > 0.0 ? (double)*held / counted : 0.0;
+        *crowded = (uint64_t)frame.crowded_hi << 32 | frame.crowded_lo;
     }
     return r;
 }

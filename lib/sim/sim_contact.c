@@ -256,11 +256,13 @@ cvk_result cvk_sim_contact_stats(cvk_sim* s, const float* xyz_internal, cvk_sim_
     st->contact_searches = 0;
     st->contact_held = 0;
     st->contact_held_fraction = 0.0;
+    st->contact_crowded = 0;
     st->contact_cut = false;
     if (!s->collide->colliding)
         return CVK_SUCCESS;
-    cvk_result searched = cvk_collide_counts(s, &st->contact_searches, &st->contact_held,
-                                             &st->contact_held_fraction, &st->contact_cut, error);
+    cvk_result searched =
+        cvk_collide_counts(s, &st->contact_searches, &st->contact_held,
+                           &st->contact_held_fraction, &st->contact_crowded, &st->contact_cut, error);
     if (searched != CVK_SUCCESS)
         return searched;
     collider_stats(s, xyz_internal, st);

@@ -27,8 +27,8 @@
 
 /* 2: the projective-dynamics rest memory; 3: the contact work lists; 4: the CRC-32; 5: the
    contact frame state's count of particles held at their bounds; 6: its flag of a detection
-   cut short */
-#define CVK_SNAPSHOT_VERSION 6u
+   cut short; 7: its count of crowded particles */
+#define CVK_SNAPSHOT_VERSION 7u
 #define HEADER_SIZE 72u
 #define CRC_OFFSET 64u
 static const char magic[8] = "CVKSNAP";

@@ -455,6 +455,7 @@ typedef struct cvk_sim_stats {
     uint64_t contact_held;
     double contact_held_fraction;
     bool contact_cut;
+    uint64_t contact_crowded;
     uint32_t solver_iterations;
     uint64_t solver_iterations_total;
     uint32_t solver_breakdowns;

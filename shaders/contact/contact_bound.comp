@@ -19,6 +19,8 @@ void main()
 {
     if (pc.count == 0u)
         return;
+    uint crowded = 0u;
     for (uint i = gl_GlobalInvocationID.x; i < pc.count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-        bound_one(pc.first + i, pc.per_group);
+        crowded += bound_one(pc.first + i, pc.per_group);
+    add_crowded(crowded);
 }

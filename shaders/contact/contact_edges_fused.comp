@@ -59,8 +59,10 @@ void work()
     for (uint i = lane; i < count; i += lanes)
         detect(lists[start + i]);
     passed();
+    uint crowded = 0u;
     for (uint p = lane; p < contact_u.particle_count; p += lanes)
-        bound_one(p, pc.per_group);
+        crowded += bound_one(p, pc.per_group);
+    add_crowded(crowded);
 }
 
 void main()

@@ -332,7 +332,9 @@ CVK_PUSH_BLOCK(cvk_mesh_push, CVK_MESH_PUSH_FIELDS)
     CVK_UINT(held_lo)  /* free particles that ended a substep past redetect of their bound, */ \
     CVK_UINT(held_hi)  /* summed over the substeps so far: a 64-bit count, low word first */  \
     CVK_UINT(held_substeps) /* the substeps counted (each but a first after a state write) */ \
-    CVK_UINT(cut)      /* 1 once a detection pass's loops ended early (bounds.glsl's note_loops_cut) */
+    CVK_UINT(cut)      /* 1 once a detection pass's loops ended early (bounds.glsl's note_loops_cut) */ \
+    CVK_UINT(crowded_lo) /* particles a corner in more pairs than their side lists hold,   */ \
+    CVK_UINT(crowded_hi) /* summed over the detections so far: 64 bits, low word first    */
 CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 
 /* After the frame state in its buffer: what the decision at the start of a substep gathers
@@ -405,15 +407,13 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
 #define CVK_CONTACTS_PER_EDGE 4
 /* Per edge, the pairs edge detection's distance pass keeps to list (more: walked again). */
 #define CVK_EDGE_BUCKET 16
-/* Per particle, the pairs in which it is a corner of the feature (the other side's vertex and
-   its entry): the face's side of a vertex–feature pair. */
+/* Per particle, the pairs in which it is a corner of the feature: (the vertex, its entry). */
 #define CVK_SIDES_PER_PARTICLE 32
 /* The gap kept between any two cloth features: the bound is gamma (d - floor), floor this many
    thicknesses or CVK_GAP_FLOOR_RELATIVE times the particle's largest coordinate, whichever is
-   more (contact_bound.comp). Two features d >= floor apart stay 0.1 d + 0.9 floor >= floor apart,
-   so a pair squeezed detection after detection nears the floor, not the float rounding of its
-   positions, where the bounds could no longer keep it apart: 2^-19 of a coordinate is at least
-   16 of its float steps (1.9 mm 1 km from the origin). */
+   more (contact_bound.comp). Two features d >= floor apart stay 0.1 d + 0.9 floor >= floor apart:
+   a squeezed pair nears the floor, not the float rounding of its positions, where the bounds
+   could not keep it apart (2^-19 of a coordinate: 16 float steps or more; 1.9 mm 1 km out). */
 #define CVK_GAP_FLOOR_THICKNESSES 1.0e-3
 #define CVK_GAP_FLOOR_RELATIVE 1.9073486328125e-6
 #define CVK_NO_CONTACT 0xffffffffu

@@ -170,14 +170,14 @@ static void refusals(cvk_context* ctx)
               "a bit flipped at byte %llu: message \"%s\"", (unsigned long long)flips[i],
               err.message);
     }
-    /* A snapshot of format version 3 (no checksum) is refused by its version (as are 4's and
-       5's, whose contact state is shorter). */
+    /* A snapshot of format version 3 (no checksum) is refused by its version (as are 4's, 5's
+       and 6's, whose contact state is shorter). */
     uint32_t version = 3, current;
     memcpy(&current, snap + 8, 4);
     memcpy(snap + 8, &version, 4);
     check_refusal(cvk_sim_load_snapshot(a, snap, size, &err), &err, CVK_ERROR_UNSUPPORTED,
                   "cvk_sim_load_snapshot: the snapshot has format version 3; this library reads "
-                  "version 6", "a version-3 snapshot");
+                  "version 7", "a version-3 snapshot");
     memcpy(snap + 8, &current, 4);
     uint64_t hash_a, hash_b;
     memcpy(&hash_a, snap + 24, 8);

@@ -235,6 +235,10 @@ typedef struct cvk_sim_stats {
                                     simulation made) was cut short by the device's loop limit
                                     (cvk_sim_step's CVK_ERROR_DEVICE_LIMIT): the guarantee no
                                     longer holds; false without self-contact */
+    uint64_t contact_crowded;    /* particles found a corner of more cloth pairs than their list
+                                    holds (32), summed over the detections: such a particle
+                                    takes no share of those pairs as a corner (its own pairs
+                                    still push it; docs/limits.md); 0 without self-contact */
     /* The linear solver: implicit's, and pd's sweeps (counted on the device with a tolerance;
        without one, every sweep the plan records). */
     uint32_t solver_iterations;       /* CG iterations or Jacobi sweeps (pd: sweeps) of the last
