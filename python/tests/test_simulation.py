@@ -1,5 +1,6 @@
 """Scene load, step, positions against clothvk-sim --dump, state, cloths, statistics, plan."""
 
+import json
 import subprocess
 
 import numpy as np
@@ -88,6 +89,26 @@ def test_fused_memory_reaches_the_plan(ctx):
         clothvk.Simulation(ctx, scene, fused_shared_memory=1)
     assert str(caught.value) == "fused_shared_memory must be None (the library's choice), True " \
         "or False, got 1"
+
+
+def test_crowded_particles_are_counted(ctx):
+    """Sixteen small layers 1.2 mm apart, each shifted across the one below (test_determinism's
+    crowd): particles a corner of more pairs than their lists hold show in contact_crowded, and
+    the fields after it in cvk_sim_stats read as they should."""
+    layers = [{"grid": [6, 6], "size": [0.1, 0.1], "mass": 0.01,
+               "origin": [-0.05 + 0.0073 * (i % 3), 0.05 + 0.0012 * i, -0.05 + 0.0047 * (i % 4)]}
+              for i in range(16)]
+    text = json.dumps({"dt": 0.002, "substeps": 4,
+                       "solver": {"outer_iterations": 2, "inner_iterations": 4},
+                       "collision": {"self": True}, "cloths": layers,
+                       "colliders": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0]}]})
+    with clothvk.Simulation(ctx, clothvk.Scene.parse(text, "crowd")) as sim:
+        sim.step(6)
+        st = sim.stats()
+        assert st["contact_crowded"] > 0
+        assert st["intersecting_pairs"] == 0
+        assert st["solver_iterations"] == 4 * 2 * 4  # the last frame's sweeps
+        assert st["diverged"] is False
 
 
 def test_override_reaches_the_solver(ctx):

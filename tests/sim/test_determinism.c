@@ -7,7 +7,8 @@
    copies of a cloth with its colliders) gets the same test, its hash again under three
    lavapipe thread counts, and each copy is checked against the single cloth's run moved by its
    offset; so does a scene of three copies at one place with self-contact, each copy bit for
-   bit the single cloth's self-contact run (copies never touch one another).
+   bit the single cloth's self-contact run (copies never touch one another). A crowd of layers
+   overflows the particles' side lists (check_crowd_scene).
 
    Why it should hold: every pass is a loop over particles in which each particle's result
    depends only on the data, never on which invocation or workgroup computes it; no pass
@@ -693,6 +694,61 @@ static void check_instances_self(cvk_context* ctx)
 }
 
 /* Every GPU solver on a grid cloth and on an irregular mesh cloth (written to a file first). */
+/* A crowd: sixteen 6 x 6 layers 1.2 mm apart, each shifted across the one below, falling onto a
+   plane with self-contact. A particle is then a corner of more pairs than its side list holds
+   (CVK_SIDES_PER_PARTICLE): which of them it kept was the order in which invocations reached
+   the list, and this scene gave three hashes under four shapes; a crowded particle now keeps
+   none (contact_bound.glsl), and contacts.crowded counts it, which must be above 0 here for the
+   test to say anything. rbgs unfused only: fused, detection runs in one workgroup, and on
+   lavapipe an invocation of it with this crowd's items passes the device's loop limit (a
+   detection cut short: limits.md) under workgroups of 64 or fewer. */
+#define CROWD_LAYERS 16
+
+static void check_crowd_scene(cvk_context* ctx)
+{
+    char text[8192];
+    int at = snprintf(text, sizeof text, "{\"name\": \"crowd\", \"dt\": 0.002, \"substeps\": 4, "
+                      "\"solver\": {\"outer_iterations\": 2, \"inner_iterations\": 4}, "
+                      "\"collision\": {\"self\": true}, \"colliders\": [{\"type\": \"plane\", "
+                      "\"point\": [0, 0, 0], \"normal\": [0, 1, 0]}], \"cloths\": [");
+    for (int i = 0; i < CROWD_LAYERS && at > 0 && (size_t)at < sizeof text; i++)
+        at += snprintf(text + at, sizeof text - (size_t)at,
+                       "%s{\"grid\": [6, 6], \"size\": [0.1, 0.1], \"mass\": 0.01, "
+                       "\"origin\": [%g, %g, %g]}", i ? ", " : "", -0.05 + 0.0073 * (i % 3),
+                       0.05 + 0.0012 * i, -0.05 + 0.0047 * (i % 4));
+    CHECK(at > 0 && (size_t)at + 3 < sizeof text, "crowd: the scene text does not fit");
+    if (at <= 0 || (size_t)at + 3 >= sizeof text)
+        return;
+    snprintf(text + at, sizeof text - (size_t)at, "]}");
+    cvk_scene* crowd = parse_scene(text, "crowd");
+    if (!crowd)
+        return;
+    const cvk_scene_desc* desc = cvk_scene_get_desc(crowd);
+    cvk_sim* sim = NULL;
+    cvk_sim_desc sd = cvk_default_sim_desc();
+    sd.scene = desc;
+    sd.timing = -1;
+    cvk_error err;
+    cvk_sim_stats st = {0};
+    bool ok = cvk_sim_create(ctx, &sd, &sim, &err) == CVK_SUCCESS &&
+              cvk_sim_step(sim, FRAMES, &err) == CVK_SUCCESS &&
+              cvk_sim_get_stats(sim, &st, &err) == CVK_SUCCESS;
+    CHECK(ok, "crowd: %s", err.message);
+    cvk_sim_destroy(sim);
+    if (ok) {
+        CHECK(st.contact_crowded > 0, "crowd: no particle was crowded in %d frames (%llu "
+              "detections): the scene no longer tests the side lists' overflow", FRAMES,
+              (unsigned long long)st.contact_searches);
+        CHECK(st.intersecting_pairs == 0, "crowd: %llu intersecting pairs",
+              (unsigned long long)st.intersecting_pairs);
+        printf("crowd: %llu crowded particles over %llu detections in %d frames\n",
+               (unsigned long long)st.contact_crowded, (unsigned long long)st.contact_searches,
+               FRAMES);
+    }
+    check_variants(ctx, "crowd of 16 layers, self-contact, a plane", desc, CROWD_LAYERS * 36, 1);
+    cvk_scene_destroy(crowd);
+}
+
 static void check_solver_scenes(cvk_context* ctx, cvk_scene_desc scene)
 {
     cvk_cloth_desc grid = grid_cloth();
@@ -740,6 +796,7 @@ int main(int argc, char** argv)
         check_funnel_scene(ctx, &scene);
         check_between_scene(ctx, &scene);
         check_fused_after_scene(ctx, &scene);
+        check_crowd_scene(ctx);
     }
     if (all || strcmp(part, "instances") == 0) {
         check_instances(ctx);
