@@ -693,7 +693,6 @@ static void check_instances_self(cvk_context* ctx)
     cvk_scene_destroy(single);
 }
 
-/* Every GPU solver on a grid cloth and on an irregular mesh cloth (written to a file first). */
 /* A crowd: sixteen 6 x 6 layers 1.2 mm apart, each shifted across the one below, falling onto a
    plane with self-contact. A particle is then a corner of more pairs than its side list holds
    (CVK_SIDES_PER_PARTICLE): which of them it kept was the order in which invocations reached
@@ -749,6 +748,7 @@ static void check_crowd_scene(cvk_context* ctx)
     cvk_scene_destroy(crowd);
 }
 
+/* Every GPU solver on a grid cloth and on an irregular mesh cloth (written to a file first). */
 static void check_solver_scenes(cvk_context* ctx, cvk_scene_desc scene)
 {
     cvk_cloth_desc grid = grid_cloth();
