@@ -13,7 +13,8 @@ for lib in /usr/lib/*/libvulkan_lvp.so /usr/lib/*/libVkLayer_khronos_validation.
     [ -e "$lib" ] && preload="$preload $lib"
 done
 export LD_PRELOAD="$preload"
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:verify_asan_link_order=0"
+# The quarantine as in tests/sanitize.sh.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:verify_asan_link_order=0:quarantine_size_mb=8"
 export LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 # Tests that give the tools time limits give slower tools more (tests/tools/wedge_cases.py).
