@@ -183,15 +183,22 @@ def locked_folder():
 
 class Cases:
     """Counts cases as they are run, prints each failure with its problems, and ends with the
-    closing line "LABEL: N of M cases passed (F failed) in S s"."""
+    closing line "LABEL: N of M cases passed (F failed) in S s". With CLOTHVK_CASE_SECONDS=1 in
+    the environment it also prints each case's seconds (since the case before it ended), to find
+    the slow ones (docs/testing.md)."""
 
     def __init__(self, label):
         self.label = label
-        self.start = time.monotonic()
+        self.start = self.last = time.monotonic()
+        self.timed = os.environ.get("CLOTHVK_CASE_SECONDS") == "1"
         self.total = self.failed = self.skipped = 0
 
     def add(self, heading, problems):
         """One case's problems; none is a pass."""
+        if self.timed:
+            now = time.monotonic()
+            print(f"{now - self.last:7.2f} s  {heading}")
+            self.last = now
         self.total += 1
         if problems:
             self.failed += 1
