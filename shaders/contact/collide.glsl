@@ -620,12 +620,6 @@ void closest_segments(vec3 p1, vec3 q1, vec3 p2, vec3 q2, precise out float s,
     c2 = p2 + t * d2;
 }
 
-// Corner k (0, 1 or 2) of a triangle, without indexing the vector by a variable.
-uint corner_of(uvec4 t, uint k)
-{
-    return k == 0u ? t.x : (k == 1u ? t.y : t.z);
-}
-
 // A feature of a contact list entry (shared/layout.h): its corners (internal indices) and how
 // many there are (3 for a face, 2 for an edge, 1 for a vertex).
 uint feature_corners(uint entry, out uvec3 v)
