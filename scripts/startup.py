@@ -20,7 +20,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SCENES = ["assets/scenes/contact-drape.json", "assets/scenes/peer-hanging.json"]
+SCENES = ["assets/scenes/contact-drape.json", "assets/scenes/contact-pile.json",
+          "assets/scenes/funnel.json", "assets/scenes/peer-hanging.json"]
 AGAIN = 3  # creations again on the same context, per round
 
 MEASURE = r"""

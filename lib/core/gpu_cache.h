@@ -2,8 +2,8 @@
    and compute pipelines, each made once per definition and kept until the context is
    destroyed. A simulation with the dispatch shape and features of one made before on the same
    context (a test's variants, a bench experiment's runs, an application's next level) then
-   creates none of its pipelines: on lavapipe, creating them took 2.1 of the 2.5 s that
-   creating the 40 × 40 contact drape took (pd_contact.comp's two pipelines 1.6 s), and Mesa's
+   creates none of its pipelines: on lavapipe they are most of the time creating a contact scene
+   takes (docs/performance.md, "Start-up"), and Mesa's
    shader cache does not spare that (lavapipe's VkPipelineCache keeps nothing either). The
    objects belong to the context: whoever gets one from it never destroys it. No lock: what
    makes or destroys anything on a context submits to its queue, which one thread at a time

@@ -118,6 +118,7 @@ typedef struct cvk_spec_recipe {
     X(GS_FIRST_PREDICT_DST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TWO), "predict (last in dst) + gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
+    X(GS_FUSED_PLAIN, PD_FUSED_PLAIN_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \
     X(JACOBI, PD_JACOBI_COMP, CVK_SPEC_PD, "jacobi")                            \
     X(GS_FIRST_CHECK, PD_GAUSS_SEIDEL_CHECK_COMP, CVK_SPEC_PD_FIRST_CHECK, "gauss-seidel + local step + residual") \
@@ -129,7 +130,11 @@ typedef struct cvk_spec_recipe {
     X(PD_CONTACT_RUNS2, PD_CONTACT_RUNS2_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 2 runs of one collider type") \
     X(PD_CONTACT_RUNS3, PD_CONTACT_RUNS3_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 3 runs of one collider type") \
     X(PD_CONTACT_RUNS4, PD_CONTACT_RUNS4_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 4 runs of one collider type") \
-    X(PD_CLOTH_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CLOTH_CONTACT, "contact between cloths (listed particles)") \
+    X(PD_CONTACT_PLAIN, PD_CONTACT_PLAIN_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
+    X(PD_CONTACT_PLAIN_RUNS2, PD_CONTACT_PLAIN_RUNS2_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 2 runs of one collider type") \
+    X(PD_CONTACT_PLAIN_RUNS3, PD_CONTACT_PLAIN_RUNS3_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 3 runs of one collider type") \
+    X(PD_CONTACT_PLAIN_RUNS4, PD_CONTACT_PLAIN_RUNS4_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 4 runs of one collider type") \
+    X(PD_CLOTH_CONTACT, PD_CLOTH_CONTACT_COMP, CVK_SPEC_PD_CLOTH_CONTACT, "contact between cloths (listed particles)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
     X(PD_STRAIN, PD_STRAIN_COMP, CVK_SPEC_PD, "strain limit (one colour)")              \
     X(COLLIDER_POSES, COLLIDER_POSES_COMP, CVK_SPEC_NONE, "collider poses, frame state") \

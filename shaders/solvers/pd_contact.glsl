@@ -11,6 +11,16 @@
 layout(constant_id = 4) const bool SELF = false;
 const bool COLLIDERS = COLLIDER_TYPE_BITS != 0u;
 
+// The funnels' edge test, and the path test a funnel's push brought back within the bound must
+// pass, are left out of the builds for scenes without a funnel (NO_FUNNELS) and of the pass
+// over the listed particles (CLOTH_CONTACT), which has no colliders: a branch a specialisation
+// constant switches off is still inlined and compiled by lavapipe before it is dropped, and
+// these inline every collider type's distance and normal several times over (the 40 x 40
+// contact drape's pass over every particle took 1.5-1.9 s to make with them, 0.8 without).
+#if !defined(CLOTH_CONTACT) && !defined(NO_FUNNELS)
+#define FUNNEL_EDGES 1
+#endif
+#ifdef FUNNEL_EDGES
 // A funnel is a surface with two sides, and a particle's contact alone lets an edge cut
 // through it: a particle carried below the rim and round it to the outside stays outside
 // while its neighbours are inside, the edges between them through the wall, and the cloth
@@ -87,6 +97,8 @@ bool shells_clear(uint p, vec3 x0, vec3 u)
     return clear;
 }
 
+#endif
+
 // Where corner q is in the iterate before (src): triangle corners and edge ends are read from
 // it, never from the buffer being written, so the result does not depend on the order of
 // invocations.
@@ -111,6 +123,7 @@ vec3 pd_cloth_contact(uint p, vec3 u, vec3 shift)
     return within_bound(p, xp + cloth_push(p, x0, xp), shift) - x0;
 }
 
+#ifndef CLOTH_CONTACT
 // The pass over every particle, after the cloth contact pass: p's displacement u within its
 // bound (with self-contact) and out of the colliders.
 vec3 pd_contact(uint p, vec3 u, vec3 shift)
@@ -119,8 +132,10 @@ vec3 pd_contact(uint p, vec3 u, vec3 shift)
     if (SELF)
         u = within_bound(p, x0 + u, shift) - x0;
     vec3 pushed = u;
+#ifdef FUNNEL_EDGES
     if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
         pushed = edges_off_shells(p, x0, pushed);
+#endif
     if (COLLIDERS)
         pushed = collide_colliders(p, x0, pushed);
     // A collider's push must not take a particle past its bound (lib/contact/collide.h): the
@@ -132,12 +147,15 @@ vec3 pd_contact(uint p, vec3 u, vec3 shift)
     if (SELF && COLLIDERS && any(notEqual(pushed, u))) {
         vec3 back = within_bound(p, x0 + pushed, shift);
         bool outside = nearest_solid(p, back, false) >= 0.0;
+#ifdef FUNNEL_EDGES
         if (HAS_TYPE(CVK_COLLIDER_FUNNEL_ID))
             outside = outside && shells_clear(p, x0, back - x0);
+#endif
         pushed = outside ? back - x0 : pushed;
     }
     return pushed;
 }
+#endif
 
 // The contact passes' work on particle p (pd_contact.comp; pd_fused.comp after its sweeps):
 // listed, the pass over the particles in pairs; else the pass over every particle. p's
@@ -154,6 +172,10 @@ void contact_one(uint p, bool listed, vec3 shift)
         STORE_DST(p, vec4(within_bound(p, x0 + u, shift) - x0, 0.0));
         return;
     }
+#ifdef CLOTH_CONTACT
+    vec3 moved = pd_cloth_contact(p, u, shift);
+#else
     vec3 moved = listed ? pd_cloth_contact(p, u, shift) : pd_contact(p, u, shift);
+#endif
     STORE_DST(p, vec4(moved, any(notEqual(moved, u)) || start.w != 0.0 ? 1.0 : 0.0));
 }
