@@ -559,7 +559,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
     const cvk_build* b = &s->build;
     cloth_tables t = {0};
     cvk_result r = CVK_SUCCESS;
-    bool tables = c->self || (c->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
+    bool tables = c->self || cvk_collide_has_funnels(c);
     if (tables)
         r = make_cloth_tables(b, &t, error);
     if (r == CVK_SUCCESS && c->self &&

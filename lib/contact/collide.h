@@ -194,6 +194,10 @@ cvk_result cvk_collide_find_instances(struct cvk_sim* sim, cvk_collide* collide,
    and 0 otherwise (after cvk_collide_find_instances). */
 uint32_t cvk_collide_runs(const cvk_collide* collide, uint32_t* runs);
 
+/* Whether the scene has a funnel: the cloth tables for its edge test, and the builds of the
+   contact passes with that test (shaders/solvers/pd_contact.glsl, NO_FUNNELS). */
+bool cvk_collide_has_funnels(const cvk_collide* collide);
+
 /* The build of a pass over the particles for the colliders' runs (cvk_collide.runs): runs2 for
    2 runs and the pipelines after it for more (pd_contact.comp's and contact_check.comp's), or
    `generic` without runs. */

@@ -303,6 +303,11 @@ _Static_assert(CVK_PIPE_PD_CONTACT_RUNS4 == CVK_PIPE_PD_CONTACT_RUNS2 + CVK_COLL
                        CVK_PIPE_CONTACT_CHECK_RUNS2 + CVK_COLLIDER_RUNS - 2,
                "one pipeline a run count, in order");
 
+bool cvk_collide_has_funnels(const cvk_collide* c)
+{
+    return (c->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
+}
+
 cvk_pipeline_id cvk_collide_pipeline(const cvk_collide* c, cvk_pipeline_id generic,
                                      cvk_pipeline_id runs2)
 {

@@ -82,9 +82,9 @@ cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build*
 }
 
 cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,
-                         VkDescriptorSet set, const cvk_pd_fused_push* push, bool funnels)
+                         VkDescriptorSet set, const cvk_pd_fused_push* push,
+                         cvk_pipeline_id pipeline)
 {
-    cvk_pipeline_id pipeline = funnels ? CVK_PIPE_GS_FUSED : CVK_PIPE_GS_FUSED_PLAIN;
     cvk_op* op = cvk_plan_dispatch(plan, pass, pipeline, layout, set,
                                    CVK_DOMAIN_PARTICLES, 0, push->count, push, sizeof *push);
     /* a workgroup a copy, its barriers ordering the colours, up to the plan's workgroups a

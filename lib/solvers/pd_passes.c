@@ -161,15 +161,17 @@ typedef struct pd_builder {
    funnels' edge test (pd_contact.glsl, NO_FUNNELS) where the scene has no funnel. */
 _Static_assert(CVK_PIPE_PD_CONTACT_PLAIN_RUNS4 == CVK_PIPE_PD_CONTACT_PLAIN_RUNS2 + CVK_COLLIDER_RUNS - 2,
                "one pipeline a run count, in order");
-static bool scene_has_funnels(const cvk_sim* s)
-{
-    return (s->collide->types & (1u << CVK_COLLIDER_FUNNEL)) != 0;
-}
 static cvk_pipeline_id contact_pipeline(const cvk_sim* s)
 {
-    if (scene_has_funnels(s))
+    if (cvk_collide_has_funnels(s->collide))
         return cvk_collide_pipeline(s->collide, CVK_PIPE_PD_CONTACT, CVK_PIPE_PD_CONTACT_RUNS2);
     return cvk_collide_pipeline(s->collide, CVK_PIPE_PD_CONTACT_PLAIN, CVK_PIPE_PD_CONTACT_PLAIN_RUNS2);
+}
+/* The fused sweeps, which run the contact passes themselves: likewise without the funnels'
+   edge test where the scene has no funnel. */
+static cvk_pipeline_id fused_pipeline(const cvk_sim* s)
+{
+    return cvk_collide_has_funnels(s->collide) ? CVK_PIPE_GS_FUSED : CVK_PIPE_GS_FUSED_PLAIN;
 }
 
 static const char* const set_note[CVK_PD_SET_COUNT] = {
@@ -520,7 +522,7 @@ static void add_fused(pd_builder* pb, const cvk_build* b, cvk_pd_set first_set)
                  (predict ? CVK_PD_FUSED_PREDICT : 0u);
     cvk_op* op = cvk_pd_add_fused(pb->plan, pb->solve, pb->pd->descriptors.pipeline_layout,
                                   pb->pd->descriptors.sets[first_set], &push,
-                                  scene_has_funnels(pb->sim));
+                                  fused_pipeline(pb->sim));
     if (!op)
         return;
     op->set1 = pb->contact_set;

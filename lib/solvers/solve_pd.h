@@ -146,10 +146,10 @@ cvk_pd_fused_push cvk_pd_fused_push_of(const cvk_pd_push* base, const cvk_build*
                                        uint32_t sweeps, uint32_t outers, float last_omega,
                                        uint32_t copies);
 
-/* Appends the fused pass: a workgroup a copy; without the funnels' edge test (the build with
-   NO_FUNNELS, shaders/solvers/pd_contact.glsl) unless `funnels`. */
+/* Appends the fused pass: a workgroup a copy, with `pipeline` (a build of pd_fused.comp). */
 cvk_op* cvk_pd_add_fused(cvk_plan* plan, uint32_t pass, VkPipelineLayout layout,
-                         VkDescriptorSet set, const cvk_pd_fused_push* push, bool funnels);
+                         VkDescriptorSet set, const cvk_pd_fused_push* push,
+                         cvk_pipeline_id pipeline);
 
 /* The pd family's part of the statistics: sweeps of the last frame and since creation, counted
    on the device when the plan checks for convergence, else the sweeps the plan records. */
