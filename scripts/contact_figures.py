@@ -8,6 +8,7 @@ one CSV row. Run two builds in one sitting to compare them:
 
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --rest [--label NAME]
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --twist
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv --intervals 1,2,4,8 [--rounds R]
 
 --held: how much the bounds hold the cloth back, by substep length (held.csv): the 40 x 40 drape
 in 8, 4, 2 and 1 substeps a frame of 1/60 s, and the pile and the twist at their own settings.
@@ -17,6 +18,9 @@ every substep read from a PC2 point cache); --label names the build in a first c
 --twist: how far the twist's kinematics stretch it (twist.csv): its largest and 99th percentile
 stretch as `--json` reports them after every 40 frames, with self-contact and without, and
 without it under a strain limit or with four times the outer iterations.
+--intervals: what collision.detection_interval trades (interval.csv): the 40 x 40 drape, the
+pile and the twist whole at each interval, the intervals alternated in each of R rounds (default
+2), the fastest round's ms per frame kept (the other columns do not change from round to round).
 """
 import argparse
 import csv
@@ -144,6 +148,31 @@ def twist_rows(sim):
     return TWIST_COLUMNS, rows
 
 
+INTERVAL_COLUMNS = ["scene", "detection interval", "ms per frame", "contacts group ms",
+                    "detections", "particle-substeps held at a bound %",
+                    "largest stretch at the end %", "p99 stretch at the end %",
+                    "intersecting pairs at the end"]
+
+
+def interval_rows(sim, intervals, rounds):
+    best = {}
+    for _ in range(rounds):
+        for name, scene in (("drape 40x40", "contact-drape.json"),
+                            ("pile of six 20x20", "contact-pile.json"),
+                            ("twist", "contact-twist.json")):
+            for k in (int(s) for s in intervals.split(",")):
+                d = run(sim, scene, [f"collision.detection_interval={k}"])
+                c = d["contacts"]
+                r = [name, k, round(d["gpu_ms_per_frame"], 1), round(passes(d, GROUP), 1),
+                     c["searches"], round(100.0 * c["held_fraction"], 2),
+                     round(100 * d["max_stretch"], 1), round(100 * d["p99_stretch"], 1),
+                     c["intersecting_pairs"]]
+                print(r, file=sys.stderr)
+                if (name, k) not in best or r[2] < best[(name, k)][2]:
+                    best[(name, k)] = r
+    return INTERVAL_COLUMNS, list(best.values())
+
+
 def scene_rows(sim, sizes):
     rows = []
     for n in (int(s) for s in sizes.split(",")):
@@ -168,11 +197,16 @@ def main():
     parser.add_argument("--twist", action="store_true",
                         help="how far the twist's kinematics stretch it")
     parser.add_argument("--label", default="", help="with --rest: the build's name in the rows")
+    parser.add_argument("--intervals", default="",
+                        help="collision.detection_interval values to compare, e.g. 1,2,4,8")
+    parser.add_argument("--rounds", type=int, default=2, help="with --intervals: rounds")
     a = parser.parse_args()
     sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
     columns, rows = (held_rows(sim) if a.held else
                      rest_rows(sim, a.label) if a.rest else
-                     twist_rows(sim) if a.twist else scene_rows(sim, a.sizes))
+                     twist_rows(sim) if a.twist else
+                     interval_rows(sim, a.intervals, a.rounds) if a.intervals else
+                     scene_rows(sim, a.sizes))
     with open(a.out, "w", newline="") as f:
         out = csv.writer(f, lineterminator="\n")
         out.writerow(columns)

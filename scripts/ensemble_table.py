@@ -2,12 +2,15 @@
 """`clothvk-bench contact-ensemble`'s CSV as the figures' CSV (docs/figures/contact-ogc/):
 
     python3 scripts/ensemble_table.py BENCH.csv [BENCH.csv ...] OUT.csv [--showcases]
+    python3 scripts/ensemble_table.py BENCH.csv ... OUT.csv --showcases --labels A,... --label-column NAME
     python3 scripts/ensemble_table.py BENCH.csv ... OUT.csv --solvers NAME,...
     python3 scripts/ensemble_table.py BENCH.csv ... OUT.csv --family NAME [--suffix TEXT]
 
 ensemble.csv's rows name the variant and its settings (and, where a run stopped early, why);
 with --showcases (the scenes at their
-own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one.
+own settings) a row is a scene, and its note is kept from OUT.csv where the scene had one;
+with --labels as well (one label per input), each scene's rows from every input follow one
+another, the label in a first column named --label-column.
 With --solvers A,B,... (one label per input) the variant rows get a first column, the solver.
 With --family (families.csv: one solver family's runs of the showcases) the rows of solver NAME
 whose scene ends with TEXT (default: none) are replaced by those of the inputs, named so (a scene
@@ -64,6 +67,8 @@ def main():
     ap.add_argument("--family")
     ap.add_argument("--suffix", default="")
     ap.add_argument("--solvers")
+    ap.add_argument("--labels")
+    ap.add_argument("--label-column", default="run")
     a = ap.parse_args()
     *inputs, out = a.inputs
     rows = [r for path in inputs for r in read(path)]
@@ -89,6 +94,17 @@ def main():
             if int(r["diverged_frame"]) >= 0:
                 note = "diverged at frame %s" % r["diverged_frame"]
             body.append([r["scene"], *common(r), note])
+        if a.labels:
+            labels = a.labels.split(",")
+            if len(labels) != len(inputs):
+                ap.error("--labels: %d labels for %d inputs" % (len(labels), len(inputs)))
+            labelled = [label for label, path in zip(labels, inputs) for _ in read(path)]
+            order = {s: i for i, s in enumerate(dict.fromkeys(r["scene"] for r in rows))}
+            body = [[label] + b for label, b in zip(labelled, body)]
+            body.sort(key=lambda b: order[b[1]])  # stable: each scene's rows in input order
+            header = [a.label_column] + header
+            if not any(b[-1] for b in body):  # no run has a note: no note column
+                header, body = header[:-1], [b[:-1] for b in body]
     else:
         header = ["scene", "variant", "settings", "frames run",
                   "frames with an intersecting pair", "most pairs in a frame",

@@ -649,6 +649,7 @@ static cvk_result create_params(cvk_sim* s, cvk_collide* c, bool kinematic, cvk_
         .radius = c->radius,
         .gamma = CVK_BOUND_GAMMA,
         .redetect = CVK_REDETECT_FRACTION,
+        .detection_interval = c->detection_interval,
         .edge_count = c->edge_count,
         /* a kinematic particle (pinned, attached) cannot follow a common shift */
         .shift = b->free_count == b->particle_count && !kinematic,
@@ -736,6 +737,7 @@ cvk_result cvk_collide_create(cvk_sim* s, const cvk_scene_desc* scene, cvk_error
     c->thickness = scene->collision.thickness > 0.0f ? scene->collision.thickness
                                                      : default_thickness(&s->build);
     c->radius = cvk_collision_radius(&scene->collision, c->thickness);
+    c->detection_interval = cvk_collision_detection_interval(&scene->collision);
     c->friction = scene->collision.friction;
     c->static_friction = fmaxf(scene->collision.static_friction, c->friction);
     c->longest = 1.5f * longest_edge(&s->build);

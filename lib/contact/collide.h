@@ -33,7 +33,11 @@
    pass `redetect` of its bound from the shift the substep would take; only then does detection
    run (the hash build and the passes are dispatched indirectly, with no workgroups otherwise),
    so one recorded frame replays with no host work and a cloth at rest or moving as one detects
-   nothing.
+   nothing. With collision.detection_interval N > 1 such a detection waits for substep N, 2N,
+   ... of the run, the particles held at their bounds until then (the bounds keep the
+   guarantee whatever the moves); a bound centred too near a collider, an attached particle's
+   move, or a particle a collider's push left past its bound still detects at once
+   (CVK_EXCEED_NOW).
 
    The module owns one descriptor set, the contact set, which every solver family's pipelines
    bind as set 1 (shaders/contact/collide.glsl declares it); a scene without colliders and
@@ -69,6 +73,7 @@ typedef struct cvk_collide {
                                     `types` (the contact pass's build for that many), or 0 */
     float thickness;             /* m, resolved (collision.thickness or its default) */
     float radius;                /* m: the contact radius, resolved */
+    uint32_t detection_interval; /* collision.detection_interval, resolved (>= 1) */
     float longest;               /* m: the longest an edge may be (1.5 × the longest at rest) */
     float friction, static_friction;
 

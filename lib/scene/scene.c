@@ -36,10 +36,10 @@ cvk_scene_desc cvk_default_scene_desc(void)
         .cloth_count = 0,
         .render = cvk_default_render_desc(),
         /* thickness 0: half the shortest structural rest length, resolved by the simulation. */
-        /* radius 0: twice the thickness. */
+        /* radius 0: 1.3 thicknesses (CVK_RADIUS_THICKNESSES). */
         .collision = {.self = false, .thickness = 0.0f, .radius = 0.0f, .friction = 0.3f,
                       .static_friction = 0.4f, .allow_intersecting_start = false,
-                      .detect_every = 0, .exclusion = 0.0f, .edges = false},
+                      .detection_interval = 1, .detect_every = 0, .exclusion = 0.0f, .edges = false},
         .colliders = NULL,
         .collider_count = 0,
         .attachments = NULL,

@@ -55,13 +55,14 @@ bool cvk_collider_look_check(const cvk_collider_desc* collider, const char* base
 bool cvk_fit_check(const cvk_render_desc* r, cvk_scene_issue* issue);
 /* Collision (lib/scene/scene_collision.c): the collision block's keys; a given radius against
    a thickness (the scene's, or the default the simulation resolved when the scene gives none);
-   the radius a thickness resolves to (0: twice the thickness); and one sentence for each key of
+   the radius a thickness resolves to (0: 1.3 thicknesses); and one sentence for each key of
    an earlier contact the block sets, which has no effect (static strings; returns how many). */
 #define CVK_COLLISION_NOTES_MAX 3u
 bool cvk_collision_check(const cvk_collision_desc* collision, cvk_scene_issue* issue);
 bool cvk_collision_radius_check(const cvk_collision_desc* collision, float thickness,
                                 cvk_scene_issue* issue);
 float cvk_collision_radius(const cvk_collision_desc* collision, float thickness);
+uint32_t cvk_collision_detection_interval(const cvk_collision_desc* collision); /* 0 is 1 */
 /* The contact radius by default: this many thicknesses — 8 % less than a grid cloth's nearest
    rest distance from a particle to a feature not around it (its parallel diagonals, about 1.41
    default thicknesses apart), so a flat cloth lists no pairs of its own, nor a cloth compressed

@@ -6,6 +6,9 @@
 
 /* m: a thickness or a radius above this is a typo (a cloth contact a metre thick). */
 #define MAX_CONTACT_DISTANCE 1.0
+/* Substeps: a detection held back longer leaves the cloth held at its bounds for most of a
+   frame. */
+#define MAX_DETECTION_INTERVAL 64u
 
 static bool check_distance(cvk_scene_issue* issue, const char* path, float v)
 {
@@ -22,6 +25,10 @@ bool cvk_collision_check(const cvk_collision_desc* c, cvk_scene_issue* issue)
         !cvk_check_at_least(issue, "collision.friction", c->friction, 0.0) ||
         !cvk_check_finite(issue, "collision.static_friction", c->static_friction))
         return false;
+    if (c->detection_interval > MAX_DETECTION_INTERVAL)
+        return cvk_issue_at(issue, "collision.detection_interval",
+                            "must be at most %u substeps, got %u", MAX_DETECTION_INTERVAL,
+                            c->detection_interval);
     if (c->static_friction < c->friction)
         return cvk_issue_at(issue, "collision.static_friction", "must be at least friction (%s), got %s",
                             cvk_float_text(c->friction).text, cvk_float_text(c->static_friction).text);
@@ -44,6 +51,11 @@ bool cvk_collision_radius_check(const cvk_collision_desc* c, float thickness, cv
 float cvk_collision_radius(const cvk_collision_desc* c, float thickness)
 {
     return c->radius > 0.0f ? c->radius : CVK_RADIUS_THICKNESSES * thickness;
+}
+
+uint32_t cvk_collision_detection_interval(const cvk_collision_desc* c)
+{
+    return c->detection_interval > 1 ? c->detection_interval : 1u;
 }
 
 uint32_t cvk_collision_notes(const cvk_collision_desc* c, const char* notes[CVK_COLLISION_NOTES_MAX])

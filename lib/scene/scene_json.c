@@ -316,6 +316,8 @@ static const cvk_field collision_fields[] = {
     {.key = "static_friction", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, static_friction)},
     {.key = "allow_intersecting_start", .read = cvk_read_bool,
      .offset = offsetof(cvk_collision_desc, allow_intersecting_start)},
+    {.key = "detection_interval", .read = cvk_read_uint,
+     .offset = offsetof(cvk_collision_desc, detection_interval)},
     /* No effect (cvk_collision_desc): read so that old scenes load, and named in the notes. */
     {.key = "detect_every", .read = cvk_read_uint, .offset = offsetof(cvk_collision_desc, detect_every)},
     {.key = "exclusion", .read = cvk_read_float, .offset = offsetof(cvk_collision_desc, exclusion)},

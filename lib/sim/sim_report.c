@@ -218,6 +218,22 @@ static void put_instances(text* t, const cvk_sim* s)
         put(t, "offset k x [%g, %g, %g] m\n", o[0], o[1], o[2]);
 }
 
+/* "; detections asked for by moves at substeps N, 2N, 3N, ... only" where
+   collision.detection_interval N holds them back, else "". */
+typedef struct note_text {
+    char text[112];
+} note_text;
+static note_text interval_note(const cvk_collide* c)
+{
+    note_text n = {""};
+    uint32_t k = c->detection_interval;
+    if (k > 1)
+        snprintf(n.text, sizeof n.text,
+                 "; detections asked for by moves at substeps %u, %u, %u, ... only", k, 2 * k,
+                 3 * k);
+    return n;
+}
+
 static void put_header(text* t, const cvk_sim* s)
 {
     const cvk_build* b = &s->build;
@@ -245,8 +261,8 @@ static void put_header(text* t, const cvk_sim* s)
             c->thickness, c->friction, c->static_friction,
             c->self ? "on" : "off");
         if (c->self)
-            put(t, " (contact radius %.4g m, bounds %.2g of the nearest distance)",
-                (double)c->radius, (double)CVK_BOUND_GAMMA);
+            put(t, " (contact radius %.4g m, bounds %.2g of the nearest distance%s)",
+                (double)c->radius, (double)CVK_BOUND_GAMMA, interval_note(c).text);
         put(t, ", %u colliders", c->collider_count);
         if (c->instance_count > 1)
             put(t, " (%u a copy, each particle testing its copy's)", c->instance_colliders);

@@ -211,6 +211,7 @@ typedef struct cvk_collision_desc {
     float friction;
     float static_friction;
     bool allow_intersecting_start;
+    uint32_t detection_interval;
     uint32_t detect_every;
     float exclusion;
     bool edges;

@@ -47,6 +47,12 @@ void note_loops_cut(uint count)
 // a frame, the six-cloth pile's 22.5 -> 14.3). Every pass that keeps particles within their
 // bounds runs in a dispatch after the decision that wrote the shift (contact_decide.comp,
 // contact_faces_fused.comp), never in the one that writes it.
+// motion_bounds.exceed's bits (contact_check.glsl): some particle's move would pass `redetect`
+// of its bound (a detection that may wait for collision.detection_interval); the substep must
+// detect (a bound centred too near a collider; where detection may wait, an attached
+// particle's move or a particle already past its bound).
+const uint CVK_EXCEED_MOVES = 1u, CVK_EXCEED_NOW = 2u;
+
 vec3 bound_shift()
 {
     return vec3(frame.shift_x, frame.shift_y, frame.shift_z);

@@ -68,7 +68,12 @@ void decide_shift()
 // Phase 1: detect or not; the shift for the substep; the bounds reset.
 void decide_detect()
 {
-    bool search = frame.force != 0u || motion_bounds.exceed != 0u;
+    // A detection that only the moves ask for waits for a substep whose index is a multiple
+    // of the interval (collision.detection_interval; at 1, none waits): until then the
+    // particles that would pass their bounds are held at them.
+    uint exceed = motion_bounds.exceed;
+    bool waits = (exceed & CVK_EXCEED_NOW) == 0u && frame.step % contact.detection_interval != 0u;
+    bool search = frame.force != 0u || (exceed != 0u && !waits);
     // A detection shifts by the centre of the last substep's displacements (after the host
     // wrote the state, the written velocities times dt: lib/contact/collide.h), the motion
     // expected of all; held at 0 otherwise a cloth thrown faster than its bound a substep

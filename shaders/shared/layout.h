@@ -340,9 +340,9 @@ CVK_STRUCT(cvk_gpu_frame, CVK_GPU_FRAME_FIELDS)
 /* After the frame state in its buffer: what the decision at the start of a substep gathers
    (contact_check.comp) — per axis, order-preserving bits of the floats, the bounds of each
    particle's displacement since detection extrapolated over the substep (e) and of its last
-   substep's displacement (v); whether some particle would leave its bound; whether some
-   particle is near a collider (no shift at a detection then); the shift for the substep if it
-   does not detect. Reset by the decision, so snapshots need not carry them. */
+   substep's displacement (v); why it must or may detect (exceed: bounds.glsl's bits); whether
+   a particle is near a collider (no shift at a detection then); the shift for the substep if
+   it does not detect. Reset by the decision, so snapshots need not carry them. */
 #define CVK_GPU_MOTION_BOUNDS_FIELDS \
     CVK_UINT(e_low_x)                \
     CVK_UINT(e_low_y)                \
@@ -432,10 +432,10 @@ CVK_STRUCT(cvk_gpu_collider, CVK_GPU_COLLIDER_FIELDS)
     CVK_FLOAT(static_friction)                                                              \
     CVK_FLOAT(dt)             /* s per substep */                                           \
     CVK_FLOAT(radius)         /* m: the contact radius (features nearer are listed) */      \
-    CVK_UINT(instance_colliders) /* colliders per instance: instance i's are               \
-                                    [i × this, (i + 1) × this) (all of them with one) */      \
+    CVK_UINT(instance_colliders) /* colliders per instance (i's: [i × this, (i + 1) × this)) */ \
     CVK_FLOAT(gamma)          /* the bound: this fraction of the nearest distance */        \
     CVK_FLOAT(redetect)       /* detect when a move would pass this fraction of a bound */ \
+    CVK_UINT(detection_interval) /* collision.detection_interval, >= 1 (contact_decide.glsl) */ \
     CVK_UINT(edge_count)                                                                    \
     CVK_UINT(shift)           /* 1: the bounds may share a common shift (no kinematic particle) */ \
     CVK_FLOAT(longest)        /* m: the longest an edge may be for the hash's cells (1.5 × at rest) */ \

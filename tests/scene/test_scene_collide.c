@@ -55,6 +55,7 @@ static void check_default_collision(const cvk_scene_desc* d)
     CHECK_FLOAT(d->collision.friction, 0.3f);
     CHECK_FLOAT(d->collision.static_friction, 0.4f);
     CHECK(!d->collision.allow_intersecting_start);
+    CHECK_INT(d->collision.detection_interval, 1);
     CHECK_INT(d->collision.detect_every, 0);
     CHECK_FLOAT(d->collision.exclusion, 0.0f);
     CHECK(!d->collision.edges);
@@ -171,8 +172,33 @@ static void test_validate_radius(void)
                                   "(contact acts between the thickness and the radius)");
     f.scene.collision.radius = 0.006f;
     EXPECT_DESC_VALID(&f.scene);
-    f.scene.collision.radius = 0.0f; /* twice the thickness */
+    f.scene.collision.radius = 0.0f; /* 1.3 thicknesses */
     EXPECT_DESC_VALID(&f.scene);
+}
+
+/* The detection interval: 0 and 1 detect at the substep that needs it; at most 64. */
+static void test_validate_detection_interval(void)
+{
+    fixture f;
+    fixture_init(&f);
+    f.scene.collision.detection_interval = 65;
+    EXPECT_DESC_INVALID(&f.scene, "collision.detection_interval: must be at most 64 substeps, got 65");
+    f.scene.collision.detection_interval = UINT32_MAX;
+    EXPECT_DESC_INVALID(&f.scene, "collision.detection_interval: must be at most 64 substeps, got 4294967295");
+    f.scene.collision.detection_interval = 64;
+    EXPECT_DESC_VALID(&f.scene);
+    f.scene.collision.detection_interval = 0;
+    EXPECT_DESC_VALID(&f.scene);
+    cvk_scene* scene = PARSE_OK("{'cloths': [{}], 'collision': {'self': true, 'detection_interval': 4}}");
+    if (scene)
+        CHECK_INT(cvk_scene_get_desc(scene)->collision.detection_interval, 4);
+    cvk_scene_destroy(scene);
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'detection_interval': 100}}",
+                   "t.json: collision.detection_interval: must be at most 64 substeps, got 100");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'detection_interval': 2.5}}",
+                   "t.json: collision.detection_interval: expected a whole number, got 2.5");
+    EXPECT_INVALID("{'cloths': [{}], 'collision': {'detection_interval': -2}}",
+                   "t.json: collision.detection_interval: must be at least 0, got -2");
 }
 
 /* The keys of the earlier contact load and are checked no more: they have no effect (the
@@ -548,7 +574,8 @@ static void test_json_types(void)
                    "t.json: colliders.0.material: expected an object, got an array of 3");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'thickness': 0.01, 'margin': 0.01}}",
                    "t.json: collision.margin: unknown key (expected one of: self, thickness, radius, friction, "
-                   "static_friction, allow_intersecting_start, detect_every, exclusion, edges)");
+                   "static_friction, allow_intersecting_start, detection_interval, detect_every, exclusion, "
+                   "edges)");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'self': true, 'edges': 'yes'}}",
                    "t.json: collision.edges: expected true or false, got the string \"yes\"");
     EXPECT_INVALID("{'cloths': [{}], 'collision': {'radius': '2 cm'}}",
@@ -733,6 +760,7 @@ int main(void)
     test_names();
     test_validate_collision();
     test_validate_radius();
+    test_validate_detection_interval();
     test_keys_without_effect();
     test_validate_collider_list();
     test_validate_shapes();

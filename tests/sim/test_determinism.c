@@ -384,6 +384,11 @@ static void check_contact_scene(cvk_context* ctx, const cvk_scene_desc* base)
     scene.collision.self = true;
     const char* name = "two cloths, sphere, moving box, self-contact";
     check_scene(ctx, name, &scene, 2 * 16 * 16);
+    /* Detections held back to every third substep (collision.detection_interval): the
+       decision, unfused and in the fused sweeps' one workgroup. */
+    scene.collision.detection_interval = 3;
+    check_variants(ctx, "the same, detection interval 3", &scene, 2 * 16 * 16, 2);
+    scene.collision.detection_interval = 1;
     /* Implicit Euler's self-contact (implicit_integrate.comp, implicit_self.comp): block
        Jacobi under every shape; CG, whose dot products are summed over as many partial sums as
        the workgroup size makes (library.md, "Determinism"), from run to run. */

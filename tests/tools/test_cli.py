@@ -501,6 +501,16 @@ CASES = [
      "argv": [asset("ribbons.json"), "--frames", "60", "--set", "collision.edges=false", "--json"],
      "status": 0,
      "check": json_pairs(lambda n: n == 0, "no intersecting pair: edge-edge contact is always on")},
+    # Detections held back to every fourth substep (collision.detection_interval): still no
+    # cloth through cloth; more than 64 substeps is refused.
+    {"name": "--json ribbons with collision.detection_interval=4",
+     "argv": [asset("ribbons.json"), "--frames", "60", "--set", "collision.detection_interval=4",
+              "--json"], "status": 0,
+     "check": json_pairs(lambda n: n == 0, "no intersecting pair with detections held back")},
+    {"name": "collision.detection_interval past 64",
+     "argv": [SMALL, "--set", "collision.detection_interval=65"], "status": 2,
+     "stderr": error(SMALL, "collision.detection_interval (from --set): must be at most 64 "
+                            "substeps, got 65")},
     {"name": "--json contacts", "argv": [asset("drape.json"), "--set", "cloths.0.grid=[12,12]",
                                          "--set", "cloths.0.origin=[1,0.05,1]",
                                          "--frames", "40", "--json"], "status": 0,

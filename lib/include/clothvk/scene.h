@@ -265,13 +265,18 @@ typedef struct cvk_collision_desc {
     float radius;                /* m: the contact radius: pairs of cloth primitives nearer
                                     than this are tracked by contact, and each particle's
                                     displacement bound is measured within it; more than the
-                                    thickness, at most 1; 0 = twice the thickness (the
+                                    thickness, at most 1; 0 = 1.3 thicknesses (the
                                     default) */
     float friction;              /* Coulomb kinetic coefficient, ≥ 0; usually 0.3 */
     float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
     bool allow_intersecting_start; /* with self: false (the default) refuses a scene whose
                                     cloths intersect at the start (cvk_sim_create names the
                                     first pair); true simulates it anyway */
+    uint32_t detection_interval; /* with self: a detection that only the bounds' use asks for
+                                    waits for a substep whose index is a multiple of this,
+                                    the particles that would pass their bounds held at them
+                                    until then; 0 or 1 (the default): detect at the substep
+                                    that needs it; at most 64 */
     /* Keys of an earlier contact, kept so that old scenes load; they have no effect, and a
        simulation lists each one a scene sets in its notes (cvk_sim_note). */
     uint32_t detect_every;       /* no effect; 0 */
