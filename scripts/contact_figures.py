@@ -155,7 +155,7 @@ INTERVAL_COLUMNS = ["scene", "detection interval", "ms per frame", "contacts gro
 
 
 def interval_rows(sim, intervals, rounds):
-    best = {}
+    rows = []
     for _ in range(rounds):
         for name, scene in (("drape 40x40", "contact-drape.json"),
                             ("pile of six 20x20", "contact-pile.json"),
@@ -163,13 +163,15 @@ def interval_rows(sim, intervals, rounds):
             for k in (int(s) for s in intervals.split(",")):
                 d = run(sim, scene, [f"collision.detection_interval={k}"])
                 c = d["contacts"]
-                r = [name, k, round(d["gpu_ms_per_frame"], 1), round(passes(d, GROUP), 1),
-                     c["searches"], round(100.0 * c["held_fraction"], 2),
-                     round(100 * d["max_stretch"], 1), round(100 * d["p99_stretch"], 1),
-                     c["intersecting_pairs"]]
-                print(r, file=sys.stderr)
-                if (name, k) not in best or r[2] < best[(name, k)][2]:
-                    best[(name, k)] = r
+                measured(rows, [name, k, round(d["gpu_ms_per_frame"], 1),
+                                round(passes(d, GROUP), 1), c["searches"],
+                                round(100.0 * c["held_fraction"], 2),
+                                round(100 * d["max_stretch"], 1),
+                                round(100 * d["p99_stretch"], 1), c["intersecting_pairs"]])
+    best = {}  # per scene and interval, the fastest round's row, in the first round's order
+    for r in rows:
+        if (r[0], r[1]) not in best or r[2] < best[(r[0], r[1])][2]:
+            best[(r[0], r[1])] = r
     return INTERVAL_COLUMNS, list(best.values())
 
 

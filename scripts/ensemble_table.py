@@ -71,20 +71,27 @@ def main():
     ap.add_argument("--label-column", default="run")
     a = ap.parse_args()
     *inputs, out = a.inputs
-    rows = [r for path in inputs for r in read(path)]
-    solvers = []  # with --solvers, each input's label, one per row
-    if a.solvers:
-        labels = a.solvers.split(",")
+    runs = [read(path) for path in inputs]
+    rows = [r for run in runs for r in run]
+
+    def per_row(option, text):
+        """One label per input (option's comma-separated text) as one per row, or []."""
+        if not text:
+            return []
+        labels = text.split(",")
         if len(labels) != len(inputs):
-            ap.error("--solvers: %d labels for %d inputs" % (len(labels), len(inputs)))
-        solvers = [label for label, path in zip(labels, inputs) for _ in read(path)]
+            ap.error("%s: %d labels for %d inputs" % (option, len(labels), len(inputs)))
+        return [label for label, run in zip(labels, runs) for _ in run]
+
+    solvers = per_row("--solvers", a.solvers)
+    labelled = per_row("--labels", a.labels)
     if a.family:
         family(a.family, a.suffix, rows, out)
         return
     if a.showcases:
         notes = {}
         if os.path.exists(out):
-            notes = {r["scene"]: r["note"] for r in read(out)}
+            notes = {r["scene"]: r.get("note", "") for r in read(out)}
         header = ["scene", "frames run", "frames with an intersecting pair",
                   "most pairs in a frame", "largest stretch at the end %",
                   "particle-substeps held at a bound %", "wall ms per frame (loaded)", "note"]
@@ -94,11 +101,7 @@ def main():
             if int(r["diverged_frame"]) >= 0:
                 note = "diverged at frame %s" % r["diverged_frame"]
             body.append([r["scene"], *common(r), note])
-        if a.labels:
-            labels = a.labels.split(",")
-            if len(labels) != len(inputs):
-                ap.error("--labels: %d labels for %d inputs" % (len(labels), len(inputs)))
-            labelled = [label for label, path in zip(labels, inputs) for _ in read(path)]
+        if labelled:
             order = {s: i for i, s in enumerate(dict.fromkeys(r["scene"] for r in rows))}
             body = [[label] + b for label, b in zip(labelled, body)]
             body.sort(key=lambda b: order[b[1]])  # stable: each scene's rows in input order

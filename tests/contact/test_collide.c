@@ -776,7 +776,7 @@ static uint32_t bounds_at_colliders(cvk_context* ctx, uint32_t interval)
                                            from[b], to[b], size[b], &err), err);
         const float shift[3] = {state.frame.shift_x, state.frame.shift_y, state.frame.shift_z};
         /* One substep a frame: substep f detected when the count rose; past the first, only
-           every interval-th may, unless the substep had to (a bound near a collider). */
+           every interval-th may, unless the substep had to (CVK_EXCEED_NOW: a bound near the box). */
         off_beat += f > 1 && state.frame.searches > searches && f % interval != 0;
         searches = state.frame.searches;
         for (uint32_t p = 0; p < sim->build.free_count; p++) {

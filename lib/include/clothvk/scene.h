@@ -272,11 +272,11 @@ typedef struct cvk_collision_desc {
     bool allow_intersecting_start; /* with self: false (the default) refuses a scene whose
                                     cloths intersect at the start (cvk_sim_create names the
                                     first pair); true simulates it anyway */
-    uint32_t detection_interval; /* with self: a detection that only the bounds' use asks for
-                                    waits for a substep whose index is a multiple of this,
-                                    the particles that would pass their bounds held at them
-                                    until then; 0 or 1 (the default): detect at the substep
-                                    that needs it; at most 64 */
+    uint32_t detection_interval; /* with self: a detection that only a particle's move asks
+                                    for waits for substep N, 2N, ... of the run (N this), the
+                                    particles that would pass their bounds held at them until
+                                    then; 0 or 1 (the default): detect at the substep that
+                                    asks; at most 64 */
     /* Keys of an earlier contact, kept so that old scenes load; they have no effect, and a
        simulation lists each one a scene sets in its notes (cvk_sim_note). */
     uint32_t detect_every;       /* no effect; 0 */
