@@ -4,12 +4,17 @@ scene run whole on one lavapipe core with a given build's clothvk-sim, its `--js
 one CSV row. Run two builds in one sitting to compare them:
 
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv [--sizes 20,40,80]
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv --sizes 20,40,80,160 --thicknesses default,0.0025
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --held
 
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --rest [--label NAME]
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --twist
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --intervals 1,2,4,8 [--rounds R]
 
+--thicknesses: the drape alone at each size and each cloth thickness (default: the scene's, half
+the shortest spring's rest length, so finer as the grid is; a number: collision.thickness in m,
+the same cloth at every size), with the per-detection cost, in a first column "thickness"
+(scaling.csv).
 --held: how much the bounds hold the cloth back, by substep length (held.csv): the 40 x 40 drape
 in 8, 4, 2 and 1 substeps a frame of 1/60 s, and the pile and the twist at their own settings.
 --rest: how the drape and the pile come to rest (rest.csv): by window of frames, the detections
@@ -187,11 +192,35 @@ def scene_rows(sim, sizes):
     return COLUMNS, rows
 
 
+SCALING_COLUMNS = (["thickness"] + COLUMNS[:8] + ["detections", "detection ms per detection"] +
+                   COLUMNS[9:])
+
+
+def scaling_rows(sim, sizes, thicknesses):
+    """The drape at each size and thickness: row()'s columns, led by the thickness, with the
+    detection group's GPU ms per detection (its ms a frame times the frames over the
+    detections)."""
+    rows = []
+    with open(os.path.join(ROOT, "assets", "scenes", "contact-drape.json")) as f:
+        frames = json.load(f)["frames"]
+    for t in thicknesses.split(","):
+        sets = [] if t == "default" else [f"collision.thickness={t}"]
+        for n in (int(s) for s in sizes.split(",")):
+            r = row(sim, f"drape {n}x{n}", "contact-drape.json",
+                    [f"cloths.0.grid=[{n},{n}]"] + sets, True)
+            per = round(r[4] * frames / r[8], 2) if r[8] else ""
+            measured(rows, [t] + r[:9] + [per] + r[9:])
+    return SCALING_COLUMNS, rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("build")
     parser.add_argument("out")
     parser.add_argument("--sizes", default="20,40,80")
+    parser.add_argument("--thicknesses", default="",
+                        help="with --sizes: the drape alone at each thickness, e.g. "
+                             "default,0.0025")
     parser.add_argument("--held", action="store_true",
                         help="the particles held at their bounds, by substep length")
     parser.add_argument("--rest", action="store_true",
@@ -208,6 +237,7 @@ def main():
                      rest_rows(sim, a.label) if a.rest else
                      twist_rows(sim) if a.twist else
                      interval_rows(sim, a.intervals, a.rounds) if a.intervals else
+                     scaling_rows(sim, a.sizes, a.thicknesses) if a.thicknesses else
                      scene_rows(sim, a.sizes))
     with open(a.out, "w", newline="") as f:
         out = csv.writer(f, lineterminator="\n")
