@@ -418,7 +418,7 @@ cvk_result cvk_sim_grab_within(cvk_sim* sim, cvk_particle particle, float radius
 void cvk_sim_release(cvk_sim* sim);
 cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
 
-#define CVK_MAX_PASSES 12
+#define CVK_MAX_PASSES 24
 
 typedef struct cvk_pass_stats {
     const char* name;
@@ -447,7 +447,7 @@ typedef struct cvk_sim_stats {
     uint32_t dispatches_per_frame;
     uint32_t dispatches_per_substep;
     uint32_t pass_count;
-    cvk_pass_stats passes[12];
+    cvk_pass_stats passes[24];
     uint64_t collider_contacts;
     uint64_t self_contacts;
     double max_penetration;

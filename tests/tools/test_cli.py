@@ -107,6 +107,29 @@ def json_notes(expected):
     return check
 
 
+def json_every_pass(*names):
+    """--json lists every pass of the frame: the named ones among them, the passes' dispatches
+    summing to the frame's and (where timed) their GPU times to the frame's."""
+    def check(stdout, workdir):
+        problems = []
+        stats = parse_json(stdout, problems)
+        if problems:
+            return problems
+        listed = [p["name"] for p in stats["passes"]]
+        problems += [f"passes: no {n!r} in {listed}" for n in names if n not in listed]
+        dispatches = sum(p["dispatches"] for p in stats["passes"])
+        if dispatches != stats["dispatches_per_frame"]:
+            problems.append(f"passes: {dispatches} dispatches listed, the frame has "
+                            f"{stats['dispatches_per_frame']} ({listed})")
+        frame = stats["gpu_ms_per_frame"]
+        if frame is not None:
+            timed = sum(p["gpu_ms"] for p in stats["passes"])
+            if abs(timed - frame) > 1e-6 * frame + 1e-9:
+                problems.append(f"passes: {timed} GPU ms listed, the frame took {frame}")
+        return problems
+    return check
+
+
 def json_all(*checks):
     return lambda stdout, workdir: [p for c in checks for p in c(stdout, workdir)]
 
@@ -296,6 +319,14 @@ CASES = [
      "stderr": error(SMALL, "collision.radius: 0.05 is not more than the thickness 0.1, half the "
                      "shortest structural rest length (contact acts between the thickness and the "
                      "radius)")},
+    # Every kind of pass in one plan (the demo with wind, tearing and a convergence check):
+    # --json lists all of them, the last ones too.
+    {"name": "every pass listed",
+     "argv": [asset("demo.json"), "--frames", "1", "--json", "--set", "cloths.0.tethers=0",
+              "--set", 'cloths.0.tearing={"max_stretch": 0.5}', "--set",
+              'wind={"velocity": [1, 0, 0]}', "--set", "solver.tolerance=0.01"],
+     "status": 0,
+     "check": json_every_pass("wind", "tear", "convergence", "finalize", "detect faces")},
     {"name": "wrong type", "argv": [scene("wrong-type.json")], "status": 2,
      "stderr": error(scene("wrong-type.json"), "dt: expected a number, got the string \"fast\"")},
     {"name": "negative mass", "argv": [scene("negative-mass.json")], "status": 2,

@@ -180,7 +180,8 @@ CVK_API cvk_result cvk_sim_set_solver(cvk_sim* sim, const cvk_solver_desc* solve
 /* The solver settings in use. */
 CVK_API cvk_solver_desc cvk_sim_get_solver(const cvk_sim* sim);
 
-#define CVK_MAX_PASSES 12
+/* Every kind of pass the library plans fits (21 names at most in one plan). */
+#define CVK_MAX_PASSES 24
 
 /* GPU time of one kind of pass over the last completed frame. */
 typedef struct cvk_pass_stats {
