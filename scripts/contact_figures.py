@@ -12,7 +12,7 @@ one CSV row. Run two builds in one sitting to compare them:
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --intervals 1,2,4,8 [--rounds R]
 
 --thicknesses: the drape alone at each size and each cloth thickness (default: the scene's, half
-the shortest spring's rest length, so finer as the grid is; a number: collision.thickness in m,
+the shortest spring's rest length, so thinner as the grid is finer; a number: collision.thickness in m,
 the same cloth at every size), with the per-detection cost, in a first column "thickness"
 (scaling.csv).
 --held: how much the bounds hold the cloth back, by substep length (held.csv): the 40 x 40 drape
