@@ -44,6 +44,13 @@ cvk_result cvk_plan_check(const cvk_plan* plan, cvk_error* error)
 {
     if (plan->out_of_memory)
         return cvk_fail(error, CVK_ERROR_OUT_OF_MEMORY, "out of host memory for the step plan");
+    /* The statistics list every pass (cvk_sim_stats.passes): a plan with more kinds of pass
+       than they hold is a defect of the library, refused here rather than listed in part. */
+    if (plan->pass_count > CVK_MAX_PASSES)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED,
+                        "the step plan has %u kinds of pass and the statistics list at most %u "
+                        "(CVK_MAX_PASSES): a defect of clothvk, please report it",
+                        plan->pass_count, CVK_MAX_PASSES);
     uint64_t per_frame = (uint64_t)plan->substeps * plan->op_count;
     if (per_frame > CVK_MAX_FRAME_DISPATCHES)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,

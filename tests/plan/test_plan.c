@@ -153,6 +153,32 @@ static void test_growth(void)
     cvk_plan_destroy(&plan);
 }
 
+/* A plan with more kinds of pass than the statistics list (CVK_MAX_PASSES) is refused, not
+   listed in part; at the limit it is not. */
+static void test_pass_limit(void)
+{
+    static char names[CVK_MAX_PASSES + 1][16];
+    cvk_plan plan;
+    cvk_plan_init(&plan, 1, 64, 4);
+    cvk_error err;
+    char expected[128];
+    snprintf(expected, sizeof expected,
+             "the step plan has %u kinds of pass and the statistics list at most %u "
+             "(CVK_MAX_PASSES)", CVK_MAX_PASSES + 1, CVK_MAX_PASSES);
+    for (uint32_t i = 0; i <= CVK_MAX_PASSES; i++) {
+        snprintf(names[i], sizeof names[i], "pass %u", i);
+        cvk_plan_pass(&plan, names[i]);
+        cvk_result r = cvk_plan_check(&plan, &err);
+        if (i < CVK_MAX_PASSES)
+            CHECK(r == CVK_SUCCESS, "%u kinds of pass refused: %s", i + 1, err.message);
+        else
+            CHECK(r == CVK_ERROR_UNSUPPORTED && strstr(err.message, expected) != NULL,
+                  "%u kinds of pass: result %d, \"%s\"", i + 1, (int)r,
+                  r == CVK_SUCCESS ? "" : err.message);
+    }
+    cvk_plan_destroy(&plan);
+}
+
 /* The group count every direct dispatch of `plan` should have: one invocation per item in
    workgroups of its pipeline's size, at most max_groups, and over particles at most one per
    particle_group_items. */
@@ -288,6 +314,7 @@ int main(void)
 {
     cvk_context* ctx = harness_context();
     test_growth();
+    test_pass_limit();
     test_group_floor();
     test_transfer_kinds(ctx);
     test_shapes(ctx);
