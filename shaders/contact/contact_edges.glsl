@@ -131,18 +131,15 @@ void keep_near(uint e, uint f, float d, bool both)
     }
 }
 
-// The pairs within the radius the distance pass's walk meets, kept after it: on lavapipe a
-// loop's body runs at every step for every lane (under a mask where a lane has nothing to do),
-// so the atomics and the buckets' writes run in a loop over the pairs found, not at every
-// entry of the walk (the flat 40 x 40 drape's edge detection 8.0 -> 6.7 ms, the six-cloth
-// pile's 47 -> 39 ms a detection). An edge with more pairs walks again for the rest. Only the
-// edge is kept, the distance measured again after the loop (the same function on the same
-// ends, the same bits): a store at a variable index of a private array is a loop over the
-// lanes on lavapipe, run at every entry under a mask, and one such store an entry instead of
-// two made the edges' detection about a tenth cheaper against the faces' in the same runs (the
-// 40 x 40 contact drape and the six-cloth pile, one lavapipe core).
-const uint NEAR = 32u;
-uint near_f[NEAR]; // f, its top bit set where the nearest points lie inside both edges
+// The edges the distance pass's walk meets that may be within the radius (may_touch), kept
+// and measured after it: on lavapipe a loop's body runs at every step for every lane (under a
+// mask where a lane has nothing to do), so the segments' nearest points, the atomics and the
+// buckets' writes run in a loop over the edges kept, not at every entry of the walk. An edge
+// with more to measure walks again for the rest: more edges pass the boxes than the radius, and
+// with room for 32 the pile walked again so often that its edge detection took 88 ms a frame
+// instead of 52.
+const uint NEAR = 64u;
+uint near_f[NEAR];
 
 // Whether the walk's entry is a pair to test: in the distance pass's half walk each pair is
 // met once (in e's own cell from the lower index).
@@ -153,16 +150,55 @@ bool candidate(hash_walk w, uint e, vec3 m, uvec4 entry, bool here, float reach2
 }
 
 // Edge f met by e's walk or list at distance d (both: the nearest points inside both edges):
-// its pair with e if within the radius.
-void meet(uint e, uint f, float d, bool both, inout float nearest_e, inout uint found)
+// its pair with e if within the radius (the listing pass).
+void meet(uint f, float d, bool both, inout float nearest_e)
 {
     if (!(d < contact_u.radius))
         return;
     nearest_e = min(nearest_e, d);
-    if (LISTING && both)
+    if (both)
         INSERT(d, f);
-    if (!LISTING && found < NEAR)
-        near_f[found] = both ? f | 0x80000000u : f;
+}
+
+// e's box (its ends' lower and upper corners) and how near another edge's box must come for
+// the pair to be measured: the radius with room for the rounding of the two measures.
+struct edge_box {
+    vec3 low, high;
+    float near2;
+};
+
+edge_box box_of(vec3 xa, vec3 xb)
+{
+    edge_box b;
+    b.low = min(xa, xb);
+    b.high = max(xa, xb);
+    vec3 far = max(abs(b.low), abs(b.high));
+    float near = contact_u.radius * 1.001 + 1.0e-6 * (1.0 + max(far.x, max(far.y, far.z)));
+    b.near2 = near * near;
+    return b;
+}
+
+// Whether edge (xc, xd), which shares no end with e, may be within the radius of it: its box
+// within the radius of e's box. The boxes' distance is at most the edges', so no pair within
+// the radius is missed, and one more to measure costs only time. The distance pass tests this
+// at every entry and measures only what passes, in a loop of its own: on lavapipe the branches
+// of the segments' nearest points all run for every lane at every entry, while a loop runs as
+// often as its longest lane (the 40 x 40 contact drape's edge detection 15.8 -> 13.6-14.4 ms a
+// frame, the six-cloth pile's 53.5 -> 51.5 in its first 60 frames; the same bits).
+bool may_touch(edge_box b, vec3 xc, vec3 xd)
+{
+    vec3 gap = max(max(min(xc, xd) - b.high, b.low - max(xc, xd)), vec3(0.0));
+    return dot(gap, gap) <= b.near2;
+}
+
+// Edge f = (c, d) met by e = (a, b)'s walk or list: kept on the list to measure (as the
+// distance pass's near_f) where it shares no end with e and its box is near e's.
+void meet_box(uvec2 ab, edge_box b, uint f, uvec2 cd, vec3 xc, vec3 xd, inout uint found)
+{
+    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y || !may_touch(b, xc, xd))
+        return;
+    if (found < NEAR)
+        near_f[found] = f;
     found++;
 }
 
@@ -174,17 +210,35 @@ uvec2 cell_list(uint e)
 }
 
 // A list's edge f (`home`: the walk met it in e's own cell) with its ends c and d (their
-// positions' bits and indices): met by e = (a, b) at xa, xb, its midpoint m, where the pair is
-// to test (each pair once: in e's own cell from the lower index) and f's midpoint is within
-// reach.
-void list_meet(uint e, uvec2 ab, vec3 xa, vec3 xb, vec3 m, float reach2, uint f, bool home,
-               uvec4 c, uvec4 d, inout float nearest_e, inout uint found)
+// positions' bits and indices): met by e = (a, b), its midpoint m, where the pair is to test
+// (each pair once: in e's own cell from the lower index) and f's midpoint is within reach.
+void list_meet(uint e, uvec2 ab, edge_box b, vec3 m, float reach2, uint f, bool home, uvec4 c,
+               uvec4 d, inout uint found)
 {
     vec3 xc = uintBitsToFloat(c.xyz), xd = uintBitsToFloat(d.xyz);
-    if ((!home || f > e) && within_reach(m, 0.5 * (xc + xd), reach2)) {
-        bool both;
-        float dist = ends_distance(ab, xa, xb, uvec2(c.w, d.w), xc, xd, both);
-        meet(e, f, dist, both, nearest_e, found);
+    if ((!home || f > e) && within_reach(m, 0.5 * (xc + xd), reach2))
+        meet_box(ab, b, f, uvec2(c.w, d.w), xc, xd, found);
+}
+
+// The walk's edge f (its entry in the hash) met by e = (a, b): kept to measure as list_meet.
+void walk_meet(uvec2 ab, edge_box b, uint f, inout uint found)
+{
+    uvec2 cd = contact_edge(f);
+    if (contact_instance(cd.x) == contact_instance(ab.x))
+        meet_box(ab, b, f, cd, contact_x(cd.x), contact_x(cd.y), found);
+}
+
+// Edge f, kept to measure by e = (a, b): the pair within the radius kept (keep_near) and e's
+// nearest distance.
+void measure_kept(uint e, uvec2 ab, vec3 xa, vec3 xb, uint f, inout float nearest_e)
+{
+    uvec4 c = imageLoad(edge_ends_t, int(2u * f)), d = imageLoad(edge_ends_t, int(2u * f + 1u));
+    bool both;
+    float dist = ends_distance(ab, xa, xb, uvec2(c.w, d.w), uintBitsToFloat(c.xyz),
+                               uintBitsToFloat(d.xyz), both);
+    if (dist < contact_u.radius) {
+        nearest_e = min(nearest_e, dist);
+        keep_near(e, f, dist, both);
     }
 }
 
@@ -200,11 +254,24 @@ void detect(uint e)
     uint instance = contact_instance(ab.x); // the slots of e's instance's edges
     uvec4 entry;
     bool here;
+    if (LISTING) {
+        hash_walk w = hash_walk_begin(m, instance, reach2);
+        while (hash_walk_step(w, m, reach2, entry, here)) {
+            if (candidate(w, e, m, entry, here, reach2)) {
+                bool both;
+                float dist = edge_distance(ab, xa, xb, entry.w, both);
+                meet(entry.w, dist, both, nearest_e);
+            }
+        }
+        store_list(e);
+        return;
+    }
+    edge_box box = box_of(xa, xb);
     uint found = 0u;
     // The distance pass loops over the list of e's cell, the walk's entries in its order (the
-    // home cell's marked), where the pool held it; the listing pass, and an edge whose list
-    // did not fit, walk the hash.
-    uvec2 list = LISTING ? uvec2(0u, CVK_CELL_OVERFLOW) : cell_list(e);
+    // home cell's marked), where the pool held it; an edge whose list did not fit walks the
+    // hash.
+    uvec2 list = cell_list(e);
     bool walk = list.y == CVK_CELL_OVERFLOW;
     // A list holds e's instance's edges only (gather_cells), and their ends come from one
     // array at detection (measure_longest): three loads an entry instead of seven. Two entries
@@ -220,40 +287,28 @@ void detect(uint e)
         uint f0 = listed0 & ~CVK_CELL_HOME, f1 = listed1 & ~CVK_CELL_HOME;
         uvec4 c0 = imageLoad(edge_ends_t, int(2u * f0)), d0 = imageLoad(edge_ends_t, int(2u * f0 + 1u));
         uvec4 c1 = imageLoad(edge_ends_t, int(2u * f1)), d1 = imageLoad(edge_ends_t, int(2u * f1 + 1u));
-        list_meet(e, ab, xa, xb, m, reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0, nearest_e, found);
+        list_meet(e, ab, box, m, reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0, found);
         if (second)
-            list_meet(e, ab, xa, xb, m, reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1, nearest_e, found);
+            list_meet(e, ab, box, m, reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1, found);
     }
-    hash_walk w = LISTING ? hash_walk_begin(m, instance, reach2) : hash_walk_begin_half(m, instance);
+    hash_walk w = hash_walk_begin_half(m, instance);
     while (walk && hash_walk_step(w, m, reach2, entry, here)) {
-        if (candidate(w, e, m, entry, here, reach2)) {
-            bool both;
-            float dist = edge_distance(ab, xa, xb, entry.w, both);
-            meet(e, entry.w, dist, both, nearest_e, found);
-        }
+        if (candidate(w, e, m, entry, here, reach2))
+            walk_meet(ab, box, entry.w, found);
     }
-    if (LISTING) {
-        store_list(e);
-        return;
-    }
-    for (uint i = 0u; i < min(found, NEAR); i++) {
-        uint f = near_f[i] & 0x7fffffffu;
-        uvec4 c = imageLoad(edge_ends_t, int(2u * f)), d = imageLoad(edge_ends_t, int(2u * f + 1u));
-        bool both;
-        float dist = ends_distance(ab, xa, xb, uvec2(c.w, d.w), uintBitsToFloat(c.xyz),
-                                   uintBitsToFloat(d.xyz), both);
-        keep_near(e, f, dist, near_f[i] >= 0x80000000u);
-    }
-    // More pairs than the list holds (a crowd of layers): the same walk again, the pairs past
-    // the list's kept as they are met (a lane with no more ends this loop at its first step).
+    for (uint i = 0u; i < min(found, NEAR); i++)
+        measure_kept(e, ab, xa, xb, near_f[i], nearest_e);
+    // More to measure than the list holds (a crowd of layers): the same walk again, the edges
+    // past the list's measured as they are met (a lane with no more ends this loop at its first
+    // step).
     w = hash_walk_begin_half(m, instance);
     for (uint met = 0u; found > NEAR && hash_walk_step(w, m, reach2, entry, here);) {
         if (!candidate(w, e, m, entry, here, reach2))
             continue;
-        bool both;
-        float d = edge_distance(ab, xa, xb, entry.w, both);
-        if (d < contact_u.radius && met++ >= NEAR)
-            keep_near(e, entry.w, d, both);
+        uint more = 0u;
+        walk_meet(ab, box, entry.w, more);
+        if (more != 0u && met++ >= NEAR)
+            measure_kept(e, ab, xa, xb, entry.w, nearest_e);
     }
     if (nearest_e < INFINITY)
         atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
