@@ -398,11 +398,18 @@ void gather_cells()
         // room <= 14 edge counts (a slot holds each edge once at most), under the pool's size
         bool fits = start <= uint(CVK_CELL_POOL_PER_EDGE) * contact_u.edge_count - room;
         uint length = 0u;
+        // A loop over the cells with a loop over each cell's entries in it: one loop whose
+        // every step either moved to the next cell or took an entry ran both at every step on
+        // lavapipe (as the faces' walk did: performance.md).
         hash_walk w = hash_walk_begin_half(m, instance);
-        while (fits && hash_walk_step(w, entry, here)) {
-            if (listable(entry, here, cell, reach2, instance)) {
-                uint at = pool_base() + start + length++;
-                CELL_POOL_WORD(at) = entry.w | (w.n == HASH_HOME ? CVK_CELL_HOME : 0u);
+        for (; fits && w.n < 27u; hash_walk_next_cell(w, m, -1.0)) {
+            uint home = w.n == HASH_HOME ? CVK_CELL_HOME : 0u;
+            while (w.range.x < w.range.y) {
+                entry = hash_walk_entry(w, here);
+                if (listable(entry, here, cell, reach2, instance)) {
+                    uint at = pool_base() + start + length++;
+                    CELL_POOL_WORD(at) = entry.w | home;
+                }
             }
         }
         uvec2 range = hash_range(cell, instance);
