@@ -96,11 +96,17 @@ void store_list(uint e)
 
 // Edge f = (c, d) at xc, xd, of e = (a, b)'s instance: its distance to e if it shares no end
 // with e (else INFINITY), and whether the nearest points lie inside both.
+// Whether edges (a, b) and (c, d) share an end: adjacent (or one edge), never a pair.
+bool shares_end(uvec2 ab, uvec2 cd)
+{
+    return cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y;
+}
+
 float ends_distance(uvec2 ab, vec3 xa, vec3 xb, uvec2 cd, vec3 xc, vec3 xd, out bool both)
 {
     both = false;
-    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y)
-        return INFINITY; // sharing an end: adjacent (or e itself)
+    if (shares_end(ab, cd))
+        return INFINITY;
     float s, t;
     vec3 c1, c2;
     closest_segments(xa, xb, xc, xd, s, t, c1, c2);
@@ -192,12 +198,9 @@ bool may_touch(edge_box b, vec3 xc, vec3 xd)
     return dot(gap, gap) <= b.near2;
 }
 
-// Edge f = (c, d) met by e = (a, b)'s walk or list: kept on the list to measure (as the
-// distance pass's near_f) where it shares no end with e and its box is near e's.
-void meet_box(uvec2 ab, edge_box b, uint f, uvec2 cd, vec3 xc, vec3 xd, inout uint found)
+// Edge f, which may touch e: kept to measure after the loop, where there is room.
+void keep_to_measure(uint f, inout uint found)
 {
-    if (cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y || !may_touch(b, xc, xd))
-        return;
     if (found < NEAR)
         near_f[found] = f;
     found++;
@@ -210,23 +213,25 @@ uvec2 cell_list(uint e)
     return uvec2(cells[at], cells[at + 1u]);
 }
 
-// A list's edge f (`home`: the walk met it in e's own cell) with its ends c and d (their
-// positions' bits and indices): met by e = (a, b), its midpoint m, where the pair is to test
-// (each pair once: in e's own cell from the lower index) and f's midpoint is within reach.
-void list_meet(uint e, uvec2 ab, edge_box b, vec3 m, float reach2, uint f, bool home, uvec4 c,
-               uvec4 d, inout uint found)
+// Whether a list's edge f (`home`: the walk met it in e's own cell) with its ends c and d
+// (their positions' bits and indices) may touch e = (a, b), its midpoint m: the pair is to test
+// (each pair once: in e's own cell from the lower index), f's midpoint is within reach, f
+// shares no end with e and its box is near e's.
+bool list_may_touch(uint e, uvec2 ab, edge_box b, vec3 m, float reach2, uint f, bool home,
+                    uvec4 c, uvec4 d)
 {
     vec3 xc = uintBitsToFloat(c.xyz), xd = uintBitsToFloat(d.xyz);
-    if ((!home || f > e) && within_reach(m, 0.5 * (xc + xd), reach2))
-        meet_box(ab, b, f, uvec2(c.w, d.w), xc, xd, found);
+    return (!home || f > e) && within_reach(m, 0.5 * (xc + xd), reach2) &&
+           !shares_end(ab, uvec2(c.w, d.w)) && may_touch(b, xc, xd);
 }
 
-// The walk's edge f (its entry in the hash) met by e = (a, b): kept to measure as list_meet.
-void walk_meet(uvec2 ab, edge_box b, uint f, inout uint found)
+// Whether the walk's edge f (a candidate entry of the hash) may touch e = (a, b): of e's
+// instance, sharing no end with it, its box near e's.
+bool walk_may_touch(uvec2 ab, edge_box b, uint f)
 {
     uvec2 cd = contact_edge(f);
-    if (contact_instance(cd.x) == contact_instance(ab.x))
-        meet_box(ab, b, f, cd, contact_x(cd.x), contact_x(cd.y), found);
+    return contact_instance(cd.x) == contact_instance(ab.x) && !shares_end(ab, cd) &&
+           may_touch(b, contact_x(cd.x), contact_x(cd.y));
 }
 
 // Edge f, kept to measure by e = (a, b): the pair within the radius kept (keep_near) and e's
@@ -288,14 +293,15 @@ void detect(uint e)
         uint f0 = listed0 & ~CVK_CELL_HOME, f1 = listed1 & ~CVK_CELL_HOME;
         uvec4 c0 = imageLoad(edge_ends_t, int(2u * f0)), d0 = imageLoad(edge_ends_t, int(2u * f0 + 1u));
         uvec4 c1 = imageLoad(edge_ends_t, int(2u * f1)), d1 = imageLoad(edge_ends_t, int(2u * f1 + 1u));
-        list_meet(e, ab, box, m, reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0, found);
-        if (second)
-            list_meet(e, ab, box, m, reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1, found);
+        if (list_may_touch(e, ab, box, m, reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0))
+            keep_to_measure(f0, found);
+        if (second && list_may_touch(e, ab, box, m, reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1))
+            keep_to_measure(f1, found);
     }
     hash_walk w = hash_walk_begin_half(m, instance);
     while (walk && hash_walk_step(w, m, reach2, entry, here)) {
-        if (candidate(w, e, m, entry, here, reach2))
-            walk_meet(ab, box, entry.w, found);
+        if (candidate(w, e, m, entry, here, reach2) && walk_may_touch(ab, box, entry.w))
+            keep_to_measure(entry.w, found);
     }
     for (uint i = 0u; i < min(found, NEAR); i++)
         measure_kept(e, ab, xa, xb, near_f[i], nearest_e);
@@ -304,11 +310,8 @@ void detect(uint e)
     // step).
     w = hash_walk_begin_half(m, instance);
     for (uint met = 0u; found > NEAR && hash_walk_step(w, m, reach2, entry, here);) {
-        if (!candidate(w, e, m, entry, here, reach2))
-            continue;
-        uint more = 0u;
-        walk_meet(ab, box, entry.w, more);
-        if (more != 0u && met++ >= NEAR)
+        if (candidate(w, e, m, entry, here, reach2) && walk_may_touch(ab, box, entry.w) &&
+            met++ >= NEAR)
             measure_kept(e, ab, xa, xb, entry.w, nearest_e);
     }
     if (nearest_e < INFINITY)

@@ -157,7 +157,7 @@ static void test_growth(void)
    listed in part; at the limit it is not. */
 static void test_pass_limit(void)
 {
-    static char names[CVK_MAX_PASSES + 1][16];
+    char names[CVK_MAX_PASSES + 1][16]; /* the plan keeps the pointers until destroyed */
     cvk_plan plan;
     cvk_plan_init(&plan, 1, 64, 4);
     cvk_error err;
