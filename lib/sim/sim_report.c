@@ -67,8 +67,8 @@ void cvk_sim_get_timing(const cvk_sim* s, cvk_sim_stats* st)
         st->springs[t] = b->springs_by_type[t];
     st->colours = b->colour_count;
     st->frames = s->frames;
-    /* At most CVK_MAX_PASSES: a plan with more is refused (cvk_plan_check). */
-    st->pass_count = s->plan.pass_count < CVK_MAX_PASSES ? s->plan.pass_count : CVK_MAX_PASSES;
+    /* At most CVK_MAX_PASSES: sim creation refuses a plan with more (cvk_plan_check). */
+    st->pass_count = s->plan.pass_count;
     for (uint32_t p = 0; p < st->pass_count; p++) {
         st->passes[p].name = s->plan.pass_names[p];
         st->passes[p].dispatches = cvk_plan_frame_ops(&s->plan, p);

@@ -94,14 +94,14 @@ void store_list(uint e)
     }
 }
 
-// Edge f = (c, d) at xc, xd, of e = (a, b)'s instance: its distance to e if it shares no end
-// with e (else INFINITY), and whether the nearest points lie inside both.
 // Whether edges (a, b) and (c, d) share an end: adjacent (or one edge), never a pair.
 bool shares_end(uvec2 ab, uvec2 cd)
 {
     return cd.x == ab.x || cd.x == ab.y || cd.y == ab.x || cd.y == ab.y;
 }
 
+// Edge f = (c, d) at xc, xd, of e = (a, b)'s instance: its distance to e if it shares no end
+// with e (else INFINITY), and whether the nearest points lie inside both.
 float ends_distance(uvec2 ab, vec3 xa, vec3 xb, uvec2 cd, vec3 xc, vec3 xd, out bool both)
 {
     both = false;
