@@ -12,8 +12,10 @@ under two schemes, on the same trajectory:
   the larger of each side's corners, the two sides summed), capped at 0.45 of the contact
   radius; such a bound keeps every pair apart (limits.md).
 
-A particle asks when its move since its ball was made plus its last substep's move passes 0.9 of
-its bound (contact_check.comp's extrapolation; the engine's shift is left out). The model does
+A particle asks when its move since its ball was made plus its last substep's move, less the
+shift common to all, passes 0.9 of its bound (contact_check.comp's extrapolation and
+contact_decide.comp's shift, without its rule of no shift near a collider; the floor is 0.001
+thicknesses, without its part relative to the coordinates). The model does
 not feed the bounds back into the motion: the trajectory is the engine's, made with whole
 detections. It counts work, not cost: the measured particles stand for the walks of detection.
 
