@@ -130,7 +130,7 @@ class Model:
         self.centre = np.zeros((n, 3))
         self.bound = np.zeros(n)
 
-    def measure(self, x, region, shift=np.zeros(3)):
+    def measure(self, x, region, shift=0.0):
         """New balls for the particles in region (a boolean mask), at positions x; the others'
         balls are centred at their centres plus shift."""
         reach_left = np.where(region, 0.0,
@@ -168,16 +168,12 @@ class Model:
         self.bound[region] = new[region]
 
 
-def rings(tris, n, asking, k):
-    region = asking.copy()
-    nbr = [set() for _ in range(n)]
-    for t in tris:
-        for i in t:
-            nbr[i].update(t)
+def rings(edges, region, k):
+    """region and the particles within k edges of the mesh of it."""
     for _ in range(k):
         grow = region.copy()
-        for i in np.nonzero(region)[0]:
-            grow[list(nbr[i])] = True
+        grow[edges[region[edges[:, 0]], 1]] = True
+        grow[edges[region[edges[:, 1]], 0]] = True
         region = grow
     return region
 
@@ -200,7 +196,7 @@ def replay(frames, tris, edges, radius, thickness, region_rule):
         asking = move > REDETECT * model.bound
         if not asking.any():
             continue
-        region = region_rule(x, asking, model, move)
+        region = region_rule(asking, move, model.bound)
         model.measure(x, region, shift)
         detections += 1
         measured += int(region.sum())
@@ -227,22 +223,27 @@ def pieces(tris, n):
     return np.array([root(i) for i in range(n)])
 
 
-def make_rule(text, tris, n):
+def make_rule(text, tris, edges, n):
+    """The region rule named by text: a function of (asking, move, bound) giving the region."""
     kind, _, value = text.partition(":")
-    if kind == "whole":
-        return lambda x, asking, model, move: np.ones(n, dtype=bool)
-    if kind == "cloth":
-        piece = pieces(tris, n)
-        return lambda x, asking, model, move: np.isin(piece, piece[asking])
-    if kind == "rings":
-        k = int(value)
-        return lambda x, asking, model, move: rings(tris, n, asking, k)
-    if kind == "ahead":
-        # the particles past a fraction of their bounds, and k rings around them
-        frac, _, k = value.partition(",")
-        frac, k = float(frac), int(k or 0)
-        return lambda x, asking, model, move: rings(tris, n, asking | (move > frac * model.bound), k)
-    raise SystemExit(f"unknown region rule {text!r} (whole, cloth, rings:K, ahead:F[,K])")
+    try:
+        if kind == "whole" and not value:
+            return lambda asking, move, bound: np.ones(n, dtype=bool)
+        if kind == "cloth" and not value:
+            piece = pieces(tris, n)
+            return lambda asking, move, bound: np.isin(piece, piece[asking])
+        if kind == "rings":
+            k = int(value)
+            return lambda asking, move, bound: rings(edges, asking, k)
+        if kind == "ahead":
+            # the particles past a fraction of their bounds, and k rings around them
+            frac, _, k = value.partition(",")
+            frac, k = float(frac), int(k or 0)
+            return lambda asking, move, bound: rings(edges, asking | (move > frac * bound), k)
+    except ValueError:
+        pass
+    raise SystemExit(f"partial_detection_model: --region {text}: expected whole, cloth, rings:K "
+                     f"or ahead:F[,K]")
 
 
 def main():
@@ -264,24 +265,25 @@ def main():
     if not args.thickness > 0.0:
         raise SystemExit(f"partial_detection_model: --thickness must be positive, got {args.thickness}")
     radius = args.radius or 1.3 * args.thickness
-    rules = args.region or ["whole", "rings:1", "rings:2", "rings:4"]
+    texts = args.region or ["whole", "rings:1", "rings:2", "rings:4"]
+    rules = [make_rule(text, tris, edges, frames.shape[1]) for text in texts]
+    out = csv.writer(sys.stdout, lineterminator="\n")
     rows = []
-    for text in rules:
-        det, full, asked = replay(frames, tris, edges, radius, args.thickness,
-                                  make_rule(text, tris, frames.shape[1]))
-        row = [args.label or os.path.basename(args.pc2), frames.shape[1], len(frames) - 1, text,
-               det, f"{full:.1f}", f"{asked / max(det - 1, 1):.1f}"]
-        rows.append(row)
-        print(",".join(str(v) for v in row), flush=True)
+    for text, rule in zip(texts, rules):
+        det, full, asked = replay(frames, tris, edges, radius, args.thickness, rule)
+        rows.append([args.label or os.path.basename(args.pc2), frames.shape[1], len(frames) - 1,
+                     text, det, f"{full:.1f}", f"{asked / max(det - 1, 1):.1f}"])
+        out.writerow(rows[-1])
+        sys.stdout.flush()
     if args.csv:
         new = not os.path.exists(args.csv)
         with open(args.csv, "a", newline="") as f:
-            w = csv.writer(f)
+            w = csv.writer(f, lineterminator="\n")
             if new:
-                w.writerow(["run", "particles", "substeps", "region", "detections",
-                            "particles measured (whole detections)", "asking per detection"])
+                w.writerow(["scene", "particles", "substeps", "region", "detections",
+                            "particles measured (in whole detections)",
+                            "particles asking per detection"])
             w.writerows(rows)
-
 
 if __name__ == "__main__":
     main()
