@@ -93,7 +93,8 @@ static void dt_variant(variant* v, const cvk_scene_desc* s, uint32_t k)
     }
 }
 
-static uint32_t make_variants(const cvk_scene_desc* s, variant* v)
+/* The variants of scene s, which the user's --set overrides (when `overridden`) already changed. */
+static uint32_t make_variants(const cvk_scene_desc* s, bool overridden, variant* v)
 {
     double low, high, d = s->damping, f = s->collision.static_friction;
     omega_pair(&s->solver, &low, &high);
@@ -101,7 +102,7 @@ static uint32_t make_variants(const cvk_scene_desc* s, variant* v)
                                    "damping-x2", "friction-0", "friction-0.6", "dt-x2", "dt-x4"};
     for (uint32_t i = 0; i < VARIANTS; i++)
         v[i] = (variant){.name = names[i]};
-    v[0].note = "the scene's own settings";
+    v[0].note = overridden ? "the scene with the --set overrides" : "the scene's own settings";
     add_item(&v[1], "solver.omega=%.7g", low);
     add_item(&v[2], "solver.omega=%.7g", high);
     add_item(&v[3], "damping=%.7g", fmin(d + 0.01, 0.999));
@@ -280,7 +281,7 @@ typedef struct tally {
 static void run_scene(bench* b, const char* path, const cvk_scene_desc* s, tally* all)
 {
     variant v[VARIANTS];
-    uint32_t n = make_variants(s, v);
+    uint32_t n = make_variants(s, b->o->overrides.count > 0, v);
     if (b->o->variants && b->o->variants < n)
         n = b->o->variants;
     uint32_t frames = b->o->frames ? b->o->frames : s->frames;
