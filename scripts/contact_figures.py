@@ -10,6 +10,7 @@ one CSV row. Run two builds in one sitting to compare them:
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --rest [--label NAME]
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --twist
     python3 scripts/contact_figures.py BUILD_DIR OUT.csv --intervals 1,2,4,8 [--rounds R]
+    python3 scripts/contact_figures.py BUILD_DIR OUT.csv --pile-settings [--rounds R]
 
 --thicknesses: the drape alone at each size and each cloth thickness (default: the scene's, half
 the shortest spring's rest length, so thinner as the grid is finer; a number: collision.thickness in m,
@@ -26,6 +27,10 @@ without it under a strain limit or with four times the outer iterations.
 --intervals: what collision.detection_interval trades (interval.csv): the 40 x 40 drape, the
 pile and the twist whole at each interval, the intervals alternated in each of R rounds (default
 2), the fastest round's ms per frame kept (the other columns do not change from round to round).
+--pile-settings: what the pile's solver settings cost (pile-settings.csv): the pile of six cloths
+at its own settings and at PILE_SETTINGS (substeps a frame of 1/60 s, outer and inner iterations,
+strain limit), the settings alternated in each of R rounds (default 2), ms per frame from the
+fastest and the slowest round, the passes' ms from the fastest.
 """
 import argparse
 import csv
@@ -180,6 +185,41 @@ def interval_rows(sim, intervals, rounds):
     return INTERVAL_COLUMNS, list(best.values())
 
 
+PILE_SETTINGS = ((8, 4, 4, 0.05), (8, 2, 4, 0.045), (6, 2, 4, 0.04), (4, 4, 4, 0.05),
+                 (4, 4, 4, 0.04), (4, 3, 4, 0.04), (4, 2, 8, 0.04), (8, 1, 8, 0.05))
+PILE_COLUMNS = ["substeps a frame", "outer iterations", "inner iterations", "strain limit %",
+                "ms per frame min", "ms per frame max", "contacts group ms", "contact pass ms",
+                "solve ms", "detections", "particle-substeps held at a bound %",
+                "largest stretch at the end %", "p99 stretch at the end %",
+                "intersecting pairs at the end"]
+
+
+def pile_settings_rows(sim, rounds):
+    """The pile at each of PILE_SETTINGS (the first is the scene's own), alternated in each of
+    `rounds` rounds: ms per frame from the fastest and the slowest round, the passes' ms from
+    the fastest (the other columns do not change from round to round)."""
+    runs = {}
+    for _ in range(rounds):
+        for k, outer, inner, limit in PILE_SETTINGS:
+            d = run(sim, "contact-pile.json",
+                    [f"substeps={k}", f"dt={1.0 / 60.0 / k:.10g}",
+                     f"solver.outer_iterations={outer}", f"solver.inner_iterations={inner}",
+                     f"solver.strain_limit={limit}"])
+            print((k, outer, inner, limit), round(d["gpu_ms_per_frame"], 1), file=sys.stderr)
+            runs.setdefault((k, outer, inner, limit), []).append(d)
+    rows = []
+    for (k, outer, inner, limit), ds in runs.items():
+        ms = [d["gpu_ms_per_frame"] for d in ds]
+        d = ds[ms.index(min(ms))]
+        c = d["contacts"]
+        rows.append([k, outer, inner, round(100 * limit, 1), round(min(ms), 1), round(max(ms), 1),
+                     round(passes(d, GROUP), 1), round(passes(d, ("contact",)), 1),
+                     round(passes(d, ("solve",)), 1), c["searches"],
+                     round(100.0 * c["held_fraction"], 2), round(100 * d["max_stretch"], 1),
+                     round(100 * d["p99_stretch"], 1), c["intersecting_pairs"]])
+    return PILE_COLUMNS, rows
+
+
 def scene_rows(sim, sizes):
     rows = []
     for n in (int(s) for s in sizes.split(",")):
@@ -230,13 +270,17 @@ def main():
     parser.add_argument("--label", default="", help="with --rest: the build's name in the rows")
     parser.add_argument("--intervals", default="",
                         help="collision.detection_interval values to compare, e.g. 1,2,4,8")
-    parser.add_argument("--rounds", type=int, default=2, help="with --intervals: rounds")
+    parser.add_argument("--pile-settings", action="store_true",
+                        help="the pile at its own and at other solver settings")
+    parser.add_argument("--rounds", type=int, default=2,
+                        help="with --intervals or --pile-settings: rounds")
     a = parser.parse_args()
     sim = os.path.join(os.path.abspath(a.build), "apps", "clothvk-sim")
     columns, rows = (held_rows(sim) if a.held else
                      rest_rows(sim, a.label) if a.rest else
                      twist_rows(sim) if a.twist else
                      interval_rows(sim, a.intervals, a.rounds) if a.intervals else
+                     pile_settings_rows(sim, a.rounds) if a.pile_settings else
                      scaling_rows(sim, a.sizes, a.thicknesses) if a.thicknesses else
                      scene_rows(sim, a.sizes))
     with open(a.out, "w", newline="") as f:
