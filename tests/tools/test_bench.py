@@ -358,9 +358,12 @@ def batch_rows(counts, per_copy):
     return check
 
 
-def ensemble_rows(scenes, variants, frames):
-    """One row per scene x variant, in order, each run through all its frames without an error.
-    The pairs are not checked: they are what the experiment measures."""
+def ensemble_rows(scenes, variants, frames, overridden=True):
+    """One row per scene x variant, in order, each run through all its frames without an error,
+    the first variant's settings naming the --set overrides where the run gave some. The pairs
+    are not checked: they are what the experiment measures."""
+    base = "(the scene with the --set overrides)" if overridden else "(the scene's own settings)"
+
     def check(rows):
         want = [(s, v, str(frames)) for s in scenes for v in ENSEMBLE_VARIANTS[:variants]]
         got = [(r["scene"], r["variant"], r["frames_run"]) for r in rows]
@@ -465,6 +468,9 @@ GOOD = [
               "--frames", "2", "--variants", "3"] + TINY_CONTACT,
      "experiment": "contact-ensemble",
      "check": ensemble_rows(["drape.json", "ribbons.json"], 3, 2)},
+    {"name": "contact-ensemble, the scene's own settings",
+     "argv": ["contact-ensemble", asset("ribbons.json"), "--frames", "1", "--variants", "1"],
+     "experiment": "contact-ensemble", "check": ensemble_rows(["ribbons.json"], 1, 1, False)},
 ]
 
 SOLVERS = ("a comma-separated list of jacobi, chebyshev, rbgs or gs-cpu, each optionally with "
