@@ -47,7 +47,7 @@ static cvk_sim* create(cvk_context* ctx, const cvk_scene_desc* scene, const char
               cvk_result_name(r));
         CHECK(r == CVK_SUCCESS || strcmp(err.message, message) == 0,
               "the message is\n    %s\nexpected\n    %s", err.message, message);
-        CHECK(r != CVK_SUCCESS || sim == NULL, "a failed creation returned a simulation");
+        CHECK(r == CVK_SUCCESS || sim == NULL, "a failed creation returned a simulation");
         if (r == CVK_SUCCESS)
             cvk_sim_destroy(sim);
         return NULL;
