@@ -341,8 +341,10 @@ static void check_mesh(void)
 
     cvk_error err;
     cvk_result r = cvk_collider_mesh_make(&c, NULL, focus, 1.0f, 0.0, &m, &err);
-    CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "mesh without its field: %s, not CVK_ERROR_INVALID_ARGUMENT",
-          cvk_result_name(r));
+    const char* why = "cvk_collider_mesh_make needs the distance field of a mesh collider";
+    CHECK(r == CVK_ERROR_INVALID_ARGUMENT && strcmp(err.message, why) == 0,
+          "mesh without its field: %s (%s), expected CVK_ERROR_INVALID_ARGUMENT (%s)",
+          cvk_result_name(r), err.message, why);
 }
 
 int main(void)
