@@ -129,6 +129,21 @@ static void check_refusal(cvk_result r, const cvk_error* err, cvk_result result,
           err->message, message);
 }
 
+/* CRC-32 (the polynomial of zlib's crc32, reflected, bit by bit) over a snapshot's bytes but
+   its CRC field's four at byte 64. */
+static uint32_t crc32_but_field(const unsigned char* p, uint64_t size)
+{
+    uint32_t crc = 0xffffffffu;
+    for (uint64_t i = 0; i < size; i++) {
+        if (i >= 64 && i < 68)
+            continue;
+        crc ^= p[i];
+        for (int k = 0; k < 8; k++)
+            crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+
 static void refusals(cvk_context* ctx)
 {
     swinging w, other;
@@ -150,19 +165,20 @@ static void refusals(cvk_context* ctx)
     check_refusal(cvk_sim_load_snapshot(a, snap, 10, &err), &err, CVK_ERROR_INVALID_ARGUMENT,
                   "cvk_sim_load_snapshot: the data is not a clothvk snapshot (10 bytes without "
                   "its header)", "ten bytes");
-    /* One flipped bit anywhere, header or state, is damage; the CRC-32 field is at byte 64. */
+    /* One flipped bit anywhere, header or state, is damage; the CRC-32 field is at byte 64,
+       over every other byte (lib/sim/snapshot.c), measured here bit by bit. */
     uint32_t crc;
     memcpy(&crc, snap + 64, 4);
+    CHECK(crc == crc32_but_field(snap, size), "the header's CRC-32 %08x, the snapshot's %08x",
+          crc, crc32_but_field(snap, size));
     const uint64_t flips[] = {16, 72, size / 2, size - 1}; /* frames, state start, middle, end */
     for (int i = 0; i < 4; i++) {
         snap[flips[i]] ^= 0x10;
         cvk_result r = cvk_sim_load_snapshot(a, snap, size, &err);
+        uint32_t computed = crc32_but_field(snap, size);
         snap[flips[i]] ^= 0x10;
         CHECK(r == CVK_ERROR_INVALID_ARGUMENT, "a bit flipped at byte %llu: returned %s",
               (unsigned long long)flips[i], cvk_result_name(r));
-        unsigned computed = 0;
-        sscanf(err.message, "cvk_sim_load_snapshot: the snapshot is damaged: its CRC-32 is %8x",
-               &computed);
         char expected_damage[160];
         snprintf(expected_damage, sizeof expected_damage, "cvk_sim_load_snapshot: the snapshot "
                  "is damaged: its CRC-32 is %08x, its header says %08x", computed, crc);
@@ -230,6 +246,22 @@ static void edge_pairs(cvk_context* ctx)
     cvk_sim* second = make_sim(ctx, &scene);
     cvk_error err;
     REQUIRE_OK(cvk_sim_step(first, 10, &err), err);
+    /* In contact at the snapshot: the upper strip's four particles beside the crossing (its
+       rows at z = +-0.1, off the lower strip) rest on the lower strip's edges, under two
+       thicknesses above the lower strip's four beside it (its columns at x = +-0.1); falling
+       through, they would be below them. */
+    float* x = harness_read_all(first);
+    float upper = 0.0f, lower = 0.0f;
+    for (uint32_t k = 0; k < 4; k++) {
+        upper += 0.25f * x[3 * (12 + 4 + k) + 1];   /* strip 1 (2 x 6): rows 2 and 3 */
+        lower += 0.25f * x[3 * (k < 2 ? 2 + k : 6 + k) + 1]; /* strip 0 (6 x 2): columns 2, 3 */
+    }
+    free(x);
+    CHECK(upper > lower && upper - lower < 2.0f * scene.collision.thickness,
+          "strips at the snapshot: the upper strip %.4f m above the lower one's edges (expected "
+          "0 to 2 thicknesses: in contact)", (double)(upper - lower));
+    printf("strips at the snapshot: the upper one %.4f m above the lower one's edges\n",
+           (double)(upper - lower));
     uint64_t size;
     unsigned char* snap = save(first, &size);
     REQUIRE_OK(cvk_sim_load_snapshot(second, snap, size, &err), err);
