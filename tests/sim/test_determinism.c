@@ -632,6 +632,9 @@ static void check_instances(cvk_context* ctx)
     CHECK(many.ok, "instances: %s", err.message);
     outcome one = run(ctx, cvk_scene_get_desc(single), shapes[0], &err);
     CHECK(one.ok, "single: %s", err.message);
+    CHECK(!many.ok || !one.ok || (one.count == 12 * 12 && many.count == INSTANCES * one.count),
+          "instances: %llu particles, the single cloth %llu; expected %d and 144",
+          (unsigned long long)many.count, (unsigned long long)one.count, INSTANCES * 12 * 12);
     if (many.ok && one.ok && many.count == INSTANCES * one.count) {
         for (int k = 0; k < INSTANCES; k++) {
             double worst = 0.0;
@@ -682,6 +685,10 @@ static void check_instances_self(cvk_context* ctx)
     CHECK(many.ok, "instances with self-contact: %s", err.message);
     outcome one = run(ctx, cvk_scene_get_desc(single), shapes[0], &err);
     CHECK(one.ok, "single with self-contact: %s", err.message);
+    CHECK(!many.ok || !one.ok || (one.count == 12 * 12 && many.count == INSTANCES * one.count),
+          "instances with self-contact: %llu particles, the single cloth %llu; expected %d and "
+          "144", (unsigned long long)many.count, (unsigned long long)one.count,
+          INSTANCES * 12 * 12);
     if (many.ok && one.ok && many.count == INSTANCES * one.count) {
         for (int k = 0; k < INSTANCES; k++) {
             uint64_t differ = 0;
