@@ -122,9 +122,10 @@ static void test_step_too_long(cvk_context* ctx, cvk_linear_solver linear, const
 }
 
 /* Two cloths, a particle of the second written 20 spacings from its place: the first substep's
-   stretch check stops the simulation before any particle moves, and names cloth 1. */
+   stretch check stops the simulation before any particle moves, and names cloth 1, whether
+   the plan predicts in a pass of its own or in the first sweep (own_prediction, checked). */
 static void test_stretched_start(cvk_context* ctx, cvk_linear_solver linear, float damping,
-                                 const char* name)
+                                 bool own_prediction, const char* name)
 {
     cvk_cloth_desc cloths[2];
     for (int c = 0; c < 2; c++) {
@@ -142,6 +143,10 @@ static void test_stretched_start(cvk_context* ctx, cvk_linear_solver linear, flo
     cvk_error err = {.message = ""};
     cvk_sim* sim = NULL;
     REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
+    /* The path the case is for: a prediction pass of its own, or none (the first sweep
+       predicts). */
+    uint32_t predicts = harness_pass_dispatches(sim, "predict");
+    CHECK((predicts > 0) == own_prediction, "%s: %u prediction dispatches a frame", name, predicts);
     float* xyz = harness_read_all(sim);
     uint64_t n = cvk_sim_particle_count(sim), moved = 30 + 14; /* cloth 1, row 2, column 2 */
     float spacing = cloths[1].size[0] / (float)(cloths[1].grid[0] - 1);
@@ -225,9 +230,9 @@ int main(void)
         test_step_too_long(ctx, linears[i], name);
     }
     /* Damping keeps the prediction's own pass for rbgs; without it the first sweep predicts. */
-    test_stretched_start(ctx, CVK_LINEAR_RBGS, 0.0f, "rbgs, the first sweep predicting");
-    test_stretched_start(ctx, CVK_LINEAR_RBGS, 0.01f, "rbgs, the prediction's own pass");
-    test_stretched_start(ctx, CVK_LINEAR_JACOBI, 0.0f, "jacobi");
+    test_stretched_start(ctx, CVK_LINEAR_RBGS, 0.0f, false, "rbgs, the first sweep predicting");
+    test_stretched_start(ctx, CVK_LINEAR_RBGS, 0.01f, true, "rbgs, the prediction's own pass");
+    test_stretched_start(ctx, CVK_LINEAR_JACOBI, 0.0f, true, "jacobi");
     test_hanging(ctx);
     test_ribbons_over_relaxed(ctx);
     return harness_finish(ctx);
