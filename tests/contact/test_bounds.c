@@ -15,7 +15,6 @@
    and in over 5 % in one substep of 1/60 s, where it cannot fall faster than about a bound a
    substep past the part the sphere stops (docs/limits.md). */
 #include "contact/collide.h"
-#include "contact/intersect.h"
 #include "harness.h"
 #include "shared/layout.h"
 #include "sim/sim.h"
@@ -40,12 +39,6 @@ static double dist3(const double* a, const double* b)
     return sqrt(dot3(d, d));
 }
 
-/* The distance from p to triangle abc (the library's host routine, lib/contact/intersect.c). */
-static double point_triangle(const double* p, const double* a, const double* b, const double* c)
-{
-    return sqrt(cvk_point_triangle_distance2(p, a, b, c));
-}
-
 static double clamp01(double x)
 {
     return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
@@ -62,6 +55,40 @@ static double point_segment(const double* p, const double* a, const double* b)
     for (int k = 0; k < 3; k++)
         q[k] = a[k] + t * ab[k];
     return dist3(p, q);
+}
+
+static void cross3(const double* a, const double* b, double* out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The distance from p to triangle abc, worked out here rather than by the library's routine
+   (lib/contact/intersect.c): the distance to the plane where p projects inside the triangle
+   (on the inner side of each edge), else the nearest of the three edges. */
+static double point_triangle(const double* p, const double* a, const double* b, const double* c)
+{
+    const double* v[3] = {a, b, c};
+    double ab[3], ac[3], n[3];
+    sub3(b, a, ab);
+    sub3(c, a, ac);
+    cross3(ab, ac, n);
+    double len2 = dot3(n, n);
+    bool inside = len2 > 0.0;
+    for (int k = 0; k < 3 && inside; k++) {
+        double edge[3], to_p[3], side[3];
+        sub3(v[(k + 1) % 3], v[k], edge);
+        sub3(p, v[k], to_p);
+        cross3(edge, to_p, side);
+        inside = dot3(side, n) >= 0.0;
+    }
+    if (inside) {
+        double ap[3];
+        sub3(p, a, ap);
+        return fabs(dot3(ap, n)) / sqrt(len2);
+    }
+    return fmin(point_segment(p, a, b), fmin(point_segment(p, b, c), point_segment(p, c, a)));
 }
 
 static double segment_segment(const double* p1, const double* q1, const double* p2,
