@@ -398,8 +398,8 @@ static void energy_and_rest(cvk_context* ctx)
 }
 
 /* cvk_sim_set_solver moves the state between families: pd -> implicit -> pd keeps the
-   positions exactly and the velocities to float rounding; and it refuses implicit where the
-   scene collides. */
+   positions exactly and the velocities to float rounding; and it takes implicit where the
+   scene has a collider (the implicit family filters collider contact) and steps on. */
 static void switch_families(cvk_context* ctx)
 {
     cvk_cloth_desc cloth;

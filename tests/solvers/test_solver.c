@@ -326,6 +326,9 @@ static void all_pinned(cvk_context* ctx)
             REQUIRE_OK(harness_sim_create(ctx, &scene, &sim, &err), err);
             float* before = harness_read_all(sim);
             REQUIRE_OK(cvk_sim_step(sim, 3, &err), err);
+            uint32_t sweeps = harness_pass_dispatches(sim, "solve");
+            CHECK(sweeps == 0, "%ux%u all pinned, solver %d: %u sweep dispatches a frame",
+                  grids[g][0], grids[g][1], (int)solvers[i], sweeps);
             float* after = harness_read_all(sim);
             for (uint64_t k = 0; k < 3 * cvk_sim_particle_count(sim); k++)
                 CHECK(after[k] == before[k], "%ux%u all pinned, solver %d: coordinate %llu moved "
