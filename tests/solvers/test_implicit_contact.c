@@ -420,7 +420,8 @@ static void drop_on_plane(cvk_context* ctx, cvk_linear_solver linear)
     make_drop(&d, linear, 0.2f, true);
     set_plane(&d, (const float[3]){0, 0, 0}, (const float[3]){0.3f, 1, 0.1f});
     snprintf(what, sizeof what, "%s on a tilted plane", cvk_linear_solver_name(linear));
-    run_drop(ctx, &d, 60, ON_SURFACE, what);
+    rep = run_drop(ctx, &d, 60, ON_SURFACE, what);
+    CHECK(rep.speed < 0.05, "%s: still moving at %g m/s after 1 s", what, rep.speed);
 }
 
 static void drop_on_sphere(cvk_context* ctx)
