@@ -1,7 +1,10 @@
 /* The GPU solvers against the host reference:
    - rbgs on the GPU equals gs-cpu (sequential double-precision Gauss-Seidel in the same colour
      order) to float rounding, on random small grids, stencils, pins, omega and iteration counts;
-   - GPU jacobi and chebyshev equal the host Jacobi / Chebyshev iteration;
+   - GPU jacobi and chebyshev equal the host Jacobi / Chebyshev iteration; the Chebyshev
+     weights that both take (cvk_chebyshev_weight) equal the closed form
+     w_j = 2 T_j(1/rho) / (rho T_j+1(1/rho)), and the stable rho over m sweeps solves
+     T_m(1/rho) = 3;
    - the residual falls monotonically with iterations on enlarged.json, for rbgs and gs-cpu;
    - the converged solution of a substep by Newton's method equals Gauss-Seidel's fixed point;
    - rbgs's first sweep that predicts gives the bits of the prediction's own pass. */
@@ -449,9 +452,47 @@ static void fused_copies_layout(void)
     printf("fused copies: the layout check takes three copies and refuses unequal cloths\n");
 }
 
+/* The Chebyshev polynomial T_k(x) for x >= 1: cosh(k acosh x). */
+static double chebyshev_t(uint32_t k, double x)
+{
+    return cosh(k * acosh(x));
+}
+
+/* The weights the device plan and the host reference share, against the closed form of
+   Chebyshev semi-iteration (Golub and Varga 1961; Wang 2015's recurrence computes the same):
+   after `delay` plain sweeps, the j-th accelerated sweep's weight is
+   2 T_j(1/rho) / (rho T_j+1(1/rho)); and the cap on rho over m accelerated sweeps keeps
+   T_m(1/rho) at 3 (solve_pd.h). */
+static void chebyshev_closed_form(void)
+{
+    const double rhos[] = {0.3, 0.8, 0.95, 0.999};
+    double worst = 0.0;
+    for (size_t i = 0; i < sizeof rhos / sizeof rhos[0]; i++) {
+        double rho = rhos[i];
+        for (uint32_t delay = 1; delay <= 3; delay++) {
+            CHECK(cvk_chebyshev_weight(delay - 1, delay, rho) == 1.0,
+                  "rho %g: sweep %u before the delay of %u is weighted", rho, delay - 1, delay);
+            for (uint32_t j = 1; j <= 12; j++) {
+                double x = 1.0 / rho;
+                double want = 2.0 * chebyshev_t(j, x) / (rho * chebyshev_t(j + 1, x));
+                double got = cvk_chebyshev_weight(delay + j - 1, delay, rho);
+                worst = fmax(worst, fabs(got - want) / want);
+            }
+        }
+    }
+    CHECK(worst < 1e-12, "Chebyshev weights differ from the closed form by %g (relative)", worst);
+    double cap_worst = 0.0;
+    for (uint32_t m = 1; m <= 16; m++)
+        cap_worst = fmax(cap_worst, fabs(chebyshev_t(m, 1.0 / cvk_chebyshev_stable_rho(m)) - 3.0));
+    CHECK(cap_worst < 1e-9, "T_m(1/rho) of the stable rho is off 3 by %g", cap_worst);
+    printf("Chebyshev: weights equal the closed form to %.1e, the stable rho's T_m(1/rho) is 3 "
+           "to %.1e\n", worst, cap_worst);
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
+    chebyshev_closed_form();
     rbgs_equals_gs_cpu(ctx);
     jacobi_equals_reference(ctx, CVK_LINEAR_JACOBI);
     jacobi_equals_reference(ctx, CVK_LINEAR_CHEBYSHEV);
