@@ -1,6 +1,7 @@
 /* Projective-dynamics solves that stop when converged (solver.tolerance, solver.max_iterations):
    - bad values get one exact message each, with the implicit method's rule;
-   - without a tolerance the plan is the same text as before and records no check; a tolerance
+   - without a tolerance the plan records no check (no residual, convergence or indirect
+     dispatch in its text); a tolerance
      never reached (1e-30) runs every sweep and gives the same bits as no tolerance, for rbgs,
      jacobi and chebyshev: the checking sweeps compute what the plain ones do;
    - a tolerance stops the solve early on the device, the same state and sweep count for every
