@@ -83,6 +83,38 @@ static extent framed_corners(const cvk_render_view* v)
     return e;
 }
 
+/* Where the corners of the box [lo, hi] land. */
+static extent box_corners(const cvk_render_view* v, const float lo[3], const float hi[3])
+{
+    extent e = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
+    for (int c = 0; c < 8; c++) {
+        double point[3], q[2];
+        for (int k = 0; k < 3; k++)
+            point[k] = c & (1 << k) ? hi[k] : lo[k];
+        project_point(v, point, W, H, q);
+        for (int k = 0; k < 2; k++) {
+            e.lo[k] = fmin(e.lo[k], q[k]);
+            e.hi[k] = fmax(e.hi[k], q[k]);
+        }
+    }
+    return e;
+}
+
+/* The framed points within the margin, reaching it within 2 pixels on both sides along one
+   axis (centred, as large as the margin allows). */
+static void check_framed(extent corners, float margin, const char* what)
+{
+    double mx = margin * W, my = margin * H;
+    CHECK(corners.lo[0] >= mx - 0.5 && corners.hi[0] <= W - mx + 0.5 && corners.lo[1] >= my - 0.5 &&
+              corners.hi[1] <= H - my + 0.5,
+          "%s, margin %g: the framed corners span x %.1f..%.1f, y %.1f..%.1f, outside %.1f px from the edges",
+          what, margin, corners.lo[0], corners.hi[0], corners.lo[1], corners.hi[1], mx);
+    bool tight_x = fabs(corners.lo[0] - mx) < 2.0 && fabs(W - corners.hi[0] - mx) < 2.0;
+    bool tight_y = fabs(corners.lo[1] - my) < 2.0 && fabs(H - corners.hi[1] - my) < 2.0;
+    CHECK(tight_x || tight_y, "%s, margin %g: the framed corners (x %.1f..%.1f, y %.1f..%.1f) reach the "
+          "margin on neither axis", what, margin, corners.lo[0], corners.hi[0], corners.lo[1], corners.hi[1]);
+}
+
 static bool is_background(const uint8_t* p)
 {
     /* The background's sRGB bytes: 89, 124, 180. */
@@ -130,14 +162,7 @@ static extent fitted(cvk_context* ctx, float margin)
     cvk_render_view v = cvk_renderer_get_view(s.renderer);
     extent corners = framed_corners(&v);
     double mx = margin * W, my = margin * H;
-    CHECK(corners.lo[0] >= mx - 0.5 && corners.hi[0] <= W - mx + 0.5 && corners.lo[1] >= my - 0.5 &&
-              corners.hi[1] <= H - my + 0.5,
-          "margin %g: the framed corners span x %.1f..%.1f, y %.1f..%.1f, outside %.1f px from the edges", margin,
-          corners.lo[0], corners.hi[0], corners.lo[1], corners.hi[1], mx);
-    bool tight_x = fabs(corners.lo[0] - mx) < 2.0 && fabs(W - corners.hi[0] - mx) < 2.0;
-    bool tight_y = fabs(corners.lo[1] - my) < 2.0 && fabs(H - corners.hi[1] - my) < 2.0;
-    CHECK(tight_x || tight_y, "margin %g: the framed corners (x %.1f..%.1f, y %.1f..%.1f) reach the margin on "
-          "neither axis", margin, corners.lo[0], corners.hi[0], corners.lo[1], corners.hi[1]);
+    check_framed(corners, margin, "the cloth and the sphere");
     int reds, greens;
     extent e = drawn_pixels(&im, &reds, &greens);
     CHECK(reds > 200 && greens > 100, "margin %g: %d red (cloth) and %d green (sphere) pixels", margin, reds, greens);
@@ -204,8 +229,10 @@ static void fit_view_rules(cvk_context* ctx)
     REQUIRE_OK(cvk_renderer_fit(s.renderer, NULL, NULL, &err), err);
     cvk_render_view again = cvk_renderer_get_view(s.renderer);
     CHECK(memcmp(&first, &again, sizeof first) == 0, "fitting the same particles again moved the view");
-    REQUIRE_OK(cvk_renderer_fit(s.renderer, (const float[3]){-3, 0, -3}, (const float[3]){3, 4, 3}, &err), err);
+    const float box_lo[3] = {-3, 0, -3}, box_hi[3] = {3, 4, 3};
+    REQUIRE_OK(cvk_renderer_fit(s.renderer, box_lo, box_hi, &err), err);
     cvk_render_view wide = cvk_renderer_get_view(s.renderer);
+    check_framed(box_corners(&wide, box_lo, box_hi), 0.06f, "a given 6 x 4 x 6 m box");
     CHECK(distance3(wide.eye, wide.target) > 2.0 * distance3(first.eye, first.target),
           "a 6 m box is framed from %g m, the 2 m scene from %g m", distance3(wide.eye, wide.target),
           distance3(first.eye, first.target));
