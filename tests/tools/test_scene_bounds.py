@@ -7,9 +7,9 @@ For each key of the table below: the bound as the doc writes it appears word for
 doc's row for that key (or, for the 1e5 m bound on positions and lengths, in its "Lengths and
 positions" paragraph), so a changed bound in the doc fails here until the checks change too;
 each edge value the bound allows runs (--frames 0 --dump: exit 0, nothing on stderr, the dump
-written), but for instances.count's upper edge, listed with the values tried below: 1048576
-copies of the test's cloth are more particles than a device holds, which test_instances.py
-checks is refused by the device's limit; each value just past it (the next single-precision number, or the next integer) is
+written), except instances.count's upper edge: 1048576 copies of the test's cloth are more
+particles than a device holds, a refusal by the device's limit that test_instances.py checks;
+each value just past it (the next single-precision number, or the next integer) is
 refused: exit status 2, the one stderr line naming the scene file and the key path with the
 problem (compared whole), nothing on stdout and nothing written.
 """
