@@ -128,6 +128,8 @@ def bad_inputs(tmp, scene, other, full):
     refused([scene, "--resume", missing],
             f"clothvk-sim: {missing}: no bake here ({missing}/cache.json: No such file or directory)",
             missing, "no bake folder")
+    # contents() is {} for an empty folder as for none: the folder must still not exist.
+    check(not os.path.exists(missing), f"no bake folder: --resume made {missing}")
     other_bake = os.path.join(tmp, "other")
     ok([other, "--frames", "2", "--bake", other_bake], "another scene's bake")
     refused([scene, "--resume", other_bake],

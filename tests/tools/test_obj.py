@@ -16,8 +16,8 @@ initial grid.
 The last file is the state after all 6 frames, the one --dump of the same run writes: one run has
 one last state. Both files print the same float32 with "%.9g", which round-trips a float32
 exactly, so the comparison is exact equality, not a tolerance. With --frames 7 --every 3 the files
-are the same three (7 is not a multiple of 3) and --dump holds the state after 7. --frames 0
-writes frame_0000.obj alone, the start.
+are the same three (7 is not a multiple of 3) and --dump holds the state after 7: row for row the
+--dump of a plain --frames 7 run. --frames 0 writes frame_0000.obj alone, the start.
 
 Bad input: exit status 2, exactly one line on stderr (compared whole), nothing on stdout, and the
 working directory as it was (no output folder, no OBJ file, no --dump file, no temporary file).
@@ -205,7 +205,8 @@ def run(argv, cwd):
 
 
 def good_run(scene):
-    """--frames 6 --every 3: three files, the last equal to the same run's --dump."""
+    """--frames 6 --every 3: three files, the last equal to the same run's --dump; --frames 7
+    --every 3: the same three, and the --dump of a plain --frames 7 run."""
     with tempfile.TemporaryDirectory(prefix="clothvk-obj-") as workdir:
         p = run([scene, "--frames", "6", "--every", "3", "--obj", "out/frames", "--dump", DUMP], workdir)
         if p.returncode != 0 or p.stderr:
@@ -242,8 +243,21 @@ def good_run(scene):
             problems.append(f"--frames 7 --every 3 wrote {found}, expected {names}")
         elif read_positions(os.path.join(workdir, "seven", names[2])) != frames[2]:
             problems.append("--frames 7 --every 3: frame_0002.obj is not the state after 6 frames")
-        if tooltest.read_csv(os.path.join(workdir, "seven.csv")) == frames[2]:
+        seven = tooltest.read_csv(os.path.join(workdir, "seven.csv"))
+        if seven == frames[2]:
             problems.append("the 7-frame --dump equals frame 6: --obj changed how far the run went")
+        p = run([scene, "--frames", "7", "--dump", "plain.csv"], workdir)
+        if p.returncode != 0 or p.stderr:
+            return problems + [f"the plain 7-frame run failed ({p.returncode}): {p.stderr.strip()}"]
+        rows = []
+        for name in ("seven.csv", "plain.csv"):
+            with open(os.path.join(workdir, name)) as f:
+                rows.append(f.read().splitlines())
+        if rows[0] != rows[1]:
+            plain = tooltest.read_csv(os.path.join(workdir, "plain.csv"))
+            gap = tooltest.worst(seven, plain)
+            problems.append(f"the 7-frame --dump with --obj differs from a plain --frames 7 --dump "
+                            f"by {gap:.3g} m ({len(seven)} and {len(plain)} positions)")
         return problems
 
 

@@ -9,9 +9,10 @@ wedge_cases.py's 8 x 8 flag with slurm-wedge.sh, each one job array and a depend
   equals six plain `clothvk-sim --set ... --json` runs of the same variants in every column but
   the timing ones, and the table of the same wedge run with --jobs 2 on this machine; the gather
   wrote each task's Slurm state to states.tsv and a 3 x 2 contact sheet;
-- the failing wedge (--wedges FILE, --wedge-time-limit 2): three rows, one that ran, one that
-  diverged in frame 0 (its task FAILED with exit 3) and one that timed out with the frames it ran
-  (its task FAILED with exit 1), and the gather COMPLETED.
+- the failing wedge (--wedges FILE, --wedge-time-limit wedge_cases.TIME_LIMIT_S: 6 s, 30 s under
+  the sanitizers): three rows, one that ran, one that diverged in frame 0 (its task FAILED with
+  exit 3) and one that timed out with the frames it ran (its task FAILED with exit 1), and the
+  gather COMPLETED.
 Then it stops every daemon it started and removes the folder, and fails if any of its processes
 is still running.
 

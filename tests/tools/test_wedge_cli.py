@@ -12,8 +12,9 @@ Good input (wedge_cases.py's scene and wedges):
   last.png, and the contact sheet is 3 x 2 tiles (804 x 442 pixels);
 - --wedge-index 4 --wedge-bake alone into a new folder: the manifest and v0004 only, with its
   bake of frames 0 to 4, its stats.json the same as the --jobs run's but for the timings;
-- the failing wedge (--wedges FILE, --jobs 3, --wedge-time-limit 2): a row that ran, a row that
-  diverged in frame 0 with its message, and a row that timed out with the frames it ran;
+- the failing wedge (--wedges FILE, --jobs 3, --wedge-time-limit wedge_cases.TIME_LIMIT_S: 6 s,
+  30 s under the sanitizers): a row that ran, a row that diverged in frame 0 with its message,
+  and a row that timed out with the frames it ran;
 - --wedge-gather on a folder whose variants did not end by themselves: a variant whose status
   still says running with a Slurm state TIMEOUT is a timed-out row quoting the state; one with
   no state is crashed, quoting the end of its log; one whose folder is gone is not-started; the
