@@ -328,10 +328,11 @@ cvk_context_desc cvk_default_context_desc(void)
 cvk_result cvk_context_create(const cvk_context_desc* desc, cvk_context** out_context,
                               cvk_error* error)
 {
+    if (out_context)
+        *out_context = NULL;
     if (!desc || !out_context)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_context_create needs a description and an output pointer");
-    *out_context = NULL;
     if (desc->cookie_ != CVK_COOKIE_CONTEXT)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_context_create: the description "
                         "did not come from cvk_default_context_desc()");

@@ -516,10 +516,11 @@ cvk_mesh_desc cvk_default_mesh_desc(void)
 cvk_result cvk_mesh_create(cvk_sim* sim, const cvk_mesh_desc* desc, cvk_mesh** out_mesh,
                            cvk_error* error)
 {
+    if (out_mesh)
+        *out_mesh = NULL;
     if (!sim || !out_mesh)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_mesh_create needs a simulation and an output pointer");
-    *out_mesh = NULL;
     cvk_mesh_desc defaults = cvk_default_mesh_desc();
     if (!desc)
         desc = &defaults;

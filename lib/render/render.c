@@ -674,10 +674,11 @@ static void gravity_of(const cvk_sim* sim, double out[3])
 cvk_result cvk_renderer_create(cvk_mesh* mesh, const cvk_render_desc* desc, cvk_renderer** out_renderer,
                                cvk_error* error)
 {
+    if (out_renderer)
+        *out_renderer = NULL;
     if (!mesh || !desc || !out_renderer)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
                         "cvk_renderer_create needs a mesh, a render description and an output pointer");
-    *out_renderer = NULL;
     if (desc->cookie_ != CVK_COOKIE_RENDER)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_renderer_create: the description "
                         "did not come from cvk_default_render_desc()");

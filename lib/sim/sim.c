@@ -484,9 +484,10 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
 {
     static const char needs[] = "cvk_sim_create needs a context, a description with a scene, "
                                 "and an output pointer";
+    if (out_sim)
+        *out_sim = NULL;
     if (!context || !desc || !out_sim)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "%s", needs);
-    *out_sim = NULL;
     if (desc->cookie_ != CVK_COOKIE_SIM)
         return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT, "cvk_sim_create: the description did "
                         "not come from cvk_default_sim_desc()");

@@ -1,6 +1,7 @@
 /* Every description a create call reads comes from its cvk_default_*_desc() function: the
    values it returns (what a zeroed description meant before descriptions carried a cookie),
-   and the refusal, with its sentence, of a description that skipped it. The scene, cloth and
+   and the refusal, with its sentence, of a description that skipped it; a refused create call
+   leaves its output pointer NULL, a missing argument included. The scene, cloth and
    collider descriptions are checked in test_scene.c and test_scene_collide.c. */
 #include "harness.h"
 
@@ -39,9 +40,11 @@ static void context_refuses_a_description_without_defaults(void)
                    "cvk_context_create: the description did not come from "
                    "cvk_default_context_desc()");
     CHECK(ctx == NULL, "a context came back from a refused description");
+    ctx = (cvk_context*)&err;
     r = cvk_context_create(NULL, &ctx, &err);
     expect_refused("cvk_context_create(NULL)", r, &err,
                    "cvk_context_create needs a description and an output pointer");
+    CHECK(ctx == NULL, "cvk_context_create(NULL) left its output pointer set");
 }
 
 /* ---- the simulation ------------------------------------------------------------------------ */
@@ -88,6 +91,10 @@ static void sim_refuses_a_description_without_defaults(cvk_context* ctx)
 
     static const char needs[] = "cvk_sim_create needs a context, a description with a scene, "
                                 "and an output pointer";
+    sim = (cvk_sim*)&err;
+    r = cvk_sim_create(NULL, &literal, &sim, &err);
+    expect_refused("cvk_sim_create without a context", r, &err, needs);
+    CHECK(sim == NULL, "cvk_sim_create without a context left its output pointer set");
     r = cvk_sim_create(ctx, NULL, &sim, &err);
     expect_refused("cvk_sim_create(NULL)", r, &err, needs);
     cvk_sim_desc no_scene = cvk_default_sim_desc();
@@ -123,6 +130,11 @@ static void mesh_refuses_a_description_without_defaults(cvk_context* ctx)
     expect_refused("cvk_mesh_create", r, &err,
                    "cvk_mesh_create: the description did not come from cvk_default_mesh_desc()");
     CHECK(mesh == NULL, "a mesh came back from a refused description");
+    mesh = (cvk_mesh*)&err;
+    r = cvk_mesh_create(NULL, NULL, &mesh, &err);
+    expect_refused("cvk_mesh_create(NULL)", r, &err,
+                   "cvk_mesh_create needs a simulation and an output pointer");
+    CHECK(mesh == NULL, "cvk_mesh_create(NULL) left its output pointer set");
 
     /* NULL is the defaults, as before; so is the defaults function's description. */
     REQUIRE_OK(cvk_mesh_create(sim, NULL, &mesh, &err), err);
@@ -173,6 +185,11 @@ static void renderer_refuses_a_description_without_defaults(cvk_context* ctx)
                    "cvk_renderer_create: the description did not come from "
                    "cvk_default_render_desc()");
     CHECK(renderer == NULL, "a renderer came back from a refused description");
+    renderer = (cvk_renderer*)&err;
+    r = cvk_renderer_create(NULL, &literal, &renderer, &err);
+    expect_refused("cvk_renderer_create(NULL)", r, &err,
+                   "cvk_renderer_create needs a mesh, a render description and an output pointer");
+    CHECK(renderer == NULL, "cvk_renderer_create(NULL) left its output pointer set");
     r = cvk_renderer_create(mesh, NULL, &renderer, &err);
     expect_refused("cvk_renderer_create(NULL)", r, &err,
                    "cvk_renderer_create needs a mesh, a render description and an output pointer");
