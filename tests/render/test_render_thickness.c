@@ -8,7 +8,8 @@
      slab) hides it from above without thickness and is hidden by it with t; seen from below,
      a blue cloth 0.3 t under the middle plane is hidden by the slab's back face, which shows
      the back_color (green);
-   - thickness 0 draws the same bytes as a cloth whose description never set the key. */
+   - thickness 0 draws the same bytes as a slab far thinner than a pixel (0.01 mm), and other
+     bytes than a 1 mm one. */
 #include "render_fixture.h"
 
 enum { W = 160, H = 160 };
@@ -149,22 +150,32 @@ static void offset(cvk_context* ctx)
            "above and below\n");
 }
 
+/* Thickness 0 is one surface drawn by the plain cloth pipeline (render_frame.c); any t > 0 a
+   slab: both faces culled, set off ±t/2, and a rim. A cloth 2 m away in a 35° view is about 8 mm
+   a pixel; a 0.01 mm slab (a thousandth of that) must draw the very bytes of thickness 0, which
+   fails if 0 were drawn as a slab of some default thickness or if the one-surface and slab paths
+   shaded a face differently. A 1 mm slab (an eighth of a pixel) must draw other bytes, so this
+   view does resolve a thickness that small. (The default cloth's thickness is 0 too: setting
+   the key to 0 could not differ from leaving it unset.) */
 static void zero_same_bytes(cvk_context* ctx)
 {
-    static uint8_t unset[W * H * 4];
+    static uint8_t zero[W * H * 4], tiny[W * H * 4];
     const float key[3] = {0.3f, 0.8f, 0.4f};
-    for (int pass = 0; pass < 2; pass++) {
+    const float thickness[3] = {0.0f, 1e-5f, 1e-3f};
+    for (int pass = 0; pass < 3; pass++) {
         setup s = {0};
         s.cloths[0] = square_cloth((const float[3]){-0.5f, 1.0f, -0.5f}, along_x, along_z, red);
-        if (pass == 1)
-            s.cloths[0].thickness = 0.0f;
-        cvk_render_desc r = grounded_view(W, H, (const float[3]){0.8f, 2.0f, 1.5f}, (const float[3]){0.0f, 1.0f, 0.0f},
-                                          key);
+        s.cloths[0].thickness = thickness[pass];
+        cvk_render_desc r = grounded_view(W, H, (const float[3]){0.8f, 2.0f, 1.5f},
+                                          (const float[3]){0.0f, 1.0f, 0.0f}, key);
         draw(ctx, &s, 1, &r, NULL, NULL);
-        if (pass == 0)
-            memcpy(unset, image, sizeof unset);
+        if (pass < 2)
+            memcpy(pass == 0 ? zero : tiny, image, sizeof zero);
     }
-    CHECK(memcmp(unset, image, sizeof unset) == 0, "thickness 0 draws other bytes than the default");
+    CHECK(memcmp(zero, tiny, sizeof zero) == 0,
+          "thickness 0 draws other bytes than a 0.01 mm slab");
+    CHECK(memcmp(zero, image, sizeof zero) != 0, "a 1 mm slab draws the bytes of thickness 0: the "
+          "view cannot tell thickness 0 from a thin slab");
 }
 
 int main(void)
