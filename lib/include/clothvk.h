@@ -67,7 +67,8 @@
  * Rules that hold everywhere
  * - Every fallible call returns a cvk_result; on failure the optional cvk_error receives the
  *   same code and one sentence naming the cause (the JSON key path, the Vulkan call and its
- *   VkResult, the device limit). The library never prints, exits or aborts.
+ *   VkResult, the device limit). The library never prints, exits or aborts. A create call
+ *   that fails leaves its output pointer NULL.
  * - No global state: objects are independent; one object must not be used from two threads
  *   at once.
  * - Descriptions are plain structs: start from the description's cvk_default_*_desc() and
