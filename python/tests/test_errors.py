@@ -64,7 +64,10 @@ def test_an_unknown_key_is_a_key_error_with_its_path():
         "of range (cloths has 1 element)"
     with pytest.raises(KeyError) as caught:
         clothvk.Scene.parse('{"cloths": [{}], "gravitee": 1}', "inline")
-    assert str(caught.value).startswith("inline: gravitee: unknown key (expected one of: name, ")
+    assert str(caught.value) == ("inline: gravitee: unknown key (expected one of: name, dt, "
+                                 "substeps, frames, integrate, gravity, damping, solver, cloths, "
+                                 "render, collision, colliders, attachments, wind, air_density, "
+                                 "instances)")
     assert caught.value.key_path == ("gravitee",)
 
 
@@ -122,13 +125,15 @@ def test_bad_arguments_raise_in_python_words(ctx, small_scene):
 
 def test_wrong_state_shape(ctx, small_scene):
     with clothvk.Simulation(ctx, small_scene) as sim:
-        with pytest.raises(ValueError, match=r"expected shape \(256, 3\)"):
+        with pytest.raises(ValueError) as shape:
             sim.write_state([[0, 0, 0]])
+        assert str(shape.value) == "positions: expected shape (256, 3), got (1, 3)"
+        bad = sim.positions()
+        bad[3, 1] = float("nan")
         with pytest.raises(clothvk.Error) as caught:
-            bad = sim.positions()
-            bad[3, 1] = float("nan")
             sim.write_state(bad)
-        assert caught.value.result == "CVK_ERROR_INVALID_ARGUMENT"
+        assert caught.value.result == "CVK_ERROR_INVALID_ARGUMENT" and str(caught.value) == \
+            "cvk_sim_write_state: position coordinate 1 of particle 3 is not a finite number"
 
 
 def test_scene_text_errors_name_the_source():

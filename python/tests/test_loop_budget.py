@@ -28,11 +28,21 @@ def test_a_cut_detection_fails_the_step_until_a_state_is_written(ctx, tmp_path):
     sim = clothvk.Simulation(ctx, stack_scene(tmp_path))
     with pytest.raises(clothvk.Error) as caught:
         sim.step(1)
+    def cut_short(frame):
+        return (f"contact detection was cut short by frame {frame}: {ctx.info()['device_name']} "
+                "ends a shader's loops after a fixed number of iterations (lavapipe: 65,535 an "
+                "invocation) and the cloths lie too crowded for it, so pairs were missed and the "
+                "guarantee that no cloth passes through cloth no longer holds; a larger "
+                "cvk_sim_desc.max_workgroups (clothvk-sim --max-workgroups 65535) gives "
+                "detection one item an invocation")
+
     assert caught.value.result == "CVK_ERROR_DEVICE_LIMIT", caught.value.result
-    assert caught.value.message.startswith("contact detection was cut short by frame 1: llvmpipe")
+    assert caught.value.message == cut_short(1), caught.value.message
     assert sim.stats()["contact_cut"] is True
-    with pytest.raises(clothvk.Error):
+    with pytest.raises(clothvk.Error) as again:
         sim.step(1)  # still cut: nothing cleared it
+    assert again.value.result == "CVK_ERROR_DEVICE_LIMIT" and again.value.message == cut_short(2), \
+        again.value.message
     # The same layers 5 cm apart: nothing crowds a detection, and the new state clears the flag.
     spread = sim.positions()
     spread[:, 1] = 0.3 + np.repeat(np.arange(crowded_stack.LAYERS),

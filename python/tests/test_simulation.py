@@ -1,5 +1,6 @@
 """Scene load, step, positions against clothvk-sim --dump, state, cloths, statistics, plan."""
 
+import gc
 import json
 import subprocess
 
@@ -20,6 +21,7 @@ def read_dump(path):
 
 def test_positions_equal_clothvk_sim_dump(ctx, small_scene, tmp_path):
     with clothvk.Simulation(ctx, small_scene) as sim:
+        start = sim.positions()
         sim.step(FRAMES)
         xyz = sim.positions()
     assert xyz.shape == (256, 3) and xyz.dtype == np.float32
@@ -34,7 +36,8 @@ def test_positions_equal_clothvk_sim_dump(ctx, small_scene, tmp_path):
     assert differ.size == 0, (f"{len(differ)} coordinates differ from --dump, first at "
                               f"{differ[0]}: {xyz[tuple(differ[0])]!r} vs "
                               f"{expected[tuple(differ[0])]!r}")
-    assert not np.array_equal(xyz[2], [-0.5 + 2 / 15, 1.0, -0.5]), "the cloth did not move"
+    # the free particles hang below where they started: the comparison is of a moving cloth
+    assert xyz[:, 1].min() < start[:, 1].min() - 1e-3, "the cloth did not fall"
 
 
 def test_positions_fill_the_given_array(ctx, small_scene):
@@ -42,8 +45,10 @@ def test_positions_fill_the_given_array(ctx, small_scene):
         out = np.zeros((256, 3), dtype=np.float32)
         assert sim.positions(out) is out
         assert out[15].tolist() == [0.5, 1.0, -0.5], f"particle [15, 0] at {out[15]}"
-        with pytest.raises(ValueError):
+        with pytest.raises(ValueError) as caught:
             sim.positions(np.zeros((256, 3), dtype=np.float64))
+        assert str(caught.value) == ("positions: expected a writable C-contiguous float32 array "
+                                     "of shape (256, 3), got float64 (256, 3)")
 
 
 def test_state_written_back_continues_the_same_motion(ctx, small_scene):
@@ -53,9 +58,14 @@ def test_state_written_back_continues_the_same_motion(ctx, small_scene):
         assert np.abs(vel).max() > 0, "velocities are all zero after 3 frames of falling"
         b.write_state(xyz, vel)
         got_xyz, got_vel = b.state()
-        assert np.array_equal(got_xyz, xyz)
-        assert np.allclose(got_vel, vel, rtol=0, atol=1e-5), \
-            f"velocities differ by up to {np.abs(got_vel - vel).max()} m/s"
+        assert np.array_equal(got_xyz, xyz) and np.array_equal(got_vel, vel)
+        # Both run on: the velocity goes through v = u/h + hg/2 and back, a float rounding of
+        # the displacement per particle (tests/sim/test_state.c), so the same motion to 5e-7 m.
+        a.step(5)
+        b.step(5)
+        apart = np.abs(a.positions() - b.positions()).max()
+        moved = np.abs(a.positions() - xyz).max()
+        assert apart < 5e-7 and moved > 1e-3, f"{apart} m apart after the cloth moved {moved} m"
 
 
 def test_cloths_stats_and_plan(ctx, small_scene):
@@ -108,7 +118,10 @@ def test_crowded_particles_are_counted(ctx):
         assert st["contact_crowded"] > 0
         assert st["intersecting_pairs"] == 0
         assert st["solver_iterations"] == 4 * 2 * 4  # the last frame's sweeps
-        assert st["diverged"] is False
+        assert st["solver_iterations_total"] == 6 * 4 * 2 * 4  # six frames of them
+        assert st["solver_breakdowns"] == 0
+        assert st["diverged"] is False and st["diverged_frame"] == 0
+        assert st["diverged_nonfinite"] is False
 
 
 def test_override_reaches_the_solver(ctx):
@@ -133,7 +146,10 @@ def test_close_order_and_use_after_close(ctx, small_scene):
     with pytest.raises(ValueError, match="Simulation is closed"):
         sim.step(1)
     sim = clothvk.Simulation(ctx, small_scene)
+    handle = sim._h
     del sim  # collected without close(): __del__ destroys it
+    gc.collect()
+    assert handle.ptr is None and handle not in ctx._h.children
 
 
 def test_pick_grab_release(ctx, small_scene):
@@ -151,8 +167,10 @@ def test_pick_grab_release(ctx, small_scene):
         assert hit is not None and (hit["cloth"], hit["index"]) == (0, want), hit
         assert abs(hit["distance"] - t[want]) < 1e-5 and hit["position"] == xyz[want].tolist()
         assert sim.pick(origin, [0, 1, 0], 0.01) is None, "the cloth behind the origin was hit"
-        with pytest.raises(clothvk.Error, match="direction must be finite and not zero"):
+        with pytest.raises(clothvk.Error) as caught:
             sim.pick(origin, [0, 0, 0], 0.01)
+        assert caught.value.result == "CVK_ERROR_INVALID_ARGUMENT" and str(caught.value) == \
+            "cvk_sim_pick: the ray's direction must be finite and not zero, got [0, 0, 0]"
         target = [float(aim[0]), float(aim[1]) + 0.1, float(aim[2])]
         sim.grab(0, want, target)
         sim.step(1)
@@ -160,8 +178,11 @@ def test_pick_grab_release(ctx, small_scene):
         sim.release()
         sim.step(3)
         assert np.abs(sim.positions()[want] - target).max() > 1e-3, "still held after release"
-        with pytest.raises(clothvk.Error, match="is pinned"):
+        with pytest.raises(clothvk.Error) as caught:
             sim.grab(0, 0, target)
+        assert caught.value.result == "CVK_ERROR_INVALID_ARGUMENT" and str(caught.value) == (
+            'cvk_sim_grab: particle 0 of cloth 0 ("sheet") is pinned; only free particles can '
+            'be grabbed')
         # a hand: every free particle within 10 cm of it moves with it, at its offset
         xyz = sim.positions()
         near = np.flatnonzero(np.linalg.norm(xyz - xyz[want], axis=1) <= 0.1)
@@ -171,5 +192,7 @@ def test_pick_grab_release(ctx, small_scene):
         sim.step(1)
         moved = sim.positions()[near] - (xyz[near] - xyz[want])
         assert np.abs(moved - lifted).max() < 1e-5
-        with pytest.raises(clothvk.Error, match="radius must be a finite number"):
+        with pytest.raises(clothvk.Error) as caught:
             sim.grab(0, want, target, radius=-1.0)
+        assert caught.value.result == "CVK_ERROR_INVALID_ARGUMENT" and str(caught.value) == \
+            "cvk_sim_grab_within: the radius must be a finite number of metres, at least 0; got -1"

@@ -66,8 +66,10 @@ def test_chunks_change_no_bit(ctx, small_scene):
 
 
 def test_public_names():
-    assert dir(clothvk) == ["Context", "Error", "Renderer", "Scene", "SceneNotFoundError",
-                            "ScenePathError", "SceneValueError", "Simulation", "__version__"]
-    assert sorted(clothvk.__all__) == dir(clothvk)[:-1]
+    names = ["Context", "Error", "Renderer", "Scene", "SceneNotFoundError", "ScenePathError",
+             "SceneValueError", "Simulation"]
+    assert dir(clothvk) == names + ["__version__"]
+    assert sorted(clothvk.__all__) == names
+    assert all(getattr(clothvk, name) is not None for name in names)
     project = re.search(r"version: '([^']+)'", (ROOT / "meson.build").read_text())[1]
     assert clothvk.__version__ == project == "0.1.0"
