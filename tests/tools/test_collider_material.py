@@ -11,10 +11,8 @@
 """
 import json
 import os
-import struct
 import sys
 import tempfile
-import zlib
 
 import tooltest
 
@@ -39,47 +37,6 @@ def scene(material=None, color=None):
     }
 
 
-def pixels(path):
-    """The PNG's 8-bit RGB(A) samples, row filters undone: (width, channels, bytes)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    at, idat, header = 8, b"", None
-    while at < len(data):
-        length, kind = struct.unpack(">I4s", data[at:at + 8])
-        body = data[at + 8:at + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBB", body[:10])
-        elif kind == b"IDAT":
-            idat += body
-        at += 12 + length
-    width, height, _, colour = header
-    n = {2: 3, 6: 4}[colour]
-    raw = zlib.decompress(idat)
-    stride = width * n
-    out = bytearray()
-    prev = bytearray(stride)
-    for y in range(height):
-        kind = raw[y * (stride + 1)]
-        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - n] if i >= n else 0
-            b = prev[i]
-            c = prev[i - n] if i >= n else 0
-            if kind == 1:
-                line[i] = (line[i] + a) & 255
-            elif kind == 2:
-                line[i] = (line[i] + b) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        out += line
-        prev = line
-    return width, n, bytes(out)
-
-
 def render(tmp, name, desc):
     """Renders desc's frame 0; returns (problems, image bytes, brightest pixel's channel sum)."""
     path = os.path.join(tmp, name + ".json")
@@ -92,7 +49,7 @@ def render(tmp, name, desc):
     png = os.path.join(out, "frame_0000.png")
     with open(png, "rb") as f:
         data = f.read()
-    width, n, px = pixels(png)
+    width, n, px = tooltest.png_pixels(png)
     height = len(px) // (width * n)
     # The ball fills the middle of the picture (the camera looks at its centre).
     brightest = max(sum(px[(y * width + x) * n:(y * width + x) * n + 3])

@@ -32,7 +32,6 @@ import tempfile
 import zlib
 
 import tooltest
-from test_collider_material import pixels
 
 RENDER = sys.argv[1] if len(sys.argv) > 1 else tooltest.tool_paths("clothvk-render")[0]
 WIDTH, HEIGHT = 320, 180
@@ -111,7 +110,7 @@ def render(tmp, name, desc, threads=None):
     if p.returncode != 0 or p.stderr:
         return [f"{name}: exit status {p.returncode}: {p.stderr.strip()}"], None
     last = sorted(n for n in os.listdir(out) if n.endswith(".png"))[-1]
-    return [], pixels(os.path.join(out, last))
+    return [], tooltest.png_pixels(os.path.join(out, last))
 
 
 def middle(image):

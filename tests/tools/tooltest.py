@@ -276,3 +276,45 @@ def png_info(path):
     if len(zlib.decompress(idat)) != height * (1 + width * channels):
         raise ValueError("the image data has the wrong size")
     return width, height, colour
+
+
+def png_pixels(path):
+    """An 8-bit RGB(A) PNG's samples, decoded here: the IDAT chunks inflated and each row's
+    filter undone (PNG spec 9.2); (width, channels, bytes), rows one after another."""
+    with open(path, "rb") as f:
+        data = f.read()
+    at, idat, header = 8, b"", None
+    while at < len(data):
+        length, kind = struct.unpack(">I4s", data[at:at + 8])
+        body = data[at + 8:at + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+        at += 12 + length
+    width, height, _, colour = header
+    n = {2: 3, 6: 4}[colour]
+    raw = zlib.decompress(idat)
+    stride = width * n
+    out = bytearray()
+    prev = bytearray(stride)
+    for y in range(height):
+        kind = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - n] if i >= n else 0
+            b = prev[i]
+            c = prev[i - n] if i >= n else 0
+            if kind == 1:
+                line[i] = (line[i] + a) & 255
+            elif kind == 2:
+                line[i] = (line[i] + b) & 255
+            elif kind == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif kind == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        out += line
+        prev = line
+    return width, n, bytes(out)
