@@ -28,7 +28,7 @@ without it under a strain limit or with four times the outer iterations.
 pile and the twist whole at each interval, the intervals alternated in each of R rounds (default
 2), the fastest round's ms per frame kept (the other columns do not change from round to round).
 --pile-settings: what the pile's solver settings cost (pile-settings.csv): the pile of six cloths
-at its own settings and at each of PILE_SETTINGS (substeps a frame of 1/60 s, outer and inner
+at its own settings and at each of PILE_SETTINGS (substeps a frame of the scene's, outer and inner
 iterations, strain limit), the settings alternated in each of R rounds (default 2), ms per frame from the
 fastest and the slowest round, the passes' ms from the fastest.
 """
@@ -219,9 +219,10 @@ def pile_settings_rows(sim, rounds):
     solver = scene["solver"]
     own = (scene["substeps"], solver["outer_iterations"], solver["inner_iterations"],
            solver["strain_limit"])
+    frame = scene["dt"] * scene["substeps"]  # kept: each setting splits the same frame
     settings = (own,) + PILE_SETTINGS
     runs = alternated(sim, [("contact-pile.json",
-                             [f"substeps={k}", f"dt={1.0 / 60.0 / k:.10g}",
+                             [f"substeps={k}", f"dt={frame / k:.10g}",
                               f"solver.outer_iterations={outer}",
                               f"solver.inner_iterations={inner}",
                               f"solver.strain_limit={limit}"])
