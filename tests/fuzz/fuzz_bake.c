@@ -8,9 +8,16 @@
      with bit 1 set its CRC-32 is made right first, so that mutations reach past the checksum
      into the header's other checks and the state's sections (solver family, contact, tearing).
    One Vulkan context and simulation (lavapipe, validation off) serve the whole run: a load
-   that fails changes nothing, and one that succeeds replaces the whole state.
+   that fails changes nothing, and one that succeeds replaces the whole state. Besides the
+   sanitizers, each input checks those contracts (sim.h, bake.h), and a breach aborts with what
+   it was:
+   - a refused snapshot leaves the simulation's state as it was (its saved bytes the same), and
+     its message is one line;
+   - a refused resume leaves the bake's folder as it was: the same three files, frame 0 and
+     the scene's text the same bytes, cache.json the input's.
    With CLOTHVK_FUZZ_SEEDS=DIR, writes the seeds (that cache.json, and the snapshot with and
    without the CRC bit) into DIR and exits. Built and run by scripts/fuzz.sh. */
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,6 +45,10 @@ static app_overrides no_overrides;
 static app_bake_desc desc;
 static unsigned char* snapshot; /* a valid frame 0 */
 static uint64_t snapshot_size;
+static unsigned char* frame_file; /* frame_0000.snap as the bake wrote it */
+static size_t frame_size;
+static unsigned char* state;      /* the simulation's state as last saved */
+static unsigned char* scratch;    /* and as saved after a load, to compare */
 
 static void fail(const char* what, const char* message)
 {
@@ -52,6 +63,49 @@ static bool write_file(const char* path, const void* data, size_t size)
         return false;
     bool ok = fwrite(data, 1, size, f) == size;
     return fclose(f) == 0 && ok;
+}
+
+/* A breach of a contract: the input that found it is kept by libFuzzer as a crash. */
+static void require(bool ok, const char* what, const char* detail)
+{
+    if (ok)
+        return;
+    fprintf(stderr, "fuzz_bake: %s: %s\n", what, detail);
+    abort();
+}
+
+/* The whole file, or NULL; its size in *size. */
+static unsigned char* read_bytes(const char* path, size_t* size)
+{
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    unsigned char* data = NULL;
+    long end = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    if (end >= 0 && fseek(f, 0, SEEK_SET) == 0 && (data = malloc((size_t)end + 1)) &&
+        fread(data, 1, (size_t)end, f) != (size_t)end) {
+        free(data);
+        data = NULL;
+    }
+    fclose(f);
+    *size = end >= 0 ? (size_t)end : 0;
+    return data;
+}
+
+static bool same_file(const char* path, const void* data, size_t size)
+{
+    size_t got;
+    unsigned char* bytes = read_bytes(path, &got);
+    bool same = bytes && got == size && memcmp(bytes, data, size) == 0;
+    free(bytes);
+    return same;
+}
+
+static void save_state(unsigned char* into)
+{
+    cvk_error err;
+    if (cvk_sim_save_snapshot(sim, into, snapshot_size, &err) != CVK_SUCCESS)
+        fail("cvk_sim_save_snapshot", err.message);
 }
 
 static char* read_text(const char* path)
@@ -105,6 +159,36 @@ static void make_bake(void)
     cvk_error err;
     if (!snapshot || cvk_sim_save_snapshot(sim, snapshot, snapshot_size, &err) != CVK_SUCCESS)
         fail("cvk_sim_save_snapshot", err.message);
+    state = malloc(snapshot_size);
+    scratch = malloc(snapshot_size);
+    if (!state || !scratch)
+        fail("the state's copies", "out of memory");
+    memcpy(state, snapshot, snapshot_size);
+    char path[sizeof folder + 32];
+    snprintf(path, sizeof path, "%s/frame_0000.snap", folder);
+    if (!(frame_file = read_bytes(path, &frame_size)))
+        fail(path, "cannot read");
+}
+
+/* The folder holds scene.json, cache.json and frame_0000.snap, and no other file. */
+static bool three_files(void)
+{
+    DIR* dir = opendir(folder);
+    if (!dir)
+        return false;
+    int files = 0;
+    bool known = true;
+    struct dirent* entry;
+    while ((entry = readdir(dir))) {
+        if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0)
+            continue;
+        files++;
+        known = known && (strcmp(entry->d_name, "scene.json") == 0 ||
+                          strcmp(entry->d_name, "cache.json") == 0 ||
+                          strcmp(entry->d_name, "frame_0000.snap") == 0);
+    }
+    closedir(dir);
+    return known && files == 3;
 }
 
 static void remove_bake(void)
@@ -154,8 +238,16 @@ static void resume(const uint8_t* data, size_t size)
     if (!write_file(cache_path, data, size))
         fail(cache_path, "cannot write");
     app_bake bake;
-    app_bake_resume(&bake, "fuzz_bake", sim, folder, &desc);
+    int status = app_bake_resume(&bake, "fuzz_bake", sim, folder, &desc);
     app_bake_free(&bake);
+    char path[sizeof folder + 32];
+    snprintf(path, sizeof path, "%s/frame_0000.snap", folder);
+    require(same_file(path, frame_file, frame_size), "a resume", "changed frame_0000.snap");
+    require(same_file(scene_path, scene_text, strlen(scene_text)), "a resume", "changed scene.json");
+    require(three_files(), "a resume", "left other files than the bake's three");
+    if (status != APP_EXIT_OK)
+        require(same_file(cache_path, data, size), "a refused resume", "rewrote cache.json");
+    save_state(state); /* a resume may have loaded frame 0, refused or not */
 }
 
 static void load(const uint8_t* data, size_t size, bool fix_crc)
@@ -171,8 +263,19 @@ static void load(const uint8_t* data, size_t size, bool fix_crc)
         memcpy(copy + 64, &value, 4);
     }
     cvk_error err;
-    cvk_sim_load_snapshot(sim, copy, size, &err);
+    cvk_result r = cvk_sim_load_snapshot(sim, copy, size, &err);
     free(copy);
+    if (r == CVK_SUCCESS) {
+        save_state(state);
+        return;
+    }
+    const char* end = memchr(err.message, '\0', sizeof err.message);
+    require(end && end > err.message && !memchr(err.message, '\n', (size_t)(end - err.message)),
+            "a refused snapshot's message is not one line", err.message);
+    require(err.result == r, "a refused snapshot", "error.result is not the result returned");
+    save_state(scratch);
+    require(memcmp(scratch, state, snapshot_size) == 0, "a refused snapshot changed the state",
+            err.message);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
