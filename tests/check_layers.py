@@ -5,11 +5,14 @@ lib/ is in folders by layer (docs/architecture.md). A file may include from its 
 from folders below it, never from one above; and no two modules include each other, directly
 or around a circle, where a module is a .c file with its .h (x.c and x.h are one node). The
 public headers (lib/include) sit below everything; "shared/..." and shader_list.h are the
-shaders' declarations shared with C, also below everything.
+shaders' declarations shared with C, also below everything. Every folder of lib/ is a layer or
+lib/include, and a layer is one flat folder: a folder of lib/ that is not a layer, or a folder
+inside a layer that holds .c or .h files, would escape the rule, so each is a break.
 
 Usage: check_layers.py [LIB_DIR]. Exit 0 when the rule holds; 1 with one line per break.
-check_layers.py --self-test first checks that a small tree with an upward include, a circle
-and a stray file is refused with exactly those breaks, then checks LIB_DIR."""
+check_layers.py --self-test first checks that a small tree with an upward include, a circle,
+a stray file, a folder that is not a layer and a folder inside a layer is refused with exactly
+those breaks, then checks LIB_DIR."""
 import os
 import re
 import sys
@@ -41,8 +44,27 @@ def modules(lib):
     return found
 
 
-def check(lib):
+def folders(lib):
+    """One line for each folder the rule would not read: a folder of lib/ that is neither a
+    layer nor include/, and a folder inside a layer that holds .c or .h files."""
     errors = []
+    for name in sorted(os.listdir(lib)):
+        if os.path.isdir(os.path.join(lib, name)) and name not in LAYERS + ["include"]:
+            errors.append(f"lib/{name}/: a folder that is not a layer (docs/architecture.md "
+                          "names the layers); the layer rule does not read it")
+    for layer in LAYERS:
+        top = os.path.join(lib, layer)
+        for folder, subs, names in os.walk(top):
+            subs.sort()
+            if folder != top and any(n.endswith((".c", ".h")) for n in names):
+                rel = os.path.relpath(folder, lib).replace(os.sep, "/")
+                errors.append(f"lib/{rel}/: a folder inside the layer {layer}/; the layer rule "
+                              "does not read it (a layer is one flat folder)")
+    return errors
+
+
+def check(lib):
+    errors = folders(lib)
     mods = modules(lib)
     stray = [n for n in os.listdir(lib) if n.endswith((".c", ".h"))]
     for n in stray:
@@ -92,7 +114,9 @@ def check(lib):
 
 def self_test():
     """The check refuses what it must: an upward include, a circle within a folder, a circle
-    across folders through a header, a missing header and a file outside the folders."""
+    across folders through a header, a missing header, a file outside the folders, a folder
+    that is not a layer and a folder inside a layer (include/ and a subfolder holding no
+    source pass)."""
     files = {
         "core/a.h": '#include "core/b.h"\n',
         "core/b.h": '#include "core/a.h"\n',            # circle a <-> b
@@ -101,9 +125,17 @@ def self_test():
         "core/c.h": "",
         "scene/d.c": '#include "scene/d.h"\n#include "core/c.h"\n#include "core/zz.h"\n',
         "stray.c": "",
+        "include/clothvk/base.h": "",
+        "extra/e.c": '#include "core/c.h"\n',           # a folder that is not a layer
+        "scene/deep/f.h": '#include "core/b.h"\n',      # a folder inside a layer
+        "scene/notes/readme.txt": "",                   # holds no source: passes
     }
     want = [
         "lib/stray.c: a source outside the layer folders",
+        "lib/extra/: a folder that is not a layer (docs/architecture.md names the layers); the "
+        "layer rule does not read it",
+        "lib/scene/deep/: a folder inside the layer scene/; the layer rule does not read it "
+        "(a layer is one flat folder)",
         'lib/core/c.c:1: core/ includes "scene/d.h" from scene/, a layer above it',
         'lib/scene/d.c:3: includes "core/zz.h", which does not exist',
         "include circle: core/a -> core/b -> core/a",
