@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks that the documentation covers what the code offers.
 
-    python3 scripts/check-docs.py BUILD_DIR      # e.g. scripts/check-docs.py build
+    python3 scripts/check-docs.py [--self-test] BUILD_DIR   # e.g. scripts/check-docs.py build
 
 Fails (exit 1, one line per gap) unless
   1. README.md has at most 200 lines (it is the front page; the reference lives in docs/);
@@ -16,12 +16,19 @@ Fails (exit 1, one line per gap) unless
   6. every table generated from docs/figures/ is what scripts/figures.py makes of the CSVs now.
 A name counts as present when it stands in `code` on the page (alone, or in a longer span such
 as `cloths.N.mass` or `--frames N`). Exit 2 for a usage error. Standard library only.
+
+--self-test first runs each check on small trees written to a temporary folder (fake tools that
+print their --help, a copy of scripts/figures.py) and requires exactly the gaps each tree holds,
+so that each check is shown able to fail; it exits 1 naming the case that did not.
 """
+import contextlib
 import glob
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 README_LIMIT = 200
@@ -211,11 +218,133 @@ def check_figures(problems):
                                 "(run python3 scripts/figures.py)")
 
 
+@contextlib.contextmanager
+def tree(files):
+    """ROOT moved to a temporary folder holding `files` ({path: text}; a text starting with
+    "#!" is made executable) while the block runs; then ROOT, sys.path and the figures module
+    are as they were."""
+    global ROOT
+    saved_root, saved_path = ROOT, list(sys.path)
+    with tempfile.TemporaryDirectory() as root:
+        for path, text in files.items():
+            full = os.path.join(root, path)
+            os.makedirs(os.path.dirname(full), exist_ok=True)
+            with open(full, "w", encoding="utf-8") as f:
+                f.write(text)
+            if text.startswith("#!"):
+                os.chmod(full, 0o755)
+        ROOT = root
+        try:
+            yield root
+        finally:
+            ROOT = saved_root
+            sys.path[:] = saved_path
+            sys.modules.pop("figures", None)
+
+
+def run_check(check, files):
+    """The gaps `check` finds in a tree of `files`."""
+    problems = []
+    with tree(files):
+        check(problems)
+    return problems
+
+
+def case_readme():
+    long = run_check(check_readme, {"README.md": "line\n" * (README_LIMIT + 1)})
+    limit = run_check(check_readme, {"README.md": "line\n" * README_LIMIT})
+    return long + limit, [f"README.md: {README_LIMIT + 1} lines; the front page has at most "
+                          f"{README_LIMIT} (move the reference into docs/)"]
+
+
+def case_tools():
+    help_text = "#!/bin/sh\necho 'usage: {} [--frames N]{}'\n"
+    files = {"docs/tools.md": "`--frames N` steps N frames.\n",
+             "build/apps/clothvk-sim": help_text.format("clothvk-sim", " [--secret]"),
+             "build/apps/clothvk-render": help_text.format("clothvk-render", ""),
+             "build/apps/clothvk-bench": "#!/bin/sh\nexit 3\n"}
+    problems = []
+    with tree(files) as root:
+        check_tools(os.path.join(root, "build"), problems)
+        bench = os.path.join(root, "build", "apps", "clothvk-bench")
+    return problems, ["docs/tools.md: clothvk-sim's option --secret (from --help) is not "
+                      "documented", f"{bench} --help: exit status 3"]
+
+
+def case_library():
+    files = {"lib/include/clothvk.h": "/* cvk_in_a_comment(x) */\n"
+                                      "typedef struct cvk_sim cvk_sim;\n"
+                                      "int cvk_step(cvk_sim *sim);\nint cvk_hidden(void);\n",
+             "lib/include/clothvk/base.h": "typedef void (*cvk_log_fn)(const char *line);\n"
+                                           "enum cvk_kind cvk_kind_of(int k);\n",
+             "docs/library.md": "`cvk_sim`, `cvk_step(sim)` and `cvk_log_fn`; "
+                                "`cvk_kind_of`.\n"}
+    return run_check(check_library, files), [
+        "docs/library.md: cvk_hidden (declared in lib/include/clothvk.h) is not documented"]
+
+
+def case_scene_keys():
+    files = {"lib/scene/read.c": '{ .key = "gravity" }, { .key = "wind" },\n',
+             "lib/sim/scene_extra.c": '{ .key = "frames" },\n',
+             "lib/sim/other.c": '{ .key = "ignored" },\n',
+             "docs/scene-format.md": "`gravity` and `cloths.N.wind`\n"}
+    return run_check(check_scene_keys, files), [
+        "docs/scene-format.md: scene key frames (a field table in lib/sim/scene_extra.c) is not "
+        "documented"]
+
+
+def case_links():
+    files = {"README.md": "[a](docs/a.md) [b](docs/gone.md) [c](docs/a.md#title) "
+                          "[d](docs/a.md#nope) [e](https://example.com/x)\n"
+                          "```\n[f](in-a-fence.md)\n```\n",
+             "docs/a.md": "# Title\n[back](../README.md) [self](#title) [x](#missing)\n"}
+    return run_check(check_links, files), [
+        "README.md: link to docs/gone.md: docs/gone.md does not exist",
+        "README.md: link to docs/a.md#nope: docs/a.md has no heading #nope",
+        "docs/a.md: link to #missing: docs/a.md has no heading #missing"]
+
+
+def case_figures():
+    with open(os.path.join(ROOT, "scripts", "figures.py"), encoding="utf-8") as f:
+        figures_py = f.read()
+    block = "<!-- figures:begin {0} -->\n{1}<!-- figures:end {0} -->\n"
+    files = {"scripts/figures.py": figures_py, "README.md": "front\n",
+             "docs/figures/runs/now.csv": "a,b\n1,2\n",
+             "docs/figures/runs/stale.csv": "a\n3\n",
+             "docs/t.md": block.format("runs/now", "| a | b |\n| --- | --- |\n| 1 | 2 |\n") +
+             block.format("runs/stale", "| a |\n| --- |\n| 4 |\n") +
+             block.format("runs/gone", "")}
+    return run_check(check_figures, files), [
+        "docs/t.md: table runs/stale differs from its CSV (run python3 scripts/figures.py)",
+        "docs/t.md: table runs/gone: docs/figures/runs/gone.csv: no such file"]
+
+
+def self_test():
+    """True when each check finds exactly the gaps of its small tree; else prints, for each
+    case that did not, what it expected and what it got."""
+    ok = True
+    for case in (case_readme, case_tools, case_library, case_scene_keys, case_links,
+                 case_figures):
+        got, want = case()
+        if sorted(got) != sorted(want):
+            ok = False
+            print(f"check-docs: self-test {case.__name__}: expected\n  " +
+                  "\n  ".join(sorted(want)) + "\ngot\n  " +
+                  ("\n  ".join(sorted(got)) or "(nothing)"), file=sys.stderr)
+    return ok
+
+
 def main(argv):
-    if len(argv) != 2 or argv[1] in ("-h", "--help"):
+    args = argv[1:]
+    test = "--self-test" in args
+    if test:
+        args.remove("--self-test")
+    if len(args) != 1 or args[0] in ("-h", "--help"):
         print(__doc__.strip().split("\n\n")[1], file=sys.stderr)
         return 2
-    build = os.path.abspath(argv[1])
+    if test and not self_test():
+        return 1
+    build = os.path.abspath(args[0])
     problems = []
     check_readme(problems)
     check_tools(build, problems)
