@@ -1,8 +1,35 @@
 #include "core/error.h"
 
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
+
+/* A message is one line: a control character that reached it from what it quotes (a file's
+   text in a JSON error, a key or a path with a newline in it) is written as "\xNN", as far as
+   the buffer holds; what no longer fits is cut at a whole escape. */
+static void one_line(char* message, size_t size)
+{
+    size_t length = strlen(message), controls = 0;
+    for (size_t i = 0; i < length; i++)
+        controls += (unsigned char)message[i] < 0x20 || message[i] == 0x7f;
+    if (controls == 0)
+        return;
+    char escaped[sizeof ((cvk_error*)0)->message];
+    size_t out = 0;
+    for (size_t i = 0; i < length; i++) {
+        unsigned char c = (unsigned char)message[i];
+        bool control = c < 0x20 || c == 0x7f;
+        if (out + (control ? 4 : 1) >= sizeof escaped || out + (control ? 4 : 1) >= size)
+            break;
+        if (control)
+            out += (size_t)snprintf(escaped + out, 5, "\\x%02x", c);
+        else
+            escaped[out++] = (char)c;
+    }
+    escaped[out] = '\0';
+    memcpy(message, escaped, out + 1);
+}
 
 cvk_result cvk_fail(cvk_error* error, cvk_result result, const char* format, ...)
 {
@@ -12,6 +39,7 @@ cvk_result cvk_fail(cvk_error* error, cvk_result result, const char* format, ...
         va_start(args, format);
         vsnprintf(error->message, sizeof error->message, format, args);
         va_end(args);
+        one_line(error->message, sizeof error->message);
     }
     return result;
 }
@@ -40,6 +68,7 @@ void cvk_error_prefix(cvk_error* error, const char* format, ...)
     if (snprintf(joined, sizeof joined, "%s: %s", prefix, error->message) < 0)
         return;
     memcpy(error->message, joined, sizeof joined);
+    one_line(error->message, sizeof error->message);
 }
 
 const char* cvk_result_name(cvk_result result)

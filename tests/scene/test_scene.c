@@ -628,6 +628,10 @@ static void test_malformed_json(void)
     EXPECT_ERROR("", CVK_ERROR_PARSE, "t.json:1:0: malformed JSON: unexpected token near end of file");
     EXPECT_ERROR("{'dt': 1e400}", CVK_ERROR_PARSE, "t.json:1:12: malformed JSON: real number overflow near '1e400'");
     EXPECT_ERROR("{'cloths': [{}]} x", CVK_ERROR_PARSE, "t.json:1:18: malformed JSON: end of file expected near 'x'");
+    // The text jansson quotes may hold a newline (a backslash at a line's end): the message
+    // stays one line, the newline written as \x0a (found by tests/fuzz/fuzz_scene.c).
+    EXPECT_ERROR("{'dt': 'a\\\nb'}", CVK_ERROR_PARSE,
+                 "t.json:2:0: malformed JSON: invalid escape near '\"a\\\\x0a'");
 }
 
 static void test_nonfinite_json(void)

@@ -56,7 +56,8 @@ typedef enum cvk_result {
                                    context can only be destroyed; nothing more is submitted */
 } cvk_result;
 
-/* One sentence that says why a call failed. Pass NULL where you do not want it. */
+/* One sentence that says why a call failed, on one line (a control character in what it
+   quotes is written as \xNN). Pass NULL where you do not want it. */
 typedef struct cvk_error {
     cvk_result result;
     char message[512];
