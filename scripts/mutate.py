@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Mutation run: copies of the scenes in assets/scenes with one to three values changed (a
 number made 0, negative, tiny, huge or 2^32 - 1; a string, array or object swapped for another
-type; a key deleted; an array emptied or grown), each run through clothvk-sim for a few frames.
-Counts the outcomes by exit status; a crash (death by a signal), a hang (past the timeout) or an
-exit 1 (a failure while running, which bad input should not cause: it should be refused with
-exit 2 up front) is kept under OUT with its stderr, and the script exits 1 when any crash or
-hang occurred.
+type; a key deleted; an array emptied or grown), each run through clothvk-sim for a few frames
+with every output asked for (--dump, --pc2, --bake) in a folder of its own. Counts the outcomes
+by exit status; a crash (death by a signal), a hang (past the timeout) or an exit 1 (a failure
+while running, which bad input should not cause: it should be refused with exit 2 up front) is
+kept under OUT with its stderr, and so is a breach of the tools' contract: a refusal (exit 2)
+that wrote anything or said more or less than one line on stderr, or a run that exited 0
+without its outputs. The script exits 1 when any crash, hang or breach occurred.
 
     python3 scripts/mutate.py build/apps/clothvk-sim --count 2000 --seed 2 --out build/mutate
 """
@@ -69,6 +71,25 @@ def absolute_files(value, folder):
     return value
 
 
+# Every output clothvk-sim writes, into the mutant's own folder.
+OUTPUTS = ["--dump", "final.csv", "--pc2", "anim.pc2", "--bake", "bake"]
+WRITTEN = {"final.csv", "anim.pc2", "anim.obj", "bake"}
+
+
+def breach(outcome, stderr, work):
+    """What a run broke of the tools' contract (docs/tools.md), or None: a refusal writes
+    nothing and says one line; a run that succeeds writes every output it was asked for."""
+    written = set(os.listdir(work)) - {"scene.json"}
+    if outcome == "exit 2":
+        if written:
+            return "refusal wrote " + ",".join(sorted(written))
+        if stderr.count("\n") != 1 or not stderr.startswith("clothvk-sim: "):
+            return "refusal not one line"
+    if outcome == "exit 0" and written != WRITTEN:
+        return "success without " + ",".join(sorted(WRITTEN - written))
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("sim", help="path to clothvk-sim")
@@ -95,15 +116,18 @@ def main():
             with open(path, "w") as f:
                 json.dump(scene, f)
             try:
-                p = subprocess.run([args.sim, path, "--frames", str(args.frames)], cwd=work,
-                                   capture_output=True, text=True, timeout=args.timeout)
+                p = subprocess.run([args.sim, path, "--frames", str(args.frames), *OUTPUTS],
+                                   cwd=work, capture_output=True, text=True,
+                                   timeout=args.timeout)
                 outcome = f"exit {p.returncode}" if p.returncode >= 0 else f"signal {-p.returncode}"
                 stderr = p.stderr
+                outcome = breach(outcome, stderr, work) or outcome
             except subprocess.TimeoutExpired:
                 outcome, stderr = "hang", ""
         outcomes[outcome] += 1
         if outcome not in ("exit 0", "exit 2", "exit 3"):
-            keep = os.path.join(args.out, f"mutant-{i:05d}-{outcome.replace(' ', '')}.json")
+            tag = "".join(c if c.isalnum() else "-" for c in outcome)[:40]
+            keep = os.path.join(args.out, f"mutant-{i:05d}-{tag}.json")
             with open(keep, "w") as f:
                 json.dump(scene, f, indent=1)
             kept.append((keep, name, changed, outcome, stderr.strip()[:300]))
@@ -111,7 +135,7 @@ def main():
           ", ".join(f"{n} x {o}" for o, n in sorted(outcomes.items())))
     for keep, name, changed, outcome, stderr in kept:
         print(f"  {outcome}: {keep} (from {name}, changed {', '.join(changed)}): {stderr}")
-    bad = sum(n for o, n in outcomes.items() if o.startswith("signal") or o == "hang")
+    bad = sum(n for o, n in outcomes.items() if not o.startswith("exit"))
     return 1 if bad else 0
 
 
