@@ -390,6 +390,8 @@ static cvk_result create_objects(cvk_sim* s, const cvk_scene_desc* scene, uint32
     if (r == CVK_SUCCESS)
         r = resolve_radius(s, scene, error);
     if (r == CVK_SUCCESS)
+        r = cvk_sim_check_collider_start(s, scene, error);
+    if (r == CVK_SUCCESS)
         r = cvk_attach_create(s, scene, error);
     if (r == CVK_SUCCESS)
         r = cvk_aero_create(s, scene, error);

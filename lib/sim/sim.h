@@ -41,6 +41,13 @@ cvk_result cvk_sim_contact_stats(cvk_sim* sim, const float* xyz_internal, cvk_si
 cvk_result cvk_sim_check_clean_start(const cvk_sim* sim, const cvk_scene_desc* scene,
                                      cvk_error* error);
 
+/* Without collision.allow_intersecting_start, CVK_ERROR_INVALID_ARGUMENT when a free particle
+   starts more than the contact thickness inside one of its colliders (posed at time 0; the
+   funnel's distance is unsigned, so never inside it): one sentence naming the cloth, the
+   collider, the particle, how deep and where. With or without self-contact. */
+cvk_result cvk_sim_check_collider_start(const cvk_sim* sim, const cvk_scene_desc* scene,
+                                        cvk_error* error);
+
 /* ---- shared by sim.c and sim_state.c ---- */
 
 /* Timestamp queries of one frame; pass[q] (q ≥ 1) is the pass query q closes. */

@@ -5,6 +5,7 @@
    cvk_collide_distance (the host's reference of the collider shapes) and the particle–triangle
    pairs from the host's grid of boxes (intersect.h), measured in double. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -120,6 +121,64 @@ cvk_result cvk_sim_check_clean_start(const cvk_sim* s, const cvk_scene_desc* sce
     if (r == CVK_SUCCESS && pair.found)
         r = fail_intersecting(b, &pair, error);
     return r;
+}
+
+/* ---- a start inside a collider ------------------------------------------------------------ */
+
+/* The cloth of user particle u, and u's index within it. */
+static uint32_t cloth_of_particle(const cvk_build* b, uint32_t u, uint32_t* index)
+{
+    uint32_t c = 0;
+    while (c + 1 < b->cloth_count && u >= b->cloths[c + 1].first_user)
+        c++;
+    *index = u - b->cloths[c].first_user;
+    return c;
+}
+
+static cvk_result fail_inside(const cvk_sim* s, uint32_t p, uint32_t k, float depth,
+                              cvk_error* error)
+{
+    const cvk_build* b = &s->build;
+    const cvk_collide* c = s->collide;
+    uint32_t v;
+    const cvk_cloth_range* cloth = &b->cloths[cloth_of_particle(b, b->user_of[p], &v)];
+    char particle[48], collider[96];
+    if (cloth->grid[0])
+        snprintf(particle, sizeof particle, "particle [%u, %u]", v % cloth->grid[0],
+                 v / cloth->grid[0]);
+    else
+        snprintf(particle, sizeof particle, "vertex %u", v);
+    uint32_t index = k % c->instance_colliders;
+    const char* name = c->colliders[k].name;
+    if (name)
+        snprintf(collider, sizeof collider, "colliders.%u (\"%s\")", index, name);
+    else
+        snprintf(collider, sizeof collider, "colliders.%u", index);
+    const float* x = &b->position[3 * (size_t)p];
+    return cvk_fail(error, CVK_ERROR_INVALID_ARGUMENT,
+                    "collision: cloth \"%s\" starts inside %s: its %s is %.3g m inside, at "
+                    "(%.3f, %.3f, %.3f); set collision.allow_intersecting_start to simulate "
+                    "anyway", cloth->name, collider, particle, (double)depth, (double)x[0],
+                    (double)x[1], (double)x[2]);
+}
+
+cvk_result cvk_sim_check_collider_start(const cvk_sim* s, const cvk_scene_desc* scene,
+                                        cvk_error* error)
+{
+    const cvk_collide* c = s->collide;
+    if (scene->collision.allow_intersecting_start || c->collider_count == 0)
+        return CVK_SUCCESS;
+    const cvk_build* b = &s->build;
+    for (uint32_t p = 0; p < b->free_count; p++) {
+        const float* x = &b->position[3 * (size_t)p];
+        uint32_t first = c->instance_of ? c->instance_of[p] * c->instance_colliders : 0;
+        for (uint32_t k = first; k < first + c->instance_colliders; k++) {
+            float d = cvk_collide_distance(c, k, 0.0, x, NULL);
+            if (d < -c->thickness)
+                return fail_inside(s, p, k, -d, error);
+        }
+    }
+    return CVK_SUCCESS;
 }
 
 /* ---- colliders ---------------------------------------------------------------------------- */

@@ -2,6 +2,9 @@
    - the clean start: two cloths crossing each other are refused with one sentence naming the
      cloths, the first pair of triangles and where; a cloth through itself likewise; with
      collision.allow_intersecting_start, or without self-contact, the scene is made;
+   - a start inside a collider, with or without self-contact: a free particle more than the
+     thickness inside is refused with one sentence naming the cloth, the collider, the particle,
+     how deep and where; within the thickness, pinned, or allowed, the scene is made;
    - a contact radius given with a default thickness, against the thickness resolved;
    - the notes: one sentence for each key that no longer has an effect, in the order of the
      scene format, and none for a scene that sets none. */
@@ -280,11 +283,55 @@ static void split_for_fast_colliders(cvk_context* ctx)
           "the note is %s", note);
 }
 
+/* Cloth "a" of crossing_scene alone (level at y = 1, thickness 0.05 m) and one collider. */
+static void inside_colliders(cvk_context* ctx)
+{
+    cvk_scene_desc scene;
+    cvk_cloth_desc cloths[2];
+    crossing_scene(&scene, cloths);
+    scene.cloth_count = 1;
+    scene.collision.self = false; /* the rule holds without self-contact too */
+    cvk_collider_desc plane = cvk_default_collider_desc();
+    plane.type = CVK_COLLIDER_PLANE;
+    plane.point[1] = 1.2f; /* the ground 0.2 m above the cloth */
+    scene.colliders = &plane;
+    scene.collider_count = 1;
+    create(ctx, &scene,
+           "collision: cloth \"a\" starts inside colliders.0: its particle [0, 0] is 0.2 m "
+           "inside, at (-0.500, 1.000, 0.000); set collision.allow_intersecting_start to "
+           "simulate anyway");
+    scene.collision.allow_intersecting_start = true;
+    cvk_sim_destroy(create(ctx, &scene, NULL));
+    scene.collision.allow_intersecting_start = false;
+    plane.point[1] = 1.04f; /* 0.04 m inside: within the thickness */
+    cvk_sim_destroy(create(ctx, &scene, NULL));
+
+    /* A ball of 0.08 m about the corner [10, 0]: the corner alone is inside, 0.08 m deep. */
+    cvk_collider_desc ball = cvk_default_collider_desc();
+    ball.type = CVK_COLLIDER_SPHERE;
+    ball.name = "ball";
+    ball.center[0] = 0.5f;
+    ball.center[1] = 1.0f;
+    ball.center[2] = 0.0f;
+    ball.radius = 0.08f;
+    scene.colliders = &ball;
+    scene.collision.self = true;
+    create(ctx, &scene,
+           "collision: cloth \"a\" starts inside colliders.0 (\"ball\"): its particle [10, 0] is "
+           "0.08 m inside, at (0.500, 1.000, 0.000); set collision.allow_intersecting_start to "
+           "simulate anyway");
+    const uint32_t pins[1][2] = {{10, 0}}; /* pinned, it does not move: nothing to refuse */
+    cloths[0].pins = pins;
+    cloths[0].pin_count = 1;
+    cvk_sim_destroy(create(ctx, &scene, NULL));
+}
+
 int main(void)
 {
     cvk_context* ctx = harness_context();
     crossing_cloths(ctx);
     cloth_through_itself(ctx);
+    inside_colliders(ctx);
     radius_against_default_thickness(ctx);
     notes(ctx);
     split_for_fast_colliders(ctx);

@@ -269,9 +269,11 @@ typedef struct cvk_collision_desc {
                                     default) */
     float friction;              /* Coulomb kinetic coefficient, ≥ 0; usually 0.3 */
     float static_friction;       /* static coefficient, ≥ friction; usually 0.4 */
-    bool allow_intersecting_start; /* with self: false (the default) refuses a scene whose
-                                    cloths intersect at the start (cvk_sim_create names the
-                                    first pair); true simulates it anyway */
+    bool allow_intersecting_start; /* false (the default) refuses a scene whose cloths
+                                    intersect at the start, with self (cvk_sim_create names the
+                                    first pair), or one with a free particle more than the
+                                    thickness inside a collider at time 0, with or without
+                                    self; true simulates it anyway */
     uint32_t detection_interval; /* with self: a detection that only a particle's move asks
                                     for waits for substep N, 2N, ... of the run (N this), the
                                     particles that would pass their bounds held at them until
