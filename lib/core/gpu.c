@@ -135,26 +135,16 @@ cvk_result cvk_compute_pipeline_create(cvk_context* context, const uint32_t* spi
     cvk_result r = cvk_shader_module_create(context, spirv, spirv_bytes, what, &module, error);
     if (r != CVK_SUCCESS)
         return r;
-    VkSpecializationMapEntry entries[CVK_SPEC_MAX + CVK_SPEC_TABLE];
-    uint32_t data[CVK_SPEC_MAX + CVK_SPEC_TABLE];
-    uint32_t count = 0;
-    for (uint32_t i = 0; i < spec->count; i++, count++) {
-        entries[count] = (VkSpecializationMapEntry){.constantID = i,
-                                                    .offset = count * (uint32_t)sizeof(uint32_t),
-                                                    .size = sizeof(uint32_t)};
-        data[count] = spec->values[i];
-    }
-    for (uint32_t j = 0; spec->table[0] != 0 && j < CVK_SPEC_TABLE; j++, count++) {
-        entries[count] = (VkSpecializationMapEntry){.constantID = CVK_SPEC_TABLE_ID + j,
-                                                    .offset = count * (uint32_t)sizeof(uint32_t),
-                                                    .size = sizeof(uint32_t)};
-        data[count] = spec->table[j];
-    }
+    VkSpecializationMapEntry entries[CVK_SPEC_MAX];
+    for (uint32_t i = 0; i < spec->count; i++)
+        entries[i] = (VkSpecializationMapEntry){.constantID = i,
+                                                .offset = i * (uint32_t)sizeof(uint32_t),
+                                                .size = sizeof(uint32_t)};
     VkSpecializationInfo spec_info = {
-        .mapEntryCount = count,
+        .mapEntryCount = spec->count,
         .pMapEntries = entries,
-        .dataSize = count * sizeof(uint32_t),
-        .pData = data,
+        .dataSize = spec->count * sizeof(uint32_t),
+        .pData = spec->values,
     };
     VkComputePipelineCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
@@ -650,8 +640,6 @@ cvk_result cvk_cached_compute_pipeline(cvk_context* context, cvk_shader_id shade
     put(&k, spec->count);
     for (uint32_t i = 0; i < spec->count; i++)
         put(&k, spec->values[i]);
-    for (uint32_t j = 0; j < CVK_SPEC_TABLE; j++)
-        put(&k, spec->table[j]);
     const cvk_cached_object* found =
         cvk_gpu_cache_find(&context->cache, CVK_CACHED_PIPELINE, k.words, k.count);
     if (found) {

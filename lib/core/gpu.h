@@ -43,16 +43,11 @@ cvk_result cvk_gpu_image_create_mipped(cvk_context* context, VkFormat format, ui
                                        cvk_error* error);
 void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image);
 
-/* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ..., and where
-   table[0] is not 0 the CVK_SPEC_TABLE values of table at ids CVK_SPEC_TABLE_ID, ... (the
-   stiffness table, shaders/shared/layout.h: CVK_K_TABLE_SPEC_ID). */
+/* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ... */
 #define CVK_SPEC_MAX 9
-#define CVK_SPEC_TABLE 3
-#define CVK_SPEC_TABLE_ID 9
 typedef struct cvk_spec {
     uint32_t values[CVK_SPEC_MAX];
     uint32_t count;
-    uint32_t table[CVK_SPEC_TABLE];
 } cvk_spec;
 
 /* A shader module from SPIR-V; `what` names it in the error. */

@@ -1,12 +1,8 @@
 #include "core/pipelines.h"
 
 #include <stddef.h>
-#include <string.h>
 
 #include "shared/layout.h"
-
-_Static_assert(CVK_SPEC_TABLE == CVK_K_CLASSES && CVK_SPEC_TABLE_ID == CVK_K_TABLE_SPEC_ID,
-               "the stiffness table's specialisation constants as the shaders declare them");
 
 /* The C mirror of every shared block must have the layout GLSL gives it. */
 _Static_assert(sizeof(cvk_pd_push) == 52, "cvk_pd_push: 52 bytes in GLSL");
@@ -102,8 +98,6 @@ cvk_result cvk_pipelines_require(cvk_context* context, cvk_pipelines* p, cvk_pip
     cvk_spec spec = {.count = recipe->spec.count};
     for (uint32_t i = 0; i < spec.count; i++)
         spec.values[i] = spec_value(recipe->spec.source[i], inputs);
-    if (recipe->spec.k_table)
-        memcpy(spec.table, inputs->k_table, sizeof spec.table);
     cvk_result r = cvk_cached_compute_pipeline(context, recipe->shader, layout, &spec,
                                                &p->pipeline[id], error);
     if (r != CVK_SUCCESS)

@@ -30,19 +30,17 @@ typedef enum cvk_spec_source {
 typedef struct cvk_spec_recipe {
     uint32_t count;
     cvk_spec_source source[CVK_SPEC_MAX];
-    bool k_table; /* the pass reads the springs' k through quad_k (shaders/solvers/pd_common.glsl):
-                     it gets the stiffness table where the scene has one (cvk_spec_inputs) */
 } cvk_spec_recipe;
 
 /* The first sweep that predicts (id 6, PREDICTS, of shaders/solvers/pd_gauss_seidel.comp): the
    last substep's displacements in src (1) or in dst (2). */
 #define CVK_SPEC_PD_FIRST_PREDICT(WHERE) {7, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                            CVK_SPEC_TRUE, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
-                                           CVK_SPEC_SELF_CONTACT, WHERE}, true}
+                                           CVK_SPEC_SELF_CONTACT, WHERE}}
 /* Id 5 of shaders/solvers/pd_common.glsl, BOUNDED: sweeps keep particles within their bounds
    (self-contact). */
 #define CVK_SPEC_PD {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
-                         CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}, true}
+                         CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the tether
    pass's slots (id 2, as CVK_SPEC_PD_TETHER's), the contact passes' collider types and
    self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's), the prediction's wind (id 6), the
@@ -51,7 +49,7 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_PD_FUSED {9, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
                                CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
                                CVK_SPEC_SELF_CONTACT, CVK_SPEC_WIND, CVK_SPEC_REST, \
-                               CVK_SPEC_FUSED_SHARED}, true}
+                               CVK_SPEC_FUSED_SHARED}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 /* finalize (id 7: REST of shaders/solvers/pd_common.glsl), and with the tethers' projection
@@ -63,11 +61,11 @@ typedef struct cvk_spec_recipe {
                                         CVK_SPEC_TETHER_SLOTS, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
                                         CVK_SPEC_SELF_CONTACT, CVK_SPEC_TRUE, CVK_SPEC_REST}}
 #define CVK_SPEC_PD_FIRST {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
-                               CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}, true}
+                               CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The checking first sweeps (id 3: TETHERS of shaders/solvers/pd_common.glsl). */
 #define CVK_SPEC_PD_FIRST_CHECK {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                  CVK_SPEC_TRUE, CVK_SPEC_TETHERS, CVK_SPEC_FALSE, \
-                                 CVK_SPEC_SELF_CONTACT}, true}
+                                 CVK_SPEC_SELF_CONTACT}}
 /* The contact passes (ids 2, 3, 4 of shaders/solvers/pd_contact.comp and .glsl): over every
    particle, and over the particles in listed pairs (LISTED, id 2). */
 #define CVK_SPEC_PD_CONTACT {5, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
@@ -78,7 +76,7 @@ typedef struct cvk_spec_recipe {
    shaders/solvers/pd_common.glsl; ids 2, 4 and 6 unused, 5 BOUNDED). */
 #define CVK_SPEC_PREDICT {8, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
                           CVK_SPEC_WIND, CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
-                          CVK_SPEC_REST}, true}
+                          CVK_SPEC_REST}}
 /* The implicit passes (id 2 of shaders/solvers/implicit_common.glsl: the contact filter is compiled in
    only for a scene with colliders). */
 #define CVK_SPEC_IMPLICIT {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_COLLIDER_TYPES}}
@@ -211,8 +209,6 @@ typedef struct cvk_spec_inputs {
     bool tethers;
     uint32_t tether_slots;
     bool rest; /* the scene's rest rate is above 0 (solvers/reference.h) */
-    uint32_t k_table[CVK_SPEC_TABLE]; /* the stiffness table (lib/solvers/solve_pd.h,
-                                         cvk_pd_k_table); [0] 0: none */
 } cvk_spec_inputs;
 
 typedef struct cvk_pipelines {

@@ -217,7 +217,6 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
                               .tethers = s->build.tether_anchor != NULL,
                               .tether_slots = s->build.tether_slots,
                               .rest = cvk_ref_params_of(&s->params).rest_rate > 0.0};
-    cvk_pd_k_table(s, inputs.k_table);
     bool created = false;
     cvk_result r = cvk_plan_require_pipelines(plan, s->device.context, &s->pipelines, &inputs, &created,
                                               error);

@@ -234,23 +234,6 @@ static note_text interval_note(const cvk_collide* c)
     return n;
 }
 
-/* The stiffness table's stiffnesses, where the sweeps read k from it (cvk_pd_k_table). */
-static note_text k_table_note(const cvk_sim* s)
-{
-    note_text n = {""};
-    uint32_t table[CVK_K_CLASSES];
-    if (!cvk_pd_k_table(s, table))
-        return n;
-    size_t used = (size_t)snprintf(n.text, sizeof n.text, "; springs' k from a table:");
-    for (uint32_t c = 0; c < CVK_K_CLASSES && table[c] != 0 && used < sizeof n.text; c++) {
-        float k;
-        memcpy(&k, &table[c], sizeof k);
-        used += (size_t)snprintf(n.text + used, sizeof n.text - used, "%s %g N/m", c ? "," : "",
-                                 (double)k);
-    }
-    return n;
-}
-
 static void put_header(text* t, const cvk_sim* s)
 {
     const cvk_build* b = &s->build;
@@ -268,10 +251,10 @@ static void put_header(text* t, const cvk_sim* s)
     else if (s->solver.method == CVK_METHOD_EXPLICIT) /* no linear solver; settings in the note */
         put(t, "\nsolver: %s%s\n", cvk_method_name(s->solver.method), s->plan.solver_note);
     else
-        put(t, "\nsolver: %s / %s, %u outer x %u inner, omega %g%s%s\n",
+        put(t, "\nsolver: %s / %s, %u outer x %u inner, omega %g%s\n",
             cvk_method_name(s->solver.method), cvk_linear_solver_name(s->solver.linear),
             s->solver.outer_iterations, s->solver.inner_iterations, s->solver.omega,
-            s->plan.solver_note, k_table_note(s).text);
+            s->plan.solver_note);
     const cvk_collide* c = s->collide;
     if (c->colliding) {
         put(t, "collision: thickness %.4g m, friction %g (static %g), self-contact %s",

@@ -83,51 +83,10 @@ static size_t buffer_table(const cvk_sim* s, cvk_pd* pd,
    texel (2q + 1) * nf + p: bits of their k; L at texel q * nf + p. Slots past max_degree
    point at p itself with k = 0, and so do torn springs (alive[s] == 0; alive NULL: none),
    as tear.comp leaves them. */
-bool cvk_pd_k_table(const cvk_sim* s, uint32_t table[CVK_K_CLASSES])
-{
-    const cvk_build* b = &s->build;
-    memset(table, 0, CVK_K_CLASSES * sizeof *table);
-    /* Tearing writes k = 0 into the texel of k alone (shaders/features/tear.comp). */
-    if (s->tear->count > 0 || b->particle_count > CVK_ADJ_INDEX_MASK)
-        return false;
-    uint32_t classes = 0;
-    size_t entries = (size_t)b->max_degree * b->free_count;
-    for (size_t e = 0; e < entries; e++) {
-        uint32_t bits;
-        memcpy(&bits, &b->adj_k[e], sizeof bits);
-        if (b->adj_k[e] == 0.0f) /* a spring without stiffness is a padding slot's class 0 */
-            continue;
-        uint32_t c = 0;
-        while (c < classes && table[c] != bits)
-            c++;
-        if (c < classes)
-            continue;
-        if (classes == CVK_K_CLASSES) {
-            memset(table, 0, CVK_K_CLASSES * sizeof *table);
-            return false;
-        }
-        table[classes++] = bits;
-    }
-    return classes > 0;
-}
-
-/* The class of stiffness k in the table (0: k is 0). */
-static uint32_t k_class(const uint32_t table[CVK_K_CLASSES], float k)
-{
-    uint32_t bits;
-    memcpy(&bits, &k, sizeof bits);
-    for (uint32_t c = 0; k != 0.0f && c < CVK_K_CLASSES; c++)
-        if (table[c] == bits)
-            return c + 1;
-    return 0;
-}
-
 cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive, cvk_error* error)
 {
     const cvk_build* b = &s->build;
     size_t nf = b->free_count, quads = adjacency_quads(b->max_degree);
-    uint32_t table[CVK_K_CLASSES];
-    bool classed = cvk_pd_k_table(s, table);
     /* Without springs (max_degree 0) the one quad of padding is still written: the prediction's
        divergence watch reads slot 0 of every particle (shaders/solvers/predict.comp). */
     if (nf == 0)
@@ -148,8 +107,6 @@ cvk_result cvk_pd_upload_adjacency(cvk_sim* s, cvk_pd* pd, const uint32_t* alive
                 bool torn = real && cvk_tear_entry_torn(b, alive, e);
                 float k = real && !torn ? b->adj_k[e] : 0.0f;
                 neighbours[j] = real ? b->adj_index[e] : (uint32_t)p;
-                if (classed)
-                    neighbours[j] |= k_class(table, k) << CVK_ADJ_CLASS_SHIFT;
                 memcpy(&k_bits[j], &k, sizeof k);
                 length[j] = real ? b->adj_rest[e] : 0.0f; /* torn: k = 0 is enough */
             }

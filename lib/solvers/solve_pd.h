@@ -82,16 +82,8 @@ typedef struct cvk_pd {
    solve would never stop there (a tethered cloth at rest: 3200 sweeps a frame, the cap, where
    it stopped at well under half its first frames'). */
 
-/* The stiffness table (shared/layout.h, CVK_K_CLASSES): where the scene does not tear, its
-   springs have at most CVK_K_CLASSES stiffnesses (equal floats) and every particle's index
-   leaves the adjacency's top bits free, writes their bits to `table` (class c at c - 1) and
-   returns true; else zeroes it and returns false. The adjacency's slots then carry their classes
-   (cvk_pd_upload_adjacency) and the sweeps read k from them: the same k, the same bits. */
-bool cvk_pd_k_table(const cvk_sim* sim, uint32_t table[CVK_K_CLASSES]);
-
 /* Uploads the adjacency tables from the build, the springs whose flag in `alive` is 0 (torn;
-   alive NULL: none) with k = 0, as tearing leaves them (tear.h), each slot with its class in
-   the stiffness table where the scene has one (cvk_pd_k_table). */
+   alive NULL: none) with k = 0, as tearing leaves them (tear.h). */
 cvk_result cvk_pd_upload_adjacency(cvk_sim* sim, cvk_pd* pd, const uint32_t* alive,
                                    cvk_error* error);
 

@@ -101,17 +101,6 @@ CVK_PUSH_BLOCK(cvk_pd_fused_push, CVK_PD_FUSED_PUSH_FIELDS)
 #define CVK_PD_BINDING_SRC_BUFFER 17  /* storage: the iterate SRC reads (the fused sweeps) */
 #define CVK_PD_BINDING_COUNT 18
 
-/* The stiffness table (shaders/solvers/pd_common.glsl, quad_k): where every spring of a scene
-   that does not tear has one of at most CVK_K_CLASSES stiffnesses, bits 30-31 of each
-   neighbour slot of the adjacency hold its class (0: a padding slot, k = 0; c: the value of
-   specialisation constant CVK_K_TABLE_SPEC_ID + c - 1, the float's bits), and the sweeps take k
-   from it instead of gathering the texel of k: one gather fewer a quad of springs, the same
-   bits (lib/solvers/solve_pd.c, cvk_pd_k_table). The texel of k is written either way. */
-#define CVK_K_CLASSES 3
-#define CVK_K_TABLE_SPEC_ID 9
-#define CVK_ADJ_CLASS_SHIFT 30u
-#define CVK_ADJ_INDEX_MASK 0x3FFFFFFFu
-
 /* Solves that stop when converged (solver.tolerance; lib/solvers/pd_passes.c,
    shaders/solvers/pd_converge.comp).
    The measure: the first sweep of every outer iteration computes, besides its local step, the

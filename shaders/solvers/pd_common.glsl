@@ -112,52 +112,15 @@ CVK_DECLARE_PUSH(CVK_PD_FUSED_PUSH_FIELDS)
 CVK_DECLARE_PUSH(CVK_PD_PUSH_FIELDS)
 #endif
 
-// The stiffness table (shared/layout.h, CVK_K_CLASSES): the stiffnesses of classes 1 to 3, as
-// float bits; K_TABLE where the scene has one (lib/solvers/solve_pd.c, cvk_pd_k_table). The
-// table takes k from the two top bits of the neighbour's slot, already gathered, instead of
-// gathering the texel of k: peer-hanging.json's sweeps on one lavapipe thread, docs/performance.md.
-layout(constant_id = CVK_K_TABLE_SPEC_ID) const uint K_CLASS_1 = 0u;
-layout(constant_id = CVK_K_TABLE_SPEC_ID + 1) const uint K_CLASS_2 = 0u;
-layout(constant_id = CVK_K_TABLE_SPEC_ID + 2) const uint K_CLASS_3 = 0u;
-const bool K_TABLE = K_CLASS_1 != 0u;
-
-// The slots of quad q of particle p as stored: the neighbours, with their stiffness classes in
-// the top bits where the scene has a table.
-uvec4 quad_slots(uint q, uint p)
+// The neighbours and stiffnesses of quad q of particle p.
+uvec4 quad_neighbours(uint q, uint p)
 {
     return imageLoad(adjacency, int(2u * q * pc.stride + p));
 }
 
-// The neighbours of quad q of particle p (its slots, quad_slots).
-uvec4 quad_neighbours_of(uvec4 slots)
-{
-    return slots & CVK_ADJ_INDEX_MASK;
-}
-
-uvec4 quad_neighbours(uint q, uint p)
-{
-    return quad_neighbours_of(quad_slots(q, p));
-}
-
-// The stiffness of a slot's class (0: a padding slot).
-float class_k(uint c)
-{
-    return uintBitsToFloat(c == 1u ? K_CLASS_1 : c == 2u ? K_CLASS_2 : c == 3u ? K_CLASS_3 : 0u);
-}
-
-// The stiffnesses of quad q of particle p, whose slots are `slots` (quad_slots).
-vec4 quad_k_of(uint q, uint p, uvec4 slots)
-{
-    if (K_TABLE) {
-        uvec4 c = slots >> CVK_ADJ_CLASS_SHIFT;
-        return vec4(class_k(c.x), class_k(c.y), class_k(c.z), class_k(c.w));
-    }
-    return uintBitsToFloat(imageLoad(adjacency, int((2u * q + 1u) * pc.stride + p)));
-}
-
 vec4 quad_k(uint q, uint p)
 {
-    return quad_k_of(q, p, quad_slots(q, p));
+    return uintBitsToFloat(imageLoad(adjacency, int((2u * q + 1u) * pc.stride + p)));
 }
 
 // The inertial prediction of a free particle from its last substep's displacement, without
@@ -350,9 +313,8 @@ vec4 local_step(uint p, vec3 cur, uint swept_below, out vec3 acc, out float ksum
     ksum = 0.0;
     acc = vec3(0.0);
     for (uint q = 0; q < QUADS; q++) {
-        uvec4 slots = quad_slots(q, p);
-        uvec4 n = quad_neighbours_of(slots);
-        vec4 k = quad_k_of(q, p, slots);
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
         vec4 rest = imageLoad(adjacency_rest, int(q * pc.stride + p));
         for (uint j = 0; j < 4u; j++) {
             // un: the neighbour's iterate at the start of the outer iteration; now: where it
@@ -403,9 +365,8 @@ vec3 neighbour_sum_dst(uint p, vec3 cur, out float ksum)
     vec3 acc = vec3(0.0);
     ksum = 0.0;
     for (uint q = 0; q < QUADS; q++) {
-        uvec4 slots = quad_slots(q, p);
-        uvec4 n = quad_neighbours_of(slots);
-        vec4 k = quad_k_of(q, p, slots);
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
         for (uint j = 0; j < 4u; j++) {
             acc += k[j] * (SWEPT_DST(n[j]) - cur);
             ksum += k[j];
@@ -424,9 +385,8 @@ vec3 NAME(uint p, vec3 cur, out float ksum) \
     vec3 acc = vec3(0.0); \
     ksum = 0.0; \
     for (uint q = 0; q < QUADS; q++) { \
-        uvec4 slots = quad_slots(q, p); \
-        uvec4 n = quad_neighbours_of(slots); \
-        vec4 k = quad_k_of(q, p, slots); \
+        uvec4 n = quad_neighbours(q, p); \
+        vec4 k = quad_k(q, p); \
         for (uint j = 0; j < 4u; j++) { \
             acc += k[j] * (fetch(FROM, n[j]) - cur); \
             ksum += k[j]; \

@@ -15,9 +15,8 @@ void strain_one(uint p, float limit, float most, vec3 shift)
     vec3 move = vec3(0.0);
     float over = 0.0;
     for (uint q = 0; q < QUADS; q++) {
-        uvec4 slots = quad_slots(q, p);
-        uvec4 n = quad_neighbours_of(slots);
-        vec4 k = quad_k_of(q, p, slots);
+        uvec4 n = quad_neighbours(q, p);
+        vec4 k = quad_k(q, p);
         vec4 rest = imageLoad(adjacency_rest, int(q * pc.stride + p));
         for (uint j = 0; j < 4u; j++) {
             vec3 t = xp - (fetch(x_read, n[j]) + FETCH_DST(n[j]));

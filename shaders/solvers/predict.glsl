@@ -18,9 +18,8 @@ vec4 predict_one(uint p, vec3 last)
     vec4 xp = imageLoad(x_read, int(p));
     y[p] = vec4(yp, xp.w);
     vec3 first = REST && pc.rest_rate > 0.0 ? yp + rest_memory[p].xyz : yp;
-    uvec4 slots = quad_slots(0u, p);
-    watch_first_spring(p, quad_k_of(0u, p, slots).x, imageLoad(adjacency_rest, int(p)).x,
-                       xp.xyz - fetch(x_read, quad_neighbours_of(slots).x));
+    watch_first_spring(p, quad_k(0u, p).x, imageLoad(adjacency_rest, int(p)).x,
+                       xp.xyz - fetch(x_read, quad_neighbours(0u, p).x));
     return vec4(first, 0.0);
 }
 

@@ -763,64 +763,6 @@ static void check_crowd_scene(cvk_context* ctx)
     cvk_scene_destroy(crowd);
 }
 
-/* Whether the plan of `scene` says that its sweeps read k from the stiffness table: 1 or 0, -1
-   where the simulation could not be made (err says why). */
-static int plan_says_k_table(cvk_context* ctx, const cvk_scene_desc* scene, cvk_error* err)
-{
-    cvk_sim* sim = NULL;
-    cvk_sim_desc desc = cvk_default_sim_desc();
-    desc.scene = scene;
-    desc.timing = -1;
-    if (cvk_sim_create(ctx, &desc, &sim, err) != CVK_SUCCESS)
-        return -1;
-    static char text[16384];
-    cvk_sim_describe_plan(sim, text, sizeof text);
-    cvk_sim_destroy(sim);
-    return strstr(text, "springs' k from a table") != NULL;
-}
-
-/* The stiffness table (lib/solvers/solve_pd.h, cvk_pd_k_table: the grid's three stiffnesses in
-   the top bits of its adjacency's slots) gives the bits of the texel of k: the grid again with a
-   tearing threshold that no spring reaches in these frames, which reads k from the texel (a
-   scene that tears writes k = 0 there), under each pd solver, the default shape. */
-static void check_k_table(cvk_context* ctx, cvk_scene_desc scene)
-{
-    cvk_error err;
-    cvk_cloth_desc grid = grid_cloth();
-    scene.cloths = &grid;
-    scene.cloth_count = 1;
-    int says = plan_says_k_table(ctx, &scene, &err);
-    CHECK(says == 1, "grid 24 x 24: %s", says < 0 ? err.message : "its plan does not read k "
-          "from a table");
-    cvk_scene_desc texel = scene;
-    cvk_cloth_desc tearing = grid;
-    tearing.tearing.max_stretch = 9.0f;
-    texel.cloths = &tearing;
-    says = plan_says_k_table(ctx, &texel, &err);
-    CHECK(says == 0, "grid 24 x 24 that may tear: %s", says < 0 ? err.message : "its plan reads "
-          "k from a table");
-    for (size_t k = 0; k < sizeof variants / sizeof variants[0]; k++) {
-        scene.solver.linear = texel.solver.linear = variants[k].linear;
-        scene.solver.fuse = texel.solver.fuse = variants[k].fuse;
-        outcome table = run(ctx, &scene, shapes[0], &err);
-        CHECK(table.ok, "grid 24 x 24, k from the table: %s", err.message);
-        outcome texels = run(ctx, &texel, shapes[0], &err);
-        CHECK(texels.ok, "grid 24 x 24, k from the texels: %s", err.message);
-        const char* name = cvk_linear_solver_name(variants[k].linear);
-        const char* fused = variants[k].fuse == CVK_FUSE_ON ? " fused" : "";
-        if (table.ok && texels.ok) {
-            CHECK(table.hash == texels.hash, "grid 24 x 24, %s%s: k from the table gave hash "
-                  "%016llx, from the texels %016llx; positions differ by up to %g m", name,
-                  fused, (unsigned long long)table.hash, (unsigned long long)texels.hash,
-                  harness_max_diff(table.xyz, texels.xyz, 3 * table.count));
-            printf("grid 24 x 24, %s%s: hash %016llx with k from the table and from the "
-                   "texels\n", name, fused, (unsigned long long)table.hash);
-        }
-        free(table.xyz);
-        free(texels.xyz);
-    }
-}
-
 /* Every GPU solver on a grid cloth and on an irregular mesh cloth (written to a file first). */
 static void check_solver_scenes(cvk_context* ctx, cvk_scene_desc scene)
 {
@@ -828,7 +770,6 @@ static void check_solver_scenes(cvk_context* ctx, cvk_scene_desc scene)
     scene.cloths = &grid;
     scene.cloth_count = 1;
     check_scene(ctx, "grid 24 x 24", &scene, 24 * 24);
-    check_k_table(ctx, scene);
 
     char dir[] = "/tmp/clothvk-determinism-XXXXXX";
     char path[64] = "";
