@@ -5,8 +5,8 @@
 
 Fails (exit 1, one line per gap) unless
   1. README.md has at most 200 lines (it is the front page; the reference lives in docs/);
-  2. every option that `clothvk-sim --help`, `clothvk-render --help` and `clothvk-bench --help`
-     print (BUILD_DIR/apps/...) appears in docs/tools.md;
+  2. every option that `clothvk-sim --help`, `clothvk-render --help`, `clothvk-bench --help`
+     and `clothvk-ab --help` print (BUILD_DIR/apps/...) appears in docs/tools.md;
   3. every public function and type `cvk_...` declared in lib/include/*.h (and
      lib/include/clothvk/*.h) appears in docs/library.md;
   4. every scene key of the JSON field tables (`.key = "..."` in lib/**/scene*.c and
@@ -32,7 +32,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 README_LIMIT = 200
-TOOLS = ("clothvk-sim", "clothvk-render", "clothvk-bench")
+TOOLS = ("clothvk-sim", "clothvk-render", "clothvk-bench", "clothvk-ab")
 OPTION = re.compile(r"(?<![\w-])(--?[a-z][a-z0-9-]*)")
 KEY = re.compile(r'\.key\s*=\s*"([A-Za-z0-9_]+)"')
 DECLARED = re.compile(r"\b(cvk_[a-z0-9_]+)\s*\(")
@@ -262,7 +262,8 @@ def case_tools():
     files = {"docs/tools.md": "`--frames N` steps N frames.\n",
              "build/apps/clothvk-sim": help_text.format("clothvk-sim", " [--secret]"),
              "build/apps/clothvk-render": help_text.format("clothvk-render", ""),
-             "build/apps/clothvk-bench": "#!/bin/sh\nexit 3\n"}
+             "build/apps/clothvk-bench": "#!/bin/sh\nexit 3\n",
+             "build/apps/clothvk-ab": help_text.format("clothvk-ab", "")}
     problems = []
     with tree(files) as root:
         check_tools(os.path.join(root, "build"), problems)
