@@ -67,15 +67,7 @@ def main():
     for argv, expected in REFUSALS:
         cases.append((f"refused: {' '.join(argv) or '(no arguments)'}",
                       lambda a=argv, e=expected: tooltest.refused_run(AB, a, e)))
-    failed = 0
-    for name, run in cases:
-        problems = run()
-        print(f"{'FAIL' if problems else 'ok  '} {name}")
-        for problem in problems:
-            print(f"     {problem}")
-        failed += bool(problems)
-    print(f"{len(cases)} cases, {failed} failed")
-    return 1 if failed else 0
+    return tooltest.run_cases(cases)
 
 
 if __name__ == "__main__":

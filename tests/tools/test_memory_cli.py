@@ -67,15 +67,7 @@ def main():
             ("clothvk-render, 1500 x 1500 under 900 MB",
              lambda: refusal(RENDER, "clothvk-render", [SMALL, "--frames", "1", "-o", "frames"] + GRID)),
         ]
-    failed = 0
-    for name, run in cases:
-        problems = run()
-        print(f"{'FAIL' if problems else 'ok  '} {name}")
-        for problem in problems:
-            print(f"     {problem}")
-        failed += bool(problems)
-    print(f"{len(cases)} cases, {failed} failed")
-    return 1 if failed else 0
+    return tooltest.run_cases(cases)
 
 
 if __name__ == "__main__":

@@ -109,6 +109,20 @@ def refusal_problems(p, expected, before, after, status=2, stderr_ok=None):
     return problems + nothing_written(before, after)
 
 
+def run_cases(cases):
+    """Runs each (name, function returning a list of problems) case, prints "ok" or "FAIL" and
+    the problems for each and a count; returns the exit status: 1 when any failed."""
+    failed = 0
+    for name, run in cases:
+        problems = run()
+        print(f"{'FAIL' if problems else 'ok  '} {name}")
+        for problem in problems:
+            print(f"     {problem}")
+        failed += bool(problems)
+    print(f"{len(cases)} cases, {failed} failed")
+    return 1 if failed else 0
+
+
 def make_files(folder, names):
     """Puts into a case's working folder what it names: "NAME" a file, "NAME/" a folder,
     "NAME/!" a folder nobody may write into."""
