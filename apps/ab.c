@@ -17,6 +17,8 @@
    Not linked with the library: both builds are opened at run time, so neither binds the
    other's functions. */
 #include <dlfcn.h>
+#include <stdarg.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +27,9 @@
 #include "clothvk.h"
 
 #define TOOL "clothvk-ab"
+#ifndef CLOTHVK_AB_VERSION
+#define CLOTHVK_AB_VERSION "?"
+#endif
 
 enum { EXIT_BAD_INPUT = 2, MAX_SETS = 64 };
 
@@ -59,19 +64,37 @@ typedef struct series {
     uint32_t frames;
 } series;
 
+/* Prints "clothvk-ab: message" on stderr, one line, control characters (from a path or a key
+   a user wrote) as \xNN, as the other tools do (apps/common.h, app_error). */
+static void say(const char* format, ...) __attribute__((format(printf, 1, 2)));
+static void say(const char* format, ...)
+{
+    char text[1024];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    fputs(TOOL ": ", stderr);
+    for (const unsigned char* c = (const unsigned char*)text; *c; c++)
+        if (*c < 0x20 || *c == 0x7f)
+            fprintf(stderr, "\\x%02X", *c);
+        else
+            fputc(*c, stderr);
+    fputc('\n', stderr);
+}
+
 static int bind_build(build* b)
 {
     b->handle = dlopen(b->path, RTLD_NOW | RTLD_LOCAL);
     if (!b->handle) {
-        fprintf(stderr, TOOL ": %s\n", dlerror());
+        say("%s", dlerror());
         return EXIT_BAD_INPUT;
     }
 #define BIND(field, name)                                                                      \
     do {                                                                                       \
         void* f = dlsym(b->handle, name);                                                      \
         if (!f) {                                                                              \
-            fprintf(stderr, TOOL ": %s: no function %s (not a build of clothvk)\n", b->path, \
-                    name);                                                                     \
+            say("%s: no function %s (not a build of clothvk)", b->path, name);                 \
             return EXIT_BAD_INPUT;                                                             \
         }                                                                                      \
         memcpy(&b->field, &f, sizeof f);                                                       \
@@ -103,7 +126,7 @@ static int open_simulation(build* b, const char* scene, const char* const* sets,
     if (r == CVK_SUCCESS) {
         r = b->scene_load(scene, sets, set_count, &b->scene, &err);
         if (r != CVK_SUCCESS) {
-            fprintf(stderr, TOOL ": %s\n", err.message);
+            say("%s", err.message);
             return EXIT_BAD_INPUT;
         }
     }
@@ -113,7 +136,7 @@ static int open_simulation(build* b, const char* scene, const char* const* sets,
         r = b->sim_create(b->context, &sd, &b->sim, &err);
     }
     if (r != CVK_SUCCESS) {
-        fprintf(stderr, TOOL ": %s: %s\n", b->path, err.message);
+        say("%s: %s", b->path, err.message);
         return EXIT_FAILURE;
     }
     return 0;
@@ -147,7 +170,7 @@ static int step_and_record(build* b, series* s)
 {
     cvk_error err = {0};
     if (b->sim_step(b->sim, 1, &err) != CVK_SUCCESS) {
-        fprintf(stderr, TOOL ": %s: %s\n", b->path, err.message);
+        say("%s: %s", b->path, err.message);
         return EXIT_FAILURE;
     }
     cvk_sim_stats st;
@@ -204,7 +227,7 @@ static void report(const series* before, const series* after)
         printf("%-16s %12.2f %12.2f %8s %14s\n", before->names[c], sb, sa, ratio, median);
     }
     if (!ratios)
-        fprintf(stderr, TOOL ": out of host memory for the ratios\n");
+        say("out of host memory for the ratios");
     free(ratios);
 }
 
@@ -222,11 +245,11 @@ static int compare_positions(build* before, build* after)
     cvk_error err = {0};
     int status = 0;
     if (!x || !y) {
-        fprintf(stderr, TOOL ": out of host memory for %llu positions\n", (unsigned long long)n);
+        say("out of host memory for %llu positions", (unsigned long long)n);
         status = EXIT_FAILURE;
     } else if (before->sim_read_positions(before->sim, x, n, &err) != CVK_SUCCESS ||
                after->sim_read_positions(after->sim, y, n, &err) != CVK_SUCCESS) {
-        fprintf(stderr, TOOL ": %s\n", err.message);
+        say("%s", err.message);
         status = EXIT_FAILURE;
     } else {
         double most = 0;
@@ -250,7 +273,7 @@ static int parse_count(const char* option, const char* text, uint32_t min, uint3
     char* end = NULL;
     unsigned long v = text ? strtoul(text, &end, 10) : 0;
     if (!text || !*text || *end || text[0] == '-' || v < min || v > max) {
-        fprintf(stderr, TOOL ": %s: expected a whole number from %u to %u, got '%s'\n", option,
+        say("%s: expected a whole number from %u to %u, got '%s'", option,
                 min, max, text ? text : "");
         return EXIT_BAD_INPUT;
     }
@@ -261,7 +284,7 @@ static int parse_count(const char* option, const char* text, uint32_t min, uint3
 static void usage(FILE* out)
 {
     fprintf(out, "usage: " TOOL " BEFORE.so AFTER.so SCENE [--rounds N] [--frames-per-turn F] "
-                 "[--warm-up W] [--set KEY=VALUE]...\n");
+                 "[--warm-up W] [--set KEY=VALUE]... [--version]\n");
 }
 
 /* The command line. */
@@ -276,35 +299,53 @@ static int parse_options(int argc, char** argv, options* o)
 {
     uint32_t npos = 0;
     for (int i = 1; i < argc; i++) {
-        const char* a = argv[i];
+        /* --name VALUE or --name=VALUE, as the other tools (docs/tools.md). */
+        char a[32];
         const char* value = i + 1 < argc ? argv[i + 1] : NULL;
+        const char* eq = strncmp(argv[i], "--", 2) == 0 ? strchr(argv[i], '=') : NULL;
+        bool inline_value = eq && (size_t)(eq - argv[i]) < sizeof a;
+        if (inline_value) {
+            memcpy(a, argv[i], (size_t)(eq - argv[i]));
+            a[eq - argv[i]] = '\0';
+            value = eq + 1;
+        } else {
+            snprintf(a, sizeof a, "%s", argv[i]);
+        }
+        int step = inline_value ? 0 : 1; /* the arguments a value takes after the option */
         int r = 0;
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        bool flag = strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0 || strcmp(a, "--version") == 0;
+        if (flag && inline_value) {
+            say("%s takes no value, got '%s'", a, value);
+            return EXIT_BAD_INPUT;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
             return -1;
+        } else if (strcmp(a, "--version") == 0) {
+            printf(TOOL " " CLOTHVK_AB_VERSION "\n");
+            return -1;
         } else if (strcmp(a, "--rounds") == 0) {
-            r = parse_count(a, value, 1, 100000, &o->rounds), i++;
+            r = parse_count(a, value, 1, 100000, &o->rounds), i += step;
         } else if (strcmp(a, "--frames-per-turn") == 0) {
-            r = parse_count(a, value, 1, 10000, &o->per_turn), i++;
+            r = parse_count(a, value, 1, 10000, &o->per_turn), i += step;
         } else if (strcmp(a, "--warm-up") == 0) {
-            r = parse_count(a, value, 0, 10000, &o->warm_up), i++;
+            r = parse_count(a, value, 0, 10000, &o->warm_up), i += step;
         } else if (strcmp(a, "--set") == 0) {
             if (!value || !strchr(value, '=')) {
-                fprintf(stderr, TOOL ": --set: expected KEY=VALUE, got '%s'\n", value ? value : "");
+                say("--set: expected KEY=VALUE, got '%s'", value ? value : "");
                 return EXIT_BAD_INPUT;
             }
             if (o->set_count == MAX_SETS) {
-                fprintf(stderr, TOOL ": --set: at most %d\n", MAX_SETS);
+                say("--set: at most %d", MAX_SETS);
                 return EXIT_BAD_INPUT;
             }
-            o->sets[o->set_count++] = value, i++;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            fprintf(stderr, TOOL ": unknown option '%s'\n", a);
+            o->sets[o->set_count++] = value, i += step;
+        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+            say("unknown option '%s'", argv[i]);
             return EXIT_BAD_INPUT;
         } else if (npos < 3) {
-            o->positional[npos++] = a;
+            o->positional[npos++] = argv[i];
         } else {
-            fprintf(stderr, TOOL ": one argument too many: '%s'\n", a);
+            say("one argument too many: '%s'", argv[i]);
             return EXIT_BAD_INPUT;
         }
         if (r)
@@ -347,14 +388,14 @@ int main(int argc, char** argv)
     for (int i = 0; i < 2 && !status; i++) {
         s[i].ms = calloc(frames * (CVK_MAX_PASSES + 1), sizeof(double));
         if (!s[i].ms) {
-            fprintf(stderr, TOOL ": out of host memory for %zu frames\n", frames);
+            say("out of host memory for %zu frames", frames);
             status = EXIT_FAILURE;
         }
     }
     for (int i = 0; i < 2 && !status; i++) {
         cvk_error err = {0};
         if (o.warm_up && b[i].sim_step(b[i].sim, o.warm_up, &err) != CVK_SUCCESS) {
-            fprintf(stderr, TOOL ": %s: %s\n", b[i].path, err.message);
+            say("%s: %s", b[i].path, err.message);
             status = EXIT_FAILURE;
         }
     }
@@ -371,7 +412,7 @@ int main(int argc, char** argv)
     for (int i = 0; i < 2; i++) {
         uint32_t messages = b[i].context ? b[i].context_validation_message_count(b[i].context) : 0;
         if (messages) {
-            fprintf(stderr, TOOL ": %s: %u validation messages\n", b[i].path, messages);
+            say("%s: %u validation messages", b[i].path, messages);
             status = status ? status : EXIT_FAILURE;
         }
     }

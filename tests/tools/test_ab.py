@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """clothvk-ab as a user runs it: the library built here against itself on a small scene (every
-pass timed in both, the ratios printed, the positions the same bits), and bad arguments refused
-with one line and exit status 2.
+pass timed in both, the ratios printed, the positions the same bits; options as --name VALUE
+and --name=VALUE), and bad arguments refused with one line and exit status 2, a control
+character in them written as \\xNN.
 
     python3 tests/tools/test_ab.py PATH/TO/clothvk-ab PATH/TO/libclothvk.so
 """
@@ -19,8 +20,8 @@ LIBM = "/lib/x86_64-linux-gnu/libm.so.6"
 def same_build():
     """The build against itself: a table row per timed pass and the frame, each build's sum
     positive, and the same bits at the end."""
-    p = tooltest.run_tool(AB, [LIB, LIB, SMALL, "--rounds", "3", "--frames-per-turn", "2",
-                               "--warm-up", "1", "--set", "solver.inner_iterations=3"], timeout=300)
+    p = tooltest.run_tool(AB, [LIB, LIB, SMALL, "--rounds", "3", "--frames-per-turn=2",
+                               "--warm-up", "1", "--set=solver.inner_iterations=3"], timeout=300)
     if p.returncode != 0:
         return [f"exit {p.returncode}: {p.stderr.strip()}"]
     problems = [f"stderr: {line}" for line in p.stderr.splitlines()]
@@ -45,12 +46,17 @@ def same_build():
 
 REFUSALS = [
     ([], "usage: clothvk-ab BEFORE.so AFTER.so SCENE [--rounds N] [--frames-per-turn F] "
-         "[--warm-up W] [--set KEY=VALUE]..."),
+         "[--warm-up W] [--set KEY=VALUE]... [--version]"),
+    (["--version=2"], "clothvk-ab: --version takes no value, got '2'"),
+    (["bad\x1bname.so", LIB, SMALL], "clothvk-ab: bad\\x1Bname.so: cannot open shared object "
+                                      "file: No such file or directory"),
     (["missing.so", LIB, SMALL], "clothvk-ab: missing.so: cannot open shared object file: "
                                  "No such file or directory"),
     ([LIB, LIB, "missing.json"], "clothvk-ab: missing.json: cannot open: No such file or directory"),
     ([LIB, LIB, SMALL, "--rounds", "0"],
      "clothvk-ab: --rounds: expected a whole number from 1 to 100000, got '0'"),
+    ([LIB, LIB, SMALL, "--warm-up=-1"],
+     "clothvk-ab: --warm-up: expected a whole number from 0 to 10000, got '-1'"),
     ([LIB, LIB, SMALL, "--set", "mass"], "clothvk-ab: --set: expected KEY=VALUE, got 'mass'"),
     ([LIB, LIB, SMALL, "--set", "cloths.0.mass=-1"],
      f"clothvk-ab: {SMALL}: cloths.0.mass (from --set): must be greater than 0, got -1"),
@@ -65,7 +71,8 @@ if os.path.exists(LIBM):
 def main():
     cases = [("the build against itself", same_build)]
     for argv, expected in REFUSALS:
-        cases.append((f"refused: {' '.join(argv) or '(no arguments)'}",
+        shown = " ".join(argv).encode("unicode_escape").decode("ascii")
+        cases.append((f"refused: {shown or '(no arguments)'}",
                       lambda a=argv, e=expected: tooltest.refused_run(AB, a, e)))
     return tooltest.run_cases(cases)
 
