@@ -25,6 +25,7 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 NUMBERS = [0, -1, 1e-30, 1e30, 4294967295, 1.5, -1e9, 3, 1e6]
 OTHERS = [None, True, "x", [], {}, [0, 0, 0], [[0, 0]], "rbgs"]
+SLOW = {"contact-pile-large.json"}
 
 
 def paths(value, prefix=()):
@@ -101,7 +102,11 @@ def main():
     args = ap.parse_args()
     args.sim = os.path.abspath(args.sim)
     rng = random.Random(args.seed)
-    sources = sorted(glob.glob(os.path.join(ROOT, "assets", "scenes", "*.json")))
+    # Not the pile made for a GPU (250,000 particles): its two frames take 40-57 s on one lavapipe
+    # core, so its mutants passed the timeout as "hangs" that finished (seed 3: three of 400,
+    # one of them 54 s when run alone); its keys are contact-pile.json's.
+    sources = sorted(p for p in glob.glob(os.path.join(ROOT, "assets", "scenes", "*.json"))
+                     if os.path.basename(p) not in SLOW)
     scenes = {os.path.basename(p): absolute_files(json.load(open(p)), os.path.dirname(p))
               for p in sources}
     os.makedirs(args.out, exist_ok=True)
