@@ -10,14 +10,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-command -v clang >/dev/null || { echo "fuzz.sh: clang is missing (apt-get install clang)" >&2; exit 2; }
+command -v clang >/dev/null && command -v clang++ >/dev/null ||
+    { echo "fuzz.sh: clang is missing (apt-get install clang)" >&2; exit 2; }
 if [ ! -f build-fuzz/build.ninja ]; then
-    CC=clang meson setup build-fuzz -Db_sanitize=address,undefined -Db_lundef=false \
-        -Dc_args=-fsanitize=fuzzer-no-link >/dev/null
+    CC=clang CXX=clang++ meson setup build-fuzz -Db_sanitize=address,undefined -Db_lundef=false \
+        -Dc_args=-fsanitize=fuzzer-no-link -Dcpp_args=-fsanitize=fuzzer-no-link >/dev/null
 fi
 meson compile -C build-fuzz lib/clothvk_internal >/dev/null
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -Ilib -Ilib/include -Ishaders -Ibuild-fuzz/shaders"
-libs="build-fuzz/lib/libclothvk_internal.a $(pkg-config --libs jansson assimp vulkan zlib) -lm -lpthread"
+# -lstdc++: the archive's one C++ object (lib/topology/assimp_import.cpp)
+libs="build-fuzz/lib/libclothvk_internal.a $(pkg-config --libs jansson assimp vulkan zlib) -lstdc++ -lm -lpthread"
 for name in scene mesh; do
     # shellcheck disable=SC2086
     clang $flags -o "build-fuzz/fuzz_$name" "tests/fuzz/fuzz_$name.c" $libs

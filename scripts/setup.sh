@@ -12,7 +12,8 @@ packages=(
     libjansson-dev                             # scene files (JSON)
     libstb-dev                                 # PNG output (stb_image_write)
     zlib1g-dev                                 # fast deflate for the PNG output; snapshot CRC-32
-    libassimp-dev                              # mesh files for cloths (OBJ, glTF 2, PLY, STL)
+    libassimp-dev g++                          # mesh files for cloths (OBJ, glTF 2, PLY, STL),
+                                               # read by the library's one C++ file
     gnuplot-nox                                # clothvk-bench's plots (optional at run time:
                                                # the CSV is always written)
     python3-cffi python3-numpy                 # the Python package (python/)
@@ -24,7 +25,7 @@ packages=(
     slurm-wlm munge                            # tests/tools/test_slurm.py starts a one-node Slurm
                                                # cluster (scripts/slurm-render.sh)
     clang                                      # scripts/fuzz.sh: libFuzzer harnesses
-    g++ libbullet-dev                          # peers/bullet: the Bullet soft-body harness
+    libbullet-dev                              # peers/bullet: the Bullet soft-body harness
                                                # (built only when both are found)
 )
 

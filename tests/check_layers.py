@@ -7,7 +7,7 @@ or around a circle, where a module is a .c file with its .h (x.c and x.h are one
 public headers (lib/include) sit below everything; "shared/..." and shader_list.h are the
 shaders' declarations shared with C, also below everything. Every folder of lib/ is a layer or
 lib/include, and a layer is one flat folder: a folder of lib/ that is not a layer, or a folder
-inside a layer that holds .c or .h files, would escape the rule, so each is a break.
+inside a layer that holds sources, would escape the rule, so each is a break.
 
 Usage: check_layers.py [LIB_DIR]. Exit 0 when the rule holds; 1 with one line per break.
 check_layers.py --self-test first checks that a small tree with an upward include, a circle,
@@ -21,22 +21,24 @@ import house
 
 LAYERS = ["core", "scene", "topology", "plan", "contact", "features", "solvers", "sim", "render"]
 BELOW_ALL = ("include/", "shared/", "shader_list.h")
+# The library's sources: C, and one C++ file (topology/assimp_import.cpp).
+SOURCE_SUFFIXES = (".c", ".h", ".cpp")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 
 
 def modules(lib):
-    """{module: [(line, included path)]} for every .c and .h under the layer folders."""
+    """{module: [(line, included path)]} for every source under the layer folders."""
     found = {}
     for layer in LAYERS:
         folder = os.path.join(lib, layer)
         if not os.path.isdir(folder):
             continue
         for name in sorted(os.listdir(folder)):
-            if not name.endswith((".c", ".h")):
+            if not name.endswith(SOURCE_SUFFIXES):
                 continue
             path = os.path.join(folder, name)
             text = open(path, encoding="utf-8").read()
-            node = layer + "/" + name[:-2]
+            node = layer + "/" + os.path.splitext(name)[0]
             for m in INCLUDE.finditer(text):
                 line = text.count("\n", 0, m.start()) + 1
                 found.setdefault(node, []).append((f"{layer}/{name}:{line}", m.group(1)))
@@ -46,7 +48,7 @@ def modules(lib):
 
 def folders(lib):
     """One line for each folder the rule would not read: a folder of lib/ that is neither a
-    layer nor include/, and a folder inside a layer that holds .c or .h files."""
+    layer nor include/, and a folder inside a layer that holds sources."""
     errors = []
     for name in sorted(os.listdir(lib)):
         if os.path.isdir(os.path.join(lib, name)) and name not in LAYERS + ["include"]:
@@ -56,7 +58,7 @@ def folders(lib):
         top = os.path.join(lib, layer)
         for folder, subs, names in os.walk(top):
             subs.sort()
-            if folder != top and any(n.endswith((".c", ".h")) for n in names):
+            if folder != top and any(n.endswith(SOURCE_SUFFIXES) for n in names):
                 rel = os.path.relpath(folder, lib).replace(os.sep, "/")
                 errors.append(f"lib/{rel}/: a folder inside the layer {layer}/; the layer rule "
                               "does not read it (a layer is one flat folder)")
@@ -66,7 +68,7 @@ def folders(lib):
 def check(lib):
     errors = folders(lib)
     mods = modules(lib)
-    stray = [n for n in os.listdir(lib) if n.endswith((".c", ".h"))]
+    stray = [n for n in os.listdir(lib) if n.endswith(SOURCE_SUFFIXES)]
     for n in stray:
         errors.append(f"lib/{n}: a source outside the layer folders")
     edges = {m: set() for m in mods}

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Sizes a newcomer can read: no file of lib/ or shaders/ over MAX_FILE lines, no function
-(C or GLSL) over MAX_FUNCTION lines in lib/, shaders/, apps/ and examples/.
+(C, C++ or GLSL) over MAX_FUNCTION lines in lib/, shaders/, apps/ and examples/.
 
 A function is counted from its first line at column 0 (the line with its name) to its closing
 brace at column 0, both included.
@@ -17,7 +17,7 @@ MAX_FILE = 800
 MAX_FUNCTION = 80
 FILE_DIRS = ("lib", "shaders")
 FUNCTION_DIRS = ("lib", "shaders", "apps", "examples")
-SOURCES = (".c", ".h", ".comp", ".glsl", ".vert", ".frag")
+SOURCES = (".c", ".h", ".cpp", ".comp", ".glsl", ".vert", ".frag")
 # A definition's first line: at column 0, a name followed by '(', not a statement or macro.
 HEAD = re.compile(r"^[A-Za-z_][\w \t\*]*?\b(\w+)\s*\(")
 NOT_HEAD = ("typedef", "struct", "enum", "union", "return", "if", "for", "while", "switch")

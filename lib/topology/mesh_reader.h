@@ -6,9 +6,8 @@
 #define CVK_MESH_READER_H
 
 #include "core/u64_map.h"
+#include "topology/assimp_import.h"
 #include "topology/topology.h"
-
-struct aiScene;
 
 #define CVK_UNUSED_VERTEX UINT32_MAX
 
@@ -17,6 +16,7 @@ typedef struct cvk_mesh_reader {
     const char* path;
     char key[CVK_KEY_PATH_MAX];   /* "cloths.N.mesh" */
     cvk_error* error;
+    cvk_assimp* importer;         /* the file's importer, which owns scene */
     const struct aiScene* scene;
 
     size_t file_vertex_count;     /* over all meshes */
@@ -54,7 +54,7 @@ cvk_result cvk_mesh_bad(cvk_mesh_reader* r, const char* format, ...)
     __attribute__((format(printf, 2, 3)));
 /* "KEY: cannot read PATH: <the first line of reason>" as CVK_ERROR_IO. */
 cvk_result cvk_mesh_cannot_read(cvk_mesh_reader* r, const char* reason);
-/* Imports r->path into r->scene and counts its faces and corners. */
+/* Imports r->path into r->scene (its importer r->importer) and counts its faces and corners. */
 cvk_result cvk_mesh_open(cvk_mesh_reader* r);
 /* The faces of three or more corners as particles (face_start, corner), after welding. */
 cvk_result cvk_mesh_gather_faces(cvk_mesh_reader* r);

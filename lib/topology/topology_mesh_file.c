@@ -2,7 +2,6 @@
    messages and its freeing, the faces as particles once welded, and texture coordinates. */
 #include "topology/mesh_reader.h"
 
-#include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <errno.h>
@@ -16,8 +15,7 @@
 
 void cvk_mesh_reader_free(cvk_mesh_reader* r)
 {
-    if (r->scene)
-        aiReleaseImport(r->scene);
+    cvk_assimp_free(r->importer);
     free(r->vertex_base);
     free(r->particle_of);
     free(r->position);
@@ -146,16 +144,19 @@ cvk_result cvk_mesh_open(cvk_mesh_reader* r)
     fclose(file);
     if (counts != CVK_SUCCESS)
         return counts;
-    r->scene = aiImportFile(r->path, 0);
-    if (!r->scene)
-        return cvk_mesh_cannot_read(r, aiGetErrorString());
+    char why[512];
+    r->importer = cvk_assimp_read(r->path, why, sizeof why);
+    if (!r->importer)
+        return cvk_mesh_cannot_read(r, why);
+    r->scene = cvk_assimp_scene(r->importer);
     cvk_result result = count_faces(r);
     if (result != CVK_SUCCESS)
         return result;
-    /* On failure Assimp releases the scene itself. */
-    r->scene = aiApplyPostProcessing(r->scene, aiProcess_PreTransformVertices);
-    if (!r->scene)
-        return cvk_mesh_cannot_read(r, aiGetErrorString());
+    bool done = cvk_assimp_post_process(r->importer, aiProcess_PreTransformVertices, why,
+                                        sizeof why);
+    r->scene = cvk_assimp_scene(r->importer);
+    if (!done)
+        return cvk_mesh_cannot_read(r, why);
     return count_faces(r);
 }
 
