@@ -144,7 +144,7 @@ cvk_result cvk_mesh_open(cvk_mesh_reader* r)
     fclose(file);
     if (counts != CVK_SUCCESS)
         return counts;
-    char why[512];
+    char why[256]; /* cvk_mesh_cannot_read keeps 255 characters */
     r->importer = cvk_assimp_read(r->path, why, sizeof why);
     if (!r->importer)
         return cvk_mesh_cannot_read(r, why);
