@@ -10,67 +10,54 @@
 
 struct cvk_assimp {
     Assimp::Importer importer;
-    const aiScene* scene = nullptr;
 };
 
 namespace {
 
-void say(char* why, size_t why_size, const char* text)
+/* The scene `step` leaves in a's importer, or nullptr with the reason in why. */
+template <typename Step>
+const aiScene* guarded(cvk_assimp* a, Step step, char* why, size_t why_size)
 {
-    if (why && why_size > 0)
-        std::snprintf(why, why_size, "%s", text ? text : "");
+    const aiScene* scene = nullptr;
+    const char* reason = "";
+    try {
+        scene = step(a->importer);
+        if (!scene)
+            reason = a->importer.GetErrorString();
+    } catch (const std::bad_alloc&) {
+        reason = "out of host memory";
+    } catch (...) {
+    }
+    if (!scene && why && why_size > 0)
+        std::snprintf(why, why_size, "%s", reason ? reason : "");
+    return scene;
 }
 
 } // namespace
 
-extern "C" cvk_assimp* cvk_assimp_read(const char* path, char* why, size_t why_size)
+extern "C" const aiScene* cvk_assimp_read(const char* path, cvk_assimp** importer, char* why,
+                                          size_t why_size)
 {
     cvk_assimp* a = new (std::nothrow) cvk_assimp;
-    if (!a) {
-        say(why, why_size, "out of host memory");
-        return nullptr;
-    }
-    try {
-        a->scene = a->importer.ReadFile(path, 0);
-    } catch (const std::bad_alloc&) {
+    const aiScene* scene = nullptr;
+    if (a)
+        scene = guarded(a, [path](Assimp::Importer& i) { return i.ReadFile(path, 0); }, why,
+                        why_size);
+    else if (why && why_size > 0)
+        std::snprintf(why, why_size, "out of host memory");
+    if (!scene) {
         delete a;
-        say(why, why_size, "out of host memory");
-        return nullptr;
-    } catch (...) {
-        delete a;
-        say(why, why_size, "");
-        return nullptr;
+        a = nullptr;
     }
-    if (!a->scene) {
-        say(why, why_size, a->importer.GetErrorString());
-        delete a;
-        return nullptr;
-    }
-    return a;
+    *importer = a;
+    return scene;
 }
 
-extern "C" const aiScene* cvk_assimp_scene(const cvk_assimp* a)
+extern "C" const aiScene* cvk_assimp_post_process(cvk_assimp* a, unsigned steps, char* why,
+                                                  size_t why_size)
 {
-    return a ? a->scene : nullptr;
-}
-
-extern "C" bool cvk_assimp_post_process(cvk_assimp* a, unsigned steps, char* why,
-                                        size_t why_size)
-{
-    try {
-        a->scene = a->importer.ApplyPostProcessing(steps);
-    } catch (const std::bad_alloc&) {
-        a->scene = nullptr;
-        say(why, why_size, "out of host memory");
-        return false;
-    } catch (...) {
-        a->scene = nullptr;
-        say(why, why_size, "");
-        return false;
-    }
-    if (!a->scene)
-        say(why, why_size, a->importer.GetErrorString());
-    return a->scene != nullptr;
+    return guarded(a, [steps](Assimp::Importer& i) { return i.ApplyPostProcessing(steps); },
+                   why, why_size);
 }
 
 extern "C" void cvk_assimp_free(cvk_assimp* a)

@@ -145,17 +145,15 @@ cvk_result cvk_mesh_open(cvk_mesh_reader* r)
     if (counts != CVK_SUCCESS)
         return counts;
     char why[256]; /* cvk_mesh_cannot_read keeps 255 characters */
-    r->importer = cvk_assimp_read(r->path, why, sizeof why);
-    if (!r->importer)
+    r->scene = cvk_assimp_read(r->path, &r->importer, why, sizeof why);
+    if (!r->scene)
         return cvk_mesh_cannot_read(r, why);
-    r->scene = cvk_assimp_scene(r->importer);
     cvk_result result = count_faces(r);
     if (result != CVK_SUCCESS)
         return result;
-    bool done = cvk_assimp_post_process(r->importer, aiProcess_PreTransformVertices, why,
-                                        sizeof why);
-    r->scene = cvk_assimp_scene(r->importer);
-    if (!done)
+    r->scene = cvk_assimp_post_process(r->importer, aiProcess_PreTransformVertices, why,
+                                       sizeof why);
+    if (!r->scene)
         return cvk_mesh_cannot_read(r, why);
     return count_faces(r);
 }
