@@ -17,21 +17,16 @@
    Not linked with the library: both builds are opened at run time, so neither binds the
    other's functions. */
 #include <dlfcn.h>
-#include <stdarg.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "clothvk.h"
 
 #define TOOL "clothvk-ab"
-#ifndef CLOTHVK_AB_VERSION
-#define CLOTHVK_AB_VERSION "?"
-#endif
-
-enum { EXIT_BAD_INPUT = 2, MAX_SETS = 64 };
 
 /* The functions of one build. */
 typedef struct build {
@@ -64,38 +59,19 @@ typedef struct series {
     uint32_t frames;
 } series;
 
-/* Prints "clothvk-ab: message" on stderr, one line, control characters (from a path or a key
-   a user wrote) as \xNN, as the other tools do (apps/common.h, app_error). */
-static void say(const char* format, ...) __attribute__((format(printf, 1, 2)));
-static void say(const char* format, ...)
-{
-    char text[1024];
-    va_list args;
-    va_start(args, format);
-    vsnprintf(text, sizeof text, format, args);
-    va_end(args);
-    fputs(TOOL ": ", stderr);
-    for (const unsigned char* c = (const unsigned char*)text; *c; c++)
-        if (*c < 0x20 || *c == 0x7f)
-            fprintf(stderr, "\\x%02X", *c);
-        else
-            fputc(*c, stderr);
-    fputc('\n', stderr);
-}
-
 static int bind_build(build* b)
 {
     b->handle = dlopen(b->path, RTLD_NOW | RTLD_LOCAL);
     if (!b->handle) {
-        say("%s", dlerror());
-        return EXIT_BAD_INPUT;
+        app_error(TOOL, "%s", dlerror());
+        return APP_EXIT_BAD_INPUT;
     }
 #define BIND(field, name)                                                                      \
     do {                                                                                       \
         void* f = dlsym(b->handle, name);                                                      \
         if (!f) {                                                                              \
-            say("%s: no function %s (not a build of clothvk)", b->path, name);                 \
-            return EXIT_BAD_INPUT;                                                             \
+            app_error(TOOL, "%s: no function %s (not a build of clothvk)", b->path, name);                 \
+            return APP_EXIT_BAD_INPUT;                                                             \
         }                                                                                      \
         memcpy(&b->field, &f, sizeof f);                                                       \
     } while (0)
@@ -126,8 +102,8 @@ static int open_simulation(build* b, const char* scene, const char* const* sets,
     if (r == CVK_SUCCESS) {
         r = b->scene_load(scene, sets, set_count, &b->scene, &err);
         if (r != CVK_SUCCESS) {
-            say("%s", err.message);
-            return EXIT_BAD_INPUT;
+            app_error(TOOL, "%s", err.message);
+            return APP_EXIT_BAD_INPUT;
         }
     }
     if (r == CVK_SUCCESS) {
@@ -136,8 +112,8 @@ static int open_simulation(build* b, const char* scene, const char* const* sets,
         r = b->sim_create(b->context, &sd, &b->sim, &err);
     }
     if (r != CVK_SUCCESS) {
-        say("%s: %s", b->path, err.message);
-        return EXIT_FAILURE;
+        app_error(TOOL, "%s: %s", b->path, err.message);
+        return APP_EXIT_FAILURE;
     }
     return 0;
 }
@@ -170,8 +146,8 @@ static int step_and_record(build* b, series* s)
 {
     cvk_error err = {0};
     if (b->sim_step(b->sim, 1, &err) != CVK_SUCCESS) {
-        say("%s: %s", b->path, err.message);
-        return EXIT_FAILURE;
+        app_error(TOOL, "%s: %s", b->path, err.message);
+        return APP_EXIT_FAILURE;
     }
     cvk_sim_stats st;
     memset(&st, 0, sizeof st);
@@ -227,7 +203,7 @@ static void report(const series* before, const series* after)
         printf("%-16s %12.2f %12.2f %8s %14s\n", before->names[c], sb, sa, ratio, median);
     }
     if (!ratios)
-        say("out of host memory for the ratios");
+        app_error(TOOL, "out of host memory for the ratios");
     free(ratios);
 }
 
@@ -245,12 +221,12 @@ static int compare_positions(build* before, build* after)
     cvk_error err = {0};
     int status = 0;
     if (!x || !y) {
-        say("out of host memory for %llu positions", (unsigned long long)n);
-        status = EXIT_FAILURE;
+        app_error(TOOL, "out of host memory for %llu positions", (unsigned long long)n);
+        status = APP_EXIT_FAILURE;
     } else if (before->sim_read_positions(before->sim, x, n, &err) != CVK_SUCCESS ||
                after->sim_read_positions(after->sim, y, n, &err) != CVK_SUCCESS) {
-        say("%s", err.message);
-        status = EXIT_FAILURE;
+        app_error(TOOL, "%s", err.message);
+        status = APP_EXIT_FAILURE;
     } else {
         double most = 0;
         for (uint64_t i = 0; i < 3 * n; i++) {
@@ -267,20 +243,6 @@ static int compare_positions(build* before, build* after)
     return status;
 }
 
-static int parse_count(const char* option, const char* text, uint32_t min, uint32_t max,
-                       uint32_t* out)
-{
-    char* end = NULL;
-    unsigned long v = text ? strtoul(text, &end, 10) : 0;
-    if (!text || !*text || *end || text[0] == '-' || v < min || v > max) {
-        say("%s: expected a whole number from %u to %u, got '%s'", option,
-                min, max, text ? text : "");
-        return EXIT_BAD_INPUT;
-    }
-    *out = (uint32_t)v;
-    return 0;
-}
-
 static void usage(FILE* out)
 {
     fprintf(out, "usage: " TOOL " BEFORE.so AFTER.so SCENE [--rounds N] [--frames-per-turn F] "
@@ -290,72 +252,46 @@ static void usage(FILE* out)
 /* The command line. */
 typedef struct options {
     const char* positional[3]; /* BEFORE.so, AFTER.so, SCENE */
-    uint32_t rounds, per_turn, warm_up, set_count;
-    const char* sets[MAX_SETS];
+    uint32_t positional_count;
+    uint32_t rounds, per_turn, warm_up;
+    app_overrides sets;
 } options;
 
-/* Parses argv into o: 0, -1 after --help (printed), or the exit status with a line said. */
+/* BEFORE.so, AFTER.so and SCENE, in that order. */
+static int take_positional(void* user, const char* arg)
+{
+    options* o = user;
+    if (o->positional_count == 3) {
+        app_error(TOOL, "one argument too many: %s", arg);
+        return APP_EXIT_BAD_INPUT;
+    }
+    o->positional[o->positional_count++] = arg;
+    return APP_EXIT_OK;
+}
+
+/* Reads argv into o (apps/cli.h, as the other tools): APP_EXIT_OK, -1 after --help or
+   --version (printed), or the exit status with a line said. */
 static int parse_options(int argc, char** argv, options* o)
 {
-    uint32_t npos = 0;
-    for (int i = 1; i < argc; i++) {
-        /* --name VALUE or --name=VALUE, as the other tools (docs/tools.md). */
-        char a[32];
-        const char* value = i + 1 < argc ? argv[i + 1] : NULL;
-        const char* eq = strncmp(argv[i], "--", 2) == 0 ? strchr(argv[i], '=') : NULL;
-        bool inline_value = eq && (size_t)(eq - argv[i]) < sizeof a;
-        if (inline_value) {
-            memcpy(a, argv[i], (size_t)(eq - argv[i]));
-            a[eq - argv[i]] = '\0';
-            value = eq + 1;
-        } else {
-            snprintf(a, sizeof a, "%s", argv[i]);
-        }
-        int step = inline_value ? 0 : 1; /* the arguments a value takes after the option */
-        int r = 0;
-        bool flag = strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0 || strcmp(a, "--version") == 0;
-        if (flag && inline_value) {
-            say("%s takes no value, got '%s'", a, value);
-            return EXIT_BAD_INPUT;
-        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(stdout);
-            return -1;
-        } else if (strcmp(a, "--version") == 0) {
-            printf(TOOL " " CLOTHVK_AB_VERSION "\n");
-            return -1;
-        } else if (strcmp(a, "--rounds") == 0) {
-            r = parse_count(a, value, 1, 100000, &o->rounds), i += step;
-        } else if (strcmp(a, "--frames-per-turn") == 0) {
-            r = parse_count(a, value, 1, 10000, &o->per_turn), i += step;
-        } else if (strcmp(a, "--warm-up") == 0) {
-            r = parse_count(a, value, 0, 10000, &o->warm_up), i += step;
-        } else if (strcmp(a, "--set") == 0) {
-            if (!value || !strchr(value, '=')) {
-                say("--set: expected KEY=VALUE, got '%s'", value ? value : "");
-                return EXIT_BAD_INPUT;
-            }
-            if (o->set_count == MAX_SETS) {
-                say("--set: at most %d", MAX_SETS);
-                return EXIT_BAD_INPUT;
-            }
-            o->sets[o->set_count++] = value, i += step;
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            say("unknown option '%s'", argv[i]);
-            return EXIT_BAD_INPUT;
-        } else if (npos < 3) {
-            o->positional[npos++] = argv[i];
-        } else {
-            say("one argument too many: '%s'", argv[i]);
-            return EXIT_BAD_INPUT;
-        }
-        if (r)
-            return r;
-    }
-    if (npos < 3) {
+    const app_option table[] = {
+        {.name = "--rounds", .kind = APP_OPTION_U32, .number = &o->rounds, .min = 1, .max = 100000},
+        {.name = "--frames-per-turn", .kind = APP_OPTION_U32, .number = &o->per_turn, .min = 1,
+         .max = 10000},
+        {.name = "--warm-up", .kind = APP_OPTION_U32, .number = &o->warm_up, .min = 0, .max = 10000},
+        {.name = "--set", .kind = APP_OPTION_SET, .overrides = &o->sets},
+    };
+    const app_command_line line = {.tool = TOOL, .usage = usage, .options = table,
+                                   .option_count = sizeof table / sizeof table[0], .user = o,
+                                   .take_argument = take_positional};
+    bool done = false;
+    int status = app_read_command_line(&line, argc, argv, NULL, &done);
+    if (status != APP_EXIT_OK || done)
+        return done ? -1 : status;
+    if (o->positional_count < 3) {
         usage(stderr);
-        return EXIT_BAD_INPUT;
+        return APP_EXIT_BAD_INPUT;
     }
-    return 0;
+    return APP_EXIT_OK;
 }
 
 /* Both builds stepped in turns, o->rounds rounds of o->per_turn frames each, into s. */
@@ -375,28 +311,30 @@ int main(int argc, char** argv)
 {
     options o = {.rounds = 20, .per_turn = 2, .warm_up = 2};
     int status = parse_options(argc, argv, &o);
-    if (status)
+    if (status) {
+        app_overrides_free(&o.sets);
         return status < 0 ? 0 : status;
+    }
     build b[2] = {{.path = o.positional[0]}, {.path = o.positional[1]}};
     status = bind_build(&b[0]);
     if (!status)
         status = bind_build(&b[1]);
     for (int i = 0; i < 2 && !status; i++)
-        status = open_simulation(&b[i], o.positional[2], o.sets, o.set_count);
+        status = open_simulation(&b[i], o.positional[2], o.sets.items, o.sets.count);
     series s[2] = {{.count = 0}, {.count = 0}};
     size_t frames = (size_t)o.rounds * o.per_turn;
     for (int i = 0; i < 2 && !status; i++) {
         s[i].ms = calloc(frames * (CVK_MAX_PASSES + 1), sizeof(double));
         if (!s[i].ms) {
-            say("out of host memory for %zu frames", frames);
-            status = EXIT_FAILURE;
+            app_error(TOOL, "out of host memory for %zu frames", frames);
+            status = APP_EXIT_FAILURE;
         }
     }
     for (int i = 0; i < 2 && !status; i++) {
         cvk_error err = {0};
         if (o.warm_up && b[i].sim_step(b[i].sim, o.warm_up, &err) != CVK_SUCCESS) {
-            say("%s: %s", b[i].path, err.message);
-            status = EXIT_FAILURE;
+            app_error(TOOL, "%s: %s", b[i].path, err.message);
+            status = APP_EXIT_FAILURE;
         }
     }
     if (!status)
@@ -412,12 +350,13 @@ int main(int argc, char** argv)
     for (int i = 0; i < 2; i++) {
         uint32_t messages = b[i].context ? b[i].context_validation_message_count(b[i].context) : 0;
         if (messages) {
-            say("%s: %u validation messages", b[i].path, messages);
-            status = status ? status : EXIT_FAILURE;
+            app_error(TOOL, "%s: %u validation messages", b[i].path, messages);
+            status = status ? status : APP_EXIT_FAILURE;
         }
     }
     free(s[0].ms);
     free(s[1].ms);
+    app_overrides_free(&o.sets);
     close_build(&b[1]);
     close_build(&b[0]);
     return status;

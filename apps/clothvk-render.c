@@ -171,7 +171,7 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         {"--serial", NULL, APP_OPTION_FLAG, .flag = &o->serial},
         {"--quiet", "-q", APP_OPTION_FLAG, .flag = &o->quiet},
     };
-    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], o};
+    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], o, NULL};
     o->every = 1;
     int status = app_read_command_line(&line, argc, argv, &o->scene, done);
     return status != APP_EXIT_OK || *done ? status : check_options(o);

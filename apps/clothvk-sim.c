@@ -182,7 +182,7 @@ static int parse_args(int argc, char** argv, options* o, bool* done)
         {"--wedge-bake", NULL, APP_OPTION_FLAG, .flag = &o->wedge.bake},
         {"--plan", NULL, APP_OPTION_FLAG, .flag = &o->plan},
     };
-    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], o};
+    app_command_line line = {tool, usage, table, sizeof table / sizeof table[0], o, NULL};
     int status = app_read_command_line(&line, argc, argv, &o->scene, done);
     return status != APP_EXIT_OK || *done ? status : check_options(o);
 }

@@ -26,7 +26,8 @@ for name in scene mesh; do
 done
 # The bake reader is the tools' (apps/bake.c), on the library's internal archive.
 # shellcheck disable=SC2086
-clang $flags -Iapps -o build-fuzz/fuzz_bake tests/fuzz/fuzz_bake.c apps/bake.c apps/common.c $libs
+clang $flags -Iapps -DCVK_TOOLS_VERSION=\"fuzz\" -o build-fuzz/fuzz_bake tests/fuzz/fuzz_bake.c apps/bake.c \
+    apps/common.c apps/cli.c $libs
 
 # Seeds: a scene's text as it is, and with an override; a mesh with its format byte first.
 seeds=build-fuzz/seeds
