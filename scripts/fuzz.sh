@@ -40,21 +40,29 @@ for f in $(find assets tests -name '*.obj' -o -name '*.ply' | head -50); do
     case "$f" in *.ply) byte='\x01' ;; *) byte='\x00' ;; esac
     { printf "$byte"; cat "$f"; } > "$seeds/mesh/$(echo "$f" | tr / _)"
 done
+# An OBJ file on which Assimp 5.2 leaks (see below), so that every run reads one.
+printf '\x00v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no second\nf 5 6 7\n' > "$seeds/mesh/obj-assimp-leak"
 # A bake's cache.json and frame 0 (the snapshot with and without its CRC-32 made right).
 # The Vulkan stack keeps some allocations until exit (tests/lsan.supp); clothvk's are checked.
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 CLOTHVK_FUZZ_SEEDS="$seeds/bake" build-fuzz/fuzz_bake
-# Leaks are checked in the scene and bake harnesses only: Assimp 5.2's OBJ importer leaks on some malformed
-# files inside aiImportFile itself (60 KB on one input the mesh harness found; aiImportFile alone
-# leaks the same), and its frames, unsymbolized, would hide one of clothvk's behind it. The unit
-# tests under ASan (scripts/test-sanitize.sh) check clothvk's own mesh code for leaks.
+# Leaks are checked in every harness. Assimp before 5.4.2 (Debian 12 has 5.2.5) leaks inside
+# its OBJ importer on some malformed files: the meshes it has built stay in a local array when a
+# later mesh has a face index out of range (fixed upstream by #5645). The mesh harness leaves out
+# what leaks inside Assimp::BaseImporter::ReadFile, with whole stacks (fast_unwind_on_malloc=0:
+# Assimp and libstdc++ keep no frame pointers) so the rule can see that frame; clothvk's own
+# allocations are still checked: an importer it forgot to free leaks from its own code.
+mesh_supp=build-fuzz/lsan-mesh.supp
+{ cat tests/lsan.supp; echo "leak:Assimp::BaseImporter::ReadFile"; } > "$mesh_supp"
 status=0
 for name in scene mesh bake; do
     corpus=build-fuzz/corpus-$name
     mkdir -p "$corpus"
-    leaks=1
-    [ "$name" != mesh ] || leaks=0
-    ASAN_OPTIONS=detect_leaks=$leaks UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    asan=detect_leaks=1 lsan=$LSAN_OPTIONS
+    if [ "$name" = mesh ]; then
+        asan=$asan:fast_unwind_on_malloc=0 lsan="suppressions=$PWD/$mesh_supp:print_suppressions=0"
+    fi
+    ASAN_OPTIONS=$asan LSAN_OPTIONS=$lsan UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
         "build-fuzz/fuzz_$name" "$corpus" "$seeds/$name" -max_total_time="$seconds" \
         -max_len=65536 -timeout=10 -rss_limit_mb=2048 -artifact_prefix=build-fuzz/ \
         -print_final_stats=1 2>"build-fuzz/fuzz_$name.log" || status=1
