@@ -70,8 +70,8 @@ static int bind_build(build* b)
     do {                                                                                       \
         void* f = dlsym(b->handle, name);                                                      \
         if (!f) {                                                                              \
-            app_error(TOOL, "%s: no function %s (not a build of clothvk)", b->path, name);                 \
-            return APP_EXIT_BAD_INPUT;                                                             \
+            app_error(TOOL, "%s: no function %s (not a build of clothvk)", b->path, name);     \
+            return APP_EXIT_BAD_INPUT;                                                         \
         }                                                                                      \
         memcpy(&b->field, &f, sizeof f);                                                       \
     } while (0)

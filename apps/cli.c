@@ -190,20 +190,25 @@ int app_read_command_line(const app_command_line* line, int argc, char** argv, c
     return APP_EXIT_OK;
 }
 
+int app_strings_add(const char*** items, uint32_t* count, const char* tool, const char* item)
+{
+    const char** grown = realloc(*items, (*count + 1) * sizeof *grown);
+    if (!grown) {
+        app_error(tool, "out of memory");
+        return APP_EXIT_FAILURE;
+    }
+    grown[(*count)++] = item;
+    *items = grown;
+    return APP_EXIT_OK;
+}
+
 int app_overrides_add(app_overrides* o, const char* tool, const char* item)
 {
     if (!strchr(item, '=') || item[0] == '=') {
         app_error(tool, "--set %s: expected key.path=value", item);
         return APP_EXIT_BAD_INPUT;
     }
-    const char** grown = realloc(o->items, (o->count + 1) * sizeof *grown);
-    if (!grown) {
-        app_error(tool, "out of memory");
-        return APP_EXIT_FAILURE;
-    }
-    grown[o->count++] = item;
-    o->items = grown;
-    return APP_EXIT_OK;
+    return app_strings_add(&o->items, &o->count, tool, item);
 }
 
 void app_overrides_free(app_overrides* o)

@@ -39,6 +39,9 @@ typedef struct app_overrides {
     uint32_t count;
 } app_overrides;
 
+/* Appends item (not copied) to the growing list *items of *count; no memory for it prints one
+ * line and returns APP_EXIT_FAILURE. */
+int app_strings_add(const char*** items, uint32_t* count, const char* tool, const char* item);
 /* Adds one --set item; an item without "key.path=" or no memory for it prints one line and
  * returns APP_EXIT_BAD_INPUT or APP_EXIT_FAILURE. */
 int app_overrides_add(app_overrides* o, const char* tool, const char* item);

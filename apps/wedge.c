@@ -13,14 +13,7 @@ bool app_wedge_requested(const app_wedge_options* o)
 
 int app_wedge_add_axis(app_wedge_options* o, const char* tool, const char* item)
 {
-    const char** grown = realloc(o->axes, (o->axis_count + 1) * sizeof *grown);
-    if (!grown) {
-        app_error(tool, "out of memory");
-        return APP_EXIT_FAILURE;
-    }
-    grown[o->axis_count++] = item;
-    o->axes = grown;
-    return APP_EXIT_OK;
+    return app_strings_add(&o->axes, &o->axis_count, tool, item);
 }
 
 void app_wedge_options_free(app_wedge_options* o)

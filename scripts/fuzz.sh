@@ -18,8 +18,10 @@ if [ ! -f build-fuzz/build.ninja ]; then
 fi
 meson compile -C build-fuzz lib/clothvk_internal >/dev/null
 flags="-g -O1 -fsanitize=fuzzer,address,undefined -Ilib -Ilib/include -Ishaders -Ibuild-fuzz/shaders"
-# -lstdc++: the archive's one C++ object (lib/topology/assimp_import.cpp)
+# -lstdc++ and the sanitizers' C++ runtime (UBSan's checks of dynamic types): the archive's one
+# C++ object (lib/topology/assimp_import.cpp), linked by the C driver
 libs="build-fuzz/lib/libclothvk_internal.a $(pkg-config --libs jansson assimp vulkan zlib) -lstdc++ -lm -lpthread"
+libs="$libs -fsanitize-link-c++-runtime"
 for name in scene mesh; do
     # shellcheck disable=SC2086
     clang $flags -o "build-fuzz/fuzz_$name" "tests/fuzz/fuzz_$name.c" $libs

@@ -1,11 +1,13 @@
 /* Assimp's importer object behind a C interface (assimp_import.h). No exception leaves this
-   file: Assimp reports a bad file through its error string, and the importer's own allocations
-   may throw std::bad_alloc, which becomes "out of host memory". */
+   file: Assimp reports a bad file through its error string, the importer's own allocations may
+   throw std::bad_alloc, which becomes "out of host memory", and any other exception becomes its
+   text. */
 #include "topology/assimp_import.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <cstdio>
+#include <exception>
 #include <new>
 
 struct cvk_assimp {
@@ -26,7 +28,13 @@ const aiScene* guarded(cvk_assimp* a, Step step, char* why, size_t why_size)
             reason = a->importer.GetErrorString();
     } catch (const std::bad_alloc&) {
         reason = "out of host memory";
+    } catch (const std::exception& e) {
+        // e is gone after its handler: its text is copied here
+        if (why && why_size > 0)
+            std::snprintf(why, why_size, "%s", e.what());
+        return nullptr;
     } catch (...) {
+        reason = "Assimp stopped with an exception of no known type";
     }
     if (!scene && why && why_size > 0)
         std::snprintf(why, why_size, "%s", reason ? reason : "");
