@@ -140,7 +140,7 @@ static cvk_result add_fused_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* 
     snprintf(note, sizeof note,
              "past %.2g of a bound? detect or not; if so: measure, the faces' hash, vertices "
              "against faces; one workgroup of %u", (double)CVK_REDETECT_FRACTION,
-             plan->fused_detect_workgroup_size);
+             plan->fused_workgroup_size);
     cvk_result r = add_fused_detection(s, plan, "contacts", CVK_PIPE_CONTACT_FACES_FUSED,
                                        &c->face_hash, s->build.triangle_count,
                                        s->build.particle_count, note, error);
@@ -149,7 +149,7 @@ static cvk_result add_fused_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* 
     snprintf(note, sizeof note,
              "if detecting: the midpoints' hash, edges against edges within %.3g m, bounds: "
              "%.2g of the nearest; one workgroup of %u", (double)c->radius,
-             (double)CVK_BOUND_GAMMA, plan->fused_detect_workgroup_size);
+             (double)CVK_BOUND_GAMMA, plan->fused_workgroup_size);
     return add_fused_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES_FUSED,
                                &c->edge_hash, c->edge_count, c->edge_count, note, error);
 }

@@ -73,9 +73,6 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
                                                : inputs->workgroup_size;
     case CVK_SPEC_FUSED_WORKGROUP_SIZE:
         return inputs->fused_workgroup_size ? inputs->fused_workgroup_size : inputs->workgroup_size;
-    case CVK_SPEC_FUSED_DETECT_WORKGROUP_SIZE:
-        return inputs->fused_detect_workgroup_size ? inputs->fused_detect_workgroup_size
-                                                   : inputs->workgroup_size;
     case CVK_SPEC_MAX_DEGREE: return inputs->max_degree;
     case CVK_SPEC_TRUE: return 1;
     case CVK_SPEC_FALSE: return 0;

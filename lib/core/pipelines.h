@@ -23,7 +23,6 @@ typedef enum cvk_spec_source {
     CVK_SPEC_TETHERS,        /* a cloth has tethers (lib/topology/build.h) */
     CVK_SPEC_TETHER_SLOTS,   /* tether slots in use (cvk_build.tether_slots), at least 1 */
     CVK_SPEC_FUSED_WORKGROUP_SIZE, /* local_size_x_id = 0 of the fused sweeps (one workgroup) */
-    CVK_SPEC_FUSED_DETECT_WORKGROUP_SIZE, /* of the fused detection's one workgroup */
     CVK_SPEC_REST,           /* the scene's solves keep a rest memory (lib/solvers/solve_pd.h) */
     CVK_SPEC_FUSED_SHARED,   /* the fused sweeps' iterate slots in shared memory, 0: none */
 } cvk_spec_source;
@@ -97,14 +96,14 @@ typedef struct cvk_spec_recipe {
    whether the scene has one instance. */
 #define CVK_SPEC_CONTACT_TYPES {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_CONTACT_EDGES {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_FALSE, CVK_SPEC_COLLIDER_TYPES}}
-#define CVK_SPEC_CONTACT_EDGES_FUSED {2, {CVK_SPEC_FUSED_DETECT_WORKGROUP_SIZE, \
-                                           CVK_SPEC_COLLIDER_TYPES}}
+#define CVK_SPEC_CONTACT_EDGES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 /* The decision with the faces' detection in one workgroup (shaders/contact/
    contact_faces_fused.comp). */
-#define CVK_SPEC_CONTACT_FACES_FUSED {2, {CVK_SPEC_FUSED_DETECT_WORKGROUP_SIZE, \
-                                           CVK_SPEC_COLLIDER_TYPES}}
+#define CVK_SPEC_CONTACT_FACES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
+/* One workgroup of the fused passes' size (local_size_x_id = 0). */
+#define CVK_SPEC_FUSED {1, {CVK_SPEC_FUSED_WORKGROUP_SIZE}}
 /* The edge detection's listing pass (id 1, LISTING, of shaders/contact/contact_edges.comp). */
 #define CVK_SPEC_LISTING {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
@@ -202,7 +201,6 @@ typedef struct cvk_spec_inputs {
     uint32_t workgroup_size;
     uint32_t particle_workgroup_size; /* 0: workgroup_size */
     uint32_t fused_workgroup_size;    /* 0: workgroup_size */
-    uint32_t fused_detect_workgroup_size; /* 0: workgroup_size */
     uint32_t fused_shared_slots;      /* the fused sweeps' iterate in shared memory: its slots */
     uint32_t max_degree;
     uint32_t collider_types; /* bit t: colliders of type t */

@@ -14,7 +14,6 @@ void cvk_plan_init(cvk_plan* plan, uint32_t substeps, uint32_t workgroup_size, u
         .workgroup_size = workgroup_size,
         .particle_workgroup_size = workgroup_size,
         .fused_workgroup_size = workgroup_size,
-        .fused_detect_workgroup_size = workgroup_size,
         .max_groups = max_groups ? max_groups : 1,
         .walk_items = 1,
     };

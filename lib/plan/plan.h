@@ -79,8 +79,6 @@ typedef struct cvk_plan {
                                          (cvk_pipeline_streams_particles); init: workgroup_size */
     uint32_t fused_workgroup_size; /* of the fused sweeps' one workgroup (lib/solvers/solve_pd.h);
                                       init: workgroup_size */
-    uint32_t fused_detect_workgroup_size; /* of the fused detection's one workgroup
-                                             (lib/contact/collide.h); init: workgroup_size */
     bool fused; /* the solve's passes fused (cvk_family_api.fuse_refusal), and with them the
                    detection's hash builds (lib/contact/hash.h) */
     uint32_t max_groups;

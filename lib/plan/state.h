@@ -35,7 +35,6 @@ struct cvk_sim {
     uint32_t particle_workgroup_size; /* of the passes that stream over particles (the sweeps,
                                          prediction, finalize, tethers): cvk_plan */
     uint32_t fused_workgroup_size;    /* of the fused sweeps' workgroups: cvk_plan */
-    uint32_t fused_detect_workgroup_size; /* of the fused detection's workgroup: cvk_plan */
     uint32_t fused_copies;            /* the copies fused sweeps take a workgroup each: the
                                          instances without self-contact where the build lays
                                          them out so (cvk_pd_fused_copies), else 1 */

@@ -73,15 +73,7 @@ static uint32_t walk_items(const cvk_context* context, const cvk_sim_desc* desc)
 }
 /* The fused sweeps (lib/solvers/solve_pd.h) run in one workgroup whose invocations stride over
    each colour: as large as the device allows, up to 1024 (a colour of a 10k-particle cloth in
-   three passes), unless the caller chose a workgroup size, which they then take too. So does
-   the fused detection (lib/contact/collide.h). On a CPU device, unless the caller chose, the
-   sweeps take one SIMD vector instead, as the passes over particles do
-   (CPU_DEVICE_PARTICLES_PER_WORKGROUP): llvmpipe runs every vector of a workgroup to each
-   barrier, under an empty mask where the colour has run out, so 1024 invocations cost 128
-   vectors a colour whatever its size (peer-hanging.json fused 675 ms a frame against 337 with
-   one vector, the 40 x 40 contact drape's solve 491 against 148; one lavapipe core, the same
-   bits). The detection keeps the larger workgroup: with one vector an invocation of it would
-   take hundreds of items, past this Mesa's 65,535 loop iterations (walk_items above). */
+   three passes), unless the caller chose a workgroup size, which they then take too. */
 #define FUSED_WORKGROUP_MAX 1024u
 static uint32_t fused_workgroup_size(const cvk_context* context, const cvk_sim_desc* desc,
                                      uint32_t workgroup_size)
@@ -198,7 +190,6 @@ cvk_result cvk_sim_make_plan(cvk_sim* s, const cvk_family_api* family, void* sel
     cvk_plan_init(out, s->params.substeps, workgroup_size, max_groups);
     out->particle_workgroup_size = s->particle_workgroup_size;
     out->fused_workgroup_size = s->fused_workgroup_size;
-    out->fused_detect_workgroup_size = s->fused_detect_workgroup_size;
     out->particle_group_items = s->particle_group_items;
     out->walk_items = s->walk_items;
     out->fused = family->fuse_refusal && family->fuse_refusal(s, solver) == NULL;
@@ -218,7 +209,6 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
     cvk_spec_inputs inputs = {.workgroup_size = plan->workgroup_size,
                               .particle_workgroup_size = plan->particle_workgroup_size,
                               .fused_workgroup_size = plan->fused_workgroup_size,
-                              .fused_detect_workgroup_size = plan->fused_detect_workgroup_size,
                               .fused_shared_slots = s->fused_shared_slots,
                               .max_degree = s->build.max_degree,
                               .collider_types = s->collide->types,
@@ -534,10 +524,7 @@ cvk_result cvk_sim_create(cvk_context* context, const cvk_sim_desc* desc, cvk_si
     s->tear = &block->tear;
     init_fields(s, context, desc);
     s->particle_workgroup_size = particle_workgroup_size(context, desc, workgroup_size);
-    s->fused_detect_workgroup_size = fused_workgroup_size(context, desc, workgroup_size);
-    bool cpu = context->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
-    s->fused_workgroup_size = cpu && desc->workgroup_size == 0 ? s->particle_workgroup_size
-                                                               : s->fused_detect_workgroup_size;
+    s->fused_workgroup_size = fused_workgroup_size(context, desc, workgroup_size);
     s->particle_group_items = particle_group_items(context, desc);
     s->walk_items = walk_items(context, desc);
     cvk_build_limits limits = {context, scene};

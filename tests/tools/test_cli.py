@@ -500,7 +500,7 @@ CASES = [
                        "for every outer iteration)", "per frame: 8 substeps x 1 dispatch =",
                        "  solve    dispatch gauss-seidel, fused sweeps particles "
                        "0..9997, 1 groups, predict, outers 1-4: 4 sweeps x 2 colours (the last "
-                       "+ finalize); one workgroup of 8, global memory; u0 -> u1 first")},
+                       "+ finalize); one workgroup of 1024, global memory; u0 -> u1 first")},
     # Instances fuse a workgroup a copy, sized to a copy, the prediction a dispatch before.
     {"name": "--plan fused instances", "argv": [SMALL, "--plan", "--set", 'solver.fuse="on"',
                                                 "--set", 'instances={"count": 3, "spacing": [1, 0, 0]}'],
@@ -508,7 +508,7 @@ CASES = [
      "check": plan_has("  predict  dispatch predict (Verlet)           particles 0..29, 1 groups",
                        "  solve    dispatch gauss-seidel, fused sweeps particles 0..29, 3 groups, "
                        "outers 1-2: 2 sweeps x 2 colours (the last + finalize); a workgroup a "
-                       "copy of 8, global memory; u0 -> u1 first")},
+                       "copy of 64, global memory; u0 -> u1 first")},
     {"name": "--plan fuse auto on lavapipe", "argv": [HANGING, "--plan"], "status": 0,
      "check": plan_has("solver: pd / rbgs, 4 outer x 4 inner, omega 1, sweeps not fused: "
                        "solver.fuse auto, which does not fuse: slower on every device "
