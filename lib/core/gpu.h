@@ -44,7 +44,7 @@ cvk_result cvk_gpu_image_create_mipped(cvk_context* context, VkFormat format, ui
 void cvk_gpu_image_destroy(cvk_context* context, cvk_gpu_image* image);
 
 /* Specialization constants are consecutive uint32 values with ids 0, 1, 2, ... */
-#define CVK_SPEC_MAX 9
+#define CVK_SPEC_MAX 10
 typedef struct cvk_spec {
     uint32_t values[CVK_SPEC_MAX];
     uint32_t count;

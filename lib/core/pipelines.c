@@ -84,6 +84,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_TETHER_SLOTS: return inputs->tether_slots ? inputs->tether_slots : 1;
     case CVK_SPEC_REST: return inputs->rest ? 1 : 0;
     case CVK_SPEC_FUSED_SHARED: return inputs->fused_shared_slots;
+    case CVK_SPEC_FUSED_ONE_COPY: return inputs->fused_one_copy ? 1 : 0;
     }
     return 0;
 }

@@ -25,6 +25,7 @@ typedef enum cvk_spec_source {
     CVK_SPEC_FUSED_WORKGROUP_SIZE, /* local_size_x_id = 0 of the fused sweeps (one workgroup) */
     CVK_SPEC_REST,           /* the scene's solves keep a rest memory (lib/solvers/solve_pd.h) */
     CVK_SPEC_FUSED_SHARED,   /* the fused sweeps' iterate slots in shared memory, 0: none */
+    CVK_SPEC_FUSED_ONE_COPY, /* the fused sweeps take the whole scene as one copy */
 } cvk_spec_source;
 
 typedef struct cvk_spec_recipe {
@@ -44,12 +45,13 @@ typedef struct cvk_spec_recipe {
 /* The fused sweeps: as CVK_SPEC_PD, in the fused pass's workgroup size, with the tether
    pass's slots (id 2, as CVK_SPEC_PD_TETHER's), the contact passes' collider types and
    self-contact (ids 3 and 4, as CVK_SPEC_PD_CONTACT's), the prediction's wind (id 6), the
-   rest memory (id 7, REST of shaders/solvers/pd_common.glsl) and the iterate's slots in shared
-   memory (id 8, SHARED_SLOTS of shaders/solvers/pd_fused.comp). */
-#define CVK_SPEC_PD_FUSED {9, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
-                               CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
-                               CVK_SPEC_SELF_CONTACT, CVK_SPEC_WIND, CVK_SPEC_REST, \
-                               CVK_SPEC_FUSED_SHARED}}
+   rest memory (id 7, REST of shaders/solvers/pd_common.glsl), the iterate's slots in shared
+   memory (id 8, SHARED_SLOTS of shaders/solvers/pd_fused.comp) and whether it sweeps one copy
+   (id 9, ONE_COPY there). */
+#define CVK_SPEC_PD_FUSED {10, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS, \
+                                CVK_SPEC_COLLIDER_TYPES, CVK_SPEC_SELF_CONTACT, \
+                                CVK_SPEC_SELF_CONTACT, CVK_SPEC_WIND, CVK_SPEC_REST, \
+                                CVK_SPEC_FUSED_SHARED, CVK_SPEC_FUSED_ONE_COPY}}
 /* The tether pass (id 2 of shaders/solvers/pd_tether.comp: the slots it reads). */
 #define CVK_SPEC_PD_TETHER {3, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TETHER_SLOTS}}
 /* finalize (id 7: REST of shaders/solvers/pd_common.glsl), and with the tethers' projection
@@ -202,6 +204,7 @@ typedef struct cvk_spec_inputs {
     uint32_t particle_workgroup_size; /* 0: workgroup_size */
     uint32_t fused_workgroup_size;    /* 0: workgroup_size */
     uint32_t fused_shared_slots;      /* the fused sweeps' iterate in shared memory: its slots */
+    bool fused_one_copy;              /* the fused sweeps take the whole scene as one copy */
     uint32_t max_degree;
     uint32_t collider_types; /* bit t: colliders of type t */
     bool self_contact;

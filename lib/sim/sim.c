@@ -210,6 +210,7 @@ cvk_result cvk_sim_ready_pipelines(cvk_sim* s, const cvk_plan* plan, cvk_error* 
                               .particle_workgroup_size = plan->particle_workgroup_size,
                               .fused_workgroup_size = plan->fused_workgroup_size,
                               .fused_shared_slots = s->fused_shared_slots,
+                              .fused_one_copy = s->fused_copies <= 1,
                               .max_degree = s->build.max_degree,
                               .collider_types = s->collide->types,
                               .self_contact = s->collide->self,

@@ -83,11 +83,19 @@ layout(constant_id = 8) const uint SHARED_SLOTS = 0u;
 const bool SHARED = SHARED_SLOTS > 0u;
 shared vec4 slots[SHARED ? SHARED_SLOTS : 1u];
 
+// ONE_COPY (id 9): the sweeps take the whole scene as one copy (lib/sim/sim.c, fuse_copies),
+// whose slots are its particles' indices.
+layout(constant_id = 9) const bool ONE_COPY = false;
+
 // The slot of free particle q of the workgroup's copy: the colour it lies in, found from the
-// colour ends (the push constants; no memory read).
+// colour ends (the push constants; no memory read). With one copy no loop: swept_dst calls this
+// at every neighbour read, and llvmpipe runs a loop's body under an empty mask even where no
+// invocation enters it, counting each step towards its silent end of an invocation's loops
+// after 65,535 (docs/limits.md): the loop over the colours here made a 40 x 40 cloth's
+// sweeps in a workgroup of 8 pass it at 3 outer x 4 inner iterations.
 uint slot_of(uint q)
 {
-    if (copies == 1u)
+    if (ONE_COPY || copies == 1u)
         return q;
     uint start = 0u;
     for (uint c = 0u; c < colours; c++) {
