@@ -22,7 +22,7 @@ void cvk_sim_watch_reset(cvk_sim* s)
 {
     cvk_gpu_watch fresh = {.substep = 0, .diverged_at = CVK_WATCH_NONE,
                            .particle = CVK_WATCH_NONE, .reason = 0, .stretched = 0,
-                           .contact_cut = 0};
+                           .contact_cut = 0, .sweeps_cut = 0};
     if (s->watch.mapped)
         memcpy(s->watch.mapped, &fresh, sizeof fresh);
     s->watch_frames = s->frames;
@@ -66,6 +66,15 @@ cvk_result cvk_sim_watch_check(const cvk_sim* s, cvk_error* error)
                         "that no cloth passes through cloth no longer holds; a larger "
                         "cvk_sim_desc.max_workgroups (clothvk-sim --max-workgroups 65535) "
                         "gives detection one item an invocation",
+                        (unsigned long long)s->frames, s->device.context->properties.deviceName);
+    if (w.sweeps_cut) /* cleared with the watch when a state is written */
+        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                        "the fused sweeps were cut short by frame %llu: %s ends a shader's loops "
+                        "after a fixed number of iterations (lavapipe: 65,535 an invocation), and "
+                        "an invocation's share of the sweeps (a colour's particles over the "
+                        "workgroup size, times the colours and sweeps of a substep) passed it, so "
+                        "particles were left unswept; a larger workgroup size (or the library's "
+                        "choice, 0) or solver.fuse off avoids it",
                         (unsigned long long)s->frames, s->device.context->properties.deviceName);
     if (!st.diverged)
         return CVK_SUCCESS;

@@ -187,8 +187,8 @@ CVK_STRUCT(cvk_pd_scalars, CVK_PD_SCALARS_FIELDS)
     CVK_UINT(particle)     /* the lowest internal index that diverged then */           \
     CVK_UINT(reason)       /* CVK_WATCH_NONFINITE | CVK_WATCH_RUNAWAY */                \
     CVK_UINT(stretched)    /* set by predict: a spring is past the stretch bound */     \
-    CVK_UINT(contact_cut)  /* the contact frame state's cut, copied at the end of each  \
-                              frame of cvk_sim_step (lib/sim/sim.c) */
+    CVK_UINT(contact_cut)  /* the contact frame state's cut, copied at each frame's end */ \
+    CVK_UINT(sweeps_cut)   /* the fused sweeps' loops ended early (pd_fused.comp) */
 CVK_STRUCT(cvk_gpu_watch, CVK_GPU_WATCH_FIELDS)
 
 /* ---- implicit Euler: solvers/implicit_*.comp (lib/solvers/solve_implicit.c) ----------------------- */

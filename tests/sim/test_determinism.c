@@ -880,6 +880,26 @@ static void check_small_workgroup(cvk_context* ctx, cvk_scene_desc scene)
         free(fused.xyz);
     }
     free(unfused.xyz);
+    /* 32 x 16 iterations: 102,400 steps of the sweeps' loop an invocation in a substep. On
+       lavapipe that passes the limit, and the step (FRAMES frames in one call) must say so; a
+       device without such a limit runs it whole. */
+    scene.solver.outer_iterations = 32;
+    scene.solver.inner_iterations = 16;
+    bool lavapipe = strstr(cvk_context_get_info(ctx).device_name, "llvmpipe") != NULL;
+    outcome many = run(ctx, &scene, small[1], &err);
+    if (lavapipe) {
+        char want[64];
+        snprintf(want, sizeof want, "the fused sweeps were cut short by frame %d: ", FRAMES);
+        CHECK(!many.ok && err.result == CVK_ERROR_DEVICE_LIMIT &&
+              strncmp(err.message, want, strlen(want)) == 0,
+              "40 x 40 fused in a workgroup of 8 at 32 x 16: expected \"%s...\" "
+              "(CVK_ERROR_DEVICE_LIMIT), got %s", want, many.ok ? "success" : err.message);
+        printf("40 x 40, 32 x 16 iterations, fused in a workgroup of 8: %s\n",
+               many.ok ? "ran" : err.message);
+    } else {
+        CHECK(many.ok, "40 x 40 fused in a workgroup of 8 at 32 x 16: %s", err.message);
+    }
+    free(many.xyz);
 }
 
 /* The test in three parts, each its own meson test so they run side by side (argv[1]: solvers,

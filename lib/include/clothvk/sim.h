@@ -89,7 +89,9 @@ CVK_API cvk_result cvk_sim_record(cvk_sim* sim, VkCommandBuffer cmd, uint32_t fr
    device's loop limit cut a contact detection short (now or before, since the state was last
    written; lavapipe's 65,535 loop iterations an invocation, docs/limits.md): the frames ran,
    but cloth may have passed through cloth; a larger cvk_sim_desc.max_workgroups gives
-   detection one item an invocation, and a state written clears it as it does a divergence. */
+   detection one item an invocation, and a state written clears it as it does a divergence.
+   CVK_ERROR_DEVICE_LIMIT too when that limit cut the fused sweeps short (solver.fuse on in a
+   caller's small workgroup_size: particles were left unswept). */
 CVK_API cvk_result cvk_sim_step(cvk_sim* sim, uint32_t frames, cvk_error* error);
 
 /* Number of particles over all cloths. */
