@@ -104,8 +104,6 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_CONTACT_FACES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
-/* One workgroup of the fused passes' size (local_size_x_id = 0). */
-#define CVK_SPEC_FUSED {1, {CVK_SPEC_FUSED_WORKGROUP_SIZE}}
 /* The edge detection's listing pass (id 1, LISTING, of shaders/contact/contact_edges.comp). */
 #define CVK_SPEC_LISTING {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE, CVK_SPEC_COLLIDER_TYPES}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}

@@ -53,29 +53,35 @@ void cvk_sim_watch_stats(const cvk_sim* s, cvk_sim_stats* st)
     watch_stats(s, &w, st);
 }
 
+/* A pass whose loops the device ended early (shaders/contact/bounds.glsl, loops_cut): `what`
+   names it, `then` says what followed and what avoids it. */
+static cvk_result loops_cut(const cvk_sim* s, const char* what, const char* then,
+                            cvk_error* error)
+{
+    return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
+                    "%s cut short by frame %llu: %s ends a shader's loops after a fixed number of "
+                    "iterations (lavapipe: 65,535 an invocation)%s", what,
+                    (unsigned long long)s->frames, s->device.context->properties.deviceName, then);
+}
+
 cvk_result cvk_sim_watch_check(const cvk_sim* s, cvk_error* error)
 {
     cvk_gpu_watch w = read_watch(s);
     cvk_sim_stats st = {0};
     watch_stats(s, &w, &st);
-    if (w.contact_cut) /* cleared with the frame state's flag when a state is written */
-        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
-                        "contact detection was cut short by frame %llu: %s ends a shader's loops "
-                        "after a fixed number of iterations (lavapipe: 65,535 an invocation) and "
-                        "the cloths lie too crowded for it, so pairs were missed and the guarantee "
-                        "that no cloth passes through cloth no longer holds; a larger "
-                        "cvk_sim_desc.max_workgroups (clothvk-sim --max-workgroups 65535) "
-                        "gives detection one item an invocation",
-                        (unsigned long long)s->frames, s->device.context->properties.deviceName);
-    if (w.sweeps_cut) /* cleared with the watch when a state is written */
-        return cvk_fail(error, CVK_ERROR_DEVICE_LIMIT,
-                        "the fused sweeps were cut short by frame %llu: %s ends a shader's loops "
-                        "after a fixed number of iterations (lavapipe: 65,535 an invocation), and "
-                        "an invocation's share of the sweeps (a colour's particles over the "
-                        "workgroup size, times the colours and sweeps of a substep) passed it, so "
-                        "particles were left unswept; a larger workgroup size (or the library's "
-                        "choice, 0) or solver.fuse off avoids it",
-                        (unsigned long long)s->frames, s->device.context->properties.deviceName);
+    /* Both flags are cleared with the watch (and the frame state's) when a state is written. */
+    if (w.contact_cut)
+        return loops_cut(s, "contact detection was",
+                         " and the cloths lie too crowded for it, so pairs were missed and the "
+                         "guarantee that no cloth passes through cloth no longer holds; a larger "
+                         "cvk_sim_desc.max_workgroups (clothvk-sim --max-workgroups 65535) gives "
+                         "detection one item an invocation", error);
+    if (w.sweeps_cut)
+        return loops_cut(s, "the fused sweeps were",
+                         ", and an invocation's share of the sweeps (a colour's particles over "
+                         "the workgroup size, times the colours and sweeps of a substep) passed "
+                         "it, so particles were left unswept; a larger workgroup size (or the "
+                         "library's choice, 0) or solver.fuse off avoids it", error);
     if (!st.diverged)
         return CVK_SUCCESS;
     const char* why = st.diverged_nonfinite

@@ -29,14 +29,20 @@ layout(set = CONTACT_SET, binding = CVK_CONTACT_BINDING_SEARCHED_READ, rgba32f) 
 // and the guarantee no longer holds. A last loop of two steps whose count comes from the push
 // constants (so no compiler unrolls it) runs once only when that happened; the passes that walk
 // the hashes call note_loops_cut after their work with their push constants' item count, and it
-// raises frame.cut (the host reports it: lib/sim/sim_watch.c).
-void note_loops_cut(uint count)
+// raises frame.cut (the host reports it: lib/sim/sim_watch.c). The fused sweeps ask loops_cut
+// too, and raise their own flag (pd_fused.comp).
+bool loops_cut(uint count)
 {
     uint two = min(count, 1u) + 1u;
     uint steps = 0u;
     for (uint i = 0u; i < two; i++)
         steps++;
-    if (steps < two)
+    return steps < two;
+}
+
+void note_loops_cut(uint count)
+{
+    if (loops_cut(count))
         atomicOr(frame.cut, 1u);
 }
 

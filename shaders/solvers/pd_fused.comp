@@ -290,27 +290,15 @@ void solve_copy()
     }
 }
 
-// Whether the device ended this invocation's loops early: llvmpipe ends them silently once an
-// invocation has run 65,535 steps of a loop, and from then on runs each loop's body once (as
-// detection's note_loops_cut, shaders/contact/bounds.glsl). The sweeps' loop over a colour's
-// particles reaches that in a caller's small workgroup (docs/limits.md). A last loop of two
-// steps whose count comes from the push constants runs once only then, and raises the watch's
-// flag, which cvk_sim_step reports (lib/sim/sim_watch.c).
-void note_sweeps_cut()
-{
-    uint two = min(pc.count, 1u) + 1u;
-    uint steps = 0u;
-    for (uint i = 0u; i < two; i++)
-        steps++;
-    if (steps < two)
-        atomicOr(watch.sweeps_cut, 1u);
-}
-
 void main()
 {
     // Copies past the dispatch's workgroups (shared/layout.h): each workgroup strides over
     // them. No barrier between two: they share no particle.
     for (copy = gl_WorkGroupID.x; copy < copies; copy += gl_NumWorkGroups.x)
         solve_copy();
-    note_sweeps_cut();
+    // Whether the device ended this invocation's loops early (loops_cut, contact/bounds.glsl):
+    // the sweeps' loop over a colour's particles reaches llvmpipe's limit in a caller's small
+    // workgroup (docs/limits.md); the watch's flag, which cvk_sim_step reports.
+    if (loops_cut(pc.count))
+        atomicOr(watch.sweeps_cut, 1u);
 }
