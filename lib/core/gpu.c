@@ -42,6 +42,32 @@ static cvk_result check_heap(const cvk_context* context, int type, VkDeviceSize 
                     (double)m->memoryHeaps[heap].size / (1u << 30));
 }
 
+/* Memory of `type` (-1: none suits) for a resource whose requirements are `req`, counted
+   against the context; the caller binds it. On failure nothing is allocated; `for_what` names
+   the call in the message ("allocating buffer memory"). */
+static cvk_result allocate_memory(cvk_context* context, int type, const VkMemoryRequirements* req,
+                                  const char* for_what, const char* what, VkDeviceMemory* memory,
+                                  VkDeviceSize* allocated, cvk_error* error)
+{
+    if (type < 0)
+        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
+    cvk_result r = check_heap(context, type, req->size, what, error);
+    if (r != CVK_SUCCESS)
+        return r;
+    VkMemoryAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req->size,
+        .memoryTypeIndex = (uint32_t)type,
+    };
+    VkResult vr = vkAllocateMemory(context->device, &alloc, NULL, memory);
+    if (vr != VK_SUCCESS)
+        return cvk_fail_vk_for(error, for_what, vr, "%s (%llu bytes)", what,
+                               (unsigned long long)req->size);
+    *allocated = req->size;
+    cvk_context_count_memory(context, (int64_t)req->size);
+    return CVK_SUCCESS;
+}
+
 cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUsageFlags usage,
                              cvk_memory_kind kind, const char* what, cvk_buffer* out,
                              cvk_error* error)
@@ -73,27 +99,13 @@ cvk_result cvk_buffer_create(cvk_context* context, VkDeviceSize size, VkBufferUs
     } else {
         type = device_memory_type(context, req.memoryTypeBits);
     }
-    if (type < 0) {
-        cvk_buffer_destroy(context, out);
-        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
-    }
-    cvk_result r = check_heap(context, type, req.size, what, error);
+    cvk_result r = allocate_memory(context, type, &req, "allocating buffer memory", what,
+                                   &out->memory, &out->allocated, error);
     if (r != CVK_SUCCESS) {
         cvk_buffer_destroy(context, out);
         return r;
     }
-    VkMemoryAllocateInfo alloc = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
-        .allocationSize = req.size,
-        .memoryTypeIndex = (uint32_t)type,
-    };
-    vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
-    if (vr == VK_SUCCESS) {
-        out->allocated = req.size;
-        cvk_context_count_memory(context, (int64_t)req.size);
-    }
-    if (vr == VK_SUCCESS)
-        vr = vkBindBufferMemory(context->device, out->buffer, out->memory, 0);
+    vr = vkBindBufferMemory(context->device, out->buffer, out->memory, 0);
     if (vr == VK_SUCCESS && kind == CVK_MEMORY_HOST)
         vr = vkMapMemory(context->device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped);
     if (vr != VK_SUCCESS) {
@@ -434,27 +446,13 @@ cvk_result cvk_gpu_image_create_mipped(cvk_context* context, VkFormat format, ui
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(context->device, out->image, &req);
     int type = device_memory_type(context, req.memoryTypeBits);
-    if (type < 0) {
-        cvk_gpu_image_destroy(context, out);
-        return cvk_fail(error, CVK_ERROR_UNSUPPORTED, "%s: no suitable memory type", what);
-    }
-    cvk_result r = check_heap(context, type, req.size, what, error);
+    cvk_result r = allocate_memory(context, type, &req, "allocating image memory", what,
+                                   &out->memory, &out->allocated, error);
     if (r != CVK_SUCCESS) {
         cvk_gpu_image_destroy(context, out);
         return r;
     }
-    VkMemoryAllocateInfo alloc = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
-        .allocationSize = req.size,
-        .memoryTypeIndex = (uint32_t)type,
-    };
-    vr = vkAllocateMemory(context->device, &alloc, NULL, &out->memory);
-    if (vr == VK_SUCCESS) {
-        out->allocated = req.size;
-        cvk_context_count_memory(context, (int64_t)req.size);
-    }
-    if (vr == VK_SUCCESS)
-        vr = vkBindImageMemory(context->device, out->image, out->memory, 0);
+    vr = vkBindImageMemory(context->device, out->image, out->memory, 0);
     if (vr != VK_SUCCESS) {
         cvk_gpu_image_destroy(context, out);
         return cvk_fail_vk_for(error, "allocating image memory", vr, "%s (%llu bytes)", what,
