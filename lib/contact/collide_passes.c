@@ -167,7 +167,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     snprintf(note, sizeof note, "moves past %.2g of a bound?", (double)CVK_REDETECT_FRACTION);
     add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
-    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count,
+    add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES_MEASURE, c->edge_count,
                   CVK_LIST_EDGE_GROUPS, 1, faces,
                   "the longest edge, the midpoints, the centroids and their corners' reach");
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
@@ -192,13 +192,13 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     } passes[] = {
         {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, faces,
          "vertices against faces within %.3g m"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 3,
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_CELLS, c->edge_count, CVK_LIST_EDGE_GROUPS, 3,
          midpoints, "one edge a cell of the midpoints"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CELL_COMMAND, 4, midpoints,
-         "each cell's list of the midpoints around it"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, CELL_COMMAND, 4,
+         midpoints, "each cell's list of the midpoints around it"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
          midpoints, "edges against edges within %.3g m: distances, each pair once"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_NEAREST, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,
          midpoints, "each edge's nearest pairs from its bucket"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
          0, midpoints, "the pairs of the edges past their buckets: walked again"},

@@ -17,6 +17,8 @@ typedef enum cvk_spec_source {
     CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
     CVK_SPEC_FALSE,          /* a boolean switch left false */
     CVK_SPEC_TWO,            /* the value 2 (a switch of three ways, e.g. PREDICTS) */
+    CVK_SPEC_THREE,          /* the values 3 and 4 (a pass's phase, e.g. edge detection's) */
+    CVK_SPEC_FOUR,
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
     CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
@@ -97,7 +99,11 @@ typedef struct cvk_spec_recipe {
    check (id 1 of contact_check.comp: which colliders are near), and for the detection passes
    whether the scene has one instance. */
 #define CVK_SPEC_CONTACT_TYPES {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
-#define CVK_SPEC_CONTACT_EDGES {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_FALSE, CVK_SPEC_COLLIDER_TYPES}}
+/* Edge detection's phases (id 3, PHASE, of shaders/contact/contact_edges.comp): a pipeline
+   each, so that a dispatch runs its phase's code alone (llvmpipe runs the code an `if` on a push
+   constant skips, under an empty mask). */
+#define CVK_SPEC_CONTACT_EDGES(PHASE) {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_FALSE, \
+                                           CVK_SPEC_COLLIDER_TYPES, PHASE}}
 #define CVK_SPEC_CONTACT_EDGES_FUSED {2, {CVK_SPEC_FUSED_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
 /* The decision with the faces' detection in one workgroup (shaders/contact/
    contact_faces_fused.comp). */
@@ -105,7 +111,8 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_NONE {0, {CVK_SPEC_WORKGROUP_SIZE}}
 #define CVK_SPEC_WORKGROUP {1, {CVK_SPEC_WORKGROUP_SIZE}}
 /* The edge detection's listing pass (id 1, LISTING, of shaders/contact/contact_edges.comp). */
-#define CVK_SPEC_LISTING {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE, CVK_SPEC_COLLIDER_TYPES}}
+#define CVK_SPEC_LISTING {4, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_TRUE, CVK_SPEC_COLLIDER_TYPES, \
+                          CVK_SPEC_FALSE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
 
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
@@ -151,7 +158,11 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 4 runs of one collider type") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_TYPES, "detection: vertices against faces") \
-    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES, "detection: edges against edges") \
+    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FALSE), "detection: edges against edges") \
+    X(CONTACT_EDGES_MEASURE, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_TRUE), "detection: the edges measured") \
+    X(CONTACT_EDGES_NEAREST, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_TWO), "detection: the edges' nearest pairs") \
+    X(CONTACT_EDGES_CELLS, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_THREE), "detection: the edges' cells") \
+    X(CONTACT_EDGES_GATHER, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FOUR), "detection: the edge cells' lists") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_CONTACT_TYPES, "detection: bounds") \
     X(CONTACT_FACES_FUSED, CONTACT_FACES_FUSED_COMP, CVK_SPEC_CONTACT_FACES_FUSED, "detect or not, faces' hash and detection, one workgroup") \
