@@ -82,10 +82,10 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 #define CELL_COMMAND UINT32_MAX
 static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
                              cvk_pipeline_id pipeline, uint32_t count, uint32_t slot,
-                             uint32_t phase, const cvk_hash* hash, const char* note)
+                             const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
-    cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};
+    cvk_contact_push push = {0, count, 0, cvk_plan_walk_group_items(plan)};
     /* the commands: in the work lists, or (CELL_COMMAND) the edge cells' */
     VkBuffer commands = slot == CELL_COMMAND ? c->cells.buffer : c->lists.buffer;
     cvk_op* op = cvk_plan_dispatch_indirect(plan, cvk_plan_pass(plan, pass), pipeline,
@@ -168,7 +168,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
     add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES_MEASURE, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, 1, faces,
+                  CVK_LIST_EDGE_GROUPS, faces,
                   "the longest edge, the midpoints, the centroids and their corners' reach");
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
                  "centroid cells: the radius + the farthest corner from a centroid");
@@ -186,33 +186,33 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     struct {
         const char* pass;
         cvk_pipeline_id pipeline;
-        uint32_t count, slot, phase;
+        uint32_t count, slot;
         const cvk_hash* hash;
         const char* what;
     } passes[] = {
-        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, 0, faces,
+        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, faces,
          "vertices against faces within %.3g m"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_CELLS, c->edge_count, CVK_LIST_EDGE_GROUPS, 3,
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_CELLS, c->edge_count, CVK_LIST_EDGE_GROUPS,
          midpoints, "one edge a cell of the midpoints"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, CELL_COMMAND, 4,
-         midpoints, "each cell's list of the midpoints around it"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, 0,
-         midpoints, "edges against edges within %.3g m: distances, each pair once"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_NEAREST, c->edge_count, CVK_LIST_EDGE_GROUPS, 2,
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, CELL_COMMAND, midpoints,
+         "each cell's list of the midpoints around it"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, midpoints,
+         "edges against edges within %.3g m: distances, each pair once"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_NEAREST, c->edge_count, CVK_LIST_EDGE_GROUPS,
          midpoints, "each edge's nearest pairs from its bucket"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
-         0, midpoints, "the pairs of the edges past their buckets: walked again"},
+         midpoints, "the pairs of the edges past their buckets: walked again"},
     };
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
         snprintf(note, sizeof note, passes[i].what, (double)c->radius);
         cvk_op* op = add_detection(s, plan, passes[i].pass, passes[i].pipeline, passes[i].count,
-                                   passes[i].slot, passes[i].phase, passes[i].hash, note);
+                                   passes[i].slot, passes[i].hash, note);
         if (op)
             op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     }
     snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
     cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
-                                   CVK_LIST_PARTICLE_GROUPS, 0, faces, note);
+                                   CVK_LIST_PARTICLE_GROUPS, faces, note);
     if (bounds) /* it writes the cloth contact pass's indirect command */
         bounds->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     return CVK_SUCCESS;

@@ -459,10 +459,10 @@ CVK_STRUCT(cvk_gpu_contact_params, CVK_GPU_CONTACT_PARAMS_FIELDS)
 #define CVK_LIST_EDGE_PAIRS_COUNT 15
 #define CVK_LIST_HEADER 16
 
-/* Push data of the contact passes (collider_poses, contact_check, contact_decide,
-   contact_detect, contact_edges, contact_bound): items [first, first + count); the phase of
-   contact_check and contact_decide (contact_edges' is its pipeline's). A dispatch with count 0 (the pipelines' warm-up) does nothing, not
-   even advance the frame state. */
+/* Push data of the contact passes (collider_poses, contact_check, contact_decide, contact_detect,
+   contact_edges, contact_bound): items [first, first + count); the phase of contact_check and
+   contact_decide (contact_edges' is its pipeline's). A dispatch with count 0 (the pipelines'
+   warm-up) does nothing, not even advance the frame state. */
 #define CVK_CONTACT_PUSH_FIELDS \
     CVK_UINT(first)             \
     CVK_UINT(count)             \
