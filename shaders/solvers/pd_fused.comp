@@ -83,8 +83,8 @@ layout(constant_id = 8) const uint SHARED_SLOTS = 0u;
 const bool SHARED = SHARED_SLOTS > 0u;
 shared vec4 slots[SHARED ? SHARED_SLOTS : 1u];
 
-// ONE_COPY (id 9): the sweeps take the whole scene as one copy (lib/sim/sim.c, fuse_copies),
-// whose slots are its particles' indices.
+// ONE_COPY (id 9): the sweeps take the whole scene as one copy (lib/sim/sim.c, fuse_copies:
+// cvk_sim.fused_copies 1, the push constants' copies), whose slots are its particles' indices.
 layout(constant_id = 9) const bool ONE_COPY = false;
 
 // The slot of free particle q of the workgroup's copy: the colour it lies in, found from the
@@ -95,7 +95,7 @@ layout(constant_id = 9) const bool ONE_COPY = false;
 // sweeps in a workgroup of 8 pass it at 3 outer x 4 inner iterations.
 uint slot_of(uint q)
 {
-    if (ONE_COPY || copies == 1u)
+    if (ONE_COPY)
         return q;
     uint start = 0u;
     for (uint c = 0u; c < colours; c++) {
@@ -189,7 +189,7 @@ void after_sweeps(uint after, vec3 shift)
     // contact_count takes them (pd_passes.c).
     if ((after & CVK_PD_FUSED_CONTACT) != 0u) {
         FOR_FREE(p, contact_one(p, false, shift))
-        for (uint p = pc.stride + lane; copies == 1u && p < pc.contact_count; p += lanes)
+        for (uint p = pc.stride + lane; ONE_COPY && p < pc.contact_count; p += lanes)
             contact_one(p, false, shift);
         memoryBarrierBuffer();
         barrier();
