@@ -589,7 +589,7 @@ static cvk_result create_cloth_buffers(cvk_sim* s, cvk_collide* c, cvk_error* er
         {&c->sides, 4u * n * (1u + 2u * CVK_SIDES_PER_PARTICLE), true, "pairs by corner", NULL},
         {&c->midpoints, 16u * ec, true, "edge midpoints", NULL},
         {&c->centroids, 16u * tc, true, "triangle centroids", NULL},
-        {&c->cells, 4u * (CVK_CELLS_HEADER + 3u * ec), true, "edge cells", NULL},
+        {&c->cells, 4u * (CVK_CELLS_HEADER + 4u * ec), true, "edge cells", NULL},
         /* the edges' ends at detection (8 words an edge), then the cell lists: one storage
            buffer, as the implicit family's pipeline layouts take all 32 that lavapipe allows
            a stage */

@@ -78,20 +78,20 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 }
 
 /* Detection's passes, dispatched through the commands the decision wrote (no workgroups at a
-   substep that does not detect). */
-#define CELL_COMMAND UINT32_MAX
+   substep that does not detect): `slot` in the work lists, or CELL_COMMAND(at) in the edge
+   cells' buffer. */
+#define CELL_COMMAND(at) (0x80000000u | (at))
 static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
                              cvk_pipeline_id pipeline, uint32_t count, uint32_t slot,
                              const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     cvk_contact_push push = {0, count, 0, cvk_plan_walk_group_items(plan)};
-    /* the commands: in the work lists, or (CELL_COMMAND) the edge cells' */
-    VkBuffer commands = slot == CELL_COMMAND ? c->cells.buffer : c->lists.buffer;
+    bool cells = (slot & CELL_COMMAND(0)) != 0;
     cvk_op* op = cvk_plan_dispatch_indirect(plan, cvk_plan_pass(plan, pass), pipeline,
                                             c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
-                                            commands, slot == CELL_COMMAND ? 0 : 4u * slot,
-                                            &push, sizeof push);
+                                            cells ? c->cells.buffer : c->lists.buffer,
+                                            4u * (slot & ~CELL_COMMAND(0)), &push, sizeof push);
     if (!op)
         return NULL;
     op->count = count;
@@ -194,10 +194,13 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
          "vertices against faces within %.3g m"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_CELLS, c->edge_count, CVK_LIST_EDGE_GROUPS,
          midpoints, "one edge a cell of the midpoints"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, CELL_COMMAND, midpoints,
-         "each cell's list of the midpoints around it"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, CELL_COMMAND(0),
+         midpoints, "each cell's list of the midpoints around it"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, midpoints,
          "edges against edges within %.3g m: distances, each pair once"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_WALK, c->edge_count,
+         CELL_COMMAND(CVK_CELLS_WALK), midpoints,
+         "the same for the edges past their cells' lists: walked"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_NEAREST, c->edge_count, CVK_LIST_EDGE_GROUPS,
          midpoints, "each edge's nearest pairs from its bucket"},
         {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,

@@ -79,6 +79,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_TWO: return 2;
     case CVK_SPEC_THREE: return 3;
     case CVK_SPEC_FOUR: return 4;
+    case CVK_SPEC_FIVE: return 5;
     case CVK_SPEC_COLLIDER_TYPES: return inputs->collider_types;
     case CVK_SPEC_SELF_CONTACT: return inputs->self_contact ? 1 : 0;
     case CVK_SPEC_WIND: return inputs->wind ? 1 : 0;

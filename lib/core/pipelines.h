@@ -17,8 +17,9 @@ typedef enum cvk_spec_source {
     CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
     CVK_SPEC_FALSE,          /* a boolean switch left false */
     CVK_SPEC_TWO,            /* the value 2 (a switch of three ways, e.g. PREDICTS) */
-    CVK_SPEC_THREE,          /* the values 3 and 4 (a pass's phase, e.g. edge detection's) */
+    CVK_SPEC_THREE,          /* the values 3 to 5 (a pass's phase, e.g. edge detection's) */
     CVK_SPEC_FOUR,
+    CVK_SPEC_FIVE,
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
     CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
@@ -163,6 +164,7 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_EDGES_NEAREST, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_TWO), "detection: the edges' nearest pairs") \
     X(CONTACT_EDGES_CELLS, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_THREE), "detection: the edges' cells") \
     X(CONTACT_EDGES_GATHER, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FOUR), "detection: the edge cells' lists") \
+    X(CONTACT_EDGES_WALK, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FIVE), "detection: the edges that walk") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_CONTACT_TYPES, "detection: bounds") \
     X(CONTACT_FACES_FUSED, CONTACT_FACES_FUSED_COMP, CVK_SPEC_CONTACT_FACES_FUSED, "detect or not, faces' hash and detection, one workgroup") \

@@ -103,12 +103,17 @@ void decide_detect()
     // Emptied: the edge detection fills the list of its listing pass (none without detection),
     // and the bounds pass the particles in pairs again (contact_bound.comp).
     list_clear(CVK_LIST_EDGE_PAIRS_GROUPS);
-    // Emptied: the edge detection's cells (none without detection: contact_edges.comp phase 3).
+    // Emptied: the edge detection's cells and the edges that walk (none without detection:
+    // contact_edges.comp phases 3 and 0).
     cells[0] = 0u;
     cells[1] = 1u;
     cells[2] = 1u;
     cells[CVK_CELLS_COUNT] = 0u;
     cells[CVK_CELLS_POOL_USED] = 0u;
+    cells[CVK_CELLS_WALK] = 0u;
+    cells[CVK_CELLS_WALK + 1u] = 1u;
+    cells[CVK_CELLS_WALK + 2u] = 1u;
+    cells[CVK_CELLS_WALK + 3u] = 0u;
     if (search)
         list_clear(CVK_LIST_LISTED_GROUPS);
     frame.searches += search ? 1u : 0u;

@@ -23,7 +23,7 @@ void work()
     if (LISTING) {
         uint count = lists[CVK_LIST_EDGE_PAIRS_COUNT], start = list_start(CVK_LIST_EDGE_PAIRS_GROUPS);
         for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
-            detect(lists[start + i]);
+            detect_listing(lists[start + i]);
         return;
     }
     if (PHASE == 1u) {
@@ -41,6 +41,10 @@ void work()
     }
     if (PHASE == 4u) {
         gather_cells();
+        return;
+    }
+    if (PHASE == 5u) {
+        walk_listed();
         return;
     }
     // Phase 0 takes the edges in the order of the midpoints' hash, the i-th entry's edge, so

@@ -17,12 +17,14 @@
 //   0: over every edge, the nearest distances alone, for the bounds of the edges' ends
 //      (contact_bound.comp): each pair once, from e through the half of the block of cells
 //      after e's (its cell's list: hash_walk_begin_half's order; in e's own cell from the lower
-//      index; the walk itself where the list did not fit), its distance an
-//      atomic minimum at both edges, on the float's bits, which order as the non-negative floats
-//      do, so the result does not depend on thread timing — half the walk of a query from each
-//      edge; where the pair's nearest points lie inside both (elsewhere the pair is a vertex
-//      against an edge or a vertex, which the faces' detection lists) the pair is kept in both
-//      edges' buckets of CVK_EDGE_BUCKET;
+//      index), its distance an atomic minimum at both edges, on the float's bits, which order
+//      as the non-negative floats do, so the result does not depend on thread timing — half the
+//      walk of a query from each edge; where the pair's nearest points lie inside both
+//      (elsewhere the pair is a vertex against an edge or a vertex, which the faces' detection
+//      lists) the pair is kept in both edges' buckets of CVK_EDGE_BUCKET;
+//   5: the same for the edges phase 0 put on its walk list: those whose cell's list did not
+//      fit, by walking the hash, and the rest of those whose list held more to measure than
+//      phase 0 keeps;
 //   2: every edge's list: the nearest CVK_CONTACTS_PER_EDGE pairs of its bucket, nearest first,
 //      equal distances by edge; an edge with more pairs than its bucket holds is put on the
 //      work list of the LISTING pass, which walks all 27 cells around it and lists the same
@@ -248,35 +250,67 @@ void measure_kept(uint e, uvec2 ab, vec3 xa, vec3 xb, uint f, inout float neares
     }
 }
 
-void detect(uint e)
+// Edge e's ends, midpoint and reach, what each pass over the edges starts from.
+struct edge_query {
+    uvec2 ab;
+    vec3 xa, xb, m;
+    float reach2;
+    uint instance; // the slots of e's instance's edges
+};
+
+edge_query query_of(uint e)
 {
-    uvec2 ab = contact_edge(e);
-    vec3 xa = contact_x(ab.x), xb = contact_x(ab.y);
-    vec3 m = 0.5 * (xa + xb);
+    edge_query q;
+    q.ab = contact_edge(e);
+    q.xa = contact_x(q.ab.x);
+    q.xb = contact_x(q.ab.y);
+    q.m = 0.5 * (q.xa + q.xb);
+    float reach = contact_u.radius + 0.5 * (distance(q.xa, q.xb) + uintBitsToFloat(frame.longest));
+    q.reach2 = reach * reach;
+    q.instance = contact_instance(q.ab.x);
+    return q;
+}
+
+// The listing pass: e's nearest pairs, from a walk of all 27 cells around it.
+void detect_listing(uint e)
+{
+    edge_query q = query_of(e);
     clear_nearest();
-    float reach = contact_u.radius + 0.5 * (distance(xa, xb) + uintBitsToFloat(frame.longest));
-    float reach2 = reach * reach;
     float nearest_e = INFINITY;
-    uint instance = contact_instance(ab.x); // the slots of e's instance's edges
     uvec4 entry;
     bool here;
-    if (LISTING) {
-        hash_walk w = hash_walk_begin(m, instance, reach2);
-        while (hash_walk_step(w, m, reach2, entry, here)) {
-            if (candidate(w, e, m, entry, here, reach2)) {
-                bool both;
-                float dist = edge_distance(ab, xa, xb, entry.w, both);
-                meet(entry.w, dist, both, nearest_e);
-            }
+    hash_walk w = hash_walk_begin(q.m, q.instance, q.reach2);
+    while (hash_walk_step(w, q.m, q.reach2, entry, here)) {
+        if (candidate(w, e, q.m, entry, here, q.reach2)) {
+            bool both;
+            float dist = edge_distance(q.ab, q.xa, q.xb, entry.w, both);
+            meet(entry.w, dist, both, nearest_e);
         }
-        store_list(e);
-        return;
     }
-    edge_box box = box_of(xa, xb);
+    store_list(e);
+}
+
+// An edge for the walking pass (phase 5), on the list after the cells' (shared/layout.h).
+void walk_append(uint e)
+{
+    uint at = atomicAdd(cells[CVK_CELLS_WALK + 3u], 1u);
+    cells[CVK_CELLS_HEADER + 3u * contact_u.edge_count + at] = e;
+    atomicMax(cells[CVK_CELLS_WALK], min(at / pc.per_group + 1u, 65535u));
+}
+
+// The distance pass (phase 0) for edge e: it loops over the list of e's cell, the walk's
+// entries in its order (the home cell's marked), and measures the edges kept. An edge whose
+// list did not fit goes to the walking pass instead, and one with more to measure than this
+// pass keeps goes there for the rest: on lavapipe a walk in this pass ran its body under an
+// empty mask for every SIMD vector where no edge needed it (the 40 x 40 contact drape's and
+// the six-cloth pile's edge detection 0.95-0.96 of before against their faces'; the same
+// bits).
+void detect(uint e)
+{
+    edge_query q = query_of(e);
+    edge_box box = box_of(q.xa, q.xb);
+    float nearest_e = INFINITY;
     uint found = 0u;
-    // The distance pass loops over the list of e's cell, the walk's entries in its order (the
-    // home cell's marked), where the pool held it; an edge whose list did not fit walks the
-    // hash.
     uvec2 list = cell_list(e);
     bool walk = list.y == CVK_CELL_OVERFLOW;
     // A list holds e's instance's edges only (gather_cells), and their ends come from one
@@ -293,29 +327,66 @@ void detect(uint e)
         uint f0 = listed0 & ~CVK_CELL_HOME, f1 = listed1 & ~CVK_CELL_HOME;
         uvec4 c0 = imageLoad(edge_ends_t, int(2u * f0)), d0 = imageLoad(edge_ends_t, int(2u * f0 + 1u));
         uvec4 c1 = imageLoad(edge_ends_t, int(2u * f1)), d1 = imageLoad(edge_ends_t, int(2u * f1 + 1u));
-        if (list_may_touch(e, ab, box, m, reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0))
+        if (list_may_touch(e, q.ab, box, q.m, q.reach2, f0, listed0 >= CVK_CELL_HOME, c0, d0))
             keep_to_measure(f0, found);
-        if (second && list_may_touch(e, ab, box, m, reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1))
+        if (second && list_may_touch(e, q.ab, box, q.m, q.reach2, f1, listed1 >= CVK_CELL_HOME, c1, d1))
             keep_to_measure(f1, found);
     }
-    hash_walk w = hash_walk_begin_half(m, instance);
-    while (walk && hash_walk_step(w, m, reach2, entry, here)) {
-        if (candidate(w, e, m, entry, here, reach2) && walk_may_touch(ab, box, entry.w))
+    if (walk || found > NEAR)
+        walk_append(e);
+    for (uint i = 0u; i < min(found, NEAR); i++)
+        measure_kept(e, q.ab, q.xa, q.xb, near_f[i], nearest_e);
+    if (nearest_e < INFINITY)
+        atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+}
+
+// The walking pass (phase 5) for edge e of the distance pass's walk list. Where e's list did
+// not fit: the same pairs from a walk of the half block of cells after e's, the edges kept
+// measured after it, and where there are more than it keeps, the same walk again, the edges
+// past those measured as they are met (a lane with no more ends this loop at its first step).
+// Where the list held more than phase 0 kept (which measured those): the list again, the
+// edges past those measured as they are met.
+void detect_walk(uint e)
+{
+    edge_query q = query_of(e);
+    edge_box box = box_of(q.xa, q.xb);
+    float nearest_e = INFINITY;
+    uvec2 list = cell_list(e);
+    bool walk = list.y == CVK_CELL_OVERFLOW;
+    uint found = walk ? 0u : NEAR + 1u;
+    uvec4 entry;
+    bool here;
+    hash_walk w = hash_walk_begin_half(q.m, q.instance);
+    while (walk && hash_walk_step(w, q.m, q.reach2, entry, here)) {
+        if (candidate(w, e, q.m, entry, here, q.reach2) && walk_may_touch(q.ab, box, entry.w))
             keep_to_measure(entry.w, found);
     }
-    for (uint i = 0u; i < min(found, NEAR); i++)
-        measure_kept(e, ab, xa, xb, near_f[i], nearest_e);
-    // More to measure than the list holds (a crowd of layers): the same walk again, the edges
-    // past the list's measured as they are met (a lane with no more ends this loop at its first
-    // step).
-    w = hash_walk_begin_half(m, instance);
-    for (uint met = 0u; found > NEAR && hash_walk_step(w, m, reach2, entry, here);) {
-        if (candidate(w, e, m, entry, here, reach2) && walk_may_touch(ab, box, entry.w) &&
+    for (uint i = 0u; walk && i < min(found, NEAR); i++)
+        measure_kept(e, q.ab, q.xa, q.xb, near_f[i], nearest_e);
+    w = hash_walk_begin_half(q.m, q.instance);
+    uint met = 0u;
+    for (; walk && found > NEAR && hash_walk_step(w, q.m, q.reach2, entry, here);) {
+        if (candidate(w, e, q.m, entry, here, q.reach2) && walk_may_touch(q.ab, box, entry.w) &&
             met++ >= NEAR)
-            measure_kept(e, ab, xa, xb, entry.w, nearest_e);
+            measure_kept(e, q.ab, q.xa, q.xb, entry.w, nearest_e);
+    }
+    for (uint k = 0u; !walk && k < list.y; k++) {
+        uint listed = CELL_POOL(pool_base() + list.x + k), f = listed & ~CVK_CELL_HOME;
+        uvec4 c = imageLoad(edge_ends_t, int(2u * f)), d = imageLoad(edge_ends_t, int(2u * f + 1u));
+        if (list_may_touch(e, q.ab, box, q.m, q.reach2, f, listed >= CVK_CELL_HOME, c, d) &&
+            met++ >= NEAR)
+            measure_kept(e, q.ab, q.xa, q.xb, f, nearest_e);
     }
     if (nearest_e < INFINITY)
         atomicMin(nearest[contact_u.particle_count + e], floatBitsToUint(nearest_e));
+}
+
+// The walking pass over its list (phase 5).
+void walk_listed()
+{
+    uint count = cells[CVK_CELLS_WALK + 3u], start = CVK_CELLS_HEADER + 3u * contact_u.edge_count;
+    for (uint i = gl_GlobalInvocationID.x; i < count; i += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
+        detect_walk(cells[start + i]);
 }
 
 // The instance of the edge at entry (its first end's): the salt of its slot.

@@ -4,7 +4,7 @@
 // where the plan fuses (cvk_plan.fused): the passes of the hash build (hash_common.glsl's
 // hash_*_pass, the hash_*.comp dispatches' work, nothing while its parameters close the
 // build), then
-// contact_edges.comp's phases 3, 4, 0 and 2 and its listing pass, then contact_bound.comp — the
+// contact_edges.comp's phases 3, 4, 0, 5 and 2 and its listing pass, then contact_bound.comp — the
 // same functions in the same order, with a workgroup barrier between them instead of a
 // dispatch and a pipeline barrier, the walks nothing at a substep that does not detect
 // (frame.search, as the decision left it), where the unfused passes' indirect commands have no
@@ -52,12 +52,14 @@ void work()
     for (uint i = lane; i < pc.count; i += lanes)
         detect(hash_entry_point(pc.first + i).w); // in the hash's order, as contact_edges.comp
     passed();
+    walk_listed();
+    passed();
     list_near();
     passed();
     LISTING = true;
     uint count = lists[CVK_LIST_EDGE_PAIRS_COUNT], start = list_start(CVK_LIST_EDGE_PAIRS_GROUPS);
     for (uint i = lane; i < count; i += lanes)
-        detect(lists[start + i]);
+        detect_listing(lists[start + i]);
     passed();
     uint crowded = 0u;
     for (uint p = lane; p < contact_u.particle_count; p += lanes)

@@ -238,8 +238,7 @@ CVK_PUSH_BLOCK(cvk_implicit_push, CVK_IMPLICIT_PUSH_FIELDS)
     CVK_UINT(single_z)
 CVK_STRUCT(cvk_implicit_scalars, CVK_IMPLICIT_SCALARS_FIELDS)
 
-/* Bindings of the implicit set (shaders/solvers/implicit_common.glsl); storage buffers, vec4
-   per item. */
+/* Bindings of the implicit set (shaders/solvers/implicit_common.glsl), vec4 per item. */
 #define CVK_IMPLICIT_BINDING_X 0          /* positions, all particles */
 #define CVK_IMPLICIT_BINDING_V 1          /* velocities, all particles (w: mass, kg) */
 #define CVK_IMPLICIT_BINDING_ADJACENCY 2  /* per slot (slot-major): neighbour, k, rest (bits) */
@@ -517,9 +516,8 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
 #define CVK_CONTACT_BINDING_EDGE_ENDS_READ 32 /* texel view of the same (R32G32B32A32_UINT):
                                                  the edges' ends, 2 texels an edge */
 /* Texel views of the nearest distances and of the positions a substep before, for the passes
-   that read them in their loops over particles and edges after the passes that wrote them (the
-   bounds, the edges' lists, the decision's check): on lavapipe a storage load there is a loop
-   over the lanes. */
+   that read them in loops after the passes that wrote them (the bounds, the edges' lists, the
+   decision's check): on lavapipe a storage load there is a loop over the lanes. */
 #define CVK_CONTACT_BINDING_NEAREST_READ 33 /* texel view of the nearest (R32_UINT) */
 #define CVK_CONTACT_BINDING_PREVIOUS_READ 34 /* texel view of the previous (R32G32B32A32_SFLOAT) */
 #define CVK_CONTACT_BINDING_COUNT 35
@@ -529,15 +527,18 @@ CVK_PUSH_BLOCK(cvk_contact_push, CVK_CONTACT_PUSH_FIELDS)
    the walk's order, gathered once for all of them, so that each edge loops over a list instead
    of walking the hash. The cells buffer: the indirect command (x, y, z) of the pass over one
    edge a cell and how many, the pool's fill, then those edges (edge_count), then per edge its
-   list's start and length in the pool (CVK_CELL_OVERFLOW: the pool was full, the edge walks).
-   A cell takes room in the pool for every entry of the slots its walk visits (the half blocks
-   an edge's midpoint can be in, 14 with one instance, and the entries of other cells that
-   share those slots), so that one walk writes its list: the pool holds CVK_CELL_POOL_PER_EDGE
-   entries an edge, where the six-cloth pile took at most 15.4 and the drapes 11.6 (a test
-   build), and a cell past it walks. The home cell's entries carry CVK_CELL_HOME. */
+   list's start and length in the pool (CVK_CELL_OVERFLOW: the pool was full), then the edges
+   that walk the hash (their list did not fit, or holds more to measure than the distance pass
+   keeps: the walking pass's work, its command and count at CVK_CELLS_WALK). A cell takes room
+   in the pool for every entry of the slots its walk visits (the half blocks an edge's midpoint
+   can be in, 14 with one instance, and the entries of other cells that share those slots), so
+   one walk writes its list: the pool holds CVK_CELL_POOL_PER_EDGE entries an edge, where the
+   six-cloth pile took at most 15.4 and the drapes 11.6 (a test build), and a cell past it
+   walks. The home cell's entries carry CVK_CELL_HOME. */
 #define CVK_CELLS_COUNT 3
 #define CVK_CELLS_POOL_USED 4
-#define CVK_CELLS_HEADER 8
+#define CVK_CELLS_WALK 8 /* x, y, z, count */
+#define CVK_CELLS_HEADER 12
 #define CVK_CELL_POOL_PER_EDGE 24
 #define CVK_CELL_OVERFLOW 0xffffffffu
 #define CVK_CELL_HOME 0x80000000u
@@ -680,8 +681,7 @@ CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
     CVK_UINT(pad0)
 CVK_PUSH_BLOCK(cvk_hash_commands_push, CVK_HASH_COMMANDS_PUSH_FIELDS)
 
-/* The build passes' push data (shaders/contact/hash_*.comp). The scan works in chunks of `chunk`
-   slots. */
+/* The build passes' push data (shaders/contact/hash_*.comp); the scan's chunks are `chunk` slots. */
 #define CVK_HASH_PUSH_FIELDS                                                            \
     CVK_UINT(points)       /* points hashed */                                           \
     CVK_UINT(slots)        /* table_size */                                              \

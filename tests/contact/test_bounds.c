@@ -1,5 +1,6 @@
 /* Detection's bounds against a host brute force: three cloths stacked closer than the contact
-   radius, 200 m from the origin, dropped over a box. After a detection each particle's bound on
+   radius, 200 m from the origin, dropped over a box, and eight stacked 3 mm apart, whose edges
+   have more near them than the edges' distance pass measures. After a detection each particle's bound on
    the device (where detection saw it and its bound, lib/contact/collide.h) must be
    0.45 (d - f): d the nearest distance, computed here in double over every pair — the particle
    against every triangle not around it, every triangle around it against every vertex not on it,
@@ -182,15 +183,29 @@ static void nearest_distances(const mesh* m, const double* x, double radius, dou
     free(edge);
 }
 
-static void test_bounds_against_host(cvk_context* ctx)
+/* How many edges the last detection's distance pass sent to the walking pass (shared/
+   layout.h: CVK_CELLS_WALK). */
+static uint32_t edges_walked(cvk_context* ctx, cvk_sim* sim)
 {
-    cvk_cloth_desc cloths[3];
-    for (int i = 0; i < 3; i++) {
+    uint32_t header[CVK_CELLS_HEADER];
+    cvk_error err;
+    REQUIRE_OK(cvk_buffer_download(ctx, &sim->device.submitter, sim->device.transfer_cmd,
+                                   &sim->collide->cells, header, sizeof header, &err), err);
+    return header[CVK_CELLS_WALK + 3];
+}
+
+/* `layers` cloths `apart` m above one another (the radius is 2.5 cm); crowded: so many within
+   the radius that edges have more to measure than the distance pass keeps, and the walking
+   pass (contact_edges.comp phase 5) measures the rest. */
+static void test_bounds_against_host(cvk_context* ctx, int layers, float apart, bool crowded)
+{
+    cvk_cloth_desc cloths[8];
+    for (int i = 0; i < layers; i++) {
         cloths[i] = cvk_default_cloth_desc();
         cloths[i].grid[0] = cloths[i].grid[1] = 12;
         cloths[i].size[0] = cloths[i].size[1] = 0.4f;
         cloths[i].origin[0] = OFFSET - 0.2f + 0.011f * (float)i;
-        cloths[i].origin[1] = 0.43f + 0.02f * (float)i; /* 2 cm apart: the radius is 2.5 cm */
+        cloths[i].origin[1] = 0.43f + apart * (float)i;
         cloths[i].origin[2] = -0.2f - 0.007f * (float)i;
     }
     cvk_collider_desc box = cvk_default_collider_desc();
@@ -201,7 +216,7 @@ static void test_bounds_against_host(cvk_context* ctx)
     box.half_extents[1] = 0.2f;
     cvk_scene_desc scene = cvk_default_scene_desc();
     scene.cloths = cloths;
-    scene.cloth_count = 3;
+    scene.cloth_count = (uint32_t)layers;
     scene.colliders = &box;
     scene.collider_count = 1;
     scene.dt = 1.0f / 120.0f;
@@ -216,11 +231,17 @@ static void test_bounds_against_host(cvk_context* ctx)
     double* d = malloc(sizeof *d * m.n);
     double radius = sim->collide->radius, thickness = sim->collide->thickness;
     const uint32_t checked[3] = {1, 20, 40};
-    for (uint32_t f = 1, next = 0; f <= 40; f++) {
+    for (uint32_t f = 1, next = 0; f <= (crowded ? 1u : 40u); f++) {
         REQUIRE_OK(cvk_sim_step(sim, 1, &err), err);
         if (f != checked[next])
             continue;
         next++;
+        if (crowded) { /* the first substep detects */
+            uint32_t walked = edges_walked(ctx, sim);
+            printf("%d layers %.0f mm apart: %u edges walked\n", layers, 1000.0 * apart, walked);
+            CHECK(walked > 0, "%d layers %g m apart: no edge walked: the case tests little",
+                  layers, (double)apart);
+        }
         REQUIRE_OK(cvk_buffer_download(ctx, &sim->device.submitter, sim->device.transfer_cmd,
                                        &sim->collide->searched, seen, 16u * m.n, &err), err);
         for (uint32_t p = 0; p < m.n; p++)
@@ -430,7 +451,8 @@ static void test_held(cvk_context* ctx)
 int main(void)
 {
     cvk_context* ctx = harness_context();
-    test_bounds_against_host(ctx);
+    test_bounds_against_host(ctx, 3, 0.02f, false);
+    test_bounds_against_host(ctx, 8, 0.003f, true);
     test_squeezed_to_the_floor(ctx, CVK_METHOD_PD);
     test_squeezed_to_the_floor(ctx, CVK_METHOD_IMPLICIT);
     test_held(ctx);
