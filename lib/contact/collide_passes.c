@@ -78,20 +78,17 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
 }
 
 /* Detection's passes, dispatched through the commands the decision wrote (no workgroups at a
-   substep that does not detect): `slot` in the work lists, or CELL_COMMAND(at) in the edge
-   cells' buffer. */
-#define CELL_COMMAND(at) (0x80000000u | (at))
+   substep that does not detect): at word `slot` of `commands`, the work lists (CVK_LIST_*) or
+   the edge cells' buffer (CVK_CELLS_*). */
 static cvk_op* add_detection(cvk_sim* s, cvk_plan* plan, const char* pass,
-                             cvk_pipeline_id pipeline, uint32_t count, uint32_t slot,
-                             const cvk_hash* hash, const char* note)
+                             cvk_pipeline_id pipeline, uint32_t count, const cvk_buffer* commands,
+                             uint32_t slot, const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
     cvk_contact_push push = {0, count, 0, cvk_plan_walk_group_items(plan)};
-    bool cells = (slot & CELL_COMMAND(0)) != 0;
     cvk_op* op = cvk_plan_dispatch_indirect(plan, cvk_plan_pass(plan, pass), pipeline,
                                             c->detect_layout, c->set, CVK_DOMAIN_PARTICLES,
-                                            cells ? c->cells.buffer : c->lists.buffer,
-                                            4u * (slot & ~CELL_COMMAND(0)), &push, sizeof push);
+                                            commands->buffer, 4u * slot, &push, sizeof push);
     if (!op)
         return NULL;
     op->count = count;
@@ -168,7 +165,7 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     add_decision(s, plan, CVK_PIPE_CONTACT_CHECK, 1, faces, note);
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 1, faces, "detect or not: commands, shift");
     add_detection(s, plan, "detect edges", CVK_PIPE_CONTACT_EDGES_MEASURE, c->edge_count,
-                  CVK_LIST_EDGE_GROUPS, faces,
+                  &c->lists, CVK_LIST_EDGE_GROUPS, faces,
                   "the longest edge, the midpoints, the centroids and their corners' reach");
     add_decision(s, plan, CVK_PIPE_CONTACT_DECIDE, 2, faces,
                  "centroid cells: the radius + the farthest corner from a centroid");
@@ -186,35 +183,37 @@ static cvk_result add_self_contact(cvk_sim* s, cvk_plan* plan, cvk_error* error)
     struct {
         const char* pass;
         cvk_pipeline_id pipeline;
-        uint32_t count, slot;
+        uint32_t count;
+        const cvk_buffer* commands;
+        uint32_t slot;
         const cvk_hash* hash;
         const char* what;
     } passes[] = {
-        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, CVK_LIST_PARTICLE_GROUPS, faces,
+        {"detect faces", CVK_PIPE_CONTACT_DETECT, n, &c->lists, CVK_LIST_PARTICLE_GROUPS, faces,
          "vertices against faces within %.3g m"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_CELLS, c->edge_count, CVK_LIST_EDGE_GROUPS,
-         midpoints, "one edge a cell of the midpoints"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, CELL_COMMAND(0),
-         midpoints, "each cell's list of the midpoints around it"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, CVK_LIST_EDGE_GROUPS, midpoints,
-         "edges against edges within %.3g m: distances, each pair once"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_WALK, c->edge_count,
-         CELL_COMMAND(CVK_CELLS_WALK), midpoints,
-         "the same for the edges past their cells' lists: walked"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_NEAREST, c->edge_count, CVK_LIST_EDGE_GROUPS,
-         midpoints, "each edge's nearest pairs from its bucket"},
-        {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, CVK_LIST_EDGE_PAIRS_GROUPS,
-         midpoints, "the pairs of the edges past their buckets: walked again"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_CELLS, c->edge_count, &c->lists,
+         CVK_LIST_EDGE_GROUPS, midpoints, "one edge a cell of the midpoints"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_GATHER, c->edge_count, &c->cells, 0, midpoints,
+         "each cell's list of the midpoints around it"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES, c->edge_count, &c->lists, CVK_LIST_EDGE_GROUPS,
+         midpoints, "edges against edges within %.3g m: distances, each pair once"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_WALK, c->edge_count, &c->cells, CVK_CELLS_WALK,
+         midpoints, "the same for the edges past their cells' lists: walked"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_NEAREST, c->edge_count, &c->lists,
+         CVK_LIST_EDGE_GROUPS, midpoints, "each edge's nearest pairs from its bucket"},
+        {"detect edges", CVK_PIPE_CONTACT_EDGES_LISTS, c->edge_count, &c->lists,
+         CVK_LIST_EDGE_PAIRS_GROUPS, midpoints,
+         "the pairs of the edges past their buckets: walked again"},
     };
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
         snprintf(note, sizeof note, passes[i].what, (double)c->radius);
         cvk_op* op = add_detection(s, plan, passes[i].pass, passes[i].pipeline, passes[i].count,
-                                   passes[i].slot, passes[i].hash, note);
+                                   passes[i].commands, passes[i].slot, passes[i].hash, note);
         if (op)
             op->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;
     }
     snprintf(note, sizeof note, "bounds: %.2g of the nearest", (double)CVK_BOUND_GAMMA);
-    cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n,
+    cvk_op* bounds = add_detection(s, plan, "bounds", CVK_PIPE_CONTACT_BOUND, n, &c->lists,
                                    CVK_LIST_PARTICLE_GROUPS, faces, note);
     if (bounds) /* it writes the cloth contact pass's indirect command */
         bounds->barrier = CVK_BARRIER_COMPUTE_TO_INDIRECT;

@@ -66,6 +66,8 @@ bool cvk_pipeline_streams_particles(cvk_pipeline_id id)
 
 static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs)
 {
+    if (source >= CVK_SPEC_LITERAL)
+        return (uint32_t)(source - CVK_SPEC_LITERAL);
     switch (source) {
     case CVK_SPEC_WORKGROUP_SIZE: return inputs->workgroup_size;
     case CVK_SPEC_PARTICLE_WORKGROUP_SIZE:
@@ -76,10 +78,6 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_MAX_DEGREE: return inputs->max_degree;
     case CVK_SPEC_TRUE: return 1;
     case CVK_SPEC_FALSE: return 0;
-    case CVK_SPEC_TWO: return 2;
-    case CVK_SPEC_THREE: return 3;
-    case CVK_SPEC_FOUR: return 4;
-    case CVK_SPEC_FIVE: return 5;
     case CVK_SPEC_COLLIDER_TYPES: return inputs->collider_types;
     case CVK_SPEC_SELF_CONTACT: return inputs->self_contact ? 1 : 0;
     case CVK_SPEC_WIND: return inputs->wind ? 1 : 0;
@@ -88,6 +86,7 @@ static uint32_t spec_value(cvk_spec_source source, const cvk_spec_inputs* inputs
     case CVK_SPEC_REST: return inputs->rest ? 1 : 0;
     case CVK_SPEC_FUSED_SHARED: return inputs->fused_shared_slots;
     case CVK_SPEC_FUSED_ONE_COPY: return inputs->fused_one_copy ? 1 : 0;
+    case CVK_SPEC_LITERAL: break; /* above */
     }
     return 0;
 }

@@ -16,10 +16,6 @@ typedef enum cvk_spec_source {
     CVK_SPEC_MAX_DEGREE,     /* springs per particle, at most (build) */
     CVK_SPEC_TRUE,           /* a boolean switch set to true (e.g. FIRST) */
     CVK_SPEC_FALSE,          /* a boolean switch left false */
-    CVK_SPEC_TWO,            /* the value 2 (a switch of three ways, e.g. PREDICTS) */
-    CVK_SPEC_THREE,          /* the values 3 to 5 (a pass's phase, e.g. edge detection's) */
-    CVK_SPEC_FOUR,
-    CVK_SPEC_FIVE,
     CVK_SPEC_COLLIDER_TYPES, /* bit t: the scene has colliders of type t */
     CVK_SPEC_SELF_CONTACT,   /* the scene has particle–triangle contact between cloths */
     CVK_SPEC_WIND,           /* the scene has air (lib/features/aero.h): predict adds its force */
@@ -29,7 +25,11 @@ typedef enum cvk_spec_source {
     CVK_SPEC_REST,           /* the scene's solves keep a rest memory (lib/solvers/solve_pd.h) */
     CVK_SPEC_FUSED_SHARED,   /* the fused sweeps' iterate slots in shared memory, 0: none */
     CVK_SPEC_FUSED_ONE_COPY, /* the fused sweeps take the whole scene as one copy */
+    CVK_SPEC_LITERAL,        /* and after it: the value n (CVK_SPEC_VALUE) */
 } cvk_spec_source;
+
+/* The value n itself (a switch of several ways, e.g. PREDICTS, or a pass's phase). */
+#define CVK_SPEC_VALUE(n) ((cvk_spec_source)(CVK_SPEC_LITERAL + (n)))
 
 typedef struct cvk_spec_recipe {
     uint32_t count;
@@ -123,7 +123,7 @@ typedef struct cvk_spec_recipe {
     X(FINALIZE_TETHERED, FINALIZE_COMP, CVK_SPEC_FINALIZE_TETHERED, "tethers, x += u") \
     X(GS_FIRST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST, "gauss-seidel + local step") \
     X(GS_FIRST_PREDICT_SRC, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TRUE), "predict + gauss-seidel + local step") \
-    X(GS_FIRST_PREDICT_DST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TWO), "predict (last in dst) + gauss-seidel + local step") \
+    X(GS_FIRST_PREDICT_DST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_VALUE(2)), "predict (last in dst) + gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
     X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
     X(GS_FUSED_PLAIN, PD_FUSED_PLAIN_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
@@ -159,12 +159,12 @@ typedef struct cvk_spec_recipe {
     X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 4 runs of one collider type") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_TYPES, "detection: vertices against faces") \
-    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FALSE), "detection: edges against edges") \
-    X(CONTACT_EDGES_MEASURE, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_TRUE), "detection: the edges measured") \
-    X(CONTACT_EDGES_NEAREST, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_TWO), "detection: the edges' nearest pairs") \
-    X(CONTACT_EDGES_CELLS, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_THREE), "detection: the edges' cells") \
-    X(CONTACT_EDGES_GATHER, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FOUR), "detection: the edge cells' lists") \
-    X(CONTACT_EDGES_WALK, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_FIVE), "detection: the edges that walk") \
+    X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(0)), "detection: edges against edges") \
+    X(CONTACT_EDGES_MEASURE, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(1)), "detection: the edges measured") \
+    X(CONTACT_EDGES_NEAREST, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(2)), "detection: the edges' nearest pairs") \
+    X(CONTACT_EDGES_CELLS, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(3)), "detection: the edges' cells") \
+    X(CONTACT_EDGES_GATHER, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(4)), "detection: the edge cells' lists") \
+    X(CONTACT_EDGES_WALK, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(5)), "detection: the edges that walk") \
     X(CONTACT_EDGES_LISTS, CONTACT_EDGES_COMP, CVK_SPEC_LISTING, "detection: the edges' pairs") \
     X(CONTACT_BOUND, CONTACT_BOUND_COMP, CVK_SPEC_CONTACT_TYPES, "detection: bounds") \
     X(CONTACT_FACES_FUSED, CONTACT_FACES_FUSED_COMP, CVK_SPEC_CONTACT_FACES_FUSED, "detect or not, faces' hash and detection, one workgroup") \
