@@ -300,7 +300,9 @@ uint32_t cvk_collide_runs(const cvk_collide* c, uint32_t* runs)
 
 _Static_assert(CVK_PIPE_PD_CONTACT_RUNS4 == CVK_PIPE_PD_CONTACT_RUNS2 + CVK_COLLIDER_RUNS - 2 &&
                    CVK_PIPE_CONTACT_CHECK_RUNS4 ==
-                       CVK_PIPE_CONTACT_CHECK_RUNS2 + CVK_COLLIDER_RUNS - 2,
+                       CVK_PIPE_CONTACT_CHECK_RUNS2 + CVK_COLLIDER_RUNS - 2 &&
+                   CVK_PIPE_CONTACT_CHECK_EXCEED_RUNS4 ==
+                       CVK_PIPE_CONTACT_CHECK_EXCEED_RUNS2 + CVK_COLLIDER_RUNS - 2,
                "one pipeline a run count, in order");
 
 bool cvk_collide_has_funnels(const cvk_collide* c)

@@ -52,15 +52,18 @@ cvk_result cvk_collide_create_detection(cvk_sim* s, cvk_error* error)
                                       sizeof(cvk_contact_hash_push), &c->fused_layout, error);
 }
 
-/* One phase of contact_check.comp (over every particle; the build for the scene's run count
-   where the colliders' types are fixed, cvk_collide.runs, as the contact pass's) or
-   contact_decide.comp (one invocation; phase 1 writes indirect commands). */
+/* One phase of contact_check.comp (over every particle, a pipeline a phase; the build for the
+   scene's run count where the colliders' types are fixed, cvk_collide.runs, as the contact
+   pass's) or contact_decide.comp (one invocation; phase 1 writes indirect commands). */
 static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, uint32_t phase,
                          const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
-    if (pipeline == CVK_PIPE_CONTACT_CHECK)
+    if (pipeline == CVK_PIPE_CONTACT_CHECK && phase == 0)
         pipeline = cvk_collide_pipeline(c, pipeline, CVK_PIPE_CONTACT_CHECK_RUNS2);
+    else if (pipeline == CVK_PIPE_CONTACT_CHECK)
+        pipeline = cvk_collide_pipeline(c, CVK_PIPE_CONTACT_CHECK_EXCEED,
+                                        CVK_PIPE_CONTACT_CHECK_EXCEED_RUNS2);
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
     uint32_t count = decide ? 1 : s->build.particle_count;
     cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};

@@ -100,6 +100,9 @@ typedef struct cvk_spec_recipe {
    check (id 1 of contact_check.comp: which colliders are near), and for the detection passes
    whether the scene has one instance. */
 #define CVK_SPEC_CONTACT_TYPES {2, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES}}
+/* The check's phases (id 2, PHASE, of shaders/contact/contact_check.comp): a pipeline each, as
+   edge detection's below. */
+#define CVK_SPEC_CONTACT_CHECK(PHASE) {3, {CVK_SPEC_WORKGROUP_SIZE, CVK_SPEC_COLLIDER_TYPES, PHASE}}
 /* Edge detection's phases (id 3, PHASE, of shaders/contact/contact_edges.comp): a pipeline
    each, so that a dispatch runs its phase's code alone (llvmpipe runs the code an `if` on a push
    constant skips, under an empty mask). */
@@ -153,10 +156,14 @@ typedef struct cvk_spec_recipe {
     X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \
     X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
-    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds") \
-    X(CONTACT_CHECK_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 2 runs of one collider type") \
-    X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 3 runs of one collider type") \
-    X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_TYPES, "moves against the bounds, 4 runs of one collider type") \
+    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves") \
+    X(CONTACT_CHECK_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves, 2 runs of one collider type") \
+    X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves, 3 runs of one collider type") \
+    X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves, 4 runs of one collider type") \
+    X(CONTACT_CHECK_EXCEED, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?") \
+    X(CONTACT_CHECK_EXCEED_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?, 2 runs of one collider type") \
+    X(CONTACT_CHECK_EXCEED_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?, 3 runs of one collider type") \
+    X(CONTACT_CHECK_EXCEED_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?, 4 runs of one collider type") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_TYPES, "detection: vertices against faces") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(0)), "detection: edges against edges") \
