@@ -17,19 +17,19 @@
 #define SPACING 0.01f       /* m: cell size, query radius and mean point spacing */
 
 /* The build's operations by pipeline label, then the query. */
-#define STAGES 8
+#define STAGES 7
 static const char* const stage_pass[STAGES] = {
     "hash: clear", "hash: count", "hash: chunk sums", "hash: scan chunks", "hash: scan",
-    "hash: scatter", "hash: sort slots", "hash: neighbours",
+    "hash: scatter", "hash: neighbours",
 };
 static const char* const stage_column[STAGES] = {
-    "clear_ms", "count_ms", "chunk_sums_ms", "scan_chunks_ms", "scan_ms", "scatter_ms", "sort_ms",
+    "clear_ms", "count_ms", "chunk_sums_ms", "scan_chunks_ms", "scan_ms", "scatter_ms",
     "neighbours_ms",
 };
 
 static const char* const columns[] = {
     "points", "cell_size", "table_size", "clear_ms", "count_ms", "chunk_sums_ms",
-    "scan_chunks_ms", "scan_ms", "scatter_ms", "sort_ms", "hash_ms", "neighbours_ms", "total_ms",
+    "scan_chunks_ms", "scan_ms", "scatter_ms", "hash_ms", "neighbours_ms", "total_ms",
     "total_ms_min", "total_ms_max", "ns_per_point", "neighbours_per_point", "dispatches",
 };
 
@@ -304,7 +304,7 @@ static void write_plot(bench* b)
                       "set format x \"%%.0e\"\nset key top left font \",8\"\n", b->device);
     const char* sep = "plot ";
     const char* series[] = {"total_ms", "hash_ms", "neighbours_ms", "count_ms", "scan_ms",
-                            "chunk_sums_ms", "scatter_ms", "sort_ms"};
+                            "chunk_sums_ms", "scatter_ms"};
     for (uint32_t s = 0; s < sizeof series / sizeof series[0]; s++) {
         bench_text_add(t, "%s\"collide.csv\" using \"points\":\"%s\" with linespoints "
                           "linestyle %u title \"%s\"", sep, series[s], s + 1, series[s]);

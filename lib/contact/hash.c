@@ -1,25 +1,25 @@
 /* The uniform-grid spatial hash on the device (hash.h): buffers, the set, and the build as plan
-   operations. The build is a counting sort by slot followed by a per-slot sort:
+   operations. The build is a counting sort by slot:
 
      clear     params (cell size, table size, count); with no points, starts := 0
      count     per point: keys[p] = slot, counts[slot]++ (atomic)
      scan      exclusive prefix sum of the counts into starts, in three dispatches: the sum of
                each chunk of slots (one invocation per chunk), a serial scan of the chunk sums
                (one invocation), then each chunk's own scan from its offset
-     scatter   per point: entries[starts[slot] + --counts[slot]] = p (atomic), which leaves
-               every count 0 for the next build (they are zeroed once, at creation); a slot's
-               points in the order the atomics took them
-     sort      per point: sorted[starts[slot] + rank] = (p's point, p), rank = the slot's
-               points below p, counted over the slot's entries through a texel view (a storage
-               load in that loop is a loop over the lanes on lavapipe)
+     scatter   per point: entries[starts[slot] + --counts[slot]] = (p's point, p) (atomic),
+               which leaves every count 0 for the next build (they are zeroed once, at
+               creation); a slot's points in the order the atomics took them, which no reader
+               depends on (hash.h). A sort of each slot by index, the build's last pass until
+               2026-12-08, was a quarter of the build's time on lavapipe and changed no bit of
+               any scene's positions (docs/performance.md).
 
    All are dispatches ordered by compute barriers; with no points only the clear is recorded.
    The number of operations never depends on the points, so the build needs no host round trip. The three-dispatch scan uses no shared memory and no
    workgroup barrier, which lavapipe makes expensive.
 
    lavapipe (gallivm) ends a shader's loops silently after 65535 iterations in all, counted over
-   every loop of an invocation batch. Passes whose items loop over a slot (the sort here, and
-   queries such as hash_neighbours.comp) therefore get at most the plan's walk_items items per
+   every loop of an invocation batch. Passes whose items loop over a slot (queries such as
+   hash_neighbours.comp) therefore get at most the plan's walk_items items per
    invocation rather than its few strided workgroups; see cvk_plan_walk_groups. */
 #include "contact/hash.h"
 
@@ -48,7 +48,6 @@ static const cvk_binding hash_bindings[CVK_HASH_BINDING_COUNT] = {
     [CVK_HASH_BINDING_ENTRIES] = STORAGE,    [CVK_HASH_BINDING_SCRATCH] = STORAGE,
     [CVK_HASH_BINDING_STARTS_READ] = TEXEL,  [CVK_HASH_BINDING_ENTRIES_READ] = TEXEL,
     [CVK_HASH_BINDING_PARAMS_READ] = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 0},
-    [CVK_HASH_BINDING_SORTED] = STORAGE,     [CVK_HASH_BINDING_SORTED_READ] = TEXEL,
     [CVK_HASH_BINDING_SALTS] = TEXEL,      [CVK_HASH_BINDING_SCRATCH_READ] = TEXEL,
 };
 #undef STORAGE
@@ -123,9 +122,8 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         {&hash->params, CVK_HASH_COMMANDS_OFFSET + 12 * CVK_HASH_BUILD_PASSES, "hash parameters"},
         {&hash->keys, 4 * (VkDeviceSize)hash->capacity, "hash keys"},
         {&hash->starts, 4 * (slots + 1), "hash slot starts"},
-        {&hash->entries, 4 * (VkDeviceSize)hash->capacity, "hash entries"},
         {&hash->scratch, 4 * (slots + chunk_count(hash)), "hash scratch"},
-        {&hash->sorted, 16 * (VkDeviceSize)hash->capacity, "hash points by slot"},
+        {&hash->entries, 16 * (VkDeviceSize)hash->capacity, "hash points by slot"},
         {&hash->zero_salt, 16, "hash zero salt"},
     };
     for (size_t i = 0; i < sizeof list / sizeof list[0]; i++) {
@@ -142,11 +140,8 @@ static cvk_result create_buffers(cvk_context* context, cvk_hash* hash, const cvk
         r = cvk_buffer_view_create(context, &hash->starts, VK_FORMAT_R32_UINT,
                                    &hash->starts_view, error);
     if (r == CVK_SUCCESS)
-        r = cvk_buffer_view_create(context, &hash->entries, VK_FORMAT_R32_UINT,
+        r = cvk_buffer_view_create(context, &hash->entries, VK_FORMAT_R32G32B32A32_UINT,
                                    &hash->entries_view, error);
-    if (r == CVK_SUCCESS)
-        r = cvk_buffer_view_create(context, &hash->sorted, VK_FORMAT_R32G32B32A32_UINT,
-                                   &hash->sorted_view, error);
     if (r == CVK_SUCCESS)
         r = cvk_buffer_view_create(context, salts ? salts : &hash->zero_salt, VK_FORMAT_R32_UINT,
                                    &hash->salts_view, error);
@@ -178,8 +173,6 @@ static cvk_result create_set(cvk_context* context, cvk_hash* hash, cvk_error* er
         [CVK_HASH_BINDING_STARTS_READ] = {.view = hash->starts_view},
         [CVK_HASH_BINDING_ENTRIES_READ] = {.view = hash->entries_view},
         [CVK_HASH_BINDING_PARAMS_READ] = {.buffer = &hash->params},
-        [CVK_HASH_BINDING_SORTED] = {.buffer = &hash->sorted},
-        [CVK_HASH_BINDING_SORTED_READ] = {.view = hash->sorted_view},
         [CVK_HASH_BINDING_SALTS] = {.view = hash->salts_view},
         [CVK_HASH_BINDING_SCRATCH_READ] = {.view = hash->scratch_view},
     };
@@ -250,8 +243,6 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
         vkDestroyBufferView(context->device, hash->starts_view, NULL);
     if (hash->entries_view)
         vkDestroyBufferView(context->device, hash->entries_view, NULL);
-    if (hash->sorted_view)
-        vkDestroyBufferView(context->device, hash->sorted_view, NULL);
     if (hash->salts_view)
         vkDestroyBufferView(context->device, hash->salts_view, NULL);
     if (hash->scratch_view)
@@ -261,7 +252,6 @@ void cvk_hash_destroy(cvk_context* context, cvk_hash* hash)
     cvk_buffer_destroy(context, &hash->starts);
     cvk_buffer_destroy(context, &hash->entries);
     cvk_buffer_destroy(context, &hash->scratch);
-    cvk_buffer_destroy(context, &hash->sorted);
     cvk_buffer_destroy(context, &hash->zero_salt);
     memset(hash, 0, sizeof *hash);
 }
@@ -305,17 +295,14 @@ cvk_result cvk_hash_add_passes(const cvk_hash* hash, cvk_plan* plan, uint32_t co
         {CVK_PIPE_HASH_SCAN_CHUNKS, CVK_DOMAIN_CELLS, 1, "scan of the chunk sums"},
         {CVK_PIPE_HASH_SCAN, CVK_DOMAIN_CELLS, push.chunks, "starts per slot"},
         {CVK_PIPE_HASH_SCATTER, CVK_DOMAIN_PARTICLES, count, "entries by slot"},
-        {CVK_PIPE_HASH_SORT, CVK_DOMAIN_PARTICLES, count, "entries in index order per slot"},
     };
     uint32_t recorded = count ? CVK_HASH_BUILD_PASSES : 1;
     uint32_t groups[CVK_HASH_BUILD_PASSES] = {0};
     for (uint32_t i = 0; i < recorded; i++)
-        groups[i] = passes[i].pipeline == CVK_PIPE_HASH_SORT
-                        ? cvk_plan_walk_groups(plan, passes[i].items)
-                        : cvk_plan_groups_of(plan, passes[i].pipeline, passes[i].items);
+        groups[i] = cvk_plan_groups_of(plan, passes[i].pipeline, passes[i].items);
     if (on_device) {
         cvk_hash_commands_push commands = {groups[0], groups[1], groups[2], groups[3],
-                                           groups[4], groups[5], groups[6], 0};
+                                           groups[4], groups[5], 0, 0};
         cvk_op* op = cvk_plan_dispatch(plan, pass, CVK_PIPE_HASH_COMMANDS, hash->layout,
                                        hash->set, CVK_DOMAIN_CELLS, 0, 1, &commands,
                                        sizeof commands);

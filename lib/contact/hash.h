@@ -1,9 +1,12 @@
 /* The uniform-grid spatial hash on the device (Green 2010, seed 002 §3.4): every point is put in
    the cell of side cell_size that holds it, cells are hashed into a table of table_size slots (a
    power of two), and a counting sort groups the points by slot — count, prefix sum, scatter —
-   after which a per-slot sort puts each slot's points in ascending index order, so the result
-   does not depend on thread timing. Queries visit the 27 cells around a point and check each
-   candidate's own cell (two cells may share a slot).
+   which writes each point with its position into its slot's range. Within a slot the points
+   come in the order the scatter's atomics took them, which depends on thread timing: every
+   reader must give the same result whatever that order (the detections keep sets of pairs,
+   nearest first with ties by index, and minimum distances; lib/contact/collide.h). Queries
+   visit the 27 cells around a point and check each candidate's own cell (two cells may share
+   a slot).
 
    The module owns its buffers, one descriptor set (shaders/contact/hash_common.glsl declares it, at
    the set index the including shader chooses) and its pipelines' layout; it reads the points
@@ -43,15 +46,12 @@ typedef struct cvk_hash {
     cvk_buffer params;          /* cvk_hash_params (shaders/shared/layout.h) */
     cvk_buffer keys;            /* uint per point: its slot */
     cvk_buffer starts;          /* uint per slot, + 1: slot s holds entries [starts[s], starts[s + 1]) */
-    cvk_buffer entries;         /* uint per point: point indices grouped by slot, in the order
-                                   the scatter's atomics took them (the sort's input) */
     cvk_buffer scratch;         /* counts and cursors per slot, partial sums of the scan */
-    cvk_buffer sorted;          /* uvec4 per point grouped by slot, ascending index in a slot:
-                                   xyz bits, index (what queries read) */
+    cvk_buffer entries;         /* uvec4 per point grouped by slot, in the order the scatter's
+                                   atomics took them: xyz bits, index (what queries read) */
     VkBufferView points_view;   /* storage texel views the shaders read (R32G32B32A32_SFLOAT, */
-    VkBufferView starts_view;   /* R32_UINT, R32_UINT) with imageLoad: on lavapipe an inline */
-    VkBufferView entries_view;  /* vectorised gather (docs/performance.md) */
-    VkBufferView sorted_view;   /* R32G32B32A32_UINT */
+    VkBufferView starts_view;   /* R32_UINT, R32G32B32A32_UINT) with imageLoad: on lavapipe an */
+    VkBufferView entries_view;  /* inline vectorised gather (docs/performance.md) */
     cvk_buffer zero_salt;       /* one zero uint: the salts without desc.salts */
     VkBufferView salts_view;    /* R32_UINT */
     VkBufferView scratch_view;  /* R32_UINT: the counts and chunk sums as the scan reads them */
@@ -67,9 +67,9 @@ cvk_result cvk_hash_create(cvk_context* context, const cvk_hash_desc* desc, cvk_
 void cvk_hash_destroy(cvk_context* context, cvk_hash* hash);
 
 /* Appends the build over points [0, count) (count ≤ capacity) to `plan` as pass "hash":
-   clear, count, scan, scatter, sort. After its last op (barrier compute -> compute, and
+   clear, count, scan, scatter. After its last op (barrier compute -> compute, and
    -> indirect with on_device) starts and
-   sorted are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
+   entries are ready for queries. Dispatches only (compute barriers); with count 0 only the clear
    is recorded, which leaves every start 0 and the parameters' count 0.
    With `on_device` the build is for a module that opens and closes it on the device (the
    parameters' `build`, written before these ops by a dispatch followed by a compute barrier):

@@ -182,7 +182,6 @@ typedef struct cvk_spec_recipe {
     X(HASH_SCAN_CHUNKS, HASH_SCAN_CHUNKS_COMP, CVK_SPEC_WORKGROUP, "hash: scan chunks") \
     X(HASH_SCAN, HASH_SCAN_COMP, CVK_SPEC_WORKGROUP, "hash: scan")              \
     X(HASH_SCATTER, HASH_SCATTER_COMP, CVK_SPEC_WORKGROUP, "hash: scatter")     \
-    X(HASH_SORT, HASH_SORT_COMP, CVK_SPEC_WORKGROUP, "hash: sort slots")        \
     X(HASH_COMMANDS, HASH_COMMANDS_COMP, CVK_SPEC_NONE, "hash: build or not")   \
     X(HASH_NEIGHBOURS, HASH_NEIGHBOURS_COMP, CVK_SPEC_WORKGROUP, "hash: neighbours") \
     X(IMPLICIT_CONTACT, IMPLICIT_CONTACT_COMP, CVK_SPEC_IMPLICIT, "implicit: held on colliders, S") \

@@ -402,8 +402,9 @@ bool in_cell(uvec4 entry, ivec3 cell, uint instance)
     return hash_cell(uintBitsToFloat(entry.xyz)) == cell && edge_instance(entry.w) == instance;
 }
 
-// The first edge, in the slot's ascending order, of edge e's cell and instance: the one that
-// gathers the cell's list.
+// The first edge, in the slot's order, of edge e's cell and instance: the one that gathers the
+// cell's list (which one does not change the list's entries, only where in the pool it lies
+// and their order, which no reader depends on: detect measures every entry that may touch).
 uint first_of_cell(uint e, ivec3 cell, uint instance)
 {
     uvec2 range = hash_range(cell, instance);

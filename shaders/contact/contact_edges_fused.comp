@@ -11,9 +11,10 @@
 // workgroups. What one part writes and a later one reads (the hash, the cells, their lists in
 // the pool, the nearest distances and buckets, the work lists, the edges' pairs) goes through
 // the storage buffers, coherent (HASH_FUSED, collide.glsl's EDGES_FUSED). Their results are
-// atomic minima and lists whose order the phases after them fix (the hash's slots by index,
-// the cells' lists in walk order, each edge's nearest pairs sorted, each particle's sides
-// sorted), so the same bits as the unfused passes'. No invocation waits on another workgroup:
+// atomic minima and lists whose readers do not depend on their order (the hash's slots, the
+// cells' lists, the pool's places) or whose order the phases after them fix (each edge's
+// nearest pairs sorted, each particle's sides sorted), so the same bits as the unfused
+// passes'. No invocation waits on another workgroup:
 // correct on any conformant device.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"

@@ -11,8 +11,9 @@
 // part reads that an earlier one wrote in this dispatch goes through the storage buffers,
 // coherent: the frame and bounds state (CONTACT_COHERENT), the centroids the build hashes
 // (MEASURE_COHERENT, HASH_POINT_OF) and the hash itself (HASH_FUSED). The check's and the
-// measure's results are atomic minima, maxima, ors and sums, the hash sorts each slot by index
-// and each particle's list is sorted, so all of it is the same bits as the unfused passes'.
+// measure's results are atomic minima, maxima, ors and sums, no reader of the hash depends on
+// the order of a slot's entries and each particle's list is sorted, so all of it is the same
+// bits as the unfused passes'.
 // No invocation waits on another workgroup: correct on any conformant device.
 layout(local_size_x_id = 0) in;
 #include "shared/layout.h"

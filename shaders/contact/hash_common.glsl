@@ -16,7 +16,7 @@
 //             uint q = hash_entry_point(e).w;
 //             if (!hash_in_cell(q, cell))
 //                 continue;
-//             ... point q, at hash_point(q), in ascending q within a cell ...
+//             ... point q, at hash_point(q), in the order the build's atomics took them ...
 //         }
 //     }
 //
@@ -47,11 +47,11 @@
 #ifdef HASH_FUSED
 #define HASH_COHERENT coherent
 #define HASH_PARAMS hash_params
-#define HASH_SORTED_ACCESS coherent
+#define HASH_ENTRIES_ACCESS coherent
 #else
 #define HASH_COHERENT
 #define HASH_PARAMS hash_params_u
-#define HASH_SORTED_ACCESS writeonly
+#define HASH_ENTRIES_ACCESS writeonly
 #endif
 
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_PARAMS) HASH_COHERENT buffer HashParams {
@@ -68,21 +68,16 @@ layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_KEYS) HASH_COHERENT bu
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_STARTS) HASH_COHERENT buffer HashStarts {
     uint hash_starts[];
 };
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) HASH_COHERENT buffer HashEntries {
-    uint hash_entries[];
-};
 layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH) HASH_COHERENT buffer HashScratch {
     uint hash_scratch[];
 };
-// The starts as queries read them, and the entries as the sort reads them: storage texel loads
-// are inline vectorised gathers on lavapipe, where a storage-buffer load in a divergent loop is
-// a loop over the lanes.
+// The starts and the entries as queries read them: storage texel loads are inline vectorised
+// gathers on lavapipe, where a storage-buffer load in a divergent loop is a loop over the lanes.
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_STARTS_READ, r32ui) uniform readonly uimageBuffer hash_starts_read;
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ, r32ui) uniform readonly uimageBuffer hash_entries_read;
-layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_SORTED) HASH_SORTED_ACCESS buffer HashSorted {
-    uvec4 hash_sorted[]; // per entry: its point's xyz (float bits), its index
+layout(std430, set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES) HASH_ENTRIES_ACCESS buffer HashEntries {
+    uvec4 hash_entries[]; // per entry: its point's xyz (float bits), its index
 };
-layout(set = HASH_SET, binding = CVK_HASH_BINDING_SORTED_READ, rgba32ui) uniform readonly uimageBuffer hash_sorted_read;
+layout(set = HASH_SET, binding = CVK_HASH_BINDING_ENTRIES_READ, rgba32ui) uniform readonly uimageBuffer hash_entries_read;
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SALTS, r32ui) uniform readonly uimageBuffer hash_salts;
 layout(set = HASH_SET, binding = CVK_HASH_BINDING_SCRATCH_READ, r32ui) uniform readonly uimageBuffer hash_scratch_read;
 
@@ -166,14 +161,13 @@ vec3 hash_point(uint q)
 #endif
 }
 
-// Entry e's point index (w) and its point (xyz, as float bits) in one fetch, from the copy the
-// build sorts along with the entries.
+// Entry e's point index (w) and its point (xyz, as float bits) in one fetch.
 uvec4 hash_entry_point(uint e)
 {
 #ifdef HASH_FUSED
-    return hash_sorted[e];
+    return hash_entries[e];
 #else
-    return imageLoad(hash_sorted_read, int(e));
+    return imageLoad(hash_entries_read, int(e));
 #endif
 }
 
@@ -390,43 +384,16 @@ void hash_scan_pass()
     }
 }
 
-// The hash build, scatter: each point takes a place of its slot's range in the entries,
-// counting the slot's count down (atomic); the order within a slot depends on timing until the
-// sort pass. Every count ends at 0, ready for the next build without a clear
-// (lib/contact/hash.c zeroes them once, at creation).
+// The hash build, scatter: each point, with its position, takes a place of its slot's range in
+// the entries, counting the slot's count down (atomic): the order within a slot depends on
+// timing, and no reader depends on it (lib/contact/hash.h). Every count ends at 0, ready for the
+// next build without a clear (lib/contact/hash.c zeroes them once, at creation).
 void hash_scatter_pass()
 {
     for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
         uint s = hash_keys[p];
         uint e = hash_start(s) + atomicAdd(hash_scratch[s], 0xffffffffu) - 1u;
-        hash_entries[e] = p;
-    }
-}
-
-// Entry e as the scatter left it, the sort's input (HASH_WORD: the storage load in the sort's
-// loop was a loop over the lanes; one lavapipe core: the 40 x 40 contact drape's hash builds
-// 7.7 -> 5.2 ms a frame, the six-cloth pile's 16.5 -> 8.3).
-uint hash_unsorted(uint e)
-{
-    return HASH_WORD(hash_entries, hash_entries_read, e);
-}
-
-// The hash build, sort: the scatter left each slot's points in the order its atomics happened;
-// each point's place in its slot is the number of the slot's points with a smaller index, so
-// the sorted copy (each point with its index, what queries read) comes out in ascending point
-// order whatever the timing. One point per invocation (lib/contact/hash.c): the loop is as
-// long as the point's slot is full, and lavapipe ends a shader's loops after 65535 iterations
-// in all.
-void hash_sort_pass()
-{
-    for (uint p = gl_GlobalInvocationID.x; p < pc.points; p += hash_stride()) {
-        uint s = hash_keys[p];
-        uint first = hash_start(s);
-        uint end = hash_start(s + 1u);
-        uint rank = 0u;
-        for (uint e = first; e < end; e++)
-            rank += hash_unsorted(e) < p ? 1u : 0u;
-        hash_sorted[first + rank] = uvec4(floatBitsToUint(hash_point(p)), p);
+        hash_entries[e] = uvec4(floatBitsToUint(hash_point(p)), p);
     }
 }
 
@@ -455,9 +422,6 @@ void hash_build_fused()
             memoryBarrierBuffer();
             barrier();
             hash_scatter_pass();
-            memoryBarrierBuffer();
-            barrier();
-            hash_sort_pass();
         }
     }
     memoryBarrierBuffer();

@@ -666,9 +666,9 @@ CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
 /* A build decided on the device (lib/contact/hash.h, cvk_hash_add_passes with on_device) dispatches
    its passes indirectly, with the commands (3 uints each: workgroups, 1, 1) in the parameters'
    buffer after cvk_hash_params, one per pass in the order clear, count, chunk sums, scan
-   chunks, scan, scatter, sort; shaders/contact/hash_commands.comp writes them from its push data,
+   chunks, scan, scatter; shaders/contact/hash_commands.comp writes them from its push data,
    with no workgroups while the build is closed. */
-#define CVK_HASH_BUILD_PASSES 7
+#define CVK_HASH_BUILD_PASSES 6
 #define CVK_HASH_COMMANDS_OFFSET 32 /* bytes: sizeof(cvk_hash_params) */
 #define CVK_HASH_COMMANDS_PUSH_FIELDS                                                   \
     CVK_UINT(clear)        /* workgroups of each pass while the build is open */          \
@@ -677,8 +677,8 @@ CVK_STRUCT(cvk_hash_params, CVK_HASH_PARAMS_FIELDS)
     CVK_UINT(scan_chunks)                                                               \
     CVK_UINT(scan)                                                                      \
     CVK_UINT(scatter)                                                                   \
-    CVK_UINT(sort)                                                                      \
-    CVK_UINT(pad0)
+    CVK_UINT(pad0)                                                                      \
+    CVK_UINT(pad1)
 CVK_PUSH_BLOCK(cvk_hash_commands_push, CVK_HASH_COMMANDS_PUSH_FIELDS)
 
 /* The build passes' push data (shaders/contact/hash_*.comp); the scan's chunks are `chunk` slots. */
@@ -707,31 +707,28 @@ CVK_PUSH_BLOCK(cvk_contact_hash_push, CVK_CONTACT_HASH_PUSH_FIELDS)
 CVK_PUSH_BLOCK(cvk_hash_query_push, CVK_HASH_QUERY_PUSH_FIELDS)
 
 /* Bindings of the hash's set; scratch holds the count (then cursor) per slot, then the chunk
-   sums of the scan. What the sort and queries read goes through
+   sums of the scan. What the scan and queries read goes through
    texel buffers: on lavapipe a texel fetch is a vectorised gather while a storage-buffer load in
    a divergent loop is a loop over the lanes (the neighbour query runs 2.4x faster). */
 #define CVK_HASH_BINDING_PARAMS 0       /* storage: cvk_hash_params */
 #define CVK_HASH_BINDING_POINTS 1       /* texel (rgba32f): a point per texel, xyz hashed */
 #define CVK_HASH_BINDING_KEYS 2         /* storage: uint per point, its slot */
 #define CVK_HASH_BINDING_STARTS 3       /* storage: uint per slot + 1 */
-#define CVK_HASH_BINDING_ENTRIES 4      /* storage: uint per point, indices grouped by slot in
-                                           the order the scatter's atomics took them */
+#define CVK_HASH_BINDING_ENTRIES 4      /* storage: uvec4 per point grouped by slot, in the
+                                           order the scatter's atomics took them: the point's
+                                           xyz (float bits) and its index */
 #define CVK_HASH_BINDING_SCRATCH 5      /* storage: counts per slot, sums per chunk */
 #define CVK_HASH_BINDING_STARTS_READ 6  /* texel (r32ui): starts, as queries read them */
-#define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (r32ui): entries, as the sort reads them */
+#define CVK_HASH_BINDING_ENTRIES_READ 7 /* texel (rgba32ui): entries, as queries read them (one
+                                           fetch per entry instead of the index, then its point) */
 #define CVK_HASH_BINDING_PARAMS_READ 8  /* uniform: the parameters, as queries read them (a
                                            storage load per cell visited was a lane loop) */
-#define CVK_HASH_BINDING_SORTED 9       /* storage: uvec4 per point grouped by slot, in
-                                           ascending index in a slot: the point's xyz (float
-                                           bits) and its index */
-#define CVK_HASH_BINDING_SORTED_READ 10 /* texel (rgba32ui): sorted, as queries read it (one
-                                           fetch per entry instead of the entry, then its point) */
-#define CVK_HASH_BINDING_SALTS 11       /* texel (r32ui): per point a salt mixed into its slot
+#define CVK_HASH_BINDING_SALTS 9        /* texel (r32ui): per point a salt mixed into its slot
                                            (the scene's instance, so copies at one place fill
                                            different slots); one zero texel without */
-#define CVK_HASH_BINDING_SCRATCH_READ 12 /* texel (r32ui): scratch, as the scan reads the
+#define CVK_HASH_BINDING_SCRATCH_READ 10 /* texel (r32ui): scratch, as the scan reads the
                                             counts the pass before wrote */
-#define CVK_HASH_BINDING_COUNT 13
+#define CVK_HASH_BINDING_COUNT 11
 
 /* Cells are clamped to ±CVK_HASH_CELL_LIMIT per axis so the float -> int conversion stays
    defined for far-away points (they share the border cells). */

@@ -12,9 +12,10 @@
 
    Why it should hold: every pass is a loop over particles in which each particle's result
    depends only on the data, never on which invocation or workgroup computes it; no pass
-   reduces across invocations in floating point (the spatial hash counts with integer atomics
-   and then sorts each cell by particle index), so the dispatch shape cannot reorder a
-   floating-point sum. A shape that changes the hash breaks that rule.
+   reduces across invocations in floating point, so the dispatch shape cannot reorder a
+   floating-point sum; and what depends on the order of atomics (a spatial hash cell's entries,
+   the edges' buckets, the side lists) is read as a set: minima, and lists sorted by distance and
+   index. A shape that changes the hash breaks that rule.
 
    rbgs runs twice: with solver.fuse off (one dispatch per colour and sweep) and on (every
    sweep of a substep in one dispatch of one workgroup, lib/solvers/solve_pd.h — for the
