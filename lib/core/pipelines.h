@@ -65,6 +65,11 @@ typedef struct cvk_spec_recipe {
 #define CVK_SPEC_FINALIZE_TETHERED {8, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, \
                                         CVK_SPEC_TETHER_SLOTS, CVK_SPEC_FALSE, CVK_SPEC_FALSE, \
                                         CVK_SPEC_SELF_CONTACT, CVK_SPEC_TRUE, CVK_SPEC_REST}}
+/* The last sweep that finalizes (shaders/solvers/pd_gauss_seidel.comp built with
+   LAST_FINALIZES; id 7: REST). */
+#define CVK_SPEC_PD_LAST {8, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_FALSE, \
+                              CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT, \
+                              CVK_SPEC_FALSE, CVK_SPEC_REST}}
 #define CVK_SPEC_PD_FIRST {6, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE, CVK_SPEC_MAX_DEGREE, CVK_SPEC_TRUE, \
                                CVK_SPEC_FALSE, CVK_SPEC_FALSE, CVK_SPEC_SELF_CONTACT}}
 /* The checking first sweeps (id 3: TETHERS of shaders/solvers/pd_common.glsl). */
@@ -128,6 +133,7 @@ typedef struct cvk_spec_recipe {
     X(GS_FIRST_PREDICT_SRC, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_TRUE), "predict + gauss-seidel + local step") \
     X(GS_FIRST_PREDICT_DST, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD_FIRST_PREDICT(CVK_SPEC_VALUE(2)), "predict (last in dst) + gauss-seidel + local step") \
     X(GS, PD_GAUSS_SEIDEL_COMP, CVK_SPEC_PD, "gauss-seidel")                    \
+    X(GS_LAST, PD_GAUSS_SEIDEL_LAST_COMP, CVK_SPEC_PD_LAST, "gauss-seidel + x += u") \
     X(GS_FUSED, PD_FUSED_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
     X(GS_FUSED_PLAIN, PD_FUSED_PLAIN_COMP, CVK_SPEC_PD_FUSED, "gauss-seidel, fused sweeps") \
     X(JACOBI_FIRST, PD_JACOBI_COMP, CVK_SPEC_PD_FIRST, "jacobi + local step")   \

@@ -563,6 +563,15 @@ static bool first_sweep_predicts(const pd_builder* pb, const cvk_build* b)
            b->colour_count > 0 && b->colour_start[1] > 0;
 }
 
+/* Whether its last sweep finalizes too (pd_gauss_seidel.comp, LAST_FINALIZES, which says why
+   not with tethers): nothing between them, and not the first sweep of its outer iteration. */
+static bool last_sweep_finalizes(const pd_builder* pb, const cvk_build* b)
+{
+    return !pb->fused && !pb->checking && !pb->contact && !pb->sim->grab->planned &&
+           !pb->tethers && b->attached_count == 0 && pb->base.rest_rate == 0.0f &&
+           pb->solver->strain_limit == 0.0f && pb->solver->inner_iterations > 1;
+}
+
 /* Gauss-Seidel: every outer iteration reads the previous iterate from one displacement buffer
    (T) and sweeps in place in the other (W); buffers alternate so the last outer iteration
    writes U0, where finalize and the next prediction find it. Where the first sweep predicts,
@@ -572,6 +581,7 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
 {
     uint32_t outer = pb->solver->outer_iterations, inner = pb->solver->inner_iterations;
     bool folded = first_sweep_predicts(pb, b);
+    cvk_pipeline_id last_sweep = last_sweep_finalizes(pb, b) ? CVK_PIPE_GS_LAST : CVK_PIPE_GS;
     if (!fused_predict(pb) && !folded)
         add_predict(pb, b, outer % 2);
     if (pb->fused) /* every outer iteration, from the first one's set */
@@ -583,8 +593,9 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
             if (folded && o == 0)
                 first = t == 0 ? CVK_PIPE_GS_FIRST_PREDICT_SRC : CVK_PIPE_GS_FIRST_PREDICT_DST;
             for (uint32_t c = 0; c < b->colour_count; c++) {
-                cvk_op* op = add_op(pb, i == 0 ? first : CVK_PIPE_GS, set_for(t, w),
-                                    pb->solve, b->colour_start[c],
+                bool last = o + 1 == outer && i + 1 == inner;
+                cvk_op* op = add_op(pb, i == 0 ? first : last ? last_sweep : CVK_PIPE_GS,
+                                    set_for(t, w), pb->solve, b->colour_start[c],
                                     b->colour_start[c + 1] - b->colour_start[c], 1.0f,
                                     cvk_gs_sweep_omega(i, inner, outer, pb->base.omega));
                 solve_note(pb, op, o, i, (int)c, set_for(t, w));
@@ -595,8 +606,8 @@ static void plan_gauss_seidel(pd_builder* pb, const cvk_build* b)
         add_after_outer(pb, b, set_for(t, w), o);
     }
     add_copy_back(pb, b);
-    if (!pb->fused || grab_before_finalize(pb))
-        add_finalize(pb, b); /* else in the last fused dispatch (fuse_after_outer) */
+    if ((!pb->fused && last_sweep == CVK_PIPE_GS) || grab_before_finalize(pb))
+        add_finalize(pb, b); /* else in the last sweep or the last fused dispatch */
 }
 
 /* rbgs, its sweeps fused where pd_fused.c allows; --plan's solver line says which and why. */

@@ -1,8 +1,10 @@
-// Finalize's work on particle p (finalize.comp; pd_fused.comp after the last outer iteration):
+// Finalize's work on particle p (finalize.comp; pd_fused.comp after the last outer iteration;
+// finalize_u alone in pd_gauss_seidel.comp's last sweep where it finalizes):
 // x_{n+1} = x_n + u and the rest memory, or the divergence watch's record; with tether_first
 // the tethers' projection before (finalize.comp's TETHERED). u is read where the solve left it
 // (LOAD_DST: u0, finalize's src and dst alike). halted and stretched: the watch as the pass
-// read it before any particle (finalize.comp). Include after pd_common.glsl and tether.glsl.
+// read it before any particle (finalize.comp). Include after pd_common.glsl and, for
+// finalize_one, tether.glsl.
 //
 // A particle that diverges is noted in the invocation's record, which finalize_watch writes to
 // the watch with one set of atomics after the invocation's particles: the same watch (a minimum
@@ -22,24 +24,10 @@ finalize_record finalize_none()
     return finalize_record(CVK_WATCH_NONE, 0u);
 }
 
-void finalize_one(uint p, bool halted, bool stretched, bool tether_first,
-                  inout finalize_record record)
+// x_{n+1} = xp4.xyz + u for particle p (its position and w in xp4), or the watch's record.
+void finalize_u(uint p, vec4 xp4, vec3 u, bool stretched, inout finalize_record record)
 {
-    vec4 xp4 = imageLoad(x_read, int(p));
-    vec3 xp = xp4.xyz;
-    vec3 u;
-    if (tether_first) {
-        vec4 start = LOAD_DST(p);
-        bool moved;
-        u = tethered(p, xp, start.xyz, moved);
-        if (moved)
-            STORE_DST(p, vec4(u, start.w));
-        if (halted)
-            return;
-    } else {
-        u = LOAD_DST(p).xyz;
-    }
-    vec3 next = xp + u;
+    vec3 next = xp4.xyz + u;
     bool nonfinite = any(isnan(next)) || any(isinf(next));
     bool runaway = stretched || (pc.max_u2 > 0.0 && dot(u, u) > pc.max_u2);
     bool diverged = nonfinite || runaway;
@@ -55,6 +43,27 @@ void finalize_one(uint p, bool halted, bool stretched, bool tether_first,
         }
     }
 }
+
+#ifdef SOLVERS_TETHER_GLSL
+void finalize_one(uint p, bool halted, bool stretched, bool tether_first,
+                  inout finalize_record record)
+{
+    vec4 xp4 = imageLoad(x_read, int(p));
+    vec3 u;
+    if (tether_first) {
+        vec4 start = LOAD_DST(p);
+        bool moved;
+        u = tethered(p, xp4.xyz, start.xyz, moved);
+        if (moved)
+            STORE_DST(p, vec4(u, start.w));
+        if (halted)
+            return;
+    } else {
+        u = LOAD_DST(p).xyz;
+    }
+    finalize_u(p, xp4, u, stretched, record);
+}
+#endif
 
 // The invocation's record into the watch at substep `now`: the first substep that diverged, the
 // particle (where predict's stretch check did not name one) and the reasons.

@@ -25,11 +25,34 @@
 // spring (local_step, flush_stretched). The same bits as the prediction's own pass
 // (tests/solvers/test_solver.c), one pass over the particles fewer a substep: peer-hanging.json
 // 22.7-23.5 -> 20.0-21.2 ms a frame on one lavapipe thread (docs/performance.md).
+// Built a third time with LAST_FINALIZES: the last sweep of a substep where nothing comes
+// between it and finalize (lib/solvers/pd_passes.c, last_sweep_finalizes) does finalize's work
+// on each particle it sweeps — x_{n+1} = x_n + u and the divergence watch — one pass over the
+// particles fewer a substep, the same bits (tests/solvers/test_solver.c). Not with tethers:
+// projected colour by colour inside the sweep, each colour's tethered iterate over-relaxed by
+// the colours after it, peer-hanging.json ended 11.4 % stretched instead of 2.1.
 layout(constant_id = 6) const uint PREDICTS = 0u;
 #define FIRST_PREDICTS PREDICTS
 #include "solvers/pd_common.glsl"
 
 layout(constant_id = 2) const bool FIRST = false;
+
+#ifdef LAST_FINALIZES
+#include "solvers/finalize.glsl"
+bool halted = false, stretched = false;
+finalize_record record = finalize_none();
+
+// p's new iterate u moves its position (not once the watch has stopped the simulation).
+vec3 finalized(uint p, vec3 u)
+{
+    if (!halted)
+        finalize_u(p, imageLoad(x_read, int(p)), u, stretched, record);
+    return u;
+}
+#define FINALIZED(p, u) finalized(p, u)
+#else
+#define FINALIZED(p, u) (u)
+#endif
 
 void main()
 {
@@ -40,6 +63,11 @@ void main()
     // dispatches of no particle).
     if (FIRST && PREDICTS != 0u && pc.first == 0u && i == 0u && pc.count > 0u)
         watch.substep += 1u;
+#ifdef LAST_FINALIZES
+    uint now = watch.substep;
+    halted = watch.diverged_at < now;
+    stretched = watch.stretched != 0u;
+#endif
     // Two particles per pass of the loop where a particle has one quad of springs: a CPU
     // device runs an invocation's reads one after another, and a particle's eight gathers leave
     // their latency unhidden; two particles' sixteen overlap (on lavapipe a 100 x 100 sweep of
@@ -54,8 +82,10 @@ void main()
             float kp, kq;
             vec3 ap = neighbour_sum(dst_read, p, up, kp);
             vec3 aq = neighbour_sum(dst_read, q, uq, kq);
-            dst[p] = vec4(bounded(p, up + pc.omega * jacobi_move(bp, up, ap, kp), shift), 0.0);
-            dst[q] = vec4(bounded(q, uq + pc.omega * jacobi_move(bq, uq, aq, kq), shift), 0.0);
+            vec3 np = bounded(p, up + pc.omega * jacobi_move(bp, up, ap, kp), shift);
+            vec3 nq = bounded(q, uq + pc.omega * jacobi_move(bq, uq, aq, kq), shift);
+            dst[p] = vec4(FINALIZED(p, np), 0.0);
+            dst[q] = vec4(FINALIZED(q, nq), 0.0);
         }
     }
     for (; i < pc.count; i += stride) {
@@ -79,8 +109,12 @@ void main()
             cur = fetch(dst_read, p);
             acc = neighbour_sum(dst_read, p, cur, ksum);
         }
-        dst[p] = vec4(bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum), shift), 0.0);
+        vec3 next = bounded(p, cur + omega * jacobi_move(b, cur, acc, ksum), shift);
+        dst[p] = vec4(FINALIZED(p, next), 0.0);
     }
     if (FIRST && PREDICTS != 0u)
         flush_stretched();
+#ifdef LAST_FINALIZES
+    finalize_watch(record, now);
+#endif
 }

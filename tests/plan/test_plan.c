@@ -301,7 +301,7 @@ static void check_last_sweep(cvk_context* ctx, uint32_t outer, uint32_t inner)
     for (uint32_t i = 0; i < sim->plan.op_count; i++) {
         const cvk_op* op = &sim->plan.ops[i];
         if (op->pipeline != CVK_PIPE_GS_FIRST && op->pipeline != CVK_PIPE_GS &&
-            op->pipeline != CVK_PIPE_GS_FIRST_PREDICT_SRC &&
+            op->pipeline != CVK_PIPE_GS_LAST && op->pipeline != CVK_PIPE_GS_FIRST_PREDICT_SRC &&
             op->pipeline != CVK_PIPE_GS_FIRST_PREDICT_DST)
             continue;
         cvk_pd_push push;

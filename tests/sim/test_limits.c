@@ -19,7 +19,7 @@ typedef struct limit_case {
 
 static const limit_case cases[] = {
     {"every count at its bound", 10000, 100, 100, 1.0 / 60, 0.1f, 1e4f, CVK_ERROR_INVALID_ARGUMENT,
-     "substeps: 10000 substeps × 20001 operations per substep are 200010000 operations per "
+     "substeps: 10000 substeps × 20000 operations per substep are 200000000 operations per "
      "frame; a frame records at most 1000000 (fewer substeps, sweeps or colours)"},
     /* Accepted: 1/h² = 1e10 and m/h² = 8.3e7 are well inside float. */
     {"a small step with the most substeps", 10000, 1, 1, 1e-5, 0.1f, 1e4f, CVK_SUCCESS, ""},

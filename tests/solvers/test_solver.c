@@ -7,7 +7,8 @@
      T_m(1/rho) = 3;
    - the residual falls monotonically with iterations on enlarged.json, for rbgs and gs-cpu;
    - the converged solution of a substep by Newton's method equals Gauss-Seidel's fixed point;
-   - rbgs's first sweep that predicts gives the bits of the prediction's own pass. */
+   - rbgs's first sweep that predicts gives the bits of the prediction's own pass, and its
+     last sweep that finalizes the bits of finalize's own pass. */
 #include "topology/build.h"
 #include "harness.h"
 #include "solvers/solve_pd.h"
@@ -345,16 +346,18 @@ static void all_pinned(cvk_context* ctx)
 }
 
 /* Where the prediction is plain (no air, damping, contact, grab or check), rbgs's first sweep
-   predicts (lib/solvers/pd_passes.c, first_sweep_predicts): a pinned cloth with shear and bend
-   springs (more colours than two) swinging for 24 frames, with odd and even outer iterations
-   (the last substep's displacements in the sweep's dst and src), gives the bits of the same
-   scene with a plane 10 m below it, which keeps the prediction's own pass. */
+   predicts (lib/solvers/pd_passes.c, first_sweep_predicts), and where nothing comes between
+   the last sweep and finalize (no tethers, strain limit, contact, ...) the last sweep
+   finalizes (last_sweep_finalizes): a pinned cloth with shear and bend springs (more colours
+   than two) swinging for 24 frames, with odd and even outer iterations (the last substep's
+   displacements in the sweep's dst and src), gives the bits of the same scene with a plane
+   10 m below it, which keeps the prediction's and finalize's own passes. */
 static void folded_prediction_same_bits(cvk_context* ctx)
 {
     const uint32_t pins[2][2] = {{0, 0}, {19, 0}};
     for (uint32_t outer = 1; outer <= 2; outer++) {
         float *xyz[2] = {NULL, NULL}, *start = NULL;
-        uint32_t predicts[2] = {0, 0}, substeps = 0;
+        uint32_t predicts[2] = {0, 0}, finalizes[2] = {0, 0}, substeps = 0;
         uint64_t n = 0;
         for (int far_plane = 0; far_plane < 2; far_plane++) {
             cvk_cloth_desc cloth = cvk_default_cloth_desc();
@@ -387,20 +390,26 @@ static void folded_prediction_same_bits(cvk_context* ctx)
             REQUIRE_OK(cvk_sim_step(sim, 24, &err), err);
             xyz[far_plane] = harness_read_all(sim);
             predicts[far_plane] = harness_pass_dispatches(sim, "predict");
+            finalizes[far_plane] = harness_pass_dispatches(sim, "finalize");
             n = cvk_sim_particle_count(sim);
             cvk_sim_destroy(sim);
         }
         CHECK(predicts[0] == 0 && predicts[1] == substeps, "%u outer: %u and %u predict "
               "dispatches a frame alone and with a plane, expected 0 and %u", outer, predicts[0],
               predicts[1], substeps);
+        CHECK(finalizes[0] == 0 && finalizes[1] == substeps, "%u outer: %u and %u finalize "
+              "dispatches a frame alone and with a plane, expected 0 and %u", outer,
+              finalizes[0], finalizes[1], substeps);
         double apart = harness_max_diff(xyz[0], xyz[1], 3 * n);
         CHECK(memcmp(xyz[0], xyz[1], sizeof(float) * 3 * n) == 0, "%u outer: the first sweep "
-              "that predicts and the prediction's own pass differ by %g m", outer, apart);
+              "that predicts and the last that finalizes, and the prediction's and finalize's "
+              "own passes, differ by %g m", outer, apart);
         /* The cloth moved: the comparison is of a swing, not of a rest. */
         double moved = harness_max_diff(start, xyz[0], 3 * n);
         CHECK(moved > 0.02, "%u outer: the cloth moved only %g m in 24 frames", outer, moved);
-        printf("rbgs %u outer: the first sweep predicting and the prediction's own pass, the "
-               "same bits after 24 frames (moved %.3g m)\n", outer, moved);
+        printf("rbgs %u outer: the first sweep predicting and the last finalizing, and the "
+               "prediction's and finalize's own passes, the same bits after 24 frames (moved "
+               "%.3g m)\n", outer, moved);
         free(start);
         free(xyz[0]);
         free(xyz[1]);

@@ -348,14 +348,14 @@ def contact_step_diverged(rows):
 def fused_rows(rows):
     """Two rounds of the small hanging cloth (8 substeps of 4 x 4 sweeps over its 2 colours):
     unfused, fused with its iterate in shared memory and fused in global memory each round, the
-    same bits every way; per substep 32 sweep dispatches (the first sweep predicting) and
-    finalize unfused (264 a frame) or one for the whole substep fused (8)."""
+    same bits every way; per substep 32 sweep dispatches unfused (the first sweep predicting,
+    the last finalizing: 256 a frame) or one for the whole substep fused (8)."""
     got = [(r["round"], r["fuse"], r["frames"], r["same_bits"]) for r in rows]
     want = [(str(k), fuse, "2", "1") for k in (1, 2) for fuse in ("off", "shared", "global")]
     if got != want:
         return [f"fused.csv (round, fuse, frames, same_bits): expected {want}, got {got}"]
     got = [r["dispatches_per_frame"] for r in rows]
-    want = ["264", "8", "8"] * 2
+    want = ["256", "8", "8"] * 2
     return [] if got == want else [f"fused.csv dispatches_per_frame: expected {want}, got {got}"]
 
 
