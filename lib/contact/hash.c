@@ -10,8 +10,9 @@
                which leaves every count 0 for the next build (they are zeroed once, at
                creation); a slot's points in the order the atomics took them, which no reader
                depends on (hash.h). A sort of each slot by index, the build's last pass until
-               2026-12-08, was a quarter of the build's time on lavapipe and changed no bit of
-               any scene's positions (docs/performance.md).
+               2026-12-08, was a quarter or more of the build's time on lavapipe; without it
+               the contact drape's and the pile's positions kept every bit
+               (docs/performance.md).
 
    All are dispatches ordered by compute barriers; with no points only the clear is recorded.
    The number of operations never depends on the points, so the build needs no host round trip. The three-dispatch scan uses no shared memory and no

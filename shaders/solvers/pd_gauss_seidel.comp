@@ -29,8 +29,8 @@
 // between it and finalize (lib/solvers/pd_passes.c, last_sweep_finalizes) does finalize's work
 // on each particle it sweeps — x_{n+1} = x_n + u and the divergence watch — one pass over the
 // particles fewer a substep, the same bits (tests/solvers/test_solver.c). Not with tethers:
-// projected colour by colour inside the sweep, each colour's tethered iterate over-relaxed by
-// the colours after it, peer-hanging.json ended 11.4 % stretched instead of 2.1.
+// projected colour by colour inside the sweep (the colours after each reading its tethered
+// iterate), peer-hanging.json ended 11.4 % stretched instead of 2.1 (docs/limits.md).
 layout(constant_id = 6) const uint PREDICTS = 0u;
 #define FIRST_PREDICTS PREDICTS
 #include "solvers/pd_common.glsl"
