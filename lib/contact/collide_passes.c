@@ -59,11 +59,10 @@ static void add_decision(cvk_sim* s, cvk_plan* plan, cvk_pipeline_id pipeline, u
                          const cvk_hash* hash, const char* note)
 {
     cvk_collide* c = s->collide;
-    if (pipeline == CVK_PIPE_CONTACT_CHECK && phase == 0)
-        pipeline = cvk_collide_pipeline(c, pipeline, CVK_PIPE_CONTACT_CHECK_RUNS2);
-    else if (pipeline == CVK_PIPE_CONTACT_CHECK)
-        pipeline = cvk_collide_pipeline(c, CVK_PIPE_CONTACT_CHECK_EXCEED,
-                                        CVK_PIPE_CONTACT_CHECK_EXCEED_RUNS2);
+    if (pipeline == CVK_PIPE_CONTACT_CHECK)
+        pipeline = phase == 0 ? cvk_collide_pipeline(c, pipeline, CVK_PIPE_CONTACT_CHECK_RUNS2)
+                              : cvk_collide_pipeline(c, CVK_PIPE_CONTACT_CHECK_EXCEED,
+                                                     CVK_PIPE_CONTACT_CHECK_EXCEED_RUNS2);
     bool decide = pipeline == CVK_PIPE_CONTACT_DECIDE;
     uint32_t count = decide ? 1 : s->build.particle_count;
     cvk_contact_push push = {0, count, phase, cvk_plan_walk_group_items(plan)};

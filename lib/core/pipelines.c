@@ -48,7 +48,9 @@ typedef struct pipeline_recipe {
 } pipeline_recipe;
 
 static const pipeline_recipe recipes[CVK_PIPE_COUNT] = {
-#define CVK_PIPE_RECIPE(id, shader, spec, label) [CVK_PIPE_##id] = {CVK_SHADER_##shader, spec, label},
+/* The recipe and label as one list: a recipe CVK_COLLIDER_RUN_PIPELINES passes on arrives
+   expanded, its braces' commas splitting it into several arguments. */
+#define CVK_PIPE_RECIPE(id, shader, ...) [CVK_PIPE_##id] = {CVK_SHADER_##shader, __VA_ARGS__},
     CVK_PIPELINE_LIST(CVK_PIPE_RECIPE)
 #undef CVK_PIPE_RECIPE
 };

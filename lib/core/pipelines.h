@@ -124,6 +124,16 @@ typedef struct cvk_spec_recipe {
                           CVK_SPEC_FALSE}}
 #define CVK_SPEC_PARTICLE_WORKGROUP {1, {CVK_SPEC_PARTICLE_WORKGROUP_SIZE}}
 
+/* A pass whose colliders come in runs of one type (cvk_collide.runs, lib/contact/collide.h):
+   CVK_PIPE_<ID> for any colliders, then CVK_PIPE_<ID>_RUNS2..4, built from SHADER's
+   COLLIDER_RUNS variants (shaders/meson.build), in that order (cvk_collide_pipeline). SPEC
+   reaches X expanded (its braces' commas split it): X takes the recipe and label as `...`. */
+#define CVK_COLLIDER_RUN_PIPELINES(X, ID, SHADER, SPEC, LABEL)                   \
+    X(ID, SHADER##_COMP, SPEC, LABEL)                                           \
+    X(ID##_RUNS2, SHADER##_RUNS2_COMP, SPEC, LABEL ", 2 runs of one collider type") \
+    X(ID##_RUNS3, SHADER##_RUNS3_COMP, SPEC, LABEL ", 3 runs of one collider type") \
+    X(ID##_RUNS4, SHADER##_RUNS4_COMP, SPEC, LABEL ", 4 runs of one collider type")
+
 /* X(ID, SHADER, spec recipe, "label"): CVK_PIPE_<ID> runs CVK_SHADER_<SHADER>. */
 #define CVK_PIPELINE_LIST(X)                                                    \
     X(PREDICT, PREDICT_COMP, CVK_SPEC_PREDICT, "predict (Verlet)")              \
@@ -143,14 +153,8 @@ typedef struct cvk_spec_recipe {
     X(PD_REDUCE, PD_REDUCE_COMP, CVK_SPEC_WORKGROUP, "residual: partial sums")  \
     X(PD_DECIDE, PD_DECIDE_COMP, CVK_SPEC_NONE, "residual: stop or go on")      \
     X(PD_COPY, PD_COPY_COMP, CVK_SPEC_PARTICLE_WORKGROUP, "u0 = u1 (stopped in u1)")    \
-    X(PD_CONTACT, PD_CONTACT_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
-    X(PD_CONTACT_RUNS2, PD_CONTACT_RUNS2_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 2 runs of one collider type") \
-    X(PD_CONTACT_RUNS3, PD_CONTACT_RUNS3_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 3 runs of one collider type") \
-    X(PD_CONTACT_RUNS4, PD_CONTACT_RUNS4_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 4 runs of one collider type") \
-    X(PD_CONTACT_PLAIN, PD_CONTACT_PLAIN_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
-    X(PD_CONTACT_PLAIN_RUNS2, PD_CONTACT_PLAIN_RUNS2_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 2 runs of one collider type") \
-    X(PD_CONTACT_PLAIN_RUNS3, PD_CONTACT_PLAIN_RUNS3_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 3 runs of one collider type") \
-    X(PD_CONTACT_PLAIN_RUNS4, PD_CONTACT_PLAIN_RUNS4_COMP, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds), 4 runs of one collider type") \
+    CVK_COLLIDER_RUN_PIPELINES(X, PD_CONTACT, PD_CONTACT, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
+    CVK_COLLIDER_RUN_PIPELINES(X, PD_CONTACT_PLAIN, PD_CONTACT_PLAIN, CVK_SPEC_PD_CONTACT, "contact (colliders, bounds)") \
     X(PD_CLOTH_CONTACT, PD_CLOTH_CONTACT_COMP, CVK_SPEC_PD_CLOTH_CONTACT, "contact between cloths (listed particles)") \
     X(PD_TETHER, PD_TETHER_COMP, CVK_SPEC_PD_TETHER, "tethers")                        \
     X(PD_STRAIN, PD_STRAIN_COMP, CVK_SPEC_PD, "strain limit (one colour)")              \
@@ -162,14 +166,8 @@ typedef struct cvk_spec_recipe {
     X(TEAR, TEAR_COMP, CVK_SPEC_WORKGROUP, "tear overstretched springs") \
     X(AERO_TRIANGLES, AERO_TRIANGLES_COMP, CVK_SPEC_WORKGROUP, "air force per triangle") \
     X(AERO_GATHER, AERO_GATHER_COMP, CVK_SPEC_WORKGROUP, "air force per particle") \
-    X(CONTACT_CHECK, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves") \
-    X(CONTACT_CHECK_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves, 2 runs of one collider type") \
-    X(CONTACT_CHECK_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves, 3 runs of one collider type") \
-    X(CONTACT_CHECK_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves, 4 runs of one collider type") \
-    X(CONTACT_CHECK_EXCEED, CONTACT_CHECK_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?") \
-    X(CONTACT_CHECK_EXCEED_RUNS2, CONTACT_CHECK_RUNS2_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?, 2 runs of one collider type") \
-    X(CONTACT_CHECK_EXCEED_RUNS3, CONTACT_CHECK_RUNS3_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?, 3 runs of one collider type") \
-    X(CONTACT_CHECK_EXCEED_RUNS4, CONTACT_CHECK_RUNS4_COMP, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?, 4 runs of one collider type") \
+    CVK_COLLIDER_RUN_PIPELINES(X, CONTACT_CHECK, CONTACT_CHECK, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(0)), "bounds of the extrapolated moves") \
+    CVK_COLLIDER_RUN_PIPELINES(X, CONTACT_CHECK_EXCEED, CONTACT_CHECK, CVK_SPEC_CONTACT_CHECK(CVK_SPEC_VALUE(1)), "moves past their bounds?") \
     X(CONTACT_DECIDE, CONTACT_DECIDE_COMP, CVK_SPEC_NONE, "detect or not, shift") \
     X(CONTACT_DETECT, CONTACT_DETECT_COMP, CVK_SPEC_CONTACT_TYPES, "detection: vertices against faces") \
     X(CONTACT_EDGES, CONTACT_EDGES_COMP, CVK_SPEC_CONTACT_EDGES(CVK_SPEC_VALUE(0)), "detection: edges against edges") \
@@ -210,7 +208,7 @@ typedef struct cvk_spec_recipe {
     X(EXPLICIT_UPDATE, EXPLICIT_UPDATE_COMP, CVK_SPEC_PD, "explicit: x, v from a (the integrator's rule)")
 
 typedef enum cvk_pipeline_id {
-#define CVK_PIPE_ID(id, shader, spec, label) CVK_PIPE_##id,
+#define CVK_PIPE_ID(id, ...) CVK_PIPE_##id,
     CVK_PIPELINE_LIST(CVK_PIPE_ID)
 #undef CVK_PIPE_ID
     CVK_PIPE_COUNT
